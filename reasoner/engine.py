@@ -62,7 +62,8 @@ class Engine:
 
     def __init__(self) -> None:
         self._janus = import_janus()
-        self._janus.consult(str(ENGINE_PL))
+        self._call("load_files(F, [if(not_loaded)]), gaps_engine:new_rulebook(gaps_probe, [])",
+                   F=str(ENGINE_PL))
         self._loaded: dict[str, Rulebook] = {}
 
     def load(self, text: str, name: str = "<le>") -> Rulebook:

@@ -13,7 +13,6 @@
           ]).
 :- use_module(library(apply)).
 :- use_module(library(lists)).
-:- use_module(library(yall)).
 
 %!  new_rulebook(+M, +Decls) is det.
 %   Declare the template predicates of rulebook module M, each also true of a scenario fact.
@@ -61,12 +60,14 @@ cond_goal(not(B), \+ G) :- body_goal(B, G).
 %!  ask(+M, +FactsData, +GoalData, -Proofs, -WhyNot) is det.
 %   Proofs: a proof tree per answer; WhyNot: why the goal failed (@none when it succeeded).
 ask(M, FactsD, GoalD, Proofs, WhyNot) :-
-    maplist([D, F]>>build_atom(D, F, [], _), FactsD, Facts),
+    maplist(build_fact, FactsD, Facts),
     build_atom(GoalD, Goal, [], Names),
     setup_call_cleanup(
         forall(member(F, Facts), assertz(M:scenario_fact(F))),
         answers(M, Goal, Names, Proofs, WhyNot),
         retractall(M:scenario_fact(_))).
+
+build_fact(D, F) :- build_atom(D, F, [], _).
 
 answers(M, Goal, Names, Proofs, WhyNot) :-
     findall(D, (prove(M, Goal, T), tree_data(T, Names, D)), Proofs),
@@ -115,12 +116,21 @@ failed_cond(M, not(B), node(not(B), failed, @(none), Proof, [])) :-
 tree_data(node(G, S, Id, Kids, Names), Env0, _{sentence: D, status: S, rule: Id, children: KD}) :-
     append(Names, Env0, Env),
     goal_data(G, Env, D),
-    maplist([K, KDi]>>tree_data(K, Env, KDi), Kids, KD).
+    trees_data(Kids, Env, KD).
 
-goal_data(not(B), Env, ['$not', BD]) :- !, maplist([C, CD]>>cond_data(C, Env, CD), B, BD).
+trees_data([], _, []).
+trees_data([K|Ks], Env, [D|Ds]) :- tree_data(K, Env, D), trees_data(Ks, Env, Ds).
+
+goal_data(not(B), Env, ['$not', BD]) :- !, conds_data(B, Env, BD).
 goal_data(G, Env, [F|AD]) :-
     G =.. [F|Args],
-    maplist([A, D]>>arg_data(A, Env, D), Args, AD).
+    args_data(Args, Env, AD).
+
+conds_data([], _, []).
+conds_data([C|Cs], Env, [D|Ds]) :- cond_data(C, Env, D), conds_data(Cs, Env, Ds).
+
+args_data([], _, []).
+args_data([A|As], Env, [D|Ds]) :- arg_data(A, Env, D), args_data(As, Env, Ds).
 
 cond_data(pos(G), Env, D) :- goal_data(G, Env, D).
 cond_data(not(B), Env, D) :- goal_data(not(B), Env, D).

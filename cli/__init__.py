@@ -1,0 +1,1 @@
+"""The `gaps` command: argument parsing and output only; the rooms hold the logic."""

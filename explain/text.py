@@ -1,0 +1,115 @@
+"""Explanations as text: the verdict first, then the proofs that support it.
+
+The English comes from the rulebook's own templates (via `reasoner.le.templates.render`), so an
+investigator reads the words the rules were written in, and every fact names its event.
+"""
+from __future__ import annotations
+
+from datetime import datetime, timezone
+
+from reasoner.engine import Rulebook
+from reasoner.le.templates import render
+
+INDENT = "  "
+
+
+def arg_text(arg) -> str:
+    if isinstance(arg, dict) and "var" in arg:
+        name = str(arg["var"])
+        return ("an " if name[:1].lower() in "aeiou" else "a ") + name
+    return str(arg)
+
+
+def sentence(data: list, rb: Rulebook) -> str:
+    """The English of one node's sentence (`['has_light', 173, 'red']` → `173 has red light`)."""
+    if data[0] == "$not":
+        return "it is not the case that " + " and ".join(sentence(d, rb) for d in data[1])
+    template = rb.document.templates.get(data[0])
+    args = [arg_text(a) for a in data[1:]]
+    return render(template, args) if template else f"{data[0]}({', '.join(args)})"
+
+
+def where(rule_id, rb: Rulebook) -> str:
+    if rule_id is None:
+        return ""
+    rule = rb.rule(rule_id)
+    label = f"{rule.label}, " if rule.label else ""
+    return f" [{label}{rb.name}:{rule.line}]"
+
+
+def render_tree(node: dict, rb: Rulebook, evidence: dict[str, dict], depth: int = 0) -> list[str]:
+    """Lines of an indented English proof: `because`, `and`, `it is not the case that`."""
+    pad = INDENT * depth
+    text = sentence(node["sentence"], rb)
+    status, kids = node["status"], node["children"]
+    if status == "fact":
+        return [f"{pad}{text}{cite(evidence.get(text))}"]
+    if status == "failed":
+        return _failed(node, text, rb, evidence, depth)
+    lines = [f"{pad}{text}{where(node['rule'], rb)}"]
+    for i, kid in enumerate(kids):
+        joiner = "because " if i == 0 else "and "
+        if node["sentence"][0] == "$not":
+            joiner = "because "
+        sub = render_tree(kid, rb, evidence, depth + 1)
+        sub[0] = f"{INDENT * (depth + 1)}{joiner}{sub[0].lstrip()}"
+        lines += sub
+    return lines
+
+
+def _failed(node, text, rb, evidence, depth) -> list[str]:
+    pad = INDENT * depth
+    kids = node["children"]
+    if node["rule"] is not None:       # one rule's attempt: the conditions up to the one that failed
+        lines = [f"{pad}the rule{where(node['rule'], rb)} does not apply:"]
+        for kid in kids:
+            lines += render_tree(kid, rb, evidence, depth + 1)
+        return lines
+    if node["sentence"][0] == "$not":
+        lines = [f"{pad}{text} does not hold, because:"]
+    elif kids:
+        lines = [f"{pad}{text} does not hold: no rule for it applies"]
+    else:
+        return [f"{pad}{text} is not established by any fact or rule"]
+    for kid in kids:
+        lines += render_tree(kid, rb, evidence, depth + 1)
+    return lines
+
+
+def cite(ref: dict | None) -> str:
+    if not ref:
+        return " (recorded potential violation)"
+    return f" (fact: {ref['src']} #{ref['seq']}, {ref['kind']}, {clock(ref['t'])})"
+
+
+def clock(t_ns: int) -> str:
+    dt = datetime.fromtimestamp(t_ns / 1e9, tz=timezone.utc)
+    return dt.strftime("%Y-%m-%d %H:%M:%S.") + f"{(t_ns // 1_000_000) % 1000:03d} UTC"
+
+
+def headline(inc: dict) -> str:
+    rule = f" of {inc['rule']}" if inc["rule"] else ""
+    law = f" ({inc['law']})" if inc.get("law") else ""
+    what = {"punishable": "a punishable violation", "mitigated": "a mitigated violation",
+            "dismissed": "no violation (the potential violation was dismissed)"}[inc["verdict"]]
+    return (f"Vehicle {inc['vehicle']} committed {what}{rule}{law} at {clock(inc['t'])}: "
+            f"it did \"{inc['action']}\".")
+
+
+def explain_incident(inc: dict, rb: Rulebook) -> str:
+    """The whole explanation of one incident, verdict first."""
+    monitor_src = inc["id"].rsplit(":", 1)[0]
+    lines = [headline(inc), "",
+             f"Potential violation, recorded by {monitor_src} and re-derived from its observation:"]
+    for proof in inc["proofs"]["potential_violation"]:
+        lines += render_tree(proof, rb, dict(inc["scenarios"]["monitor"]), 1)
+    vfacts = "; ".join(s for s, _ in inc["scenarios"]["vehicle"]) or "nothing recorded"
+    lines += ["", f"Validation on the vehicle's own scenario ({vfacts}):"]
+    for proof in inc["proofs"]["verdict"]:
+        lines += render_tree(proof, rb, dict(inc["scenarios"]["vehicle"]), 1)
+    penalty = inc["penalty"] or "not yet modelled (penalties.le is a later issue)"
+    lines += ["", f"Penalty: {penalty}.  Liable: {inc['liable']}.",
+              f"Rulebook: {rb.name} sha256 {rb.sha256[:16]}… ({inc['rulebook']['source']})."]
+    for f in inc["findings"]:
+        lines.append(f"Finding: {f['kind']}: {f.get('detail', '')}")
+    return "\n".join(lines)
