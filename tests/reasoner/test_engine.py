@@ -1,0 +1,71 @@
+"""The engine over janus_swi: answers, proofs, why-not, isolation, and facts that stay data."""
+from reasoner.engine import get_engine
+from reasoner.le.sentences import parse_fact
+from reasoner.le.terms import Atom
+from reasoner.rulebooks import bundled
+
+ENTER = "enter the junction"
+
+
+def load():
+    return get_engine().load(bundled("paper.le"), "paper.le")
+
+
+def facts(rb, *sentences):
+    return [parse_fact(s, rb.document.templates) for s in sentences]
+
+
+def test_car_at_red_may_not_enter_and_why_not_names_both_rules():
+    rb = load()
+    answer = get_engine().ask(rb, Atom("can", (173, ENTER)), facts(rb, "173 is of type car", "173 has red light"))
+    assert not answer.holds
+    attempts = answer.why_not["children"]
+    assert sorted(a["rule"] for a in attempts) == [0, 1]
+    failed = {tuple(a["children"][-1]["sentence"]) for a in attempts}
+    assert failed == {("is_of_type", 173, "ambulance"), ("has_light", 173, "green")}
+
+
+def test_ambulance_may_enter_with_a_proof_from_its_facts():
+    rb = load()
+    answer = get_engine().ask(rb, Atom("can", (253, ENTER)), facts(rb, "253 is of type ambulance"))
+    assert answer.holds
+    proof = answer.proofs[0]
+    assert proof["rule"] == 0 and proof["children"][0]["status"] == "fact"
+    assert proof["children"][1]["sentence"][0] == "$not"
+
+
+def test_scenarios_do_not_leak_between_questions():
+    rb = load()
+    engine = get_engine()
+    assert engine.ask(rb, Atom("can", (1, ENTER)), facts(rb, "1 has green light")).holds
+    assert not engine.ask(rb, Atom("can", (1, ENTER)), []).holds
+
+
+def test_same_text_loads_once_and_other_versions_coexist():
+    engine = get_engine()
+    a = load()
+    assert load() is a
+    changed = bundled("paper.le").replace("has green light\n", "has green light\n    and the vehicle is stopped\n", 1)
+    b = engine.load(changed, "paper-v2.le")
+    assert b.module != a.module
+    scenario = facts(a, "9 has green light")
+    assert engine.ask(a, Atom("can", (9, ENTER)), scenario).holds
+    assert not engine.ask(b, Atom("can", (9, ENTER)), scenario).holds
+
+
+def test_hostile_fact_strings_are_constants_not_code(tmp_path):
+    rb = load()
+    marker = tmp_path / "pwned"
+    hostile = [
+        f"173 has red'), shell('touch {marker}'), ('x light",
+        "173 has X light",
+        ":- halt. has red light",
+        "173 has \" ), halt, ( \" light",
+        "173 has " + "a" * 100_000 + " light",
+    ]
+    atoms = facts(rb, *hostile)
+    assert all(a is not None and a.functor == "has_light" for a in atoms)
+    answer = get_engine().ask(rb, Atom("can", (173, ENTER)), atoms)
+    assert not answer.holds and not marker.exists()
+    # the engine is still alive and answering
+    assert get_engine().ask(rb, Atom("can", (173, ENTER)), facts(rb, "173 has green light")).holds
