@@ -1,0 +1,35 @@
+"""The event store: envelope and schemas, the append-only hash-chained log, time-indexed reads.
+
+Everything other rooms need is importable from here; the submodules are the store's own layout.
+"""
+
+from .canonical import canonical_json
+from .db import Store
+from .envelope import (
+    MAX_EVENT_BYTES,
+    EventError,
+    decode_event,
+    encode_event,
+    key_for,
+    parse_event,
+    validate_event,
+)
+from .intake import Candidate
+from .kinds import KINDS
+from .reports import AppendReport, VerifyReport
+
+__all__ = [
+    "AppendReport",
+    "Candidate",
+    "EventError",
+    "KINDS",
+    "MAX_EVENT_BYTES",
+    "Store",
+    "VerifyReport",
+    "canonical_json",
+    "decode_event",
+    "encode_event",
+    "key_for",
+    "parse_event",
+    "validate_event",
+]

@@ -1,0 +1,92 @@
+"""The SQLite schema of a store file and the migrations that bring a file up to date.
+
+Migrations are numbered; each runs once, in its own transaction with the version row that
+records it, so a file is never left half-migrated and opening a store is idempotent.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+
+APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks")
+
+
+def _append_only(table: str) -> tuple[str, ...]:
+    """Triggers that refuse UPDATE and DELETE: the log only grows."""
+    return tuple(
+        f"CREATE TRIGGER {table}_no_{op.lower()} BEFORE {op} ON {table} "
+        f"BEGIN SELECT RAISE(ABORT, 'append-only: {table} rows cannot be {verb}'); END"
+        for op, verb in (("UPDATE", "updated"), ("DELETE", "deleted"))
+    )
+
+
+_V1 = (
+    """CREATE TABLE events (
+        run TEXT NOT NULL,
+        chain_pos INTEGER NOT NULL,
+        src TEXT NOT NULL,
+        seq INTEGER NOT NULL,
+        t INTEGER NOT NULL,
+        kind TEXT NOT NULL,
+        event TEXT NOT NULL,
+        hash TEXT NOT NULL,
+        UNIQUE (run, chain_pos),
+        UNIQUE (run, src, seq)
+    )""",
+    # src completes the read order (t, seq, src), so reads stream without a sort.
+    "CREATE INDEX events_by_time ON events (run, t, seq, src)",
+    """CREATE TABLE quarantine (
+        id INTEGER PRIMARY KEY,
+        received_at INTEGER NOT NULL,
+        origin TEXT NOT NULL,
+        reason TEXT NOT NULL,
+        raw BLOB NOT NULL
+    )""",
+    """CREATE TABLE checkpoints (
+        id INTEGER PRIMARY KEY,
+        run TEXT NOT NULL,
+        count INTEGER NOT NULL,
+        head TEXT NOT NULL,
+        created_at INTEGER NOT NULL
+    )""",
+    "CREATE INDEX checkpoints_by_run ON checkpoints (run, id)",
+    """CREATE TABLE rulebooks (
+        sha256 TEXT PRIMARY KEY,
+        name TEXT NOT NULL,
+        version TEXT NOT NULL,
+        text TEXT NOT NULL
+    )""",
+    *(trigger for table in APPEND_ONLY_TABLES for trigger in _append_only(table)),
+)
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1}
+SCHEMA_VERSION = max(MIGRATIONS)
+
+
+def current_version(conn: sqlite3.Connection) -> int:
+    row = conn.execute("SELECT max(version) FROM schema_version").fetchone()
+    return row[0] or 0
+
+
+def migrate(conn: sqlite3.Connection) -> int:
+    """Create or upgrade the schema; return the version the file is now at.
+
+    The connection must be in autocommit mode (isolation_level=None): transactions are explicit.
+    """
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        conn.execute("CREATE TABLE IF NOT EXISTS schema_version (version INTEGER NOT NULL)")
+        version = current_version(conn)
+        if version > SCHEMA_VERSION:
+            raise RuntimeError(
+                f"store schema version {version} is newer than this code understands ({SCHEMA_VERSION})"
+            )
+        for step in range(version + 1, SCHEMA_VERSION + 1):
+            for statement in MIGRATIONS[step]:
+                conn.execute(statement)
+            conn.execute("INSERT INTO schema_version (version) VALUES (?)", (step,))
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    return SCHEMA_VERSION

@@ -1,0 +1,327 @@
+"""The event envelope: what every event must look like before the store accepts it.
+
+Input comes from vehicles, monitors, replays and foreign producers over the network, so every
+check assumes hostile data: the answer to bad input is always an EventError saying what was wrong,
+never a crash and never a silently repaired event. Type checks of body fields beyond the required
+ones are left to full JSON-Schema validation.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from itertools import repeat
+from operator import itemgetter
+from typing import Any, Callable
+
+from .canonical import canonical_json
+from .kinds import KINDS, REQUIRED, REQUIRED_SET
+
+MAX_EVENT_BYTES = 1 << 20  # 1 MiB
+ENVELOPE_FIELDS = ("v", "run", "src", "seq", "t", "kind", "body")
+ROLES = ("vehicle", "monitor", "signal", "pedestrian", "sim")
+
+_ID = re.compile(r"[A-Za-z0-9._-]{1,64}")
+_SRC = re.compile(rf"(?:{'|'.join(ROLES)})/[A-Za-z0-9._-]{{1,64}}")
+_ENVELOPE_VALUES = itemgetter(*ENVELOPE_FIELDS)
+_INT64_MIN, _INT64_MAX = -(1 << 63), (1 << 63) - 1  # SQLite INTEGER range
+_SHOWN = 60  # characters of a bad value quoted in an error message
+
+__all__ = [
+    "ENVELOPE_FIELDS",
+    "EventError",
+    "KINDS",
+    "MAX_EVENT_BYTES",
+    "ROLES",
+    "decode_event",
+    "encode_event",
+    "key_for",
+    "parse_event",
+    "validate_event",
+]
+
+
+class EventError(ValueError):
+    """An event was refused. The message is written for the person reading the quarantine.
+
+    `field` names the offending part ("run", "seq", "body.facts", "json", "size", ...) so that
+    callers can count refusals by cause; run, src and seq are set when the event made them known.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        field: str | None = None,
+        run: str | None = None,
+        src: str | None = None,
+        seq: int | None = None,
+    ) -> None:
+        super().__init__(message)
+        self.field = field
+        self.run = run
+        self.src = src
+        self.seq = seq
+
+
+# --- small predicates, shared by the checks and by the error messages -------------------------
+
+
+def _is_id(value: Any) -> bool:
+    return isinstance(value, str) and _ID.fullmatch(value) is not None
+
+
+def _is_src(value: Any) -> bool:
+    if not isinstance(value, str):
+        return False
+    role, _, ident = value.partition("/")
+    return role in ROLES and _is_id(ident)
+
+
+def _is_int(value: Any) -> bool:
+    """JSON integers only: bool is an int subclass in Python but true/false in JSON."""
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_seq(value: Any) -> bool:
+    return _is_int(value) and 0 <= value <= _INT64_MAX
+
+
+def _show(value: Any) -> str:
+    """A bad value quoted briefly: hostile input may be megabytes long."""
+    text = repr(value)
+    return text if len(text) <= _SHOWN else text[: _SHOWN - 1] + "…"
+
+
+def _json_type(value: Any) -> str:
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "boolean"
+    if isinstance(value, (int, float)):
+        return "number"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, (list, tuple)):
+        return "array"
+    if isinstance(value, dict):
+        return "object"
+    return type(value).__name__
+
+
+def _error(ev: Any, field: str, problem: str) -> EventError:
+    """Build an EventError prefixed with the identity of the event, as far as it is valid."""
+    run = src = seq = None
+    if isinstance(ev, dict):
+        run = ev.get("run") if _is_id(ev.get("run")) else None
+        src = ev.get("src") if _is_src(ev.get("src")) else None
+        seq = ev.get("seq") if _is_seq(ev.get("seq")) else None
+    parts = (("run", run), ("src", src), ("seq", seq))
+    known = [f"{name}={value}" for name, value in parts if value is not None]
+    where = f"event {' '.join(known)}" if known else "event"
+    return EventError(f"{where}: {problem}", field=field, run=run, src=src, seq=seq)
+
+
+# --- the checks, in the order a reader would want them reported -------------------------------
+
+Problem = tuple[str, str] | None  # (field, sentence)
+
+
+def _check_fields(ev: dict) -> Problem:
+    missing = [name for name in ENVELOPE_FIELDS if name not in ev]
+    if missing:
+        return missing[0], f"missing envelope field(s) {', '.join(missing)}"
+    extra = [_show(name) for name in ev if name not in ENVELOPE_FIELDS]
+    if extra:
+        return "envelope", f"unknown envelope field(s) {', '.join(extra)}: extra data belongs in body"
+    return None
+
+
+def _check_v(ev: dict) -> Problem:
+    if not (_is_int(ev["v"]) and ev["v"] == 1):
+        return "v", f"v must be 1 (the envelope version), got {_show(ev['v'])}"
+    return None
+
+
+def _check_run(ev: dict) -> Problem:
+    if not _is_id(ev["run"]):
+        return "run", f"run must be 1-64 characters of A-Z a-z 0-9 . _ -, got {_show(ev['run'])}"
+    return None
+
+
+def _check_src(ev: dict) -> Problem:
+    src = ev["src"]
+    if not isinstance(src, str) or "/" not in src:
+        return "src", f"src must be '<role>/<id>', got {_show(src)}"
+    role, _, ident = src.partition("/")
+    if role not in ROLES:
+        return "src", f"src role {_show(role)} is not one of {', '.join(ROLES)}"
+    if not _is_id(ident):
+        return "src", f"src id must be 1-64 characters of A-Z a-z 0-9 . _ -, got {_show(ident)}"
+    return None
+
+
+def _check_seq(ev: dict) -> Problem:
+    seq = ev["seq"]
+    if not _is_int(seq):
+        return "seq", f"seq must be an integer, got {_json_type(seq)} {_show(seq)}"
+    if not _is_seq(seq):
+        return "seq", f"seq must be between 0 and 2^63-1, got {_show(seq)}"
+    return None
+
+
+def _check_t(ev: dict) -> Problem:
+    t = ev["t"]
+    if not _is_int(t):
+        return "t", f"t must be integer nanoseconds since the Unix epoch, got {_json_type(t)} {_show(t)}"
+    if not _INT64_MIN <= t <= _INT64_MAX:
+        return "t", f"t must fit in 64 bits, got {_show(t)}"
+    return None
+
+
+def _check_kind(ev: dict) -> Problem:
+    if not (isinstance(ev["kind"], str) and ev["kind"] in KINDS):
+        return "kind", f"kind {_show(ev['kind'])} is unknown; known kinds: {', '.join(sorted(KINDS))}"
+    return None
+
+
+def _check_body(ev: dict) -> Problem:
+    body, kind = ev["body"], ev["kind"]
+    if not isinstance(body, dict):
+        return "body", f"body must be a JSON object, got {_json_type(body)}"
+    missing = [name for name in REQUIRED[kind] if name not in body]
+    if missing:
+        return f"body.{missing[0]}", f"body of {kind} lacks required field(s) {', '.join(missing)}"
+    if "facts" in body and not _is_string_list(body["facts"]):
+        return "body.facts", "body.facts must be a list of strings (Logical English sentences)"
+    return None
+
+
+def _is_string_list(value: Any) -> bool:
+    return isinstance(value, list) and all(map(isinstance, value, repeat(str)))
+
+
+_CHECKS: tuple[Callable[[dict], Problem], ...] = (
+    _check_fields,
+    _check_v,
+    _check_run,
+    _check_src,
+    _check_seq,
+    _check_t,
+    _check_kind,
+    _check_body,
+)
+
+
+# --- public API ---------------------------------------------------------------------------------
+
+
+def validate_event(ev: dict) -> None:
+    """Raise EventError for the first thing wrong with an event (as a decoded dict)."""
+    if _plainly_valid(ev):
+        return
+    if not isinstance(ev, dict):
+        raise _error(None, "event", f"must be a JSON object, got {_json_type(ev)}")
+    for check in _CHECKS:
+        problem = check(ev)
+        if problem is not None:
+            raise _error(ev, *problem)
+
+
+def _plainly_valid(ev: Any) -> bool:
+    """One pass over the common case, several times faster than the itemised checks (this runs
+    for every event appended). It may refuse what the checks would accept (they decide then),
+    but must never accept what they would refuse."""
+    try:
+        if type(ev) is not dict or len(ev) != len(ENVELOPE_FIELDS):
+            return False
+        v, run, src, seq, t, kind, body = _ENVELOPE_VALUES(ev)
+        return (
+            type(v) is int and v == 1
+            and type(run) is str and _ID.fullmatch(run) is not None
+            and type(src) is str and _SRC.fullmatch(src) is not None
+            and type(seq) is int and 0 <= seq <= _INT64_MAX
+            and type(t) is int and _INT64_MIN <= t <= _INT64_MAX
+            and type(kind) is str and kind in KINDS
+            and type(body) is dict
+            and REQUIRED_SET[kind] <= body.keys()
+            and ("facts" not in body or _is_string_list(body["facts"]))
+        )
+    except KeyError:
+        return False
+
+
+def encode_event(ev: dict) -> bytes:
+    """Validate an event and return its canonical bytes, the form the store hashes and keeps."""
+    validate_event(ev)
+    try:
+        data = canonical_json(ev)
+    except (ValueError, TypeError, RecursionError) as exc:
+        raise _error(ev, "body", f"cannot be written as canonical JSON: {exc}") from None
+    if len(data) > MAX_EVENT_BYTES:
+        problem = f"canonical form is {len(data)} bytes, over the {MAX_EVENT_BYTES}-byte limit"
+        raise _error(ev, "size", problem)
+    return data
+
+
+def decode_event(raw: bytes) -> tuple[dict, bytes]:
+    """Parse and validate raw bytes; return the event and its canonical bytes."""
+    ev = _parse_json(raw)
+    return ev, encode_event(ev)
+
+
+def parse_event(raw: bytes) -> dict:
+    """Parse raw bytes (as received on Zenoh or read from a file) into a valid event."""
+    return decode_event(raw)[0]
+
+
+def key_for(ev: dict) -> str:
+    """The Zenoh key expression a (valid) event is published under."""
+    return f"gaps/{ev['run']}/{ev['src']}/{ev['kind']}"
+
+
+# --- JSON parsing --------------------------------------------------------------------------------
+
+
+class _Refused(ValueError):
+    """Raised from inside json.loads hooks; turned into an EventError by _parse_json."""
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict:
+    """Refuse duplicate keys: parsers disagree on which one wins, so the event is ambiguous."""
+    obj = dict(pairs)
+    if len(obj) != len(pairs):
+        seen: set[str] = set()
+        for key, _ in pairs:
+            if key in seen:
+                raise _Refused(f"duplicate key {_show(key)} in a JSON object")
+            seen.add(key)
+    return obj
+
+
+def _no_constant(name: str) -> Any:
+    raise _Refused(f"{name} is not valid JSON")
+
+
+def _parse_json(raw: bytes) -> dict:
+    if not isinstance(raw, (bytes, bytearray, memoryview)):
+        raise TypeError(f"raw event must be bytes, got {type(raw).__name__}")
+    raw = bytes(raw)
+    if len(raw) > MAX_EVENT_BYTES:
+        raise _error(None, "size", f"{len(raw)} bytes, over the {MAX_EVENT_BYTES}-byte limit")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise _error(None, "utf-8", f"not valid UTF-8 at byte {exc.start}: {exc.reason}") from None
+    try:
+        ev = json.loads(text, object_pairs_hook=_unique_keys, parse_constant=_no_constant)
+    except json.JSONDecodeError as exc:
+        where = f"line {exc.lineno}, column {exc.colno}"
+        raise _error(None, "json", f"malformed JSON at {where}: {exc.msg}") from None
+    except RecursionError:
+        raise _error(None, "json", "JSON nested too deeply") from None
+    except ValueError as exc:  # _Refused, or an integer with too many digits
+        raise _error(None, "json", f"refused JSON: {exc}") from None
+    if not isinstance(ev, dict):
+        raise _error(None, "event", f"must be a JSON object, got {_json_type(ev)}")
+    return ev

@@ -1,0 +1,55 @@
+"""Turning what callers offer (dicts or raw bytes) into candidates for the log.
+
+A candidate either carries a valid event with its canonical bytes, or the reason it was
+refused together with the bytes to keep in quarantine, so that nothing offered is lost.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from .canonical import canonical_json
+from .envelope import EventError, decode_event, encode_event
+
+
+@dataclass(slots=True)
+class Candidate:
+    """Field order is part of the API: Candidate(origin, raw, event, canonical) for an accepted
+    event, Candidate(origin, raw, reason=...) for a refused one."""
+
+    origin: str
+    raw: bytes  # what quarantine keeps if the candidate is refused
+    event: dict | None = None
+    canonical: bytes | None = None
+    reason: str | None = None
+
+
+def from_dict(ev: Any, origin: str) -> Candidate:
+    """A candidate from a decoded event; a valid one's raw form is its canonical form."""
+    try:
+        canonical = encode_event(ev)
+    except EventError as exc:
+        return Candidate(origin, _raw_bytes(ev), reason=str(exc))
+    return Candidate(origin, canonical, ev, canonical)
+
+
+def from_raw(raw: bytes, origin: str) -> Candidate:
+    """A candidate from bytes as received; quarantine keeps those exact bytes."""
+    try:
+        ev, canonical = decode_event(raw)
+    except EventError as exc:
+        return Candidate(origin, bytes(raw), reason=str(exc))
+    return Candidate(origin, bytes(raw), ev, canonical)
+
+
+def _raw_bytes(obj: Any) -> bytes:
+    """The best byte record of a refused object: canonical JSON if it has one, else its repr."""
+    try:
+        return canonical_json(obj)
+    except (ValueError, TypeError, RecursionError):
+        pass
+    try:
+        return repr(obj).encode("utf-8", "backslashreplace")
+    except Exception:  # RecursionError, or a __repr__ that raises
+        return f"<unprintable {type(obj).__name__}: nested too deeply>".encode()

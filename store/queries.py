@@ -1,0 +1,66 @@
+"""Read queries over the events table, written to use its indexes.
+
+Every query here is either a range scan of an index or a handful of index probes, so reads stay
+fast as a store grows to millions of events.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from typing import Any, Collection, Iterator
+
+
+def _collection(name: str, values: Collection[str] | None) -> tuple[str, ...] | None:
+    """A filter's values; a bare string is refused rather than read as a set of characters."""
+    if values is None:
+        return None
+    if isinstance(values, str):
+        raise TypeError(f"{name} must be a collection of strings, not a single string")
+    return tuple(values)
+
+
+def select_events(
+    run: str,
+    kinds: Collection[str] | None,
+    srcs: Collection[str] | None,
+    t_from: int | None,
+    t_to: int | None,
+) -> tuple[str, list[Any]]:
+    """SQL and parameters for a run's events in (t, seq, src) order; t_to is inclusive."""
+    clauses, params = ["run = ?"], [run]
+    for column, values in (("kind", _collection("kinds", kinds)), ("src", _collection("srcs", srcs))):
+        if values is not None:
+            clauses.append(f"{column} IN ({','.join('?' * len(values))})")
+            params.extend(values)
+    if t_from is not None:
+        clauses.append("t >= ?")
+        params.append(t_from)
+    if t_to is not None:
+        clauses.append("t <= ?")
+        params.append(t_to)
+    sql = f"SELECT event FROM events WHERE {' AND '.join(clauses)} ORDER BY t, seq, src"
+    return sql, params
+
+
+def _distinct(conn: sqlite3.Connection, column: str, where: str, params: tuple[Any, ...]) -> Iterator[str]:
+    """Distinct values of an indexed column by hopping along the index (least value, then the
+    least value above it, ...): one probe per value instead of a scan of every row."""
+    first = f"SELECT min({column}) FROM events WHERE {where}"
+    after = f"{first} AND {column} > ?"
+    (value,) = conn.execute(first, params).fetchone()
+    while value is not None:
+        yield value
+        (value,) = conn.execute(after, (*params, value)).fetchone()
+
+
+def run_names(conn: sqlite3.Connection) -> list[str]:
+    return list(_distinct(conn, "run", "1", ()))
+
+
+def run_summary(conn: sqlite3.Connection, run: str) -> dict[str, Any]:
+    """{run, events, first_t, last_t, sources} of one run that has events."""
+    (count,) = conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()
+    (first_t,) = conn.execute("SELECT min(t) FROM events WHERE run = ?", (run,)).fetchone()
+    (last_t,) = conn.execute("SELECT max(t) FROM events WHERE run = ?", (run,)).fetchone()
+    sources = list(_distinct(conn, "src", "run = ?", (run,)))
+    return {"run": run, "events": count, "first_t": first_t, "last_t": last_t, "sources": sources}

@@ -1,0 +1,36 @@
+"""Plain results of store operations, shaped to be printed by the CLI or sent as JSON."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+
+@dataclass
+class AppendReport:
+    """What one append call did: nothing offered is dropped, so stored + duplicates +
+    len(rejected) is the number of events offered."""
+
+    stored: int = 0
+    duplicates: int = 0
+    rejected: list[dict[str, str]] = field(default_factory=list)  # {origin, reason}
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass
+class VerifyReport:
+    """Outcome of recomputing the chains.
+
+    runs: one {run, events, head, ok} per run checked (head is the recomputed chain head, None
+    when the run failed); problem: the first event that did not match, as
+    {run, src, seq, chain_pos, what}, with src and seq None when the event itself is missing.
+    """
+
+    ok: bool
+    runs: list[dict[str, Any]] = field(default_factory=list)
+    problem: dict[str, Any] | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)

@@ -1,0 +1,75 @@
+"""Helpers for the store tests: a factory of valid events and direct access to a store file.
+
+A plain module (not conftest) so that test modules can import it by a name no other room uses.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from pathlib import Path
+from typing import Any
+
+from store.ddl import APPEND_ONLY_TABLES
+
+T0 = 1_732_184_100_000_000_000  # 2024-11-21T10:15:00Z in ns
+
+BODIES: dict[str, dict[str, Any]] = {
+    "run.start": {"seed": 7},
+    "run.end": {"reason": "duration reached"},
+    "entity.spawn": {"type": "car", "driver": "autonomous"},
+    "entity.state": {"x": 1.5, "y": -2.0, "speed_mps": 8.25, "junction": None},
+    "entity.despawn": {"reason": "left the map"},
+    "signal.state": {"junction": "J1", "colour": "red"},
+    "vehicle.perception": {"facts": ["173 is of type car", "173 has red light"]},
+    "vehicle.decision": {"goal": "173 can enter the junction", "action": "enter the junction", "proceeds": False},
+    "vehicle.trace": {"query": "173 can enter the junction", "answer": False},
+    "ads.event": {"event": "activated"},
+    "monitor.observation": {"vehicle": "173", "facts": ["173 has red light"]},
+    "monitor.potential_violation": {"vehicle": "173", "action": "enter the junction"},
+    "collision": {"entities": ["173", "12"]},
+}
+
+
+def event(
+    seq: int = 0,
+    *,
+    run: str = "r1",
+    src: str = "vehicle/173",
+    t: int | None = None,
+    kind: str = "vehicle.perception",
+    body: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """A valid event; t defaults to 100 ms per seq after T0."""
+    return {
+        "v": 1,
+        "run": run,
+        "src": src,
+        "seq": seq,
+        "t": T0 + seq * 100_000_000 if t is None else t,
+        "kind": kind,
+        "body": dict(BODIES[kind]) if body is None else body,
+    }
+
+
+def tamper(db_path: Path, *statements: tuple[str, tuple]) -> None:
+    """Alter a closed store file behind the store's back, as an attacker with file access
+    would: drop the append-only triggers, then run the statements."""
+    conn = sqlite3.connect(db_path)
+    try:
+        for table in APPEND_ONLY_TABLES:
+            conn.execute(f"DROP TRIGGER IF EXISTS {table}_no_update")
+            conn.execute(f"DROP TRIGGER IF EXISTS {table}_no_delete")
+        for sql, params in statements:
+            conn.execute(sql, params)
+        conn.commit()
+    finally:
+        conn.close()
+
+
+def rows(db_path: Path, sql: str, params: tuple = ()) -> list[tuple]:
+    """Read the file directly, bypassing the store."""
+    conn = sqlite3.connect(db_path)
+    try:
+        return conn.execute(sql, params).fetchall()
+    finally:
+        conn.close()
