@@ -1,0 +1,63 @@
+"""Sequence gaps seen on the wire, per (run, src).
+
+``seq`` starts at 0 and rises by 1 per source, so a jump means events were lost between producer and ingest.
+This is the live, in-memory view; it cannot see a lost tail (nothing arrives after it), which is why the
+store keeps its own gap listing over what was committed.
+"""
+from __future__ import annotations
+
+import bisect
+import threading
+
+Range = list[int]  # [first, last], inclusive
+
+
+class _Source:
+    """Highest seq seen and the ranges still missing below it, sorted and disjoint."""
+
+    __slots__ = ("highest", "missing")
+
+    def __init__(self) -> None:
+        self.highest = -1
+        self.missing: list[Range] = []
+
+    def observe(self, seq: int) -> bool:
+        """Record ``seq``; return True if it arrived late, filling a gap below the highest seen."""
+        if seq > self.highest:
+            if seq > self.highest + 1:
+                self.missing.append([self.highest + 1, seq - 1])
+            self.highest = seq
+            return False
+        return self._fill(seq)
+
+    def _fill(self, seq: int) -> bool:
+        """Remove ``seq`` from the missing ranges (splitting its range); False if it was not missing."""
+        i = bisect.bisect_right(self.missing, [seq, float("inf")]) - 1
+        if i < 0 or not self.missing[i][0] <= seq <= self.missing[i][1]:
+            return False  # seen before: a repeat, which the store counts as a duplicate
+        first, last = self.missing.pop(i)
+        pieces = [r for r in ([first, seq - 1], [seq + 1, last]) if r[0] <= r[1]]
+        self.missing[i:i] = pieces
+        return True
+
+
+class GapTracker:
+    """Per-source gap bookkeeping; ``observe`` is called by the writer, ``gaps`` by anyone."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._sources: dict[tuple[str, str], _Source] = {}
+
+    def observe(self, run: str, src: str, seq: int) -> bool:
+        """Note an event's seq; returns True if it filled a gap, i.e. arrived out of order."""
+        with self._lock:
+            return self._sources.setdefault((run, src), _Source()).observe(seq)
+
+    def gaps(self) -> list[dict]:
+        """Sources with missing seqs: ``{run, src, missing: [[first, last], ...], highest}``, sorted."""
+        with self._lock:
+            return [
+                {"run": run, "src": src, "missing": [list(r) for r in s.missing], "highest": s.highest}
+                for (run, src), s in sorted(self._sources.items())
+                if s.missing
+            ]

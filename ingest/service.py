@@ -1,0 +1,112 @@
+"""The ingest service: Zenoh ``gaps/**`` in, the store out.
+
+Zenoh fills a bounded FIFO channel (``inbox.Inbox``) without running any Python; a single writer thread
+(``writer.BatchWriter``) owns the store and takes from the channel in batches. ``stop`` closes the session,
+which closes the channel; the writer then takes what is left, commits it, closes the store and ends.
+"""
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable, Sequence
+from types import TracebackType
+
+import zenoh
+
+from .gap_tracker import GapTracker
+from .inbox import Inbox
+from .session_config import session_config
+from .stats import IngestStats
+from .writer import BatchWriter
+
+log = logging.getLogger(__name__)
+
+SUBSCRIPTION = "gaps/**"
+MAX_PENDING = 100_000  # samples Zenoh may hold for the writer before it pushes back on publishers
+OPEN_TIMEOUT_S = 30.0
+
+
+class IngestService:
+    """Subscribes to ``gaps/**`` and appends everything received to the store at ``db_path``.
+
+    Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
+    received into the store and closes the store and the session.
+    """
+
+    def __init__(
+        self,
+        db_path: str | os.PathLike,
+        *,
+        listen: Sequence[str] = (),
+        connect: Sequence[str] = (),
+        mode: str = "peer",
+        batch_size: int = 1000,
+        flush_interval_s: float = 0.05,
+        durable: bool = True,
+        max_pending: int = MAX_PENDING,
+    ) -> None:
+        if batch_size < 1 or flush_interval_s < 0 or max_pending < 1:
+            raise ValueError("batch_size and max_pending must be >= 1, flush_interval_s >= 0")
+        self._stats = IngestStats()
+        self._tracker = GapTracker()
+        self._stopped = False
+        self._session = zenoh.open(session_config(listen=listen, connect=connect, mode=mode))
+        try:
+            self._writer = BatchWriter(
+                db_path, Inbox(self._session, SUBSCRIPTION, max_pending), self._stats, self._tracker,
+                batch_size=batch_size, flush_interval_s=flush_interval_s, durable=durable,
+            )
+            self._writer.start()
+            self._writer.started(OPEN_TIMEOUT_S)
+        except BaseException:
+            self._session.close()
+            raise
+
+    def stats(self) -> dict:
+        """Running totals: received, stored, duplicates, rejected, batches; and errors (with
+        last_errors), failed (samples in batches given up after retries), late (arrived after a higher
+        seq of their source). A sample counts as received once the writer has taken it."""
+        return self._stats.snapshot()
+
+    def gaps(self) -> list[dict]:
+        """Sequence gaps seen on the wire: ``[{run, src, missing: [[first, last], ...], highest}]``."""
+        return self._tracker.gaps()
+
+    def wait_for(self, predicate: Callable[[dict], bool], timeout: float) -> bool:
+        """Wait until ``predicate(stats)`` holds; False on timeout."""
+        return self._stats.wait_for(predicate, timeout)
+
+    def wait_until_stored(self, n: int, timeout: float) -> bool:
+        """Wait until at least ``n`` events were stored (committed) since start."""
+        return self.wait_for(lambda s: s["stored"] >= n, timeout)
+
+    def wait_until_settled(self, n: int, timeout: float) -> bool:
+        """Wait until at least ``n`` samples were received and each has an outcome (stored, duplicate,
+        rejected or failed): for inputs that are meant to be refused, where ``stored`` never moves."""
+        return self.wait_for(lambda s: s["received"] >= n and _settled(s), timeout)
+
+    def stop(self) -> None:
+        """Stop receiving, flush what was received, close store and session. Safe to call twice."""
+        if self._stopped:
+            return
+        self._stopped = True
+        try:
+            self._session.close()
+        finally:
+            self._writer.join()
+
+    def __enter__(self) -> IngestService:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.stop()
+
+
+def _settled(s: dict) -> bool:
+    """Every received sample has an outcome."""
+    return s["stored"] + s["duplicates"] + s["rejected"] + s["failed"] >= s["received"]

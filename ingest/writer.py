@@ -1,0 +1,155 @@
+"""The single writer: takes received samples in batches and appends them to the store on its own thread.
+
+SQLite wants one writer, and nothing slow may happen on Zenoh's receive path, so everything (parsing,
+hashing, fsync) happens here, on a thread that owns its ``Store`` from open to close. Batching amortises
+the commit (and its fsync under FULL durability) over up to ``batch_size`` events, while
+``flush_interval_s`` bounds how long a lone event waits for company before it is committed.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import threading
+import time
+
+from store import Candidate, Store
+
+from .gap_tracker import GapTracker
+from .inbox import Inbox, Received
+from .screen import Screened, refused, screen
+from .stats import IngestStats
+
+log = logging.getLogger(__name__)
+
+RETRIES = 3
+RETRY_PAUSE_S = 0.2  # times the attempt number: a locked or full disk gets a moment to recover
+
+
+class BatchWriter(threading.Thread):
+    """Owns the store; runs until the inbox is closed and empty. ``started`` reports a failed open."""
+
+    def __init__(
+        self,
+        db_path: str | os.PathLike,
+        inbox: Inbox,
+        stats: IngestStats,
+        tracker: GapTracker,
+        *,
+        batch_size: int,
+        flush_interval_s: float,
+        durable: bool,
+    ) -> None:
+        super().__init__(name="ingest-writer", daemon=True)
+        self._db_path = db_path
+        self._inbox = inbox
+        self._stats = stats
+        self._tracker = tracker
+        self._batch_size = batch_size
+        self._flush_interval_s = flush_interval_s
+        self._durable = durable
+        self._ready = threading.Event()
+        self._open_error: BaseException | None = None
+
+    def started(self, timeout: float) -> None:
+        """Wait until the store is open; re-raise in the caller's thread if it could not be."""
+        if not self._ready.wait(timeout):
+            raise TimeoutError(f"store {self._db_path} did not open within {timeout} s")
+        if self._open_error is not None:
+            raise self._open_error
+
+    def run(self) -> None:
+        store = self._open_store()
+        if store is None:
+            return
+        try:
+            self._drain(store)
+        finally:
+            store.close()
+
+    def _open_store(self) -> Store | None:
+        """Open the store in this thread (SQLite connections belong to the thread that made them)."""
+        try:
+            store = Store(self._db_path, durable=self._durable)
+        except BaseException as exc:  # handed to the caller of started(), not swallowed
+            self._open_error = exc
+            store = None
+        self._ready.set()
+        return store
+
+    def _drain(self, store: Store) -> None:
+        """Write batches until the inbox is closed and empty; nothing here may end the thread early."""
+        while True:
+            try:
+                batch = self._inbox.take(self._batch_size, self._flush_interval_s)
+            except Exception as exc:
+                log.exception("ingest: taking from the inbox failed")
+                self._stats.record_error(f"receive: {exc!r}")
+                if self._inbox.closing:
+                    return  # stop() was called; retrying a broken channel would hang it
+                time.sleep(RETRY_PAUSE_S)
+                continue
+            if batch is None:
+                return
+            self._stats.add(received=len(batch))
+            self._write(store, batch)
+
+    def _write(self, store: Store, batch: list[Received]) -> None:
+        """Screen and store one batch. If it keeps failing, store its samples one by one, so that a
+        sample the store cannot digest costs only itself (see ``_give_up``); once even quarantine
+        fails the store itself is broken, and the rest of the batch is counted failed without more tries."""
+        candidates = [item.candidate for item in self._screen(batch)]
+        error = self._append(store, candidates, retries=RETRIES)
+        if error is None:
+            return
+        for i, candidate in enumerate(candidates):
+            error = error if len(candidates) == 1 else self._append(store, [candidate], retries=0)
+            if error is not None and not self._give_up(store, candidate, error):
+                self._lost(candidates[i:])
+                return
+
+    def _append(self, store: Store, candidates: list[Candidate], *, retries: int) -> Exception | None:
+        """Append, retrying after failures; account for the outcome. Returns the last error, or None."""
+        error: Exception | None = None
+        for attempt in range(retries + 1):
+            if attempt:
+                time.sleep(RETRY_PAUSE_S * attempt)
+            try:
+                report = store.append_candidates(candidates)
+            except Exception as exc:
+                log.warning("ingest: storing %d samples failed: %r", len(candidates), exc)
+                self._stats.record_error(f"store ({len(candidates)} samples): {exc!r}")
+                error = exc
+                continue
+            self._stats.add(
+                stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1
+            )
+            return None
+        return error
+
+    def _give_up(self, store: Store, candidate: Candidate, error: Exception) -> bool:
+        """Quarantine a sample the store would not take, with its bytes and the error, so it is not
+        lost; returns whether that worked."""
+        reason = f"the store failed on this sample: {error!r}"
+        return self._append(store, [refused(candidate.origin, candidate.raw, reason)], retries=0) is None
+
+    def _lost(self, candidates: list[Candidate]) -> None:
+        """Count samples neither stored nor quarantined, and name them in the log."""
+        origins = sorted({c.origin for c in candidates})
+        log.error("ingest: lost %d samples on %s", len(candidates), ", ".join(origins[:10]))
+        self._stats.add(failed=len(candidates))
+
+    def _screen(self, batch: list[Received]) -> list[Screened]:
+        """Screen each sample and track its sequence number; a sample that breaks screening is quarantined."""
+        screened = []
+        for key, payload, is_put in batch:
+            try:
+                item = screen(key, payload, is_put=is_put)
+            except Exception as exc:  # a screening bug must cost one sample's verdict, not the writer
+                log.exception("ingest: screening a sample on %s failed", key)
+                self._stats.record_error(f"screening: {exc!r}")
+                item = Screened(refused(key, payload, f"ingest could not screen this sample: {exc!r}"), None)
+            screened.append(item)
+        late = sum(self._tracker.observe(*item.identity) for item in screened if item.identity is not None)
+        if late:
+            self._stats.add(late=late)
+        return screened

@@ -1,0 +1,128 @@
+"""Put audit events on Zenoh, where the ingest subscribes to ``gaps/**``.
+
+Every event goes on the key ``store.key_for(event)`` and nowhere else: the ingest refuses an event whose key
+disagrees with its body, so building keys any other way would only manufacture quarantine entries.
+"""
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Iterable, Sequence
+from types import TracebackType
+
+import zenoh
+
+from store import canonical_json, key_for
+
+__all__ = ["EventPublisher", "zenoh_config"]
+
+
+def zenoh_config(
+    *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer"
+) -> zenoh.Config:
+    """A config that reaches exactly the endpoints named, so that runs and tests never find strangers.
+
+    Multicast and gossip scouting are off: peers meet only through ``listen``/``connect``. An empty ``listen``
+    is written out explicitly because Zenoh's peer default would open a port on every interface.
+    """
+    config = zenoh.Config()
+    config.insert_json5("mode", json.dumps(mode))
+    config.insert_json5("listen/endpoints", json.dumps(list(listen)))
+    config.insert_json5("connect/endpoints", json.dumps(list(connect)))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    config.insert_json5("scouting/gossip/enabled", "false")
+    return config
+
+
+def _matching(publisher: zenoh.Publisher) -> bool:
+    """Whether a subscriber matches; zenoh 1.10 returns a MatchingStatus here despite its stub saying bool."""
+    status = publisher.matching_status
+    return bool(getattr(status, "matching", status))
+
+
+class EventPublisher:
+    """Publishes events as canonical JSON, RELIABLE and BLOCK, because an audit log may not lose data silently.
+
+    Publishers are declared once per key and cached, so a long run pays the declaration cost per source and
+    kind, not per event. Events are not validated here; the ingest does that and quarantines what it refuses.
+    Use it from one thread at a time (per-source order is only meaningful from a single producer anyway).
+    """
+
+    def __init__(
+        self, session: zenoh.Session | None = None, *, config: zenoh.Config | None = None
+    ) -> None:
+        """Use ``session`` if given (the caller keeps ownership), else open one from ``config``."""
+        if session is not None and config is not None:
+            raise ValueError("give either a session or a config, not both")
+        self._owns_session = session is None
+        self._session = session if session is not None else zenoh.open(config or zenoh_config())
+        self._publishers: dict[str, zenoh.Publisher] = {}
+        self._closed = False
+
+    @property
+    def session(self) -> zenoh.Session:
+        """The underlying session, for callers that also need to subscribe or query on it."""
+        return self._session
+
+    def publish(self, event: dict) -> None:
+        """Put one event on its key; blocks while Zenoh's queue is full rather than dropping it."""
+        self._publisher_for(key_for(event)).put(canonical_json(event))
+
+    def publish_all(self, events: Iterable[dict]) -> int:
+        """Publish events in order (per-source order is what the ingest checks); returns how many."""
+        count = 0
+        for event in events:
+            self.publish(event)
+            count += 1
+        return count
+
+    def wait_until_matched(self, event: dict, timeout: float) -> bool:
+        """Whether a subscriber for this event's key appeared within ``timeout`` seconds.
+
+        Pub/sub keeps no history: what is put before the ingest's subscription has reached this session is
+        gone, so a producer that starts first should wait here before its first event.
+        """
+        publisher = self._publisher_for(key_for(event))
+        deadline = time.monotonic() + timeout
+        while not _matching(publisher):
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.01)
+        return True
+
+    def close(self) -> None:
+        """Undeclare the publishers, and close the session if this object opened it. Safe to call twice."""
+        if self._closed:
+            return
+        self._closed = True
+        for publisher in self._publishers.values():
+            publisher.undeclare()
+        self._publishers.clear()
+        if self._owns_session:
+            self._session.close()
+
+    def _publisher_for(self, key: str) -> zenoh.Publisher:
+        """The cached publisher for ``key``, declared with the audit QoS on first use."""
+        if self._closed:
+            raise RuntimeError("publisher is closed")
+        publisher = self._publishers.get(key)
+        if publisher is None:
+            publisher = self._session.declare_publisher(
+                key,
+                encoding=zenoh.Encoding.APPLICATION_JSON,
+                congestion_control=zenoh.CongestionControl.BLOCK,
+                reliability=zenoh.Reliability.RELIABLE,
+            )
+            self._publishers[key] = publisher
+        return publisher
+
+    def __enter__(self) -> EventPublisher:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()

@@ -1,0 +1,88 @@
+"""A failing store costs retries and, at worst, the samples it cannot take: never the writer thread.
+
+Those samples are quarantined with the error if the store still takes that; only if the store takes
+nothing at all are they counted as failed.
+
+The failures are injected at Store.append_candidates (real Zenoh, real SQLite otherwise): the one real
+SQLite failure that is easy to cause here, a held write lock, only fails after the store's 5 s busy timeout.
+"""
+from __future__ import annotations
+
+import sqlite3
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+import pytest
+
+import ingest.writer
+from ingest import IngestService
+from ingest_testkit import RUN, await_match, make_event
+from sim_replay.publisher import EventPublisher
+from store import AppendReport, Candidate, Store, canonical_json
+
+
+def failing_when(monkeypatch: pytest.MonkeyPatch, should_fail: Callable[[list], bool]) -> None:
+    """Make the writer's store call raise like a locked database whenever ``should_fail(candidates)``."""
+    real = Store.append_candidates
+
+    def append(store: Store, candidates: Iterable[Candidate]) -> AppendReport:
+        candidates = list(candidates)
+        if should_fail(candidates):
+            raise sqlite3.OperationalError("database is locked (injected)")
+        return real(store, candidates)
+
+    monkeypatch.setattr(Store, "append_candidates", append)
+    monkeypatch.setattr(ingest.writer, "RETRY_PAUSE_S", 0.01)
+
+
+def test_transient_failure_is_retried(
+    monkeypatch: pytest.MonkeyPatch, link: tuple[EventPublisher, IngestService], db_path: Path
+) -> None:
+    calls = []
+    failing_when(monkeypatch, lambda candidates: calls.append(1) or len(calls) == 1)
+    publisher, ingest = link
+    events = [make_event("vehicle/173", seq) for seq in range(20)]
+    await_match(publisher, events[0])
+    publisher.publish_all(events)
+    assert ingest.wait_until_stored(20, timeout=10), ingest.stats()
+    stats = ingest.stats()
+    assert (stats["errors"], stats["failed"]) == (1, 0)
+    assert "database is locked" in stats["last_errors"][0]
+
+
+def test_poison_sample_costs_only_itself(
+    monkeypatch: pytest.MonkeyPatch, link: tuple[EventPublisher, IngestService], db_path: Path
+) -> None:
+    failing_when(monkeypatch, lambda candidates: any(c.event and c.event["seq"] == 3 for c in candidates))
+    publisher, ingest = link
+    events = [make_event("vehicle/173", seq) for seq in range(20)]
+    await_match(publisher, events[0])
+    publisher.publish_all(events)
+    assert ingest.wait_until_settled(20, timeout=10), ingest.stats()
+    stats = ingest.stats()
+    assert (stats["stored"], stats["rejected"], stats["failed"]) == (19, 1, 0)
+    publisher.publish(make_event("vehicle/173", 20))  # and the writer is still alive
+    assert ingest.wait_until_stored(20, timeout=10)
+    ingest.stop()
+    with Store(db_path) as store:
+        assert [ev["seq"] for ev in store.events(RUN)] == [s for s in range(21) if s != 3]
+        [kept] = store.quarantined()
+    assert kept["raw"] == canonical_json(events[3]) and "database is locked" in kept["reason"]
+
+
+def test_broken_store_loses_counted_samples_and_the_writer_lives_on(
+    monkeypatch: pytest.MonkeyPatch, link: tuple[EventPublisher, IngestService]
+) -> None:
+    broken = [True]
+    failing_when(monkeypatch, lambda candidates: broken[0])
+    publisher, ingest = link
+    events = [make_event("vehicle/173", seq) for seq in range(3)]
+    await_match(publisher, events[0])
+    publisher.publish_all(events)
+    assert ingest.wait_until_settled(3, timeout=10), ingest.stats()
+    stats = ingest.stats()
+    assert (stats["stored"], stats["failed"]) == (0, 3)
+    assert stats["errors"] >= 2 and all("database is locked" in e for e in stats["last_errors"])
+    broken[0] = False  # the disk recovers
+    publisher.publish(make_event("vehicle/173", 3))
+    assert ingest.wait_until_stored(1, timeout=10), ingest.stats()
