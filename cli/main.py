@@ -124,7 +124,15 @@ def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
 
 
 def main() -> None:
+    from reasoner.le.errors import LEError
+    from reasoner.prolog_home import PrologUnavailable
     try:
         app()
     except KeyboardInterrupt:
         sys.exit(130)
+    except PrologUnavailable as exc:      # a set-up problem, not a bug: say how to fix it
+        typer.echo(f"gaps: {exc}", err=True)
+        sys.exit(3)
+    except LEError as exc:                # a rulebook that does not compile
+        typer.echo(f"gaps: rulebook error: {exc}", err=True)
+        sys.exit(2)

@@ -23,9 +23,11 @@ def swipl_home() -> str:
     home = os.environ.get("GAPS_SWIPL_HOME")
     if not home and HOME_FILE.is_file():
         home = HOME_FILE.read_text(encoding="utf-8").strip()
-    if not home or not Path(home, "boot.prc").is_file():
+    if not home:
         raise PrologUnavailable(
             f"no SWI-Prolog home recorded in {HOME_FILE} (or GAPS_SWIPL_HOME); run `make setup`")
+    if not Path(home, "boot.prc").is_file():
+        raise PrologUnavailable(f"{home} is not an SWI-Prolog home (no boot.prc); run `make setup`")
     return home
 
 
