@@ -1,47 +1,16 @@
 """`gaps`: look at what was recorded, judge it, explain it.
 
-Heavy imports (Zenoh, SWI-Prolog) happen inside the commands that need them, so `gaps --help`
-and the store-only commands start fast.
+Each `cli/<topic>.py` module registers its commands on the app from `cli/app.py`.
 """
 from __future__ import annotations
 
-import json
-import os
 import sys
 from pathlib import Path
 from typing import Optional
 
 import typer
 
-app = typer.Typer(help="mind-the-gaps: forensic audit of traffic-rule compliance.",
-                  no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False)
-
-DbOption = typer.Option(None, "--db", help="SQLite event store (default: $GAPS_DB or ./gaps.db).")
-JsonOption = typer.Option(False, "--json", help="Print JSON instead of text.")
-RunOption = typer.Option(None, "--run", help="Run id (default: every run).")
-
-
-def db_path(db: Optional[Path]) -> Path:
-    return Path(db or os.environ.get("GAPS_DB") or "gaps.db")
-
-
-def open_existing(db: Optional[Path]):
-    """Open a store that must already exist: a read command never creates one by mistake."""
-    from store import Store
-    path = db_path(db)
-    if not path.is_file():
-        fail(f"no event store at {path} (run `gaps demo` or pass --db)")
-    return Store(path)
-
-
-def fail(message: str, code: int = 2) -> None:
-    typer.echo(f"gaps: {message}", err=True)
-    raise typer.Exit(code)
-
-
-def print_json(data) -> None:
-    typer.echo(json.dumps(data, indent=2, ensure_ascii=False, default=str))
-
+from cli.app import DbOption, JsonOption, RunOption, app, db_path, fail, open_existing, print_json
 
 @app.command()
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
@@ -90,37 +59,7 @@ def _report(path: Path, runs: list[str], json_out: bool) -> None:
             typer.echo(explain_incident(inc, rb) + "\n")
 
 
-@app.command()
-def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
-           json_out: bool = JsonOption) -> None:
-    """Recompute the hash chains and checkpoints; exit 1 and name the first bad event if any."""
-    with open_existing(db) as store:
-        report = store.verify(run)
-    if json_out:
-        print_json(report.as_dict())
-    else:
-        for r in report.runs:
-            typer.echo(f"{r['run']}: {r['events']} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
-                       f"head {r['head']}")
-        if report.problem:
-            p = report.problem
-            typer.echo(f"FAILED at run {p['run']} src {p['src']} seq {p['seq']} "
-                       f"(chain position {p['chain_pos']}): {p['what']}")
-        else:
-            typer.echo("verified: every chain and checkpoint matches")
-    raise typer.Exit(0 if report.ok else 1)
-
-
-@app.command()
-def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
-    """The runs in the store with their event counts and time spans."""
-    with open_existing(db) as store:
-        rows = store.runs()
-    if json_out:
-        print_json(rows)
-        return
-    for r in rows:
-        typer.echo(f"{r['run']}: {r['events']} events, t {r['first_t']} .. {r['last_t']}")
+from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)
 
 
 def main() -> None:
