@@ -14,7 +14,7 @@ import os
 import sqlite3
 import time
 from contextlib import contextmanager
-from typing import Any, Collection, Iterable, Iterator
+from typing import Any, Callable, Collection, Iterable, Iterator
 
 from . import ddl, queries
 from .chain import GENESIS, link
@@ -27,6 +27,9 @@ _INSERT_EVENT = (
 )
 _INSERT_QUARANTINE = "INSERT INTO quarantine (received_at, origin, reason, raw) VALUES (?, ?, ?, ?)"
 _INSERT_CHECKPOINT = "INSERT INTO checkpoints (run, count, head, created_at) VALUES (?, ?, ?, ?)"
+
+
+AppendHook = Callable[[sqlite3.Connection, str, int], None]
 
 
 class Store:
@@ -52,6 +55,7 @@ class Store:
         self._heads: dict[str, tuple[int, bytes]] = {}  # run -> (events in chain, head hash)
         self._max_seq: dict[tuple[str, str], int] = {}  # (run, src) -> highest stored seq, -1 if none
         self._data_version = self._read_data_version()
+        self._append_hooks: list[AppendHook] = []
 
     # --- lifecycle -----------------------------------------------------------------------------
 
@@ -103,9 +107,38 @@ class Store:
             conn.executemany(_INSERT_EVENT, rows)
             conn.executemany(_INSERT_QUARANTINE, refused)
             conn.executemany(_INSERT_CHECKPOINT, self._checkpoint_rows(rows, received_at))
+            self._run_hooks(conn, rows)
         report.stored = len(rows)
         return report
 
+
+    def add_append_hook(self, hook: AppendHook) -> None:
+        """Call `hook(conn, run, min_t)` inside every append transaction that stores events of
+        `run`, with the earliest t among them: derived data (state snapshots) can drop what a
+        late event makes stale, atomically with the append."""
+        self._append_hooks.append(hook)
+
+    def _run_hooks(self, conn: sqlite3.Connection, rows: list[tuple]) -> None:
+        if not self._append_hooks or not rows:
+            return
+        earliest: dict[str, int] = {}
+        for row in rows:
+            run, t = row[0], row[4]
+            earliest[run] = min(t, earliest.get(run, t))
+        for hook in self._append_hooks:
+            for run, min_t in earliest.items():
+                hook(conn, run, min_t)
+
+    def checkpoints(self, run: str) -> list[dict[str, Any]]:
+        """The run's checkpoints, oldest first, as stored (count, head and whatever else)."""
+        cur = self._conn.execute("SELECT * FROM checkpoints WHERE run = ? ORDER BY id", (run,))
+        names = [d[0] for d in cur.description]
+        return [dict(zip(names, row)) for row in cur]
+
+    @property
+    def connection(self) -> sqlite3.Connection:
+        """The underlying connection, for the store's own modules (state folding, transfer)."""
+        return self._conn
 
     def _place(
         self,
