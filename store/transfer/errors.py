@@ -1,0 +1,12 @@
+"""The one error a transfer raises for a user's mistake (a missing file, an unknown format, a run
+that is not in the store, a file that is not MCAP at all).
+
+Everything else that can be wrong with input is a per-event matter: it is quarantined and
+reported, and the rest of the file is still imported. This error is for when nothing can be.
+"""
+
+from __future__ import annotations
+
+
+class TransferError(ValueError):
+    """A message for the person at the command line, naming the file and what is wrong."""

@@ -1,0 +1,119 @@
+"""MCAP in: every JSON message whose payload is an event envelope goes to the store.
+
+Accepted: our own exports, and JSON channels written by other tools, with a jsonschema schema or
+none (schema id 0). Each message is judged by the store like any other input and quarantined
+with its bytes and origin `FILE:channel TOPIC:message N (log_time T, where)` if refused; on a
+topic that is a gaps key expression, the event must also be the one that key names. Messages the
+store has no use for are counted as skipped, per channel, with the reason: the derived Foxglove
+channels of our own exports (they are rebuilt from the events on export) and channels in an
+encoding other than JSON. A file cut short imports everything before the cut (see mcap_records).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterator
+
+from mcap.records import Channel, Message, Metadata, Schema
+
+from ..db import Store
+from ..envelope import key_for
+from ..intake import Candidate, from_raw
+from .chain_check import ChainCheck
+from .errors import TransferError
+from .feed import feed
+from .foxglove import DERIVED_MARK
+from .mcap_records import Located, RecordReader
+from .report import ImportReport
+
+_EVENT_TOPIC_PREFIX = "gaps/"
+
+Progress = Callable[[int], None]
+
+
+@dataclass
+class _Route:
+    """What to do with a channel's messages: import them (reason None) or skip them, and why."""
+
+    topic: str
+    skip_reason: str | None
+    count: int = 0
+
+
+def route(channel: Channel, schema: Schema | None) -> _Route:
+    """Decide once per channel whether its messages can be events."""
+    if channel.message_encoding.lower() != "json":
+        return _Route(channel.topic, f"message encoding {channel.message_encoding or '(none)'!r} is not json")
+    if DERIVED_MARK in channel.metadata or (schema is not None and schema.name.startswith("foxglove.")):
+        name = schema.name if schema is not None else "visualisation"
+        return _Route(channel.topic, f"derived {name} channel: rebuilt from the events on export")
+    return _Route(channel.topic, None)
+
+
+class _Messages:
+    """Turns the records of one file into store candidates, keeping the file's channels and
+    schemas, the skip counts, and the chain check as it goes."""
+
+    def __init__(self, reader: RecordReader, report: ImportReport, chains: ChainCheck) -> None:
+        self.reader, self.report, self.chains = reader, report, chains
+        self.schemas: dict[int, Schema] = {}
+        self.routes: dict[int, _Route] = {}
+        self.messages = 0  # event messages read (offered to the store)
+
+    def candidates(self) -> Iterator[Candidate]:
+        for located in self.reader.records():
+            record = located.record
+            if isinstance(record, Message):
+                candidate = self._message(located, record)
+                if candidate is not None:
+                    yield candidate
+            elif isinstance(record, Schema):
+                self.schemas.setdefault(record.id, record)
+            elif isinstance(record, Channel):
+                self.routes.setdefault(record.id, route(record, self.schemas.get(record.schema_id)))
+            elif isinstance(record, Metadata):
+                self.chains.metadata(record.name, record.metadata)
+
+    def _message(self, located: Located, message: Message) -> Candidate | None:
+        where = f"{'chunk at' if located.in_chunk else 'record at'} byte {located.offset}"
+        channel = self.routes.get(message.channel_id)
+        if channel is None:
+            self.messages += 1
+            origin = f"{self.reader.name}:channel id {message.channel_id}:message (log_time {message.log_time}, {where})"
+            reason = f"message on channel id {message.channel_id}, which no Channel record before it defines"
+            return Candidate(origin, message.data, reason=reason)
+        channel.count += 1
+        if channel.skip_reason is not None:
+            self.report.skip(f"channel {channel.topic}", channel.skip_reason)
+            return None
+        self.messages += 1
+        origin = f"{self.reader.name}:channel {channel.topic}:message {channel.count} (log_time {message.log_time}, {where})"
+        candidate = from_raw(message.data, origin)
+        if candidate.event is None:
+            return candidate
+        if channel.topic.startswith(_EVENT_TOPIC_PREFIX) and key_for(candidate.event) != channel.topic:
+            reason = f"channel topic {channel.topic} does not match the event's own key {key_for(candidate.event)}"
+            return Candidate(origin, message.data, reason=reason)
+        self.chains.observe(candidate.event, candidate.canonical)
+        return candidate
+
+
+def import_mcap(store: Store, path: Path, report: ImportReport, progress: Progress | None = None) -> None:
+    """Import every event message of an MCAP file; say what was skipped and where a cut file ends."""
+    try:
+        stream = open(path, "rb")
+    except OSError as exc:
+        raise TransferError(f"cannot read {path}: {exc.strerror or exc}") from None
+    with stream:
+        reader = RecordReader(stream, os.fstat(stream.fileno()).st_size, str(path))
+        chains = ChainCheck()
+        messages = _Messages(reader, report, chains)
+        after = None if progress is None else (lambda: progress(reader.position))
+        feed(store, messages.candidates(), report, after_batch=after)
+    report.damaged.extend(reader.damaged)
+    report.chains.extend(chains.results(store))
+    if reader.cut is not None:
+        report.truncated = {**reader.cut.as_dict(), "messages_read": messages.messages,
+                            "stored": report.stored}

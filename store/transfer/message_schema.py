@@ -1,0 +1,53 @@
+"""The JSON Schema of an MCAP event channel: the whole envelope, with the kind's body schema.
+
+An MCAP message on `gaps/<run>/<src>/<kind>` is the full event envelope, so its schema describes
+the envelope and takes `body` from store/schemas/<kind>.json. The body schema's $defs move to the
+top so that its "#/$defs/..." references still resolve, and the envelope's rules are written out
+so that a tool that knows nothing of this project can check a message with the schema alone.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from ..envelope import ENVELOPE_FIELDS, ROLES
+from ..kinds import SCHEMAS
+
+_ID = "[A-Za-z0-9._-]{1,64}"
+_INT64 = {"type": "integer", "minimum": -(1 << 63), "maximum": (1 << 63) - 1}
+
+
+def envelope_schema(kind: str) -> dict[str, Any]:
+    """The schema of an event message of this kind."""
+    body = dict(SCHEMAS[kind])
+    defs = body.pop("$defs", None)
+    dialect = body.pop("$schema", "https://json-schema.org/draft/2020-12/schema")
+    body.pop("$id", None)
+    schema: dict[str, Any] = {
+        "$schema": dialect,
+        "$id": f"urn:mind-the-gaps:message:v1:{kind}",
+        "title": kind,
+        "description": f"A mind-the-gaps event of kind {kind}: the envelope, with the body of the kind.",
+        "type": "object",
+        "required": list(ENVELOPE_FIELDS),
+        "additionalProperties": False,
+        "properties": {
+            "v": {"const": 1, "description": "Envelope version."},
+            "run": {"type": "string", "pattern": f"^{_ID}$"},
+            "src": {"type": "string", "pattern": f"^({'|'.join(ROLES)})/{_ID}$"},
+            "seq": {"type": "integer", "minimum": 0, "maximum": (1 << 63) - 1,
+                    "description": "Per (run, src), from 0, rising by 1."},
+            "t": {**_INT64, "description": "World time, integer nanoseconds since the Unix epoch."},
+            "kind": {"const": kind},
+            "body": body,
+        },
+    }
+    if defs:
+        schema["$defs"] = defs
+    return schema
+
+
+def schema_bytes(kind: str) -> bytes:
+    """The schema as written into an MCAP Schema record."""
+    return json.dumps(envelope_schema(kind), separators=(",", ":"), sort_keys=True).encode("utf-8")

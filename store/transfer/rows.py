@@ -1,0 +1,58 @@
+"""A run's stored events as rows, in the order an export writes them.
+
+Exports read the stored canonical text and write it as it is: parsing it into dicts and encoding
+it again would only cost time (it is the hot loop of an export) and could not change a byte.
+
+Two orders: "time" is (t, seq, src), the order Store.events reads; "chain" is the order the
+events were appended, which is the order the run's hash chain covers them. Re-importing a file
+written in chain order rebuilds the identical chain, so its heads can be checked against the
+checkpoints exported with it; a file in time order rebuilds the same events, and the same heads
+only when the run was stored in time order.
+"""
+
+from __future__ import annotations
+
+from typing import Iterator, NamedTuple
+
+from ..db import Store
+from .errors import TransferError
+
+ORDERS = ("time", "chain")
+_ORDER_BY = {"time": "t, seq, src", "chain": "chain_pos"}
+
+
+class Row(NamedTuple):
+    src: str
+    seq: int
+    t: int
+    kind: str
+    text: str  # the event's canonical JSON
+
+
+def stored_rows(store: Store, run: str, order: str) -> Iterator[Row]:
+    """Stream the run's events as rows; both orders are index scans, nothing is sorted in memory."""
+    if order not in _ORDER_BY:
+        raise TransferError(f"unknown order {order!r}: use one of {', '.join(ORDERS)}")
+    cursor = store.connection.execute(
+        f"SELECT src, seq, t, kind, event FROM events WHERE run = ? ORDER BY {_ORDER_BY[order]}", (run,)
+    )
+    return (Row(*row) for row in cursor)
+
+
+def run_summary(store: Store, run: str) -> dict:
+    """The run's summary from the store, or a TransferError naming the runs there are."""
+    runs = store.runs()
+    for summary in runs:
+        if summary["run"] == run:
+            return summary
+    known = ", ".join(r["run"] for r in runs) or "none"
+    raise TransferError(f"no run {run!r} in {store.path}; runs: {known}")
+
+
+def chain_head(store: Store, run: str) -> str | None:
+    """The hash stored with the run's last chained event: its chain head as the store has it
+    (recomputing it is `gaps verify`'s job)."""
+    row = store.connection.execute(
+        "SELECT hash FROM events WHERE run = ? ORDER BY chain_pos DESC LIMIT 1", (run,)
+    ).fetchone()
+    return None if row is None else row[0]
