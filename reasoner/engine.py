@@ -3,19 +3,27 @@
 One engine per process (janus embeds a single Prolog).  Rulebooks are compiled to data in
 Python and built into clauses by `prolog/engine.pl`; each lives in a module named by the
 sha256 of its LE text, so a run can be judged by exactly the rules it recorded while other
-versions stay loaded beside it.
+versions stay loaded beside it.  A scenario is data too: asserted for one question into a
+thread-local context and retracted after it.
 """
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
+from .le.compile import atom_data, body_data, fact_data, predicates
 from .le.document import parse_document
-from .le.terms import Atom, Cond, Document, Var
+from .le.errors import LEError
+from .le.render import sentence_text
+from .le.terms import Atom, Cond, Document, Rule
 from .prolog_home import import_janus
 
 ENGINE_PL = Path(__file__).with_name("prolog") / "engine.pl"
+
+
+class QuestionError(RuntimeError):
+    """A question could not be answered (it ran past the engine's limits, or is malformed)."""
 
 
 @dataclass
@@ -28,7 +36,31 @@ class Rulebook:
     document: Document
 
     def rule(self, rule_id):
-        return None if rule_id is None else self.document.rules[rule_id]
+        if rule_id is None or isinstance(rule_id, str) or not 0 <= rule_id < len(self.document.rules):
+            return None
+        return self.document.rules[rule_id]
+
+    def render(self, data) -> str:
+        """Any goal or answer data (or an Atom) as an LE sentence with this rulebook's templates."""
+        return sentence_text(data, self.document)
+
+    def source(self, rule_id) -> dict | None:
+        rule = self.rule(rule_id)
+        return {"file": self.name, "line": rule.line} if rule else None
+
+    def scenario(self, name: str) -> list[Rule]:
+        try:
+            return self.document.scenarios[name].rules
+        except KeyError:
+            known = ", ".join(self.document.scenarios) or "none"
+            raise LEError(f"no scenario {name!r} in {self.name} (scenarios: {known})", self.name) from None
+
+    def query(self, name: str):
+        try:
+            return self.document.queries[name]
+        except KeyError:
+            known = ", ".join(self.document.queries) or "none"
+            raise LEError(f"no query {name!r} in {self.name} (queries: {known})", self.name) from None
 
 
 @dataclass
@@ -43,18 +75,31 @@ class Answer:
         return bool(self.proofs)
 
 
+@dataclass
+class QueryResult:
+    """The answers to a query as LE sentences (one per proof), with proof trees when asked."""
+
+    answers: list[str]
+    bindings: list = field(default_factory=list)       # the answers' data
+    proofs: list = field(default_factory=list)         # per answer: list of trees
+    why_not: list | None = None                        # trees, when there is no answer
+
+    def as_dict(self) -> dict:
+        out = {"answers": self.answers}
+        if self.proofs:
+            out["proofs"] = self.proofs
+        if self.why_not is not None:
+            out["why_not"] = self.why_not
+        return out
+
+
 def sha256_text(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-def atom_data(atom: Atom) -> list:
-    return [atom.functor, *(("var", a.name) if isinstance(a, Var) else a for a in atom.args)]
-
-
 def cond_data(cond: Cond):
-    if cond.atom is not None:
-        return ("pos", atom_data(cond.atom))
-    return ("not", [cond_data(c) for c in cond.negated])
+    from .le.compile import cond_data as data
+    return data(cond)
 
 
 class Engine:
@@ -66,31 +111,112 @@ class Engine:
                    F=str(ENGINE_PL))
         self._loaded: dict[str, Rulebook] = {}
 
+    # -- loading --------------------------------------------------------------------------
     def load(self, text: str, name: str = "<le>") -> Rulebook:
+        """Parse, check and load a rulebook (once per text); an LEError loads nothing."""
         sha = sha256_text(text)
         if sha in self._loaded:
             return self._loaded[sha]
         doc = parse_document(text, name)
         rb = Rulebook(name, sha, f"le_{sha[:16]}", doc)
-        decls = [(t.functor, t.arity) for t in doc.templates.values()]
-        self._call("gaps_engine:new_rulebook(M, D)", M=rb.module, D=decls)
-        for rule_id, rule in enumerate(doc.rules):
-            body = [cond_data(c) for c in rule.body]
-            self._call("gaps_engine:add_rule(M, I, H, B)", M=rb.module, I=rule_id,
-                       H=atom_data(rule.head), B=body)
+        try:
+            self._call("gaps_engine:new_rulebook(M, D)", M=rb.module, D=predicates(doc))
+            rules = [(i, atom_data(r.head), body_data(r.body)) for i, r in enumerate(doc.rules)]
+            for start in range(0, len(rules), 500):
+                self._call("gaps_engine:add_rules(M, R)", M=rb.module, R=rules[start:start + 500])
+        except Exception as exc:
+            self._janus.query_once("gaps_engine:drop_rulebook(M)", {"M": rb.module})
+            text = str(exc)
+            if "le_reserved" in text:
+                raise LEError(f"a template compiles to a Prolog built-in predicate ({text[:200]})", name, 0, 1,
+                              "change the template's words") from None
+            raise
         self._loaded[sha] = rb
         return rb
 
-    def ask(self, rb: Rulebook, goal: Atom, facts: list[Atom]) -> Answer:
-        result = self._call("gaps_engine:ask(M, F, G, P, W)", M=rb.module,
-                            F=[atom_data(f) for f in facts], G=atom_data(goal))
+    # -- asking ---------------------------------------------------------------------------
+    def ask(self, rb: Rulebook, goal: Atom, facts: list) -> Answer:
+        """One sentence with proof trees: every proof, or why there is none."""
+        result = self._guarded("gaps_engine:ask(M, F, G, P, W)", M=rb.module,
+                               F=self._facts(facts), G=atom_data(goal))
         return Answer(result["P"], result["W"])
+
+    def holds(self, rb: Rulebook, goal: Atom, facts: list) -> bool:
+        """Plain yes/no for one sentence: the fastest question."""
+        try:
+            return self._janus.apply_once("gaps_engine", "holds", rb.module, self._facts(facts),
+                                          atom_data(goal)) == "true"
+        except self._janus.PrologError as exc:
+            raise QuestionError(_prolog_message(exc)) from None
+
+    def answers(self, rb: Rulebook, body: list, facts: list, explain: bool = False) -> QueryResult:
+        """Every way the conditions hold (answers rendered as LE), with proofs if `explain`."""
+        conds = body_data(body)
+        facts_d = self._facts(facts)
+        if not explain:
+            result = self._guarded("gaps_engine:ask_plain(M, F, C, A)", M=rb.module, F=facts_d, C=conds)
+            data = result["A"]
+            return QueryResult([self._answer_text(rb, d) for d in data], data)
+        result = self._guarded("gaps_engine:ask_proofs(M, F, C, A, W)", M=rb.module, F=facts_d, C=conds)
+        pairs = result["A"]
+        data = [p[0] for p in pairs]
+        why = result["W"]
+        return QueryResult([self._answer_text(rb, d) for d in data], data, [p[1] for p in pairs],
+                           why if isinstance(why, list) else None)
+
+    def query(self, rb: Rulebook, query: str, scenario: str | None = None,
+              facts: list | None = None, explain: bool = False) -> QueryResult:
+        """A query of the document by name, on one of its scenarios (and/or extra facts)."""
+        q = rb.query(query)
+        statements = list(rb.scenario(scenario)) if scenario is not None else []
+        return self.answers(rb, q.body, statements + list(facts or []), explain)
+
+    def prolog_text(self, rb: Rulebook) -> str:
+        """The rulebook's clauses as Prolog text, each after the LE line it came from."""
+        out = [f"% {rb.name} (sha256 {rb.sha256}), module {rb.module}"]
+        for i, rule in enumerate(rb.document.rules):
+            text = self._call("gaps_engine:clause_text(M, I, T)", M=rb.module, I=i)["T"]
+            label = f" [{rule.label}]" if rule.label else ""
+            out.append(f"% {rb.name}:{rule.line}{label}\n{text.rstrip()}")
+        return "\n".join(out) + "\n"
+
+    # -- helpers --------------------------------------------------------------------------
+    @staticmethod
+    def _facts(facts: list) -> list:
+        out = []
+        for i, f in enumerate(facts):
+            if isinstance(f, Atom):
+                out.append(atom_data(f))
+            elif isinstance(f, Rule):
+                out.append(fact_data(f, f"s{i}"))
+            else:
+                raise TypeError(f"a fact is an Atom or a scenario Rule, not {type(f).__name__}")
+        return out
+
+    @staticmethod
+    def _answer_text(rb: Rulebook, conds_data: list) -> str:
+        return " and ".join(rb.render(c) for c in conds_data)
+
+    def _guarded(self, query: str, **inputs):
+        try:
+            return self._call(query, **inputs)
+        except self._janus.PrologError as exc:
+            raise QuestionError(_prolog_message(exc)) from None
 
     def _call(self, query: str, **inputs):
         result = self._janus.query_once(query, inputs)
         if not result.get("truth"):
             raise RuntimeError(f"Prolog query failed: {query}")
         return result
+
+
+def _prolog_message(exc) -> str:
+    text = str(exc)
+    if "le_limit" in text:
+        return "the question ran past the engine's inference limit (a rule may recurse without end)"
+    if "le_resource" in text or "resource_error" in text:
+        return "the question ran out of Prolog stack (a rule may recurse without end)"
+    return f"the engine could not answer: {text[:300]}"
 
 
 _engine: Engine | None = None

@@ -1,1 +1,1 @@
-"""The Logical English compiler (the walking skeleton\x27s subset; issue 4 completes it)."""
+"""The Logical English compiler: lexer, templates, sentences, documents, rendering."""

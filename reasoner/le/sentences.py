@@ -1,34 +1,266 @@
 """Turning one LE sentence into an Atom with the document's templates.
 
-Shared by rules (where `a X` introduces and `the X` refers to a variable) and by scenario
-facts from events (where every filler is a constant): facts are parsed as data, so a hostile
-fact can at worst fail to match a template.
+Shared by rules (where `a X` introduces and `the X` refers to a variable), scenarios and
+queries (`which X`), and by scenario facts from events, where every filler is a constant: such
+facts are parsed as data, so a hostile fact can at worst fail to match a template.
+
+A slot filler is read, in this order, as: a new variable (`a vehicle`, `an other vehicle`,
+`a number X`, `which date`); a variable already introduced (`the vehicle`, `X`, `monthly
+amount`); a list (`[a, b]`); a date, a number or arithmetic (`ET * F - Y`); else a constant,
+one atom with its words as written (`enter the junction`).  Variable names drop type words
+when other words remain, so `a number X` is `X` and `a first amount` is `first`, as in the
+reference implementation.
 """
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass, field
 
+from .builtins import BUILTINS, GENERIC_IS, PREDEFINED_TYPES
 from .errors import LEError
-from .templates import Template, match
-from .terms import Arg, Atom, Var
+from .lexer import Token, join_tokens, lex_line
+from .templates import ORDINALS, Template, match_tokens
+from .terms import Arg, Atom, Expr, ListTerm, Var
 
 NUMBER = re.compile(r"-?\d+(\.\d+)?$")
+INDEFINITE = {"a", "an", "which", "each", "another"}
+DEFINITE = {"the"}
+OPERATORS = {"+", "-", "*", "/"}
 
+
+class NoMatch(Exception):
+    """No template fits (or a filler cannot be read); carries the best explanation found."""
+
+
+@dataclass
+class Scope:
+    """The variables a rule (or query, or scenario fact) has introduced so far."""
+
+    vars: dict = field(default_factory=dict)        # name -> Var
+    undefined: list = field(default_factory=list)   # (tokens) of `the X` read as a constant
+
+    def copy(self) -> "Scope":
+        return Scope(dict(self.vars), list(self.undefined))
+
+
+class Vocabulary:
+    """A document's templates (its own first, then the built-ins) and its type words."""
+
+    def __init__(self, templates) -> None:
+        own = list(dict.fromkeys(templates))          # unique, in declaration order
+        own.sort(key=lambda t: (-len(t.parts), -t.literal_count()))
+        self.own = own
+        self.builtins = sorted(BUILTINS, key=lambda t: -t.literal_count())
+        self.types = set(PREDEFINED_TYPES)
+        for t in own:
+            for s in t.slots:
+                if "_" not in s.type and " " not in s.type:
+                    self.types.add(s.type)
+
+    # -- variable names -----------------------------------------------------------------
+    def var_name(self, words: list[str]) -> str:
+        """The reference's naming: type words drop out when other words remain; an ordinal
+        (first, second, ...) stands for the whole name."""
+        def walk(ws, ordinals):
+            if not ws:
+                return ordinals
+            w = ws[0]
+            if w.lower() in ORDINALS:
+                return walk(ws[1:], [w] + ordinals)
+            if w in self.types:
+                rest = walk(ws[1:], ordinals)
+                return rest if rest else [w]
+            return [w] + walk(ws[1:], ordinals)
+        name = " ".join(walk(words, []))
+        return " ".join(name.replace("_", " ").split())
+
+    # -- sentences ------------------------------------------------------------------------
+    def candidates(self, tokens: list[Token]):
+        """(template, fillers) for every template the sentence fits, best first."""
+        found = []
+        for group in (self.own, self.builtins):
+            for t in group:
+                fillers = match_tokens(t, tokens)
+                if fillers is not None:
+                    found.append((t, fillers))
+        return found
+
+    def sentence(self, tokens: list[Token], scope: Scope, mode: str, file: str = "<le>") -> Atom:
+        """The Atom for a sentence; mode is rule, fact, query or data (constants only)."""
+        if not tokens:
+            raise LEError("an empty condition", file, 0, 1)
+        found = self.candidates(tokens)
+        if not found:
+            t0 = tokens[0]
+            raise LEError(f"no template fits: {join_tokens(tokens)!r}", file, t0.line, t0.col,
+                          "declare it under `the templates are:` or reword it")
+        own = [(t, f) for t, f in found if not t.builtin]
+        if len(own) > 1:
+            a, b = own[0][0], own[1][0]
+            if (len(a.parts), a.literal_count()) == (len(b.parts), b.literal_count()) and a != b:
+                t0 = tokens[0]
+                raise LEError(f"ambiguous sentence {join_tokens(tokens)!r}: it fits both "
+                              f"`{a.text()}` and `{b.text()}`", file, t0.line, t0.col,
+                              "reword it or make the templates distinct")
+        last_error = None
+        for template, fillers in found:
+            trial = scope.copy()
+            try:
+                atom = self._build(template, fillers, trial, mode, file)
+            except NoMatch as exc:
+                last_error = exc
+                continue
+            scope.vars, scope.undefined = trial.vars, trial.undefined
+            return atom
+        t0 = tokens[0]
+        raise LEError(f"no template fits: {join_tokens(tokens)!r}" +
+                      (f" ({last_error})" if last_error else ""), file, t0.line, t0.col,
+                      "declare it under `the templates are:` or reword it")
+
+    def _build(self, template: Template, fillers, scope: Scope, mode: str, file: str) -> Atom:
+        args = []
+        n = len(fillers)
+        for i, filler in enumerate(fillers):
+            if template.meta and i == n - 1:
+                try:
+                    args.append(self.sentence(filler, scope, mode, file))
+                    continue
+                except LEError:
+                    pass
+            args.append(self.term(filler, scope, mode))
+        if template is GENERIC_IS:
+            left, right = fillers[0], args[1]
+            symbolic = left[0].text.lower() not in INDEFINITE | DEFINITE and isinstance(args[0], Var)
+            if not (symbolic or isinstance(right, (int, float, Var, Expr, ListTerm))):
+                raise NoMatch("`X is Y` compares a variable or a value")
+        return Atom(template.functor, tuple(args))
+
+    # -- terms ----------------------------------------------------------------------------
+    def term(self, tokens: list[Token], scope: Scope, mode: str) -> Arg:
+        if mode == "data":
+            return value_of(tokens)
+        first = tokens[0].text.lower() if tokens[0].kind == "word" else ""
+        if first in INDEFINITE and len(tokens) > 1 and all(t.kind != "op" for t in tokens):
+            words = [t.text for t in tokens[1:]]
+            name = self.var_name(words)
+            if first == "another":
+                name = "other " + name
+            if name:
+                var = scope.vars.get(name)
+                if var is None:
+                    var = Var(name, " ".join(words))
+                    scope.vars[name] = var
+                return var
+        if first in DEFINITE and len(tokens) > 1:
+            name = self.var_name([t.text for t in tokens[1:]])
+            if name in scope.vars:
+                return scope.vars[name]
+        name = self.var_name([t.text for t in tokens])
+        if name in scope.vars:
+            return scope.vars[name]
+        if tokens[0].text == "[" and tokens[-1].text == "]":
+            return self.list_term(tokens[1:-1], scope, mode)
+        if len(tokens) == 1 and tokens[0].kind in ("number", "date"):
+            return tokens[0].value
+        if len(tokens) == 2 and tokens[0].text == "-" and tokens[1].kind == "number":
+            return -tokens[1].value
+        if any(t.text in OPERATORS or t.text in "()" for t in tokens):
+            expr = self.expression(tokens, scope)
+            if expr is not None:
+                return expr
+        if first in DEFINITE and len(tokens) > 1 and mode == "rule":
+            scope.undefined.append(tokens)
+        return join_tokens(tokens)
+
+    def list_term(self, tokens: list[Token], scope: Scope, mode: str) -> ListTerm:
+        items, current, depth = [], [], 0
+        for t in tokens:
+            if t.text == "[":
+                depth += 1
+            elif t.text == "]":
+                depth -= 1
+            if t.text == "," and depth == 0:
+                if current:
+                    items.append(self.term(current, scope, mode))
+                current = []
+            else:
+                current.append(t)
+        if current:
+            items.append(self.term(current, scope, mode))
+        return ListTerm(tuple(items))
+
+    def expression(self, tokens: list[Token], scope: Scope):
+        """Arithmetic over numbers, dates and known variables, or None if it is not that."""
+        pos = 0
+
+        def leaf(toks):
+            if not toks:
+                return None
+            if len(toks) == 1 and toks[0].kind in ("number", "date"):
+                return toks[0].value
+            words = [t.text for t in toks]
+            if words[0].lower() in DEFINITE and len(words) > 1:
+                name = self.var_name(words[1:])
+                if name in scope.vars:
+                    return scope.vars[name]
+            name = self.var_name(words)
+            return scope.vars.get(name)
+
+        def primary():
+            nonlocal pos
+            if pos < len(tokens) and tokens[pos].text == "(":
+                pos += 1
+                e = additive()
+                if e is None or pos >= len(tokens) or tokens[pos].text != ")":
+                    return None
+                pos += 1
+                return e
+            if pos < len(tokens) and tokens[pos].text == "-":
+                pos += 1
+                e = primary()
+                return None if e is None else (-e if isinstance(e, (int, float)) else Expr("neg", (e,)))
+            start = pos
+            while pos < len(tokens) and tokens[pos].text not in OPERATORS and tokens[pos].text not in "()":
+                pos += 1
+            return leaf(tokens[start:pos])
+
+        def multiplicative():
+            nonlocal pos
+            e = primary()
+            while e is not None and pos < len(tokens) and tokens[pos].text in ("*", "/"):
+                op = tokens[pos].text
+                pos += 1
+                r = primary()
+                e = None if r is None else Expr(op, (e, r))
+            return e
+
+        def additive():
+            nonlocal pos
+            e = multiplicative()
+            while e is not None and pos < len(tokens) and tokens[pos].text in ("+", "-"):
+                op = tokens[pos].text
+                pos += 1
+                r = multiplicative()
+                e = None if r is None else Expr(op, (e, r))
+            return e
+
+        e = additive()
+        return e if e is not None and pos == len(tokens) else None
+
+
+def value_of(tokens: list[Token]) -> Arg:
+    """A filler of a fact from outside (an event): a number, a date, or a constant."""
+    if len(tokens) == 1 and tokens[0].kind in ("number", "date"):
+        return tokens[0].value
+    if len(tokens) == 2 and tokens[0].text == "-" and tokens[1].kind == "number" and not tokens[1].space:
+        return -tokens[1].value
+    return join_tokens(tokens)
+
+
+# -- compatibility helpers used by the investigation and the simulation -----------------------
 
 def words_of(sentence: str) -> list[str]:
     return sentence.strip().rstrip(".").split()
-
-
-def best_match(templates: dict[str, Template], words: list[str]):
-    """The template that fits with the most literal words; ties between templates are ambiguous."""
-    fits = [(t.literal_count(), t, f) for t in templates.values() if (f := match(t, words))]
-    if not fits:
-        return None
-    fits.sort(key=lambda x: -x[0])
-    if len(fits) > 1 and fits[0][0] == fits[1][0]:
-        names = ", ".join(x[1].functor for x in fits[:2])
-        raise ValueError(f"ambiguous sentence: it fits the templates {names}")
-    return fits[0][1], fits[0][2]
 
 
 def constant(words: list[str]) -> Arg:
@@ -38,41 +270,36 @@ def constant(words: list[str]) -> Arg:
     return text
 
 
-def rule_arg(words: list[str], scope: set[str]) -> Arg:
-    """`a vehicle` introduces a variable, `the vehicle` refers to one; anything else is a constant."""
-    first = words[0].lower()
-    if first in ("a", "an") and len(words) > 1:
-        name = " ".join(words[1:])
-        scope.add(name)
-        return Var(name)
-    if first == "the" and " ".join(words[1:]) in scope:
-        return Var(" ".join(words[1:]))
-    return constant(words)
-
-
-def parse_rule_sentence(text: str, templates, scope: set[str], file: str, line: int, col: int) -> Atom:
-    words = words_of(text)
+def vocabulary(templates) -> Vocabulary:
+    """The Vocabulary of a template table (cached on it when it allows)."""
+    cached = getattr(templates, "_vocabulary", None)
+    if cached is not None:
+        return cached
+    values = templates.values() if hasattr(templates, "values") else templates
+    vocab = Vocabulary(list(values))
     try:
-        found = best_match(templates, words)
-    except ValueError as exc:
-        raise LEError(str(exc), file, line, col, "reword it or make the templates distinct") from None
-    if not found:
-        raise LEError(f"no template fits: {text.strip()!r}", file, line, col,
-                      "declare it under `the templates are:`")
-    template, fillers = found
-    return Atom(template.functor, tuple(rule_arg(f, scope) for f in fillers))
+        templates._vocabulary = vocab
+    except AttributeError:
+        pass
+    return vocab
+
+
+MAX_FACT = 100_000 * 4
 
 
 def parse_fact(text: str, templates) -> Atom | None:
     """A scenario fact as a ground Atom, or None when no template fits (an unknown fact)."""
-    words = words_of(text)
-    if not words:
+    if not isinstance(text, str) or len(text) > MAX_FACT:
+        return None
+    text = text.strip()
+    if text.endswith("."):
+        text = text[:-1]
+    if "\n" in text or "\r" in text:
+        text = " ".join(text.split())
+    tokens = lex_line(text, 1, comments=False).tokens
+    if not tokens:
         return None
     try:
-        found = best_match(templates, words)
-    except ValueError:
+        return vocabulary(templates).sentence(tokens, Scope(), "data")
+    except LEError:
         return None
-    if not found:
-        return None
-    template, fillers = found
-    return Atom(template.functor, tuple(constant(f) for f in fillers))
