@@ -2,20 +2,22 @@
 
 Input comes from vehicles, monitors, replays and foreign producers over the network, so every
 check assumes hostile data: the answer to bad input is always an EventError saying what was wrong,
-never a crash and never a silently repaired event. Type checks of body fields beyond the required
-ones are left to full JSON-Schema validation.
+never a crash and never a silently repaired event. The body is checked against its kind's full
+JSON Schema, and the source against the roles that may send the kind.
 """
 
 from __future__ import annotations
 
 import json
 import re
-from itertools import repeat
 from operator import itemgetter
 from typing import Any, Callable
 
+from .body_check import body_ok, body_problem
 from .canonical import canonical_json
-from .kinds import KINDS, REQUIRED, REQUIRED_SET
+from .describe import json_type as _json_type
+from .describe import show as _show
+from .kinds import KINDS, REQUIRED, SRC_ROLES
 
 MAX_EVENT_BYTES = 1 << 20  # 1 MiB
 ENVELOPE_FIELDS = ("v", "run", "src", "seq", "t", "kind", "body")
@@ -25,7 +27,6 @@ _ID = re.compile(r"[A-Za-z0-9._-]{1,64}")
 _SRC = re.compile(rf"(?:{'|'.join(ROLES)})/[A-Za-z0-9._-]{{1,64}}")
 _ENVELOPE_VALUES = itemgetter(*ENVELOPE_FIELDS)
 _INT64_MIN, _INT64_MAX = -(1 << 63), (1 << 63) - 1  # SQLite INTEGER range
-_SHOWN = 60  # characters of a bad value quoted in an error message
 
 __all__ = [
     "ENVELOPE_FIELDS",
@@ -85,28 +86,6 @@ def _is_int(value: Any) -> bool:
 
 def _is_seq(value: Any) -> bool:
     return _is_int(value) and 0 <= value <= _INT64_MAX
-
-
-def _show(value: Any) -> str:
-    """A bad value quoted briefly: hostile input may be megabytes long."""
-    text = repr(value)
-    return text if len(text) <= _SHOWN else text[: _SHOWN - 1] + "…"
-
-
-def _json_type(value: Any) -> str:
-    if value is None:
-        return "null"
-    if isinstance(value, bool):
-        return "boolean"
-    if isinstance(value, (int, float)):
-        return "number"
-    if isinstance(value, str):
-        return "string"
-    if isinstance(value, (list, tuple)):
-        return "array"
-    if isinstance(value, dict):
-        return "object"
-    return type(value).__name__
 
 
 def _error(ev: Any, field: str, problem: str) -> EventError:
@@ -185,6 +164,14 @@ def _check_kind(ev: dict) -> Problem:
     return None
 
 
+def _check_role(ev: dict) -> Problem:
+    kind, role = ev["kind"], ev["src"].partition("/")[0]
+    roles = SRC_ROLES[kind]
+    if role not in roles:
+        return "src", f"kind {kind} comes only from src role(s) {', '.join(roles)}, not from {ev['src']}"
+    return None
+
+
 def _check_body(ev: dict) -> Problem:
     body, kind = ev["body"], ev["kind"]
     if not isinstance(body, dict):
@@ -192,13 +179,7 @@ def _check_body(ev: dict) -> Problem:
     missing = [name for name in REQUIRED[kind] if name not in body]
     if missing:
         return f"body.{missing[0]}", f"body of {kind} lacks required field(s) {', '.join(missing)}"
-    if "facts" in body and not _is_string_list(body["facts"]):
-        return "body.facts", "body.facts must be a list of strings (Logical English sentences)"
-    return None
-
-
-def _is_string_list(value: Any) -> bool:
-    return isinstance(value, list) and all(map(isinstance, value, repeat(str)))
+    return body_problem(kind, body)
 
 
 _CHECKS: tuple[Callable[[dict], Problem], ...] = (
@@ -209,6 +190,7 @@ _CHECKS: tuple[Callable[[dict], Problem], ...] = (
     _check_seq,
     _check_t,
     _check_kind,
+    _check_role,
     _check_body,
 )
 
@@ -238,17 +220,43 @@ def _plainly_valid(ev: Any) -> bool:
         v, run, src, seq, t, kind, body = _ENVELOPE_VALUES(ev)
         return (
             type(v) is int and v == 1
-            and type(run) is str and _ID.fullmatch(run) is not None
-            and type(src) is str and _SRC.fullmatch(src) is not None
+            and type(run) is str and (run in _SEEN_RUNS or _admit_run(run))
+            and type(src) is str and type(kind) is str and ((kind, src) in _SEEN_SOURCES or _admit_source(kind, src))
             and type(seq) is int and 0 <= seq <= _INT64_MAX
             and type(t) is int and _INT64_MIN <= t <= _INT64_MAX
-            and type(kind) is str and kind in KINDS
             and type(body) is dict
-            and REQUIRED_SET[kind] <= body.keys()
-            and ("facts" not in body or _is_string_list(body["facts"]))
+            and body_ok(kind, body)
         )
     except KeyError:
         return False
+
+
+# Runs and (kind, src) pairs already found valid: a producer sends thousands of events with the
+# same few, and a set lookup is cheaper than the regular expressions. Bounded against hostile
+# input that makes up a new source for every event.
+_SEEN_RUNS: set[str] = set()
+_SEEN_SOURCES: set[tuple[str, str]] = set()
+_SEEN_LIMIT = 1 << 16
+
+
+def _admit_run(run: str) -> bool:
+    if _ID.fullmatch(run) is None:
+        return False
+    _remember(_SEEN_RUNS, run)
+    return True
+
+
+def _admit_source(kind: str, src: str) -> bool:
+    if kind not in KINDS or _SRC.fullmatch(src) is None or src.partition("/")[0] not in SRC_ROLES[kind]:
+        return False
+    _remember(_SEEN_SOURCES, (kind, src))
+    return True
+
+
+def _remember(seen: set, item: Any) -> None:
+    if len(seen) >= _SEEN_LIMIT:
+        seen.clear()
+    seen.add(item)
 
 
 def encode_event(ev: dict) -> bytes:

@@ -1,6 +1,7 @@
 """The event kinds: one JSON Schema per kind in store/schemas/, loaded once at import.
 
-The schema files are the single source of the kind list, so adding a kind is adding a file.
+The schema files are the single source of the kind list and of which sources may send each
+kind (the "x-src-roles" keyword, DESIGN's src column), so adding a kind is adding a file.
 """
 
 from __future__ import annotations
@@ -33,4 +34,9 @@ REQUIRED: Mapping[str, tuple[str, ...]] = MappingProxyType(
 )
 REQUIRED_SET: Mapping[str, frozenset[str]] = MappingProxyType(
     {kind: frozenset(names) for kind, names in REQUIRED.items()}
+)
+
+# DESIGN's "src" column: a signal cannot report what a vehicle perceived.
+SRC_ROLES: Mapping[str, tuple[str, ...]] = MappingProxyType(
+    {kind: tuple(schema["x-src-roles"]) for kind, schema in SCHEMAS.items()}
 )

@@ -30,20 +30,31 @@ BODIES: dict[str, dict[str, Any]] = {
 }
 
 
+# A source of a role allowed to send each kind (DESIGN's src column).
+SOURCES: dict[str, str] = {
+    "run.start": "sim/world",
+    "run.end": "sim/world",
+    "collision": "sim/world",
+    "signal.state": "signal/J1",
+    "monitor.observation": "monitor/m1",
+    "monitor.potential_violation": "monitor/m1",
+}
+
+
 def event(
     seq: int = 0,
     *,
     run: str = "r1",
-    src: str = "vehicle/173",
+    src: str | None = None,
     t: int | None = None,
     kind: str = "vehicle.perception",
     body: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """A valid event; t defaults to 100 ms per seq after T0."""
+    """A valid event; t defaults to 100 ms per seq after T0, src to one allowed for the kind."""
     return {
         "v": 1,
         "run": run,
-        "src": src,
+        "src": SOURCES.get(kind, "vehicle/173") if src is None else src,
         "seq": seq,
         "t": T0 + seq * 100_000_000 if t is None else t,
         "kind": kind,

@@ -100,7 +100,8 @@ def test_each_required_body_field_is_named(kind):
 def test_facts_must_be_a_list_of_strings(kind, facts):
     body = dict(BODIES[kind], facts=facts)
     error = refusal(event(kind=kind, body=body))
-    assert error.field == "body.facts"
+    assert error.field.startswith("body.facts")
+    assert str(error).startswith(f"event run=r1 src={event(kind=kind)['src']} seq=0: {kind} body.facts")
 
 
 def test_message_names_run_src_and_seq_when_known():
@@ -225,9 +226,9 @@ def test_prolog_looking_strings_are_just_text():
 
 
 def test_decode_returns_canonical_bytes():
-    ev, canonical = decode_event(b' { "body": {"facts": []}, "v": 1, "run": "r", "src": "sim/s", '
+    ev, canonical = decode_event(b' { "body": {"facts": []}, "v": 1, "run": "r", "src": "vehicle/s", '
                                  b'"seq": 0, "t": 0, "kind": "vehicle.perception" } ')
-    assert canonical == b'{"body":{"facts":[]},"kind":"vehicle.perception","run":"r","seq":0,"src":"sim/s","t":0,"v":1}'
+    assert canonical == b'{"body":{"facts":[]},"kind":"vehicle.perception","run":"r","seq":0,"src":"vehicle/s","t":0,"v":1}'
 
 
 def test_raw_must_be_bytes():

@@ -1,0 +1,180 @@
+"""Every body is checked against its kind's full JSON Schema, and every source against the roles
+DESIGN allows for the kind; refusals name the event, the kind, the failing path and the rule."""
+
+import json
+
+import pytest
+from store_testkit import BODIES, event
+
+from store import EventError, validate_event
+from store.body_check import validator
+from store.kinds import KINDS, SCHEMAS, SRC_ROLES
+
+ANY = ("vehicle", "monitor", "signal", "pedestrian", "sim")
+
+# DESIGN.md, "Kinds (v1)", the src column.
+ROLES = {
+    "run.start": ("sim",),
+    "run.end": ("sim",),
+    "entity.spawn": ANY,
+    "entity.state": ("vehicle", "pedestrian"),
+    "entity.despawn": ANY,
+    "signal.state": ("signal",),
+    "vehicle.perception": ("vehicle",),
+    "vehicle.decision": ("vehicle",),
+    "vehicle.trace": ("vehicle",),
+    "ads.event": ("vehicle",),
+    "monitor.observation": ("monitor",),
+    "monitor.potential_violation": ("monitor",),
+    "collision": ("sim",),
+}
+
+
+def refusal(ev) -> EventError:
+    with pytest.raises(EventError) as caught:
+        validate_event(ev)
+    return caught.value
+
+
+def test_roles_are_designs_src_column():
+    assert dict(SRC_ROLES) == ROLES
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+@pytest.mark.parametrize("role", ANY)
+def test_each_kind_only_from_its_roles(kind, role):
+    ev = event(kind=kind, src=f"{role}/x1")
+    if role in ROLES[kind]:
+        validate_event(ev)
+    else:
+        error = refusal(ev)
+        assert error.field == "src"
+        assert str(error) == (f"event run=r1 src={role}/x1 seq=0: kind {kind} comes only from src role(s) "
+                              f"{', '.join(ROLES[kind])}, not from {role}/x1")
+
+
+# (kind, body change, failing path, rule, words of the message)
+BAD_BODIES = [
+    ("entity.state", {"speed_mps": "fast"}, "body.speed_mps", "type", "body.speed_mps must be number"),
+    ("entity.state", {"speed_mps": -1}, "body.speed_mps", "minimum", "bigger than or equal to 0"),
+    ("entity.state", {"x": True}, "body.x", "type", "body.x must be number"),
+    ("entity.state", {"junction": 4}, "body.junction", "type", "must be string or null"),
+    ("entity.spawn", {"type": "tank"}, "body.type", "enum", "must be one of"),
+    ("entity.spawn", {"automation_level": 6}, "body.automation_level", "maximum", "smaller than or equal to 5"),
+    ("entity.spawn", {"automation_level": -1}, "body.automation_level", "minimum", "bigger than or equal to 0"),
+    ("entity.spawn", {"automation_level": 2.5}, "body.automation_level", "type", "must be integer"),
+    ("entity.spawn", {"driver": "ghost"}, "body.driver", "enum", "must be one of"),
+    ("entity.spawn", {"emergency": "yes"}, "body.emergency", "type", "must be boolean"),
+    ("signal.state", {"colour": "blue"}, "body.colour", "enum", "must be one of ['red', 'red_amber', 'amber'"),
+    ("signal.state", {"junction": ""}, "body.junction", "minLength", "longer than or equal to 1"),
+    ("vehicle.perception", {"facts": ["173 is stopped", ""]}, "body.facts[1]", "minLength", "longer than"),
+    ("vehicle.perception", {"facts": [1]}, "body.facts[0]", "type", "must be string"),
+    ("vehicle.perception", {"facts": "173 is stopped"}, "body.facts", "type", "must be array"),
+    ("monitor.observation", {"facts": [""]}, "body.facts[0]", "minLength", "longer than"),
+    ("monitor.observation", {"speed_mps": -3}, "body.speed_mps", "minimum", "bigger than"),
+    ("vehicle.decision", {"proceeds": "yes"}, "body.proceeds", "type", "must be boolean"),
+    ("vehicle.decision", {"rulebook": "abc"}, "body.rulebook", "pattern", "must match pattern"),
+    ("vehicle.decision", {"trace": -1}, "body.trace", "minimum", "bigger than"),
+    ("vehicle.trace", {"answer": 3}, "body.answer", "oneOf", "exactly by one definition"),
+    ("vehicle.trace", {"proof": {"sentence": "s", "status": "proved", "children": [{"sentence": "t", "status": "?"}]}},
+     "body.proof.children[0].status", "enum", "must be one of"),
+    ("ads.event", {"event": "nap"}, "body.event", "enum", "must be one of"),
+    ("collision", {"entities": []}, "body.entities", "minItems", "must contain at least 1 items"),
+    ("run.start", {"seed": "seven"}, "body.seed", "type", "must be integer"),
+    ("run.start", {"map": {"junctions": [{"id": "j1", "x": 0, "y": 0, "control": "roundabout"}]}},
+     "body.map.junctions[0].control", "enum", "must be one of"),
+    ("run.start", {"rulebooks": [{"name": "hc", "sha256": "xyz", "text": ""}]}, "body.rulebooks[0].sha256",
+     "pattern", "must match pattern"),
+    ("run.end", {"reason": 5}, "body.reason", "type", "must be string"),
+]
+
+
+@pytest.mark.parametrize("kind, change, path, rule, words", BAD_BODIES, ids=[f"{b[0]}:{b[2]}" for b in BAD_BODIES])
+def test_schema_violations_are_named(kind, change, path, rule, words):
+    ev = event(4, kind=kind, body=dict(BODIES[kind], **change))
+    error = refusal(ev)
+    assert error.field == path
+    message = str(error)
+    assert message.startswith(f"event run=r1 src={ev['src']} seq=4: {kind} {path} ")
+    assert words in message
+    assert f"(schema rule {rule})" in message
+
+
+def test_the_briefs_example_message():
+    error = refusal(event(4, kind="entity.state", body={"x": 0, "y": 0, "speed_mps": "fast"}))
+    assert str(error) == ("event run=r1 src=vehicle/173 seq=4: entity.state body.speed_mps must be number "
+                          "(schema rule type), got string 'fast'")
+
+
+def test_extra_fields_are_allowed_at_every_level():
+    body = {"facts": ["173 is stopped"], "camera": {"id": "c9"},
+            "proof": {"anything": [1, 2]}}
+    validate_event(event(kind="vehicle.perception", body=body))
+    start = {"map": {"roads": [{"id": "r", "from": [0, 0], "to": [1, 1], "lanes": 2}], "extra": True}}
+    validate_event(event(kind="run.start", body=start))
+
+
+def test_an_empty_facts_list_is_valid():
+    validate_event(event(body={"facts": []}))
+
+
+def test_deeply_nested_proof_is_refused_not_crashing():
+    node: dict = {"sentence": "s", "status": "proved"}
+    for _ in range(5_000):
+        node = {"sentence": "s", "status": "proved", "children": [node]}
+    error = refusal(event(kind="vehicle.trace", body={"query": "q", "answer": True, "proof": node}))
+    assert error.field == "body"
+    assert "nested too deeply" in str(error)
+
+
+def test_every_schema_compiles_once():
+    for kind in KINDS:
+        assert validator(kind) is validator(kind)
+
+
+def test_refused_bodies_are_quarantined_on_append(store):
+    bad = event(0, kind="signal.state", body={"junction": "J1", "colour": "blue"})
+    misrouted = event(1, kind="vehicle.perception", src="signal/J1")
+    report = store.append([bad, misrouted, event(0)])
+    assert report.stored == 1
+    reasons = [r["reason"] for r in report.rejected]
+    assert "signal.state body.colour must be one of" in reasons[0]
+    assert "kind vehicle.perception comes only from src role(s) vehicle" in reasons[1]
+    assert [q["reason"] for q in store.quarantined()] == reasons
+
+
+def test_raw_input_is_validated_too(store):
+    raw = json.dumps(event(0, kind="entity.state", body={"x": 0, "y": 0, "speed_mps": -2})).encode()
+    report = store.append_raw([(raw, "file.jsonl:3")])
+    assert report.rejected[0]["origin"] == "file.jsonl:3"
+    assert "body.speed_mps must be bigger than or equal to 0" in report.rejected[0]["reason"]
+    assert store.quarantined()[0]["raw"] == raw
+
+
+def test_the_schemas_use_only_keywords_with_the_same_meaning_in_draft_2019_and_2020():
+    """fastjsonschema applies 2019-09 rules; these keywords mean the same in 2020-12 (items as
+    one schema, not the tuple form whose meaning changed)."""
+    keywords = {"$schema", "$id", "$ref", "$defs", "title", "description", "x-src-roles", "type", "required",
+                "additionalProperties", "properties", "items", "enum", "minimum", "maximum", "minItems",
+                "maxItems", "minLength", "pattern", "oneOf"}
+
+    def walk(schema):
+        for key, value in schema.items():
+            assert key in keywords, key
+            if key in ("properties", "$defs"):
+                for sub in value.values():
+                    walk(sub)
+            elif key == "items":
+                assert isinstance(value, dict)
+                walk(value)
+            elif key == "oneOf":
+                for sub in value:
+                    walk(sub)
+
+    for schema in SCHEMAS.values():
+        walk(schema)
+
+
+def test_one_valid_event_of_every_kind_is_stored(store):
+    report = store.append([event(0, kind=kind, run=kind.replace(".", "-")) for kind in KINDS])
+    assert report.stored == len(KINDS)
