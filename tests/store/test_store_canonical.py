@@ -61,3 +61,24 @@ def test_key_order_does_not_matter(mapping, rnd):
 def test_spacing_of_the_input_does_not_matter(value):
     spaced = json.dumps(value, indent=3, ensure_ascii=True)
     assert canonical_json(json.loads(spaced)) == canonical_json(value)
+
+
+@settings(deadline=None)
+@given(json_values)
+def test_same_bytes_as_json_dumps_with_the_canonical_options(value):
+    """canonical_json reuses the C encoder for speed; json.dumps is the reference it must match."""
+    reference = json.dumps(value, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    assert canonical_json(value) == reference.encode("utf-8")
+
+
+def test_circular_data_refused():
+    loop: list = []
+    loop.append(loop)
+    with pytest.raises((ValueError, RecursionError)):
+        canonical_json({"body": loop})
+
+
+@pytest.mark.parametrize("bad", [{"x": {1, 2}}, {"x": b"bytes"}, {("a",): 1}])
+def test_values_json_cannot_express_refused(bad):
+    with pytest.raises(TypeError):
+        canonical_json(bad)
