@@ -60,6 +60,7 @@ def _report(path: Path, runs: list[str], json_out: bool) -> None:
 
 
 from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)
+from cli import rules  # noqa: E402,F401  (gaps rules check|query|prolog|verify)
 from cli import transfer  # noqa: E402,F401  (gaps import / gaps export)
 
 

@@ -8,25 +8,19 @@ from __future__ import annotations
 from datetime import datetime, timezone
 
 from reasoner.engine import Rulebook
-from reasoner.le.templates import render
+from reasoner.le.render import arg_text as le_arg_text
+from reasoner.le.render import sentence_text
 
 INDENT = "  "
 
 
 def arg_text(arg) -> str:
-    if isinstance(arg, dict) and "var" in arg:
-        name = str(arg["var"])
-        return ("an " if name[:1].lower() in "aeiou" else "a ") + name
-    return str(arg)
+    return le_arg_text(arg)
 
 
 def sentence(data: list, rb: Rulebook) -> str:
     """The English of one node's sentence (`['has_light', 173, 'red']` → `173 has red light`)."""
-    if data[0] == "$not":
-        return "it is not the case that " + " and ".join(sentence(d, rb) for d in data[1])
-    template = rb.document.templates.get(data[0])
-    args = [arg_text(a) for a in data[1:]]
-    return render(template, args) if template else f"{data[0]}({', '.join(args)})"
+    return sentence_text(data, rb.document)
 
 
 def where(rule_id, rb: Rulebook) -> str:
@@ -37,13 +31,16 @@ def where(rule_id, rb: Rulebook) -> str:
     return f" [{label}{rb.name}:{rule.line}]"
 
 
-def render_tree(node: dict, rb: Rulebook, evidence: dict[str, dict], depth: int = 0) -> list[str]:
-    """Lines of an indented English proof: `because`, `and`, `it is not the case that`."""
+def render_tree(node: dict, rb: Rulebook, evidence: dict[str, dict] | None = None, depth: int = 0) -> list[str]:
+    """Lines of an indented English proof: `because`, `and`, `it is not the case that`.
+
+    With `evidence` (sentence -> event ref) each fact cites the event it came from."""
     pad = INDENT * depth
     text = sentence(node["sentence"], rb)
     status, kids = node["status"], node["children"]
-    if status == "fact":
-        return [f"{pad}{text}{cite(evidence.get(text))}"]
+    if status == "fact" and not kids:
+        return [f"{pad}{text}{cite(evidence.get(text)) if evidence is not None else ''}"
+                f"{where(node['rule'], rb)}"]
     if status == "failed":
         return _failed(node, text, rb, evidence, depth)
     lines = [f"{pad}{text}{where(node['rule'], rb)}"]
@@ -65,8 +62,13 @@ def _failed(node, text, rb, evidence, depth) -> list[str]:
         for kid in kids:
             lines += render_tree(kid, rb, evidence, depth + 1)
         return lines
-    if node["sentence"][0] == "$not":
+    head = node["sentence"][0]
+    if head == "$not":
         lines = [f"{pad}{text} does not hold, because:"]
+    elif head == "$or":
+        lines = [f"{pad}none of these holds: {text}"]
+    elif head == "$and":
+        lines = [f"{pad}{text} does not hold:"]
     elif kids:
         lines = [f"{pad}{text} does not hold: no rule for it applies"]
     else:

@@ -93,6 +93,16 @@ class QueryResult:
         return out
 
 
+def enrich(tree: dict, rb: Rulebook) -> dict:
+    """A proof tree as DESIGN's JSON: each node also gets its English `text`, the `label` of its
+    rule ("HC 176") and the `source` line of the LE it came from (rule stays the rule's index)."""
+    rule = rb.rule(tree.get("rule"))
+    return {"sentence": tree["sentence"], "text": rb.render(tree["sentence"]), "status": tree["status"],
+            "rule": tree.get("rule"), "label": rule.label if rule else None,
+            "source": rb.source(tree.get("rule")), "evidence": list(tree.get("evidence", [])),
+            "children": [enrich(k, rb) for k in tree["children"]]}
+
+
 def sha256_text(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 

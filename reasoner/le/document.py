@@ -402,9 +402,8 @@ class _Parser:
                                  "put the cases on the lines below it, indented")
             cases, nxt = self._sub_block(lines, pos, scope, mode, tok0, "`for all cases in which`")
             if nxt >= len(lines) or _lower(lines[nxt].tokens) != ["it", "is", "the", "case", "that"]:
-                where = lines[nxt].tokens[0] if nxt < len(lines) else tok0
                 raise self.error("`for all cases in which` needs `it is the case that` after its cases",
-                                 where, "write `it is the case that` on its own line, then the conclusions")
+                                 tok0, "write `it is the case that` on its own line, then the conclusions")
             then, nxt = self._sub_block(lines, nxt, scope, mode, lines[nxt].tokens[0],
                                         "`it is the case that`")
             return Cond(forall=(tuple(cases), tuple(then)), line=tok0.line), nxt
@@ -472,7 +471,10 @@ class _Parser:
         result = self.vocab.term(result_toks, scope, mode)
         nxt = pos + 1
         if kind in ("bag", "set"):
-            each = self.vocab.term(each_toks, scope, mode)
+            if each_toks[0].text == "[":
+                each = self.vocab.term(each_toks, scope, mode)
+            else:
+                each = self._each(each_toks, scope)
             if has_closer:
                 body, nxt = self._sub_block(lines, pos, scope, mode, tok0, "`where`")
             else:
@@ -485,14 +487,7 @@ class _Parser:
                 body, used = self._block(sub, 0, where_line.indent, scope, mode)
                 nxt = nxt + used
         else:
-            words = [t.text for t in each_toks]
-            if words[0].lower() in ("a", "an", "the", "each"):
-                words = words[1:]
-            name = self.vocab.var_name(words) if words else ""
-            if not name:
-                raise self.error("the sum needs the name of what is summed", each_toks[0])
-            each = scope.vars.get(name) or Var(name, " ".join(words))
-            scope.vars[name] = each
+            each = self._each(each_toks, scope)
             body, nxt = self._sub_block(lines, pos, scope, mode, tok0, "`such that`")
         if nxt < len(lines) and lines[nxt].tokens[0].is_word("at") and len(lines[nxt].tokens) > 1:
             self.warn("a time after an aggregate (`at ...`) is read but not used", lines[nxt].tokens[0],
@@ -500,8 +495,22 @@ class _Parser:
             nxt += 1
         return Cond(aggregate=Aggregate(kind, result, each, tuple(body)), line=tok0.line), nxt
 
+    def _each(self, each_toks: list[Token], scope: Scope) -> Var:
+        """What an aggregate ranges over: a variable, new or already introduced."""
+        words = [t.text for t in each_toks]
+        if words[0].lower() in ("a", "an", "the", "each"):
+            words = words[1:]
+        name = self.vocab.var_name(words) if words else ""
+        if not name:
+            raise self.error("an aggregate needs the name of what it collects", each_toks[0])
+        each = scope.vars.get(name) or Var(name, " ".join(words))
+        scope.vars[name] = each
+        return each
+
     def _check_undefined(self, scope: Scope, mode: str) -> None:
         for toks in scope.undefined:
+            if toks[-1].text not in self.vocab.types:
+                continue        # `the UK`: a constant that starts with `the`
             self.warn(f"`{join_tokens(toks)}` refers to no variable introduced before it; it is read "
                       f"as the constant {join_tokens(toks)!r}", toks[0],
                       f"introduce it with `a {join_tokens(toks[1:])}` first, or drop `the`")
@@ -539,4 +548,39 @@ def _relines(lines: list[Line], rest: list[Token]) -> list[Line]:
         if toks:
             indent = line.indent if toks[0] is line.tokens[0] else toks[0].col - 1
             out.append(Line(line.number, indent, toks))
+    return out
+
+
+def _parser_for(document: Document, file: str) -> _Parser:
+    parser = _Parser("", file)
+    parser.doc = Document(file, templates=document.templates)
+    parser.vocab = getattr(document.templates, "_vocabulary", None) or Vocabulary(list(document.templates.values()))
+    return parser
+
+
+def parse_question(document: Document, text: str, file: str = "<question>") -> list:
+    """Conditions asked outside the document (`which person acquires ... on which date`),
+    read with the document's templates; a final full stop is optional."""
+    text = text.strip()
+    if not text.endswith("."):
+        text += "."
+    parser = _parser_for(document, file)
+    statements = split_statements(lex(text), file)
+    if len(statements) != 1 or statements[0].header:
+        raise LEError("a question is one statement", file, 1, 1, "ask one question, ending with `.`")
+    scope = Scope()
+    return parser._conditions(statements[0].lines, scope, "query")
+
+
+def parse_facts(document: Document, text: str, file: str = "<scenario>") -> list[Rule]:
+    """Scenario statements written outside the document (`173 has red light. ...`)."""
+    text = text.strip()
+    if text and not text.endswith("."):
+        text += "."
+    parser = _parser_for(document, file)
+    out = []
+    for st in split_statements(lex(text), file):
+        if st.header:
+            raise LEError("a section header inside facts", file, st.first.line, st.first.col)
+        out.append(parser._statement(st, "scenario:<given>", 0))
     return out

@@ -16,7 +16,7 @@ from .terms import Atom, Expr, ListTerm, Var
 DATE_TYPES = {"date", "day", "instant"}
 
 
-def arg_text(arg, slot: Slot | None = None) -> str:
+def arg_text(arg, slot: Slot | None = None, document=None) -> str:
     if isinstance(arg, dict):
         if "var" in arg:
             name = str(arg["var"])
@@ -24,20 +24,20 @@ def arg_text(arg, slot: Slot | None = None) -> str:
                 return slot.phrase
             return f"{article(name)} {name}"
         if "list" in arg:
-            return "[" + ", ".join(arg_text(a) for a in arg["list"]) + "]"
+            return "[" + ", ".join(arg_text(a, None, document) for a in arg["list"]) + "]"
         if "expr" in arg:
             op, *args = arg["expr"]
-            return expr_text(op, [arg_text(a) for a in args])
+            return expr_text(op, [arg_text(a, None, document) for a in args])
         if "sentence" in arg:
-            return sentence_text(arg["sentence"])
+            return sentence_text(arg["sentence"], document)
     if isinstance(arg, Var):
         return f"{article(arg.name)} {arg.name}"
     if isinstance(arg, ListTerm):
-        return "[" + ", ".join(arg_text(a) for a in arg.items) + "]"
+        return "[" + ", ".join(arg_text(a, None, document) for a in arg.items) + "]"
     if isinstance(arg, Expr):
-        return expr_text(arg.op, [arg_text(a) for a in arg.args])
+        return expr_text(arg.op, [arg_text(a, None, document) for a in arg.args])
     if isinstance(arg, Atom):
-        return sentence_text(atom_list(arg))
+        return sentence_text(atom_list(arg), document)
     if isinstance(arg, bool):
         return str(arg).lower()
     if isinstance(arg, (int, float)):
@@ -76,7 +76,7 @@ def sentence_text(data, document=None) -> str:
         kind, result, each, body = data[1:]
         what = {"sum": "the sum of each", "max": "the maximum of each", "min": "the minimum of each",
                 "count": "the number of each"}.get(kind)
-        r, e = arg_text(result), _bare(arg_text(each))
+        r, e = arg_text(result, None, document), _bare(arg_text(each, None, document))
         if what:
             return f"{r} is {what} {e} such that {conj_text(body, document)}"
         noun = "a set" if kind == "set" else "a collection"
@@ -87,9 +87,9 @@ def sentence_text(data, document=None) -> str:
         from .builtins import BUILTIN_BY_KEY
         template = BUILTIN_BY_KEY.get((head, len(args)))
     if template is None:
-        return f"{head}({', '.join(arg_text(a) for a in args)})"
+        return f"{head}({', '.join(arg_text(a, None, document) for a in args)})"
     slots = template.slots
-    texts = [arg_text(a, slots[i] if i < len(slots) else None) for i, a in enumerate(args)]
+    texts = [arg_text(a, slots[i] if i < len(slots) else None, document) for i, a in enumerate(args)]
     if head == "is_a" and len(args) == 2:
         return f"{texts[0]} is {article(texts[1])} {texts[1]}"
     return render(template, texts)

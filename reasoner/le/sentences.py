@@ -110,6 +110,10 @@ class Vocabulary:
             except NoMatch as exc:
                 last_error = exc
                 continue
+            except LEError as exc:
+                if exc.file == "<le>":
+                    exc.file = file
+                raise
             scope.vars, scope.undefined = trial.vars, trial.undefined
             return atom
         t0 = tokens[0]
@@ -168,9 +172,29 @@ class Vocabulary:
             expr = self.expression(tokens, scope)
             if expr is not None:
                 return expr
+            if mode in ("rule", "query") and _arithmetic(tokens):
+                self._unknown_in_arithmetic(tokens, scope)
         if first in DEFINITE and len(tokens) > 1 and mode == "rule":
             scope.undefined.append(tokens)
         return join_tokens(tokens)
+
+    def _unknown_in_arithmetic(self, tokens: list[Token], scope: Scope) -> None:
+        """Arithmetic with a name that is no variable: the undefined variable, located."""
+        leaf: list[Token] = []
+        for t in tokens + [None]:
+            if t is None or t.text in OPERATORS or t.text in "()":
+                if leaf and not (len(leaf) == 1 and leaf[0].kind in ("number", "date")):
+                    words = [w.text for w in leaf]
+                    if words[0].lower() in DEFINITE and len(words) > 1:
+                        words = words[1:]
+                    if self.var_name(words) not in scope.vars:
+                        text = join_tokens(leaf)
+                        raise LEError(f"undefined variable `{text}` in arithmetic", "<le>", leaf[0].line,
+                                      leaf[0].col, f"introduce it first, e.g. `a number {text}`, in an "
+                                      "earlier condition")
+                leaf = []
+            else:
+                leaf.append(t)
 
     def list_term(self, tokens: list[Token], scope: Scope, mode: str) -> ListTerm:
         items, current, depth = [], [], 0
@@ -246,6 +270,14 @@ class Vocabulary:
 
         e = additive()
         return e if e is not None and pos == len(tokens) else None
+
+
+def _arithmetic(tokens: list[Token]) -> bool:
+    """Spaced operators (`A + B`, `ET * F - Y`) mean arithmetic; `not-for-profit` does not."""
+    for i, t in enumerate(tokens):
+        if t.text in OPERATORS and i > 0 and (t.space or (i + 1 < len(tokens) and tokens[i + 1].space)):
+            return True
+    return False
 
 
 def value_of(tokens: list[Token]) -> Arg:
