@@ -103,7 +103,8 @@ def _chain_difference(c: dict) -> str:
         return (f"after event {m['count']} of the file the exported head is {m['exported_head'][:16]}…, "
                 f"the file's events give {m['file_head'][:16]}…")
     if c["file_events"] != c["exported_events"]:
-        return f"the file holds {c['file_events']} of the {c['exported_events']} events exported"
+        return (f"the file holds {c['file_events']} of the {c['exported_events']} events exported "
+                f"({c['checkpoints_matched']} of {c['checkpoints']} checkpoints reached and matched)")
     if c["file_head"] != c["exported_head"]:
         return "the file's events do not hash to the exported head"
     return (f"the store's chain of this run has head {(c['store_head'] or 'none')[:16]}… "
@@ -116,14 +117,17 @@ def export(run: str = typer.Option(..., "--run", help="The run to export."),
            db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
            order: Optional[str] = typer.Option(None, "--order", help=(
                "time: (t, seq, src), default for JSONL; chain: as appended, default for MCAP, so that a "
-               "re-import rebuilds the identical hash chain."))) -> None:
+               "re-import rebuilds the identical hash chain.")),
+           no_scene: bool = typer.Option(False, "--no-scene", help=(
+               "MCAP: leave out the Foxglove scene and log channels (a faster export, for moving "
+               "events between stores rather than watching them)."))) -> None:
     """Write a run to JSONL or MCAP (with Foxglove scene and log channels and the chain checkpoints)."""
     from store.transfer import TransferError, export_run, format_of
     try:
         format_of(output, fmt)  # before opening the store: a wrong extension is the commonest mistake
         with open_existing(db) as store:
             with _progress(f"exporting {run}", store.count(run), store.count(run) >= PROGRESS_EVENTS) as progress:
-                report = export_run(store, run, output, fmt, order, progress)
+                report = export_run(store, run, output, fmt, order, progress, scene=not no_scene)
     except TransferError as exc:
         fail(str(exc))
     except (OSError, sqlite3.Error) as exc:

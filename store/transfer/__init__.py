@@ -57,8 +57,10 @@ def export_run(
     fmt: str | None = None,
     order: str | None = None,
     progress: Callable[[int], None] | None = None,
+    scene: bool = True,
 ) -> ExportReport:
-    """Write one run to a file; `progress` is told how many events have been written.
+    """Write one run to a file; `progress` is told how many events have been written; scene=False
+    leaves out the Foxglove channels of an MCAP export.
 
     The default order is time for JSONL (it reads naturally) and chain for MCAP (a re-import
     rebuilds the identical chain and checks it against the checkpoints in the file; viewers
@@ -69,5 +71,6 @@ def export_run(
     order = order or DEFAULT_ORDER[fmt]
     if order not in ORDERS:
         raise TransferError(f"unknown order {order!r}: use one of {', '.join(ORDERS)}")
-    export = export_mcap if fmt == "mcap" else export_jsonl
-    return export(store, run, path, order, progress)
+    if fmt == "mcap":
+        return export_mcap(store, run, path, order, progress, scene=scene)
+    return export_jsonl(store, run, path, order, progress)

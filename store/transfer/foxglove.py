@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Iterable, NamedTuple
 
 from ..envelope import key_for
 from .foxglove_schemas import ERROR, INFO, LINE_LIST, LOG, MATCHING_ID, SCENE_UPDATE, WARNING
@@ -69,7 +69,7 @@ def _rgba(rgb: tuple[float, float, float], a: float = 1.0) -> dict[str, float]:
 
 def _entity(entity_id: str, t: int, metadata: dict[str, Any] | None = None, **primitives: list) -> dict[str, Any]:
     """A SceneEntity with every field present: viewers differ in how they treat missing ones."""
-    entity = {"timestamp": stamp(t), "frame_id": FRAME, "id": entity_id, "lifetime": {"sec": 0, "nsec": 0},
+    entity = {"timestamp": stamp(t), "frame_id": FRAME, "id": entity_id, "lifetime": _LIFETIME_FOREVER,
               "frame_locked": False,
               "metadata": [{"key": k, "value": str(v)} for k, v in (metadata or {}).items() if v is not None]}
     for name in ("arrows", "cubes", "spheres", "cylinders", "lines", "triangles", "texts", "models"):
@@ -79,7 +79,7 @@ def _entity(entity_id: str, t: int, metadata: dict[str, Any] | None = None, **pr
 
 def _label(text: str, x: float, y: float, z: float) -> dict[str, Any]:
     return {"pose": _pose(x, y, z), "billboard": True, "font_size": 14.0, "scale_invariant": True,
-            "color": _rgba((1.0, 1.0, 1.0)), "text": text}
+            "color": _WHITE, "text": text}
 
 
 def _number(value: Any, default: float = 0.0) -> float:
@@ -103,6 +103,20 @@ def _point(value: Any) -> tuple[float, float] | None:
     return None
 
 
+class _Look(NamedTuple):
+    size: dict[str, float]
+    color: dict[str, float]
+    height: float
+    beacon: bool  # on an emergency call: a blue light on the roof
+    ident: str
+    metadata: dict[str, Any]
+
+
+_BEACON, _BEACON_SIZE = _rgba((0.1, 0.3, 1.0)), _vec(0.6, 0.6, 0.6)
+_LIFETIME_FOREVER = {"sec": 0, "nsec": 0}
+_WHITE = _rgba((1.0, 1.0, 1.0))
+
+
 @dataclass
 class SceneBuilder:
     """Follows a run's events in order and returns the visualisation messages they call for."""
@@ -111,6 +125,7 @@ class SceneBuilder:
     spawned: dict[str, dict[str, Any]] = field(default_factory=dict)  # src -> entity.spawn body
     _pending_t: int | None = None
     _pending: dict[str, dict[str, Any]] = field(default_factory=dict)  # road users moved at _pending_t
+    _looks: dict[str, _Look] = field(default_factory=dict)
 
     def add(self, event: dict[str, Any]) -> list[Derived]:
         kind = event["kind"]
@@ -140,20 +155,26 @@ class SceneBuilder:
 
     def _road_user(self, event: dict[str, Any]) -> dict[str, Any]:
         src, body = event["src"], event["body"]
+        look = self._looks.get(src) or self._look(src)
+        x, y, heading = _number(body.get("x")), _number(body.get("y")), _number(body.get("heading_deg"))
+        cubes = [{"pose": _pose(x, y, look.height / 2, heading), "size": look.size, "color": look.color}]
+        spheres = [{"pose": _pose(x, y, look.height + 0.3), "size": _BEACON_SIZE, "color": _BEACON}] if look.beacon else []
+        metadata = {**look.metadata, "speed_mps": body.get("speed_mps"), "road": body.get("road"),
+                    "junction": body.get("junction")}
+        return _entity(src, event["t"], metadata, cubes=cubes, spheres=spheres,
+                       texts=[_label(look.ident, x, y, look.height + 1.5)])
+
+    def _look(self, src: str) -> _Look:
+        """How a road user is drawn, from its spawn event; kept until it spawns again (every
+        state event of a run is drawn, so this is worked out once per road user, not per event)."""
         spawn = self.spawned.get(src, {})
         kind = _text(spawn.get("type")) if _text(spawn.get("type")) in _BODIES else src.partition("/")[0]
         (length, width, height), rgb = _BODIES.get(kind, _BODIES["car"])
-        x, y, heading = _number(body.get("x")), _number(body.get("y")), _number(body.get("heading_deg"))
-        cubes = [{"pose": _pose(x, y, height / 2, heading), "size": _vec(length, width, height), "color": _rgba(rgb)}]
-        spheres = []
-        if spawn.get("emergency") is True:  # blue lights
-            spheres.append({"pose": _pose(x, y, height + 0.3), "size": _vec(0.6, 0.6, 0.6),
-                            "color": _rgba((0.1, 0.3, 1.0))})
-        ident = src.partition("/")[2]
-        metadata = {"src": src, "type": spawn.get("type"), "plate": spawn.get("plate"),
-                    "speed_mps": body.get("speed_mps"), "road": body.get("road"), "junction": body.get("junction")}
-        return _entity(src, event["t"], metadata, cubes=cubes, spheres=spheres,
-                       texts=[_label(ident, x, y, height + 1.5)])
+        metadata = {"src": src, "type": spawn.get("type"), "plate": spawn.get("plate")}
+        look = _Look(_vec(length, width, height), _rgba(rgb), height, spawn.get("emergency") is True,
+                     src.partition("/")[2], metadata)
+        self._looks[src] = look
+        return look
 
     def _despawned(self, event: dict[str, Any]) -> list[Derived]:
         out = self._flush()
@@ -162,6 +183,7 @@ class SceneBuilder:
 
     def _spawned(self, event: dict[str, Any]) -> list[Derived]:
         self.spawned[event["src"]] = event["body"]
+        self._looks.pop(event["src"], None)
         return []
 
     def _signal(self, event: dict[str, Any]) -> list[Derived]:

@@ -110,23 +110,26 @@ def export_mcap(
     progress: Progress | None = None,
     compression: str = "zstd",
     chunk_size: int = 1 << 20,
+    scene: bool = True,
 ) -> ExportReport:
-    """Write the run, its checkpoints and its drawing to `path` (replaced only when complete)."""
+    """Write the run, its checkpoints and (unless scene=False) its drawing to `path`, replaced
+    only when complete. Drawing costs most of the time of an export; a file that only carries
+    events between stores (ingest to ingest) can do without it."""
     run_summary(store, run)  # an unknown run is an error before any file is created
     report = ExportReport(str(path), "mcap", run, order)
     with replacing(path) as out:
         writer = Writer(out, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
         writer.start(profile="", library=LIBRARY)
         _write_metadata(writer, store, run, order)
-        channels, scene = _Channels(writer, run), SceneBuilder()
+        channels, drawing = _Channels(writer, run), SceneBuilder()
         for row in stored_rows(store, run, order):
             _add(writer, channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
             report.events += 1
-            if row.kind in DRAWN_KINDS:
-                report.derived += _draw(writer, channels, scene.add(json.loads(row.text)))
+            if scene and row.kind in DRAWN_KINDS:
+                report.derived += _draw(writer, channels, drawing.add(json.loads(row.text)))
             if progress is not None and report.events % _PROGRESS_EVERY == 0:
                 progress(report.events)
-        report.derived += _draw(writer, channels, scene.finish())
+        report.derived += _draw(writer, channels, drawing.finish())
         writer.finish()
         report.bytes = out.tell()
     if progress is not None:

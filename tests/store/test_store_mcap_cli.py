@@ -48,6 +48,11 @@ def test_export_then_import_both_formats(db, tmp_path):
     assert mcap_report["chains"][0]["match"] is True
 
 
+def test_export_no_scene(db, tmp_path):
+    result = gaps("export", "--run", "r1", "-o", tmp_path / "plain.mcap", "--no-scene", "--db", db, "--json")
+    assert result.exit_code == 0 and json.loads(result.stdout)["derived"] == 0
+
+
 def test_import_text_output_names_rejections_and_exits_0(db, tmp_path):
     path = tmp_path / "mixed.jsonl"
     path.write_bytes(json.dumps(event(0, run="r2")).encode() + b"\n{oops\n\n")

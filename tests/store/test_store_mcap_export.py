@@ -247,3 +247,13 @@ def test_unknown_run_is_an_error_and_no_file_is_written(tmp_path):
         with pytest.raises(TransferError, match="no run 'nope'"):
             export_run(store, "nope", tmp_path / "x.mcap")
     assert not any(p.name.endswith((".mcap", ".partial")) for p in tmp_path.iterdir())
+
+
+def test_without_the_scene_only_events_and_metadata_are_written(tmp_path):
+    with Store(tmp_path / "gaps.db") as store:
+        store.append(scene_events())
+        report = export_run(store, RUN, tmp_path / "plain.mcap", scene=False)
+    summary, messages, metadata = read_all(tmp_path / "plain.mcap")
+    assert report.derived == 0 and len(messages) == report.events == len(scene_events())
+    assert all(c.topic.startswith("gaps/") for c in summary.channels.values())
+    assert {m.name for m in metadata} == {"gaps.run", "gaps.checkpoint"}
