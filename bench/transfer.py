@@ -1,0 +1,154 @@
+"""Export and import rates of `gaps export` / `gaps import` for MCAP and JSONL (a benchmark, not a test).
+
+    .venv/bin/python bench/transfer.py [--events 200000] [--repeat 3]
+
+A generated junction run (100 road users moving at 10 Hz, with perceptions, decisions and signal
+changes) is stored once; then each format is exported and imported `--repeat` times into fresh
+stores, and the median time of each step is reported as events per second, with the bytes per
+event of each file and the machine it ran on. Imports are timed with FULL durability (the
+default) and with --fast (synchronous=NORMAL).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sqlite3
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Callable, Iterator
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from store import Store  # noqa: E402
+from store.transfer import export_run, import_file  # noqa: E402
+
+RUN = "bench-transfer"
+T0 = 1_732_184_100_000_000_000
+TICK = 100_000_000  # 10 Hz
+VEHICLES = 100
+MAP = {"roads": [{"id": "r1", "from": [-500.0, 0.0], "to": [500.0, 0.0]},
+                 {"id": "r2", "from": [0.0, -500.0], "to": [0.0, 500.0]}],
+       "junctions": [{"id": "j1", "x": 0.0, "y": 0.0, "control": "lights"}], "monitors": []}
+
+
+def generated_run(n: int) -> Iterator[dict]:
+    """At least n events: per tick every road user's state; every 10 ticks a perception and a
+    decision per vehicle; a signal change every 50 ticks."""
+    seqs: dict[str, int] = {}
+
+    def ev(src: str, t: int, kind: str, body: dict) -> dict:
+        seqs[src] = seqs.get(src, -1) + 1
+        return {"v": 1, "run": RUN, "src": src, "seq": seqs[src], "t": t, "kind": kind, "body": body}
+
+    count = 0
+    yield ev("sim/world", T0, "run.start", {"map": MAP, "seed": 1})
+    for i in range(VEHICLES):
+        yield ev(f"vehicle/{i}", T0, "entity.spawn", {"type": "car", "driver": "autonomous", "automation_level": 4})
+    count += 1 + VEHICLES
+    tick = 0
+    while count < n:
+        t = T0 + tick * TICK
+        if tick % 50 == 0:
+            colour = ("green", "amber", "red", "red_amber")[(tick // 50) % 4]
+            yield ev("signal/j1-west", t, "signal.state", {"junction": "j1", "approach": "west", "colour": colour})
+            count += 1
+        for i in range(VEHICLES):
+            src = f"vehicle/{i}"
+            x = -400.0 + ((tick * 1.2 + i * 7) % 800)
+            yield ev(src, t, "entity.state", {"x": x, "y": (i % 4) * 3.5 - 5.25, "heading_deg": 0.0,
+                                              "speed_mps": 12.0, "road": "r1", "junction": None})
+            count += 1
+            if tick % 10 == i % 10:
+                light = "red" if (tick // 50) % 4 == 2 else "green"
+                yield ev(src, t, "vehicle.perception", {"facts": [f"{i} is of type car", f"{i} has {light} light"]})
+                yield ev(src, t, "vehicle.decision", {"goal": f"{i} can enter the junction",
+                                                      "action": "enter the junction",
+                                                      "permitted": light == "green", "proceeds": light == "green"})
+                count += 2
+        tick += 1
+
+
+def fill(path: Path, n: int) -> int:
+    with Store(path, durable=False) as store:
+        batch: list[dict] = []
+        for event in generated_run(n):
+            batch.append(event)
+            if len(batch) == 5000:
+                store.append(batch)
+                batch = []
+        store.append(batch)
+        return store.count(RUN)
+
+
+def timed(step: Callable[[int], None], repeat: int) -> float:
+    """Median seconds of `repeat` runs of step(i)."""
+    times = []
+    for i in range(repeat):
+        start = time.perf_counter()
+        step(i)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def machine() -> str:
+    model = "unknown CPU"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return (f"{cores} CPUs (nproc), {model}; Python {platform.python_version()}, "
+            f"SQLite {sqlite3.sqlite_version}, {platform.system()} {platform.release()}")
+
+
+def bench_format(source: Path, folder: Path, fmt: str, events: int, repeat: int, scene: bool = True) -> dict:
+    name = f"{fmt}{'' if scene else '-no-scene'}"
+    out = folder / f"run-{name}.{fmt}"
+    with Store(source) as store:
+        export_s = timed(lambda i: export_run(store, RUN, out, scene=scene), repeat)
+    size = out.stat().st_size
+    results = {"export_s": export_s, "bytes": size}
+    for durable in (True, False):
+        def load(i: int) -> None:
+            with Store(folder / f"import-{name}-{durable}-{i}.db", durable=durable) as target:
+                report = import_file(target, out)
+            assert report.stored == events and report.rejected == 0, report.as_dict()
+            if report.chains:
+                assert report.chains[0]["match"] is True, report.chains
+        results[f"import_{'full' if durable else 'fast'}_s"] = timed(load, repeat)
+    return results
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--events", type=int, default=200_000)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="gaps-bench-transfer-") as tmp:
+        folder = Path(tmp)
+        source = folder / "source.db"
+        start = time.perf_counter()
+        events = fill(source, args.events)
+        print(f"machine: {machine()}")
+        print(f"run {RUN}: {events:,} events stored in {time.perf_counter() - start:.1f} s; "
+              f"median of {args.repeat} runs per step\n")
+        print(f"{'file':<18}{'export ev/s':>13}{'import FULL ev/s':>18}{'import --fast ev/s':>20}"
+              f"{'bytes/event':>13}{'file MB':>9}")
+        for label, fmt, scene in (("mcap", "mcap", True), ("mcap --no-scene", "mcap", False), ("jsonl", "jsonl", True)):
+            r = bench_format(source, folder, fmt, events, args.repeat, scene)
+            print(f"{label:<18}{events / r['export_s']:>13,.0f}{events / r['import_full_s']:>18,.0f}"
+                  f"{events / r['import_fast_s']:>20,.0f}{r['bytes'] / events:>13.1f}{r['bytes'] / 1e6:>9.1f}")
+        print("\nmcap: zstd chunks of 1 MiB, events plus run/checkpoint metadata plus the Foxglove scene and log "
+              "channels (all counted in the bytes); --no-scene: events and metadata only; jsonl: canonical "
+              "lines, uncompressed. Rates are events of the run per second of wall time.")
+
+
+if __name__ == "__main__":
+    main()
