@@ -40,6 +40,7 @@ DECLARATION_HEADERS = [
     ("ontology", ["the", "ontology", "is"]),
 ]
 MAX_SOURCE = 2_000_000
+MAX_HEADER = 64          # tokens: a section header is never longer
 
 
 @dataclass
@@ -100,8 +101,8 @@ def split_statements(lines: list[Line], file: str) -> list[Statement]:
                 current, start = [], i + 1
             elif tok.kind == "punct" and tok.text == ":":
                 piece = toks[start:i]
-                candidate = current_tokens() + piece
-                found = header_of(candidate)
+                size = sum(len(l.tokens) for l in current) + len(piece)
+                found = header_of(current_tokens() + piece) if size <= MAX_HEADER else None
                 if found:
                     if piece:
                         current.append(_piece(line, piece, start))
@@ -111,7 +112,8 @@ def split_statements(lines: list[Line], file: str) -> list[Statement]:
             current.append(_piece(line, toks[start:], start))
     if current:
         first = current[0].tokens[0]
-        if header_of(current_tokens()[:-1] if current_tokens()[-1].text == ":" else current_tokens()):
+        rest = current_tokens()
+        if len(rest) <= MAX_HEADER and header_of(rest):
             raise LEError("a section header needs a colon", file, first.line, first.col)
         raise LEError("unfinished statement: no full stop", file, first.line, first.col,
                       "end every rule, fact and query with `.`")
@@ -558,6 +560,20 @@ def _parser_for(document: Document, file: str) -> _Parser:
     return parser
 
 
+def _guarded(fn):
+    def wrapper(document, text, file=None):
+        if not isinstance(text, str) or len(text) > MAX_SOURCE:
+            raise LEError("the text is too long (or not text)", file or "<le>", 0, 1)
+        try:
+            return fn(document, text, file) if file else fn(document, text)
+        except RecursionError:
+            raise LEError("the text nests too deeply to read", file or "<le>", 0, 1) from None
+    wrapper.__doc__ = fn.__doc__
+    wrapper.__name__ = fn.__name__
+    return wrapper
+
+
+@_guarded
 def parse_question(document: Document, text: str, file: str = "<question>") -> list:
     """Conditions asked outside the document (`which person acquires ... on which date`),
     read with the document's templates; a final full stop is optional."""
@@ -572,6 +588,7 @@ def parse_question(document: Document, text: str, file: str = "<question>") -> l
     return parser._conditions(statements[0].lines, scope, "query")
 
 
+@_guarded
 def parse_facts(document: Document, text: str, file: str = "<scenario>") -> list[Rule]:
     """Scenario statements written outside the document (`173 has red light. ...`)."""
     text = text.strip()

@@ -8,6 +8,7 @@ Tabs count as four columns of indentation, as in the reference implementation.
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -79,7 +80,12 @@ def lex_line(raw: str, number: int, comments: bool = True) -> Line:
             if value is None:           # 2021-13-45: not a date, read it as numbers and dashes
                 kind = "word"
         elif kind == "number":
-            value = float(tok_text) if any(c in tok_text for c in ".eE") else int(tok_text)
+            try:
+                value = float(tok_text) if any(c in tok_text for c in ".eE") else int(tok_text)
+            except ValueError:          # more digits than Python converts: a word, not a number
+                kind, value = "word", None
+            if isinstance(value, float) and not math.isfinite(value):
+                kind, value = "word", None
         space = prev_end < 0 or m.start() > prev_end
         tokens.append(Token(kind, tok_text, number, m.start() + 1, space, value))
         prev_end = m.end()

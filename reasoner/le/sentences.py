@@ -75,12 +75,12 @@ class Vocabulary:
         return " ".join(name.replace("_", " ").split())
 
     # -- sentences ------------------------------------------------------------------------
-    def candidates(self, tokens: list[Token]):
+    def candidates(self, tokens: list[Token], lists: bool = True):
         """(template, fillers) for every template the sentence fits, best first."""
         found = []
         for group in (self.own, self.builtins):
             for t in group:
-                fillers = match_tokens(t, tokens)
+                fillers = match_tokens(t, tokens, lists)
                 if fillers is not None:
                     found.append((t, fillers))
         return found
@@ -89,7 +89,7 @@ class Vocabulary:
         """The Atom for a sentence; mode is rule, fact, query or data (constants only)."""
         if not tokens:
             raise LEError("an empty condition", file, 0, 1)
-        found = self.candidates(tokens)
+        found = self.candidates(tokens, lists=mode != "data")
         if not found:
             t0 = tokens[0]
             raise LEError(f"no template fits: {join_tokens(tokens)!r}", file, t0.line, t0.col,
@@ -333,5 +333,5 @@ def parse_fact(text: str, templates) -> Atom | None:
         return None
     try:
         return vocabulary(templates).sentence(tokens, Scope(), "data")
-    except LEError:
+    except (LEError, RecursionError):
         return None

@@ -128,10 +128,11 @@ def _stops(tok: Token, stop: str | None) -> bool:
     return stop is not None and tok.kind != "number" and same_word(tok.text, stop)
 
 
-def match_tokens(template: Template, tokens: list[Token]):
+def match_tokens(template: Template, tokens: list[Token], lists: bool = True):
     """Split `tokens` into slot fillers (lists of tokens), or None if the sentence does not fit.
 
-    For a meta template the last filler is the whole sentence after `that`."""
+    For a meta template the last filler is the whole sentence after `that`.  With `lists`
+    off (facts from outside), brackets are ordinary characters of a constant."""
     parts = template.parts
     fillers: list[list[Token]] = []
     j, n = 0, len(tokens)
@@ -149,7 +150,7 @@ def match_tokens(template: Template, tokens: list[Token]):
             continue
         stop = parts[i + 1] if i + 1 < len(parts) and isinstance(parts[i + 1], str) else None
         start = j
-        if j < n and tokens[j].text == "[":
+        if lists and j < n and tokens[j].text == "[":
             depth = 0
             while j < n:
                 if tokens[j].text == "[":
@@ -168,7 +169,7 @@ def match_tokens(template: Template, tokens: list[Token]):
             while j < n and not _stops(tokens[j], stop):
                 if tokens[j].kind == "word" and tokens[j].text.lower() == "that":
                     break
-                if tokens[j].text in ("[", "]"):
+                if lists and tokens[j].text in ("[", "]"):
                     break
                 j += 1
         if j == start:

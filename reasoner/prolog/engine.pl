@@ -315,10 +315,12 @@ answers(M, Goal, Names, Proofs, WhyNot) :-
 % -- proofs -----------------------------------------------------------------------------------
 %   node(Sentence, Status, RuleId, Children, VariableNames)
 
-max_depth(400).
+max_depth(2000).
 
 prove(M, G0, T, D) :-
-    max_depth(Max), D < Max, D1 is D + 1,
+    max_depth(Max),
+    (   D < Max -> true ; throw(error(le_limit(depth(Max)), _)) ),
+    D1 is D + 1,
     prove_(M, G0, T, D1).
 
 prove_(_, G0, node(G, builtin, @(none), [], []), _) :-
