@@ -1,0 +1,253 @@
+"""Snapshots of folded state: a cache that makes state at any t cost one snapshot load plus a
+short fold, however long the run.
+
+The snapshots are derived data, not evidence. Their tables are created here (IF NOT EXISTS), are
+neither hash-chained nor append-only, and may be deleted at any time: they are rebuilt from the
+events on the next read. A snapshot is keyed by the position (t, seq, src) of the last event
+folded into it and holds the fold state as zlib-compressed JSON (the compression keeps the cache
+at a few per cent of the log on disk, and inflating costs far less than parsing).
+
+Staleness. A late event (one whose position is at or before a snapshot's) makes that snapshot
+wrong. Rather than trust every writer to say so, the store keeps a watermark per run: the chain
+length up to which the snapshots have been checked against the events. Appends lengthen the
+chain, so the events a snapshot may not have seen are exactly those at chain positions at or
+above the watermark; every read ignores snapshots at or after the earliest t among them, and
+every snapshot write first deletes those snapshots and raises the watermark. This is correct
+whoever appended. `enable_snapshots(store)` adds an append hook that does the same inside each
+append transaction, so that a reader of a live run never has to look at unchecked events.
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+import weakref
+import zlib
+from dataclasses import dataclass
+from typing import Any, Iterable
+
+from .db import Store
+
+FOLD_VERSION = 1  # raise when the fold changes meaning: snapshots of other versions are ignored
+
+Position = tuple[int, int, str]  # (t, seq, src) of an event, the order of the fold
+Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: position, encoded state
+
+_DDL = (
+    """CREATE TABLE IF NOT EXISTS state_snapshots (
+        run TEXT NOT NULL,
+        fold INTEGER NOT NULL,
+        t INTEGER NOT NULL,
+        seq INTEGER NOT NULL,
+        src TEXT NOT NULL,
+        state BLOB NOT NULL,
+        PRIMARY KEY (run, fold, t, seq, src)
+    )""",
+    "CREATE TABLE IF NOT EXISTS state_watermarks (run TEXT PRIMARY KEY, chain_len INTEGER NOT NULL)",
+)
+
+_NEAREST = (
+    "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t <= ? AND t < ? "
+    "ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
+)
+_INSERT = "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, state) VALUES (?, ?, ?, ?, ?, ?)"
+_T_MAX = (1 << 63) - 1
+_LEVEL = 6  # zlib: a quarter smaller than level 1, so fewer pages to read, and as fast to inflate
+
+_ready: weakref.WeakSet[Store] = weakref.WeakSet()
+_hooked: weakref.WeakSet[Store] = weakref.WeakSet()
+
+
+@dataclass(frozen=True, slots=True)
+class Snapshot:
+    """A fold state as of `position`, ready to be folded further."""
+
+    position: Position
+    state: dict[str, Any]
+
+
+# --- tables ----------------------------------------------------------------------------------
+
+
+def ensure_tables(store: Store) -> None:
+    """Create the cache tables if this file has none yet (once per Store object)."""
+    if store in _ready:
+        return
+    conn = store.connection
+    if conn.in_transaction:
+        for statement in _DDL:
+            conn.execute(statement)
+    else:
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            for statement in _DDL:
+                conn.execute(statement)
+            conn.execute("COMMIT")
+        except BaseException:
+            conn.execute("ROLLBACK")
+            raise
+    _ready.add(store)
+
+
+def enable_snapshots(store: Store) -> None:
+    """Keep this store's snapshots checked inside every append transaction.
+
+    Optional for correctness (reads check what no hook has seen), but a process that appends to
+    a run while others read it should call this once after opening the store: the check then
+    costs the appender a short scan of its own batch instead of costing every reader a scan of
+    everything appended since the last snapshot was written."""
+    ensure_tables(store)
+    if store not in _hooked:
+        store.add_append_hook(_on_append)
+        _hooked.add(store)
+
+
+def _on_append(conn: sqlite3.Connection, run: str, min_t: int) -> None:
+    """Append hook. min_t covers only this batch, while writers without the hook may have left
+    earlier events unchecked, so the check starts from the watermark instead. A failure here
+    (the cache tables were dropped) must not cost the append: the watermark then stays behind
+    and the next reader does the check."""
+    try:
+        catch_up(conn, run)
+    except sqlite3.OperationalError:
+        pass
+
+
+def clear(store: Store, run: str | None = None) -> None:
+    """Delete the snapshots (of one run, or all): they are rebuilt as reads need them."""
+    ensure_tables(store)
+    where, params = ("", ()) if run is None else (" WHERE run = ?", (run,))
+    conn = store.connection
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        conn.execute(f"DELETE FROM state_snapshots{where}", params)
+        conn.execute(f"DELETE FROM state_watermarks{where}", params)
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+
+
+def count(store: Store, run: str) -> int:
+    ensure_tables(store)
+    sql = "SELECT count(*) FROM state_snapshots WHERE run = ? AND fold = ?"
+    return store.connection.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
+
+
+def disk_bytes(store: Store, run: str) -> int:
+    """Bytes of compressed state held for a run (the blobs, not SQLite's page overhead)."""
+    ensure_tables(store)
+    sql = "SELECT coalesce(sum(length(state)), 0) FROM state_snapshots WHERE run = ?"
+    return store.connection.execute(sql, (run,)).fetchone()[0]
+
+
+# --- staleness --------------------------------------------------------------------------------
+
+
+def chain_length(conn: sqlite3.Connection, run: str) -> int:
+    """How many events the run's chain holds: one probe of the (run, chain_pos) index."""
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    return 0 if last is None else last + 1
+
+
+def _watermark(conn: sqlite3.Connection, run: str) -> int:
+    row = conn.execute("SELECT chain_len FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    return 0 if row is None else row[0]
+
+
+def _earliest_since(conn: sqlite3.Connection, run: str, chain_pos: int) -> int | None:
+    """The earliest t among the events appended at or after chain_pos."""
+    sql = "SELECT min(t) FROM events WHERE run = ? AND chain_pos >= ?"
+    return conn.execute(sql, (run, chain_pos)).fetchone()[0]
+
+
+def _latest_t(conn: sqlite3.Connection, run: str) -> int | None:
+    sql = "SELECT max(t) FROM state_snapshots WHERE run = ? AND fold = ?"
+    return conn.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
+
+
+def stale_from(conn: sqlite3.Connection, run: str, length: int) -> int:
+    """Snapshots at or after this t may have missed an event; _T_MAX if none may have."""
+    mark = _watermark(conn, run)
+    if mark == length or _latest_t(conn, run) is None:
+        return _T_MAX
+    if mark > length:  # the chain shrank: events were deleted behind the store's back
+        return -_T_MAX - 1
+    earliest = _earliest_since(conn, run, mark)
+    return _T_MAX if earliest is None else earliest
+
+
+def catch_up(conn: sqlite3.Connection, run: str) -> None:
+    """Delete the snapshots unchecked events make stale and raise the watermark to the chain's
+    length. Runs inside the caller's write transaction."""
+    length = chain_length(conn, run)
+    stale = stale_from(conn, run, length)
+    if stale != _T_MAX:
+        sql = "DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t >= ?"
+        conn.execute(sql, (run, FOLD_VERSION, stale))
+    conn.execute(
+        "INSERT INTO state_watermarks (run, chain_len) VALUES (?, ?) "
+        "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len",
+        (run, length),
+    )
+
+
+# --- reading and writing ----------------------------------------------------------------------
+
+
+def nearest(conn: sqlite3.Connection, run: str, t: int, length: int) -> Snapshot | None:
+    """The latest usable snapshot at or before t, given the chain length read in the same
+    transaction. A snapshot that cannot be decoded is passed over (the cache was damaged)."""
+    before = stale_from(conn, run, length)
+    row = conn.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
+    while row is not None:
+        state = decode(row[3])
+        if state is not None:
+            return Snapshot((row[0], row[1], row[2]), state)
+        row = conn.execute(_NEAREST, (run, FOLD_VERSION, row[0] - 1, before)).fetchone()
+    return None
+
+
+def needs_check(conn: sqlite3.Connection, run: str, length: int) -> bool:
+    return _watermark(conn, run) != length
+
+
+def save(conn: sqlite3.Connection, run: str, fresh: Iterable[Fresh], read_length: int) -> bool:
+    """Store snapshots folded from a read that saw the first read_length events of the chain.
+
+    In one write transaction: check the events no snapshot has been checked against, then keep
+    only the fresh snapshots that no event appended since the read precedes. Returns False,
+    having written nothing, when the file cannot be written now (locked, read-only): the cache
+    is an optimisation, so the caller carries on without it."""
+    try:
+        conn.execute("BEGIN IMMEDIATE")
+    except sqlite3.OperationalError:
+        return False
+    try:
+        late = _earliest_since(conn, run, read_length)
+        catch_up(conn, run)
+        rows = [(run, FOLD_VERSION, *position, blob) for position, blob in fresh if late is None or position[0] < late]
+        conn.executemany(_INSERT, rows)
+        conn.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
+        conn.execute("COMMIT")
+    except sqlite3.OperationalError:
+        conn.execute("ROLLBACK")
+        return False
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
+    return True
+
+
+def encode(state: dict[str, Any]) -> bytes:
+    text = json.dumps(state, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    return zlib.compress(text.encode("utf-8"), _LEVEL)
+
+
+def decode(blob: bytes) -> dict[str, Any] | None:
+    """The state in a snapshot, or None if the blob is not one (damaged or foreign)."""
+    try:
+        state = json.loads(zlib.decompress(blob))
+    except (zlib.error, ValueError, TypeError):
+        return None
+    return state if isinstance(state, dict) else None

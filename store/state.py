@@ -1,0 +1,362 @@
+"""State at a time: what the record says every entity, signal and monitor was at any t.
+
+The reasoner rebuilds the Vehicle, Monitor and Validator Scenarios from this, so every piece of
+state is the event it came from, cut down to a citation and a body: {"src", "seq", "t", "body"}
+(`ref(piece)` gives the {src, seq, t} to cite as evidence). State at t is the fold of the run's
+events with t' <= t in (t, seq, src) order, a total order fixed by the events themselves, so the
+answer never depends on the order or the batches in which the events arrived.
+
+The state (plain JSON data):
+    run, t            what was asked
+    events, last      how many events were folded, and the ref of the last one
+    start             run.start, with the map, seed, config and the rulebooks in force (name,
+                      version and sha256; the LE text is in the cited event and the rulebook store)
+    end               run.end, or null
+    entities          per src: spawn, state, perception, decision (latest of each kind), ads
+                      (status folded from the ads.event history, see _fold_ads), despawned (the
+                      entity.despawn, null while present). A new entity.spawn starts a fresh record.
+    signals           per junction, per approach ("*" when the event names none): colour,
+                      since (ref of the event that first showed this colour), last (latest report)
+    monitors          per monitor src: observations and potential_violations, latest per vehicle
+    collisions        per entity id named in a collision: the latest collision naming it
+vehicle.trace events are counted but not folded: decisions cite their trace by seq.
+
+Cost: snapshots (store/snapshots.py) hold the fold every SNAPSHOT_EVERY events, so state_at
+loads the nearest one and folds fewer than that many events. Reads write missing snapshots as
+they go, in bounded batches; `build_snapshots` writes them for a whole run ahead of the reads.
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from contextlib import contextmanager
+from typing import Any, Callable, Iterator
+
+from . import snapshots
+from .db import Store
+from .snapshots import Fresh, Position
+
+SNAPSHOT_EVERY = 1000  # events between snapshots: bench/scene_at_t.py measures the trade-off
+_CHUNK = 4096  # rows fetched at a time, so that memory stays bounded whatever the window
+_HELD = 64  # snapshots held in memory before they are written
+_T_MAX = (1 << 63) - 1
+
+Row = tuple[str, int, int, str, str]  # src, seq, t, kind, event JSON: as selected below
+Piece = dict[str, Any]
+
+_SELECT = "SELECT src, seq, t, kind, event FROM events WHERE run = ? AND t <= ?"
+_ORDER = " ORDER BY t, seq, src"
+_FROM_START = _SELECT + _ORDER
+_AFTER = _SELECT + " AND (t, seq, src) > (?, ?, ?)" + _ORDER
+
+
+# --- public API -------------------------------------------------------------------------------
+
+
+def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> dict[str, Any]:
+    """The state of `run` at time t (ns): the fold of its events with t' <= t.
+
+    With use_snapshots (the default) the fold starts from the nearest snapshot and any missing
+    snapshots on the way are written to the file. use_snapshots=False folds every event from the
+    start, reading the events only: the slow reference the snapshots are tested against."""
+    if use_snapshots:
+        state = _advance(store, run, t, SNAPSHOT_EVERY)
+    else:
+        state = _fold_all(store.connection, run, t)
+    return {"run": run, "t": t, **state}
+
+
+def build_snapshots(store: Store, run: str, *, every: int = SNAPSHOT_EVERY) -> int:
+    """Write the snapshots of a whole run now rather than on the first reads; return how many the
+    run has. Runs in bounded memory, committing a batch of snapshots at a time."""
+    if every < 1:
+        raise ValueError("every must be at least 1")
+    _advance(store, run, _T_MAX, every)
+    return snapshots.count(store, run)
+
+
+def ref(piece: Piece) -> dict[str, Any]:
+    """The evidence reference {src, seq, t} of a piece of state."""
+    return {"src": piece["src"], "seq": piece["seq"], "t": piece["t"]}
+
+
+def empty_state() -> dict[str, Any]:
+    """The fold state before the first event (state_at adds run and t)."""
+    return {
+        "events": 0,
+        "last": None,
+        "start": None,
+        "end": None,
+        "entities": {},
+        "signals": {},
+        "monitors": {},
+        "collisions": {},
+    }
+
+
+# --- reading ----------------------------------------------------------------------------------
+
+
+@contextmanager
+def _reading(conn: sqlite3.Connection) -> Iterator[None]:
+    """One read transaction, so that the chain length, the snapshot and the events read agree."""
+    if conn.in_transaction:
+        yield
+        return
+    conn.execute("BEGIN")
+    try:
+        yield
+    finally:
+        conn.execute("COMMIT")
+
+
+def _fold_all(conn: sqlite3.Connection, run: str, t: int) -> dict[str, Any]:
+    state = empty_state()
+    with _reading(conn):
+        cursor = conn.execute(_FROM_START, (run, t))
+        for rows in iter(lambda: cursor.fetchmany(_CHUNK), []):
+            fold_rows(state, rows)
+    return state
+
+
+def _advance(store: Store, run: str, t: int, every: int) -> dict[str, Any]:
+    """Fold from the nearest snapshot to t, writing a snapshot every `every` events on the way.
+
+    Each pass reads in one transaction and folds until t or until _HELD new snapshots are held,
+    then writes them (checked against anything appended meanwhile) and starts again from the
+    nearest snapshot, so memory stays bounded on a first read far into a long run. If the file
+    cannot be written the pass folds on to t without holding snapshots."""
+    snapshots.ensure_tables(store)
+    conn = store.connection
+    saving = True
+    while True:
+        with _reading(conn):
+            length = snapshots.chain_length(conn, run)
+            base = snapshots.nearest(conn, run, t, length)
+            state = empty_state() if base is None else base.state
+            position = None if base is None else base.position
+            fresh, done = _fold_window(conn, run, state, position, t, every if saving else 0)
+            unchecked = snapshots.needs_check(conn, run, length)
+        if saving and (fresh or unchecked):
+            saving = snapshots.save(conn, run, fresh, length)
+        if done:
+            return state
+
+
+def _fold_window(
+    conn: sqlite3.Connection,
+    run: str,
+    state: dict[str, Any],
+    position: Position | None,
+    t: int,
+    every: int,
+) -> tuple[list[Fresh], bool]:
+    """Fold the events after `position` up to t into state, snapshotting every `every` events
+    (0: never). Returns the snapshots and whether t was reached (False: _HELD were taken)."""
+    if position is None:
+        cursor = conn.execute(_FROM_START, (run, t))
+    else:
+        cursor = conn.execute(_AFTER, (run, t, *position))
+    fresh: list[Fresh] = []
+    since = 0
+    try:
+        while True:
+            wanted = _CHUNK if not every else min(_CHUNK, every - since)
+            rows = cursor.fetchmany(wanted)
+            if not rows:
+                return fresh, True
+            fold_rows(state, rows)
+            since += len(rows)
+            if every and since >= every:
+                fresh.append(_snapshot(state))
+                since = 0
+                if len(fresh) >= _HELD:
+                    return fresh, False
+    finally:
+        cursor.close()
+
+
+def _snapshot(state: dict[str, Any]) -> Fresh:
+    """Encoded now: the fold goes on changing the state in place."""
+    last = state["last"]
+    return (last["t"], last["seq"], last["src"]), snapshots.encode(state)
+
+
+# --- the fold ---------------------------------------------------------------------------------
+
+# Kinds whose fold is "this entity's slot holds the latest such event": within a batch of rows
+# only the last of each (src, kind) changes the result, so the others are not even parsed.
+_LATEST = {"entity.state": "state", "vehicle.perception": "perception", "vehicle.decision": "decision"}
+# Kinds that make their src an entity without adding anything to fold.
+_TOUCH = frozenset(("vehicle.trace",))
+
+
+def fold_rows(state: dict[str, Any], rows: list[Row]) -> None:
+    """Fold rows (src, seq, t, kind, event JSON), already in (t, seq, src) order, into state."""
+    if not rows:
+        return
+    last_of: dict[tuple[str, str], int] = {}
+    for i, row in enumerate(rows):
+        if row[3] in _LATEST:
+            last_of[row[0], row[3]] = i
+    parse = [
+        i
+        for i, (src, _, _, kind, _) in enumerate(rows)
+        if kind in _HANDLERS and last_of.get((src, kind), i) == i
+    ]
+    events = iter(json.loads("[" + ",".join([rows[i][4] for i in parse]) + "]"))
+    parsed = iter(parse)
+    next_parsed = next(parsed, -1)
+    for i, (src, seq, t, kind, _) in enumerate(rows):
+        if i == next_parsed:
+            piece = {"src": src, "seq": seq, "t": t, "body": next(events)["body"]}
+            _HANDLERS[kind](state, piece)
+            next_parsed = next(parsed, -1)
+        elif kind in _LATEST or kind in _TOUCH:
+            _entity(state, src)  # superseded within the batch, but the entity exists from here
+    src, seq, t = rows[-1][:3]
+    state["events"] += len(rows)
+    state["last"] = {"src": src, "seq": seq, "t": t}
+
+
+def _key(value: Any) -> str:
+    """A body value as a dict key. Bodies are checked for their required fields only, so a
+    value of the wrong type is written out rather than trusted (or allowed to crash the fold)."""
+    return value if isinstance(value, str) else json.dumps(value, sort_keys=True)
+
+
+def _new_entity() -> dict[str, Any]:
+    return {"spawn": None, "state": None, "perception": None, "decision": None, "ads": None, "despawned": None}
+
+
+def _entity(state: dict[str, Any], src: str) -> dict[str, Any]:
+    entities = state["entities"]
+    record = entities.get(src)
+    if record is None:
+        record = entities[src] = _new_entity()
+    return record
+
+
+def _fold_start(state: dict[str, Any], piece: Piece) -> None:
+    """run.start, without the rulebooks' LE text: it is large, and cited by sha256."""
+    body = dict(piece["body"])
+    books = body.get("rulebooks")
+    if isinstance(books, list):
+        body["rulebooks"] = [
+            {k: v for k, v in book.items() if k != "text"} if isinstance(book, dict) else book for book in books
+        ]
+    state["start"] = {**piece, "body": body}
+
+
+def _fold_end(state: dict[str, Any], piece: Piece) -> None:
+    state["end"] = piece
+
+
+def _fold_spawn(state: dict[str, Any], piece: Piece) -> None:
+    record = _new_entity()
+    record["spawn"] = piece
+    state["entities"][piece["src"]] = record
+
+
+def _fold_latest(slot: str) -> Callable[[dict[str, Any], Piece], None]:
+    def fold(state: dict[str, Any], piece: Piece) -> None:
+        _entity(state, piece["src"])[slot] = piece
+
+    return fold
+
+
+def _fold_despawn(state: dict[str, Any], piece: Piece) -> None:
+    _entity(state, piece["src"])["despawned"] = piece
+
+
+def _fold_signal(state: dict[str, Any], piece: Piece) -> None:
+    """A colour's `since` is the first report of it after a different colour (or none)."""
+    body = piece["body"]
+    approaches = state["signals"].setdefault(_key(body.get("junction")), {})
+    approach = _key(body.get("approach", "*"))
+    colour = body.get("colour")
+    before = approaches.get(approach)
+    since = before["since"] if before is not None and before["colour"] == colour else ref(piece)
+    approaches[approach] = {"colour": colour, "since": since, "last": piece}
+
+
+def _monitor(state: dict[str, Any], src: str) -> dict[str, Any]:
+    return state["monitors"].setdefault(src, {"observations": {}, "potential_violations": {}})
+
+
+def _fold_observation(state: dict[str, Any], piece: Piece) -> None:
+    _monitor(state, piece["src"])["observations"][_key(piece["body"].get("vehicle"))] = piece
+
+
+def _fold_potential_violation(state: dict[str, Any], piece: Piece) -> None:
+    _monitor(state, piece["src"])["potential_violations"][_key(piece["body"].get("vehicle"))] = piece
+
+
+def _fold_collision(state: dict[str, Any], piece: Piece) -> None:
+    named = piece["body"].get("entities")
+    for entity in named if isinstance(named, list) else [named]:
+        state["collisions"][_key(entity)] = piece
+
+
+def _fold_ads(state: dict[str, Any], piece: Piece) -> None:
+    record = _entity(state, piece["src"])
+    record["ads"] = ads_status(record["ads"], piece)
+
+
+_NO_ADS = {
+    "engaged": False,
+    "since": None,
+    "last": None,
+    "transition_demand": None,
+    "minimal_risk_manoeuvre": None,
+    "emergency_manoeuvre": None,
+    "failure": None,
+}
+
+
+def ads_status(before: dict[str, Any] | None, piece: Piece) -> dict[str, Any]:
+    """The ADS status after one ads.event (UN R157 para 8.2.1 DSSAD events).
+
+    engaged: whether the system is in control, `since` citing the event that made it so.
+    transition_demand, minimal_risk_manoeuvre, emergency_manoeuvre: refs of the events that
+    started them while they are in progress, else null. A transition demand stays pending until
+    the driver takes over (deactivated, driver_override) or the system is activated afresh;
+    during a minimal risk manoeuvre it stays pending, as R157 para 5.4 requires. failure: the
+    latest failure reported, kept as history (nothing in the catalogue clears it)."""
+    status = dict(_NO_ADS if before is None else before)
+    status["last"] = piece
+    event, here = piece["body"].get("event"), ref(piece)
+    if event == "activated":
+        if not status["engaged"]:
+            status.update(engaged=True, since=here)
+        status.update(transition_demand=None, minimal_risk_manoeuvre=None)
+    elif event in ("deactivated", "driver_override"):
+        if status["engaged"]:
+            status.update(engaged=False, since=here)
+        status.update(transition_demand=None, minimal_risk_manoeuvre=None, emergency_manoeuvre=None)
+    elif event == "transition_demand":
+        status["transition_demand"] = status["transition_demand"] or here
+    elif event == "minimal_risk_manoeuvre":
+        status["minimal_risk_manoeuvre"] = status["minimal_risk_manoeuvre"] or here
+    elif event == "emergency_manoeuvre_start":
+        status["emergency_manoeuvre"] = status["emergency_manoeuvre"] or here
+    elif event == "emergency_manoeuvre_end":
+        status["emergency_manoeuvre"] = None
+    elif event == "failure":
+        status["failure"] = here
+    return status
+
+
+_HANDLERS: dict[str, Callable[[dict[str, Any], Piece], None]] = {
+    "run.start": _fold_start,
+    "run.end": _fold_end,
+    "entity.spawn": _fold_spawn,
+    "entity.despawn": _fold_despawn,
+    "signal.state": _fold_signal,
+    "ads.event": _fold_ads,
+    "monitor.observation": _fold_observation,
+    "monitor.potential_violation": _fold_potential_violation,
+    "collision": _fold_collision,
+    **{kind: _fold_latest(slot) for kind, slot in _LATEST.items()},
+}
