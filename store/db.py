@@ -1,14 +1,12 @@
 """The store: one SQLite file holding an append-only, hash-chained log of events per run.
 
-Appends are the hot path (every event of every vehicle passes through here), so chain heads and
-the highest stored seq of each source are cached in memory and rows are written with
-executemany, one transaction per call. The caches are only ever a shortcut: they are filled
-from the file on demand and thrown away whenever another connection may have written to it.
+Appends are the hot path (every event of every vehicle passes through here): chain heads and
+the highest stored seq of each source are cached (store/heads.py), rows are built in memory
+(store/batch.py) and written with executemany, one transaction per call.
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import sqlite3
@@ -16,17 +14,23 @@ import time
 from contextlib import contextmanager
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import ddl, queries
-from .chain import GENESIS, link
-from .intake import Candidate, from_dict, from_raw
+from . import ddl, queries, rulebooks
+from .batch import Batch
+from .heads import Heads
+from .intake import Candidate, from_raw
 from .reports import AppendReport, VerifyReport
-from .verify import verify_store
+from .verify import Progress, verify_store
 
 _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _INSERT_QUARANTINE = "INSERT INTO quarantine (received_at, origin, reason, raw) VALUES (?, ?, ?, ?)"
-_INSERT_CHECKPOINT = "INSERT INTO checkpoints (run, count, head, created_at) VALUES (?, ?, ?, ?)"
+_INSERT_CHECKPOINT = (
+    "INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?)"
+)
+CHECKPOINT_EVERY = 1000
+_CACHE_KIB = 64 * 1024  # page cache per connection: the indexes of a busy run stay in memory
 
 
 AppendHook = Callable[[sqlite3.Connection, str, int], None]
@@ -36,24 +40,34 @@ class Store:
     """An event store file. Use one Store from one thread at a time (check_same_thread=False
     only lets it move between threads); separate processes may share a file safely.
 
-    durable=False trades the last transactions on power loss (synchronous=NORMAL) for speed,
-    for bulk imports that can be repeated.
+    durable=True (the default) commits with synchronous=FULL: when append returns, its events
+    are on disk and survive a power cut. durable=False (synchronous=NORMAL) may lose the last
+    transactions on power loss, never corrupting the file; for bulk imports that can be
+    repeated. Each run gets a checkpoint every `checkpoint_every` events (docs/store.md).
     """
 
     def __init__(
-        self, path: str | os.PathLike, *, durable: bool = True, check_same_thread: bool = True
+        self,
+        path: str | os.PathLike,
+        *,
+        durable: bool = True,
+        check_same_thread: bool = True,
+        checkpoint_every: int = CHECKPOINT_EVERY,
     ) -> None:
+        if type(checkpoint_every) is not int or checkpoint_every < 1:
+            raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
         self.path = os.fspath(path)
+        self.checkpoint_every = checkpoint_every
         self._conn = sqlite3.connect(self.path, isolation_level=None, check_same_thread=check_same_thread)
         try:
             self._conn.execute("PRAGMA journal_mode=WAL")
             self._conn.execute(f"PRAGMA synchronous={'FULL' if durable else 'NORMAL'}")
+            self._conn.execute(f"PRAGMA cache_size=-{_CACHE_KIB}")
             ddl.migrate(self._conn)
         except BaseException:
             self._conn.close()
             raise
-        self._heads: dict[str, tuple[int, bytes]] = {}  # run -> (events in chain, head hash)
-        self._max_seq: dict[tuple[str, str], int] = {}  # (run, src) -> highest stored seq, -1 if none
+        self._heads = Heads(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
 
@@ -74,7 +88,7 @@ class Store:
         """Append decoded events; all of them come from `origin`."""
         if isinstance(events, dict):
             raise TypeError("append takes an iterable of events; wrap a single event in a list")
-        return self.append_candidates(from_dict(ev, str(origin)) for ev in events)
+        return self._append(lambda batch: batch.offer_events(events, str(origin)))
 
     def append_raw(self, items: Iterable[tuple[bytes, str]]) -> AppendReport:
         """Append events as received: (raw bytes, where they came from) pairs."""
@@ -91,26 +105,20 @@ class Store:
         An accepted one is trusted as built: make it with intake.from_raw/from_dict or from
         envelope.decode_event/encode_event, never with hand-made canonical bytes.
         """
-        report = AppendReport()
-        rows: list[tuple] = []
-        refused: list[tuple] = []
-        received_at = time.time_ns()
-        with self._transaction() as conn:
-            placed: dict[tuple[str, str, int], bytes] = {}  # events placed in this batch
-            for candidate in candidates:
-                reason = candidate.reason
-                if reason is None:
-                    reason = self._place(candidate, placed, rows, report)
-                if reason is not None:
-                    refused.append((received_at, candidate.origin, reason, candidate.raw))
-                    report.rejected.append({"origin": candidate.origin, "reason": reason})
-            conn.executemany(_INSERT_EVENT, rows)
-            conn.executemany(_INSERT_QUARANTINE, refused)
-            conn.executemany(_INSERT_CHECKPOINT, self._checkpoint_rows(rows, received_at))
-            self._run_hooks(conn, rows)
-        report.stored = len(rows)
-        return report
+        return self._append(lambda batch: batch.offer_candidates(candidates))
 
+    def _append(self, feed: Callable[[Batch], None]) -> AppendReport:
+        """Feed a batch, then write its rows and run the hooks, all in one transaction that is
+        committed (durably, by default) before the report is returned."""
+        with self._transaction() as conn:
+            batch = Batch(self._heads, self.checkpoint_every, time.time_ns())
+            feed(batch)
+            batch.finish()
+            conn.executemany(_INSERT_EVENT, batch.events)
+            conn.executemany(_INSERT_QUARANTINE, batch.refused)
+            conn.executemany(_INSERT_CHECKPOINT, batch.checkpoints)
+            self._run_hooks(conn, batch.events)
+        return batch.report
 
     def add_append_hook(self, hook: AppendHook) -> None:
         """Call `hook(conn, run, min_t)` inside every append transaction that stores events of
@@ -130,7 +138,7 @@ class Store:
                 hook(conn, run, min_t)
 
     def checkpoints(self, run: str) -> list[dict[str, Any]]:
-        """The run's checkpoints, oldest first, as stored (count, head and whatever else)."""
+        """The run's checkpoints, oldest first, as stored (count, head, merkle_root, ...)."""
         cur = self._conn.execute("SELECT * FROM checkpoints WHERE run = ? ORDER BY id", (run,))
         names = [d[0] for d in cur.description]
         return [dict(zip(names, row)) for row in cur]
@@ -139,66 +147,6 @@ class Store:
     def connection(self) -> sqlite3.Connection:
         """The underlying connection, for the store's own modules (state folding, transfer)."""
         return self._conn
-
-    def _place(
-        self,
-        candidate: Candidate,
-        placed: dict[tuple[str, str, int], bytes],
-        rows: list[tuple],
-        report: AppendReport,
-    ) -> str | None:
-        """Chain a valid candidate onto its run, or count it as a duplicate; return a reason
-        to refuse it if it conflicts with an event already stored under its (run, src, seq)."""
-        ev, canonical = candidate.event, candidate.canonical
-        run, src, seq = ev["run"], ev["src"], ev["seq"]
-        key = (run, src, seq)
-        earlier = placed.get(key)
-        if earlier is None:
-            earlier = self._stored_event(run, src, seq)
-        if earlier is not None:
-            if earlier != canonical:
-                return f"conflicting duplicate of {run}/{src}/{seq}"
-            report.duplicates += 1
-            return None
-        count, prev = self._head(run)
-        digest = link(prev, canonical)
-        rows.append((run, count, src, seq, ev["t"], ev["kind"], canonical.decode("utf-8"), digest.hex()))
-        self._heads[run] = (count + 1, digest)
-        self._max_seq[(run, src)] = max(self._max_seq[(run, src)], seq)
-        placed[key] = canonical
-        return None
-
-    def _checkpoint_rows(self, rows: list[tuple], created_at: int) -> list[tuple]:
-        """One checkpoint per run this call extended, at its new head."""
-        runs = dict.fromkeys(row[0] for row in rows)
-        return [(run, self._heads[run][0], self._heads[run][1].hex(), created_at) for run in runs]
-
-    def _head(self, run: str) -> tuple[int, bytes]:
-        cached = self._heads.get(run)
-        if cached is not None:
-            return cached
-        row = self._conn.execute(
-            "SELECT chain_pos, hash FROM events WHERE run = ? ORDER BY chain_pos DESC LIMIT 1", (run,)
-        ).fetchone()
-        head = (0, GENESIS) if row is None else (row[0] + 1, _digest(run, row[1]))
-        self._heads[run] = head
-        return head
-
-    def _stored_event(self, run: str, src: str, seq: int) -> bytes | None:
-        """Canonical bytes of the stored event with this identity, if any. Sources send seq in
-        rising order, so knowing each source's highest seq answers "new" without a query."""
-        highest = self._max_seq.get((run, src))
-        if highest is None:
-            (found,) = self._conn.execute(
-                "SELECT max(seq) FROM events WHERE run = ? AND src = ?", (run, src)
-            ).fetchone()
-            highest = self._max_seq[(run, src)] = -1 if found is None else found
-        if seq > highest:
-            return None
-        row = self._conn.execute(
-            "SELECT event FROM events WHERE run = ? AND src = ? AND seq = ?", (run, src, seq)
-        ).fetchone()
-        return None if row is None else row[0].encode("utf-8")
 
     @contextmanager
     def _transaction(self) -> Iterator[sqlite3.Connection]:
@@ -212,19 +160,15 @@ class Store:
         except BaseException:
             if self._conn.in_transaction:
                 self._conn.execute("ROLLBACK")
-            self._forget()
+            self._heads.forget()
             raise
 
     def _refresh_caches(self) -> None:
         """Drop the caches if another connection has committed since we last looked."""
         version = self._read_data_version()
         if version != self._data_version:
-            self._forget()
+            self._heads.forget()
             self._data_version = version
-
-    def _forget(self) -> None:
-        self._heads.clear()
-        self._max_seq.clear()
 
     def _read_data_version(self) -> int:
         return self._conn.execute("PRAGMA data_version").fetchone()[0]
@@ -254,49 +198,49 @@ class Store:
             return self._conn.execute("SELECT count(*) FROM events").fetchone()[0]
         return self._conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()[0]
 
-    def quarantined(self) -> list[dict[str, Any]]:
-        """Everything refused, oldest first, with the exact bytes received."""
-        rows = self._conn.execute("SELECT id, received_at, origin, reason, raw FROM quarantine ORDER BY id")
+    def quarantined(self, limit: int | None = None) -> list[dict[str, Any]]:
+        """Everything refused, oldest first, with the exact bytes received (the first `limit`)."""
+        rows = self._conn.execute(
+            "SELECT id, received_at, origin, reason, raw FROM quarantine ORDER BY id LIMIT ?",
+            (-1 if limit is None else limit,),
+        )
         return [
             {"id": id_, "received_at": received_at, "origin": origin, "reason": reason, "raw": bytes(raw)}
             for id_, received_at, origin, reason, raw in rows
         ]
 
-    def verify(self, run: str | None = None) -> VerifyReport:
-        """Recompute the chains (and, for the whole store, the rulebook addresses)."""
-        return verify_store(self._conn, run)
+    def quarantine_count(self) -> int:
+        return self._conn.execute("SELECT count(*) FROM quarantine").fetchone()[0]
+
+    def gaps(self, run: str | None = None) -> list[dict[str, Any]]:
+        """Sources with seqs missing, from the stored seqs: {run, src, missing, highest}, where
+        missing lists [first, last] ranges. A source that stopped early shows no gap: what it
+        never sent cannot be told from what was lost after its last stored event."""
+        return queries.gaps(self._conn, run)
+
+    def verify(self, run: str | None = None, progress: Progress | None = None) -> VerifyReport:
+        """Recompute the chains and checkpoints (and, for the whole store, the rulebook
+        addresses); `progress(done, total)` is called now and then with events checked."""
+        return verify_store(self._conn, run, progress)
 
     # --- rulebooks -----------------------------------------------------------------------------
 
     def put_rulebook(self, name: str, version: str, text: str) -> str:
         """Store a rulebook under the sha256 of its text and return that address. Storing the
         same text again changes nothing: the first name and version given stay."""
-        address = hashlib.sha256(text.encode("utf-8")).hexdigest()
         with self._transaction() as conn:
-            conn.execute(
-                "INSERT OR IGNORE INTO rulebooks (sha256, name, version, text) VALUES (?, ?, ?, ?)",
-                (address, name, version, text),
-            )
-        return address
+            return rulebooks.put(conn, name, version, text)
 
-    def get_rulebook(self, sha256: str) -> dict[str, str] | None:
+    def get_rulebook(self, sha256: str) -> dict[str, Any] | None:
         """The rulebook stored at this address, or None. Refuses (ValueError) to return text
         that no longer hashes to its address: a run must be judged by the rules it names."""
-        row = self._conn.execute(
-            "SELECT sha256, name, version, text FROM rulebooks WHERE sha256 = ?", (sha256,)
-        ).fetchone()
-        if row is None:
-            return None
-        if hashlib.sha256(row[3].encode("utf-8")).hexdigest() != row[0]:
-            raise ValueError(f"rulebook {sha256} does not match its text: the store was altered; run verify")
-        return {"sha256": row[0], "name": row[1], "version": row[2], "text": row[3]}
+        return rulebooks.by_hash(self._conn, sha256)
 
+    def get_rulebook_by_name(self, name: str, version: str | None = None) -> dict[str, Any] | None:
+        """The rulebook stored under this name and version, or, without a version, the newest
+        version of the name (docs/store.md says how versions compare); None if there is none."""
+        return rulebooks.by_name(self._conn, name, version)
 
-def _digest(run: str, stored: str) -> bytes:
-    """The stored head hash as bytes; a non-hex value means the file was altered."""
-    try:
-        return bytes.fromhex(stored)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"the chain head of run {run} is not a sha256 hex digest: the store was altered; run verify"
-        ) from None
+    def rulebooks(self) -> list[dict[str, Any]]:
+        """Every stored rulebook without its text: {sha256, name, version, stored_at, bytes}."""
+        return rulebooks.listing(self._conn)

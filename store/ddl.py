@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sqlite3
 
-APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks")
+APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints")
 
 
 def _append_only(table: str) -> tuple[str, ...]:
@@ -56,10 +56,26 @@ _V1 = (
         version TEXT NOT NULL,
         text TEXT NOT NULL
     )""",
-    *(trigger for table in APPEND_ONLY_TABLES for trigger in _append_only(table)),
+    *(trigger for table in ("events", "quarantine", "checkpoints", "rulebooks") for trigger in _append_only(table)),
 )
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1}
+# v2: checkpoints carry the Merkle root of the events they cover, the Merkle frontier (so a
+# reopened store extends the tree without rereading the run) and the count of the run's
+# previous checkpoint (so a checkpoint removed from the middle is noticed). Checkpoints written
+# by v1 have none of these; legacy_checkpoints records the last of them, and verify demands the
+# new columns of every later one. Rulebooks gain the time they were stored.
+_V2 = (
+    "ALTER TABLE checkpoints ADD COLUMN merkle_root TEXT",
+    "ALTER TABLE checkpoints ADD COLUMN frontier TEXT",
+    "ALTER TABLE checkpoints ADD COLUMN prev_count INTEGER",
+    "CREATE TABLE legacy_checkpoints (through_id INTEGER NOT NULL)",
+    "INSERT INTO legacy_checkpoints SELECT coalesce(max(id), 0) FROM checkpoints",
+    *_append_only("legacy_checkpoints"),
+    "ALTER TABLE rulebooks ADD COLUMN stored_at INTEGER",
+    "CREATE INDEX rulebooks_by_name ON rulebooks (name, version)",
+)
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

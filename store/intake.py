@@ -30,7 +30,7 @@ def from_dict(ev: Any, origin: str) -> Candidate:
     try:
         canonical = encode_event(ev)
     except EventError as exc:
-        return Candidate(origin, _raw_bytes(ev), reason=str(exc))
+        return Candidate(origin, raw_bytes(ev), reason=str(exc))
     return Candidate(origin, canonical, ev, canonical)
 
 
@@ -43,7 +43,7 @@ def from_raw(raw: bytes, origin: str) -> Candidate:
     return Candidate(origin, bytes(raw), ev, canonical)
 
 
-def _raw_bytes(obj: Any) -> bytes:
+def raw_bytes(obj: Any) -> bytes:
     """The best byte record of a refused object: canonical JSON if it has one, else its repr."""
     try:
         return canonical_json(obj)

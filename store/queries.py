@@ -64,3 +64,24 @@ def run_summary(conn: sqlite3.Connection, run: str) -> dict[str, Any]:
     (last_t,) = conn.execute("SELECT max(t) FROM events WHERE run = ?", (run,)).fetchone()
     sources = list(_distinct(conn, "src", "run = ?", (run,)))
     return {"run": run, "events": count, "first_t": first_t, "last_t": last_t, "sources": sources}
+
+
+def gaps(conn: sqlite3.Connection, run: str | None) -> list[dict[str, Any]]:
+    """Missing seq ranges per (run, src), one pass over the (run, src, seq) index. A source's
+    seqs start at 0, so a first stored seq above 0 is a gap too."""
+    where, params = ("WHERE run = ?", (run,)) if run is not None else ("", ())
+    rows = conn.execute(
+        f"""SELECT run, src, prev + 1, seq - 1, highest FROM (
+                SELECT run, src, seq,
+                       lag(seq, 1, -1) OVER (PARTITION BY run, src ORDER BY seq) AS prev,
+                       max(seq) OVER (PARTITION BY run, src) AS highest
+                FROM events {where})
+            WHERE seq > prev + 1
+            ORDER BY run, src, seq""",
+        params,
+    )
+    found: dict[tuple[str, str], dict[str, Any]] = {}
+    for run_, src, first, last, highest in rows:
+        entry = found.setdefault((run_, src), {"run": run_, "src": src, "missing": [], "highest": highest})
+        entry["missing"].append([first, last])
+    return list(found.values())

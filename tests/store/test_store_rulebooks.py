@@ -2,7 +2,8 @@
 
 import hashlib
 
-from store_testkit import rows
+import pytest
+from store_testkit import rows, tamper
 
 from store import Store
 
@@ -47,3 +48,49 @@ def test_rulebooks_persist(db_path):
     with Store(db_path) as second:
         assert second.get_rulebook(address)["text"] == TEXT
         assert second.verify().ok
+
+
+# --- lookup by name and version, listing ----------------------------------------------------------
+
+def test_lookup_by_name_and_version(store):
+    first = store.put_rulebook("highway code", "2024.9", TEXT)
+    second = store.put_rulebook("highway code", "2024.10", TEXT + "more.\n")
+    store.put_rulebook("stvo", "1", "other rules\n")
+    assert store.get_rulebook_by_name("highway code", "2024.9")["sha256"] == first
+    assert store.get_rulebook_by_name("highway code")["sha256"] == second  # 10 > 9 as numbers
+    assert store.get_rulebook_by_name("highway code", "2025") is None
+    assert store.get_rulebook_by_name("nothing") is None
+
+
+def test_newest_among_equal_versions_is_the_last_stored(store):
+    store.put_rulebook("hc", "1", "a\n")
+    later = store.put_rulebook("hc", "1", "b\n")
+    assert store.get_rulebook_by_name("hc")["sha256"] == later
+    assert store.get_rulebook_by_name("hc", "1")["sha256"] == later
+
+
+def test_version_order():
+    from store.rulebooks import version_key
+
+    ordered = ["", "1", "1.2", "1.10", "2", "2a", "2b", "10", "v1", "²"]
+    assert sorted(ordered, key=version_key) == ordered
+
+
+def test_listing(store):
+    store.put_rulebook("zebra", "1", "z\n")
+    store.put_rulebook("hc", "2", "two\n")
+    store.put_rulebook("hc", "10", "ten\n")
+    listed = store.rulebooks()
+    assert [(r["name"], r["version"]) for r in listed] == [("hc", "2"), ("hc", "10"), ("zebra", "1")]
+    assert listed[0]["bytes"] == 4 and "text" not in listed[0]
+    assert all(isinstance(r["stored_at"], int) and r["stored_at"] > 0 for r in listed)
+    assert listed[0]["sha256"] == hashlib.sha256(b"two\n").hexdigest()
+
+
+def test_lookup_by_name_refuses_altered_text(db_path):
+    with Store(db_path) as store:
+        store.put_rulebook("hc", "1", TEXT)
+    tamper(db_path, ("UPDATE rulebooks SET text = 'lenient'", ()))
+    with Store(db_path) as store:
+        with pytest.raises(ValueError, match="does not match its text"):
+            store.get_rulebook_by_name("hc")

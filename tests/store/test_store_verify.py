@@ -187,10 +187,18 @@ def test_non_canonical_text_with_a_rehashed_chain(filled):
     assert failed_at(filled, 6) == "the stored event text is not in canonical form"
 
 
-def test_a_checkpoint_forged(filled):
+def test_a_checkpoint_forged_in_the_v1_form(filled):
     tamper(filled, ("INSERT INTO checkpoints (run, count, head, created_at) VALUES ('r1', 3, ?, 0)", ("cd" * 32,)))
-    what = failed_at(filled, 2)
-    assert what.startswith("the checkpoint of 3 events records head cdcdcdcdcdcd…")
+    assert failed_at(filled, 2).startswith("the checkpoint of 3 events lacks the Merkle root")
+
+
+def test_a_checkpoint_forged_in_sequence(filled):
+    """A forger who links the checkpoint into the sequence still cannot make its head match."""
+    tamper(filled,
+           ("DELETE FROM checkpoints WHERE run = 'r1'", ()),
+           ("INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count) "
+            "VALUES ('r1', 10, ?, 0, ?, '', 0)", ("cd" * 32, "cd" * 32)))
+    assert failed_at(filled, 9).startswith("the checkpoint of 10 events records head cdcdcdcdcdcd…")
 
 
 def test_the_first_problem_is_reported(filled):
@@ -228,3 +236,101 @@ def test_a_rulebook_altered(filled):
     with Store(filled) as store:
         with pytest.raises(ValueError, match="does not match its text"):
             store.get_rulebook(address)
+
+
+# --- checkpoints: Merkle roots, frontiers and their sequence --------------------------------------
+
+@pytest.fixture
+def checkpointed(db_path):
+    """r1 of 10 events, checkpointed every 3: at 3, 6, 9 and 10 (ids 1-4)."""
+    with Store(db_path, checkpoint_every=3) as store:
+        store.append([event(i) for i in range(10)])
+        assert store.verify().ok
+    return db_path
+
+
+def failed_with(db_path, pos):
+    report = verify(db_path)
+    assert not report.ok
+    assert (report.problem["run"], report.problem["chain_pos"]) == ("r1", pos)
+    assert (report.problem["src"], report.problem["seq"]) == at(db_path, pos)[:2]
+    return report.problem["what"]
+
+
+def test_a_merkle_root_altered(checkpointed):
+    tamper(checkpointed, ("UPDATE checkpoints SET merkle_root = ? WHERE count = 6", ("ee" * 32,)))
+    what = failed_with(checkpointed, 5)
+    assert what.startswith("the checkpoint of 6 events records Merkle root eeeeeeeeeeee…, but the events recompute to")
+
+
+def test_a_frontier_altered(checkpointed):
+    [(frontier,)] = rows(checkpointed, "SELECT frontier FROM checkpoints WHERE count = 9")
+    tamper(checkpointed, ("UPDATE checkpoints SET frontier = ? WHERE count = 9", (frontier[::-1],)))
+    assert "records a Merkle frontier that the events do not produce" in failed_with(checkpointed, 8)
+
+
+def test_a_middle_checkpoint_deleted(checkpointed):
+    tamper(checkpointed, ("DELETE FROM checkpoints WHERE count = 6", ()))
+    what = failed_with(checkpointed, 8)
+    assert what == ("the checkpoint of 9 events follows a checkpoint of 6 events, but the one recorded before it "
+                    "is of 3: a checkpoint was removed, added or changed")
+
+
+def test_the_first_checkpoint_deleted(checkpointed):
+    tamper(checkpointed, ("DELETE FROM checkpoints WHERE count = 3", ()))
+    assert "follows a checkpoint of 3 events, but the one recorded before it is of 0" in failed_with(checkpointed, 5)
+
+
+def test_the_latest_checkpoint_deleted(checkpointed):
+    tamper(checkpointed, ("DELETE FROM checkpoints WHERE count = 10", ()))
+    assert failed_with(checkpointed, 9).startswith("the event is not covered by any checkpoint (the latest records 9")
+
+
+def test_a_previous_count_altered(checkpointed):
+    tamper(checkpointed, ("UPDATE checkpoints SET prev_count = 5 WHERE count = 9", ()))
+    assert "follows a checkpoint of 5 events" in failed_with(checkpointed, 8)
+
+
+def test_two_checkpoints_reordered(checkpointed):
+    swap = "UPDATE checkpoints SET id = ? WHERE id = ?"
+    tamper(checkpointed, (swap, (-1, 2)), (swap, (2, 3)), (swap, (3, -1)))
+    assert "is recorded after one of 9 events: checkpoints were reordered or added" in failed_with(checkpointed, 5)
+
+
+def test_a_checkpoint_count_altered(checkpointed):
+    tamper(checkpointed, ("UPDATE checkpoints SET count = 7 WHERE count = 6", ()))
+    assert failed_with(checkpointed, 6).startswith("the checkpoint of 7 events records head")
+
+
+def test_a_true_checkpoint_added_at_the_head(checkpointed):
+    """Head, root and frontier all correct for the count: only its place in the sequence is wrong."""
+    [(head, root, frontier)] = rows(checkpointed, "SELECT head, merkle_root, frontier FROM checkpoints WHERE count = 10")
+    tamper(checkpointed, ("INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count) "
+                          "VALUES ('r1', 10, ?, 0, ?, ?, 10)", (head, root, frontier)))
+    assert "is recorded after one of 10 events" in failed_with(checkpointed, 9)
+
+
+def test_a_checkpoint_moved_to_another_run(checkpointed):
+    tamper(checkpointed, ("UPDATE checkpoints SET run = 'r9' WHERE count = 3", ()))
+    report = verify(checkpointed)
+    assert not report.ok
+    assert {entry["run"]: entry["ok"] for entry in report.runs} == {"r1": False, "r9": False}
+
+
+def test_a_checkpoint_with_an_impossible_count(checkpointed):
+    tamper(checkpointed, ("UPDATE checkpoints SET count = 'ten' WHERE count = 10", ()))
+    assert failed_with(checkpointed, 0) == 'the checkpoint of "ten" events records an impossible event count'
+
+
+def test_progress_is_reported_and_ends_at_the_total(db_path, monkeypatch):
+    import store.verify as verify_module
+
+    monkeypatch.setattr(verify_module, "_PROGRESS_EVERY", 4)
+    with Store(db_path) as store:
+        store.append([event(i) for i in range(10)] + [event(0, run="r2")])
+        calls = []
+        assert store.verify(progress=lambda done, total: calls.append((done, total))).ok
+        assert calls == [(4, 11), (8, 11), (11, 11)]
+        calls.clear()
+        assert store.verify("r2", progress=lambda done, total: calls.append((done, total))).ok
+        assert calls == [(1, 1)]

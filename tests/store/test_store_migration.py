@@ -1,0 +1,88 @@
+"""A file written by the v1 schema opens, verifies and grows under v2; its old checkpoints, which
+carry no Merkle root, are recognised as such and nothing later may lack one."""
+
+import hashlib
+import sqlite3
+
+import pytest
+from store_testkit import event, rows, tamper
+
+from store import Store, canonical_json, merkle
+from store.ddl import MIGRATIONS
+
+
+def write_v1_file(db_path, evs, calls):
+    """What v1 code wrote: events with their chain, one checkpoint per run per append call
+    (count and head only), a rulebook without stored_at. `calls` splits evs into calls."""
+    conn = sqlite3.connect(db_path, isolation_level=None)
+    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
+    for statement in MIGRATIONS[1]:
+        conn.execute(statement)
+    conn.execute("INSERT INTO schema_version VALUES (1)")
+    head, count, start = bytes(32), 0, 0
+    for size in calls:
+        for ev in evs[start:start + size]:
+            text = canonical_json(ev)
+            head = hashlib.sha256(head + text).digest()
+            conn.execute("INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                         (ev["run"], count, ev["src"], ev["seq"], ev["t"], ev["kind"], text.decode(), head.hex()))
+            count += 1
+        conn.execute("INSERT INTO checkpoints (run, count, head, created_at) VALUES ('r1', ?, ?, 0)", (count, head.hex()))
+        start += size
+    conn.execute("INSERT INTO rulebooks VALUES (?, 'hc', '1', 'old rules')",
+                 (hashlib.sha256(b"old rules").hexdigest(),))
+    conn.close()
+
+
+@pytest.fixture
+def v1_file(db_path):
+    write_v1_file(db_path, [event(i) for i in range(7)], calls=[3, 4])
+    return db_path
+
+
+def test_a_v1_file_opens_at_v2_and_verifies(v1_file):
+    with Store(v1_file) as store:
+        assert store.verify().ok
+        assert [ev["seq"] for ev in store.events("r1")] == list(range(7))
+        assert store.get_rulebook_by_name("hc")["text"] == "old rules"
+        assert store.rulebooks()[0]["stored_at"] is None
+    assert rows(v1_file, "SELECT version FROM schema_version") == [(1,), (2,)]
+    assert rows(v1_file, "SELECT through_id FROM legacy_checkpoints") == [(2,)]
+    assert rows(v1_file, "SELECT merkle_root FROM checkpoints") == [(None,), (None,)]
+
+
+def test_a_v1_file_grows_with_v2_checkpoints(v1_file):
+    with Store(v1_file, checkpoint_every=4) as store:
+        assert store.append([event(i) for i in range(7, 10)]).stored == 3
+        assert store.verify().ok
+    hashes = [bytes.fromhex(h) for (h,) in rows(v1_file, "SELECT hash FROM events ORDER BY chain_pos")]
+    new = rows(v1_file, "SELECT count, merkle_root, prev_count FROM checkpoints WHERE id > 2 ORDER BY id")
+    assert new == [(8, merkle.merkle_root(hashes[:8]).hex(), 7), (10, merkle.merkle_root(hashes).hex(), 8)]
+
+
+def test_migrating_twice_changes_nothing(v1_file):
+    Store(v1_file).close()
+    before = rows(v1_file, "SELECT * FROM sqlite_master ORDER BY name")
+    Store(v1_file).close()
+    assert rows(v1_file, "SELECT * FROM sqlite_master ORDER BY name") == before
+    assert rows(v1_file, "SELECT version FROM schema_version") == [(1,), (2,)]
+
+
+def test_a_v2_checkpoint_without_its_root_fails_verify(v1_file):
+    with Store(v1_file) as store:
+        store.append([event(7)])
+    tamper(v1_file, ("UPDATE checkpoints SET merkle_root = NULL WHERE id = 3", ()))
+    with Store(v1_file) as store:
+        report = store.verify()
+    assert not report.ok
+    assert report.problem["chain_pos"] == 7
+    assert "lacks the Merkle root" in report.problem["what"]
+
+
+def test_a_fresh_file_holds_every_checkpoint_to_v2(db_path):
+    with Store(db_path) as store:
+        store.append([event(0)])
+    assert rows(db_path, "SELECT through_id FROM legacy_checkpoints") == [(0,)]
+    tamper(db_path, ("UPDATE checkpoints SET prev_count = NULL", ()))
+    with Store(db_path) as store:
+        assert "lacks the Merkle root, frontier or previous count" in store.verify().problem["what"]
