@@ -7,6 +7,8 @@ a sentence in a `that` slot.  Conditions are `("pos", atom)`, `("not", [...])`,
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 from .terms import Aggregate, Atom, Cond, Expr, ListTerm, Rule, Var
 
 MAX_ATOM = 100_000      # longer constants are refused rather than sent to Prolog
@@ -31,7 +33,23 @@ def arg_data(a):
 
 
 def atom_data(atom: Atom) -> list:
-    return [atom.functor, *(arg_data(a) for a in atom.args)]
+    """The data of a sentence (cached: the same facts are asked about again and again)."""
+    try:
+        return _cached_atom_data(atom)
+    except TypeError:            # unhashable arguments (a caller's own objects)
+        return _atom_data(atom)
+
+
+def _atom_data(atom: Atom) -> list:
+    args = atom.args
+    if all(type(a) is str or type(a) is int or type(a) is float for a in args):
+        return [atom.functor, *args]
+    return [atom.functor, *(arg_data(a) for a in args)]
+
+
+@lru_cache(maxsize=65_536)
+def _cached_atom_data(atom: Atom) -> list:
+    return _atom_data(atom)
 
 
 def cond_data(cond: Cond):

@@ -38,14 +38,15 @@
 :- dynamic inference_limit/1.
 inference_limit(20000000).
 
+:- initialization(nb_setval(le_facts, facts{})).
+
 %!  new_rulebook(+M, +Decls) is det.
 %   Declare the template predicates of rulebook module M, each also true of a scenario fact.
 new_rulebook(M, Decls) :-
-    thread_local(M:scenario_fact/1),
     thread_local(M:scenario_rule/4),
     dynamic(M:le_rule/4),
     forall(member(F-A, Decls), declare(M, F, A)),
-    assertz(M:(isa_fact(X, Y) :- scenario_fact(is_a(X, Y)))),
+    assertz(M:(isa_fact(X, Y) :- gaps_engine:le_fact(is_a(X, Y)))),
     assertz(M:(isa_rule(X, Y) :- gaps_engine:scenario_rule_call(M, is_a(X, Y)))),
     assertz(M:(is_a(X, Y) :- gaps_engine:isa(M, X, Y))).
 
@@ -56,7 +57,7 @@ declare(_, F, A) :-
     throw(error(le_reserved(F, A), _)).
 declare(M, F, A) :-
     functor(H, F, A),
-    assertz(M:(H :- scenario_fact(H))),
+    assertz(M:(H :- gaps_engine:le_fact(H))),
     assertz(M:(H :- gaps_engine:scenario_rule_call(M, H))).
 
 scenario_rule_call(M, H) :-
@@ -245,15 +246,46 @@ isa_steps(M, X, Y) :- M:isa_fact(X, Z), Z \== Y, isa(M, Z, Y).
 
 % -- asking ---------------------------------------------------------------------------------
 
+%   The scenario's facts live in a backtrackable global for the question (a dict from functor
+%   to facts), so asking costs no assert or retract; its rules (rare) are thread-local clauses.
 with_scenario(M, FactsD, Goal) :-
-    maplist(build_fact, FactsD, Facts),
-    setup_call_cleanup(
-        forall(member(F, Facts), assert_fact(M, F)),
-        limited(Goal),
-        ( retractall(M:scenario_fact(_)), retractall(M:scenario_rule(_, _, _, _)) )).
+    build_facts(FactsD, Facts, Rules),
+    facts_dict(Facts, Dict),
+    b_setval(le_facts, Dict),
+    (   Rules == []
+    ->  limited(Goal)
+    ;   setup_call_cleanup(
+            forall(member(R, Rules), assertz(M:R)),
+            limited(Goal),
+            retractall(M:scenario_rule(_, _, _, _)))
+    ).
 
-assert_fact(M, rule(Id, H, B, Names)) :- !, assertz(M:scenario_rule(Id, H, B, Names)).
-assert_fact(M, F) :- assertz(M:scenario_fact(F)).
+build_facts([], [], []).
+build_facts([D|Ds], Fs, Rs) :-
+    (   D = -(rule, _, _, _)
+    ->  build_fact(D, rule(Id, H, B, Names)), Rs = [scenario_rule(Id, H, B, Names)|Rs1], Fs = Fs1
+    ;   D = [F|Args], atom(F), maplist(atomic, Args)
+    ->  T =.. D, Fs = [T|Fs1], Rs = Rs1
+    ;   build_fact(D, T), Fs = [T|Fs1], Rs = Rs1
+    ),
+    build_facts(Ds, Fs1, Rs1).
+
+facts_dict(Facts, Dict) :-
+    map_list_to_pairs(fact_key, Facts, Pairs0),
+    keysort(Pairs0, Pairs),
+    group_pairs_by_key(Pairs, Groups),
+    dict_pairs(Dict, facts, Groups).
+
+fact_key(F, K) :- functor(F, K, _).
+
+%!  le_fact(?Fact) is nondet.
+%   A fact of the question's scenario (a fresh copy when it has variables).
+le_fact(H) :-
+    nb_current(le_facts, D),
+    functor(H, K, _),
+    get_dict(K, D, L),
+    member(F, L),
+    (   ground(F) -> H = F ; copy_term(F, H) ).
 
 limited(Goal) :-
     nb_setval(le_isa, []),
@@ -335,8 +367,8 @@ prove_(M, G0, T, D) :-
     G0 =.. [F|As], eval_args(As, Vs), G =.. [F|Vs],
     prove_user(M, G, T, D).
 
-prove_user(M, G, node(G, fact, @(none), [], []), _) :-
-    M:scenario_fact(G).
+prove_user(_, G, node(G, fact, @(none), [], []), _) :-
+    le_fact(G).
 prove_user(M, G, node(G, proved, @(none), Kids, Names), D) :-
     M:scenario_rule(_, G, Body, Names),
     prove_body(M, Body, Kids, D).
@@ -350,7 +382,7 @@ prove_isa(M, X, Y, node(is_a(X, Y), proved, @(none), [T1, T2], []), D) :-
     isa_fact_proof(M, X, Z, T1), Z \== Y,
     prove(M, is_a(Z, Y), T2, D).
 
-isa_fact_proof(M, X, Z, node(is_a(X, Z), fact, @(none), [], [])) :- M:scenario_fact(is_a(X, Z)).
+isa_fact_proof(_, X, Z, node(is_a(X, Z), fact, @(none), [], [])) :- le_fact(is_a(X, Z)).
 isa_fact_proof(M, X, Z, node(is_a(X, Z), fact, Id, [], [])) :- M:le_rule(Id, is_a(X, Z), [], _).
 
 prove_body(_, [], [], _).
