@@ -33,13 +33,13 @@ def envelope_schema(kind: str) -> dict[str, Any]:
         "required": list(ENVELOPE_FIELDS),
         "additionalProperties": False,
         "properties": {
-            "v": {"const": 1, "description": "Envelope version."},
+            "v": {"type": "integer", "const": 1, "description": "Envelope version."},
             "run": {"type": "string", "pattern": f"^{_ID}$"},
             "src": {"type": "string", "pattern": f"^({'|'.join(ROLES)})/{_ID}$"},
             "seq": {"type": "integer", "minimum": 0, "maximum": (1 << 63) - 1,
                     "description": "Per (run, src), from 0, rising by 1."},
             "t": {**_INT64, "description": "World time, integer nanoseconds since the Unix epoch."},
-            "kind": {"const": kind},
+            "kind": {"type": "string", "const": kind},
             "body": body,
         },
     }

@@ -307,3 +307,13 @@ def test_garbage_lines_never_crash_and_are_each_quarantined_exactly(plan):
             assert [(q["origin"], q["raw"]) for q in quarantined] == [(f"{path}:{n}", raw) for n, raw in bad]
             assert all(q["reason"] for q in quarantined)
             assert store.verify().ok
+
+
+def test_progress_is_reported_per_batch_in_bytes(store, tmp_path):
+    path = write_lines(tmp_path / "many.jsonl", [line_of(event(i)) for i in range(BATCH + 10)])
+    seen: list[int] = []
+    import_file(store, path, progress=seen.append)
+    assert len(seen) == 2 and seen[-1] == path.stat().st_size
+    exported: list[int] = []
+    export_run(store, "r1", tmp_path / "out.jsonl", progress=exported.append)
+    assert exported[-1] == BATCH + 10

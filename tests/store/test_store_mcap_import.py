@@ -287,3 +287,11 @@ def test_a_damaged_chunk_is_skipped_and_reported_and_the_rest_imported(source, t
         (damage,) = report.damaged
         assert damage["offset"] == start and damage["record"] == "Chunk"
         assert report.chains[0]["match"] is False
+
+
+def test_progress_is_reported_in_bytes_up_to_the_file_size(source, tmp_path):
+    path = exported_file(source, tmp_path / "busy.mcap")
+    seen: list[int] = []
+    with Store(tmp_path / "copy.db") as copy:
+        import_file(copy, path, progress=seen.append)
+    assert seen and seen == sorted(seen) and seen[-1] == path.stat().st_size
