@@ -67,7 +67,10 @@ def query(file: Path = FileArg,
     engine = get_engine()
     rb = engine.load(_read(file), file.name)
     doc = rb.document
-    body = doc.queries[query_].body if query_ in doc.queries else parse_question(doc, query_)
+    if query_ in doc.queries or query_ in doc.unreadable_queries:
+        body = rb.query(query_).body
+    else:
+        body = parse_question(doc, query_)
     facts = list(rb.scenario(scenario)) if scenario is not None else []
     for f in fact:
         facts += parse_facts(doc, f)

@@ -56,6 +56,8 @@ class Rulebook:
             raise LEError(f"no scenario {name!r} in {self.name} (scenarios: {known})", self.name) from None
 
     def query(self, name: str):
+        if name in self.document.unreadable_queries:
+            raise self.document.unreadable_queries[name]
         try:
             return self.document.queries[name]
         except KeyError:

@@ -71,7 +71,8 @@ def header_of(tokens: list[Token]):
     words = _lower(tokens)
     for section, pattern in DECLARATION_HEADERS:
         if words == pattern:
-            return section, None
+            flavour = "time" if ("fluents" in pattern or "event" in pattern or "varying" in pattern) else None
+            return section, flavour
     if len(words) >= 5 and words[:3] == ["the", "knowledge", "base"] and words[-1] == "includes":
         return "kb", join_tokens(tokens[3:-1])
     if len(words) >= 3 and words[0] in ("scenario", "query") and words[-1] == "is":
@@ -184,6 +185,9 @@ class _Parser:
                     asked[name] = None
                 elif section == "kb" and name:
                     self.doc.kb_names.append(name)
+                elif section == "templates" and name == "time":
+                    self.warn("fluents and events are declared as ordinary templates here (no event "
+                              "calculus)", st.first, "see docs/le-compatibility.md")
                 previous_end = st.first.line
                 continue
             words = _lower(st.tokens)
@@ -192,6 +196,9 @@ class _Parser:
                 if len(lang) != 1:
                     raise self.error("`the target language is` names one language", st.first)
                 self.doc.target = lang[0]
+                if lang[0] != "prolog":
+                    self.warn(f"the target language {lang[0]!r} is read as prolog", st.first,
+                              "this compiler targets Prolog only")
                 previous_end = st.end.line
                 continue
             if section is None:
@@ -218,7 +225,12 @@ class _Parser:
         self._declare(pending_templates)
         for section, name, st, prev in content:
             if section == "query":
-                self._query(name, st)
+                try:
+                    self._query(name, st)
+                except LEError as exc:      # a question it cannot read does not stop the rules
+                    self.doc.unreadable_queries[name] = exc
+                    self.doc.warnings.append(LEWarning(f"query {name!r} cannot be asked: {exc.message}",
+                                                       exc.file, exc.line, exc.column, exc.hint))
             elif section == "scenario":
                 self.doc.scenarios[name].rules.append(self._statement(st, f"scenario:{name}", prev))
             else:

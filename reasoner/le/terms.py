@@ -120,6 +120,7 @@ class Document:
     target: str | None = None
     kb_names: list = field(default_factory=list)
     warnings: list = field(default_factory=list)     # LEWarning
+    unreadable_queries: dict = field(default_factory=dict)   # name -> LEError (asking it raises that)
 
     def template_for(self, functor: str, arity: int):
         """The declared (or built-in) template that compiles to functor/arity, if any."""

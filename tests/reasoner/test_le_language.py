@@ -277,3 +277,24 @@ def test_warnings_do_not_stop_loading():
     doc2 = doc.replace("the y is blue", "the z is blue").replace("*a x* is blue", "*a z* is blue")
     d2 = parse_document(doc2, "w.le")
     assert len(d2.warnings) == 1 and "the z" in str(d2.warnings[0])
+
+
+def test_a_query_that_fits_no_template_is_a_warning_and_an_error_when_asked():
+    doc = """the templates are:
+*a x* is red.
+the knowledge base k includes:
+a x is red if the x is of type ball.
+scenario s is:
+b is of type ball.
+query good is:
+which x is red.
+query bad is:
+when did which x turn red.
+"""
+    engine = get_engine()
+    rb = engine.load(doc, "q.le")
+    assert [w.line for w in rb.document.warnings] == [10]
+    assert engine.query(rb, "good", "s").answers == ["b is red"]
+    with pytest.raises(LEError) as err:
+        engine.query(rb, "bad", "s")
+    assert err.value.line == 10 and "no template fits" in str(err.value)
