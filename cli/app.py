@@ -31,7 +31,13 @@ def open_existing(db: Optional[Path]):
     path = db_path(db)
     if not path.is_file():
         fail(f"no event store at {path} (run `gaps demo` or pass --db)")
-    return Store(path)
+    import sqlite3
+    try:
+        return Store(path)
+    except sqlite3.Error as exc:  # not SQLite, locked, unreadable
+        fail(f"cannot open the event store {path}: {exc}")
+    except RuntimeError as exc:  # written by a newer version of gaps
+        fail(f"cannot open the event store {path}: {exc}")
 
 
 def fail(message: str, code: int = 2) -> None:

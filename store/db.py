@@ -198,12 +198,15 @@ class Store:
             return self._conn.execute("SELECT count(*) FROM events").fetchone()[0]
         return self._conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()[0]
 
-    def quarantined(self, limit: int | None = None) -> list[dict[str, Any]]:
-        """Everything refused, oldest first, with the exact bytes received (the first `limit`)."""
-        rows = self._conn.execute(
-            "SELECT id, received_at, origin, reason, raw FROM quarantine ORDER BY id LIMIT ?",
-            (-1 if limit is None else limit,),
-        )
+    def quarantined(self, limit: int | None = None, *, latest: bool = False) -> list[dict[str, Any]]:
+        """Everything refused, oldest first, with the exact bytes received: all of it, the first
+        `limit` entries, or with latest=True the last `limit` ones."""
+        select = "SELECT id, received_at, origin, reason, raw FROM quarantine"
+        if latest:
+            sql = f"SELECT * FROM ({select} ORDER BY id DESC LIMIT ?) ORDER BY id"
+        else:
+            sql = f"{select} ORDER BY id LIMIT ?"
+        rows = self._conn.execute(sql, (-1 if limit is None else limit,))
         return [
             {"id": id_, "received_at": received_at, "origin": origin, "reason": reason, "raw": bytes(raw)}
             for id_, received_at, origin, reason, raw in rows

@@ -273,3 +273,11 @@ def test_append_candidates_keeps_the_callers_refusals_in_order(store):
     assert store.quarantined()[0]["raw"] == misrouted
     assert list(store.events("r1")) == [event(0)]
     assert store.verify().ok
+
+
+def test_quarantine_first_and_latest(store):
+    store.append_raw([(f"bad {i}".encode(), f"o{i}") for i in range(5)])
+    assert [q["origin"] for q in store.quarantined()] == ["o0", "o1", "o2", "o3", "o4"]
+    assert [q["origin"] for q in store.quarantined(2)] == ["o0", "o1"]
+    assert [q["origin"] for q in store.quarantined(2, latest=True)] == ["o3", "o4"]
+    assert store.quarantine_count() == 5
