@@ -613,3 +613,13 @@ def parse_facts(document: Document, text: str, file: str = "<scenario>") -> list
             raise LEError("a section header inside facts", file, st.first.line, st.first.col)
         out.append(parser._statement(st, "scenario:<given>", 0))
     return out
+
+
+@_guarded
+def parse_rule(document: Document, text: str, file: str = "<rule>") -> Rule:
+    """One rule or fact written outside the document, read with its templates."""
+    parser = _parser_for(document, file)
+    statements = split_statements(lex(text), file)
+    if len(statements) != 1 or statements[0].header:
+        raise LEError("a rule is one statement", file, 1, 1, "end the rule with `.`")
+    return parser._statement(statements[0], "kb", 0)

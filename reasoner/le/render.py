@@ -104,3 +104,75 @@ def _bare(text: str) -> str:
 
 def conj_text(conds, document=None) -> str:
     return " and ".join(sentence_text(c, document) for c in conds)
+
+
+# -- rules back to LE ------------------------------------------------------------------------
+
+def rule_text(rule, document) -> str:
+    """A compiled rule (or fact) as LE text that compiles back to the same rule: variables read
+    `a X` where they first occur and `the X` after, and the nesting of `and`/`or`, negations,
+    `for all cases in which` and aggregates is given by indentation."""
+    seen: set = set()
+
+    def arg(a, slot=None):
+        if isinstance(a, Var):
+            if a.name in seen:
+                return a.name if _symbolic(a.name) else f"the {a.name}"
+            seen.add(a.name)
+            label = a.label or a.name
+            return f"{article(label)} {label}"
+        if isinstance(a, ListTerm):
+            return "[" + ", ".join(arg(x) for x in a.items) + "]"
+        if isinstance(a, Expr):
+            return expr_text(a.op, [arg(x) for x in a.args])
+        if isinstance(a, Atom):
+            return sentence(a)
+        return arg_text(a, slot, document)
+
+    def sentence(atom: Atom) -> str:
+        template = document.template_for(atom.functor, len(atom.args))
+        slots = template.slots if template is not None else []
+        texts = [arg(x, slots[i] if i < len(slots) else None) for i, x in enumerate(atom.args)]
+        if atom.functor == "is_a" and len(texts) == 2:
+            return f"{texts[0]} is {article(texts[1])} {texts[1]}"
+        if template is None:
+            return f"{atom.functor}({', '.join(texts)})"
+        return render(template, texts)
+
+    def conj(conds, conn, lead):
+        out = []
+        for i, c in enumerate(conds):
+            out += cond(c, conn, lead if i == 0 else " " * conn + "and ")
+        return out
+
+    def cond(c, conn, lead):
+        block = " " * (conn + 4)
+        if c.atom is not None:
+            return [lead + sentence(c.atom)]
+        if c.negated is not None:
+            return [lead + "it is not the case that"] + conj(c.negated, conn + 4, block)
+        if c.any_of is not None:
+            out, ind_or = [], conn + 4
+            for j, alt in enumerate(c.any_of):
+                out += conj(alt, ind_or + 4, lead if j == 0 else " " * ind_or + "or ")
+            return out
+        if c.forall is not None:
+            cases, then = c.forall
+            return ([lead + "for all cases in which"] + conj(cases, conn + 4, block) +
+                    [" " * (conn + 2) + "it is the case that"] + conj(then, conn + 4, block))
+        a = c.aggregate
+        result, each = arg(a.result), _bare(arg(a.each))
+        if a.kind in ("bag", "set"):
+            noun = "a set" if a.kind == "set" else "a collection"
+            return [lead + f"{result} is {noun} of {each} where"] + conj(a.body, conn + 4, block)
+        what = {"sum": "the sum", "max": "the maximum", "min": "the minimum", "count": "the number"}[a.kind]
+        return [lead + f"{result} is {what} of each {each} such that"] + conj(a.body, conn + 4, block)
+
+    head = sentence(rule.head)
+    if not rule.body:
+        return head + "."
+    return "\n".join([head + " if"] + conj(rule.body, 4, "    ")) + "."
+
+
+def _symbolic(name: str) -> bool:
+    return " " not in name and not name.islower()

@@ -148,7 +148,7 @@ class Vocabulary:
             words = [t.text for t in tokens[1:]]
             name = self.var_name(words)
             if first == "another":
-                name = "other " + name
+                name, words = "other " + name, ["other"] + words
             if name:
                 var = scope.vars.get(name)
                 if var is None:
