@@ -25,6 +25,7 @@ from mcap.stream_reader import breakup_chunk
 from .errors import TransferError
 
 MAGIC = b"\x89MCAP0\r\n"
+MAX_CHUNK_BYTES = 1 << 30  # writers use chunks of about a MiB; ours are 1 MiB
 _FRAME = struct.Struct("<BQ")  # opcode, record length
 
 # Only what an import needs is parsed; every other record (indexes, statistics, attachments) is
@@ -151,6 +152,10 @@ class RecordReader:
             return None
 
     def _unchunk(self, offset: int, chunk: Chunk) -> list[McapRecord]:
+        if chunk.uncompressed_size > MAX_CHUNK_BYTES:  # decompressors allocate what a chunk claims
+            self._damage(offset, "Chunk", f"claims {chunk.uncompressed_size} bytes uncompressed, "
+                                          f"over the {MAX_CHUNK_BYTES}-byte limit of this reader")
+            return []
         try:
             return breakup_chunk(chunk, validate_crc=True)
         except Exception as exc:  # a CRC mismatch, corrupt compression, an unknown compression

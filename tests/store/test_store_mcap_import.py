@@ -295,3 +295,55 @@ def test_progress_is_reported_in_bytes_up_to_the_file_size(source, tmp_path):
     with Store(tmp_path / "copy.db") as copy:
         import_file(copy, path, progress=seen.append)
     assert seen and seen == sorted(seen) and seen[-1] == path.stat().st_size
+
+
+# --- hostile files: random damage never crashes an import ------------------------------------------
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+def _small_export() -> bytes:
+    import tempfile
+    with tempfile.TemporaryDirectory() as folder:
+        with Store(Path(folder) / "gaps.db") as store:
+            store.append(ingest_like_run(200, run="small"))
+            return exported_file(store, Path(folder) / "small.mcap", chunk_size=2048).read_bytes()
+
+
+_SMALL = _small_export()
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(flips=st.lists(st.tuples(st.integers(8, len(_SMALL) - 1), st.integers(1, 255)), min_size=1, max_size=6),
+       keep=st.integers(8, len(_SMALL)))
+def test_damaged_files_never_crash_an_import(flips, keep):
+    """Flip bytes anywhere after the magic and cut the file anywhere: the import reports what
+    it could not read and accounts for every message it did read."""
+    import tempfile
+    data = bytearray(_SMALL)
+    for position, mask in flips:
+        data[position] ^= mask
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "damaged.mcap"
+        path.write_bytes(bytes(data[:keep]))
+        with Store(Path(folder) / "gaps.db") as store:
+            report = import_file(store, path)
+            assert report.stored == store.count()
+            assert report.rejected == len(store.quarantined())
+            assert store.verify().ok
+            originals = {(e["src"], e["seq"]): e for e in ingest_like_run(200, run="small")}
+            for event in store.events("small"):  # chunk CRCs: a damaged payload is never stored
+                assert originals[(event["src"], event["seq"])] == event
+
+
+def test_a_chunk_claiming_a_huge_size_is_damaged_not_allocated(tmp_path):
+    import struct
+    from store.transfer.mcap_records import MAGIC, MAX_CHUNK_BYTES
+    chunk = struct.pack("<QQQI", 0, 0, MAX_CHUNK_BYTES + 1, 0) + struct.pack("<I", 4) + b"zstd" + struct.pack("<Q", 3) + b"abc"
+    data = MAGIC + struct.pack("<BQ", 0x06, len(chunk)) + chunk
+    (tmp_path / "huge.mcap").write_bytes(data)
+    with Store(tmp_path / "gaps.db") as store:
+        report = import_file(store, tmp_path / "huge.mcap")
+    (damage,) = report.damaged
+    assert damage["offset"] == 8 and "over the" in damage["reason"]
