@@ -63,7 +63,8 @@ def _print_import(r: dict, db: Path) -> None:
     for skip in r["skips"]:
         typer.echo(f"  skipped {skip['count']} × {skip['what']}: {skip['reason']}")
     if r["rejected"]:
-        typer.echo(f"  {r['rejected']} rejected, kept in the store's quarantine with their raw bytes and reasons:")
+        typer.echo(f"  {r['rejected']} rejected, kept in the store's quarantine with their raw bytes and reasons "
+                   f"(`gaps quarantine` lists them):")
         for item in r["details"][:SHOWN]:
             typer.echo(f"    {item['origin']}: {item['reason']}")
         if r["rejected"] > SHOWN:

@@ -60,7 +60,7 @@ def test_import_text_output_names_rejections_and_exits_0(db, tmp_path):
     assert result.exit_code == 0
     assert "stored 1, duplicates 0, rejected 1, skipped 1" in result.stdout
     assert f"{path}:2: event: malformed JSON" in result.stdout
-    assert "quarantine" in result.stdout
+    assert "`gaps quarantine` lists them" in result.stdout
 
 
 def test_import_json_lists_the_first_100_rejections(tmp_path):
