@@ -28,6 +28,7 @@ class Batch:
 
     def __init__(self, heads: Heads, every: int, received_at: int) -> None:
         self.heads = heads
+        self._max_seq = heads.max_seq
         self.every = every
         self.received_at = received_at
         self.events: list[tuple] = []  # (run, chain_pos, src, seq, t, kind, event, hash)
@@ -79,7 +80,7 @@ class Batch:
         """Chain a valid event onto its run, or count it as a duplicate; return a reason to
         refuse it if it conflicts with an event already stored under its (run, src, seq)."""
         run, src, seq = ev["run"], ev["src"], ev["seq"]
-        max_seq = self.heads.max_seq
+        max_seq = self._max_seq
         highest = max_seq.get((run, src))
         if highest is None:
             highest = self.heads.highest_seq(run, src)
