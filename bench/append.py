@@ -4,6 +4,8 @@
 
 The producer is this Python process holding the events as dicts: the generated junction run of
 bench/transfer.py (100 road users at 10 Hz: states, perceptions, decisions, signal changes).
+With --small, minimal events instead (100 vehicles alternating a three-field state and a one-fact
+perception, ~150 bytes), to show how the rate depends on event size.
 The report ends with the CPU cost of the steps (a) does beyond (b), each timed alone.
 
 (a) Store.append, in batches: full validation (envelope and JSON Schema of the body), canonical
@@ -38,6 +40,20 @@ from transfer import generated_run, machine  # noqa: E402  (bench/transfer.py, b
 
 INSERT = "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 Timing = tuple[float, float]  # wall seconds, CPU seconds
+
+
+def small_events(n: int) -> list[dict]:
+    """n minimal valid events: each of 100 vehicles alternates entity.state and vehicle.perception."""
+    out = []
+    for i in range(n):
+        seq, vehicle = divmod(i, 100)
+        if seq % 2:
+            kind, body = "entity.state", {"x": float(seq), "y": 0.0, "speed_mps": 8.0}
+        else:
+            kind, body = "vehicle.perception", {"facts": [f"{vehicle} has red light"]}
+        out.append({"v": 1, "run": "bench-small", "src": f"vehicle/{vehicle}", "seq": seq,
+                    "t": 1_732_184_100_000_000_000 + i * 1_000_000, "kind": kind, "body": body})
+    return out
 
 
 def timed(step: Callable[[], None]) -> Timing:
@@ -89,8 +105,8 @@ def median(timings: list[Timing]) -> Timing:
     return statistics.median(t[0] for t in timings), statistics.median(t[1] for t in timings)
 
 
-def measure(n: int, batch: int, repeat: int, folder: Path) -> dict:
-    events = list(generated_run(n))
+def measure(n: int, batch: int, repeat: int, folder: Path, small: bool) -> dict:
+    events = small_events(n) if small else list(generated_run(n))
     in_batches = batches(events, batch)
     full, normal, raw, sizes = [], [], [], {}
     for i in range(repeat):
@@ -105,7 +121,8 @@ def measure(n: int, batch: int, repeat: int, folder: Path) -> dict:
                      "raw": bytes_per_event(folder / "raw-0.db", len(events))}
         for name in ("full", "normal", "raw"):
             (folder / f"{name}-{i}.db").unlink()
-    return {"events": len(events), "batch": batch, "repeat": repeat,
+    size = sum(len(canonical_json(ev)) for ev in events) / len(events)
+    return {"events": len(events), "event_bytes": size, "batch": batch, "repeat": repeat,
             "append_full": median(full), "append_normal": median(normal), "raw_full": median(raw),
             "verify": verify, "bytes_per_event": sizes, "cpu_us_per_event": breakdown(events, 3)}
 
@@ -140,7 +157,8 @@ def report(r: dict, load: tuple[str, str]) -> str:
     lines = [
         f"machine: {machine()}",
         f"load average before / after: {load[0]} / {load[1]}",
-        f"{n:,} events in batches of {r['batch']:,}; median of {r['repeat']} runs on fresh files",
+        f"{n:,} events of {r['event_bytes']:.0f} bytes on average (canonical JSON) in batches of "
+        f"{r['batch']:,}; median of {r['repeat']} runs on fresh files",
         "",
         f"(a)  Store.append, validation + chain + Merkle, FULL  {rate('append_full')}",
         f"(a') Store.append, the same, durable=False (NORMAL)   {rate('append_normal')}",
@@ -160,11 +178,12 @@ def main() -> None:
     parser.add_argument("--events", type=int, default=200_000)
     parser.add_argument("--batch", type=int, default=10_000)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--small", action="store_true", help="minimal events instead of the junction run")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
     before = " ".join(f"{x:.2f}" for x in os.getloadavg())
     with tempfile.TemporaryDirectory(prefix="gaps-bench-append-") as tmp:
-        result = measure(args.events, args.batch, args.repeat, Path(tmp))
+        result = measure(args.events, args.batch, args.repeat, Path(tmp), args.small)
     after = " ".join(f"{x:.2f}" for x in os.getloadavg())
     if args.json:
         print(json.dumps({"machine": machine(), "load": [before, after], **result}, indent=2))
