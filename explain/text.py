@@ -63,6 +63,8 @@ def _failed(node, text, rb, evidence, depth) -> list[str]:
             lines += render_tree(kid, rb, evidence, depth + 1)
         return lines
     head = node["sentence"][0]
+    if node.get("truncated"):
+        return [f"{pad}{text} does not hold (not explored further)"]
     if head == "$not":
         lines = [f"{pad}{text} does not hold, because:"]
     elif head == "$or":

@@ -102,7 +102,8 @@ def enrich(tree: dict, rb: Rulebook) -> dict:
     return {"sentence": tree["sentence"], "text": rb.render(tree["sentence"]), "status": tree["status"],
             "rule": tree.get("rule"), "label": rule.label if rule else None,
             "source": rb.source(tree.get("rule")), "evidence": list(tree.get("evidence", [])),
-            "children": [enrich(k, rb) for k in tree["children"]]}
+            "children": [enrich(k, rb) for k in tree["children"]],
+            **({"truncated": True} if tree.get("truncated") else {})}
 
 
 def sha256_text(text: str) -> str:

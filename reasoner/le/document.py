@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 from .errors import LEError, LEWarning
 from .lexer import Line, Token, join_tokens, lex
+from .builtins import BUILTIN_FUNCTORS
 from .sentences import Scope, Vocabulary
 from .templates import Template, template_from_tokens
 from .terms import Aggregate, Atom, Cond, Document, Query, Rule, Scenario, Var
@@ -295,6 +296,10 @@ class _Parser:
             if split == 0:
                 raise self.error("a rule needs a conclusion before `if`", tokens[0])
             head = self.vocab.sentence(tokens[:split], scope, mode, self.file)
+        if head.functor in BUILTIN_FUNCTORS:
+            raise self.error(f"a rule or fact cannot conclude the built-in `{join_tokens(tokens[:split])}`",
+                             tokens[0], "declare a template for it, or write it as a condition")
+        if split is not None:
             body_lines = self._body_lines(st, tokens[split])
             if not body_lines:
                 raise self.error("`if` needs conditions after it", tokens[split],

@@ -289,6 +289,7 @@ le_fact(H) :-
 
 limited(Goal) :-
     nb_setval(le_isa, []),
+    why_budget(Budget), nb_setval(le_why, Budget),
     inference_limit(Limit),
     catch(call_with_inference_limit(Goal, Limit, R), E, limit_error(E)),
     (   R == inference_limit_exceeded
@@ -415,12 +416,18 @@ prove_cond(M, agg(Kind, R, X, B), [node(agg(Kind, R, X, B), proved, @(none), Kid
 %   Why a goal has no proof: for each rule whose head fits, the conditions up to the first
 %   one that fails (taking the first way each earlier condition holds).  Depth-limited.
 
-max_why_depth(12).
+%   An explanation is bounded in depth and in size: past them a failed goal is left
+%   unexplored (marked `truncated`), so a why-not never costs more than the question.
 
-why_not(_, G, node(G, failed, @(none), [], []), D) :-
-    max_why_depth(Max), D >= Max, !.
+max_why_depth(12).
+why_budget(1500).
+
 why_not(_, G, node(G, failed, @(none), [], []), _) :-
     builtin_atom(G), !.
+why_not(_, G, node(G, failed, @(none), '$truncated', []), D) :-
+    max_why_depth(Max), D >= Max, !.
+why_not(_, G, node(G, failed, @(none), '$truncated', []), _) :-
+    \+ why_spend, !.
 why_not(M, G, node(G, failed, @(none), Attempts, []), D) :-
     D1 is D + 1,
     (   G = is_a(_, _) -> Rules = isa ; Rules = user ),
@@ -436,6 +443,10 @@ attempt(_, M, G, node(G2, failed, @(none), Trees, Names), D) :-
     M:scenario_rule(_, G2, Body, Names),
     why_not_body(M, Body, Trees, D).
 
+why_spend :-
+    nb_current(le_why, B), B > 0,
+    B1 is B - 1, nb_setval(le_why, B1).
+
 why_not_body(_, [], [], _).
 why_not_body(M, [C|Cs], Trees, D) :-
     (   once(prove_cond(M, C, Ts, D))
@@ -447,7 +458,8 @@ failed_cond(M, pos(G), W, D) :- why_not(M, G, W, D).
 failed_cond(M, not(B), node(not(B), failed, @(none), Proof, []), D) :-
     once(prove_body(M, B, Proof, D)).
 failed_cond(M, or(Alts), node(or(Alts), failed, @(none), Kids, []), D) :-
-    findall(node(and(Alt), failed, @(none), W, []), (member(Alt, Alts), why_not_body(M, Alt, W, D)), Kids).
+    findall(K, ( member(Alt, Alts), why_not_body(M, Alt, W, D), alternative_node(Alt, W, K) ), Kids).
+
 failed_cond(M, forall(C, G), node(forall(C, G), failed, @(none), Kids, []), D) :-
     (   once(( prove_body(M, C, TC, D), \+ prove_body(M, G, _, D), why_not_body(M, G, WG, D) ))
     ->  append(TC, WG, Ks), Kids = [node(and(C, G), failed, @(none), Ks, [])]
@@ -455,8 +467,15 @@ failed_cond(M, forall(C, G), node(forall(C, G), failed, @(none), Kids, []), D) :
     ).
 failed_cond(_, agg(K, R, X, B), node(agg(K, R, X, B), failed, @(none), [], []), _).
 
+alternative_node([_], [W], W) :- !.
+alternative_node(Alt, W, node(and(Alt), failed, @(none), W, [])).
+
 % -- trees and answers as Python-friendly data: dicts, lists, atoms, numbers --------------------
 
+tree_data(node(G, S, Id, '$truncated', Names), Env0,
+          _{sentence: D, status: S, rule: Id, children: [], truncated: true}) :- !,
+    append(Names, Env0, Env),
+    goal_data(G, Env, D).
 tree_data(node(G, S, Id, Kids, Names), Env0, _{sentence: D, status: S, rule: Id, children: KD}) :-
     append(Names, Env0, Env),
     goal_data(G, Env, D),
@@ -464,6 +483,9 @@ tree_data(node(G, S, Id, Kids, Names), Env0, _{sentence: D, status: S, rule: Id,
 
 trees_data([], _, []).
 trees_data([K|Ks], Env, [D|Ds]) :- tree_data(K, Env, D), trees_data(Ks, Env, Ds).
+
+alts_data([], _, []).
+alts_data([A|As], Env, [D|Ds]) :- conds_data(A, Env, D), alts_data(As, Env, Ds).
 
 conds_data([], _, []).
 conds_data([C|Cs], Env, [D|Ds]) :- cond_data(C, Env, D), conds_data(Cs, Env, Ds).
@@ -475,7 +497,7 @@ cond_data(forall(C, G), Env, D) :- goal_data(forall(C, G), Env, D).
 cond_data(agg(K, R, X, B), Env, D) :- goal_data(agg(K, R, X, B), Env, D).
 
 goal_data(not(B), Env, ['$not', BD]) :- !, conds_data(B, Env, BD).
-goal_data(or(Alts), Env, ['$or', AD]) :- !, maplist([A, X]>>conds_data(A, Env, X), Alts, AD).
+goal_data(or(Alts), Env, ['$or', AD]) :- !, alts_data(Alts, Env, AD).
 goal_data(and(B), Env, ['$and', BD]) :- !, conds_data(B, Env, BD).
 goal_data(and(C, G), Env, ['$and', BD]) :- !, append(C, G, B), conds_data(B, Env, BD).
 goal_data(forall(C, G), Env, ['$forall', CD, GD]) :- !, conds_data(C, Env, CD), conds_data(G, Env, GD).
