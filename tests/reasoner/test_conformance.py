@@ -31,3 +31,26 @@ def test_error_le_is_refused_with_a_located_message():
         get_engine().load((SUITE / "error.le").read_text(encoding="utf-8"), "error.le")
     text = str(err.value)
     assert text.startswith("error.le:1:1: ") and "outside any section" in text and "hint:" in text
+
+
+def test_proof_mode_gives_the_same_answers_and_explains_every_empty_one():
+    from collections import Counter
+
+    from reasoner.le.expectations import read_expectations
+    engine = get_engine()
+    compared = 0
+    for doc in sorted(SUITE.glob("*.le")):
+        try:
+            rb = engine.load(doc.read_text(encoding="utf-8"), doc.name)
+        except LEError:
+            continue
+        for e in read_expectations(Path(f"{doc}.tests").read_text(encoding="utf-8")):
+            if e.query in rb.document.unreadable_queries:
+                continue
+            plain = engine.query(rb, e.query, e.scenario)
+            proved = engine.query(rb, e.query, e.scenario, explain=True)
+            assert Counter(plain.answers) == Counter(proved.answers), (doc.name, e.query, e.scenario)
+            assert len(proved.proofs) == len(proved.answers)
+            assert plain.answers or proved.why_not is not None
+            compared += 1
+    assert compared == 157
