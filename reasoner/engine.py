@@ -95,14 +95,19 @@ class QueryResult:
         return out
 
 
-def enrich(tree: dict, rb: Rulebook) -> dict:
+def enrich(tree: dict, rb: Rulebook, evidence: dict | None = None) -> dict:
     """A proof tree as DESIGN's JSON: each node also gets its English `text`, the `label` of its
-    rule ("HC 176") and the `source` line of the LE it came from (rule stays the rule's index)."""
+    rule ("HC 176"), the `source` line of the LE it came from (rule stays the rule's index) and,
+    for a fact, the `evidence` that recorded it (from `evidence`: sentence -> event ref)."""
     rule = rb.rule(tree.get("rule"))
-    return {"sentence": tree["sentence"], "text": rb.render(tree["sentence"]), "status": tree["status"],
+    text = rb.render(tree["sentence"])
+    cited = list(tree.get("evidence", []))
+    if evidence and tree["status"] == "fact" and text in evidence:
+        cited.append(evidence[text])
+    return {"sentence": tree["sentence"], "text": text, "status": tree["status"],
             "rule": tree.get("rule"), "label": rule.label if rule else None,
-            "source": rb.source(tree.get("rule")), "evidence": list(tree.get("evidence", [])),
-            "children": [enrich(k, rb) for k in tree["children"]],
+            "source": rb.source(tree.get("rule")), "evidence": cited,
+            "children": [enrich(k, rb, evidence) for k in tree["children"]],
             **({"truncated": True} if tree.get("truncated") else {})}
 
 

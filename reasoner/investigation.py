@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from store import Store
 
-from .engine import Answer, Engine, Rulebook, get_engine, sha256_text
+from .engine import Answer, Engine, Rulebook, enrich, get_engine, sha256_text
 from .le.sentences import constant, parse_fact
 from .le.terms import Atom
 from .rulebooks import CURRENT, bundled
@@ -75,9 +75,11 @@ class Investigation:
             "rulebook": {"name": rb.name, "sha256": rb.sha256, "source": choice.source},
             "scenarios": {"vehicle": vscen.facts, "monitor": monitor.facts,
                           "action": decision["body"] if decision else None},
-            "proofs": {"potential_violation": rederived.proofs[:1] or [rederived.why_not],
-                       "verdict": (punishable if punishable.holds else mitigated).proofs[:1]
-                       or [punishable.why_not]},
+            "proofs": {"potential_violation": [enrich(t, rb, dict(monitor.facts)) for t in
+                                               rederived.proofs[:1] or [rederived.why_not]],
+                       "verdict": [enrich(t, rb, dict(vscen.facts)) for t in
+                                   (punishable if punishable.holds else mitigated).proofs[:1]
+                                   or [punishable.why_not]]},
         }
 
     def _ask(self, rb: Rulebook, functor: str, vehicle: str, action: str, facts: list[Atom]) -> Answer:
