@@ -42,7 +42,7 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
 def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
          gaps: bool = typer.Option(False, "--gaps", help="Also list the seqs missing per source."),
          check: bool = typer.Option(True, "--verify/--no-verify",
-                                    help="Verify each run's chain for the status column (default) or skip it.")) -> None:
+                                    help="Verify each run's chain for the status column, or skip it.")) -> None:
     """The runs in the store: events, sources, time span (UTC), duration and chain status."""
     with open_existing(db) as store:
         rows = [_run_row(r) for r in store.runs()]
