@@ -110,7 +110,7 @@ def _term(toks, i, line):
     if kind == "punct" and value == "[":
         items, i = [], i + 1
         if toks[i] == ("punct", "]"):
-            return items, i + 1
+            return ("list", items), i + 1
         while True:
             item, i = _term(toks, i, line)
             items.append(item)
@@ -118,10 +118,10 @@ def _term(toks, i, line):
                 i += 1
                 continue
             if toks[i] == ("punct", "]"):
-                return items, i + 1
+                return ("list", items), i + 1
             raise ExpectationError(f"line {line}: expected `,` or `]` in a list")
     if kind in ("quoted", "string", "atom", "number"):
-        return value, i + 1
+        return (kind, value), i + 1
     raise ExpectationError(f"line {line}: unexpected {value!r}")
 
 
@@ -146,9 +146,11 @@ def read_expectations(text: str) -> list[Expectation]:
                 raise ExpectationError(f"line {number}: expected `).` at the end")
         except IndexError:
             raise ExpectationError(f"line {number}: the line ends too early") from None
-        if not isinstance(answers, list) or not all(isinstance(a, str) for a in answers):
+        if answers[0] != "list" or not all(a[0] == "string" for a in answers[1]):
             raise ExpectationError(f"line {number}: the answers are a list of strings")
-        out.append(Expectation(str(query), str(scenario), answers, number))
+        if query[0] == "list" or scenario[0] == "list":
+            raise ExpectationError(f"line {number}: the query and the scenario are names")
+        out.append(Expectation(str(query[1]), str(scenario[1]), [a[1] for a in answers[1]], number))
     return out
 
 
