@@ -16,7 +16,7 @@ from .le.compile import atom_data, body_data, fact_data, predicates
 from .le.document import parse_document
 from .le.errors import LEError
 from .le.render import sentence_text
-from .le.terms import Atom, Cond, Document, Rule
+from .le.terms import Atom, Document, Rule
 from .prolog_home import import_janus
 
 ENGINE_PL = Path(__file__).with_name("prolog") / "engine.pl"
@@ -113,11 +113,6 @@ def enrich(tree: dict, rb: Rulebook, evidence: dict | None = None) -> dict:
 
 def sha256_text(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
-
-
-def cond_data(cond: Cond):
-    from .le.compile import cond_data as data
-    return data(cond)
 
 
 class Engine:
