@@ -21,14 +21,15 @@ from __future__ import annotations
 
 import json
 import sqlite3
+import struct
 import weakref
 import zlib
 from dataclasses import dataclass
-from typing import Any, Iterable
+from typing import Any, Iterable, Iterator
 
 from .db import Store
 
-FOLD_VERSION = 1  # raise when the fold changes meaning: snapshots of other versions are ignored
+FOLD_VERSION = 2  # raise when the fold or the encoding changes: other versions are ignored
 
 Position = tuple[int, int, str]  # (t, seq, src) of an event, the order of the fold
 Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: position, encoded state
@@ -52,6 +53,7 @@ _NEAREST = (
 )
 _INSERT = "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, state) VALUES (?, ?, ?, ?, ?, ?)"
 _T_MAX = (1 << 63) - 1
+_SIZE = struct.Struct("<I")
 _LEVEL = 6  # zlib: a quarter smaller than level 1, so fewer pages to read, and as fast to inflate
 
 _ready: weakref.WeakSet[Store] = weakref.WeakSet()
@@ -144,15 +146,29 @@ def disk_bytes(store: Store, run: str) -> int:
 # --- staleness --------------------------------------------------------------------------------
 
 
-def chain_length(conn: sqlite3.Connection, run: str) -> int:
-    """How many events the run's chain holds: one probe of the (run, chain_pos) index."""
-    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
-    return 0 if last is None else last + 1
+@dataclass(frozen=True, slots=True)
+class Marks:
+    """Read together, in the reader's transaction: how long the run's chain is, and how much of
+    it the snapshots have been checked against."""
+
+    length: int
+    checked: int
+
+    @property
+    def unchecked(self) -> bool:
+        return self.checked != self.length
 
 
-def _watermark(conn: sqlite3.Connection, run: str) -> int:
-    row = conn.execute("SELECT chain_len FROM state_watermarks WHERE run = ?", (run,)).fetchone()
-    return 0 if row is None else row[0]
+_MARKS = (
+    "SELECT (SELECT max(chain_pos) FROM events WHERE run = ?1), "
+    "(SELECT chain_len FROM state_watermarks WHERE run = ?1)"
+)
+
+
+def marks(conn: sqlite3.Connection, run: str) -> Marks:
+    """Two index probes in one statement (this runs on every read)."""
+    last, checked = conn.execute(_MARKS, (run,)).fetchone()
+    return Marks(0 if last is None else last + 1, checked or 0)
 
 
 def _earliest_since(conn: sqlite3.Connection, run: str, chain_pos: int) -> int | None:
@@ -166,39 +182,38 @@ def _latest_t(conn: sqlite3.Connection, run: str) -> int | None:
     return conn.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
 
 
-def stale_from(conn: sqlite3.Connection, run: str, length: int) -> int:
+def stale_from(conn: sqlite3.Connection, run: str, seen: Marks) -> int:
     """Snapshots at or after this t may have missed an event; _T_MAX if none may have."""
-    mark = _watermark(conn, run)
-    if mark == length or _latest_t(conn, run) is None:
+    if not seen.unchecked or _latest_t(conn, run) is None:
         return _T_MAX
-    if mark > length:  # the chain shrank: events were deleted behind the store's back
+    if seen.checked > seen.length:  # the chain shrank: events were deleted behind the store's back
         return -_T_MAX - 1
-    earliest = _earliest_since(conn, run, mark)
+    earliest = _earliest_since(conn, run, seen.checked)
     return _T_MAX if earliest is None else earliest
 
 
 def catch_up(conn: sqlite3.Connection, run: str) -> None:
     """Delete the snapshots unchecked events make stale and raise the watermark to the chain's
     length. Runs inside the caller's write transaction."""
-    length = chain_length(conn, run)
-    stale = stale_from(conn, run, length)
+    seen = marks(conn, run)
+    stale = stale_from(conn, run, seen)
     if stale != _T_MAX:
         sql = "DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t >= ?"
         conn.execute(sql, (run, FOLD_VERSION, stale))
     conn.execute(
         "INSERT INTO state_watermarks (run, chain_len) VALUES (?, ?) "
         "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len",
-        (run, length),
+        (run, seen.length),
     )
 
 
 # --- reading and writing ----------------------------------------------------------------------
 
 
-def nearest(conn: sqlite3.Connection, run: str, t: int, length: int) -> Snapshot | None:
-    """The latest usable snapshot at or before t, given the chain length read in the same
-    transaction. A snapshot that cannot be decoded is passed over (the cache was damaged)."""
-    before = stale_from(conn, run, length)
+def nearest(conn: sqlite3.Connection, run: str, t: int, seen: Marks) -> Snapshot | None:
+    """The latest usable snapshot at or before t, given the marks read in the same transaction.
+    A snapshot that cannot be decoded is passed over (the cache was damaged)."""
+    before = stale_from(conn, run, seen)
     row = conn.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
     while row is not None:
         state = decode(row[3])
@@ -208,8 +223,12 @@ def nearest(conn: sqlite3.Connection, run: str, t: int, length: int) -> Snapshot
     return None
 
 
-def needs_check(conn: sqlite3.Connection, run: str, length: int) -> bool:
-    return _watermark(conn, run) != length
+def listed(conn: sqlite3.Connection, run: str, before: int = _T_MAX) -> Iterator[Snapshot]:
+    """The run's snapshots before t `before`, oldest first, one at a time; an undecodable one
+    comes with an empty state (it can never equal a fold)."""
+    sql = "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t < ? ORDER BY t, seq, src"
+    for t, seq, src, blob in conn.execute(sql, (run, FOLD_VERSION, before)):
+        yield Snapshot((t, seq, src), decode(blob) or {})
 
 
 def save(conn: sqlite3.Connection, run: str, fresh: Iterable[Fresh], read_length: int) -> bool:
@@ -240,14 +259,17 @@ def save(conn: sqlite3.Connection, run: str, fresh: Iterable[Fresh], read_length
 
 
 def encode(state: dict[str, Any]) -> bytes:
-    text = json.dumps(state, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
-    return zlib.compress(text.encode("utf-8"), _LEVEL)
+    """The JSON's length, then the JSON deflated: knowing the length up front lets zlib inflate
+    into one buffer instead of growing one (a third of the inflating time)."""
+    text = json.dumps(state, separators=(",", ":"), ensure_ascii=False, allow_nan=False).encode("utf-8")
+    return _SIZE.pack(len(text)) + zlib.compress(text, _LEVEL)
 
 
 def decode(blob: bytes) -> dict[str, Any] | None:
     """The state in a snapshot, or None if the blob is not one (damaged or foreign)."""
     try:
-        state = json.loads(zlib.decompress(blob))
-    except (zlib.error, ValueError, TypeError):
+        (size,) = _SIZE.unpack_from(blob)
+        state = json.loads(zlib.decompress(blob[_SIZE.size:], bufsize=max(size, 1)))
+    except (struct.error, zlib.error, ValueError, TypeError):
         return None
     return state if isinstance(state, dict) else None

@@ -13,7 +13,7 @@ The state (plain JSON data):
                       version and sha256; the LE text is in the cited event and the rulebook store)
     end               run.end, or null
     entities          per src: spawn, state, perception, decision (latest of each kind), ads
-                      (status folded from the ads.event history, see _fold_ads), despawned (the
+                      (status folded from the ads.event history, see ads_status), despawned (the
                       entity.despawn, null while present). A new entity.spawn starts a fresh record.
     signals           per junction, per approach ("*" when the event names none): colour,
                       since (ref of the event that first showed this colour), last (latest report)
@@ -37,7 +37,7 @@ from . import snapshots
 from .db import Store
 from .snapshots import Fresh, Position
 
-SNAPSHOT_EVERY = 1000  # events between snapshots: bench/scene_at_t.py measures the trade-off
+SNAPSHOT_EVERY = 500  # events between snapshots: bench/scene_at_t.py measures the trade-off
 _CHUNK = 4096  # rows fetched at a time, so that memory stays bounded whatever the window
 _HELD = 64  # snapshots held in memory before they are written
 _T_MAX = (1 << 63) - 1
@@ -45,10 +45,18 @@ _T_MAX = (1 << 63) - 1
 Row = tuple[str, int, int, str, str]  # src, seq, t, kind, event JSON: as selected below
 Piece = dict[str, Any]
 
-_SELECT = "SELECT src, seq, t, kind, event FROM events WHERE run = ? AND t <= ?"
-_ORDER = " ORDER BY t, seq, src"
-_FROM_START = _SELECT + _ORDER
-_AFTER = _SELECT + " AND (t, seq, src) > (?, ?, ?)" + _ORDER
+
+def _select(after: bool, through: bool) -> str:
+    """A run's events up to t in fold order; optionally only those after one position and up to
+    another (row values: both bounds are ranges of the (run, t, seq, src) index)."""
+    sql = "SELECT src, seq, t, kind, event FROM events WHERE run = ? AND t <= ?"
+    sql += " AND (t, seq, src) > (?, ?, ?)" if after else ""
+    sql += " AND (t, seq, src) <= (?, ?, ?)" if through else ""
+    return sql + " ORDER BY t, seq, src"
+
+
+_FROM_START, _AFTER = _select(False, False), _select(True, False)
+_BETWEEN = {False: _select(False, True), True: _select(True, True)}
 
 
 # --- public API -------------------------------------------------------------------------------
@@ -74,6 +82,29 @@ def build_snapshots(store: Store, run: str, *, every: int = SNAPSHOT_EVERY) -> i
         raise ValueError("every must be at least 1")
     _advance(store, run, _T_MAX, every)
     return snapshots.count(store, run)
+
+
+def check_snapshots(store: Store, run: str) -> list[Position]:
+    """Positions of the run's snapshots that differ from a fresh fold of the events.
+
+    Snapshots are a cache, not evidence: nothing chains them, so whoever can write the file can
+    change what state_at answers without touching an event. This reads every event once to catch
+    that; a wrong snapshot is cured by snapshots.clear(store, run)."""
+    snapshots.ensure_tables(store)
+    conn = store.connection
+    state, position, wrong = empty_state(), None, []
+    with _reading(conn):
+        stale = snapshots.stale_from(conn, run, snapshots.marks(conn, run))
+        for held in snapshots.listed(conn, run, stale):
+            after = () if position is None else position
+            params = (run, held.position[0], *after, *held.position)
+            cursor = conn.execute(_BETWEEN[position is not None], params)
+            for rows in iter(lambda: cursor.fetchmany(_CHUNK), []):
+                fold_rows(state, rows)
+            position = held.position
+            if held.state != state:
+                wrong.append(position)
+    return wrong
 
 
 def ref(piece: Piece) -> dict[str, Any]:
@@ -132,14 +163,13 @@ def _advance(store: Store, run: str, t: int, every: int) -> dict[str, Any]:
     saving = True
     while True:
         with _reading(conn):
-            length = snapshots.chain_length(conn, run)
-            base = snapshots.nearest(conn, run, t, length)
+            seen = snapshots.marks(conn, run)
+            base = snapshots.nearest(conn, run, t, seen)
             state = empty_state() if base is None else base.state
             position = None if base is None else base.position
             fresh, done = _fold_window(conn, run, state, position, t, every if saving else 0)
-            unchecked = snapshots.needs_check(conn, run, length)
-        if saving and (fresh or unchecked):
-            saving = snapshots.save(conn, run, fresh, length)
+        if saving and (fresh or seen.unchecked):
+            saving = snapshots.save(conn, run, fresh, seen.length)
         if done:
             return state
 

@@ -65,7 +65,7 @@ def small_snapshots(monkeypatch):
 picks = st.lists(st.tuples(st.integers(0, 4), st.integers(0, 60), st.integers(0, 5)), min_size=1, max_size=80)
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(picks=picks, late=picks, every=st.integers(1, 7), split=st.integers(1, 20), hooked=st.booleans(),
        shuffle_seed=st.integers(0, 1000))
 def test_snapshots_give_the_same_state_as_folding_from_the_start(
@@ -212,3 +212,17 @@ def test_snapshots_folded_before_a_concurrent_late_append_are_not_written(db_pat
         monkeypatch.setattr(snapshots, "save", save_after_a_late_append)
         build_snapshots(reader, "r1", every=5)
         assert_snapshots_agree(reader, times(events))
+
+
+def test_check_finds_a_snapshot_altered_behind_the_stores_back(store):
+    events = long_run(60)
+    store.append(events)
+    build_snapshots(store, "r1", every=7)
+    assert state.check_snapshots(store, "r1") == []
+    conn = store.connection
+    t, seq, src, blob = conn.execute("SELECT t, seq, src, state FROM state_snapshots ORDER BY t LIMIT 1 OFFSET 3").fetchone()
+    forged = snapshots.decode(blob)
+    forged["signals"]["J1"]["north"]["colour"] = "off"  # no event of the run says so
+    conn.execute("UPDATE state_snapshots SET state = ? WHERE t = ? AND seq = ? AND src = ?",
+                 (snapshots.encode(forged), t, seq, src))
+    assert state.check_snapshots(store, "r1") == [(t, seq, src)]
