@@ -4,8 +4,8 @@ short fold, however long the run.
 The snapshots are derived data, not evidence. Their tables are created here (IF NOT EXISTS), are
 neither hash-chained nor append-only, and may be deleted at any time: they are rebuilt from the
 events on the next read. A snapshot is keyed by the position (t, seq, src) of the last event
-folded into it and holds the fold state as zlib-compressed JSON (the compression keeps the cache
-at a few per cent of the log on disk, and inflating costs far less than parsing).
+folded into it and holds the fold state as zlib-compressed JSON (compressed about eightfold, so
+fewer pages to read; inflating costs a fraction of parsing).
 
 Staleness. A late event (one whose position is at or before a snapshot's) makes that snapshot
 wrong. Rather than trust every writer to say so, the store keeps a watermark per run: the chain
@@ -47,6 +47,10 @@ _DDL = (
     "CREATE TABLE IF NOT EXISTS state_watermarks (run TEXT PRIMARY KEY, chain_len INTEGER NOT NULL)",
 )
 
+_EXISTING = (
+    "SELECT count(*) FROM sqlite_master "
+    "WHERE type = 'table' AND name IN ('state_snapshots', 'state_watermarks')"
+)
 _NEAREST = (
     "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t <= ? AND t < ? "
     "ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
@@ -55,6 +59,11 @@ _INSERT = "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, state
 _T_MAX = (1 << 63) - 1
 _SIZE = struct.Struct("<I")
 _LEVEL = 6  # zlib: a quarter smaller than level 1, so fewer pages to read, and as fast to inflate
+
+# The last snapshot inflated, kept until the next replaces it. Freeing it at once let glibc hand
+# the top of the heap back to the kernel after every read, and faulting those pages in again
+# cost more than parsing the JSON on the virtual machine measured (bench/scene_at_t.py).
+_last_inflated = b""
 
 _ready: weakref.WeakSet[Store] = weakref.WeakSet()
 _hooked: weakref.WeakSet[Store] = weakref.WeakSet()
@@ -72,23 +81,29 @@ class Snapshot:
 
 
 def ensure_tables(store: Store) -> None:
-    """Create the cache tables if this file has none yet (once per Store object)."""
+    """Create the cache tables if this file has none yet (looked at once per Store object, and
+    without taking the write lock when they exist)."""
     if store in _ready:
         return
     conn = store.connection
+    if conn.execute(_EXISTING).fetchone()[0] < len(_DDL):
+        _create_tables(conn)
+    _ready.add(store)
+
+
+def _create_tables(conn: sqlite3.Connection) -> None:
     if conn.in_transaction:
         for statement in _DDL:
             conn.execute(statement)
-    else:
-        conn.execute("BEGIN IMMEDIATE")
-        try:
-            for statement in _DDL:
-                conn.execute(statement)
-            conn.execute("COMMIT")
-        except BaseException:
-            conn.execute("ROLLBACK")
-            raise
-    _ready.add(store)
+        return
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        for statement in _DDL:
+            conn.execute(statement)
+        conn.execute("COMMIT")
+    except BaseException:
+        conn.execute("ROLLBACK")
+        raise
 
 
 def enable_snapshots(store: Store) -> None:
@@ -226,7 +241,10 @@ def nearest(conn: sqlite3.Connection, run: str, t: int, seen: Marks) -> Snapshot
 def listed(conn: sqlite3.Connection, run: str, before: int = _T_MAX) -> Iterator[Snapshot]:
     """The run's snapshots before t `before`, oldest first, one at a time; an undecodable one
     comes with an empty state (it can never equal a fold)."""
-    sql = "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t < ? ORDER BY t, seq, src"
+    sql = (
+        "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t < ? "
+        "ORDER BY t, seq, src"
+    )
     for t, seq, src, blob in conn.execute(sql, (run, FOLD_VERSION, before)):
         yield Snapshot((t, seq, src), decode(blob) or {})
 
@@ -245,8 +263,8 @@ def save(conn: sqlite3.Connection, run: str, fresh: Iterable[Fresh], read_length
     try:
         late = _earliest_since(conn, run, read_length)
         catch_up(conn, run)
-        rows = [(run, FOLD_VERSION, *position, blob) for position, blob in fresh if late is None or position[0] < late]
-        conn.executemany(_INSERT, rows)
+        kept = [(position, blob) for position, blob in fresh if late is None or position[0] < late]
+        conn.executemany(_INSERT, [(run, FOLD_VERSION, *position, blob) for position, blob in kept])
         conn.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
         conn.execute("COMMIT")
     except sqlite3.OperationalError:
@@ -267,9 +285,11 @@ def encode(state: dict[str, Any]) -> bytes:
 
 def decode(blob: bytes) -> dict[str, Any] | None:
     """The state in a snapshot, or None if the blob is not one (damaged or foreign)."""
+    global _last_inflated
     try:
         (size,) = _SIZE.unpack_from(blob)
-        state = json.loads(zlib.decompress(blob[_SIZE.size:], bufsize=max(size, 1)))
+        _last_inflated = zlib.decompress(blob[_SIZE.size:], bufsize=max(size, 1))
+        state = json.loads(_last_inflated)
     except (struct.error, zlib.error, ValueError, TypeError):
         return None
     return state if isinstance(state, dict) else None

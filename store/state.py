@@ -257,7 +257,7 @@ def _key(value: Any) -> str:
 
 
 def _new_entity() -> dict[str, Any]:
-    return {"spawn": None, "state": None, "perception": None, "decision": None, "ads": None, "despawned": None}
+    return dict.fromkeys(("spawn", "state", "perception", "decision", "ads", "despawned"))
 
 
 def _entity(state: dict[str, Any], src: str) -> dict[str, Any]:
@@ -273,10 +273,12 @@ def _fold_start(state: dict[str, Any], piece: Piece) -> None:
     body = dict(piece["body"])
     books = body.get("rulebooks")
     if isinstance(books, list):
-        body["rulebooks"] = [
-            {k: v for k, v in book.items() if k != "text"} if isinstance(book, dict) else book for book in books
-        ]
+        body["rulebooks"] = [_without_text(book) for book in books]
     state["start"] = {**piece, "body": body}
+
+
+def _without_text(book: Any) -> Any:
+    return {k: v for k, v in book.items() if k != "text"} if isinstance(book, dict) else book
 
 
 def _fold_end(state: dict[str, Any], piece: Piece) -> None:

@@ -167,9 +167,12 @@ def jumbled_run(rng: random.Random) -> list[dict]:
     return events
 
 
-def test_state_does_not_depend_on_arrival_order_or_batches(tmp_path):
-    from store import Store
+@pytest.mark.parametrize("every", [None, 7], ids=["no snapshots", "snapshots every 7 events"])
+def test_state_does_not_depend_on_arrival_order_or_batches(tmp_path, monkeypatch, every):
+    from store import Store, state
 
+    if every:
+        monkeypatch.setattr(state, "SNAPSHOT_EVERY", every)
     events = jumbled_run(random.Random(11))
     times = [at(ms) for ms in range(-5, 210, 5)]
     states = []
