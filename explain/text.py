@@ -23,12 +23,15 @@ def sentence(data: list, rb: Rulebook) -> str:
     return sentence_text(data, rb.document)
 
 
-def where(rule_id, rb: Rulebook) -> str:
+def where(rule_id, rb: Rulebook, with_law: bool = True) -> str:
+    """` [HC 176 (its law), file:line]`: the citation an investigator checks the step against."""
     if rule_id is None:
         return ""
     rule = rb.rule(rule_id)
-    label = f"{rule.label}, " if rule.label else ""
-    return f" [{label}{rb.name}:{rule.line}]"
+    label = rule.label or ""
+    if label and with_law and rule.law:
+        label += f" ({rule.law})"
+    return f" [{label + ', ' if label else ''}{rb.name}:{rule.line}]"
 
 
 def render_tree(node: dict, rb: Rulebook, evidence: dict[str, dict] | None = None, depth: int = 0) -> list[str]:
@@ -58,7 +61,7 @@ def _failed(node, text, rb, evidence, depth) -> list[str]:
     pad = INDENT * depth
     kids = node["children"]
     if node["rule"] is not None:       # one rule's attempt: the conditions up to the one that failed
-        lines = [f"{pad}the rule{where(node['rule'], rb)} does not apply:"]
+        lines = [f"{pad}the rule{where(node['rule'], rb, with_law=False)} does not apply:"]
         for kid in kids:
             lines += render_tree(kid, rb, evidence, depth + 1)
         return lines

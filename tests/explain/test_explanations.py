@@ -33,6 +33,7 @@ def test_car_explanation(explained):
 def test_ambulance_explanation(explained):
     text = explained["253"]
     assert text.startswith("Vehicle 253 committed a mitigated violation of HC 176")
-    assert "and 253 can enter the junction [HC 176, paper.le:26]" in text
+    assert ("and 253 can enter the junction [HC 176 (RTA 1988 s.36; TSRGD 2016 Sch 14 Pts 1 and 4), "
+            "paper.le:26]") in text
     assert "because 253 is of type ambulance (fact: vehicle/253 #0, entity.spawn" in text
     assert "it is not the case that 253 must give way to an other vehicle" in text
