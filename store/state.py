@@ -24,6 +24,10 @@ vehicle.trace events are counted but not folded: decisions cite their trace by s
 Cost: snapshots (store/snapshots.py) hold the fold every SNAPSHOT_EVERY events, so state_at
 loads the nearest one and folds fewer than that many events. Reads write missing snapshots as
 they go, in bounded batches; `build_snapshots` writes them for a whole run ahead of the reads.
+Late events never make a read wrong, whoever appended them (see store/snapshots.py); a process
+that appends to runs being read as they grow (the ingest) should call
+`snapshots.enable_snapshots(store)` once, so that the readers do not have to check its appends.
+`check_snapshots` re-folds a run to find snapshots altered behind the store's back.
 """
 
 from __future__ import annotations
