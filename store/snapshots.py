@@ -27,6 +27,7 @@ import zlib
 from dataclasses import dataclass
 from typing import Any, Iterable, Iterator
 
+from . import fastjson
 from .db import Store
 
 FOLD_VERSION = 2  # raise when the fold or the encoding changes: other versions are ignored
@@ -289,7 +290,7 @@ def decode(blob: bytes) -> dict[str, Any] | None:
     try:
         (size,) = _SIZE.unpack_from(blob)
         _last_inflated = zlib.decompress(blob[_SIZE.size:], bufsize=max(size, 1))
-        state = json.loads(_last_inflated)
+        state = fastjson.loads(_last_inflated)
     except (struct.error, zlib.error, ValueError, TypeError):
         return None
     return state if isinstance(state, dict) else None

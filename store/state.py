@@ -37,7 +37,7 @@ import sqlite3
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator
 
-from . import snapshots
+from . import fastjson, snapshots
 from .db import Store
 from .snapshots import Fresh, Position
 
@@ -239,7 +239,7 @@ def fold_rows(state: dict[str, Any], rows: list[Row]) -> None:
         for i, (src, _, _, kind, _) in enumerate(rows)
         if kind in _HANDLERS and last_of.get((src, kind), i) == i
     ]
-    events = iter(json.loads("[" + ",".join([rows[i][4] for i in parse]) + "]"))
+    events = iter(fastjson.loads("[" + ",".join([rows[i][4] for i in parse]) + "]"))
     parsed = iter(parse)
     next_parsed = next(parsed, -1)
     for i, (src, seq, t, kind, _) in enumerate(rows):
