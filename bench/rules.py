@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import statistics
 import sys
 import time
@@ -28,6 +27,7 @@ from reasoner.engine import Engine, get_engine  # noqa: E402
 from reasoner.le.document import parse_document  # noqa: E402
 from reasoner.le.sentences import parse_fact  # noqa: E402
 from reasoner.rulebooks import bundled  # noqa: E402
+from machine import machine  # bench/machine.py, beside this file
 
 SCENARIO = [
     "{v} is of type car",
@@ -43,17 +43,6 @@ SCENARIO = [
 ]
 
 
-def machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (f"{cpu}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}, "
-            f"Python {platform.python_version()}")
 
 
 def questions(rb, n: int = 200):

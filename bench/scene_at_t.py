@@ -19,10 +19,8 @@ import json
 import math
 import multiprocessing
 import os
-import platform
 import random
 import resource
-import sqlite3
 import statistics
 import time
 from pathlib import Path
@@ -31,6 +29,7 @@ from typing import Any, Iterator
 from store import Store
 from store import snapshots
 from store.state import SNAPSHOT_EVERY, build_snapshots, state_at
+from machine import machine  # bench/machine.py, beside this file
 
 RUN = "bench-scene"
 T0 = 1_732_184_100_000_000_000
@@ -311,17 +310,6 @@ def pieces(scene: dict[str, Any]) -> int:
     return entity + seen + signals
 
 
-def machine() -> str:
-    model = "unknown CPU"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (f"{os.cpu_count()} CPUs ({model}), Python {platform.python_version()}, "
-            f"SQLite {sqlite3.sqlite_version}, {platform.system()} {platform.release()}")
 
 
 def main() -> None:

@@ -11,9 +11,6 @@ default) and with --fast (synchronous=NORMAL).
 from __future__ import annotations
 
 import argparse
-import os
-import platform
-import sqlite3
 import statistics
 import sys
 import tempfile
@@ -25,6 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from store import Store  # noqa: E402
 from store.transfer import export_run, import_file  # noqa: E402
+from machine import machine  # bench/machine.py, beside this file
 
 RUN = "bench-transfer"
 T0 = 1_732_184_100_000_000_000
@@ -96,18 +94,6 @@ def timed(step: Callable[[int], None], repeat: int) -> tuple[float, float]:
     return statistics.median(walls), statistics.median(cpus)
 
 
-def machine() -> str:
-    model = "unknown CPU"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return (f"{cores} CPUs (nproc), {model}; Python {platform.python_version()}, "
-            f"SQLite {sqlite3.sqlite_version}, {platform.system()} {platform.release()}")
 
 
 def bench_format(source: Path, folder: Path, fmt: str, events: int, repeat: int, scene: bool = True) -> dict:
