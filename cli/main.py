@@ -54,9 +54,8 @@ def _report(path: Path, runs: list[str], json_out: bool) -> None:
         if not found:
             typer.echo("No potential violations recorded.")
         for inc in found:
-            rb = inv.rulebook_for(inc["run"], inc["rulebook"]["sha256"]).rulebook
             typer.echo(f"── incident {inc['run']} {inc['id']} ──")
-            typer.echo(explain_incident(inc, rb) + "\n")
+            typer.echo(explain_incident(inc, inv.rulebook) + "\n")
 
 
 from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)

@@ -6,6 +6,7 @@ investigator reads the words the rules were written in, and every fact names its
 from __future__ import annotations
 
 from datetime import datetime, timezone
+from typing import Callable
 
 from reasoner.engine import Rulebook
 from reasoner.le.render import arg_text as le_arg_text
@@ -103,20 +104,35 @@ def headline(inc: dict) -> str:
             f"it did \"{inc['action']}\".")
 
 
-def explain_incident(inc: dict, rb: Rulebook) -> str:
-    """The whole explanation of one incident, verdict first."""
-    monitor_src = inc["id"].rsplit(":", 1)[0]
-    lines = [headline(inc), "",
-             f"Potential violation, recorded by {monitor_src} and re-derived from its observation:"]
-    for proof in inc["proofs"]["potential_violation"]:
-        lines += render_tree(proof, rb, dict(inc["scenarios"]["monitor"]), 1)
-    vfacts = "; ".join(s for s, _ in inc["scenarios"]["vehicle"]) or "nothing recorded"
-    lines += ["", f"Validation on the vehicle's own scenario ({vfacts}):"]
-    for proof in inc["proofs"]["verdict"]:
-        lines += render_tree(proof, rb, dict(inc["scenarios"]["vehicle"]), 1)
-    penalty = inc["penalty"] or "not yet modelled (penalties.le is a later issue)"
-    lines += ["", f"Penalty: {penalty}.  Liable: {inc['liable']}.",
-              f"Rulebook: {rb.name} sha256 {rb.sha256[:16]}… ({inc['rulebook']['source']})."]
+def explain_incident(inc: dict, rulebooks: Callable[[str], Rulebook | None]) -> str:
+    """The whole explanation of one incident, verdict first. `rulebooks` finds a rulebook by
+    sha256 (Investigation.rulebook): each proof is rendered with the words of its own rulebook."""
+    how = ("recorded by " + inc["monitor"] + (" and re-derived from its observation" if inc["rederived"]
+                                             else ", but NOT re-derivable from its observation")
+           if inc["recorded"] else f"re-derived from the observations of {inc['monitor']}, which recorded none")
+    lines = [headline(inc), f"Why: {inc['why']}." if inc.get("why") else "", "", f"Potential violation, {how}:"]
+    lines += _proof_lines(inc["proofs"]["potential_violation"], rulebooks, dict(inc["scenarios"]["monitor"]))
+    if "verdict" in inc["proofs"]:
+        vfacts = "; ".join(s for s, _ in inc["scenarios"]["validator"]) or "nothing recorded"
+        lines += ["", f"Validation on the Validator Scenario ({vfacts}):"]
+        lines += _proof_lines(inc["proofs"]["verdict"], rulebooks, dict(inc["scenarios"]["validator"]))
+    if inc["penalty"]:
+        p = inc["penalty"]
+        lines += ["", f"Penalty: {p['offence']} ({p['law']}): £{p['fine_gbp']}, {p['points']} penalty points."]
+    control = inc.get("control") or {}
+    lines.append(f"Liable: {inc['liable']}.  In control at the time: {control.get('in_control', 'unknown')}.")
+    for stage, book in inc["rulebooks"].items():
+        lines.append(f"Rulebook ({stage}): {book['name']} sha256 {book['sha256'][:16]}… ({book['source']}).")
     for f in inc["findings"]:
         lines.append(f"Finding: {f['kind']}: {f.get('detail', '')}")
     return "\n".join(lines)
+
+
+def _proof_lines(proofs: dict, rulebooks: Callable[[str], Rulebook | None], evidence: dict) -> list[str]:
+    rb = rulebooks(proofs["rulebook"]) if proofs.get("rulebook") else None
+    if rb is None:
+        return ["  (no rulebook for this stage)"]
+    lines: list[str] = []
+    for tree in proofs["trees"]:
+        lines += render_tree(tree, rb, evidence, 1)
+    return lines

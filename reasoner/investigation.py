@@ -1,121 +1,352 @@
-"""From a recorded run to validated verdicts (the paper's Figure 1).
+"""From a recorded run to validated verdicts (the paper's Figure 1), from the store alone.
 
-For each potential violation a monitor recorded: rebuild the Monitor Scenario and re-derive
-the potential violation; rebuild the Vehicle Scenario and the Vehicle Action; ask the
-validator rules whether the action was among the lawful ones (mitigated) or not (punishable).
+    inv = Investigation(store)                 # or Investigation(store, rules=["my.le"])
+    for incident in inv.incidents("demo-001"):
+        print(incident["verdict"], incident["rule"], incident["liable"])
+
+An incident is a potential violation: recorded on line by a monitor, or re-derived off line from
+the monitor's observations (episodes.py); both, normally. For each, at its time t, from the
+store's state at t (store.state.state_at):
+
+1. the Monitor Scenario re-derives the potential violation (monitor stage); a recorded one that
+   the monitor's own observation does not support is *dismissed*;
+2. the Validator Scenario (the Vehicle Scenario with what the monitor witnessed, perception.py)
+   decides *punishable* (the action is not among the lawful ones) or *mitigated* (it is);
+3. a punishable one gets its penalty (penalties stage) and who is liable (liability stage, over
+   the ads.event history: control.py);
+4. findings (perception fault, decision fault, monitor disagreement, missing evidence, unknown
+   fact), each with the events it rests on.
+
+The verdicts depend only on the events, never on the order or batches they arrived in: the state
+is a fold in (t, seq, src) order and the episodes are read in that order too.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import Any, Iterable
 
 from store import Store
+from store.state import state_at
 
-from .engine import Answer, Engine, Rulebook, enrich, get_engine, sha256_text
-from .le.sentences import constant, parse_fact
-from .le.terms import Atom
-from .rulebooks import CURRENT, bundled
-from .scenarios import Scenario, monitor_scenario, ref, vehicle_action, vehicle_scenario
+from .control import control_at, liability_facts, role
+from .engine import Answer, Engine, Rulebook, enrich, get_engine
+from .episodes import Episode, Rederiver, episodes, match
+from .facts import FactReader, unknown_fact
+from .findings import decision_fault, missing_evidence
+from .le.render import arg_text
+from .le.sentences import constant
+from .le.terms import Atom, Cond, Var
+from .perception import corrected, dispute_finding, witnessed_functors
+from .rulesets import RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
+from .scenarios import (Scenario, has_perception, monitor_scenario, ref, spawn_facts, vehicle_action,
+                        vehicle_scenario)
 
-
-@dataclass
-class RulebookChoice:
-    rulebook: Rulebook
-    source: str          # "recorded" (the run's own rules) or "current" (the project's)
+LIABLE_ORDER = ("driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator")
+Pairs = list[tuple[Atom, dict]]
 
 
 class Investigation:
-    """Verdicts for the runs of one store; rulebooks are loaded once and shared."""
+    """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
-    def __init__(self, store: Store, engine: Engine | None = None) -> None:
+    def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None) -> None:
         self.store = store
         self.engine = engine or get_engine()
+        self.reader = FactReader()
+        self._given = given_rulebooks(self.engine, rules or [])
+        self._current = current_rulebooks(self.engine)
+        self._rulesets: dict[str, RuleSet] = {}
+        self.problems: dict[str, list[str]] = {}
 
+    # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str) -> list[dict]:
-        pvs = list(self.store.events(run, kinds=["monitor.potential_violation"]))
-        return [self.judge(run, pv) for pv in pvs]
+        """Every potential violation of the run, judged; ordered by time."""
+        rs = self.ruleset(run)
+        recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
+        found: list[dict] = []
+        monitor = rs["monitor"]
+        eps: list[Episode] = []
+        if monitor is not None:
+            rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
+            eps = list(episodes(self.store.events(run, kinds=["monitor.observation"]), rederiver))
+        gaps = self.store.gaps(run)
+        for pv, episode in match(eps, recorded):
+            found.append(self._judge(run, rs, gaps, pv["t"], pv["src"], pv, episode))
+        for episode in eps:
+            if not episode.recorded:
+                found.append(self._judge(run, rs, gaps, episode.first["t"], episode.monitor, None, episode))
+        found.sort(key=lambda inc: (inc["t"], inc["id"]))
+        return found
 
-    def rulebook_for(self, run: str, sha: str | None) -> RulebookChoice:
-        for start in self.store.events(run, kinds=["run.start"]):
-            for rb in start["body"].get("rulebooks", []):
-                text = rb.get("text")
-                if text and (sha is None or sha256_text(text) == sha):
-                    return RulebookChoice(self.engine.load(text, rb.get("name", "<recorded>")), "recorded")
-        if sha and (stored := self.store.get_rulebook(sha)):
-            return RulebookChoice(self.engine.load(stored["text"], stored["name"]), "recorded")
-        return RulebookChoice(self.engine.load(bundled(CURRENT), CURRENT), "current")
+    def ruleset(self, run: str) -> RuleSet:
+        """The rulebooks each stage of this run is judged with (given, recorded, current)."""
+        if run not in self._rulesets:
+            problems: list[str] = []
+            shas = {e["body"].get("rulebook") for e in self.store.events(
+                run, kinds=["monitor.potential_violation"]) if isinstance(e["body"].get("rulebook"), str)}
+            recorded = recorded_rulebooks(self.engine, self.store, run, sorted(shas), problems)
+            self._rulesets[run] = RuleSet(self.engine, self._given, recorded, self._current)
+            self.problems[run] = problems
+        return self._rulesets[run]
 
-    def judge(self, run: str, pv: dict) -> dict:
-        body = pv["body"]
-        vehicle, action, t = str(body["vehicle"]), body["action"], pv["t"]
-        choice = self.rulebook_for(run, body.get("rulebook"))
-        rb = choice.rulebook
+    def rulebook(self, sha256: str) -> Rulebook | None:
+        """A rulebook any stage used, by its sha256 (for rendering proofs)."""
+        for rs in self._rulesets.values():
+            if sha256 in rs.by_sha:
+                return rs.by_sha[sha256]
+        return None
+
+    # -- one incident ---------------------------------------------------------------------
+    def _judge(self, run: str, rs: RuleSet, gaps: list[dict], t: int, monitor_src: str,
+               pv: dict | None, episode: Episode | None) -> dict:
+        body = pv["body"] if pv else {}
+        vehicle = str(body.get("vehicle")) if pv else episode.vehicle
+        action = str(body.get("action")) if pv else episode.action
+        anchor = pv if pv else episode.first
+        state = state_at(self.store, run, t)
         findings: list[dict] = []
-        monitor = monitor_scenario(self.store, run, pv["src"], vehicle, t)
-        vscen = vehicle_scenario(self.store, run, vehicle, t)
-        decision = vehicle_action(self.store, run, vehicle, t)
-        pv_atom = Atom("potentially_violates", (constant([vehicle]), action))
+        unknown: list[dict] = []
+        me, act = constant([vehicle]), constant(action.split())
 
-        rederived = self.engine.ask(rb, pv_atom, self._atoms(rb, monitor, findings))
-        if not rederived.holds:
-            findings.append({"kind": "monitor disagreement", "evidence": [ref(pv)],
-                             "detail": "the recorded potential violation does not follow from the "
-                                       "monitor's own observation"})
-        facts = self._atoms(rb, vscen, findings) + [pv_atom]
-        punishable = self._ask(rb, "punishably_violates", vehicle, action, facts)
-        mitigated = self._ask(rb, "mitigately_violates", vehicle, action, facts)
-        verdict = "punishable" if punishable.holds else "mitigated" if mitigated.holds else "dismissed"
-        rule = rb.rule(rederived.proofs[0]["rule"]) if rederived.holds else None
-        spawn = next(iter(self.store.events(run, kinds=["entity.spawn"], srcs=[f"vehicle/{vehicle}"])), None)
-        return {
-            "id": f"{pv['src']}:{pv['seq']}", "run": run, "t": t, "vehicle": vehicle, "action": action,
+        mscen = self._monitor_scenario(state, monitor_src, vehicle, t, pv, episode)
+        pv_answer, rule = self._rederive(rs, mscen, me, act, unknown)
+        rederived = pv_answer is not None and pv_answer.holds
+        if pv and not rederived:
+            findings.append(_disagreement(pv, mscen, recorded=True))
+        if not pv:
+            findings.append(_disagreement(episode.first, mscen, recorded=False))
+
+        vscen = vehicle_scenario(state, vehicle)
+        decision = vehicle_action(state, vehicle)
+        control = control_at((state["entities"].get(f"vehicle/{vehicle}") or {}), t)
+        incident: dict[str, Any] = {
+            "id": f"{anchor['src']}:{anchor['seq']}", "run": run, "t": t, "vehicle": vehicle,
+            "action": action, "monitor": monitor_src, "recorded": pv is not None, "rederived": rederived,
             "rule": rule.label if rule else None, "law": rule.law if rule else None,
-            "verdict": verdict, "penalty": None, "liable": _liable(verdict, spawn),
-            "findings": findings,
-            "evidence": [ref(e) for e in (pv, decision, spawn) if e] + _fact_refs(monitor, vscen),
-            "rulebook": {"name": rb.name, "sha256": rb.sha256, "source": choice.source},
-            "scenarios": {"vehicle": vscen.facts, "monitor": monitor.facts,
-                          "action": decision["body"] if decision else None},
-            "proofs": {"potential_violation": [enrich(t, rb, dict(monitor.facts)) for t in
-                                               rederived.proofs[:1] or [rederived.why_not]],
-                       "verdict": [enrich(t, rb, dict(vscen.facts)) for t in
-                                   (punishable if punishable.holds else mitigated).proofs[:1]
-                                   or [punishable.why_not]]},
+            "verdict": "dismissed", "why": None, "penalty": None, "liable": "none", "liability": None,
+            "control": control, "findings": findings, "evidence": [],
+            "judged_on": "vehicle scenario" if has_perception(state, vehicle) else "monitor scenario",
+            "rulebook": None, "rulebooks": rs.describe(),
+            "scenarios": {"vehicle": vscen.facts, "monitor": mscen.facts, "validator": [], "action": decision},
+            "proofs": {"potential_violation": _proofs(pv_answer, rs["monitor"], mscen)},
         }
+        if self.problems.get(run):
+            incident["rulebook_problems"] = self.problems[run]
+        if not rederived and pv:
+            incident["why"] = ("the monitor's own observation does not show the potential violation it "
+                               "recorded" if mscen.facts else
+                               "no observation of the vehicle by the monitor supports the potential "
+                               "violation it recorded")
+        else:
+            self._validate(incident, rs, state, vehicle, me, act, vscen, mscen, unknown)
+        fault = decision_fault(self.engine, self.reader, rs.vehicle_rulebook((decision or {}).get("rulebook")),
+                               vehicle, decision if decision and decision.get("action") == action else None,
+                               vscen.facts, unknown)
+        if fault:
+            findings.append(fault)
+        findings += missing_evidence(self.store.connection, run, gaps, [f"vehicle/{vehicle}", monitor_src], t,
+                                     {f"vehicle/{vehicle}": _last_seen(state, vehicle)})
+        findings += _dedup_unknown(unknown)
+        incident["evidence"] = _evidence(anchor, run, mscen, vscen, decision, control, incident)
+        return incident
 
-    def _ask(self, rb: Rulebook, functor: str, vehicle: str, action: str, facts: list[Atom]) -> Answer:
-        return self.engine.ask(rb, Atom(functor, (constant([vehicle]), action)), facts)
+    def _monitor_scenario(self, state: dict, monitor_src: str, vehicle: str, t: int,
+                          pv: dict | None, episode: Episode | None) -> Scenario:
+        if episode is not None:
+            obs = episode.observation_at(t)
+            scenario = Scenario()
+            scenario.add(obs["body"].get("facts"), ref(obs))
+            return scenario
+        scenario = monitor_scenario(state, monitor_src, vehicle)
+        if not scenario.facts and pv is not None and isinstance(pv["body"].get("facts"), list):
+            scenario.add(pv["body"]["facts"], ref(pv))
+        return scenario
 
-    @staticmethod
-    def _atoms(rb: Rulebook, scenario: Scenario, findings: list[dict]) -> list[Atom]:
-        atoms = []
+    def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any,
+                  unknown: list[dict]) -> tuple[Answer | None, Any]:
+        monitor = rs["monitor"]
+        if monitor is None:
+            return None, None
+        rb = monitor.rulebook
+        answer = self.engine.ask(rb, Atom("potentially_violates", (me, act)), self.reader.atoms(rb, mscen.facts, unknown))
+        rule = rb.rule(answer.proofs[0]["rule"]) if answer.holds else None
+        return answer, rule
+
+    def _validate(self, incident: dict, rs: RuleSet, state: dict, vehicle: str, me: Any, act: Any,
+                  vscen: Scenario, mscen: Scenario, unknown: list[dict]) -> None:
+        choice = rs["validator"]
+        if choice is None:
+            incident["why"] = "no rulebook defines punishable and mitigated violations"
+            return
+        rb = choice.rulebook
+        incident["rulebook"] = choice.describe()
+        mine = self._pairs(rb, vscen, unknown)
+        seen = self._pairs(rb, mscen, unknown)
+        pv_atom = Atom("potentially_violates", (me, act))
+        if incident["judged_on"] == "vehicle scenario":
+            monitor_rb = rs["monitor"].rulebook if rs["monitor"] else rb
+            others = {constant([src.split("/", 1)[1]]) for src in state["entities"] if "/" in src} - {me}
+            facts, disputes = corrected(mine, seen, witnessed_functors(monitor_rb), me, others)
+        else:
+            spawn = (state["entities"].get(f"vehicle/{vehicle}") or {}).get("spawn")
+            facts = ([(a, ref(spawn, state["run"], "entity.spawn")) for a in self._atoms(rb, spawn_facts(
+                vehicle, spawn["body"]))] if spawn else []) + seen
+            disputes = []
+        verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=True)
+        incident["verdict"] = verdict
+        incident["scenarios"]["validator"] = [(rb.render(a), ev) for a, ev in facts]
+        evidence = {rb.render(a): ev for a, ev in facts}
+        incident["proofs"]["verdict"] = {"rulebook": rb.sha256, "trees": [
+            enrich(tree, rb, evidence) for tree in (answer.proofs[:1] or [answer.why_not] if answer else [])]}
+        if disputes:
+            alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
+            if alt != verdict:
+                incident["findings"].append(dispute_finding(disputes, rb, alt, verdict))
+        if incident["rule"] is None and answer and answer.holds:
+            rule = rb.rule(answer.proofs[0]["rule"])
+            incident["rule"], incident["law"] = (rule.label, rule.law) if rule else (None, None)
+        incident["why"] = {
+            "punishable": f"\"{action_text(rb, me, act)}\" is not among the lawful actions of the Validator Scenario",
+            "mitigated": f"\"{action_text(rb, me, act)}\" is among the lawful actions of the Validator Scenario",
+            "dismissed": "the validator rules establish neither a punishable nor a mitigated violation",
+        }[verdict]
+        if verdict == "punishable":
+            sentences = [rb.render(a) for a, _ in facts]
+            self._penalty_and_liability(incident, rs, vehicle, me, act, sentences)
+
+    def _verdict(self, rb: Rulebook, me: Any, act: Any, atoms: list[Atom], proofs: bool) -> tuple[str, Answer | None]:
+        if not proofs:
+            if self.engine.holds(rb, Atom("punishably_violates", (me, act)), atoms):
+                return "punishable", None
+            return ("mitigated" if self.engine.holds(rb, Atom("mitigately_violates", (me, act)), atoms)
+                    else "dismissed"), None
+        punishable = self.engine.ask(rb, Atom("punishably_violates", (me, act)), atoms)
+        if punishable.holds:
+            return "punishable", punishable
+        mitigated = self.engine.ask(rb, Atom("mitigately_violates", (me, act)), atoms)
+        return ("mitigated" if mitigated.holds else "dismissed"), (mitigated if mitigated.holds else punishable)
+
+    def _penalty_and_liability(self, incident: dict, rs: RuleSet, vehicle: str, me: Any, act: Any,
+                               sentences: list[str]) -> None:
+        punish = Atom("punishably_violates", (me, act))
+        penalty = None
+        if (pen := rs["penalties"]) is not None:
+            penalty = self._penalty(pen.rulebook, me, self._atoms(pen.rulebook, sentences) + [punish])
+        liability = None
+        if (lia := rs["liability"]) is not None:
+            facts = self._atoms(lia.rulebook, liability_facts(vehicle, incident["control"])) + [punish]
+            liability = self._liability(lia.rulebook, me, act, facts)
+            incident["liable"] = next((r for r in LIABLE_ORDER if r in liability["parties"]),
+                                      liability["parties"][0] if liability["parties"] else "none")
+            incident["liability"] = liability
+        if penalty is not None:
+            if liability is not None:
+                penalty["points_by_law"] = penalty["points"]
+                penalty["points"] = penalty["points"] if liability["licence_points"] else 0
+                penalty["regulatory_sanctions"] = liability["sanctions"]
+            incident["penalty"] = penalty
+
+    def _penalty(self, rb: Rulebook, me: Any, facts: list[Atom]) -> dict | None:
+        question = [Cond(atom=Atom("incurs_a_fixed_penalty_of_pounds_and_penalty_points_for",
+                                   (me, Var("amount"), Var("points"), Var("offence"))))]
+        found = []
+        for binding in self.engine.answers(rb, question, facts).bindings:
+            _, _, amount, points, offence = binding[0]
+            law = self.engine.answers(rb, [Cond(atom=Atom("is_an_offence_under", (offence, Var("law"))))], facts)
+            found.append({"offence": arg_text(offence), "law": arg_text(law.bindings[0][0][2]) if law.bindings
+                          else None, "fine_gbp": amount, "points": points})
+        if not found:
+            return None
+        found.sort(key=lambda p: (-_num(p["fine_gbp"]), -_num(p["points"]), p["offence"]))
+        return {**found[0], "offences": found} if len(found) > 1 else found[0]
+
+    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom]) -> dict:
+        def parties(functor: str) -> list[str]:
+            question = [Cond(atom=Atom(functor, (Var("party"), act, me)))]
+            return [role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts).bindings]
+
+        liable = self.engine.answers(rb, [Cond(atom=Atom("is_liable_for_the_violation_of_by",
+                                                         (Var("party"), act, me)))], facts, explain=True)
+        return {"parties": [role(arg_text(b[0][1])) for b in liable.bindings],
+                "licence_points": parties("gets_licence_penalty_points_for_the_violation_of_by"),
+                "sanctions": parties("faces_regulatory_sanctions_for_the_violation_of_by"),
+                "facts": [rb.render(a) for a in facts],
+                "rulebook": rb.sha256,
+                "trees": [enrich(tree, rb) for trees in liable.proofs[:1] for tree in trees]}
+
+    # -- helpers --------------------------------------------------------------------------
+    def _pairs(self, rb: Rulebook, scenario: Scenario, unknown: list[dict]) -> Pairs:
+        out = []
         for sentence, evidence in scenario.facts:
-            atom = parse_fact(sentence, rb.document.templates)
+            atom = self.reader.atom(rb, sentence)
             if atom is None:
-                findings.append({"kind": "unknown fact", "fact": sentence, "evidence": [evidence],
-                                 "detail": "no template of the rulebook fits this sentence"})
+                unknown.append(unknown_fact(sentence, evidence, rb))
             else:
-                atoms.append(atom)
-        return atoms
+                out.append((atom, evidence))
+        return out
+
+    def _atoms(self, rb: Rulebook, sentences: list[str]) -> list[Atom]:
+        return [a for a in (self.reader.atom(rb, s) for s in sentences) if a is not None]
 
 
-def _fact_refs(*scenarios: Scenario) -> list[dict]:
-    seen, refs = set(), []
-    for scenario in scenarios:
-        for _, r in scenario.facts:
-            key = (r["src"], r["seq"])
-            if key not in seen:
-                seen.add(key)
-                refs.append(r)
-    return refs
+def action_text(rb: Rulebook, me: Any, act: Any) -> str:
+    return rb.render(Atom("can", (me, act))) if "can" in rb.document.templates else f"{me} can {act}"
 
 
-def _liable(verdict: str, spawn: dict | None) -> str:
-    """Skeleton rule: a punishable violation by a human-driven vehicle is the driver's.
+def _dedup_unknown(unknown: list[dict]) -> list[dict]:
+    """One finding per unknown sentence and event, however many stages tried to read it."""
+    seen, out = set(), []
+    for f in unknown:
+        key = (f["fact"], tuple((e["src"], e["seq"]) for e in f["evidence"]))
+        if key not in seen:
+            seen.add(key)
+            out.append(f)
+    return out
 
-    Liability in LE over the ads.event history (driver, user-in-charge, ASDE, operator) is
-    issue 5's `liability.le`; until then an automated vehicle's case is left undetermined.
-    """
-    if verdict != "punishable":
-        return "none"
-    driver = (spawn or {}).get("body", {}).get("driver", "human")
-    return "driver" if driver == "human" else "undetermined"
+
+def _disagreement(event: dict, mscen: Scenario, recorded: bool) -> dict:
+    if recorded:
+        detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
+                  "its own observation of the vehicle" if mscen.facts else
+                  "the monitor recorded this potential violation without any observation of the vehicle to "
+                  "support it")
+    else:
+        detail = ("the monitor rules derive a potential violation from the monitor's observations, but the "
+                  "monitor did not record one")
+    return {"kind": "monitor disagreement", "detail": detail,
+            "evidence": [ref(event)] + [ev for _, ev in mscen.facts[:1]]}
+
+
+def _proofs(answer: Answer | None, choice, scenario: Scenario) -> dict:
+    if answer is None or choice is None:
+        return {"rulebook": None, "trees": []}
+    rb = choice.rulebook
+    trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
+    return {"rulebook": rb.sha256, "trees": [enrich(tree, rb, scenario.evidence) for tree in trees]}
+
+
+def _last_seen(state: dict, vehicle: str) -> int | None:
+    record = state["entities"].get(f"vehicle/{vehicle}") or {}
+    times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
+    return max(times) if times and not record.get("despawned") else None
+
+
+def _num(value: Any) -> float:
+    return value if isinstance(value, (int, float)) else 0
+
+
+def _evidence(anchor: dict, run: str, mscen: Scenario, vscen: Scenario, decision: dict | None,
+              control: dict, incident: dict) -> list[dict]:
+    refs = [ref(anchor)] + [ev for _, ev in (*mscen.facts, *vscen.facts)]
+    if decision:
+        refs.append(decision["evidence"])
+    if control.get("last_ads_event"):
+        last = control["last_ads_event"]
+        refs.append({"run": run, "src": last["src"], "seq": last["seq"], "t": last["t"], "kind": "ads.event"})
+    for f in incident["findings"]:
+        refs += f.get("evidence", [])
+    seen, out = set(), []
+    for r in refs:
+        key = (r["src"], r["seq"])
+        if key not in seen:
+            seen.add(key)
+            out.append(r)
+    return out

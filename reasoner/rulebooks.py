@@ -9,3 +9,8 @@ CURRENT = "paper.le"     # what a run that names no rulebook is judged with
 
 def bundled(name: str = CURRENT) -> str:
     return (RULES_DIR / name).read_text(encoding="utf-8")
+
+# What a run that records no rulebook (or not one for a stage) is judged with: the Highway Code
+# junction rulebooks, in the order a stage looks for the first one that defines its sentence
+# (highway_code.le before validators.le: the vehicle's "can" is the Highway Code's own).
+CURRENT_SET = ("highway_code.le", "monitors.le", "validators.le", "penalties.le", "liability.le")

@@ -1,75 +1,111 @@
-"""Reconstructing the paper's scenarios at a moment from the recorded events alone.
+"""The paper's scenarios at a moment, read off the store's state at that time.
 
-Vehicle Scenario: the vehicle's latest perception at or before t plus what its spawn says it
-is.  Monitor Scenario: the monitor's latest observation of that vehicle.  Vehicle Action: its
-latest decision.  Every fact keeps the event it came from, so explanations can cite evidence.
+`store.state.state_at(store, run, t)` folds the record up to t; this module cuts from it what the
+reasoner asks about (DESIGN "Reasoning"):
+
+    Vehicle Scenario   V's latest vehicle.perception at or before t, with what its spawn says
+    Vehicle Action     V's latest vehicle.decision (goal, action, permitted, proceeds)
+    Monitor Scenario   the facts of a monitor's latest observation of V
+
+Every fact keeps the event that recorded it, so an explanation can cite its evidence.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
-from store import Store
+KIND_OF_SLOT = {"spawn": "entity.spawn", "state": "entity.state", "perception": "vehicle.perception",
+                "decision": "vehicle.decision", "despawned": "entity.despawn"}
 
 
-def ref(event: dict) -> dict:
-    """How an explanation points at an event: run, source, sequence number and time."""
-    return {"run": event["run"], "src": event["src"], "seq": event["seq"], "t": event["t"],
-            "kind": event["kind"]}
+def ref(event: dict, run: str | None = None, kind: str | None = None) -> dict:
+    """How an explanation points at an event: run, source, sequence number, time and kind.
+    Takes a whole event, or a piece of folded state with the run and kind it lacks."""
+    return {"run": event.get("run", run), "src": event["src"], "seq": event["seq"], "t": event["t"],
+            "kind": event.get("kind", kind)}
 
 
 @dataclass
 class Scenario:
-    """Facts as LE sentences, each with the event that recorded it."""
+    """Facts as LE sentences (no final full stop), each with the event that recorded it."""
 
     facts: list[tuple[str, dict]] = field(default_factory=list)
 
-    def add(self, sentences: list[str], event: dict) -> None:
-        for s in sentences:
-            self.facts.append((s.strip().rstrip("."), ref(event)))
+    def add(self, sentences: Any, evidence: dict) -> None:
+        known = set(self.sentences)
+        for s in sentences if isinstance(sentences, list) else []:
+            text = s.strip().rstrip(".").strip() if isinstance(s, str) else s
+            if text not in known:
+                known.add(text)
+                self.facts.append((text, evidence))
 
     @property
-    def sentences(self) -> list[str]:
+    def sentences(self) -> list:
         return [s for s, _ in self.facts]
 
-
-def latest(store: Store, run: str, kind: str, src: str, t: int, where=None) -> dict | None:
-    """The last event of a kind from a source at or before t (optionally matching `where`)."""
-    found = None
-    for ev in store.events(run, kinds=[kind], srcs=[src], t_to=t):
-        if where is None or where(ev):
-            found = ev
-    return found
+    @property
+    def evidence(self) -> dict:
+        """sentence -> event ref, for citing facts in proof trees."""
+        return {s: r for s, r in self.facts if isinstance(s, str)}
 
 
-def spawn_facts(spawn: dict) -> list[str]:
-    """What an entity.spawn says about the vehicle, in the core vocabulary of DESIGN."""
-    vid = spawn["src"].split("/", 1)[1]
-    facts = [f"{vid} is of type {spawn['body']['type']}"]
-    if spawn["body"].get("emergency"):
-        facts.append(f"{vid} is on an emergency call")
+def vehicle_id(src: str) -> str:
+    return src.split("/", 1)[1] if "/" in src else src
+
+
+def spawn_facts(vehicle: str, body: dict) -> list[str]:
+    """What an entity.spawn says about the vehicle, in DESIGN's core vocabulary."""
+    facts = []
+    if isinstance(body.get("type"), str):
+        facts.append(f"{vehicle} is of type {body['type']}")
+    if body.get("emergency") is True:
+        facts.append(f"{vehicle} is on an emergency call")
     return facts
 
 
-def vehicle_scenario(store: Store, run: str, vehicle: str, t: int) -> Scenario:
-    src = f"vehicle/{vehicle}"
+def entity(state: dict, vehicle: str) -> dict | None:
+    return state["entities"].get(f"vehicle/{vehicle}")
+
+
+def vehicle_scenario(state: dict, vehicle: str) -> Scenario:
+    """Spawn facts, then the latest perception's (a fact stated by both cites the spawn)."""
     scenario = Scenario()
-    if spawn := latest(store, run, "entity.spawn", src, t):
-        scenario.add(spawn_facts(spawn), spawn)
-    if perception := latest(store, run, "vehicle.perception", src, t):
-        known = set(scenario.sentences)
-        scenario.add([f for f in perception["body"]["facts"] if f.strip().rstrip(".") not in known],
-                     perception)
+    record = entity(state, vehicle) or {}
+    run = state["run"]
+    if spawn := record.get("spawn"):
+        scenario.add(spawn_facts(vehicle, spawn["body"]), ref(spawn, run, "entity.spawn"))
+    if perception := record.get("perception"):
+        scenario.add(perception["body"].get("facts"), ref(perception, run, "vehicle.perception"))
     return scenario
 
 
-def monitor_scenario(store: Store, run: str, monitor_src: str, vehicle: str, t: int) -> Scenario:
+def has_perception(state: dict, vehicle: str) -> bool:
+    return bool((entity(state, vehicle) or {}).get("perception"))
+
+
+def vehicle_action(state: dict, vehicle: str) -> dict | None:
+    """The latest decision as {goal, action, permitted, proceeds, rulebook, evidence}."""
+    decision = (entity(state, vehicle) or {}).get("decision")
+    if not decision:
+        return None
+    body = decision["body"]
+    return {"goal": body.get("goal"), "action": body.get("action"), "permitted": body.get("permitted"),
+            "proceeds": body.get("proceeds"), "rulebook": body.get("rulebook"),
+            "evidence": ref(decision, state["run"], "vehicle.decision")}
+
+
+def observation(state: dict, monitor_src: str, vehicle: str) -> dict | None:
+    monitor = state["monitors"].get(monitor_src)
+    return None if monitor is None else monitor["observations"].get(vehicle)
+
+
+def monitor_scenario(state: dict, monitor_src: str, vehicle: str) -> Scenario:
     scenario = Scenario()
-    obs = latest(store, run, "monitor.observation", monitor_src, t,
-                 where=lambda ev: str(ev["body"]["vehicle"]) == vehicle)
-    if obs:
-        scenario.add(obs["body"]["facts"], obs)
+    if obs := observation(state, monitor_src, vehicle):
+        scenario.add(obs["body"].get("facts"), ref(obs, state["run"], "monitor.observation"))
     return scenario
 
 
-def vehicle_action(store: Store, run: str, vehicle: str, t: int) -> dict | None:
-    return latest(store, run, "vehicle.decision", f"vehicle/{vehicle}", t)
+def monitors_of(state: dict, vehicle: str) -> list[str]:
+    """The monitors that have observed V by the time of the state."""
+    return sorted(src for src, m in state["monitors"].items() if vehicle in m["observations"])

@@ -51,4 +51,6 @@ def test_monitor_disagreement_and_unknown_facts_are_findings(tmp_path, events):
     found = verdicts(tmp_path, events)["173"]
     kinds = [f["kind"] for f in found["findings"]]
     assert "monitor disagreement" in kinds and "unknown fact" in kinds
-    assert found["verdict"] == "punishable"      # judged on the recorded potential violation
+    # the monitor's own observation (green) does not support what it recorded: dismissed, and why
+    assert found["verdict"] == "dismissed" and "observation" in found["why"]
+    assert found["recorded"] and not found["rederived"]

@@ -1,0 +1,146 @@
+"""Potential violations re-derived off line from what the monitors observed, as episodes.
+
+A monitor observes a vehicle many times a second; the monitor rules hold on every observation
+from the moment it passes the red light until it is through. One incident is one *episode*: the
+consecutive observations of a vehicle by a monitor on which the rules derive the same action,
+ended by an observation on which they do not, or by EPISODE_GAP_S without an observation.
+Recorded potential violations are matched to the episode they fall in (within MATCH_S), so a
+recorded one that no observation supports, and an episode nobody recorded, both show.
+
+Re-deriving means asking the monitor rulebook once per observation. Most observations differ
+from others only in which vehicle they are about, so answers are cached by the observation's
+*shape*: its sentences with the vehicle's own id blanked. That is sound because a rulebook's
+rules treat a constant they never mention like any other: if the rulebook does mention the
+vehicle's id, the shape keeps it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Iterator
+
+from .engine import Engine, Rulebook
+from .facts import FactReader, plain_constants, walk_atoms
+from .le.render import arg_text
+from .le.sentences import constant
+from .le.terms import Atom, Cond, Var
+
+SECOND = 1_000_000_000
+EPISODE_GAP_S = 5
+MATCH_S = 2
+_BLANK = "\x00"
+
+
+@dataclass
+class Episode:
+    monitor: str
+    vehicle: str
+    action: str
+    observations: list[dict] = field(default_factory=list)   # the observation events, in order
+    recorded: list[dict] = field(default_factory=list)       # the matched potential violations
+
+    @property
+    def first(self) -> dict:
+        return self.observations[0]
+
+    @property
+    def last(self) -> dict:
+        return self.observations[-1]
+
+    def observation_at(self, t: int) -> dict:
+        """The observation the monitor had at t: the last at or before it, else the first."""
+        found = self.first
+        for obs in self.observations:
+            if obs["t"] > t:
+                break
+            found = obs
+        return found
+
+
+def rule_constants(rb: Rulebook) -> set:
+    """Every constant the rulebook's rules mention (the shapes must keep these)."""
+    out: set = set()
+    for rule in rb.document.rules:
+        for atom in walk_atoms([rule.head, rule.body]):
+            out |= plain_constants(atom.args)
+    return out
+
+
+class Rederiver:
+    """Asks a monitor rulebook which actions each observation shows a vehicle potentially violating."""
+
+    def __init__(self, engine: Engine, rb: Rulebook, reader: FactReader) -> None:
+        self.engine, self.rb, self.reader = engine, rb, reader
+        self._mentioned = {str(c) for c in rule_constants(rb)}
+        self._question = [Cond(atom=Atom("potentially_violates", (Var("vehicle"), Var("action"))))]
+        self._cache: dict[tuple, frozenset[str]] = {}
+        self.asked = 0
+
+    def actions(self, vehicle: str, facts: Any) -> frozenset[str]:
+        sentences = [s for s in facts if isinstance(s, str)] if isinstance(facts, list) else []
+        key = self._shape(vehicle, sentences)
+        found = self._cache.get(key)
+        if found is None:
+            found = self._cache[key] = self._ask(vehicle, sentences)
+        return found
+
+    def _shape(self, vehicle: str, sentences: list[str]) -> tuple:
+        if vehicle in self._mentioned:
+            return (vehicle, *sorted(set(sentences)))
+        return tuple(sorted({" ".join(_BLANK if w == vehicle else w for w in s.split()) for s in sentences}))
+
+    def _ask(self, vehicle: str, sentences: list[str]) -> frozenset[str]:
+        self.asked += 1
+        atoms = [a for a in (self.reader.atom(self.rb, s) for s in sentences) if a is not None]
+        if not atoms:
+            return frozenset()
+        me = constant([vehicle])
+        result = self.engine.answers(self.rb, self._question, atoms)
+        return frozenset(arg_text(b[0][2]) for b in result.bindings if b[0][1] == me)
+
+
+def episodes(observations: Iterable[dict], rederiver: Rederiver) -> Iterator[Episode]:
+    """The episodes of a run's observations, given in (t, seq, src) order, as they close."""
+    open_: dict[tuple[str, str], dict[str, Episode]] = {}
+    for obs in observations:
+        body = obs["body"]
+        vehicle = body.get("vehicle")
+        if not isinstance(vehicle, (str, int)) or isinstance(vehicle, bool):
+            continue
+        vehicle = str(vehicle)
+        key = (obs["src"], vehicle)
+        derived = rederiver.actions(vehicle, body.get("facts"))
+        current = open_.setdefault(key, {})
+        for action in list(current):
+            episode = current[action]
+            if action not in derived or obs["t"] - episode.last["t"] > EPISODE_GAP_S * SECOND:
+                yield current.pop(action)
+        for action in derived:
+            episode = current.get(action)
+            if episode is None:
+                episode = current[action] = Episode(obs["src"], vehicle, action)
+            episode.observations.append(obs)
+    for current in open_.values():
+        yield from current.values()
+
+
+def match(episode_list: list[Episode], recorded: Iterable[dict]) -> list[tuple[dict, Episode | None]]:
+    """Each recorded potential violation with the episode it falls in (None: none does)."""
+    index: dict[tuple[str, str, str], list[Episode]] = {}
+    for ep in episode_list:
+        index.setdefault((ep.monitor, ep.vehicle, ep.action), []).append(ep)
+    out = []
+    for pv in recorded:
+        body = pv["body"]
+        key = (pv["src"], str(body.get("vehicle")), str(body.get("action")))
+        best, distance = None, None
+        for ep in index.get(key, []):
+            lo, hi = ep.first["t"] - MATCH_S * SECOND, ep.last["t"] + MATCH_S * SECOND
+            if lo <= pv["t"] <= hi:
+                d = 0 if ep.first["t"] <= pv["t"] <= ep.last["t"] else min(abs(pv["t"] - ep.first["t"]),
+                                                                             abs(pv["t"] - ep.last["t"]))
+                if distance is None or d < distance:
+                    best, distance = ep, d
+        if best is not None:
+            best.recorded.append(pv)
+        out.append((pv, best))
+    return out

@@ -1,0 +1,101 @@
+"""Findings about the record itself: decision faults and missing evidence.
+
+(Perception faults are in perception.py, monitor disagreements come from matching episodes,
+unknown facts from facts.py.) Each finding is {"kind", "detail", "evidence": [event refs], ...}.
+"""
+from __future__ import annotations
+
+import sqlite3
+from typing import Any
+
+from .engine import Engine
+from .facts import FactReader
+from .le.sentences import constant
+from .rulesets import Choice
+
+SECOND = 1_000_000_000
+WINDOW_S = 10    # a sequence gap this close to an incident is missing evidence about it
+SILENT_S = 5     # a source that reported before the incident and not for this long went silent
+
+
+def decision_fault(engine: Engine, reader: FactReader, choice: Choice | None, vehicle: str,
+                   action: dict | None, perceived: list[tuple[Any, dict]], unknown: list[dict]) -> dict | None:
+    """Whether the vehicle's recorded decision contradicts its own rulebook on its own perception.
+
+    Two ways: the `permitted` it recorded is not what the rulebook answers (a wrong answer, or a
+    tampered one), or it proceeded though the rulebook did not permit the action."""
+    if action is None or choice is None or not isinstance(action.get("goal"), str):
+        return None
+    rb = choice.rulebook
+    goal = reader.atom(rb, action["goal"])
+    if goal is None:
+        unknown.append({"kind": "unknown fact", "fact": action["goal"][:200], "evidence": [action["evidence"]],
+                        "detail": f"the decision's goal is not a sentence of {rb.name}; its decision "
+                                  "could not be checked"})
+        return None
+    if constant([vehicle]) not in goal.args:
+        return None
+    permitted = engine.ask(rb, goal, reader.atoms(rb, perceived)).holds
+    recorded, proceeds = action.get("permitted"), action.get("proceeds")
+    said = f'its own rulebook ({rb.name}) on its own perception answers "{action["goal"]}": {_yes(permitted)}'
+    if isinstance(recorded, bool) and recorded != permitted:
+        detail = f"the vehicle recorded permitted={_yes(recorded)} but {said}"
+    elif proceeds is True and not permitted:
+        detail = f"the vehicle proceeded although {said}"
+    else:
+        return None
+    return {"kind": "decision fault", "detail": detail, "evidence": [action["evidence"]],
+            "recomputed_permitted": permitted, "recorded_permitted": recorded, "proceeds": proceeds}
+
+
+def _yes(value: Any) -> str:
+    return {True: "yes", False: "no"}.get(value, str(value))
+
+
+def missing_evidence(conn: sqlite3.Connection, run: str, gaps: list[dict], srcs: list[str], t: int,
+                     last_seen: dict[str, int | None]) -> list[dict]:
+    """Sequence gaps of the sources an incident rests on, near it; and sources gone silent.
+
+    A gap is near when the events on either side of it bracket a moment within WINDOW_S of t.
+    A source is silent if it had reported before t but not within SILENT_S before t, and
+    reports nothing again (or nothing of that source) within SILENT_S after it."""
+    out = []
+    lo, hi = t - WINDOW_S * SECOND, t + WINDOW_S * SECOND
+    for gap in gaps:
+        if gap["src"] not in srcs:
+            continue
+        for first, last in gap["missing"]:
+            before = _t_of(conn, run, gap["src"], first - 1)
+            after = _t_of(conn, run, gap["src"], last + 1)
+            if (before is None or before <= hi) and (after is None or after >= lo):
+                out.append({"kind": "missing evidence", "src": gap["src"], "missing_seq": [first, last],
+                            "evidence": [], "detail": f"{gap['src']} events {first} to {last} are missing "
+                            f"from the record, between {_when(before)} and {_when(after)}, within "
+                            f"{WINDOW_S} s of the incident"})
+    for src, seen in last_seen.items():
+        if seen is None or t - seen <= SILENT_S * SECOND:
+            continue
+        next_t = _next_t(conn, run, src, t)
+        if next_t is None or next_t - t > SILENT_S * SECOND:
+            out.append({"kind": "missing evidence", "src": src, "evidence": [],
+                        "detail": f"{src} went silent: its last report before the incident was "
+                                  f"{(t - seen) / SECOND:.1f} s earlier, and it reported nothing in the "
+                                  f"{SILENT_S} s after it"})
+    return out
+
+
+def _t_of(conn: sqlite3.Connection, run: str, src: str, seq: int) -> int | None:
+    if seq < 0:
+        return None
+    row = conn.execute("SELECT t FROM events WHERE run = ? AND src = ? AND seq = ?", (run, src, seq)).fetchone()
+    return row[0] if row else None
+
+
+def _next_t(conn: sqlite3.Connection, run: str, src: str, t: int) -> int | None:
+    row = conn.execute("SELECT min(t) FROM events WHERE run = ? AND t > ? AND t <= ? AND src = ?",
+                       (run, t, t + SILENT_S * SECOND, src)).fetchone()
+    return row[0] if row else None
+
+
+def _when(t: int | None) -> str:
+    return "the start" if t is None else f"t={t}"
