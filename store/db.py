@@ -7,6 +7,7 @@ the highest stored seq of each source are cached (store/heads.py), rows are buil
 
 from __future__ import annotations
 
+import heapq
 import json
 import os
 import sqlite3
@@ -15,6 +16,7 @@ from contextlib import contextmanager
 from typing import Any, Callable, Collection, Iterable, Iterator
 
 from . import ddl, queries, rulebooks
+from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
 from .intake import Candidate, from_raw
@@ -185,9 +187,18 @@ class Store:
         t_to: int | None = None,
     ) -> Iterator[dict]:
         """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive."""
+        wanted = None if kinds is None else sorted(set(queries.collection("kinds", kinds)))
+        if wanted is not None and len(wanted) > 1 and not set(wanted) & set(DENSE_KINDS):
+            # one index range per kind, merged: cheaper than the whole run's time index
+            streams = [self._rows(run, [kind], srcs, t_from, t_to) for kind in wanted]
+            rows: Iterator[tuple] = heapq.merge(*streams)
+        else:
+            rows = self._rows(run, wanted, srcs, t_from, t_to)
+        return (json.loads(row[3]) for row in rows)
+
+    def _rows(self, run: str, kinds, srcs, t_from, t_to) -> Iterator[tuple]:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
-        cursor = self._conn.execute(sql, params)
-        return (json.loads(text) for (text,) in cursor)
+        return self._conn.execute(sql, params)
 
     def runs(self) -> list[dict[str, Any]]:
         """{run, events, first_t, last_t, sources} for every run with events, by run name."""

@@ -75,7 +75,17 @@ _V2 = (
     "CREATE INDEX rulebooks_by_name ON rulebooks (name, version)",
 )
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2}
+# The kinds recorded many times a second per source. Every other kind is indexed by kind too,
+# so that the reasoner finds a run's potential violations, observations, decisions, spawns and
+# ADS events without reading past millions of states; the dense ones are left out of that index
+# so that it costs the append path little (a partial index: queries must repeat its WHERE term,
+# see queries.select_events).
+DENSE_KINDS = ("entity.state", "vehicle.perception", "vehicle.trace")
+SPARSE_ONLY = "kind NOT IN (" + ", ".join(f"'{k}'" for k in DENSE_KINDS) + ")"
+
+_V3 = (f"CREATE INDEX events_by_kind ON events (run, kind, t, seq, src) WHERE {SPARSE_ONLY}",)
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

@@ -9,8 +9,10 @@ from __future__ import annotations
 import sqlite3
 from typing import Any, Collection, Iterator
 
+from .ddl import DENSE_KINDS, SPARSE_ONLY
 
-def _collection(name: str, values: Collection[str] | None) -> tuple[str, ...] | None:
+
+def collection(name: str, values: Collection[str] | None) -> tuple[str, ...] | None:
     """A filter's values; a bare string is refused rather than read as a set of characters."""
     if values is None:
         return None
@@ -28,17 +30,20 @@ def select_events(
 ) -> tuple[str, list[Any]]:
     """SQL and parameters for a run's events in (t, seq, src) order; t_to is inclusive."""
     clauses, params = ["run = ?"], [run]
-    for column, values in (("kind", _collection("kinds", kinds)), ("src", _collection("srcs", srcs))):
+    for column, values in (("kind", collection("kinds", kinds)), ("src", collection("srcs", srcs))):
         if values is not None:
             clauses.append(f"{column} IN ({','.join('?' * len(values))})")
             params.extend(values)
+    wanted = collection("kinds", kinds)
+    if wanted is not None and not set(wanted) & set(DENSE_KINDS):
+        clauses.append(SPARSE_ONLY)  # verbatim, so that SQLite may use the partial index by kind
     if t_from is not None:
         clauses.append("t >= ?")
         params.append(t_from)
     if t_to is not None:
         clauses.append("t <= ?")
         params.append(t_to)
-    sql = f"SELECT event FROM events WHERE {' AND '.join(clauses)} ORDER BY t, seq, src"
+    sql = f"SELECT t, seq, src, event FROM events WHERE {' AND '.join(clauses)} ORDER BY t, seq, src"
     return sql, params
 
 
