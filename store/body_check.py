@@ -29,7 +29,13 @@ def validator(kind: str) -> Validator:
 
 
 def body_ok(kind: str, body: Any) -> bool:
-    """Does the body satisfy its schema? The fast yes/no of the append path."""
+    """Does the body satisfy its schema? The fast yes/no of the append path: the kind's quick
+    check first (below), fastjsonschema when that cannot say yes."""
+    check = _first_checks.get(kind)
+    if check is None:
+        check = _first_checks[kind] = quick(kind) or _cannot_tell
+    if check(body):
+        return True
     try:
         (_compiled.get(kind) or validator(kind))(body)
     except (fastjsonschema.JsonSchemaValueException, RecursionError):
@@ -51,3 +57,161 @@ def body_problem(kind: str, body: Any) -> tuple[str, str] | None:
     except RecursionError:
         return "body", f"{kind} body is nested too deeply to check"
     return None
+
+
+# --- a faster yes for the common case -----------------------------------------------------------
+#
+# fastjsonschema's code is general (it builds two sets per object, accepts Decimal and
+# subclasses, keeps definitions for its messages) and is most of the cost of checking an event.
+# For each kind, `quick` compiles the schema's flat properties into one expression that answers
+# True only when the body surely satisfies the schema: exact built-in types, and only the
+# keywords below. Anything else it answers False for, and fastjsonschema decides as before, so
+# the quick check can make an append faster but can never let a body through that the schema
+# refuses (tests/store/test_store_body_validation.py checks this on generated bodies).
+
+_ANNOTATIONS = frozenset(("description", "title", "$comment", "examples", "$schema", "$id", "x-src-roles"))
+_TYPE_TESTS = {
+    # exact types only: a subclass, a Decimal or a float 'integer' goes to fastjsonschema
+    "string": "type({v}) is str",
+    "number": "(type({v}) is float or type({v}) is int)",
+    "integer": "type({v}) is int",
+    "boolean": "({v} is True or {v} is False)",
+    "null": "{v} is None",
+    "array": "type({v}) is list",
+    "object": "type({v}) is dict",
+}
+_KEYWORDS_BY_TYPE = {  # keywords the quick check understands, by the JSON type they constrain
+    "string": {"minLength": "len({v}) >= {n}", "maxLength": "len({v}) <= {n}"},
+    "number": {"minimum": "{v} >= {n}", "maximum": "{v} <= {n}"},
+    "integer": {"minimum": "{v} >= {n}", "maximum": "{v} <= {n}"},
+    "array": {"minItems": "len({v}) >= {n}", "maxItems": "len({v}) <= {n}"},
+}
+
+
+class _Unsupported(Exception):
+    """A schema uses something the quick check does not model; fastjsonschema decides it."""
+
+
+class _Writer:
+    """Python source for the quick check of one kind, with its helpers and constants."""
+
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        self.constants: dict[str, Any] = {}
+
+    def constant(self, value: Any) -> str:
+        name = f"_c{len(self.constants)}"
+        self.constants[name] = value
+        return name
+
+    def test(self, schema: Any, v: str) -> str:
+        """An expression over variable `v` that is true only if `v` satisfies `schema`."""
+        if not isinstance(schema, dict):
+            raise _Unsupported
+        known = _ANNOTATIONS | {"type", "enum", "items"} | {k for ks in _KEYWORDS_BY_TYPE.values() for k in ks}
+        if set(schema) - known:
+            raise _Unsupported
+        types = schema.get("type")
+        enum = schema.get("enum")
+        if types is None and enum is not None:
+            types = "string"  # only all-string enums are modelled (checked below)
+        if types is None:
+            raise _Unsupported
+        if isinstance(types, str):
+            types = [types]
+        if not isinstance(types, list) or not types or any(t not in _TYPE_TESTS for t in types):
+            raise _Unsupported
+        if enum is not None and not (isinstance(enum, list) and enum and all(type(e) is str for e in enum)):
+            raise _Unsupported
+        branches = []
+        for json_type in types:
+            parts = [_TYPE_TESTS[json_type].format(v=v)]
+            for keyword, template in _KEYWORDS_BY_TYPE.get(json_type, {}).items():
+                if keyword in schema:
+                    bound = schema[keyword]
+                    if type(bound) is not int and type(bound) is not float:
+                        raise _Unsupported
+                    parts.append(template.format(v=v, n=repr(bound)))
+            if enum is not None:
+                if json_type != "string":
+                    continue  # an all-string enum admits no value of another type
+                parts.append(f"{v} in {self.constant(frozenset(enum))}")
+            if "items" in schema and json_type == "array":
+                parts.append(f"{self.items(schema['items'])}({v})")
+            branches.append(" and ".join(parts))
+        if not branches:
+            raise _Unsupported
+        return "(" + " or ".join(f"({b})" for b in branches) + ")"
+
+    def items(self, schema: Any) -> str:
+        """The name of a helper that checks every element of a list against `schema`."""
+        name = f"_items{len(self.lines)}"
+        self.lines += [f"def {name}(values):", "    for x in values:",
+                       f"        if not {self.test(schema, 'x')}:", "            return False", "    return True"]
+        return name
+
+    def body(self, schema: dict) -> str:
+        """The quick check of an object schema with flat properties, as source."""
+        if set(schema) - (_ANNOTATIONS | {"type", "required", "properties", "additionalProperties"}):
+            raise _Unsupported
+        if schema.get("type") != "object" or schema.get("additionalProperties", True) is not True:
+            raise _Unsupported
+        required = schema.get("required", [])
+        properties = schema.get("properties", {})
+        if not isinstance(required, list) or not isinstance(properties, dict):
+            raise _Unsupported
+        missing = self.constant(object())
+        lines = ["def quick(body):", "    if type(body) is not dict:", "        return False",
+                 "    get = body.get"]
+        for name in required:
+            if name not in properties:
+                lines.append(f"    if {name!r} not in body:")
+                lines.append("        return False")
+        for name, subschema in properties.items():
+            try:
+                test = self.test(subschema, "v")
+            except _Unsupported:
+                test = "False"  # present: let fastjsonschema judge it; absent: nothing to check
+            lines.append(f"    v = get({name!r}, {missing})")
+            if name in required:
+                lines.append(f"    if v is {missing} or not {test}:")
+            else:
+                lines.append(f"    if v is not {missing} and not {test}:")
+            lines.append("        return False")
+        lines.append("    return True")
+        return "\n".join(self.lines + lines)
+
+
+def quick_source(schema: dict) -> str | None:
+    """The source of a kind's quick check (for reading and tests), None if it has none."""
+    try:
+        return _Writer().body(schema)
+    except _Unsupported:
+        return None
+
+
+def _compile_quick(schema: dict) -> Callable[[Any], bool] | None:
+    writer = _Writer()
+    try:
+        source = writer.body(schema)
+    except _Unsupported:
+        return None
+    namespace: dict[str, Any] = dict(writer.constants)
+    exec(compile(source, "<quick body check>", "exec"), namespace)  # our own generated source
+    return namespace["quick"]
+
+
+def quick(kind: str) -> Callable[[Any], bool] | None:
+    """The quick check of a known kind, None where its schema has no flat form
+    (KeyError for an unknown kind)."""
+    if kind not in _quick:
+        _quick[kind] = _compile_quick(SCHEMAS[kind])
+    return _quick[kind]
+
+
+_quick: dict[str, Callable[[Any], bool] | None] = {}
+_first_checks: dict[str, Callable[[Any], bool]] = {}  # quick check, or _cannot_tell where none
+
+
+def _cannot_tell(body: Any) -> bool:
+    return False

@@ -107,3 +107,20 @@ def canonical_json(obj: Any) -> bytes:
     except (TypeError, RecursionError):  # orjson.JSONEncodeError is a TypeError
         pass
     return reference_canonical_json(obj)
+
+
+def canonical_plain_event(ev: dict) -> bytes | None:
+    """canonical_json(ev) for the append path, or None where the caller must use canonical_json.
+
+    Only for an event whose envelope has been found plain (envelope._plainly_valid): exactly
+    the seven fields, v, seq and t ints of exact type within 64 bits, run, src and kind exact
+    strs, body an exact dict. orjson writes all of those as the reference does, so only the
+    body needs _same_in_orjson's walk; that saves a third of the cost per event.
+    """
+    try:
+        data = _ORJSON_DUMPS(ev, option=_SORT_KEYS)
+        if _same_in_orjson(ev["body"].values()):
+            return data
+    except (TypeError, RecursionError):
+        pass
+    return None

@@ -14,7 +14,7 @@ from operator import itemgetter
 from typing import Any, Callable
 
 from .body_check import body_ok, body_problem
-from .canonical import canonical_json
+from .canonical import canonical_json, canonical_plain_event
 from .describe import json_type as _json_type
 from .describe import show as _show
 from .kinds import KINDS, REQUIRED, SRC_ROLES
@@ -261,11 +261,16 @@ def _remember(seen: set, item: Any) -> None:
 
 def encode_event(ev: dict) -> bytes:
     """Validate an event and return its canonical bytes, the form the store hashes and keeps."""
-    validate_event(ev)
-    try:
-        data = canonical_json(ev)
-    except (ValueError, TypeError, RecursionError) as exc:
-        raise _error(ev, "body", f"cannot be written as canonical JSON: {exc}") from None
+    if _plainly_valid(ev):
+        data = canonical_plain_event(ev)
+    else:
+        validate_event(ev)
+        data = None
+    if data is None:
+        try:
+            data = canonical_json(ev)
+        except (ValueError, TypeError, RecursionError) as exc:
+            raise _error(ev, "body", f"cannot be written as canonical JSON: {exc}") from None
     if len(data) > MAX_EVENT_BYTES:
         problem = f"canonical form is {len(data)} bytes, over the {MAX_EVENT_BYTES}-byte limit"
         raise _error(ev, "size", problem)

@@ -178,3 +178,92 @@ def test_the_schemas_use_only_keywords_with_the_same_meaning_in_draft_2019_and_2
 def test_one_valid_event_of_every_kind_is_stored(store):
     report = store.append([event(0, kind=kind, run=kind.replace(".", "-")) for kind in KINDS])
     assert report.stored == len(KINDS)
+
+
+# --- the quick check in front of fastjsonschema: may say "not sure", never a wrong yes ----------
+
+import decimal  # noqa: E402
+
+import fastjsonschema  # noqa: E402
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+from store.body_check import body_ok, quick, quick_source  # noqa: E402
+
+
+class _Text(str):
+    pass
+
+
+def _schema_accepts(kind, body) -> bool:
+    try:
+        validator(kind)(body)
+    except fastjsonschema.JsonSchemaValueException:
+        return False
+    return True
+
+
+def _field_names(kind):
+    return sorted(SCHEMAS[kind].get("properties", {})) + ["extra"]
+
+
+_values = st.recursive(
+    st.none() | st.booleans() | st.integers(min_value=-3, max_value=8) | st.integers()
+    | st.floats() | st.sampled_from([0.0, -0.0, -1.5, 5.0, 5.5, 6.0])
+    | st.text(max_size=3) | st.sampled_from(["car", "red", "green", "activated", "human", "a" * 64, "0" * 64])
+    | st.builds(_Text, st.sampled_from(["car", "red", "x"])) | st.builds(decimal.Decimal, st.integers(0, 9)),
+    lambda children: st.lists(children, max_size=3) | st.lists(children, max_size=2).map(tuple)
+    | st.dictionaries(st.sampled_from(["id", "from", "to", "x"]), children, max_size=3),
+    max_leaves=8,
+)
+
+
+@st.composite
+def bodies(draw):
+    kind = draw(st.sampled_from(sorted(KINDS)))
+    names = _field_names(kind)
+    body = dict(BODIES[kind]) if draw(st.booleans()) else {}
+    for name in draw(st.lists(st.sampled_from(names), max_size=4)):
+        body[name] = draw(_values)
+    for name in draw(st.lists(st.sampled_from(names), max_size=2)):
+        body.pop(name, None)
+    return kind, body
+
+
+@settings(deadline=None, max_examples=1000)
+@given(bodies())
+def test_the_quick_check_never_accepts_what_the_schema_refuses(case):
+    kind, body = case
+    check = quick(kind)
+    if check is not None and check(body):
+        assert _schema_accepts(kind, body), (kind, body)
+    assert body_ok(kind, body) == _schema_accepts(kind, body)
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_the_quick_check_says_yes_to_the_plain_valid_bodies(kind):
+    """Else it would only cost time: the flat kinds must be answered without fastjsonschema."""
+    check = quick(kind)
+    if kind in ("run.start", "vehicle.trace"):  # nested schemas ($ref, oneOf): fastjsonschema alone
+        assert check is None and quick_source(SCHEMAS[kind]) is None
+        return
+    assert check is not None and check(dict(BODIES[kind]))
+
+
+@pytest.mark.parametrize("kind, body", [
+    ("entity.state", {"x": 1.0, "y": 2.0, "speed_mps": -0.5}),
+    ("entity.state", {"x": 1.0, "y": 2.0, "speed_mps": float("nan")}),
+    ("entity.state", {"x": True, "y": 2.0, "speed_mps": 1.0}),
+    ("entity.state", {"x": decimal.Decimal(1), "y": 2.0, "speed_mps": 1.0}),
+    ("entity.state", {"x": 1.0, "y": 2.0}),
+    ("entity.spawn", {"type": _Text("car")}),
+    ("entity.spawn", {"type": "car", "automation_level": 6}),
+    ("entity.spawn", {"type": "car", "automation_level": 4.0}),
+    ("signal.state", {"junction": "", "colour": "red"}),
+    ("vehicle.perception", {"facts": ("a",)}),
+    ("vehicle.perception", {"facts": ["a", ""]}),
+    ("vehicle.decision", {"goal": "g", "action": "a", "proceeds": True, "rulebook": "0" * 64}),
+    ("collision", {"entities": []}),
+])
+def test_the_quick_check_leaves_the_edge_cases_to_fastjsonschema(kind, body):
+    assert quick(kind)(body) is False
+    assert body_ok(kind, body) == _schema_accepts(kind, body)

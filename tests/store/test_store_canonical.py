@@ -244,3 +244,23 @@ def test_a_typical_event_takes_the_fast_path(monkeypatch):
                       "facts": ["173 has red light", "é"], "pair": (1, 2)}}
     assert canonical.canonical_json(event) == json.dumps(
         event, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False).encode()
+
+
+@settings(deadline=None, max_examples=1000)
+@given(st.dictionaries(any_text.filter(lambda k: k != "reason"), any_json, max_size=5),
+       st.integers(min_value=0, max_value=2**63 - 1), st.integers(min_value=-(2**63), max_value=2**63 - 1))
+def test_an_appended_event_is_stored_in_the_reference_form_whatever_its_body(body, seq, t):
+    """encode_event writes plain envelopes through canonical_plain_event, which walks only the
+    body: the envelope's own fields must never need the reference."""
+    from store.envelope import EventError, encode_event
+
+    ev = {"v": 1, "run": "r1", "src": "vehicle/173", "seq": seq, "t": t, "kind": "entity.despawn", "body": body}
+    expected = outcome(reference_canonical_json, ev)
+    try:
+        got = encode_event(ev)
+    except EventError:
+        got = "refused"
+    if isinstance(expected, bytes):
+        assert got == expected
+    else:
+        assert got == "refused"
