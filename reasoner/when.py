@@ -1,0 +1,137 @@
+"""Times as an investigator types them, read exactly: the store keeps integer nanoseconds.
+
+Accepted (DESIGN "Envelope": the CLI takes ns, seconds from the run start, and ISO 8601):
+
+    1732176010000000000              nanoseconds since the Unix epoch (UTC), as the events carry
+    12.5s  0s  +90s  -2s  1m30s  1h2m3.25s
+                                     from the run start (its run.start event, else its first event);
+                                     up to 9 decimal places, on the seconds only
+    2024-11-21T08:00:10Z  2024-11-21T08:00:10.250+01:00  2024-11-21 08:00:10.123456789Z
+                                     ISO 8601 with a zone: Z or an offset (+01:00, +0100, +01)
+
+Decisions:
+- Every form is read with integer arithmetic, never floats, so "12.5s" is exactly 12,500,000,000 ns
+  after the start and an ISO time keeps all nine digits of its fraction.
+- An ISO time without a zone is refused, not guessed: the store is in UTC, but a time copied from a
+  local clock would silently point 1-2 hours away, and a forensic answer must not rest on a guess.
+- A number without a unit ("12.5") is refused: it could be seconds or nanoseconds. So is a whole
+  number below 10**15 (before 1970-01-12): "--at 10" means "10s" far more often than 10 ns after
+  1970, and answering it with an empty scene would mislead; such a time can still be written in ISO.
+- A time before 1970 or past what 64-bit nanoseconds hold (2262) is refused; a time before the run
+  start is allowed (the scene is then empty, and says so).
+"""
+from __future__ import annotations
+
+import re
+from datetime import datetime, timedelta, timezone
+
+SECOND = 1_000_000_000
+T_MAX = (1 << 63) - 1  # SQLite's integers, and so the store's times, are signed 64-bit
+SMALLEST_NS = 10**15  # 1970-01-12T13:46:40Z: a smaller bare number is a mistyped "12s", not a time
+
+FORMS = ("nanoseconds since the epoch (1732176010000000000), seconds from the run start "
+         "(12.5s, 90s, 1m30s, -2s) or ISO 8601 with a zone (2024-11-21T08:00:10.25Z, "
+         "2024-11-21T09:00:10+01:00)")
+
+_NS = re.compile(r"\d+", re.ASCII)
+_RELATIVE = re.compile(r"([+-]?)(?=\d)(?:(\d+)h)?(?:(\d+)m)?(?:(\d+)(?:\.(\d+))?s)?", re.ASCII)
+_ISO = re.compile(
+    r"(\d{4})-(\d{2})-(\d{2})[Tt ](\d{2}):(\d{2})(?::(\d{2})(?:[.,](\d+))?)?"
+    r"(?:([Zz])|([+-])(\d{2})(?::?(\d{2}))?)?", re.ASCII)
+_EPOCH = datetime(1970, 1, 1, tzinfo=timezone.utc)
+_UNITS = re.compile(r"[+-]?\d+(\.\d+)?", re.ASCII)
+_LONGEST = 64  # characters: longer than any time, and int() of thousands of digits is slow
+
+
+class TimeError(ValueError):
+    """A time that cannot be read, with what was wrong and the forms that are accepted."""
+
+    def __init__(self, text: str, problem: str) -> None:
+        super().__init__(f"cannot read the time {text!r}: {problem}; give {FORMS}")
+        self.text = text
+        self.problem = problem
+
+
+def parse_time(text: str, run_start_ns: int | None) -> int:
+    """The moment `text` names, in ns since the epoch. `run_start_ns` anchors relative times
+    (None: the run has no events, so a relative time is refused)."""
+    given = text.strip()
+    if len(given) > _LONGEST:
+        raise TimeError(text[:_LONGEST] + "…", "too long to be a time")
+    if _NS.fullmatch(given):
+        if int(given) < SMALLEST_NS:
+            raise TimeError(text, f"a bare number is nanoseconds since the epoch, and {given} ns is in "
+                                  f"January 1970; for seconds from the run start write {given}s")
+        return _in_range(text, int(given))
+    if relative := _RELATIVE.fullmatch(given):
+        if run_start_ns is None:
+            raise TimeError(text, "a time from the run start needs a run with events")
+        return _in_range(text, run_start_ns + _relative_ns(text, relative))
+    if iso := _ISO.fullmatch(given):
+        return _in_range(text, _iso_ns(text, iso))
+    if _UNITS.fullmatch(given):
+        raise TimeError(text, "a number needs a unit: 's' for seconds from the run start, "
+                              "or a whole number of nanoseconds since the epoch")
+    raise TimeError(text, "not a time")
+
+
+def format_time(t_ns: int) -> str:
+    """ISO 8601 in UTC to the millisecond, with more digits only where the nanoseconds need them
+    (2024-11-21T08:00:10.250Z, 2024-11-21T08:00:10.250000001Z): parse_time reads it back exactly."""
+    seconds, fraction = divmod(t_ns, SECOND)
+    try:
+        stamp = (_EPOCH + timedelta(seconds=seconds)).strftime("%Y-%m-%dT%H:%M:%S")
+    except OverflowError:
+        return f"{t_ns} ns"
+    digits = f"{fraction:09d}"
+    while len(digits) > 3 and digits.endswith("000"):
+        digits = digits[:-3]
+    return f"{stamp}.{digits}Z"
+
+
+def format_offset(ns: int) -> str:
+    """A signed duration in seconds, exact and without trailing zeros: +12.5s, -2s, +0s."""
+    sign = "-" if ns < 0 else "+"
+    whole, fraction = divmod(abs(ns), SECOND)
+    digits = f"{fraction:09d}".rstrip("0")
+    return f"{sign}{whole}{'.' + digits if digits else ''}s"
+
+
+def _relative_ns(text: str, match: re.Match) -> int:
+    sign, hours, minutes, seconds, fraction = match.groups()
+    if hours is None and minutes is None and seconds is None:
+        raise TimeError(text, "not a time")
+    if fraction is not None and len(fraction) > 9:
+        raise TimeError(text, "more than 9 decimal places (the store keeps nanoseconds)")
+    ns = (int(hours or 0) * 3600 + int(minutes or 0) * 60 + int(seconds or 0)) * SECOND
+    ns += int((fraction or "").ljust(9, "0"))
+    return -ns if sign == "-" else ns
+
+
+def _iso_ns(text: str, match: re.Match) -> int:
+    year, month, day, hour, minute, second, fraction, zulu, sign, off_h, off_m = match.groups()
+    if not zulu and not sign:
+        raise TimeError(text, "an ISO time needs a zone: add Z for UTC (the store's times are UTC) "
+                              "or an offset such as +01:00")
+    if fraction is not None and len(fraction) > 9:
+        raise TimeError(text, "more than 9 decimal places (the store keeps nanoseconds)")
+    try:
+        offset = timedelta(hours=int(off_h or 0), minutes=int(off_m or 0))
+        if offset >= timedelta(hours=24):
+            raise ValueError("the offset must be under 24 hours")
+        zone = timezone(-offset if sign == "-" else offset)
+        moment = datetime(int(year), int(month), int(day), int(hour), int(minute), int(second or 0),
+                          tzinfo=zone)
+    except ValueError as exc:
+        raise TimeError(text, f"no such date or time ({exc})") from None
+    delta = moment - _EPOCH
+    seconds = delta.days * 86_400 + delta.seconds
+    return seconds * SECOND + int((fraction or "").ljust(9, "0"))
+
+
+def _in_range(text: str, t_ns: int) -> int:
+    if t_ns < 0:
+        raise TimeError(text, "before 1970-01-01T00:00:00Z, where the store's times begin")
+    if t_ns > T_MAX:
+        raise TimeError(text, "after 2262-04-11T23:47:16.854775807Z, the last time the store can hold")
+    return t_ns

@@ -1,0 +1,82 @@
+"""Times as typed on the command line (reasoner/when.py): exact to the nanosecond, every form."""
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from reasoner.when import SMALLEST_NS, T_MAX, TimeError, format_offset, format_time, parse_time
+
+START = 1_732_176_000_000_000_000  # 2024-11-21T08:00:00Z
+
+
+@given(st.integers(min_value=0, max_value=T_MAX))
+def test_iso_round_trips_every_nanosecond(t):
+    assert parse_time(format_time(t), None) == t
+
+
+@given(st.integers(min_value=-10**12, max_value=10**13))
+def test_offsets_round_trip(ns):
+    assert parse_time(format_offset(ns), START) == START + ns
+
+
+@given(st.integers(min_value=SMALLEST_NS, max_value=T_MAX))
+def test_integers_are_nanoseconds(t):
+    assert parse_time(str(t), None) == t
+
+
+@pytest.mark.parametrize("text, offset", [
+    ("12.5s", 12_500_000_000), ("0s", 0), ("90s", 90 * 10**9), ("+90s", 90 * 10**9), ("-2s", -2 * 10**9),
+    ("1m30s", 90 * 10**9), ("1h", 3600 * 10**9), ("1h2m3.25s", 3723_250_000_000),
+    ("0.000000001s", 1), ("12.100000003s", 12_100_000_003), (" 7s ", 7 * 10**9),
+])
+def test_seconds_from_the_run_start_are_exact(text, offset):
+    assert parse_time(text, START) - START == offset
+
+
+@pytest.mark.parametrize("text, t", [
+    ("2024-11-21T08:00:10Z", START + 10 * 10**9),
+    ("2024-11-21T08:00:10.250+00:00", START + 10_250_000_000),
+    ("2024-11-21T09:00:10.250+01:00", START + 10_250_000_000),
+    ("2024-11-21T07:00:10.25-0100", START + 10_250_000_000),
+    ("2024-11-21 08:00:10.123456789z", START + 10_123_456_789),
+    ("2024-11-21T08:00Z", START),
+    ("1732176010000000000", START + 10 * 10**9),
+])
+def test_iso_and_nanoseconds(text, t):
+    assert parse_time(text, START) == t
+
+
+def test_formats():
+    assert format_time(START + 10_250_000_000) == "2024-11-21T08:00:10.250Z"
+    assert format_time(START + 1) == "2024-11-21T08:00:00.000000001Z"
+    assert format_time(START + 1_000) == "2024-11-21T08:00:00.000001Z"
+    assert format_offset(12_500_000_000) == "+12.5s" and format_offset(-2 * 10**9) == "-2s"
+
+
+@pytest.mark.parametrize("text, says", [
+    ("12.5", "needs a unit"),
+    ("10", "10s"),                                   # a bare small number: seconds were meant
+    ("2024-11-21T08:00:10", "needs a zone"),         # naive ISO is refused, never guessed
+    ("2024-11-21", "not a time"),
+    ("2024-02-30T00:00:00Z", "no such date"),
+    ("2024-11-21T08:00:10+24:00", "no such date"),
+    ("1.0000000001s", "9 decimal places"),
+    ("2024-11-21T08:00:10.1234567891Z", "9 decimal places"),
+    ("1969-12-31T23:59:59Z", "before 1970"),
+    ("-2000000000s", "before 1970"),
+    ("9999999999999999999", "after 2262"),
+    ("", "not a time"), ("s", "not a time"), ("1ms", "not a time"), ("12 s", "not a time"),
+    ("١٢s", "not a time"),                           # non-ASCII digits
+    ("9" * 5000, "too long"),
+    ("yesterday", "not a time"),
+])
+def test_bad_times_say_what_is_wrong_and_what_is_accepted(text, says):
+    with pytest.raises(TimeError) as caught:
+        parse_time(text, START)
+    assert says in str(caught.value)
+    assert "seconds from the run start" in str(caught.value) and "ISO 8601" in str(caught.value)
+    assert isinstance(caught.value, ValueError)
+
+
+def test_relative_time_needs_a_run_start():
+    with pytest.raises(TimeError, match="run with events"):
+        parse_time("12s", None)
