@@ -1,0 +1,273 @@
+"""The scene at a moment: everything the record says about a run at time t, with its evidence.
+
+`gaps scene --run R --at T` answers an investigator's first question, "what was going on at
+10.0 s?", from one `store.state.state_at` call (a snapshot and a short fold, so it stays fast on
+runs of millions of events) and the reasoner's readings of that state (DESIGN "Reasoning"):
+
+    vehicles     per vehicle present at t: spawn, latest entity.state, who was in control, and
+                 the Vehicle Scenario, Vehicle Action, Monitor Scenarios and Validator Scenario
+    signals      per junction and approach: the colour shown and since which event
+    monitors     per monitor: its map entry and the vehicles it has observed
+    rulebooks    the rulebooks the run recorded in its run.start
+
+Nothing here asks Prolog unless asked to judge (`judge=True`, the default when one vehicle is
+asked for): then the validator rulebook says whether the goal of the Vehicle Action holds on the
+Validator Scenario ("lawful"). The scene is plain JSON data; every fact carries the event ref
+{run, src, seq, t, kind} it came from.
+
+Decisions: a time before the run start is allowed and gives an empty scene with a note saying so
+(the record held nothing yet); a vehicle is present from its entity.spawn (or its first event, for
+a producer that sends none) until its entity.despawn, and a vehicle only monitors have recorded
+(no recorder of its own) is present from its first observation; asking for a vehicle that is not
+present at t is an UnknownVehicle error naming the vehicles that are.
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from store import Store, queries
+from store.kinds import SRC_ROLES
+from store.state import state_at
+
+from .control import control_at
+from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, ref, vehicle_action, vehicle_id,
+                        vehicle_scenario)
+from .when import format_offset, format_time
+
+if TYPE_CHECKING:
+    from .investigation import Investigation
+
+
+class SceneError(ValueError):
+    """A question about a scene that names nothing in the record."""
+
+
+class UnknownRun(SceneError):
+    pass
+
+
+class UnknownVehicle(SceneError):
+    pass
+
+
+def run_start(store: Store, run: str) -> int:
+    """When the run started (ns): its run.start event, else its first event. Two index probes
+    (run.start comes only from the roles its schema allows), so it costs nothing on long runs."""
+    conn = store.connection
+    first = conn.execute("SELECT t FROM events WHERE run = ? ORDER BY t, seq, src LIMIT 1", (run,)).fetchone()
+    if first is None:
+        known = queries.run_names(conn)
+        shown = ", ".join(known[:20]) + (f" and {len(known) - 20} more" if len(known) > 20 else "")
+        raise UnknownRun(f"no run {run!r} in the store; runs: {shown or 'none'}")
+    starts = [conn.execute("SELECT min(t) FROM events WHERE run = ? AND src >= ? AND src < ? AND kind = 'run.start'",
+                           (run, f"{role}/", f"{role}0")).fetchone()[0] for role in SRC_ROLES["run.start"]]
+    recorded = [t for t in starts if t is not None]
+    return min(recorded) if recorded else first[0]
+
+
+def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: bool | None = None,
+          investigation: Investigation | None = None) -> dict[str, Any]:
+    """The scene of `run` at t (ns). `vehicle`: only that vehicle (UnknownVehicle if it is not
+    present at t). `judge` (default: whether a vehicle was asked for): also ask the validator
+    rulebook whether each Vehicle Action's goal is lawful, with `investigation`'s rulebooks
+    (reasoner.investigation.Investigation; one is made if not given)."""
+    start = run_start(store, run)
+    state = state_at(store, run, t)
+    present = _present(state)
+    if vehicle is not None and vehicle not in present:
+        raise UnknownVehicle(_not_present(state, vehicle, present, t))
+    shown = [vehicle] if vehicle is not None else sorted(present, key=_natural)
+    vehicles = [_vehicle(state, v, t) for v in shown]
+    if judge if judge is not None else vehicle is not None:
+        _judge(investigation, store, run, vehicles)
+    start_piece = state["start"]
+    return {
+        "run": run,
+        "t": t,
+        "t_iso": format_time(t),
+        "run_start": start,
+        "run_start_iso": format_time(start),
+        "offset_ns": t - start,
+        "offset": format_offset(t - start),
+        "events": state["events"],
+        "last": state["last"],
+        "note": _note(state, start, t),
+        "rulebooks": _rulebooks(start_piece),
+        "started": ref(start_piece, run, "run.start") if start_piece else None,
+        "ended": ref(state["end"], run, "run.end") if state["end"] else None,
+        "signals": _signals(state),
+        "monitors": _monitors(state),
+        "vehicles": vehicles,
+        "road_users": _road_users(state),
+    }
+
+
+# --- who is there -----------------------------------------------------------------------------
+
+def _present(state: dict) -> set[str]:
+    """Vehicle ids present at the state's time: with an entity record not despawned, or known
+    only from monitors' observations."""
+    ids = {vehicle_id(src) for src, record in state["entities"].items()
+           if src.startswith("vehicle/") and record["despawned"] is None}
+    recorded = {vehicle_id(src) for src in state["entities"] if src.startswith("vehicle/")}
+    for monitor in state["monitors"].values():
+        ids.update(v for v in monitor["observations"] if v not in recorded)
+    return ids
+
+
+def _not_present(state: dict, vehicle: str, present: set[str], t: int) -> str:
+    record = entity(state, vehicle)
+    names = ", ".join(sorted(present, key=_natural)[:30]) or "none"
+    if record is not None and record["despawned"] is not None:
+        gone = record["despawned"]
+        why = f"vehicle {vehicle!r} left the run at {format_time(gone['t'])} (entity.despawn, seq {gone['seq']})"
+    else:
+        why = f"no vehicle {vehicle!r} in run {state['run']!r} at {format_time(t)}"
+    return f"{why}; vehicles present then: {names}"
+
+
+def _natural(vehicle: str) -> tuple:
+    """Vehicle 9 before vehicle 10."""
+    return (0, int(vehicle), "") if vehicle.isdigit() else (1, 0, vehicle)
+
+
+# --- one vehicle ------------------------------------------------------------------------------
+
+def _vehicle(state: dict, vehicle: str, t: int) -> dict[str, Any]:
+    run = state["run"]
+    record = entity(state, vehicle) or {}
+    spawn, now = record.get("spawn"), record.get("state")
+    vscen = _facts(vehicle_scenario(state, vehicle))
+    action = vehicle_action(state, vehicle)
+    monitors = [{"monitor": src, "facts": _facts(monitor_scenario(state, src, vehicle))}
+                for src in monitors_of(state, vehicle)]
+    collision = state["collisions"].get(vehicle)
+    return {
+        "vehicle": vehicle,
+        "src": f"vehicle/{vehicle}",
+        "type": spawn["body"].get("type") if spawn else None,
+        "recorded": bool(record),
+        "spawn": _piece(spawn, run, "entity.spawn"),
+        "state": _piece(now, run, "entity.state"),
+        "control": control_at(record, t),
+        "vehicle_scenario": vscen,
+        "vehicle_action": action,
+        "monitor_scenarios": monitors,
+        "validator_scenario": _validator_scenario(record, vscen, action, monitors),
+        "collision": ref(collision, run, "collision") if collision else None,
+    }
+
+
+def _validator_scenario(record: dict, vscen: list[dict], action: dict | None,
+                        monitors: list[dict]) -> dict[str, Any]:
+    """The Vehicle Scenario with the goal of the Vehicle Action (DESIGN "Reasoning"); for a
+    vehicle that recorded no perception, what its spawn and the monitors recorded about it."""
+    facts, judged_on = vscen, "vehicle scenario"
+    if not record.get("perception"):
+        judged_on = "monitor scenario" if monitors else "spawn only"
+        merged = Scenario([(f["fact"], f["evidence"]) for f in vscen])
+        for scenario in monitors:
+            for f in scenario["facts"]:
+                merged.add([f["fact"]], f["evidence"])
+        facts = _facts(merged)
+    return {"facts": facts, "goal": action["goal"] if action else None,
+            "goal_evidence": action["evidence"] if action else None, "judged_on": judged_on}
+
+
+def _judge(investigation: Investigation | None, store: Store, run: str, vehicles: list[dict]) -> None:
+    """Ask the validator rulebook whether each goal holds on its Validator Scenario: "lawful"."""
+    from .engine import QuestionError
+    from .investigation import Investigation
+
+    inv = investigation or Investigation(store)
+    choice = inv.ruleset(run)["validator"]
+    for v in vehicles:
+        scenario = v["validator_scenario"]
+        verdict: dict[str, Any] = {"lawful": None, "rulebook": choice.describe() if choice else None,
+                                   "unknown_facts": [], "why": None}
+        scenario.update(verdict)
+        if choice is None:
+            scenario["why"] = "no rulebook defines punishable and mitigated violations"
+            continue
+        if scenario["goal"] is None:
+            scenario["why"] = "the vehicle recorded no decision: there is no goal to judge"
+            continue
+        rb = choice.rulebook
+        goal = inv.reader.atom(rb, scenario["goal"])
+        if goal is None:
+            scenario["why"] = f"no template of {rb.name} fits the goal {scenario['goal']!r}"
+            continue
+        unknown: list[dict] = []
+        atoms = inv.reader.atoms(rb, [(f["fact"], f["evidence"]) for f in scenario["facts"]], unknown)
+        scenario["unknown_facts"] = unknown
+        try:
+            scenario["lawful"] = inv.engine.holds(rb, goal, atoms)
+        except QuestionError as exc:
+            scenario["why"] = str(exc)
+            continue
+        among = "among" if scenario["lawful"] else "not among"
+        scenario["why"] = f"\"{scenario['goal']}\" is {among} the lawful actions of the Validator Scenario"
+
+
+# --- the rest of the scene --------------------------------------------------------------------
+
+def _facts(scenario: Scenario) -> list[dict]:
+    return [{"fact": fact, "evidence": evidence} for fact, evidence in scenario.facts]
+
+
+def _piece(piece: dict | None, run: str, kind: str) -> dict | None:
+    """A folded event as its body and the ref to cite it by."""
+    return None if piece is None else {**piece["body"], "evidence": ref(piece, run, kind)}
+
+
+def _rulebooks(start: dict | None) -> list[dict]:
+    books = (start or {}).get("body", {}).get("rulebooks")
+    return [b for b in books if isinstance(b, dict)] if isinstance(books, list) else []
+
+
+def _signals(state: dict) -> list[dict]:
+    run = state["run"]
+    return [{"junction": junction, "approach": approach, "colour": shown["colour"],
+             "since": {"run": run, **shown["since"], "kind": "signal.state"},
+             "evidence": ref(shown["last"], run, "signal.state")}
+            for junction, approaches in sorted(state["signals"].items())
+            for approach, shown in sorted(approaches.items())]
+
+
+def _monitors(state: dict) -> list[dict]:
+    """Monitors on the map and monitors that have reported, by src."""
+    start = state["start"]
+    listed = ((start or {}).get("body", {}).get("map") or {}).get("monitors") if start else None
+    on_map = {f"monitor/{m['id']}": m for m in listed or [] if isinstance(m, dict) and isinstance(m.get("id"), str)}
+    out = []
+    for src in sorted(set(on_map) | set(state["monitors"])):
+        folded = state["monitors"].get(src) or {"observations": {}, "potential_violations": {}}
+        out.append({
+            "monitor": src,
+            "map": on_map.get(src),
+            "observed": sorted(folded["observations"], key=_natural),
+            "potential_violations": [
+                {"vehicle": v, "action": pv["body"].get("action"),
+                 "evidence": ref(pv, state["run"], "monitor.potential_violation")}
+                for v, pv in sorted(folded["potential_violations"].items(), key=lambda kv: _natural(kv[0]))],
+        })
+    return out
+
+
+def _road_users(state: dict) -> list[dict]:
+    """Entities present that are not vehicles (pedestrians, cyclists sent as pedestrians)."""
+    run = state["run"]
+    return [{"src": src, "type": record["spawn"]["body"].get("type") if record["spawn"] else None,
+             "state": _piece(record["state"], run, "entity.state")}
+            for src, record in sorted(state["entities"].items())
+            if src.startswith("pedestrian/") and record["despawned"] is None]
+
+
+def _note(state: dict, start: int, t: int) -> str | None:
+    if state["events"] == 0:
+        return f"before the run's first event ({format_time(start)}): nothing was recorded yet"
+    if t < start:
+        return f"before the run start ({format_time(start)})"
+    if state["end"] is not None:
+        return f"after the run ended ({format_time(state['end']['t'])})"
+    return None
