@@ -28,26 +28,34 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
 
 @app.command()
 def incidents(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
-              json_out: bool = JsonOption) -> None:
+              json_out: bool = JsonOption,
+              rules: Optional[list[Path]] = typer.Option(
+                  None, "--rules", help="Judge with this LE rulebook first (repeatable); a stage it does not "
+                                        "define keeps the run's own or the current rulebook."),
+              vehicle: Optional[str] = typer.Option(None, "--vehicle", help="Only this vehicle's incidents.")) -> None:
     """Every potential violation of a run, validated: punishable, mitigated or dismissed."""
+    for path in rules or []:
+        if not path.is_file():
+            fail(f"no such rulebook file: {path}")
     with open_existing(db) as store:
         known = runs_of(store)
     if run and run not in known:
         fail(f"no run {run!r} in {db_path(db)}; runs: {', '.join(known) or 'none'}")
-    _report(db_path(db), [run] if run else known, json_out)
+    _report(db_path(db), [run] if run else known, json_out, [str(p) for p in rules or []], vehicle)
 
 
 def runs_of(store) -> list[str]:
     return [r["run"] for r in store.runs()]
 
 
-def _report(path: Path, runs: list[str], json_out: bool) -> None:
+def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[str]] = None,
+            vehicle: Optional[str] = None) -> None:
     from explain import explain_incident
     from reasoner.investigation import Investigation
     from store import Store
     with Store(path) as store:
-        inv = Investigation(store)
-        found = [inc for r in runs for inc in inv.incidents(r)]
+        inv = Investigation(store, rules=rules)
+        found = [inc for r in runs for inc in inv.incidents(r) if vehicle is None or inc["vehicle"] == vehicle]
         if json_out:
             print_json([{k: v for k, v in inc.items() if k not in ("proofs", "scenarios")} for inc in found])
             return
@@ -60,6 +68,7 @@ def _report(path: Path, runs: list[str], json_out: bool) -> None:
 
 from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)
 from cli import rules  # noqa: E402,F401  (gaps rules check|query|prolog|verify)
+from cli import scene  # noqa: E402,F401  (gaps scene --run R --at T)
 from cli import transfer  # noqa: E402,F401  (gaps import / gaps export)
 
 

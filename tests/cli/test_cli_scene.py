@@ -1,0 +1,124 @@
+"""`gaps scene` and `gaps incidents --rules/--vehicle`: text for people, --json for programs,
+one-line errors with exit code 2 for what names nothing, never a traceback."""
+import json
+import re
+
+import pytest
+from typer.testing import CliRunner
+
+from cli.main import app
+from reasoner.le.errors import LEError
+from reasoner.rulebooks import RULES_DIR
+from sim_replay.paper import RUN, T0, paper_run
+from store import Store
+
+
+def gaps(*args, db):
+    result = CliRunner().invoke(app, [*args, "--db", str(db)], env={"COLUMNS": "200"})
+    assert "Traceback" not in result.output
+    return result
+
+
+@pytest.fixture(scope="module")
+def db(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cli-scene") / "gaps.db"
+    events = paper_run()
+    seen = next(e for e in events if e["kind"] == "vehicle.perception" and e["src"] == "vehicle/173")
+    seen["body"]["facts"] = seen["body"]["facts"] + ["\x1b[31m173 juggles"]  # hostile text
+    with Store(path) as store:
+        store.append(events)
+    return path
+
+
+def test_scene_text(db):
+    result = gaps("scene", "--run", RUN, "--at", "10s", db=db)
+    assert result.exit_code == 0, result.output
+    out = result.stdout
+    assert "2024-11-21T08:00:10.000Z (+10s from the run start" in out
+    assert "j1 west: red since 2024-11-21T08:00:07.000Z" in out
+    assert "Vehicle 173 (car)" in out and "in control: driver" in out
+    assert re.search(r"173 has red light +vehicle.perception vehicle/173 #2, \+9.5s", out)
+    assert 'Vehicle Action: goal "173 can enter the junction", action "enter the junction"' in out
+    assert "proceeds: yes" in out
+    assert "Monitor Scenario of monitor/m1:" in out
+    assert "\x1b" not in out and "\\x1b[31m173 juggles" in out       # shown escaped, never obeyed
+    assert "lawful" not in out
+
+
+def test_scene_one_vehicle_is_judged(db):
+    result = gaps("scene", "--run", RUN, "--at", "2024-11-21T08:00:40.5Z", "--vehicle", "253", db=db)
+    assert result.exit_code == 0, result.output
+    assert "Vehicle 173" not in result.stdout
+    assert "lawful: yes (paper.le, recorded" in result.stdout
+
+
+def test_scene_json(db):
+    result = gaps("scene", "--run", RUN, "--at", str(T0 + 10 * 10**9), "--vehicle", "173", "--json", db=db)
+    assert result.exit_code == 0, result.output
+    sc = json.loads(result.stdout)
+    assert sc["t"] == T0 + 10 * 10**9 and sc["offset"] == "+10s"
+    (car,) = sc["vehicles"]
+    assert car["control"]["in_control"] == "driver"
+    assert car["validator_scenario"]["lawful"] is False
+    assert {"fact": "173 has red light", "evidence": {"run": RUN, "src": "vehicle/173", "seq": 2,
+                                                      "t": T0 + 9_500_000_000, "kind": "vehicle.perception"}} \
+        in car["vehicle_scenario"]
+
+
+def test_scene_before_the_run_start_is_empty_and_says_so(db):
+    result = gaps("scene", "--run", RUN, "--at", "-3s", db=db)
+    assert result.exit_code == 0
+    assert "nothing was recorded yet" in result.stdout and "No vehicle present" in result.stdout
+
+
+@pytest.mark.parametrize("args, says", [
+    (("--run", RUN, "--at", "12.5"), "needs a unit"),
+    (("--run", RUN, "--at", "2024-11-21T08:00:10"), "needs a zone"),
+    (("--run", RUN, "--at", "tomorrow"), "cannot read the time 'tomorrow'"),
+    (("--run", "nope", "--at", "10s"), f"no run 'nope' in the store; runs: {RUN}"),
+    (("--run", RUN, "--at", "10s", "--vehicle", "999"), "vehicles present then: 173, 253"),
+])
+def test_scene_errors_are_one_line_and_exit_2(db, args, says):
+    result = gaps("scene", *args, db=db)
+    assert result.exit_code == 2
+    assert says in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    assert result.stdout == ""
+
+
+def test_scene_without_a_store(tmp_path):
+    result = gaps("scene", "--run", RUN, "--at", "1s", db=tmp_path / "none.db")
+    assert result.exit_code == 2 and "no event store" in result.stderr
+
+
+def test_incidents_vehicle_filter_and_json_fields(db):
+    result = gaps("incidents", "--run", RUN, "--vehicle", "253", "--json", db=db)
+    assert result.exit_code == 0, result.output
+    (found,) = json.loads(result.stdout)
+    for field in ("id", "run", "t", "vehicle", "action", "rule", "verdict", "penalty", "liable", "findings",
+                  "evidence"):
+        assert field in found
+    assert (found["vehicle"], found["verdict"]) == ("253", "mitigated")
+
+
+def test_incidents_with_given_rules(db, tmp_path):
+    """Given rulebooks answer the stages they define, before the run's own."""
+    given = tmp_path / "my_validators.le"
+    given.write_text((RULES_DIR / "validators.le").read_text(encoding="utf-8") + "\n% my copy\n", encoding="utf-8")
+    result = gaps("incidents", "--run", RUN, "--rules", str(given), "--rules", str(RULES_DIR / "penalties.le"),
+                  "--json", db=db)
+    assert result.exit_code == 0, result.output
+    by_vehicle = {i["vehicle"]: i for i in json.loads(result.stdout)}
+    assert by_vehicle["173"]["rulebook"]["source"] == "given"
+    assert by_vehicle["173"]["rulebook"]["name"] == str(given)
+    assert by_vehicle["173"]["rulebooks"]["penalties"]["source"] == "given"
+    assert by_vehicle["173"]["verdict"] == "punishable" and by_vehicle["253"]["verdict"] == "mitigated"
+
+
+def test_incidents_with_a_missing_or_broken_rulebook(db, tmp_path):
+    missing = gaps("incidents", "--run", RUN, "--rules", str(tmp_path / "nothing.le"), db=db)
+    assert missing.exit_code == 2 and "no such rulebook file" in missing.stderr
+    broken = tmp_path / "broken.le"
+    broken.write_text("the templates are:\n*a vehicle* flies.\n\nthe knowledge base b includes:\n"
+                      "a vehicle flies if\n    the vehicle swims.\n", encoding="utf-8")
+    result = CliRunner().invoke(app, ["incidents", "--run", RUN, "--rules", str(broken), "--db", str(db)])
+    assert isinstance(result.exception, LEError)     # main() turns it into "rulebook error", exit 2
