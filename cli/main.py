@@ -60,7 +60,7 @@ def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[st
             print_json([{k: v for k, v in inc.items() if k not in ("proofs", "scenarios")} for inc in found])
             return
         if not found:
-            typer.echo("No potential violations recorded.")
+            typer.echo("No potential violations recorded" + (f" for vehicle {vehicle}." if vehicle else "."))
         for inc in found:
             typer.echo(f"── incident {inc['run']} {inc['id']} ──")
             typer.echo(explain_incident(inc, inv.rulebook) + "\n")
