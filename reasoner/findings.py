@@ -52,26 +52,53 @@ def _yes(value: Any) -> str:
     return {True: "yes", False: "no"}.get(value, str(value))
 
 
-def missing_evidence(conn: sqlite3.Connection, run: str, gaps: list[dict], srcs: list[str], t: int,
-                     last_seen: dict[str, int | None]) -> list[dict]:
+class Gaps:
+    """Sequence gaps of a run's sources, looked up per source as incidents need them.
+
+    A source without gaps (count of its events = highest seq + 1) costs two index probes; only a
+    source with gaps is read in full to list them."""
+
+    def __init__(self, conn: sqlite3.Connection, run: str) -> None:
+        self.conn, self.run = conn, run
+        self._found: dict[str, list[tuple[int, int]]] = {}
+
+    def of(self, src: str) -> list[tuple[int, int]]:
+        if src not in self._found:
+            self._found[src] = self._read(src)
+        return self._found[src]
+
+    def _read(self, src: str) -> list[tuple[int, int]]:
+        count, highest = self.conn.execute("SELECT count(*), max(seq) FROM events WHERE run = ? AND src = ?",
+                                           (self.run, src)).fetchone()
+        if not count or count == highest + 1:
+            return []
+        out, expected = [], 0
+        for (seq,) in self.conn.execute("SELECT seq FROM events WHERE run = ? AND src = ? ORDER BY seq",
+                                        (self.run, src)):
+            if seq > expected:
+                out.append((expected, seq - 1))
+            expected = seq + 1
+        return out
+
+
+def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, int | None]) -> list[dict]:
     """Sequence gaps of the sources an incident rests on, near it; and sources gone silent.
 
     A gap is near when the events on either side of it bracket a moment within WINDOW_S of t.
     A source is silent if it had reported before t but not within SILENT_S before t, and
-    reports nothing again (or nothing of that source) within SILENT_S after it."""
+    reports nothing again within SILENT_S after it."""
+    conn, run = gaps.conn, gaps.run
     out = []
     lo, hi = t - WINDOW_S * SECOND, t + WINDOW_S * SECOND
-    for gap in gaps:
-        if gap["src"] not in srcs:
-            continue
-        for first, last in gap["missing"]:
-            before = _t_of(conn, run, gap["src"], first - 1)
-            after = _t_of(conn, run, gap["src"], last + 1)
+    for src in srcs:
+        for first, last in gaps.of(src):
+            before = _t_of(conn, run, src, first - 1)
+            after = _t_of(conn, run, src, last + 1)
             if (before is None or before <= hi) and (after is None or after >= lo):
-                out.append({"kind": "missing evidence", "src": gap["src"], "missing_seq": [first, last],
-                            "evidence": [], "detail": f"{gap['src']} events {first} to {last} are missing "
-                            f"from the record, between {_when(before)} and {_when(after)}, within "
-                            f"{WINDOW_S} s of the incident"})
+                out.append({"kind": "missing evidence", "src": src, "missing_seq": [first, last],
+                            "evidence": [], "detail": f"{src} events {first} to {last} are missing "
+                            f"from the record, between {_when(before, 'its first event')} and "
+                            f"{_when(after, 'its last event')}, within {WINDOW_S} s of the incident"})
     for src, seen in last_seen.items():
         if seen is None or t - seen <= SILENT_S * SECOND:
             continue
@@ -97,5 +124,12 @@ def _next_t(conn: sqlite3.Connection, run: str, src: str, t: int) -> int | None:
     return row[0] if row else None
 
 
-def _when(t: int | None) -> str:
-    return "the start" if t is None else f"t={t}"
+def _when(t: int | None, otherwise: str) -> str:
+    return otherwise if t is None else iso(t)
+
+
+def iso(t: int) -> str:
+    """A time in ns as ISO 8601 UTC with milliseconds, as findings quote it."""
+    from datetime import datetime, timezone
+    dt = datetime.fromtimestamp(t // SECOND, tz=timezone.utc)
+    return dt.strftime("%Y-%m-%dT%H:%M:%S.") + f"{(t % SECOND) // 1_000_000:03d}Z"

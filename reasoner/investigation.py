@@ -25,13 +25,13 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from store import Store
-from store.state import state_at
+from store.timeline import Timeline
 
 from .control import control_at, liability_facts, role
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
 from .facts import FactReader, unknown_fact
-from .findings import decision_fault, missing_evidence
+from .findings import Gaps, decision_fault, missing_evidence
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
@@ -67,14 +67,11 @@ class Investigation:
         if monitor is not None:
             rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
             eps = list(episodes(self.store.events(run, kinds=["monitor.observation"]), rederiver))
-        gaps = self.store.gaps(run)
-        for pv, episode in match(eps, recorded):
-            found.append(self._judge(run, rs, gaps, pv["t"], pv["src"], pv, episode))
-        for episode in eps:
-            if not episode.recorded:
-                found.append(self._judge(run, rs, gaps, episode.first["t"], episode.monitor, None, episode))
-        found.sort(key=lambda inc: (inc["t"], inc["id"]))
-        return found
+        todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
+        todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
+        todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
+        timeline, gaps = Timeline(self.store, run), Gaps(self.store.connection, run)
+        return [self._judge(run, rs, gaps, timeline.at(t), t, src, pv, ep) for t, src, pv, ep in todo]
 
     def ruleset(self, run: str) -> RuleSet:
         """The rulebooks each stage of this run is judged with (given, recorded, current)."""
@@ -95,13 +92,12 @@ class Investigation:
         return None
 
     # -- one incident ---------------------------------------------------------------------
-    def _judge(self, run: str, rs: RuleSet, gaps: list[dict], t: int, monitor_src: str,
+    def _judge(self, run: str, rs: RuleSet, gaps: Gaps, state: dict, t: int, monitor_src: str,
                pv: dict | None, episode: Episode | None) -> dict:
         body = pv["body"] if pv else {}
         vehicle = str(body.get("vehicle")) if pv else episode.vehicle
         action = str(body.get("action")) if pv else episode.action
         anchor = pv if pv else episode.first
-        state = state_at(self.store, run, t)
         findings: list[dict] = []
         unknown: list[dict] = []
         me, act = constant([vehicle]), constant(action.split())
@@ -142,7 +138,7 @@ class Investigation:
                                vscen.facts, unknown)
         if fault:
             findings.append(fault)
-        findings += missing_evidence(self.store.connection, run, gaps, [f"vehicle/{vehicle}", monitor_src], t,
+        findings += missing_evidence(gaps, [f"vehicle/{vehicle}", monitor_src], t,
                                      {f"vehicle/{vehicle}": _last_seen(state, vehicle)})
         findings += _dedup_unknown(unknown)
         incident["evidence"] = _evidence(anchor, run, mscen, vscen, decision, control, incident)
@@ -327,6 +323,11 @@ def _last_seen(state: dict, vehicle: str) -> int | None:
     record = state["entities"].get(f"vehicle/{vehicle}") or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
     return max(times) if times and not record.get("despawned") else None
+
+
+def _anchor_key(pv: dict | None, episode: Episode | None) -> str:
+    anchor = pv if pv else episode.first
+    return f"{anchor['src']}:{anchor['seq']:020d}"
 
 
 def _num(value: Any) -> float:

@@ -4,10 +4,10 @@ from __future__ import annotations
 from pathlib import Path
 
 RULES_DIR = Path(__file__).with_name("rules")
-CURRENT = "paper.le"     # what a run that names no rulebook is judged with
+PAPER = "paper.le"       # the paper's own listings: what the demo's vehicles and monitor decide with
 
 
-def bundled(name: str = CURRENT) -> str:
+def bundled(name: str = PAPER) -> str:
     return (RULES_DIR / name).read_text(encoding="utf-8")
 
 # What a run that records no rulebook (or not one for a stage) is judged with: the Highway Code

@@ -23,6 +23,7 @@ from typing import Iterable
 from store import Store
 
 from .engine import Engine, Rulebook, sha256_text
+from .le.errors import LEError
 from .rulebooks import CURRENT_SET, bundled
 
 STAGES: dict[str, str] = {
@@ -98,12 +99,20 @@ def recorded_rulebooks(engine: Engine, store: Store, run: str, shas: Iterable[st
             if sha in seen:
                 continue
             seen.add(sha)
-            books.append(engine.load(text, str(entry.get("name") or "<recorded>")))
+            _load(engine, text, str(entry.get("name") or "<recorded>"), books, problems)
     for sha in shas:
         if sha and sha not in seen and (stored := store.get_rulebook(sha)):
             seen.add(sha)
-            books.append(engine.load(stored["text"], stored["name"]))
+            _load(engine, stored["text"], stored["name"], books, problems)
     return books
+
+
+def _load(engine: Engine, text: str, name: str, books: list[Rulebook], problems: list[str]) -> None:
+    """A recorded rulebook that does not compile is reported, not fatal: its stages fall back."""
+    try:
+        books.append(engine.load(text, name))
+    except LEError as exc:
+        problems.append(f"recorded rulebook {name!r} does not compile ({exc}); not used")
 
 
 def current_rulebooks(engine: Engine) -> list[Rulebook]:

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 from reasoner.engine import get_engine, sha256_text
 from reasoner.le.sentences import parse_fact
-from reasoner.rulebooks import CURRENT, bundled
+from reasoner.rulebooks import PAPER, bundled
 
 RUN = "paper-junctions"
 T0 = 1_732_176_000_000_000_000          # 2024-11-21T08:00:00Z, fixed so the demo is reproducible
@@ -57,12 +57,12 @@ CROSSINGS = [Crossing("173", "car", False, 10.0), Crossing("253", "ambulance", T
 
 def paper_run(run: str = RUN) -> list[dict]:
     """Every event of the demo run, in publication order."""
-    text = bundled(CURRENT)
-    rb = get_engine().load(text, CURRENT)
+    text = bundled(PAPER)
+    rb = get_engine().load(text, PAPER)
     rec = Recorder(run)
     rec.emit("sim/world", T0, "run.start", {
         "map": MAP, "seed": 0, "config": {"scenario": "Mind the Gaps, section 7.2"},
-        "rulebooks": [{"name": CURRENT, "sha256": sha256_text(text), "text": text}]})
+        "rulebooks": [{"name": PAPER, "sha256": sha256_text(text), "text": text}]})
     for c in CROSSINGS:
         rec.emit(f"vehicle/{c.vehicle}", T0, "entity.spawn", {
             "type": c.type, "driver": "human", "automation_level": 0, "emergency": c.emergency,

@@ -8,14 +8,13 @@ the highest stored seq of each source are cached (store/heads.py), rows are buil
 from __future__ import annotations
 
 import heapq
-import json
 import os
 import sqlite3
 import time
 from contextlib import contextmanager
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import ddl, queries, rulebooks
+from . import ddl, fastjson, queries, rulebooks
 from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
@@ -194,7 +193,7 @@ class Store:
             rows: Iterator[tuple] = heapq.merge(*streams)
         else:
             rows = self._rows(run, wanted, srcs, t_from, t_to)
-        return (json.loads(row[3]) for row in rows)
+        return (fastjson.loads(row[3]) for row in rows)
 
     def _rows(self, run: str, kinds, srcs, t_from, t_to) -> Iterator[tuple]:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
