@@ -32,6 +32,14 @@ perceives at 4 Hz and the monitors observe at 2 Hz on the same clock, so a monit
 and the vehicle's perception at that moment are of the same instant (otherwise a light changing
 between the two would read as a perception fault).
 
+A monitor states the light as a stop-line camera records it: the light a vehicle entered on, from
+the moment it crosses the line until it leaves the junction (and the light shown to a vehicle
+waiting at the line). monitors.le reads "has red light" on any moving vehicle as a potential
+violation and the reasoner re-derives episodes from every observation, so a light stated for a
+vehicle still braking towards the line would be a false incident. Once over the line, a vehicle
+too keeps the light it entered on. A monitor records a potential violation once per episode: per
+crossing of the line, and per run of consecutive observations over the speed limit.
+
 Ground truth: pass a list as `truth` (or call `expected_incidents`) to get one entry per
 `monitor.potential_violation`, with the verdict the rulebooks should give. It is computed here in
 plain Python from the same facts the events carry, mirroring highway_code.le / validators.le for
@@ -175,7 +183,8 @@ class _Vehicle:
                  "av", "engaged", "took_control", "ads", "dir", "route", "k", "lap", "r", "v",
                  "cruise", "base_cruise", "mode", "r_stop", "qi", "held_since", "decided", "plan",
                  "too_close", "stopped_at_line", "crossed", "approached", "type_fact",
-                 "last_lights", "last_permitted", "in_range", "speed_flagged", "chances")
+                 "last_lights", "last_permitted", "in_range", "speed_flagged", "chances", "entry_colour",
+                 "entry_seen")
 
     def __init__(self, idx: int, rng: random.Random) -> None:
         self.idx = idx
@@ -225,6 +234,7 @@ class _Vehicle:
         self.decided = self.too_close = self.stopped_at_line = self.crossed = self.approached = False
         self.plan: str | None = None
         self.cruise = self.base_cruise
+        self.entry_colour = self.entry_seen = "green"  # the light showing as it crossed the line
 
     @property
     def rj(self) -> float:
@@ -393,6 +403,7 @@ class _World:
             out += self._decision(v, j, colour, LINE + 0.01, vt, True)
             perceived = True
             v.crossed = True
+            v.entry_colour, v.entry_seen = colour or "green", self._perceived(v, colour) or "green"
             out += self._crossing_seen(v, j, colour, d, vt, x, y)
         phase5 = (tick + v.idx) % 5
         if not perceived and phase5 in (0, 2):
@@ -558,7 +569,13 @@ class _World:
         lights: tuple[str, ...] = ()
         if d <= NEAR:
             if j.control == "lights":
-                lights = LIGHT_FACTS[colour if by_monitor else self._perceived(v, colour)]
+                if by_monitor:  # the stop-line camera: the light it entered on, or waiting at the line
+                    if v.crossed:
+                        lights = LIGHT_FACTS[v.entry_colour]
+                    elif v.v == 0.0 and d - LINE < 1.0:
+                        lights = LIGHT_FACTS[colour]
+                else:
+                    lights = LIGHT_FACTS[v.entry_seen if v.crossed else self._perceived(v, colour)]
                 facts.extend(f"{vid} has {c} light" for c in lights)
                 if v.too_close and not by_monitor and not v.crossed:
                     facts.append(f"{vid} is too close to the stop line to stop safely")
@@ -618,7 +635,9 @@ class _World:
         facts, lights = self._facts(v, jj, colour, d if m is j else 1e9, by_monitor=True)
         out = [self._ev(f"monitor/{m.monitor}", vt + 4, "monitor.observation",
                         {"vehicle": v.id, "facts": facts, "speed_mps": round(v.v, 2), "x": round(x, 2), "y": round(y, 2)})]
-        if round(v.v * MPH_PER_MPS) > LIMIT_MPH and not v.speed_flagged:
+        if round(v.v * MPH_PER_MPS) <= LIMIT_MPH:
+            v.speed_flagged = False  # the episode (consecutive observations over the limit) is over
+        elif not v.speed_flagged:
             v.speed_flagged = True
             out.append(self._potential_violation(v, m, SPEEDING, facts, lights, vt, "speeding"))
         return out

@@ -141,3 +141,33 @@ def test_facts_are_in_the_rulebooks_vocabulary_and_the_truth_agrees_with_the_rul
         assert fault == ("perception fault" in expected["findings"]), expected
         checked += 1
     assert checked == len(truth) > 0
+
+
+def test_no_potential_violation_the_monitors_did_not_record(small):
+    """The reasoner re-derives potential violations from every observation (episodes of
+    consecutive observations on which monitors.le holds): each such episode must hold the one
+    the monitor recorded, or the run would carry incidents its ground truth does not know."""
+    events, _ = small
+    engine = get_engine()
+    monitors = engine.load(events[0]["body"]["rulebooks"][1]["text"], "monitors.le")
+    templates = monitors.document.templates
+    recorded = {(ev["src"], ev["body"]["vehicle"], ev["body"]["action"], ev["t"])
+                for ev in events if ev["kind"] == "monitor.potential_violation"}
+    open_: dict[tuple, list[int]] = {}
+    episodes: list[tuple[tuple, list[int]]] = []
+    for ev in events:
+        if ev["kind"] != "monitor.observation":
+            continue
+        v = ev["body"]["vehicle"]
+        facts = [parse_fact(f, templates) for f in ev["body"]["facts"]]
+        for action in ("enter the junction", "exceed the speed limit"):
+            key = (ev["src"], v, action)
+            if engine.holds(monitors, parse_fact(f"{v} potentially violates {action}", templates), facts):
+                open_.setdefault(key, []).append(ev["t"])
+            elif key in open_:
+                episodes.append((key, open_.pop(key)))
+    episodes += list(open_.items())
+    assert episodes
+    for key, ts in episodes:  # recorded just after the observation it rests on, in the same µs slot
+        assert sum(1 for *k, t in recorded if tuple(k) == key and ts[0] <= t <= ts[-1] + 1000) == 1, (key, ts)
+    assert len(episodes) == len(recorded)
