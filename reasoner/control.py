@@ -80,18 +80,22 @@ def _cut(piece: dict | None) -> dict | None:
     return {"src": piece["src"], "seq": piece["seq"], "t": piece["t"], "event": piece["body"].get("event")}
 
 
-def liability_facts(vehicle: str, control: dict[str, Any]) -> list[str]:
+def liability_facts(vehicle: str, control: dict[str, Any]) -> list[tuple[str, str]]:
     """The input sentences of liability.le for this vehicle at that moment (without the
-    punishable violation, which the validator adds)."""
+    punishable violation, which the validator adds), each with what shows it: "spawn" (what the
+    vehicle is), "since" (the ads.event that engaged or disengaged the feature, or the spawn if
+    none did) or "transition_demand" (the demand left unanswered)."""
+    since = "since" if control["since"] else "spawn"
     if not control["engaged"]:
-        return [f"driver is the driver of {vehicle}"]
-    facts = [f"{vehicle} is driving itself", f"asde is the authorised self-driving entity for {vehicle}"]
+        return [(f"driver is the driver of {vehicle}", since)]
+    facts = [(f"{vehicle} is driving itself", since),
+             (f"asde is the authorised self-driving entity for {vehicle}", "spawn")]
     if control["no_user_in_charge"]:
-        facts.append(f"operator is the no-user-in-charge operator of {vehicle}")
+        facts.append((f"operator is the no-user-in-charge operator of {vehicle}", "spawn"))
     else:
-        facts.append(f"user_in_charge is the user-in-charge of {vehicle}")
+        facts.append((f"user_in_charge is the user-in-charge of {vehicle}", "spawn"))
         if control["transition_demand_expired"]:
-            facts.append(f"a transition demand for {vehicle} has expired unanswered")
+            facts.append((f"a transition demand for {vehicle} has expired unanswered", "transition_demand"))
     return facts
 
 

@@ -228,8 +228,10 @@ class Investigation:
             penalty = self._penalty(pen.rulebook, me, self._atoms(pen.rulebook, sentences) + [punish])
         liability = None
         if (lia := rs["liability"]) is not None:
-            facts = self._atoms(lia.rulebook, liability_facts(vehicle, incident["control"])) + [punish]
-            liability = self._liability(lia.rulebook, me, act, facts)
+            shown = [(s, self._control_ref(incident, basis)) for s, basis in
+                     liability_facts(vehicle, incident["control"])]
+            facts = self._atoms(lia.rulebook, [s for s, _ in shown]) + [punish]
+            liability = self._liability(lia.rulebook, me, act, facts, {s: r for s, r in shown if r})
             incident["liable"] = next((r for r in LIABLE_ORDER if r in liability["parties"]),
                                       liability["parties"][0] if liability["parties"] else "none")
             incident["liability"] = liability
@@ -254,7 +256,17 @@ class Investigation:
         found.sort(key=lambda p: (-_num(p["fine_gbp"]), -_num(p["points"]), p["offence"]))
         return {**found[0], "offences": found} if len(found) > 1 else found[0]
 
-    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom]) -> dict:
+    @staticmethod
+    def _control_ref(incident: dict, basis: str) -> dict | None:
+        """The event behind a liability fact: the spawn, or an ads.event of the control status."""
+        run = incident["run"]
+        if basis == "spawn":
+            return next((ev for _, ev in incident["scenarios"]["vehicle"] if ev["kind"] == "entity.spawn"), None)
+        piece = incident["control"].get(basis)
+        return {"run": run, "src": piece["src"], "seq": piece["seq"], "t": piece["t"], "kind": "ads.event"} \
+            if piece else None
+
+    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom], evidence: dict) -> dict:
         def parties(functor: str) -> list[str]:
             question = [Cond(atom=Atom(functor, (Var("party"), act, me)))]
             return [role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts).bindings]
@@ -266,7 +278,8 @@ class Investigation:
                 "sanctions": parties("faces_regulatory_sanctions_for_the_violation_of_by"),
                 "facts": [rb.render(a) for a in facts],
                 "rulebook": rb.sha256,
-                "trees": [enrich(tree, rb) for trees in liable.proofs[:1] for tree in trees]}
+                "evidence": evidence,
+                "trees": [enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees]}
 
     # -- helpers --------------------------------------------------------------------------
     def _pairs(self, rb: Rulebook, scenario: Scenario, unknown: list[dict]) -> Pairs:
