@@ -52,6 +52,7 @@ class Vocabulary:
         self.own = own
         self.builtins = sorted(BUILTINS, key=lambda t: -t.literal_count())
         self.types = set(PREDEFINED_TYPES)
+        self._literal_sets: dict[Template, frozenset[str]] = {}
         for t in own:
             for s in t.slots:
                 if "_" not in s.type and " " not in s.type:
@@ -75,11 +76,25 @@ class Vocabulary:
         return " ".join(name.replace("_", " ").split())
 
     # -- sentences ------------------------------------------------------------------------
+    def _literals(self, template: Template) -> frozenset[str]:
+        literals = self._literal_sets.get(template)
+        if literals is None:
+            literals = self._literal_sets[template] = frozenset(
+                _word_key(p) for p in template.parts if isinstance(p, str))
+        return literals
+
     def candidates(self, tokens: list[Token], lists: bool = True):
-        """(template, fillers) for every template the sentence fits, best first."""
+        """(template, fillers) for every template the sentence fits, best first.
+
+        A template fits only if each of its literal words is among the sentence's words, so
+        that test (a set lookup) comes before the matcher: recorded facts are read by the
+        hundred thousand, against rulebooks of fifty templates and more."""
         found = []
+        present = {_word_key(tok.text) for tok in tokens}
         for group in (self.own, self.builtins):
             for t in group:
+                if not self._literals(t) <= present:
+                    continue
                 fillers = match_tokens(t, tokens, lists)
                 if fillers is not None:
                     found.append((t, fillers))
@@ -290,6 +305,12 @@ def value_of(tokens: list[Token]) -> Arg:
 
 
 # -- compatibility helpers used by the investigation and the simulation -----------------------
+
+def _word_key(word: str) -> str:
+    """A word as templates.same_word compares it: case-blind, `a` and `an` alike."""
+    word = word.lower()
+    return "a" if word == "an" else word
+
 
 def words_of(sentence: str) -> list[str]:
     return sentence.strip().rstrip(".").split()
