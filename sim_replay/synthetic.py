@@ -697,7 +697,7 @@ class _World:
         driving = "human driver" if not v.av else "ADS engaged" if v.engaged else "user took control"
         liable = "none" if verdict == "mitigated" else {
             "human driver": "driver", "ADS engaged": "authorised self-driving entity",
-            "user took control": "user-in-charge"}[driving]
+            "user took control": "driver"}[driving]  # liability.le: the user-in-charge who took control is the driver
         return {"id": f"{ev['src']}:{ev['seq']}", "monitor": m.monitor, "junction": m.id, "t": ev["t"],
                 "vehicle": v.id, "type": v.type, "action": action, "cause": cause, "verdict": verdict,
                 "verdict_on_vehicle_scenario": "mitigated" if own else "punishable",

@@ -77,7 +77,7 @@ def test_the_seeded_incidents_are_potential_violations(small):
     by_cause = {t["cause"]: t for t in truth}
     assert by_cause["perception fault: the ADS saw green, the light was red"]["findings"] == ["perception fault"]
     assert by_cause["emergency vehicle on call through red"]["verdict"] == "mitigated"
-    assert by_cause["user took over from the ADS, then ran the red"]["liable"] == "user-in-charge"
+    assert by_cause["user took over from the ADS, then ran the red"]["liable"] == "driver"
     assert by_cause["red light runner (ADS engaged)"]["liable"] == "authorised self-driving entity"
 
 
