@@ -226,3 +226,78 @@ def test_check_finds_a_snapshot_altered_behind_the_stores_back(store):
     conn.execute("UPDATE state_snapshots SET state = ? WHERE t = ? AND seq = ? AND src = ?",
                  (snapshots.encode(forged), t, seq, src))
     assert state.check_snapshots(store, "r1") == [(t, seq, src)]
+
+
+# --- the encoding: orjson where it is exact, json where an integer is too long for it -----------
+
+import gc  # noqa: E402
+import struct  # noqa: E402
+import zlib  # noqa: E402
+
+
+def test_a_snapshot_is_written_by_orjson_and_read_back_equal(store):
+    events = long_run(40)
+    store.append(events)
+    build_snapshots(store, "r1", every=10)
+    blobs = [blob for (blob,) in store.connection.execute("SELECT state FROM state_snapshots")]
+    assert blobs and all(blob[4] == 1 for blob in blobs)  # the writer byte: orjson
+    assert_snapshots_agree(store, times(events)[::4])
+
+
+def test_an_integer_beyond_64_bits_in_a_body_survives_a_snapshot_exactly(store):
+    huge = 2**70 + 1  # orjson would read it as a float: 1.1805916207174113e+21
+    events = long_run(20)
+    events.append(event(0, src="vehicle/8", t=events[-1]["t"] + 1, kind="entity.state",
+                        body={"x": 0.0, "y": 0.0, "speed_mps": 0.0, "odometer": huge}))
+    events += [dict(e, seq=e["seq"] + 100, t=e["t"] + 10**9) for e in long_run(20)]
+    store.append(events)
+    build_snapshots(store, "r1", every=5)
+    writers = {blob[4] for (blob,) in store.connection.execute("SELECT state FROM state_snapshots")}
+    assert writers == {0, 1}  # json once the state holds the long integer, orjson before
+    got = state_at(store, "r1", events[-1]["t"])["entities"]["vehicle/8"]["state"]["body"]["odometer"]
+    assert type(got) is int and got == huge
+    assert_snapshots_agree(store, times(events)[::3])
+
+
+def test_a_blob_altered_to_hold_a_long_integer_is_found_by_the_check(store):
+    """A forger who writes a long integer into an orjson snapshot gets orjson's float back on
+    reads; check_snapshots reads exactly, so it sees the integer and the difference."""
+    events = long_run(30)
+    store.append(events)
+    build_snapshots(store, "r1", every=10)
+    conn = store.connection
+    t, seq, src, blob = conn.execute("SELECT t, seq, src, state FROM state_snapshots ORDER BY t LIMIT 1").fetchone()
+    state_now = snapshots.decode(blob)
+    events_folded = state_now["events"]
+    text = zlib.decompress(blob[5:]).replace(f'"events":{events_folded},'.encode(),
+                                             f'"events":{2**64 * 4 + events_folded},'.encode())
+    forged = struct.pack("<IB", len(text), 1) + zlib.compress(text)
+    conn.execute("UPDATE state_snapshots SET state = ? WHERE t = ? AND seq = ? AND src = ?", (forged, t, seq, src))
+    assert snapshots.decode(forged, exact=True)["events"] == 2**64 * 4 + events_folded
+    assert state.check_snapshots(store, "r1") == [(t, seq, src)]
+
+
+@pytest.mark.parametrize("blob", [b"", b"\x05\x00\x00\x00", struct.pack("<IB", 2, 7) + zlib.compress(b"{}"),
+                                  struct.pack("<IB", 2, 1) + zlib.compress(b"[]")])
+def test_blobs_that_are_not_snapshots_decode_to_none(blob):
+    assert snapshots.decode(blob) is None
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_reads_leave_the_garbage_collector_as_they_found_it(store, enabled):
+    events = long_run(30)
+    store.append(events)
+    was = gc.isenabled()
+    try:
+        gc.enable() if enabled else gc.disable()
+        state_at(store, "r1", events[-1]["t"])
+        build_snapshots(store, "r1", every=5)
+        state.check_snapshots(store, "r1")
+        assert gc.isenabled() is enabled
+        with pytest.raises(sqlite3.ProgrammingError):
+            closed = Store(store.path)
+            closed.close()
+            state_at(closed, "r1", events[-1]["t"])
+        assert gc.isenabled() is enabled
+    finally:
+        gc.enable() if was else gc.disable()
