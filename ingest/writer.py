@@ -13,6 +13,7 @@ import threading
 import time
 
 from store import Candidate, Store
+from store.snapshots import enable_snapshots
 
 from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
@@ -67,9 +68,18 @@ class BatchWriter(threading.Thread):
             store.close()
 
     def _open_store(self) -> Store | None:
-        """Open the store in this thread (SQLite connections belong to the thread that made them)."""
+        """Open the store in this thread (SQLite connections belong to the thread that made them).
+
+        Snapshots are kept checked inside each append (store.snapshots.enable_snapshots): runs
+        are read while they grow, and the check costs this writer a look at its own batch
+        instead of costing every reader a scan of everything appended since its last snapshot."""
         try:
             store = Store(self._db_path, durable=self._durable)
+            try:
+                enable_snapshots(store)
+            except BaseException:
+                store.close()
+                raise
         except BaseException as exc:  # handed to the caller of started(), not swallowed
             self._open_error = exc
             store = None
