@@ -12,19 +12,33 @@ from cli.app import DbOption, JsonOption, RunOption, app, open_existing, print_j
 from cli.progress import stderr_progress
 from cli.safe_text import preview, printable
 from cli.times import duration, iso_utc
+from store import Store
 
 PREVIEW_BYTES = 60
 
 
 @app.command()
 def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
-           json_out: bool = JsonOption) -> None:
+           json_out: bool = JsonOption,
+           with_snapshots: bool = typer.Option(
+               False, "--snapshots",
+               help="Also re-fold each run and name the state snapshots (the cache behind state at a time) "
+                    "that differ from its events.")) -> None:
     """Recompute the hash chains, Merkle roots and checkpoints; exit 1 and name the first event
-    that does not match if any (exit 2 for a usage error such as a missing store)."""
-    with open_existing(db) as store, stderr_progress("verifying") as progress:
-        report = store.verify(run, progress)
+    that does not match if any (exit 2 for a usage error such as a missing store).
+
+    With --snapshots, also exit 1 if a state snapshot differs from a fresh fold of its run's
+    events. Snapshots are not evidence (nothing chains them) but state at a time answers from
+    them, so a wrong one is worth finding; deleting them is safe, they are rebuilt from the events."""
+    wrong: dict[str, list] = {}
+    with open_existing(db) as store:
+        with stderr_progress("verifying") as progress:
+            report = store.verify(run, progress)
+        if with_snapshots:
+            wrong = _wrong_snapshots(store, [r["run"] for r in report.runs])
+    ok = report.ok and not any(wrong.values())
     if json_out:
-        print_json(report.as_dict())
+        print_json({**report.as_dict(), "ok": ok, **({"snapshots": wrong} if with_snapshots else {})})
     else:
         for r in report.runs:
             typer.echo(f"{printable(r['run'])}: {r['events']} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
@@ -35,7 +49,27 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
                        f"(chain position {p['chain_pos']}): {printable(p['what'])}")
         else:
             typer.echo("verified: every chain and checkpoint matches")
-    raise typer.Exit(0 if report.ok else 1)
+        for name, positions in wrong.items():
+            if positions:
+                t, seq, src = positions[0]
+                typer.echo(f"SNAPSHOTS WRONG in run {_text(name)}: {len(positions)} differ from the events, the first "
+                           f"after src {_text(src)} seq {seq} (t {t}); they are a cache: clearing them is safe")
+        if with_snapshots and not any(wrong.values()):
+            typer.echo("snapshots: every state snapshot matches its events")
+    raise typer.Exit(0 if ok else 1)
+
+
+def _wrong_snapshots(store: Store, runs: list[str]) -> dict[str, list[list]]:
+    """Per run, the positions [t, seq, src] of the snapshots that differ from a fresh fold."""
+    from store.state import check_snapshots  # only this option needs the fold
+
+    with stderr_progress("checking snapshots") as progress:
+        wrong = {}
+        for i, name in enumerate(runs):
+            wrong[name] = [list(position) for position in check_snapshots(store, name)]
+            if progress is not None:
+                progress(i + 1, len(runs))
+    return wrong
 
 
 @app.command()
