@@ -231,6 +231,10 @@ class Store:
         never sent cannot be told from what was lost after its last stored event."""
         return queries.gaps(self._conn, run)
 
+    def chain_positions(self, run: str, keys: Collection[tuple[str, int]]) -> dict[tuple[str, int], int]:
+        """The chain position of each stored (src, seq) of the run; keys not stored are left out."""
+        return queries.chain_positions(self._conn, run, keys)
+
     def verify(self, run: str | None = None, progress: Progress | None = None) -> VerifyReport:
         """Recompute the chains and checkpoints (and, for the whole store, the rulebook
         addresses); `progress(done, total)` is called now and then with events checked."""

@@ -90,3 +90,15 @@ def gaps(conn: sqlite3.Connection, run: str | None) -> list[dict[str, Any]]:
         entry = found.setdefault((run_, src), {"run": run_, "src": src, "missing": [], "highest": highest})
         entry["missing"].append([first, last])
     return list(found.values())
+
+
+def chain_positions(conn: sqlite3.Connection, run: str, keys: Collection[tuple[str, int]]) -> dict[tuple[str, int], int]:
+    """Where each (src, seq) of a run sits in its hash chain: one probe of the (run, src, seq)
+    index per event, so an explanation can say which link of the chain vouches for a fact."""
+    sql = "SELECT chain_pos FROM events WHERE run = ? AND src = ? AND seq = ?"
+    found = {}
+    for src, seq in keys:
+        row = conn.execute(sql, (run, src, seq)).fetchone()
+        if row is not None:
+            found[(src, seq)] = row[0]
+    return found
