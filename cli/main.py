@@ -51,6 +51,7 @@ def runs_of(store) -> list[str]:
 def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[str]] = None,
             vehicle: Optional[str] = None) -> None:
     from explain import explain_incident
+    from explain.evidence import chain_status
     from reasoner.investigation import Investigation
     from store import Store
     with Store(path) as store:
@@ -61,11 +62,13 @@ def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[st
             return
         if not found:
             typer.echo("No potential violations recorded" + (f" for vehicle {vehicle}." if vehicle else "."))
-        for inc in found:
-            typer.echo(f"── incident {inc['run']} {inc['id']} ──")
-            typer.echo(explain_incident(inc, inv.rulebook) + "\n")
+        chains = {r: chain_status(store, r) for r in {inc["run"] for inc in found}}
+        for n, inc in enumerate(found, 1):
+            typer.echo(f"── incident {n}: {inc['run']} {inc['id']} ──")
+            typer.echo(explain_incident(inc, inv.rulebook, store, chain=chains[inc["run"]]) + "\n")
 
 
+from cli import explain  # noqa: E402,F401  (gaps explain --run R INCIDENT)
 from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)
 from cli import rules  # noqa: E402,F401  (gaps rules check|query|prolog|verify)
 from cli import scene  # noqa: E402,F401  (gaps scene --run R --at T)

@@ -1,4 +1,5 @@
-"""Explanations as text: the verdict first, then the proofs that support it.
+"""Proof trees as plain indented text (`gaps rules query --explain`), and `explain_incident`, the
+text explanation of one incident that `gaps incidents` and `gaps demo` print.
 
 The English comes from the rulebook's own templates (via `reasoner.le.templates.render`), so an
 investigator reads the words the rules were written in, and every fact names its event.
@@ -95,44 +96,12 @@ def clock(t_ns: int) -> str:
     return dt.strftime("%Y-%m-%d %H:%M:%S.") + f"{(t_ns // 1_000_000) % 1000:03d} UTC"
 
 
-def headline(inc: dict) -> str:
-    rule = f" of {inc['rule']}" if inc["rule"] else ""
-    law = f" ({inc['law']})" if inc.get("law") else ""
-    what = {"punishable": "a punishable violation", "mitigated": "a mitigated violation",
-            "dismissed": "no violation (the potential violation was dismissed)"}[inc["verdict"]]
-    return (f"Vehicle {inc['vehicle']} committed {what}{rule}{law} at {clock(inc['t'])}: "
-            f"it did \"{inc['action']}\".")
-
-
-def explain_incident(inc: dict, rulebooks: Callable[[str], Rulebook | None]) -> str:
-    """The whole explanation of one incident, verdict first. `rulebooks` finds a rulebook by
-    sha256 (Investigation.rulebook): each proof is rendered with the words of its own rulebook."""
-    how = ("recorded by " + inc["monitor"] + (" and re-derived from its observation" if inc["rederived"]
-                                             else ", but NOT re-derivable from its observation")
-           if inc["recorded"] else f"re-derived from the observations of {inc['monitor']}, which recorded none")
-    lines = [headline(inc), f"Why: {inc['why']}." if inc.get("why") else "", "", f"Potential violation, {how}:"]
-    lines += _proof_lines(inc["proofs"]["potential_violation"], rulebooks, dict(inc["scenarios"]["monitor"]))
-    if "verdict" in inc["proofs"]:
-        vfacts = "; ".join(s for s, _ in inc["scenarios"]["validator"]) or "nothing recorded"
-        lines += ["", f"Validation on the Validator Scenario ({vfacts}):"]
-        lines += _proof_lines(inc["proofs"]["verdict"], rulebooks, dict(inc["scenarios"]["validator"]))
-    if inc["penalty"]:
-        p = inc["penalty"]
-        lines += ["", f"Penalty: {p['offence']} ({p['law']}): £{p['fine_gbp']}, {p['points']} penalty points."]
-    control = inc.get("control") or {}
-    lines.append(f"Liable: {inc['liable']}.  In control at the time: {control.get('in_control', 'unknown')}.")
-    for stage, book in inc["rulebooks"].items():
-        lines.append(f"Rulebook ({stage}): {book['name']} sha256 {book['sha256'][:16]}… ({book['source']}).")
-    for f in inc["findings"]:
-        lines.append(f"Finding: {f['kind']}: {f.get('detail', '')}")
-    return "\n".join(lines)
-
-
-def _proof_lines(proofs: dict, rulebooks: Callable[[str], Rulebook | None], evidence: dict) -> list[str]:
-    rb = rulebooks(proofs["rulebook"]) if proofs.get("rulebook") else None
-    if rb is None:
-        return ["  (no rulebook for this stage)"]
-    lines: list[str] = []
-    for tree in proofs["trees"]:
-        lines += render_tree(tree, rb, evidence, 1)
-    return lines
+def explain_incident(inc: dict, rulebooks: Callable[[str], Rulebook | None], store=None,
+                     level: str = "standard", chain: dict | None = None) -> str:
+    """The whole explanation of one incident as text, verdict first (explain.document builds it,
+    explain.render draws it). `rulebooks` finds a rulebook by sha256 (Investigation.rulebook); with
+    a `store` the evidence gets chain positions and the run's chain is verified (or pass `chain`,
+    explain.evidence.chain_status, to verify a run once for all its incidents)."""
+    from .document import explanation
+    from .render import to_text
+    return to_text(explanation(inc, rulebooks, store, chain=chain), level).rstrip("\n")

@@ -1,0 +1,66 @@
+"""`gaps explain --run R INCIDENT`: one incident's verdict explained, in text, Markdown, HTML or JSON.
+
+The explanation is explain/'s (document.py builds it, render.py draws it); this module reads the
+options, finds the incident and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its
+number in `gaps incidents` order (1 is the first). Exit codes: 0 shown; 2 for what names nothing
+(no store, no such run, no such incident, a rulebook file that is missing, an unknown format).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from cli.app import DbOption, JsonOption, app, fail, open_existing
+
+
+@app.command("explain")
+def explain_command(incident: str = typer.Argument(..., help="Incident id (monitor/m1:3) or its number in "
+                                                              "`gaps incidents` order (1, 2, ...)."),
+                    run: str = typer.Option(..., "--run", help="Run id."),
+                    fmt: str = typer.Option("text", "--format", help="text, md, html (a full page) or json."),
+                    level: str = typer.Option("standard", "--level", help="summary, standard or full (every proof step)."),
+                    why_not: Optional[list[str]] = typer.Option(
+                        None, "--why-not", help="Also explain why this sentence does or does not hold on the "
+                                                "Validator Scenario, e.g. \"173 can enter the junction\" (repeatable)."),
+                    rules: Optional[list[Path]] = typer.Option(
+                        None, "--rules", help="Judge with this LE rulebook first (repeatable), as `gaps incidents`."),
+                    db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
+    """Why an incident's verdict is what it is: the verdict in one sentence, a plain summary, the
+    potential violation, the validation, penalty, liability, why-not, counterfactuals and evidence."""
+    from explain.layout import LEVELS
+    from explain.render import FORMATS
+    if json_out:
+        fmt = "json"
+    if fmt not in FORMATS:
+        fail(f"unknown format {fmt!r}; formats: {', '.join(FORMATS)}")
+    if level not in LEVELS:
+        fail(f"unknown level {level!r}; levels: {', '.join(LEVELS)}")
+    for path in rules or []:
+        if not path.is_file():
+            fail(f"no such rulebook file: {path}")
+    from explain.document import explanation
+    from explain.render import render
+    from reasoner.investigation import Investigation
+    with open_existing(db) as store:
+        if run not in {r["run"] for r in store.runs()}:
+            fail(f"no run {run!r} in the store; runs: {', '.join(r['run'] for r in store.runs()) or 'none'}")
+        inv = Investigation(store, rules=[str(p) for p in rules or []])
+        found = inv.incidents(run)
+        chosen = pick(found, incident)
+        if chosen is None:
+            ids = ", ".join(f"{i}={inc['id']}" for i, inc in enumerate(found, 1)) or "none"
+            fail(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
+        doc = explanation(chosen, inv.rulebook, store, why_not_questions=why_not or [])
+    typer.echo(render(doc, fmt, level), nl=False)
+
+
+def pick(found: list[dict], wanted: str) -> dict | None:
+    """The incident named by id, else by its 1-based number."""
+    for inc in found:
+        if inc["id"] == wanted:
+            return inc
+    if wanted.isdigit() and 1 <= int(wanted) <= len(found):
+        return found[int(wanted) - 1]
+    return None
