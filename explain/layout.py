@@ -10,7 +10,6 @@ A block is a tuple: ("title", text), ("heading", text), ("para", text), ("list",
 """
 from __future__ import annotations
 
-from typing import Any
 
 from . import phrases as ph
 from .trees import outline
@@ -220,7 +219,3 @@ def _rulebooks(doc: dict) -> list[Block]:
     rows = [[stage, b.get("name", ""), b.get("sha256", ""), b.get("source", "")]
             for stage, b in (doc.get("rulebooks") or {}).items()]
     return [("heading", "9. Rulebooks"), ("table", ["stage", "rulebook", "sha256", "source"], rows)]
-
-
-def plain(value: Any) -> str:
-    return "" if value is None else str(value)

@@ -12,7 +12,7 @@ Lines are (depth, text) pairs; the renderers only indent and escape them.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Callable
 
 Line = tuple[int, str]
 Cite = Callable[[dict], str]        # a node -> " [E2]" (its events), or ""
@@ -168,7 +168,3 @@ def walk(tree: dict):
 
 def events_of(tree: dict) -> list[dict]:
     return [ref for node in walk(tree) for ref in node.get("evidence", [])]
-
-
-def plain(node: dict) -> Any:
-    return node["sentence"]

@@ -54,9 +54,6 @@ class Change:
     new: Atom | None = None
     controlled: bool = False
 
-    def touches(self) -> Atom:
-        return self.fact
-
 
 @dataclass
 class Counterfactual:
