@@ -353,6 +353,12 @@ def parse_fact(text: str, templates) -> Atom | None:
     if not tokens:
         return None
     try:
-        return vocabulary(templates).sentence(tokens, Scope(), "data")
+        atom = vocabulary(templates).sentence(tokens, Scope(), "data")
     except (LEError, RecursionError):
         return None
+    # a recorded fact states something in the rulebook's own words: a comparison or arithmetic
+    # ("x > y") is a question, not an observation, and is not taken as one
+    return None if atom.functor in _BUILTIN_FUNCTORS else atom
+
+
+_BUILTIN_FUNCTORS = frozenset(t.builtin for t in BUILTINS if t.builtin)

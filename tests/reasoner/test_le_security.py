@@ -133,3 +133,13 @@ def test_huge_and_deep_inputs_are_refused_or_read_quickly():
         assert "deep.le" in str(exc)
     assert time.monotonic() - start < 20
     alive()
+
+
+def test_a_recorded_fact_in_a_builtins_words_is_not_taken_as_a_fact():
+    """`x > y` fits the comparison built-in: as a recorded observation it is an unknown fact."""
+    from reasoner.le.document import parse_document
+    from reasoner.le.sentences import parse_fact
+    doc = parse_document("the templates are:\n*a vehicle* is stopped.\n")
+    assert parse_fact("<script > alert(1)</script>", doc.templates) is None
+    assert parse_fact("7 > 3", doc.templates) is None
+    assert parse_fact("173 is stopped", doc.templates).functor == "is_stopped"
