@@ -73,12 +73,12 @@ def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> d
     With use_snapshots (the default) the fold starts from the nearest snapshot and any missing
     snapshots on the way are written to the file. use_snapshots=False folds every event from the
     start, reading the events only: the slow reference the snapshots are tested against."""
-    with _collector_paused():
+    with _CollectorPaused():
         if use_snapshots:
             state = _advance(store, run, t, SNAPSHOT_EVERY)
         else:
             state = _fold_all(store.connection, run, t)
-    return {"run": run, "t": t, **state}
+        return {"run": run, "t": t, **state}
 
 
 def build_snapshots(store: Store, run: str, *, every: int = SNAPSHOT_EVERY) -> int:
@@ -86,7 +86,7 @@ def build_snapshots(store: Store, run: str, *, every: int = SNAPSHOT_EVERY) -> i
     run has. Runs in bounded memory, committing a batch of snapshots at a time."""
     if every < 1:
         raise ValueError("every must be at least 1")
-    with _collector_paused():
+    with _CollectorPaused():
         _advance(store, run, _T_MAX, every)
     return snapshots.count(store, run)
 
@@ -102,7 +102,7 @@ def check_snapshots(store: Store, run: str) -> list[Position]:
         return []
     conn = store.connection
     state, position, wrong = empty_state(), None, []
-    with _reading(conn), _collector_paused():
+    with _reading(conn), _CollectorPaused():
         stale = snapshots.stale_from(conn, run, snapshots.marks(conn, run))
         for held in snapshots.listed(conn, run, stale):
             after = () if position is None else position
@@ -138,24 +138,30 @@ def empty_state() -> dict[str, Any]:
 # --- reading ----------------------------------------------------------------------------------
 
 
-@contextmanager
-def _collector_paused() -> Iterator[None]:
+class _CollectorPaused:
     """No cyclic garbage collection while a state is read and folded.
 
-    Parsing a snapshot creates some ten thousand dicts and lists; every 700 of them the collector
-    runs, and now and then it traverses every tracked object of the process (the state the
-    caller still holds included). That was a third of the time of state_at on the benchmark, and
-    all of it wasted: parsed JSON and the fold's own dicts hold no reference cycles, so there is
-    nothing for the collector to find in them. It is switched back on at the end (if it was on),
-    and collects then whatever other code left meanwhile."""
-    if not gc.isenabled():
-        yield
-        return
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.enable()
+    Parsing a snapshot creates some ten thousand dicts and lists. With the collector on, it runs
+    every 700 of them, and it traverses every tracked object young enough (now and then every one
+    in the process, the state the caller still holds included): a sixth to a third of the time of
+    state_at on the benchmark, all of it wasted, since parsed JSON and the fold's own dicts hold
+    no reference cycles. It is switched back on at the end if it was on.
+
+    Also why this is a class and state_at returns from inside it: the collector runs at the first
+    allocation after it is switched back on, while the count of allocations is high. When nothing
+    is allocated between switching it on and the caller dropping the previous state (whose freed
+    objects bring the count back down), it does not run at all. A contextmanager generator would
+    allocate its StopIteration in between."""
+
+    __slots__ = ("_was_enabled",)
+
+    def __enter__(self) -> None:
+        self._was_enabled = gc.isenabled()
+        gc.disable()
+
+    def __exit__(self, *exc: object) -> None:
+        if self._was_enabled:
+            gc.enable()
 
 
 @contextmanager
