@@ -1,0 +1,183 @@
+"""What a report draws, read from the store as plain JSON-ready data: the picture of the scene at
+an incident and the timeline of speed and signal colour around it.
+
+The SVG modules (svg_scene.py, svg_timeline.py) only draw these dicts, and the JSON report
+carries them as they are, so what a reader sees in the picture is exactly what the data says.
+Producers write the map and the states; nothing here trusts their shape: a number that is not a
+finite number is left out rather than drawn somewhere wrong, and every string is kept as recorded
+(the renderers escape it).
+"""
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+from reasoner.scene import scene
+from store import Store
+from store.state import state_at
+
+SECOND = 1_000_000_000
+BEFORE_NS = 20 * SECOND      # the timeline starts this long before the incident ...
+AFTER_NS = 5 * SECOND        # ... and ends this long after it
+# approach named by where traffic comes from (as sim_replay names them): its direction from the junction
+APPROACH_DIRECTIONS = {"west": 180.0, "w": 180.0, "south": 270.0, "s": 270.0, "east": 0.0, "e": 0.0,
+                       "north": 90.0, "n": 90.0}
+
+
+def number(value: Any) -> float | None:
+    """A finite number, else None (a producer's string, NaN or a bool is not a coordinate)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def run_start_body(store: Store, run: str) -> dict[str, Any]:
+    """The body of the run's run.start (its map, its rulebooks), or {} for a run without one."""
+    start = next(iter(store.events(run, kinds=["run.start"])), None)
+    body = (start or {}).get("body")
+    return body if isinstance(body, dict) else {}
+
+
+def recorded_rulebooks(start_body: dict[str, Any]) -> list[dict[str, Any]]:
+    """The rulebooks the run recorded in its run.start: name, sha256 and version (no text)."""
+    return [{"name": _text(b.get("name")), "sha256": _text(b.get("sha256")), "version": _text(b.get("version"))}
+            for b in _dicts(start_body.get("rulebooks"))]
+
+
+def run_map(start_body: dict[str, Any]) -> dict[str, list[dict]]:
+    """The map the run recorded in its run.start (DESIGN "Events"), its entries that can be drawn."""
+    raw = start_body.get("map")
+    raw = raw if isinstance(raw, dict) else {}
+    roads = []
+    for r in _dicts(raw.get("roads")):
+        a, b = _point(r.get("from")), _point(r.get("to"))
+        if a and b:
+            roads.append({"id": _text(r.get("id")), "from": a, "to": b})
+    junctions = [{"id": _text(j.get("id")), "x": number(j["x"]), "y": number(j["y"]),
+                  "control": _text(j.get("control"))}
+                 for j in _dicts(raw.get("junctions")) if number(j.get("x")) is not None
+                 and number(j.get("y")) is not None]
+    return {"roads": roads, "junctions": junctions, "monitors": list(_dicts(raw.get("monitors")))}
+
+
+# --- the picture at t -----------------------------------------------------------------------------
+
+def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | None = None) -> dict[str, Any]:
+    """Roads, junctions, signal colours per approach, vehicles and road users with position and
+    heading, and each monitor's field of view, at t; `vehicle` is the incident's."""
+    the_map = the_map if the_map is not None else run_map(run_start_body(store, run))
+    sc = scene(store, run, t, judge=False)
+    vehicles = []
+    for v in sc["vehicles"]:
+        at = v["state"] or {}
+        x, y = number(at.get("x")), number(at.get("y"))
+        vehicles.append({"id": v["vehicle"], "type": v["type"], "x": x, "y": y,
+                         "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
+                         "junction": at.get("junction"), "incident": v["vehicle"] == vehicle,
+                         "evidence": at.get("evidence")})
+    users = [{"id": u["src"], "type": u["type"], "x": number((u["state"] or {}).get("x")),
+              "y": number((u["state"] or {}).get("y")), "heading_deg": number((u["state"] or {}).get("heading_deg"))}
+             for u in sc["road_users"]]
+    monitors = []
+    for m in sc["monitors"]:
+        entry = m["map"] or {}
+        monitors.append({"id": m["monitor"], "junction": entry.get("junction"), "x": number(entry.get("x")),
+                         "y": number(entry.get("y")), "heading_deg": number(entry.get("heading_deg")),
+                         "fov_deg": number(entry.get("fov_deg")), "range_m": number(entry.get("range_m")),
+                         "observed": m["observed"], "watching": vehicle in m["observed"]})
+    signals = [{"junction": s["junction"], "approach": s["approach"], "colour": s["colour"],
+                "since_t": s["since"]["t"], "evidence": s["evidence"]} for s in sc["signals"]]
+    return {"t": t, "offset": sc["offset"], "vehicle": vehicle, "roads": the_map["roads"],
+            "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
+            "vehicles": vehicles, "road_users": users, "note": sc["note"]}
+
+
+def vehicle_junction(picture: dict[str, Any]) -> str | None:
+    """The junction the incident is about: the one the vehicle is in, else the one of a monitor
+    watching it, else the nearest on the map."""
+    me = next((v for v in picture["vehicles"] if v["incident"]), None)
+    if me and isinstance(me.get("junction"), str):
+        return me["junction"]
+    for m in picture["monitors"]:
+        if m["watching"] and isinstance(m.get("junction"), str):
+            return m["junction"]
+    if me and me["x"] is not None and picture["junctions"]:
+        return min(picture["junctions"], key=lambda j: math.hypot(j["x"] - me["x"], j["y"] - me["y"]))["id"]
+    return None
+
+
+def facing_approach(heading_deg: float | None, approaches: list[str]) -> str | None:
+    """The approach a vehicle heading this way comes in on (a vehicle heading east comes from the
+    west), when the approaches are named by compass point; else None."""
+    if heading_deg is None:
+        return None
+    came_from = (heading_deg + 180.0) % 360.0
+    named = [a for a in approaches if isinstance(a, str) and a.lower() in APPROACH_DIRECTIONS]
+    if not named:
+        return None
+    return min(named, key=lambda a: _angle_between(APPROACH_DIRECTIONS[a.lower()], came_from))
+
+
+# --- the timeline around t ------------------------------------------------------------------------
+
+def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None,
+             before_ns: int = BEFORE_NS, after_ns: int = AFTER_NS) -> dict[str, Any]:
+    """The vehicle's speed (its own entity.state, and what monitors observed) and the colour of
+    each signal approach of its junction, from `before_ns` before t to `after_ns` after, with the
+    values in force when the window opens."""
+    t_from, t_to = t - before_ns, t + after_ns
+    src = f"vehicle/{vehicle}"
+    opening = state_at(store, run, t_from)
+    own: list[dict] = []
+    first = ((opening["entities"].get(src) or {}).get("state") or {})
+    if first and number(first["body"].get("speed_mps")) is not None:
+        own.append({"t": first["t"], "speed_mps": number(first["body"]["speed_mps"]), "seq": first["seq"]})
+    for ev in store.events(run, kinds=["entity.state"], srcs=[src], t_from=t_from, t_to=t_to):
+        speed = number(ev["body"].get("speed_mps"))
+        if speed is not None and not (own and own[-1]["seq"] == ev["seq"]):
+            own.append({"t": ev["t"], "speed_mps": speed, "seq": ev["seq"]})
+    observed = [{"t": ev["t"], "speed_mps": number(ev["body"].get("speed_mps")), "monitor": ev["src"], "seq": ev["seq"]}
+                for ev in store.events(run, kinds=["monitor.observation"], t_from=t_from, t_to=t_to)
+                if ev["body"].get("vehicle") == vehicle and number(ev["body"].get("speed_mps")) is not None]
+    signals: dict[str, list[dict]] = {}
+    if junction is not None:
+        for approach, shown in sorted((opening["signals"].get(junction) or {}).items()):
+            signals[approach] = [{"t": shown["last"]["t"], "colour": shown["colour"]}]
+        for ev in store.events(run, kinds=["signal.state"], t_from=t_from, t_to=t_to):
+            body = ev["body"]
+            if body.get("junction") == junction:
+                changes = signals.setdefault(_as_key(body.get("approach", "*")), [])
+                if not changes or changes[-1]["colour"] != body.get("colour"):
+                    changes.append({"t": ev["t"], "colour": body.get("colour")})
+    return {"t": t, "t_from": t_from, "t_to": t_to, "vehicle": vehicle, "junction": junction,
+            "speed": own, "observed_speed": observed, "signals": signals}
+
+
+# --- helpers --------------------------------------------------------------------------------------
+
+def _dicts(value: Any) -> list[dict]:
+    return [v for v in value if isinstance(v, dict)] if isinstance(value, list) else []
+
+
+def _point(value: Any) -> list[float] | None:
+    if isinstance(value, list) and len(value) == 2:
+        x, y = number(value[0]), number(value[1])
+        if x is not None and y is not None:
+            return [x, y]
+    return None
+
+
+def _text(value: Any) -> str | None:
+    return None if value is None else str(value)
+
+
+def _as_key(value: Any) -> str:
+    """A body value as the state fold keys it (store/state.py), so the two readings meet."""
+    return value if isinstance(value, str) else json.dumps(value, sort_keys=True)
+
+
+def _angle_between(a: float, b: float) -> float:
+    d = abs(a - b) % 360.0
+    return min(d, 360.0 - d)
