@@ -1,0 +1,162 @@
+"""A run's report: every incident (or one) with its explanation, a picture of the scene at the
+incident, the speed and signals around it, the evidence, the rulebooks by sha256 and the chain
+verification, as one self-contained document for an investigator, an insurer or a court.
+
+    with Store("gaps.db") as store:
+        report = build_report(store, "paper-junctions")            # JSON-ready dict
+    Path("report.html").write_text(render_report(report, "html"))  # or "md", "json"
+
+The report is data first (so `.json` carries exactly what the pictures draw), then drawn:
+HTML (report_html.py: inline SVG and CSS, no script, no external resource, prints well),
+Markdown (the same sections as text and tables) or JSON. Every recorded string is escaped by the
+renderer that writes it.
+"""
+from __future__ import annotations
+
+import json
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any, Callable, Iterable
+
+from store import Store
+
+from . import phrases as ph
+from .document import explanation
+from .evidence import chain_status
+from .report_data import recorded_rulebooks, run_map, run_start_body, scene_picture, timeline, vehicle_junction
+
+FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".json": "json"}
+Progress = Callable[[int, int], None]      # (incidents done, total)
+
+
+class ReportError(ValueError):
+    """A report asked for something the store does not hold (a run, an incident)."""
+
+
+def format_for(path: Path) -> str:
+    """The report format an output file's suffix asks for."""
+    fmt = FORMATS.get(Path(path).suffix.lower())
+    if fmt is None:
+        raise ReportError(f"cannot tell the format from {str(path)!r}: name the file .html, .md or .json")
+    return fmt
+
+
+def build_report(store: Store, run: str, *, incident: str | None = None, rules: Iterable[str] = (),
+                 progress: Progress | None = None, now: datetime | None = None,
+                 investigation: Any = None) -> dict[str, Any]:
+    """The report of `run` (only `incident`, by id or 1-based number, if given); `rules` are LE
+    files judged with first, as `gaps incidents --rules`."""
+    from reasoner.investigation import Investigation
+    if run not in {r["run"] for r in store.runs()}:
+        known = ", ".join(r["run"] for r in store.runs()) or "none"
+        raise ReportError(f"no run {run!r} in the store; runs: {known}")
+    inv = investigation or Investigation(store, rules=list(rules))
+    found = inv.incidents(run)
+    chosen = found
+    if incident is not None:
+        one = pick(found, incident)
+        if one is None:
+            ids = ", ".join(f"{i}={inc['id']}" for i, inc in enumerate(found, 1)) or "none"
+            raise ReportError(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
+        chosen = [one]
+    chain = chain_status(store, run)
+    start = run_start_body(store, run)
+    the_map = run_map(start)
+    numbers = {inc["id"]: n for n, inc in enumerate(found, 1)}
+    entries = []
+    for done, inc in enumerate(chosen, 1):
+        entries.append(_entry(store, inv, inc, numbers[inc["id"]], chain, the_map))
+        if progress is not None:
+            progress(done, len(chosen))
+    generated = (now or datetime.now(timezone.utc)).astimezone(timezone.utc)
+    return {"run": run, "generated": generated.isoformat(timespec="seconds").replace("+00:00", "Z"),
+            "incidents_in_run": len(found), "selected": chosen[0]["id"] if incident is not None else None,
+            "chain": {**chain, "checkpoints": _checkpoints(store, run)},
+            "rulebooks": _rulebooks(store, chosen, recorded_rulebooks(start)), "incidents": entries}
+
+
+def pick(found: list[dict], wanted: str) -> dict | None:
+    """The incident named by id, else by its 1-based number."""
+    for inc in found:
+        if inc["id"] == wanted:
+            return inc
+    if wanted.isdigit() and 1 <= int(wanted) <= len(found):
+        return found[int(wanted) - 1]
+    return None
+
+
+def render_report(report: dict[str, Any], fmt: str) -> str:
+    if fmt == "html":
+        from .report_html import to_html
+        return to_html(report)
+    if fmt == "md":
+        from .report_md import to_markdown
+        return to_markdown(report)
+    if fmt == "json":
+        return json.dumps(report, indent=2, ensure_ascii=False, default=str) + "\n"
+    raise ReportError(f"report format is html, md or json, not {fmt!r}")
+
+
+def summary_row(inc: dict) -> dict[str, Any]:
+    """The summary table's row: what an insurer scans first."""
+    p = inc.get("penalty")
+    penalty = None
+    if p:
+        penalty = f"£{p.get('fine_gbp')}" + (f", {p['points']} points" if p.get("points") else "")
+    return {"id": inc["id"], "t": inc["t"], "time": ph.clock(inc["t"]), "vehicle": inc["vehicle"],
+            "action": inc["action"], "rule": inc["rule"], "verdict": inc["verdict"], "penalty": penalty,
+            "liable": inc["liable"], "findings": len(inc.get("findings") or [])}
+
+
+# --- per incident ---------------------------------------------------------------------------------
+
+def _entry(store: Store, inv: Any, inc: dict, number: int, chain: dict, the_map: dict) -> dict[str, Any]:
+    doc = explanation(inc, inv.rulebook, store, chain=chain)
+    picture = scene_picture(store, inc["run"], inc["t"], inc["vehicle"], the_map)
+    me = next((v for v in picture["vehicles"] if v["incident"]), None)
+    tl = timeline(store, inc["run"], inc["t"], inc["vehicle"], vehicle_junction(picture))
+    tl["heading_deg"] = me["heading_deg"] if me else None
+    return {"number": number, "row": summary_row(inc), "explanation": doc, "scene": picture, "timeline": tl,
+            "rulebooks": [{"stage": stage, **b} for stage, b in (inc.get("rulebooks") or {}).items()]}
+
+
+# --- run-wide sections ----------------------------------------------------------------------------
+
+def _checkpoints(store: Store, run: str) -> dict[str, Any]:
+    """How many checkpoints the run has and its latest (count, chain head, Merkle root): the
+    figures a second party can check a copy of the run against."""
+    cps = store.checkpoints(run)
+    last = cps[-1] if cps else None
+    return {"count": len(cps), "last": None if last is None else
+            {"events": last.get("count"), "head": last.get("head"), "merkle_root": last.get("merkle_root")}}
+
+
+def _rulebooks(store: Store, incidents: list[dict], recorded: list[dict]) -> list[dict[str, Any]]:
+    """Every rulebook a verdict used, once, then those the run recorded that no verdict used:
+    name, sha256, where it came from (given with --rules, recorded by the run, or the project's
+    current one), the stages it served, and its version as the run recorded it or the store
+    holds it under that sha256."""
+    versions = {b["sha256"]: b["version"] for b in recorded if b["sha256"] and b["version"]}
+    seen: dict[str, dict[str, Any]] = {}
+    for inc in incidents:
+        for stage, b in (inc.get("rulebooks") or {}).items():
+            sha = b.get("sha256")
+            if not sha:
+                continue
+            entry = seen.setdefault(sha, {"name": b.get("name"), "sha256": sha, "source": b.get("source"),
+                                          "stages": [], "version": versions.get(sha) or _version(store, sha)})
+            if stage not in entry["stages"]:
+                entry["stages"].append(stage)
+    for b in recorded:
+        if b["sha256"] and b["sha256"] not in seen:
+            seen[b["sha256"]] = {"name": b["name"], "sha256": b["sha256"], "source": "recorded", "stages": [],
+                                 "version": b["version"] or _version(store, b["sha256"])}
+    return list(seen.values())
+
+
+def _version(store: Store, sha: str) -> str | None:
+    try:
+        stored = store.get_rulebook(sha)
+    except ValueError:          # the stored text no longer hashes to its address
+        return "stored text does not match its sha256"
+    return stored.get("version") if stored else None

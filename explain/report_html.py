@@ -1,0 +1,165 @@
+"""A report (explain/report.py) as one self-contained HTML page.
+
+Readable offline and years later: the CSS is inline, the pictures are inline SVG, there is no
+script, no font, no image file and no link out of the page, so the file alone is the record.
+Print CSS starts each incident on a new page and keeps the pictures whole, so the PDF that
+`gaps report --pdf` prints from this page reads like the screen. Each incident's explanation is
+explain/render.py's `html_fragment` at the standard level, the same words as `gaps explain`.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from .render import esc, html_fragment
+from .report_data import SECOND
+from .svg_scene import scene_svg
+from .svg_timeline import timeline_svg
+
+STYLE = """
+:root{color-scheme:light}
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;max-width:64rem;margin:1.5rem auto;
+padding:0 1rem;line-height:1.45;color:#1b1b1b;background:#fff}
+h1{font-size:1.6rem;margin-bottom:.2rem}h2{font-size:1.3rem}h3{font-size:1.05rem;margin-top:1.2rem}
+.meta{color:#555;margin-top:0}
+table{border-collapse:collapse;font-size:.88rem;margin:.5rem 0}
+td,th{border:1px solid #ccc;padding:.2rem .45rem;text-align:left;vertical-align:top}
+th{background:#f2f2f2}
+td.sha,code{font-family:ui-monospace,"DejaVu Sans Mono",monospace;font-size:.8rem;word-break:break-all}
+span.verdict-punishable{color:#a40000;font-weight:600}span.verdict-mitigated{color:#7a5b00;font-weight:600}
+span.verdict-dismissed{color:#35607a;font-weight:600}
+.ok{color:#1d6b2f;font-weight:600}.bad{color:#a40000;font-weight:700}
+article.incident{border-top:3px solid #333;margin-top:2.5rem;padding-top:.5rem}
+figure{margin:1rem 0}figure svg{max-width:100%;height:auto;border:1px solid #ddd}
+figcaption{font-size:.85rem;color:#444;margin-top:.3rem}
+section.gaps-explanation h2{font-size:1.15rem}
+.gaps-explanation.verdict-punishable h2{color:#a40000}.gaps-explanation.verdict-mitigated h2{color:#7a5b00}
+ul.proof,ul.proof ul{list-style:none;padding-left:1.2rem}
+@media print{body{max-width:none;margin:0;font-size:10.5pt}
+article.incident{break-before:page;border-top:none}
+figure,table,svg{break-inside:avoid}a{color:inherit;text-decoration:none}}
+"""
+
+
+def to_html(report: dict[str, Any]) -> str:
+    run = report["run"]
+    title = f"Incident report: run {run}"
+    parts = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+             '<meta name="viewport" content="width=device-width, initial-scale=1">',
+             f"<title>{esc(title)}</title>", f"<style>{STYLE}</style>", "</head>", "<body>",
+             "<header>", f"<h1>{esc(title)}</h1>",
+             f'<p class="meta">Generated {esc(report["generated"])} by <code>gaps report</code> from the event '
+             f"store. {_scope(report)}</p>", "</header>"]
+    parts += _summary(report)
+    parts += _chain(report["chain"])
+    parts += _rulebooks(report["rulebooks"])
+    for entry in report["incidents"]:
+        parts += _incident(entry)
+    parts += ["</body>", "</html>"]
+    return "\n".join(parts) + "\n"
+
+
+def _scope(report: dict[str, Any]) -> str:
+    n, total = len(report["incidents"]), report["incidents_in_run"]
+    if report["selected"] is not None:
+        return f"One incident of the {total} the run holds."
+    return {0: "The run holds no potential violation.", 1: "The run holds one incident."}.get(
+        total, f"The run holds {total} incidents.") if n == total else f"{n} of {total} incidents."
+
+
+def _summary(report: dict[str, Any]) -> list[str]:
+    head = ["#", "id", "time", "vehicle", "action", "rule", "verdict", "penalty", "liable", "findings"]
+    out = ['<section id="summary">', "<h2>Incidents</h2>"]
+    if not report["incidents"]:
+        return out + ["<p>No potential violation was recorded or re-derived in this run.</p>", "</section>"]
+    out.append('<table class="summary"><thead><tr>' + "".join(f"<th>{h}</th>" for h in head) + "</tr></thead><tbody>")
+    for e in report["incidents"]:
+        r = e["row"]
+        cells = [f'<a href="#report-incident-{e["number"]}">{e["number"]}</a>', esc(r["id"]), esc(r["time"]),
+                 esc(r["vehicle"]), esc(r["action"]), esc(r["rule"] or "—"),
+                 f'<span class="verdict-{esc(r["verdict"])}">{esc(r["verdict"])}</span>',
+                 esc(r["penalty"] or "none"), esc(r["liable"]), str(int(r["findings"]))]
+        out.append('<tr class="incident-row">' + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+    out += ["</tbody></table>", "</section>"]
+    return out
+
+
+def _chain(chain: dict[str, Any]) -> list[str]:
+    if chain["verified"]:
+        status = '<span class="ok">Verified.</span>'
+    elif chain["checked"]:
+        status = '<span class="bad">NOT VERIFIED.</span>'
+    else:
+        status = "Not checked."
+    out = ['<section id="chain">', "<h2>Chain verification</h2>",
+           f"<p>{status} {esc(chain['text'][:1].upper() + chain['text'][1:])}.</p>"]
+    cp = chain["checkpoints"]
+    if cp["last"]:
+        last = cp["last"]
+        out.append("<table><tbody>"
+                   f"<tr><th>checkpoints</th><td>{int(cp['count'])}</td></tr>"
+                   f"<tr><th>events at the last checkpoint</th><td>{esc(last['events'])}</td></tr>"
+                   f"<tr><th>chain head</th><td class=\"sha\">{esc(last['head'])}</td></tr>"
+                   f"<tr><th>Merkle root</th><td class=\"sha\">{esc(last['merkle_root'])}</td></tr>"
+                   "</tbody></table>")
+    else:
+        out.append("<p>The run has no checkpoint.</p>")
+    out.append("<p>Anyone holding a copy of the run can recompute these with <code>gaps verify</code> or the "
+               "ten-line check in the store's documentation.</p>")
+    return out + ["</section>"]
+
+
+def _rulebooks(books: list[dict[str, Any]]) -> list[str]:
+    out = ['<section id="rulebooks">', "<h2>Rulebooks</h2>"]
+    if not books:
+        return out + ["<p>No rulebook was used.</p>", "</section>"]
+    out.append("<p>The verdicts were reached with these rulebooks, each named by the sha256 of its text: "
+               "<em>recorded</em> by the run, <em>given</em> for this report, or the project's "
+               "<em>current</em> one.</p>")
+    out.append("<table><thead><tr><th>rulebook</th><th>version</th><th>sha256</th><th>source</th>"
+               "<th>used for</th></tr></thead><tbody>")
+    for b in books:
+        out.append(f"<tr><td>{esc(b['name'])}</td><td>{esc(b['version'] or '—')}</td>"
+                   f'<td class="sha">{esc(b["sha256"])}</td><td>{esc(b["source"])}</td>'
+                   f"<td>{esc(', '.join(b['stages']) or 'recorded by the run, not used')}</td></tr>")
+    return out + ["</tbody></table>", "</section>"]
+
+
+def _incident(e: dict[str, Any]) -> list[str]:
+    r, pic, tl = e["row"], e["scene"], e["timeline"]
+    n = int(e["number"])
+    out = [f'<article class="incident" id="report-incident-{n}">',
+           f"<h2>Incident {n}: vehicle {esc(r['vehicle'])}, {esc(r['action'])}, "
+           f'<span class="verdict-{esc(r["verdict"])}">{esc(r["verdict"])}</span></h2>',
+           '<figure class="scene">', scene_svg(pic, n),
+           f"<figcaption>{esc(_scene_caption(pic))}</figcaption>", "</figure>",
+           '<figure class="timeline">', timeline_svg(tl, tl.get("heading_deg")),
+           f"<figcaption>{esc(_timeline_caption(tl))}</figcaption>", "</figure>",
+           html_fragment(e["explanation"], "standard"),
+           "<h3>Rulebooks of this verdict</h3>",
+           "<table><thead><tr><th>stage</th><th>rulebook</th><th>sha256</th><th>source</th></tr></thead><tbody>"]
+    for b in e["rulebooks"]:
+        out.append(f"<tr><td>{esc(b['stage'])}</td><td>{esc(b.get('name'))}</td>"
+                   f'<td class="sha">{esc(b.get("sha256"))}</td><td>{esc(b.get("source"))}</td></tr>')
+    out += ["</tbody></table>", "</article>"]
+    return out
+
+
+def _scene_caption(pic: dict[str, Any]) -> str:
+    signals = "; ".join(f"{s['junction']} {s['approach']} {s['colour']}" for s in pic["signals"]) or "none reported"
+    unplaced = [v["id"] for v in pic["vehicles"] if v["x"] is None]
+    text = (f"The scene at the incident, {pic['offset']} from the run start, as the record holds it: "
+            f"vehicle {pic['vehicle']} highlighted, arrows point where each vehicle was heading, wedges are the "
+            f"monitors' fields of view. Signals: {signals}.")
+    if unplaced:
+        text += f" Not drawn (no position recorded): {', '.join(map(str, unplaced))}."
+    if pic.get("note"):
+        text += f" Note: {pic['note']}."
+    return text
+
+
+def _timeline_caption(tl: dict[str, Any]) -> str:
+    before, after = (tl["t"] - tl["t_from"]) / SECOND, (tl["t_to"] - tl["t"]) / SECOND
+    return (f"Vehicle {tl['vehicle']}'s speed from {before:g} s before the incident to {after:g} s after, and the "
+            "colour each "
+            f"signal approach of junction {tl['junction'] or '(none found)'} showed; between reports the "
+            "record says nothing, so the line joins the reported points.")

@@ -1,0 +1,103 @@
+"""A report (explain/report.py) in Markdown: the HTML report's sections as text and tables, for a
+case file, a ticket or a diff between two reports.
+
+Markdown has no portable inline pictures, so the scene is a list (signals, vehicles with position,
+heading and speed, monitors with their field of view) and the timeline a table of what changed
+when: the same data the HTML draws. Every recorded string goes through explain/render.py's `md`.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from .render import md
+from .render import to_markdown as explanation_md
+from .report_data import SECOND
+
+
+def to_markdown(report: dict[str, Any]) -> str:
+    out = [f"# Incident report: run {md(report['run'])}", "",
+           f"Generated {md(report['generated'])} by `gaps report` from the event store.", ""]
+    out += _summary(report)
+    out += _chain(report["chain"])
+    out += _rulebooks(report["rulebooks"])
+    for e in report["incidents"]:
+        out += _incident(e)
+    return "\n".join(out).rstrip() + "\n"
+
+
+def _table(head: list[str], rows: list[list[Any]]) -> list[str]:
+    return (["| " + " | ".join(md(h) for h in head) + " |", "|" + "---|" * len(head)]
+            + ["| " + " | ".join(md("" if c is None else str(c)) for c in row) + " |" for row in rows] + [""])
+
+
+def _summary(report: dict[str, Any]) -> list[str]:
+    out = ["## Incidents", ""]
+    if not report["incidents"]:
+        return out + ["No potential violation was recorded or re-derived in this run.", ""]
+    rows = [[e["number"], r["id"], r["time"], r["vehicle"], r["action"], r["rule"] or "—", r["verdict"],
+             r["penalty"] or "none", r["liable"], r["findings"]] for e in report["incidents"] for r in [e["row"]]]
+    return out + _table(["#", "id", "time", "vehicle", "action", "rule", "verdict", "penalty", "liable",
+                         "findings"], rows)
+
+
+def _chain(chain: dict[str, Any]) -> list[str]:
+    status = "Verified" if chain["verified"] else "NOT VERIFIED" if chain["checked"] else "Not checked"
+    out = ["## Chain verification", "", f"{status}: {md(chain['text'])}.", ""]
+    last = chain["checkpoints"]["last"]
+    if last:
+        out += _table(["checkpoints", "events at the last", "chain head", "Merkle root"],
+                      [[chain["checkpoints"]["count"], last["events"], last["head"], last["merkle_root"]]])
+    return out
+
+
+def _rulebooks(books: list[dict[str, Any]]) -> list[str]:
+    return ["## Rulebooks", ""] + _table(["rulebook", "version", "sha256", "source", "used for"],
+                                         [[b["name"], b["version"] or "—", b["sha256"], b["source"],
+                                           ", ".join(b["stages"]) or "recorded by the run, not used"] for b in books])
+
+
+def _incident(e: dict[str, Any]) -> list[str]:
+    r, pic, tl = e["row"], e["scene"], e["timeline"]
+    out = ["", "---", "", f"## Incident {e['number']}: vehicle {md(r['vehicle'])}, {md(r['action'])}, "
+           f"{md(r['verdict'])}", "", f"### The scene at {md(pic['offset'])} from the run start", ""]
+    out += [f"- signal {md(s['junction'])} {md(s['approach'])}: {md(s['colour'])}" for s in pic["signals"]]
+    for v in pic["vehicles"]:
+        where = ("position not recorded" if v["x"] is None else
+                 f"at ({v['x']:g}, {v['y']:g}) m, heading {_n(v['heading_deg'])}°, speed {_n(v['speed_mps'])} m/s")
+        mark = " (this incident)" if v["incident"] else ""
+        out.append(f"- vehicle {md(v['id'])} ({md(v['type'] or 'type not recorded')}){mark}: {where}")
+    for m in pic["monitors"]:
+        out.append(f"- {md(m['id'])}: at ({_n(m['x'])}, {_n(m['y'])}) m, heading {_n(m['heading_deg'])}°, "
+                   f"field of view {_n(m['fov_deg'])}°, range {_n(m['range_m'])} m")
+    out += ["", f"### Speed and signals from {(tl['t_from'] - tl['t']) / SECOND:g} s to "
+                f"+{(tl['t_to'] - tl['t']) / SECOND:g} s", ""]
+    rows = [[_rel(tl, p["t"]), f"vehicle/{tl['vehicle']}", f"speed {p['speed_mps']:g} m/s"] for p in tl["speed"]]
+    rows += [[_rel(tl, p["t"]), p["monitor"], f"observed speed {p['speed_mps']:g} m/s"] for p in tl["observed_speed"]]
+    rows += [[_rel(tl, c["t"]), f"signal {tl['junction']} {approach}", str(c["colour"])]
+             for approach, changes in tl["signals"].items() for c in changes]
+    rows.sort(key=lambda row: _sort_key(row[0]))
+    out += _table(["time", "source", "what"], rows) if rows else ["Nothing recorded in this window.", ""]
+    out += [_demoted(explanation_md(e["explanation"], "standard")), "### Rulebooks of this verdict", ""]
+    out += _table(["stage", "rulebook", "sha256", "source"],
+                  [[b["stage"], b.get("name"), b.get("sha256"), b.get("source")] for b in e["rulebooks"]])
+    return out
+
+
+def _demoted(text: str) -> str:
+    """The explanation's headings two levels down, under the incident's. Only headings start a
+    line with # (`md` escapes a recorded one)."""
+    return "\n".join("##" + line if line.startswith("#") else line for line in text.splitlines()) + "\n"
+
+
+def _rel(tl: dict[str, Any], t: int) -> str:
+    d = (max(t, tl["t_from"]) - tl["t"]) / SECOND
+    return ("≤ " if t < tl["t_from"] else "") + ("0 s" if d == 0 else f"{d:+g} s")
+
+
+def _sort_key(text: str) -> float:
+    value = text.removeprefix("≤ ").removesuffix(" s")
+    return float(value) - (0.5 if text.startswith("≤ ") else 0)
+
+
+def _n(value: float | None) -> str:
+    return "?" if value is None else f"{value:g}"
