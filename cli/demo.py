@@ -33,3 +33,14 @@ def publish_through_zenoh(db: Path, events: list[dict], timeout_s: float = 30.0)
 
 def demo_events() -> list[dict]:
     return paper_run()
+
+
+def write_report(db: Path, run: str, target: Path) -> Path:
+    """The run's report (explain/report.py) written to `target`, in the format its suffix names."""
+    from explain.report import build_report, format_for, render_report
+    from store import Store
+    fmt = format_for(target)
+    with Store(db) as store:
+        report = build_report(store, run)
+    target.write_text(render_report(report, fmt), encoding="utf-8")
+    return target

@@ -13,9 +13,13 @@ import typer
 from cli.app import DbOption, JsonOption, RunOption, app, db_path, fail, open_existing, print_json
 
 @app.command()
-def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
-    """Replay the paper's two junction scenarios over Zenoh into the store and explain the verdicts."""
-    from cli.demo import demo_events, publish_through_zenoh
+def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
+         report: Optional[Path] = typer.Option(
+             None, "--report", help="Where to write the HTML report (default: gaps-report.html beside the store; "
+                                    ".md or .json by suffix).")) -> None:
+    """Replay the paper's two junction scenarios over Zenoh into the store, explain the verdicts and
+    write the HTML report."""
+    from cli.demo import demo_events, publish_through_zenoh, write_report
     path = db_path(db)
     events = demo_events()
     totals = publish_through_zenoh(path, events)
@@ -24,6 +28,13 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
         typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
                    f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
     _report(path, [run], json_out)
+    target = report or path.parent / "gaps-report.html"
+    try:
+        written = write_report(path, run, target)
+    except (OSError, ValueError) as exc:
+        fail(f"cannot write the report to {target}: {exc}")
+    typer.echo(f"Report of run {run}: {written.resolve()} (open it in a browser; `gaps report --run {run} -o FILE --pdf` "
+               "prints a PDF)", err=json_out)
 
 
 @app.command()
@@ -70,6 +81,7 @@ def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[st
 
 from cli import explain  # noqa: E402,F401  (gaps explain --run R INCIDENT)
 from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)
+from cli import report  # noqa: E402,F401  (gaps report --run R -o FILE)
 from cli import rules  # noqa: E402,F401  (gaps rules check|query|prolog|verify)
 from cli import scene  # noqa: E402,F401  (gaps scene --run R --at T)
 from cli import transfer  # noqa: E402,F401  (gaps import / gaps export)
