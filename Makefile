@@ -9,6 +9,7 @@ demo: $(READY)
 	$(VENV)/bin/gaps demo
 
 test: $(READY)
+	@bash scripts/ensure-chromium.sh
 	$(VENV)/bin/python -m pytest
 
 setup: $(READY)
