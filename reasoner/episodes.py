@@ -76,17 +76,31 @@ class Rederiver:
         self.asked = 0
 
     def actions(self, vehicle: str, facts: Any) -> frozenset[str]:
-        sentences = [s for s in facts if isinstance(s, str)] if isinstance(facts, list) else []
-        key = self._shape(vehicle, sentences)
+        if type(facts) is not list:
+            return frozenset()
+        key = self._shape(vehicle, facts)
         found = self._cache.get(key)
         if found is None:
-            found = self._cache[key] = self._ask(vehicle, sentences)
+            found = self._cache[key] = self._ask(vehicle, [s for s in facts if isinstance(s, str)])
         return found
 
-    def _shape(self, vehicle: str, sentences: list[str]) -> tuple:
+    def _shape(self, vehicle: str, facts: list) -> tuple:
+        """The sentences with the vehicle's own id blanked where it is a whole word (the common
+        case, the id opening the sentence, without splitting it into words)."""
         if vehicle in self._mentioned:
-            return (vehicle, *sorted(set(sentences)))
-        return tuple(sorted({" ".join(_BLANK if w == vehicle else w for w in s.split()) for s in sentences}))
+            return (vehicle, *facts)
+        prefix, n = vehicle + " ", len(vehicle) + 1
+        out = []
+        for s in facts:
+            if type(s) is not str:
+                out.append(repr(s))
+            elif s.startswith(prefix) and vehicle not in s[n:]:
+                out.append(_BLANK + s[n - 1:])
+            elif vehicle in s:
+                out.append(" ".join(_BLANK if w == vehicle else w for w in s.split(" ")))
+            else:
+                out.append(s)
+        return tuple(out)
 
     def _ask(self, vehicle: str, sentences: list[str]) -> frozenset[str]:
         self.asked += 1
