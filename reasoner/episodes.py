@@ -28,6 +28,7 @@ SECOND = 1_000_000_000
 EPISODE_GAP_S = 5
 MATCH_S = 2
 _BLANK = "\x00"
+_EXACT_LIMIT = 500_000
 
 
 @dataclass
@@ -73,15 +74,26 @@ class Rederiver:
         self._mentioned = {str(c) for c in rule_constants(rb)}
         self._question = [Cond(atom=Atom("potentially_violates", (Var("vehicle"), Var("action"))))]
         self._cache: dict[tuple, frozenset[str]] = {}
+        self._exact: dict[tuple, frozenset[str]] = {}    # (vehicle, *facts): most observations repeat
         self.asked = 0
 
     def actions(self, vehicle: str, facts: Any) -> frozenset[str]:
         if type(facts) is not list:
             return frozenset()
-        key = self._shape(vehicle, facts)
-        found = self._cache.get(key)
+        try:
+            exact = (vehicle, *facts)
+            found = self._exact.get(exact)
+        except TypeError:           # a fact that is not a string (an object, a list)
+            exact, found = None, None
         if found is None:
-            found = self._cache[key] = self._ask(vehicle, [s for s in facts if isinstance(s, str)])
+            key = self._shape(vehicle, facts)
+            found = self._cache.get(key)
+            if found is None:
+                found = self._cache[key] = self._ask(vehicle, [s for s in facts if isinstance(s, str)])
+            if exact is not None:
+                if len(self._exact) >= _EXACT_LIMIT:
+                    self._exact.clear()
+                self._exact[exact] = found
         return found
 
     def _shape(self, vehicle: str, facts: list) -> tuple:
