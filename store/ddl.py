@@ -81,11 +81,16 @@ _V2 = (
 # so that it costs the append path little (a partial index: queries must repeat its WHERE term,
 # see queries.select_events).
 DENSE_KINDS = ("entity.state", "vehicle.perception", "vehicle.trace")
-SPARSE_ONLY = "kind NOT IN (" + ", ".join(f"'{k}'" for k in DENSE_KINDS) + ")"
+_NOT_IN = "kind NOT IN (" + ", ".join(f"'{k}'" for k in DENSE_KINDS) + ")"
+_V3 = (f"CREATE INDEX events_by_kind ON events (run, kind, t, seq, src) WHERE {_NOT_IN}",)
 
-_V3 = (f"CREATE INDEX events_by_kind ON events (run, kind, t, seq, src) WHERE {SPARSE_ONLY}",)
+# The same index with its condition as a chain of <>: SQLite tests it on every insert, and the
+# NOT IN list cost the append 1.2-2 us an event more (bench/append.py, measured interleaved).
+SPARSE_ONLY = " AND ".join(f"kind <> '{k}'" for k in DENSE_KINDS)
+_V4 = ("DROP INDEX events_by_kind",
+       f"CREATE INDEX events_by_kind ON events (run, kind, t, seq, src) WHERE {SPARSE_ONLY}")
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3}
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

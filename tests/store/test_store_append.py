@@ -231,7 +231,7 @@ def test_schema_version_and_pragmas(db_path):
         assert durable._conn.execute("PRAGMA synchronous").fetchone() == (2,)  # FULL
     with Store(db_path, durable=False) as fast:
         assert fast._conn.execute("PRAGMA synchronous").fetchone() == (1,)  # NORMAL
-    assert rows(db_path, "SELECT version FROM schema_version") == [(1,), (2,), (3,)]
+    assert rows(db_path, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,)]
     tables = {name for (name,) in rows(db_path, "SELECT name FROM sqlite_master WHERE type = 'table'")}
     assert {"events", "quarantine", "checkpoints", "rulebooks", "schema_version"} <= tables
 
@@ -281,3 +281,16 @@ def test_quarantine_first_and_latest(store):
     assert [q["origin"] for q in store.quarantined(2)] == ["o0", "o1"]
     assert [q["origin"] for q in store.quarantined(2, latest=True)] == ["o3", "o4"]
     assert store.quarantine_count() == 5
+
+
+def test_a_new_file_gets_16_kib_pages_and_an_existing_one_keeps_its_own(tmp_path):
+    import sqlite3
+    with Store(tmp_path / "new.db") as store:
+        assert store.connection.execute("PRAGMA page_size").fetchone() == (16384,)
+    old = tmp_path / "old.db"
+    conn = sqlite3.connect(old)
+    conn.execute("PRAGMA page_size=4096")
+    conn.execute("CREATE TABLE x (y)")
+    conn.close()
+    with Store(old) as store:
+        assert store.connection.execute("PRAGMA page_size").fetchone() == (4096,)
