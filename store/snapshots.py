@@ -35,7 +35,7 @@ import orjson
 from . import fastjson
 from .db import Store
 
-FOLD_VERSION = 3  # raise when the fold or the encoding changes: other versions are ignored
+FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions are ignored
 
 Position = tuple[int, int, str]  # (t, seq, src) of an event, the order of the fold
 Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: position, encoded state

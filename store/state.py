@@ -17,7 +17,9 @@ The state (plain JSON data):
                       entity.despawn, null while present). A new entity.spawn starts a fresh record.
     signals           per junction, per approach ("*" when the event names none): colour,
                       since (ref of the event that first showed this colour), last (latest report)
-    monitors          per monitor src: observations and potential_violations, latest per vehicle
+    monitors          per monitor src: observations, the latest per vehicle made within
+                      OBSERVATION_WINDOW_S before t (an older one no longer says what the monitor
+                      sees at t), and potential_violations, the latest per vehicle
     collisions        per entity id named in a collision: the latest collision naming it
 vehicle.trace events are counted but not folded: decisions cite their trace by seq.
 
@@ -42,6 +44,8 @@ from . import fastjson, snapshots
 from .db import Store
 from .snapshots import Fresh, Position
 
+OBSERVATION_WINDOW_S = 10  # a monitor observation older than this says nothing of the moment
+_SECOND = 1_000_000_000
 SNAPSHOT_EVERY = 500  # events between snapshots: bench/scene_at_t.py measures the trade-off
 _CHUNK = 4096  # rows fetched at a time, so that memory stays bounded whatever the window
 _HELD = 64  # snapshots held in memory before they are written
@@ -78,7 +82,21 @@ def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> d
             state = _advance(store, run, t, SNAPSHOT_EVERY)
         else:
             state = _fold_all(store.connection, run, t)
+        prune(state, t)
         return {"run": run, "t": t, **state}
+
+
+def prune(state: dict[str, Any], t: int) -> None:
+    """Drop the monitor observations made more than OBSERVATION_WINDOW_S before t.
+
+    Snapshots are pruned at their own time too, which keeps them small; that never changes an
+    answer, because whatever is pruned at a snapshot's time is older still for any later t."""
+    horizon = t - OBSERVATION_WINDOW_S * _SECOND
+    for monitor in state["monitors"].values():
+        observations = monitor["observations"]
+        stale = [vehicle for vehicle, piece in observations.items() if piece["t"] < horizon]
+        for vehicle in stale:
+            del observations[vehicle]
 
 
 def build_snapshots(store: Store, run: str, *, every: int = SNAPSHOT_EVERY) -> int:
@@ -111,6 +129,7 @@ def check_snapshots(store: Store, run: str) -> list[Position]:
             for rows in iter(lambda: cursor.fetchmany(_CHUNK), []):
                 fold_rows(state, rows)
             position = held.position
+            prune(state, position[0])
             if held.state != state:
                 wrong.append(position)
     return wrong
@@ -245,6 +264,7 @@ def _fold_window(
 def _snapshot(state: dict[str, Any]) -> Fresh:
     """Encoded now: the fold goes on changing the state in place."""
     last = state["last"]
+    prune(state, last["t"])
     return (last["t"], last["seq"], last["src"]), snapshots.encode(state)
 
 

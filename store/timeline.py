@@ -14,7 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 from .db import Store
-from .state import fold_rows, state_at
+from .state import fold_rows, prune, state_at
 
 MAX_STEP = 3_000    # events folded forward before a snapshot is the cheaper way (bench/incidents.py)
 _CHUNK = 4096
@@ -40,6 +40,7 @@ class Timeline:
             state = self._state = state_at(self.store, self.run, t)
         else:
             self.steps += 1
+            prune(state, t)
         state["t"] = t
         return state
 
