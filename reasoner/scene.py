@@ -7,7 +7,7 @@ runs of millions of events) and the reasoner's readings of that state (DESIGN "R
     vehicles     per vehicle present at t: spawn, latest entity.state, who was in control, and
                  the Vehicle Scenario, Vehicle Action, Monitor Scenarios and Validator Scenario
     signals      per junction and approach: the colour shown and since which event
-    monitors     per monitor: its map entry and the vehicles it has observed
+    monitors     per monitor: its map entry and the vehicles it observed in the last 10 s
     rulebooks    the rulebooks the run recorded in its run.start
 
 Nothing here asks Prolog unless asked to judge (`judge=True`, the default when one vehicle is
@@ -18,7 +18,8 @@ Validator Scenario ("lawful"). The scene is plain JSON data; every fact carries 
 Decisions: a time before the run start is allowed and gives an empty scene with a note saying so
 (the record held nothing yet); a vehicle is present from its entity.spawn (or its first event, for
 a producer that sends none) until its entity.despawn, and a vehicle only monitors have recorded
-(no recorder of its own) is present from its first observation; asking for a vehicle that is not
+(no recorder of its own) is present while a monitor has observed it within the last 10 s (the
+store's OBSERVATION_WINDOW_S); asking for a vehicle that is not
 present at t is an UnknownVehicle error naming the vehicles that are.
 """
 from __future__ import annotations
