@@ -8,7 +8,6 @@ the highest stored seq of each source are cached (store/heads.py), rows are buil
 from __future__ import annotations
 
 import heapq
-from itertools import islice
 import os
 import sqlite3
 import time
@@ -201,7 +200,7 @@ class Store:
             rows: Iterator[tuple] = heapq.merge(*streams)
         else:
             rows = self._rows(run, wanted, srcs, t_from, t_to)
-        return _parsed(rows)
+        return (fastjson.loads(row[3]) for row in rows)
 
     def _rows(self, run: str, kinds, srcs, t_from, t_to) -> Iterator[tuple]:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
@@ -270,13 +269,3 @@ class Store:
         """Every stored rulebook without its text: {sha256, name, version, stored_at, bytes}."""
         return rulebooks.listing(self._conn)
 
-
-_CHUNK = 2048
-
-
-def _parsed(rows: Iterator[tuple]) -> Iterator[dict]:
-    """The events of (t, seq, src, event) rows, parsed a chunk at a time: one parse of a JSON
-    array of the chunk costs less than a parse per event (readers go through hundreds of
-    thousands of them)."""
-    while chunk := list(islice(rows, _CHUNK)):
-        yield from fastjson.loads("[" + ",".join([row[3] for row in chunk]) + "]")
