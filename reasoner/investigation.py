@@ -25,6 +25,7 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from store import Store
+from store.state import CollectorPaused
 from store.timeline import Timeline
 
 from .control import control_at, liability_facts, role
@@ -66,7 +67,8 @@ class Investigation:
         eps: list[Episode] = []
         if monitor is not None:
             rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
-            eps = list(episodes(self.store.events(run, kinds=["monitor.observation"]), rederiver))
+            with CollectorPaused():    # hundreds of thousands of parsed observations, no cycles
+                eps = list(episodes(self.store.events(run, kinds=["monitor.observation"]), rederiver))
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))

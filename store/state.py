@@ -77,7 +77,7 @@ def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> d
     With use_snapshots (the default) the fold starts from the nearest snapshot and any missing
     snapshots on the way are written to the file. use_snapshots=False folds every event from the
     start, reading the events only: the slow reference the snapshots are tested against."""
-    with _CollectorPaused():
+    with CollectorPaused():
         if use_snapshots:
             state = _advance(store, run, t, SNAPSHOT_EVERY)
         else:
@@ -104,7 +104,7 @@ def build_snapshots(store: Store, run: str, *, every: int = SNAPSHOT_EVERY) -> i
     run has. Runs in bounded memory, committing a batch of snapshots at a time."""
     if every < 1:
         raise ValueError("every must be at least 1")
-    with _CollectorPaused():
+    with CollectorPaused():
         _advance(store, run, _T_MAX, every)
     return snapshots.count(store, run)
 
@@ -120,7 +120,7 @@ def check_snapshots(store: Store, run: str) -> list[Position]:
         return []
     conn = store.connection
     state, position, wrong = empty_state(), None, []
-    with _reading(conn), _CollectorPaused():
+    with _reading(conn), CollectorPaused():
         stale = snapshots.stale_from(conn, run, snapshots.marks(conn, run))
         for held in snapshots.listed(conn, run, stale):
             after = () if position is None else position
@@ -157,7 +157,7 @@ def empty_state() -> dict[str, Any]:
 # --- reading ----------------------------------------------------------------------------------
 
 
-class _CollectorPaused:
+class CollectorPaused:
     """No cyclic garbage collection while a state is read and folded.
 
     Parsing a snapshot creates some ten thousand dicts and lists. With the collector on, it runs
