@@ -41,6 +41,7 @@ def explain_command(incident: str = typer.Argument(..., help="Incident id (monit
         if not path.is_file():
             fail(f"no such rulebook file: {path}")
     from explain.document import explanation
+    from explain.report import pick
     from explain.render import render
     from reasoner.investigation import Investigation
     with open_existing(db) as store:
@@ -55,12 +56,3 @@ def explain_command(incident: str = typer.Argument(..., help="Incident id (monit
         doc = explanation(chosen, inv.rulebook, store, why_not_questions=why_not or [])
     typer.echo(render(doc, fmt, level), nl=False)
 
-
-def pick(found: list[dict], wanted: str) -> dict | None:
-    """The incident named by id, else by its 1-based number."""
-    for inc in found:
-        if inc["id"] == wanted:
-            return inc
-    if wanted.isdigit() and 1 <= int(wanted) <= len(found):
-        return found[int(wanted) - 1]
-    return None
