@@ -127,15 +127,21 @@ class Rederiver:
 def episodes(observations: Iterable[dict], rederiver: Rederiver) -> Iterator[Episode]:
     """The episodes of a run's observations, given in (t, seq, src) order, as they close."""
     open_: dict[tuple[str, str], dict[str, Episode]] = {}
+    actions = rederiver.actions
     for obs in observations:
         body = obs["body"]
         vehicle = body.get("vehicle")
-        if not isinstance(vehicle, (str, int)) or isinstance(vehicle, bool):
-            continue
-        vehicle = str(vehicle)
+        if type(vehicle) is not str:
+            if not isinstance(vehicle, int) or isinstance(vehicle, bool):
+                continue
+            vehicle = str(vehicle)
+        derived = actions(vehicle, body.get("facts"))
         key = (obs["src"], vehicle)
-        derived = rederiver.actions(vehicle, body.get("facts"))
-        current = open_.setdefault(key, {})
+        current = open_.get(key)
+        if not current:
+            if not derived:
+                continue        # the common case: nothing open, nothing derived
+            current = open_[key] = {}
         for action in list(current):
             episode = current[action]
             if action not in derived or obs["t"] - episode.last["t"] > EPISODE_GAP_S * SECOND:
