@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from machine import machine  # bench/machine.py, beside this file
+from scene_at_t import calibration  # the machine's speed at the moment (a fixed JSON parse)
 from sim_replay.synthetic import GENERATOR, synthetic_run
 from store import Store
 
@@ -162,20 +163,23 @@ def main() -> None:
         found, wall, cpu = incidents_once(path)
         cold = {"wall_s": wall, "cpu_s": cpu}
         print(f"cold: {wall:.2f} s wall, {cpu:.2f} s CPU ({duration / wall:,.0f}x real time)", flush=True)
-    warm_wall, warm_cpu = [], []
+    warm_wall, warm_cpu, speeds = [], [], []
     for i in range(args.repeats):
         load.append(os.getloadavg()[0])
+        speed = calibration()
         found, wall, cpu = incidents_once(path)
         warm_wall.append(wall)
         warm_cpu.append(cpu)
-        print(f"warm {i + 1}: {wall:.2f} s wall, {cpu:.2f} s CPU", flush=True)
+        speeds.append(speed)
+        print(f"warm {i + 1}: {wall:.2f} s wall, {cpu:.2f} s CPU (calibration before: {speed:.2f} ms, "
+              f"2.4-2.5 ms when this machine is quiet)", flush=True)
     load.append(os.getloadavg()[0])
     median = statistics.median(warm_wall)
     verdicts = Counter(inc.get("verdict") for inc in found)
     kinds = Counter(f.get("kind") for inc in found for f in inc.get("findings", []))
     result = {
         "run": RUN, "events": span["events"], "run_seconds": duration, "machine": machine(),
-        "load_average": [round(x, 2) for x in load],
+        "load_average": [round(x, 2) for x in load], "calibration_ms": [round(x, 2) for x in speeds],
         "cold": cold and {**cold, "x_real_time": duration / cold["wall_s"]},
         "warm": {"wall_s": warm_wall, "cpu_s": warm_cpu, "median_wall_s": median,
                  "x_real_time": duration / median, "x_real_time_cpu": duration / statistics.median(warm_cpu)},
