@@ -36,6 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from store import Store, canonical_json, validate_event  # noqa: E402
 from store.chain import RunChain  # noqa: E402
+from machine import QUIET_MS, calibration  # noqa: E402  (bench/machine.py, beside this file)
 from transfer import generated_run, machine  # noqa: E402  (bench/transfer.py, beside this file)
 
 INSERT = "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
@@ -191,10 +192,10 @@ def main() -> None:
     parser.add_argument("--small", action="store_true", help="minimal events instead of the junction run")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    before = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    before = " ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (calibration {calibration():.2f} ms)"
     with tempfile.TemporaryDirectory(prefix="gaps-bench-append-") as tmp:
         result = measure(args.events, args.batch, args.repeat, Path(tmp), args.small)
-    after = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    after = " ".join(f"{x:.2f}" for x in os.getloadavg()) + f" (calibration {calibration():.2f} ms; {QUIET_MS})"
     if args.json:
         print(json.dumps({"machine": machine(), "load": [before, after], **result}, indent=2))
     else:

@@ -29,8 +29,7 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from machine import machine  # bench/machine.py, beside this file
-from scene_at_t import calibration  # the machine's speed at the moment (a fixed JSON parse)
+from machine import QUIET_MS, calibration, machine  # bench/machine.py, beside this file
 from sim_replay.synthetic import GENERATOR, synthetic_run
 from store import Store
 
@@ -172,7 +171,7 @@ def main() -> None:
         warm_cpu.append(cpu)
         speeds.append(speed)
         print(f"warm {i + 1}: {wall:.2f} s wall, {cpu:.2f} s CPU (calibration before: {speed:.2f} ms, "
-              f"2.4-2.5 ms when this machine is quiet)", flush=True)
+              f"{QUIET_MS})", flush=True)
     load.append(os.getloadavg()[0])
     median = statistics.median(warm_wall)
     verdicts = Counter(inc.get("verdict") for inc in found)

@@ -1,9 +1,12 @@
 """What the benchmarks ran on, printed beside every figure: shared machines vary."""
 from __future__ import annotations
 
+import json
 import os
 import platform
 import sqlite3
+import statistics
+import time
 from pathlib import Path
 
 
@@ -19,3 +22,20 @@ def machine() -> str:
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     return (f"{cores} CPUs (nproc), {model}; Python {platform.python_version()}, "
             f"SQLite {sqlite3.sqlite_version}, {platform.system()} {platform.release()}")
+
+
+QUIET_MS = "2.4-2.5 ms when this machine is quiet"
+
+
+def calibration() -> float:
+    """Median ms to parse a fixed 300 KB JSON document: the speed of this machine at this moment.
+    A shared virtual machine's speed drifts by a factor of two or more from minute to minute;
+    printed beside each round, this tells a slow round from a slow store."""
+    doc = json.dumps([{"src": f"vehicle/{i}", "seq": i, "t": 1_732_184_100_000_000_000 + i, "body": {"x": i / 3, "facts": ["a", "b"]}}
+                      for i in range(3000)])
+    times = []
+    for _ in range(20):
+        started = time.perf_counter()
+        json.loads(doc)
+        times.append((time.perf_counter() - started) * 1000)
+    return statistics.median(times)

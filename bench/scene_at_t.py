@@ -29,7 +29,7 @@ from typing import Any, Iterator
 from store import Store
 from store import snapshots
 from store.state import SNAPSHOT_EVERY, build_snapshots, state_at
-from machine import machine  # bench/machine.py, beside this file
+from machine import calibration, machine  # bench/machine.py, beside this file
 
 RUN = "bench-scene"
 T0 = 1_732_184_100_000_000_000
@@ -279,20 +279,6 @@ def measure_apart(path: Path, queries: int, seed: int) -> dict[str, Any]:
 def minor_faults() -> int:
     """Pages this process has faulted in: on a virtual machine each can cost tens of µs."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
-
-
-def calibration() -> float:
-    """Median ms to parse a fixed 300 KB JSON document: the speed of this machine at this moment.
-    A shared virtual machine's speed drifts by a factor of two or more from minute to minute;
-    printed beside each round, this tells a slow round from a slow store."""
-    doc = json.dumps([{"src": f"vehicle/{i}", "seq": i, "t": T0 + i, "body": {"x": i / 3, "facts": ["a", "b"]}}
-                      for i in range(3000)])
-    times = []
-    for _ in range(20):
-        started = time.perf_counter()
-        json.loads(doc)
-        times.append((time.perf_counter() - started) * 1000)
-    return statistics.median(times)
 
 
 def timing(r: dict[str, Any]) -> str:
