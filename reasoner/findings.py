@@ -35,7 +35,7 @@ def decision_fault(engine: Engine, reader: FactReader, choice: Choice | None, ve
         return None
     if constant([vehicle]) not in goal.args:
         return None
-    permitted = engine.ask(rb, goal, reader.atoms(rb, perceived)).holds
+    permitted = engine.holds(rb, goal, reader.atoms(rb, perceived))
     recorded, proceeds = action.get("permitted"), action.get("proceeds")
     said = f'its own rulebook ({rb.name}) on its own perception answers "{action["goal"]}": {_yes(permitted)}'
     if isinstance(recorded, bool) and recorded != permitted:
