@@ -5,15 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
-from runs import ENTER, RUN, SPEEDING, RunBuilder
+from runs import ENTER, RUN, SPEEDING, RunBuilder, car
 
 from explain.document import explanation
 from reasoner.investigation import Investigation
 from store import Store
-
-
-def car(v: str) -> list[str]:
-    return [f"{v} is of type car"]
 
 
 def paper(run: RunBuilder) -> None:

@@ -50,6 +50,11 @@ JUNCTION_X = {"j1": 0.0, "j2": 200.0}
 MONITOR_OF = {"j1": "m1", "j2": "m2"}
 
 
+def car(v: str) -> list[str]:
+    """What a car's perception says it is."""
+    return [f"{v} is of type car"]
+
+
 def ns(seconds: float) -> int:
     """World time of a moment given in seconds from the run's start."""
     return T0 + round(seconds * SECOND)

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from reasoner.rulebooks import bundled
 from store import Store
 
-from runs import ENTER, RUN, SPEEDING, RunBuilder, incidents, ns
+from runs import ENTER, RUN, SPEEDING, RunBuilder, car, incidents, ns
 
 VERDICTS = {"punishable", "mitigated", "dismissed"}
 LIABLE = {"driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator", "none"}
@@ -117,10 +117,6 @@ def assert_findings(inc: dict, must: set[str] = frozenset(), must_not: set[str] 
     assert must <= got, f"{inc['vehicle']}: expected findings {must - got}, got {inc['findings']}"
     unexpected = (must_not - must) & got
     assert not unexpected, f"{inc['vehicle']}: unexpected findings {[f for f in inc['findings'] if f['kind'] in unexpected]}"
-
-
-def car(v: str) -> list[str]:
-    return [f"{v} is of type car"]
 
 
 # -- the runs ---------------------------------------------------------------------------------
