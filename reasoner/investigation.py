@@ -68,8 +68,7 @@ class Investigation:
         if monitor is not None:
             rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
             with CollectorPaused():    # hundreds of thousands of parsed observations, no cycles
-                eps = list(episodes(self.store.events(run, kinds=["monitor.observation"], read_ahead=True),
-                                   rederiver))
+                eps = list(episodes(self.store.events(run, kinds=["monitor.observation"]), rederiver))
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))

@@ -21,7 +21,6 @@ from .heads import Heads
 from .intake import Candidate, from_raw
 from .reports import AppendReport, VerifyReport
 from .verify import Progress, verify_store
-from .read_ahead import read_ahead_rows
 
 _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
@@ -192,18 +191,8 @@ class Store:
         srcs: Collection[str] | None = None,
         t_from: int | None = None,
         t_to: int | None = None,
-        read_ahead: bool = False,
     ) -> Iterator[dict]:
-        """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive.
-
-        read_ahead: SQLite reads the rows in a second connection on a thread of its own while
-        this one parses them (SQLite works without holding Python's lock), for long reads: the
-        reasoner's pass over a run's hundreds of thousands of observations takes a quarter less
-        time. The rows are those stored when the read starts, as in any other read."""
-        if read_ahead and kinds is not None and os.path.exists(self.path):
-            sql, params = queries.select_events(run, sorted(set(queries.collection("kinds", kinds))),
-                                                srcs, t_from, t_to)
-            return (fastjson.loads(row[3]) for row in read_ahead_rows(self.path, sql, params))
+        """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive."""
         wanted = None if kinds is None else sorted(set(queries.collection("kinds", kinds)))
         if wanted is not None and len(wanted) > 1 and not set(wanted) & set(DENSE_KINDS):
             # one index range per kind, merged: cheaper than the whole run's time index
