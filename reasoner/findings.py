@@ -8,6 +8,8 @@ from __future__ import annotations
 import sqlite3
 from typing import Any
 
+from store import queries
+
 from .engine import Engine
 from .facts import FactReader
 from .le.sentences import constant
@@ -61,11 +63,29 @@ class Gaps:
     def __init__(self, conn: sqlite3.Connection, run: str) -> None:
         self.conn, self.run = conn, run
         self._found: dict[str, list[tuple[int, int]]] = {}
+        self._any: bool | None = None
 
     def of(self, src: str) -> list[tuple[int, int]]:
+        if self._any is None:
+            self._any = self._run_has_gaps()
+        if not self._any:
+            return []
         if src not in self._found:
             self._found[src] = self._read(src)
         return self._found[src]
+
+    def _run_has_gaps(self) -> bool:
+        """Whether any source of the run misses a seq, from one probe per source: each source
+        holds at most highest seq + 1 events (seqs are distinct and start at 0), with equality
+        exactly when it has no gap, so the run has none exactly when those bounds add up to its
+        number of events (its chain length)."""
+        (length,) = self.conn.execute("SELECT max(chain_pos) + 1 FROM events WHERE run = ?", (self.run,)).fetchone()
+        bound = 0
+        for src in queries.sources(self.conn, self.run):
+            (highest,) = self.conn.execute("SELECT max(seq) FROM events WHERE run = ? AND src = ?",
+                                           (self.run, src)).fetchone()
+            bound += highest + 1
+        return bound != (length or 0)
 
     def _read(self, src: str) -> list[tuple[int, int]]:
         count, highest = self.conn.execute("SELECT count(*), max(seq) FROM events WHERE run = ? AND src = ?",

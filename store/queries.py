@@ -58,6 +58,11 @@ def _distinct(conn: sqlite3.Connection, column: str, where: str, params: tuple[A
         (value,) = conn.execute(after, (*params, value)).fetchone()
 
 
+def sources(conn: sqlite3.Connection, run: str) -> list[str]:
+    """A run's sources, one index probe each."""
+    return list(_distinct(conn, "src", "run = ?", (run,)))
+
+
 def run_names(conn: sqlite3.Connection) -> list[str]:
     return list(_distinct(conn, "run", "1", ()))
 
@@ -67,8 +72,7 @@ def run_summary(conn: sqlite3.Connection, run: str) -> dict[str, Any]:
     (count,) = conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()
     (first_t,) = conn.execute("SELECT min(t) FROM events WHERE run = ?", (run,)).fetchone()
     (last_t,) = conn.execute("SELECT max(t) FROM events WHERE run = ?", (run,)).fetchone()
-    sources = list(_distinct(conn, "src", "run = ?", (run,)))
-    return {"run": run, "events": count, "first_t": first_t, "last_t": last_t, "sources": sources}
+    return {"run": run, "events": count, "first_t": first_t, "last_t": last_t, "sources": sources(conn, run)}
 
 
 def gaps(conn: sqlite3.Connection, run: str | None) -> list[dict[str, Any]]:
