@@ -61,13 +61,16 @@ def runs_of(store) -> list[str]:
 
 def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[str]] = None,
             vehicle: Optional[str] = None) -> None:
+    from cli.progress import stderr_progress
     from explain import explain_incident
     from explain.evidence import chain_status
     from reasoner.investigation import Investigation
     from store import Store
     with Store(path) as store:
         inv = Investigation(store, rules=rules)
-        found = [inc for r in runs for inc in inv.incidents(r) if vehicle is None or inc["vehicle"] == vehicle]
+        with stderr_progress("judging incidents") as progress:      # the bar is gone before printing
+            found = [inc for r in runs for inc in inv.incidents(r, progress)
+                     if vehicle is None or inc["vehicle"] == vehicle]
         if json_out:
             print_json([{k: v for k, v in inc.items() if k not in ("proofs", "scenarios")} for inc in found])
             return

@@ -22,7 +22,7 @@ is a fold in (t, seq, src) order and the episodes are read in that order too.
 """
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 from store import Store
 from store.state import CollectorPaused
@@ -58,8 +58,9 @@ class Investigation:
         self.problems: dict[str, list[str]] = {}
 
     # -- public ---------------------------------------------------------------------------
-    def incidents(self, run: str) -> list[dict]:
-        """Every potential violation of the run, judged; ordered by time."""
+    def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[dict]:
+        """Every potential violation of the run, judged; ordered by time. `progress(done, total)`
+        is called as the incidents are judged (after the pass over the observations)."""
         rs = self.ruleset(run)
         recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
         found: list[dict] = []
@@ -73,7 +74,12 @@ class Investigation:
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
         timeline, gaps = Timeline(self.store, run), Gaps(self.store.connection, run)
-        return [self._judge(run, rs, gaps, timeline.at(t), t, src, pv, ep) for t, src, pv, ep in todo]
+        found = []
+        for t, src, pv, ep in todo:
+            found.append(self._judge(run, rs, gaps, timeline.at(t), t, src, pv, ep))
+            if progress is not None:
+                progress(len(found), len(todo))
+        return found
 
     def ruleset(self, run: str) -> RuleSet:
         """The rulebooks each stage of this run is judged with (given, recorded, current)."""
