@@ -35,17 +35,27 @@ class FactReader:
         found = self._cache[key] = parse_fact(sentence, rb.document.templates)
         return found
 
-    def atoms(self, rb: Rulebook, facts: list[tuple[Any, dict]],
-              unknown: list[dict] | None = None) -> list[Atom]:
-        """The parsed facts; each one that no template fits is appended to `unknown` as a finding."""
+    def pairs(self, rb: Rulebook, facts: list[tuple[Any, dict]],
+              unknown: list[dict] | None = None) -> list[tuple[Atom, dict]]:
+        """The parsed facts, each with its evidence; each one that no template fits is appended
+        to `unknown` as a finding."""
         out = []
         for sentence, evidence in facts:
             atom = self.atom(rb, sentence)
             if atom is not None:
-                out.append(atom)
+                out.append((atom, evidence))
             elif unknown is not None:
                 unknown.append(unknown_fact(sentence, evidence, rb))
         return out
+
+    def atoms(self, rb: Rulebook, facts: list[tuple[Any, dict]],
+              unknown: list[dict] | None = None) -> list[Atom]:
+        """The parsed facts alone (see pairs)."""
+        return [atom for atom, _ in self.pairs(rb, facts, unknown)]
+
+    def known(self, rb: Rulebook, sentences: list[str]) -> list[Atom]:
+        """The sentences the rulebook can read, parsed; for sentences the reasoner wrote itself."""
+        return [a for a in (self.atom(rb, s) for s in sentences) if a is not None]
 
 
 def unknown_fact(sentence: Any, evidence: dict, rb: Rulebook) -> dict:

@@ -28,21 +28,20 @@ from store import Store
 from store.state import CollectorPaused
 from store.timeline import Timeline
 
-from .control import control_at, liability_facts, role
+from .control import ROLE, control_at, liability_facts, role
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
-from .facts import FactReader, unknown_fact
+from .facts import FactReader
 from .findings import Gaps, decision_fault, missing_evidence
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
 from .perception import corrected, dispute_finding, witnessed_functors
 from .rulesets import RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
-from .scenarios import (Scenario, has_perception, monitor_scenario, ref, spawn_facts, vehicle_action,
-                        vehicle_scenario)
+from .scenarios import (Scenario, entity, has_perception, monitor_scenario, ref, spawn_facts,
+                        vehicle_action, vehicle_scenario)
 
-LIABLE_ORDER = ("driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator")
-Pairs = list[tuple[Atom, dict]]
+LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
 
 
 class Investigation:
@@ -55,15 +54,15 @@ class Investigation:
         self._given = given_rulebooks(self.engine, rules or [])
         self._current = current_rulebooks(self.engine)
         self._rulesets: dict[str, RuleSet] = {}
+        self._witnessed: dict[str, set[str]] = {}
         self.problems: dict[str, list[str]] = {}
 
     # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[dict]:
         """Every potential violation of the run, judged; ordered by time. `progress(done, total)`
         is called as the incidents are judged (after the pass over the observations)."""
-        rs = self.ruleset(run)
         recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
-        found: list[dict] = []
+        rs = self.ruleset(run, recorded)
         monitor = rs["monitor"]
         eps: list[Episode] = []
         if monitor is not None:
@@ -81,14 +80,16 @@ class Investigation:
                 progress(len(found), len(todo))
         return found
 
-    def ruleset(self, run: str) -> RuleSet:
-        """The rulebooks each stage of this run is judged with (given, recorded, current)."""
+    def ruleset(self, run: str, recorded: list[dict] | None = None) -> RuleSet:
+        """The rulebooks each stage of this run is judged with (given, recorded, current).
+        `recorded`: the run's potential violations, if the caller has read them already."""
         if run not in self._rulesets:
             problems: list[str] = []
-            shas = {e["body"].get("rulebook") for e in self.store.events(
-                run, kinds=["monitor.potential_violation"]) if isinstance(e["body"].get("rulebook"), str)}
-            recorded = recorded_rulebooks(self.engine, self.store, run, sorted(shas), problems)
-            self._rulesets[run] = RuleSet(self.engine, self._given, recorded, self._current)
+            if recorded is None:
+                recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
+            shas = {e["body"].get("rulebook") for e in recorded if isinstance(e["body"].get("rulebook"), str)}
+            books = recorded_rulebooks(self.engine, self.store, run, sorted(shas), problems)
+            self._rulesets[run] = RuleSet(self.engine, self._given, books, self._current)
             self.problems[run] = problems
         return self._rulesets[run]
 
@@ -120,7 +121,7 @@ class Investigation:
 
         vscen = vehicle_scenario(state, vehicle)
         decision = vehicle_action(state, vehicle)
-        control = control_at((state["entities"].get(f"vehicle/{vehicle}") or {}), t)
+        control = control_at(entity(state, vehicle), t)
         incident: dict[str, Any] = {
             "id": f"{anchor['src']}:{anchor['seq']}", "run": run, "t": t, "vehicle": vehicle,
             "action": action, "monitor": monitor_src, "recorded": pv is not None, "rederived": rederived,
@@ -182,22 +183,23 @@ class Investigation:
             return
         rb = choice.rulebook
         incident["rulebook"] = choice.describe()
-        mine = self._pairs(rb, vscen, unknown)
-        seen = self._pairs(rb, mscen, unknown)
+        mine = self.reader.pairs(rb, vscen.facts, unknown)
+        seen = self.reader.pairs(rb, mscen.facts, unknown)
         pv_atom = Atom("potentially_violates", (me, act))
         if incident["judged_on"] == "vehicle scenario":
             monitor_rb = rs["monitor"].rulebook if rs["monitor"] else rb
             others = {constant([src.split("/", 1)[1]]) for src in state["entities"] if "/" in src} - {me}
-            facts, disputes = corrected(mine, seen, witnessed_functors(monitor_rb), me, others)
+            facts, disputes = corrected(mine, seen, self._witnessed_by(monitor_rb), me, others)
         else:
-            spawn = (state["entities"].get(f"vehicle/{vehicle}") or {}).get("spawn")
-            facts = ([(a, ref(spawn, state["run"], "entity.spawn")) for a in self._atoms(rb, spawn_facts(
+            spawn = (entity(state, vehicle) or {}).get("spawn")
+            facts = ([(a, ref(spawn, state["run"], "entity.spawn")) for a in self.reader.known(rb, spawn_facts(
                 vehicle, spawn["body"]))] if spawn else []) + seen
             disputes = []
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=True)
         incident["verdict"] = verdict
-        incident["scenarios"]["validator"] = [(rb.render(a), ev) for a, ev in facts]
-        evidence = {rb.render(a): ev for a, ev in facts}
+        rendered = [(rb.render(a), ev) for a, ev in facts]
+        incident["scenarios"]["validator"] = rendered
+        evidence = dict(rendered)
         incident["proofs"]["verdict"] = {"rulebook": rb.sha256, "trees": [
             enrich(tree, rb, evidence) for tree in (answer.proofs[:1] or [answer.why_not] if answer else [])]}
         if disputes:
@@ -213,8 +215,12 @@ class Investigation:
             "dismissed": "the validator rules establish neither a punishable nor a mitigated violation",
         }[verdict]
         if verdict == "punishable":
-            sentences = [rb.render(a) for a, _ in facts]
-            self._penalty_and_liability(incident, rs, vehicle, me, act, sentences)
+            self._penalty_and_liability(incident, rs, vehicle, me, act, [s for s, _ in rendered])
+
+    def _witnessed_by(self, monitor_rb: Rulebook) -> set[str]:
+        if monitor_rb.sha256 not in self._witnessed:
+            self._witnessed[monitor_rb.sha256] = witnessed_functors(monitor_rb)
+        return self._witnessed[monitor_rb.sha256]
 
     def _verdict(self, rb: Rulebook, me: Any, act: Any, atoms: list[Atom], proofs: bool) -> tuple[str, Answer | None]:
         if not proofs:
@@ -233,12 +239,12 @@ class Investigation:
         punish = Atom("punishably_violates", (me, act))
         penalty = None
         if (pen := rs["penalties"]) is not None:
-            penalty = self._penalty(pen.rulebook, me, self._atoms(pen.rulebook, sentences) + [punish])
+            penalty = self._penalty(pen.rulebook, me, self.reader.known(pen.rulebook, sentences) + [punish])
         liability = None
         if (lia := rs["liability"]) is not None:
             shown = [(s, self._control_ref(incident, basis)) for s, basis in
                      liability_facts(vehicle, incident["control"])]
-            facts = self._atoms(lia.rulebook, [s for s, _ in shown]) + [punish]
+            facts = self.reader.known(lia.rulebook, [s for s, _ in shown]) + [punish]
             liability = self._liability(lia.rulebook, me, act, facts, {s: r for s, r in shown if r})
             incident["liable"] = next((r for r in LIABLE_ORDER if r in liability["parties"]),
                                       liability["parties"][0] if liability["parties"] else "none")
@@ -267,12 +273,10 @@ class Investigation:
     @staticmethod
     def _control_ref(incident: dict, basis: str) -> dict | None:
         """The event behind a liability fact: the spawn, or an ads.event of the control status."""
-        run = incident["run"]
         if basis == "spawn":
             return next((ev for _, ev in incident["scenarios"]["vehicle"] if ev["kind"] == "entity.spawn"), None)
         piece = incident["control"].get(basis)
-        return {"run": run, "src": piece["src"], "seq": piece["seq"], "t": piece["t"], "kind": "ads.event"} \
-            if piece else None
+        return ref(piece, incident["run"], "ads.event") if piece else None
 
     def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom], evidence: dict) -> dict:
         def parties(functor: str) -> list[str]:
@@ -288,21 +292,6 @@ class Investigation:
                 "rulebook": rb.sha256,
                 "evidence": evidence,
                 "trees": [enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees]}
-
-    # -- helpers --------------------------------------------------------------------------
-    def _pairs(self, rb: Rulebook, scenario: Scenario, unknown: list[dict]) -> Pairs:
-        out = []
-        for sentence, evidence in scenario.facts:
-            atom = self.reader.atom(rb, sentence)
-            if atom is None:
-                unknown.append(unknown_fact(sentence, evidence, rb))
-            else:
-                out.append((atom, evidence))
-        return out
-
-    def _atoms(self, rb: Rulebook, sentences: list[str]) -> list[Atom]:
-        return [a for a in (self.reader.atom(rb, s) for s in sentences) if a is not None]
-
 
 def action_text(rb: Rulebook, me: Any, act: Any) -> str:
     return rb.render(Atom("can", (me, act))) if "can" in rb.document.templates else f"{me} can {act}"
@@ -341,7 +330,7 @@ def _proofs(answer: Answer | None, choice, scenario: Scenario) -> dict:
 
 
 def _last_seen(state: dict, vehicle: str) -> int | None:
-    record = state["entities"].get(f"vehicle/{vehicle}") or {}
+    record = entity(state, vehicle) or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
     return max(times) if times and not record.get("despawned") else None
 
@@ -361,8 +350,7 @@ def _evidence(anchor: dict, run: str, mscen: Scenario, vscen: Scenario, decision
     if decision:
         refs.append(decision["evidence"])
     if control.get("last_ads_event"):
-        last = control["last_ads_event"]
-        refs.append({"run": run, "src": last["src"], "seq": last["seq"], "t": last["t"], "kind": "ads.event"})
+        refs.append(ref(control["last_ads_event"], run, "ads.event"))
     for f in incident["findings"]:
         refs += f.get("evidence", [])
     seen, out = set(), []
