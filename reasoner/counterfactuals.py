@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable
 
 from .engine import Engine, Rulebook, enrich
+from .facts import walk_atoms
 from .le.document import parse_question
 from .le.errors import LEError
 from .le.terms import Atom, Cond
@@ -178,7 +179,7 @@ class Search:
         doc = self.rb.document
         statements = list(doc.rules) + [r for s in doc.scenarios.values() for r in s.rules]
         for rule in statements:
-            for atom in _atoms_of(rule):
+            for atom in walk_atoms([rule.head, rule.body]):
                 note(atom)
         for atom in self.facts:
             note(atom)
@@ -272,21 +273,6 @@ def _slot_types(rb: Rulebook, atom: Atom) -> list[str | None]:
     if template is None:
         return [None] * len(atom.args)
     return [s.type for s in template.slots] + [None] * (len(atom.args) - len(template.slots))
-
-
-def _atoms_of(rule) -> Iterable[Atom]:
-    yield rule.head
-    stack = list(rule.body)
-    while stack:
-        c = stack.pop()
-        if isinstance(c, Atom):
-            yield c
-        elif isinstance(c, Cond):
-            if c.atom is not None:
-                yield c.atom
-            for block in (c.negated,) + tuple(c.any_of or ()) + tuple(c.forall or ()):
-                if block:
-                    stack.extend(block)
 
 
 def _sentences(tree: dict) -> Iterable[list]:
