@@ -14,6 +14,7 @@ from .engine import Engine
 from .facts import FactReader
 from .le.sentences import constant
 from .rulesets import Choice
+from .when import format_time
 
 SECOND = 1_000_000_000
 WINDOW_S = 10    # a sequence gap this close to an incident is missing evidence about it
@@ -145,11 +146,5 @@ def _next_t(conn: sqlite3.Connection, run: str, src: str, t: int) -> int | None:
 
 
 def _when(t: int | None, otherwise: str) -> str:
-    return otherwise if t is None else iso(t)
+    return otherwise if t is None else format_time(t)
 
-
-def iso(t: int) -> str:
-    """A time in ns as ISO 8601 UTC with milliseconds, as findings quote it."""
-    from datetime import datetime, timezone
-    dt = datetime.fromtimestamp(t // SECOND, tz=timezone.utc)
-    return dt.strftime("%Y-%m-%dT%H:%M:%S.") + f"{(t % SECOND) // 1_000_000:03d}Z"
