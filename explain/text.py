@@ -13,6 +13,8 @@ from reasoner.engine import Rulebook
 from reasoner.le.render import arg_text as le_arg_text
 from reasoner.le.render import sentence_text
 
+from . import phrases
+
 INDENT = "  "
 
 
@@ -92,8 +94,9 @@ def cite(ref: dict | None) -> str:
 
 
 def clock(t_ns: int) -> str:
-    dt = datetime.fromtimestamp(t_ns / 1e9, tz=timezone.utc)
-    return dt.strftime("%Y-%m-%d %H:%M:%S.") + f"{(t_ns // 1_000_000) % 1000:03d} UTC"
+    """2024-11-21 08:00:10.000 UTC: the date, then the time as the explanations write it."""
+    day = datetime.fromtimestamp(t_ns // 1_000_000_000, tz=timezone.utc).strftime("%Y-%m-%d")
+    return f"{day} {phrases.clock(t_ns)}"
 
 
 def explain_incident(inc: dict, rulebooks: Callable[[str], Rulebook | None], store=None,
