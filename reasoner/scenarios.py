@@ -14,10 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-KIND_OF_SLOT = {"spawn": "entity.spawn", "state": "entity.state", "perception": "vehicle.perception",
-                "decision": "vehicle.decision", "despawned": "entity.despawn"}
-
-
 def ref(event: dict, run: str | None = None, kind: str | None = None) -> dict:
     """How an explanation points at an event: run, source, sequence number, time and kind.
     Takes a whole event, or a piece of folded state with the run and kind it lacks."""
