@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import multiprocessing as mp
 import socket
-import sys
 import tempfile
 import threading
 import time

@@ -26,7 +26,7 @@ from ..db import Store
 from .atomic import replacing
 from .chain_check import CHECKPOINT_METADATA, RUN_METADATA
 from .foxglove import DERIVED_MARK, DRAWN_KINDS, TOPICS, Derived, SceneBuilder
-from .foxglove_schemas import LOG, SCENE_UPDATE, log_schema, scene_update_schema
+from .foxglove_schemas import SCENE_UPDATE, log_schema, scene_update_schema
 from .foxglove_schemas import schema_bytes as foxglove_bytes
 from .message_schema import schema_bytes as event_schema_bytes
 from .report import ExportReport
