@@ -5,6 +5,8 @@ Everything other rooms need is importable from here; the submodules are the stor
 
 from .canonical import canonical_json
 from .db import Store
+from .errors import GapsError, NoSuchRun, StoreError
+from .refs import EventRef
 from .envelope import (
     MAX_EVENT_BYTES,
     EventError,
@@ -22,6 +24,10 @@ __all__ = [
     "AppendReport",
     "Candidate",
     "EventError",
+    "EventRef",
+    "GapsError",
+    "NoSuchRun",
+    "StoreError",
     "KINDS",
     "MAX_EVENT_BYTES",
     "Store",
