@@ -114,7 +114,7 @@ def verify(file: Path = FileArg,
            json_out: bool = JsonOption) -> None:
     """Run the `expected(Query, Scenario, Answers).` lines of FILE.le.tests (a directory: every .le)."""
     from reasoner.le.expectations import ExpectationError
-    from reasoner.verify import verify_file
+    from reasoner.rules_verify import verify_file
     files = sorted(file.glob("*.le")) if file.is_dir() else [file]
     if not files or not all(f.is_file() for f in files):
         fail(f"no LE document at {file}")

@@ -13,7 +13,7 @@ from store import queries
 from .engine import Engine
 from .facts import FactReader
 from .le.sentences import constant
-from .rulesets import Choice
+from .stages import Choice
 from .when import format_time
 
 SECOND = 1_000_000_000

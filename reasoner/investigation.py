@@ -37,7 +37,7 @@ from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
 from .perception import corrected, dispute_finding, witnessed_functors
-from .rulesets import RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
+from .stages import RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
 from .scenarios import (Scenario, entity, has_perception, monitor_scenario, ref, spawn_facts,
                         vehicle_action, vehicle_scenario)
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 from reasoner.engine import get_engine, sha256_text
 from reasoner.le.sentences import parse_fact
-from reasoner.rulebooks import PAPER, bundled
+from reasoner.bundled import PAPER, bundled
 
 RUN = "paper-junctions"
 T0 = 1_732_176_000_000_000_000          # 2024-11-21T08:00:00Z, fixed so the demo is reproducible

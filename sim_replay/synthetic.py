@@ -54,7 +54,7 @@ import math
 import random
 from typing import Any, Iterator
 
-from reasoner.rulebooks import bundled
+from reasoner.bundled import bundled
 
 GENERATOR = 1  # bump whenever the events produced for a given seed change
 T0 = 1_732_190_400_000_000_000  # 2024-11-21T12:00:00Z: fixed, so a seed reproduces the run exactly

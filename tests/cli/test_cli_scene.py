@@ -8,7 +8,7 @@ from typer.testing import CliRunner
 
 from cli.main import app
 from reasoner.le.errors import LEError
-from reasoner.rulebooks import RULES_DIR
+from reasoner.bundled import RULES_DIR
 from sim_replay.paper import RUN, T0, paper_run
 from store import Store
 

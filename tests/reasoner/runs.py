@@ -21,7 +21,7 @@ from pathlib import Path
 
 from reasoner.engine import get_engine, sha256_text
 from reasoner.le.sentences import parse_fact
-from reasoner.rulebooks import bundled
+from reasoner.bundled import bundled
 from store import Store
 
 RUN = "verdict-paths"

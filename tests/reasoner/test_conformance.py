@@ -6,7 +6,7 @@ import pytest
 
 from reasoner.engine import get_engine
 from reasoner.le.errors import LEError
-from reasoner.verify import verify_file
+from reasoner.rules_verify import verify_file
 
 SUITE = Path(__file__).parents[2].parent / "shared/le/conformance"
 BAR = 155

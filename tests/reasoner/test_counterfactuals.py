@@ -7,7 +7,7 @@ from reasoner.counterfactuals import QuestionUnreadable, apply, search, why_not
 from reasoner.engine import get_engine
 from reasoner.le.sentences import parse_fact
 from reasoner.le.terms import Atom
-from reasoner.rulebooks import bundled
+from reasoner.bundled import bundled
 
 ENTER = "enter the junction"
 COLOURS = {"colour": ["red", "amber", "green"]}

@@ -7,7 +7,7 @@ from reasoner.engine import QuestionError, get_engine
 from reasoner.le.document import parse_document, parse_facts, parse_question
 from reasoner.le.errors import LEError
 from reasoner.le.sentences import parse_fact
-from reasoner.rulebooks import bundled
+from reasoner.bundled import bundled
 
 DOC = """the templates are:
 *a vehicle* has *a colour* light.

@@ -6,7 +6,7 @@ from reasoner.le.errors import LEError
 from reasoner.le.sentences import parse_fact
 from reasoner.le.templates import parse_template, render
 from reasoner.le.terms import Atom, Var
-from reasoner.rulebooks import bundled
+from reasoner.bundled import bundled
 
 DOC = """the templates are:
 *a vehicle* has *a colour* light.

@@ -7,8 +7,8 @@ import re
 import pytest
 
 from reasoner.engine import get_engine
-from reasoner.rulebooks import RULES_DIR
-from reasoner.verify import verify_file
+from reasoner.bundled import RULES_DIR
+from reasoner.rules_verify import verify_file
 
 RULEBOOKS = ["highway_code.le", "monitors.le", "validators.le", "penalties.le", "liability.le"]
 

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from reasoner.rulebooks import bundled
+from reasoner.bundled import bundled
 from store import Store
 
 from runs import ENTER, RUN, SPEEDING, RunBuilder, car, incidents, ns

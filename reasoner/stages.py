@@ -24,7 +24,7 @@ from store import Store
 
 from .engine import Engine, Rulebook, sha256_text
 from .le.errors import LEError
-from .rulebooks import CURRENT_SET, bundled
+from .bundled import CURRENT_SET, bundled
 
 STAGES: dict[str, str] = {
     "monitor": "potentially_violates",
