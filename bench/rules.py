@@ -23,10 +23,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from reasoner.bundled import bundled  # noqa: E402
 from reasoner.engine import Engine, get_engine  # noqa: E402
 from reasoner.le.document import parse_document  # noqa: E402
 from reasoner.le.sentences import parse_fact  # noqa: E402
-from reasoner.bundled import bundled  # noqa: E402
 from machine import machine  # bench/machine.py, beside this file
 
 SCENARIO = [

@@ -21,6 +21,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from .vocabulary import (IS_DRIVING_ITSELF, IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR, IS_THE_DRIVER_OF,
+                         IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF, IS_THE_USER_IN_CHARGE_OF, TRANSITION_DEMAND_EXPIRED)
+
 SECOND = 1_000_000_000
 TRANSITION_DEMAND_S = 10
 
@@ -87,15 +90,15 @@ def liability_facts(vehicle: str, control: dict[str, Any]) -> list[tuple[str, st
     none did) or "transition_demand" (the demand left unanswered)."""
     since = "since" if control["since"] else "spawn"
     if not control["engaged"]:
-        return [(f"driver is the driver of {vehicle}", since)]
-    facts = [(f"{vehicle} is driving itself", since),
-             (f"asde is the authorised self-driving entity for {vehicle}", "spawn")]
+        return [(IS_THE_DRIVER_OF.text("driver", vehicle), since)]
+    facts = [(IS_DRIVING_ITSELF.text(vehicle), since),
+             (IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR.text("asde", vehicle), "spawn")]
     if control["no_user_in_charge"]:
-        facts.append((f"operator is the no-user-in-charge operator of {vehicle}", "spawn"))
+        facts.append((IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF.text("operator", vehicle), "spawn"))
     else:
-        facts.append((f"user_in_charge is the user-in-charge of {vehicle}", "spawn"))
+        facts.append((IS_THE_USER_IN_CHARGE_OF.text("user_in_charge", vehicle), "spawn"))
         if control["transition_demand_expired"]:
-            facts.append((f"a transition demand for {vehicle} has expired unanswered", "transition_demand"))
+            facts.append((TRANSITION_DEMAND_EXPIRED.text(vehicle), "transition_demand"))
     return facts
 
 

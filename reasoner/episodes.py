@@ -22,7 +22,8 @@ from .engine import Engine, Rulebook
 from .facts import FactReader, plain_constants, walk_atoms
 from .le.render import arg_text
 from .le.sentences import constant
-from .le.terms import Atom, Cond, Var
+from .le.terms import Cond, Var
+from .vocabulary import POTENTIALLY_VIOLATES
 
 SECOND = 1_000_000_000
 EPISODE_GAP_S = 5
@@ -72,7 +73,7 @@ class Rederiver:
     def __init__(self, engine: Engine, rb: Rulebook, reader: FactReader) -> None:
         self.engine, self.rb, self.reader = engine, rb, reader
         self._mentioned = {str(c) for c in rule_constants(rb)}
-        self._question = [Cond(atom=Atom("potentially_violates", (Var("vehicle"), Var("action"))))]
+        self._question = [Cond(atom=POTENTIALLY_VIOLATES.atom(Var("vehicle"), Var("action")))]
         self._cache: dict[tuple, frozenset[str]] = {}
         self._exact: dict[tuple, frozenset[str]] = {}    # (vehicle, *facts): most observations repeat
         self.asked = 0

@@ -21,9 +21,10 @@ from typing import Any
 from .engine import Rulebook
 from .facts import walk_atoms
 from .le.terms import Atom
+from .vocabulary import POTENTIALLY_VIOLATES
 
 
-def witnessed_functors(monitor_rb: Rulebook, goal: str = "potentially_violates") -> set[str]:
+def witnessed_functors(monitor_rb: Rulebook, goal: str = POTENTIALLY_VIOLATES.functor) -> set[str]:
     """The sentences the monitor rules look at: those in the conditions of the rules for `goal`
     and of the rules those conditions lead to (a rulebook may hold other rules beside them, as
     the paper's does). Sentences a rule concludes are not observations, so they are left out."""

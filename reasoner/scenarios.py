@@ -14,6 +14,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from .vocabulary import IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
+
+
 def ref(event: dict, run: str | None = None, kind: str | None = None) -> dict:
     """How an explanation points at an event: run, source, sequence number, time and kind.
     Takes a whole event, or a piece of folded state with the run and kind it lacks."""
@@ -53,9 +56,9 @@ def spawn_facts(vehicle: str, body: dict) -> list[str]:
     """What an entity.spawn says about the vehicle, in DESIGN's core vocabulary."""
     facts = []
     if isinstance(body.get("type"), str):
-        facts.append(f"{vehicle} is of type {body['type']}")
+        facts.append(IS_OF_TYPE.text(vehicle, body["type"]))
     if body.get("emergency") is True:
-        facts.append(f"{vehicle} is on an emergency call")
+        facts.append(IS_ON_AN_EMERGENCY_CALL.text(vehicle))
     return facts
 
 

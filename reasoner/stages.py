@@ -22,17 +22,10 @@ from typing import Iterable
 
 from store import Store
 
+from .bundled import CURRENT_SET, bundled
 from .engine import Engine, Rulebook, sha256_text
 from .le.errors import LEError
-from .bundled import CURRENT_SET, bundled
-
-STAGES: dict[str, str] = {
-    "monitor": "potentially_violates",
-    "validator": "punishably_violates",
-    "vehicle": "can",
-    "penalties": "incurs_a_fixed_penalty_of_pounds_and_penalty_points_for",
-    "liability": "is_liable_for_the_violation_of_by",
-}
+from .vocabulary import STAGES
 
 
 @dataclass(frozen=True)
@@ -58,9 +51,9 @@ class RuleSet:
         self.engine = engine
         self.by_sha: dict[str, Rulebook] = {rb.sha256: rb for rb in (*current, *recorded, *given)}
         self.stages: dict[str, Choice] = {}
-        for stage, functor in STAGES.items():
+        for stage, question in STAGES.items():
             for source, books in (("given", given), ("recorded", recorded), ("current", current)):
-                found = next((rb for rb in books if defines(rb, functor)), None)
+                found = next((rb for rb in books if defines(rb, question.functor)), None)
                 if found is not None:
                     self.stages[stage] = Choice(found, source)
                     break
@@ -70,7 +63,7 @@ class RuleSet:
 
     def vehicle_rulebook(self, sha: str | None) -> Choice | None:
         """The rulebook a vehicle says it decided with; the vehicle stage's choice if unknown."""
-        if sha and sha in self.by_sha and defines(self.by_sha[sha], STAGES["vehicle"]):
+        if sha and sha in self.by_sha and defines(self.by_sha[sha], STAGES["vehicle"].functor):
             return Choice(self.by_sha[sha], "recorded")
         return self.stages.get("vehicle")
 

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from reasoner.bundled import PAPER, bundled
 from reasoner.engine import get_engine, sha256_text
 from reasoner.le.sentences import parse_fact
-from reasoner.bundled import PAPER, bundled
 
 RUN = "paper-junctions"
 T0 = 1_732_176_000_000_000_000          # 2024-11-21T08:00:00Z, fixed so the demo is reproducible

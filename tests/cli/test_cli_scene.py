@@ -7,8 +7,8 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.main import app
-from reasoner.le.errors import LEError
 from reasoner.bundled import RULES_DIR
+from reasoner.le.errors import LEError
 from sim_replay.paper import RUN, T0, paper_run
 from store import Store
 

@@ -19,9 +19,9 @@ import copy
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from reasoner.bundled import bundled
 from reasoner.engine import get_engine, sha256_text
 from reasoner.le.sentences import parse_fact
-from reasoner.bundled import bundled
 from store import Store
 
 RUN = "verdict-paths"

@@ -3,11 +3,11 @@ the vehicle's own conduct (controlled) or a circumstance; and why-not questions 
 rulebook's templates."""
 import pytest
 
+from reasoner.bundled import bundled
 from reasoner.counterfactuals import QuestionUnreadable, apply, search, why_not
 from reasoner.engine import get_engine
 from reasoner.le.sentences import parse_fact
 from reasoner.le.terms import Atom
-from reasoner.bundled import bundled
 
 ENTER = "enter the junction"
 COLOURS = {"colour": ["red", "amber", "green"]}

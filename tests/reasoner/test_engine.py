@@ -1,8 +1,8 @@
 """The engine over janus_swi: answers, proofs, why-not, isolation, and facts that stay data."""
+from reasoner.bundled import bundled
 from reasoner.engine import get_engine
 from reasoner.le.sentences import parse_fact
 from reasoner.le.terms import Atom
-from reasoner.bundled import bundled
 
 ENTER = "enter the junction"
 

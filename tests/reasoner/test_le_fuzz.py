@@ -6,10 +6,10 @@ from pathlib import Path
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from reasoner.bundled import bundled
 from reasoner.le.document import parse_document, parse_facts, parse_question
 from reasoner.le.errors import LEError
 from reasoner.le.sentences import parse_fact
-from reasoner.bundled import bundled
 
 PAPER = bundled("paper.le")
 SUITE = Path(__file__).parents[2].parent / "shared/le/conformance"

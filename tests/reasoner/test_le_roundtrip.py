@@ -4,11 +4,11 @@ from pathlib import Path
 
 import pytest
 
+from reasoner.bundled import bundled
 from reasoner.engine import get_engine
 from reasoner.le.document import parse_document, parse_rule
 from reasoner.le.errors import LEError
 from reasoner.le.render import rule_text
-from reasoner.bundled import bundled
 
 SUITE = Path(__file__).parents[2].parent / "shared/le/conformance"
 DOCS = [("paper.le", bundled("paper.le"))] + \

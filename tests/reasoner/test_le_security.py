@@ -3,11 +3,11 @@ import time
 
 import pytest
 
+from reasoner.bundled import bundled
 from reasoner.engine import QuestionError, get_engine
 from reasoner.le.document import parse_document, parse_facts, parse_question
 from reasoner.le.errors import LEError
 from reasoner.le.sentences import parse_fact
-from reasoner.bundled import bundled
 
 DOC = """the templates are:
 *a vehicle* has *a colour* light.

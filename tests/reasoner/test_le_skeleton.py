@@ -1,12 +1,12 @@
 """The skeleton LE step: templates, sentences, rules and located errors."""
 import pytest
 
+from reasoner.bundled import bundled
 from reasoner.le.document import parse_document
 from reasoner.le.errors import LEError
 from reasoner.le.sentences import parse_fact
 from reasoner.le.templates import parse_template, render
 from reasoner.le.terms import Atom, Var
-from reasoner.bundled import bundled
 
 DOC = """the templates are:
 *a vehicle* has *a colour* light.

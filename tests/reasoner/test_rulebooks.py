@@ -6,8 +6,8 @@ import re
 
 import pytest
 
-from reasoner.engine import get_engine
 from reasoner.bundled import RULES_DIR
+from reasoner.engine import get_engine
 from reasoner.rules_verify import verify_file
 
 RULEBOOKS = ["highway_code.le", "monitors.le", "validators.le", "penalties.le", "liability.le"]

@@ -7,9 +7,9 @@ from collections import Counter, defaultdict
 
 import pytest
 
+from reasoner.bundled import bundled
 from reasoner.engine import get_engine
 from reasoner.le.sentences import parse_fact
-from reasoner.bundled import bundled
 from sim_replay.synthetic import RULEBOOKS, expected_incidents, synthetic_run
 from store import Store
 
