@@ -32,6 +32,7 @@ class Sentence:
     doc: str
     parsed: Template = field(init=False, repr=False, compare=False)
     pattern: str = field(init=False, repr=False, compare=False)
+    arity: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         parsed = parse_template(self.template)
@@ -39,14 +40,11 @@ class Sentence:
             raise ValueError(f"a template with braces cannot be written by Sentence.text: {self.template!r}")
         object.__setattr__(self, "parsed", parsed)
         object.__setattr__(self, "pattern", render(parsed, ["{}"] * parsed.arity))
+        object.__setattr__(self, "arity", parsed.arity)     # text() runs millions of times in sim_replay
 
     @property
     def functor(self) -> str:
         return self.parsed.functor
-
-    @property
-    def arity(self) -> int:
-        return self.parsed.arity
 
     def atom(self, *args: object) -> Atom:
         """The sentence as a term for the engine, one argument per slot."""

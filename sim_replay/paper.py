@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from reasoner.bundled import PAPER, bundled
 from reasoner.engine import get_engine, sha256_text
 from reasoner.le.sentences import parse_fact
+from reasoner.vocabulary import CAN, HAS_LIGHT, IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 
 RUN = "paper-junctions"
 T0 = 1_732_176_000_000_000_000          # 2024-11-21T08:00:00Z, fixed so the demo is reproducible
@@ -84,19 +85,19 @@ def _signal_cycle(rec: Recorder, c: Crossing) -> None:
 def _crossing(rec: Recorder, rb, c: Crossing) -> None:
     v, src = c.vehicle, f"vehicle/{c.vehicle}"
     t = T0 + int(c.arrives_s * SECOND)
-    facts = [f"{v} is of type {c.type}", f"{v} has red light"]
+    facts = [IS_OF_TYPE.text(v, c.type), HAS_LIGHT.text(v, "red")]
     if c.emergency:
-        facts.append(f"{v} is on an emergency call")
+        facts.append(IS_ON_AN_EMERGENCY_CALL.text(v))
     rec.emit(src, t - SECOND, "entity.state",
              {"x": -20.0, "y": 0.0, "heading_deg": 0.0, "speed_mps": 9.0, "road": "r1", "junction": None})
     rec.emit(src, t - SECOND // 2, "vehicle.perception", {"facts": facts})
-    goal = f"{v} can {ACTION}"
+    goal = CAN.text(v, ACTION)
     rec.emit(src, t - SECOND // 2, "vehicle.decision", {
         "goal": goal, "action": ACTION, "permitted": _permitted(rb, goal, facts), "proceeds": True,
         "rulebook": rb.sha256})
     rec.emit(src, t, "entity.state",
              {"x": -2.0, "y": 0.0, "heading_deg": 0.0, "speed_mps": 9.0, "road": "r1", "junction": "j1"})
-    seen = [f"{v} has red light"]
+    seen = [HAS_LIGHT.text(v, "red")]
     rec.emit("monitor/m1", t, "monitor.observation",
              {"vehicle": v, "facts": seen, "speed_mps": 9.0, "x": -2.0, "y": 0.0})
     rec.emit("monitor/m1", t, "monitor.potential_violation",

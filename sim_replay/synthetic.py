@@ -41,10 +41,12 @@ too keeps the light it entered on. A monitor records a potential violation once 
 crossing of the line, and per run of consecutive observations over the speed limit.
 
 Ground truth: pass a list as `truth` (or call `expected_incidents`) to get one entry per
-`monitor.potential_violation`, with the verdict the rulebooks should give. It is computed here in
-plain Python from the same facts the events carry, mirroring highway_code.le / validators.le for
-the sentences this generator writes (lights, stop sign, emergency call, too close to stop); no
-Prolog is run, so generation stays fast.
+`monitor.potential_violation`, with the verdict the rulebooks give. No rule is restated here: what a
+vehicle may do (highway_code.le's "V can enter the junction"), the verdict and the perception fault
+(validators.le) and who is liable (liability.le) are asked of the bundled rulebooks through the
+engine, on the same sentences the events carry. A run repeats a few hundred situations millions of
+times, so the answers are memoised by the set of sentences (with the vehicle's id blanked, see
+`Oracle`), and a vehicle asks only when it decides, not at every perception.
 """
 from __future__ import annotations
 
@@ -55,6 +57,14 @@ import random
 from typing import Any, Iterator
 
 from reasoner.bundled import bundled
+from reasoner.control import ROLE, liability_facts, no_user_in_charge, role
+from reasoner.engine import Rulebook, get_engine
+from reasoner.facts import FactReader
+from reasoner.vocabulary import (CAN, HAS_A_LIGHT_PERCEPTION_FAULT, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT, HAS_SIGN,
+                                 HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE, IS_DRIVING_ITSELF, IS_IN_THE_JUNCTION,
+                                 IS_LIABLE, IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL, IS_STOPPED, IS_TOO_CLOSE_TO_STOP,
+                                 MONITOR_OBSERVED_LIGHT, POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES, SPEED_LIMIT_IS,
+                                 Sentence)
 
 GENERATOR = 1  # bump whenever the events produced for a given seed change
 T0 = 1_732_190_400_000_000_000  # 2024-11-21T12:00:00Z: fixed, so a seed reproduces the run exactly
@@ -97,7 +107,6 @@ LIGHT_FACTS = {"green": ("green",), "amber": ("amber",), "red": ("red",), "red_a
 ROLES = ("ambulance_on_call", "human_red_runner", "av_red_runner", "av_perception_fault",
          "av_takeover", "human_speeder", "human_stop_roller", "ambulance_off_call_runner",
          "fire_engine_on_call", "police_car")  # the first ten of every fifty vehicles
-EMERGENCY_TYPES = ("ambulance", "fire_engine", "police_car")
 GO, STOP, HELD = 0, 1, 2
 
 
@@ -126,30 +135,41 @@ def place(u: float) -> tuple[float, float, float]:
     return 0.0, H - (u - W), 270.0
 
 
-def may_enter(vtype: str, on_call: bool, lights: tuple[str, ...], too_close: bool, crossed: bool,
-              stop_sign: bool, stopped_at_line: bool) -> bool:
-    """highway_code.le's "V can enter the junction", for the sentences this generator writes.
+class Oracle:
+    """The bundled rulebooks, asked through the engine, each answer remembered by its fact set.
 
-    HC 171: not at a stop sign without having stopped at the line. HC 176 / TSRGD para 5(3): not
-    on red unless used for an emergency purpose (an ambulance, fire engine or police car on an
-    emergency call; no one here would endanger or force anyone). HC 175: not on amber alone unless
-    over the line or too close to stop safely (no emergency exception for amber alone).
-    """
-    if stop_sign and not stopped_at_line:
-        return False
-    if "red" in lights:
-        return on_call and vtype in EMERGENCY_TYPES
-    if "amber" in lights:
-        return crossed or too_close
-    return True
+    The key is the sentences, sorted, with the vehicle's id blanked: the generator's ids (101 and
+    up) are never a word or a number of the rulebooks, nor part of another sentence's filler (speeds
+    stay under 100), so a rulebook answers the same for any vehicle in the same situation. The
+    answers are kept for the process (keyed by the rulebook's sha256), so the next run starts warm."""
+
+    def __init__(self, texts: dict[str, str]) -> None:
+        self.engine = get_engine()
+        self.books = {name: self.engine.load(text, name) for name, text in texts.items()}
+        self.reader = FactReader()
+        self.asked = 0
+
+    def holds(self, book: str, question: Sentence, args: tuple, vehicle: str, facts: list[str]) -> bool:
+        rb = self.books[book]
+        key = (rb.sha256, question.text(*args).replace(vehicle, _BLANK),
+               tuple(sorted(f.replace(vehicle, _BLANK) for f in facts)))
+        found = _ANSWERS.get(key)
+        if found is None:
+            found = _ANSWERS[key] = self._ask(rb, question.text(*args), facts)
+        return found
+
+    def _ask(self, rb: Rulebook, question: str, facts: list[str]) -> bool:
+        self.asked += 1
+        atoms = [self.reader.atom(rb, f) for f in facts]
+        goal = self.reader.atom(rb, question)
+        if goal is None or None in atoms:
+            unread = [f for f, a in zip(facts, atoms) if a is None] or [question]
+            raise ValueError(f"{rb.name} has no template for {unread[0]!r}: the generator writes only its sentences")
+        return self.engine.holds(rb, goal, atoms)
 
 
-def light_fault(vehicle_lights: tuple[str, ...], monitor_lights: tuple[str, ...]) -> bool:
-    """validators.le's "V has a perception fault about the light": the monitor observed a light
-    the vehicle did not have, or the vehicle had one while the monitor observed only others."""
-    if any(c not in vehicle_lights for c in monitor_lights):
-        return True
-    return bool(monitor_lights) and any(c not in monitor_lights for c in vehicle_lights)
+_BLANK = "\x00"
+_ANSWERS: dict[tuple, bool] = {}
 
 
 def rulebooks() -> list[dict[str, str]]:
@@ -183,7 +203,7 @@ class _Vehicle:
                  "av", "engaged", "took_control", "ads", "dir", "route", "k", "lap", "r", "v",
                  "cruise", "base_cruise", "mode", "r_stop", "qi", "held_since", "decided", "plan",
                  "too_close", "stopped_at_line", "crossed", "approached", "type_fact",
-                 "last_lights", "last_permitted", "in_range", "speed_flagged", "chances", "entry_colour",
+                 "last_lights", "last_facts", "in_range", "speed_flagged", "chances", "entry_colour",
                  "entry_seen")
 
     def __init__(self, idx: int, rng: random.Random) -> None:
@@ -210,7 +230,7 @@ class _Vehicle:
         self.engaged = self.av
         self.took_control = False
         self.ads: list[tuple[int, str]] = []  # scheduled ADS events: (tick, event)
-        self.type_fact = f"{self.id} is of type {self.type}"
+        self.type_fact = IS_OF_TYPE.text(self.id, self.type)
         lo, hi = (8.0, 10.0) if self.type == "bus" else (11.0, 13.0) if self.on_call else (9.0, 13.0)
         self.base_cruise = self.cruise = round(rng.uniform(lo, hi), 2)  # <= 13 m/s: 29 mph, within the limit
         self.dir = 1 if idx % 2 == 0 else -1
@@ -227,7 +247,7 @@ class _Vehicle:
         self.mode, self.r_stop, self.qi, self.held_since = GO, 0.0, 0, 0
         self.in_range, self.speed_flagged, self.chances = -1, False, 0
         self.last_lights: tuple[str, ...] = ()
-        self.last_permitted = True
+        self.last_facts: list[str] = []
         self.reset_pass()
 
     def reset_pass(self) -> None:
@@ -291,6 +311,7 @@ class _World:
         self.vehicles = [_Vehicle(i, self.rng) for i in range(vehicles)]
         self.books = rulebooks()
         self.sha = {b["name"]: b["sha256"] for b in self.books}
+        self.rules = Oracle({b["name"]: b["text"] for b in self.books})
         self.seqs: dict[str, int] = {}
         self.queues: dict[tuple[int, int], int] = {}  # (junction, direction) -> vehicles waiting
         self._pending: list[tuple[dict[str, Any], dict[str, Any]]] = []
@@ -563,9 +584,9 @@ class _World:
         facts = [v.type_fact]
         if not by_monitor:
             if v.on_call:
-                facts.append(f"{vid} is on an emergency call")
+                facts.append(IS_ON_AN_EMERGENCY_CALL.text(vid))
             if v.engaged:
-                facts.append(f"{vid} is driving itself")
+                facts.append(IS_DRIVING_ITSELF.text(vid))
         lights: tuple[str, ...] = ()
         if d <= NEAR:
             if j.control == "lights":
@@ -576,43 +597,45 @@ class _World:
                         lights = LIGHT_FACTS[colour]
                 else:
                     lights = LIGHT_FACTS[v.entry_seen if v.crossed else self._perceived(v, colour)]
-                facts.extend(f"{vid} has {c} light" for c in lights)
+                facts.extend(HAS_LIGHT.text(vid, c) for c in lights)
                 if v.too_close and not by_monitor and not v.crossed:
-                    facts.append(f"{vid} is too close to the stop line to stop safely")
+                    facts.append(IS_TOO_CLOSE_TO_STOP.text(vid))
             elif j.control == "stop":
-                facts.append(f"{vid} has a stop sign")
+                facts.append(HAS_SIGN.text(vid, "stop"))
                 if v.stopped_at_line:
-                    facts.append(f"{vid} has stopped at the stop line")
+                    facts.append(HAS_STOPPED_AT_THE_STOP_LINE.text(vid))
             else:
-                facts.append(f"{vid} has a give way sign")
+                facts.append(HAS_SIGN.text(vid, "give way"))
         if v.v == 0.0:
-            facts.append(f"{vid} is stopped")
+            facts.append(IS_STOPPED.text(vid))
         if not before_line and d < LINE:
-            facts.append(f"{vid} has crossed the stop line")
+            facts.append(HAS_CROSSED_THE_STOP_LINE.text(vid))
         if -BOX <= d <= BOX:
-            facts.append(f"{vid} is in the junction")
-        facts.append(f"{vid} has speed of {round(v.v * MPH_PER_MPS)}")
-        facts.append(f"the speed limit is {LIMIT_MPH}")
+            facts.append(IS_IN_THE_JUNCTION.text(vid))
+        facts.append(HAS_SPEED_OF.text(vid, round(v.v * MPH_PER_MPS)))
+        facts.append(SPEED_LIMIT_IS.text(LIMIT_MPH))
         return facts, lights
 
     def _perception(self, v: _Vehicle, j: _Junction, colour: str, d: float, vt: int,
                     before_line: bool = False) -> dict[str, Any]:
-        """The vehicle's perception; remembers its lights and what highway_code.le would permit on
-        it, for the ground truth of a potential violation recorded before the next one."""
+        """The vehicle's perception; remembers its facts and lights, for the decision taken on it
+        and the ground truth of a potential violation recorded before the next one."""
         facts, lights = self._facts(v, j, colour, d, before_line=before_line)
-        v.last_lights = lights
-        v.last_permitted = may_enter(v.type, v.on_call, lights, v.too_close, not before_line and d < LINE,
-                                     j.control == "stop" and d <= NEAR, v.stopped_at_line)
+        v.last_lights, v.last_facts = lights, facts
         return self._vev(v, vt + 2, "vehicle.perception", {"facts": facts})
 
     def _decision(self, v: _Vehicle, j: _Junction, colour: str, d: float, vt: int, proceeds: bool) -> list[dict]:
         """A perception and the decision taken on it (permitted: highway_code.le on those facts)."""
         perception = self._perception(v, j, colour, d, vt, before_line=True)
-        permitted = v.last_permitted
+        permitted = self._permitted(v, v.last_facts)
         return [perception,
                 self._vev(v, vt + 3, "vehicle.decision", {
                     "goal": f"{v.id} can {ENTER}", "action": ENTER, "permitted": permitted,
                     "proceeds": proceeds, "rulebook": self.sha["highway_code.le"]})]
+
+    def _permitted(self, v: _Vehicle, facts: list[str]) -> bool:
+        """highway_code.le, asked whether the vehicle can enter the junction on these facts."""
+        return self.rules.holds("highway_code.le", CAN, (v.id, ENTER), v.id, facts)
 
     def _in_range(self, v: _Vehicle, x: float, y: float) -> _Junction | None:
         k = v.k
@@ -686,22 +709,39 @@ class _World:
                   monitor_lights: tuple[str, ...], cause: str) -> dict[str, Any]:
         """What the rulebooks should conclude, on the vehicle's latest perception (DESIGN: the
         verdict is taken on what was observed when the two disagree on the light)."""
-        fault = light_fault(v.last_lights, monitor_lights)
-        if action == SPEEDING:
-            own = observed = False  # HC 124: no one may exceed the limit
+        vid, own = v.id, v.last_facts
+        pv = POTENTIALLY_VIOLATES.text(vid, action)
+        seen = [MONITOR_OBSERVED_LIGHT.text(c, vid) for c in monitor_lights]
+        fault = self.rules.holds("validators.le", HAS_A_LIGHT_PERCEPTION_FAULT, (vid,), vid, own + seen)
+        on_own = self._verdict(v, action, own + seen + [pv])
+        if fault:  # the monitor's lights in place of the vehicle's
+            perceived = {HAS_LIGHT.text(vid, c) for c in v.last_lights}
+            observed = [f for f in own if f not in perceived] + [HAS_LIGHT.text(vid, c) for c in monitor_lights]
+            verdict = self._verdict(v, action, observed + [pv])
         else:
-            own = v.last_permitted
-            observed = own if not fault else may_enter(
-                v.type, v.on_call, monitor_lights, v.too_close, False, m.control == "stop", v.stopped_at_line)
-        verdict = "mitigated" if observed else "punishable"
+            verdict = on_own
         driving = "human driver" if not v.av else "ADS engaged" if v.engaged else "user took control"
-        liable = "none" if verdict == "mitigated" else {
-            "human driver": "driver", "ADS engaged": "authorised self-driving entity",
-            "user took control": "driver"}[driving]  # liability.le: the user-in-charge who took control is the driver
+        liable = "none" if verdict == "mitigated" else self._liable(v, action)
         return {"id": f"{ev['src']}:{ev['seq']}", "monitor": m.monitor, "junction": m.id, "t": ev["t"],
                 "vehicle": v.id, "type": v.type, "action": action, "cause": cause, "verdict": verdict,
-                "verdict_on_vehicle_scenario": "mitigated" if own else "punishable",
+                "verdict_on_vehicle_scenario": on_own,
                 "findings": ["perception fault"] if fault else [], "driving": driving, "liable": liable}
+
+    def _verdict(self, v: _Vehicle, action: str, facts: list[str]) -> str:
+        """validators.le's verdict on a potential violation, on these facts."""
+        punishable = self.rules.holds("validators.le", PUNISHABLY_VIOLATES, (v.id, action), v.id, facts)
+        return "punishable" if punishable else "mitigated"
+
+    def _liable(self, v: _Vehicle, action: str) -> str:
+        """Who liability.le names for a punishable violation, the first in reasoner.control's order
+        of roles. Transition demands here are answered within 3 s, so none has expired."""
+        control = {"since": None, "engaged": v.engaged, "transition_demand_expired": False,
+                   "no_user_in_charge": v.av and no_user_in_charge({"driver": v.driver, "automation_level": v.level})}
+        facts = [s for s, _ in liability_facts(v.id, control)] + [PUNISHABLY_VIOLATES.text(v.id, action)]
+        for party in ROLE:  # the parties liability_facts names
+            if self.rules.holds("liability.le", IS_LIABLE, (party, action, v.id), v.id, facts):
+                return role(party)
+        return "none"
 
 
 def synthetic_run(vehicles: int = 200, seconds: int = 3600, seed: int = 7, run: str = "synthetic-1h", *,

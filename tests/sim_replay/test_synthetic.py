@@ -9,8 +9,9 @@ import pytest
 
 from reasoner.bundled import bundled
 from reasoner.engine import get_engine
+from reasoner import vocabulary as vocab
 from reasoner.le.sentences import parse_fact
-from sim_replay.synthetic import RULEBOOKS, expected_incidents, synthetic_run
+from sim_replay.synthetic import RULEBOOKS, Oracle, expected_incidents, synthetic_run
 from store import Store
 
 SMALL = {"vehicles": 10, "seconds": 300, "seed": 7, "run": "synthetic-test", "intensity": 1.0}
@@ -171,3 +172,38 @@ def test_no_potential_violation_the_monitors_did_not_record(small):
     for key, ts in episodes:  # recorded just after the observation it rests on, in the same µs slot
         assert sum(1 for *k, t in recorded if tuple(k) == key and ts[0] <= t <= ts[-1] + 1000) == 1, (key, ts)
     assert len(episodes) == len(recorded)
+
+
+def test_every_decision_is_what_highway_code_le_says_on_its_perception(small):
+    """`permitted` is asked of highway_code.le and remembered across vehicles in the same
+    situation: asked afresh, on each decision's own perception, the rulebook agrees."""
+    events, _ = small
+    engine = get_engine()
+    hc = engine.load(bundled("highway_code.le"), "highway_code.le")
+    latest: dict[str, list[str]] = {}
+    answers: Counter = Counter()
+    for ev in events:
+        if ev["kind"] == "vehicle.perception":
+            latest[ev["src"]] = ev["body"]["facts"]
+        elif ev["kind"] == "vehicle.decision":
+            facts = [parse_fact(f, hc.document.templates) for f in latest[ev["src"]]]
+            goal = parse_fact(ev["body"]["goal"], hc.document.templates)
+            assert engine.holds(hc, goal, facts) == ev["body"]["permitted"], (ev, latest[ev["src"]])
+            answers[ev["body"]["permitted"]] += 1
+    assert answers[True] > 0 and answers[False] > 0
+
+
+def test_a_situation_is_asked_once_whatever_the_vehicle():
+    """The memo is keyed by the facts with the vehicle's id blanked, so a second vehicle in the same
+    situation costs no question; a sentence no template fits is an error, not a silent no."""
+    oracle = Oracle({name: bundled(name) for name in RULEBOOKS})
+
+    def can_enter(v: str) -> bool:
+        facts = [vocab.IS_OF_TYPE.text(v, "bus"), vocab.HAS_LIGHT.text(v, "amber"), vocab.HAS_SPEED_OF.text(v, 77)]
+        return oracle.holds("highway_code.le", vocab.CAN, (v, "enter the junction"), v, facts)
+
+    assert can_enter("901") is False and oracle.asked == 1
+    assert can_enter("902") is False and oracle.asked == 1
+    with pytest.raises(ValueError, match="no template"):
+        oracle.holds("highway_code.le", vocab.CAN, ("101", "enter the junction"), "101",
+                     ["101 is of type car", "101 wears a hat"])
