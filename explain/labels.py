@@ -24,6 +24,7 @@ BOLD_EM_WIDTH = 0.7
 LINE_EM = 1.25             # box height per em: ascender to descender
 RING_PX = 9.0              # each further ring of candidates is this much further out
 RINGS = 10
+GRID_PX = 4.0              # the step of the last resort's search over the whole frame
 LEADER_FROM_RING = 2       # from this ring on a thin line joins the label to what it names
 # directions tried on each ring, as (dx, dy) of the box's side facing the anchor; right-below first
 DIRECTIONS = ((1, 1), (1, 0), (1, -1), (0, 1), (0, -1), (-1, 1), (-1, 0), (-1, -1))
@@ -106,10 +107,23 @@ class Placer:
         around = [o for o in self.obstacles if not o.holds(x, y)]     # not its own marker, nor one on it
         free = [(ring, b) for ring, b in inside if not any(b.intersects(t) for t in taken)]
         tidy = [(ring, b) for ring, b in free if not any(b.intersects(o) for o in around)]
-        ring, box = (tidy or free or [min(inside, key=lambda s: sum(s[1].overlap(t) for t in taken))])[0]
+        if tidy or free:
+            ring, box = (tidy or free)[0]
+        else:
+            ring, box = RINGS, self._anywhere(x, y, w, h, taken) or min(
+                (b for _, b in inside), key=lambda b: sum(b.overlap(t) for t in taken))
         label = Label(text, box, (x, y), size, bold, ring >= LEADER_FROM_RING)
         self.labels.append(label)
         return label
+
+    def _anywhere(self, x: float, y: float, w: float, h: float, taken: list[Box]) -> Box | None:
+        """When every ring is full: the free spot of the frame nearest the anchor, on a grid of
+        GRID_PX (None if the frame has no room left: the least covered ring spot is taken then)."""
+        f = self.frame
+        spots = [Box(f.x + i * GRID_PX, f.y + j * GRID_PX, w, h)
+                 for i in range(int((f.w - w) // GRID_PX) + 1) for j in range(int((f.h - h) // GRID_PX) + 1)]
+        spots.sort(key=lambda b: ((b.x + w / 2 - x) ** 2 + (b.y + h / 2 - y) ** 2, b.x, b.y))
+        return next((b for b in spots if not any(b.intersects(t) for t in taken)), None)
 
     @staticmethod
     def _candidate(x: float, y: float, w: float, h: float, dist: float, d: tuple[int, int]) -> Box:
