@@ -9,18 +9,22 @@ frame that overlaps no label placed before it and, if it can, no marker (vehicle
 other than those on the anchor itself, which no nearby spot could keep off.
 Labels placed first get the best spots, so the caller places the incident's vehicle first.
 
-Text width is estimated, not measured (no font is embedded in the report): EM_WIDTH is the widest
-average advance of the fonts a browser picks for "sans-serif" (DejaVu Sans digits are 0.64 em),
-so a box is if anything a little wider than the text drawn in it. The browser test measures
-the drawn text and checks the boxes hold it.
+Text width is estimated, not measured (no font is embedded in the report): each character counts
+as the widest advance of its class in the fonts a browser picks for "sans-serif" (DejaVu Sans is
+the widest of them: lowercase and digits up to 0.64 em, capitals 0.79), so a box is if anything a
+little wider than the text drawn in it. The browser test measures the drawn text and checks the
+boxes hold it.
 """
 from __future__ import annotations
 
+import unicodedata
 from dataclasses import dataclass
 from typing import Iterable
 
-EM_WIDTH = 0.64            # average advance of a character, in em, a little over DejaVu Sans's
-BOLD_EM_WIDTH = 0.7
+NARROW, NARROW_EM = frozenset(" .,:;'!|()[]ijlft"), 0.4
+WIDE, WIDE_EM = frozenset("mwMW@%"), 1.0
+CAPITAL_EM, OTHER_EM, FULL_WIDTH_EM = 0.8, 0.64, 1.0
+BOLD = 1.12                # bold advances are up to this much wider
 LINE_EM = 1.25             # box height per em: ascender to descender
 RING_PX = 9.0              # each further ring of candidates is this much further out
 RINGS = 10
@@ -81,7 +85,18 @@ class Label:
 
 def text_size(text: str, size: float, bold: bool = False) -> tuple[float, float]:
     """The estimated width and height of `text` at `size` px."""
-    return len(text) * size * (BOLD_EM_WIDTH if bold else EM_WIDTH), size * LINE_EM
+    ems = sum(_advance(c) for c in text) * (BOLD if bold else 1.0)
+    return ems * size, size * LINE_EM
+
+
+def _advance(c: str) -> float:
+    if c in NARROW:
+        return NARROW_EM
+    if c in WIDE:
+        return WIDE_EM
+    if unicodedata.east_asian_width(c) in ("W", "F"):
+        return FULL_WIDTH_EM
+    return CAPITAL_EM if c.isupper() else OTHER_EM
 
 
 class Placer:
