@@ -108,7 +108,7 @@ def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
 def _labels(placer: Placer, wants: list[_Want]) -> list[str]:
     """Every label, clear of the others, above every marker; the incident's vehicle is placed
     first, so it gets the spot nearest its marker, the junction's name last."""
-    order = sorted(wants, key=lambda w: w.rank)
+    order = sorted((w for w in wants if placer.frame.holds(w.x, w.y)), key=lambda w: w.rank)   # off-frame: clipped
     out = ['<g class="labels">']
     for want in order:
         placed = placer.place(want.text, want.x, want.y, clear=want.clear, bold=want.bold)

@@ -216,7 +216,10 @@ def label_boxes(svg: str) -> list[tuple[str, Box]]:
 
 
 def test_labels_of_vehicles_close_together_do_not_overlap():
-    svg = scene_svg(crowded_picture(), 1)
+    pic = crowded_picture()
+    far = {**pic["vehicles"][1], "id": "far", "x": 900.0, "y": 0.0}     # outside the frame: clipped, no label
+    pic["vehicles"].append(far)
+    svg = scene_svg(pic, 1)
     labels = label_boxes(svg)
     texts = [t for t, _ in labels]
     assert sorted(texts) == sorted(["1 car", "22 car", "333 car", "4444 car", "55 car", "ambulance-6 car",
@@ -226,7 +229,7 @@ def test_labels_of_vehicles_close_together_do_not_overlap():
     frame = Box(0, 0, 640, 440 - 44)
     assert all(box.within(frame) for _, box in labels)
     assert texts[0] == "1 car"                 # the incident's vehicle placed first, nearest its marker
-    assert scene_svg(crowded_picture(), 1) == svg          # the same picture, the same layout
+    assert scene_svg(pic, 1) == svg          # the same picture, the same layout
 
 
 def test_the_placer_keeps_every_label_clear_even_at_one_spot():
