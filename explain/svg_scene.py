@@ -100,8 +100,8 @@ def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
     if me is None or me["x"] is None:
         return f"vehicle {vehicle} has no recorded position at this time"
     if not drawn(me):
-        return (f"vehicle {vehicle}'s last recorded position is {me['age_s']:g} s old: not drawn, it is not "
-                "known where it was")
+        age = "" if me.get("age_s") is None else f" is {me['age_s']:g} s old"
+        return f"vehicle {vehicle}'s last recorded position{age}: not drawn, it is not known where it was"
     return None
 
 
