@@ -23,6 +23,7 @@ from store import Store
 from . import phrases as ph
 from .document import explanation
 from .evidence import chain_status
+from .provenance import provenance
 from .report_data import recorded_rulebooks, run_map, run_start_body, scene_picture, timeline, vehicle_junction
 
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".json": "json"}
@@ -47,6 +48,7 @@ def build_report(store: Store, run: str, *, incident: str | None = None, rules: 
     """The report of `run` (only `incident`, by id or 1-based number, if given); `rules` are LE
     files judged with first, as `gaps incidents --rules`."""
     from reasoner.investigation import Investigation
+    made_from = provenance(store.path)          # before anything is read: the file as it was found
     if run not in {r["run"] for r in store.runs()}:
         known = ", ".join(r["run"] for r in store.runs()) or "none"
         raise ReportError(f"no run {run!r} in the store; runs: {known}")
@@ -70,6 +72,7 @@ def build_report(store: Store, run: str, *, incident: str | None = None, rules: 
             progress(done, len(chosen))
     generated = (now or datetime.now(timezone.utc)).astimezone(timezone.utc)
     return {"run": run, "generated": generated.isoformat(timespec="seconds").replace("+00:00", "Z"),
+            "provenance": made_from.to_json(),
             "incidents_in_run": len(found), "selected": chosen[0]["id"] if incident is not None else None,
             "chain": {**chain, "checkpoints": _checkpoints(store, run)},
             "rulebooks": _rulebooks(store, chosen, recorded_rulebooks(start)), "incidents": entries}

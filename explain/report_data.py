@@ -17,6 +17,8 @@ from reasoner.scene import scene
 from store import Store
 from store.state import state_at
 
+from .presence import presence_at
+
 SECOND = 1_000_000_000
 BEFORE_NS = 20 * SECOND      # the timeline starts this long before the incident ...
 AFTER_NS = 5 * SECOND        # ... and ends this long after it
@@ -66,7 +68,8 @@ def run_map(start_body: dict[str, Any]) -> dict[str, list[dict]]:
 
 def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | None = None) -> dict[str, Any]:
     """Roads, junctions, signal colours per approach, vehicles and road users with position and
-    heading, and each monitor's field of view, at t; `vehicle` is the incident's."""
+    heading (and whether that position is fresh enough to draw: presence.py), and each monitor's
+    field of view, at t; `vehicle` is the incident's."""
     the_map = the_map if the_map is not None else run_map(run_start_body(store, run))
     sc = scene(store, run, t, judge=False)
     vehicles = []
@@ -76,9 +79,10 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | 
         vehicles.append({"id": v["vehicle"], "type": v["type"], "x": x, "y": y,
                          "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
                          "junction": at.get("junction"), "incident": v["vehicle"] == vehicle,
-                         "evidence": at.get("evidence")})
+                         "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
     users = [{"id": u["src"], "type": u["type"], "x": number((u["state"] or {}).get("x")),
-              "y": number((u["state"] or {}).get("y")), "heading_deg": number((u["state"] or {}).get("heading_deg"))}
+              "y": number((u["state"] or {}).get("y")), "heading_deg": number((u["state"] or {}).get("heading_deg")),
+              "evidence": (u["state"] or {}).get("evidence"), **presence_at((u["state"] or {}).get("evidence"), t)}
              for u in sc["road_users"]]
     monitors = []
     for m in sc["monitors"]:

@@ -2,8 +2,11 @@
 
 Readable offline and years later: the CSS is inline, the pictures are inline SVG, there is no
 script, no font, no image file and no link out of the page, so the file alone is the record.
-Print CSS starts each incident on a new page and keeps the pictures whole, so the PDF that
-`gaps report --pdf` prints from this page reads like the screen. Each incident's explanation is
+Printed (and as the PDF `gaps report --pdf` prints from this page), it is A4 with the run, the
+tool's version, the store file's sha256 and "page N of M" in the margins of every page (CSS
+margin boxes, which Chromium honours), each incident starts a page, and no picture, table row or
+proof line is cut across two pages where it fits on one: a page torn from the bundle still says
+where it came from. Each incident's explanation is
 explain/render.py's `html_fragment` at the standard level, the same words as `gaps explain`.
 """
 from __future__ import annotations
@@ -11,6 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 from .render import esc, html_fragment
+from .presence import FRESH_NS
 from .report_data import SECOND
 from .svg_scene import scene_svg
 from .svg_timeline import timeline_svg
@@ -34,9 +38,21 @@ figcaption{font-size:.85rem;color:#444;margin-top:.3rem}
 section.gaps-explanation h2{font-size:1.15rem}
 .gaps-explanation.verdict-punishable h2{color:#a40000}.gaps-explanation.verdict-mitigated h2{color:#7a5b00}
 ul.proof,ul.proof ul{list-style:none;padding-left:1.2rem}
-@media print{body{max-width:none;margin:0;font-size:10.5pt}
-article.incident{break-before:page;border-top:none}
-figure,table,svg{break-inside:avoid}a{color:inherit;text-decoration:none}}
+.provenance td{word-break:break-all}
+@media print{body{max-width:none;margin:0;font-size:10pt}
+article.incident{break-before:page;border-top:none;margin-top:0}
+figure,svg,tr,li,p{break-inside:avoid}h1,h2,h3{break-after:avoid}thead{display:table-header-group}
+figure svg{width:100%;max-width:170mm}a{color:inherit;text-decoration:none}}
+"""
+SHA_CLASS = ' class="sha"'
+SHA_CLASS = ' class="sha"'
+# the margins of every printed page; {run}, {version}, {store} and {sha} are CSS strings
+PAGE = """
+@page{{size:A4;margin:17mm 15mm 19mm 15mm;
+@top-left{{content:"Incident report: run " {run};font:8pt sans-serif;color:#555}}
+@top-right{{content:"mind-the-gaps " {version};font:8pt sans-serif;color:#555}}
+@bottom-left{{content:"store " {store} " sha256 " {sha};font:6.5pt monospace;color:#555}}
+@bottom-right{{content:"page " counter(page) " of " counter(pages);font:8pt sans-serif}}}}
 """
 
 
@@ -45,10 +61,10 @@ def to_html(report: dict[str, Any]) -> str:
     title = f"Incident report: run {run}"
     parts = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
              '<meta name="viewport" content="width=device-width, initial-scale=1">',
-             f"<title>{esc(title)}</title>", f"<style>{STYLE}</style>", "</head>", "<body>",
+             f"<title>{esc(title)}</title>", f"<style>{STYLE}{_page_css(report)}</style>", "</head>", "<body>",
              "<header>", f"<h1>{esc(title)}</h1>",
              f'<p class="meta">Generated {esc(report["generated"])} by <code>gaps report</code> from the event '
-             f"store. {_scope(report)}</p>", "</header>"]
+             f"store. {_scope(report)}</p>", *_provenance(report["provenance"]), "</header>"]
     parts += _summary(report)
     parts += _chain(report["chain"])
     parts += _rulebooks(report["rulebooks"])
@@ -56,6 +72,39 @@ def to_html(report: dict[str, Any]) -> str:
         parts += _incident(entry)
     parts += ["</body>", "</html>"]
     return "\n".join(parts) + "\n"
+
+
+def css_string(text: str) -> str:
+    """`text` as a CSS string every character of which but letters, digits and a few harmless
+    marks is a hex escape: a recorded run id or a file path cannot end the string, the rule or
+    the <style> element."""
+    keep = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 .,:_-+")
+    return '"' + "".join(c if c in keep else f"\\{ord(c):06x}" for c in text) + '"'
+
+
+def _page_css(report: dict[str, Any]) -> str:
+    p = report["provenance"]
+    store = p["store"]
+    return PAGE.format(run=css_string(report["run"]), version=css_string(p["version"]),
+                       store=css_string(store["path"].rsplit("/", 1)[-1]),
+                       sha=css_string(store["sha256"] or "none (a store in memory)"))
+
+
+def _provenance(p: dict[str, Any]) -> list[str]:
+    """Which tool made the report from which store file, so a copy of the file can be checked
+    against it (sha256sum)."""
+    store = p["store"]
+    sha = store["sha256"] or "none: the store was in memory, not a file"
+    rows = [("tool", f"{p['tool']} {p['version']}"), ("store file", store["path"]),
+            ("store sha256", sha), ("store size", f"{store['bytes']:,} bytes")]
+    out = ['<table class="provenance"><tbody>']
+    out += [f'<tr><th>{esc(k)}</th><td{SHA_CLASS if k == "store sha256" else ""}>{esc(v)}</td></tr>'
+            for k, v in rows]
+    out.append("</tbody></table>")
+    if store["wal_pending"]:
+        out.append('<p class="meta">The store\'s write-ahead log (its -wal file) held writes not yet in the file '
+                   "when it was hashed: the sha256 is of the file as it was then, without them.</p>")
+    return out
 
 
 def _scope(report: dict[str, Any]) -> str:
@@ -147,11 +196,16 @@ def _incident(e: dict[str, Any]) -> list[str]:
 def _scene_caption(pic: dict[str, Any]) -> str:
     signals = "; ".join(f"{s['junction']} {s['approach']} {s['colour']}" for s in pic["signals"]) or "none reported"
     unplaced = [v["id"] for v in pic["vehicles"] if v["x"] is None]
+    stale = [f"{v['id']} ({v['age_s']:g} s before)" for v in pic["vehicles"] + pic["road_users"]
+             if v["x"] is not None and not v.get("present", True) and v.get("age_s") is not None]
     text = (f"The scene at the incident, {pic['offset']} from the run start, as the record holds it: "
             f"vehicle {pic['vehicle']} highlighted, arrows point where each vehicle was heading, wedges are the "
             f"monitors' fields of view. Signals: {signals}.")
     if unplaced:
         text += f" Not drawn (no position recorded): {', '.join(map(str, unplaced))}."
+    if stale:
+        text += (f" Not drawn (last position reported more than {FRESH_NS / SECOND:g} s before the incident, so "
+                 f"not where they were): {', '.join(stale)}.")
     if pic.get("note"):
         text += f" Note: {pic['note']}."
     return text

@@ -15,8 +15,12 @@ from .report_data import SECOND
 
 
 def to_markdown(report: dict[str, Any]) -> str:
+    p, store = report["provenance"], report["provenance"]["store"]
     out = [f"# Incident report: run {md(report['run'])}", "",
-           f"Generated {md(report['generated'])} by `gaps report` from the event store.", ""]
+           f"Generated {md(report['generated'])} by `gaps report` from the event store.", "",
+           f"- tool: {md(p['tool'])} {md(p['version'])}", f"- store file: {md(store['path'])}",
+           f"- store sha256: {md(store['sha256'] or 'none (a store in memory)')}"
+           + (" (its -wal file held writes not yet in the file, not covered)" if store["wal_pending"] else ""), ""]
     out += _summary(report)
     out += _chain(report["chain"])
     out += _rulebooks(report["rulebooks"])

@@ -7,21 +7,38 @@ counter-clockwise from +x (as sim_replay and the Foxglove export read them); the
 down, so points are flipped here and arcs are drawn as polylines, leaving no sweep flag to get
 wrong. The view is centred on what matters (the vehicle, its junction, the monitors watching it,
 road users within 120 m), not on the whole map, so a 400 m road does not shrink the junction to a
-dot; roads are clipped to the frame.
+dot; roads are clipped to the frame. Only road users present at the moment are drawn (a position
+older than presence.FRESH_NS is not where the road user was), and the labels are placed by
+labels.py so that none covers another.
 """
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
+from .labels import Box, Label, Placer
 from .report_data import APPROACH_DIRECTIONS, vehicle_junction
 from .svg import esc, f, fill, legend_swatches
+from .units import mph_text
 
 W, H = 640, 440
 PAD = 28
 LEGEND_H = 44
 NEAR_M = 120.0
 MIN_SPAN_M = 50.0
+INCIDENT_COLOUR, VEHICLE_COLOUR, USER_COLOUR, MONITOR_COLOUR = "#7b1fa2", "#34495e", "#16a085", "#1d4f9c"
+
+
+class _Want(NamedTuple):
+    """A label a marker asks for: placed once every marker is drawn, by rank (0 first)."""
+
+    rank: int               # 0 the incident's vehicle, 1 other vehicles, 2 road users, 3 monitors, 4 junctions
+    text: str
+    x: float
+    y: float
+    clear: float
+    colour: str
+    bold: bool = False
 
 
 class _View:
@@ -54,25 +71,68 @@ def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
            "</clipPath></defs>",
            f'<rect x="0" y="0" width="{W}" height="{H}" fill="#f4f1ea"/>',
            f'<g clip-path="url(#{clip})">']
+    placer = Placer(Box(0, 0, W, H - LEGEND_H))
+    wants: list[_Want] = []
     out += _roads(pic, view)
-    out += _monitors(pic, view)
-    out += _junctions(pic, view, junction)
-    out += _signals(pic, view)
-    labels = _Labels()
-    out += _road_users(pic, view, labels)
-    out += _vehicles(pic, view, labels)
-    if me is None or me["x"] is None:
-        missing = f"vehicle {pic['vehicle']} has no recorded position at this time"
+    out += _monitors(pic, view, placer, wants)
+    out += _junctions(pic, view, junction, placer, wants)
+    out += _signals(pic, view, placer)
+    out += _road_users(pic, view, placer, wants)
+    out += _vehicles(pic, view, placer, wants)
+    missing = _not_drawn(me, pic["vehicle"])
+    if missing:
+        placer.block(Box(0, 0, W, PAD + 6))
         out.append(f'<text x="{W / 2}" y="{PAD}" text-anchor="middle" fill="#a40000">{esc(missing)}</text>')
+    out += _labels(placer, wants)
     out.append("</g>")
     out += _legend(view)
     out.append("</svg>")
     return "".join(out)
 
 
+def drawn(item: dict[str, Any]) -> bool:
+    """A vehicle or road user the picture shows: placed, and present at the moment (presence.py)."""
+    return item["x"] is not None and item["y"] is not None and item.get("present", True)
+
+
+def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
+    """Why the incident's own vehicle is not in the picture, if it is not."""
+    if me is None or me["x"] is None:
+        return f"vehicle {vehicle} has no recorded position at this time"
+    if not drawn(me):
+        age = "" if me.get("age_s") is None else f" is {me['age_s']:g} s old"
+        return f"vehicle {vehicle}'s last recorded position{age}: not drawn, it is not known where it was"
+    return None
+
+
+def _labels(placer: Placer, wants: list[_Want]) -> list[str]:
+    """Every label, clear of the others, above every marker; the incident's vehicle is placed
+    first, so it gets the spot nearest its marker, the junction's name last."""
+    order = sorted((w for w in wants if placer.frame.holds(w.x, w.y)), key=lambda w: w.rank)   # off-frame: clipped
+    out = ['<g class="labels">']
+    for want in order:
+        placed = placer.place(want.text, want.x, want.y, clear=want.clear, bold=want.bold)
+        out.append(_label(placed, want.colour))
+    return out + ["</g>"]
+
+
+def _label(placed: Label, colour: str) -> str:
+    out = ""
+    if placed.leader:
+        (ax, ay), (bx, by) = placed.anchor, placed.box.nearest(*placed.anchor)
+        out += (f'<line class="leader" x1="{f(ax)}" y1="{f(ay)}" x2="{f(bx)}" y2="{f(by)}" stroke="{colour}" '
+                'stroke-width="0.75"/>')
+    x, y = placed.baseline
+    weight = ' font-weight="bold"' if placed.bold else ""
+    box = placed.box
+    return out + (f'<text class="label" x="{f(x)}" y="{f(y)}" fill="{colour}"{weight} paint-order="stroke" '
+                  f'stroke="#f4f1ea" stroke-width="3" stroke-linejoin="round" '
+                  f'data-box="{f(box.x)} {f(box.y)} {f(box.w)} {f(box.h)}">{esc(placed.text)}</text>')
+
+
 def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
     """The points the view must hold."""
-    me = next((v for v in pic["vehicles"] if v["incident"] and v["x"] is not None), None)
+    me = next((v for v in pic["vehicles"] if v["incident"] and drawn(v)), None)
     junction = vehicle_junction(pic)
     pts: list[tuple[float, float]] = []
     if me is not None:
@@ -84,13 +144,12 @@ def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
             pts += _wedge_points(m)[1::4]
     if me is not None:
         for other in pic["vehicles"] + pic["road_users"]:
-            if other["x"] is not None and other["y"] is not None and \
-                    math.hypot(other["x"] - me["x"], other["y"] - me["y"]) <= NEAR_M:
+            if drawn(other) and math.hypot(other["x"] - me["x"], other["y"] - me["y"]) <= NEAR_M:
                 pts.append((other["x"], other["y"]))
     if not pts:        # nothing to centre on: the whole map
         pts = [(j["x"], j["y"]) for j in pic["junctions"]]
         pts += [(m["x"], m["y"]) for m in pic["monitors"] if m["x"] is not None and m["y"] is not None]
-        pts += [(v["x"], v["y"]) for v in pic["vehicles"] if v["x"] is not None and v["y"] is not None]
+        pts += [(v["x"], v["y"]) for v in pic["vehicles"] if drawn(v)]
     return pts
 
 
@@ -119,7 +178,8 @@ def _roads(pic: dict[str, Any], view: _View) -> list[str]:
     return out
 
 
-def _junctions(pic: dict[str, Any], view: _View, focus: str | None) -> list[str]:
+def _junctions(pic: dict[str, Any], view: _View, focus: str | None, placer: Placer,
+               wants: list[_Want]) -> list[str]:
     out = []
     size = max(10.0, 9.0 * view.scale)
     for j in pic["junctions"]:
@@ -128,13 +188,12 @@ def _junctions(pic: dict[str, Any], view: _View, focus: str | None) -> list[str]
         out.append(f'<rect class="junction" x="{f(x - size / 2)}" y="{f(y - size / 2)}" width="{f(size)}" '
                    f'height="{f(size)}" fill="#d8d2c4" stroke="{stroke}" stroke-width="1">'
                    f'<title>junction {esc(j["id"])} ({esc(j["control"] or "control not recorded")})</title></rect>')
-        out.append(f'<text x="{f(x - size / 2 - 3)}" y="{f(y + size / 2 + 14)}" text-anchor="end" fill="#333">'
-                   f'junction {esc(j["id"])}</text>')
+        wants.append(_Want(4, f"junction {_short(str(j['id']))}", x, y, size * 0.75, "#333"))
     return out
 
 
-def _signals(pic: dict[str, Any], view: _View) -> list[str]:
-    """One lamp per approach, placed on the side the traffic comes from."""
+def _signals(pic: dict[str, Any], view: _View, placer: Placer) -> list[str]:
+    """One lamp per approach, placed on the side the traffic comes from; labels keep off it."""
     where = {j["id"]: (j["x"], j["y"]) for j in pic["junctions"]}
     by_junction: dict[Any, list[dict]] = {}
     for s in pic["signals"]:
@@ -152,6 +211,7 @@ def _signals(pic: dict[str, Any], view: _View) -> list[str]:
             x, y = view(jx + dist * math.cos(a) + side * math.cos(a - math.pi / 2),
                         jy + dist * math.sin(a) + side * math.sin(a - math.pi / 2))
             title = f"signal {junction} {s['approach']}: {s['colour']}"
+            placer.block(Box(x - 7, y - 11, 14, 22))
             out.append(f'<g class="signal"><title>{esc(title)}</title>'
                        f'<rect x="{f(x - 7)}" y="{f(y - 11)}" width="14" height="22" rx="3" fill="#222"/>'
                        f'<circle cx="{f(x)}" cy="{f(y)}" r="5.5" fill="{fill(s["colour"])}" stroke="#000" '
@@ -159,7 +219,7 @@ def _signals(pic: dict[str, Any], view: _View) -> list[str]:
     return out
 
 
-def _monitors(pic: dict[str, Any], view: _View) -> list[str]:
+def _monitors(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
     for m in pic["monitors"]:
         if m["x"] is None or m["y"] is None:
@@ -172,7 +232,8 @@ def _monitors(pic: dict[str, Any], view: _View) -> list[str]:
         x, y = view(m["x"], m["y"])
         out.append(f'<rect class="monitor" x="{f(x - 5)}" y="{f(y - 5)}" width="10" height="10" fill="#2a6fdb">'
                    f"<title>{esc(_fov_title(m))}</title></rect>")
-        out.append(f'<text x="{f(x + 8)}" y="{f(y - 6)}" fill="#1d4f9c">{esc(m["id"])}</text>')
+        placer.block(Box(x - 5, y - 5, 10, 10))
+        wants.append(_Want(3, _short(str(m["id"])), x, y, 7.0, MONITOR_COLOUR))
     return out
 
 
@@ -181,57 +242,51 @@ def _fov_title(m: dict[str, Any]) -> str:
             f"range {_n(m['range_m'])} m")
 
 
-class _Labels:
-    """Moves a label down a line when another already sits there (vehicles at one spot)."""
-
-    def __init__(self) -> None:
-        self.taken: list[tuple[float, float]] = []
-
-    def place(self, x: float, y: float) -> tuple[float, float]:
-        while any(abs(x - a) < 40 and abs(y - b) < 11 for a, b in self.taken):
-            y += 12
-        self.taken.append((x, y))
-        return x, y
-
-
-def _vehicles(pic: dict[str, Any], view: _View, labels: _Labels) -> list[str]:
+def _vehicles(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
     for v in sorted(pic["vehicles"], key=lambda v: v["incident"]):      # the incident's drawn last, on top
-        if v["x"] is None or v["y"] is None:
+        if not drawn(v):
             continue
         x, y = view(v["x"], v["y"])
         r = 7 if v["incident"] else 5
-        colour = "#7b1fa2" if v["incident"] else "#34495e"
-        title = (f"vehicle {v['id']} ({v['type'] or 'type not recorded'}) at ({_n(v['x'])}, {_n(v['y'])}) m, "
-                 f"heading {_n(v['heading_deg'])}°, speed {_n(v['speed_mps'])} m/s")
+        colour = INCIDENT_COLOUR if v["incident"] else VEHICLE_COLOUR
         cls = "vehicle incident" if v["incident"] else "vehicle"
         if v["heading_deg"] is not None:
             a = math.radians(v["heading_deg"])
             hx, hy = x + 18 * math.cos(a), y - 18 * math.sin(a)
             out.append(f'<line x1="{f(x)}" y1="{f(y)}" x2="{f(hx)}" y2="{f(hy)}" stroke="{colour}" stroke-width="2"/>')
             out.append(_arrow_head(hx, hy, a, colour))
-        ring = (f'<circle cx="{f(x)}" cy="{f(y)}" r="{r + 5}" fill="none" stroke="#7b1fa2" stroke-width="2" '
-                'stroke-dasharray="3 2"/>' if v["incident"] else "")
+            placer.block(Box(min(x, hx) - 4, min(y, hy) - 4, abs(hx - x) + 8, abs(hy - y) + 8))
+        ring = (f'<circle cx="{f(x)}" cy="{f(y)}" r="{r + 5}" fill="none" stroke="{INCIDENT_COLOUR}" '
+                'stroke-width="2" stroke-dasharray="3 2"/>' if v["incident"] else "")
         out.append(f'<g class="{cls}">{ring}<circle cx="{f(x)}" cy="{f(y)}" r="{r}" fill="{colour}" stroke="#fff" '
-                   f'stroke-width="1.5"><title>{esc(title)}</title></circle></g>')
-        lx, ly = labels.place(x + r + 4, y + r + 11)
-        weight = ' font-weight="bold"' if v["incident"] else ""
-        out.append(f'<text x="{f(lx)}" y="{f(ly)}" fill="{colour}"{weight}>'
-                   f'{esc(_short(str(v["id"])) + (" " + _short(str(v["type"])) if v["type"] else ""))}</text>')
+                   f'stroke-width="1.5"><title>{esc(_vehicle_title(v))}</title></circle></g>')
+        reach = r + 5 if v["incident"] else r
+        placer.block(Box(x - reach, y - reach, 2 * reach, 2 * reach))
+        text = _short(str(v["id"])) + (" " + _short(str(v["type"])) if v["type"] else "")
+        wants.append(_Want(0 if v["incident"] else 1, text, x, y, reach + 2, colour, v["incident"]))
     return out
 
 
-def _road_users(pic: dict[str, Any], view: _View, labels: _Labels) -> list[str]:
+def _vehicle_title(v: dict[str, Any]) -> str:
+    speed = "speed not recorded" if v["speed_mps"] is None else \
+        f"speed {mph_text(v['speed_mps'])} ({_n(v['speed_mps'])} m/s)"
+    seen = "" if v.get("age_s") is None else f", reported {v['age_s']:g} s before"
+    return (f"vehicle {v['id']} ({v['type'] or 'type not recorded'}) at ({_n(v['x'])}, {_n(v['y'])}) m, "
+            f"heading {_n(v['heading_deg'])}°, {speed}{seen}")
+
+
+def _road_users(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
     for u in pic["road_users"]:
-        if u["x"] is None or u["y"] is None:
+        if not drawn(u):
             continue
         x, y = view(u["x"], u["y"])
         out.append(f'<path class="road-user" d="M{f(x)},{f(y - 5)} L{f(x + 5)},{f(y)} L{f(x)},{f(y + 5)} '
-                   f'L{f(x - 5)},{f(y)} Z" fill="#16a085"><title>{esc(u["id"])} ({esc(u["type"] or "?")})'
+                   f'L{f(x - 5)},{f(y)} Z" fill="{USER_COLOUR}"><title>{esc(u["id"])} ({esc(u["type"] or "?")})'
                    "</title></path>")
-        lx, ly = labels.place(x + 7, y + 12)
-        out.append(f'<text x="{f(lx)}" y="{f(ly)}" fill="#16a085">{esc(_short(str(u["id"])))}</text>')
+        placer.block(Box(x - 5, y - 5, 10, 10))
+        wants.append(_Want(2, _short(str(u["id"])), x, y, 6.0, USER_COLOUR))
     return out
 
 

@@ -5,6 +5,8 @@ its junction, with the incident marked.
 Drawn from report_data.timeline only. Between two reports the speed is drawn as a straight line
 and the colour as held: that is all the record says, and the points show where it says it. The
 approach the vehicle came in on (when the approaches are named by compass point) is marked ▶.
+Speeds are drawn in miles per hour, as the explanation and the Highway Code state them; each
+point's tooltip also gives the m/s the producer recorded.
 """
 from __future__ import annotations
 
@@ -12,6 +14,7 @@ from typing import Any
 
 from .report_data import SECOND, facing_approach
 from .svg import esc, f, fill
+from .units import mph, mph_text
 
 W = 640
 LEFT, RIGHT, TOP = 92, 16, 30
@@ -31,10 +34,13 @@ def timeline_svg(tl: dict[str, Any], heading_deg: float | None = None) -> str:
     def x(t: int) -> float:
         return LEFT + (min(max(t, t0), t1) - t0) / span * (W - LEFT - RIGHT)
 
-    speeds = [p["speed_mps"] for p in tl["speed"] + tl["observed_speed"]]
+    speeds = [mph(p["speed_mps"]) for p in tl["speed"] + tl["observed_speed"]]
     top = _nice_top(max(speeds, default=0.0))
 
-    def y(v: float) -> float:
+    def y(mps: float) -> float:
+        return TOP + PLOT_H - mph(mps) / top * PLOT_H
+
+    def y_mph(v: float) -> float:
         return TOP + PLOT_H - v / top * PLOT_H
 
     label = (f"Speed of vehicle {tl['vehicle']} and signal colours at junction {tl['junction'] or '(none)'} "
@@ -44,7 +50,7 @@ def timeline_svg(tl: dict[str, Any], heading_deg: float | None = None) -> str:
            f"<title>{esc(label)}</title>",
            f'<rect x="0" y="0" width="{W}" height="{height}" fill="#ffffff"/>']
     out += _legend()
-    out += _speed_axis(top, y)
+    out += _speed_axis(top, y_mph)
     out += _speed_line(tl, x, y)
     base = TOP + PLOT_H + 8
     facing = facing_approach(heading_deg, [a for a, _ in bands])
@@ -64,7 +70,8 @@ def timeline_svg(tl: dict[str, Any], heading_deg: float | None = None) -> str:
 
 
 def _nice_top(value: float) -> float:
-    for top in (5, 10, 15, 20, 30, 40, 50, 60, 80, 100):
+    """The axis's top in mph: the first round figure 10% above the fastest point."""
+    for top in (10, 20, 30, 40, 50, 60, 80, 100, 120, 160, 200):
         if value * 1.1 <= top:
             return float(top)
     return float(int(value * 1.2) + 1)
@@ -81,7 +88,7 @@ def _legend() -> list[str]:
 
 def _speed_axis(top: float, y) -> list[str]:
     out = [f'<text x="8" y="{TOP + PLOT_H / 2}" transform="rotate(-90 12 {TOP + PLOT_H / 2})" '
-           'text-anchor="middle">speed (m/s)</text>']
+           'text-anchor="middle">speed (mph)</text>']
     for i in range(5):
         v = top * i / 4
         out.append(f'<line x1="{LEFT}" y1="{f(y(v))}" x2="{W - RIGHT}" y2="{f(y(v))}" stroke="#e3e3e3"/>'
@@ -101,17 +108,30 @@ def _speed_line(tl: dict[str, Any], x, y) -> list[str]:
         out.append(f'<polyline class="speed" points="{" ".join(f"{f(a)},{f(b)}" for a, b in pts)}" fill="none" '
                    'stroke="#7b1fa2" stroke-width="2"/>')
         for p, (a, b) in zip(own, pts):
-            title = f"{_rel(tl, p['t'])}: {p['speed_mps']:g} m/s (vehicle/{tl['vehicle']} #{p['seq']})"
+            title = (f"{_rel(tl, p['t'])}: {mph_text(p['speed_mps'])} ({p['speed_mps']:g} m/s, "
+                     f"vehicle/{tl['vehicle']} #{p['seq']})")
             out.append(f'<circle cx="{f(a)}" cy="{f(b)}" r="3" fill="#7b1fa2"><title>{esc(title)}</title></circle>')
+        out += _speed_at_incident(tl, own, x, y)
     for p in tl["observed_speed"]:
         a, b = x(p["t"]), y(p["speed_mps"])
-        title = f"{_rel(tl, p['t'])}: {p['speed_mps']:g} m/s observed by {p['monitor']} #{p['seq']}"
+        title = (f"{_rel(tl, p['t'])}: {mph_text(p['speed_mps'])} ({p['speed_mps']:g} m/s) observed by "
+                 f"{p['monitor']} #{p['seq']}")
         out.append(f'<path class="observed" d="M{f(a - 4)},{f(b - 4)} l8,8 m0,-8 l-8,8" stroke="#2a6fdb" '
                    f'stroke-width="2"><title>{esc(title)}</title></path>')
     if not own and not tl["observed_speed"]:
         out.append(f'<text x="{LEFT + 10}" y="{TOP + PLOT_H / 2}" fill="#666">no speed recorded for vehicle '
                    f'{esc(tl["vehicle"])} in this window</text>')
     return out
+
+
+def _speed_at_incident(tl: dict[str, Any], own: list[dict], x, y) -> list[str]:
+    """The speed last reported at or before the incident, written beside its point (a printed
+    page has no tooltip)."""
+    last = next((p for p in reversed(own) if p["t"] <= tl["t"]), None)
+    if last is None:
+        return []
+    return [f'<text class="speed-value" x="{f(x(last["t"]) - 6)}" y="{f(y(last["speed_mps"]) - 7)}" '
+            f'text-anchor="end" fill="#7b1fa2">{esc(mph_text(last["speed_mps"]))}</text>']
 
 
 def _band(tl: dict[str, Any], approach: str, changes: list[dict], top: float, x, facing: bool) -> list[str]:

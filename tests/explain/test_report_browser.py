@@ -8,17 +8,23 @@ is one, so a silent browser cannot pass for a clean page.
 """
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import re
+import shutil
 import subprocess
 from datetime import datetime, timezone
+from importlib.metadata import version
 from pathlib import Path
 
 import pytest
 
+from explain.labels import Box
 from explain.pdf import find_chromium, headless_args, print_pdf
 from explain.report import build_report, render_report
+from explain.svg_scene import scene_svg
+from scene_cases import crowded_picture
 from sim_replay.paper import RUN, paper_run
 from store import Store
 
@@ -119,3 +125,84 @@ def test_pdf_is_printed(report_page, tmp_path):
     data = pdf.read_bytes()
     assert data.startswith(b"%PDF-") and len(data) > 10_000
     assert len(re.findall(rb"/Type\s*/Page[^s]", data)) >= 3      # the summary, then a page per incident
+
+
+# --- the printed form and the labels as the browser lays them out ---------------------------------
+
+PDFTOTEXT = shutil.which("pdftotext")
+A4_PT = (595.28, 841.89)      # 210 x 297 mm
+
+
+def pdf_pages(pdf: Path) -> list[str]:
+    """The text of each page of the PDF (pdftotext, poppler-utils)."""
+    text = subprocess.run([PDFTOTEXT, "-layout", str(pdf), "-"], capture_output=True, text=True,
+                          timeout=60, check=True).stdout
+    return text.split("\f")[:-1] if text.endswith("\f") else text.split("\f")
+
+
+@pytest.fixture(scope="module")
+def printed(report_page, tmp_path_factory) -> Path:
+    return print_pdf(report_page, tmp_path_factory.mktemp("pdf") / "report.pdf")
+
+
+def test_pdf_pages_are_a4(printed):
+    boxes = re.findall(rb"/MediaBox\s*\[\s*0\s+0\s+([0-9.]+)\s+([0-9.]+)\s*\]", printed.read_bytes())
+    assert boxes, "no page size in the PDF"
+    for w, h in boxes:
+        assert (float(w), float(h)) == pytest.approx(A4_PT, abs=1.0)      # not US letter (612 x 792)
+
+
+@pytest.mark.skipif(PDFTOTEXT is None, reason="pdftotext not installed (apt-get install poppler-utils)")
+def test_every_pdf_page_says_page_n_of_m_the_version_and_the_store_sha256(printed, report_page):
+    pages = pdf_pages(printed)
+    total = len(pages)
+    assert total >= 3
+    sha = re.search(r'<th>store sha256</th><td class="sha">([0-9a-f]{64})</td>', report_page.read_text())
+    assert sha, "no store sha256 in the page"
+    for n, text in enumerate(pages, 1):
+        assert f"page {n} of {total}" in text, (n, text[-400:])
+        assert f"mind-the-gaps {version('mind-the-gaps')}" in text and sha.group(1) in text
+        assert "Incident report: run paper-junctions" in text
+
+
+@pytest.mark.skipif(PDFTOTEXT is None, reason="pdftotext not installed (apt-get install poppler-utils)")
+def test_each_incident_starts_a_pdf_page(printed):
+    starts = {}
+    for n, text in enumerate(pdf_pages(printed), 1):
+        body = [line.strip() for line in text.splitlines() if line.strip()]
+        body = [line for line in body if not line.startswith(("Incident report: run", "store demo.db sha256"))]
+        for line in body:
+            if line.startswith("Incident ") and ": vehicle" in line:
+                starts[line.split(":")[0]] = (n, body.index(line))
+    assert set(starts) == {"Incident 1", "Incident 2"}
+    assert all(position == 0 for _, position in starts.values()), starts   # the first thing on its page
+    assert starts["Incident 1"][0] > 1 and starts["Incident 2"][0] > starts["Incident 1"][0]
+
+
+LABELS_HARNESS = """<!DOCTYPE html><html><body>{svgs}<pre id="result">not run</pre><script>
+var out = [];
+document.querySelectorAll("svg.gaps-scene").forEach(function (svg) {{
+  out.push(Array.prototype.map.call(svg.querySelectorAll("text.label"), function (t) {{
+    var b = t.getBBox(); return [t.textContent, [b.x, b.y, b.width, b.height],
+                                 t.getAttribute("data-box").split(" ").map(Number)]; }}));
+}});
+document.getElementById("result").textContent = JSON.stringify(out);
+</script></body></html>
+"""
+
+
+def test_labels_as_drawn_do_not_overlap_and_fit_their_boxes(tmp_path):
+    page = tmp_path / "labels.html"
+    page.write_text(LABELS_HARNESS.format(svgs=scene_svg(crowded_picture(), 1)), encoding="utf-8")
+    done = chromium(tmp_path, "--dump-dom", page.as_uri())
+    result = re.search(r'<pre id="result">(.*?)</pre>', done.stdout, re.S)
+    assert result and result.group(1) != "not run", done.stderr[-2000:]
+    (scene,) = json.loads(result.group(1))
+    assert len(scene) == 10
+    drawn = [(text, Box(*real)) for text, real, _ in scene]
+    for (a, box_a), (b, box_b) in itertools.combinations(drawn, 2):
+        assert not box_a.intersects(box_b), (a, box_a, b, box_b)
+    for text, real, estimated in scene:       # the estimate holds the text the browser drew
+        r, e = Box(*real), Box(*estimated)
+        assert r.x >= e.x - 1.5 and r.x + r.w <= e.x + e.w + 1.5, (text, r, e)     # a j's hook: 1 px
+        assert r.y >= e.y - 2 and r.y + r.h <= e.y + e.h + 2, (text, r, e)
