@@ -14,15 +14,19 @@ import subprocess
 import tempfile
 from pathlib import Path
 
+from store import GapsError
+
 CANDIDATES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 DEBIAN_PATH = "/usr/bin/chromium"
 
 
-class ToolMissing(RuntimeError):
+class ToolMissing(GapsError, RuntimeError):
     """No headless Chromium on this machine."""
 
+    exit_code = 3
 
-class PdfError(RuntimeError):
+
+class PdfError(GapsError, RuntimeError):
     """Chromium ran but did not print the page."""
 
 

@@ -18,7 +18,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable, Iterable
 
-from store import Store
+from store import GapsError, Store
 
 from . import phrases as ph
 from .document import explanation
@@ -30,7 +30,7 @@ FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".json": "json"}
 Progress = Callable[[int, int], None]      # (incidents done, total)
 
 
-class ReportError(ValueError):
+class ReportError(GapsError, ValueError):
     """A report asked for something the store does not hold (a run, an incident)."""
 
 

@@ -19,6 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
+from store import GapsError
+
 from .engine import Engine, Rulebook, enrich
 from .facts import walk_atoms
 from .le.document import parse_question
@@ -217,7 +219,7 @@ def apply(facts: list[Atom], changes: Iterable[Change]) -> list[Atom]:
 
 # -- why-not ------------------------------------------------------------------------------------
 
-class QuestionUnreadable(ValueError):
+class QuestionUnreadable(GapsError, ValueError):
     """A why-not question no template of the rulebook reads."""
 
 

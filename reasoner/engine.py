@@ -12,6 +12,8 @@ import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from store import GapsError
+
 from .le.compile import atom_data, body_data, fact_data, predicates
 from .le.document import parse_document
 from .le.errors import LEError
@@ -22,7 +24,7 @@ from .prolog_home import import_janus
 ENGINE_PL = Path(__file__).with_name("prolog") / "engine.pl"
 
 
-class QuestionError(RuntimeError):
+class QuestionError(GapsError, RuntimeError):
     """A question could not be answered (it ran past the engine's limits, or is malformed)."""
 
 

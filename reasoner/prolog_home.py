@@ -11,12 +11,16 @@ import os
 import sys
 from pathlib import Path
 
+from store import GapsError
+
 HOME_FILE = Path(sys.prefix) / "gaps-swipl-home"
 MIN_VERSION = 90112
 
 
-class PrologUnavailable(RuntimeError):
+class PrologUnavailable(GapsError, RuntimeError):
     """SWI-Prolog cannot be started; the message says how to fix the set-up."""
+
+    exit_code = 3
 
 
 def swipl_home() -> str:

@@ -25,6 +25,8 @@ from __future__ import annotations
 import re
 from datetime import datetime, timedelta, timezone
 
+from store import GapsError
+
 SECOND = 1_000_000_000
 T_MAX = (1 << 63) - 1  # SQLite's integers, and so the store's times, are signed 64-bit
 SMALLEST_NS = 10**15  # 1970-01-12T13:46:40Z: a smaller bare number is a mistyped "12s", not a time
@@ -43,7 +45,7 @@ _UNITS = re.compile(r"[+-]?\d+(\.\d+)?", re.ASCII)
 _LONGEST = 64  # characters: longer than any time, and int() of thousands of digits is slow
 
 
-class TimeError(ValueError):
+class TimeError(GapsError, ValueError):
     """A time that cannot be read, with what was wrong and the forms that are accepted."""
 
     def __init__(self, text: str, problem: str) -> None:

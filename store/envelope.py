@@ -17,6 +17,7 @@ from .body_check import body_ok, body_problem
 from .canonical import canonical_json, canonical_plain_event
 from .describe import json_type as _json_type
 from .describe import show as _show
+from .errors import GapsError
 from .kinds import KINDS, REQUIRED, SRC_ROLES
 
 MAX_EVENT_BYTES = 1 << 20  # 1 MiB
@@ -42,7 +43,7 @@ __all__ = [
 ]
 
 
-class EventError(ValueError):
+class EventError(GapsError, ValueError):
     """An event was refused. The message is written for the person reading the quarantine.
 
     `field` names the offending part ("run", "seq", "body.facts", "json", "size", ...) so that

@@ -4,6 +4,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
+from store import GapsError
+
 
 @dataclass
 class Located:
@@ -27,7 +29,7 @@ class Located:
 
 
 @dataclass(eq=False)
-class LEError(Located, Exception):
+class LEError(Located, GapsError):
     """A problem in an LE document; `str()` gives `file:line:column: message (hint)`."""
 
 

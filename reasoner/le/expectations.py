@@ -17,11 +17,13 @@ import re
 from collections import Counter
 from dataclasses import dataclass, field
 
+from store import GapsError
+
 from .dates import reference_dates_to_iso
 
 
-class ExpectationError(ValueError):
-    pass
+class ExpectationError(GapsError, ValueError):
+    """An expectations file (the tests beside a rulebook) that cannot be read."""
 
 
 @dataclass

@@ -7,6 +7,8 @@ reported, and the rest of the file is still imported. This error is for when not
 
 from __future__ import annotations
 
+from ..errors import GapsError
 
-class TransferError(ValueError):
+
+class TransferError(GapsError, ValueError):
     """A message for the person at the command line, naming the file and what is wrong."""
