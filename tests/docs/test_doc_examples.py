@@ -2,8 +2,8 @@
 docs cannot quietly stop working (issue 11: docs/reasoner.md's example used an undefined name).
 
 Each block runs alone, in a fresh namespace, in its own directory holding `gaps.db`: a store of the
-demo's run `paper-junctions` (the events `gaps demo` publishes, appended directly, without Zenoh),
-also named by $GAPS_DB. A block that cannot run here (it needs a browser, a network, a file of the
+demo's run `paper-junctions` (the events `gaps demo` publishes, appended directly, without Zenoh;
+the same again as `demo-001`, the run docs/store.md's examples name), also named by $GAPS_DB. A block that cannot run here (it needs a browser, a network, a file of the
 reader's) is fenced as ```python no-run and skipped; keep that rare.
 """
 from __future__ import annotations
@@ -59,15 +59,17 @@ def all_blocks() -> list[Block]:
 
 @pytest.fixture(scope="module")
 def demo_store(tmp_path_factory) -> Path:
-    """The demo's run in a store file, built once for every block."""
+    """The demo's run in a store file, built once for every block; the same events also under
+    "demo-001", the run docs/store.md's examples name."""
     from sim_replay.paper import RUN, paper_run
     from store import Store
 
     path = tmp_path_factory.mktemp("demo") / "gaps.db"
     with Store(path) as store:
-        report = store.append(paper_run())
-        assert report.stored == 20 and not report.rejected, report
-        assert store.count(RUN) == 20
+        for run in (RUN, "demo-001"):
+            report = store.append(paper_run(run))
+            assert report.stored == 20 and not report.rejected, report
+            assert store.count(run) == 20
     return path
 
 
