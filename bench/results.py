@@ -201,7 +201,8 @@ def write(results: dict[str, Result], path: Path | None = None) -> None:
 def record(benchmark: str, title: str, figures: list[Figure], *, notes: str = "", machine_extra: str = "",
            details: dict[str, Any] | None = None, path: Path | None = None) -> Result:
     """Record one run of a benchmark (replacing its previous run of the same size) and return it."""
-    result = Result(benchmark, title, with_ratios(figures), this_machine(machine_extra),
+    extra = machine_extra if "load average" in machine_extra else ", ".join(filter(None, [machine_extra, load_average()]))
+    result = Result(benchmark, title, with_ratios(figures), this_machine(extra),
                     _dt.date.today().isoformat(), command_line(), quick(), MEASURED, notes, details or {})
     results = read(path)
     results[result.key] = result
