@@ -3,7 +3,7 @@ SHELL := /bin/bash
 VENV := .venv
 READY := $(VENV)/.ready
 
-.PHONY: demo test setup clean
+.PHONY: demo test setup clean bench bench-quick
 
 demo: $(READY)
 	$(VENV)/bin/gaps demo
@@ -13,6 +13,19 @@ test: $(READY)
 	$(VENV)/bin/python -m pytest
 
 setup: $(READY)
+
+# Every benchmark, one after another (a shared machine: never two at once), each recording its figures
+# in bench/results.json; then docs/performance.md is regenerated from it. The full sizes take an hour
+# or more (the 10-million-event files are generated once under /tmp/gaps-bench); bench-quick runs
+# reduced sizes in a few minutes and records them apart from the full ones.
+BENCHES := rules append transfer ingest_throughput scene_at_t incidents scene
+
+bench: $(READY)
+	@for b in $(BENCHES); do echo "== bench/$$b.py"; PYTHONPATH=$(CURDIR) $(VENV)/bin/python bench/$$b.py || exit 1; done
+	PYTHONPATH=$(CURDIR) $(VENV)/bin/python bench/performance_md.py
+
+bench-quick:
+	@BENCH_QUICK=1 $(MAKE) --no-print-directory bench
 
 $(READY): pyproject.toml requirements.lock scripts/setup.sh scripts/ensure-swipl.sh
 	@bash scripts/setup.sh

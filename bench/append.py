@@ -37,6 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from store import Store, canonical_json, validate_event  # noqa: E402
 from store.chain import RunChain  # noqa: E402
 from machine import QUIET_MS, calibration  # noqa: E402  (bench/machine.py, beside this file)
+from results import Figure, quick, record  # noqa: E402  (bench/results.py, beside this file)
 from transfer import generated_run, machine  # noqa: E402  (bench/transfer.py, beside this file)
 
 INSERT = "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
@@ -125,6 +126,7 @@ def measure(n: int, batch: int, repeat: int, folder: Path, small: bool) -> dict:
     size = sum(len(canonical_json(ev)) for ev in events) / len(events)
     return {"events": len(events), "event_bytes": size, "batch": batch, "repeat": repeat,
             "append_full": median(full), "append_normal": median(normal), "raw_full": median(raw),
+            "runs": {"append_full": full, "append_normal": normal, "raw_full": raw},
             "verify": verify, "bytes_per_event": sizes, "cpu_us_per_event": breakdown(events, 3)}
 
 
@@ -186,9 +188,9 @@ def report(r: dict, load: tuple[str, str]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--events", type=int, default=200_000)
-    parser.add_argument("--batch", type=int, default=10_000)
-    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--events", type=int, default=20_000 if quick() else 200_000)
+    parser.add_argument("--batch", type=int, default=5_000 if quick() else 10_000)
+    parser.add_argument("--repeat", type=int, default=3 if quick() else 5)
     parser.add_argument("--small", action="store_true", help="minimal events instead of the junction run")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
@@ -200,6 +202,32 @@ def main() -> None:
         print(json.dumps({"machine": machine(), "load": [before, after], **result}, indent=2))
     else:
         print(report(result, (before, after)))
+    record_result(result, (before, after), args.small)
+
+
+def record_result(r: dict, load: tuple[str, str], small: bool) -> None:
+    """The figures of report() into bench/results.json: (a), (a') and (b) with (b) as the peer."""
+    n = r["events"]
+
+    def figure(key: str, name: str, **extra: str) -> Figure:
+        runs = tuple(n / wall for wall, _ in r["runs"][key])
+        return Figure(name, n / r[key][0], "events/s", runs,
+                      note=f"{n / r[key][1]:,.0f} per CPU second, {r[key][1] / n * 1e6:.2f} µs/event", **extra)
+
+    raw = "raw executemany of the same rows, FULL"
+    figures = [figure("append_full", "Store.append: validation, chain, Merkle, checkpoints, synchronous=FULL",
+                      target="100,000/s", peer=raw),
+               figure("append_normal", "the same with durable=False (synchronous=NORMAL)", peer=raw),
+               figure("raw_full", raw),
+               Figure("verify (chain, Merkle roots, checkpoints)", n / r["verify"][0], "events/s"),
+               Figure("bytes per event on disk (after a WAL checkpoint, no VACUUM)",
+                      r["bytes_per_event"]["store"], "bytes")]
+    figures += [Figure(f"CPU beyond the raw insert: {name}", us, "µs/event") for name, us in r["cpu_us_per_event"].items()]
+    kind = "minimal events (--small)" if small else "the generated junction run of bench/transfer.py"
+    record("append", "Appending to the store, against raw SQLite inserts", figures,
+           machine_extra=f"load average before / after {load[0]} / {load[1]}",
+           notes=f"{n:,} events of {r['event_bytes']:.0f} bytes on average (canonical JSON), {kind}, in batches "
+                 f"of {r['batch']:,}; median of {r['repeat']} runs on fresh files")
 
 
 if __name__ == "__main__":

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import multiprocessing as mp
 import socket
+import sys
 import tempfile
 import threading
 import time
@@ -21,6 +22,9 @@ import zenoh
 from ingest import IngestService, session_config
 from sim_replay.publisher import EventPublisher, zenoh_config
 from store import Store
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from results import Figure, quick, record  # noqa: E402  (bench/results.py, beside this file)
 
 RUN = "bench"
 VEHICLES = 100
@@ -113,7 +117,7 @@ def ingest_rate(n: int, durable: bool, same_process: bool, batch_size: int) -> t
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--events", type=int, default=50_000)
+    parser.add_argument("--events", type=int, default=5_000 if quick() else 50_000)
     parser.add_argument("--not-durable", action="store_true")
     parser.add_argument("--same-process", action="store_true")
     parser.add_argument("--batch-size", type=int, default=1000)
@@ -125,6 +129,13 @@ def main() -> None:
     rate, stats = ingest_rate(args.events, not args.not_durable, args.same_process, args.batch_size)
     print(f"ingest → store:    {rate:,.0f} events/s ({rate / raw:.2f} × raw); {stats['batches']} batches, "
           f"mean {stats['stored'] / stats['batches']:.0f} per batch, errors {stats['errors']}")
+    raw_name = "raw Zenoh pub→sub (a subscriber that only counts)"
+    record("ingest_throughput", "Publisher → Zenoh → ingest → store, end to end",
+           [Figure(raw_name, raw, "samples/s"),
+            Figure("ingest → store", rate, "events/s", peer=raw_name,
+                   note=f"{stats['batches']} batches, errors {stats['errors']}")],
+           notes=f"{args.events:,} small events, {where}, durable={not args.not_durable}, "
+                 f"batch_size={args.batch_size}; one run each")
 
 
 if __name__ == "__main__":

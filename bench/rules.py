@@ -28,6 +28,7 @@ from reasoner.engine import Engine, get_engine  # noqa: E402
 from reasoner.le.document import parse_document  # noqa: E402
 from reasoner.le.sentences import parse_fact  # noqa: E402
 from machine import machine  # bench/machine.py, beside this file
+from results import Figure, quick, record  # bench/results.py, beside this file
 
 SCENARIO = [
     "{v} is of type car",
@@ -86,8 +87,8 @@ def _timed(fn) -> float:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--seconds", type=float, default=2.0, help="length of one run")
-    ap.add_argument("--runs", type=int, default=5, help="runs per figure (the median is reported)")
+    ap.add_argument("--seconds", type=float, default=0.3 if quick() else 2.0, help="length of one run")
+    ap.add_argument("--runs", type=int, default=3 if quick() else 5, help="runs per figure (the median is reported)")
     args = ap.parse_args()
 
     engine = get_engine()
@@ -101,22 +102,31 @@ def main() -> None:
     proofs = [rate(lambda g, f: engine.ask(rb, g, f), qs, args.seconds) for _ in range(args.runs)]
     version = engine._janus.query_once("current_prolog_flag(version, V)")["V"]
 
-    print(f"machine: {machine()}, SWI-Prolog {version // 10000}.{version // 100 % 100}.{version % 100}, "
-          f"load average {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    swipl = f"SWI-Prolog {version // 10000}.{version // 100 % 100}.{version % 100}"
+    load_avg = f"load average {', '.join(f'{x:.2f}' for x in os.getloadavg())}"
+    print(f"machine: {machine()}, {swipl}, {load_avg}")
     print("question: \"V can enter the junction\" on a 10-fact scenario, half permitted, rulebook paper.le, "
           "one thread")
-    for label, runs, target in (("plain (Engine.holds)", plain, "20,000"),
-                                ("with proof trees (Engine.ask)", proofs, "2,000")):
+    figures = []
+    for label, runs, target, peer in (("plain (Engine.holds)", plain, "20,000/s", ""),
+                                      ("with proof trees (Engine.ask)", proofs, "2,000/s", "plain (Engine.holds)")):
         wall = [w for w, _ in runs]
         cpu = [c for _, c in runs]
         print(f"{label:31s} median {statistics.median(wall):>9,.0f} queries/s wall clock "
               f"(runs: {', '.join(f'{r:,.0f}' for r in wall)}), "
-              f"{statistics.median(cpu):,.0f} per CPU second; target {target}")
+              f"{statistics.median(cpu):,.0f} per CPU second; target {target.removesuffix('/s')}")
+        figures.append(Figure(label, statistics.median(wall), "queries/s", tuple(wall), target, peer,
+                              note=f"{statistics.median(cpu):,.0f} per CPU second"))
     for name, text in [("paper.le", bundled("paper.le"))] + _conformance_largest():
         parse, load = compile_times(engine, text, name, args.runs)
         rules = len(parse_document(text, name).rules)
         print(f"compile {name} ({rules} rules, {len(text):,} chars): parse median {parse * 1000:.1f} ms, "
               f"parse and load median {load * 1000:.1f} ms")
+        figures.append(Figure(f"compile and load {name} ({rules} rules, {len(text):,} chars)", load * 1000, "ms",
+                              note=f"parse alone {parse * 1000:.1f} ms"))
+    record("rules", "Logical English queries and compilation", figures, machine_extra=f"{swipl}, {load_avg}",
+           notes=f"\"V can enter the junction\" on a 10-fact scenario, half permitted, rulebook paper.le, one "
+                 f"thread; {args.runs} runs of {args.seconds:g} s per figure")
 
 
 def _conformance_largest():

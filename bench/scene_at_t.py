@@ -29,6 +29,7 @@ from store import Store
 from store import snapshots
 from store.state import SNAPSHOT_EVERY, build_snapshots, state_at
 from machine import calibration, machine  # bench/machine.py, beside this file
+from results import Figure, quick, record  # bench/results.py, beside this file
 
 RUN = "bench-scene"
 T0 = 1_732_184_100_000_000_000
@@ -299,12 +300,14 @@ def pieces(scene: dict[str, Any]) -> int:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", default="100k,1m,10m", help=f"comma-separated, of {', '.join(SIZES)}")
-    parser.add_argument("--queries", type=int, default=200)
+    parser.add_argument("--sizes", default="100k" if quick() else "100k,1m,10m",
+                        help=f"comma-separated, of {', '.join(SIZES)}")
+    parser.add_argument("--queries", type=int, default=50 if quick() else 200)
     parser.add_argument("--dir", type=Path, default=Path("/tmp/gaps-bench"))
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--every", type=int, default=SNAPSHOT_EVERY, help="events between snapshots")
-    parser.add_argument("--rounds", type=int, default=3, help="rounds, each reported: the machine may be shared")
+    parser.add_argument("--rounds", type=int, default=1 if quick() else 3,
+                        help="rounds, each reported: the machine may be shared")
     args = parser.parse_args()
     args.dir.mkdir(parents=True, exist_ok=True)
     print(f"scene at t: {args.queries} random t per size, a snapshot every {args.every} events")
@@ -315,6 +318,7 @@ def main() -> None:
         count, built = prepare(paths[label], args.every)
         print(f"  {label}: {count:,} snapshots ({built:.0f} s to build what was missing)", flush=True)
     pooled: dict[str, dict[str, Any]] = {}
+    round_medians: dict[str, list[float]] = {}
     labels = list(paths)
     for round_ in range(args.rounds):
         load, before = os.getloadavg()[0], calibration()
@@ -325,6 +329,7 @@ def main() -> None:
         for label in labels:
             r = results[label]
             print(f"  {label:>4}: {timing(r)}")
+            round_medians.setdefault(label, []).append(statistics.median(r["wall"]))
             into = pooled.setdefault(label, {**r, "wall": [], "cpu": [], "faults": []})
             for key in ("wall", "cpu", "faults"):
                 into[key] += r[key]
@@ -339,6 +344,26 @@ def main() -> None:
     if "100k" in pooled and "10m" in pooled:
         growth = statistics.median(pooled["10m"]["wall"]) / statistics.median(pooled["100k"]["wall"])
         print(f"growth of the median 100k -> 10m (100x the events): {growth:.2f}x")
+    record_result(pooled, round_medians, args)
+
+
+def record_result(pooled: dict[str, dict[str, Any]], round_medians: dict[str, list[float]],
+                  args: argparse.Namespace) -> None:
+    """Each size's median into bench/results.json; the largest size has the smallest as its peer,
+    so that its ratio is the growth of the median."""
+    labels = list(pooled)
+    figures = []
+    for label, r in pooled.items():
+        events_only = (r["file_bytes"] - r["snapshot_bytes"]) / r["events"]
+        figures.append(Figure(
+            f"state_at, {r['events']:,} events", statistics.median(r["wall"]), "ms", tuple(round_medians[label]),
+            target="median ≤ 5 ms at 10 million events" if label == "10m" else "",
+            peer=f"state_at, {pooled[labels[0]]['events']:,} events" if label != labels[0] else "",
+            note=f"p90 {percentile(r['wall'], 0.9):.1f} ms; file {r['file_bytes'] / 1e6:,.0f} MB "
+                 f"({events_only:.0f} + {r['snapshot_bytes'] / r['events']:.0f} B/event)"))
+    record("scene_at_t", "State at a random time (store.state.state_at)", figures,
+           notes=f"{args.rounds} round(s) of {args.queries} random t per size, a fresh reader process per size, "
+                 f"a snapshot every {args.every} events; runs are the rounds' medians")
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from store import Store  # noqa: E402
 from store.transfer import export_run, import_file  # noqa: E402
 from machine import machine  # bench/machine.py, beside this file
+from results import Figure, quick, record  # bench/results.py, beside this file
 
 RUN = "bench-transfer"
 T0 = 1_732_184_100_000_000_000
@@ -121,8 +122,8 @@ def rate(events: int, seconds: tuple[float, float]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--events", type=int, default=200_000)
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--events", type=int, default=20_000 if quick() else 200_000)
+    parser.add_argument("--repeat", type=int, default=1 if quick() else 3)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="gaps-bench-transfer-") as tmp:
         folder = Path(tmp)
@@ -134,13 +135,28 @@ def main() -> None:
               f"median of {args.repeat} runs per step\n")
         print("events/s as wall (CPU) time:")
         print(f"{'file':<16}{'export':>20}{'import FULL':>20}{'import --fast':>20}{'bytes/event':>13}{'file MB':>9}")
+        figures = []
         for label, fmt, scene in (("mcap", "mcap", True), ("mcap --no-scene", "mcap", False), ("jsonl", "jsonl", True)):
             r = bench_format(source, folder, fmt, events, args.repeat, scene)
             rates = "".join(f"{rate(events, r[key]):>20}" for key in ("export_s", "import_full_s", "import_fast_s"))
             print(f"{label:<16}{rates}{r['bytes'] / events:>13.1f}{r['bytes'] / 1e6:>9.1f}")
+            figures += figures_of(label, events, r)
         print("\nmcap: zstd chunks of 1 MiB, events plus run/checkpoint metadata plus the Foxglove scene and log "
               "channels (all counted in the bytes); --no-scene: events and metadata only; jsonl: canonical "
               "lines, uncompressed. Rates are events of the run per second.")
+    record("transfer", "Export and import (gaps export / gaps import)", figures,
+           notes=f"a generated junction run of {events:,} events; median of {args.repeat} runs per step; "
+                 "rates by wall clock")
+
+
+def figures_of(label: str, events: int, r: dict) -> list[Figure]:
+    """One format's figures, each CPU rate beside its wall-clock rate."""
+    out = []
+    for key, step in (("export_s", "export"), ("import_full_s", "import (durable)"), ("import_fast_s", "import --fast")):
+        wall, cpu = r[key]
+        out.append(Figure(f"{label}: {step}", events / wall, "events/s", note=f"{events / cpu:,.0f} per CPU second"))
+    out.append(Figure(f"{label}: file size", r["bytes"] / events, "bytes/event"))
+    return out
 
 
 if __name__ == "__main__":
