@@ -6,14 +6,13 @@ investigator reads the words the rules were written in, and every fact names its
 """
 from __future__ import annotations
 
-from datetime import datetime, timezone
 from typing import TYPE_CHECKING
 
 from reasoner.engine import Rulebook
 from reasoner.le.render import arg_text as le_arg_text
 from reasoner.le.render import sentence_text
+from reasoner.when import date_clock
 
-from . import phrases
 
 if TYPE_CHECKING:
     from reasoner.investigation import Investigation
@@ -97,10 +96,7 @@ def cite(ref: dict | None) -> str:
     return f" (fact: {ref['src']} #{ref['seq']}, {ref['kind']}, {clock(ref['t'])})"
 
 
-def clock(t_ns: int) -> str:
-    """2024-11-21 08:00:10.000 UTC: the date, then the time as the explanations write it."""
-    day = datetime.fromtimestamp(t_ns // 1_000_000_000, tz=timezone.utc).strftime("%Y-%m-%d")
-    return f"{day} {phrases.clock(t_ns)}"
+clock = date_clock     # 2024-11-21 08:00:10.000 UTC (reasoner/when.py)
 
 
 def explain_incident(inv: Investigation, inc: Incident, level: str = "standard") -> str:
