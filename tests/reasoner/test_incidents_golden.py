@@ -128,3 +128,20 @@ def test_the_golden_stores_cover_the_incident_shapes():
     assert any(inc["penalty"] and inc["penalty"].get("regulatory_sanctions") for inc in found)
     assert any('"current"' in json.dumps(inc["rulebooks"]) for inc in found)
     assert all(inc["run"] in {RUN, "paper-junctions"} for inc in found)
+
+
+def test_a_run_is_verified_once_for_all_its_explanations(tmp_path):
+    """Every explanation states the chain's status; recomputing the chain reads the whole run,
+    so an investigation does it once per run."""
+    from reasoner.investigation import Investigation
+    db = _store(tmp_path / "s.db", "mixed")
+    with Store(db) as store:
+        calls = []
+        verify = store.verify
+        store.verify = lambda run=None, progress=None: calls.append(run) or verify(run, progress)
+        inv = Investigation(store)
+        found = inv.incidents(RUN)
+        explained = [inv.explanation(inc, counterfactuals=False) for inc in found]
+    assert len(found) > 1 and calls == [RUN]
+    assert all(e.chain.verified for e in explained)
+    assert [e.incident for e in explained] == [inc.id for inc in found]
