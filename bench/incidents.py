@@ -112,7 +112,7 @@ def incidents_once(path: Path) -> tuple[list[dict[str, Any]], float, float]:
 
 def compare(found: list[dict[str, Any]], truth: list[dict[str, Any]]) -> dict[str, Any]:
     """How the incidents found match the ground truth, by the recorded potential violation."""
-    by_id = {inc["id"]: inc for inc in found}
+    by_id = {inc.id: inc for inc in found}
     matched = verdicts = faults = liable = 0
     wrong: list[str] = []
     for expected in truth:
@@ -121,18 +121,18 @@ def compare(found: list[dict[str, Any]], truth: list[dict[str, Any]]) -> dict[st
             wrong.append(f"{expected['id']} ({expected['cause']}): not found")
             continue
         matched += 1
-        kinds = {f.get("kind") for f in inc.get("findings", [])}
-        ok_verdict = inc.get("verdict") == expected["verdict"]
+        kinds = {f.kind for f in inc.findings}
+        ok_verdict = inc.verdict == expected["verdict"]
         ok_fault = ("perception fault" in kinds) == ("perception fault" in expected["findings"])
-        ok_liable = inc.get("liable") == expected["liable"]
+        ok_liable = inc.liable == expected["liable"]
         verdicts += ok_verdict
         faults += ok_fault
         liable += ok_liable
         if not (ok_verdict and ok_fault and ok_liable):
-            wrong.append(f"{expected['id']} ({expected['cause']}): verdict {inc.get('verdict')} "
-                         f"(expected {expected['verdict']}), liable {inc.get('liable')} (expected "
+            wrong.append(f"{expected['id']} ({expected['cause']}): verdict {inc.verdict} "
+                         f"(expected {expected['verdict']}), liable {inc.liable} (expected "
                          f"{expected['liable']}), findings {sorted(k for k in kinds if k)}")
-    extra = [inc for inc in found if inc["id"] not in {t["id"] for t in truth}]
+    extra = [inc for inc in found if inc.id not in {t["id"] for t in truth}]
     return {"expected": len(truth), "found": len(found), "matched": matched, "verdict_agrees": verdicts,
             "perception_fault_agrees": faults, "liable_agrees": liable, "not_in_truth": len(extra),
             "not_in_truth_examples": [{k: i.get(k) for k in ("id", "t", "vehicle", "action", "verdict")}
@@ -175,8 +175,8 @@ def main() -> None:
               f"{QUIET_MS})", flush=True)
     load.append(os.getloadavg()[0])
     median = statistics.median(warm_wall)
-    verdicts = Counter(inc.get("verdict") for inc in found)
-    kinds = Counter(f.get("kind") for inc in found for f in inc.get("findings", []))
+    verdicts = Counter(inc.verdict for inc in found)
+    kinds = Counter(f.kind for inc in found for f in inc.findings)
     result = {
         "run": RUN, "events": span["events"], "run_seconds": duration, "machine": machine(),
         "load_average": [round(x, 2) for x in load], "calibration_ms": [round(x, 2) for x in speeds],

@@ -1,7 +1,7 @@
 """`gaps explain --run R INCIDENT`: one incident's verdict explained, in text, Markdown, HTML or JSON.
 
-The explanation is explain/'s (document.py builds it, render.py draws it); this module reads the
-options, finds the incident and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its
+The explanation is the reasoner's (Investigation.explanation), worded by explain/explanation_doc.py
+and drawn by explain/render.py; this module reads the options, finds the incident and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its
 number in `gaps incidents` order (1 is the first). Exit codes: 0 shown; 2 for what names nothing
 (no store, no such run, no such incident, a rulebook file that is missing, an unknown format).
 """
@@ -40,7 +40,7 @@ def explain_command(incident: str = typer.Argument(..., help="Incident id (monit
     for path in rules or []:
         if not path.is_file():
             fail(f"no such rulebook file: {path}")
-    from explain.document import explanation
+    from explain.explanation_doc import document
     from explain.report import pick
     from explain.render import render
     from reasoner.investigation import Investigation
@@ -51,8 +51,8 @@ def explain_command(incident: str = typer.Argument(..., help="Incident id (monit
         found = inv.incidents(run)
         chosen = pick(found, incident)
         if chosen is None:
-            ids = ", ".join(f"{i}={inc['id']}" for i, inc in enumerate(found, 1)) or "none"
+            ids = ", ".join(f"{i}={inc.id}" for i, inc in enumerate(found, 1)) or "none"
             fail(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
-        doc = explanation(chosen, inv.rulebook, store, why_not_questions=why_not or [])
+        doc = document(chosen, inv.explanation(chosen, why_not=why_not or []), store)
     typer.echo(render(doc, fmt, level), nl=False)
 

@@ -63,23 +63,21 @@ def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[st
             vehicle: Optional[str] = None) -> None:
     from cli.progress import stderr_progress
     from explain import explain_incident
-    from explain.evidence import chain_status
     from reasoner.investigation import Investigation
     from store import Store
     with Store(path) as store:
         inv = Investigation(store, rules=rules)
         with stderr_progress("judging incidents") as progress:      # the bar is gone before printing
             found = [inc for r in runs for inc in inv.incidents(r, progress)
-                     if vehicle is None or inc["vehicle"] == vehicle]
+                     if vehicle is None or inc.vehicle == vehicle]
         if json_out:
-            print_json([{k: v for k, v in inc.items() if k not in ("proofs", "scenarios")} for inc in found])
+            print_json([inc.summary_json() for inc in found])
             return
         if not found:
             typer.echo("No potential violations recorded" + (f" for vehicle {vehicle}." if vehicle else "."))
-        chains = {r: chain_status(store, r) for r in {inc["run"] for inc in found}}
         for n, inc in enumerate(found, 1):
-            typer.echo(f"── incident {n}: {inc['run']} {inc['id']} ──")
-            typer.echo(explain_incident(inc, inv.rulebook, store, chain=chains[inc["run"]]) + "\n")
+            typer.echo(f"── incident {n}: {inc.run} {inc.id} ──")
+            typer.echo(explain_incident(inv, inc) + "\n")
 
 
 from cli import explain  # noqa: E402,F401  (gaps explain --run R INCIDENT)

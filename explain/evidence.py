@@ -3,13 +3,15 @@ chain, and whether the run's chain verified.
 
 An explanation is only as good as the record it rests on, so each fact it states points at the
 event that recorded it (E1, E2, ... in the order the events happened) and the table says where each
-sits in the run's tamper-evident chain. The chain is recomputed for the run: if it does not verify,
+sits in the run's tamper-evident chain. The reasoner recomputes the run's chain: if it does not verify,
 the explanation says so at the top and names the first link that failed, and events from that link
 on are marked as not vouched for.
 """
 from __future__ import annotations
 
 from typing import Any, Iterable
+
+from reasoner.chain import ChainStatus
 
 from .phrases import clock
 
@@ -53,20 +55,17 @@ class EvidenceIndex:
         return rows
 
 
-def chain_status(store: Any, run: str) -> dict:
-    """{"checked", "verified", "events", "problem", "text"}: the run's hash chain recomputed."""
-    if store is None:
-        return {"checked": False, "verified": None, "events": None, "problem": None,
-                "text": "the hash chain was not checked (no store given)"}
-    report = store.verify(run)
-    summary = next((r for r in report.runs if r.get("run") == run), {})
-    if report.ok:
-        return {"checked": True, "verified": True, "events": summary.get("events"), "problem": None,
-                "text": f"the run's hash chain verified: its {summary.get('events')} events are as recorded"}
-    p = report.problem or {}
+def chain_json(status: ChainStatus) -> dict:
+    """{"checked", "verified", "events", "problem", "text"}: the run's chain status (the reasoner
+    recomputes it, Investigation.chain) with the sentence an explanation states it in."""
+    out = status.to_json()
+    if not status.checked:
+        return {**out, "text": "the hash chain was not checked (no store given)"}
+    if status.verified:
+        return {**out, "text": f"the run's hash chain verified: its {status.events} events are as recorded"}
+    p = out["problem"] or {}
     at = f" at chain position {p['chain_pos']}" if p.get("chain_pos") is not None else ""
     who = f" ({p['src']} #{p['seq']})" if p.get("src") is not None else ""
     after = (f"; events from chain position {p['chain_pos']} on are not vouched for"
              if p.get("chain_pos") is not None else "")
-    return {"checked": True, "verified": False, "events": summary.get("events"), "problem": p,
-            "text": f"the run's hash chain did NOT verify: {p.get('what', 'a link does not match')}{at}{who}{after}"}
+    return {**out, "text": f"the run's hash chain did NOT verify: {p.get('what', 'a link does not match')}{at}{who}{after}"}

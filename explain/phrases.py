@@ -7,8 +7,9 @@ every producer writes), never by case; a sentence it does not know keeps the rul
 """
 from __future__ import annotations
 
-from datetime import datetime, timezone
 from typing import Any, Callable
+
+from reasoner.when import clock, day  # noqa: F401  (times as the explanations write them: reasoner/when.py)
 
 IRREGULAR = {"go": "went", "give": "gave", "take": "took", "cut": "cut", "keep": "kept", "stop": "stopped",
              "overtake": "overtook", "drive": "drove", "run": "ran", "make": "made", "leave": "left"}
@@ -59,18 +60,6 @@ def a(word: str) -> str:
 def with_a(v: Any) -> str:
     w = value(v)
     return f"{a(w)} {w}"
-
-
-def clock(t_ns: int) -> str:
-    """08:00:10.000 UTC"""
-    dt = datetime.fromtimestamp(t_ns // 1_000_000_000, tz=timezone.utc)
-    return dt.strftime("%H:%M:%S.") + f"{(t_ns // 1_000_000) % 1000:03d} UTC"
-
-
-def day(t_ns: int) -> str:
-    """21 November 2024"""
-    dt = datetime.fromtimestamp(t_ns // 1_000_000_000, tz=timezone.utc)
-    return f"{dt.day} {dt.strftime('%B %Y')}"
 
 
 # -- how an action was done: the conditions of the potential violation ---------------------------

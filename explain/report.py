@@ -18,11 +18,12 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable, Iterable
 
+from reasoner.model import Incident
 from store import GapsError, Store
 
 from . import phrases as ph
-from .document import explanation
-from .evidence import chain_status
+from .evidence import chain_json
+from .explanation_doc import document
 from .provenance import provenance
 from .report_data import recorded_rulebooks, run_map, run_start_body, scene_picture, timeline, vehicle_junction
 
@@ -58,30 +59,30 @@ def build_report(store: Store, run: str, *, incident: str | None = None, rules: 
     if incident is not None:
         one = pick(found, incident)
         if one is None:
-            ids = ", ".join(f"{i}={inc['id']}" for i, inc in enumerate(found, 1)) or "none"
+            ids = ", ".join(f"{i}={inc.id}" for i, inc in enumerate(found, 1)) or "none"
             raise ReportError(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
         chosen = [one]
-    chain = chain_status(store, run)
+    chain = chain_json(inv.chain(run))
     start = run_start_body(store, run)
     the_map = run_map(start)
-    numbers = {inc["id"]: n for n, inc in enumerate(found, 1)}
+    numbers = {inc.id: n for n, inc in enumerate(found, 1)}
     entries = []
     for done, inc in enumerate(chosen, 1):
-        entries.append(_entry(store, inv, inc, numbers[inc["id"]], chain, the_map))
+        entries.append(_entry(store, inv, inc, numbers[inc.id], the_map))
         if progress is not None:
             progress(done, len(chosen))
     generated = (now or datetime.now(timezone.utc)).astimezone(timezone.utc)
     return {"run": run, "generated": generated.isoformat(timespec="seconds").replace("+00:00", "Z"),
             "provenance": made_from.to_json(),
-            "incidents_in_run": len(found), "selected": chosen[0]["id"] if incident is not None else None,
+            "incidents_in_run": len(found), "selected": chosen[0].id if incident is not None else None,
             "chain": {**chain, "checkpoints": _checkpoints(store, run)},
             "rulebooks": _rulebooks(store, chosen, recorded_rulebooks(start)), "incidents": entries}
 
 
-def pick(found: list[dict], wanted: str) -> dict | None:
+def pick(found: list[Incident], wanted: str) -> Incident | None:
     """The incident named by id, else by its 1-based number."""
     for inc in found:
-        if inc["id"] == wanted:
+        if inc.id == wanted:
             return inc
     if wanted.isdigit() and 1 <= int(wanted) <= len(found):
         return found[int(wanted) - 1]
@@ -100,27 +101,27 @@ def render_report(report: dict[str, Any], fmt: str) -> str:
     raise ReportError(f"report format is html, md or json, not {fmt!r}")
 
 
-def summary_row(inc: dict) -> dict[str, Any]:
+def summary_row(inc: Incident) -> dict[str, Any]:
     """The summary table's row: what an insurer scans first."""
-    p = inc.get("penalty")
+    p = inc.penalty
     penalty = None
     if p:
-        penalty = f"£{p.get('fine_gbp')}" + (f", {p['points']} points" if p.get("points") else "")
-    return {"id": inc["id"], "t": inc["t"], "time": ph.clock(inc["t"]), "vehicle": inc["vehicle"],
-            "action": inc["action"], "rule": inc["rule"], "verdict": inc["verdict"], "penalty": penalty,
-            "liable": inc["liable"], "findings": len(inc.get("findings") or [])}
+        penalty = f"£{p.fine_gbp}" + (f", {p.points} points" if p.points else "")
+    return {"id": inc.id, "t": inc.t, "time": ph.clock(inc.t), "vehicle": inc.vehicle,
+            "action": inc.action, "rule": inc.rule, "verdict": inc.verdict, "penalty": penalty,
+            "liable": inc.liable, "findings": len(inc.findings)}
 
 
 # --- per incident ---------------------------------------------------------------------------------
 
-def _entry(store: Store, inv: Any, inc: dict, number: int, chain: dict, the_map: dict) -> dict[str, Any]:
-    doc = explanation(inc, inv.rulebook, store, chain=chain)
-    picture = scene_picture(store, inc["run"], inc["t"], inc["vehicle"], the_map)
+def _entry(store: Store, inv: Any, inc: Incident, number: int, the_map: dict) -> dict[str, Any]:
+    doc = document(inc, inv.explanation(inc), store)
+    picture = scene_picture(store, inc.run, inc.t, inc.vehicle, the_map)
     me = next((v for v in picture["vehicles"] if v["incident"]), None)
-    tl = timeline(store, inc["run"], inc["t"], inc["vehicle"], vehicle_junction(picture))
+    tl = timeline(store, inc.run, inc.t, inc.vehicle, vehicle_junction(picture))
     tl["heading_deg"] = me["heading_deg"] if me else None
     return {"number": number, "row": summary_row(inc), "explanation": doc, "scene": picture, "timeline": tl,
-            "rulebooks": [{"stage": stage, **b} for stage, b in (inc.get("rulebooks") or {}).items()]}
+            "rulebooks": [{"stage": stage, **b.to_json()} for stage, b in inc.rulebooks.items()]}
 
 
 # --- run-wide sections ----------------------------------------------------------------------------
@@ -134,7 +135,7 @@ def _checkpoints(store: Store, run: str) -> dict[str, Any]:
             {"events": last.get("count"), "head": last.get("head"), "merkle_root": last.get("merkle_root")}}
 
 
-def _rulebooks(store: Store, incidents: list[dict], recorded: list[dict]) -> list[dict[str, Any]]:
+def _rulebooks(store: Store, incidents: list[Incident], recorded: list[dict]) -> list[dict[str, Any]]:
     """Every rulebook a verdict used, once, then those the run recorded that no verdict used:
     name, sha256, where it came from (given with --rules, recorded by the run, or the project's
     current one), the stages it served, and its version as the run recorded it or the store
@@ -142,11 +143,11 @@ def _rulebooks(store: Store, incidents: list[dict], recorded: list[dict]) -> lis
     versions = {b["sha256"]: b["version"] for b in recorded if b["sha256"] and b["version"]}
     seen: dict[str, dict[str, Any]] = {}
     for inc in incidents:
-        for stage, b in (inc.get("rulebooks") or {}).items():
-            sha = b.get("sha256")
+        for stage, b in inc.rulebooks.items():
+            sha = b.sha256
             if not sha:
                 continue
-            entry = seen.setdefault(sha, {"name": b.get("name"), "sha256": sha, "source": b.get("source"),
+            entry = seen.setdefault(sha, {"name": b.name, "sha256": sha, "source": b.source,
                                           "stages": [], "version": versions.get(sha) or _version(store, sha)})
             if stage not in entry["stages"]:
                 entry["stages"].append(stage)

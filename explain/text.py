@@ -6,14 +6,17 @@ investigator reads the words the rules were written in, and every fact names its
 """
 from __future__ import annotations
 
-from datetime import datetime, timezone
-from typing import Callable
+from typing import TYPE_CHECKING
 
 from reasoner.engine import Rulebook
 from reasoner.le.render import arg_text as le_arg_text
 from reasoner.le.render import sentence_text
+from reasoner.when import date_clock
 
-from . import phrases
+
+if TYPE_CHECKING:
+    from reasoner.investigation import Investigation
+    from reasoner.model import Incident
 
 INDENT = "  "
 
@@ -93,18 +96,13 @@ def cite(ref: dict | None) -> str:
     return f" (fact: {ref['src']} #{ref['seq']}, {ref['kind']}, {clock(ref['t'])})"
 
 
-def clock(t_ns: int) -> str:
-    """2024-11-21 08:00:10.000 UTC: the date, then the time as the explanations write it."""
-    day = datetime.fromtimestamp(t_ns // 1_000_000_000, tz=timezone.utc).strftime("%Y-%m-%d")
-    return f"{day} {phrases.clock(t_ns)}"
+clock = date_clock     # 2024-11-21 08:00:10.000 UTC (reasoner/when.py)
 
 
-def explain_incident(inc: dict, rulebooks: Callable[[str], Rulebook | None], store=None,
-                     level: str = "standard", chain: dict | None = None) -> str:
-    """The whole explanation of one incident as text, verdict first (explain.document builds it,
-    explain.render draws it). `rulebooks` finds a rulebook by sha256 (Investigation.rulebook); with
-    a `store` the evidence gets chain positions and the run's chain is verified (or pass `chain`,
-    explain.evidence.chain_status, to verify a run once for all its incidents)."""
-    from .document import explanation
+def explain_incident(inv: Investigation, inc: Incident, level: str = "standard") -> str:
+    """The whole explanation of one incident as text, verdict first: the investigation that judged
+    it answers what the explanation asks (Investigation.explanation), explanation_doc words it and
+    explain.render draws it; the evidence gets chain positions from the investigation's store."""
+    from .explanation_doc import document
     from .render import to_text
-    return to_text(explanation(inc, rulebooks, store, chain=chain), level).rstrip("\n")
+    return to_text(document(inc, inv.explanation(inc), inv.store), level).rstrip("\n")

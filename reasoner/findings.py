@@ -1,18 +1,19 @@
 """Findings about the record itself: decision faults and missing evidence.
 
 (Perception faults are in perception.py, monitor disagreements come from matching episodes,
-unknown facts from facts.py.) Each finding is {"kind", "detail", "evidence": [event refs], ...}.
+unknown facts from facts.py.) Each is a model.Finding.
 """
 from __future__ import annotations
 
 import sqlite3
 from typing import Any
 
-from store import queries
+from store import EventRef, queries
 
 from .engine import Engine
 from .facts import FactReader
 from .le.sentences import constant
+from .model import Decision, Finding
 from .stages import Choice
 from .when import format_time
 
@@ -22,33 +23,33 @@ SILENT_S = 5     # a source that reported before the incident and not for this l
 
 
 def decision_fault(engine: Engine, reader: FactReader, choice: Choice | None, vehicle: str,
-                   action: dict | None, perceived: list[tuple[Any, dict]], unknown: list[dict]) -> dict | None:
+                   action: Decision | None, perceived: list[tuple[Any, dict]], unknown: list[dict]) -> Finding | None:
     """Whether the vehicle's recorded decision contradicts its own rulebook on its own perception.
 
     Two ways: the `permitted` it recorded is not what the rulebook answers (a wrong answer, or a
     tampered one), or it proceeded though the rulebook did not permit the action."""
-    if action is None or choice is None or not isinstance(action.get("goal"), str):
+    if action is None or choice is None or not isinstance(action.goal, str):
         return None
     rb = choice.rulebook
-    goal = reader.atom(rb, action["goal"])
+    goal = reader.atom(rb, action.goal)
     if goal is None:
-        unknown.append({"kind": "unknown fact", "fact": action["goal"][:200], "evidence": [action["evidence"]],
+        unknown.append({"kind": "unknown fact", "fact": action.goal[:200], "evidence": [action.evidence.to_json()],
                         "detail": f"the decision's goal is not a sentence of {rb.name}; its decision "
                                   "could not be checked"})
         return None
     if constant([vehicle]) not in goal.args:
         return None
     permitted = engine.holds(rb, goal, reader.atoms(rb, perceived))
-    recorded, proceeds = action.get("permitted"), action.get("proceeds")
-    said = f'its own rulebook ({rb.name}) on its own perception answers "{action["goal"]}": {_yes(permitted)}'
+    recorded, proceeds = action.permitted, action.proceeds
+    said = f'its own rulebook ({rb.name}) on its own perception answers "{action.goal}": {_yes(permitted)}'
     if isinstance(recorded, bool) and recorded != permitted:
         detail = f"the vehicle recorded permitted={_yes(recorded)} but {said}"
     elif proceeds is True and not permitted:
         detail = f"the vehicle proceeded although {said}"
     else:
         return None
-    return {"kind": "decision fault", "detail": detail, "evidence": [action["evidence"]],
-            "recomputed_permitted": permitted, "recorded_permitted": recorded, "proceeds": proceeds}
+    return Finding("decision fault", detail, (action.evidence,), recomputed_permitted=permitted,
+                   recorded_permitted=recorded, proceeds=proceeds)
 
 
 def _yes(value: Any) -> str:
@@ -102,7 +103,7 @@ class Gaps:
         return out
 
 
-def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, int | None]) -> list[dict]:
+def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, int | None]) -> list[Finding]:
     """Sequence gaps of the sources an incident rests on, near it; and sources gone silent.
 
     A gap is near when the events on either side of it bracket a moment within WINDOW_S of t.
@@ -116,19 +117,18 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
             before = _t_of(conn, run, src, first - 1)
             after = _t_of(conn, run, src, last + 1)
             if (before is None or before <= hi) and (after is None or after >= lo):
-                out.append({"kind": "missing evidence", "src": src, "missing_seq": [first, last],
-                            "evidence": [], "detail": f"{src} events {first} to {last} are missing "
-                            f"from the record, between {_when(before, 'its first event')} and "
-                            f"{_when(after, 'its last event')}, within {WINDOW_S} s of the incident"})
+                out.append(Finding("missing evidence", f"{src} events {first} to {last} are missing "
+                                   f"from the record, between {_when(before, 'its first event')} and "
+                                   f"{_when(after, 'its last event')}, within {WINDOW_S} s of the incident",
+                                   src=src, missing_seq=(first, last)))
     for src, seen in last_seen.items():
         if seen is None or t - seen <= SILENT_S * SECOND:
             continue
         next_t = _next_t(conn, run, src, t)
         if next_t is None or next_t - t > SILENT_S * SECOND:
-            out.append({"kind": "missing evidence", "src": src, "evidence": [],
-                        "detail": f"{src} went silent: its last report before the incident was "
-                                  f"{(t - seen) / SECOND:.1f} s earlier, and it reported nothing in the "
-                                  f"{SILENT_S} s after it"})
+            out.append(Finding("missing evidence", f"{src} went silent: its last report before the incident was "
+                                                   f"{(t - seen) / SECOND:.1f} s earlier, and it reported nothing "
+                                                   f"in the {SILENT_S} s after it", src=src))
     return out
 
 

@@ -2,7 +2,7 @@
 
     inv = Investigation(store)                 # or Investigation(store, rules=["my.le"])
     for incident in inv.incidents("demo-001"):
-        print(incident["verdict"], incident["rule"], incident["liable"])
+        print(incident.verdict, incident.rule, incident.liable)
 
 An incident is a potential violation: recorded on line by a monitor, or re-derived off line from
 the monitor's observations (episodes.py); both, normally. For each, at its time t, from the
@@ -19,15 +19,20 @@ store's state at t (store.state.state_at):
 
 The verdicts depend only on the events, never on the order or batches they arrived in: the state
 is a fold in (t, seq, src) order and the episodes are read in that order too.
+
+Each part of an incident is computed by one function from what the parts before it found, and the
+frozen `Incident` (model.py) is built once at the end.
 """
 from __future__ import annotations
 
-from typing import Any, Callable, Iterable
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
-from store import Store
+from store import EventRef, Store
 from store.state import CollectorPaused
 from store.timeline import Timeline
 
+from .chain import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
@@ -36,12 +41,60 @@ from .findings import Gaps, decision_fault, missing_evidence
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
+from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice, Scenarios,
+                    StageProof)
 from .perception import corrected, dispute_finding, witnessed_functors
-from .stages import RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
+from .stages import Choice, RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
 from .scenarios import (Scenario, entity, has_perception, monitor_scenario, ref, spawn_facts,
                         vehicle_action, vehicle_scenario)
+from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
+                         IS_AN_OFFENCE_UNDER, IS_LIABLE, MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES,
+                         PUNISHABLY_VIOLATES)
+
+if TYPE_CHECKING:
+    from .explanation import Explanation
 
 LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
+
+
+@dataclass(frozen=True)
+class _Case:
+    """One potential violation to judge, and the state of the run at its time."""
+
+    run: str
+    rs: RuleSet
+    state: dict
+    t: int
+    monitor: str
+    pv: dict | None               # the recorded monitor.potential_violation, if any
+    episode: Episode | None       # the observations it was re-derived from, if any
+    vehicle: str
+    action: str
+
+    @property
+    def anchor(self) -> dict:
+        return self.pv if self.pv else self.episode.first
+
+    @property
+    def me(self) -> Any:
+        return constant([self.vehicle])
+
+    @property
+    def act(self) -> Any:
+        return constant(self.action.split())
+
+
+@dataclass(frozen=True)
+class _Validation:
+    """What the validator stage found: the verdict, why, and what it rests on."""
+
+    verdict: str
+    why: str
+    rulebook: RulebookChoice | None = None
+    scenario: tuple[tuple[Any, dict], ...] = ()
+    proof: StageProof | None = None
+    rule: Any = None                          # the rule of the verdict's proof, where it holds
+    dispute: Finding | None = None
 
 
 class Investigation:
@@ -55,10 +108,11 @@ class Investigation:
         self._current = current_rulebooks(self.engine)
         self._rulesets: dict[str, RuleSet] = {}
         self._witnessed: dict[str, set[str]] = {}
+        self._chains: dict[str, ChainStatus] = {}
         self.problems: dict[str, list[str]] = {}
 
     # -- public ---------------------------------------------------------------------------
-    def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[dict]:
+    def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
         """Every potential violation of the run, judged; ordered by time. `progress(done, total)`
         is called as the incidents are judged (after the pass over the observations)."""
         recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
@@ -75,7 +129,10 @@ class Investigation:
         timeline, gaps = Timeline(self.store, run), Gaps(self.store.connection, run)
         found = []
         for t, src, pv, ep in todo:
-            found.append(self._judge(run, rs, gaps, timeline.at(t), t, src, pv, ep))
+            body = pv["body"] if pv else {}
+            case = _Case(run, rs, timeline.at(t), t, src, pv, ep,
+                         str(body.get("vehicle")) if pv else ep.vehicle, str(body.get("action")) if pv else ep.action)
+            found.append(self._judge(case, gaps))
             if progress is not None:
                 progress(len(found), len(todo))
         return found
@@ -100,69 +157,65 @@ class Investigation:
                 return rs.by_sha[sha256]
         return None
 
+    def chain(self, run: str) -> ChainStatus:
+        """The run's hash chain recomputed, once per run for this investigation: every incident's
+        explanation cites it, and recomputing a long run takes seconds."""
+        if run not in self._chains:
+            self._chains[run] = chain_status(self.store, run)
+        return self._chains[run]
+
+    def explanation(self, incident: Incident, *, why_not: Iterable[str] = (),
+                    counterfactuals: bool = True) -> Explanation:
+        """What an explanation of the incident needs beyond the incident: the lawful actions, the
+        answers to why-not questions (on the Validator Scenario), the counterfactuals and the
+        chain's status, asked of this investigation's engine and rulebooks."""
+        from .explanation import explain
+        return explain(self, incident, list(why_not), counterfactuals)
+
     # -- one incident ---------------------------------------------------------------------
-    def _judge(self, run: str, rs: RuleSet, gaps: Gaps, state: dict, t: int, monitor_src: str,
-               pv: dict | None, episode: Episode | None) -> dict:
-        body = pv["body"] if pv else {}
-        vehicle = str(body.get("vehicle")) if pv else episode.vehicle
-        action = str(body.get("action")) if pv else episode.action
-        anchor = pv if pv else episode.first
-        findings: list[dict] = []
+    def _judge(self, case: _Case, gaps: Gaps) -> Incident:
         unknown: list[dict] = []
-        me, act = constant([vehicle]), constant(action.split())
-
-        mscen = self._monitor_scenario(state, monitor_src, vehicle, t, pv, episode)
-        pv_answer, rule = self._rederive(rs, mscen, me, act, unknown)
+        mscen = self._monitor_scenario(case)
+        pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown)
         rederived = pv_answer is not None and pv_answer.holds
-        if pv and not rederived:
-            findings.append(_disagreement(pv, mscen, recorded=True))
-        if not pv:
-            findings.append(_disagreement(episode.first, mscen, recorded=False))
-
-        vscen = vehicle_scenario(state, vehicle)
-        decision = vehicle_action(state, vehicle)
-        control = control_at(entity(state, vehicle), t)
-        incident: dict[str, Any] = {
-            "id": f"{anchor['src']}:{anchor['seq']}", "run": run, "t": t, "vehicle": vehicle,
-            "action": action, "monitor": monitor_src, "recorded": pv is not None, "rederived": rederived,
-            "rule": rule.label if rule else None, "law": rule.law if rule else None,
-            "verdict": "dismissed", "why": None, "penalty": None, "liable": "none", "liability": None,
-            "control": control, "findings": findings, "evidence": [],
-            "judged_on": "vehicle scenario" if has_perception(state, vehicle) else "monitor scenario",
-            "rulebook": None, "rulebooks": rs.describe(),
-            "scenarios": {"vehicle": vscen.facts, "monitor": mscen.facts, "validator": [], "action": decision},
-            "proofs": {"potential_violation": _proofs(pv_answer, rs["monitor"], mscen)},
-        }
-        if self.problems.get(run):
-            incident["rulebook_problems"] = self.problems[run]
-        if not rederived and pv:
-            incident["why"] = ("the monitor's own observation does not show the potential violation it "
-                               "recorded" if mscen.facts else
-                               "no observation of the vehicle by the monitor supports the potential "
-                               "violation it recorded")
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
+        if case.pv and not rederived:
+            validation = _Validation("dismissed", _unsupported(mscen))
         else:
-            self._validate(incident, rs, state, vehicle, me, act, vscen, mscen, unknown)
-        fault = decision_fault(self.engine, self.reader, rs.vehicle_rulebook((decision or {}).get("rulebook")),
-                               vehicle, decision if decision and decision.get("action") == action else None,
-                               vscen.facts, unknown)
-        if fault:
-            findings.append(fault)
-        findings += missing_evidence(gaps, [f"vehicle/{vehicle}", monitor_src], t,
-                                     {f"vehicle/{vehicle}": _last_seen(state, vehicle)})
-        findings += _dedup_unknown(unknown)
-        incident["evidence"] = _evidence(anchor, run, mscen, vscen, decision, control, incident)
-        return incident
+            validation = self._validate(case, judged_on, vscen, mscen, unknown)
+        decision = vehicle_action(case.state, case.vehicle)
+        action = Decision.from_json(decision) if decision else None
+        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
+        fault = self._decision_fault(case, action, vscen, unknown)
+        rule = rule or validation.rule
+        penalty, liability = self._sanctions(case, validation, control, vscen)
+        findings = (_disagreement(case, mscen, rederived), *_present(validation.dispute), *_present(fault),
+                    *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor], case.t,
+                                      {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
+                    *_dedup_unknown(unknown))
+        findings = tuple(f for f in findings if f is not None)
+        return Incident(
+            id=f"{case.anchor['src']}:{case.anchor['seq']}", run=case.run, t=case.t, vehicle=case.vehicle,
+            action=case.action, monitor=case.monitor, recorded=case.pv is not None, rederived=rederived,
+            rule=rule.label if rule else None, law=rule.law if rule else None,
+            verdict=validation.verdict, why=validation.why, penalty=penalty,
+            liable=_liable(liability), liability=liability, control=control, findings=findings,
+            evidence=_evidence(case, mscen, vscen, action, control, findings), judged_on=judged_on,
+            rulebook=validation.rulebook, rulebooks=_choices(case.rs),
+            scenarios=Scenarios(_facts(vscen.facts), _facts(mscen.facts), _facts(validation.scenario), action),
+            proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen), validation.proof),
+            rulebook_problems=tuple(self.problems.get(case.run) or ()))
 
-    def _monitor_scenario(self, state: dict, monitor_src: str, vehicle: str, t: int,
-                          pv: dict | None, episode: Episode | None) -> Scenario:
-        if episode is not None:
-            obs = episode.observation_at(t)
+    def _monitor_scenario(self, case: _Case) -> Scenario:
+        if case.episode is not None:
+            obs = case.episode.observation_at(case.t)
             scenario = Scenario()
             scenario.add(obs["body"].get("facts"), ref(obs))
             return scenario
-        scenario = monitor_scenario(state, monitor_src, vehicle)
-        if not scenario.facts and pv is not None and isinstance(pv["body"].get("facts"), list):
-            scenario.add(pv["body"]["facts"], ref(pv))
+        scenario = monitor_scenario(case.state, case.monitor, case.vehicle)
+        if not scenario.facts and case.pv is not None and isinstance(case.pv["body"].get("facts"), list):
+            scenario.add(case.pv["body"]["facts"], ref(case.pv))
         return scenario
 
     def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any,
@@ -171,51 +224,51 @@ class Investigation:
         if monitor is None:
             return None, None
         rb = monitor.rulebook
-        answer = self.engine.ask(rb, Atom("potentially_violates", (me, act)), self.reader.atoms(rb, mscen.facts, unknown))
+        answer = self.engine.ask(rb, POTENTIALLY_VIOLATES.atom(me, act), self.reader.atoms(rb, mscen.facts, unknown))
         rule = rb.rule(answer.proofs[0]["rule"]) if answer.holds else None
         return answer, rule
 
-    def _validate(self, incident: dict, rs: RuleSet, state: dict, vehicle: str, me: Any, act: Any,
-                  vscen: Scenario, mscen: Scenario, unknown: list[dict]) -> None:
-        choice = rs["validator"]
+    def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
+                  unknown: list[dict]) -> _Validation:
+        choice = case.rs["validator"]
         if choice is None:
-            incident["why"] = "no rulebook defines punishable and mitigated violations"
-            return
-        rb = choice.rulebook
-        incident["rulebook"] = choice.describe()
+            return _Validation("dismissed", "no rulebook defines punishable and mitigated violations")
+        rb, me, act = choice.rulebook, case.me, case.act
         mine = self.reader.pairs(rb, vscen.facts, unknown)
         seen = self.reader.pairs(rb, mscen.facts, unknown)
-        pv_atom = Atom("potentially_violates", (me, act))
-        if incident["judged_on"] == "vehicle scenario":
-            monitor_rb = rs["monitor"].rulebook if rs["monitor"] else rb
-            others = {constant([src.split("/", 1)[1]]) for src in state["entities"] if "/" in src} - {me}
-            facts, disputes = corrected(mine, seen, self._witnessed_by(monitor_rb), me, others)
-        else:
-            spawn = (entity(state, vehicle) or {}).get("spawn")
-            facts = ([(a, ref(spawn, state["run"], "entity.spawn")) for a in self.reader.known(rb, spawn_facts(
-                vehicle, spawn["body"]))] if spawn else []) + seen
-            disputes = []
+        pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
+        facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=True)
-        incident["verdict"] = verdict
-        rendered = [(rb.render(a), ev) for a, ev in facts]
-        incident["scenarios"]["validator"] = rendered
+        rendered = tuple((rb.render(a), ev) for a, ev in facts)
         evidence = dict(rendered)
-        incident["proofs"]["verdict"] = {"rulebook": rb.sha256, "trees": [
-            enrich(tree, rb, evidence) for tree in (answer.proofs[:1] or [answer.why_not] if answer else [])]}
+        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
+                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
+        dispute = None
         if disputes:
             alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
             if alt != verdict:
-                incident["findings"].append(dispute_finding(disputes, rb, alt, verdict))
-        if incident["rule"] is None and answer and answer.holds:
-            rule = rb.rule(answer.proofs[0]["rule"])
-            incident["rule"], incident["law"] = (rule.label, rule.law) if rule else (None, None)
-        incident["why"] = {
-            "punishable": f"\"{action_text(rb, me, act)}\" is not among the lawful actions of the Validator Scenario",
-            "mitigated": f"\"{action_text(rb, me, act)}\" is among the lawful actions of the Validator Scenario",
-            "dismissed": "the validator rules establish neither a punishable nor a mitigated violation",
-        }[verdict]
-        if verdict == "punishable":
-            self._penalty_and_liability(incident, rs, vehicle, me, act, [s for s, _ in rendered])
+                dispute = dispute_finding(disputes, rb, alt, verdict)
+        rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
+        return _Validation(verdict, _why(verdict, rb, me, act), _choice(choice), rendered, proof, rule, dispute)
+
+    def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list
+                         ) -> tuple[list[tuple[Atom, dict]], list[dict]]:
+        """The Validator Scenario: the vehicle's view corrected by what the monitor witnessed; or,
+        for a vehicle that recorded no perception, its spawn and what the monitor saw."""
+        if judged_on == "vehicle scenario":
+            monitor_rb = case.rs["monitor"].rulebook if case.rs["monitor"] else rb
+            others = {constant([src.split("/", 1)[1]]) for src in case.state["entities"] if "/" in src} - {case.me}
+            return corrected(mine, seen, self._witnessed_by(monitor_rb), case.me, others)
+        spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
+        own = [(a, ref(spawn, case.state["run"], "entity.spawn"))
+               for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
+        return own + seen, []
+
+    def _decision_fault(self, case: _Case, action: Decision | None, vscen: Scenario,
+                        unknown: list[dict]) -> Finding | None:
+        choice = case.rs.vehicle_rulebook(action.rulebook if action else None)
+        own = action if action and action.action == case.action else None
+        return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
 
     def _witnessed_by(self, monitor_rb: Rulebook) -> set[str]:
         if monitor_rb.sha256 not in self._witnessed:
@@ -223,93 +276,133 @@ class Investigation:
         return self._witnessed[monitor_rb.sha256]
 
     def _verdict(self, rb: Rulebook, me: Any, act: Any, atoms: list[Atom], proofs: bool) -> tuple[str, Answer | None]:
+        punish, mitigate = PUNISHABLY_VIOLATES.atom(me, act), MITIGATELY_VIOLATES.atom(me, act)
         if not proofs:
-            if self.engine.holds(rb, Atom("punishably_violates", (me, act)), atoms):
+            if self.engine.holds(rb, punish, atoms):
                 return "punishable", None
-            return ("mitigated" if self.engine.holds(rb, Atom("mitigately_violates", (me, act)), atoms)
-                    else "dismissed"), None
-        punishable = self.engine.ask(rb, Atom("punishably_violates", (me, act)), atoms)
+            return ("mitigated" if self.engine.holds(rb, mitigate, atoms) else "dismissed"), None
+        punishable = self.engine.ask(rb, punish, atoms)
         if punishable.holds:
             return "punishable", punishable
-        mitigated = self.engine.ask(rb, Atom("mitigately_violates", (me, act)), atoms)
+        mitigated = self.engine.ask(rb, mitigate, atoms)
         return ("mitigated" if mitigated.holds else "dismissed"), (mitigated if mitigated.holds else punishable)
 
-    def _penalty_and_liability(self, incident: dict, rs: RuleSet, vehicle: str, me: Any, act: Any,
-                               sentences: list[str]) -> None:
-        punish = Atom("punishably_violates", (me, act))
+    # -- penalty and liability, for a punishable violation ----------------------------------
+    def _sanctions(self, case: _Case, validation: _Validation, control: Control,
+                   vscen: Scenario) -> tuple[Penalty | None, Liability | None]:
+        if validation.verdict != "punishable":
+            return None, None
+        punish = PUNISHABLY_VIOLATES.atom(case.me, case.act)
         penalty = None
-        if (pen := rs["penalties"]) is not None:
-            penalty = self._penalty(pen.rulebook, me, self.reader.known(pen.rulebook, sentences) + [punish])
+        if (pen := case.rs["penalties"]) is not None:
+            sentences = [s for s, _ in validation.scenario]
+            penalty = self._penalty(pen.rulebook, case.me, self.reader.known(pen.rulebook, sentences) + [punish])
         liability = None
-        if (lia := rs["liability"]) is not None:
-            shown = [(s, self._control_ref(incident, basis)) for s, basis in
-                     liability_facts(vehicle, incident["control"])]
+        if (lia := case.rs["liability"]) is not None:
+            shown = [(s, _control_ref(case.run, control, vscen, basis)) for s, basis in
+                     liability_facts(case.vehicle, control.to_json())]
             facts = self.reader.known(lia.rulebook, [s for s, _ in shown]) + [punish]
-            liability = self._liability(lia.rulebook, me, act, facts, {s: r for s, r in shown if r})
-            incident["liable"] = next((r for r in LIABLE_ORDER if r in liability["parties"]),
-                                      liability["parties"][0] if liability["parties"] else "none")
-            incident["liability"] = liability
-        if penalty is not None:
-            if liability is not None:
-                penalty["points_by_law"] = penalty["points"]
-                penalty["points"] = penalty["points"] if liability["licence_points"] else 0
-                penalty["regulatory_sanctions"] = liability["sanctions"]
-            incident["penalty"] = penalty
+            liability = self._liability(lia.rulebook, case.me, case.act, facts, {s: r for s, r in shown if r})
+        if penalty is not None and liability is not None:
+            penalty = replace(penalty, points_by_law=penalty.points,
+                              points=penalty.points if liability.licence_points else 0,
+                              regulatory_sanctions=liability.sanctions)
+        return penalty, liability
 
-    def _penalty(self, rb: Rulebook, me: Any, facts: list[Atom]) -> dict | None:
-        question = [Cond(atom=Atom("incurs_a_fixed_penalty_of_pounds_and_penalty_points_for",
-                                   (me, Var("amount"), Var("points"), Var("offence"))))]
+    def _penalty(self, rb: Rulebook, me: Any, facts: list[Atom]) -> Penalty | None:
+        question = [Cond(atom=INCURS_FIXED_PENALTY.atom(me, Var("amount"), Var("points"), Var("offence")))]
         found = []
         for binding in self.engine.answers(rb, question, facts).bindings:
             _, _, amount, points, offence = binding[0]
-            law = self.engine.answers(rb, [Cond(atom=Atom("is_an_offence_under", (offence, Var("law"))))], facts)
-            found.append({"offence": arg_text(offence), "law": arg_text(law.bindings[0][0][2]) if law.bindings
-                          else None, "fine_gbp": amount, "points": points})
+            law = self.engine.answers(rb, [Cond(atom=IS_AN_OFFENCE_UNDER.atom(offence, Var("law")))], facts)
+            found.append(Penalty(arg_text(offence), arg_text(law.bindings[0][0][2]) if law.bindings else None,
+                                 amount, points))
         if not found:
             return None
-        found.sort(key=lambda p: (-_num(p["fine_gbp"]), -_num(p["points"]), p["offence"]))
-        return {**found[0], "offences": found} if len(found) > 1 else found[0]
+        found.sort(key=lambda p: (-_num(p.fine_gbp), -_num(p.points), p.offence))
+        return replace(found[0], offences=tuple(found)) if len(found) > 1 else found[0]
 
-    @staticmethod
-    def _control_ref(incident: dict, basis: str) -> dict | None:
-        """The event behind a liability fact: the spawn, or an ads.event of the control status."""
-        if basis == "spawn":
-            return next((ev for _, ev in incident["scenarios"]["vehicle"] if ev["kind"] == "entity.spawn"), None)
-        piece = incident["control"].get(basis)
-        return ref(piece, incident["run"], "ads.event") if piece else None
+    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom], evidence: dict) -> Liability:
+        def parties(sentence) -> tuple[str, ...]:
+            question = [Cond(atom=sentence.atom(Var("party"), act, me))]
+            return tuple(role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts).bindings)
 
-    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom], evidence: dict) -> dict:
-        def parties(functor: str) -> list[str]:
-            question = [Cond(atom=Atom(functor, (Var("party"), act, me)))]
-            return [role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts).bindings]
+        liable = self.engine.answers(rb, [Cond(atom=IS_LIABLE.atom(Var("party"), act, me))], facts, explain=True)
+        return Liability(parties=tuple(role(arg_text(b[0][1])) for b in liable.bindings),
+                         licence_points=parties(GETS_LICENCE_POINTS),
+                         sanctions=parties(FACES_REGULATORY_SANCTIONS),
+                         facts=tuple(rb.render(a) for a in facts), rulebook=rb.sha256,
+                         evidence={s: EventRef.from_json(r) for s, r in evidence.items()},
+                         trees=tuple(enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees))
 
-        liable = self.engine.answers(rb, [Cond(atom=Atom("is_liable_for_the_violation_of_by",
-                                                         (Var("party"), act, me)))], facts, explain=True)
-        return {"parties": [role(arg_text(b[0][1])) for b in liable.bindings],
-                "licence_points": parties("gets_licence_penalty_points_for_the_violation_of_by"),
-                "sanctions": parties("faces_regulatory_sanctions_for_the_violation_of_by"),
-                "facts": [rb.render(a) for a in facts],
-                "rulebook": rb.sha256,
-                "evidence": evidence,
-                "trees": [enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees]}
 
 def action_text(rb: Rulebook, me: Any, act: Any) -> str:
-    return rb.render(Atom("can", (me, act))) if "can" in rb.document.templates else f"{me} can {act}"
+    """"173 can enter the junction", in the rulebook's words where it has the template."""
+    return rb.render(CAN.atom(me, act)) if CAN.functor in rb.document.templates else f"{me} can {act}"
 
 
-def _dedup_unknown(unknown: list[dict]) -> list[dict]:
+def _why(verdict: str, rb: Rulebook, me: Any, act: Any) -> str:
+    return {
+        "punishable": f"\"{action_text(rb, me, act)}\" is not among the lawful actions of the Validator Scenario",
+        "mitigated": f"\"{action_text(rb, me, act)}\" is among the lawful actions of the Validator Scenario",
+        "dismissed": "the validator rules establish neither a punishable nor a mitigated violation",
+    }[verdict]
+
+
+def _unsupported(mscen: Scenario) -> str:
+    """Why a recorded potential violation the monitor rules do not re-derive is dismissed."""
+    return ("the monitor's own observation does not show the potential violation it recorded" if mscen.facts
+            else "no observation of the vehicle by the monitor supports the potential violation it recorded")
+
+
+def _liable(liability: Liability | None) -> str:
+    if liability is None:
+        return "none"
+    return next((r for r in LIABLE_ORDER if r in liability.parties),
+                liability.parties[0] if liability.parties else "none")
+
+
+def _control_ref(run: str, control: Control, vscen: Scenario, basis: str) -> dict | None:
+    """The event behind a liability fact: the spawn, or an ads.event of the control status."""
+    if basis == "spawn":
+        return next((ev for _, ev in vscen.facts if ev["kind"] == "entity.spawn"), None)
+    piece = getattr(control, basis)
+    return ref(piece, run, "ads.event") if piece else None
+
+
+def _choice(choice: Choice) -> RulebookChoice:
+    return RulebookChoice(**choice.describe())
+
+
+def _choices(rs: RuleSet) -> dict[str, RulebookChoice]:
+    return {stage: RulebookChoice(**b) for stage, b in rs.describe().items()}
+
+
+def _facts(facts: Iterable[tuple[Any, dict]]) -> tuple[tuple[Any, EventRef], ...]:
+    return tuple((s, EventRef.from_json(ev)) for s, ev in facts)
+
+
+def _present(finding: Finding | None) -> tuple[Finding, ...]:
+    return (finding,) if finding is not None else ()
+
+
+def _dedup_unknown(unknown: list[dict]) -> list[Finding]:
     """One finding per unknown sentence and event, however many stages tried to read it."""
     seen, out = set(), []
     for f in unknown:
         key = (f["fact"], tuple((e["src"], e["seq"]) for e in f["evidence"]))
         if key not in seen:
             seen.add(key)
-            out.append(f)
+            out.append(Finding.from_json(f))
     return out
 
 
-def _disagreement(event: dict, mscen: Scenario, recorded: bool) -> dict:
-    if recorded:
+def _disagreement(case: _Case, mscen: Scenario, rederived: bool) -> Finding | None:
+    """A monitor disagreement: it recorded what its rules do not derive, or derived what it did
+    not record."""
+    if case.pv and rederived:
+        return None
+    if case.pv:
         detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
                   "its own observation of the vehicle" if mscen.facts else
                   "the monitor recorded this potential violation without any observation of the vehicle to "
@@ -317,16 +410,17 @@ def _disagreement(event: dict, mscen: Scenario, recorded: bool) -> dict:
     else:
         detail = ("the monitor rules derive a potential violation from the monitor's observations, but the "
                   "monitor did not record one")
-    return {"kind": "monitor disagreement", "detail": detail,
-            "evidence": [ref(event)] + [ev for _, ev in mscen.facts[:1]]}
+    event = case.pv if case.pv else case.episode.first
+    return Finding("monitor disagreement", detail,
+                   tuple(EventRef.from_json(r) for r in [ref(event)] + [ev for _, ev in mscen.facts[:1]]))
 
 
-def _proofs(answer: Answer | None, choice, scenario: Scenario) -> dict:
+def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario) -> StageProof:
     if answer is None or choice is None:
-        return {"rulebook": None, "trees": []}
+        return StageProof(None, ())
     rb = choice.rulebook
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
-    return {"rulebook": rb.sha256, "trees": [enrich(tree, rb, scenario.evidence) for tree in trees]}
+    return StageProof(rb.sha256, tuple(enrich(tree, rb, scenario.evidence) for tree in trees))
 
 
 def _last_seen(state: dict, vehicle: str) -> int | None:
@@ -344,19 +438,20 @@ def _num(value: Any) -> float:
     return value if isinstance(value, (int, float)) else 0
 
 
-def _evidence(anchor: dict, run: str, mscen: Scenario, vscen: Scenario, decision: dict | None,
-              control: dict, incident: dict) -> list[dict]:
-    refs = [ref(anchor)] + [ev for _, ev in (*mscen.facts, *vscen.facts)]
+def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision | None, control: Control,
+              findings: Iterable[Finding]) -> tuple[EventRef, ...]:
+    """Every event the incident rests on, once each, the anchor first."""
+    refs = [EventRef.from_json(ref(case.anchor))] + [EventRef.from_json(ev) for _, ev in (*mscen.facts, *vscen.facts)]
     if decision:
-        refs.append(decision["evidence"])
-    if control.get("last_ads_event"):
-        refs.append(ref(control["last_ads_event"], run, "ads.event"))
-    for f in incident["findings"]:
-        refs += f.get("evidence", [])
+        refs.append(decision.evidence)
+    if control.last_ads_event:
+        refs.append(EventRef.from_json(ref(control.last_ads_event, case.run, "ads.event")))
+    for f in findings:
+        refs += f.evidence
     seen, out = set(), []
     for r in refs:
-        key = (r["src"], r["seq"])
-        if key not in seen:
-            seen.add(key)
+        if r.key not in seen:
+            seen.add(r.key)
             out.append(r)
-    return out
+    return tuple(out)
+

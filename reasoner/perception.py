@@ -18,9 +18,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from store import EventRef
+
 from .engine import Rulebook
 from .facts import walk_atoms
 from .le.terms import Atom
+from .model import Finding
 from .vocabulary import POTENTIALLY_VIOLATES
 
 
@@ -66,21 +69,17 @@ def corrected(vehicle_facts: list[tuple[Atom, dict]], monitor_facts: list[tuple[
     return out, disputes
 
 
-def dispute_finding(disputes: list[dict], rb: Rulebook, on_vehicle: str, on_monitor: str) -> dict:
+def dispute_finding(disputes: list[dict], rb: Rulebook, on_vehicle: str, on_monitor: str) -> Finding:
     """The perception fault finding: what each side said, and what the verdict would have been."""
     said_vehicle = [rb.render(a) for d in disputes for a, _ in d["vehicle"]]
     said_monitor = [rb.render(a) for d in disputes for a, _ in d["monitor"]]
     evidence = [ev for d in disputes for _, ev in (*d["vehicle"], *d["monitor"])]
-    unique = list({(e["src"], e["seq"]): e for e in evidence}.values())
-    return {
-        "kind": "perception fault",
-        "vehicle_said": said_vehicle,
-        "monitor_observed": said_monitor,
-        "evidence": unique,
-        "detail": (f"the vehicle perceived {_list(said_vehicle)} where the monitor observed "
-                   f"{_list(said_monitor)}; on its own perception the verdict would be {on_vehicle}, "
-                   f"on what the monitor observed it is {on_monitor}, and that is the verdict"),
-    }
+    unique = tuple({(e["src"], e["seq"]): EventRef.from_json(e) for e in evidence}.values())
+    return Finding("perception fault",
+                   (f"the vehicle perceived {_list(said_vehicle)} where the monitor observed "
+                    f"{_list(said_monitor)}; on its own perception the verdict would be {on_vehicle}, "
+                    f"on what the monitor observed it is {on_monitor}, and that is the verdict"),
+                   unique, vehicle_said=tuple(said_vehicle), monitor_observed=tuple(said_monitor))
 
 
 def _list(items: list[str]) -> str:

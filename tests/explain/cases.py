@@ -7,7 +7,7 @@ from typing import Callable
 
 from runs import ENTER, RUN, SPEEDING, RunBuilder, car
 
-from explain.document import explanation
+from explain.explanation_doc import document
 from reasoner.investigation import Investigation
 from store import Store
 
@@ -144,5 +144,5 @@ def explained(path: Path, name: str, **kw) -> tuple[dict, dict]:
     vehicle = CASES[name][1]
     with Store(path) as store:
         inv = Investigation(store)
-        (inc,) = [i for i in inv.incidents(RUN) if i["vehicle"] == vehicle]
-        return inc, explanation(inc, inv.rulebook, store, **kw)
+        (inc,) = [i for i in inv.incidents(RUN) if i.vehicle == vehicle]
+        return inc, document(inc, inv.explanation(inc, **kw), store)

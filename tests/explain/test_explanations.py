@@ -7,7 +7,7 @@ import pytest
 
 from cases import explained
 from explain import explain_incident
-from explain.document import explanation
+from explain.explanation_doc import document
 from explain.render import html_fragment, html_page, render, to_markdown
 from reasoner.investigation import Investigation
 from sim_replay.paper import RUN, paper_run
@@ -19,7 +19,7 @@ def paper(tmp_path_factory):
     with Store(tmp_path_factory.mktemp("x") / "s.db") as store:
         store.append(paper_run())
         inv = Investigation(store)
-        return {inc["vehicle"]: explain_incident(inc, inv.rulebook, store) for inc in inv.incidents(RUN)}
+        return {inc.vehicle: explain_incident(inv, inc) for inc in inv.incidents(RUN)}
 
 
 def test_paper_car_explanation(paper):
@@ -53,7 +53,7 @@ def hostile_doc(tmp_path):
         store.append(run.finish())
         inv = Investigation(store)
         (inc,) = inv.incidents(VP_RUN)
-        return explanation(inc, inv.rulebook, store)
+        return document(inc, inv.explanation(inc), store)
 
 
 def test_hostile_fact_is_escaped_in_html_markdown_and_text(tmp_path):
@@ -71,7 +71,7 @@ def test_hostile_fact_is_escaped_in_html_markdown_and_text(tmp_path):
 
 def test_why_not_on_request(tmp_path):
     _, doc = explained(tmp_path / "s.db", "paper_car_173_punishable",
-                       why_not_questions=["173 can enter the junction", "173 has green light", "173 flies"])
+                       why_not=["173 can enter the junction", "173 has green light", "173 flies"])
     can, green, nonsense = doc["why_not"]
     assert can["holds"] is False and can["question"] == "173 can enter the junction"
     text = render(doc, "text", "standard")
@@ -82,7 +82,7 @@ def test_why_not_on_request(tmp_path):
 
 
 def test_why_not_of_a_sentence_that_holds(tmp_path):
-    _, doc = explained(tmp_path / "s.db", "paper_car_173_punishable", why_not_questions=["173 must not enter the junction"])
+    _, doc = explained(tmp_path / "s.db", "paper_car_173_punishable", why_not=["173 must not enter the junction"])
     (w,) = doc["why_not"]
     assert w["holds"] is True and w["trees"][0]["label"] == "HC 176"
 

@@ -19,39 +19,39 @@ def red_light_run(vehicle: str, level: int, driver: str, ads: list[tuple[str, fl
 
 def judged(tmp_path, events) -> dict:
     (inc,) = incidents(tmp_path / "s.db", events)
-    assert inc["verdict"] == "punishable"
+    assert inc.verdict == "punishable"
     return inc
 
 
 def test_level_3_feature_engaged_the_asde_answers_and_no_points(tmp_path):
     inc = judged(tmp_path, red_light_run("7", 3, "human", [("activated", 1.0)]))
-    assert inc["liable"] == ASDE and inc["liability"]["parties"] == [ASDE]
-    assert inc["penalty"]["points"] == 0 and inc["penalty"]["points_by_law"] == 3
-    assert inc["penalty"]["regulatory_sanctions"] == [ASDE]
+    assert inc.liable == ASDE and list(inc.liability.parties) == [ASDE]
+    assert inc.penalty.points == 0 and inc.penalty.points_by_law == 3
+    assert list(inc.penalty.regulatory_sanctions) == [ASDE]
     # the proof cites the ads.event that engaged the feature
-    facts = inc["liability"]["evidence"]
-    assert facts["7 is driving itself"]["kind"] == "ads.event" and facts["7 is driving itself"]["seq"] == 1  # after the spawn (seq 0)
+    facts = inc.liability.evidence
+    assert facts["7 is driving itself"].kind == "ads.event" and facts["7 is driving itself"].seq == 1  # after the spawn (seq 0)
 
 
 def test_a_transition_demand_left_unanswered_makes_the_user_in_charge_the_driver(tmp_path):
     inc = judged(tmp_path, red_light_run("8", 3, "human", [("activated", 1.0), ("transition_demand", 15.0)]))
-    assert inc["control"]["in_control"] == "user-in-charge" and inc["control"]["transition_demand_expired"]
-    assert inc["liable"] == "user-in-charge" and inc["penalty"]["points"] == 3
+    assert inc.control.in_control == "user-in-charge" and inc.control.transition_demand_expired
+    assert inc.liable == "user-in-charge" and inc.penalty.points == 3
 
 
 def test_a_transition_demand_still_running_leaves_the_feature_in_control(tmp_path):
     inc = judged(tmp_path, red_light_run("9", 3, "human", [("activated", 1.0), ("transition_demand", 25.0)]))
-    assert inc["control"]["in_control"] == "self-driving feature" and not inc["control"]["transition_demand_expired"]
-    assert inc["liable"] == ASDE
+    assert inc.control.in_control == "self-driving feature" and not inc.control.transition_demand_expired
+    assert inc.liable == ASDE
 
 
 def test_no_user_in_charge_vehicle_the_operator_answers_beside_the_asde(tmp_path):
     inc = judged(tmp_path, red_light_run("10", 4, "autonomous", [("activated", 1.0)]))
-    assert set(inc["liability"]["parties"]) == {ASDE, "no-user-in-charge operator"}
-    assert inc["liable"] == ASDE and inc["penalty"]["points"] == 0
+    assert set(inc.liability.parties) == {ASDE, "no-user-in-charge operator"}
+    assert inc.liable == ASDE and inc.penalty.points == 0
 
 
 def test_a_feature_never_engaged_leaves_the_human_driver_liable(tmp_path):
     inc = judged(tmp_path, red_light_run("11", 3, "human", []))
-    assert inc["control"]["in_control"] == "driver" and inc["liable"] == "driver"
-    assert inc["penalty"]["points"] == 3
+    assert inc.control.in_control == "driver" and inc.liable == "driver"
+    assert inc.penalty.points == 3

@@ -50,8 +50,8 @@ def check_contract(found: list[dict], events: list[dict]) -> None:
     """What every incident list must be, whatever the path: the fields, their values, real
     evidence, and the order by t."""
     by_key = {(e["src"], e["seq"]): e for e in events}
-    assert [i["t"] for i in found] == sorted(i["t"] for i in found), "incidents are ordered by t"
-    for inc in found:
+    assert [i.t for i in found] == sorted(i.t for i in found), "incidents are ordered by t"
+    for inc in [i.to_json() for i in found]:
         assert FIELDS <= set(inc), f"missing fields {FIELDS - set(inc)}"
         src, _, seq = inc["id"].rpartition(":")
         source = by_key[(src, int(seq))]
@@ -75,7 +75,7 @@ def check_contract(found: list[dict], events: list[dict]) -> None:
             assert isinstance(f["detail"], str) and f["detail"]
             for ref in f["evidence"]:
                 check_ref(ref, by_key)
-    json.dumps(found)       # `gaps incidents --json` prints it as it is
+    json.dumps([i.summary_json() for i in found])       # as `gaps incidents --json` prints it
 
 
 def check_ref(ref: dict, by_key: dict) -> None:
@@ -86,26 +86,26 @@ def check_ref(ref: dict, by_key: dict) -> None:
 
 
 def one(found: list[dict], vehicle: str) -> dict:
-    mine = [i for i in found if i["vehicle"] == vehicle]
-    assert len(mine) == 1, f"{len(mine)} incidents of {vehicle}: {[(i['id'], i['action']) for i in mine]}"
+    mine = [i for i in found if i.vehicle == vehicle]
+    assert len(mine) == 1, f"{len(mine)} incidents of {vehicle}: {[(i.id, i.action) for i in mine]}"
     return mine[0]
 
 
 def kinds(inc: dict) -> set[str]:
-    return {f["kind"] for f in inc["findings"]}
+    return {f.kind for f in inc.findings}
 
 
 def findings(inc: dict, kind: str) -> list[dict]:
-    return [f for f in inc["findings"] if f["kind"] == kind]
+    return [f for f in inc.findings if f.kind == kind]
 
 
 def penalty(inc: dict) -> dict | None:
-    p = inc["penalty"]
-    return None if p is None else {k: p.get(k) for k in PENALTY_KEYS}
+    p = inc.penalty
+    return None if p is None else {k: getattr(p, k) for k in PENALTY_KEYS}
 
 
 def refs(items) -> set[tuple[str, int]]:
-    return {(r["src"], r["seq"]) for r in items}
+    return {r.key for r in items}
 
 
 def key(event: dict) -> tuple[str, int]:
@@ -114,9 +114,9 @@ def key(event: dict) -> tuple[str, int]:
 
 def assert_findings(inc: dict, must: set[str] = frozenset(), must_not: set[str] = CLEAN) -> None:
     got = kinds(inc)
-    assert must <= got, f"{inc['vehicle']}: expected findings {must - got}, got {inc['findings']}"
+    assert must <= got, f"{inc.vehicle}: expected findings {must - got}, got {inc.findings}"
     unexpected = (must_not - must) & got
-    assert not unexpected, f"{inc['vehicle']}: unexpected findings {[f for f in inc['findings'] if f['kind'] in unexpected]}"
+    assert not unexpected, f"{inc.vehicle}: unexpected findings {[f for f in inc.findings if f.kind in unexpected]}"
 
 
 # -- the runs ---------------------------------------------------------------------------------
@@ -133,17 +133,17 @@ def paper_scenarios(run: RunBuilder) -> dict:
 
 
 def assert_punishable(inc: dict, rule: str, pen: dict, law_part: str, liable: str = "driver") -> None:
-    assert inc["verdict"] == "punishable", (inc["verdict"], inc["why"], inc["findings"])
-    assert inc["rule"] == rule
-    assert isinstance(inc["law"], str) and law_part in inc["law"], inc["law"]
+    assert inc.verdict == "punishable", (inc.verdict, inc.why, inc.findings)
+    assert inc.rule == rule
+    assert isinstance(inc.law, str) and law_part in inc.law, inc.law
     assert penalty(inc) == pen
-    assert inc["liable"] == liable
+    assert inc.liable == liable
 
 
 def assert_mitigated(inc: dict, rule: str) -> None:
-    assert inc["verdict"] == "mitigated", (inc["verdict"], inc["why"], inc["findings"])
-    assert inc["rule"] == rule
-    assert inc["penalty"] is None and inc["liable"] == "none"
+    assert inc.verdict == "mitigated", (inc.verdict, inc.why, inc.findings)
+    assert inc.rule == rule
+    assert inc.penalty is None and inc.liable == "none"
 
 
 # 1 -------------------------------------------------------------------------------------------
@@ -155,18 +155,18 @@ def test_paper_car_173_punishable_and_ambulance_253_mitigated(tmp_path):
 
     i173 = one(found, "173")
     assert_punishable(i173, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
-    assert i173["id"] == f"monitor/m1:{c['173']['pv']['seq']}" and i173["t"] == ns(10)
-    assert (i173["action"], i173["monitor"], i173["run"]) == (ENTER, "monitor/m1", RUN)
-    assert i173["recorded"] is True and i173["rederived"] is True
-    assert i173["control"]["in_control"] == "driver"
+    assert i173.id == f"monitor/m1:{c['173']['pv']['seq']}" and i173.t == ns(10)
+    assert (i173.action, i173.monitor, i173.run) == (ENTER, "monitor/m1", RUN)
+    assert i173.recorded is True and i173.rederived is True
+    assert i173.control.in_control == "driver"
     assert_findings(i173)
-    assert refs(i173["evidence"]) >= {key(c["173"][k]) for k in ("pv", "decision", "perception", "observation")}
+    assert refs(i173.evidence) >= {key(c["173"][k]) for k in ("pv", "decision", "perception", "observation")}
 
     i253 = one(found, "253")
     assert_mitigated(i253, "HC 176")
-    assert i253["id"] == f"monitor/m1:{c['253']['pv']['seq']}"
-    assert i253["recorded"] is True and i253["rederived"] is True
-    assert i253["control"]["in_control"] == "driver"
+    assert i253.id == f"monitor/m1:{c['253']['pv']['seq']}"
+    assert i253.recorded is True and i253.rederived is True
+    assert i253.control.in_control == "driver"
     # its own rulebook lets an ambulance on call enter on red: its decision is no fault either
     assert_findings(i253, must_not=CLEAN | {"decision fault"})
     assert found.index(i173) < found.index(i253)
@@ -178,8 +178,8 @@ def test_paper_demo_run_verdicts(tmp_path):
 
     found = judge(tmp_path, paper_run(), run=PAPER_RUN)
     i173, i253 = one(found, "173"), one(found, "253")
-    assert (i173["verdict"], i173["rule"], i173["liable"]) == ("punishable", "HC 176", "driver")
-    assert (i253["verdict"], i253["penalty"], i253["liable"]) == ("mitigated", None, "none")
+    assert (i173.verdict, i173.rule, i173.liable) == ("punishable", "HC 176", "driver")
+    assert (i253.verdict, i253.penalty, i253.liable) == ("mitigated", None, "none")
 
 
 # 2 -------------------------------------------------------------------------------------------
@@ -259,7 +259,7 @@ def test_stop_sign_rolled_through_is_punishable(tmp_path):
     c = run.crossing("8", 10, car("8") + ["8 has a stop sign", "8 has crossed the stop line"],
                      ["8 has a stop sign", "8 has crossed the stop line"], junction="j2")
     inc = one(judge(tmp_path, run.finish()), "8")
-    assert inc["monitor"] == "monitor/m2" and inc["id"] == f"monitor/m2:{c['pv']['seq']}"
+    assert inc.monitor == "monitor/m2" and inc.id == f"monitor/m2:{c['pv']['seq']}"
     assert_punishable(inc, "HC 171", STOP_SIGN, "TSRGD 2016 Sch 9")
     assert_findings(inc)
 
@@ -274,7 +274,7 @@ def test_speeding_is_punishable(tmp_path):
                      action=SPEEDING, goal=ENTER, speed_mps=17.0)
     assert c["decision"]["body"]["permitted"] is True        # entering on green is lawful
     inc = one(judge(tmp_path, run.finish()), "28")
-    assert inc["action"] == SPEEDING
+    assert inc.action == SPEEDING
     assert_punishable(inc, "HC 124", SPEEDING_OFFENCE, "Road Traffic Regulation Act 1984 s.89")
     assert_findings(inc, must_not=CLEAN | {"decision fault"})
 
@@ -294,10 +294,10 @@ def test_self_driving_car_that_saw_green_on_red_is_the_asdes(tmp_path):
     inc = one(judge(tmp_path, run.finish()), "300")
     # judged on what the monitor observed: red
     assert_punishable(inc, "HC 176", {**TRAFFIC_LIGHT, "points": 0}, "TSRGD 2016 Sch 14", liable=ASDE)
-    assert inc["control"]["in_control"] == "self-driving feature"
+    assert inc.control.in_control == "self-driving feature"
     assert_findings(inc, must={"perception fault"}, must_not=CLEAN | {"decision fault"})
     fault = findings(inc, "perception fault")[0]
-    assert refs(fault["evidence"]) >= {key(c["perception"]), key(c["observation"])}
+    assert refs(fault.evidence) >= {key(c["perception"]), key(c["observation"])}
 
 
 # 8 -------------------------------------------------------------------------------------------
@@ -310,7 +310,7 @@ def test_self_driving_car_taken_over_by_its_driver_before_the_red_is_the_drivers
     run.crossing("301", 30, car("301") + ["301 has red light"], ["301 has red light"])
     inc = one(judge(tmp_path, run.finish()), "301")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14", liable="driver")
-    assert inc["control"]["in_control"] == "driver"
+    assert inc.control.in_control == "driver"
     assert_findings(inc)
 
 
@@ -322,8 +322,8 @@ def test_self_driving_car_still_engaged_is_not_the_drivers(tmp_path):
     run.lights(30, "red")
     run.crossing("301", 30, car("301") + ["301 is driving itself", "301 has red light"], ["301 has red light"])
     inc = one(judge(tmp_path, run.finish()), "301")
-    assert inc["verdict"] == "punishable" and inc["liable"] == ASDE
-    assert inc["control"]["in_control"] == "self-driving feature"
+    assert inc.verdict == "punishable" and inc.liable == ASDE
+    assert inc.control.in_control == "self-driving feature"
     assert penalty(inc)["points"] == 0
 
 
@@ -369,10 +369,10 @@ def reference() -> list[dict]:
 
 def test_mixed_run_has_every_path(tmp_path):
     found = reference()
-    assert [i["vehicle"] for i in found] == ["173", "253", "5", "300", "41", "28"]
-    assert [i["verdict"] for i in found] == ["punishable", "mitigated", "punishable", "punishable",
+    assert [i.vehicle for i in found] == ["173", "253", "5", "300", "41", "28"]
+    assert [i.verdict for i in found] == ["punishable", "mitigated", "punishable", "punishable",
                                             "punishable", "punishable"]
-    assert [i["liable"] for i in found] == ["driver", "none", "driver", ASDE, "driver", "driver"]
+    assert [i.liable for i in found] == ["driver", "none", "driver", ASDE, "driver", "driver"]
 
 
 @pytest.mark.parametrize("order", ["reversed", "shuffled", "batches of 1", "batches of 7", "all at once"])
@@ -430,15 +430,15 @@ def test_hostile_fact_strings_are_unknown_facts_and_change_nothing(tmp_path):
 
     assert not sentinel.exists() and not (tmp_path / "pwned2").exists(), "a fact string was run as code"
     for field in ("verdict", "rule", "law", "penalty", "liable", "control", "recorded", "rederived"):
-        assert inc[field] == clean[field], field
+        assert getattr(inc, field) == getattr(clean, field), field
     unknown = findings(inc, "unknown fact")
     reported = [s for s in hostile if s.strip()]
     for where in (c["perception"], c["observation"]):
-        about = [f for f in unknown if key(where) in refs(f["evidence"])]
-        assert len(about) >= len(reported), (where["kind"], [f["detail"][:80] for f in about])
+        about = [f for f in unknown if key(where) in refs(f.evidence)]
+        assert len(about) >= len(reported), (where["kind"], [f.detail[:80] for f in about])
     readable = [s for s in reported if s.isascii() and s.isprintable() and len(s) < 100]
     for s in readable:
-        assert any(s in f["detail"] or s == f.get("fact") for f in unknown), f"{s!r} is not reported"
+        assert any(s in f.detail or s == f.fact for f in unknown), f"{s!r} is not reported"
     assert kinds(inc) - {"unknown fact"} == kinds(clean)
     assert not findings(clean, "unknown fact")
 
@@ -463,7 +463,7 @@ def test_decision_fault(tmp_path, says, proceeds):
     inc = one(judge(tmp_path, run.finish()), "173")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
     assert_findings(inc, must={"decision fault"})
-    assert key(c["decision"]) in refs(findings(inc, "decision fault")[0]["evidence"])
+    assert key(c["decision"]) in refs(findings(inc, "decision fault")[0].evidence)
 
 
 def test_no_decision_fault_when_the_decision_follows_the_rulebook(tmp_path):
@@ -493,7 +493,7 @@ def test_missing_evidence_around_the_incident(tmp_path, dropped):
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
     assert_findings(inc, must={"missing evidence"}, must_not=CLEAN - {"missing evidence"})
     missing = findings(inc, "missing evidence")
-    assert any(gone["src"] in f["detail"] or gone["src"] in {r["src"] for r in f["evidence"]} for f in missing), \
+    assert any(gone["src"] in f.detail or gone["src"] in {r.src for r in f.evidence} for f in missing), \
         missing
 
 
@@ -505,11 +505,11 @@ def test_red_light_runner_the_monitor_did_not_record(tmp_path):
     c = run.crossing("41", 10, car("41") + ["41 has red light"], ["41 has red light"], record=False, observations=2)
     inc = one(judge(tmp_path, run.finish()), "41")
     first = c["observations"][0]
-    assert inc["id"] == f"monitor/m1:{first['seq']}" and inc["t"] == first["t"]
-    assert inc["recorded"] is False and inc["rederived"] is True
+    assert inc.id == f"monitor/m1:{first['seq']}" and inc.t == first["t"]
+    assert inc.recorded is False and inc.rederived is True
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
     assert_findings(inc, must={"monitor disagreement"})
-    assert refs(inc["evidence"]) & {key(o) for o in c["observations"]}
+    assert refs(inc.evidence) & {key(o) for o in c["observations"]}
 
 
 def test_recorded_violation_the_observation_does_not_support_is_dismissed(tmp_path):
@@ -520,12 +520,12 @@ def test_recorded_violation_the_observation_does_not_support_is_dismissed(tmp_pa
                      proceeds=False)
     assert c["decision"]["body"]["permitted"] is False
     inc = one(judge(tmp_path, run.finish()), "42")
-    assert inc["id"] == f"monitor/m1:{c['pv']['seq']}"
-    assert inc["recorded"] is True and inc["rederived"] is False
-    assert inc["verdict"] == "dismissed" and inc["why"]
-    assert inc["penalty"] is None and inc["liable"] == "none"
+    assert inc.id == f"monitor/m1:{c['pv']['seq']}"
+    assert inc.recorded is True and inc.rederived is False
+    assert inc.verdict == "dismissed" and inc.why
+    assert inc.penalty is None and inc.liable == "none"
     assert_findings(inc, must={"monitor disagreement"}, must_not=CLEAN | {"decision fault"})
-    assert key(c["pv"]) in refs(findings(inc, "monitor disagreement")[0]["evidence"])
+    assert key(c["pv"]) in refs(findings(inc, "monitor disagreement")[0].evidence)
 
 
 # 14 ------------------------------------------------------------------------------------------
@@ -549,7 +549,7 @@ def test_another_rulebook_changes_the_amber_verdict(tmp_path, given_as):
     amber_run(run)
     events = run.finish()
     default = one(judge(tmp_path, events, "default.db"), "5")
-    assert default["verdict"] == "punishable"
+    assert default.verdict == "punishable"
 
     lenient = lenient_validators()
     as_given = [lenient]
@@ -558,10 +558,10 @@ def test_another_rulebook_changes_the_amber_verdict(tmp_path, given_as):
         as_given = [str(tmp_path / "validators.le")]
     found = judge(tmp_path, events, "lenient.db", rules=as_given)
     assert_mitigated(one(found, "5"), "HC 175")
-    assert one(found, "6")["verdict"] == "mitigated"
+    assert one(found, "6").verdict == "mitigated"
 
     same = [bundled("validators.le")]
-    assert one(judge(tmp_path, events, "same.db", rules=same), "5")["verdict"] == "punishable"
+    assert one(judge(tmp_path, events, "same.db", rules=same), "5").verdict == "punishable"
 
 
 # rulebooks -----------------------------------------------------------------------------------
@@ -571,7 +571,7 @@ def test_a_run_without_rulebooks_is_judged_with_the_current_ones_and_says_so(tmp
     paper_scenarios(bare)
     with_books = judge(tmp_path, recorded.finish(), "recorded.db")
     without = judge(tmp_path, bare.finish(), "bare.db")
-    assert '"current"' in json.dumps(without[0]["rulebooks"])
-    assert '"current"' not in json.dumps(with_books[0]["rulebooks"])
+    assert '"current"' in json.dumps(without[0].to_json()["rulebooks"])
+    assert '"current"' not in json.dumps(with_books[0].to_json()["rulebooks"])
     for a, b in zip(with_books, without):
-        assert (a["verdict"], a["rule"], a["penalty"], a["liable"]) == (b["verdict"], b["rule"], b["penalty"], b["liable"])
+        assert (a.verdict, a.rule, a.penalty, a.liable) == (b.verdict, b.rule, b.penalty, b.liable)

@@ -80,3 +80,36 @@ def test_bad_times_say_what_is_wrong_and_what_is_accepted(text, says):
 def test_relative_time_needs_a_run_start():
     with pytest.raises(TimeError, match="run with events"):
         parse_time("12s", None)
+
+
+# -- the explanations' and the command line's formats, in this one module ---------------------------
+from reasoner.when import clock, date_clock, day, duration, iso_utc  # noqa: E402
+
+
+def test_explanation_times():
+    t = 1_732_176_010_250_999_999          # 2024-11-21T08:00:10.250999999Z
+    assert clock(t) == "08:00:10.250 UTC"
+    assert day(t) == "21 November 2024"
+    assert date_clock(t) == "2024-11-21 08:00:10.250 UTC"
+
+
+@pytest.mark.parametrize("t, text", [
+    (1_732_184_100_350_000_000, "2024-11-21T10:15:00.35Z"),
+    (1_732_184_100_000_000_000, "2024-11-21T10:15:00Z"),
+    (1_732_184_100_000_000_001, "2024-11-21T10:15:00.000000001Z"),
+    (T_MAX, "2262-04-11T23:47:16.854775807Z"),
+])
+def test_iso_utc_keeps_only_the_digits_needed(t, text):
+    assert iso_utc(t) == text
+    assert parse_time(text, None) == t
+
+
+@pytest.mark.parametrize("ns, text", [(12_350_000_000, "12.35 s"), (0, "0 s"), (59_999_000_000, "59.999 s"),
+                                      (3_723_500_000_000, "1:02:03.5"), (60_000_000_000, "0:01:00")])
+def test_duration(ns, text):
+    assert duration(ns) == text
+
+
+@given(st.integers(min_value=0, max_value=T_MAX))
+def test_iso_utc_reads_back_exactly(t):
+    assert parse_time(iso_utc(t), None) == t

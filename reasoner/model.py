@@ -1,0 +1,300 @@
+"""What the reasoner hands to the other rooms: an incident and its parts, as typed, frozen values.
+
+An incident used to be a dict built up in place, read elsewhere by string with `.get` defaults that
+hid typos; these types say what each part holds, and `to_json()` writes exactly the JSON that
+`gaps incidents --json` has always printed (tests/reasoner/test_incidents_golden.py), so scripts
+reading it see no change but the `margin` key.
+
+Proof trees stay JSON (DESIGN "Proof trees": sentence, status, rule, source, evidence, children):
+they are data for renderers, already in their published shape.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping
+
+from store import EventRef
+
+Tree = Mapping[str, Any]          # a proof tree as DESIGN's JSON
+Fact = tuple[Any, EventRef]       # a recorded sentence (a str, unless a producer wrote nonsense) and its event
+
+
+def _refs(refs: Iterable[EventRef]) -> list[dict[str, Any]]:
+    return [r.to_json() for r in refs]
+
+
+def _facts(facts: Iterable[Fact]) -> list[list[Any]]:
+    return [[sentence, ref.to_json()] for sentence, ref in facts]
+
+
+@dataclass(frozen=True)
+class RulebookChoice:
+    """The rulebook a stage was judged with, and why that one: given with --rules, recorded by
+    the run, or the project's current one."""
+
+    name: str
+    sha256: str
+    source: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"name": self.name, "sha256": self.sha256, "source": self.source}
+
+
+@dataclass(frozen=True)
+class Finding:
+    """Something the record itself shows is wrong or missing, with the events it rests on.
+
+    kind: perception fault, decision fault, monitor disagreement, missing evidence, unknown fact.
+    The fields after `evidence` belong to one kind each (None where they do not apply)."""
+
+    kind: str
+    detail: str
+    evidence: tuple[EventRef, ...] = ()
+    fact: str | None = None                              # unknown fact: the sentence, cut to 200 characters
+    src: str | None = None                               # missing evidence: the source
+    missing_seq: tuple[int, int] | None = None           # missing evidence: first and last missing seq
+    vehicle_said: tuple[str, ...] = ()                   # perception fault
+    monitor_observed: tuple[str, ...] = ()               # perception fault
+    recomputed_permitted: bool | None = None             # decision fault: the rulebook's answer
+    recorded_permitted: Any = None                       # decision fault: what the vehicle recorded
+    proceeds: Any = None                                 # decision fault: whether it went on
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> Finding:
+        """A finding from its JSON (facts.py writes unknown facts so, for the scene as well)."""
+        seq = data.get("missing_seq")
+        return cls(kind=data["kind"], detail=data["detail"],
+                   evidence=tuple(EventRef.from_json(r) for r in data.get("evidence", [])),
+                   fact=data.get("fact"), src=data.get("src"),
+                   missing_seq=(seq[0], seq[1]) if seq else None,
+                   vehicle_said=tuple(data.get("vehicle_said", ())),
+                   monitor_observed=tuple(data.get("monitor_observed", ())),
+                   recomputed_permitted=data.get("recomputed_permitted"),
+                   recorded_permitted=data.get("recorded_permitted"), proceeds=data.get("proceeds"))
+
+    def to_json(self) -> dict[str, Any]:
+        evidence = _refs(self.evidence)
+        if self.kind == "perception fault":
+            return {"kind": self.kind, "vehicle_said": list(self.vehicle_said),
+                    "monitor_observed": list(self.monitor_observed), "evidence": evidence, "detail": self.detail}
+        if self.kind == "decision fault":
+            return {"kind": self.kind, "detail": self.detail, "evidence": evidence,
+                    "recomputed_permitted": self.recomputed_permitted,
+                    "recorded_permitted": self.recorded_permitted, "proceeds": self.proceeds}
+        if self.kind == "unknown fact":
+            return {"kind": self.kind, "fact": self.fact, "evidence": evidence, "detail": self.detail}
+        if self.kind == "missing evidence":
+            seq = {"missing_seq": list(self.missing_seq)} if self.missing_seq is not None else {}
+            return {"kind": self.kind, "src": self.src, **seq, "evidence": evidence, "detail": self.detail}
+        return {"kind": self.kind, "detail": self.detail, "evidence": evidence}
+
+
+@dataclass(frozen=True)
+class Penalty:
+    """The fixed penalty a punishable violation carries (penalties stage). With a liability stage,
+    `points` are those endorsed on a licence and `points_by_law` those the law sets: a
+    self-driving entity holds no licence, and faces `regulatory_sanctions` instead."""
+
+    offence: str
+    law: str | None
+    fine_gbp: Any                                   # as the rulebook states it: a number, normally
+    points: Any
+    offences: tuple[Penalty, ...] = ()              # every offence found, when there are several
+    points_by_law: Any = None
+    regulatory_sanctions: tuple[str, ...] | None = None     # None: no liability stage judged it
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"offence": self.offence, "law": self.law, "fine_gbp": self.fine_gbp,
+                               "points": self.points}
+        if self.offences:
+            out["offences"] = [p.to_json() for p in self.offences]
+        if self.regulatory_sanctions is not None:
+            out["points_by_law"] = self.points_by_law
+            out["regulatory_sanctions"] = list(self.regulatory_sanctions)
+        return out
+
+
+@dataclass(frozen=True)
+class Liability:
+    """Who answers for a punishable violation (liability stage), on which facts and proof."""
+
+    parties: tuple[str, ...]
+    licence_points: tuple[str, ...]
+    sanctions: tuple[str, ...]
+    facts: tuple[str, ...]
+    rulebook: str                                   # sha256
+    evidence: Mapping[str, EventRef]                # liability fact -> the event that shows it
+    trees: tuple[Tree, ...]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"parties": list(self.parties), "licence_points": list(self.licence_points),
+                "sanctions": list(self.sanctions), "facts": list(self.facts), "rulebook": self.rulebook,
+                "evidence": {s: r.to_json() for s, r in self.evidence.items()}, "trees": list(self.trees)}
+
+
+@dataclass(frozen=True)
+class Control:
+    """Who was in control of the vehicle at the incident (control.py), with the folded ads.event
+    status it was read from; the status pieces are the store's folded state, as recorded."""
+
+    in_control: str                 # "driver", "self-driving feature" or "user-in-charge"
+    automated: bool
+    engaged: bool
+    user_in_charge: bool
+    no_user_in_charge: bool
+    transition_demand: Mapping[str, Any] | None
+    transition_demand_expired: bool
+    since: Mapping[str, Any] | None
+    minimal_risk_manoeuvre: Mapping[str, Any] | None
+    failure: Mapping[str, Any] | None
+    last_ads_event: Mapping[str, Any] | None        # {src, seq, t, event}
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> Control:
+        """From control.control_at's answer (the scene shows it as it is)."""
+        return cls(**{name: data[name] for name in cls.__dataclass_fields__})
+
+    def to_json(self) -> dict[str, Any]:
+        return {"in_control": self.in_control, "automated": self.automated, "engaged": self.engaged,
+                "user_in_charge": self.user_in_charge, "no_user_in_charge": self.no_user_in_charge,
+                "transition_demand": self.transition_demand,
+                "transition_demand_expired": self.transition_demand_expired, "since": self.since,
+                "minimal_risk_manoeuvre": self.minimal_risk_manoeuvre, "failure": self.failure,
+                "last_ads_event": self.last_ads_event}
+
+
+@dataclass(frozen=True)
+class Margin:
+    """How far from the line a verdict was (DESIGN "Margins"): e.g. 1.2 s after red, 8 mph over.
+    No stage measures one yet; an incident's margin is None until one does."""
+
+    quantity: str
+    value: float
+    unit: str
+    evidence: tuple[EventRef, ...] = ()
+
+    def to_json(self) -> dict[str, Any]:
+        return {"quantity": self.quantity, "value": self.value, "unit": self.unit, "evidence": _refs(self.evidence)}
+
+
+@dataclass(frozen=True)
+class Decision:
+    """The Vehicle Action: the vehicle's latest vehicle.decision at the incident."""
+
+    goal: Any
+    action: Any
+    permitted: Any
+    proceeds: Any
+    rulebook: Any
+    evidence: EventRef
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> Decision:
+        return cls(data.get("goal"), data.get("action"), data.get("permitted"), data.get("proceeds"),
+                   data.get("rulebook"), EventRef.from_json(data["evidence"]))
+
+    def to_json(self) -> dict[str, Any]:
+        return {"goal": self.goal, "action": self.action, "permitted": self.permitted, "proceeds": self.proceeds,
+                "rulebook": self.rulebook, "evidence": self.evidence.to_json()}
+
+
+@dataclass(frozen=True)
+class Scenarios:
+    """The paper's scenarios at the incident, each fact with the event that recorded it."""
+
+    vehicle: tuple[Fact, ...]
+    monitor: tuple[Fact, ...]
+    validator: tuple[Fact, ...]
+    action: Decision | None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"vehicle": _facts(self.vehicle), "monitor": _facts(self.monitor),
+                "validator": _facts(self.validator), "action": self.action.to_json() if self.action else None}
+
+
+@dataclass(frozen=True)
+class StageProof:
+    """One stage's proof (or why-not) trees, with the sha256 of the rulebook that gave them."""
+
+    rulebook: str | None
+    trees: tuple[Tree, ...]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"rulebook": self.rulebook, "trees": list(self.trees)}
+
+
+@dataclass(frozen=True)
+class Proofs:
+    """The monitor stage's proof of the potential violation; the validator's of the verdict
+    (None where no validator judged: a dismissal on the monitor's own observation)."""
+
+    potential_violation: StageProof
+    verdict: StageProof | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        out = {"potential_violation": self.potential_violation.to_json()}
+        if self.verdict is not None:
+            out["verdict"] = self.verdict.to_json()
+        return out
+
+
+@dataclass(frozen=True)
+class Incident:
+    """A potential violation, judged (reasoner/investigation.py says how).
+
+    id is "<src>:<seq>" of the recorded potential violation, or of the first observation an
+    unrecorded one was re-derived from; t is in ns since the epoch; verdict is punishable,
+    mitigated or dismissed; liable is the party named first (LIABLE_ORDER) or "none"."""
+
+    id: str
+    run: str
+    t: int
+    vehicle: str
+    action: str
+    monitor: str
+    recorded: bool
+    rederived: bool
+    rule: str | None
+    law: str | None
+    verdict: str
+    why: str | None
+    penalty: Penalty | None
+    liable: str
+    liability: Liability | None
+    control: Control
+    findings: tuple[Finding, ...]
+    evidence: tuple[EventRef, ...]
+    judged_on: str                                  # "vehicle scenario" or "monitor scenario"
+    rulebook: RulebookChoice | None                 # the validator's
+    rulebooks: Mapping[str, RulebookChoice]         # stage -> rulebook
+    scenarios: Scenarios
+    proofs: Proofs
+    margin: Margin | None = None
+    rulebook_problems: tuple[str, ...] = field(default=())
+
+    @property
+    def anchor(self) -> EventRef | None:
+        """The event the incident is named after (the recorded potential violation, or the first
+        observation it was re-derived from), among its evidence."""
+        src, _, seq = self.id.rpartition(":")
+        return next((r for r in self.evidence if r.src == src and str(r.seq) == seq), None)
+
+    def to_json(self) -> dict[str, Any]:
+        out = {"id": self.id, "run": self.run, "t": self.t, "vehicle": self.vehicle, "action": self.action,
+               "monitor": self.monitor, "recorded": self.recorded, "rederived": self.rederived,
+               "rule": self.rule, "law": self.law, "verdict": self.verdict, "why": self.why,
+               "penalty": self.penalty.to_json() if self.penalty else None, "liable": self.liable,
+               "liability": self.liability.to_json() if self.liability else None,
+               "margin": self.margin.to_json() if self.margin else None,
+               "control": self.control.to_json(), "findings": [f.to_json() for f in self.findings],
+               "evidence": _refs(self.evidence), "judged_on": self.judged_on,
+               "rulebook": self.rulebook.to_json() if self.rulebook else None,
+               "rulebooks": {stage: b.to_json() for stage, b in self.rulebooks.items()},
+               "scenarios": self.scenarios.to_json(), "proofs": self.proofs.to_json()}
+        if self.rulebook_problems:
+            out["rulebook_problems"] = list(self.rulebook_problems)
+        return out
+
+    def summary_json(self) -> dict[str, Any]:
+        """What `gaps incidents --json` prints: all but the scenarios and the proofs."""
+        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios")}
