@@ -75,7 +75,7 @@ def test_scene_before_the_run_start_is_empty_and_says_so(db):
     (("--run", RUN, "--at", "12.5"), "needs a unit"),
     (("--run", RUN, "--at", "2024-11-21T08:00:10"), "needs a zone"),
     (("--run", RUN, "--at", "tomorrow"), "cannot read the time 'tomorrow'"),
-    (("--run", "nope", "--at", "10s"), f"no run 'nope' in the store; runs: {RUN}"),
+    (("--run", "nope", "--at", "10s"), f"no run 'nope'; runs: {RUN}"),
     (("--run", RUN, "--at", "10s", "--vehicle", "999"), "vehicles present then: 173, 253"),
 ])
 def test_scene_errors_are_one_line_and_exit_2(db, args, says):
