@@ -11,12 +11,8 @@ from reasoner.bundled import RULES_DIR
 from reasoner.le.errors import LEError
 from sim_replay.paper import RUN, T0, paper_run
 from store import Store
+from tests.helpers.cli import gaps
 
-
-def gaps(*args, db):
-    result = CliRunner().invoke(app, [*args, "--db", str(db)], env={"COLUMNS": "200"})
-    assert "Traceback" not in result.output
-    return result
 
 
 @pytest.fixture(scope="module")
