@@ -9,7 +9,6 @@ from store import Store
 from tests.helpers.cli import gaps
 
 
-
 @pytest.fixture(scope="module")
 def db(tmp_path_factory):
     path = tmp_path_factory.mktemp("cli-explain") / "gaps.db"

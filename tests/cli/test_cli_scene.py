@@ -2,6 +2,7 @@
 one-line errors with exit code 2 for what names nothing, never a traceback."""
 import json
 import re
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -118,3 +119,15 @@ def test_incidents_with_a_missing_or_broken_rulebook(db, tmp_path):
                       "a vehicle flies if\n    the vehicle swims.\n", encoding="utf-8")
     result = CliRunner().invoke(app, ["incidents", "--run", RUN, "--rules", str(broken), "--db", str(db)])
     assert isinstance(result.exception, LEError)     # main() turns it into "rulebook error", exit 2
+
+
+@pytest.mark.parametrize("args, golden", [
+    (("--at", "40s"), "scene_40s.json"),
+    (("--at", "10s", "--vehicle", "173"), "scene_10s_vehicle_173.json"),
+])
+def test_scene_json_is_what_it_was_before_the_scene_became_a_dataclass(tmp_path, args, golden):
+    path = tmp_path / "gaps.db"
+    with Store(path) as store:
+        store.append(paper_run())
+    result = gaps("scene", "--run", RUN, *args, "--json", db=path)
+    assert result.stdout == (Path(__file__).parent / "golden" / golden).read_text(encoding="utf-8")
