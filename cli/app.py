@@ -36,6 +36,7 @@ class GapsGroup(TyperGroup):
 def new_app(help: str = HELP) -> typer.Typer:
     """An empty `gaps` app (or command group) with -h, shell completion and the error handling."""
     return typer.Typer(cls=GapsGroup, help=help, no_args_is_help=True, context_settings=CONTEXT,
+                       rich_markup_mode="markdown",
                        pretty_exceptions_enable=False)
 
 

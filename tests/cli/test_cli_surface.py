@@ -93,3 +93,8 @@ def test_rules_check_reads_stdin(tmp_path):
     text = (RULES_DIR / "paper.le").read_text(encoding="utf-8")
     result = gaps("rules", "check", "-", db=None, input=text)
     assert result.exit_code == 0 and result.stdout.startswith("stdin.le: ok (")
+
+
+def test_help_paragraphs_are_reflowed_not_broken_where_the_source_breaks():
+    wide = gaps("verify", "-h", db=None, columns=240).stdout
+    assert "a missing store or run. With --snapshots, also exit 1 if a state snapshot (the cache behind state" in wide
