@@ -66,7 +66,7 @@ def measure(store: Store, queries: int, seed: int) -> dict[str, Any]:
             out["whole"]["cpu"].append(cpu)
             out["vehicle"]["wall"].append(wall_v)
             out["vehicle"]["cpu"].append(cpu_v)
-            sizes.append(len(whole["vehicles"]))
+            sizes.append(len(whole.vehicles))
     return {**out, "vehicles_in_scene": statistics.median(sizes), "events": span["events"]}
 
 

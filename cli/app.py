@@ -1,36 +1,60 @@
-"""The `gaps` Typer app and what every command shares: --db, --json, errors, JSON output.
+"""The `gaps` Typer app: how every command reports a mistake, opens the store and prints JSON.
 
 Heavy imports (Zenoh, SWI-Prolog) happen inside the commands that need them, so `gaps --help`
-and the store-only commands start fast.
+and the store-only commands start fast. A command raises a `GapsError` (store/errors.py) for a
+user's mistake; `GapsGroup` turns it into one line on stderr and the error's exit code, so no
+command repeats that and no traceback reaches the user.
 """
 from __future__ import annotations
 
 import json
 import os
+import sqlite3
 from pathlib import Path
-from typing import Optional
+from typing import Any, NoReturn, Optional
 
 import typer
+from typer.core import TyperGroup
 
-app = typer.Typer(help="mind-the-gaps: forensic audit of traffic-rule compliance.",
-                  no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False)
+from store import GapsError, NoSuchRun, Store
 
-DbOption = typer.Option(None, "--db", help="SQLite event store (default: $GAPS_DB or ./gaps.db).")
-JsonOption = typer.Option(False, "--json", help="Print JSON instead of text.")
-RunOption = typer.Option(None, "--run", help="Run id (default: every run).")
+HELP = "mind-the-gaps: forensic audit of traffic-rule compliance."
+CONTEXT = {"help_option_names": ["-h", "--help"]}
+
+
+class GapsGroup(TyperGroup):
+    """The command group that reports a GapsError as `gaps: <message>` with its exit code."""
+
+    def invoke(self, ctx: typer.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except GapsError as exc:
+            typer.echo(f"gaps: {_what(exc)}{exc}", err=True)
+            raise typer.Exit(exc.exit_code) from None
+
+
+def _what(exc: GapsError) -> str:
+    """A rulebook's error is said to be one: its message starts with the rulebook's file:line."""
+    from reasoner.le.errors import LEError
+    return "rulebook error: " if isinstance(exc, LEError) else ""
+
+
+def new_app(help: str = HELP) -> typer.Typer:
+    """An empty `gaps` app (or command group) with -h, shell completion and the error handling."""
+    return typer.Typer(cls=GapsGroup, help=help, no_args_is_help=True, context_settings=CONTEXT,
+                       rich_markup_mode="markdown",
+                       pretty_exceptions_enable=False)
 
 
 def db_path(db: Optional[Path]) -> Path:
     return Path(db or os.environ.get("GAPS_DB") or "gaps.db")
 
 
-def open_existing(db: Optional[Path]):
+def open_existing(db: Optional[Path]) -> Store:
     """Open a store that must already exist: a read command never creates one by mistake."""
-    from store import Store
     path = db_path(db)
     if not path.is_file():
         fail(f"no event store at {path} (run `gaps demo` or pass --db)")
-    import sqlite3
     try:
         return Store(path)
     except sqlite3.Error as exc:  # not SQLite, locked, unreadable
@@ -39,12 +63,28 @@ def open_existing(db: Optional[Path]):
         fail(f"cannot open the event store {path}: {exc}")
 
 
-def fail(message: str, code: int = 2) -> None:
+def require_run(store: Store, run: Optional[str]) -> None:
+    """The one check of a --run value: NoSuchRun ("no run 'x'; runs: a, b", exit 2) for a run
+    the store does not hold; None (every run) passes."""
+    if run is None:
+        return
+    known = [r["run"] for r in store.runs()]
+    if run not in known:
+        raise NoSuchRun(run, known)
+
+
+def check_files(paths: Optional[list[Path]], what: str = "rulebook file") -> list[str]:
+    """The paths as strings, after checking each names a file (exit 2 naming the first that does not)."""
+    for path in paths or []:
+        if not path.is_file():
+            fail(f"no such {what}: {path}")
+    return [str(p) for p in paths or []]
+
+
+def fail(message: str, code: int = 2) -> NoReturn:
     typer.echo(f"gaps: {message}", err=True)
     raise typer.Exit(code)
 
 
-def print_json(data) -> None:
+def print_json(data: Any) -> None:
     typer.echo(json.dumps(data, indent=2, ensure_ascii=False, default=str))
-
-

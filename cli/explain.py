@@ -12,23 +12,24 @@ from typing import Optional
 
 import typer
 
-from cli.app import DbOption, JsonOption, app, fail, open_existing
+from cli.app import check_files, fail, open_existing, require_run
+from cli.options import DbOption, IncidentHelp, JsonOption, RulesOption, RunRequired
 
 
-@app.command("explain")
-def explain_command(incident: str = typer.Argument(..., help="Incident id (monitor/m1:3) or its number in "
-                                                              "`gaps incidents` order (1, 2, ...)."),
-                    run: str = typer.Option(..., "--run", help="Run id."),
-                    fmt: str = typer.Option("text", "--format", help="text, md, html (a full page) or json."),
-                    level: str = typer.Option("standard", "--level", help="summary, standard or full (every proof step)."),
-                    why_not: Optional[list[str]] = typer.Option(
-                        None, "--why-not", help="Also explain why this sentence does or does not hold on the "
-                                                "Validator Scenario, e.g. \"173 can enter the junction\" (repeatable)."),
-                    rules: Optional[list[Path]] = typer.Option(
-                        None, "--rules", help="Judge with this LE rulebook first (repeatable), as `gaps incidents`."),
-                    db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
-    """Why an incident's verdict is what it is: the verdict in one sentence, a plain summary, the
-    potential violation, the validation, penalty, liability, why-not, counterfactuals and evidence."""
+def explain(incident: str = typer.Argument(..., help=IncidentHelp),
+            run: str = RunRequired,
+            fmt: str = typer.Option("text", "--format", help="text, md, html (a full page) or json."),
+            level: str = typer.Option("standard", "--level", help="summary, standard or full (every proof step)."),
+            why_not: Optional[list[str]] = typer.Option(
+                None, "--why-not", help="Also explain why this sentence does or does not hold on the "
+                                        "Validator Scenario, e.g. \"173 can enter the junction\" (repeatable)."),
+            rules: Optional[list[Path]] = RulesOption,
+            db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
+    """Explain why an incident's verdict is what it is.
+
+    The verdict in one sentence, a plain summary, the potential violation, the validation, the
+    penalty and liability, why-not questions, counterfactuals and the evidence.
+    """
     from explain.layout import LEVELS
     from explain.render import FORMATS
     if json_out:
@@ -37,17 +38,14 @@ def explain_command(incident: str = typer.Argument(..., help="Incident id (monit
         fail(f"unknown format {fmt!r}; formats: {', '.join(FORMATS)}")
     if level not in LEVELS:
         fail(f"unknown level {level!r}; levels: {', '.join(LEVELS)}")
-    for path in rules or []:
-        if not path.is_file():
-            fail(f"no such rulebook file: {path}")
+    files = check_files(rules)
     from explain.explanation_doc import document
-    from explain.report import pick
     from explain.render import render
+    from explain.report import pick
     from reasoner.investigation import Investigation
     with open_existing(db) as store:
-        if run not in {r["run"] for r in store.runs()}:
-            fail(f"no run {run!r} in the store; runs: {', '.join(r['run'] for r in store.runs()) or 'none'}")
-        inv = Investigation(store, rules=[str(p) for p in rules or []])
+        require_run(store, run)
+        inv = Investigation(store, rules=files)
         found = inv.incidents(run)
         chosen = pick(found, incident)
         if chosen is None:
@@ -55,4 +53,3 @@ def explain_command(incident: str = typer.Argument(..., help="Incident id (monit
             fail(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
         doc = document(chosen, inv.explanation(chosen, why_not=why_not or []), store)
     typer.echo(render(doc, fmt, level), nl=False)
-

@@ -1,79 +1,88 @@
 """`gaps report --run R [--incident I] -o FILE [--pdf]`: a run's incidents as one self-contained
-report (HTML, Markdown or JSON, from the suffix of FILE), and a PDF beside it with --pdf.
+report (HTML, Markdown or JSON, from the suffix of FILE or --format), and a PDF beside it with --pdf.
 
 The report is explain/report.py's; the PDF is explain/pdf.py's. This module reads the options,
-shows progress on stderr and writes the files. Exit codes: 0 written; 2 for what names nothing
-(no store, run, incident or rulebook file, a suffix that is no format, a folder that is not
-there); 3 for --pdf without a headless Chromium (a missing tool, like a missing SWI-Prolog).
+shows progress on stderr and writes the files (`-o -`: the report to standard output). Exit codes:
+0 written; 2 for what names nothing (no store, run, incident or rulebook file, a suffix that is no
+format, a folder that is not there); 3 for --pdf without a headless Chromium (a missing tool,
+like a missing SWI-Prolog).
 """
 from __future__ import annotations
 
-import tempfile
 from pathlib import Path
 from typing import Optional
 
 import typer
 
-from cli.app import DbOption, app, fail, open_existing
+from cli.app import check_files, fail, open_existing, require_run
+from cli.options import DbOption, RulesOption, RunRequired, is_stdio
 from cli.progress import stderr_progress
 from cli.safe_text import printable
 
 
-@app.command("report")
-def report_command(run: str = typer.Option(..., "--run", help="Run id."),
-                   output: Path = typer.Option(..., "-o", "--output",
-                                               help="Report file: .html (self-contained page), .md or .json."),
-                   incident: Optional[str] = typer.Option(
-                       None, "--incident", help="Only this incident: its id (monitor/m1:3) or number (1, 2, ...)."),
-                   pdf: bool = typer.Option(False, "--pdf", help="Also print the report to FILE.pdf with a "
-                                                                 "headless Chromium."),
-                   rules: Optional[list[Path]] = typer.Option(
-                       None, "--rules", help="Judge with this LE rulebook first (repeatable), as `gaps incidents`."),
-                   db: Optional[Path] = DbOption) -> None:
-    """A report of a run's incidents for investigators, insurers and courts: the summary table, and
-    per incident the explanation, the scene, a speed and signal timeline, the evidence, the
-    rulebooks by sha256 and the hash chain verification."""
-    from explain.pdf import PdfError, ToolMissing, find_chromium, print_pdf
-    from explain.report import ReportError, build_report, format_for, render_report
+def report(run: str = RunRequired,
+           output: Path = typer.Option(..., "-o", "--output",
+                                       help="Report file: .html (self-contained page), .md or .json; - for stdout."),
+           fmt: Optional[str] = typer.Option(None, "--format",
+                                             help="html, md or json (default: from the suffix; html for -)."),
+           incident: Optional[str] = typer.Option(
+               None, "--incident", help="Only this incident: its id (monitor/m1:3) or number (1, 2, ...)."),
+           pdf: bool = typer.Option(False, "--pdf", help="Also print the report to FILE.pdf with a headless Chromium."),
+           rules: Optional[list[Path]] = RulesOption,
+           db: Optional[Path] = DbOption) -> None:
+    """Write a report of a run's incidents for investigators, insurers and courts.
+
+    The summary table, and per incident the explanation, the scene, a speed and signal timeline,
+    the evidence, the rulebooks by sha256 and the hash chain verification.
+    """
+    from explain.pdf import PdfError, ToolMissing, find_chromium
+    from explain.report import ReportError, build_report, print_report_pdf, render_report
+    to_stdout = is_stdio(output)
     try:
-        fmt = format_for(output)
+        fmt = _format(fmt, output, to_stdout)
     except ReportError as exc:
         fail(str(exc))
-    if not output.parent.is_dir():
+    if to_stdout and pdf:
+        fail("--pdf writes FILE.pdf beside the report: give -o FILE rather than -")
+    if not to_stdout and not output.parent.is_dir():
         fail(f"no such folder for the report: {output.parent}")
-    for path in rules or []:
-        if not path.is_file():
-            fail(f"no such rulebook file: {path}")
+    files = check_files(rules)
     chromium = find_chromium() if pdf else None
     if pdf and chromium is None:
         fail("--pdf needs a headless Chromium and none was found (on Debian: apt-get install chromium; "
              "or set GAPS_CHROMIUM)", code=3)
     with open_existing(db) as store, stderr_progress("explaining incidents") as progress:
+        require_run(store, run)
         try:
-            report = build_report(store, run, incident=incident, rules=[str(p) for p in rules or []],
-                                  progress=progress)
+            built = build_report(store, run, incident=incident, rules=files, progress=progress)
         except ReportError as exc:
             fail(str(exc))
-    text = render_report(report, fmt)
+    text = render_report(built, fmt)
+    if to_stdout:
+        typer.echo(text, nl=False)
+        return
     try:
         output.write_text(text, encoding="utf-8")
     except OSError as exc:
         fail(f"cannot write {output}: {exc.strerror or exc}")
-    n = len(report["incidents"])
+    n = len(built["incidents"])
     typer.echo(f"Wrote the report of run {printable(run)} ({n} incident{'s' if n != 1 else ''}, "
                f"{len(text.encode()):,} bytes) to {output}")
     if pdf:
         target = output.with_suffix(".pdf")
         try:
-            if fmt == "html":
-                print_pdf(output, target, chromium)
-            else:               # the PDF is always the HTML page printed
-                with tempfile.TemporaryDirectory(prefix="gaps-report-") as tmp:
-                    page = Path(tmp) / "report.html"
-                    page.write_text(render_report(report, "html"), encoding="utf-8")
-                    print_pdf(page, target, chromium)
-        except ToolMissing as exc:
-            fail(str(exc), code=3)
-        except PdfError as exc:
+            print_report_pdf(built, target, chromium, page=output if fmt == "html" else None)
+        except (ToolMissing, PdfError) as exc:
             fail(str(exc), code=3)
         typer.echo(f"Printed it to {target} ({target.stat().st_size:,} bytes)")
+
+
+def _format(given: Optional[str], output: Path, to_stdout: bool) -> str:
+    """The format asked for: --format, else the suffix of FILE, else HTML for standard output."""
+    from explain.report import FORMATS, format_for
+    known = set(FORMATS.values())
+    if given is not None:
+        if given not in known:
+            fail(f"unknown format {given!r}; formats: {', '.join(sorted(known))}")
+        return given
+    return "html" if to_stdout else format_for(output)

@@ -1,21 +1,33 @@
-"""`gaps rules check|query|prolog|verify FILE.le`: the LE tool chain on one document."""
+"""`gaps rules check|query|prolog|verify FILE.le`: the LE tool chain on one document.
+
+check, query and prolog read standard input for FILE `-` (its messages name it `stdin.le`).
+"""
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import List, Optional
 
 import typer
 
-from cli.app import JsonOption, app, fail, print_json
+from cli.app import fail, print_json
+from cli.options import JsonOption, is_stdio
 
-rules_app = typer.Typer(help="Logical English rulebooks: check, query, show the Prolog, verify.",
-                        no_args_is_help=True)
-app.add_typer(rules_app, name="rules")
+HELP = "Check, query, compile and verify Logical English rulebooks."
+FileArg = typer.Argument(..., help="An LE document (FILE.le); - for stdin.")
+STDIN_NAME = "stdin.le"
 
-FileArg = typer.Argument(..., help="An LE document (FILE.le).")
+
+def _name(path: Path) -> str:
+    return STDIN_NAME if is_stdio(path) else path.name
 
 
 def _read(path: Path) -> str:
+    if is_stdio(path):
+        try:
+            return sys.stdin.buffer.read().decode("utf-8")
+        except UnicodeDecodeError:
+            fail("standard input is not UTF-8 text")
     if not path.is_file():
         fail(f"no such file: {path}")
     try:
@@ -24,14 +36,13 @@ def _read(path: Path) -> str:
         fail(f"{path} is not UTF-8 text")
 
 
-@rules_app.command()
 def check(file: Path = FileArg, json_out: bool = JsonOption) -> None:
-    """Compile and load the document: its errors (exit 1) and warnings."""
+    """Compile and load the document, printing its errors (exit 1) and warnings."""
     from reasoner.engine import get_engine
     from reasoner.le.errors import LEError
     text = _read(file)
     try:
-        rb = get_engine().load(text, file.name)
+        rb = get_engine().load(text, _name(file))
     except LEError as exc:
         if json_out:
             print_json({"file": str(file), "ok": False, "errors": [exc.as_dict()], "warnings": []})
@@ -48,10 +59,9 @@ def check(file: Path = FileArg, json_out: bool = JsonOption) -> None:
     for w in doc.warnings:
         typer.echo(str(w))
     summary = ", ".join(f"{n} {k}" for k, n in counts.items())
-    typer.echo(f"{file.name}: ok ({summary}; {len(doc.warnings)} warnings)")
+    typer.echo(f"{_name(file)}: ok ({summary}; {len(doc.warnings)} warnings)")
 
 
-@rules_app.command()
 def query(file: Path = FileArg,
           query_: str = typer.Option(..., "--query", "-q",
                                      help="A query of the document by name, or a question in LE."),
@@ -60,12 +70,12 @@ def query(file: Path = FileArg,
           fact: List[str] = typer.Option([], "--fact", "-f", help="Extra scenario facts in LE (repeatable)."),
           explain: bool = typer.Option(False, "--explain", help="Add proof trees (or why there is no answer)."),
           json_out: bool = JsonOption) -> None:
-    """Answer a query on a scenario; each answer is an LE sentence, one per proof."""
+    """Answer a query on a scenario, one LE sentence per proof."""
     from explain.text import render_tree
     from reasoner.engine import QuestionError, enrich, get_engine
     from reasoner.le.document import parse_facts, parse_question
     engine = get_engine()
-    rb = engine.load(_read(file), file.name)
+    rb = engine.load(_read(file), _name(file))
     doc = rb.document
     if query_ in doc.queries or query_ in doc.unreadable_queries:
         body = rb.query(query_).body
@@ -99,20 +109,21 @@ def query(file: Path = FileArg,
             typer.echo("\n".join(render_tree(tree, rb, None, 1)))
 
 
-@rules_app.command()
 def prolog(file: Path = FileArg) -> None:
-    """The Prolog clauses the document compiles to, each after its LE source line."""
+    """Print the Prolog clauses the document compiles to, each after its LE source line."""
     from reasoner.engine import get_engine
     engine = get_engine()
-    rb = engine.load(_read(file), file.name)
+    rb = engine.load(_read(file), _name(file))
     typer.echo(engine.prolog_text(rb), nl=False)
 
 
-@rules_app.command()
-def verify(file: Path = FileArg,
+def verify(file: Path = typer.Argument(..., help="An LE document (FILE.le) or a folder of them."),
            tests: Optional[Path] = typer.Option(None, "--tests", help="Expectations (default FILE.le.tests)."),
            json_out: bool = JsonOption) -> None:
-    """Run the `expected(Query, Scenario, Answers).` lines of FILE.le.tests (a directory: every .le)."""
+    """Run the expectations of FILE.le.tests against the document (a directory: every .le in it).
+
+    Each `expected(Query, Scenario, Answers).` line of the tests file is one expectation.
+    """
     from reasoner.le.expectations import ExpectationError
     from reasoner.rules_verify import verify_file
     files = sorted(file.glob("*.le")) if file.is_dir() else [file]

@@ -1,6 +1,11 @@
-"""`gaps import FILE` and `gaps export --run R -o FILE`: JSONL and MCAP in and out of the store."""
+"""`gaps import FILE` and `gaps export --run R -o FILE`: JSONL and MCAP in and out of the store.
+
+FILE may be `-`: import reads standard input (with --format), export writes standard output
+(JSONL unless --format mcap) and its summary goes to stderr, so the pipe carries only events.
+"""
 from __future__ import annotations
 
+import json
 import sqlite3
 from contextlib import contextmanager
 from pathlib import Path
@@ -8,9 +13,12 @@ from typing import Callable, Iterator, Optional
 
 import typer
 
-from cli.app import DbOption, JsonOption, app, db_path, fail, open_existing, print_json
+from cli.app import db_path, fail, open_existing, print_json, require_run
+from cli.options import DbOption, JsonOption, RunRequired, is_stdio
+from cli.streams import stdin_file, stdout_file
 
 FormatOption = typer.Option(None, "--format", help="jsonl or mcap (default: from the file's extension).")
+STDIN_FORMAT = "reading standard input needs --format jsonl or --format mcap"
 SHOWN = 10            # rejections listed in text output; --json lists up to 100
 PROGRESS_BYTES = 8 << 20
 PROGRESS_EVENTS = 100_000
@@ -31,14 +39,30 @@ def _progress(label: str, total: int, worth_showing: bool) -> Iterator[Callable[
         yield lambda done: bar.update(task, completed=done)
 
 
-@app.command("import")
-def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap file of events."),
+def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap file of events; - for stdin."),
             db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
             fast: bool = typer.Option(False, "--fast", help=(
                 "Bulk import with synchronous=NORMAL instead of FULL: faster, but a power loss may lose "
                 "the last batches committed; repeat the import then (duplicates are ignored)."))) -> None:
-    """Import events from JSONL or MCAP into the store (created if missing). Bad events are
-    quarantined with their bytes and the reason; the rest is still imported (exit 0)."""
+    """Import events from JSONL or MCAP into the store, creating it if missing.
+
+    Bad events are quarantined with their bytes and the reason; the rest is still imported (exit 0).
+    """
+    if is_stdio(file):
+        if fmt is None:
+            fail(STDIN_FORMAT)
+        with stdin_file(f".{fmt.lower()}") as path:
+            report = _import(path, db, fmt, fast)
+        report["file"] = "-"
+    else:
+        report = _import(file, db, fmt, fast)
+    if json_out:
+        print_json(report)
+    else:
+        _print_import(report, db_path(db))
+
+
+def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool) -> dict:
     from store import Store
     from store.transfer import TransferError, check_source, import_file
     try:
@@ -46,15 +70,11 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
         with _progress(f"importing {path.name}", path.stat().st_size,
                        path.stat().st_size >= PROGRESS_BYTES) as progress:
             with Store(db_path(db), durable=not fast) as store:
-                report = import_file(store, path, fmt, progress)
+                return import_file(store, path, fmt, progress).as_dict()
     except TransferError as exc:
         fail(str(exc))
     except (OSError, sqlite3.Error) as exc:
         fail(f"cannot import {file} into {db_path(db)}: {exc}")
-    if json_out:
-        print_json(report.as_dict())
-    else:
-        _print_import(report.as_dict(), db_path(db))
 
 
 def _print_import(r: dict, db: Path) -> None:
@@ -112,9 +132,9 @@ def _chain_difference(c: dict) -> str:
             "(it held events of this run before, or refused some)")
 
 
-@app.command()
-def export(run: str = typer.Option(..., "--run", help="The run to export."),
-           output: Path = typer.Option(..., "-o", "--output", help="The file to write (.jsonl, .ndjson or .mcap)."),
+def export(run: str = RunRequired,
+           output: Path = typer.Option(..., "-o", "--output",
+                                       help="The file to write (.jsonl, .ndjson or .mcap); - for stdout."),
            db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
            order: Optional[str] = typer.Option(None, "--order", help=(
                "time: (t, seq, src), default for JSONL; chain: as appended, default for MCAP, so that a "
@@ -122,20 +142,36 @@ def export(run: str = typer.Option(..., "--run", help="The run to export."),
            no_scene: bool = typer.Option(False, "--no-scene", help=(
                "MCAP: leave out the Foxglove scene and log channels (a faster export, for moving "
                "events between stores rather than watching them)."))) -> None:
-    """Write a run to JSONL or MCAP (with Foxglove scene and log channels and the chain checkpoints)."""
+    """Write a run to JSONL or MCAP, with the chain checkpoints.
+
+    MCAP also carries Foxglove scene and log channels for watching the run.
+    """
+    if is_stdio(output):
+        fmt = fmt or "jsonl"
+        with stdout_file(f".{fmt.lower()}") as path:
+            report = _export(run, path, db, fmt, order, no_scene)
+        report["file"] = "-"
+    else:
+        report = _export(run, output, db, fmt, order, no_scene)
+    say = is_stdio(output)    # the summary goes to stderr when stdout carries the events
+    if json_out:
+        typer.echo(json.dumps(report, indent=2, ensure_ascii=False, default=str), err=say)
+        return
+    drawn = f" and {report['derived']} Foxglove scene/log messages" if report["format"] == "mcap" else ""
+    typer.echo(f"exported run {report['run']}: {report['events']} events{drawn} in {report['order']} order "
+               f"→ {report['file']} ({report['bytes']:,} bytes)", err=say)
+
+
+def _export(run: str, output: Path, db: Optional[Path], fmt: Optional[str], order: Optional[str],
+            no_scene: bool) -> dict:
     from store.transfer import TransferError, export_run, format_of
     try:
         format_of(output, fmt)  # before opening the store: a wrong extension is the commonest mistake
         with open_existing(db) as store:
+            require_run(store, run)
             with _progress(f"exporting {run}", store.count(run), store.count(run) >= PROGRESS_EVENTS) as progress:
-                report = export_run(store, run, output, fmt, order, progress, scene=not no_scene)
+                return export_run(store, run, output, fmt, order, progress, scene=not no_scene).as_dict()
     except TransferError as exc:
         fail(str(exc))
     except (OSError, sqlite3.Error) as exc:
         fail(f"cannot export run {run} to {output}: {exc}")
-    if json_out:
-        print_json(report.as_dict())
-        return
-    drawn = f" and {report.derived} Foxglove scene/log messages" if report.format == "mcap" else ""
-    typer.echo(f"exported run {report.run}: {report.events} events{drawn} in {report.order} order "
-               f"→ {report.file} ({report.bytes:,} bytes)")

@@ -14,6 +14,7 @@ renderer that writes it.
 from __future__ import annotations
 
 import json
+import tempfile
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable, Iterable
@@ -164,3 +165,16 @@ def _version(store: Store, sha: str) -> str | None:
     except ValueError:          # the stored text no longer hashes to its address
         return "stored text does not match its sha256"
     return stored.get("version") if stored else None
+
+
+def print_report_pdf(report: dict[str, Any], target: Path, chromium: str, page: Path | None = None) -> Path:
+    """The report printed to `target` (PDF) by headless Chromium: always its HTML page, `page`
+    where that is already written, else a temporary one. ToolMissing or PdfError (explain/pdf.py)
+    when Chromium cannot print it."""
+    from .pdf import print_pdf
+    if page is not None:
+        return print_pdf(page, target, chromium)
+    with tempfile.TemporaryDirectory(prefix="gaps-report-") as tmp:
+        html = Path(tmp) / "report.html"
+        html.write_text(render_report(report, "html"), encoding="utf-8")
+        return print_pdf(html, target, chromium)

@@ -73,7 +73,7 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | 
     the_map = the_map if the_map is not None else run_map(run_start_body(store, run))
     sc = scene(store, run, t, judge=False)
     vehicles = []
-    for v in sc["vehicles"]:
+    for v in sc.vehicles:
         at = v["state"] or {}
         x, y = number(at.get("x")), number(at.get("y"))
         vehicles.append({"id": v["vehicle"], "type": v["type"], "x": x, "y": y,
@@ -83,19 +83,19 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | 
     users = [{"id": u["src"], "type": u["type"], "x": number((u["state"] or {}).get("x")),
               "y": number((u["state"] or {}).get("y")), "heading_deg": number((u["state"] or {}).get("heading_deg")),
               "evidence": (u["state"] or {}).get("evidence"), **presence_at((u["state"] or {}).get("evidence"), t)}
-             for u in sc["road_users"]]
+             for u in sc.road_users]
     monitors = []
-    for m in sc["monitors"]:
+    for m in sc.monitors:
         entry = m["map"] or {}
         monitors.append({"id": m["monitor"], "junction": entry.get("junction"), "x": number(entry.get("x")),
                          "y": number(entry.get("y")), "heading_deg": number(entry.get("heading_deg")),
                          "fov_deg": number(entry.get("fov_deg")), "range_m": number(entry.get("range_m")),
                          "observed": m["observed"], "watching": vehicle in m["observed"]})
     signals = [{"junction": s["junction"], "approach": s["approach"], "colour": s["colour"],
-                "since_t": s["since"]["t"], "evidence": s["evidence"]} for s in sc["signals"]]
-    return {"t": t, "offset": sc["offset"], "vehicle": vehicle, "roads": the_map["roads"],
+                "since_t": s["since"]["t"], "evidence": s["evidence"]} for s in sc.signals]
+    return {"t": t, "offset": sc.offset, "vehicle": vehicle, "roads": the_map["roads"],
             "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
-            "vehicles": vehicles, "road_users": users, "note": sc["note"]}
+            "vehicles": vehicles, "road_users": users, "note": sc.note}
 
 
 def vehicle_junction(picture: dict[str, Any]) -> str | None:

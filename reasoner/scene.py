@@ -12,7 +12,7 @@ runs of millions of events) and the reasoner's readings of that state (DESIGN "R
 
 Nothing here asks Prolog unless asked to judge (`judge=True`, the default when one vehicle is
 asked for): then the validator rulebook says whether the goal of the Vehicle Action holds on the
-Validator Scenario ("lawful"). The scene is plain JSON data; every fact carries the event ref
+Validator Scenario ("lawful"). The scene is a `Scene` of plain JSON data; every fact carries the event ref
 {run, src, seq, t, kind} it came from.
 
 Decisions: a time before the run start is allowed and gives an empty scene with a note saying so
@@ -24,6 +24,7 @@ present at t is an UnknownVehicle error naming the vehicles that are.
 """
 from __future__ import annotations
 
+from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
 from store import Store, queries
@@ -66,8 +67,34 @@ def run_start(store: Store, run: str) -> int:
     return min(recorded) if recorded else first[0]
 
 
+@dataclass(frozen=True)
+class Scene:
+    """The scene of a run at one moment; the parts are JSON data, each fact with its event ref."""
+
+    run: str
+    t: int
+    t_iso: str
+    run_start: int
+    run_start_iso: str
+    offset_ns: int
+    offset: str
+    events: int                       # events of the run up to t
+    last: dict[str, Any] | None       # the last of them: {src, seq, t}
+    note: str | None                  # before the run, after its end, nothing recorded yet
+    rulebooks: list[dict[str, Any]]   # as the run.start recorded them
+    started: dict[str, Any] | None    # event refs of run.start and run.end
+    ended: dict[str, Any] | None
+    signals: list[dict[str, Any]]
+    monitors: list[dict[str, Any]]
+    vehicles: list[dict[str, Any]]
+    road_users: list[dict[str, Any]]
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+
 def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: bool | None = None,
-          investigation: Investigation | None = None) -> dict[str, Any]:
+          investigation: Investigation | None = None) -> Scene:
     """The scene of `run` at t (ns). `vehicle`: only that vehicle (UnknownVehicle if it is not
     present at t). `judge` (default: whether a vehicle was asked for): also ask the validator
     rulebook whether each Vehicle Action's goal is lawful, with `investigation`'s rulebooks
@@ -82,25 +109,25 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
     if judge if judge is not None else vehicle is not None:
         _judge(investigation, store, run, vehicles)
     start_piece = state["start"]
-    return {
-        "run": run,
-        "t": t,
-        "t_iso": format_time(t),
-        "run_start": start,
-        "run_start_iso": format_time(start),
-        "offset_ns": t - start,
-        "offset": format_offset(t - start),
-        "events": state["events"],
-        "last": state["last"],
-        "note": _note(state, start, t),
-        "rulebooks": _rulebooks(start_piece),
-        "started": ref(start_piece, run, "run.start") if start_piece else None,
-        "ended": ref(state["end"], run, "run.end") if state["end"] else None,
-        "signals": _signals(state),
-        "monitors": _monitors(state),
-        "vehicles": vehicles,
-        "road_users": _road_users(state),
-    }
+    return Scene(
+        run=run,
+        t=t,
+        t_iso=format_time(t),
+        run_start=start,
+        run_start_iso=format_time(start),
+        offset_ns=t - start,
+        offset=format_offset(t - start),
+        events=state["events"],
+        last=state["last"],
+        note=_note(state, start, t),
+        rulebooks=_rulebooks(start_piece),
+        started=ref(start_piece, run, "run.start") if start_piece else None,
+        ended=ref(state["end"], run, "run.end") if state["end"] else None,
+        signals=_signals(state),
+        monitors=_monitors(state),
+        vehicles=vehicles,
+        road_users=_road_users(state),
+    )
 
 
 # --- who is there -----------------------------------------------------------------------------

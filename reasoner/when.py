@@ -144,6 +144,29 @@ def format_offset(ns: int) -> str:
     return f"{sign}{whole}{'.' + digits if digits else ''}s"
 
 
+def format_time_short(t_ns: int) -> str:
+    """ISO 8601 in UTC with no trailing zeros (2024-11-21T10:15:00.35Z, 2024-11-21T10:15:00Z):
+    the shortest exact form, for tables; parse_time reads it back exactly."""
+    full = format_time(t_ns)
+    if not full.endswith("Z"):
+        return full
+    return full[:-1].rstrip("0").rstrip(".") + "Z"
+
+
+def format_duration(ns: int) -> str:
+    """12.35 s, or 1:02:03.5 (hours:minutes:seconds) from a minute on; to the millisecond."""
+    ms = ns // 1_000_000
+    if ms < 60_000:
+        return _trim(f"{ms // 1000}.{ms % 1000:03d}") + " s"
+    minutes, ms = divmod(ms, 60_000)
+    hours, minutes = divmod(minutes, 60)
+    return _trim(f"{hours}:{minutes:02d}:{ms // 1000:02d}.{ms % 1000:03d}")
+
+
+def _trim(number: str) -> str:
+    return number.rstrip("0").rstrip(".")
+
+
 def _relative_ns(text: str, match: re.Match) -> int:
     sign, hours, minutes, seconds, fraction = match.groups()
     if hours is None and minutes is None and seconds is None:

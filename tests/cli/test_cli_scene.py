@@ -2,21 +2,15 @@
 one-line errors with exit code 2 for what names nothing, never a traceback."""
 import json
 import re
+from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from cli.main import app
 from reasoner.bundled import RULES_DIR
-from reasoner.le.errors import LEError
 from sim_replay.paper import RUN, T0, paper_run
 from store import Store
+from tests.helpers.cli import gaps
 
-
-def gaps(*args, db):
-    result = CliRunner().invoke(app, [*args, "--db", str(db)], env={"COLUMNS": "200"})
-    assert "Traceback" not in result.output
-    return result
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +69,7 @@ def test_scene_before_the_run_start_is_empty_and_says_so(db):
     (("--run", RUN, "--at", "12.5"), "needs a unit"),
     (("--run", RUN, "--at", "2024-11-21T08:00:10"), "needs a zone"),
     (("--run", RUN, "--at", "tomorrow"), "cannot read the time 'tomorrow'"),
-    (("--run", "nope", "--at", "10s"), f"no run 'nope' in the store; runs: {RUN}"),
+    (("--run", "nope", "--at", "10s"), f"no run 'nope'; runs: {RUN}"),
     (("--run", RUN, "--at", "10s", "--vehicle", "999"), "vehicles present then: 173, 253"),
 ])
 def test_scene_errors_are_one_line_and_exit_2(db, args, says):
@@ -120,5 +114,17 @@ def test_incidents_with_a_missing_or_broken_rulebook(db, tmp_path):
     broken = tmp_path / "broken.le"
     broken.write_text("the templates are:\n*a vehicle* flies.\n\nthe knowledge base b includes:\n"
                       "a vehicle flies if\n    the vehicle swims.\n", encoding="utf-8")
-    result = CliRunner().invoke(app, ["incidents", "--run", RUN, "--rules", str(broken), "--db", str(db)])
-    assert isinstance(result.exception, LEError)     # main() turns it into "rulebook error", exit 2
+    result = gaps("incidents", "--run", RUN, "--rules", str(broken), db=db)
+    assert result.exit_code == 2 and result.stderr.startswith(f"gaps: rulebook error: {broken}:")
+
+
+@pytest.mark.parametrize("args, golden", [
+    (("--at", "40s"), "scene_40s.json"),
+    (("--at", "10s", "--vehicle", "173"), "scene_10s_vehicle_173.json"),
+])
+def test_scene_json_is_what_it_was_before_the_scene_became_a_dataclass(tmp_path, args, golden):
+    path = tmp_path / "gaps.db"
+    with Store(path) as store:
+        store.append(paper_run())
+    result = gaps("scene", "--run", RUN, *args, "--json", db=path)
+    assert result.stdout == (Path(__file__).parent / "golden" / golden).read_text(encoding="utf-8")

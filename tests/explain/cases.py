@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
-from runs import ENTER, RUN, SPEEDING, RunBuilder, car
+from tests.helpers.verdict_runs import ENTER, RUN, SPEEDING, RunBuilder, car
 
 from explain.explanation_doc import document
 from reasoner.investigation import Investigation

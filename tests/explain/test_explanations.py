@@ -44,7 +44,7 @@ HOSTILE = "<script>alert(1)</script> & *bold* [x](javascript:1) | \x1b[31m"
 
 def hostile_doc(tmp_path):
     """Car 173's run with a hostile sentence in its perception and in the monitor's observation."""
-    from runs import RUN as VP_RUN, RunBuilder
+    from tests.helpers.verdict_runs import RUN as VP_RUN, RunBuilder
     run = RunBuilder()
     run.spawn("173", "car")
     run.lights(10, "red")

@@ -18,7 +18,7 @@ import pytest
 from sim_replay.paper import paper_run
 from store import Store
 
-from runs import RUN, RunBuilder, car
+from tests.helpers.verdict_runs import RUN, RunBuilder, car
 from test_verdict_paths import mixed_run, paper_scenarios
 
 GOLDEN = Path(__file__).with_name("golden")

@@ -1,7 +1,7 @@
 """Who answers for a punishable violation, from the ads.event history (liability.le, control.py)."""
 from __future__ import annotations
 
-from runs import RunBuilder, incidents
+from tests.helpers.verdict_runs import RunBuilder, incidents
 
 ASDE = "authorised self-driving entity"
 

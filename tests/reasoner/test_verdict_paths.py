@@ -1,4 +1,4 @@
-"""End to end, one test per verdict path: a small recorded run (tests/reasoner/runs.py) goes into a
+"""End to end, one test per verdict path: a small recorded run (tests/helpers/verdict_runs.py) goes into a
 store, `Investigation(store).incidents(run)` judges it, and each test checks the verdict, the rule,
 the penalty, who is liable and the findings that must, and must not, be there (the output contract
 of DESIGN "Command line", `gaps incidents --json`, and issue 6)."""
@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from reasoner.bundled import bundled
 from store import Store
 
-from runs import ENTER, RUN, SPEEDING, RunBuilder, car, incidents, ns
+from tests.helpers.verdict_runs import ENTER, RUN, SPEEDING, RunBuilder, car, incidents, ns
 
 VERDICTS = {"punishable", "mitigated", "dismissed"}
 LIABLE = {"driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator", "none"}

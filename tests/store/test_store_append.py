@@ -5,7 +5,7 @@ import json
 import sqlite3
 
 import pytest
-from store_testkit import event, rows
+from tests.helpers.store_testkit import event, rows
 
 from store import AppendReport, Store, canonical_json
 

@@ -3,7 +3,7 @@
 import sqlite3
 
 import pytest
-from store_testkit import event, rows
+from tests.helpers.store_testkit import event, rows
 
 from store import Store
 

@@ -4,7 +4,7 @@ DESIGN allows for the kind; refusals name the event, the kind, the failing path 
 import json
 
 import pytest
-from store_testkit import BODIES, event
+from tests.helpers.store_testkit import BODIES, event
 
 from store import EventError, validate_event
 from store.body_check import validator

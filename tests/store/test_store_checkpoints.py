@@ -2,7 +2,7 @@
 with the count, the chain head, the Merkle root and frontier, and the previous checkpoint's count."""
 
 import pytest
-from store_testkit import event, rows
+from tests.helpers.store_testkit import event, rows
 
 from store import Store, merkle
 from store.heads import Heads

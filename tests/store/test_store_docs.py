@@ -3,7 +3,7 @@
 import re
 from pathlib import Path
 
-from store_testkit import event
+from tests.helpers.store_testkit import event
 
 from store import canonical_json
 

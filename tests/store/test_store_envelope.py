@@ -3,7 +3,7 @@
 import json
 
 import pytest
-from store_testkit import BODIES, event
+from tests.helpers.store_testkit import BODIES, event
 from hypothesis import given, settings, strategies as st
 
 from store import KINDS, MAX_EVENT_BYTES, EventError, key_for, parse_event, validate_event

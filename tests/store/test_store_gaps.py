@@ -1,6 +1,6 @@
 """Sequence gaps per (run, src), computed from the seqs stored."""
 
-from store_testkit import event
+from tests.helpers.store_testkit import event
 
 
 def test_no_gaps(store):

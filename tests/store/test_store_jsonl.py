@@ -17,7 +17,7 @@ from store import MAX_EVENT_BYTES, EventError, Store, canonical_json, decode_eve
 from store.transfer import TransferError, export_run, import_file
 from store.transfer.feed import BATCH
 from store.transfer.jsonl import KEEP_BYTES, read_lines
-from store_testkit import event
+from tests.helpers.store_testkit import event
 
 
 def write_lines(path: Path, lines: list[bytes], newline: bytes = b"\n") -> Path:

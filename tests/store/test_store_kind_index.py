@@ -6,7 +6,7 @@ import random
 from store import Store
 from store.ddl import DENSE_KINDS
 from store.queries import select_events
-from store_testkit import BODIES, SOURCES, T0
+from tests.helpers.store_testkit import BODIES, SOURCES, T0
 
 KINDS = sorted(BODIES)
 

@@ -14,7 +14,7 @@ from mcap.reader import make_reader
 from store import Store, canonical_json, key_for
 from store.transfer import TransferError, export_run
 from store.transfer.foxglove import ENTITIES_TOPIC, LOG_TOPIC, MAP_TOPIC, SIGNALS_TOPIC, SceneBuilder
-from store_testkit import event
+from tests.helpers.store_testkit import event
 
 RUN = "junction-7"
 T0 = 1_732_184_100_000_000_000

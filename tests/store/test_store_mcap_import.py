@@ -17,7 +17,7 @@ from mcap.writer import Writer
 from store import Store, canonical_json, key_for
 from store.transfer import TransferError, export_run, import_file
 from store.transfer.mcap_out import export_mcap
-from store_testkit import event
+from tests.helpers.store_testkit import event
 
 T0 = 1_732_184_100_000_000_000
 

@@ -5,7 +5,7 @@ import hashlib
 import sqlite3
 
 import pytest
-from store_testkit import event, rows, tamper
+from tests.helpers.store_testkit import event, rows, tamper
 
 from store import Store, canonical_json, merkle
 from store.ddl import MIGRATIONS

@@ -4,7 +4,7 @@ import random
 import types
 
 import pytest
-from store_testkit import T0, event
+from tests.helpers.store_testkit import T0, event
 
 
 @pytest.fixture

@@ -3,7 +3,7 @@
 import hashlib
 
 import pytest
-from store_testkit import rows, tamper
+from tests.helpers.store_testkit import rows, tamper
 
 from store import Store
 

@@ -4,7 +4,7 @@ import json
 import random
 
 import pytest
-from store_testkit import T0, event
+from tests.helpers.store_testkit import T0, event
 
 from store.state import ads_status, empty_state, fold_rows, state_at
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from store_testkit import T0, event
+from tests.helpers.store_testkit import T0, event
 
 from store import Store, snapshots, state
 from store.state import build_snapshots, state_at

@@ -8,7 +8,7 @@ from store import Store
 from store import timeline as timeline_module
 from store.state import OBSERVATION_WINDOW_S, build_snapshots, state_at
 from store.timeline import Timeline
-from store_testkit import T0
+from tests.helpers.store_testkit import T0
 
 S = 1_000_000_000
 

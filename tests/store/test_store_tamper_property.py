@@ -12,7 +12,7 @@ import tempfile
 from pathlib import Path
 
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
-from store_testkit import T0, event, rows, tamper
+from tests.helpers.store_testkit import T0, event, rows, tamper
 
 from store import Store, canonical_json
 

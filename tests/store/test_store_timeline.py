@@ -7,7 +7,7 @@ from store import Store
 from store import timeline as timeline_module
 from store.state import state_at
 from store.timeline import Timeline
-from store_testkit import T0
+from tests.helpers.store_testkit import T0
 from test_store_kind_index import mixed_events
 
 

@@ -8,7 +8,7 @@ import hashlib
 import json
 
 import pytest
-from store_testkit import event, rows, tamper
+from tests.helpers.store_testkit import event, rows, tamper
 
 from store import Store, VerifyReport
 

@@ -3,17 +3,10 @@ one-line errors with exit code 2 for what names nothing."""
 import json
 
 import pytest
-from typer.testing import CliRunner
 
-from cli.main import app
 from sim_replay.paper import RUN, paper_run
 from store import Store
-
-
-def gaps(*args, db):
-    result = CliRunner().invoke(app, [*args, "--db", str(db)], env={"COLUMNS": "200"})
-    assert "Traceback" not in result.output
-    return result
+from tests.helpers.cli import gaps
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from cli.main import app
 from store import Store
-from store_testkit import event
+from tests.helpers.store_testkit import event
 
 runner = CliRunner()
 

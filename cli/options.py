@@ -1,0 +1,18 @@
+"""The options and arguments several commands share, declared once so they read alike everywhere."""
+from __future__ import annotations
+
+import typer
+
+DbOption = typer.Option(None, "--db", help="SQLite event store (default: $GAPS_DB or ./gaps.db).")
+JsonOption = typer.Option(False, "--json", help="Print JSON instead of text.")
+RunOption = typer.Option(None, "--run", help="Run id (default: every run).")
+RunRequired = typer.Option(..., "--run", help="Run id.")
+RulesOption = typer.Option(None, "--rules", help="Judge with this LE rulebook first (repeatable).")
+IncidentHelp = "Incident id (monitor/m1:3) or its number in `gaps incidents` order (1, 2, ...)."
+
+STDIO = "-"
+
+
+def is_stdio(path: object) -> bool:
+    """Whether a file argument is `-`: standard input or output rather than a file."""
+    return str(path) == STDIO

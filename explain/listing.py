@@ -1,0 +1,54 @@
+"""Incidents as a list to scan: one line each, and the full explanations on request.
+
+`gaps incidents` prints one line per incident so that an investigator sees a whole run at a
+glance and then asks `gaps explain` about the one that matters. Lines are drawn from the typed
+`Incident` (reasoner.model), so a renamed field fails here rather than printing a blank.
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Iterable, Iterator
+
+from reasoner.model import Finding, Incident, Margin, Penalty
+from reasoner.when import format_time
+
+if TYPE_CHECKING:
+    from reasoner.api import Case
+
+
+def incident_line(inc: Incident, number: int | None = None) -> str:
+    """One incident in one line: number, time, id, vehicle, action, rule, verdict, penalty,
+    who is liable, the margin where the incident has one, and its findings."""
+    fields = [format_time(inc.t), inc.id, f"vehicle {inc.vehicle}", inc.action, str(inc.rule),
+              inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
+    if inc.margin is not None:
+        fields.append(f"margin {_margin(inc.margin)}")
+    fields.append(_findings(inc.findings))
+    line = "  ".join(fields)
+    return f"{number:>3}  {line}" if number is not None else line
+
+
+def explanations(case: Case, incidents: Iterable[tuple[int, Incident]]) -> Iterator[str]:
+    """The full text explanation of each numbered incident under a heading; the case verifies
+    each run's chain once for all its incidents."""
+    from .text import explain_incident
+    for n, inc in incidents:
+        yield f"── incident {n}: {inc.run} {inc.id} ──\n" + explain_incident(case.investigation, inc) + "\n"
+
+
+def _penalty(p: Penalty | None) -> str:
+    if p is None:
+        return "no penalty"
+    parts = [f"£{p.fine_gbp}" if p.fine_gbp is not None else None,
+             f"{p.points} points" if p.points else None]
+    return " + ".join(part for part in parts if part) or p.offence
+
+
+def _margin(m: Margin) -> str:
+    return f"{m.quantity} {m.value:g} {m.unit}"
+
+
+def _findings(findings: tuple[Finding, ...]) -> str:
+    if not findings:
+        return "no findings"
+    names = ", ".join(f.kind for f in findings)
+    return f"{len(findings)} finding{'s' if len(findings) != 1 else ''}: {names}"

@@ -1,0 +1,134 @@
+"""The one entry point for scripting an investigation: open a store, ask what happened.
+
+    import reasoner
+    with reasoner.open("gaps.db") as case:
+        for inc in case.incidents("paper-junctions", verdict="punishable"):
+            print(inc.vehicle, inc.rule, inc.penalty.fine_gbp, inc.liable)
+
+A `Case` is what an investigator has on the desk: one store, opened read-only so that nothing a
+script does can change the evidence, and one `Investigation` over it so that rulebooks, parsed
+facts and chain checks are loaded once and shared by every question. Its answers are the typed
+values of `reasoner.model` (Incident, Explanation, Scene); `explain` renders them. The command
+line is a thin shell over the same calls.
+"""
+from __future__ import annotations
+
+import os
+from typing import Callable, Iterable
+
+from store import GapsError, NoSuchRun, Store, VerifyReport
+
+from .explanation import Explanation
+from .investigation import Investigation
+from .model import Incident
+from .scene import Scene, run_start, scene
+from .when import parse_time
+
+Progress = Callable[[int, int], None]
+VERDICTS = ("punishable", "mitigated", "dismissed")
+
+
+class NoSuchIncident(GapsError, LookupError):
+    """An incident id or number the run does not have; the message lists the ones it has."""
+
+    def __init__(self, run: str, wanted: str, found: list[Incident]) -> None:
+        ids = ", ".join(f"{n}={inc.id}" for n, inc in enumerate(found, 1)) or "none"
+        super().__init__(f"no incident {wanted!r} in run {run!r}; incidents: {ids}")
+
+
+class Case:
+    """One store under investigation, read-only; use as a context manager or call `close()`."""
+
+    def __init__(self, store: Store, rules: Iterable[str | os.PathLike] = ()) -> None:
+        self.store = store
+        self.investigation = Investigation(store, rules=[os.fspath(r) for r in rules])
+        self._incidents: dict[str, list[Incident]] = {}
+
+    def __enter__(self) -> Case:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.store.close()
+
+    # -- what the store holds ------------------------------------------------------------
+    def runs(self) -> list[str]:
+        """The run ids of the store, by name."""
+        return [r["run"] for r in self.store.runs()]
+
+    def require(self, run: str) -> None:
+        """NoSuchRun ("no run 'x'; runs: a, b") unless the store holds `run`."""
+        known = self.runs()
+        if run not in known:
+            raise NoSuchRun(run, known)
+
+    def verify(self, run: str | None = None, progress: Progress | None = None) -> VerifyReport:
+        """The hash chains (and checkpoints, signatures, rulebook addresses) recomputed."""
+        if run is not None:
+            self.require(run)
+        return self.store.verify(run, progress)
+
+    # -- what happened -------------------------------------------------------------------
+    def incidents(self, run: str | None = None, *, verdict: str | None = None, vehicle: str | None = None,
+                  rule: str | None = None, progress: Progress | None = None) -> list[Incident]:
+        """Every potential violation of `run` (default: of every run), judged, in time order;
+        filtered by verdict, vehicle and rule (rules compare without case: "hc 176")."""
+        if verdict is not None and verdict not in VERDICTS:
+            raise GapsError(f"unknown verdict {verdict!r}; verdicts: {', '.join(VERDICTS)}")
+        if run is not None:
+            self.require(run)
+        runs = [run] if run is not None else self.runs()
+        found = [inc for r in runs for inc in self._judged(r, progress)]
+        return [inc for inc in found if _matches(inc, verdict, vehicle, rule)]
+
+    def incident(self, run: str, wanted: str | int) -> Incident:
+        """One incident of the run by id ("monitor/m1:3") or 1-based number in time order."""
+        self.require(run)
+        found = self._judged(run, None)
+        text = str(wanted)
+        for inc in found:
+            if inc.id == text:
+                return inc
+        if text.isdigit() and 1 <= int(text) <= len(found):
+            return found[int(text) - 1]
+        raise NoSuchIncident(run, text, found)
+
+    def number(self, incident: Incident) -> int:
+        """The incident's 1-based number in its run's time order: what `gaps explain --run R N`
+        and `case.incident(run, N)` take."""
+        for n, inc in enumerate(self._judged(incident.run, None), 1):
+            if inc.id == incident.id:
+                return n
+        raise NoSuchIncident(incident.run, incident.id, self._judged(incident.run, None))
+
+    def explanation(self, incident: Incident, *, why_not: Iterable[str] = (),
+                    counterfactuals: bool = True) -> Explanation:
+        """What explaining the incident needs beyond its verdict: lawful actions, why-not answers
+        on the Validator Scenario, counterfactuals and the chain's status."""
+        return self.investigation.explanation(incident, why_not=why_not, counterfactuals=counterfactuals)
+
+    def scene(self, run: str, at: int | str, vehicle: str | None = None, judge: bool | None = None) -> Scene:
+        """The scene of the run at `at`: nanoseconds, seconds from the run start ("12.5s") or
+        ISO 8601 with a zone. `vehicle` narrows it to one and asks whether its goal was lawful."""
+        self.require(run)
+        t = at if isinstance(at, int) else parse_time(at, run_start(self.store, run))
+        return scene(self.store, run, t, vehicle=vehicle, judge=judge, investigation=self.investigation)
+
+    def _judged(self, run: str, progress: Progress | None) -> list[Incident]:
+        if run not in self._incidents:
+            self._incidents[run] = self.investigation.incidents(run, progress)
+        return self._incidents[run]
+
+
+def open(path: str | os.PathLike, *, rules: Iterable[str | os.PathLike] = ()) -> Case:  # noqa: A001
+    """Open the store at `path` read-only for investigation; `rules` are LE rulebooks judged
+    with first (a stage they do not define keeps the run's own or the current rulebook)."""
+    return Case(Store(path), rules)
+
+
+def _matches(inc: Incident, verdict: str | None, vehicle: str | None, rule: str | None) -> bool:
+    return ((verdict is None or inc.verdict == verdict)
+            and (vehicle is None or inc.vehicle == vehicle)
+            and (rule is None or str(inc.rule).casefold() == rule.casefold()))

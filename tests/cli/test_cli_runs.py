@@ -1,0 +1,64 @@
+"""`gaps runs`: a table for people, --json for programs, the seqs missing, the chain status."""
+import json
+
+from store import Store
+from tests.helpers.cli import gaps
+from tests.helpers.store_testkit import T0, event, tamper
+
+
+def test_runs_json(db):
+    result = gaps("runs", "--json", db=db)
+    assert result.exit_code == 0
+    r1, r2 = json.loads(result.stdout)
+    assert r1 == {"run": "r1", "events": 8, "sources": ["sim/world", "vehicle/173"],
+                  "first_t": T0, "last_t": T0 + 3_723_500_000_000, "start": "2024-11-21T10:15:00Z",
+                  "end": "2024-11-21T11:17:03.5Z", "duration_ns": 3_723_500_000_000, "chain": "verified"}
+    assert (r2["run"], r2["events"], r2["chain"]) == ("r2", 1, "verified")
+
+
+def test_runs_table(db):
+    result = gaps("runs", db=db)
+    assert result.exit_code == 0
+    lines = result.stdout.splitlines()
+    header = next(line for line in lines if "run" in line and "chain" in line)
+    for column in ("events", "sources", "start (UTC)", "end (UTC)", "duration"):
+        assert column in header
+    r1 = next(line for line in lines if "│ r1 " in line)
+    for cell in ("8", "2024-11-21T10:15:00Z", "2024-11-21T11:17:03.5Z", "1:02:03.5", "verified"):
+        assert cell in r1
+
+
+def test_runs_with_gaps(db):
+    result = gaps("runs", "--gaps", "--json", db=db)
+    listed = json.loads(result.stdout)
+    assert [r["run"] for r in listed["runs"]] == ["r1", "r2"]
+    assert listed["gaps"] == [{"run": "r1", "src": "vehicle/173", "missing": [[3, 4], [7, 8]], "highest": 9}]
+    text = gaps("runs", "--gaps", db=db).stdout
+    assert "3-4, 7-8" in text and "missing seqs" in text
+
+
+def test_runs_without_gaps_says_so(tmp_path):
+    path = tmp_path / "gaps.db"
+    with Store(path) as store:
+        store.append([event(0)])
+    assert "No gaps" in gaps("runs", "--gaps", db=path).stdout
+
+
+def test_runs_shows_a_broken_chain(db):
+    tamper(db, ("UPDATE events SET t = t + 1 WHERE run = 'r2'", ()))
+    result = gaps("runs", "--json", db=db)
+    assert result.exit_code == 0  # a listing, not a check: `gaps verify` is the one that fails
+    assert {r["run"]: r["chain"] for r in json.loads(result.stdout)} == {"r1": "verified", "r2": "broken"}
+
+
+def test_runs_without_verifying(db):
+    result = gaps("runs", "--no-verify", "--json", db=db)
+    assert {r["chain"] for r in json.loads(result.stdout)} == {"not checked"}
+
+
+def test_an_empty_store(tmp_path):
+    path = tmp_path / "gaps.db"
+    Store(path).close()
+    assert gaps("runs", db=path).stdout.strip() == "The store holds no runs."
+    assert gaps("runs", "--json", db=path).stdout.strip() == "[]"
+    assert gaps("quarantine", db=path).stdout.strip() == "Nothing was refused."

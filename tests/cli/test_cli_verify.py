@@ -1,0 +1,96 @@
+"""`gaps verify`: exit codes for scripts, the first event that does not match, progress on stderr
+only, and with --snapshots the state snapshots checked against a fresh fold of the events."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from store import Store, snapshots
+from store.state import build_snapshots
+from tests.helpers.cli import gaps
+from tests.helpers.store_testkit import T0, event, tamper
+
+GAPS = str(Path(sys.executable).with_name("gaps"))
+
+
+@pytest.fixture
+def snapshot_db(tmp_path):
+    path = tmp_path / "gaps.db"
+    with Store(path) as store:
+        store.append([event(i, t=T0 + i * 1_000_000, kind="entity.state",
+                            body={"x": float(i), "y": 0.0, "speed_mps": 1.0}) for i in range(40)])
+        build_snapshots(store, "r1", every=10)
+    return path
+
+
+def forge_snapshot(path, offset):
+    """Alter one snapshot behind the store's back: vehicle/173 said to be somewhere it never was."""
+    with Store(path) as store:
+        conn = store.connection
+        t, seq, src, blob = conn.execute(
+            "SELECT t, seq, src, state FROM state_snapshots ORDER BY t LIMIT 1 OFFSET ?", (offset,)).fetchone()
+        forged = snapshots.decode(blob)
+        forged["entities"]["vehicle/173"]["state"]["body"]["x"] = -999.0
+        conn.execute("UPDATE state_snapshots SET state = ? WHERE t = ? AND seq = ? AND src = ?",
+                     (snapshots.encode(forged), t, seq, src))
+    return t, seq, src
+
+
+def test_matching_snapshots_pass(snapshot_db):
+    result = gaps("verify", "--snapshots", db=snapshot_db)
+    assert result.exit_code == 0, result.output
+    assert "every state snapshot matches its events" in result.stdout
+    as_json = json.loads(gaps("verify", "--snapshots", "--json", db=snapshot_db).stdout)
+    assert as_json["ok"] is True and as_json["snapshots"] == {"r1": []}
+
+
+def test_a_wrong_snapshot_fails_verify_only_when_asked(snapshot_db):
+    t, seq, src = forge_snapshot(snapshot_db, 2)
+    plain = gaps("verify", db=snapshot_db)
+    assert plain.exit_code == 0  # the chain is intact: snapshots are not evidence
+    checked = gaps("verify", "--snapshots", db=snapshot_db)
+    assert checked.exit_code == 1
+    assert f"SNAPSHOTS WRONG in run r1: 1 differ from the events, the first after src {src} seq {seq} (t {t})" \
+        in checked.stdout
+    as_json = json.loads(gaps("verify", "--snapshots", "--json", db=snapshot_db).stdout)
+    assert as_json["ok"] is False and as_json["snapshots"] == {"r1": [[t, seq, src]]}
+
+
+def test_a_store_without_snapshots_is_left_without_them(tmp_path):
+    path = tmp_path / "plain.db"
+    with Store(path) as store:
+        store.append([event(i) for i in range(5)])
+    result = gaps("verify", "--snapshots", db=path)
+    assert result.exit_code == 0
+    with Store(path) as store:
+        assert not snapshots.has_tables(store)
+
+
+def test_verify_exit_codes(db, tmp_path):
+    ok = gaps("verify", db=db)
+    assert ok.exit_code == 0 and "verified" in ok.stdout
+    tamper(db, ("UPDATE events SET event = replace(event, 'red light', 'red lighT') "
+                "WHERE run = 'r1' AND seq = 5", ()))
+    bad = gaps("verify", db=db)
+    assert bad.exit_code == 1
+    assert "FAILED at run r1 src vehicle/173 seq 5 (chain position 3): hash does not match" in bad.stdout
+    as_json = json.loads(gaps("verify", "--json", db=db).stdout)
+    assert as_json["ok"] is False and as_json["problem"]["seq"] == 5
+    missing = gaps("verify", db=tmp_path / "none.db")
+    assert missing.exit_code == 2 and "no event store at" in missing.output
+
+
+def test_installed_gaps_verify_draws_progress_on_stderr_only(tmp_path):
+    path = tmp_path / "gaps.db"
+    with Store(path, durable=False) as store:
+        store.append([event(i, t=T0 + i) for i in range(40_000)])
+    env = dict(os.environ, FORCE_COLOR="1", COLUMNS="100")
+    result = subprocess.run([GAPS, "verify", "--json", "--db", str(path)], capture_output=True, text=True,
+                            env=env, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["ok"] is True  # stdout stays pure JSON
+    assert "verifying" in result.stderr

@@ -1,0 +1,54 @@
+"""One incident per line, drawn from the typed Incident: what an investigator scans for."""
+from dataclasses import replace
+
+import pytest
+
+from explain.listing import incident_line
+from reasoner.model import (Control, Finding, Incident, Margin, Penalty, Proofs, Scenarios,
+                            StageProof)
+
+T = 1732176010000000000
+CONTROL = Control(in_control="driver", automated=False, engaged=False, user_in_charge=False,
+                  no_user_in_charge=False, transition_demand=None, transition_demand_expired=False,
+                  since=None, minimal_risk_manoeuvre=None, failure=None, last_ads_event=None)
+
+
+def incident(**changes) -> Incident:
+    inc = Incident(
+        id="monitor/m1:1", run="r1", t=T, vehicle="173", action="enter the junction", monitor="monitor/m1",
+        recorded=True, rederived=True, rule="HC 176", law=None, verdict="punishable", why=None,
+        penalty=Penalty(offence="traffic light offence", law="RTA 1988 s.36", fine_gbp=100, points=3),
+        liable="driver", liability=None, control=CONTROL,
+        findings=(Finding(kind="decision fault", detail="it proceeded"),), evidence=(),
+        judged_on="vehicle scenario", rulebook=None, rulebooks={},
+        scenarios=Scenarios(vehicle=(), monitor=(), validator=(), action=None),
+        proofs=Proofs(potential_violation=StageProof(rulebook=None, trees=())))
+    return replace(inc, **changes)
+
+
+def test_the_line_says_what_an_investigator_scans_for():
+    assert incident_line(incident(), 1) == (
+        "  1  2024-11-21T08:00:10.000Z  monitor/m1:1  vehicle 173  enter the junction  HC 176  punishable  "
+        "£100 + 3 points  liable: driver  1 finding: decision fault")
+
+
+def test_no_penalty_no_findings_and_a_margin():
+    line = incident_line(incident(verdict="mitigated", penalty=None, liable="none", findings=(),
+                                  margin=Margin(quantity="after red", value=1.2, unit="s")))
+    assert line.endswith("mitigated  no penalty  liable: none  margin after red 1.2 s  no findings")
+    assert "margin" not in incident_line(incident(margin=None))
+
+
+def test_a_penalty_without_a_fine_names_the_offence():
+    quiet = Penalty(offence="careless driving", law=None, fine_gbp=None, points=0)
+    assert "  careless driving  liable" in incident_line(incident(penalty=quiet))
+
+
+def test_two_findings_are_counted_and_named():
+    two = (Finding(kind="decision fault", detail=""), Finding(kind="perception fault", detail=""))
+    assert incident_line(incident(findings=two)).endswith("2 findings: decision fault, perception fault")
+
+
+def test_an_incident_without_a_field_cannot_be_made():
+    with pytest.raises(TypeError):
+        Incident(id="x", run="r")       # no silent blanks: every field is given

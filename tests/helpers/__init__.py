@@ -1,0 +1,1 @@
+"""Builders shared by the test folders, imported as `tests.helpers.<module>`."""
