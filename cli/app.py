@@ -25,18 +25,16 @@ def db_path(db: Optional[Path]) -> Path:
 
 
 def open_existing(db: Optional[Path]):
-    """Open a store that must already exist: a read command never creates one by mistake."""
-    from store import Store
+    """Open a store that must already exist, read-only: a read command never creates one by
+    mistake, and never changes the file it reads (docs/store.md)."""
+    from store import Store, StoreError
     path = db_path(db)
     if not path.is_file():
         fail(f"no event store at {path} (run `gaps demo` or pass --db)")
-    import sqlite3
     try:
-        return Store(path)
-    except sqlite3.Error as exc:  # not SQLite, locked, unreadable
-        fail(f"cannot open the event store {path}: {exc}")
-    except RuntimeError as exc:  # written by a newer version of gaps
-        fail(f"cannot open the event store {path}: {exc}")
+        return Store.open_read_only(path)
+    except StoreError as exc:  # not an event store, an older or newer schema, unreadable
+        fail(str(exc), exc.exit_code)
 
 
 def fail(message: str, code: int = 2) -> None:
