@@ -84,6 +84,7 @@ def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[st
 
 from cli import explain  # noqa: E402,F401  (gaps explain --run R INCIDENT)
 from cli import ledger  # noqa: E402,F401  (registers its commands after the ones above)
+from cli import migrate  # noqa: E402,F401  (gaps migrate SRC DST)
 from cli import report  # noqa: E402,F401  (gaps report --run R -o FILE)
 from cli import rules  # noqa: E402,F401  (gaps rules check|query|prolog|verify)
 from cli import scene  # noqa: E402,F401  (gaps scene --run R --at T)

@@ -18,6 +18,7 @@ from .envelope import (
 )
 from .intake import Candidate
 from .kinds import KINDS
+from .migration import MigrateReport, migrate_copy
 from .reports import AppendReport, VerifyReport
 
 __all__ = [
@@ -30,12 +31,14 @@ __all__ = [
     "StoreError",
     "KINDS",
     "MAX_EVENT_BYTES",
+    "MigrateReport",
     "Store",
     "VerifyReport",
     "canonical_json",
     "decode_event",
     "encode_event",
     "key_for",
+    "migrate_copy",
     "parse_event",
     "validate_event",
 ]
