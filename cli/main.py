@@ -66,7 +66,7 @@ def _report(path: Path, runs: list[str], json_out: bool, rules: Optional[list[st
     from explain.evidence import chain_status
     from reasoner.investigation import Investigation
     from store import Store
-    with Store(path) as store:
+    with Store.open_read_only(path) as store:
         inv = Investigation(store, rules=rules)
         with stderr_progress("judging incidents") as progress:      # the bar is gone before printing
             found = [inc for r in runs for inc in inv.incidents(r, progress)
