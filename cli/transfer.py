@@ -40,7 +40,7 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
     """Import events from JSONL or MCAP into the store (created if missing). Bad events are
     quarantined with their bytes and the reason; the rest is still imported (exit 0)."""
     from store import Store
-    from store.transfer import TransferError, check_source, import_file
+    from store import TransferError, check_source, import_file
     try:
         path, fmt = check_source(file, fmt)
         with _progress(f"importing {path.name}", path.stat().st_size,
@@ -123,7 +123,7 @@ def export(run: str = typer.Option(..., "--run", help="The run to export."),
                "MCAP: leave out the Foxglove scene and log channels (a faster export, for moving "
                "events between stores rather than watching them)."))) -> None:
     """Write a run to JSONL or MCAP (with Foxglove scene and log channels and the chain checkpoints)."""
-    from store.transfer import TransferError, export_run, format_of
+    from store import TransferError, export_run, format_of
     try:
         format_of(output, fmt)  # before opening the store: a wrong extension is the commonest mistake
         with open_existing(db) as store:

@@ -24,9 +24,7 @@ from __future__ import annotations
 
 from typing import Any, Callable, Iterable
 
-from store import Store
-from store.state import CollectorPaused
-from store.timeline import Timeline
+from store import CollectorPaused, Store, Timeline
 
 from .control import ROLE, control_at, liability_facts, role
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
@@ -72,7 +70,7 @@ class Investigation:
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
-        timeline, gaps = Timeline(self.store, run), Gaps(self.store.connection, run)
+        timeline, gaps = Timeline(self.store, run), Gaps(self.store, run)
         found = []
         for t, src, pv, ep in todo:
             found.append(self._judge(run, rs, gaps, timeline.at(t), t, src, pv, ep))

@@ -20,6 +20,7 @@ from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
 from .intake import Candidate, from_raw
+from .kinds import SRC_ROLES
 from .errors import StoreError
 from .reports import AppendReport, VerifyReport
 from .verify import Progress, verify_store
@@ -242,6 +243,46 @@ class Store:
         missing lists [first, last] ranges. A source that stopped early shows no gap: what it
         never sent cannot be told from what was lost after its last stored event."""
         return queries.gaps(self._conn, run)
+
+    def run_names(self) -> list[str]:
+        """Every run with events, by name (one index probe per run)."""
+        return queries.run_names(self._conn)
+
+    def sources(self, run: str) -> list[str]:
+        """The run's sources, by name (one index probe per source)."""
+        return queries.sources(self._conn, run)
+
+    def run_start(self, run: str) -> int | None:
+        """When the run started (ns): its run.start event, else its first event; None for a run
+        with no events. A few index probes (run.start comes only from the roles its schema
+        allows), so it costs nothing on long runs: the reasoner asks it of every scene."""
+        first = queries.first_t(self._conn, run)
+        if first is None:
+            return None
+        started = queries.earliest_of_kind(self._conn, run, "run.start", SRC_ROLES["run.start"])
+        return first if started is None else started
+
+    def has_sequence_gaps(self, run: str) -> bool:
+        """Whether any source of the run misses a seq, from one probe per source: each source
+        holds at most highest seq + 1 events (seqs are distinct and start at 0), with equality
+        exactly when it has no gap, so the run has none exactly when those bounds add up to its
+        chain length. Lets the reasoner skip looking for missing evidence on a complete run."""
+        bound = sum(queries.highest_seq(self._conn, run, src) + 1 for src in self.sources(run))
+        return bound != queries.chain_length(self._conn, run)
+
+    def sequence_gaps(self, run: str, src: str) -> list[tuple[int, int]]:
+        """The [first, last] seq ranges of one source that the store does not hold, below its
+        highest stored seq: evidence that was sent and lost (two probes when there are none)."""
+        return queries.missing_seqs(self._conn, run, src)
+
+    def t_of(self, run: str, src: str, seq: int) -> int | None:
+        """The t of one stored event, or None if it is not stored (an index probe)."""
+        return None if seq < 0 else queries.t_of(self._conn, run, src, seq)
+
+    def next_t(self, run: str, src: str, after: int, until: int) -> int | None:
+        """The earliest t of the source's events in (after, until], or None: did it report
+        again within a window (a source gone silent)?"""
+        return queries.next_t(self._conn, run, src, after, until)
 
     def chain_positions(self, run: str, keys: Collection[tuple[str, int]]) -> dict[tuple[str, int], int]:
         """The chain position of each stored (src, seq) of the run; keys not stored are left out."""
