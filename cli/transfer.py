@@ -117,8 +117,8 @@ def export(run: str = typer.Option(..., "--run", help="The run to export."),
            output: Path = typer.Option(..., "-o", "--output", help="The file to write (.jsonl, .ndjson or .mcap)."),
            db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
            order: Optional[str] = typer.Option(None, "--order", help=(
-               "time: (t, seq, src), default for JSONL; chain: as appended, default for MCAP, so that a "
-               "re-import rebuilds the identical hash chain.")),
+               "chain (default): as appended, so that a re-import rebuilds the identical hash chain; "
+               "time: (t, seq, src), which reads naturally but chains differently on re-import.")),
            no_scene: bool = typer.Option(False, "--no-scene", help=(
                "MCAP: leave out the Foxglove scene and log channels (a faster export, for moving "
                "events between stores rather than watching them)."))) -> None:
