@@ -49,6 +49,9 @@ class Store:
     are on disk and survive a power cut. durable=False (synchronous=NORMAL) may lose the last
     transactions on power loss, never corrupting the file; for bulk imports that can be
     repeated. Each run gets a checkpoint every `checkpoint_every` events (docs/store.md).
+
+    read_only=True (or Store.open_read_only) reads the file without changing it; derived data
+    (state snapshots, verification results) goes to `self.cache`, a separate file (store/cache.py).
     """
 
     def __init__(
