@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import json
 import os
-import sqlite3
 from pathlib import Path
 from typing import Any, NoReturn, Optional
 
 import typer
 from typer.core import TyperGroup
 
-from store import GapsError, NoSuchRun, Store
+from store import GapsError, NoSuchRun, Store, StoreError
 
 HELP = "mind-the-gaps: forensic audit of traffic-rule compliance."
 CONTEXT = {"help_option_names": ["-h", "--help"]}
@@ -51,16 +50,15 @@ def db_path(db: Optional[Path]) -> Path:
 
 
 def open_existing(db: Optional[Path]) -> Store:
-    """Open a store that must already exist: a read command never creates one by mistake."""
+    """Open a store that must already exist, read-only: a read command never creates one by
+    mistake, and never changes the file it reads (docs/store.md)."""
     path = db_path(db)
     if not path.is_file():
         fail(f"no event store at {path} (run `gaps demo` or pass --db)")
     try:
-        return Store(path)
-    except sqlite3.Error as exc:  # not SQLite, locked, unreadable
-        fail(f"cannot open the event store {path}: {exc}")
-    except RuntimeError as exc:  # written by a newer version of gaps
-        fail(f"cannot open the event store {path}: {exc}")
+        return Store.open_read_only(path)
+    except StoreError as exc:  # not an event store, an older or newer schema, unreadable
+        fail(str(exc), exc.exit_code)
 
 
 def require_run(store: Store, run: Optional[str]) -> None:

@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from cli import demo, explain, incidents, quarantine, report, rules, runs, scene, transfer, verify
+from cli import demo, explain, incidents, migrate, quarantine, report, rules, runs, scene, transfer, verify
 from cli.app import new_app
 
 
@@ -29,7 +29,7 @@ def build() -> typer.Typer:
     app.command()(quarantine.quarantine)
     app.command("import")(transfer.import_)
     app.command()(transfer.export)
-    # the store's schema migration: app.command()(migrate.migrate)
+    app.command()(migrate.migrate)
     app.add_typer(_rules_group(), name="rules")
     return app
 

@@ -64,7 +64,7 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
 
 def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool) -> dict:
     from store import Store
-    from store.transfer import TransferError, check_source, import_file
+    from store import TransferError, check_source, import_file
     try:
         path, fmt = check_source(file, fmt)
         with _progress(f"importing {path.name}", path.stat().st_size,
@@ -137,8 +137,8 @@ def export(run: str = RunRequired,
                                        help="The file to write (.jsonl, .ndjson or .mcap); - for stdout."),
            db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
            order: Optional[str] = typer.Option(None, "--order", help=(
-               "time: (t, seq, src), default for JSONL; chain: as appended, default for MCAP, so that a "
-               "re-import rebuilds the identical hash chain.")),
+               "chain (default): as appended, so that a re-import rebuilds the identical hash chain; "
+               "time: (t, seq, src), which reads naturally but chains differently on re-import.")),
            no_scene: bool = typer.Option(False, "--no-scene", help=(
                "MCAP: leave out the Foxglove scene and log channels (a faster export, for moving "
                "events between stores rather than watching them)."))) -> None:
@@ -164,7 +164,7 @@ def export(run: str = RunRequired,
 
 def _export(run: str, output: Path, db: Optional[Path], fmt: Optional[str], order: Optional[str],
             no_scene: bool) -> dict:
-    from store.transfer import TransferError, export_run, format_of
+    from store import TransferError, export_run, format_of
     try:
         format_of(output, fmt)  # before opening the store: a wrong extension is the commonest mistake
         with open_existing(db) as store:

@@ -65,7 +65,7 @@ def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
 
 def _wrong_snapshots(store: Store, runs: list[str]) -> dict[str, list[list]]:
     """Per run, the positions [t, seq, src] of the snapshots that differ from a fresh fold."""
-    from store.state import check_snapshots  # only this option needs the fold
+    from store import check_snapshots
 
     with stderr_progress("checking snapshots") as progress:
         wrong = {}

@@ -15,7 +15,7 @@ from typing import Any
 
 from reasoner.scene import scene
 from store import Store
-from store.state import state_at
+from store import state_at
 
 from .presence import presence_at
 

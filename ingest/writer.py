@@ -12,8 +12,7 @@ import os
 import threading
 import time
 
-from store import Candidate, Store
-from store.snapshots import enable_snapshots
+from store import Candidate, Store, enable_snapshots
 
 from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
@@ -70,7 +69,7 @@ class BatchWriter(threading.Thread):
     def _open_store(self) -> Store | None:
         """Open the store in this thread (SQLite connections belong to the thread that made them).
 
-        Snapshots are kept checked inside each append (store.snapshots.enable_snapshots): runs
+        Snapshots are kept checked inside each append (store.enable_snapshots): runs
         are read while they grow, and the check costs this writer a look at its own batch
         instead of costing every reader a scan of everything appended since its last snapshot."""
         try:

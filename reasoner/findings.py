@@ -5,10 +5,9 @@ unknown facts from facts.py.) Each is a model.Finding.
 """
 from __future__ import annotations
 
-import sqlite3
 from typing import Any
 
-from store import EventRef, queries
+from store import EventRef, Store
 
 from .engine import Engine
 from .facts import FactReader
@@ -59,48 +58,22 @@ def _yes(value: Any) -> str:
 class Gaps:
     """Sequence gaps of a run's sources, looked up per source as incidents need them.
 
-    A source without gaps (count of its events = highest seq + 1) costs two index probes; only a
-    source with gaps is read in full to list them."""
+    A run without gaps costs one probe per source (Store.has_sequence_gaps); only a source with
+    gaps is read in full to list them."""
 
-    def __init__(self, conn: sqlite3.Connection, run: str) -> None:
-        self.conn, self.run = conn, run
+    def __init__(self, store: Store, run: str) -> None:
+        self.store, self.run = store, run
         self._found: dict[str, list[tuple[int, int]]] = {}
         self._any: bool | None = None
 
     def of(self, src: str) -> list[tuple[int, int]]:
         if self._any is None:
-            self._any = self._run_has_gaps()
+            self._any = self.store.has_sequence_gaps(self.run)
         if not self._any:
             return []
         if src not in self._found:
-            self._found[src] = self._read(src)
+            self._found[src] = self.store.sequence_gaps(self.run, src)
         return self._found[src]
-
-    def _run_has_gaps(self) -> bool:
-        """Whether any source of the run misses a seq, from one probe per source: each source
-        holds at most highest seq + 1 events (seqs are distinct and start at 0), with equality
-        exactly when it has no gap, so the run has none exactly when those bounds add up to its
-        number of events (its chain length)."""
-        (length,) = self.conn.execute("SELECT max(chain_pos) + 1 FROM events WHERE run = ?", (self.run,)).fetchone()
-        bound = 0
-        for src in queries.sources(self.conn, self.run):
-            (highest,) = self.conn.execute("SELECT max(seq) FROM events WHERE run = ? AND src = ?",
-                                           (self.run, src)).fetchone()
-            bound += highest + 1
-        return bound != (length or 0)
-
-    def _read(self, src: str) -> list[tuple[int, int]]:
-        count, highest = self.conn.execute("SELECT count(*), max(seq) FROM events WHERE run = ? AND src = ?",
-                                           (self.run, src)).fetchone()
-        if not count or count == highest + 1:
-            return []
-        out, expected = [], 0
-        for (seq,) in self.conn.execute("SELECT seq FROM events WHERE run = ? AND src = ? ORDER BY seq",
-                                        (self.run, src)):
-            if seq > expected:
-                out.append((expected, seq - 1))
-            expected = seq + 1
-        return out
 
 
 def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, int | None]) -> list[Finding]:
@@ -109,13 +82,13 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
     A gap is near when the events on either side of it bracket a moment within WINDOW_S of t.
     A source is silent if it had reported before t but not within SILENT_S before t, and
     reports nothing again within SILENT_S after it."""
-    conn, run = gaps.conn, gaps.run
+    store, run = gaps.store, gaps.run
     out = []
     lo, hi = t - WINDOW_S * SECOND, t + WINDOW_S * SECOND
     for src in srcs:
         for first, last in gaps.of(src):
-            before = _t_of(conn, run, src, first - 1)
-            after = _t_of(conn, run, src, last + 1)
+            before = store.t_of(run, src, first - 1)
+            after = store.t_of(run, src, last + 1)
             if (before is None or before <= hi) and (after is None or after >= lo):
                 out.append(Finding("missing evidence", f"{src} events {first} to {last} are missing "
                                    f"from the record, between {_when(before, 'its first event')} and "
@@ -124,25 +97,12 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
     for src, seen in last_seen.items():
         if seen is None or t - seen <= SILENT_S * SECOND:
             continue
-        next_t = _next_t(conn, run, src, t)
+        next_t = store.next_t(run, src, t, t + SILENT_S * SECOND)
         if next_t is None or next_t - t > SILENT_S * SECOND:
             out.append(Finding("missing evidence", f"{src} went silent: its last report before the incident was "
                                                    f"{(t - seen) / SECOND:.1f} s earlier, and it reported nothing "
                                                    f"in the {SILENT_S} s after it", src=src))
     return out
-
-
-def _t_of(conn: sqlite3.Connection, run: str, src: str, seq: int) -> int | None:
-    if seq < 0:
-        return None
-    row = conn.execute("SELECT t FROM events WHERE run = ? AND src = ? AND seq = ?", (run, src, seq)).fetchone()
-    return row[0] if row else None
-
-
-def _next_t(conn: sqlite3.Connection, run: str, src: str, t: int) -> int | None:
-    row = conn.execute("SELECT min(t) FROM events WHERE run = ? AND t > ? AND t <= ? AND src = ?",
-                       (run, t, t + SILENT_S * SECOND, src)).fetchone()
-    return row[0] if row else None
 
 
 def _when(t: int | None, otherwise: str) -> str:

@@ -28,9 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
-from store import EventRef, Store
-from store.state import CollectorPaused
-from store.timeline import Timeline
+from store import CollectorPaused, EventRef, Store, Timeline
 
 from .chain import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
@@ -126,7 +124,7 @@ class Investigation:
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
-        timeline, gaps = Timeline(self.store, run), Gaps(self.store.connection, run)
+        timeline, gaps = Timeline(self.store, run), Gaps(self.store, run)
         found = []
         for t, src, pv, ep in todo:
             body = pv["body"] if pv else {}

@@ -1,7 +1,7 @@
 """The scene at a moment: everything the record says about a run at time t, with its evidence.
 
 `gaps scene --run R --at T` answers an investigator's first question, "what was going on at
-10.0 s?", from one `store.state.state_at` call (a snapshot and a short fold, so it stays fast on
+10.0 s?", from one `store.state_at` call (a snapshot and a short fold, so it stays fast on
 runs of millions of events) and the reasoner's readings of that state (DESIGN "Reasoning"):
 
     vehicles     per vehicle present at t: spawn, latest entity.state, who was in control, and
@@ -27,9 +27,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
-from store import Store, queries
-from store.kinds import SRC_ROLES
-from store.state import state_at
+from store import Store, state_at
 
 from .control import control_at
 from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, ref, vehicle_action, vehicle_id,
@@ -53,18 +51,13 @@ class UnknownVehicle(SceneError):
 
 
 def run_start(store: Store, run: str) -> int:
-    """When the run started (ns): its run.start event, else its first event. Two index probes
-    (run.start comes only from the roles its schema allows), so it costs nothing on long runs."""
-    conn = store.connection
-    first = conn.execute("SELECT t FROM events WHERE run = ? ORDER BY t, seq, src LIMIT 1", (run,)).fetchone()
-    if first is None:
-        known = queries.run_names(conn)
+    """When the run started (ns): its run.start event, else its first event (Store.run_start)."""
+    start = store.run_start(run)
+    if start is None:
+        known = store.run_names()
         shown = ", ".join(known[:20]) + (f" and {len(known) - 20} more" if len(known) > 20 else "")
         raise UnknownRun(f"no run {run!r} in the store; runs: {shown or 'none'}")
-    starts = [conn.execute("SELECT min(t) FROM events WHERE run = ? AND src >= ? AND src < ? AND kind = 'run.start'",
-                           (run, f"{role}/", f"{role}0")).fetchone()[0] for role in SRC_ROLES["run.start"]]
-    recorded = [t for t in starts if t is not None]
-    return min(recorded) if recorded else first[0]
+    return start
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,8 @@
 """The event store: envelope and schemas, the append-only hash-chained log, time-indexed reads.
 
-Everything other rooms need is importable from here; the submodules are the store's own layout.
+This is the store's public API: other rooms import from here (`import store` / `from store
+import X`), never from a submodule, and never run SQL themselves; the submodules are the
+store's own layout. docs/store.md describes it.
 """
 
 from .canonical import canonical_json
@@ -17,25 +19,59 @@ from .envelope import (
     validate_event,
 )
 from .intake import Candidate
-from .kinds import KINDS
+from .kinds import KINDS, SRC_ROLES
+from .migration import MigrateReport, migrate_copy
 from .reports import AppendReport, VerifyReport
+from .snapshots import enable_snapshots
+from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
+from .timeline import Timeline
+from .transfer import (
+    DEFAULT_ORDER,
+    ORDERS,
+    ExportReport,
+    ImportReport,
+    TransferError,
+    check_source,
+    export_run,
+    format_of,
+    import_file,
+)
 
 __all__ = [
     "AppendReport",
     "Candidate",
+    "CollectorPaused",
+    "DEFAULT_ORDER",
     "EventError",
     "EventRef",
+    "ExportReport",
     "GapsError",
-    "NoSuchRun",
-    "StoreError",
+    "ImportReport",
     "KINDS",
     "MAX_EVENT_BYTES",
+    "MigrateReport",
+    "NoSuchRun",
+    "OBSERVATION_WINDOW_S",
+    "ORDERS",
+    "SRC_ROLES",
     "Store",
+    "StoreError",
+    "Timeline",
+    "TransferError",
     "VerifyReport",
+    "build_snapshots",
     "canonical_json",
+    "check_snapshots",
+    "check_source",
     "decode_event",
+    "enable_snapshots",
     "encode_event",
+    "export_run",
+    "format_of",
+    "import_file",
     "key_for",
+    "migrate_copy",
     "parse_event",
+    "state_at",
     "validate_event",
 ]

@@ -14,11 +14,14 @@ import time
 from contextlib import contextmanager
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import ddl, fastjson, queries, rulebooks
+from . import fastjson, opening, queries, rulebooks, verify_cache
+from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
 from .intake import Candidate, from_raw
+from .kinds import SRC_ROLES
+from .errors import StoreError
 from .reports import AppendReport, VerifyReport
 from .verify import Progress, verify_store
 
@@ -31,13 +34,11 @@ _INSERT_CHECKPOINT = (
     "VALUES (?, ?, ?, ?, ?, ?, ?)"
 )
 CHECKPOINT_EVERY = 1000
-_CACHE_KIB = 64 * 1024  # page cache per connection: the indexes of a busy run stay in memory
 
 
-AppendHook = Callable[[sqlite3.Connection, str, int], None]
+AppendHook = Callable[["Store", str, int], None]
 
-
-PAGE_SIZE = 16384
+PAGE_SIZE = opening.PAGE_SIZE
 
 
 class Store:
@@ -48,6 +49,9 @@ class Store:
     are on disk and survive a power cut. durable=False (synchronous=NORMAL) may lose the last
     transactions on power loss, never corrupting the file; for bulk imports that can be
     repeated. Each run gets a checkpoint every `checkpoint_every` events (docs/store.md).
+
+    read_only=True (or Store.open_read_only) reads the file without changing it; derived data
+    (state snapshots, verification results) goes to `self.cache`, a separate file (store/cache.py).
     """
 
     def __init__(
@@ -57,31 +61,34 @@ class Store:
         durable: bool = True,
         check_same_thread: bool = True,
         checkpoint_every: int = CHECKPOINT_EVERY,
+        read_only: bool = False,
     ) -> None:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
             raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
         self.path = os.fspath(path)
         self.checkpoint_every = checkpoint_every
-        self._conn = sqlite3.connect(self.path, isolation_level=None, check_same_thread=check_same_thread)
-        try:
-            # A new file gets 16 KiB pages (before WAL fixes the size): the append inserts each
-            # event into a table and four indexes, and larger pages split less often (bench/
-            # append.py: +10-20% events/s against 4 KiB). An existing file keeps its size.
-            self._conn.execute(f"PRAGMA page_size={PAGE_SIZE}")
-            self._conn.execute("PRAGMA journal_mode=WAL")
-            self._conn.execute(f"PRAGMA synchronous={'FULL' if durable else 'NORMAL'}")
-            self._conn.execute(f"PRAGMA cache_size=-{_CACHE_KIB}")
-            ddl.migrate(self._conn)
-        except BaseException:
-            self._conn.close()
-            raise
+        self.read_only = read_only
+        if read_only:
+            self._conn = opening.connect_read_only(self.path, check_same_thread=check_same_thread)
+        else:
+            self._conn = opening.connect_writable(self.path, durable=durable, check_same_thread=check_same_thread)
         self._heads = Heads(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
+        self.cache = Cache(self.path)
+
+    @classmethod
+    def open_read_only(cls, path: str | os.PathLike, *, check_same_thread: bool = True) -> Store:
+        """Open an existing store to read it, changing nothing in the file (docs/store.md):
+        StoreError if it is missing, not an event store, or of an older schema (`gaps migrate`)."""
+        return cls(path, check_same_thread=check_same_thread, read_only=True)
 
     # --- lifecycle -----------------------------------------------------------------------------
 
     def close(self) -> None:
+        self.cache.close()
+        if not self.read_only:
+            opening.leave_rollback_journal(self._conn)
         self._conn.close()
 
     def __enter__(self) -> Store:
@@ -117,7 +124,7 @@ class Store:
 
     def _append(self, feed: Callable[[Batch], None]) -> AppendReport:
         """Feed a batch, then write its rows and run the hooks, all in one transaction that is
-        committed (durably, by default) before the report is returned."""
+        committed (durably, by default) before the report is returned; then run the hooks."""
         with self._transaction() as conn:
             batch = Batch(self._heads, self.checkpoint_every, time.time_ns())
             feed(batch)
@@ -125,16 +132,16 @@ class Store:
             conn.executemany(_INSERT_EVENT, batch.events)
             conn.executemany(_INSERT_QUARANTINE, batch.refused)
             conn.executemany(_INSERT_CHECKPOINT, batch.checkpoints)
-            self._run_hooks(conn, batch.events)
+        self._run_hooks(batch.events)
         return batch.report
 
     def add_append_hook(self, hook: AppendHook) -> None:
-        """Call `hook(conn, run, min_t)` inside every append transaction that stores events of
-        `run`, with the earliest t among them: derived data (state snapshots) can drop what a
-        late event makes stale, atomically with the append."""
+        """Call `hook(store, run, min_t)` after every append that stored events of `run`, with
+        the earliest t among them: derived data (state snapshots, in the cache file) can drop
+        what a late event makes stale before anyone reads it."""
         self._append_hooks.append(hook)
 
-    def _run_hooks(self, conn: sqlite3.Connection, rows: list[tuple]) -> None:
+    def _run_hooks(self, rows: list[tuple]) -> None:
         if not self._append_hooks or not rows:
             return
         earliest: dict[str, int] = {}
@@ -143,7 +150,7 @@ class Store:
             earliest[run] = min(t, earliest.get(run, t))
         for hook in self._append_hooks:
             for run, min_t in earliest.items():
-                hook(conn, run, min_t)
+                hook(self, run, min_t)
 
     def checkpoints(self, run: str) -> list[dict[str, Any]]:
         """The run's checkpoints, oldest first, as stored (count, head, merkle_root, ...)."""
@@ -160,6 +167,8 @@ class Store:
     def _transaction(self) -> Iterator[sqlite3.Connection]:
         """BEGIN IMMEDIATE (take the write lock first, so the caches cannot go stale while we
         write); on any failure roll back and forget the caches, which may hold unwritten state."""
+        if self.read_only:
+            raise StoreError(f"the event store {self.path} is open read-only: it cannot be written")
         self._conn.execute("BEGIN IMMEDIATE")
         try:
             self._refresh_caches()
@@ -238,14 +247,87 @@ class Store:
         never sent cannot be told from what was lost after its last stored event."""
         return queries.gaps(self._conn, run)
 
+    def run_names(self) -> list[str]:
+        """Every run with events, by name (one index probe per run)."""
+        return queries.run_names(self._conn)
+
+    def sources(self, run: str) -> list[str]:
+        """The run's sources, by name (one index probe per source)."""
+        return queries.sources(self._conn, run)
+
+    def run_start(self, run: str) -> int | None:
+        """When the run started (ns): its run.start event, else its first event; None for a run
+        with no events. A few index probes (run.start comes only from the roles its schema
+        allows), so it costs nothing on long runs: the reasoner asks it of every scene."""
+        first = queries.first_t(self._conn, run)
+        if first is None:
+            return None
+        started = queries.earliest_of_kind(self._conn, run, "run.start", SRC_ROLES["run.start"])
+        return first if started is None else started
+
+    def has_sequence_gaps(self, run: str) -> bool:
+        """Whether any source of the run misses a seq, from one probe per source: each source
+        holds at most highest seq + 1 events (seqs are distinct and start at 0), with equality
+        exactly when it has no gap, so the run has none exactly when those bounds add up to its
+        chain length. Lets the reasoner skip looking for missing evidence on a complete run."""
+        bound = sum(queries.highest_seq(self._conn, run, src) + 1 for src in self.sources(run))
+        return bound != queries.chain_length(self._conn, run)
+
+    def sequence_gaps(self, run: str, src: str) -> list[tuple[int, int]]:
+        """The [first, last] seq ranges of one source that the store does not hold, below its
+        highest stored seq: evidence that was sent and lost (two probes when there are none)."""
+        return queries.missing_seqs(self._conn, run, src)
+
+    def t_of(self, run: str, src: str, seq: int) -> int | None:
+        """The t of one stored event, or None if it is not stored (an index probe)."""
+        return None if seq < 0 else queries.t_of(self._conn, run, src, seq)
+
+    def next_t(self, run: str, src: str, after: int, until: int) -> int | None:
+        """The earliest t of the source's events in (after, until], or None: did it report
+        again within a window (a source gone silent)?"""
+        return queries.next_t(self._conn, run, src, after, until)
+
     def chain_positions(self, run: str, keys: Collection[tuple[str, int]]) -> dict[tuple[str, int], int]:
         """The chain position of each stored (src, seq) of the run; keys not stored are left out."""
         return queries.chain_positions(self._conn, run, keys)
 
     def verify(self, run: str | None = None, progress: Progress | None = None) -> VerifyReport:
         """Recompute the chains and checkpoints (and, for the whole store, the rulebook
-        addresses); `progress(done, total)` is called now and then with events checked."""
-        return verify_store(self._conn, run, progress)
+        addresses); `progress(done, total)` is called now and then with events checked. Always
+        recomputes; each run's result is then kept in the cache file for `verified`."""
+        with self._reading():
+            report = verify_store(self._conn, run, progress)
+            keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
+        for summary in report.runs:
+            name = summary["run"]
+            problem = report.problem if report.problem and report.problem.get("run") == name else None
+            if keys[name][0] and (summary["ok"] or problem is not None):
+                verify_cache.record(self.cache.connection, name, keys[name],
+                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem))
+        return report
+
+    def verified(self, run: str, progress: Progress | None = None) -> VerifyReport:
+        """The run's chain recomputed, once per chain head: the result kept in the cache file if
+        the run's chain length and head hash are still those it was computed at, else `verify`.
+        For explanations and reports that cite the verdict; `gaps verify` always recomputes."""
+        key = verify_cache.chain_key(self._conn, run)
+        if key[0]:
+            kept = verify_cache.recorded(self.cache.connection, run, key)
+            if kept is not None:
+                return kept
+        return self.verify(run, progress)
+
+    @contextmanager
+    def _reading(self) -> Iterator[None]:
+        """One read transaction, so that what is read together agrees."""
+        if self._conn.in_transaction:
+            yield
+            return
+        self._conn.execute("BEGIN")
+        try:
+            yield
+        finally:
+            self._conn.execute("COMMIT")
 
     # --- rulebooks -----------------------------------------------------------------------------
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import sqlite3
 
+from .errors import StoreError
+
 APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints")
 
 
@@ -116,7 +118,7 @@ def migrate(conn: sqlite3.Connection) -> int:
         conn.execute("CREATE TABLE IF NOT EXISTS schema_version (version INTEGER NOT NULL)")
         version = current_version(conn)
         if version > SCHEMA_VERSION:
-            raise RuntimeError(
+            raise StoreError(
                 f"store schema version {version} is newer than this code understands ({SCHEMA_VERSION})"
             )
         for step in range(version + 1, SCHEMA_VERSION + 1):

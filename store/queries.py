@@ -106,3 +106,56 @@ def chain_positions(conn: sqlite3.Connection, run: str, keys: Collection[tuple[s
         if row is not None:
             found[(src, seq)] = row[0]
     return found
+
+
+def first_t(conn: sqlite3.Connection, run: str) -> int | None:
+    """The t of the run's first event in read order: one probe of the time index."""
+    row = conn.execute("SELECT t FROM events WHERE run = ? ORDER BY t, seq, src LIMIT 1", (run,)).fetchone()
+    return None if row is None else row[0]
+
+
+def earliest_of_kind(conn: sqlite3.Connection, run: str, kind: str, roles: Collection[str]) -> int | None:
+    """The earliest t of a kind sent by sources of these roles: one probe per role, on the
+    (run, src, seq) index ranges of the role's sources."""
+    sql = "SELECT min(t) FROM events WHERE run = ? AND src >= ? AND src < ? AND kind = ?"
+    found = [conn.execute(sql, (run, f"{role}/", f"{role}0", kind)).fetchone()[0] for role in roles]
+    return min((t for t in found if t is not None), default=None)
+
+
+def t_of(conn: sqlite3.Connection, run: str, src: str, seq: int) -> int | None:
+    row = conn.execute("SELECT t FROM events WHERE run = ? AND src = ? AND seq = ?", (run, src, seq)).fetchone()
+    return None if row is None else row[0]
+
+
+def next_t(conn: sqlite3.Connection, run: str, src: str, after: int, until: int) -> int | None:
+    """The earliest t of the source's events in (after, until]."""
+    sql = "SELECT min(t) FROM events WHERE run = ? AND t > ? AND t <= ? AND src = ?"
+    return conn.execute(sql, (run, after, until, src)).fetchone()[0]
+
+
+def chain_length(conn: sqlite3.Connection, run: str) -> int:
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    return 0 if last is None else last + 1
+
+
+def seq_bounds(conn: sqlite3.Connection, run: str, src: str) -> tuple[int, int | None]:
+    """(events stored, highest seq) of one source of a run."""
+    return conn.execute("SELECT count(*), max(seq) FROM events WHERE run = ? AND src = ?", (run, src)).fetchone()
+
+
+def highest_seq(conn: sqlite3.Connection, run: str, src: str) -> int | None:
+    """One probe of the (run, src, seq) index."""
+    return conn.execute("SELECT max(seq) FROM events WHERE run = ? AND src = ?", (run, src)).fetchone()[0]
+
+
+def missing_seqs(conn: sqlite3.Connection, run: str, src: str) -> list[tuple[int, int]]:
+    """The [first, last] ranges of seqs missing below the source's highest, in order."""
+    count, highest = seq_bounds(conn, run, src)
+    if not count or count == highest + 1:
+        return []
+    out, expected = [], 0
+    for (seq,) in conn.execute("SELECT seq FROM events WHERE run = ? AND src = ? ORDER BY seq", (run, src)):
+        if seq > expected:
+            out.append((expected, seq - 1))
+        expected = seq + 1
+    return out

@@ -1,23 +1,28 @@
 """Snapshots of folded state: a cache that makes state at any t cost one snapshot load plus a
 short fold, however long the run.
 
-The snapshots are derived data, not evidence. Their tables are created here (IF NOT EXISTS), are
-neither hash-chained nor append-only, and may be deleted at any time: they are rebuilt from the
-events on the next read. A snapshot is keyed by the position (t, seq, src) of the last event
-folded into it and holds the fold state as zlib-compressed JSON (compressed about eightfold, so
+The snapshots are derived data, not evidence: they live in the cache file (store/cache.py), not
+in the store, are neither hash-chained nor append-only, and may be deleted at any time: they are
+rebuilt from the events on the next read. A snapshot is keyed by the position (t, seq, src) of
+the last event folded into it, and records the chain it was folded from (the run's chain length
+and head hash when it was read), which is checked against the store before it is used, so a
+snapshot of another chain (another store, a store replaced, a forged entry) is never used. It
+holds the fold state as zlib-compressed JSON (compressed about eightfold, so
 fewer pages to read; inflating costs a fraction of parsing). The JSON is written by orjson when
 it can be, and the blob says so: orjson refuses to write an integer beyond 64 bits, so such a
 snapshot can be parsed by orjson without the search for long digit runs that store.fastjson
 needs to parse arbitrary JSON exactly (a third of the parsing time of a snapshot).
 
 Staleness. A late event (one whose position is at or before a snapshot's) makes that snapshot
-wrong. Rather than trust every writer to say so, the store keeps a watermark per run: the chain
-length up to which the snapshots have been checked against the events. Appends lengthen the
-chain, so the events a snapshot may not have seen are exactly those at chain positions at or
-above the watermark; every read ignores snapshots at or after the earliest t among them, and
-every snapshot write first deletes those snapshots and raises the watermark. This is correct
-whoever appended. `enable_snapshots(store)` adds an append hook that does the same inside each
-append transaction, so that a reader of a live run never has to look at unchecked events.
+wrong. Rather than trust every writer to say so, the cache keeps a watermark per run: the chain
+length (and the head hash there) up to which the snapshots have been checked against the events.
+Appends lengthen the chain, so the events a snapshot may not have seen are exactly those at
+chain positions at or above the watermark; every read ignores snapshots at or after the earliest
+t among them, and every snapshot write first deletes those snapshots and raises the watermark. A
+watermark whose head is not the store's hash at that length belongs to another chain: then every
+snapshot of the run is ignored, and dropped on the next write. This is correct whoever appended.
+`enable_snapshots(store)` adds an append hook that does the same after each append, so that a
+reader of a live run never has to look at unchecked events.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ import sqlite3
 import struct
 import weakref
 import zlib
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Iterable, Iterator
 
@@ -40,29 +46,17 @@ FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions 
 Position = tuple[int, int, str]  # (t, seq, src) of an event, the order of the fold
 Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: position, encoded state
 
-_DDL = (
-    """CREATE TABLE IF NOT EXISTS state_snapshots (
-        run TEXT NOT NULL,
-        fold INTEGER NOT NULL,
-        t INTEGER NOT NULL,
-        seq INTEGER NOT NULL,
-        src TEXT NOT NULL,
-        state BLOB NOT NULL,
-        PRIMARY KEY (run, fold, t, seq, src)
-    )""",
-    "CREATE TABLE IF NOT EXISTS state_watermarks (run TEXT PRIMARY KEY, chain_len INTEGER NOT NULL)",
-)
-
-_EXISTING = (
-    "SELECT count(*) FROM sqlite_master "
-    "WHERE type = 'table' AND name IN ('state_snapshots', 'state_watermarks')"
-)
 _NEAREST = (
-    "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t <= ? AND t < ? "
-    "ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
+    "SELECT t, seq, src, chain_len, head, state FROM state_snapshots "
+    "WHERE run = ? AND fold = ? AND t <= ? AND t < ? ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
 )
-_INSERT = "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, state) VALUES (?, ?, ?, ?, ?, ?)"
+_INSERT = (
+    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
+)
+_HASH_AT = "SELECT hash FROM events WHERE run = ? AND chain_pos = ?"
 _T_MAX = (1 << 63) - 1
+_T_MIN = -_T_MAX - 1
 _HEADER = struct.Struct("<IB")  # size of the JSON, how it was written (below)
 _BY_JSON, _BY_ORJSON = 0, 1  # by json: may hold any integer; by orjson: none beyond 64 bits
 _LEVEL = 6  # zlib: a quarter smaller than level 1, so fewer pages to read, and as fast to inflate
@@ -72,7 +66,6 @@ _LEVEL = 6  # zlib: a quarter smaller than level 1, so fewer pages to read, and 
 # cost more than parsing the JSON on the virtual machine measured (bench/scene_at_t.py).
 _last_inflated = b""
 
-_ready: weakref.WeakSet[Store] = weakref.WeakSet()
 _hooked: weakref.WeakSet[Store] = weakref.WeakSet()
 
 
@@ -84,42 +77,21 @@ class Snapshot:
     state: dict[str, Any]
 
 
-# --- tables ----------------------------------------------------------------------------------
+# --- the cache ---------------------------------------------------------------------------------
 
 
 def ensure_tables(store: Store) -> None:
-    """Create the cache tables if this file has none yet (looked at once per Store object, and
-    without taking the write lock when they exist)."""
-    if store in _ready:
-        return
-    conn = store.connection
-    if conn.execute(_EXISTING).fetchone()[0] < len(_DDL):
-        _create_tables(conn)
-    _ready.add(store)
+    """Open the store's cache (creating its file and tables if need be)."""
+    store.cache.connection
 
 
 def has_tables(store: Store) -> bool:
-    """Does the file hold the cache tables? (Asked without creating them.)"""
-    return store in _ready or store.connection.execute(_EXISTING).fetchone()[0] == len(_DDL)
-
-
-def _create_tables(conn: sqlite3.Connection) -> None:
-    if conn.in_transaction:
-        for statement in _DDL:
-            conn.execute(statement)
-        return
-    conn.execute("BEGIN IMMEDIATE")
-    try:
-        for statement in _DDL:
-            conn.execute(statement)
-        conn.execute("COMMIT")
-    except BaseException:
-        conn.execute("ROLLBACK")
-        raise
+    """Does the store have a cache yet? (Asked without creating one.)"""
+    return store.cache.exists()
 
 
 def enable_snapshots(store: Store) -> None:
-    """Keep this store's snapshots checked inside every append transaction.
+    """Keep this store's snapshots checked after every append.
 
     Optional for correctness (reads check what no hook has seen), but a process that appends to
     a run while others read it should call this once after opening the store: the check then
@@ -131,43 +103,46 @@ def enable_snapshots(store: Store) -> None:
         _hooked.add(store)
 
 
-def _on_append(conn: sqlite3.Connection, run: str, min_t: int) -> None:
+def _on_append(store: Store, run: str, min_t: int) -> None:
     """Append hook. min_t covers only this batch, while writers without the hook may have left
     earlier events unchecked, so the check starts from the watermark instead. A failure here
-    (the cache tables were dropped) must not cost the append: the watermark then stays behind
+    (the cache is locked or gone) must not cost the append: the watermark then stays behind
     and the next reader does the check."""
     try:
-        catch_up(conn, run)
+        with _writing(store.cache.connection):
+            catch_up(store, run)
     except sqlite3.OperationalError:
         pass
 
 
-def clear(store: Store, run: str | None = None) -> None:
-    """Delete the snapshots (of one run, or all): they are rebuilt as reads need them."""
-    ensure_tables(store)
-    where, params = ("", ()) if run is None else (" WHERE run = ?", (run,))
-    conn = store.connection
-    conn.execute("BEGIN IMMEDIATE")
+@contextmanager
+def _writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
+    cache.execute("BEGIN IMMEDIATE")
     try:
-        conn.execute(f"DELETE FROM state_snapshots{where}", params)
-        conn.execute(f"DELETE FROM state_watermarks{where}", params)
-        conn.execute("COMMIT")
+        yield cache
+        cache.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        cache.execute("ROLLBACK")
         raise
 
 
+def clear(store: Store, run: str | None = None) -> None:
+    """Delete the snapshots (of one run, or all): they are rebuilt as reads need them."""
+    where, params = ("", ()) if run is None else (" WHERE run = ?", (run,))
+    with _writing(store.cache.connection) as cache:
+        cache.execute(f"DELETE FROM state_snapshots{where}", params)
+        cache.execute(f"DELETE FROM state_watermarks{where}", params)
+
+
 def count(store: Store, run: str) -> int:
-    ensure_tables(store)
     sql = "SELECT count(*) FROM state_snapshots WHERE run = ? AND fold = ?"
-    return store.connection.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
+    return store.cache.connection.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
 
 
 def disk_bytes(store: Store, run: str) -> int:
     """Bytes of compressed state held for a run (the blobs, not SQLite's page overhead)."""
-    ensure_tables(store)
     sql = "SELECT coalesce(sum(length(state)), 0) FROM state_snapshots WHERE run = ?"
-    return store.connection.execute(sql, (run,)).fetchone()[0]
+    return store.cache.connection.execute(sql, (run,)).fetchone()[0]
 
 
 # --- staleness --------------------------------------------------------------------------------
@@ -175,27 +150,41 @@ def disk_bytes(store: Store, run: str) -> int:
 
 @dataclass(frozen=True, slots=True)
 class Marks:
-    """Read together, in the reader's transaction: how long the run's chain is, and how much of
-    it the snapshots have been checked against."""
+    """How long the run's chain is and its head hash (read in the reader's transaction), and how
+    much of it the snapshots have been checked against (0 if the cache's watermark names a
+    chain this store does not hold: then nothing in the cache is trusted)."""
 
     length: int
+    head: str
     checked: int
+    agrees: bool = True
 
     @property
     def unchecked(self) -> bool:
-        return self.checked != self.length
+        return not self.agrees or self.checked != self.length
 
 
-_MARKS = (
-    "SELECT (SELECT max(chain_pos) FROM events WHERE run = ?1), "
-    "(SELECT chain_len FROM state_watermarks WHERE run = ?1)"
-)
+def hash_at(conn: sqlite3.Connection, run: str, chain_pos: int) -> str | None:
+    """The stored hash of the run's event at this chain position (None before the first)."""
+    if chain_pos < 0:
+        return None
+    row = conn.execute(_HASH_AT, (run, chain_pos)).fetchone()
+    return None if row is None else row[0]
 
 
-def marks(conn: sqlite3.Connection, run: str) -> Marks:
-    """Two index probes in one statement (this runs on every read)."""
-    last, checked = conn.execute(_MARKS, (run,)).fetchone()
-    return Marks(0 if last is None else last + 1, checked or 0)
+def marks(store: Store, run: str) -> Marks:
+    """A few index probes (this runs on every read)."""
+    conn = store.connection
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    length = 0 if last is None else last + 1
+    head = hash_at(conn, run, length - 1) or ""
+    row = store.cache.connection.execute(
+        "SELECT chain_len, head FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    if row is None:
+        return Marks(length, head, 0)
+    checked, checked_head = row
+    agrees = checked <= length and (checked == 0 or hash_at(conn, run, checked - 1) == checked_head)
+    return Marks(length, head, checked if agrees else 0, agrees)
 
 
 def _earliest_since(conn: sqlite3.Connection, run: str, chain_pos: int) -> int | None:
@@ -204,86 +193,103 @@ def _earliest_since(conn: sqlite3.Connection, run: str, chain_pos: int) -> int |
     return conn.execute(sql, (run, chain_pos)).fetchone()[0]
 
 
-def _latest_t(conn: sqlite3.Connection, run: str) -> int | None:
+def _latest_t(cache: sqlite3.Connection, run: str) -> int | None:
     sql = "SELECT max(t) FROM state_snapshots WHERE run = ? AND fold = ?"
-    return conn.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
+    return cache.execute(sql, (run, FOLD_VERSION)).fetchone()[0]
 
 
-def stale_from(conn: sqlite3.Connection, run: str, seen: Marks) -> int:
+def stale_from(store: Store, run: str, seen: Marks) -> int:
     """Snapshots at or after this t may have missed an event; _T_MAX if none may have."""
-    if not seen.unchecked or _latest_t(conn, run) is None:
+    if not seen.agrees:
+        return _T_MIN
+    if not seen.unchecked or _latest_t(store.cache.connection, run) is None:
         return _T_MAX
-    if seen.checked > seen.length:  # the chain shrank: events were deleted behind the store's back
-        return -_T_MAX - 1
-    earliest = _earliest_since(conn, run, seen.checked)
+    earliest = _earliest_since(store.connection, run, seen.checked)
     return _T_MAX if earliest is None else earliest
 
 
-def catch_up(conn: sqlite3.Connection, run: str) -> None:
+def catch_up(store: Store, run: str) -> None:
     """Delete the snapshots unchecked events make stale and raise the watermark to the chain's
-    length. Runs inside the caller's write transaction."""
-    seen = marks(conn, run)
-    stale = stale_from(conn, run, seen)
+    length. Runs inside the caller's write transaction on the cache."""
+    seen = marks(store, run)
+    stale = stale_from(store, run, seen)
+    cache = store.cache.connection
     if stale != _T_MAX:
-        sql = "DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t >= ?"
-        conn.execute(sql, (run, FOLD_VERSION, stale))
-    conn.execute(
-        "INSERT INTO state_watermarks (run, chain_len) VALUES (?, ?) "
-        "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len",
-        (run, seen.length),
+        sql = "DELETE FROM state_snapshots WHERE run = ? AND t >= ?"
+        cache.execute(sql, (run, stale))
+    cache.execute(
+        "INSERT INTO state_watermarks (run, chain_len, head) VALUES (?, ?, ?) "
+        "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len, head = excluded.head",
+        (run, seen.length, seen.head),
     )
 
 
 # --- reading and writing ----------------------------------------------------------------------
 
 
-def nearest(conn: sqlite3.Connection, run: str, t: int, seen: Marks) -> Snapshot | None:
+def _of_this_chain(store: Store, run: str, chain_len: Any, head: Any, seen: Marks) -> bool:
+    """Was a snapshot folded from a prefix of the chain the store holds now?"""
+    return (isinstance(chain_len, int) and 0 < chain_len <= seen.length
+            and hash_at(store.connection, run, chain_len - 1) == head)
+
+
+def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
     """The latest usable snapshot at or before t, given the marks read in the same transaction.
-    A snapshot that cannot be decoded is passed over (the cache was damaged)."""
-    before = stale_from(conn, run, seen)
-    row = conn.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
+    A snapshot that cannot be decoded, or that names a chain the store does not hold, is passed
+    over (the cache was damaged, or belongs elsewhere)."""
+    before = stale_from(store, run, seen)
+    cache = store.cache.connection
+    row = cache.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
     while row is not None:
-        state = decode(row[3])
-        if state is not None:
-            return Snapshot((row[0], row[1], row[2]), state)
-        row = conn.execute(_NEAREST, (run, FOLD_VERSION, row[0] - 1, before)).fetchone()
+        if _of_this_chain(store, run, row[3], row[4], seen):
+            state = decode(row[5])
+            if state is not None:
+                return Snapshot((row[0], row[1], row[2]), state)
+        row = cache.execute(_NEAREST, (run, FOLD_VERSION, row[0] - 1, before)).fetchone()
     return None
 
 
-def listed(conn: sqlite3.Connection, run: str, before: int = _T_MAX) -> Iterator[Snapshot]:
-    """The run's snapshots before t `before`, oldest first, one at a time; an undecodable one
-    comes with an empty state (it can never equal a fold)."""
+def listed(store: Store, run: str, seen: Marks) -> Iterator[Snapshot]:
+    """The run's usable snapshots (those a read may use), oldest first, one at a time; an
+    undecodable one comes with an empty state (it can never equal a fold)."""
     sql = (
-        "SELECT t, seq, src, state FROM state_snapshots WHERE run = ? AND fold = ? AND t < ? "
-        "ORDER BY t, seq, src"
+        "SELECT t, seq, src, chain_len, head, state FROM state_snapshots "
+        "WHERE run = ? AND fold = ? AND t < ? ORDER BY t, seq, src"
     )
-    for t, seq, src, blob in conn.execute(sql, (run, FOLD_VERSION, before)):
-        yield Snapshot((t, seq, src), decode(blob, exact=True) or {})
+    rows = store.cache.connection.execute(sql, (run, FOLD_VERSION, stale_from(store, run, seen))).fetchall()
+    for t, seq, src, chain_len, head, blob in rows:
+        if _of_this_chain(store, run, chain_len, head, seen):
+            yield Snapshot((t, seq, src), decode(blob, exact=True) or {})
 
 
-def save(conn: sqlite3.Connection, run: str, fresh: Iterable[Fresh], read_length: int) -> bool:
-    """Store snapshots folded from a read that saw the first read_length events of the chain.
+def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
+    """Store snapshots folded from a read that saw the chain as `seen` says.
 
-    In one write transaction: check the events no snapshot has been checked against, then keep
-    only the fresh snapshots that no event appended since the read precedes. Returns False,
-    having written nothing, when the file cannot be written now (locked, read-only): the cache
-    is an optimisation, so the caller carries on without it."""
+    In one write transaction on the cache: check the events no snapshot has been checked
+    against, then keep only the fresh snapshots that no event appended since the read precedes
+    (none, if the chain read is no longer the store's). Returns False, having written nothing,
+    when the cache cannot be written now (locked, read-only): it is an optimisation, so the
+    caller carries on without it."""
+    cache = store.cache.connection
     try:
-        conn.execute("BEGIN IMMEDIATE")
+        cache.execute("BEGIN IMMEDIATE")
     except sqlite3.OperationalError:
         return False
     try:
-        late = _earliest_since(conn, run, read_length)
-        catch_up(conn, run)
+        late = _earliest_since(store.connection, run, seen.length)
+        if hash_at(store.connection, run, seen.length - 1) != (seen.head or None):
+            late = _T_MIN
+        catch_up(store, run)
         kept = [(position, blob) for position, blob in fresh if late is None or position[0] < late]
-        conn.executemany(_INSERT, [(run, FOLD_VERSION, *position, blob) for position, blob in kept])
-        conn.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
-        conn.execute("COMMIT")
+        cache.executemany(
+            _INSERT, [(run, FOLD_VERSION, *position, seen.length, seen.head, blob) for position, blob in kept])
+        cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
+        cache.execute("COMMIT")
     except sqlite3.OperationalError:
-        conn.execute("ROLLBACK")
+        cache.execute("ROLLBACK")
         return False
     except BaseException:
-        conn.execute("ROLLBACK")
+        cache.execute("ROLLBACK")
         raise
     return True
 

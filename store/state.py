@@ -23,9 +23,10 @@ The state (plain JSON data):
     collisions        per entity id named in a collision: the latest collision naming it
 vehicle.trace events are counted but not folded: decisions cite their trace by seq.
 
-Cost: snapshots (store/snapshots.py) hold the fold every SNAPSHOT_EVERY events, so state_at
-loads the nearest one and folds fewer than that many events. Reads write missing snapshots as
-they go, in bounded batches; `build_snapshots` writes them for a whole run ahead of the reads.
+Cost: snapshots (store/snapshots.py, kept in the store's cache file, never in the store) hold
+the fold every SNAPSHOT_EVERY events, so state_at loads the nearest one and folds fewer than
+that many events. Reads write missing snapshots to the cache as they go, in bounded batches;
+`build_snapshots` writes them for a whole run ahead of the reads.
 Late events never make a read wrong, whoever appended them (see store/snapshots.py); a process
 that appends to runs being read as they grow (the ingest) should call
 `snapshots.enable_snapshots(store)` once, so that the readers do not have to check its appends.
@@ -75,8 +76,9 @@ def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> d
     """The state of `run` at time t (ns): the fold of its events with t' <= t.
 
     With use_snapshots (the default) the fold starts from the nearest snapshot and any missing
-    snapshots on the way are written to the file. use_snapshots=False folds every event from the
-    start, reading the events only: the slow reference the snapshots are tested against."""
+    snapshots on the way are written to the cache file (the store itself is never written).
+    use_snapshots=False folds every event from the start, reading the events only: the slow
+    reference the snapshots are tested against."""
     with CollectorPaused():
         if use_snapshots:
             state = _advance(store, run, t, SNAPSHOT_EVERY)
@@ -114,15 +116,16 @@ def check_snapshots(store: Store, run: str) -> list[Position]:
 
     Snapshots are a cache, not evidence: nothing chains them, so whoever can write the file can
     change what state_at answers without touching an event. This reads every event once to catch
-    that; a wrong snapshot is cured by snapshots.clear(store, run). A file without the snapshot
-    tables has nothing to check, and is left as it is (this is what `gaps verify --snapshots` runs)."""
+    that; a wrong snapshot is cured by snapshots.clear(store, run), or by deleting the cache file.
+    Only the snapshots a read may use are checked (not those of another chain or made stale by
+    late events). A store without a cache has nothing to check, and is left without one (this
+    is what `gaps verify --snapshots` runs)."""
     if not snapshots.has_tables(store):
         return []
     conn = store.connection
     state, position, wrong = empty_state(), None, []
     with _reading(conn), CollectorPaused():
-        stale = snapshots.stale_from(conn, run, snapshots.marks(conn, run))
-        for held in snapshots.listed(conn, run, stale):
+        for held in snapshots.listed(store, run, snapshots.marks(store, run)):
             after = () if position is None else position
             params = (run, held.position[0], *after, *held.position)
             cursor = conn.execute(_BETWEEN[position is not None], params)
@@ -212,18 +215,17 @@ def _advance(store: Store, run: str, t: int, every: int) -> dict[str, Any]:
     then writes them (checked against anything appended meanwhile) and starts again from the
     nearest snapshot, so memory stays bounded on a first read far into a long run. If the file
     cannot be written the pass folds on to t without holding snapshots."""
-    snapshots.ensure_tables(store)
     conn = store.connection
     saving = True
     while True:
         with _reading(conn):
-            seen = snapshots.marks(conn, run)
-            base = snapshots.nearest(conn, run, t, seen)
+            seen = snapshots.marks(store, run)
+            base = snapshots.nearest(store, run, t, seen)
             state = empty_state() if base is None else base.state
             position = None if base is None else base.position
             fresh, done = _fold_window(conn, run, state, position, t, every if saving else 0)
         if saving and (fresh or seen.unchecked):
-            saving = snapshots.save(conn, run, fresh, seen.length)
+            saving = snapshots.save(store, run, fresh, seen)
         if done:
             return state
 

@@ -22,7 +22,7 @@ from .mcap_out import export_mcap
 from .report import ExportReport, ImportReport
 from .rows import ORDERS
 
-DEFAULT_ORDER = {"jsonl": "time", "mcap": "chain"}
+DEFAULT_ORDER = {"jsonl": "chain", "mcap": "chain"}
 
 __all__ = ["DEFAULT_ORDER", "FORMATS", "ORDERS", "ExportReport", "ImportReport", "TransferError",
            "check_source", "export_run", "format_of", "import_file"]
@@ -62,9 +62,11 @@ def export_run(
     """Write one run to a file; `progress` is told how many events have been written; scene=False
     leaves out the Foxglove channels of an MCAP export.
 
-    The default order is time for JSONL (it reads naturally) and chain for MCAP (a re-import
-    rebuilds the identical chain and checks it against the checkpoints in the file; viewers
-    order MCAP messages by log time themselves).
+    The default order is the chain's, for both formats: a re-import appends the events in the
+    order they were first appended, so it rebuilds the identical chain heads the report cites
+    (and, for MCAP, checks them against the checkpoints in the file; viewers order MCAP messages
+    by log time themselves). order="time" writes (t, seq, src) order, which reads naturally but
+    rebuilds another chain when events arrived out of time order.
     """
     path = Path(path)
     fmt = format_of(path, fmt)

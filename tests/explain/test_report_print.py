@@ -39,7 +39,7 @@ def closed_store(path: Path, events: list[dict]) -> Path:
 
 
 def built(path: Path) -> dict:
-    with Store(path) as store:
+    with Store.open_read_only(path) as store:  # as `gaps report` reads it
         return build_report(store, RUN, now=NOW)
 
 

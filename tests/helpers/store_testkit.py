@@ -5,11 +5,13 @@ A plain module (not conftest) so that test modules can import it by a name no ot
 
 from __future__ import annotations
 
+import hashlib
 import sqlite3
 from pathlib import Path
 from typing import Any
 
-from store.ddl import APPEND_ONLY_TABLES
+from store import canonical_json
+from store.ddl import APPEND_ONLY_TABLES, MIGRATIONS
 
 T0 = 1_732_184_100_000_000_000  # 2024-11-21T10:15:00Z in ns
 
@@ -84,3 +86,26 @@ def rows(db_path: Path, sql: str, params: tuple = ()) -> list[tuple]:
         return conn.execute(sql, params).fetchall()
     finally:
         conn.close()
+
+
+def write_v1_file(db_path, evs, calls):
+    """What v1 code wrote: events with their chain, one checkpoint per run per append call
+    (count and head only), a rulebook without stored_at. `calls` splits evs into calls."""
+    conn = sqlite3.connect(db_path, isolation_level=None)
+    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
+    for statement in MIGRATIONS[1]:
+        conn.execute(statement)
+    conn.execute("INSERT INTO schema_version VALUES (1)")
+    head, count, start = bytes(32), 0, 0
+    for size in calls:
+        for ev in evs[start:start + size]:
+            text = canonical_json(ev)
+            head = hashlib.sha256(head + text).digest()
+            conn.execute("INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                         (ev["run"], count, ev["src"], ev["seq"], ev["t"], ev["kind"], text.decode(), head.hex()))
+            count += 1
+        conn.execute("INSERT INTO checkpoints (run, count, head, created_at) VALUES ('r1', ?, ?, 0)", (count, head.hex()))
+        start += size
+    conn.execute("INSERT INTO rulebooks VALUES (?, 'hc', '1', 'old rules')",
+                 (hashlib.sha256(b"old rules").hexdigest(),))
+    conn.close()

@@ -13,7 +13,7 @@ from store.state import build_snapshots, state_at
 
 def watermark(db_path: Path) -> int | None:
     with Store(db_path) as store:
-        row = store.connection.execute("SELECT chain_len FROM state_watermarks WHERE run = ?", (RUN,)).fetchone()
+        row = store.cache.connection.execute("SELECT chain_len FROM state_watermarks WHERE run = ?", (RUN,)).fetchone()
     return None if row is None else row[0]
 
 
@@ -35,7 +35,7 @@ def test_the_ingest_checks_snapshots_inside_its_appends(
     assert ingest.wait_until_stored(31, timeout=10), ingest.stats()
     assert watermark(db_path) == 31
     with Store(db_path) as reader:
-        stale = reader.connection.execute(
+        stale = reader.cache.connection.execute(
             "SELECT count(*) FROM state_snapshots WHERE run = ? AND t >= ?", (RUN, late["t"])).fetchone()[0]
         assert stale == 0  # dropped by the ingest in the transaction that stored the late event
         end = first[-1]["t"]

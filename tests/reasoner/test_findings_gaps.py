@@ -22,7 +22,7 @@ def events(drop: set[tuple[str, int]] = frozenset()) -> list[dict]:
 def test_a_run_without_gaps_needs_no_source_read(tmp_path):
     with Store(tmp_path / "s.db") as store:
         store.append(events())
-        gaps = Gaps(store.connection, "r")
+        gaps = Gaps(store, "r")
         assert gaps.of("vehicle/1") == [] and gaps.of("monitor/m1") == []
         assert gaps._found == {}            # the run-wide check said no source has a gap
 
@@ -30,7 +30,7 @@ def test_a_run_without_gaps_needs_no_source_read(tmp_path):
 def test_gaps_are_found_in_the_source_that_has_them(tmp_path):
     with Store(tmp_path / "s.db") as store:
         store.append(events(drop={("vehicle/2", 5), ("vehicle/2", 6), ("vehicle/2", 19), ("monitor/m1", 0)}))
-        gaps = Gaps(store.connection, "r")
+        gaps = Gaps(store, "r")
         assert gaps.of("vehicle/1") == []
         assert gaps.of("vehicle/2") == [(5, 6)]       # a missing last event is not a gap to see
         assert gaps.of("monitor/m1") == [(0, 0)]

@@ -7,7 +7,7 @@ import sqlite3
 import pytest
 from tests.helpers.store_testkit import event, rows
 
-from store import AppendReport, Store, canonical_json
+from store import AppendReport, Store, StoreError, canonical_json
 
 
 def checkpoints(db_path):
@@ -242,7 +242,7 @@ def test_a_newer_schema_is_refused(db_path):
     conn.execute("INSERT INTO schema_version VALUES (99)")
     conn.commit()
     conn.close()
-    with pytest.raises(RuntimeError, match="newer"):
+    with pytest.raises(StoreError, match="newer"):
         Store(db_path)
 
 

@@ -189,7 +189,7 @@ def shuffled_run() -> list[dict]:
 
 def test_export_writes_canonical_lines_in_time_order(store, tmp_path):
     store.append(shuffled_run())
-    report = export_run(store, "r1", tmp_path / "out.jsonl")
+    report = export_run(store, "r1", tmp_path / "out.jsonl", order="time")
     lines = (tmp_path / "out.jsonl").read_bytes().split(b"\n")
     assert lines[-1] == b"" and report.events == len(lines) - 1 == 120
     expected = [canonical_json(ev) for ev in store.events("r1")]
@@ -203,7 +203,7 @@ def test_round_trip_in_time_order_gives_identical_events_and_heads_for_a_time_or
     events = sorted(shuffled_run(), key=lambda e: (e["t"], e["seq"], e["src"]))
     with Store(tmp_path / "a.db") as a:
         a.append(events)
-        export_run(a, "r1", tmp_path / "r1.jsonl")
+        export_run(a, "r1", tmp_path / "r1.jsonl", order="time")
         with Store(tmp_path / "b.db") as b:
             report = import_file(b, tmp_path / "r1.jsonl")
             assert report.stored == len(events)
@@ -217,7 +217,7 @@ def test_round_trip_of_the_paper_run_in_chain_order_rebuilds_the_same_chain(tmp_
         a.append(paper_run())
         run = a.runs()[0]["run"]
         export_run(a, run, tmp_path / "chain.jsonl", order="chain")
-        export_run(a, run, tmp_path / "time.jsonl")
+        export_run(a, run, tmp_path / "time.jsonl", order="time")
         with Store(tmp_path / "b.db") as b, Store(tmp_path / "c.db") as c:
             import_file(b, tmp_path / "chain.jsonl")
             import_file(c, tmp_path / "time.jsonl")

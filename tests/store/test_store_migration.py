@@ -1,37 +1,11 @@
 """A file written by the v1 schema opens, verifies and grows under v2; its old checkpoints, which
 carry no Merkle root, are recognised as such and nothing later may lack one."""
 
-import hashlib
-import sqlite3
 
 import pytest
-from tests.helpers.store_testkit import event, rows, tamper
+from tests.helpers.store_testkit import event, rows, tamper, write_v1_file
 
-from store import Store, canonical_json, merkle
-from store.ddl import MIGRATIONS
-
-
-def write_v1_file(db_path, evs, calls):
-    """What v1 code wrote: events with their chain, one checkpoint per run per append call
-    (count and head only), a rulebook without stored_at. `calls` splits evs into calls."""
-    conn = sqlite3.connect(db_path, isolation_level=None)
-    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
-    for statement in MIGRATIONS[1]:
-        conn.execute(statement)
-    conn.execute("INSERT INTO schema_version VALUES (1)")
-    head, count, start = bytes(32), 0, 0
-    for size in calls:
-        for ev in evs[start:start + size]:
-            text = canonical_json(ev)
-            head = hashlib.sha256(head + text).digest()
-            conn.execute("INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
-                         (ev["run"], count, ev["src"], ev["seq"], ev["t"], ev["kind"], text.decode(), head.hex()))
-            count += 1
-        conn.execute("INSERT INTO checkpoints (run, count, head, created_at) VALUES ('r1', ?, ?, 0)", (count, head.hex()))
-        start += size
-    conn.execute("INSERT INTO rulebooks VALUES (?, 'hc', '1', 'old rules')",
-                 (hashlib.sha256(b"old rules").hexdigest(),))
-    conn.close()
+from store import Store, merkle
 
 
 @pytest.fixture

@@ -138,9 +138,9 @@ def test_the_hook_drops_the_snapshots_a_late_event_makes_stale(store):
     build_snapshots(store, "r1", every=10)
     middle = sorted(e["t"] for e in events)[50]
     store.append([event(0, src="vehicle/9", t=middle, kind="entity.state", body={"x": 0, "y": 0, "speed_mps": 0})])
-    kept = store.connection.execute("SELECT max(t) FROM state_snapshots WHERE run = 'r1'").fetchone()[0]
+    kept = store.cache.connection.execute("SELECT max(t) FROM state_snapshots WHERE run = 'r1'").fetchone()[0]
     assert kept < middle
-    watermark = store.connection.execute("SELECT chain_len FROM state_watermarks WHERE run = 'r1'").fetchone()
+    watermark = store.cache.connection.execute("SELECT chain_len FROM state_watermarks WHERE run = 'r1'").fetchone()
     assert watermark == (101,)
 
 
@@ -157,7 +157,7 @@ def test_a_damaged_snapshot_is_passed_over(store):
     events = long_run(50)
     store.append(events)
     build_snapshots(store, "r1", every=5)
-    store.connection.execute("UPDATE state_snapshots SET state = x'00ff'")
+    store.cache.connection.execute("UPDATE state_snapshots SET state = x'00ff'")
     assert_snapshots_agree(store, times(events)[::7])
 
 
@@ -166,7 +166,7 @@ def test_snapshots_of_another_fold_version_are_ignored(store, monkeypatch):
     store.append(events)
     build_snapshots(store, "r1", every=5)
     monkeypatch.setattr(snapshots, "FOLD_VERSION", snapshots.FOLD_VERSION + 1)
-    store.connection.execute("UPDATE state_snapshots SET state = ?", (snapshots.encode({"junk": 1}),))
+    store.cache.connection.execute("UPDATE state_snapshots SET state = ?", (snapshots.encode({"junk": 1}),))
     assert_snapshots_agree(store, times(events)[::5])
 
 
@@ -179,13 +179,13 @@ def test_the_cache_can_be_cleared_and_rebuilt(store):
     assert_snapshots_agree(store, times(events)[::5])
 
 
-def test_a_locked_file_still_answers_without_writing_snapshots(db_path, small_snapshots):
+def test_a_locked_cache_still_answers_without_writing_snapshots(db_path, small_snapshots):
     events = long_run(30)
     with Store(db_path) as reader:
         reader.append(events)
         snapshots.ensure_tables(reader)
-        reader.connection.execute("PRAGMA busy_timeout = 10")
-        other = sqlite3.connect(db_path, isolation_level=None)
+        reader.cache.connection.execute("PRAGMA busy_timeout = 10")
+        other = sqlite3.connect(reader.cache.path, isolation_level=None)  # the cache, locked
         other.execute("BEGIN IMMEDIATE")
         try:
             end = events[-1]["t"]
@@ -219,7 +219,7 @@ def test_check_finds_a_snapshot_altered_behind_the_stores_back(store):
     store.append(events)
     build_snapshots(store, "r1", every=7)
     assert state.check_snapshots(store, "r1") == []
-    conn = store.connection
+    conn = store.cache.connection
     t, seq, src, blob = conn.execute("SELECT t, seq, src, state FROM state_snapshots ORDER BY t LIMIT 1 OFFSET 3").fetchone()
     forged = snapshots.decode(blob)
     forged["signals"]["J1"]["north"]["colour"] = "off"  # no event of the run says so
@@ -239,7 +239,7 @@ def test_a_snapshot_is_written_by_orjson_and_read_back_equal(store):
     events = long_run(40)
     store.append(events)
     build_snapshots(store, "r1", every=10)
-    blobs = [blob for (blob,) in store.connection.execute("SELECT state FROM state_snapshots")]
+    blobs = [blob for (blob,) in store.cache.connection.execute("SELECT state FROM state_snapshots")]
     assert blobs and all(blob[4] == 1 for blob in blobs)  # the writer byte: orjson
     assert_snapshots_agree(store, times(events)[::4])
 
@@ -252,7 +252,7 @@ def test_an_integer_beyond_64_bits_in_a_body_survives_a_snapshot_exactly(store):
     events += [dict(e, seq=e["seq"] + 100, t=e["t"] + 10**9) for e in long_run(20)]
     store.append(events)
     build_snapshots(store, "r1", every=5)
-    writers = {blob[4] for (blob,) in store.connection.execute("SELECT state FROM state_snapshots")}
+    writers = {blob[4] for (blob,) in store.cache.connection.execute("SELECT state FROM state_snapshots")}
     assert writers == {0, 1}  # json once the state holds the long integer, orjson before
     got = state_at(store, "r1", events[-1]["t"])["entities"]["vehicle/8"]["state"]["body"]["odometer"]
     assert type(got) is int and got == huge
@@ -265,7 +265,7 @@ def test_a_blob_altered_to_hold_a_long_integer_is_found_by_the_check(store):
     events = long_run(30)
     store.append(events)
     build_snapshots(store, "r1", every=10)
-    conn = store.connection
+    conn = store.cache.connection
     t, seq, src, blob = conn.execute("SELECT t, seq, src, state FROM state_snapshots ORDER BY t LIMIT 1").fetchone()
     state_now = snapshots.decode(blob)
     events_folded = state_now["events"]
