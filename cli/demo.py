@@ -13,6 +13,7 @@ import typer
 from cli.app import db_path, fail, open_existing
 from cli.incidents import show_incidents
 from cli.options import DbOption, JsonOption
+from explain import write_report
 from reasoner.api import Case
 
 
@@ -32,13 +33,14 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
     if not json_out:
         typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
                    f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
-    with open_existing(path) as store:
-        show_incidents(Case(store), run, json_out, explain=True)
     target = report or path.parent / "gaps-report.html"
-    try:
-        written = write_report(path, run, target)
-    except (OSError, ValueError) as exc:
-        fail(f"cannot write the report to {target}: {exc}")
+    with open_existing(path) as store:
+        case = Case(store)              # judged once, for the listing and the report
+        show_incidents(case, run, json_out, explain=True)
+        try:
+            written = write_report(case, run, target)
+        except OSError as exc:
+            fail(f"cannot write the report to {target}: {exc.strerror or exc}")
     typer.echo(f"Report of run {run}: {written.resolve()} (open it in a browser; `gaps report --run {run} -o FILE --pdf` "
                "prints a PDF)", err=json_out)
 
@@ -63,12 +65,3 @@ def publish_through_zenoh(db: Path, events: list[dict], timeout_s: float = 30.0)
             raise RuntimeError(f"not every event reached the store within {timeout_s} s: {ingest.stats()}")
         return ingest.stats()
 
-
-def write_report(db: Path, run: str, target: Path) -> Path:
-    """The run's report written to `target`, in the format its suffix names."""
-    from explain.report import build_report, format_for, render_report
-    fmt = format_for(target)
-    with open_existing(db) as store:
-        built = build_report(store, run)
-    target.write_text(render_report(built, fmt), encoding="utf-8")
-    return target

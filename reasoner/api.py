@@ -125,7 +125,7 @@ class Case:
 def open(path: str | os.PathLike, *, rules: Iterable[str | os.PathLike] = ()) -> Case:  # noqa: A001
     """Open the store at `path` read-only for investigation; `rules` are LE rulebooks judged
     with first (a stage they do not define keeps the run's own or the current rulebook)."""
-    return Case(Store(path), rules)
+    return Case(Store.open_read_only(path), rules)
 
 
 def _matches(inc: Incident, verdict: str | None, vehicle: str | None, rule: str | None) -> bool:

@@ -27,7 +27,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
-from store import Store, state_at
+from store import GapsError, NoSuchRun, Store, state_at
 
 from .control import control_at
 from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, ref, vehicle_action, vehicle_id,
@@ -38,25 +38,19 @@ if TYPE_CHECKING:
     from .investigation import Investigation
 
 
-class SceneError(ValueError):
+class SceneError(GapsError, ValueError):
     """A question about a scene that names nothing in the record."""
 
 
-class UnknownRun(SceneError):
-    pass
-
-
 class UnknownVehicle(SceneError):
-    pass
+    """A vehicle not present at the moment asked; the message names the ones that are."""
 
 
 def run_start(store: Store, run: str) -> int:
     """When the run started (ns): its run.start event, else its first event (Store.run_start)."""
     start = store.run_start(run)
     if start is None:
-        known = store.run_names()
-        shown = ", ".join(known[:20]) + (f" and {len(known) - 20} more" if len(known) > 20 else "")
-        raise UnknownRun(f"no run {run!r} in the store; runs: {shown or 'none'}")
+        raise NoSuchRun(run, store.run_names())
     return start
 
 

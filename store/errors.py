@@ -11,6 +11,9 @@ from __future__ import annotations
 from typing import Iterable
 
 
+SHOWN = 20      # runs a message names; a fleet's store holds thousands
+
+
 class GapsError(Exception):
     """Something went wrong that the user can act on; `exit_code` is what `gaps` exits with
     (2: the user's input; 1: evidence that does not verify; 3: the set-up)."""
@@ -28,4 +31,6 @@ class NoSuchRun(StoreError, LookupError):
     def __init__(self, run: str, known: Iterable[str]) -> None:
         self.run = run
         self.known = list(known)
-        super().__init__(f"no run {run!r}; runs: {', '.join(self.known) or 'none'}")
+        shown = ", ".join(self.known[:SHOWN]) or "none"
+        more = len(self.known) - SHOWN
+        super().__init__(f"no run {run!r}; runs: {shown}" + (f" and {more} more" if more > 0 else ""))

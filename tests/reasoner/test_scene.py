@@ -7,9 +7,9 @@ import random
 import pytest
 
 from reasoner.investigation import Investigation
-from reasoner.scene import UnknownRun, UnknownVehicle, run_start, scene
+from reasoner.scene import UnknownVehicle, run_start, scene
 from sim_replay.paper import RUN, SECOND, T0, paper_run
-from store import Store
+from store import NoSuchRun, Store
 
 
 def ev(src, seq, t, kind, body):
@@ -142,9 +142,9 @@ def test_before_the_run_start_the_scene_is_empty_and_says_so(store):
 
 def test_run_start_and_unknown_run(store):
     assert run_start(store, RUN) == T0
-    with pytest.raises(UnknownRun, match=f"runs: {RUN}"):
+    with pytest.raises(NoSuchRun, match=f"runs: {RUN}"):
         run_start(store, "nope")
-    with pytest.raises(UnknownRun):
+    with pytest.raises(NoSuchRun):
         scene(store, "nope", T0)
 
 

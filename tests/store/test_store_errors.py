@@ -48,3 +48,9 @@ def test_no_such_run_lists_the_runs():
     err = NoSuchRun("typo", ["run-a", "run-b"])
     assert str(err) == "no run 'typo'; runs: run-a, run-b"
     assert str(NoSuchRun("x", [])) == "no run 'x'; runs: none"
+
+
+def test_a_fleet_of_runs_is_not_listed_in_full():
+    runs = [f"run-{i:04d}" for i in range(1000)]
+    message = str(NoSuchRun("typo", runs))
+    assert message.endswith("run-0019 and 980 more") and "run-0020" not in message
