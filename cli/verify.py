@@ -1,5 +1,5 @@
-"""`gaps verify`: recompute the hash chains, Merkle roots and checkpoints, and name the first
-event that does not match (exit 1), optionally with the state snapshots checked too."""
+"""`gaps verify`: recompute the hash chains, Merkle roots and checkpoints, check the cached state
+snapshots against the events, and name the first event or snapshot that does not match (exit 1)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -18,15 +18,15 @@ from store import Store
 def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
            json_out: bool = JsonOption,
            with_snapshots: bool = typer.Option(
-               False, "--snapshots",
-               help="Also re-fold each run and name the state snapshots that differ from its events.")) -> None:
-    """Check the hash chains, Merkle roots and checkpoints, naming the first event that does not match.
+               True, "--snapshots/--no-snapshots",
+               help="Also re-fold each run and name the cached state snapshots that differ from its events.")) -> None:
+    """Check the hash chains, Merkle roots, checkpoints and cached snapshots against the events.
 
-    Exit 1 if anything does not match, 2 for a usage error such as a missing store or run.
-    With --snapshots, also exit 1 if a state snapshot (the cache behind state at a time) differs
-    from a fresh fold of its run's events. Snapshots are not evidence (nothing chains them) but
-    state at a time answers from them, so a wrong one is worth finding; deleting them is safe,
-    they are rebuilt from the events.
+    Exit 1 if anything does not match, naming the first event (or snapshot) that does not; 2 for
+    a usage error such as a missing store or run. Snapshots live in the cache beside the store and
+    are not evidence (nothing chains them), but scenes and verdicts read state from them, so
+    verify checks them too unless told --no-snapshots: nothing read can change a verdict without
+    verify failing. Deleting the cache is safe; it is rebuilt from the events.
     """
     wrong: dict[str, list] = {}
     with open_existing(db) as store:

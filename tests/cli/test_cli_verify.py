@@ -48,11 +48,13 @@ def test_matching_snapshots_pass(snapshot_db):
     assert as_json["ok"] is True and as_json["snapshots"] == {"r1": []}
 
 
-def test_a_wrong_snapshot_fails_verify_only_when_asked(snapshot_db):
+def test_a_wrong_snapshot_fails_verify(snapshot_db):
+    """A snapshot is not evidence, but scenes and verdicts read state from it: a forged one with
+    a correct key must fail plain `gaps verify`, or it could change a verdict quietly."""
     t, seq, src = forge_snapshot(snapshot_db, 2)
-    plain = gaps("verify", db=snapshot_db)
-    assert plain.exit_code == 0  # the chain is intact: snapshots are not evidence
-    checked = gaps("verify", "--snapshots", db=snapshot_db)
+    skipped = gaps("verify", "--no-snapshots", db=snapshot_db)
+    assert skipped.exit_code == 0  # the chain itself is intact
+    checked = gaps("verify", db=snapshot_db)
     assert checked.exit_code == 1
     assert f"SNAPSHOTS WRONG in run r1: 1 differ from the events, the first after src {src} seq {seq} (t {t})" \
         in checked.stdout
