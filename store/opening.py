@@ -17,7 +17,9 @@ from __future__ import annotations
 import os
 import sqlite3
 import stat
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Iterator
 from urllib.parse import quote
 
 from . import ddl
@@ -32,7 +34,7 @@ def connect_writable(path: str, *, durable: bool, check_same_thread: bool) -> sq
     """A connection that may append: the schema created or migrated, WAL switched on. A file that
     is not an event store is a StoreError; one that cannot be opened or locked, sqlite3's error."""
     conn = sqlite3.connect(path, isolation_level=None, check_same_thread=check_same_thread)
-    try:
+    with _closed_on_error(conn, path, locked_as_is=True):
         # A new file gets 16 KiB pages (before WAL fixes the size): the append inserts each
         # event into a table and four indexes, and larger pages split less often (bench/
         # append.py: +10-20% events/s against 4 KiB). An existing file keeps its size.
@@ -41,15 +43,6 @@ def connect_writable(path: str, *, durable: bool, check_same_thread: bool) -> sq
         conn.execute(f"PRAGMA synchronous={'FULL' if durable else 'NORMAL'}")
         conn.execute(f"PRAGMA cache_size=-{CACHE_KIB}")
         ddl.migrate(conn)
-    except sqlite3.OperationalError:  # locked, unwritable: the caller's environment, said as SQLite says it
-        conn.close()
-        raise
-    except sqlite3.DatabaseError as exc:
-        conn.close()
-        raise _unusable(path, exc) from None
-    except BaseException:
-        conn.close()
-        raise
     return conn
 
 
@@ -63,15 +56,9 @@ def connect_read_only(path: str, *, check_same_thread: bool = True, oldest: int 
         conn = sqlite3.connect(uri, uri=True, isolation_level=None, check_same_thread=check_same_thread)
     except sqlite3.Error as exc:
         raise StoreError(f"cannot open the event store {path}: {exc}") from None
-    try:
+    with _closed_on_error(conn, path, locked_as_is=False):
         conn.execute(f"PRAGMA cache_size=-{CACHE_KIB}")
         check_schema(conn, path, oldest)
-    except sqlite3.DatabaseError as exc:
-        conn.close()
-        raise _unusable(path, exc) from None
-    except BaseException:
-        conn.close()
-        raise
     return conn
 
 
@@ -120,6 +107,23 @@ def _check_file(path: str) -> None:
         raise StoreError(f"no event store at {path}: it is not a file")
     if not os.access(path, os.R_OK):
         raise StoreError(f"cannot read the event store {path}: permission denied")
+
+
+@contextmanager
+def _closed_on_error(conn: sqlite3.Connection, path: str, *, locked_as_is: bool) -> Iterator[None]:
+    """Close the connection if setting it up fails; a file that is not a usable event store is a
+    StoreError. With locked_as_is, SQLite's own error for a locked or unwritable file passes as
+    it is (the writer's caller, the ingest, tells those apart)."""
+    try:
+        yield
+    except sqlite3.DatabaseError as exc:
+        conn.close()
+        if locked_as_is and isinstance(exc, sqlite3.OperationalError):
+            raise
+        raise _unusable(path, exc) from None
+    except BaseException:
+        conn.close()
+        raise
 
 
 def _unusable(path: str, exc: sqlite3.DatabaseError) -> StoreError:
