@@ -2,12 +2,15 @@
 
 The rulebooks speak in the present tense and in templates ("173 has red light"); a verdict speaks
 of what happened ("it entered the junction against a red light") and of what might have been ("had
-173 been stopped"). The phrasing here is keyed by the sentences of DESIGN's core vocabulary (which
-every producer writes), never by case; a sentence it does not know keeps the rule's own words.
+173 been stopped"). What might have been is the rulebook's own sentence put in the past perfect by
+grammar, reading the verb off its template, so a sentence of any rulebook reads without a table
+entry. The few words no template holds (an article, a unit, a preposition beside the action) are
+kept by hand, keyed by the sentences of reasoner/vocabulary.py, never by case; a sentence the
+grammar cannot place keeps the rule's own words.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from reasoner import vocabulary as vocab
 from reasoner.le.render import arg_text
@@ -109,12 +112,14 @@ def slotted(template: Template) -> Shape:
     return out
 
 
-def layout(data: list, text: str) -> Shape | None:
-    """The shape of the template `text` was rendered from (reasoner.le.render.sentence_text): the
-    functor gives its words, the arguments fill its slots, and where each sits is read off the text.
-    None when the text is not words and arguments joined by spaces (a glued or a built-in sentence)."""
+def layouts(data: list, text: str) -> Iterator[Shape]:
+    """The shapes of the templates `text` could be rendered from (reasoner.le.render.sentence_text):
+    the functor gives the template's words, the arguments fill its slots, and where each sits is
+    read off the text. More than one only where a value is also a word of the template ("is is
+    stopped"); none when the text is not words and values joined by spaces (a glued or a built-in
+    sentence)."""
     if not data or not isinstance(data[0], str) or data[0].startswith("$") or not text:
-        return None
+        return
     words = data[0].split("_")
     args = [arg_text(x) for x in data[1:]]
 
@@ -124,20 +129,22 @@ def layout(data: list, text: str) -> Shape | None:
             return end + 1
         return None
 
-    def fit(pos: int, w: int, k: int) -> Shape | None:
+    def fit(pos: int, w: int, k: int) -> Iterator[Shape]:
         if pos >= len(text):
-            return [] if w == len(words) and k == len(args) else None
+            if w == len(words) and k == len(args):
+                yield []
+            return
         if w < len(words) and (nxt := at(pos, words[w])) is not None:
-            rest = fit(nxt, w + 1, k)
-            if rest is not None:
-                return [words[w], *rest]
+            yield from ([words[w], *rest] for rest in fit(nxt, w + 1, k))
         if k < len(args) and (nxt := at(pos, args[k])) is not None:
-            rest = fit(nxt, w, k + 1)
-            if rest is not None:
-                return [k, *rest]
-        return None
+            yield from ([k, *rest] for rest in fit(nxt, w, k + 1))
 
-    return fit(0, 0, 0)
+    yield from fit(0, 0, 0)
+
+
+def layout(data: list, text: str) -> Shape | None:
+    """The first shape `text` fits (layouts), or None."""
+    return next(layouts(data, text), None)
 
 
 def _verb_at(shape: Shape) -> int | None:
@@ -275,8 +282,8 @@ def had(data: list, text: str, holds: bool = True) -> str:
     rule's words ("it been recorded that 9 is at a crossroads")."""
     args = [value(x) for x in data[1:]]
     prose = _PROSE.get(data[0])
-    shape = list(slotted(prose)) if prose is not None and prose.arity == len(args) else layout(data, text)
-    clause = perfect(shape, args, holds) if shape is not None else None
+    shapes = [slotted(prose)] if prose is not None and prose.arity == len(args) else layouts(data, text)
+    clause = next((c for c in (perfect(s, args, holds) for s in shapes) if c is not None), None)
     if clause is None:
         return f"it been recorded that {text}" if holds else f"it not been recorded that {text}"
     return clause
