@@ -2,13 +2,20 @@
 
 The rulebooks speak in the present tense and in templates ("173 has red light"); a verdict speaks
 of what happened ("it entered the junction against a red light") and of what might have been ("had
-173 been stopped"). The phrasing here is keyed by the sentences of DESIGN's core vocabulary (which
-every producer writes), never by case; a sentence it does not know keeps the rule's own words.
+173 been stopped"). What might have been is the rulebook's own sentence put in the past perfect by
+grammar, reading the verb off its template, so a sentence of any rulebook reads without a table
+entry. The few words no template holds (an article, a unit, a preposition beside the action) are
+kept by hand, keyed by the sentences of reasoner/vocabulary.py, never by case; a sentence the
+grammar cannot place keeps the rule's own words.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
+from reasoner import vocabulary as vocab
+from reasoner.le.render import arg_text
+from reasoner.le.templates import Slot, Template, parse_template
+from reasoner.vocabulary import Sentence
 from reasoner.when import clock, day  # noqa: F401  (times as the explanations write them: reasoner/when.py)
 
 IRREGULAR = {"go": "went", "give": "gave", "take": "took", "cut": "cut", "keep": "kept", "stop": "stopped",
@@ -62,83 +69,224 @@ def with_a(v: Any) -> str:
     return f"{a(w)} {w}"
 
 
-# -- how an action was done: the conditions of the potential violation ---------------------------
-# functor -> phrase for a condition that held (None: implied by the action itself, left out)
-Phrase = Callable[[list, Any], str | None]
+# -- the past perfect of a rulebook's sentence ------------------------------------------------------
+# A template is words and slots ("*a vehicle* has *a colour* light"); its verb is the word after a
+# leading slot, or a verb among its leading words ("there is ...", "the speed limit is *a number*").
+# Read that way, "had" puts any rulebook's sentence in the past: is -> been, has + participle ->
+# the participle, has -> had, would + verb -> the participle.
+Shape = list  # the template's words in order, and for each slot the index of its argument (int)
 
-MANNER: dict[str, Phrase] = {
-    "has_light": lambda x, v: f"against {with_a(x[1])} light",
-    "has_a_sign": lambda x, v: f"at {with_a(x[1])} sign",
-    "has_speed_of": lambda x, v: f"at {value(x[1])} mph",
-    "the_speed_limit_is": lambda x, v: f"where the limit is {value(x[0])} mph",
-    "is_approaching": lambda x, v: f"with {value(x[0])} approaching" if x[1] == v else None,
-    "is_on_the_main_road": lambda x, v: "on the main road" if x[0] != v else None,
-    "is_stopped_in_the_box_junction": lambda x, v: "and stopped in it",
-    "has_crossed_the_stop_line": lambda x, v: None,
-    "is_in_the_junction": lambda x, v: None,
-    "is_at_a_box_junction": lambda x, v: None,
-    "is_of_type": lambda x, v: None,
+BE = {"is", "are", "was", "were"}
+HAVE = {"has", "have"}
+MODAL = {"would", "will"}
+PARTICIPLES = {"be": "been", "go": "gone", "give": "given", "take": "taken", "drive": "driven",
+               "overtake": "overtaken", "ride": "ridden", "see": "seen", "do": "done", "get": "got",
+               "run": "run", "cut": "cut", "put": "put", "set": "set", "let": "let", "hit": "hit",
+               "keep": "kept", "make": "made", "leave": "left", "stop": "stopped", "come": "come",
+               "become": "become", "hold": "held", "find": "found", "lose": "lost", "meet": "met",
+               "pay": "paid", "say": "said", "send": "sent", "stand": "stood", "show": "shown",
+               "fall": "fallen", "break": "broken", "choose": "chosen", "begin": "begun",
+               "have": "had", "bring": "brought", "catch": "caught", "know": "known"}
+_IRREGULAR_DONE = set(PARTICIPLES.values())
+
+
+def participle(verb: str) -> str:
+    """"endanger" -> "endangered", "drive" -> "driven": the past participle of a bare verb."""
+    low = verb.lower()
+    if low in PARTICIPLES:
+        return PARTICIPLES[low]
+    return past(verb)
+
+
+def is_participle(word: str) -> bool:
+    """"crossed", "been" are; "speed" (has speed of) and "a" (has a stop sign) are not."""
+    low = word.lower()
+    return low in _IRREGULAR_DONE or (len(low) > 3 and low.endswith("ed") and not low.endswith("eed"))
+
+
+def slotted(template: Template) -> Shape:
+    """A declared template as a shape: its slots numbered in order."""
+    out: Shape = []
+    for part in template.parts:
+        out.append(sum(isinstance(x, int) for x in out) if isinstance(part, Slot) else part)
+    return out
+
+
+def layouts(data: list, text: str) -> Iterator[Shape]:
+    """The shapes of the templates `text` could be rendered from (reasoner.le.render.sentence_text):
+    the functor gives the template's words, the arguments fill its slots, and where each sits is
+    read off the text. More than one only where a value is also a word of the template ("is is
+    stopped"); none when the text is not words and values joined by spaces (a glued or a built-in
+    sentence)."""
+    if not data or not isinstance(data[0], str) or data[0].startswith("$") or not text:
+        return
+    words = data[0].split("_")
+    args = [arg_text(x) for x in data[1:]]
+
+    def at(pos: int, piece: str) -> int | None:
+        end = pos + len(piece)
+        if piece and text.startswith(piece, pos) and (end == len(text) or text[end] == " "):
+            return end + 1
+        return None
+
+    def fit(pos: int, w: int, k: int) -> Iterator[Shape]:
+        if pos >= len(text):
+            if w == len(words) and k == len(args):
+                yield []
+            return
+        if w < len(words) and (nxt := at(pos, words[w])) is not None:
+            yield from ([words[w], *rest] for rest in fit(nxt, w + 1, k))
+        if k < len(args) and (nxt := at(pos, args[k])) is not None:
+            yield from ([k, *rest] for rest in fit(nxt, w, k + 1))
+
+    yield from fit(0, 0, 0)
+
+
+def layout(data: list, text: str) -> Shape | None:
+    """The first shape `text` fits (layouts), or None."""
+    return next(layouts(data, text), None)
+
+
+def _verb_at(shape: Shape) -> int | None:
+    """Where the template's verb is: after a leading slot, or among the words before its first slot."""
+    if len(shape) < 2:
+        return None
+    verbs = BE | HAVE | MODAL
+    if isinstance(shape[0], int):
+        return 1 if isinstance(shape[1], str) and shape[1].lower() in verbs else None
+    for i, part in enumerate(shape[1:], 1):
+        if isinstance(part, int):
+            return None
+        if part.lower() in verbs:
+            return i
+    return None
+
+
+def _done(verb: str, rest: Shape) -> tuple[str, Shape] | None:
+    """The verb in the past perfect (after "had") and what follows it."""
+    nxt = rest[0] if rest and isinstance(rest[0], str) else None
+    if verb in BE:
+        return "been", rest
+    if verb in HAVE:
+        return (nxt, rest[1:]) if nxt is not None and is_participle(nxt) else ("had", rest)
+    if verb in MODAL and nxt is not None:
+        return _done(nxt.lower(), rest[1:]) if nxt.lower() in HAVE else (participle(nxt), rest[1:])
+    return None
+
+
+def perfect(shape: Shape, args: list[str], holds: bool = True) -> str | None:
+    """The clause after "had" for a sentence of this shape: "173 is stopped" -> "173 been stopped",
+    "173 has crossed the stop line" -> "173 crossed the stop line", "173 has red light" -> "173 had
+    red light", "173 would endanger 9" -> "173 endangered 9"; and what did not hold: "173 not been
+    stopped", "173 had no stop sign", "there been no safe gap ...". None: no verb the grammar knows."""
+    i = _verb_at(shape)
+    if i is None:
+        return None
+    head, verb, rest = shape[:i], str(shape[i]).lower(), shape[i + 1:]
+    negate = not holds
+    if rest[:1] == ["not"]:
+        rest, negate = rest[1:], not negate
+    found = _done(verb, rest)
+    if found is None:
+        return None
+    done, rest = found
+    possessed = done == "had" or [str(w).lower() for w in head] == ["there"]
+    if negate and possessed and rest[:1] in (["a"], ["an"]):
+        words = [*head, done, "no", *rest[1:]]          # "had no stop sign", "there been no safe gap"
+    else:
+        words = [*head, *(["not"] if negate else []), done, *rest]
+    return _fill(words, args)
+
+
+def _fill(shape: Shape, args: list[str]) -> str:
+    """The words with the arguments in their slots; a template's "a" before a slot agrees with it."""
+    out: list[str] = []
+    for j, part in enumerate(shape):
+        if isinstance(part, int):
+            out.append(args[part])
+        elif part.lower() in ("a", "an") and j + 1 < len(shape) and isinstance(shape[j + 1], int):
+            out.append(a(args[shape[j + 1]]))
+        else:
+            out.append(part)
+    return " ".join(out)
+
+
+# -- how an action was done: the conditions of the potential violation ---------------------------
+# What a condition adds beside the action ("entered the junction against a red light") is a choice
+# of words no template holds, so these stay by hand, keyed by the rulebooks' sentences; a sentence
+# not here keeps the rule's own words ("where 9 is at a crossroads").
+Phrase = Callable[[list, Any], str | None]          # (arguments, the vehicle) -> phrase, None: left out
+
+MANNER: dict[Sentence, Phrase] = {
+    vocab.HAS_LIGHT: lambda x, v: f"against {with_a(x[1])} light",      # the preposition and article
+    vocab.HAS_SIGN: lambda x, v: f"at {with_a(x[1])} sign",             # the preposition
+    vocab.HAS_SPEED_OF: lambda x, v: f"at {value(x[1])} mph",           # the unit
+    vocab.SPEED_LIMIT_IS: lambda x, v: f"where the limit is {value(x[0])} mph",   # the unit
+    # another road user approaching the vehicle; the vehicle itself needs no naming
+    vocab.IS_APPROACHING: lambda x, v: f"with {value(x[0])} approaching" if x[1] == v else None,
+    vocab.IS_ON_THE_MAIN_ROAD: lambda x, v: "on the main road" if x[0] != v else None,
+    vocab.IS_STOPPED_IN_THE_BOX_JUNCTION: lambda x, v: "and stopped in it",  # the box the action named
+    # implied by the action itself ("entered the junction"), left out
+    vocab.HAS_CROSSED_THE_STOP_LINE: lambda x, v: None,
+    vocab.IS_IN_THE_JUNCTION: lambda x, v: None,
+    vocab.IS_AT_A_BOX_JUNCTION: lambda x, v: None,
+    vocab.IS_OF_TYPE: lambda x, v: None,                                # the verdict names the vehicle
 }
-# functor -> phrase for a condition that held because the sentence did NOT
-MANNER_NOT: dict[str, Phrase] = {
-    "has_stopped_at_the_stop_line": lambda x, v: "without stopping at the stop line",
-    "the_exit_of_the_box_junction_is_clear_for": lambda x, v: "while its exit was not clear",
-    "is_stopped": lambda x, v: None,
-    "has_light": lambda x, v: None,
+# a condition that held because the sentence did NOT
+MANNER_NOT: dict[Sentence, Phrase] = {
+    vocab.HAS_STOPPED_AT_THE_STOP_LINE: lambda x, v: "without stopping at the stop line",
+    vocab.EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR: lambda x, v: "while its exit was not clear",
+    vocab.IS_STOPPED: lambda x, v: None,                                # implied: it moved
+    vocab.HAS_LIGHT: lambda x, v: None,                                 # another colour is named
 }
+
+
+def _by_functor(table: dict[Sentence, Any]) -> dict[str, Any]:
+    return {s.functor: entry for s, entry in table.items()}
+
+
+_MANNER, _MANNER_NOT = _by_functor(MANNER), _by_functor(MANNER_NOT)
 
 
 def manner(data: list, vehicle: Any, negated: bool, text: str) -> str | None:
     """How a condition of the potential violation reads beside the action ("against a red light");
     a sentence the table does not know keeps the rule's words ("where 9 is at a crossroads")."""
-    table = MANNER_NOT if negated else MANNER
-    fn = table.get(data[0])
+    fn = (_MANNER_NOT if negated else _MANNER).get(data[0])
     if fn is None:
         return f"where {text}"
     return fn(list(data[1:]), vehicle)
 
 
 # -- what might have been: counterfactual clauses --------------------------------------------------
-# functor -> (had <it held>, had <it not held>), {0} {1} the arguments, {a1} "a"/"an" before {1}
-HAD: dict[str, tuple[str, str]] = {
-    "is_stopped": ("{0} been stopped", "{0} not been stopped"),
-    "has_light": ("{0} had {a1} {1} light", "{0} not had {a1} {1} light"),
-    "has_a_sign": ("{0} had {a1} {1} sign", "{0} had no {1} sign"),
-    "is_of_type": ("{0} been {a1} {1}", "{0} not been {a1} {1}"),
-    "is_on_an_emergency_call": ("{0} been on an emergency call", "{0} not been on an emergency call"),
-    "has_crossed_the_stop_line": ("{0} crossed the stop line", "{0} not crossed the stop line"),
-    "has_stopped_at_the_stop_line": ("{0} stopped at the stop line", "{0} not stopped at the stop line"),
-    "is_in_the_junction": ("{0} been in the junction", "{0} not been in the junction"),
-    "is_approaching": ("{0} been approaching {1}", "{0} not been approaching {1}"),
-    "has_speed_of": ("{0} been doing {1} mph", "{0} not been doing {1} mph"),
-    "the_speed_limit_is": ("the speed limit been {0} mph", "the speed limit not been {0} mph"),
-    "would_force_to_change_speed_or_course": ("{0} forced {1} to change speed or course",
-                                              "{0} not forced {1} to change speed or course"),
-    "would_endanger": ("{0} endangered {1}", "{0} not endangered {1}"),
-    "is_too_close_to_the_stop_line_to_stop_safely": ("{0} been too close to the stop line to stop safely",
-                                                     "{0} not been too close to the stop line to stop safely"),
-    "is_driving_itself": ("{0} been driving itself", "{0} not been driving itself"),
-    "is_on_the_main_road": ("{0} been on the main road", "{0} not been on the main road"),
-    "there_is_a_safe_gap_in_the_traffic_for": ("there been a safe gap in the traffic for {0}",
-                                               "there been no safe gap in the traffic for {0}"),
-    "has_stopped": ("{0} stopped", "{0} not stopped"),
+# The clause after "had" is the rulebook's own sentence put in the past perfect by grammar
+# (reasoner/le: a template is words and slots; the functor is its words). Only where the template
+# lacks a word a reader needs does a sentence read through another template, written here the way a
+# rulebook would write it, with the reason beside it.
+PROSE: dict[Sentence, str] = {
+    vocab.HAS_LIGHT: "*a vehicle* has a *a colour* light",        # the article: "had a red light"
+    vocab.IS_OF_TYPE: "*a vehicle* is a *a type*",                # the article: "been an ambulance"
+    vocab.HAS_SPEED_OF: "*a vehicle* is doing *a number* mph",    # the unit: "been doing 38 mph"
+    vocab.SPEED_LIMIT_IS: "the speed limit is *a number* mph",    # the unit: "been 30 mph"
 }
-# how the old value reads after "instead of"
-INSTEAD: dict[str, Callable[[Any], str]] = {"is_of_type": with_a, "has_speed_of": value,
-                                            "the_speed_limit_is": value,
-                                            "has_a_sign": lambda v: f"{with_a(v)} sign"}
+# how the old value reads after "instead of", where the bare value does not
+INSTEAD: dict[Sentence, Callable[[Any], str]] = {
+    vocab.IS_OF_TYPE: with_a,                                     # the article: "instead of a car"
+    vocab.HAS_SIGN: lambda v: f"{with_a(v)} sign",                # the noun: "instead of a stop sign"
+}
+_PROSE = {s.functor: parse_template(t) for s, t in PROSE.items()}
+_INSTEAD = _by_functor(INSTEAD)
 
 
 def had(data: list, text: str, holds: bool = True) -> str:
-    """The clause after "had": "173 been stopped"; unknown sentences keep the rule's words
-    ("it been recorded that 9 is at a crossroads")."""
-    pattern = HAD.get(data[0])
-    if pattern is None:
-        return f"it been recorded that {text}" if holds else f"it not been recorded that {text}"
+    """The clause after "had": "173 been stopped"; a sentence the grammar cannot place keeps the
+    rule's words ("it been recorded that 9 is at a crossroads")."""
     args = [value(x) for x in data[1:]]
-    fill = {str(i): s for i, s in enumerate(args)}
-    fill.update({f"a{i}": a(s) for i, s in enumerate(args)})
-    return pattern[0 if holds else 1].format(*args, **{k: v for k, v in fill.items() if k.startswith("a")})
+    prose = _PROSE.get(data[0])
+    shapes = [slotted(prose)] if prose is not None and prose.arity == len(args) else layouts(data, text)
+    clause = next((c for c in (perfect(s, args, holds) for s in shapes) if c is not None), None)
+    if clause is None:
+        return f"it been recorded that {text}" if holds else f"it not been recorded that {text}"
+    return clause
 
 
 def change_clause(kind: str, old: list, old_text: str, new: list | None = None, new_text: str = "") -> str:
@@ -149,7 +297,7 @@ def change_clause(kind: str, old: list, old_text: str, new: list | None = None, 
     if kind == "remove":
         return "had " + had(old, old_text, holds=False)
     slot = next((i for i, (x, y) in enumerate(zip(old[1:], (new or [])[1:])) if x != y), 0)
-    was = INSTEAD.get(old[0], value)(old[1 + slot])
+    was = _INSTEAD.get(old[0], value)(old[1 + slot])
     return "had " + had(new or old, new_text) + f" instead of {was}"
 
 

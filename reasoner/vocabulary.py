@@ -5,12 +5,14 @@ a rulebook in `reasoner/rules/`. Each such sentence is named here once, declared
 rulebook declares its template, with the file that defines it; `tests/reasoner/test_vocabulary.py`
 fails when a rulebook renames or drops one, so a rename in LE breaks the build, not a verdict.
 
-Two kinds are named:
+Three kinds are named:
 - the stages' questions and their answers (`potentially_violates`, `punishably_violates`, `can`,
   the penalty and the liability sentences), which the rulebooks conclude;
 - the input sentences the code writes: DESIGN's core vocabulary ("Facts are Logical English
   sentences"), which every producer may state, and the further ones the reasoner or the synthetic
-  generator states (docs/vocabulary.md lists them for producers).
+  generator states (docs/vocabulary.md lists them for producers);
+- the sentences an explanation words in its own way (explain/phrases.py: "against a red light"),
+  where the rulebook's template alone does not give the English a verdict needs.
 
 `S.atom(*args)` is the term the engine is asked with (data, never Prolog text); `S.text(*args)` is
 the sentence as a producer records it; `S.functor` is what a parsed fact or proof node carries.
@@ -175,8 +177,25 @@ TRANSITION_DEMAND_EXPIRED = Sentence(
     "a transition demand for *a vehicle* has expired unanswered", "liability.le",
     "V asked its user to take over and the time to respond ran out: the user is now the driver")
 
+# --- sentences an explanation words beside the action (explain/phrases.py) -------------------
+
+IS_ON_THE_MAIN_ROAD = Sentence(
+    "*a road user* is on the main road", "highway_code.le",
+    "U is on the major road at a junction (HC 172: give way to it)")
+IS_AT_A_BOX_JUNCTION = Sentence(
+    "*a vehicle* is at a box junction", "monitors.le",
+    "V is at a junction marked with yellow criss-cross lines (HC 174)")
+IS_STOPPED_IN_THE_BOX_JUNCTION = Sentence(
+    "*a vehicle* is stopped in the box junction", "monitors.le",
+    "V has stopped inside the yellow box (HC 174)")
+EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR = Sentence(
+    "the exit of the box junction is clear for *a vehicle*", "monitors.le",
+    "V's exit road beyond the box is clear (HC 174)")
+EXPLAINED: tuple[Sentence, ...] = (IS_ON_THE_MAIN_ROAD, IS_AT_A_BOX_JUNCTION, IS_STOPPED_IN_THE_BOX_JUNCTION,
+                                   EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR)
+
 SENTENCES: tuple[Sentence, ...] = (
     *STAGES.values(), MITIGATELY_VIOLATES, MUST_NOT, IS_AN_OFFENCE_UNDER, GETS_LICENCE_POINTS,
     FACES_REGULATORY_SANCTIONS, *CORE, IS_TOO_CLOSE_TO_STOP, HAS_STOPPED_AT_THE_STOP_LINE,
     MONITOR_OBSERVED_LIGHT, HAS_A_LIGHT_PERCEPTION_FAULT, IS_THE_DRIVER_OF, IS_THE_USER_IN_CHARGE_OF,
-    IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR, IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF, TRANSITION_DEMAND_EXPIRED)
+    IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR, IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF, TRANSITION_DEMAND_EXPIRED, *EXPLAINED)
