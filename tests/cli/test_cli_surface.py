@@ -97,4 +97,4 @@ def test_rules_check_reads_stdin(tmp_path):
 
 def test_help_paragraphs_are_reflowed_not_broken_where_the_source_breaks():
     wide = gaps("verify", "-h", db=None, columns=240).stdout
-    assert "a missing store or run. With --snapshots, also exit 1 if a state snapshot (the cache behind state" in wide
+    assert "2 for a usage error such as a missing store or run. Snapshots live in the cache beside the store" in wide
