@@ -24,6 +24,7 @@ from .migration import MigrateReport, migrate_copy
 from .reports import AppendReport, VerifyReport
 from .snapshots import enable_snapshots
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
+from .state_value import State
 from .timeline import Timeline
 from .transfer import (
     DEFAULT_ORDER,
@@ -54,6 +55,7 @@ __all__ = [
     "OBSERVATION_WINDOW_S",
     "ORDERS",
     "SRC_ROLES",
+    "State",
     "Store",
     "StoreError",
     "Timeline",
