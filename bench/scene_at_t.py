@@ -253,7 +253,7 @@ def measure(path: Path, queries: int, seed: int) -> dict[str, Any]:
     with Store(path, durable=False) as store:
         span = store.runs()[0]
         rng = random.Random(seed)
-        ts = [rng.randint(span["first_t"], span["last_t"]) for _ in range(queries + WARM_UP)]
+        ts = [rng.randint(span.first_t, span.last_t) for _ in range(queries + WARM_UP)]
         wall: list[float] = []
         cpu: list[float] = []
         faults: list[int] = []
@@ -264,7 +264,7 @@ def measure(path: Path, queries: int, seed: int) -> dict[str, Any]:
                 wall.append((time.perf_counter() - started) * 1000)
                 cpu.append((time.process_time() - started_cpu) * 1000)
                 faults.append(minor_faults() - faulted)
-        return {"wall": wall, "cpu": cpu, "faults": faults, "events": span["events"], "scene": scene,
+        return {"wall": wall, "cpu": cpu, "faults": faults, "events": span.events, "scene": scene,
                 "snapshots": snapshots.count(store, RUN), "snapshot_bytes": snapshots.disk_bytes(store, RUN),
                 "file_bytes": path.stat().st_size}
 

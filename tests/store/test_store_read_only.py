@@ -41,7 +41,7 @@ def test_reading_changes_nothing_in_the_file(written):
         assert store.count("r1") == 50
         assert store.verify("r1").ok
         assert state_at(store, "r1", T0 + 30_000_000).events == 31  # snapshots go to the cache
-        assert [r["run"] for r in store.runs()] == ["r1"]
+        assert [r.run for r in store.runs()] == ["r1"]
     assert fingerprint(written) == before
     assert (written.parent / (written.name + ".cache")).is_file()
 
