@@ -155,8 +155,8 @@ def main() -> None:
     path = work_file(args.dir, fresh=not args.no_cold)
     truth = truth_of(args.dir)
     with Store(path, durable=False) as store:
-        span = next(r for r in store.runs() if r["run"] == RUN)
-    duration = (span["last_t"] - span["first_t"]) / 1e9
+        span = next(r for r in store.runs() if r.run == RUN)
+    duration = (span.last_t - span.first_t) / 1e9
     load = [os.getloadavg()[0]]
     cold = None
     if not args.no_cold:
@@ -178,7 +178,7 @@ def main() -> None:
     verdicts = Counter(inc.verdict for inc in found)
     kinds = Counter(f.kind for inc in found for f in inc.findings)
     result = {
-        "run": RUN, "events": span["events"], "run_seconds": duration, "machine": machine(),
+        "run": RUN, "events": span.events, "run_seconds": duration, "machine": machine(),
         "load_average": [round(x, 2) for x in load], "calibration_ms": [round(x, 2) for x in speeds],
         "cold": cold and {**cold, "x_real_time": duration / cold["wall_s"]},
         "warm": {"wall_s": warm_wall, "cpu_s": warm_cpu, "median_wall_s": median,
@@ -192,7 +192,7 @@ def main() -> None:
         return
     print(f"machine: {result['machine']}")
     print(f"load average during the bench: {', '.join(f'{x:.2f}' for x in load)}")
-    print(f"run {RUN}: {span['events']:,} events over {duration:,.0f} s")
+    print(f"run {RUN}: {span.events:,} events over {duration:,.0f} s")
     print(f"incidents: {len(found)}  by verdict: {dict(verdicts)}  findings: {dict(kinds)}")
     if cold:
         print(f"cold: {cold['wall_s']:.2f} s  = {duration / cold['wall_s']:,.0f}x real time")

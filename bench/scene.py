@@ -50,11 +50,11 @@ def measure(store: Store, queries: int, seed: int) -> dict[str, Any]:
     from reasoner.investigation import Investigation
     from reasoner.scene import scene
 
-    span = next(r for r in store.runs() if r["run"] == RUN)
+    span = next(r for r in store.runs() if r.run == RUN)
     rng = random.Random(seed)
     investigation = Investigation(store)
     vehicles = sorted({src.split("/", 1)[1] for src in _vehicle_srcs(store)})
-    ts = [rng.randint(span["first_t"] + 2_000_000_000, span["last_t"]) for _ in range(queries + WARM_UP)]
+    ts = [rng.randint(span.first_t + 2_000_000_000, span.last_t) for _ in range(queries + WARM_UP)]
     picks = [rng.choice(vehicles) for _ in ts]
     out: dict[str, dict[str, list[float]]] = {"whole": {"wall": [], "cpu": []}, "vehicle": {"wall": [], "cpu": []}}
     sizes: list[int] = []
@@ -67,7 +67,7 @@ def measure(store: Store, queries: int, seed: int) -> dict[str, Any]:
             out["vehicle"]["wall"].append(wall_v)
             out["vehicle"]["cpu"].append(cpu_v)
             sizes.append(len(whole.vehicles))
-    return {**out, "vehicles_in_scene": statistics.median(sizes), "events": span["events"]}
+    return {**out, "vehicles_in_scene": statistics.median(sizes), "events": span.events}
 
 
 def _vehicle_srcs(store: Store) -> list[str]:

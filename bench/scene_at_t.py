@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 from typing import Any, Iterator
 
-from store import Store
+from store import State, Store
 from store import snapshots
 from store.state import SNAPSHOT_EVERY, build_snapshots, state_at
 from machine import calibration, machine  # bench/machine.py, beside this file
@@ -253,7 +253,7 @@ def measure(path: Path, queries: int, seed: int) -> dict[str, Any]:
     with Store(path, durable=False) as store:
         span = store.runs()[0]
         rng = random.Random(seed)
-        ts = [rng.randint(span["first_t"], span["last_t"]) for _ in range(queries + WARM_UP)]
+        ts = [rng.randint(span.first_t, span.last_t) for _ in range(queries + WARM_UP)]
         wall: list[float] = []
         cpu: list[float] = []
         faults: list[int] = []
@@ -264,7 +264,7 @@ def measure(path: Path, queries: int, seed: int) -> dict[str, Any]:
                 wall.append((time.perf_counter() - started) * 1000)
                 cpu.append((time.process_time() - started_cpu) * 1000)
                 faults.append(minor_faults() - faulted)
-        return {"wall": wall, "cpu": cpu, "faults": faults, "events": span["events"], "scene": scene,
+        return {"wall": wall, "cpu": cpu, "faults": faults, "events": span.events, "scene": scene,
                 "snapshots": snapshots.count(store, RUN), "snapshot_bytes": snapshots.disk_bytes(store, RUN),
                 "file_bytes": path.stat().st_size}
 
@@ -288,11 +288,11 @@ def timing(r: dict[str, Any]) -> str:
             f"page faults median {statistics.median(r['faults']):.0f})")
 
 
-def pieces(scene: dict[str, Any]) -> int:
+def pieces(scene: State) -> int:
     """How many cited pieces a scene holds: its size as the reader sees it."""
-    entity = sum(1 for record in scene["entities"].values() for value in record.values() if value)
-    seen = sum(len(m["observations"]) + len(m["potential_violations"]) for m in scene["monitors"].values())
-    signals = sum(len(approaches) for approaches in scene["signals"].values())
+    entity = sum(1 for record in scene.entities.values() for value in record.values() if value)
+    seen = sum(len(m["observations"]) + len(m["potential_violations"]) for m in scene.monitors.values())
+    signals = sum(len(approaches) for approaches in scene.signals.values())
     return entity + seen + signals
 
 
@@ -338,7 +338,7 @@ def main() -> None:
         scene = r["scene"]
         print(f"  {label:>4}: {r['events']:>10,} events  {timing(r)}")
         events_only = (r["file_bytes"] - r["snapshot_bytes"]) / r["events"]
-        print(f"        scene of {len(scene['entities'])} entities, {pieces(scene)} pieces; "
+        print(f"        scene of {len(scene.entities)} entities, {pieces(scene)} pieces; "
               f"file {r['file_bytes'] / 1e6:,.0f} MB: {events_only:.0f} B/event for the log, "
               f"{r['snapshot_bytes'] / r['events']:.0f} B/event for {r['snapshots']:,} snapshots")
     if "100k" in pooled and "10m" in pooled:

@@ -66,7 +66,7 @@ def require_run(store: Store, run: Optional[str]) -> None:
     the store does not hold; None (every run) passes."""
     if run is None:
         return
-    known = [r["run"] for r in store.runs()]
+    known = [r.run for r in store.runs()]
     if run not in known:
         raise NoSuchRun(run, known)
 

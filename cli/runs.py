@@ -11,6 +11,7 @@ from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.tables import cells, show, table
 from reasoner.when import format_duration, format_time_short
+from store import RunSummary
 
 
 def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
@@ -35,9 +36,9 @@ def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
         _print_gaps(missing)
 
 
-def _run_row(summary: dict[str, Any]) -> dict[str, Any]:
-    first, last = summary["first_t"], summary["last_t"]
-    return {"run": summary["run"], "events": summary["events"], "sources": summary["sources"],
+def _run_row(summary: RunSummary) -> dict[str, Any]:
+    first, last = summary.first_t, summary.last_t
+    return {"run": summary.run, "events": summary.events, "sources": list(summary.sources),
             "first_t": first, "last_t": last, "start": format_time_short(first), "end": format_time_short(last),
             "duration_ns": last - first}
 

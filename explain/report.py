@@ -51,8 +51,8 @@ def build_report(store: Store, run: str, *, incident: str | None = None, rules: 
     files judged with first, as `gaps incidents --rules`."""
     from reasoner.investigation import Investigation
     made_from = provenance(store.path)          # before anything is read: the file as it was found
-    if run not in {r["run"] for r in store.runs()}:
-        known = ", ".join(r["run"] for r in store.runs()) or "none"
+    if run not in {r.run for r in store.runs()}:
+        known = ", ".join(r.run for r in store.runs()) or "none"
         raise ReportError(f"no run {run!r} in the store; runs: {known}")
     inv = investigation or Investigation(store, rules=list(rules))
     found = inv.incidents(run)

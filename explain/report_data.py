@@ -135,7 +135,7 @@ def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None,
     src = f"vehicle/{vehicle}"
     opening = state_at(store, run, t_from)
     own: list[dict] = []
-    first = ((opening["entities"].get(src) or {}).get("state") or {})
+    first = ((opening.entities.get(src) or {}).get("state") or {})
     if first and number(first["body"].get("speed_mps")) is not None:
         own.append({"t": first["t"], "speed_mps": number(first["body"]["speed_mps"]), "seq": first["seq"]})
     for ev in store.events(run, kinds=["entity.state"], srcs=[src], t_from=t_from, t_to=t_to):
@@ -147,7 +147,7 @@ def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None,
                 if ev["body"].get("vehicle") == vehicle and number(ev["body"].get("speed_mps")) is not None]
     signals: dict[str, list[dict]] = {}
     if junction is not None:
-        for approach, shown in sorted((opening["signals"].get(junction) or {}).items()):
+        for approach, shown in sorted((opening.signals.get(junction) or {}).items()):
             signals[approach] = [{"t": shown["last"]["t"], "colour": shown["colour"]}]
         for ev in store.events(run, kinds=["signal.state"], t_from=t_from, t_to=t_to):
             body = ev["body"]

@@ -56,7 +56,7 @@ class Case:
     # -- what the store holds ------------------------------------------------------------
     def runs(self) -> list[str]:
         """The run ids of the store, by name."""
-        return [r["run"] for r in self.store.runs()]
+        return [r.run for r in self.store.runs()]
 
     def require(self, run: str) -> None:
         """NoSuchRun ("no run 'x'; runs: a, b") unless the store holds `run`."""

@@ -6,7 +6,7 @@
 
 An incident is a potential violation: recorded on line by a monitor, or re-derived off line from
 the monitor's observations (episodes.py); both, normally. For each, at its time t, from the
-store's state at t (store.state.state_at):
+store's state at t (store.state_at, a store.State):
 
 1. the Monitor Scenario re-derives the potential violation (monitor stage); a recorded one that
    the monitor's own observation does not support is *dismissed*;
@@ -28,7 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
-from store import CollectorPaused, EventRef, Store, Timeline
+from store import CollectorPaused, EventRef, State, Store, Timeline
 
 from .chain import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
@@ -61,7 +61,7 @@ class _Case:
 
     run: str
     rs: RuleSet
-    state: dict
+    state: State
     t: int
     monitor: str
     pv: dict | None               # the recorded monitor.potential_violation, if any
@@ -255,10 +255,10 @@ class Investigation:
         for a vehicle that recorded no perception, its spawn and what the monitor saw."""
         if judged_on == "vehicle scenario":
             monitor_rb = case.rs["monitor"].rulebook if case.rs["monitor"] else rb
-            others = {constant([src.split("/", 1)[1]]) for src in case.state["entities"] if "/" in src} - {case.me}
+            others = {constant([src.split("/", 1)[1]]) for src in case.state.entities if "/" in src} - {case.me}
             return corrected(mine, seen, self._witnessed_by(monitor_rb), case.me, others)
         spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
-        own = [(a, ref(spawn, case.state["run"], "entity.spawn"))
+        own = [(a, ref(spawn, case.state.run, "entity.spawn"))
                for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
         return own + seen, []
 
@@ -421,7 +421,7 @@ def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario) ->
     return StageProof(rb.sha256, tuple(enrich(tree, rb, scenario.evidence) for tree in trees))
 
 
-def _last_seen(state: dict, vehicle: str) -> int | None:
+def _last_seen(state: State, vehicle: str) -> int | None:
     record = entity(state, vehicle) or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
     return max(times) if times and not record.get("despawned") else None

@@ -1,7 +1,7 @@
 """The paper's scenarios at a moment, read off the store's state at that time.
 
-`store.state.state_at(store, run, t)` folds the record up to t; this module cuts from it what the
-reasoner asks about (DESIGN "Reasoning"):
+`store.state_at(store, run, t)` folds the record up to t into a `store.State`; this module cuts
+from it what the reasoner asks about (DESIGN "Reasoning"):
 
     Vehicle Scenario   V's latest vehicle.perception at or before t, with what its spawn says
     Vehicle Action     V's latest vehicle.decision (goal, action, permitted, proceeds)
@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Any
+
+from store import State
 
 from .vocabulary import IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 
@@ -62,15 +64,15 @@ def spawn_facts(vehicle: str, body: dict) -> list[str]:
     return facts
 
 
-def entity(state: dict, vehicle: str) -> dict | None:
-    return state["entities"].get(f"vehicle/{vehicle}")
+def entity(state: State, vehicle: str) -> dict | None:
+    return state.entities.get(f"vehicle/{vehicle}")
 
 
-def vehicle_scenario(state: dict, vehicle: str) -> Scenario:
+def vehicle_scenario(state: State, vehicle: str) -> Scenario:
     """Spawn facts, then the latest perception's (a fact stated by both cites the spawn)."""
     scenario = Scenario()
     record = entity(state, vehicle) or {}
-    run = state["run"]
+    run = state.run
     if spawn := record.get("spawn"):
         scenario.add(spawn_facts(vehicle, spawn["body"]), ref(spawn, run, "entity.spawn"))
     if perception := record.get("perception"):
@@ -78,11 +80,11 @@ def vehicle_scenario(state: dict, vehicle: str) -> Scenario:
     return scenario
 
 
-def has_perception(state: dict, vehicle: str) -> bool:
+def has_perception(state: State, vehicle: str) -> bool:
     return bool((entity(state, vehicle) or {}).get("perception"))
 
 
-def vehicle_action(state: dict, vehicle: str) -> dict | None:
+def vehicle_action(state: State, vehicle: str) -> dict | None:
     """The latest decision as {goal, action, permitted, proceeds, rulebook, evidence}."""
     decision = (entity(state, vehicle) or {}).get("decision")
     if not decision:
@@ -90,21 +92,21 @@ def vehicle_action(state: dict, vehicle: str) -> dict | None:
     body = decision["body"]
     return {"goal": body.get("goal"), "action": body.get("action"), "permitted": body.get("permitted"),
             "proceeds": body.get("proceeds"), "rulebook": body.get("rulebook"),
-            "evidence": ref(decision, state["run"], "vehicle.decision")}
+            "evidence": ref(decision, state.run, "vehicle.decision")}
 
 
-def observation(state: dict, monitor_src: str, vehicle: str) -> dict | None:
-    monitor = state["monitors"].get(monitor_src)
+def observation(state: State, monitor_src: str, vehicle: str) -> dict | None:
+    monitor = state.monitors.get(monitor_src)
     return None if monitor is None else monitor["observations"].get(vehicle)
 
 
-def monitor_scenario(state: dict, monitor_src: str, vehicle: str) -> Scenario:
+def monitor_scenario(state: State, monitor_src: str, vehicle: str) -> Scenario:
     scenario = Scenario()
     if obs := observation(state, monitor_src, vehicle):
-        scenario.add(obs["body"].get("facts"), ref(obs, state["run"], "monitor.observation"))
+        scenario.add(obs["body"].get("facts"), ref(obs, state.run, "monitor.observation"))
     return scenario
 
 
-def monitors_of(state: dict, vehicle: str) -> list[str]:
+def monitors_of(state: State, vehicle: str) -> list[str]:
     """The monitors that have observed V by the time of the state."""
-    return sorted(src for src, m in state["monitors"].items() if vehicle in m["observations"])
+    return sorted(src for src, m in state.monitors.items() if vehicle in m["observations"])

@@ -27,7 +27,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
-from store import GapsError, NoSuchRun, Store, state_at
+from store import GapsError, NoSuchRun, State, Store, state_at
 
 from .control import control_at
 from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, ref, vehicle_action, vehicle_id,
@@ -95,7 +95,7 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
     vehicles = [_vehicle(state, v, t) for v in shown]
     if judge if judge is not None else vehicle is not None:
         _judge(investigation, store, run, vehicles)
-    start_piece = state["start"]
+    start_piece = state.start
     return Scene(
         run=run,
         t=t,
@@ -104,12 +104,12 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
         run_start_iso=format_time(start),
         offset_ns=t - start,
         offset=format_offset(t - start),
-        events=state["events"],
-        last=state["last"],
+        events=state.events,
+        last=state.last,
         note=_note(state, start, t),
         rulebooks=_rulebooks(start_piece),
         started=ref(start_piece, run, "run.start") if start_piece else None,
-        ended=ref(state["end"], run, "run.end") if state["end"] else None,
+        ended=ref(state.end, run, "run.end") if state.end else None,
         signals=_signals(state),
         monitors=_monitors(state),
         vehicles=vehicles,
@@ -119,25 +119,25 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
 
 # --- who is there -----------------------------------------------------------------------------
 
-def _present(state: dict) -> set[str]:
+def _present(state: State) -> set[str]:
     """Vehicle ids present at the state's time: with an entity record not despawned, or known
     only from monitors' observations."""
-    ids = {vehicle_id(src) for src, record in state["entities"].items()
+    ids = {vehicle_id(src) for src, record in state.entities.items()
            if src.startswith("vehicle/") and record["despawned"] is None}
-    recorded = {vehicle_id(src) for src in state["entities"] if src.startswith("vehicle/")}
-    for monitor in state["monitors"].values():
+    recorded = {vehicle_id(src) for src in state.entities if src.startswith("vehicle/")}
+    for monitor in state.monitors.values():
         ids.update(v for v in monitor["observations"] if v not in recorded)
     return ids
 
 
-def _not_present(state: dict, vehicle: str, present: set[str], t: int) -> str:
+def _not_present(state: State, vehicle: str, present: set[str], t: int) -> str:
     record = entity(state, vehicle)
     names = ", ".join(sorted(present, key=_natural)[:30]) or "none"
     if record is not None and record["despawned"] is not None:
         gone = record["despawned"]
         why = f"vehicle {vehicle!r} left the run at {format_time(gone['t'])} (entity.despawn, seq {gone['seq']})"
     else:
-        why = f"no vehicle {vehicle!r} in run {state['run']!r} at {format_time(t)}"
+        why = f"no vehicle {vehicle!r} in run {state.run!r} at {format_time(t)}"
     return f"{why}; vehicles present then: {names}"
 
 
@@ -148,15 +148,15 @@ def _natural(vehicle: str) -> tuple:
 
 # --- one vehicle ------------------------------------------------------------------------------
 
-def _vehicle(state: dict, vehicle: str, t: int) -> dict[str, Any]:
-    run = state["run"]
+def _vehicle(state: State, vehicle: str, t: int) -> dict[str, Any]:
+    run = state.run
     record = entity(state, vehicle) or {}
     spawn, now = record.get("spawn"), record.get("state")
     vscen = _facts(vehicle_scenario(state, vehicle))
     action = vehicle_action(state, vehicle)
     monitors = [{"monitor": src, "facts": _facts(monitor_scenario(state, src, vehicle))}
                 for src in monitors_of(state, vehicle)]
-    collision = state["collisions"].get(vehicle)
+    collision = state.collisions.get(vehicle)
     return {
         "vehicle": vehicle,
         "src": f"vehicle/{vehicle}",
@@ -240,49 +240,49 @@ def _rulebooks(start: dict | None) -> list[dict]:
     return [b for b in books if isinstance(b, dict)] if isinstance(books, list) else []
 
 
-def _signals(state: dict) -> list[dict]:
-    run = state["run"]
+def _signals(state: State) -> list[dict]:
+    run = state.run
     return [{"junction": junction, "approach": approach, "colour": shown["colour"],
              "since": {"run": run, **shown["since"], "kind": "signal.state"},
              "evidence": ref(shown["last"], run, "signal.state")}
-            for junction, approaches in sorted(state["signals"].items())
+            for junction, approaches in sorted(state.signals.items())
             for approach, shown in sorted(approaches.items())]
 
 
-def _monitors(state: dict) -> list[dict]:
+def _monitors(state: State) -> list[dict]:
     """Monitors on the map and monitors that have reported, by src."""
-    start = state["start"]
+    start = state.start
     listed = ((start or {}).get("body", {}).get("map") or {}).get("monitors") if start else None
     on_map = {f"monitor/{m['id']}": m for m in listed or [] if isinstance(m, dict) and isinstance(m.get("id"), str)}
     out = []
-    for src in sorted(set(on_map) | set(state["monitors"])):
-        folded = state["monitors"].get(src) or {"observations": {}, "potential_violations": {}}
+    for src in sorted(set(on_map) | set(state.monitors)):
+        folded = state.monitors.get(src) or {"observations": {}, "potential_violations": {}}
         out.append({
             "monitor": src,
             "map": on_map.get(src),
             "observed": sorted(folded["observations"], key=_natural),
             "potential_violations": [
                 {"vehicle": v, "action": pv["body"].get("action"),
-                 "evidence": ref(pv, state["run"], "monitor.potential_violation")}
+                 "evidence": ref(pv, state.run, "monitor.potential_violation")}
                 for v, pv in sorted(folded["potential_violations"].items(), key=lambda kv: _natural(kv[0]))],
         })
     return out
 
 
-def _road_users(state: dict) -> list[dict]:
+def _road_users(state: State) -> list[dict]:
     """Entities present that are not vehicles (pedestrians, cyclists sent as pedestrians)."""
-    run = state["run"]
+    run = state.run
     return [{"src": src, "type": record["spawn"]["body"].get("type") if record["spawn"] else None,
              "state": _piece(record["state"], run, "entity.state")}
-            for src, record in sorted(state["entities"].items())
+            for src, record in sorted(state.entities.items())
             if src.startswith("pedestrian/") and record["despawned"] is None]
 
 
-def _note(state: dict, start: int, t: int) -> str | None:
-    if state["events"] == 0:
+def _note(state: State, start: int, t: int) -> str | None:
+    if state.events == 0:
         return f"before the run's first event ({format_time(start)}): nothing was recorded yet"
     if t < start:
         return f"before the run start ({format_time(start)})"
-    if state["end"] is not None:
-        return f"after the run ended ({format_time(state['end']['t'])})"
+    if state.end is not None:
+        return f"after the run ended ({format_time(state.end['t'])})"
     return None

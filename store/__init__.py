@@ -22,8 +22,10 @@ from .intake import Candidate
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .reports import AppendReport, VerifyReport
+from .run_summary import RunSummary
 from .snapshots import enable_snapshots
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
+from .state_value import State
 from .timeline import Timeline
 from .transfer import (
     DEFAULT_ORDER,
@@ -53,7 +55,9 @@ __all__ = [
     "NoSuchRun",
     "OBSERVATION_WINDOW_S",
     "ORDERS",
+    "RunSummary",
     "SRC_ROLES",
+    "State",
     "Store",
     "StoreError",
     "Timeline",

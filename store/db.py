@@ -23,6 +23,7 @@ from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
 from .errors import StoreError
 from .reports import AppendReport, VerifyReport
+from .run_summary import RunSummary
 from .verify import Progress, verify_store
 
 _INSERT_EVENT = (
@@ -215,8 +216,8 @@ class Store:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
         return self._conn.execute(sql, params)
 
-    def runs(self) -> list[dict[str, Any]]:
-        """{run, events, first_t, last_t, sources} for every run with events, by run name."""
+    def runs(self) -> list[RunSummary]:
+        """Every run with events, by run name."""
         return [queries.run_summary(self._conn, run) for run in queries.run_names(self._conn)]
 
     def count(self, run: str | None = None) -> int:

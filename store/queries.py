@@ -10,6 +10,7 @@ import sqlite3
 from typing import Any, Collection, Iterator
 
 from .ddl import DENSE_KINDS, SPARSE_ONLY
+from .run_summary import RunSummary
 
 
 def collection(name: str, values: Collection[str] | None) -> tuple[str, ...] | None:
@@ -67,12 +68,12 @@ def run_names(conn: sqlite3.Connection) -> list[str]:
     return list(_distinct(conn, "run", "1", ()))
 
 
-def run_summary(conn: sqlite3.Connection, run: str) -> dict[str, Any]:
-    """{run, events, first_t, last_t, sources} of one run that has events."""
+def run_summary(conn: sqlite3.Connection, run: str) -> RunSummary:
+    """The summary of one run that has events."""
     (count,) = conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()
     (first_t,) = conn.execute("SELECT min(t) FROM events WHERE run = ?", (run,)).fetchone()
     (last_t,) = conn.execute("SELECT max(t) FROM events WHERE run = ?", (run,)).fetchone()
-    return {"run": run, "events": count, "first_t": first_t, "last_t": last_t, "sources": sources(conn, run)}
+    return RunSummary(run, count, first_t, last_t, tuple(sources(conn, run)))
 
 
 def gaps(conn: sqlite3.Connection, run: str | None) -> list[dict[str, Any]]:

@@ -6,7 +6,8 @@ state is the event it came from, cut down to a citation and a body: {"src", "seq
 events with t' <= t in (t, seq, src) order, a total order fixed by the events themselves, so the
 answer never depends on the order or the batches in which the events arrived.
 
-The state (plain JSON data):
+The state (a frozen State, state_value.py, holding plain JSON data; the fold itself and the
+snapshots work on a dict of the same keys but run and t):
     run, t            what was asked
     events, last      how many events were folded, and the ref of the last one
     start             run.start, with the map, seed, config and the rulebooks in force (name,
@@ -44,6 +45,7 @@ from typing import Any, Callable, Iterator
 from . import fastjson, snapshots
 from .db import Store
 from .snapshots import Fresh, Position
+from .state_value import State
 
 OBSERVATION_WINDOW_S = 10  # a monitor observation older than this says nothing of the moment
 _SECOND = 1_000_000_000
@@ -72,7 +74,7 @@ _BETWEEN = {False: _select(False, True), True: _select(True, True)}
 # --- public API -------------------------------------------------------------------------------
 
 
-def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> dict[str, Any]:
+def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> State:
     """The state of `run` at time t (ns): the fold of its events with t' <= t.
 
     With use_snapshots (the default) the fold starts from the nearest snapshot and any missing
@@ -80,12 +82,18 @@ def state_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> d
     use_snapshots=False folds every event from the start, reading the events only: the slow
     reference the snapshots are tested against."""
     with CollectorPaused():
-        if use_snapshots:
-            state = _advance(store, run, t, SNAPSHOT_EVERY)
-        else:
-            state = _fold_all(store.connection, run, t)
-        prune(state, t)
-        return {"run": run, "t": t, **state}
+        return State.of(run, t, fold_at(store, run, t, use_snapshots=use_snapshots))
+
+
+def fold_at(store: Store, run: str, t: int, *, use_snapshots: bool = True) -> dict[str, Any]:
+    """The fold's own dict at t, for a reader that folds on from it (timeline.py); the caller
+    pauses the collector."""
+    if use_snapshots:
+        state = _advance(store, run, t, SNAPSHOT_EVERY)
+    else:
+        state = _fold_all(store.connection, run, t)
+    prune(state, t)
+    return state
 
 
 def prune(state: dict[str, Any], t: int) -> None:
@@ -144,7 +152,7 @@ def ref(piece: Piece) -> dict[str, Any]:
 
 
 def empty_state() -> dict[str, Any]:
-    """The fold state before the first event (state_at adds run and t)."""
+    """The fold state before the first event (State.of adds run and t)."""
     return {
         "events": 0,
         "last": None,

@@ -6,15 +6,18 @@ is cheaper to fold the few events in between than to load a snapshot again. A Ti
 that, and falls back to `state_at` when the next moment is further than MAX_STEP events ahead
 or earlier than the last one. Each answer equals `state_at(store, run, t)` (tests check it).
 
-The state handed out is the Timeline's own and changes on the next call: a caller keeps what it
-needs (the pieces of state are never changed in place, only replaced, so keeping those is safe).
+The Timeline folds on in its own dict; each answer is a State holding copies of the dict's
+containers (entities, signals, monitors, collisions, each entity record and monitor), so that it
+stays as it was when the Timeline moves on. The pieces themselves are shared: the fold never
+changes a piece in place, it only replaces it.
 """
 from __future__ import annotations
 
 from typing import Any
 
 from .db import Store
-from .state import fold_rows, prune, state_at
+from .state import CollectorPaused, fold_at, fold_rows, prune
+from .state_value import State
 
 MAX_STEP = 3_000    # events folded forward before a snapshot is the cheaper way (bench/incidents.py)
 _CHUNK = 4096
@@ -31,18 +34,20 @@ class Timeline:
     def __init__(self, store: Store, run: str) -> None:
         self.store, self.run = store, run
         self._state: dict[str, Any] | None = None
+        self._t = 0
         self.jumps = self.steps = 0
 
-    def at(self, t: int) -> dict[str, Any]:
+    def at(self, t: int) -> State:
         state = self._state
-        if state is None or t < state["t"] or state["last"] is None or not self._step(state, t):
+        if state is None or t < self._t or state["last"] is None or not self._step(state, t):
             self.jumps += 1
-            state = self._state = state_at(self.store, self.run, t)
+            with CollectorPaused():
+                state = self._state = fold_at(self.store, self.run, t)
         else:
             self.steps += 1
             prune(state, t)
-        state["t"] = t
-        return state
+        self._t = t
+        return _detached(self.run, t, state)
 
     def _step(self, state: dict[str, Any], t: int) -> bool:
         """Fold the events after the state's last one up to t; False if there are too many."""
@@ -56,3 +61,17 @@ class Timeline:
         for rows in iter(lambda: cursor.fetchmany(_CHUNK), []):
             fold_rows(state, rows)
         return True
+
+
+def _detached(run: str, t: int, state: dict[str, Any]) -> State:
+    """A State that the fold's next changes to `state` leave alone: every container the fold
+    changes in place is copied (records and monitors are changed in place; pieces, signal
+    approaches and ADS statuses are only ever replaced)."""
+    monitors = {src: {part: dict(held) for part, held in monitor.items()}
+                for src, monitor in state["monitors"].items()}
+    copied = {**state,
+              "entities": {src: dict(record) for src, record in state["entities"].items()},
+              "signals": {junction: dict(approaches) for junction, approaches in state["signals"].items()},
+              "monitors": monitors,
+              "collisions": dict(state["collisions"])}
+    return State.of(run, t, copied)

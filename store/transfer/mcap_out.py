@@ -81,8 +81,8 @@ def _strings(record: dict[str, Any]) -> dict[str, str]:
 def _write_metadata(writer: Writer, store: Store, run: str, order: str) -> None:
     summary = run_summary(store, run)
     writer.add_metadata(RUN_METADATA, _strings({
-        "run": run, "events": summary["events"], "first_t": summary["first_t"], "last_t": summary["last_t"],
-        "sources": ",".join(summary["sources"]), "head": chain_head(store, run), "order": order,
+        "run": run, "events": summary.events, "first_t": summary.first_t, "last_t": summary.last_t,
+        "sources": ",".join(summary.sources), "head": chain_head(store, run), "order": order,
         "format": "mind-the-gaps event envelope v1", "exported_by": LIBRARY,
     }))
     for checkpoint in store.checkpoints(run):

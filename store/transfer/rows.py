@@ -15,6 +15,7 @@ from __future__ import annotations
 from typing import Iterator, NamedTuple
 
 from ..db import Store
+from ..run_summary import RunSummary
 from .errors import TransferError
 
 ORDERS = ("time", "chain")
@@ -39,13 +40,13 @@ def stored_rows(store: Store, run: str, order: str) -> Iterator[Row]:
     return (Row(*row) for row in cursor)
 
 
-def run_summary(store: Store, run: str) -> dict:
+def run_summary(store: Store, run: str) -> RunSummary:
     """The run's summary from the store, or a TransferError naming the runs there are."""
     runs = store.runs()
     for summary in runs:
-        if summary["run"] == run:
+        if summary.run == run:
             return summary
-    known = ", ".join(r["run"] for r in runs) or "none"
+    known = ", ".join(r.run for r in runs) or "none"
     raise TransferError(f"no run {run!r} in {store.path}; runs: {known}")
 
 

@@ -62,3 +62,43 @@ def test_an_empty_store(tmp_path):
     assert gaps("runs", db=path).stdout.strip() == "The store holds no runs."
     assert gaps("runs", "--json", db=path).stdout.strip() == "[]"
     assert gaps("quarantine", db=path).stdout.strip() == "Nothing was refused."
+
+
+RUNS_JSON = """[
+  {
+    "run": "r1",
+    "events": 8,
+    "sources": [
+      "sim/world",
+      "vehicle/173"
+    ],
+    "first_t": 1732184100000000000,
+    "last_t": 1732187823500000000,
+    "start": "2024-11-21T10:15:00Z",
+    "end": "2024-11-21T11:17:03.5Z",
+    "duration_ns": 3723500000000,
+    "chain": "verified"
+  },
+  {
+    "run": "r2",
+    "events": 1,
+    "sources": [
+      "monitor/m1"
+    ],
+    "first_t": 1732184100000000000,
+    "last_t": 1732184100000000000,
+    "start": "2024-11-21T10:15:00Z",
+    "end": "2024-11-21T10:15:00Z",
+    "duration_ns": 0,
+    "chain": "verified"
+  }
+]
+"""
+
+
+def test_runs_json_is_byte_for_byte_what_programs_read(db):
+    """Key order and layout too: scripts that diff or grep the output depend on them."""
+    assert gaps("runs", "--json", db=db).stdout == RUNS_JSON
+    with_gaps = gaps("runs", "--gaps", "--json", db=db).stdout
+    runs_part = "\n".join("  " + line for line in RUNS_JSON.rstrip("\n").splitlines())
+    assert with_gaps.startswith('{\n  "runs": ' + runs_part.lstrip() + ',\n  "gaps": [\n')

@@ -87,7 +87,7 @@ def _full_json(db: Path) -> list[dict]:
     from reasoner.investigation import Investigation
     with Store(db) as store:
         inv = Investigation(store)
-        return [inc.to_json() for run in [r["run"] for r in store.runs()] for inc in inv.incidents(run)]
+        return [inc.to_json() for run in [r.run for r in store.runs()] for inc in inv.incidents(run)]
 
 
 def _without_margin(incidents: list[dict]) -> list[dict]:

@@ -215,7 +215,7 @@ def test_round_trip_of_the_paper_run_in_chain_order_rebuilds_the_same_chain(tmp_
     from sim_replay.paper import paper_run
     with Store(tmp_path / "a.db") as a:
         a.append(paper_run())
-        run = a.runs()[0]["run"]
+        run = a.runs()[0].run
         export_run(a, run, tmp_path / "chain.jsonl", order="chain")
         export_run(a, run, tmp_path / "time.jsonl", order="time")
         with Store(tmp_path / "b.db") as b, Store(tmp_path / "c.db") as c:

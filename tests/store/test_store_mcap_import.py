@@ -52,7 +52,7 @@ def source(tmp_path) -> Store:
 
 
 def exported_file(store: Store, path: Path, chunk_size: int = 1 << 20) -> Path:
-    export_mcap(store, store.runs()[0]["run"], path, chunk_size=chunk_size)
+    export_mcap(store, store.runs()[0].run, path, chunk_size=chunk_size)
     return path
 
 
@@ -79,7 +79,7 @@ def test_round_trip_of_the_paper_run(tmp_path):
     from sim_replay.paper import paper_run
     with Store(tmp_path / "a.db") as a, Store(tmp_path / "b.db") as b:
         a.append(paper_run())
-        run = a.runs()[0]["run"]
+        run = a.runs()[0].run
         export_run(a, run, tmp_path / "paper.mcap")
         report = import_file(b, tmp_path / "paper.mcap")
         assert report.stored == a.count(run) and report.chains[0]["match"] is True

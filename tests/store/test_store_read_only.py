@@ -40,8 +40,8 @@ def test_reading_changes_nothing_in_the_file(written):
     with Store.open_read_only(written) as store:
         assert store.count("r1") == 50
         assert store.verify("r1").ok
-        assert state_at(store, "r1", T0 + 30_000_000)["events"] == 31  # snapshots go to the cache
-        assert [r["run"] for r in store.runs()] == ["r1"]
+        assert state_at(store, "r1", T0 + 30_000_000).events == 31  # snapshots go to the cache
+        assert [r.run for r in store.runs()] == ["r1"]
     assert fingerprint(written) == before
     assert (written.parent / (written.name + ".cache")).is_file()
 
@@ -121,7 +121,7 @@ def test_a_store_on_read_only_media_is_read_immutable(read_only_copy, tmp_path):
     before = fingerprint(read_only_copy)
     with Store.open_read_only(read_only_copy) as store:
         assert store.count("r1") == 50 and store.verify().ok
-        assert state_at(store, "r1", T0 + 40_000_000)["events"] == 41
+        assert state_at(store, "r1", T0 + 40_000_000).events == 41
         cache = store.cache.path
     assert fingerprint(read_only_copy) == before  # no -wal or -shm made beside it either
     assert os.listdir(read_only_copy.parent) == ["gaps.db"]

@@ -6,6 +6,8 @@ import types
 import pytest
 from tests.helpers.store_testkit import T0, event
 
+from store import RunSummary
+
 
 @pytest.fixture
 def mixed(store):
@@ -94,10 +96,15 @@ def test_other_runs_are_not_mixed_in(mixed):
 def test_runs_summary(mixed):
     store, _ = mixed
     assert store.runs() == [
+        RunSummary("r1", 9, T0, T0 + 40, ("monitor/m1", "signal/J1", "sim/world", "vehicle/173")),
+        RunSummary("r2", 1, T0 - 5, T0 - 5, ("vehicle/9",)),
+    ]
+    assert [r.to_json() for r in store.runs()] == [
         {"run": "r1", "events": 9, "first_t": T0, "last_t": T0 + 40,
          "sources": ["monitor/m1", "signal/J1", "sim/world", "vehicle/173"]},
         {"run": "r2", "events": 1, "first_t": T0 - 5, "last_t": T0 - 5, "sources": ["vehicle/9"]},
     ]
+    assert list(store.runs()[0].to_json()) == ["run", "events", "first_t", "last_t", "sources"]
 
 
 def test_runs_of_an_empty_store(store):

@@ -1,5 +1,6 @@
 """State at a time: what each entity, signal and monitor was at t, each piece citing its event."""
 
+import dataclasses
 import json
 import random
 
@@ -56,54 +57,54 @@ def scene(store):
 
 
 def test_before_the_first_event_the_state_is_empty(scene):
-    assert state_at(scene, "r1", at(-1)) == {"run": "r1", "t": at(-1), **empty_state()}
+    assert state_at(scene, "r1", at(-1)).to_json() == {"run": "r1", "t": at(-1), **empty_state()}
 
 
 def test_a_run_that_does_not_exist_is_empty(scene):
-    assert state_at(scene, "nope", at(1000))["events"] == 0
+    assert state_at(scene, "nope", at(1000)).events == 0
 
 
 def test_the_latest_of_each_kind_at_t_with_its_event(scene):
-    car = state_at(scene, "r1", at(199))["entities"][CAR]
+    car = state_at(scene, "r1", at(199)).entities[CAR]
     assert car["spawn"] == piece(SPAWN)
     assert car["state"] == piece(STATE_1)
     assert car["perception"] == piece(SEEN)
     assert car["decision"] is None
-    later = state_at(scene, "r1", at(200))["entities"][CAR]
+    later = state_at(scene, "r1", at(200)).entities[CAR]
     assert later["state"] == piece(STATE_2)
     assert later["decision"] == piece(DECIDED)
 
 
 def test_t_is_inclusive_and_the_state_says_how_far_it_got(scene):
     state = state_at(scene, "r1", at(150))
-    assert state["events"] == 6  # START, SPAWN, STATE_1, RED, SEEN, RED_AGAIN
-    assert state["last"] == cite(SEEN)  # same t as RED_AGAIN, but seq 2 comes after seq 1
-    assert state["run"] == "r1" and state["t"] == at(150)
+    assert state.events == 6  # START, SPAWN, STATE_1, RED, SEEN, RED_AGAIN
+    assert state.last == cite(SEEN)  # same t as RED_AGAIN, but seq 2 comes after seq 1
+    assert state.run == "r1" and state.t == at(150)
 
 
 def test_run_start_keeps_the_map_and_cites_rulebooks_without_their_text(scene):
-    start = state_at(scene, "r1", at(0))["start"]
+    start = state_at(scene, "r1", at(0)).start
     assert start["body"]["map"] == MAP
     assert start["body"]["rulebooks"] == [{k: v for k, v in BOOK.items() if k != "text"}]
     assert cite(start) == cite(START)
 
 
 def test_a_signal_colour_holds_since_its_first_report(scene):
-    north = state_at(scene, "r1", at(200))["signals"]["J1"]["north"]
+    north = state_at(scene, "r1", at(200)).signals["J1"]["north"]
     assert north == {"colour": "red", "since": cite(RED), "last": piece(RED_AGAIN)}
-    north = state_at(scene, "r1", at(250))["signals"]["J1"]["north"]
+    north = state_at(scene, "r1", at(250)).signals["J1"]["north"]
     assert north["colour"] == "green" and north["since"] == cite(GREEN)
 
 
 def test_a_signal_event_without_approach_is_filed_under_star(store):
     store.append([ev("signal/J2", 0, 0, "signal.state", {"junction": "J2", "colour": "amber"})])
-    assert state_at(store, "r1", at(0))["signals"]["J2"]["*"]["colour"] == "amber"
+    assert state_at(store, "r1", at(0)).signals["J2"]["*"]["colour"] == "amber"
 
 
 def test_monitors_keep_their_latest_observation_of_each_vehicle(scene):
-    seen = state_at(scene, "r1", at(1000))["monitors"]["monitor/m1"]
+    seen = state_at(scene, "r1", at(1000)).monitors["monitor/m1"]
     assert seen["observations"] == {"173": piece(OBSERVED_AGAIN), "12": piece(OTHER)}
-    assert state_at(scene, "r1", at(200))["monitors"]["monitor/m1"]["observations"] == {"173": piece(OBSERVED)}
+    assert state_at(scene, "r1", at(200)).monitors["monitor/m1"]["observations"] == {"173": piece(OBSERVED)}
 
 
 def test_potential_violations_and_collisions_are_kept_per_vehicle(store):
@@ -111,24 +112,24 @@ def test_potential_violations_and_collisions_are_kept_per_vehicle(store):
     crash = ev("sim/world", 0, 20, "collision", {"entities": ["173", "12"]})
     store.append([flagged, crash])
     state = state_at(store, "r1", at(20))
-    assert state["monitors"]["monitor/m1"]["potential_violations"] == {"173": piece(flagged)}
-    assert state["collisions"] == {"173": piece(crash), "12": piece(crash)}
+    assert state.monitors["monitor/m1"]["potential_violations"] == {"173": piece(flagged)}
+    assert state.collisions == {"173": piece(crash), "12": piece(crash)}
 
 
 def test_traces_are_counted_but_not_folded(scene):
     state = state_at(scene, "r1", at(200))
-    assert state["last"] == cite(TRACE)
-    assert "trace" not in state["entities"][CAR]
+    assert state.last == cite(TRACE)
+    assert "trace" not in state.entities[CAR]
 
 
 def test_despawn_marks_the_entity_and_a_new_spawn_starts_afresh(scene):
     gone = ev(CAR, 6, 300, "entity.despawn", {"reason": "left the map"})
     back = ev(CAR, 7, 400, "entity.spawn", {"type": "car", "driver": "human"})
     scene.append([gone, back])
-    left = state_at(scene, "r1", at(300))["entities"][CAR]
+    left = state_at(scene, "r1", at(300)).entities[CAR]
     assert left["despawned"] == piece(gone)
     assert left["state"] == piece(STATE_2)  # where it was last seen
-    again = state_at(scene, "r1", at(400))["entities"][CAR]
+    again = state_at(scene, "r1", at(400)).entities[CAR]
     assert again == {"spawn": piece(back), "state": None, "perception": None, "decision": None,
                      "ads": None, "despawned": None}
 
@@ -138,13 +139,20 @@ def test_equal_t_is_ordered_by_seq_then_src(store):
     b = ev("signal/B", 5, 10, "signal.state", {"junction": "J1", "approach": "north", "colour": "green"})
     c = ev("signal/C", 4, 10, "signal.state", {"junction": "J1", "approach": "north", "colour": "amber"})
     store.append([b, a, c])
-    north = state_at(store, "r1", at(10))["signals"]["J1"]["north"]
+    north = state_at(store, "r1", at(10)).signals["J1"]["north"]
     assert north["last"] == piece(b)  # (10, 4, C) < (10, 5, A) < (10, 5, B)
 
 
 def test_the_state_is_plain_json(scene):
-    state = state_at(scene, "r1", at(1000))
+    state = state_at(scene, "r1", at(1000)).to_json()
+    assert list(state) == ["run", "t", *empty_state()]
     assert json.loads(json.dumps(state)) == state
+
+
+def test_the_state_is_frozen(scene):
+    state = state_at(scene, "r1", at(1000))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        state.entities = {}  # type: ignore[misc]
 
 
 # --- arrival order ------------------------------------------------------------------------------
@@ -187,7 +195,7 @@ def test_state_does_not_depend_on_arrival_order_or_batches(tmp_path, monkeypatch
                 shuffled = shuffled[size:]
             states.append([state_at(store, "r1", t) for t in times])
     assert all(s == states[0] for s in states[1:])
-    assert states[0][-1]["events"] == len(events)
+    assert states[0][-1].events == len(events)
 
 
 # --- the fold itself --------------------------------------------------------------------------------
@@ -269,5 +277,5 @@ def test_activation_after_deactivation_moves_since_but_repeats_do_not():
 
 def test_ads_status_folds_into_the_entity(store):
     store.append([SPAWN, ev(CAR, 1, 20, "ads.event", {"event": "activated"})])
-    assert state_at(store, "r1", at(20))["entities"][CAR]["ads"]["engaged"] is True
-    assert state_at(store, "r1", at(19))["entities"][CAR]["ads"] is None
+    assert state_at(store, "r1", at(20)).entities[CAR]["ads"]["engaged"] is True
+    assert state_at(store, "r1", at(19)).entities[CAR]["ads"] is None

@@ -127,7 +127,7 @@ def test_a_late_event_from_a_writer_without_the_hook_is_seen(db_path, small_snap
         build_snapshots(reader, "r1")
         writer.append([late])  # the writer knows nothing of snapshots
         end = events[-1]["t"]
-        assert state_at(reader, "r1", end)["entities"]["vehicle/9"]["state"]["seq"] == 999
+        assert state_at(reader, "r1", end).entities["vehicle/9"]["state"]["seq"] == 999
         assert_snapshots_agree(reader, times(events))
 
 
@@ -254,7 +254,7 @@ def test_an_integer_beyond_64_bits_in_a_body_survives_a_snapshot_exactly(store):
     build_snapshots(store, "r1", every=5)
     writers = {blob[4] for (blob,) in store.cache.connection.execute("SELECT state FROM state_snapshots")}
     assert writers == {0, 1}  # json once the state holds the long integer, orjson before
-    got = state_at(store, "r1", events[-1]["t"])["entities"]["vehicle/8"]["state"]["body"]["odometer"]
+    got = state_at(store, "r1", events[-1]["t"]).entities["vehicle/8"]["state"]["body"]["odometer"]
     assert type(got) is int and got == huge
     assert_snapshots_agree(store, times(events)[::3])
 

@@ -34,14 +34,14 @@ def test_observations_older_than_the_window_are_not_state(tmp_path):
         store.append(events)
         for t in [T0 + k * S // 2 for k in range(0, 130)]:
             got = state_at(store, "r", t, use_snapshots=False)
-            for src, monitor in got["monitors"].items():
+            for src, monitor in got.monitors.items():
                 for vehicle, piece in monitor["observations"].items():
                     assert t - OBSERVATION_WINDOW_S * S <= piece["t"] <= t
                     # and it is the latest observation of that vehicle by that monitor
                     latest = max(e["t"] for e in events if e["src"] == src and e["body"]["vehicle"] == vehicle
                                  and e["t"] <= t)
                     assert piece["t"] == latest
-            seen = {(src, v) for src, m in got["monitors"].items() for v in m["observations"]}
+            seen = {(src, v) for src, m in got.monitors.items() for v in m["observations"]}
             fresh = {(e["src"], e["body"]["vehicle"]) for e in events
                      if t - OBSERVATION_WINDOW_S * S <= e["t"] <= t}
             assert seen == fresh
@@ -53,8 +53,8 @@ def test_pruned_snapshots_give_the_answers_of_a_fold_from_the_start(tmp_path, mo
     with Store(tmp_path / "s.db") as store:
         store.append(events)
         build_snapshots(store, "r", every=7)
-        line = Timeline(store, "r")
-        for t in sorted(random.Random(3).randrange(T0 - S, T0 + 70 * S) for _ in range(60)):
+        line, rng = Timeline(store, "r"), random.Random(3)
+        for t in sorted(rng.randrange(T0 - S, T0 + 70 * S) for _ in range(60)):
             want = state_at(store, "r", t, use_snapshots=False)
             assert state_at(store, "r", t) == want
             assert line.at(t) == want

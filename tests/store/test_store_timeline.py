@@ -17,9 +17,23 @@ def test_timeline_states_equal_state_at(tmp_path, monkeypatch):
     with Store(tmp_path / "s.db") as store:
         store.append(events)
         line = Timeline(store, "r")
-        times = sorted(random.Random(4).randrange(T0 - 10, T0 + 60_000) for _ in range(40))
+        rng = random.Random(4)
+        times = sorted(rng.randrange(T0 - 10, T0 + 60_000) for _ in range(40))
         times += [T0 + 5_000, T0 + 100]          # backwards too
         for t in times:
             got = line.at(t)
             assert got == state_at(store, "r", t), t
         assert line.steps > 0 and line.jumps > 1
+
+
+def test_a_state_handed_out_stays_as_it_was_when_the_timeline_moves_on(tmp_path):
+    events = mixed_events(300, 3)
+    with Store(tmp_path / "s.db") as store:
+        store.append(events)
+        line = Timeline(store, "r")
+        rng = random.Random(5)
+        times = sorted(rng.randrange(T0, T0 + 60_000) for _ in range(30))
+        kept = [(line.at(t), state_at(store, "r", t)) for t in times]
+        assert line.steps > 0
+        for got, want in kept:
+            assert got == want, got.t
