@@ -361,7 +361,7 @@ def record_result(pooled: dict[str, dict[str, Any]], round_medians: dict[str, li
             peer=f"state_at, {pooled[labels[0]]['events']:,} events" if label != labels[0] else "",
             note=f"p90 {percentile(r['wall'], 0.9):.1f} ms; file {r['file_bytes'] / 1e6:,.0f} MB "
                  f"({events_only:.0f} + {r['snapshot_bytes'] / r['events']:.0f} B/event)"))
-    record("scene_at_t", "State at a random time (store.state.state_at)", figures,
+    record("scene_at_t", "State at a random time (store.state_at)", figures,
            notes=f"{args.rounds} round(s) of {args.queries} random t per size, a fresh reader process per size, "
                  f"a snapshot every {args.every} events; runs are the rounds' medians")
 
