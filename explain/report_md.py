@@ -2,7 +2,7 @@
 case file, a ticket or a diff between two reports.
 
 Markdown has no portable inline pictures, so the scene is a list (signals, vehicles with position,
-heading and speed, monitors with their field of view) and the timeline a table of what changed
+heading and speed (mph, with the m/s recorded), monitors with their field of view) and the timeline a table of what changed
 when: the same data the HTML draws. Every recorded string goes through explain/render.py's `md`.
 """
 from __future__ import annotations
@@ -12,6 +12,7 @@ from typing import Any
 from .render import md
 from .render import to_markdown as explanation_md
 from .report_data import SECOND
+from .units import speed_text
 
 
 def to_markdown(report: dict[str, Any]) -> str:
@@ -67,7 +68,7 @@ def _incident(e: dict[str, Any]) -> list[str]:
     out += [f"- signal {md(s['junction'])} {md(s['approach'])}: {md(s['colour'])}" for s in pic["signals"]]
     for v in pic["vehicles"]:
         where = ("position not recorded" if v["x"] is None else
-                 f"at ({v['x']:g}, {v['y']:g}) m, heading {_n(v['heading_deg'])}°, speed {_n(v['speed_mps'])} m/s")
+                 f"at ({v['x']:g}, {v['y']:g}) m, heading {_n(v['heading_deg'])}°, speed {speed_text(v['speed_mps'])}")
         mark = " (this incident)" if v["incident"] else ""
         out.append(f"- vehicle {md(v['id'])} ({md(v['type'] or 'type not recorded')}){mark}: {where}")
     for m in pic["monitors"]:
@@ -75,8 +76,8 @@ def _incident(e: dict[str, Any]) -> list[str]:
                    f"field of view {_n(m['fov_deg'])}°, range {_n(m['range_m'])} m")
     out += ["", f"### Speed and signals from {(tl['t_from'] - tl['t']) / SECOND:g} s to "
                 f"+{(tl['t_to'] - tl['t']) / SECOND:g} s", ""]
-    rows = [[_rel(tl, p["t"]), f"vehicle/{tl['vehicle']}", f"speed {p['speed_mps']:g} m/s"] for p in tl["speed"]]
-    rows += [[_rel(tl, p["t"]), p["monitor"], f"observed speed {p['speed_mps']:g} m/s"] for p in tl["observed_speed"]]
+    rows = [[_rel(tl, p["t"]), f"vehicle/{tl['vehicle']}", f"speed {speed_text(p['speed_mps'])}"] for p in tl["speed"]]
+    rows += [[_rel(tl, p["t"]), p["monitor"], f"observed speed {speed_text(p['speed_mps'])}"] for p in tl["observed_speed"]]
     rows += [[_rel(tl, c["t"]), f"signal {tl['junction']} {approach}", str(c["colour"])]
              for approach, changes in tl["signals"].items() for c in changes]
     rows.sort(key=lambda row: _sort_key(row[0]))

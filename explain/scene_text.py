@@ -11,6 +11,8 @@ from typing import Any
 from reasoner.scene import Scene
 from reasoner.when import format_offset, format_time
 
+from .units import speed_text
+
 JUDGED_ON = {"vehicle scenario": "the Vehicle Scenario",
              "monitor scenario": "what its spawn and the monitors recorded",
              "spawn only": "its spawn only"}
@@ -40,7 +42,7 @@ def vehicle_lines(sc: Scene, v: dict[str, Any]) -> list[str]:
              + ("" if v["recorded"] else ": known only from monitors' observations")]
     if (now := v["state"]) is not None:
         junction = f", in junction {now['junction']}" if now.get("junction") else ""
-        lines.append(f"  at ({_num(now.get('x'))}, {_num(now.get('y'))}) m, speed {_num(now.get('speed_mps'))} m/s, "
+        lines.append(f"  at ({_num(now.get('x'))}, {_num(now.get('y'))}) m, speed {speed_text(now.get('speed_mps'))}, "
                      f"road {now.get('road')}{junction} ({_cite(now['evidence'], sc)})")
     lines.append(f"  in control: {_control(sc, v['control'])}")
     lines += _facts("Vehicle Scenario", v["vehicle_scenario"], sc)

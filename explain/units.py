@@ -13,3 +13,14 @@ def mph(mps: float) -> float:
 def mph_text(mps: float | None) -> str:
     """"20.1 mph" to one decimal, "?" for a speed not recorded."""
     return "?" if mps is None else f"{mph(mps):.1f} mph"
+
+
+def speed_text(mps: object) -> str:
+    """"20.1 mph (9 m/s)": the reader's unit first, then the figure the producer recorded, so a
+    reader can check the conversion against the evidence. A value that is not a number is shown
+    as it was recorded, never converted."""
+    if mps is None:
+        return "?"
+    if isinstance(mps, bool) or not isinstance(mps, (int, float)):
+        return f"{mps} (recorded, not a number of m/s)"
+    return f"{mph_text(mps)} ({mps:g} m/s)"

@@ -91,17 +91,6 @@ def format_time(t_ns: int) -> str:
     return f"{stamp}.{digits}Z"
 
 
-def iso_utc(t_ns: int) -> str:
-    """ISO 8601 in UTC with just the digits the nanoseconds need (2024-11-21T10:15:00.35Z,
-    2024-11-21T10:15:00Z): the command line's event times, exact to the nanosecond."""
-    seconds, fraction = divmod(t_ns, SECOND)
-    try:
-        stamp = (_EPOCH + timedelta(seconds=seconds)).strftime("%Y-%m-%dT%H:%M:%S")
-    except OverflowError:
-        return f"{t_ns} ns"
-    return _trim(f"{stamp}.{fraction:09d}") + "Z"
-
-
 def clock(t_ns: int) -> str:
     """08:00:10.000 UTC: the time of day to the millisecond, as explanations write it."""
     return _utc(t_ns).strftime("%H:%M:%S.") + f"{(t_ns // 1_000_000) % 1000:03d} UTC"
@@ -116,16 +105,6 @@ def day(t_ns: int) -> str:
 def date_clock(t_ns: int) -> str:
     """2024-11-21 08:00:10.000 UTC: the date, then the time as explanations write it."""
     return f"{_utc(t_ns).strftime('%Y-%m-%d')} {clock(t_ns)}"
-
-
-def duration(ns: int) -> str:
-    """12.35 s, or 1:02:03.5 (hours:minutes:seconds) from a minute on; to the millisecond."""
-    ms = ns // 1_000_000
-    if ms < 60_000:
-        return _trim(f"{ms // 1000}.{ms % 1000:03d}") + " s"
-    minutes, ms = divmod(ms, 60_000)
-    hours, minutes = divmod(minutes, 60)
-    return _trim(f"{hours}:{minutes:02d}:{ms // 1000:02d}.{ms % 1000:03d}")
 
 
 def _utc(t_ns: int) -> datetime:
@@ -161,10 +140,6 @@ def format_duration(ns: int) -> str:
     minutes, ms = divmod(ms, 60_000)
     hours, minutes = divmod(minutes, 60)
     return _trim(f"{hours}:{minutes:02d}:{ms // 1000:02d}.{ms % 1000:03d}")
-
-
-def _trim(number: str) -> str:
-    return number.rstrip("0").rstrip(".")
 
 
 def _relative_ns(text: str, match: re.Match) -> int:

@@ -31,6 +31,7 @@ def test_scene_text(db):
     assert "2024-11-21T08:00:10.000Z (+10s from the run start" in out
     assert "j1 west: red since 2024-11-21T08:00:07.000Z" in out
     assert "Vehicle 173 (car)" in out and "in control: driver" in out
+    assert "at (-2.0, 0.0) m, speed 20.1 mph (9 m/s), road r1" in out  # UK unit, then the recorded one
     assert re.search(r"173 has red light +vehicle.perception vehicle/173 #2, \+9.5s", out)
     assert 'Vehicle Action: goal "173 can enter the junction", action "enter the junction"' in out
     assert "proceeds: yes" in out

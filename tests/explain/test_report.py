@@ -182,7 +182,7 @@ def test_markdown_has_the_same_sections(demo_report):
     assert text.startswith("# Incident report: run paper-junctions\n")
     assert "| 1 | monitor/m1:1 | 08:00:10.000 UTC | 173 | enter the junction | HC 176 | punishable |" in text
     assert "## Incident 2: vehicle 253, enter the junction, mitigated" in text
-    assert "- vehicle 173 (car) (this incident): at (-2, 0) m, heading 0°, speed 9 m/s" in text
+    assert "- vehicle 173 (car) (this incident): at (-2, 0) m, heading 0°, speed 20.1 mph (9 m/s)" in text
     assert "| -3 s | signal j1 west | red |" in text
     # the explanation's headings sit under the incident's
     assert "\n### Vehicle 173 committed a punishable violation" in text and "\n#### 8. Evidence" in text

@@ -83,7 +83,7 @@ def test_relative_time_needs_a_run_start():
 
 
 # -- the explanations' and the command line's formats, in this one module ---------------------------
-from reasoner.when import clock, date_clock, day, duration, iso_utc  # noqa: E402
+from reasoner.when import clock, date_clock, day, format_duration, format_time_short  # noqa: E402
 
 
 def test_explanation_times():
@@ -99,17 +99,17 @@ def test_explanation_times():
     (1_732_184_100_000_000_001, "2024-11-21T10:15:00.000000001Z"),
     (T_MAX, "2262-04-11T23:47:16.854775807Z"),
 ])
-def test_iso_utc_keeps_only_the_digits_needed(t, text):
-    assert iso_utc(t) == text
+def test_format_time_short_keeps_only_the_digits_needed(t, text):
+    assert format_time_short(t) == text
     assert parse_time(text, None) == t
 
 
 @pytest.mark.parametrize("ns, text", [(12_350_000_000, "12.35 s"), (0, "0 s"), (59_999_000_000, "59.999 s"),
                                       (3_723_500_000_000, "1:02:03.5"), (60_000_000_000, "0:01:00")])
 def test_duration(ns, text):
-    assert duration(ns) == text
+    assert format_duration(ns) == text
 
 
 @given(st.integers(min_value=0, max_value=T_MAX))
-def test_iso_utc_reads_back_exactly(t):
-    assert parse_time(iso_utc(t), None) == t
+def test_format_time_short_reads_back_exactly(t):
+    assert parse_time(format_time_short(t), None) == t
