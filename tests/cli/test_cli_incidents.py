@@ -4,17 +4,8 @@ import json
 
 import pytest
 
-from sim_replay.paper import RUN, paper_run
-from store import Store
+from sim_replay.paper import RUN
 from tests.helpers.cli import gaps
-
-
-@pytest.fixture(scope="module")
-def paper_db(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cli-incidents") / "gaps.db"
-    with Store(path) as store:
-        store.append(paper_run())
-    return path
 
 
 def test_one_line_per_incident(paper_db):

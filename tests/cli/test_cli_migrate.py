@@ -5,15 +5,7 @@ import json
 
 from tests.helpers.store_testkit import event
 from tests.helpers.store_testkit import write_v1_file
-from typer.testing import CliRunner
-
-from cli.main import app
-
-
-def gaps(*args):
-    result = CliRunner().invoke(app, [str(a) for a in args], env={"COLUMNS": "200"})
-    assert "Traceback" not in result.output
-    return result
+from tests.helpers.cli import gaps
 
 
 def test_verify_of_an_old_store_says_to_migrate_and_changes_nothing(tmp_path):

@@ -6,8 +6,7 @@ import pytest
 from typer.main import get_command
 
 from cli.main import app
-from sim_replay.paper import RUN, paper_run
-from store import Store
+from sim_replay.paper import RUN
 from tests.helpers.cli import gaps
 
 ROOT = get_command(app)
@@ -22,14 +21,6 @@ def commands(group=ROOT, path=()):
 
 
 ALL = list(commands())
-
-
-@pytest.fixture(scope="module")
-def paper_db(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cli-surface") / "gaps.db"
-    with Store(path) as store:
-        store.append(paper_run())
-    return path
 
 
 @pytest.mark.parametrize("flag", ["--version", "-V"])

@@ -7,20 +7,9 @@ import json
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
-
-from cli.main import app
 from store import Store
-from tests.helpers.store_testkit import event
-
-runner = CliRunner()
-
-
-def gaps(*args: str):
-    result = runner.invoke(app, [str(a) for a in args])
-    assert "Traceback" not in (result.stdout + result.stderr)
-    assert result.exception is None or isinstance(result.exception, SystemExit), result.exception
-    return result
+from tests.helpers.cli import gaps
+from tests.helpers.store_testkit import event, heads, out_of_order_store
 
 
 @pytest.fixture
@@ -118,3 +107,16 @@ def test_a_missing_file_does_not_create_a_store(tmp_path):
 def test_export_needs_an_existing_store(tmp_path):
     result = gaps("export", "--run", "r1", "-o", tmp_path / "x.mcap", "--db", tmp_path / "none.db")
     assert result.exit_code == 2 and "no event store" in result.stderr
+
+
+@pytest.mark.parametrize("suffix", ["jsonl", "mcap"])
+def test_gaps_export_then_import_gives_the_same_chain_heads(tmp_path, suffix):
+    """An export is in chain order by default, so anyone can re-import it and recompute the heads."""
+    out_of_order = out_of_order_store(tmp_path / "a.db")
+    for run in ("r1", "r2"):
+        exported = gaps("export", "--run", run, "-o", tmp_path / f"{run}.{suffix}", db=out_of_order)
+        assert exported.exit_code == 0 and "in chain order" in exported.output, exported.output
+        imported = gaps("import", tmp_path / f"{run}.{suffix}", db=tmp_path / "b.db")
+        assert imported.exit_code == 0, imported.output
+    with Store.open_read_only(out_of_order) as a, Store.open_read_only(tmp_path / "b.db") as b:
+        assert heads(a) == heads(b)

@@ -5,7 +5,7 @@ import sqlite3
 
 import pytest
 
-from cases import explained
+from tests.helpers.explained_cases import explained
 from explain import explain_incident
 from explain.explanation_doc import document
 from explain.render import html_fragment, html_page, render, to_markdown

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from cases import CASES, explained
+from tests.helpers.explained_cases import CASES, explained
 from explain.render import render
 
 GOLDEN = Path(__file__).with_name("golden")

@@ -24,7 +24,7 @@ from explain.labels import Box
 from explain.pdf import find_chromium, headless_args, print_pdf
 from explain.report import build_report, render_report
 from explain.svg_scene import scene_svg
-from scene_cases import crowded_picture
+from tests.helpers.scene_pictures import crowded_picture
 from sim_replay.paper import RUN, paper_run
 from store import Store
 

@@ -21,7 +21,7 @@ from explain.report_html import css_string
 from explain.svg_scene import scene_svg
 from explain.svg_timeline import timeline_svg
 from explain.units import mph
-from scene_cases import crowded_picture
+from tests.helpers.scene_pictures import crowded_picture
 from sim_replay.paper import RUN, paper_run
 from store import Store
 

@@ -11,10 +11,11 @@ HOSTILE_RAW = b'{"v": 1, "run": "\x1b[31mred[bold]big[/bold]\xff\xfe'   # escape
 HOSTILE_ORIGIN = "zenoh:gaps/\x1b]0;owned\x07"
 
 
-def gaps(*args: str, db: Path | None, columns: int = 200, input: bytes | str | None = None) -> Result:
+def gaps(*args: object, db: Path | None = None, columns: int = 200, input: bytes | str | None = None) -> Result:
     """`gaps ARGS --db DB` (no --db for None) with the terminal `columns` wide; no traceback may
-    reach the user."""
-    line = [*args, "--db", str(db)] if db is not None else list(args)
+    reach the user, and nothing but a deliberate exit may end the command."""
+    line = [str(a) for a in args] + (["--db", str(db)] if db is not None else [])
     result = CliRunner().invoke(app, line, env={"COLUMNS": str(columns)}, input=input)
     assert "Traceback" not in result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.exception
     return result

@@ -1,6 +1,6 @@
 """Helpers for the store tests: a factory of valid events and direct access to a store file.
 
-A plain module (not conftest) so that test modules can import it by a name no other room uses.
+A module of the tests.helpers package (not a conftest), imported by name from any test.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import sqlite3
 from pathlib import Path
 from typing import Any
 
-from store import canonical_json
+from store import Store, canonical_json
 from store.ddl import APPEND_ONLY_TABLES, MIGRATIONS
 
 T0 = 1_732_184_100_000_000_000  # 2024-11-21T10:15:00Z in ns
@@ -109,3 +109,22 @@ def write_v1_file(db_path, evs, calls):
     conn.execute("INSERT INTO rulebooks VALUES (?, 'hc', '1', 'old rules')",
                  (hashlib.sha256(b"old rules").hexdigest(),))
     conn.close()
+
+
+def heads(store: Store) -> dict[str, str]:
+    """Each run's chain head, as verify recomputes it."""
+    return {r["run"]: r["head"] for r in store.verify().runs}
+
+
+def out_of_order_store(path: Path) -> Path:
+    """Two runs (r1, r2) whose sources' batches arrive after each other's, so chain order is not
+    time order: what an export must keep for the copy to reach the same chain heads."""
+    ms = 1_000_000
+    with Store(path) as store:
+        for run in ("r1", "r2"):
+            late = [event(seq, run=run, src="vehicle/2", kind="entity.state", t=T0 + seq * 10 * ms,
+                          body={"x": 1.0, "y": 2.0, "speed_mps": 3.0}) for seq in range(30)]
+            early = [event(seq, run=run, src="vehicle/1", t=T0 + seq * 10 * ms + 5 * ms) for seq in range(30)]
+            store.append(late[15:] + early[:20])
+            store.append(late[:15] + early[20:])
+    return path

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from ingest import IngestService
-from ingest_testkit import linked
+from tests.helpers.ingest_testkit import linked
 from sim_replay.publisher import EventPublisher
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
+from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
 from ingest import IngestService
 from store import Store
 

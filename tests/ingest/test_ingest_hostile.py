@@ -6,7 +6,7 @@ from pathlib import Path
 
 import zenoh
 
-from ingest_testkit import RUN, await_match, make_event
+from tests.helpers.ingest_testkit import RUN, await_match, make_event
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher
 from store import MAX_EVENT_BYTES, Store, canonical_json, key_for

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ingest_testkit import RUN, await_match, make_event
+from tests.helpers.ingest_testkit import RUN, await_match, make_event
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher
 from store import Store

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ingest import IngestService
-from ingest_testkit import RUN, await_match, make_event
+from tests.helpers.ingest_testkit import RUN, await_match, make_event
 from sim_replay.publisher import EventPublisher
 from store import Store
 from store.state import build_snapshots, state_at

@@ -16,7 +16,7 @@ import pytest
 
 import ingest.writer
 from ingest import IngestService
-from ingest_testkit import RUN, await_match, make_event
+from tests.helpers.ingest_testkit import RUN, await_match, make_event
 from sim_replay.publisher import EventPublisher
 from store import AppendReport, Candidate, Store, canonical_json
 

@@ -6,7 +6,7 @@ import threading
 import zenoh
 
 from ingest import session_config
-from ingest_testkit import free_endpoint, make_event
+from tests.helpers.ingest_testkit import free_endpoint, make_event
 from sim_replay.publisher import EventPublisher, zenoh_config
 from store import canonical_json, key_for
 

@@ -7,7 +7,7 @@ import pytest
 
 from ingest.screen import screen
 from ingest.session_config import session_config
-from ingest_testkit import make_event
+from tests.helpers.ingest_testkit import make_event
 from store import MAX_EVENT_BYTES, canonical_json, key_for
 
 

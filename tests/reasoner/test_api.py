@@ -12,21 +12,13 @@ import pytest
 import explain
 import reasoner
 from sim_replay.paper import RUN, paper_run
-from store import GapsError, NoSuchRun, Store
+from store import GapsError, NoSuchRun
 from tests.helpers.cli import gaps
 
 
 @pytest.fixture(scope="module")
-def db(tmp_path_factory):
-    path = tmp_path_factory.mktemp("api") / "gaps.db"
-    with Store(path) as store:
-        store.append(paper_run())
-    return path
-
-
-@pytest.fixture(scope="module")
-def case(db):
-    with reasoner.open(db) as opened:
+def case(paper_db):
+    with reasoner.open(paper_db) as opened:
         yield opened
 
 
@@ -39,8 +31,8 @@ def test_the_law_s_answers_through_the_api(case):
     assert found[1].penalty is None
 
 
-def test_the_api_and_the_command_line_agree(case, db):
-    printed = json.loads(gaps("incidents", "--run", RUN, "--json", db=db).stdout)
+def test_the_api_and_the_command_line_agree(case, paper_db):
+    printed = json.loads(gaps("incidents", "--run", RUN, "--json", db=paper_db).stdout)
     assert [i.summary_json() for i in case.incidents(RUN)] == printed
 
 
@@ -84,9 +76,9 @@ def test_verify(case):
     assert report.ok
 
 
-def test_the_explanation_is_what_gaps_explain_prints(case, db):
+def test_the_explanation_is_what_gaps_explain_prints(case, paper_db):
     inc = case.incident(RUN, 1)
-    printed = gaps("explain", "1", "--run", RUN, "--why-not", "173 can enter the junction", db=db).stdout
+    printed = gaps("explain", "1", "--run", RUN, "--why-not", "173 can enter the junction", db=paper_db).stdout
     assert explain.explanation(case, inc, why_not=["173 can enter the junction"]) == printed
     why = case.explanation(inc, why_not=["173 can enter the junction"])
     assert isinstance(why, reasoner.Explanation)
@@ -100,9 +92,9 @@ def test_a_report_written_by_suffix(case, tmp_path):
     assert data["incidents_in_run"] == 2 and data["chain"]["verified"] is True
 
 
-def test_opening_reads_and_never_writes(db):
-    before = hashlib.sha256(db.read_bytes()).hexdigest(), db.stat().st_mtime_ns
-    with reasoner.open(db) as case:
+def test_opening_reads_and_never_writes(paper_db):
+    before = hashlib.sha256(paper_db.read_bytes()).hexdigest(), paper_db.stat().st_mtime_ns
+    with reasoner.open(paper_db) as case:
         inc = case.incidents(RUN)[0]
         explain.explanation(case, inc)
         case.scene(RUN, "10s", vehicle="173")
@@ -110,4 +102,4 @@ def test_opening_reads_and_never_writes(db):
         explain.report_text(case, RUN)
         with pytest.raises(GapsError):
             case.store.append(paper_run("another"))
-    assert (hashlib.sha256(db.read_bytes()).hexdigest(), db.stat().st_mtime_ns) == before
+    assert (hashlib.sha256(paper_db.read_bytes()).hexdigest(), paper_db.stat().st_mtime_ns) == before

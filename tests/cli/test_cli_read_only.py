@@ -3,12 +3,8 @@ no -wal, -shm or -journal file made beside it (derived data goes to the cache fi
 import hashlib
 import json
 
-import pytest
-from typer.testing import CliRunner
-
-from cli.main import app
-from sim_replay.paper import RUN, paper_run
-from store import Store
+from sim_replay.paper import RUN
+from tests.helpers.cli import gaps
 
 
 def fingerprint(path):
@@ -17,17 +13,9 @@ def fingerprint(path):
     return hashlib.sha256(path.read_bytes()).hexdigest(), path.stat().st_mtime_ns, sidecars
 
 
-@pytest.fixture(scope="module")
-def db(tmp_path_factory):
-    path = tmp_path_factory.mktemp("read-only") / "gaps.db"
-    with Store(path) as store:
-        store.append(paper_run())
-    return path
-
-
-def gaps(db, *args):
-    result = CliRunner().invoke(app, [*map(str, args), "--db", str(db)], env={"COLUMNS": "200"})
-    assert "Traceback" not in result.output
+def read(paper_db, *args):
+    """A read command that must succeed."""
+    result = gaps(*args, db=paper_db)
     assert result.exit_code == 0, (args, result.output)
     return result
 
@@ -44,19 +32,19 @@ def read_commands(tmp):
     ]
 
 
-def test_every_read_command_leaves_the_store_file_as_it_was(db, tmp_path):
-    before = fingerprint(db)
+def test_every_read_command_leaves_the_store_file_as_it_was(paper_db, tmp_path):
+    before = fingerprint(paper_db)
     assert before[2] == []
     for command in read_commands(tmp_path):
-        gaps(db, *command)
-        assert fingerprint(db) == before, command
-    assert json.loads(gaps(db, "incidents", "--json").stdout)  # the commands did read the run
+        read(paper_db, *command)
+        assert fingerprint(paper_db) == before, command
+    assert json.loads(read(paper_db, "incidents", "--json").stdout)  # the commands did read the run
     assert (tmp_path / "report.html").stat().st_size > 0 and (tmp_path / "run.mcap").stat().st_size > 0
 
 
-def test_the_cache_beside_it_is_safe_to_delete(db):
-    first = gaps(db, "scene", "--run", RUN, "--at", "10s", "--json").stdout
-    cache = db.parent / (db.name + ".cache")
+def test_the_cache_beside_it_is_safe_to_delete(paper_db):
+    first = read(paper_db, "scene", "--run", RUN, "--at", "10s", "--json").stdout
+    cache = paper_db.parent / (paper_db.name + ".cache")
     assert cache.is_file()
     cache.unlink()
-    assert gaps(db, "scene", "--run", RUN, "--at", "10s", "--json").stdout == first
+    assert read(paper_db, "scene", "--run", RUN, "--at", "10s", "--json").stdout == first
