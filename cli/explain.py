@@ -1,7 +1,7 @@
 """`gaps explain --run R INCIDENT`: one incident's verdict explained, in text, Markdown, HTML or JSON.
 
 The explanation is the reasoner's (Investigation.explanation), worded by explain/explanation_doc.py
-and drawn by explain/render.py; this module reads the options, finds the incident and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its
+and drawn by explain/explanation_formats.py; this module reads the options, finds the incident and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its
 number in `gaps incidents` order (1 is the first). Exit codes: 0 shown; 2 for what names nothing
 (no store, no such run, no such incident, a rulebook file that is missing, an unknown format).
 """
@@ -31,7 +31,7 @@ def explain(incident: str = typer.Argument(..., help=IncidentHelp),
     penalty and liability, why-not questions, counterfactuals and the evidence.
     """
     from explain.layout import LEVELS
-    from explain.render import FORMATS
+    from explain.explanation_formats import FORMATS
     if json_out:
         fmt = "json"
     if fmt not in FORMATS:
@@ -40,7 +40,7 @@ def explain(incident: str = typer.Argument(..., help=IncidentHelp),
         fail(f"unknown level {level!r}; levels: {', '.join(LEVELS)}")
     files = check_files(rules)
     from explain.explanation_doc import document
-    from explain.render import render
+    from explain.explanation_formats import render
     from explain.report import pick
     from reasoner.investigation import Investigation
     with open_existing(db) as store:

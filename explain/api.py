@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Iterable
 
 from .explanation_doc import document
-from .render import render
+from .explanation_formats import render
 from .report import build_report, format_for, render_report
 
 if TYPE_CHECKING:

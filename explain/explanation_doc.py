@@ -3,7 +3,7 @@ summary, then why, section by section (DESIGN "Reasoning", the paper's Figure 1)
 
     explanation = inv.explanation(incident)                      # inv = Investigation(store)
     doc = document(incident, explanation, store)
-    print(render(doc, "text", "standard"))                       # explain.render
+    print(render(doc, "text", "standard"))                       # explain.explanation_formats
 
 This module only words what it is given: the incident's proof trees and scenarios, and what the
 reasoner answered about it beyond the verdict (reasoner.explanation: lawful actions, why-not,

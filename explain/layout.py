@@ -3,7 +3,7 @@
 Levels: `summary` (the verdict sentence and a plain-language paragraph), `standard` (plus each
 stage's reasoning with rules that did not apply gathered up, counterfactuals, findings and the
 evidence table) and `full` (every step of every proof, and the rulebooks by sha256). Text, Markdown
-and HTML (explain/render.py) draw the same blocks, so they say the same thing.
+and HTML (explain/explanation_formats.py) draw the same blocks, so they say the same thing.
 
 A block is a tuple: ("title", text), ("heading", text), ("para", text), ("list", [text]),
 ("tree", [(depth, text)]), ("table", [header], [[cell]]).

@@ -7,13 +7,13 @@ tool's version, the store file's sha256 and "page N of M" in the margins of ever
 margin boxes, which Chromium honours), each incident starts a page, and no picture, table row or
 proof line is cut across two pages where it fits on one: a page torn from the bundle still says
 where it came from. Each incident's explanation is
-explain/render.py's `html_fragment` at the standard level, the same words as `gaps explain`.
+explain/explanation_formats.py's `html_fragment` at the standard level, the same words as `gaps explain`.
 """
 from __future__ import annotations
 
 from typing import Any
 
-from .render import esc, html_fragment
+from .explanation_formats import esc, html_fragment
 from .presence import FRESH_NS
 from .report_data import SECOND
 from .svg_scene import scene_svg

@@ -3,14 +3,14 @@ case file, a ticket or a diff between two reports.
 
 Markdown has no portable inline pictures, so the scene is a list (signals, vehicles with position,
 heading and speed (mph, with the m/s recorded), monitors with their field of view) and the timeline a table of what changed
-when: the same data the HTML draws. Every recorded string goes through explain/render.py's `md`.
+when: the same data the HTML draws. Every recorded string goes through explain/explanation_formats.py's `md`.
 """
 from __future__ import annotations
 
 from typing import Any
 
-from .render import md
-from .render import to_markdown as explanation_md
+from .explanation_formats import md
+from .explanation_formats import to_markdown as explanation_md
 from .report_data import SECOND
 from .units import speed_text
 

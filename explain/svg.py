@@ -6,7 +6,7 @@ producer's "red; stroke:url(javascript:...)" is drawn as an unknown colour, not 
 """
 from __future__ import annotations
 
-from .render import esc
+from .explanation_formats import esc
 
 __all__ = ["esc", "fill", "f", "SIGNAL_FILL", "UNKNOWN_FILL", "legend_swatches"]
 

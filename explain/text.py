@@ -102,7 +102,7 @@ clock = date_clock     # 2024-11-21 08:00:10.000 UTC (reasoner/when.py)
 def explain_incident(inv: Investigation, inc: Incident, level: str = "standard") -> str:
     """The whole explanation of one incident as text, verdict first: the investigation that judged
     it answers what the explanation asks (Investigation.explanation), explanation_doc words it and
-    explain.render draws it; the evidence gets chain positions from the investigation's store."""
+    explain.explanation_formats draws it; the evidence gets chain positions from the investigation's store."""
     from .explanation_doc import document
-    from .render import to_text
+    from .explanation_formats import to_text
     return to_text(document(inc, inv.explanation(inc), inv.store), level).rstrip("\n")

@@ -8,7 +8,7 @@ import pytest
 from tests.helpers.explained_cases import explained
 from explain import explain_incident
 from explain.explanation_doc import document
-from explain.render import html_fragment, html_page, render, to_markdown
+from explain.explanation_formats import html_fragment, html_page, render, to_markdown
 from reasoner.investigation import Investigation
 from sim_replay.paper import RUN, paper_run
 from store import Store

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from tests.helpers.explained_cases import CASES, explained
-from explain.render import render
+from explain.explanation_formats import render
 
 GOLDEN = Path(__file__).with_name("golden")
 UPDATE = os.environ.get("GAPS_UPDATE_GOLDEN") == "1"
