@@ -17,6 +17,7 @@ from reasoner.bundled import bundled
 from store import Store
 
 from tests.helpers.verdict_runs import ENTER, RUN, SPEEDING, RunBuilder, car, incidents, ns
+from tests.helpers.explained_cases import amber as amber_run  # cars 5 (before the line) and 6 (over it) on amber
 
 VERDICTS = {"punishable", "mitigated", "dismissed"}
 LIABLE = {"driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator", "none"}
@@ -218,16 +219,6 @@ def test_ambulance_on_call_with_nobody_forced_is_mitigated(tmp_path):
 
 
 # 4 -------------------------------------------------------------------------------------------
-def amber_run(run: RunBuilder) -> None:
-    run.spawn("5", "car")
-    run.spawn("6", "car")
-    run.lights(10, "amber")
-    run.crossing("5", 10, car("5") + ["5 has amber light"], ["5 has amber light"])
-    run.lights(40, "amber")
-    run.crossing("6", 40, car("6") + ["6 has amber light", "6 has crossed the stop line"],
-                 ["6 has amber light", "6 has crossed the stop line"])
-
-
 def test_amber_not_over_the_line_is_punishable_and_over_the_line_mitigated(tmp_path):
     run = RunBuilder()
     amber_run(run)
