@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Mapping
 
-from .chain import ChainStatus
+from .chain_status import ChainStatus
 from .counterfactuals import Counterfactual as Found
 from .counterfactuals import QuestionUnreadable, search, why_not
 from .engine import Rulebook

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, Timeline
 
-from .chain import ChainStatus, chain_status
+from .chain_status import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
