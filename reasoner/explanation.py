@@ -165,7 +165,7 @@ class _Asker:
         """One why-not question on the Validator Scenario (an unreadable one says so)."""
         if self.validator is None:
             return WhyNot(question, error="no validator rulebook judged this incident")
-        evidence = {s: ev.to_json() for s, ev in self.inc.scenarios.validator}
+        evidence = dict(self.inc.scenarios.validator)
         try:
             found = why_not(self.inv.engine, self.validator, question, self._validator_atoms(), evidence)
         except QuestionUnreadable as exc:
