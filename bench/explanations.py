@@ -36,7 +36,7 @@ def seconds(call) -> tuple[float, object]:
 def measure(path: Path, count: int) -> dict:
     import explain
     import reasoner
-    from reasoner.chain import chain_status
+    from reasoner.chain_status import chain_status
 
     with reasoner.open(path) as case:
         judge_s, found = seconds(lambda: case.incidents(RUN))

@@ -17,9 +17,9 @@ rulebook's templates, nothing recorded becomes Prolog text.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
-from store import GapsError
+from store import EventRef, GapsError
 
 from .engine import Engine, Rulebook, enrich
 from .facts import walk_atoms
@@ -224,7 +224,7 @@ class QuestionUnreadable(GapsError, ValueError):
 
 
 def why_not(engine: Engine, rb: Rulebook, sentence: str, facts: list[Atom],
-            evidence: dict | None = None) -> dict:
+            evidence: Mapping[str, EventRef] | None = None) -> dict:
     """Ask one sentence ("173 can enter the junction") on the facts: whether it holds and the
     proof or the tree of failed conditions, enriched with the rulebook's words and the evidence.
     The sentence is read with the rulebook's templates into terms; it never reaches Prolog as text."""

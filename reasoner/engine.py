@@ -11,8 +11,9 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Mapping
 
-from store import GapsError
+from store import EventRef, GapsError
 
 from .le.compile import atom_data, body_data, fact_data, predicates
 from .le.document import parse_document
@@ -97,15 +98,16 @@ class QueryResult:
         return out
 
 
-def enrich(tree: dict, rb: Rulebook, evidence: dict | None = None) -> dict:
+def enrich(tree: dict, rb: Rulebook, evidence: Mapping[str, EventRef] | None = None) -> dict:
     """A proof tree as DESIGN's JSON: each node also gets its English `text`, the `label` of its
     rule ("HC 176"), the `source` line of the LE it came from (rule stays the rule's index) and,
-    for a fact, the `evidence` that recorded it (from `evidence`: sentence -> event ref)."""
+    for a fact, the `evidence` that recorded it (from `evidence`: sentence -> event ref, written
+    as JSON here because the tree is JSON)."""
     rule = rb.rule(tree.get("rule"))
     text = rb.render(tree["sentence"])
     cited = list(tree.get("evidence", []))
     if evidence and tree["status"] == "fact" and text in evidence:
-        cited.append(evidence[text])
+        cited.append(evidence[text].to_json())
     return {"sentence": tree["sentence"], "text": text, "status": tree["status"],
             "rule": tree.get("rule"), "label": rule.label if rule else None,
             "source": rb.source(tree.get("rule")), "evidence": cited,

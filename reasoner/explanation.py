@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Mapping
 
-from .chain import ChainStatus
+from .chain_status import ChainStatus
 from .counterfactuals import Counterfactual as Found
 from .counterfactuals import QuestionUnreadable, search, why_not
 from .engine import Rulebook
@@ -165,7 +165,7 @@ class _Asker:
         """One why-not question on the Validator Scenario (an unreadable one says so)."""
         if self.validator is None:
             return WhyNot(question, error="no validator rulebook judged this incident")
-        evidence = {s: ev.to_json() for s, ev in self.inc.scenarios.validator}
+        evidence = dict(self.inc.scenarios.validator)
         try:
             found = why_not(self.inv.engine, self.validator, question, self._validator_atoms(), evidence)
         except QuestionUnreadable as exc:

@@ -9,9 +9,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from store import EventRef
+
 from .engine import Rulebook
 from .le.sentences import parse_fact
 from .le.terms import Atom
+from .model import Finding
 
 _CACHE_LIMIT = 200_000
 
@@ -35,8 +38,8 @@ class FactReader:
         found = self._cache[key] = parse_fact(sentence, rb.document.templates)
         return found
 
-    def pairs(self, rb: Rulebook, facts: list[tuple[Any, dict]],
-              unknown: list[dict] | None = None) -> list[tuple[Atom, dict]]:
+    def pairs(self, rb: Rulebook, facts: list[tuple[Any, EventRef]],
+              unknown: list[Finding] | None = None) -> list[tuple[Atom, EventRef]]:
         """The parsed facts, each with its evidence; each one that no template fits is appended
         to `unknown` as a finding."""
         out = []
@@ -48,8 +51,8 @@ class FactReader:
                 unknown.append(unknown_fact(sentence, evidence, rb))
         return out
 
-    def atoms(self, rb: Rulebook, facts: list[tuple[Any, dict]],
-              unknown: list[dict] | None = None) -> list[Atom]:
+    def atoms(self, rb: Rulebook, facts: list[tuple[Any, EventRef]],
+              unknown: list[Finding] | None = None) -> list[Atom]:
         """The parsed facts alone (see pairs)."""
         return [atom for atom, _ in self.pairs(rb, facts, unknown)]
 
@@ -58,12 +61,14 @@ class FactReader:
         return [a for a in (self.atom(rb, s) for s in sentences) if a is not None]
 
 
-def unknown_fact(sentence: Any, evidence: dict, rb: Rulebook) -> dict:
+def unknown_fact(sentence: Any, evidence: EventRef, rb: Rulebook) -> Finding:
+    """The finding for a recorded sentence no template fits, cut to 200 characters: a hostile
+    producer may write megabytes."""
     shown = sentence if isinstance(sentence, str) else repr(sentence)
     if len(shown) > 200:
         shown = shown[:200] + f"… ({len(shown)} characters)"
-    return {"kind": "unknown fact", "fact": shown, "evidence": [evidence],
-            "detail": f"no template of {rb.name} fits the recorded sentence {shown!r}; it was not used"}
+    return Finding("unknown fact", f"no template of {rb.name} fits the recorded sentence {shown!r}; it was not used",
+                   (evidence,), fact=shown)
 
 
 def walk_atoms(value: Any):

@@ -22,7 +22,8 @@ SILENT_S = 5     # a source that reported before the incident and not for this l
 
 
 def decision_fault(engine: Engine, reader: FactReader, choice: Choice | None, vehicle: str,
-                   action: Decision | None, perceived: list[tuple[Any, dict]], unknown: list[dict]) -> Finding | None:
+                   action: Decision | None, perceived: list[tuple[Any, EventRef]],
+                   unknown: list[Finding]) -> Finding | None:
     """Whether the vehicle's recorded decision contradicts its own rulebook on its own perception.
 
     Two ways: the `permitted` it recorded is not what the rulebook answers (a wrong answer, or a
@@ -32,9 +33,8 @@ def decision_fault(engine: Engine, reader: FactReader, choice: Choice | None, ve
     rb = choice.rulebook
     goal = reader.atom(rb, action.goal)
     if goal is None:
-        unknown.append({"kind": "unknown fact", "fact": action.goal[:200], "evidence": [action.evidence.to_json()],
-                        "detail": f"the decision's goal is not a sentence of {rb.name}; its decision "
-                                  "could not be checked"})
+        unknown.append(Finding("unknown fact", f"the decision's goal is not a sentence of {rb.name}; its decision "
+                                               "could not be checked", (action.evidence,), fact=action.goal[:200]))
         return None
     if constant([vehicle]) not in goal.args:
         return None

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, Timeline
 
-from .chain import ChainStatus, chain_status
+from .chain_status import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
@@ -43,8 +43,8 @@ from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Pr
                     StageProof)
 from .perception import corrected, dispute_finding, witnessed_functors
 from .stages import Choice, RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
-from .scenarios import (Scenario, entity, has_perception, monitor_scenario, ref, spawn_facts,
-                        vehicle_action, vehicle_scenario)
+from .scenarios import (Scenario, entity, has_perception, monitor_scenario, spawn_facts, vehicle_action,
+                        vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
                          IS_AN_OFFENCE_UNDER, IS_LIABLE, MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES,
                          PUNISHABLY_VIOLATES)
@@ -89,7 +89,7 @@ class _Validation:
     verdict: str
     why: str
     rulebook: RulebookChoice | None = None
-    scenario: tuple[tuple[Any, dict], ...] = ()
+    scenario: tuple[tuple[Any, EventRef], ...] = ()
     proof: StageProof | None = None
     rule: Any = None                          # the rule of the verdict's proof, where it holds
     dispute: Finding | None = None
@@ -172,7 +172,7 @@ class Investigation:
 
     # -- one incident ---------------------------------------------------------------------
     def _judge(self, case: _Case, gaps: Gaps) -> Incident:
-        unknown: list[dict] = []
+        unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
         pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown)
         rederived = pv_answer is not None and pv_answer.holds
@@ -182,8 +182,7 @@ class Investigation:
             validation = _Validation("dismissed", _unsupported(mscen))
         else:
             validation = self._validate(case, judged_on, vscen, mscen, unknown)
-        decision = vehicle_action(case.state, case.vehicle)
-        action = Decision.from_json(decision) if decision else None
+        action = vehicle_action(case.state, case.vehicle)
         control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
         fault = self._decision_fault(case, action, vscen, unknown)
         rule = rule or validation.rule
@@ -201,7 +200,7 @@ class Investigation:
             liable=_liable(liability), liability=liability, control=control, findings=findings,
             evidence=_evidence(case, mscen, vscen, action, control, findings), judged_on=judged_on,
             rulebook=validation.rulebook, rulebooks=_choices(case.rs),
-            scenarios=Scenarios(_facts(vscen.facts), _facts(mscen.facts), _facts(validation.scenario), action),
+            scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
             proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen), validation.proof),
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
 
@@ -209,15 +208,15 @@ class Investigation:
         if case.episode is not None:
             obs = case.episode.observation_at(case.t)
             scenario = Scenario()
-            scenario.add(obs["body"].get("facts"), ref(obs))
+            scenario.add(obs["body"].get("facts"), EventRef.of(obs))
             return scenario
         scenario = monitor_scenario(case.state, case.monitor, case.vehicle)
         if not scenario.facts and case.pv is not None and isinstance(case.pv["body"].get("facts"), list):
-            scenario.add(case.pv["body"]["facts"], ref(case.pv))
+            scenario.add(case.pv["body"]["facts"], EventRef.of(case.pv))
         return scenario
 
     def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any,
-                  unknown: list[dict]) -> tuple[Answer | None, Any]:
+                  unknown: list[Finding]) -> tuple[Answer | None, Any]:
         monitor = rs["monitor"]
         if monitor is None:
             return None, None
@@ -227,7 +226,7 @@ class Investigation:
         return answer, rule
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
-                  unknown: list[dict]) -> _Validation:
+                  unknown: list[Finding]) -> _Validation:
         choice = case.rs["validator"]
         if choice is None:
             return _Validation("dismissed", "no rulebook defines punishable and mitigated violations")
@@ -250,7 +249,7 @@ class Investigation:
         return _Validation(verdict, _why(verdict, rb, me, act), _choice(choice), rendered, proof, rule, dispute)
 
     def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list
-                         ) -> tuple[list[tuple[Atom, dict]], list[dict]]:
+                         ) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
         """The Validator Scenario: the vehicle's view corrected by what the monitor witnessed; or,
         for a vehicle that recorded no perception, its spawn and what the monitor saw."""
         if judged_on == "vehicle scenario":
@@ -258,12 +257,12 @@ class Investigation:
             others = {constant([src.split("/", 1)[1]]) for src in case.state.entities if "/" in src} - {case.me}
             return corrected(mine, seen, self._witnessed_by(monitor_rb), case.me, others)
         spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
-        own = [(a, ref(spawn, case.state.run, "entity.spawn"))
+        own = [(a, EventRef.of(spawn, case.state.run, "entity.spawn"))
                for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
         return own + seen, []
 
     def _decision_fault(self, case: _Case, action: Decision | None, vscen: Scenario,
-                        unknown: list[dict]) -> Finding | None:
+                        unknown: list[Finding]) -> Finding | None:
         choice = case.rs.vehicle_rulebook(action.rulebook if action else None)
         own = action if action and action.action == case.action else None
         return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
@@ -320,7 +319,8 @@ class Investigation:
         found.sort(key=lambda p: (-_num(p.fine_gbp), -_num(p.points), p.offence))
         return replace(found[0], offences=tuple(found)) if len(found) > 1 else found[0]
 
-    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom], evidence: dict) -> Liability:
+    def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom],
+                   evidence: dict[str, EventRef]) -> Liability:
         def parties(sentence) -> tuple[str, ...]:
             question = [Cond(atom=sentence.atom(Var("party"), act, me))]
             return tuple(role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts).bindings)
@@ -330,7 +330,7 @@ class Investigation:
                          licence_points=parties(GETS_LICENCE_POINTS),
                          sanctions=parties(FACES_REGULATORY_SANCTIONS),
                          facts=tuple(rb.render(a) for a in facts), rulebook=rb.sha256,
-                         evidence={s: EventRef.from_json(r) for s, r in evidence.items()},
+                         evidence=evidence,
                          trees=tuple(enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees))
 
 
@@ -360,12 +360,12 @@ def _liable(liability: Liability | None) -> str:
                 liability.parties[0] if liability.parties else "none")
 
 
-def _control_ref(run: str, control: Control, vscen: Scenario, basis: str) -> dict | None:
+def _control_ref(run: str, control: Control, vscen: Scenario, basis: str) -> EventRef | None:
     """The event behind a liability fact: the spawn, or an ads.event of the control status."""
     if basis == "spawn":
-        return next((ev for _, ev in vscen.facts if ev["kind"] == "entity.spawn"), None)
+        return next((ev for _, ev in vscen.facts if ev.kind == "entity.spawn"), None)
     piece = getattr(control, basis)
-    return ref(piece, run, "ads.event") if piece else None
+    return EventRef.of(piece, run, "ads.event") if piece else None
 
 
 def _choice(choice: Choice) -> RulebookChoice:
@@ -376,22 +376,18 @@ def _choices(rs: RuleSet) -> dict[str, RulebookChoice]:
     return {stage: RulebookChoice(**b) for stage, b in rs.describe().items()}
 
 
-def _facts(facts: Iterable[tuple[Any, dict]]) -> tuple[tuple[Any, EventRef], ...]:
-    return tuple((s, EventRef.from_json(ev)) for s, ev in facts)
-
-
 def _present(finding: Finding | None) -> tuple[Finding, ...]:
     return (finding,) if finding is not None else ()
 
 
-def _dedup_unknown(unknown: list[dict]) -> list[Finding]:
+def _dedup_unknown(unknown: list[Finding]) -> list[Finding]:
     """One finding per unknown sentence and event, however many stages tried to read it."""
     seen, out = set(), []
     for f in unknown:
-        key = (f["fact"], tuple((e["src"], e["seq"]) for e in f["evidence"]))
+        key = (f.fact, tuple(e.key for e in f.evidence))
         if key not in seen:
             seen.add(key)
-            out.append(Finding.from_json(f))
+            out.append(f)
     return out
 
 
@@ -410,7 +406,7 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool) -> Finding | No
                   "monitor did not record one")
     event = case.pv if case.pv else case.episode.first
     return Finding("monitor disagreement", detail,
-                   tuple(EventRef.from_json(r) for r in [ref(event)] + [ev for _, ev in mscen.facts[:1]]))
+                   (EventRef.of(event), *(ev for _, ev in mscen.facts[:1])))
 
 
 def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario) -> StageProof:
@@ -439,11 +435,11 @@ def _num(value: Any) -> float:
 def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision | None, control: Control,
               findings: Iterable[Finding]) -> tuple[EventRef, ...]:
     """Every event the incident rests on, once each, the anchor first."""
-    refs = [EventRef.from_json(ref(case.anchor))] + [EventRef.from_json(ev) for _, ev in (*mscen.facts, *vscen.facts)]
+    refs = [EventRef.of(case.anchor)] + [ev for _, ev in (*mscen.facts, *vscen.facts)]
     if decision:
         refs.append(decision.evidence)
     if control.last_ads_event:
-        refs.append(EventRef.from_json(ref(control.last_ads_event, case.run, "ads.event")))
+        refs.append(EventRef.of(control.last_ads_event, case.run, "ads.event"))
     for f in findings:
         refs += f.evidence
     seen, out = set(), []

@@ -61,7 +61,7 @@ class Finding:
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> Finding:
-        """A finding from its JSON (facts.py writes unknown facts so, for the scene as well)."""
+        """A finding read back from the JSON `to_json` writes."""
         seq = data.get("missing_seq")
         return cls(kind=data["kind"], detail=data["detail"],
                    evidence=tuple(EventRef.from_json(r) for r in data.get("evidence", [])),

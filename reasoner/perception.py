@@ -52,8 +52,8 @@ def _about(atom: Atom, me: Any, others: set) -> bool:
     return me in atom.args or not any(arg in others for arg in atom.args if isinstance(arg, (str, int)))
 
 
-def corrected(vehicle_facts: list[tuple[Atom, dict]], monitor_facts: list[tuple[Atom, dict]],
-              witnessed: set[str], me: Any, others: set) -> tuple[list[tuple[Atom, dict]], list[dict]]:
+def corrected(vehicle_facts: list[tuple[Atom, EventRef]], monitor_facts: list[tuple[Atom, EventRef]],
+              witnessed: set[str], me: Any, others: set) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
     """The vehicle's facts with the monitor's in place of those it witnesses; and the disputes:
     per sentence kind where the two differ, what each side recorded."""
     def about(pairs, functor):
@@ -74,7 +74,7 @@ def dispute_finding(disputes: list[dict], rb: Rulebook, on_vehicle: str, on_moni
     said_vehicle = [rb.render(a) for d in disputes for a, _ in d["vehicle"]]
     said_monitor = [rb.render(a) for d in disputes for a, _ in d["monitor"]]
     evidence = [ev for d in disputes for _, ev in (*d["vehicle"], *d["monitor"])]
-    unique = tuple({(e["src"], e["seq"]): EventRef.from_json(e) for e in evidence}.values())
+    unique = tuple({e.key: e for e in evidence}.values())
     return Finding("perception fault",
                    (f"the vehicle perceived {_list(said_vehicle)} where the monitor observed "
                     f"{_list(said_monitor)}; on its own perception the verdict would be {on_vehicle}, "

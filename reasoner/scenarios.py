@@ -7,32 +7,27 @@ from it what the reasoner asks about (DESIGN "Reasoning"):
     Vehicle Action     V's latest vehicle.decision (goal, action, permitted, proceeds)
     Monitor Scenario   the facts of a monitor's latest observation of V
 
-Every fact keeps the event that recorded it, so an explanation can cite its evidence.
+Every fact keeps the event that recorded it as a store.EventRef, so an explanation can cite its
+evidence; the JSON of a scene or an incident writes it with `to_json()` at the edge.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Any
 
-from store import State
+from store import EventRef, State
 
+from .model import Decision
 from .vocabulary import IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
-
-
-def ref(event: dict, run: str | None = None, kind: str | None = None) -> dict:
-    """How an explanation points at an event: run, source, sequence number, time and kind.
-    Takes a whole event, or a piece of folded state with the run and kind it lacks."""
-    return {"run": event.get("run", run), "src": event["src"], "seq": event["seq"], "t": event["t"],
-            "kind": event.get("kind", kind)}
 
 
 @dataclass
 class Scenario:
     """Facts as LE sentences (no final full stop), each with the event that recorded it."""
 
-    facts: list[tuple[str, dict]] = field(default_factory=list)
+    facts: list[tuple[Any, EventRef]] = field(default_factory=list)
 
-    def add(self, sentences: Any, evidence: dict) -> None:
+    def add(self, sentences: Any, evidence: EventRef) -> None:
         known = set(self.sentences)
         for s in sentences if isinstance(sentences, list) else []:
             text = s.strip().rstrip(".").strip() if isinstance(s, str) else s
@@ -45,7 +40,7 @@ class Scenario:
         return [s for s, _ in self.facts]
 
     @property
-    def evidence(self) -> dict:
+    def evidence(self) -> dict[str, EventRef]:
         """sentence -> event ref, for citing facts in proof trees."""
         return {s: r for s, r in self.facts if isinstance(s, str)}
 
@@ -74,9 +69,9 @@ def vehicle_scenario(state: State, vehicle: str) -> Scenario:
     record = entity(state, vehicle) or {}
     run = state.run
     if spawn := record.get("spawn"):
-        scenario.add(spawn_facts(vehicle, spawn["body"]), ref(spawn, run, "entity.spawn"))
+        scenario.add(spawn_facts(vehicle, spawn["body"]), EventRef.of(spawn, run, "entity.spawn"))
     if perception := record.get("perception"):
-        scenario.add(perception["body"].get("facts"), ref(perception, run, "vehicle.perception"))
+        scenario.add(perception["body"].get("facts"), EventRef.of(perception, run, "vehicle.perception"))
     return scenario
 
 
@@ -84,15 +79,14 @@ def has_perception(state: State, vehicle: str) -> bool:
     return bool((entity(state, vehicle) or {}).get("perception"))
 
 
-def vehicle_action(state: State, vehicle: str) -> dict | None:
-    """The latest decision as {goal, action, permitted, proceeds, rulebook, evidence}."""
+def vehicle_action(state: State, vehicle: str) -> Decision | None:
+    """The latest decision (goal, action, permitted, proceeds, rulebook) and the event it is."""
     decision = (entity(state, vehicle) or {}).get("decision")
     if not decision:
         return None
     body = decision["body"]
-    return {"goal": body.get("goal"), "action": body.get("action"), "permitted": body.get("permitted"),
-            "proceeds": body.get("proceeds"), "rulebook": body.get("rulebook"),
-            "evidence": ref(decision, state.run, "vehicle.decision")}
+    return Decision(body.get("goal"), body.get("action"), body.get("permitted"), body.get("proceeds"),
+                    body.get("rulebook"), EventRef.of(decision, state.run, "vehicle.decision"))
 
 
 def observation(state: State, monitor_src: str, vehicle: str) -> dict | None:
@@ -103,7 +97,7 @@ def observation(state: State, monitor_src: str, vehicle: str) -> dict | None:
 def monitor_scenario(state: State, monitor_src: str, vehicle: str) -> Scenario:
     scenario = Scenario()
     if obs := observation(state, monitor_src, vehicle):
-        scenario.add(obs["body"].get("facts"), ref(obs, state.run, "monitor.observation"))
+        scenario.add(obs["body"].get("facts"), EventRef.of(obs, state.run, "monitor.observation"))
     return scenario
 
 

@@ -13,7 +13,7 @@ runs of millions of events) and the reasoner's readings of that state (DESIGN "R
 Nothing here asks Prolog unless asked to judge (`judge=True`, the default when one vehicle is
 asked for): then the validator rulebook says whether the goal of the Vehicle Action holds on the
 Validator Scenario ("lawful"). The scene is a `Scene` of plain JSON data; every fact carries the event ref
-{run, src, seq, t, kind} it came from.
+{run, src, seq, t, kind} it came from (a store.EventRef, written with `to_json()` here, at the edge).
 
 Decisions: a time before the run start is allowed and gives an empty scene with a note saying so
 (the record held nothing yet); a vehicle is present from its entity.spawn (or its first event, for
@@ -27,10 +27,11 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
-from store import GapsError, NoSuchRun, State, Store, state_at
+from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
 
 from .control import control_at
-from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, ref, vehicle_action, vehicle_id,
+from .model import Finding
+from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
                         vehicle_scenario)
 from .when import format_offset, format_time
 
@@ -108,11 +109,11 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
         last=state.last,
         note=_note(state, start, t),
         rulebooks=_rulebooks(start_piece),
-        started=ref(start_piece, run, "run.start") if start_piece else None,
-        ended=ref(state.end, run, "run.end") if state.end else None,
+        started=_ref_json(start_piece, run, "run.start") if start_piece else None,
+        ended=_ref_json(state.end, run, "run.end") if state.end else None,
         signals=_signals(state),
         monitors=_monitors(state),
-        vehicles=vehicles,
+        vehicles=[v.json for v in vehicles],
         road_users=_road_users(state),
     )
 
@@ -148,16 +149,25 @@ def _natural(vehicle: str) -> tuple:
 
 # --- one vehicle ------------------------------------------------------------------------------
 
-def _vehicle(state: State, vehicle: str, t: int) -> dict[str, Any]:
+@dataclass(frozen=True)
+class _Shown:
+    """One vehicle as the scene shows it (JSON), and its Validator Scenario with the facts'
+    EventRefs, which the judge reads without parsing the JSON back."""
+
+    json: dict[str, Any]
+    validator: Scenario
+
+
+def _vehicle(state: State, vehicle: str, t: int) -> _Shown:
     run = state.run
     record = entity(state, vehicle) or {}
     spawn, now = record.get("spawn"), record.get("state")
-    vscen = _facts(vehicle_scenario(state, vehicle))
+    vscen = vehicle_scenario(state, vehicle)
     action = vehicle_action(state, vehicle)
-    monitors = [{"monitor": src, "facts": _facts(monitor_scenario(state, src, vehicle))}
-                for src in monitors_of(state, vehicle)]
+    mscens = [(src, monitor_scenario(state, src, vehicle)) for src in monitors_of(state, vehicle)]
+    validator, judged_on = _validator_scenario(record, vscen, [s for _, s in mscens])
     collision = state.collisions.get(vehicle)
-    return {
+    return _Shown({
         "vehicle": vehicle,
         "src": f"vehicle/{vehicle}",
         "type": spawn["body"].get("type") if spawn else None,
@@ -165,31 +175,30 @@ def _vehicle(state: State, vehicle: str, t: int) -> dict[str, Any]:
         "spawn": _piece(spawn, run, "entity.spawn"),
         "state": _piece(now, run, "entity.state"),
         "control": control_at(record, t),
-        "vehicle_scenario": vscen,
-        "vehicle_action": action,
-        "monitor_scenarios": monitors,
-        "validator_scenario": _validator_scenario(record, vscen, action, monitors),
-        "collision": ref(collision, run, "collision") if collision else None,
-    }
+        "vehicle_scenario": _facts(vscen),
+        "vehicle_action": action.to_json() if action else None,
+        "monitor_scenarios": [{"monitor": src, "facts": _facts(s)} for src, s in mscens],
+        "validator_scenario": {"facts": _facts(validator), "goal": action.goal if action else None,
+                               "goal_evidence": action.evidence.to_json() if action else None,
+                               "judged_on": judged_on},
+        "collision": _ref_json(collision, run, "collision") if collision else None,
+    }, validator)
 
 
-def _validator_scenario(record: dict, vscen: list[dict], action: dict | None,
-                        monitors: list[dict]) -> dict[str, Any]:
-    """The Vehicle Scenario with the goal of the Vehicle Action (DESIGN "Reasoning"); for a
-    vehicle that recorded no perception, what its spawn and the monitors recorded about it."""
-    facts, judged_on = vscen, "vehicle scenario"
-    if not record.get("perception"):
-        judged_on = "monitor scenario" if monitors else "spawn only"
-        merged = Scenario([(f["fact"], f["evidence"]) for f in vscen])
-        for scenario in monitors:
-            for f in scenario["facts"]:
-                merged.add([f["fact"]], f["evidence"])
-        facts = _facts(merged)
-    return {"facts": facts, "goal": action["goal"] if action else None,
-            "goal_evidence": action["evidence"] if action else None, "judged_on": judged_on}
+def _validator_scenario(record: dict, vscen: Scenario, monitors: list[Scenario]) -> tuple[Scenario, str]:
+    """The facts of the Validator Scenario and what they are (DESIGN "Reasoning"): the Vehicle
+    Scenario; for a vehicle that recorded no perception, what its spawn and the monitors recorded
+    about it."""
+    if record.get("perception"):
+        return vscen, "vehicle scenario"
+    merged = Scenario(list(vscen.facts))
+    for scenario in monitors:
+        for fact, evidence in scenario.facts:
+            merged.add([fact], evidence)
+    return merged, "monitor scenario" if monitors else "spawn only"
 
 
-def _judge(investigation: Investigation | None, store: Store, run: str, vehicles: list[dict]) -> None:
+def _judge(investigation: Investigation | None, store: Store, run: str, vehicles: list[_Shown]) -> None:
     """Ask the validator rulebook whether each goal holds on its Validator Scenario: "lawful"."""
     from .engine import QuestionError
     from .investigation import Investigation
@@ -197,7 +206,7 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
     inv = investigation or Investigation(store)
     choice = inv.ruleset(run)["validator"]
     for v in vehicles:
-        scenario = v["validator_scenario"]
+        scenario = v.json["validator_scenario"]
         verdict: dict[str, Any] = {"lawful": None, "rulebook": choice.describe() if choice else None,
                                    "unknown_facts": [], "why": None}
         scenario.update(verdict)
@@ -212,9 +221,9 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
         if goal is None:
             scenario["why"] = f"no template of {rb.name} fits the goal {scenario['goal']!r}"
             continue
-        unknown: list[dict] = []
-        atoms = inv.reader.atoms(rb, [(f["fact"], f["evidence"]) for f in scenario["facts"]], unknown)
-        scenario["unknown_facts"] = unknown
+        unknown: list[Finding] = []
+        atoms = inv.reader.atoms(rb, v.validator.facts, unknown)
+        scenario["unknown_facts"] = [f.to_json() for f in unknown]
         try:
             scenario["lawful"] = inv.engine.holds(rb, goal, atoms)
         except QuestionError as exc:
@@ -227,12 +236,17 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
 # --- the rest of the scene --------------------------------------------------------------------
 
 def _facts(scenario: Scenario) -> list[dict]:
-    return [{"fact": fact, "evidence": evidence} for fact, evidence in scenario.facts]
+    return [{"fact": fact, "evidence": evidence.to_json()} for fact, evidence in scenario.facts]
+
+
+def _ref_json(piece: dict, run: str, kind: str) -> dict[str, Any]:
+    """The event ref of a piece of folded state (which lacks the run and kind), as the scene's JSON."""
+    return EventRef.of(piece, run, kind).to_json()
 
 
 def _piece(piece: dict | None, run: str, kind: str) -> dict | None:
     """A folded event as its body and the ref to cite it by."""
-    return None if piece is None else {**piece["body"], "evidence": ref(piece, run, kind)}
+    return None if piece is None else {**piece["body"], "evidence": _ref_json(piece, run, kind)}
 
 
 def _rulebooks(start: dict | None) -> list[dict]:
@@ -243,8 +257,8 @@ def _rulebooks(start: dict | None) -> list[dict]:
 def _signals(state: State) -> list[dict]:
     run = state.run
     return [{"junction": junction, "approach": approach, "colour": shown["colour"],
-             "since": {"run": run, **shown["since"], "kind": "signal.state"},
-             "evidence": ref(shown["last"], run, "signal.state")}
+             "since": _ref_json(shown["since"], run, "signal.state"),
+             "evidence": _ref_json(shown["last"], run, "signal.state")}
             for junction, approaches in sorted(state.signals.items())
             for approach, shown in sorted(approaches.items())]
 
@@ -263,7 +277,7 @@ def _monitors(state: State) -> list[dict]:
             "observed": sorted(folded["observations"], key=_natural),
             "potential_violations": [
                 {"vehicle": v, "action": pv["body"].get("action"),
-                 "evidence": ref(pv, state.run, "monitor.potential_violation")}
+                 "evidence": _ref_json(pv, state.run, "monitor.potential_violation")}
                 for v, pv in sorted(folded["potential_violations"].items(), key=lambda kv: _natural(kv[0]))],
         })
     return out

@@ -21,7 +21,7 @@ from .envelope import (
 from .intake import Candidate
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
-from .reports import AppendReport, VerifyReport
+from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .snapshots import enable_snapshots
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at

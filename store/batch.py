@@ -20,7 +20,7 @@ from .chain import RunChain
 from .envelope import EventError, encode_event
 from .heads import Heads
 from .intake import Candidate, raw_bytes
-from .reports import AppendReport
+from .outcomes import AppendReport
 
 
 class Batch:

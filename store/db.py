@@ -22,7 +22,7 @@ from .heads import Heads
 from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
 from .errors import StoreError
-from .reports import AppendReport, VerifyReport
+from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .verify import Progress, verify_store
 

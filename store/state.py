@@ -1,10 +1,13 @@
 """State at a time: what the record says every entity, signal and monitor was at any t.
 
 The reasoner rebuilds the Vehicle, Monitor and Validator Scenarios from this, so every piece of
-state is the event it came from, cut down to a citation and a body: {"src", "seq", "t", "body"}
-(`ref(piece)` gives the {src, seq, t} to cite as evidence). State at t is the fold of the run's
-events with t' <= t in (t, seq, src) order, a total order fixed by the events themselves, so the
-answer never depends on the order or the batches in which the events arrived.
+state is the event it came from, cut down to a citation and a body: {"src", "seq", "t", "body"}.
+Where the fold points at an event (the last one folded, a colour's `since`, the ADS status's
+`since` and the manoeuvres in progress) it keeps only the compact {src, seq, t} (`_cite`), not a
+store.EventRef: that shape is stored in the cached snapshots, and a reader that cites a piece
+adds the run and kind it lacks (EventRef.of). State at t is the fold of the run's events with
+t' <= t in (t, seq, src) order, a total order fixed by the events themselves, so the answer never
+depends on the order or the batches in which the events arrived.
 
 The state (a frozen State, state_value.py, holding plain JSON data; the fold itself and the
 snapshots work on a dict of the same keys but run and t):
@@ -146,8 +149,9 @@ def check_snapshots(store: Store, run: str) -> list[Position]:
     return wrong
 
 
-def ref(piece: Piece) -> dict[str, Any]:
-    """The evidence reference {src, seq, t} of a piece of state."""
+def _cite(piece: Piece) -> dict[str, Any]:
+    """The fold's compact citation {src, seq, t} of a piece of state, not an EventRef: the state
+    already says the run, and this shape is stored in the cached snapshots, so it must not change."""
     return {"src": piece["src"], "seq": piece["seq"], "t": piece["t"]}
 
 
@@ -374,7 +378,7 @@ def _fold_signal(state: dict[str, Any], piece: Piece) -> None:
     approach = _key(body.get("approach", "*"))
     colour = body.get("colour")
     before = approaches.get(approach)
-    since = before["since"] if before is not None and before["colour"] == colour else ref(piece)
+    since = before["since"] if before is not None and before["colour"] == colour else _cite(piece)
     approaches[approach] = {"colour": colour, "since": since, "last": piece}
 
 
@@ -423,7 +427,7 @@ def ads_status(before: dict[str, Any] | None, piece: Piece) -> dict[str, Any]:
     latest failure reported, kept as history (nothing in the catalogue clears it)."""
     status = dict(_NO_ADS if before is None else before)
     status["last"] = piece
-    event, here = piece["body"].get("event"), ref(piece)
+    event, here = piece["body"].get("event"), _cite(piece)
     if event == "activated":
         if not status["engaged"]:
             status.update(engaged=True, since=here)

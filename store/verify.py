@@ -19,7 +19,7 @@ from typing import Any, Callable
 from . import merkle
 from .canonical import canonical_json
 from .chain import GENESIS, link
-from .reports import VerifyReport
+from .outcomes import VerifyReport
 
 _COLUMNS = ("run", "src", "seq", "t", "kind")
 _PROGRESS_EVERY = 1 << 14  # events between two progress calls

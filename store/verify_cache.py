@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 import sqlite3
 
-from .reports import VerifyReport
+from .outcomes import VerifyReport
 
 ChainKey = tuple[int, str]  # (events in the run's chain, stored hash of the last one)
 

@@ -19,7 +19,7 @@ from .formats import FORMATS, format_of
 from .jsonl import export_jsonl, import_jsonl
 from .mcap_in import import_mcap
 from .mcap_out import export_mcap
-from .report import ExportReport, ImportReport
+from .outcomes import ExportReport, ImportReport
 from .rows import ORDERS
 
 DEFAULT_ORDER = {"jsonl": "chain", "mcap": "chain"}

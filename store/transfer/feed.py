@@ -11,7 +11,7 @@ from typing import Callable, Iterable
 
 from ..db import Store
 from ..intake import Candidate
-from .report import ImportReport
+from .outcomes import ImportReport
 
 BATCH = 5000
 

@@ -18,7 +18,7 @@ from ..intake import Candidate, from_raw
 from .atomic import replacing
 from .errors import TransferError
 from .feed import feed
-from .report import ExportReport, ImportReport
+from .outcomes import ExportReport, ImportReport
 from .rows import run_summary, stored_rows
 
 KEEP_BYTES = 16 * MAX_EVENT_BYTES  # how much of an over-size line quarantine keeps

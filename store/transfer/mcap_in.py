@@ -26,7 +26,7 @@ from .errors import TransferError
 from .feed import feed
 from .foxglove import DERIVED_MARK
 from .mcap_records import Located, RecordReader
-from .report import ImportReport
+from .outcomes import ImportReport
 
 _EVENT_TOPIC_PREFIX = "gaps/"
 

@@ -29,7 +29,7 @@ from .foxglove import DERIVED_MARK, DRAWN_KINDS, TOPICS, Derived, SceneBuilder
 from .foxglove_schemas import SCENE_UPDATE, log_schema, scene_update_schema
 from .foxglove_schemas import schema_bytes as foxglove_bytes
 from .message_schema import schema_bytes as event_schema_bytes
-from .report import ExportReport
+from .outcomes import ExportReport
 from .rows import Row, chain_head, run_summary, stored_rows
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}

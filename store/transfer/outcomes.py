@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..reports import AppendReport
+from ..outcomes import AppendReport
 
 MAX_DETAILS = 100
 
