@@ -40,9 +40,14 @@ def number(x: float) -> str:
     return f"{x:.4g}" if abs(x) >= 100 else f"{x:.3g}"
 
 
+def ratio_text(ratio: float) -> str:
+    """0.53, or 1/1,019 for a ratio so small that two decimals would print 0.00."""
+    return f"{ratio:.2f}" if ratio >= 0.1 or ratio <= 0 else f"1/{number(1 / ratio)}"
+
+
 def row(f: Figure) -> str:
     runs = ", ".join(number(r) for r in f.runs) if len(f.runs) > 1 else ""
-    ratio = f"{f.ratio:.2f} of {f.peer}" if f.ratio is not None and f.peer else ""
+    ratio = f"{ratio_text(f.ratio)} of {f.peer}" if f.ratio is not None and f.peer else ""
     cells = [f.name, f"{number(f.median)} {f.unit}", runs, ratio, f.target, f.note]
     return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
 

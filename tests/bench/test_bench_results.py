@@ -87,3 +87,13 @@ def test_every_recorded_result_says_where_it_came_from():
         assert result.source == "measured" or result.source.startswith("README as of "), key
         assert result.command.startswith(("python bench/", "BENCH_QUICK=1 python bench/")), key
         assert result.machine.line(), key
+
+
+@pytest.mark.parametrize("ratio, text", [(0.53, "0.53"), (2.0, "2.00"), (0.1, "0.10"), (0.000981, "1/1,019"),
+                                         (0.02, "1/50"), (0.0, "0.00")])
+def test_a_small_ratio_is_written_as_one_in_n_not_as_zero(ratio, text):
+    sys.path.insert(0, str(BENCH))   # performance_md imports results.py beside it, as the bench scripts do
+    try:
+        assert _module("performance_md").ratio_text(ratio) == text
+    finally:
+        sys.path.remove(str(BENCH))
