@@ -219,6 +219,8 @@ Phrase = Callable[[list, Any], str | None]          # (arguments, the vehicle) -
 
 MANNER: dict[Sentence, Phrase] = {
     vocab.HAS_LIGHT: lambda x, v: f"against {with_a(x[1])} light",      # the preposition and article
+    vocab.CROSSED_THE_STOP_LINE_ON: lambda x, v: f"on {with_a(x[1])} light",     # the act: crossing on it
+    vocab.STOP_LINE_NOT_CLEARLY_VISIBLE: lambda x, v: "where the stop line was not clearly visible",
     vocab.HAS_SIGN: lambda x, v: f"at {with_a(x[1])} sign",             # the preposition
     vocab.HAS_SPEED_OF: lambda x, v: f"at {value(x[1])} mph",           # the unit
     vocab.SPEED_LIMIT_IS: lambda x, v: f"where the limit is {value(x[0])} mph",   # the unit
@@ -235,6 +237,9 @@ MANNER: dict[Sentence, Phrase] = {
 # a condition that held because the sentence did NOT
 MANNER_NOT: dict[Sentence, Phrase] = {
     vocab.HAS_STOPPED_AT_THE_STOP_LINE: lambda x, v: "without stopping at the stop line",
+    vocab.HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD: lambda x, v: "without stopping before the major road",
+    vocab.STOP_LINE_NOT_CLEARLY_VISIBLE: lambda x, v: None,                # the line was visible: the usual case
+    vocab.CROSSED_THE_STOP_LINE_ON: lambda x, v: None,                  # no record of when it crossed
     vocab.EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR: lambda x, v: "while its exit was not clear",
     vocab.IS_STOPPED: lambda x, v: None,                                # implied: it moved
     vocab.HAS_LIGHT: lambda x, v: None,                                 # another colour is named
@@ -264,6 +269,7 @@ def manner(data: list, vehicle: Any, negated: bool, text: str) -> str | None:
 # rulebook would write it, with the reason beside it.
 PROSE: dict[Sentence, str] = {
     vocab.HAS_LIGHT: "*a vehicle* has a *a colour* light",        # the article: "had a red light"
+    vocab.CROSSED_THE_STOP_LINE_ON: "*a vehicle* has crossed the stop line on a *a colour* light",  # the tense
     vocab.IS_OF_TYPE: "*a vehicle* is a *a type*",                # the article: "been an ambulance"
     vocab.HAS_SPEED_OF: "*a vehicle* is doing *a number* mph",    # the unit: "been doing 38 mph"
     vocab.SPEED_LIMIT_IS: "the speed limit is *a number* mph",    # the unit: "been 30 mph"

@@ -80,7 +80,7 @@ def _failed(node: dict, cite: Cite, full: bool, depth: int, lead: str) -> list[L
         if kid not in early:
             lines += outline(kid, cite, full, depth + 1)
     if early:
-        lines.append((depth + 1, f"{_count(len(early))} do not apply, each failing on its first "
+        lines.append((depth + 1, f"{_count(len(early), len(early) < len(kids))} on its first "
                                  f"condition: {_first_conditions(early)}"))
     return lines
 
@@ -115,8 +115,11 @@ def _first_conditions(attempts: list[dict]) -> str:
     return "; ".join(f"{k['children'][0]['text']}{where(k)}" for k in attempts)
 
 
-def _count(n: int) -> str:
-    return "1 other rule" if n == 1 else f"{n} other rules"
+def _count(n: int, others: bool = True) -> str:
+    """"1 other rule does not apply, failing", "3 other rules do not apply, each failing"."""
+    if not others:
+        return "its rule does not apply, failing" if n == 1 else f"none of its {n} rules applies, each failing"
+    return "1 other rule does not apply, failing" if n == 1 else f"{n} other rules do not apply, each failing"
 
 
 # -- what a tree says was decisive ---------------------------------------------------------------

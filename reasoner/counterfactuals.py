@@ -37,7 +37,8 @@ CONTROLLED = frozenset({
     "is_too_close_to_the_stop_line_to_stop_safely", "has_crossed_the_first_white_line",
     "is_stopped_in_the_box_junction", "is_turning", "is_turning_left", "is_turning_right",
     "is_taking_up_a_position_to_turn_right", "is_waiting_to_turn_right", "is_crossing_a_dual_carriageway",
-    "has_room_to_clear_the_junction_safely",
+    "has_room_to_clear_the_junction_safely", "crossed_the_stop_line_on_light",
+    "has_stopped_before_entering_the_major_road",
 })
 
 # Slots that name a party rather than a value: their constants are never swapped for others (a

@@ -147,6 +147,16 @@ CORE: tuple[Sentence, ...] = (IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL, HAS_LIGHT, HA
 
 # --- further input sentences the code writes (docs/vocabulary.md) ----------------------------
 
+CROSSED_THE_STOP_LINE_ON = Sentence(
+    "*a vehicle* crossed the stop line on *a colour* light", "highway_code.le",
+    "the signal facing V showed C when V crossed its stop line (red and amber together: both sentences); "
+    "the act a signal's prohibition judges (TSRGD 2016 Sch 14 Pt 1 para 5(3), HC 175's amber exception)")
+HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD = Sentence(
+    "*a vehicle* has stopped before entering the major road", "highway_code.le",
+    "V stopped before entering the major road, where a Stop sign's line is not clearly visible (HC 171)")
+STOP_LINE_NOT_CLEARLY_VISIBLE = Sentence(
+    "the stop line is not clearly visible for *a vehicle*", "highway_code.le",
+    "the transverse line of V's Stop sign is worn or hidden (TSRGD 2016 Sch 9 Pt 7 para 1)")
 IS_TOO_CLOSE_TO_STOP = Sentence(
     "*a vehicle* is too close to the stop line to stop safely", "highway_code.le",
     "stopping might cause a collision, so V may go on at amber (HC 175)")
@@ -196,6 +206,8 @@ EXPLAINED: tuple[Sentence, ...] = (IS_ON_THE_MAIN_ROAD, IS_AT_A_BOX_JUNCTION, IS
 
 SENTENCES: tuple[Sentence, ...] = (
     *STAGES.values(), MITIGATELY_VIOLATES, MUST_NOT, IS_AN_OFFENCE_UNDER, GETS_LICENCE_POINTS,
-    FACES_REGULATORY_SANCTIONS, *CORE, IS_TOO_CLOSE_TO_STOP, HAS_STOPPED_AT_THE_STOP_LINE,
+    FACES_REGULATORY_SANCTIONS, *CORE, CROSSED_THE_STOP_LINE_ON,
+    HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, STOP_LINE_NOT_CLEARLY_VISIBLE, IS_TOO_CLOSE_TO_STOP,
+    HAS_STOPPED_AT_THE_STOP_LINE,
     MONITOR_OBSERVED_LIGHT, HAS_A_LIGHT_PERCEPTION_FAULT, IS_THE_DRIVER_OF, IS_THE_USER_IN_CHARGE_OF,
     IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR, IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF, TRANSITION_DEMAND_EXPIRED, *EXPLAINED)

@@ -48,7 +48,8 @@ def hostile_doc(tmp_path):
     run = RunBuilder()
     run.spawn("173", "car")
     run.lights(10, "red")
-    run.crossing("173", 10, ["173 is of type car", "173 has red light", HOSTILE], ["173 has red light", HOSTILE])
+    run.crossing("173", 10, ["173 is of type car", "173 has red light", HOSTILE],
+                 ["173 has red light", "173 crossed the stop line on red light", HOSTILE])
     with Store(tmp_path / "h.db") as store:
         store.append(run.finish())
         inv = Investigation(store)
@@ -76,7 +77,7 @@ def test_why_not_on_request(tmp_path):
     assert can["holds"] is False and can["question"] == "173 can enter the junction"
     text = render(doc, "text", "standard")
     assert "“173 can enter the junction” does not hold on the validator scenario (validators.le):" in text
-    assert "but 173 must not enter the junction [HC 176, validators.le:137]" in text
+    assert "but 173 must not enter the junction [HC 176, validators.le:183]" in text
     assert green["holds"] is False and "173 has green light: not recorded" in text
     assert "error" in nonsense and "cannot read" in nonsense["error"]
 
@@ -104,7 +105,7 @@ def test_a_tampered_run_says_its_chain_did_not_verify(tmp_path):
     chain = doc["evidence"]["chain"]
     assert chain["verified"] is False and chain["problem"]["chain_pos"] == spawn["chain_pos"]
     text = render(doc, "text", "summary")
-    assert "WARNING: the run's hash chain did NOT verify" in text
+    assert "WARNING: the run's hash chain did NOT verify" in " ".join(text.split())    # wherever the line wraps
     assert f"events from chain position {spawn['chain_pos']} on are not vouched for" in " ".join(text.split())
     rows = doc["evidence"]["events"]
     assert all(r["vouched"] is (r["chain_pos"] < spawn["chain_pos"]) for r in rows)

@@ -66,11 +66,13 @@ def test_core_sentences_that_need_an_article_or_a_unit(sentence, args, held, not
 
 
 def test_what_the_grammar_makes_of_those_without_their_entry():
-    """Each PROSE entry is there because the rulebook's own template reads worse."""
+    """Each PROSE entry is there because the rulebook's own template reads worse, or cannot be put
+    after "had" at all (a verb already in the past: "crossed the stop line on")."""
     for sentence, prose in ph.PROSE.items():
         args = [("x" if s.type != "number" else 30) for s in sentence.parsed.slots]
         own = ph.perfect(ph.slotted(sentence.parsed), [str(a) for a in args])
-        assert own is not None and own != ph.perfect(ph.slotted(parse_template(prose)), [str(a) for a in args])
+        mine = ph.perfect(ph.slotted(parse_template(prose)), [str(a) for a in args])
+        assert mine is not None and own != mine
     data, text = core(vocab.HAS_LIGHT, 173, "red")
     assert ph.perfect(ph.layout(data, text), ["173", "red"]) == "173 had red light"
     assert ph.perfect(ph.layout(data, text), ["173", "red"], holds=False) == "173 not had red light"

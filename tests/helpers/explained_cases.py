@@ -16,16 +16,18 @@ def paper(run: RunBuilder) -> None:
     run.spawn("173", "car")
     run.spawn("253", "ambulance", emergency=True)
     run.lights(10, "red")
-    run.crossing("173", 10, car("173") + ["173 has red light"], ["173 has red light"])
+    run.crossing("173", 10, car("173") + ["173 has red light"],
+                 ["173 has red light", "173 crossed the stop line on red light"])
     run.lights(40, "red")
     run.crossing("253", 40, ["253 is of type ambulance", "253 has red light", "253 is on an emergency call"],
-                 ["253 has red light"])
+                 ["253 has red light", "253 crossed the stop line on red light"])
 
 
 def off_call(run: RunBuilder) -> None:
     run.spawn("254", "ambulance", emergency=False)
     run.lights(10, "red")
-    run.crossing("254", 10, ["254 is of type ambulance", "254 has red light"], ["254 has red light"])
+    run.crossing("254", 10, ["254 is of type ambulance", "254 has red light"],
+                 ["254 has red light", "254 crossed the stop line on red light"])
 
 
 def forcing(run: RunBuilder) -> None:
@@ -33,24 +35,26 @@ def forcing(run: RunBuilder) -> None:
     run.lights(10, "red")
     run.crossing("255", 10, ["255 is of type ambulance", "255 has red light", "255 is on an emergency call",
                              "p1 is of type pedestrian", "255 would force p1 to change speed or course"],
-                 ["255 has red light"])
+                 ["255 has red light", "255 crossed the stop line on red light"])
 
 
 def amber(run: RunBuilder) -> None:
     run.spawn("5", "car")
     run.spawn("6", "car")
     run.lights(10, "amber")
-    run.crossing("5", 10, car("5") + ["5 has amber light"], ["5 has amber light"])
+    run.crossing("5", 10, car("5") + ["5 has amber light"],
+                 ["5 has amber light", "5 crossed the stop line on amber light"])
     run.lights(40, "amber")
-    run.crossing("6", 40, car("6") + ["6 has amber light", "6 has crossed the stop line"],
-                 ["6 has amber light", "6 has crossed the stop line"])
+    # over the line when the amber came (HC 175): it crossed on green, and the monitor saw it do so
+    over = ["6 has amber light", "6 has crossed the stop line", "6 crossed the stop line on green light"]
+    run.crossing("6", 40, car("6") + over, over)
 
 
 def amber_too_close(run: RunBuilder) -> None:
     run.spawn("7", "car")
     run.lights(10, "amber")
     run.crossing("7", 10, car("7") + ["7 has amber light", "7 is too close to the stop line to stop safely"],
-                 ["7 has amber light"])
+                 ["7 has amber light", "7 crossed the stop line on amber light"])
 
 
 def stop_sign(run: RunBuilder) -> None:
@@ -71,7 +75,8 @@ def av_saw_green(run: RunBuilder) -> None:
     run.spawn("300", "car", driver="autonomous", automation_level=4)
     run.ads("300", "activated", 10)
     run.lights(30, "red")
-    run.crossing("300", 30, car("300") + ["300 is driving itself", "300 has green light"], ["300 has red light"])
+    run.crossing("300", 30, car("300") + ["300 is driving itself", "300 has green light"],
+                 ["300 has red light", "300 crossed the stop line on red light"])
 
 
 def av_taken_over(run: RunBuilder) -> None:
@@ -79,14 +84,16 @@ def av_taken_over(run: RunBuilder) -> None:
     run.ads("301", "activated", 0.5)
     run.ads("301", "driver_override", 25, reason="driver took the wheel")
     run.lights(30, "red")
-    run.crossing("301", 30, car("301") + ["301 has red light"], ["301 has red light"])
+    run.crossing("301", 30, car("301") + ["301 has red light"],
+                 ["301 has red light", "301 crossed the stop line on red light"])
 
 
 def av_engaged(run: RunBuilder) -> None:
     run.spawn("301", "car", driver="autonomous", automation_level=4)
     run.ads("301", "activated", 0.5)
     run.lights(30, "red")
-    run.crossing("301", 30, car("301") + ["301 is driving itself", "301 has red light"], ["301 has red light"])
+    run.crossing("301", 30, car("301") + ["301 is driving itself", "301 has red light"],
+                 ["301 has red light", "301 crossed the stop line on red light"])
 
 
 def dismissed(run: RunBuilder) -> None:
@@ -98,13 +105,15 @@ def dismissed(run: RunBuilder) -> None:
 def unrecorded(run: RunBuilder) -> None:
     run.spawn("41", "car")
     run.lights(10, "red")
-    run.crossing("41", 10, car("41") + ["41 has red light"], ["41 has red light"], record=False, observations=2)
+    run.crossing("41", 10, car("41") + ["41 has red light"], ["41 has red light", "41 is in the junction"],
+                 record=False, observations=2)
 
 
 def decision_fault(run: RunBuilder) -> None:
     run.spawn("173", "car")
     run.lights(10, "red")
-    run.crossing("173", 10, car("173") + ["173 has red light"], ["173 has red light"], says=True)
+    run.crossing("173", 10, car("173") + ["173 has red light"],
+                 ["173 has red light", "173 crossed the stop line on red light"], says=True)
 
 
 # name -> (how the run is built, whose incident is explained)
@@ -114,7 +123,7 @@ CASES: dict[str, tuple[Callable[[RunBuilder], None], str]] = {
     "ambulance_off_call_punishable": (off_call, "254"),
     "ambulance_forcing_pedestrian_punishable": (forcing, "255"),
     "amber_punishable": (amber, "5"),
-    "amber_over_the_line_mitigated": (amber, "6"),
+    "amber_after_crossing_dismissed": (amber, "6"),
     "amber_too_close_mitigated": (amber_too_close, "7"),
     "stop_sign_punishable": (stop_sign, "8"),
     "speeding_punishable": (speeding, "28"),

@@ -39,9 +39,10 @@ def lawful(books, v, *sentences, action=ENTER, **kw):
 def test_car_173_is_lawful_only_by_circumstance(books):
     got = lawful(books, 173, "173 is of type car", "173 has red light")
     green = frozenset({("replace", "173 has red light", "173 has green light")})
-    ambulance = frozenset({("replace", "173 is of type car", "173 is of type ambulance"),
-                           ("add", "173 is on an emergency call", None)})
-    assert got[green] == "circumstance" and got[ambulance] == "circumstance"
+    # TSRGD para 5(6): the exemption follows the purpose (an emergency call), not the vehicle's type
+    on_call = frozenset({("add", "173 is on an emergency call", None)})
+    assert got[green] == "circumstance" and got[on_call] == "circumstance"
+    assert not any(("replace", "173 is of type car", "173 is of type ambulance") in cf for cf in got)
     # being stopped does not make entering lawful: it is no answer to this question
     assert not any(("add", "173 is stopped", None) in cf for cf in got)
     # minimal: no answer contains another
@@ -51,11 +52,19 @@ def test_car_173_is_lawful_only_by_circumstance(books):
     assert not any(k == "controlled" for k in got.values())
 
 
-def test_car_173_could_have_avoided_the_potential_violation_by_stopping(books):
+def test_car_173_could_have_avoided_the_potential_violation_by_not_crossing_on_red(books):
+    """The act is proceeding beyond the stop line on red (TSRGD para 5(3)): not crossing the line
+    (or crossing it on green) is the vehicle's own way out; being stopped after crossing is not."""
     e, _, mon = books
     pv = Atom("potentially_violates", (173, ENTER))
-    got = found(search(e, mon, facts(mon, "173 has red light"), pv, False, 173, values=COLOURS), mon)
-    assert got[frozenset({("add", "173 is stopped", None)})] == "controlled"
+    got = found(search(e, mon, facts(mon, "173 has red light", "173 has crossed the stop line"), pv, False, 173,
+                       values=COLOURS), mon)
+    assert got[frozenset({("remove", "173 has crossed the stop line", None)})] == "controlled"
+    assert not any(("add", "173 is stopped", None) in cf for cf in got)
+    got = found(search(e, mon, facts(mon, "173 has red light", "173 crossed the stop line on red light"), pv, False,
+                       173, values=COLOURS), mon)
+    assert got[frozenset({("replace", "173 crossed the stop line on red light",
+                                      "173 crossed the stop line on green light")})] == "controlled"
 
 
 def test_ambulance_forcing_a_pedestrian_could_have_not_forced_them(books):
@@ -67,14 +76,20 @@ def test_ambulance_forcing_a_pedestrian_could_have_not_forced_them(books):
 
 
 def test_amber_car_had_it_crossed_the_line(books):
+    """HC 175: the amber appearing after the vehicle crossed the line (it crossed on green), or its
+    being too close to stop safely, are its own ways out; being over the line now is not."""
     got = lawful(books, 5, "5 is of type car", "5 has amber light")
-    assert got[frozenset({("add", "5 has crossed the stop line", None)})] == "controlled"
+    assert got[frozenset({("add", "5 crossed the stop line on green light", None)})] == "controlled"
+    assert got[frozenset({("add", "5 is too close to the stop line to stop safely", None)})] == "controlled"
+    assert frozenset({("add", "5 has crossed the stop line", None)}) not in got
 
 
-def test_speeding_is_never_lawful_but_avoidable(books):
+def test_speeding_is_lawful_only_on_an_emergency_call_but_avoidable(books):
     e, val, mon = books
+    # RTRA 1984 s.87: the limit does not apply to a vehicle on an emergency call (a circumstance)
     assert lawful(books, 28, "28 is of type car", "28 has speed of 38", "the speed limit is 30",
-                  action="exceed the speed limit") == {}
+                  action="exceed the speed limit") == {frozenset({("add", "28 is on an emergency call", None)}):
+                                                       "circumstance"}
     pv = Atom("potentially_violates", (28, "exceed the speed limit"))
     got = found(search(e, mon, facts(mon, "28 has speed of 38", "the speed limit is 30"), pv, False, 28), mon)
     assert got[frozenset({("replace", "28 has speed of 38", "28 has speed of 30")})] == "controlled"

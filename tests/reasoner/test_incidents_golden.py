@@ -32,13 +32,15 @@ def _dismissed_with_decision_fault(run: RunBuilder) -> None:
                  proceeds=False)
     run.spawn("173", "car")
     run.lights(40, "red")
-    run.crossing("173", 40, car("173") + ["173 has red light"], ["173 has red light"], says=True)
+    run.crossing("173", 40, car("173") + ["173 has red light"],
+                 ["173 has red light", "173 crossed the stop line on red light"], says=True)
 
 
 def _gap(run: RunBuilder) -> list[dict]:
     run.spawn("173", "car")
     run.lights(10, "red")
-    c = run.crossing("173", 10, car("173") + ["173 has red light"], ["173 has red light"], observations=2)
+    c = run.crossing("173", 10, car("173") + ["173 has red light"],
+                     ["173 has red light", "173 crossed the stop line on red light"], observations=2)
     return [e for e in run.finish() if e is not c["approach"]]
 
 

@@ -13,7 +13,7 @@ def red_light_run(vehicle: str, level: int, driver: str, ads: list[tuple[str, fl
         run.ads(vehicle, event, at)
     run.lights(30, "red")
     run.crossing(vehicle, 30, [f"{vehicle} is of type car", f"{vehicle} has red light"],
-                 [f"{vehicle} has red light"])
+                 [f"{vehicle} has red light", f"{vehicle} crossed the stop line on red light"])
     return run.finish()
 
 

@@ -94,6 +94,32 @@ def test_validators_restate_highway_code_verbatim():
     for head in ("a vehicle must not enter the junction", "a vehicle must not enter the box junction",
                  "a vehicle must not exceed the speed limit"):
         assert sum(head in b for b in rule_blocks(hc)) == sum(head in b for b in blocks)
+    # and every rule those prohibitions rest on (the light at the line, the emergency purposes and
+    # their hindrance, s.87, the worn Stop line, danger to a person)
+    for head in ("a vehicle faces a colour light at the stop line", "a vehicle may go on at the amber light",
+                 "a vehicle is used for an emergency purpose", "the emergency exception applies",
+                 "observing the red signal would be likely", "is one of the purposes set out in paragraph 5(6)",
+                 "the speed limit does not apply", "a vehicle is used for a purpose of section 87",
+                 "is one of the purposes of section 87", "observing the speed limit would be likely",
+                 "a vehicle would endanger a person", "a vehicle has stopped before entering the major road",
+                 "a vehicle must give way to a road user"):
+        assert sum(head in rule_head(b) for b in rule_blocks(hc)) == sum(head in rule_head(b) for b in blocks) > 0, head
+
+
+def rule_head(block):
+    """The first line of a rule or fact that is not a comment: its head."""
+    return next(line for line in block.splitlines() if not line.lstrip().startswith("%"))
+
+
+def test_penalties_restate_the_light_at_the_stop_line_verbatim():
+    """penalties.le's traffic light offence is on the light the vehicle crossed on: it restates
+    highway_code.le's rules for that light, and the copy must not drift."""
+    hc = (RULES_DIR / "highway_code.le").read_text(encoding="utf-8")
+    pen = (RULES_DIR / "penalties.le").read_text(encoding="utf-8")
+    restated = pen.split("% restated from highway_code.le", 1)[1].split("% end of restatement", 1)[0]
+    blocks = rule_blocks("includes:" + restated)
+    assert len(blocks) == 2 and blocks <= rule_blocks(hc)
+    assert sum("a vehicle faces a colour light at the stop line" in rule_head(b) for b in rule_blocks(hc)) == 2
 
 
 def test_highway_code_labels_every_rule_170_to_183():

@@ -126,10 +126,11 @@ def paper_scenarios(run: RunBuilder) -> dict:
     run.spawn("173", "car")
     run.spawn("253", "ambulance", emergency=True)
     run.lights(10, "red")
-    c173 = run.crossing("173", 10, car("173") + ["173 has red light"], ["173 has red light"])
+    c173 = run.crossing("173", 10, car("173") + ["173 has red light"],
+                        ["173 has red light", "173 crossed the stop line on red light"])
     run.lights(40, "red")
     c253 = run.crossing("253", 40, ["253 is of type ambulance", "253 has red light", "253 is on an emergency call"],
-                        ["253 has red light"])
+                        ["253 has red light", "253 crossed the stop line on red light"])
     return {"173": c173, "253": c253}
 
 
@@ -188,7 +189,8 @@ def test_ambulance_off_call_on_red_is_punishable(tmp_path):
     run = RunBuilder()
     run.spawn("254", "ambulance", emergency=False)
     run.lights(10, "red")
-    run.crossing("254", 10, ["254 is of type ambulance", "254 has red light"], ["254 has red light"])
+    run.crossing("254", 10, ["254 is of type ambulance", "254 has red light"],
+                 ["254 has red light", "254 crossed the stop line on red light"])
     inc = one(judge(tmp_path, run.finish()), "254")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
     assert_findings(inc)
@@ -201,7 +203,7 @@ def test_ambulance_on_call_forcing_a_pedestrian_to_stop_is_punishable(tmp_path):
     run.lights(10, "red")
     c = run.crossing("255", 10, ["255 is of type ambulance", "255 has red light", "255 is on an emergency call",
                                  "p1 is of type pedestrian", "255 would force p1 to change speed or course"],
-                     ["255 has red light"])
+                     ["255 has red light", "255 crossed the stop line on red light"])
     assert c["decision"]["body"]["permitted"] is False       # its own rulebook says so too
     inc = one(judge(tmp_path, run.finish()), "255")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
@@ -214,12 +216,17 @@ def test_ambulance_on_call_with_nobody_forced_is_mitigated(tmp_path):
     run.spawn("255", "ambulance", emergency=True)
     run.lights(10, "red")
     run.crossing("255", 10, ["255 is of type ambulance", "255 has red light", "255 is on an emergency call"],
-                 ["255 has red light"])
+                 ["255 has red light", "255 crossed the stop line on red light"])
     assert_mitigated(one(judge(tmp_path, run.finish()), "255"), "HC 176")
 
 
 # 4 -------------------------------------------------------------------------------------------
-def test_amber_not_over_the_line_is_punishable_and_over_the_line_mitigated(tmp_path):
+def test_crossing_on_amber_is_punishable_and_amber_after_crossing_is_no_violation(tmp_path):
+    """HC 175: car 5 crossed the stop line on amber, not too close to stop: punishable. Car 6 was
+    over the line on green when the amber appeared ("you may go on only if the AMBER appears after
+    you have crossed the stop line"): the monitor's own observation shows it crossed on green, so the
+    potential violation recorded against it is no act the law forbids, and is dismissed. (Read as
+    a snapshot, "has crossed the stop line" with amber showing, it used to be mitigated; issue 12.)"""
     run = RunBuilder()
     amber_run(run)
     found = judge(tmp_path, run.finish())
@@ -228,8 +235,9 @@ def test_amber_not_over_the_line_is_punishable_and_over_the_line_mitigated(tmp_p
     assert_punishable(i5, "HC 175", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
     assert_findings(i5)
     i6 = one(found, "6")
-    assert_mitigated(i6, "HC 175")
-    assert_findings(i6, must_not=CLEAN | {"decision fault"})
+    assert (i6.verdict, i6.recorded, i6.rederived) == ("dismissed", True, False), (i6.verdict, i6.why)
+    assert i6.penalty is None and i6.liable == "none"
+    assert_findings(i6, must={"monitor disagreement"}, must_not=CLEAN | {"decision fault"})
 
 
 def test_amber_too_close_to_stop_is_mitigated(tmp_path):
@@ -237,7 +245,7 @@ def test_amber_too_close_to_stop_is_mitigated(tmp_path):
     run.spawn("7", "car")
     run.lights(10, "amber")
     run.crossing("7", 10, car("7") + ["7 has amber light", "7 is too close to the stop line to stop safely"],
-                 ["7 has amber light"])
+                 ["7 has amber light", "7 crossed the stop line on amber light"])
     inc = one(judge(tmp_path, run.finish()), "7")
     assert_mitigated(inc, "HC 175")
     assert_findings(inc, must_not=CLEAN | {"decision fault"})
@@ -275,7 +283,8 @@ def av_saw_green(run: RunBuilder, v: str = "300", at: float = 30) -> dict:
     run.spawn(v, "car", driver="autonomous", automation_level=4)
     run.ads(v, "activated", at - 20)
     run.lights(at, "red")
-    return run.crossing(v, at, car(v) + [f"{v} is driving itself", f"{v} has green light"], [f"{v} has red light"])
+    return run.crossing(v, at, car(v) + [f"{v} is driving itself", f"{v} has green light"],
+                        [f"{v} has red light", f"{v} crossed the stop line on red light"])
 
 
 def test_self_driving_car_that_saw_green_on_red_is_the_asdes(tmp_path):
@@ -298,7 +307,8 @@ def test_self_driving_car_taken_over_by_its_driver_before_the_red_is_the_drivers
     run.ads("301", "activated", 0.5)
     run.ads("301", "driver_override", 25, reason="driver took the wheel")
     run.lights(30, "red")
-    run.crossing("301", 30, car("301") + ["301 has red light"], ["301 has red light"])
+    run.crossing("301", 30, car("301") + ["301 has red light"],
+                 ["301 has red light", "301 crossed the stop line on red light"])
     inc = one(judge(tmp_path, run.finish()), "301")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14", liable="driver")
     assert inc.control.in_control == "driver"
@@ -311,7 +321,8 @@ def test_self_driving_car_still_engaged_is_not_the_drivers(tmp_path):
     run.spawn("301", "car", driver="autonomous", automation_level=4)
     run.ads("301", "activated", 0.5)
     run.lights(30, "red")
-    run.crossing("301", 30, car("301") + ["301 is driving itself", "301 has red light"], ["301 has red light"])
+    run.crossing("301", 30, car("301") + ["301 is driving itself", "301 has red light"],
+                 ["301 has red light", "301 crossed the stop line on red light"])
     inc = one(judge(tmp_path, run.finish()), "301")
     assert inc.verdict == "punishable" and inc.liable == ASDE
     assert inc.control.in_control == "self-driving feature"
@@ -331,11 +342,13 @@ def mixed_run() -> list[dict]:
         paper_scenarios(run)                       # t 10 and 40
         run.spawn("5", "car")
         run.lights(60, "amber")
-        run.crossing("5", 60, car("5") + ["5 has amber light"], ["5 has amber light"])
+        run.crossing("5", 60, car("5") + ["5 has amber light"],
+                     ["5 has amber light", "5 crossed the stop line on amber light"])
         av_saw_green(run, "300", 80)
         run.spawn("41", "car")
         run.lights(100, "red")
-        run.crossing("41", 100, car("41") + ["41 has red light"], ["41 has red light"], record=False,
+        run.crossing("41", 100, car("41") + ["41 has red light"],
+                     ["41 has red light", "41 is in the junction"], record=False,
                      observations=2)
         run.spawn("28", "car", at=1)
         run.lights(115, "green")
@@ -407,7 +420,7 @@ def hostile_run(extra_perceived: list[str], extra_observed: list[str]) -> tuple[
     run.spawn("173", "car")
     run.lights(10, "red")
     c = run.crossing("173", 10, car("173") + ["173 has red light"] + extra_perceived,
-                     ["173 has red light"] + extra_observed)
+                     ["173 has red light", "173 crossed the stop line on red light"] + extra_observed)
     return run.finish(), c
 
 
@@ -449,7 +462,8 @@ def test_decision_fault(tmp_path, says, proceeds):
     run = RunBuilder()
     run.spawn("173", "car")
     run.lights(10, "red")
-    c = run.crossing("173", 10, car("173") + ["173 has red light"], ["173 has red light"], says=says,
+    c = run.crossing("173", 10, car("173") + ["173 has red light"],
+                     ["173 has red light", "173 crossed the stop line on red light"], says=says,
                      proceeds=proceeds)
     inc = one(judge(tmp_path, run.finish()), "173")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
@@ -463,7 +477,7 @@ def test_no_decision_fault_when_the_decision_follows_the_rulebook(tmp_path):
     run.spawn("253", "ambulance", emergency=True)
     run.lights(10, "red")
     run.crossing("253", 10, ["253 is of type ambulance", "253 has red light", "253 is on an emergency call"],
-                 ["253 has red light"], says=True)
+                 ["253 has red light", "253 crossed the stop line on red light"], says=True)
     inc = one(judge(tmp_path, run.finish()), "253")
     assert_findings(inc, must_not=CLEAN | {"decision fault"})
 
@@ -474,7 +488,8 @@ def test_missing_evidence_around_the_incident(tmp_path, dropped):
     run = RunBuilder()
     run.spawn("173", "car")
     run.lights(10, "red")
-    c = run.crossing("173", 10, car("173") + ["173 has red light"], ["173 has red light"], observations=2)
+    c = run.crossing("173", 10, car("173") + ["173 has red light"],
+                     ["173 has red light", "173 crossed the stop line on red light"], observations=2)
     events = run.finish()
     gone = {"vehicle state at the incident": c["state"], "vehicle approach": c["approach"],
             "monitor's earlier observation": c["observations"][0]}[dropped]
@@ -493,7 +508,8 @@ def test_red_light_runner_the_monitor_did_not_record(tmp_path):
     run = RunBuilder()
     run.spawn("41", "car")
     run.lights(10, "red")
-    c = run.crossing("41", 10, car("41") + ["41 has red light"], ["41 has red light"], record=False, observations=2)
+    c = run.crossing("41", 10, car("41") + ["41 has red light"], ["41 has red light", "41 is in the junction"],
+                     record=False, observations=2)
     inc = one(judge(tmp_path, run.finish()), "41")
     first = c["observations"][0]
     assert inc.id == f"monitor/m1:{first['seq']}" and inc.t == first["t"]
@@ -549,7 +565,7 @@ def test_another_rulebook_changes_the_amber_verdict(tmp_path, given_as):
         as_given = [str(tmp_path / "validators.le")]
     found = judge(tmp_path, events, "lenient.db", rules=as_given)
     assert_mitigated(one(found, "5"), "HC 175")
-    assert one(found, "6").verdict == "mitigated"
+    assert one(found, "6").verdict == "dismissed"     # no act to judge: a validator rulebook cannot change that
 
     same = [bundled("validators.le")]
     assert one(judge(tmp_path, events, "same.db", rules=same), "5").verdict == "punishable"

@@ -46,11 +46,14 @@ def test_each_stage_question_is_concluded_by_a_current_rulebook(stage):
     assert defines(rulebook(sentence.rulebook), sentence.functor)
 
 
-@pytest.mark.parametrize("reader", ["highway_code.le", "validators.le"])
-@pytest.mark.parametrize("sentence", vocab.CORE, ids=lambda s: s.functor)
+@pytest.mark.parametrize("reader", ["highway_code.le", "monitors.le", "validators.le", "penalties.le"])
+@pytest.mark.parametrize("sentence", (*vocab.CORE, vocab.CROSSED_THE_STOP_LINE_ON), ids=lambda s: s.functor)
 def test_the_core_vocabulary_is_read_by_the_scenario_stages(sentence, reader):
-    """DESIGN: a producer that knows only the core vocabulary gets a correct verdict, so the
-    vehicle stage (highway_code.le) and the validator stage (validators.le) read all of it."""
+    """DESIGN: a producer that knows only the core vocabulary gets a correct verdict, and every
+    stage gives each core sentence its meaning: the monitor stage (monitors.le), the vehicle
+    stage (highway_code.le), the validator stage (validators.le) and the penalties stage, which
+    reads the Validator Scenario (penalties.le), read all of it, and the light a vehicle crossed
+    its stop line on beside it."""
     args = sample(sentence)
     text = sentence.text(*args) + "."
     assert parse_fact(text, rulebook(reader).document.templates) == sentence.atom(*args)
