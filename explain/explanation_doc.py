@@ -103,16 +103,22 @@ class _Builder:
             return None
         points = p.points
         by_law = points if p.points_by_law is None else p.points_by_law
+        named = list(p.regulatory_sanctions or ())
+        sanctions = ph.join([f"the {n}" for n in named])
+        verb = "faces" if len(named) == 1 else "face"
+        instead = f" ({sanctions} {verb} regulatory sanctions instead)" if sanctions else ""
+        if p.fine_gbp is None and p.fine_gbp_by_law is not None:     # liability.le: offered to no one
+            law_sets = f"£{p.fine_gbp_by_law}" + (f" and {by_law} penalty points" if by_law else "")
+            text = (f"{ph.with_a(p.offence)} under {p.law or 'the law'}: the fixed penalty the law sets "
+                    f"({law_sets}) is a driver's; the {self.inc.liable} is offered none and holds no "
+                    f"licence{instead}")
+            return {**p.to_json(), "text": text}
         text = f"{ph.with_a(p.offence)} under {p.law or 'the law'}: a fixed penalty of £{p.fine_gbp}"
         if points:
             text += f" and {points} penalty points"
         elif by_law:
-            named = list(p.regulatory_sanctions or ())
-            sanctions = ph.join([f"the {n}" for n in named])
-            verb = "faces" if len(named) == 1 else "face"
             text += (f"; the {by_law} penalty points the law sets are not endorsed on anyone's licence, as "
-                     f"the {self.inc.liable} holds none" + (f" ({sanctions} {verb} regulatory sanctions "
-                                                            "instead)" if sanctions else ""))
+                     f"the {self.inc.liable} holds none{instead}")
         return {**p.to_json(), "text": text}
 
     def _liability(self) -> dict:

@@ -107,7 +107,8 @@ def summary_row(inc: Incident) -> dict[str, Any]:
     p = inc.penalty
     penalty = None
     if p:
-        penalty = f"£{p.fine_gbp}" + (f", {p.points} points" if p.points else "")
+        fine = f"£{p.fine_gbp}" if p.fine_gbp is not None else "regulatory sanctions"
+        penalty = fine + (f", {p.points} points" if p.points else "")
     return {"id": inc.id, "t": inc.t, "time": ph.clock(inc.t), "vehicle": inc.vehicle,
             "action": inc.action, "rule": inc.rule, "verdict": inc.verdict, "penalty": penalty,
             "liable": inc.liable, "findings": len(inc.findings)}

@@ -42,12 +42,12 @@ from .le.terms import Atom, Cond, Var
 from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice, Scenarios,
                     StageProof)
 from .perception import corrected, dispute_finding, witnessed_functors
-from .stages import Choice, RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
+from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks, recorded_rulebooks
 from .scenarios import (Scenario, entity, has_perception, monitor_scenario, spawn_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
-                         IS_AN_OFFENCE_UNDER, IS_LIABLE, MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES,
-                         PUNISHABLY_VIOLATES)
+                         IS_AN_OFFENCE_UNDER, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
+                         POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
 
 if TYPE_CHECKING:
     from .explanation import Explanation
@@ -301,7 +301,9 @@ class Investigation:
             facts = self.reader.known(lia.rulebook, [s for s, _ in shown]) + [punish]
             liability = self._liability(lia.rulebook, case.me, case.act, facts, {s: r for s, r in shown if r})
         if penalty is not None and liability is not None:
-            penalty = replace(penalty, points_by_law=penalty.points,
+            offered = liability.fixed_penalty is None or bool(liability.fixed_penalty)
+            penalty = replace(penalty, points_by_law=penalty.points, fine_gbp_by_law=penalty.fine_gbp,
+                              fine_gbp=penalty.fine_gbp if offered else None,
                               points=penalty.points if liability.licence_points else 0,
                               regulatory_sanctions=liability.sanctions)
         return penalty, liability
@@ -329,6 +331,8 @@ class Investigation:
         return Liability(parties=tuple(role(arg_text(b[0][1])) for b in liable.bindings),
                          licence_points=parties(GETS_LICENCE_POINTS),
                          sanctions=parties(FACES_REGULATORY_SANCTIONS),
+                         fixed_penalty=(parties(IS_OFFERED_A_FIXED_PENALTY)
+                                        if defines(rb, IS_OFFERED_A_FIXED_PENALTY.functor) else None),
                          facts=tuple(rb.render(a) for a in facts), rulebook=rb.sha256,
                          evidence=evidence,
                          trees=tuple(enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees))

@@ -92,8 +92,10 @@ class Finding:
 @dataclass(frozen=True)
 class Penalty:
     """The fixed penalty a punishable violation carries (penalties stage). With a liability stage,
-    `points` are those endorsed on a licence and `points_by_law` those the law sets: a
-    self-driving entity holds no licence, and faces `regulatory_sanctions` instead."""
+    `fine_gbp` is the fixed penalty offered to the liable party and `points` those endorsed on a
+    licence, `fine_gbp_by_law` and `points_by_law` what the law sets for the offence: a
+    self-driving entity is offered no fixed penalty (`fine_gbp` None) and holds no licence, and
+    faces `regulatory_sanctions` instead."""
 
     offence: str
     law: str | None
@@ -102,6 +104,7 @@ class Penalty:
     offences: tuple[Penalty, ...] = ()              # every offence found, when there are several
     points_by_law: Any = None
     regulatory_sanctions: tuple[str, ...] | None = None     # None: no liability stage judged it
+    fine_gbp_by_law: Any = None
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {"offence": self.offence, "law": self.law, "fine_gbp": self.fine_gbp,
@@ -109,6 +112,7 @@ class Penalty:
         if self.offences:
             out["offences"] = [p.to_json() for p in self.offences]
         if self.regulatory_sanctions is not None:
+            out["fine_gbp_by_law"] = self.fine_gbp_by_law
             out["points_by_law"] = self.points_by_law
             out["regulatory_sanctions"] = list(self.regulatory_sanctions)
         return out
@@ -116,7 +120,9 @@ class Penalty:
 
 @dataclass(frozen=True)
 class Liability:
-    """Who answers for a punishable violation (liability stage), on which facts and proof."""
+    """Who answers for a punishable violation (liability stage), on which facts and proof.
+    `fixed_penalty`: who is offered the fixed penalty; None when the rulebook does not say (a
+    recorded rulebook older than that rule), and the penalty is then reported as the law sets it."""
 
     parties: tuple[str, ...]
     licence_points: tuple[str, ...]
@@ -125,11 +131,15 @@ class Liability:
     rulebook: str                                   # sha256
     evidence: Mapping[str, EventRef]                # liability fact -> the event that shows it
     trees: tuple[Tree, ...]
+    fixed_penalty: tuple[str, ...] | None = None
 
     def to_json(self) -> dict[str, Any]:
-        return {"parties": list(self.parties), "licence_points": list(self.licence_points),
-                "sanctions": list(self.sanctions), "facts": list(self.facts), "rulebook": self.rulebook,
-                "evidence": {s: r.to_json() for s, r in self.evidence.items()}, "trees": list(self.trees)}
+        out = {"parties": list(self.parties), "licence_points": list(self.licence_points),
+               "sanctions": list(self.sanctions), "facts": list(self.facts), "rulebook": self.rulebook,
+               "evidence": {s: r.to_json() for s, r in self.evidence.items()}, "trees": list(self.trees)}
+        if self.fixed_penalty is not None:
+            out["fixed_penalty"] = list(self.fixed_penalty)
+        return out
 
 
 @dataclass(frozen=True)

@@ -91,6 +91,9 @@ IS_LIABLE = Sentence(
 GETS_LICENCE_POINTS = Sentence(
     "*a party* gets licence penalty points for the violation of *an action* by *a vehicle*", "liability.le",
     "the party whose licence takes the points (a human driver, not the self-driving entity)")
+IS_OFFERED_A_FIXED_PENALTY = Sentence(
+    "*a party* is offered a fixed penalty for the violation of *an action* by *a vehicle*", "liability.le",
+    "the party offered the fixed penalty (the driver; a self-driving entity or operator is sanctioned instead)")
 FACES_REGULATORY_SANCTIONS = Sentence(
     "*a party* faces regulatory sanctions for the violation of *an action* by *a vehicle*", "liability.le",
     "the party the regulator sanctions (Automated Vehicles Act 2024: the self-driving entity or operator)")
@@ -206,7 +209,7 @@ EXPLAINED: tuple[Sentence, ...] = (IS_ON_THE_MAIN_ROAD, IS_AT_A_BOX_JUNCTION, IS
 
 SENTENCES: tuple[Sentence, ...] = (
     *STAGES.values(), MITIGATELY_VIOLATES, MUST_NOT, IS_AN_OFFENCE_UNDER, GETS_LICENCE_POINTS,
-    FACES_REGULATORY_SANCTIONS, *CORE, CROSSED_THE_STOP_LINE_ON,
+    IS_OFFERED_A_FIXED_PENALTY, FACES_REGULATORY_SANCTIONS, *CORE, CROSSED_THE_STOP_LINE_ON,
     HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, STOP_LINE_NOT_CLEARLY_VISIBLE, IS_TOO_CLOSE_TO_STOP,
     HAS_STOPPED_AT_THE_STOP_LINE,
     MONITOR_OBSERVED_LIGHT, HAS_A_LIGHT_PERCEPTION_FAULT, IS_THE_DRIVER_OF, IS_THE_USER_IN_CHARGE_OF,

@@ -292,8 +292,12 @@ def test_self_driving_car_that_saw_green_on_red_is_the_asdes(tmp_path):
     c = av_saw_green(run)
     assert c["decision"]["body"]["permitted"] is True        # right on what it saw
     inc = one(judge(tmp_path, run.finish()), "300")
-    # judged on what the monitor observed: red
-    assert_punishable(inc, "HC 176", {**TRAFFIC_LIGHT, "points": 0}, "TSRGD 2016 Sch 14", liable=ASDE)
+    # judged on what the monitor observed: red; the ASDE faces regulatory sanctions, not a driver's
+    # fixed penalty and points (Automated Vehicles Act 2024; liability.le)
+    assert_punishable(inc, "HC 176", {**TRAFFIC_LIGHT, "fine_gbp": None, "points": 0}, "TSRGD 2016 Sch 14",
+                      liable=ASDE)
+    assert (inc.penalty.fine_gbp_by_law, inc.penalty.points_by_law) == (100, 3)
+    assert ASDE in inc.penalty.regulatory_sanctions and inc.liability.fixed_penalty == ()
     assert inc.control.in_control == "self-driving feature"
     assert_findings(inc, must={"perception fault"}, must_not=CLEAN | {"decision fault"})
     fault = findings(inc, "perception fault")[0]
@@ -326,7 +330,7 @@ def test_self_driving_car_still_engaged_is_not_the_drivers(tmp_path):
     inc = one(judge(tmp_path, run.finish()), "301")
     assert inc.verdict == "punishable" and inc.liable == ASDE
     assert inc.control.in_control == "self-driving feature"
-    assert penalty(inc)["points"] == 0
+    assert (penalty(inc)["fine_gbp"], penalty(inc)["points"]) == (None, 0)
 
 
 # 9 -------------------------------------------------------------------------------------------
