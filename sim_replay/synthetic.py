@@ -34,10 +34,11 @@ between the two would read as a perception fault).
 
 A monitor states the light as a stop-line camera records it: the light a vehicle entered on, from
 the moment it crosses the line until it leaves the junction (and the light shown to a vehicle
-waiting at the line). monitors.le reads "has red light" on any moving vehicle as a potential
-violation and the reasoner re-derives episodes from every observation, so a light stated for a
-vehicle still braking towards the line would be a false incident. Once over the line, a vehicle
-too keeps the light it entered on. A monitor records a potential violation once per episode: per
+waiting at the line). With no crossing light stated, monitors.le reads a light stated with "has
+crossed the stop line" or "is in the junction" as the light the vehicle crossed on (the snapshot
+reading, reasoner/rules/README.md), and the reasoner re-derives episodes from every observation, so
+the light stated for a vehicle over the line must be the one it entered on. Once over the line, a
+vehicle too keeps the light it entered on. A monitor records a potential violation once per episode: per
 crossing of the line, and per run of consecutive observations over the speed limit.
 
 Ground truth: pass a list as `truth` (or call `expected_incidents`) to get one entry per
