@@ -575,6 +575,100 @@ def test_another_rulebook_changes_the_amber_verdict(tmp_path, given_as):
     assert one(judge(tmp_path, events, "same.db", rules=same), "5").verdict == "punishable"
 
 
+# 15: a camera that knows only DESIGN's core vocabulary (issue 12) ------------------------------
+def camera_run(vehicle: str, type: str, observed: list[str], *, emergency: bool = False,
+               record: bool = True) -> list[dict]:
+    """A vehicle that records nothing of its own (a human driver without a recorder), seen by a
+    roadside camera that writes core sentences only: judged on the monitor scenario."""
+    run = RunBuilder()
+    run.spawn(vehicle, type, emergency=emergency)
+    run.lights(10, "red")
+    run.state(vehicle, 9.0, -20.0, 9.0)
+    run.observe(vehicle, 10.0, observed)
+    if record:
+        run.potential_violation(vehicle, 10.0, ENTER, observed)
+    run.state(vehicle, 11.0, 7.0, 9.0, "j1")
+    return run.finish()
+
+
+def test_a_car_braking_to_a_stop_at_red_has_done_nothing(tmp_path):
+    """TSRGD para 5(3): the offence is proceeding beyond the stop line. A car with a red light,
+    still moving but not over the line, is no potential violation; one a monitor recorded anyway
+    is dismissed."""
+    braking = ["1 is of type car", "1 has red light", "1 has speed of 12", "the speed limit is 30"]
+    assert judge(tmp_path, camera_run("1", "car", braking, record=False), "unrecorded.db") == []
+    (inc,) = judge(tmp_path, camera_run("1", "car", braking), "recorded.db")
+    assert (inc.verdict, inc.rederived, inc.penalty) == ("dismissed", False, None)
+
+
+def test_a_car_over_the_line_on_green_clearing_on_red_has_done_nothing(tmp_path):
+    """HC 176 / para 5(3): it crossed on green; red showing as it clears the junction is no act."""
+    clearing = ["2 is of type car", "2 has red light", "2 is in the junction", "2 crossed the stop line on green light"]
+    assert judge(tmp_path, camera_run("2", "car", clearing, record=False)) == []
+
+
+def test_a_red_light_runner_seen_by_a_camera_in_core_sentences_is_punishable(tmp_path):
+    """The snapshot: red showing and the car in the junction, no crossing time recorded."""
+    (inc,) = judge(tmp_path, camera_run("3", "car", ["3 is of type car", "3 has red light", "3 is in the junction"]))
+    assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
+    assert inc.judged_on == "monitor scenario"
+
+
+@pytest.mark.parametrize("road_user, verdict", [("pedestrian", "punishable"), ("cyclist", "punishable"),
+                                                ("car", "mitigated")])
+def test_an_ambulance_on_call_with_a_road_user_approaching(tmp_path, road_user, verdict):
+    """TSRGD para 5(5): a pedestrian or cyclist approaching an ambulance that proceeds on red is
+    likely to be endangered (punishable); a car approaching is not, by that alone, made to change
+    speed or course (mitigated: nothing shows it braked)."""
+    observed = ["4 is of type ambulance", "4 is on an emergency call", "4 crossed the stop line on red light",
+                f"u1 is of type {road_user}", "u1 is approaching 4"]
+    (inc,) = judge(tmp_path, camera_run("4", "ambulance", observed, emergency=True))
+    assert inc.verdict == verdict, (inc.verdict, inc.why)
+    assert inc.rule == "HC 176"
+
+
+def test_an_unmarked_police_car_on_a_call_is_exempt_and_an_ambulance_off_call_is_not(tmp_path):
+    """TSRGD para 5(6): the exemption follows the purpose (an emergency call), not the type."""
+    unmarked = ["5 is of type car", "5 is on an emergency call", "5 crossed the stop line on red light"]
+    (inc,) = judge(tmp_path, camera_run("5", "car", unmarked, emergency=True), "unmarked.db")
+    assert_mitigated(inc, "HC 176")
+    returning = ["6 is of type ambulance", "6 crossed the stop line on red light"]
+    (inc,) = judge(tmp_path, camera_run("6", "ambulance", returning), "returning.db")
+    assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14")
+
+
+def test_speeding_on_a_call_is_exempt_and_off_a_call_is_not(tmp_path):
+    """RTRA 1984 s.87: the limit does not apply to a vehicle on an emergency call."""
+    for name, emergency in (("on", True), ("off", False)):
+        run = RunBuilder()
+        run.spawn("7", "ambulance", emergency=emergency)
+        speed = ["7 is of type ambulance", "7 has speed of 50", "the speed limit is 30"]
+        run.observe("7", 10.0, speed)
+        run.potential_violation("7", 10.0, SPEEDING, speed)
+        (inc,) = judge(tmp_path, run.finish(), f"{name}.db")
+        assert inc.verdict == ("mitigated" if emergency else "punishable"), (name, inc.why)
+        assert inc.rule == "HC 124"
+
+
+def test_a_stop_sign_run_with_a_worn_line_and_a_lawful_stop(tmp_path):
+    """HC 171, TSRGD Sch 9 Pt 7 para 1: with the line not clearly visible, entering the major road
+    without having stopped before it is punishable; a vehicle that stopped at the line and went
+    on is lawful."""
+    run = RunBuilder()
+    run.spawn("8", "car")
+    worn = ["8 is of type car", "8 has a stop sign", "the stop line is not clearly visible for 8",
+            "8 is in the junction"]
+    run.observe("8", 10.0, worn, "m2")
+    run.potential_violation("8", 10.0, ENTER, worn, "m2")
+    run.spawn("9", "car")
+    lawful = ["9 is of type car", "9 has a stop sign", "9 has stopped at the stop line", "9 has crossed the stop line"]
+    run.observe("9", 40.0, lawful, "m2")
+    run.potential_violation("9", 40.0, ENTER, lawful, "m2")
+    found = judge(tmp_path, run.finish())
+    assert_punishable(one(found, "8"), "HC 171", STOP_SIGN, "TSRGD 2016 Sch 9")
+    assert one(found, "9").verdict == "dismissed"          # no act: it stopped at the line
+
+
 # rulebooks -----------------------------------------------------------------------------------
 def test_a_run_without_rulebooks_is_judged_with_the_current_ones_and_says_so(tmp_path):
     recorded, bare = RunBuilder(), RunBuilder(books=None)
