@@ -38,9 +38,8 @@ BEFORE_S = 60.0             # read at most this long before the moment asked abo
 AFTER_S = 30.0              # ... and this long after: a queue clearing the junction
 MAX_SAMPLES = 200_000       # a vehicle's samples read at once (5.5 hours at 10 Hz)
 MAX_OTHER_EVENTS = 50_000   # events read to find the road users near a junction in one window
-FIRST_BEFORE_S = 12.0       # the first read around a moment: a moving vehicle's whole passage (100 m at 30 mph: 7.5 s)
-FIRST_AFTER_S = 6.0
-EDGE_S = 1.0                # a passage this close to an edge of the read may go on beyond it
+FIRST_BEFORE_S = 10.0       # the first read around a moment: a moving vehicle's passage up to its act (100 m at 25 mph: 9 s)
+FIRST_AFTER_S = 4.0         # ... and out of the junction (30 m beyond its centre)
 HOLE_S = 1.5                # a hole this long in its own series and the monitors' measurements are read too
 
 
@@ -160,12 +159,13 @@ def _own(store: Store, ctx: RunContext, src: str, around: int | None, before_s: 
 
 
 def _reaches(own: tuple[Sample, ...], map_: Map, around: int, t_from: int, t_to: int) -> tuple[bool, bool]:
-    """Whether the passage at `around` may go on before t_from and after t_to."""
+    """Whether the passage at `around` may go on before the first sample read (it already
+    holds it) and after the last (it holds it and had not ended)."""
     placed = [s for s in own if s.placed]
     span = _nearest(rebuild.spans(placed, map_), around)
     if span is None:
         return not placed, not placed
-    return span.t0 - t_from < EDGE_S * SECOND, not span.through and t_to - span.t1 < EDGE_S * SECOND
+    return span.t0 <= placed[0].t, not span.through and span.t1 >= placed[-1].t
 
 
 def _nearest(spans: list, t: int):

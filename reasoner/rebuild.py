@@ -68,23 +68,28 @@ def spans(placed: list[Sample], map_: Map) -> list[Span]:
     open_: dict[str, list] = {}            # junction id -> [junction, t0, t1, been inside]
     through: set[str] = set()              # junctions passed through, until the vehicle is RADIUS_M away
     done: list[list] = []
+    split = SPLIT_S * SECOND
     for s in placed:
-        near = {j.id: j for j in map_.near(s.x, s.y, RADIUS_M)}
+        near = map_.near(s.x, s.y, RADIUS_M)
+        if not near and not open_:
+            through.clear()
+            continue
+        ids = {j.id for j in near}
         if through:
-            through &= set(near)
+            through &= ids
         for jid, span in list(open_.items()):
             out = span[3] and span[0].distance(s.x, s.y) > EXIT_M
-            if jid not in near or s.t - span[2] > SPLIT_S * SECOND or out:
+            if out or jid not in ids or s.t - span[2] > split:
                 done.append(open_.pop(jid) + [out])
                 if out:
                     through.add(jid)
-        for jid, junction in near.items():
-            inside = junction.inside(s.x, s.y)
-            if jid in open_:
-                open_[jid][2] = s.t
-                open_[jid][3] = open_[jid][3] or inside
-            elif jid not in through:
-                open_[jid] = [junction, s.t, s.t, inside]
+        for junction in near:
+            span = open_.get(junction.id)
+            if span is not None:
+                span[2] = s.t
+                span[3] = span[3] or junction.inside(s.x, s.y)
+            elif junction.id not in through:
+                open_[junction.id] = [junction, s.t, s.t, junction.inside(s.x, s.y)]
     done += [span + [False] for span in open_.values()]
     done.sort(key=lambda span: (span[0].id, span[1]))
     merged: list[list] = []
