@@ -228,12 +228,12 @@ class Store:
         """One source's events with t in [t_from, t_to] (inclusive; None: open), in (t, seq)
         order: a vehicle's entity.state series around an act, without reading the other
         sources' events of that time. `events(run, srcs=[src])` walks the run's time index;
-        this reads the (run, src, seq) index, finding the window's seq range by bisection,
-        so its cost follows the events returned, not the run's length.
+        this reads the (run, src, seq) index, finding the window's seq range by a search of a
+        few probes, so its cost follows the events returned, not the run's length.
 
-        The bisection takes a source's t to rise with its seq, as a producer numbering its
-        events in the order it publishes them does (DESIGN "Envelope"); an event out of that
-        order by up to SEQ_SLACK (64) places is still found, one further out is not."""
+        The search takes a source's t to rise with its seq, as a producer numbering its events
+        in the order it publishes them does (DESIGN "Envelope"); an event out of that order by
+        up to SEQ_SLACK (64) places is still found, one further out may be missed."""
         with self._reading():
             rows = queries.source_rows(self._conn, run, src, kinds, t_from, t_to)
         return [fastjson.loads(row[3]) for row in rows]

@@ -174,23 +174,38 @@ def _at_or_after(conn: sqlite3.Connection, run: str, src: str, seq: int) -> tupl
 
 
 def _first_seq_past(conn: sqlite3.Connection, run: str, src: str, highest: int, t: int, strict: bool) -> int:
-    """The lowest seq whose t is >= t (or > t when strict), by bisecting the source's numbering:
-    exact when the source's t never decreases as its seq rises; highest + 1 when none is."""
+    """The lowest seq whose t is >= t (or > t when strict), searching the source's numbering:
+    exact when the source's t never decreases as its seq rises; highest + 1 when none is.
+
+    A producer's events come at a steady rate, so the seq is guessed from t between the times
+    known at the ends of the range (interpolation search: a handful of probes instead of the
+    17 of bisecting 100,000 events); a guess that fails to halve the range is followed by a
+    bisection step, so the worst case stays logarithmic."""
+    def past(found_t: int) -> bool:
+        return found_t > t or (found_t == t and not strict)
+
     lo, hi = 0, highest + 1
+    t_lo, t_hi = _at_or_after(conn, run, src, 0)[1], _at_or_after(conn, run, src, highest)[1]
+    bisect = False
     while lo < hi:
-        mid = (lo + hi) // 2
-        seq, found_t = _at_or_after(conn, run, src, mid)
-        if found_t > t or (found_t == t and not strict):
-            hi = mid
+        if not bisect and t_hi > t_lo:
+            mid = min(max(lo + int((t - t_lo) / (t_hi - t_lo) * (hi - lo)), lo), hi - 1)
         else:
-            lo = seq + 1
+            mid = (lo + hi) // 2
+        width = hi - lo
+        seq, found_t = _at_or_after(conn, run, src, mid)
+        if past(found_t):
+            hi, t_hi = mid, found_t
+        else:
+            lo, t_lo = seq + 1, found_t
+        bisect = hi - lo > width // 2
     return lo
 
 
 def source_rows(conn: sqlite3.Connection, run: str, src: str, kinds: Collection[str] | None,
                 t_from: int | None, t_to: int | None) -> list[tuple]:
     """(t, seq, src, event) of one source's events in [t_from, t_to] (inclusive; None: open),
-    in (t, seq) order. The window's seq range is found by bisection (about 2 log2(n) probes),
+    in (t, seq) order. The window's seq range is found by searching the numbering (a few probes),
     widened by SEQ_SLACK on either side, then read as one range of the (run, src, seq) index."""
     highest = highest_seq(conn, run, src)
     if highest is None:
