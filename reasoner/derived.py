@@ -110,7 +110,8 @@ def _light(p: Passage, at: int) -> list[DerivedFact]:
     """`V has C light`: the light facing its approach, until it crosses its stop line (or, with
     no line on the map, until it enters the junction)."""
     over = p.crossing.t if p.crossing else (p.entered.t if p.entered and p.line is None else None)
-    if not p.lights or (over is not None and at >= over) or p.past_line_at_start or at > p.end:
+    if not p.lights or (over is not None and at >= over) or p.past_line_at_start or at > p.end \
+            or at < p.start - SECOND:
         return []
     light = shown(p.lights, at)
     if light is None:

@@ -74,26 +74,34 @@ def passages(store: Store, run: str, vehicle: str, *, around: int | None = None,
              after_s: float = AFTER_S, context: RunContext | None = None) -> tuple[Passage, ...]:
     """The vehicle's passages through junctions: around a moment (reading at most before_s
     before it and after_s after it), or in the whole record (around=None)."""
+    return rebuild.passages(_record(store, run, vehicle, around, before_s, after_s, context)[0])
+
+
+def passage(store: Store, run: str, vehicle: str, t: int, *, context: RunContext | None = None) -> Passage | None:
+    """The vehicle's passage of the act at t (the one under way then, else the nearest); only
+    that one is rebuilt."""
+    record, found = _record(store, run, vehicle, t, BEFORE_S, AFTER_S, context)
+    return rebuild.nearest(record, t, found)
+
+
+def _record(store: Store, run: str, vehicle: str, around: int | None, before_s: float, after_s: float,
+            context: RunContext | None) -> tuple[Record, list[rebuild.Span] | None]:
+    """What the store holds for the vehicle's passages around a moment (or in its whole record),
+    and the stretches near junctions already found in it (None: not looked for)."""
     ctx = context or run_context(store, run)
     src, ident = vehicle_src(vehicle), user_id(vehicle_src(vehicle))
     notes: list[str] = []
-    own, skipped, (t_from, t_to) = _own(store, ctx, src, around, before_s, after_s, notes)
+    own, skipped, (t_from, t_to), found = _own(store, ctx, src, around, before_s, after_s, notes)
     seen: tuple[Sample, ...] = ()
     if _holes(own):
         seen, more = samples(_capped(store.observations_of(run, ident, t_from=t_from, t_to=t_to), notes,
                                      f"monitor observations of {ident}"))
         skipped += more
+        found = None
     spawns = list(islice(store.events(run, kinds=["entity.spawn"], srcs=[src], t_to=t_to), 100))
-    srcs = {src} | {s.ref.src for s in seen} | {light.ref.src for line in ctx.signals.lines.values() for light in line}
-    record = Record(run, ident, ctx.map, ctx.signals, own, seen, spawns[-1] if spawns else None,
-                    _store_gaps(store, ctx, srcs), tuple(notes) + skipped[:20], _store_others(store, ctx, ident),
-                    (t_from, t_to))
-    return rebuild.passages(record)
-
-
-def passage(store: Store, run: str, vehicle: str, t: int, *, context: RunContext | None = None) -> Passage | None:
-    """The vehicle's passage of the act at t (the one under way then, else the nearest)."""
-    return passage_at(passages(store, run, vehicle, around=t, context=context), t)
+    return Record(run, ident, ctx.map, ctx.signals, own, seen, spawns[-1] if spawns else None,
+                  _store_gaps(store, ctx, {src} | {s.ref.src for s in seen}), tuple(notes) + skipped[:20],
+                  _store_others(store, ctx, ident), (t_from, t_to)), found
 
 
 def passage_at(found: Iterable[Passage], t: int) -> Passage | None:
@@ -116,7 +124,7 @@ def from_events(events: Iterable[dict], vehicle: str, *, around: int | None = No
     for event in events:
         index.add(event)
     own, skipped = samples(index.own)
-    seen, more = samples(index.seen)
+    seen, more = samples(index.seen) if _holes(own) else ((), ())      # as from a store
     return rebuild.passages(Record(
         index.run, ident, read_map(index.start), read_signals(index.signals), own, seen, index.spawn,
         index.gaps(), tuple(index.notes) + (skipped + more)[:20], index.others, (t_from, t_to)))
@@ -125,26 +133,30 @@ def from_events(events: Iterable[dict], vehicle: str, *, around: int | None = No
 # --- reading a store ----------------------------------------------------------------------------
 
 def _own(store: Store, ctx: RunContext, src: str, around: int | None, before_s: float, after_s: float,
-         notes: list[str]) -> tuple[tuple[Sample, ...], tuple[str, ...], tuple[int | None, int | None]]:
-    """The vehicle's entity.state samples, notes on what they left out, and the window read.
-    Around a moment, a short window first (FIRST_BEFORE_S, FIRST_AFTER_S), doubled on a side
-    while the passage at the moment reaches that side's edge (the vehicle was already, or
-    still, near the junction), up to before_s and after_s: most passages take a few hundred
-    events of reading, however long the run."""
+         notes: list[str]) -> tuple[tuple[Sample, ...], tuple[str, ...], tuple[int | None, int | None],
+                                    list[rebuild.Span] | None]:
+    """The vehicle's entity.state samples, notes on what they left out, the window read, and
+    the stretches near junctions found in them. Around a moment, a short window first
+    (FIRST_BEFORE_S, FIRST_AFTER_S), doubled on a side while the passage at the moment holds
+    that side's first or last sample (the vehicle was already, or still, near the junction), up
+    to before_s and after_s: most passages take a few hundred events of reading, however long
+    the run."""
     def read(a: int | None, b: int | None) -> tuple[tuple[Sample, ...], tuple[str, ...]]:
         found = store.source_events(ctx.run, src, kinds=["entity.state"], t_from=a, t_to=b)
         return samples(_capped(found, notes, f"{src} entity.state"))
 
     if around is None:
-        return (*read(None, None), (None, None))
+        return (*read(None, None), (None, None), None)
     back, ahead = min(FIRST_BEFORE_S, before_s), min(FIRST_AFTER_S, after_s)
     t_from, t_to = around - int(back * SECOND), around + int(ahead * SECOND)
     own, skipped = read(t_from, t_to)
-    while len(own) < MAX_SAMPLES:
-        early, late = _reaches(own, ctx.map, around, t_from, t_to)
+    while True:
+        placed = [s for s in own if s.placed]
+        found = rebuild.spans(placed, ctx.map)
+        early, late = _reaches(found, placed, around)
         grow_back, grow_ahead = early and back < before_s, late and ahead < after_s
-        if not (grow_back or grow_ahead):
-            break
+        if not (grow_back or grow_ahead) or len(own) >= MAX_SAMPLES:
+            return own, skipped, (t_from, t_to), found
         if grow_back:
             back = min(2 * back, before_s)
             lower = around - int(back * SECOND)
@@ -155,21 +167,15 @@ def _own(store: Store, ctx: RunContext, src: str, around: int | None, before_s: 
             upper = around + int(ahead * SECOND)
             more, why = read(t_to + 1, upper)
             own, skipped, t_to = own + more, skipped + why, upper
-    return own, skipped, (t_from, t_to)
 
 
-def _reaches(own: tuple[Sample, ...], map_: Map, around: int, t_from: int, t_to: int) -> tuple[bool, bool]:
+def _reaches(found: list[rebuild.Span], placed: list[Sample], around: int) -> tuple[bool, bool]:
     """Whether the passage at `around` may go on before the first sample read (it already
     holds it) and after the last (it holds it and had not ended)."""
-    placed = [s for s in own if s.placed]
-    span = _nearest(rebuild.spans(placed, map_), around)
+    span = rebuild.nearest_span(found, around)
     if span is None:
         return not placed, not placed
     return span.t0 <= placed[0].t, not span.through and span.t1 >= placed[-1].t
-
-
-def _nearest(spans: list, t: int):
-    return min(spans, key=lambda s: 0 if s[1] <= t <= s[2] else min(abs(t - s[1]), abs(t - s[2])), default=None)
 
 
 def _capped(events: list[dict], notes: list[str], what: str) -> list[dict]:
@@ -186,10 +192,12 @@ def _holes(own: tuple[Sample, ...]) -> bool:
 
 
 def _store_gaps(store: Store, ctx: RunContext, srcs: set[str]) -> tuple[Gap, ...]:
+    """The sequence gaps of these sources and of every signal (none when the run has none)."""
     if not ctx.gappy:
         return ()
     out: list[Gap] = []
-    for src in sorted(srcs):
+    signals = {light.ref.src for line in ctx.signals.lines.values() for light in line}
+    for src in sorted(srcs | signals):
         if src not in ctx._gaps:
             ctx._gaps[src] = tuple(Gap(src, first, last, store.t_of(ctx.run, src, first - 1),
                                        store.t_of(ctx.run, src, last + 1))

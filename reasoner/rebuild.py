@@ -42,16 +42,32 @@ CONFIRM_M = 1.0           # a crossing counts once a sample shows the vehicle th
 STOP_ZONE_M = 5.0         # "at the line": a car's reported point may be its centre, ~2 m behind its front
 PAST_TOLERANCE_M = 1.0    # ... or up to a metre past it (measurement)
 MAX_BRACKET_S = 1.5       # samples further apart than this leave a moment between them uncertain
-OTHERS_BEFORE_S = 5.0     # other road users are looked for from this long before the crossing or entry
+OTHERS_BEFORE_S = 3.0     # other road users are looked for from this long before the crossing or entry
 ANTICIPATION_S = 3.0      # braking counts from this long before the vehicle crossed (a driver sees it coming)
 REACTION_S = 3.0          # ... until this long after it left
 
 
 def passages(record: Record) -> tuple[Passage, ...]:
     """Every passage of the record's vehicle through a junction of its map, in time order."""
-    placed = sorted((s for s in record.own + record.seen if s.placed), key=lambda s: (s.t, s.ref.src, s.ref.seq))
-    found = [passage(record, span.junction, span.t0, span.t1, span.through) for span in spans(placed, record.map)]
+    found = [passage(record, span.junction, span.t0, span.t1, span.through) for span in _spans(record)]
     return tuple(sorted(found, key=lambda p: (p.start, p.junction.id)))
+
+
+def nearest(record: Record, t: int, found: list[Span] | None = None) -> Passage | None:
+    """Only the passage under way at t, else the one nearest to it in time (`found`: the
+    record's spans, if already computed)."""
+    span = nearest_span(_spans(record) if found is None else found, t)
+    return None if span is None else passage(record, span.junction, span.t0, span.t1, span.through)
+
+
+def nearest_span(found: list[Span], t: int) -> Span | None:
+    return min(found, key=lambda s: (0 if s.t0 <= t <= s.t1 else min(abs(t - s.t0), abs(t - s.t1)), s.t0),
+               default=None)
+
+
+def _spans(record: Record) -> list[Span]:
+    placed = sorted((s for s in record.own + record.seen if s.placed), key=lambda s: (s.t, s.ref.src, s.ref.seq))
+    return spans(placed, record.map)
 
 
 class Span(NamedTuple):

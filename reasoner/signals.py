@@ -89,4 +89,6 @@ def shown(timeline: tuple[Light, ...], t: int) -> Light | None:
 
 def changed_between(timeline: tuple[Light, ...], t_from: int, t_to: int) -> tuple[Light, ...]:
     """The changes within (t_from, t_to]."""
-    return tuple(light for light in timeline if t_from < light.t <= t_to)
+    lo = bisect.bisect_right(timeline, t_from, key=lambda light: light.t)
+    hi = bisect.bisect_right(timeline, t_to, key=lambda light: light.t)
+    return timeline[lo:hi]

@@ -280,6 +280,21 @@ def test_sequence_gaps_around_the_act_are_reported_as_uncertain():
     assert any("missing" in note for note in p.uncertain)
 
 
+def test_a_lost_signal_change_leaves_the_light_at_the_crossing_uncertain():
+    """The red report is lost: the record shows amber at the crossing, and says a change may be missing."""
+    motion = Motion(-100, 12.0)
+    crossing = motion.when(-12.0)
+    run = Foreign()
+    run.lights("J1", "west", [(0, "green"), (crossing - 4, "amber"), (crossing - 1, "red"), (crossing + 20, "green")])
+    run.drive("7", motion, "west", rate(5, 0, crossing + 5))
+    run.drop("signal/J1-west", [2])
+    p = one(run.events)
+    assert p.crossing.light.colour == "amber"
+    assert "signal/J1-west event 2 missing" in p.crossing.light_uncertain
+    fact = next(f for f in derived.facts(p, ns(crossing + 1)) if f.sentence == "7 crossed the stop line on amber light")
+    assert "a change of the light may be missing" in fact.uncertain
+
+
 def test_measurements_only_from_a_monitor():
     """A human-driven car with no recorder: the camera's measured positions and speeds are enough."""
     motion = Motion(-75, 11.0)
