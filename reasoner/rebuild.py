@@ -371,10 +371,13 @@ def _notes(record: Record, junction: Junction, approach: str | None, line: StopL
     srcs = {s.ref.src for s in series}
     notes += [f"{gap.words}, within this passage" for gap in record.gaps_of(srcs, t0, t1)]
     start, end = record.window
-    if start is not None and t0 - start < 2 * SECOND:
-        notes.append("the passage begins where the record read begins: earlier evidence was not read")
-    if end is not None and end - t1 < 2 * SECOND and not through:
-        notes.append("the passage ends where the record read ends: later evidence was not read")
+    placed = [s.t for s in record.own + record.seen if s.placed]
+    if start is not None and placed and t0 <= min(placed):
+        notes.append("the passage begins with the first sample read: the vehicle was near the junction before "
+                     "what was read, or before its record begins")
+    if end is not None and placed and t1 >= max(placed) and not through:
+        notes.append("the passage ends with the last sample read, the vehicle not yet out of the junction: the "
+                     "read, or its record, stops there")
 
 
 def _stop_line(junction: Junction, line: StopLine | None) -> bool:
