@@ -176,15 +176,29 @@ class Control:
 @dataclass(frozen=True)
 class Margin:
     """How far from the line a verdict was (DESIGN "Margins"): e.g. 1.2 s after red, 8 mph over.
-    No stage measures one yet; an incident's margin is None until one does."""
+    reasoner/margins.py measures them from a history; `method` says how, `figures` gives the
+    other measured values of the same moment (speed when amber came, the stopping distance), and
+    `uncertain` what the record leaves open. The last three are written only when present, so
+    a margin without them reads as it always has."""
 
     quantity: str
     value: float
     unit: str
     evidence: tuple[EventRef, ...] = ()
+    method: str = ""
+    figures: tuple[tuple[str, float, str], ...] = ()     # (quantity, value, unit)
+    uncertain: str | None = None
 
     def to_json(self) -> dict[str, Any]:
-        return {"quantity": self.quantity, "value": self.value, "unit": self.unit, "evidence": _refs(self.evidence)}
+        out: dict[str, Any] = {"quantity": self.quantity, "value": self.value, "unit": self.unit,
+                               "evidence": _refs(self.evidence)}
+        if self.method:
+            out["method"] = self.method
+        if self.figures:
+            out["figures"] = [{"quantity": q, "value": v, "unit": u} for q, v, u in self.figures]
+        if self.uncertain:
+            out["uncertain"] = self.uncertain
+        return out
 
 
 @dataclass(frozen=True)

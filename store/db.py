@@ -216,6 +216,46 @@ class Store:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
         return self._conn.execute(sql, params)
 
+    def source_events(
+        self,
+        run: str,
+        src: str,
+        *,
+        kinds: Collection[str] | None = None,
+        t_from: int | None = None,
+        t_to: int | None = None,
+    ) -> list[dict]:
+        """One source's events with t in [t_from, t_to] (inclusive; None: open), in (t, seq)
+        order: a vehicle's entity.state series around an act, without reading the other
+        sources' events of that time. `events(run, srcs=[src])` walks the run's time index;
+        this reads the (run, src, seq) index, finding the window's seq range by a search of a
+        few probes, so its cost follows the events returned, not the run's length.
+
+        The search takes a source's t to rise with its seq, as a producer numbering its events
+        in the order it publishes them does (DESIGN "Envelope"); an event out of that order by
+        up to SEQ_SLACK (64) places is still found, one further out may be missed."""
+        with self._reading():
+            rows = queries.source_rows(self._conn, run, src, kinds, t_from, t_to)
+        return [fastjson.loads(row[3]) for row in rows]
+
+    def observations_of(
+        self,
+        run: str,
+        vehicle: str,
+        *,
+        srcs: Collection[str] | None = None,
+        t_from: int | None = None,
+        t_to: int | None = None,
+    ) -> list[dict]:
+        """The monitor.observation events about one vehicle (body.vehicle, compared as text),
+        from the monitors `srcs` (default: all), with t in [t_from, t_to], in (t, seq, src)
+        order: what monitors measured of a vehicle that records nothing itself. Read through
+        the covering index by kind; the vehicle is matched inside SQLite, so observations of
+        other vehicles are never parsed."""
+        with self._reading():
+            rows = list(queries.observation_rows(self._conn, run, str(vehicle), srcs, t_from, t_to))
+        return [fastjson.loads(row[3]) for row in rows]
+
     def runs(self) -> list[RunSummary]:
         """Every run with events, by run name."""
         return [queries.run_summary(self._conn, run) for run in queries.run_names(self._conn)]

@@ -1,0 +1,179 @@
+"""Histories rebuilt over the synthetic run of bench/incidents.py: what the verdicts will pay once
+derived facts join them, and what every passage of every vehicle costs.
+
+    .venv/bin/python bench/history.py [--repeats 3] [--dir /tmp/gaps-bench] [--no-whole] [--json]
+
+On the store file bench/incidents.py generates (its working copy; generated if missing), through
+the public API, read-only for the history:
+
+    judgement    Investigation(store).incidents(run), fresh objects, warm: bench/incidents.py's figure,
+                 measured here again so that the sum below is of one machine at one time
+    per act      for each recorded potential violation: history.passage(store, run, vehicle, t),
+                 derived.facts(passage, t) and margins.margin(passage, action), one run context
+                 (map and signal timelines) shared, as an investigation would share it
+    together     judgement + per act, as a multiple of the run's duration: the target is that the
+                 whole judgement stays at 500x real time or more (issue 12)
+    whole record every vehicle's passages over its whole record (history.passages(around=None)):
+                 events read per second and as a multiple of real time
+
+Events read are counted as the store hands them over (entity.state, observations, spawns).
+Medians of --repeats runs; the machine is shared, so each repeat prints its calibration.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+from pathlib import Path
+from typing import Any
+
+from incidents import RUN, TARGET, incidents_once, work_file  # bench/incidents.py, beside this file
+from machine import QUIET_MS, calibration_elsewhere, machine  # bench/machine.py, beside this file
+from results import Figure, quick, record  # bench/results.py, beside this file
+from store import Store
+
+
+class Counted:
+    """A read-only Store whose reads count the events they hand over."""
+
+    def __init__(self, store: Store) -> None:
+        self.store, self.read = store, 0
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.store, name)
+
+    def source_events(self, *args: Any, **kwargs: Any) -> list[dict]:
+        found = self.store.source_events(*args, **kwargs)
+        self.read += len(found)
+        return found
+
+    def observations_of(self, *args: Any, **kwargs: Any) -> list[dict]:
+        found = self.store.observations_of(*args, **kwargs)
+        self.read += len(found)
+        return found
+
+    def events(self, *args: Any, **kwargs: Any):
+        for event in self.store.events(*args, **kwargs):
+            self.read += 1
+            yield event
+
+
+def per_act(path: Path) -> dict[str, Any]:
+    """Every recorded potential violation's passage, facts and margin, timed."""
+    from reasoner import derived, history, margins
+
+    with Store.open_read_only(path) as opened:
+        store = Counted(opened)
+        acts = [(pv["body"]["vehicle"], pv["t"], pv["body"]["action"])
+                for pv in opened.events(RUN, kinds=["monitor.potential_violation"])]
+        started, cpu = time.perf_counter(), time.process_time()
+        ctx = history.run_context(store, RUN)
+        passages = facts = measured = crossings = 0
+        for vehicle, t, action in acts:
+            p = history.passage(store, RUN, vehicle, t, context=ctx)
+            if p is None:
+                continue
+            passages += 1
+            crossings += p.crossing is not None
+            facts += len(derived.facts(p, t))
+            measured += margins.margin(p, action) is not None
+        wall, cpu = time.perf_counter() - started, time.process_time() - cpu
+    return {"acts": len(acts), "passages": passages, "crossings": crossings, "facts": facts, "margins": measured,
+            "events_read": store.read, "wall_s": wall, "cpu_s": cpu}
+
+
+def whole_record(path: Path) -> dict[str, Any]:
+    """Every vehicle's passages over its whole record."""
+    from reasoner import history
+
+    with Store.open_read_only(path) as opened:
+        store = Counted(opened)
+        vehicles = [src.split("/", 1)[1] for src in opened.sources(RUN) if src.startswith("vehicle/")]
+        started = time.perf_counter()
+        ctx = history.run_context(store, RUN)
+        passages = sum(len(history.passages(store, RUN, v, context=ctx)) for v in vehicles)
+        wall = time.perf_counter() - started
+    return {"vehicles": len(vehicles), "passages": passages, "events_read": store.read, "wall_s": wall}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dir", type=Path, default=Path("/tmp/gaps-bench"))
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--no-whole", action="store_true", help="skip every vehicle's whole record")
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+    args.dir.mkdir(parents=True, exist_ok=True)
+    path = work_file(args.dir, fresh=False)
+    with Store.open_read_only(path) as store:
+        span = next(r for r in store.runs() if r.run == RUN)
+    duration = (span.last_t - span.first_t) / 1e9
+    judged, acts, speeds = [], [], []
+    for i in range(args.repeats):
+        speeds.append(calibration_elsewhere())
+        _, wall, _ = incidents_once(path)
+        judged.append(wall)
+        acts.append(per_act(path))
+        print(f"repeat {i + 1}: judgement {wall:.2f} s, histories of {acts[-1]['acts']} acts {acts[-1]['wall_s']:.3f} s "
+              f"(calibration before: {speeds[-1]:.2f} ms, {QUIET_MS})", flush=True)
+    whole = None if args.no_whole else whole_record(path)
+    judge = statistics.median(judged)
+    act = statistics.median(a["wall_s"] for a in acts)
+    last = acts[-1]
+    result = {
+        "run": RUN, "events": span.events, "run_seconds": duration, "machine": machine(),
+        "calibration_ms": [round(x, 2) for x in speeds],
+        "judgement_s": judged, "per_act": acts, "judgement_median_s": judge, "per_act_median_s": act,
+        "per_act_ms": act / max(last["acts"], 1) * 1000,
+        "together_x_real_time": duration / (judge + act), "judgement_x_real_time": duration / judge,
+        "whole_record": whole,
+    }
+    record_result(result, args.repeats)
+    if args.json:
+        print(json.dumps(result, indent=2))
+        return
+    print(f"machine: {result['machine']}")
+    print(f"run {RUN}: {span.events:,} events over {duration:,.0f} s; {last['acts']} recorded potential violations")
+    print(f"judgement: median {judge:.2f} s = {duration / judge:,.0f}x real time")
+    print(f"histories of the acts: median {act:.3f} s ({result['per_act_ms']:.1f} ms an act; {last['events_read']:,} "
+          f"events read, {last['events_read'] / act:,.0f} events/s; {last['crossings']} crossings, {last['facts']} "
+          f"derived facts, {last['margins']} margins)")
+    print(f"together: {judge + act:.2f} s = {result['together_x_real_time']:,.0f}x real time; target {TARGET:.0f}x: "
+          f"{'met' if result['together_x_real_time'] >= TARGET else 'NOT met'}")
+    if whole:
+        print(f"whole record: {whole['vehicles']} vehicles, {whole['passages']:,} passages in {whole['wall_s']:.1f} s; "
+              f"{whole['events_read']:,} events read = {whole['events_read'] / whole['wall_s']:,.0f} events/s, "
+              f"{duration / whole['wall_s']:,.0f}x real time")
+
+
+def record_result(result: dict[str, Any], repeats: int) -> None:
+    """The figures into bench/results.json."""
+    duration, acts, whole = result["run_seconds"], result["per_act"], result["whole_record"]
+    last = acts[-1]
+    act = result["per_act_median_s"]
+    figures = [
+        Figure("all incidents judged (Investigation.incidents, warm)", result["judgement_median_s"], "s",
+               tuple(result["judgement_s"])),
+        Figure("histories of every recorded act (passage, derived facts, margin)", act, "s",
+               tuple(a["wall_s"] for a in acts), peer="all incidents judged (Investigation.incidents, warm)",
+               note=f"{result['per_act_ms']:.1f} ms an act; {last['events_read'] / act:,.0f} events read/s"),
+        Figure("judgement and histories together, as a speed", result["together_x_real_time"], "× real time",
+               tuple(duration / (j + a["wall_s"]) for j, a in zip(result["judgement_s"], acts)),
+               target=f"≥ {TARGET:.0f}× real time"),
+    ]
+    if whole:
+        figures.append(Figure("every passage of every vehicle, whole record", whole["events_read"] / whole["wall_s"],
+                              "events/s", note=f"{whole['passages']:,} passages of {whole['vehicles']} vehicles in "
+                              f"{whole['wall_s']:.1f} s = {duration / whole['wall_s']:,.0f}× real time"))
+    size = "100 vehicles for 300 s" if quick() else "200 vehicles for 3600 s"
+    record("history", "Histories rebuilt over a synthetic run", figures,
+           notes=f"sim_replay.synthetic, {size}, seed 7: {result['events']:,} events, {last['acts']} recorded potential "
+                 f"violations ({last['crossings']} with a stop-line crossing, {last['facts']} derived facts, "
+                 f"{last['margins']} margins); median of {repeats} runs; calibration "
+                 f"{', '.join(map(str, result['calibration_ms']))} ms ({QUIET_MS})",
+           details={"per_act": acts[-1], "whole_record": whole})
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,526 @@
+"""Facts derived from a passage at a moment: the sentences the rulebooks use, each with the method
+that produced it and the measurements it rests on (DESIGN "Reasoning").
+
+    facts(passage, at)                    -> tuple[DerivedFact, ...]
+    checked(passage, at, stated)          -> (derived facts, contradictions)
+
+The sentences (core vocabulary, docs/vocabulary.md, and the time-dependent "V crossed the stop
+line on C light") and how each is derived, with its thresholds and their sources, are listed in
+docs/history.md. In short: the light a signal shows governs traffic up to its stop line (TSRGD
+2016 Sch 14 Pt 1 para 5(3): "shall not proceed beyond the stop line"), so `V has C light` is
+stated until V crosses it, and from then on `V crossed the stop line on C light`. Open texture
+is measured against published yardsticks: rule 126's stopping distances for "too close to stop
+safely", a deceleration of FORCE_DECEL_MPS2 for "would force U to change speed or course".
+
+A derived fact never overrides a stated one: `checked` holds back every derived fact that
+disagrees with what a producer stated and reports the disagreement as a `Contradiction` (a
+finding candidate, `to_finding()`), leaving the decision to whoever weighs the evidence.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable
+
+from store import EventRef
+
+from .junctions import sector
+from .model import Finding
+from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
+from .passage import Other, Passage
+from .signals import WORDS, Light, shown
+from .stopping import SOURCE as RULE_126, stopping_distance_m
+from .vocabulary import (EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT, HAS_SPEED_OF,
+                         HAS_STOPPED_AT_THE_STOP_LINE, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
+                         IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED, IS_STOPPED_IN_THE_BOX_JUNCTION,
+                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, Sentence)
+from .when import format_time
+
+SECOND = 1_000_000_000
+
+# Sentences the rulebooks are being given (the law branch); kept here until reasoner/vocabulary.py
+# can name them with the rulebook that declares them (tests/reasoner/test_derived.py checks both).
+WOULD_FORCE = Sentence(
+    "*a vehicle* would force *a road user* to change speed or course", "highway_code.le",
+    "V proceeding would cause U to change speed or course to avoid an accident (TSRGD Sch 14 para 5(5))")
+CROSSED_THE_STOP_LINE_ON = Sentence(
+    "*a vehicle* crossed the stop line on *a colour* light", "highway_code.le",
+    "what the signal facing V's approach showed when V crossed its stop line (red and amber: both)")
+
+# Thresholds (docs/history.md gives the reasoning)
+FORCE_DECEL_MPS2 = 2.0    # Hupfer (1997), as cited by the criticality-metrics catalogue: below 2 m/s² a driver's
+                          # reaction is adaptation or ordinary reaction, from 2 m/s² a "considerable reaction"
+APPROACH_M = 50.0         # "approaching": outside the junction, within this distance of its centre, getting closer
+APPROACH_DT_S = 0.5       # ... by comparing its distance now with this long before
+EXIT_ZONE_M = 12.0        # a box junction's exit: this far beyond the junction's edge on the exit arm (a car, a gap)
+QUEUED_MPS = 2.0          # a road user in the exit zone at or below this speed blocks it (4.5 mph: crawling)
+MOVING_MPS = 1.0          # "V is stopped" is contradicted from this speed on (2.2 mph: beyond measurement noise)
+SPEED_TOLERANCE_MPH = 3   # a stated speed this far from the measured one is a contradiction
+PLACE_TOLERANCE_M = 2.0   # "has crossed the stop line" / "is in the junction" contradicted this far short of it
+CLOCK_TOLERANCE_S = 0.5   # a light changing this close to the moment is not a contradiction either way
+
+
+@dataclass(frozen=True)
+class DerivedFact:
+    """A sentence the history shows (no full stop, as scenario facts are kept), how, and on what."""
+
+    sentence: str
+    method: str
+    evidence: tuple[EventRef, ...]
+    uncertain: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"sentence": self.sentence, "method": self.method, "uncertain": self.uncertain,
+                "evidence": [r.to_json() for r in self.evidence]}
+
+
+@dataclass(frozen=True)
+class Contradiction:
+    """A stated fact the measurements contradict: a finding candidate, never a silent override."""
+
+    stated: str
+    stated_by: EventRef
+    measured: str           # what the measurements show, in words
+    method: str
+    evidence: tuple[EventRef, ...]
+
+    @property
+    def detail(self) -> str:
+        return f"\"{self.stated}\" was stated ({self.stated_by.src} #{self.stated_by.seq}), but {self.measured}"
+
+    def to_finding(self) -> Finding:
+        return Finding("contradiction", self.detail, (self.stated_by, *self.evidence))
+
+    def to_json(self) -> dict[str, Any]:
+        return {"stated": self.stated, "stated_by": self.stated_by.to_json(), "measured": self.measured,
+                "method": self.method, "evidence": [r.to_json() for r in self.evidence], "detail": self.detail}
+
+
+# --- the facts ------------------------------------------------------------------------------------
+
+def facts(passage: Passage, at: int) -> tuple[DerivedFact, ...]:
+    """Every sentence the passage shows at `at` (ns), each with its method and evidence."""
+    out: list[DerivedFact] = []
+    for derive in _DERIVERS:
+        out += derive(passage, at)
+    return tuple(out)
+
+
+def _light(p: Passage, at: int) -> list[DerivedFact]:
+    """`V has C light`: the light facing its approach, until it crosses its stop line (or, with
+    no line on the map, until it enters the junction)."""
+    over = p.crossing.t if p.crossing else (p.entered.t if p.entered and p.line is None else None)
+    if not p.lights or (over is not None and at >= over) or p.past_line_at_start or at > p.end \
+            or at < p.start - SECOND:
+        return []
+    light = shown(p.lights, at)
+    if light is None:
+        return []
+    method = f"{_showed(light, p)}, still before its stop line at {format_time(at)}"
+    return [DerivedFact(HAS_LIGHT.text(p.vehicle, word), method, (light.ref,)) for word in WORDS[light.colour]]
+
+
+def _speed(p: Passage, at: int) -> list[DerivedFact]:
+    """`V has speed of N` (mph, whole, half up) and `V is stopped` (a speed that rounds to 0 mph)."""
+    speed, used = speed_at(p.samples, at)
+    if speed is None:
+        return []
+    how = f"{speed:.2f} m/s ({speed * MPH_PER_MPS:.1f} mph): {between(used, at)}"
+    refs = tuple(s.ref for s in used)
+    out = [DerivedFact(HAS_SPEED_OF.text(p.vehicle, mph(speed)), how, refs)]
+    if speed <= STOPPED_MPS:
+        out.append(DerivedFact(IS_STOPPED.text(p.vehicle), f"{how}; stopped: below 0.5 mph, a speed of 0 mph", refs))
+    return out
+
+
+def _limit(p: Passage, at: int) -> list[DerivedFact]:
+    if p.limit_mph is None or p.map_ref is None:
+        return []
+    limit = int(p.limit_mph) if float(p.limit_mph).is_integer() else p.limit_mph
+    return [DerivedFact(SPEED_LIMIT_IS.text(limit), f"speed_limit_mph of road {p.limit_road} in the run's map, "
+                        "the road the vehicle approached on", (p.map_ref,))]
+
+
+def _crossed(p: Passage, at: int) -> list[DerivedFact]:
+    """`V has crossed the stop line` once it did; `V crossed the stop line on C light` with it."""
+    c = p.crossing
+    if c is None or at < c.t:
+        if p.past_line_at_start and at >= p.start and p.samples:
+            first = next(s for s in p.samples if s.placed)
+            return [DerivedFact(HAS_CROSSED_THE_STOP_LINE.text(p.vehicle),
+                                f"first seen already past the stop line ({first.label})", (first.ref,),
+                                "when it crossed is not in the record")]
+        return []
+    out = [DerivedFact(HAS_CROSSED_THE_STOP_LINE.text(p.vehicle), f"crossed at {format_time(c.t)}: {c.moment.method}",
+                       c.moment.refs, c.moment.uncertain)]
+    if c.light is not None:
+        doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None
+        method = f"crossed at {format_time(c.t)} ({c.moment.method}); {_showed(c.light, p)}"
+        refs = c.moment.refs + (c.light.ref,) + tuple(x.ref for x in c.light_changed)
+        out += [DerivedFact(CROSSED_THE_STOP_LINE_ON.text(p.vehicle, word), method, refs, doubt)
+                for word in WORDS[c.light.colour]]
+    return out
+
+
+def _in_junction(p: Passage, at: int) -> list[DerivedFact]:
+    inside_from = p.entered.t if p.entered else (p.start if p.samples and _first_inside(p) else None)
+    if inside_from is None or at < inside_from or (p.left is not None and at >= p.left.t) or at > p.end:
+        return []
+    how = p.entered.method if p.entered else "first seen inside the junction"
+    extent = f"the junction's area: {p.junction.extent_m:g} m ({p.junction.extent_source})"
+    refs = p.entered.refs if p.entered else (p.samples[0].ref,)
+    return [DerivedFact(IS_IN_THE_JUNCTION.text(p.vehicle), f"entered at {format_time(inside_from)}: {how}; {extent}",
+                        refs, p.entered.uncertain if p.entered else "its entry is not in the record")]
+
+
+def _emergency(p: Passage, at: int) -> list[DerivedFact]:
+    marks = [m for m in p.emergency if m[0] <= at]
+    if not marks or not marks[-1][1]:
+        return []
+    t, _, ref = marks[-1]
+    return [DerivedFact(IS_ON_AN_EMERGENCY_CALL.text(p.vehicle),
+                        f"{ref.kind} #{ref.seq} ({format_time(t)}) records emergency: true, not withdrawn since", (ref,))]
+
+
+def _stopped_at_line(p: Passage, at: int) -> list[DerivedFact]:
+    """`V has stopped at the stop line`: it stood still at a Stop line (HC 171) before crossing it."""
+    if not _stop_line(p):
+        return []
+    limit = min(at, p.crossing.t) if p.crossing else at
+    stops = [s for s in p.standstills if s.at_line and s.first.t <= limit]
+    if not stops:
+        return []
+    s = stops[-1]
+    how = (f"stood still for {s.duration_s:.1f} s ({s.samples} samples from {s.first.label} to {s.last.label} below "
+           f"0.5 mph), {s.to_line_m:.1f} m before the Stop line ({p.line.source})")
+    return [DerivedFact(HAS_STOPPED_AT_THE_STOP_LINE.text(p.vehicle), how, (s.first.ref, s.last.ref))]
+
+
+def _too_close(p: Passage, at: int) -> list[DerivedFact]:
+    """`V is too close to the stop line to stop safely`: when amber came, the distance to the line
+    was less than rule 126's stopping distance at V's speed then."""
+    amber = _amber(p, at)
+    if amber is None or amber.to_line_m is None or amber.speed_mps is None or amber.to_line_m <= 0 \
+            or _stopped_after(p, amber.light.t, at):
+        return []
+    speed_mph = amber.speed_mps * MPH_PER_MPS
+    needed = stopping_distance_m(speed_mph)
+    if amber.to_line_m >= needed:
+        return []
+    how = (f"when amber came ({format_time(amber.light.t)}, {amber.light.ref.src} #{amber.light.ref.seq}) it was "
+           f"{amber.to_line_m:.1f} m before the line at {amber.speed_mps:.1f} m/s ({speed_mph:.0f} mph), "
+           f"{amber.method}; stopping takes {needed:.1f} m at that speed ({RULE_126}, interpolated)")
+    return [DerivedFact(IS_TOO_CLOSE_TO_STOP.text(p.vehicle), how, tuple(s.ref for s in amber.used) + (amber.light.ref,))]
+
+
+def _others(p: Passage, at: int) -> list[DerivedFact]:
+    """`U is approaching V`, `V would force U to change speed or course`, `U is on the main road`."""
+    out: list[DerivedFact] = []
+    went = p.crossing is not None or p.entered is not None
+    for other in p.others:
+        approaching = _approaching(p, other, at)
+        forced = _forced(p, other) if went and p.start <= at <= p.end + 5 * SECOND else None
+        if approaching is not None:
+            out.append(approaching)
+        if forced is not None:
+            out.append(forced)
+        if other.main_road and (approaching is not None or forced is not None):
+            first = other.samples[0]
+            out.append(DerivedFact(IS_ON_THE_MAIN_ROAD.text(other.user),
+                                   f"first seen on the {other.arm} arm of {p.junction.id} ({first.label}); "
+                                   f"{p.junction.major_source}: major {', '.join(sorted(p.junction.major or ()))}",
+                                   tuple(r for r in (first.ref, p.map_ref) if r is not None)))
+    return out
+
+
+def _box(p: Passage, at: int) -> list[DerivedFact]:
+    """The box junction sentences (HC 174), from the map's yellow box and the positions at `at`."""
+    j = p.junction
+    if not j.boxed or p.map_ref is None or at < p.start or at > p.end or (p.left and at >= p.left.t):
+        return []
+    marked = f"the map marks a yellow box at {j.id} (run.start, box)"
+    out = [DerivedFact(IS_AT_A_BOX_JUNCTION.text(p.vehicle), f"{marked}; the vehicle is on its way through it",
+                       (p.map_ref,))]
+    position, placed = position_at(p.samples, at)
+    speed, timed = speed_at(p.samples, at)
+    if position and speed is not None and j.in_box(*position) and speed <= STOPPED_MPS:
+        out.append(DerivedFact(IS_STOPPED_IN_THE_BOX_JUNCTION.text(p.vehicle),
+                               f"{marked}; at {format_time(at)} inside it ({between(placed, at)}) at {speed:.2f} m/s",
+                               tuple(s.ref for s in placed + timed) + (p.map_ref,)))
+    clear = _exit_clear(p, at)
+    if clear is not None:
+        out.append(clear)
+    return out
+
+
+_DERIVERS: tuple[Callable[[Passage, int], list[DerivedFact]], ...] = (
+    _light, _crossed, _in_junction, _speed, _limit, _emergency, _stopped_at_line, _too_close, _others, _box)
+
+
+# --- pieces -----------------------------------------------------------------------------------------
+
+def _showed(light: Light, p: Passage) -> str:
+    return (f"{light.ref.src} showed {light.colour} to the {p.approach} approach from {format_time(light.t)} "
+            f"({light.ref.src} #{light.ref.seq})")
+
+
+def _first_inside(p: Passage) -> bool:
+    first = next((s for s in p.samples if s.placed), None)
+    return first is not None and p.junction.inside(first.x, first.y)
+
+
+def _stop_line(p: Passage) -> bool:
+    return p.line is not None and (p.line.kind == "stop" or (not p.line.kind and p.junction.control == "stop"))
+
+
+def _amber(p: Passage, at: int):
+    """The last change from green to amber before the crossing (and before `at`)."""
+    end = min(at, p.crossing.t) if p.crossing else at
+    found = [c for c in p.changes if c.light.colour == "amber" and c.previous in ("green", None) and c.light.t <= end]
+    return found[-1] if found else None
+
+
+def _stopped_after(p: Passage, t: int, at: int):
+    """A standstill before the line (or at it) from t on, before crossing and by `at`: the
+    vehicle showed it could stop, whatever the typical figures say."""
+    end = min(at, p.crossing.t) if p.crossing else at
+    return next((s for s in p.standstills if t <= s.last.t and s.first.t <= end and
+                 (s.to_line_m is None or s.to_line_m >= -1.0)), None)
+
+
+def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
+    now, used = position_at(other.samples, at)
+    before, used_before = position_at(other.samples, at - int(APPROACH_DT_S * SECOND))
+    if now is None or before is None:
+        return None
+    j = p.junction
+    d_now, d_before = j.distance(*now), j.distance(*before)
+    if j.edge(*now) <= 0 or d_now > APPROACH_M or d_before - d_now < 0.1:
+        return None
+    how = (f"{other.user} was {d_now:.0f} m from the centre of {j.id} on the {other.arm} arm at {format_time(at)} and "
+           f"{d_before - d_now:.1f} m closer than {APPROACH_DT_S:g} s before ({between(used, at)})")
+    return DerivedFact(IS_APPROACHING.text(other.user, p.vehicle), how, tuple(s.ref for s in used_before + used))
+
+
+def _forced(p: Passage, other: Other) -> DerivedFact | None:
+    """U braked at FORCE_DECEL_MPS2 or harder, or came to a stop, while V passed, and not for a
+    red or amber light of its own."""
+    if other.light is not None and other.light.colour != "green":
+        return None
+    b, stop = other.braking, other.stopped
+    if stop is not None:
+        how = f"{other.user} came to a stop ({stop.label}, {format_time(stop.t)}) while {p.vehicle} passed"
+        refs: tuple[EventRef, ...] = (stop.ref,)
+    elif b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:
+        how = (f"{other.user} braked at {b.decel_mps2:.1f} m/s² ({b.first.speed_mps:.1f} m/s at {b.first.label} to "
+               f"{b.last.speed_mps:.1f} m/s at {b.last.label}) while {p.vehicle} passed; from {FORCE_DECEL_MPS2:g} m/s² "
+               "a change of speed is a considerable reaction (Hupfer 1997)")
+        refs = (b.first.ref, b.last.ref)
+    else:
+        return None
+    own = f"; its own light was {other.light.colour}" if other.light else ""
+    return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user), f"{how}, {other.closest_m:.0f} m from the centre{own}",
+                       refs + ((other.light.ref,) if other.light else ()))
+
+
+def _exit_clear(p: Passage, at: int) -> DerivedFact | None:
+    """`the exit of the box junction is clear for V`: no road user at QUEUED_MPS or slower in the
+    EXIT_ZONE_M beyond the junction's edge on V's exit arm at `at`."""
+    j = p.junction
+    arm, doubt = p.exit, None
+    if arm is None and p.approach in _OPPOSITE:
+        arm, doubt = _OPPOSITE[p.approach], "the vehicle's exit is not in the record: taken as straight on"
+    if arm is None:
+        return None
+    seen: list[EventRef] = []
+    for other in p.others:
+        where, used = position_at(other.samples, at)
+        speed, _ = speed_at(other.samples, at)
+        if where is None:
+            continue
+        seen += [s.ref for s in used]
+        on_exit = sector(where[0] - j.x, where[1] - j.y) == arm and 0 < j.edge(*where) <= EXIT_ZONE_M
+        if on_exit and (speed is None or speed <= QUEUED_MPS):
+            return None
+    refs = (p.map_ref,) + ((p.left.refs if p.left else ()) + tuple(seen))
+    how = (f"at {format_time(at)} no road user recorded at {QUEUED_MPS:g} m/s or slower within {EXIT_ZONE_M:g} m beyond "
+           f"the junction on its {arm} exit")
+    return DerivedFact(EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR.text(p.vehicle), how, tuple(r for r in refs if r), doubt)
+
+
+_OPPOSITE = {"west": "east", "east": "west", "north": "south", "south": "north"}
+
+
+# --- stated facts against derived ones ------------------------------------------------------------
+
+def checked(passage: Passage, at: int, stated: Iterable[tuple[Any, EventRef]]
+            ) -> tuple[tuple[DerivedFact, ...], tuple[Contradiction, ...]]:
+    """The derived facts that agree with what was stated, and a Contradiction for each stated
+    fact the measurements contradict (the derived facts showing it are held back)."""
+    derived = facts(passage, at)
+    contradictions: list[Contradiction] = []
+    held: set[str] = set()
+    for sentence, ref in stated:
+        if not isinstance(sentence, str):
+            continue
+        text = sentence.strip().rstrip(".").strip()
+        for check in _CHECKS:
+            found = check(passage, at, text, ref, derived)
+            if found is not None:
+                contradiction, withheld = found
+                contradictions.append(contradiction)
+                held |= withheld
+    return tuple(f for f in derived if f.sentence not in held), tuple(contradictions)
+
+
+def _match(sentence: Sentence, text: str) -> tuple[str, ...] | None:
+    pattern = _PATTERNS.get(sentence.template)
+    if pattern is None:
+        pattern = _PATTERNS[sentence.template] = re.compile(
+            re.escape(sentence.pattern).replace(re.escape("{}"), "(.+?)") + r"\Z")
+    found = pattern.match(text)
+    return found.groups() if found else None
+
+
+_PATTERNS: dict[str, re.Pattern] = {}
+
+
+def _derived_of(derived: tuple[DerivedFact, ...], *sentences: Sentence) -> list[DerivedFact]:
+    return [f for f in derived if any(_match(s, f.sentence) for s in sentences)]
+
+
+def _contradiction(text: str, ref: EventRef, measured: str, shown: list[DerivedFact],
+                   method: str = "", evidence: tuple[EventRef, ...] = ()) -> tuple[Contradiction, set[str]]:
+    """The contradiction, and the derived sentences to hold back (those that show it)."""
+    how = "; ".join(filter(None, [method, *(f.method for f in shown)])) or "the passage's measurements"
+    refs = tuple(dict.fromkeys(evidence + tuple(r for f in shown for r in f.evidence)))
+    return Contradiction(text, ref, measured, how, refs), {f.sentence for f in shown}
+
+
+def _check_stopped(p: Passage, at: int, text: str, ref: EventRef, derived):
+    if _match(IS_STOPPED, text) != (p.vehicle,):
+        return None
+    speed, _ = speed_at(p.samples, at)
+    if speed is None or speed < MOVING_MPS:
+        return None
+    return _contradiction(text, ref, f"it was measured moving at {speed:.1f} m/s ({mph(speed)} mph) then",
+                          _derived_of(derived, HAS_SPEED_OF))
+
+
+def _check_speed(p: Passage, at: int, text: str, ref: EventRef, derived):
+    args = _match(HAS_SPEED_OF, text)
+    if not args or args[0] != p.vehicle or not args[1].lstrip("-").isdigit():
+        return None
+    speed, _ = speed_at(p.samples, at)
+    if speed is None or abs(int(args[1]) - speed * MPH_PER_MPS) <= SPEED_TOLERANCE_MPH:
+        return None
+    return _contradiction(text, ref, f"it was measured at {speed * MPH_PER_MPS:.1f} mph then",
+                          _derived_of(derived, HAS_SPEED_OF, IS_STOPPED))
+
+
+def _check_light(p: Passage, at: int, text: str, ref: EventRef, derived):
+    args = _match(HAS_LIGHT, text)
+    if not args or args[0] != p.vehicle or not p.lights or at > p.end:
+        return None
+    colour = args[1]
+    near = [c for c in p.lights if abs(c.t - at) <= CLOCK_TOLERANCE_S * SECOND]
+    now = shown(p.lights, at)
+    possible = {w for light in [now, *near] if light for w in WORDS[light.colour]}
+    if p.crossing and p.crossing.t <= at and p.crossing.light:
+        possible |= set(WORDS[p.crossing.light.colour])      # "has red light" for the light it entered on
+    if now is None or colour in possible or colour not in ("red", "amber", "green"):
+        return None
+    return _contradiction(text, ref, f"the signal facing its {p.approach} approach showed {now.colour} then",
+                          _derived_of(derived, HAS_LIGHT, CROSSED_THE_STOP_LINE_ON), _showed(now, p), (now.ref,))
+
+
+def _check_crossed_on(p: Passage, at: int, text: str, ref: EventRef, derived):
+    args = _match(CROSSED_THE_STOP_LINE_ON, text)
+    c = p.crossing
+    if not args or args[0] != p.vehicle or c is None or c.light is None or c.light_uncertain or c.t > at:
+        return None
+    if args[1] in WORDS[c.light.colour]:
+        return None
+    return _contradiction(text, ref, f"it crossed the stop line on {c.light.colour}",
+                          _derived_of(derived, CROSSED_THE_STOP_LINE_ON))
+
+
+def _check_crossed(p: Passage, at: int, text: str, ref: EventRef, derived):
+    if _match(HAS_CROSSED_THE_STOP_LINE, text) != (p.vehicle,) or p.line is None:
+        return None
+    if (p.crossing and p.crossing.t <= at) or p.past_line_at_start:
+        return None
+    where, used = position_at(p.samples, at)
+    if where is None or p.line.to_line(*where) <= PLACE_TOLERANCE_M:
+        return None
+    return _contradiction(text, ref, f"it was {p.line.to_line(*where):.1f} m before its stop line then", [],
+                          between(used, at), tuple(s.ref for s in used))
+
+
+def _check_in_junction(p: Passage, at: int, text: str, ref: EventRef, derived):
+    if _match(IS_IN_THE_JUNCTION, text) != (p.vehicle,):
+        return None
+    where, used = position_at(p.samples, at)
+    if where is None or p.junction.edge(*where) <= PLACE_TOLERANCE_M:
+        return None
+    return _contradiction(text, ref, f"it was {p.junction.edge(*where):.1f} m outside the junction's area then", [],
+                          between(used, at), tuple(s.ref for s in used))
+
+
+def _check_stopped_at_line(p: Passage, at: int, text: str, ref: EventRef, derived):
+    if _match(HAS_STOPPED_AT_THE_STOP_LINE, text) != (p.vehicle,) or not _stop_line(p):
+        return None
+    c = p.crossing
+    if c is None or c.t > at or _stopped_at_line(p, at) or any("could have stopped unseen" in n for n in p.uncertain):
+        return None
+    slowest = min((s for s in p.samples if s.speed_mps is not None and s.t <= c.t), key=lambda s: s.speed_mps,
+                  default=None)
+    if slowest is None:
+        return None
+    return _contradiction(text, ref, f"it crossed the Stop line without standing still (slowest "
+                          f"{slowest.speed_mps:.1f} m/s, {slowest.label})", [], c.moment.method,
+                          (slowest.ref,) + c.moment.refs)
+
+
+def _check_emergency(p: Passage, at: int, text: str, ref: EventRef, derived):
+    if _match(IS_ON_AN_EMERGENCY_CALL, text) != (p.vehicle,):
+        return None
+    marks = [m for m in p.emergency if m[0] <= at]
+    if not marks or marks[-1][1]:
+        return None
+    t, _, mark = marks[-1]
+    return _contradiction(text, ref, f"its own record says it was not on an emergency call from {format_time(t)}",
+                          [], f"{mark.kind} #{mark.seq} records emergency: false", (mark,))
+
+
+def _check_limit(p: Passage, at: int, text: str, ref: EventRef, derived):
+    args = _match(SPEED_LIMIT_IS, text)
+    if not args or p.limit_mph is None:
+        return None
+    try:
+        if abs(float(args[0]) - p.limit_mph) < 0.5:
+            return None
+    except ValueError:
+        return None
+    return _contradiction(text, ref, f"the map gives {p.limit_mph:g} mph for road {p.limit_road}",
+                          _derived_of(derived, SPEED_LIMIT_IS))
+
+
+def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
+    if _match(IS_TOO_CLOSE_TO_STOP, text) != (p.vehicle,) or _too_close(p, at):
+        return None
+    amber = _amber(p, at)
+    if amber is None or amber.to_line_m is None or amber.speed_mps is None or amber.to_line_m <= 0:
+        return None
+    stop = _stopped_after(p, amber.light.t, at)
+    if stop is not None:
+        return _contradiction(text, ref, f"it stood still {stop.to_line_m or 0:.1f} m before the line after amber came "
+                              f"({stop.first.label})", [], amber.method, (stop.first.ref, amber.light.ref))
+    needed = stopping_distance_m(amber.speed_mps * MPH_PER_MPS)
+    return _contradiction(text, ref, f"when amber came it was {amber.to_line_m:.1f} m before the line, and stopping "
+                          f"takes {needed:.1f} m at {amber.speed_mps:.1f} m/s ({RULE_126})", [], amber.method,
+                          tuple(s.ref for s in amber.used) + (amber.light.ref,))
+
+
+_CHECKS = (_check_stopped, _check_speed, _check_light, _check_crossed_on, _check_crossed, _check_in_junction,
+           _check_stopped_at_line, _check_emergency, _check_limit, _check_too_close)

@@ -1,0 +1,366 @@
+"""The map as a history reads it: junctions with their stop lines, area, yellow box and major
+road; roads with their speed limits (DESIGN "Events", the run.start `map`).
+
+A producer describes a junction as it can, so each piece is read from what the map gives, and
+says where it came from (`*_source`), because a derived fact cites it:
+
+    stop lines  `stop_lines` [{approach, from, to, kind}] (DESIGN); else `stop_line_m`, the
+                distance of every approach's line from the centre (sim_replay.synthetic); else none
+    area        `box_m`, the half-size of the square "in the junction" (synthetic); else the
+                distance of the nearest stop line from the centre (a disc); else a 10 m disc
+    yellow box  `box`: a polygon [[x, y], ...], or true for the junction's whole area (HC 174);
+                `box_m` is not a yellow box, only the junction's extent
+    major road  `major`: the approaches (or road ids) of the major road; else, where stop lines
+                carry a kind, every approach without a Stop or Give Way line; else unknown
+
+Approaches are named, as signal.state names them, by where traffic comes from: a vehicle west of
+the centre comes from the west. Coordinates are metres, headings degrees counter-clockwise from
+east (the synthetic run's convention). Nothing here trusts a value: a NaN, a string or a number
+beyond 10,000 km is left out and the map's `problems` say so.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterable
+
+from store import EventRef
+
+Point = tuple[float, float]
+
+COMPASS = ("east", "north", "west", "south")
+UNIT = {"east": (1.0, 0.0), "north": (0.0, 1.0), "west": (-1.0, 0.0), "south": (0.0, -1.0)}
+MINOR_KINDS = ("stop", "give_way", "give way")
+MAX_COORD_M = 1e7            # 10,000 km: anything further is not a position on a road map
+DEFAULT_EXTENT_M = 10.0      # "in the junction" within 10 m of the centre, when the map says nothing
+ROAD_SNAP_M = 15.0           # a position this close to a road (two lanes and a verge) is on it
+MAX_JUNCTIONS = 10_000
+MAX_ROADS = 100_000
+MAX_LINES = 64               # stop lines of one junction
+CELL_M = 200.0               # the grid that finds junctions near a position
+
+
+def finite(value: Any, bound: float = MAX_COORD_M) -> float | None:
+    """A number a measurement can be: an int or float (not a bool, not a string), finite,
+    within bound (NaN fails every comparison, an infinity the bound)."""
+    kind = type(value)
+    if kind is float:
+        return value if -bound <= value <= bound else None
+    if kind is int:
+        return float(value) if -bound <= value <= bound else None
+    return None
+
+
+def point(value: Any) -> Point | None:
+    if isinstance(value, (list, tuple)) and len(value) == 2:
+        x, y = finite(value[0]), finite(value[1])
+        if x is not None and y is not None:
+            return (x, y)
+    return None
+
+
+def sector(dx: float, dy: float) -> str:
+    """The compass approach of a point seen from the centre: where traffic there comes from."""
+    angle = math.degrees(math.atan2(dy, dx))
+    if -45.0 <= angle < 45.0:
+        return "east"
+    if 45.0 <= angle < 135.0:
+        return "north"
+    if -135.0 <= angle < -45.0:
+        return "south"
+    return "west"
+
+
+def heading_sector(heading_deg: float) -> str:
+    """The approach of a vehicle heading this way: heading east, it comes from the west."""
+    rad = math.radians(heading_deg)
+    return sector(-math.cos(rad), -math.sin(rad))
+
+
+@dataclass(frozen=True)
+class StopLine:
+    """One approach's stop line. `outward` is the unit normal pointing away from the centre, so
+    that `to_line` is positive before the line and negative past it."""
+
+    approach: str
+    a: Point
+    b: Point
+    kind: str
+    source: str
+    outward: Point
+    segment: bool          # a segment from the map (lateral extent known), or a whole arm
+
+    def to_line(self, x: float, y: float) -> float:
+        """Metres still to go to the line (negative: past it)."""
+        return (x - self.a[0]) * self.outward[0] + (y - self.a[1]) * self.outward[1]
+
+    def alongside(self, x: float, y: float, slack_m: float = 3.0) -> bool:
+        """Whether a position lies in front of the line's extent (always, for a whole arm)."""
+        if not self.segment:
+            return True
+        dx, dy = self.b[0] - self.a[0], self.b[1] - self.a[1]
+        length = math.hypot(dx, dy)
+        along = ((x - self.a[0]) * dx + (y - self.a[1]) * dy) / length
+        return -slack_m <= along <= length + slack_m
+
+    def to_json(self) -> dict[str, Any]:
+        return {"approach": self.approach, "from": list(self.a), "to": list(self.b), "kind": self.kind,
+                "source": self.source}
+
+
+@dataclass(frozen=True)
+class Junction:
+    id: str
+    x: float
+    y: float
+    control: str
+    lines: tuple[StopLine, ...]
+    extent_m: float
+    extent_square: bool
+    extent_source: str
+    box: tuple[Point, ...] | None          # the yellow box polygon; None with boxed: the whole area
+    boxed: bool
+    major: frozenset[str] | None
+    major_source: str
+    monitors: tuple[str, ...]              # srcs of the monitors the map puts at this junction
+    ref: EventRef | None = None            # the run.start that described it
+
+    def distance(self, x: float, y: float) -> float:
+        return math.hypot(x - self.x, y - self.y)
+
+    def edge(self, x: float, y: float) -> float:
+        """Metres outside the junction's area (negative inside), for interpolating entry."""
+        if self.extent_square:
+            return max(abs(x - self.x), abs(y - self.y)) - self.extent_m
+        return self.distance(x, y) - self.extent_m
+
+    def inside(self, x: float, y: float) -> bool:
+        return self.edge(x, y) <= 0.0
+
+    def in_box(self, x: float, y: float) -> bool:
+        if not self.boxed:
+            return False
+        return self.inside(x, y) if self.box is None else _in_polygon(x, y, self.box)
+
+    def line_for(self, approach: str | None) -> StopLine | None:
+        return next((line for line in self.lines if line.approach == approach), None)
+
+    def is_major(self, approach: str | None) -> bool | None:
+        """Whether an approach is on the major road; None where the map does not say."""
+        if self.major is None or approach is None:
+            return None
+        return approach in self.major
+
+    def to_json(self) -> dict[str, Any]:
+        return {"id": self.id, "x": self.x, "y": self.y, "control": self.control,
+                "stop_lines": [line.to_json() for line in self.lines], "extent_m": self.extent_m,
+                "extent": ("square" if self.extent_square else "disc") + f" ({self.extent_source})",
+                "box": [list(p) for p in self.box] if self.box else self.boxed,
+                "major": sorted(self.major) if self.major is not None else None, "major_source": self.major_source}
+
+
+@dataclass(frozen=True)
+class Road:
+    id: str
+    a: Point
+    b: Point
+    limit_mph: float | None
+
+    def distance(self, x: float, y: float) -> float:
+        dx, dy = self.b[0] - self.a[0], self.b[1] - self.a[1]
+        length2 = dx * dx + dy * dy
+        f = 0.0 if length2 == 0 else max(0.0, min(1.0, ((x - self.a[0]) * dx + (y - self.a[1]) * dy) / length2))
+        return math.hypot(x - self.a[0] - f * dx, y - self.a[1] - f * dy)
+
+
+@dataclass(frozen=True)
+class Map:
+    junctions: tuple[Junction, ...]
+    roads: tuple[Road, ...]
+    ref: EventRef | None
+    problems: tuple[str, ...]
+    _grid: dict[tuple[int, int], tuple[int, ...]] = field(default_factory=dict, compare=False, repr=False)
+    _around: dict[tuple[int, int], tuple[Junction, ...]] = field(default_factory=dict, compare=False, repr=False)
+
+    def junction(self, ident: str) -> Junction | None:
+        return next((j for j in self.junctions if j.id == ident), None)
+
+    def near(self, x: float, y: float, radius_m: float) -> list[Junction]:
+        """The junctions within radius_m (<= CELL_M) of a position, found on a grid."""
+        cell = (int(x // CELL_M), int(y // CELL_M))
+        around = self._around.get(cell)
+        if around is None:
+            if len(self._around) > 100_000:
+                self._around.clear()
+            around = self._around[cell] = tuple(self.junctions[n] for i in range(cell[0] - 1, cell[0] + 2)
+                                                for k in range(cell[1] - 1, cell[1] + 2)
+                                                for n in self._grid.get((i, k), ()))
+        return [j for j in around if j.distance(x, y) <= radius_m]
+
+    def road(self, road_id: Any, x: float | None, y: float | None) -> Road | None:
+        """The road a position is on: the one its producer named, else the nearest within
+        ROAD_SNAP_M."""
+        named = next((r for r in self.roads if isinstance(road_id, str) and r.id == road_id), None)
+        if named is not None or x is None or y is None:
+            return named
+        best = min(self.roads, key=lambda r: r.distance(x, y), default=None)
+        return best if best is not None and best.distance(x, y) <= ROAD_SNAP_M else None
+
+
+def read_map(start: dict | None) -> Map:
+    """The map of a run.start event (None, or one without a map: an empty map)."""
+    body = start.get("body") if isinstance(start, dict) else None
+    raw = body.get("map") if isinstance(body, dict) else None
+    ref = EventRef.of(start) if isinstance(body, dict) else None
+    problems: list[str] = []
+    if not isinstance(raw, dict):
+        return Map((), (), ref, ("the run records no map",) if start is not None else ("the run has no run.start",))
+    roads = tuple(_roads(raw.get("roads"), problems))
+    monitors = _monitors(raw.get("monitors"))
+    junctions = tuple(_junctions(raw.get("junctions"), roads, monitors, ref, problems))
+    grid: dict[tuple[int, int], list[int]] = {}
+    for n, j in enumerate(junctions):
+        grid.setdefault((int(j.x // CELL_M), int(j.y // CELL_M)), []).append(n)
+    return Map(junctions, roads, ref, tuple(problems[:50]), {k: tuple(v) for k, v in grid.items()})
+
+
+def _items(value: Any, limit: int, what: str, problems: list[str]) -> list[dict]:
+    items = [v for v in value if isinstance(v, dict)] if isinstance(value, list) else []
+    if len(items) > limit:
+        problems.append(f"the map lists {len(items)} {what}; the first {limit} are read")
+    return items[:limit]
+
+
+def _roads(value: Any, problems: list[str]) -> Iterable[Road]:
+    for raw in _items(value, MAX_ROADS, "roads", problems):
+        a, b = point(raw.get("from")), point(raw.get("to"))
+        if not isinstance(raw.get("id"), str) or a is None or b is None:
+            problems.append(f"a road without an id and two points is left out: {str(raw)[:80]}")
+            continue
+        limit = finite(raw.get("speed_limit_mph"), 200.0)
+        yield Road(raw["id"], a, b, limit if limit is not None and limit > 0 else None)
+
+
+def _monitors(value: Any) -> dict[str, list[str]]:
+    found: dict[str, list[str]] = {}
+    for raw in value if isinstance(value, list) else []:
+        if isinstance(raw, dict) and isinstance(raw.get("id"), str) and isinstance(raw.get("junction"), str):
+            found.setdefault(raw["junction"], []).append(f"monitor/{raw['id']}")
+    return found
+
+
+def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[str]], ref: EventRef | None,
+               problems: list[str]) -> Iterable[Junction]:
+    for raw in _items(value, MAX_JUNCTIONS, "junctions", problems):
+        x, y = finite(raw.get("x")), finite(raw.get("y"))
+        if not isinstance(raw.get("id"), str) or x is None or y is None:
+            problems.append(f"a junction without an id and a position is left out: {str(raw)[:80]}")
+            continue
+        lines = _lines(raw, (x, y), problems)
+        extent, square, extent_source = _extent(raw, (x, y), lines)
+        box, boxed = _box(raw.get("box"))
+        major, major_source = _major(raw, (x, y), lines, roads)
+        control = raw.get("control") if isinstance(raw.get("control"), str) else "none"
+        yield Junction(raw["id"], x, y, control, lines, extent, square, extent_source, box, boxed, major,
+                       major_source, tuple(monitors.get(raw["id"], ())), ref)
+
+
+def _lines(raw: dict, centre: Point, problems: list[str]) -> tuple[StopLine, ...]:
+    if isinstance(raw.get("stop_lines"), list):
+        lines = []
+        for item in _items(raw["stop_lines"], MAX_LINES, f"stop lines at {raw['id']}", problems):
+            line = _segment_line(item, centre)
+            if line is None:
+                problems.append(f"a stop line of {raw['id']} is not a line away from its centre: {str(item)[:80]}")
+            else:
+                lines.append(line)
+        return tuple(lines)
+    distance = finite(raw.get("stop_line_m"), 1000.0)
+    if distance is None or distance <= 0:
+        return ()
+    kind = {"stop": "stop", "give_way": "give_way", "lights": "signal"}.get(raw.get("control"), "")
+    return tuple(_arm_line(approach, centre, distance, kind) for approach in COMPASS)
+
+
+def _segment_line(item: dict, centre: Point) -> StopLine | None:
+    a, b = point(item.get("from")), point(item.get("to"))
+    if a is None or b is None or not isinstance(item.get("approach"), str):
+        return None
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length = math.hypot(dx, dy)
+    if length < 0.1:
+        return None
+    n = (-dy / length, dx / length)
+    towards_centre = (centre[0] - a[0]) * n[0] + (centre[1] - a[1]) * n[1]
+    if abs(towards_centre) < 0.1:
+        return None
+    if towards_centre > 0:
+        n = (-n[0], -n[1])
+    kind = item.get("kind") if isinstance(item.get("kind"), str) else ""
+    return StopLine(item["approach"], a, b, kind, "map stop_lines", n, True)
+
+
+def _arm_line(approach: str, centre: Point, distance: float, kind: str) -> StopLine:
+    ux, uy = UNIT[approach]
+    mid = (centre[0] + ux * distance, centre[1] + uy * distance)
+    a, b = (mid[0] - uy * 5.0, mid[1] + ux * 5.0), (mid[0] + uy * 5.0, mid[1] - ux * 5.0)
+    return StopLine(approach, a, b, kind, "map stop_line_m", (ux, uy), False)
+
+
+def _extent(raw: dict, centre: Point, lines: tuple[StopLine, ...]) -> tuple[float, bool, str]:
+    half = finite(raw.get("box_m"), 1000.0)
+    if half is not None and half > 0:
+        return half, True, "map box_m"
+    if lines:
+        return min(abs(line.to_line(*centre)) for line in lines), False, "the nearest stop line"
+    return DEFAULT_EXTENT_M, False, f"default {DEFAULT_EXTENT_M:g} m: the map gives no area"
+
+
+def _box(value: Any) -> tuple[tuple[Point, ...] | None, bool]:
+    if value is True:
+        return None, True
+    if isinstance(value, list) and len(value) >= 3:
+        points = [point(p) for p in value[:256]]
+        if all(p is not None for p in points):
+            return tuple(points), True
+    return None, False
+
+
+def _major(raw: dict, centre: Point, lines: tuple[StopLine, ...], roads: tuple[Road, ...]
+           ) -> tuple[frozenset[str] | None, str]:
+    arms = _arms(centre, roads) | {line.approach for line in lines}
+    named = raw.get("major")
+    if isinstance(named, list) and named:
+        major: set[str] = set()
+        for item in named[:64]:
+            road = next((r for r in roads if r.id == item), None)
+            if road is not None:
+                major |= _arms(centre, (road,))
+            elif isinstance(item, str):
+                major.add(item)
+        return frozenset(major), "map major"
+    if any(line.kind for line in lines) and any(line.source == "map stop_lines" for line in lines):
+        minor = {line.approach for line in lines if line.kind in MINOR_KINDS}
+        if minor:
+            return frozenset(arms - minor), "the map's stop lines: a Stop or Give Way line marks a minor approach"
+    return None, "the map does not say which road is major"
+
+
+def _arms(centre: Point, roads: Iterable[Road]) -> set[str]:
+    """The approaches of the roads meeting at a centre: the sector of each end away from it."""
+    arms = set()
+    for road in roads:
+        if road.distance(*centre) > 2.0:
+            continue
+        for end in (road.a, road.b):
+            if math.hypot(end[0] - centre[0], end[1] - centre[1]) > 1.0:
+                arms.add(sector(end[0] - centre[0], end[1] - centre[1]))
+    return arms
+
+
+def _in_polygon(x: float, y: float, polygon: tuple[Point, ...]) -> bool:
+    inside = False
+    for (x1, y1), (x2, y2) in zip(polygon, polygon[1:] + polygon[:1]):
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
+            inside = not inside
+    return inside

@@ -1,0 +1,95 @@
+"""The other road users near the conflict point while a vehicle passed, and how they moved.
+
+The conflict point is the junction's centre, where the paths of its approaches cross. A road user
+counts as near when it came within CONFLICT_M of it in the window read; one following the vehicle
+on its own approach is left out (it does not cross its path). For each: the arm it was first seen
+on and whether it was closing on the centre, whether that arm is the major road, the hardest it braked while the vehicle passed (its speed
+series, averaged over at least a second: motion.peak_deceleration), whether it came to a stop, and
+what its own signal showed then (braking for one's own red light is not being forced by another).
+"""
+from __future__ import annotations
+
+from typing import Mapping
+
+from .junctions import Junction, heading_sector, sector
+from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration
+from .passage import Other
+from .record import Track
+from .signals import Signals, shown
+
+CONFLICT_M = 50.0      # 30 mph covers 50 m in under 4 s, and a car needs 23 m to stop from it (HC 126)
+MOVING_MPS = 2.0       # "came to a stop" needs it moving at least this fast first (4.5 mph)
+MAX_OTHERS = 64        # the nearest this many; a crowd beyond that adds nothing to a judgement
+
+
+def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
+               t_from: int, t_to: int, passing: tuple[int, int], signals: Signals) -> tuple[Other, ...]:
+    """The road users of `tracks` near the junction's centre in [t_from, t_to] (the vehicle
+    itself and its own approach left out); braking and stopping are looked for while the
+    vehicle passes (`passing`: from its crossing or entry until it left, and a reaction after)."""
+    found = []
+    for user, (src, series) in tracks.items():
+        if user == vehicle:
+            continue
+        window = tuple(s for s in series if t_from <= s.t <= t_to)
+        placed = [s for s in window if s.placed]
+        if not placed:
+            continue
+        closest = min(junction.distance(s.x, s.y) for s in placed)
+        arm, closing = _arm(junction, placed)
+        if closest > CONFLICT_M or (arm is not None and arm == approach and closing):
+            continue
+        found.append(_other(user, src, window, junction, arm, closing, closest, passing, signals))
+    found.sort(key=lambda o: (o.closest_m, o.user))
+    return tuple(found[:MAX_OTHERS])
+
+
+def _arm(junction: Junction, placed: list[Sample]) -> tuple[str | None, bool]:
+    """The arm a road user was first seen on (its position's sector, outside the junction; else
+    where its heading says it came from), and whether it was then closing on the centre."""
+    first = placed[0]
+    if junction.edge(first.x, first.y) > 0:
+        return sector(first.x - junction.x, first.y - junction.y), len(placed) > 1 and _closing(junction, placed)
+    heading = next((s.heading_deg for s in placed if s.heading_deg is not None), None)
+    return (heading_sector(heading) if heading is not None else None), False
+
+
+def _closing(junction: Junction, placed: list[Sample]) -> bool:
+    return min(junction.distance(s.x, s.y) for s in placed) < junction.distance(placed[0].x, placed[0].y) - 0.5
+
+
+def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, arm: str | None, closing: bool,
+           closest: float, passing: tuple[int, int], signals: Signals) -> Other:
+    braking = _braking(window, junction, passing)
+    stopped = _stopped(window, passing)
+    timeline = signals.timeline(junction.id, arm) if arm else ()
+    moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
+    light = shown(timeline, moment) if moment is not None and timeline else None
+    return Other(user, src, window, arm, closing, junction.is_major(arm), closest, braking, stopped, light)
+
+
+def _braking(window: tuple[Sample, ...], junction: Junction, passing: tuple[int, int]) -> Braking | None:
+    """The hardest braking while the vehicle passed, counted only while the road user was
+    still outside the junction and heading into it."""
+    before = tuple(s for s in window if not s.placed or junction.edge(s.x, s.y) > 0)
+    braking = peak_deceleration(before, *passing)
+    if braking is None or braking.decel_mps2 <= 0:
+        return None
+    a, b = braking.first, braking.last
+    if a.placed and b.placed and junction.distance(b.x, b.y) > junction.distance(a.x, a.y) + 0.5:
+        return None    # moving away from the centre: not braking for the junction
+    return braking
+
+
+def _stopped(window: tuple[Sample, ...], passing: tuple[int, int]) -> Sample | None:
+    """The sample at which the road user came to a stop while the vehicle passed, having been
+    moving at MOVING_MPS or more in the window before it."""
+    moving = False
+    for s in window:
+        if s.speed_mps is None or s.t > passing[1]:
+            continue
+        if s.speed_mps >= MOVING_MPS:
+            moving = True
+        elif moving and s.speed_mps <= STOPPED_MPS and s.t >= passing[0]:
+            return s
+    return None
