@@ -30,22 +30,13 @@ from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_a
 from .passage import Other, Passage
 from .signals import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
-from .vocabulary import (EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT, HAS_SPEED_OF,
+from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT, HAS_SPEED_OF,
                          HAS_STOPPED_AT_THE_STOP_LINE, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
                          IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED, IS_STOPPED_IN_THE_BOX_JUNCTION,
-                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, Sentence)
+                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, WOULD_FORCE, Sentence)
 from .when import format_time
 
 SECOND = 1_000_000_000
-
-# Sentences the rulebooks are being given (the law branch); kept here until reasoner/vocabulary.py
-# can name them with the rulebook that declares them (tests/reasoner/test_derived.py checks both).
-WOULD_FORCE = Sentence(
-    "*a vehicle* would force *a road user* to change speed or course", "highway_code.le",
-    "V proceeding would cause U to change speed or course to avoid an accident (TSRGD Sch 14 para 5(5))")
-CROSSED_THE_STOP_LINE_ON = Sentence(
-    "*a vehicle* crossed the stop line on *a colour* light", "highway_code.le",
-    "what the signal facing V's approach showed when V crossed its stop line (red and amber: both)")
 
 # Thresholds (docs/history.md gives the reasoning)
 FORCE_DECEL_MPS2 = 2.0    # Hupfer (1997), as cited by the criticality-metrics catalogue: below 2 m/s² a driver's

@@ -166,6 +166,9 @@ IS_TOO_CLOSE_TO_STOP = Sentence(
 HAS_STOPPED_AT_THE_STOP_LINE = Sentence(
     "*a vehicle* has stopped at the stop line", "highway_code.le",
     "V came to a complete stop at a Stop sign's line before crossing it (HC 171)")
+WOULD_FORCE = Sentence(
+    "*a vehicle* would force *a road user* to change speed or course", "highway_code.le",
+    "V proceeding would cause U to change speed or course to avoid an accident (TSRGD Sch 14 para 5(5))")
 MONITOR_OBSERVED_LIGHT = Sentence(
     "the monitor observed *a colour* light for *a vehicle*", "validators.le",
     "the light the monitor recorded for V, beside the vehicle's own perception of it")
@@ -211,6 +214,6 @@ SENTENCES: tuple[Sentence, ...] = (
     *STAGES.values(), MITIGATELY_VIOLATES, MUST_NOT, IS_AN_OFFENCE_UNDER, GETS_LICENCE_POINTS,
     IS_OFFERED_A_FIXED_PENALTY, FACES_REGULATORY_SANCTIONS, *CORE, CROSSED_THE_STOP_LINE_ON,
     HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, STOP_LINE_NOT_CLEARLY_VISIBLE, IS_TOO_CLOSE_TO_STOP,
-    HAS_STOPPED_AT_THE_STOP_LINE,
+    HAS_STOPPED_AT_THE_STOP_LINE, WOULD_FORCE,
     MONITOR_OBSERVED_LIGHT, HAS_A_LIGHT_PERCEPTION_FAULT, IS_THE_DRIVER_OF, IS_THE_USER_IN_CHARGE_OF,
     IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR, IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF, TRANSITION_DEMAND_EXPIRED, *EXPLAINED)
