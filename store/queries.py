@@ -38,12 +38,7 @@ def select_events(
     wanted = collection("kinds", kinds)
     if wanted is not None and not set(wanted) & set(DENSE_KINDS):
         clauses.append(SPARSE_ONLY)  # verbatim, so that SQLite may use the partial index by kind
-    if t_from is not None:
-        clauses.append("t >= ?")
-        params.append(t_from)
-    if t_to is not None:
-        clauses.append("t <= ?")
-        params.append(t_to)
+    _time_window(clauses, params, t_from, t_to)
     sql = f"SELECT t, seq, src, event FROM events WHERE {' AND '.join(clauses)} ORDER BY t, seq, src"
     return sql, params
 
@@ -236,11 +231,16 @@ def observation_rows(conn: sqlite3.Connection, run: str, vehicle: str, srcs: Col
     if chosen is not None:
         clauses.append(f"src IN ({','.join('?' * len(chosen))})")
         params.extend(chosen)
+    _time_window(clauses, params, t_from, t_to)
+    return conn.execute(f"SELECT t, seq, src, event FROM events WHERE {' AND '.join(clauses)} "
+                        "ORDER BY t, seq, src", params)
+
+
+def _time_window(clauses: list[str], params: list[Any], t_from: int | None, t_to: int | None) -> None:
+    """Add `t_from <= t <= t_to` (either end open when None) to a WHERE being built."""
     if t_from is not None:
         clauses.append("t >= ?")
         params.append(t_from)
     if t_to is not None:
         clauses.append("t <= ?")
         params.append(t_to)
-    return conn.execute(f"SELECT t, seq, src, event FROM events WHERE {' AND '.join(clauses)} "
-                        "ORDER BY t, seq, src", params)
