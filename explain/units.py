@@ -2,12 +2,12 @@
 the producers record metres per second (DESIGN's entity.state `speed_mps`)."""
 from __future__ import annotations
 
-MPS_PER_MPH = 1609.344 / 3600          # an international mile is 1,609.344 m, exactly
+from reasoner.motion import MPH_PER_MPS   # the one mile conversion: the histories measure with it too
 
 
 def mph(mps: float) -> float:
-    """A speed in metres per second, in miles per hour."""
-    return mps / MPS_PER_MPH
+    """A speed in metres per second, in miles per hour (unrounded, for pictures and text)."""
+    return mps * MPH_PER_MPS
 
 
 def mph_text(mps: float | None) -> str:

@@ -22,7 +22,7 @@ from store import EventRef
 from .junctions import finite
 
 MAX_SPEED_MPS = 150.0        # 540 km/h: no road vehicle measures more
-MPH_PER_MPS = 2.2369362920544   # 3600 / 1609.344
+MPH_PER_MPS = 3600 / 1609.344    # an international mile is 1,609.344 m, exactly
 STOPPED_MPS = 0.5 / MPH_PER_MPS  # "V is stopped" exactly when its speed rounds to 0 mph (< 0.5 mph)
 MIN_DECEL_SPAN_S = 1.0       # decelerations are averaged over at least a second (speed noise)
 MAX_DECEL_MPS2 = 4.0         # the hardest braking (or pulling away) assumed between two samples when

@@ -18,6 +18,7 @@ from store import Store
 
 from tests.helpers.verdict_runs import ENTER, RUN, SPEEDING, RunBuilder, car, incidents, ns
 from tests.helpers.explained_cases import amber as amber_run  # cars 5 (before the line) and 6 (over it) on amber
+from tests.helpers.explained_cases import av_taken_over  # 301: its driver took over before the red
 
 VERDICTS = {"punishable", "mitigated", "dismissed"}
 LIABLE = {"driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator", "none"}
@@ -307,12 +308,7 @@ def test_self_driving_car_that_saw_green_on_red_is_the_asdes(tmp_path):
 # 8 -------------------------------------------------------------------------------------------
 def test_self_driving_car_taken_over_by_its_driver_before_the_red_is_the_drivers(tmp_path):
     run = RunBuilder()
-    run.spawn("301", "car", driver="autonomous", automation_level=4)
-    run.ads("301", "activated", 0.5)
-    run.ads("301", "driver_override", 25, reason="driver took the wheel")
-    run.lights(30, "red")
-    run.crossing("301", 30, car("301") + ["301 has red light"],
-                 ["301 has red light", "301 crossed the stop line on red light"])
+    av_taken_over(run)
     inc = one(judge(tmp_path, run.finish()), "301")
     assert_punishable(inc, "HC 176", TRAFFIC_LIGHT, "TSRGD 2016 Sch 14", liable="driver")
     assert inc.control.in_control == "driver"
