@@ -58,6 +58,7 @@ class _Builder:
                          "monitor": inc.monitor, "verdict": inc.verdict, "rule": inc.rule,
                          "rule_name": ph.rule_name(inc.rule), "law": inc.law},
             "potential_violation": self._potential_violation(),
+            "measured": self._measured(),
             "validation": self._validation(),
             "penalty": self._penalty(),
             "liability": self._liability(),
@@ -84,6 +85,15 @@ class _Builder:
                 "how": how, "observed": self._facts(inc.scenarios.monitor),
                 "rule": inc.rule, "law": inc.law, "tree": self.pv_tree,
                 "rulebook": self.ex.monitor_rulebook}
+
+    def _measured(self) -> dict:
+        """What the vehicle's history showed (derived facts, each with its method and the
+        measurements it rests on) and the margin of the act."""
+        m = self.inc.margin
+        return {"facts": [{"fact": f.sentence, "method": f.method, "uncertain": f.uncertain,
+                           "evidence": self._ids(r.to_json() for r in f.evidence)} for f in self.inc.derived],
+                "margin": None if m is None else {**m.to_json(), "text": ph.margin_text(m),
+                                                  "evidence": self._ids(r.to_json() for r in m.evidence)}}
 
     def _validation(self) -> dict | None:
         inc = self.inc
@@ -233,6 +243,8 @@ class _Builder:
         if inc.verdict == "punishable":
             lia = doc["liability"]
             out.append(f"The {lia['liable']} is liable: {lia['in_control_text']}.")
+        if inc.margin is not None and inc.verdict != "dismissed":
+            out.append(f"Measured margin: {ph.margin_text(inc.margin)}.")
         if inc.findings:
             kinds = ph.join(sorted({f.kind for f in inc.findings}))
             out.append(f"Also found: {kinds} (see Findings).")
@@ -255,7 +267,9 @@ class _Builder:
 
     # -- helpers --------------------------------------------------------------------------------------
     def _facts(self, facts: Iterable[tuple[Any, EventRef]]) -> list[dict]:
-        return [{"fact": s, "evidence": self.index.ids.get(ev.key) if ev else None} for s, ev in facts]
+        measured = {f.sentence for f in self.inc.derived}
+        return [{"fact": s, "evidence": self.index.ids.get(ev.key) if ev else None,
+                 **({"measured": True} if s in measured else {})} for s, ev in facts]
 
     def _ids(self, refs: Iterable[dict]) -> list[str]:
         return [self.index.ids[key(r)] for r in refs if r and key(r) in self.index.ids]

@@ -58,7 +58,25 @@ def _asked(doc: dict) -> dict[str, str]:
 
 
 def _facts(facts: list[dict]) -> list[str]:
-    return [f"{f['fact']}" + (f" [{f['evidence']}]" if f.get("evidence") else "") for f in facts]
+    return [f"{f['fact']}" + (" (measured)" if f.get("measured") else "") +
+            (f" [{f['evidence']}]" if f.get("evidence") else "") for f in facts]
+
+
+def _measured(doc: dict) -> list[Block]:
+    """The facts the history derived, with how, and the margin of the act."""
+    m = doc.get("measured") or {}
+    out: list[Block] = []
+    if m.get("facts"):
+        out.append(("para", "The facts marked (measured) were derived from the record's measurements, beside what "
+                            "was stated; a stated fact they contradict is a finding, not replaced:"))
+        out.append(("list", [f"{f['fact']}: {f['method']}" + (f" (uncertain: {f['uncertain']})" if f.get("uncertain")
+                                                               else "") +
+                             (f" [{', '.join(f['evidence'])}]" if f.get("evidence") else "") for f in m["facts"]]))
+    if m.get("margin"):
+        mg = m["margin"]
+        out.append(("para", f"Margin of the act: {mg['text']}" + (f"; {mg['method']}" if mg.get("method") else "") +
+                            (f" [{', '.join(mg['evidence'])}]." if mg.get("evidence") else ".")))
+    return out
 
 
 def _potential_violation(doc: dict, full: bool) -> list[Block]:
@@ -68,6 +86,7 @@ def _potential_violation(doc: dict, full: bool) -> list[Block]:
                         ("para", f"The potential violation of “{doc['incident']['action']}” was {pv['how']}. "
                                  "The monitor observed:")]
     out.append(("list", _facts(pv["observed"]) or ["nothing about the vehicle"]))
+    out += _measured(doc)
     if pv["tree"] and pv["tree"]["status"] == "failed" and pv["tree"]["text"] in _asked(doc):
         out.append(("para", f"The monitor rules ({pv['rulebook']}) do not derive it from that observation "
                             "(see 5. Why not)."))

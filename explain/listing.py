@@ -44,7 +44,7 @@ def _penalty(p: Penalty | None) -> str:
 
 
 def _margin(m: Margin) -> str:
-    return f"{m.quantity} {m.value:g} {m.unit}"
+    return f"{m.quantity} {m.value:g} {m.unit}" + (" (uncertain)" if m.uncertain else "")
 
 
 def _findings(findings: tuple[Finding, ...]) -> str:

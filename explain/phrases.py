@@ -37,6 +37,14 @@ def past(action: str) -> str:
     return f"{done} {rest}".strip()
 
 
+def margin_text(m: Any) -> str:
+    """A reasoner.model.Margin in words: "seconds after red the stop line was crossed: 1.4 s
+    (speed at the line 22.5 mph)", with what the record leaves open."""
+    figures = "; ".join(f"{q} {v:g} {u}" for q, v, u in m.figures)
+    text = f"{m.quantity}: {m.value:g} {m.unit}" + (f" ({figures})" if figures else "")
+    return text + (f" [uncertain: {m.uncertain}]" if m.uncertain else "")
+
+
 def rule_name(label: str | None) -> str:
     """"HC 176" -> "Highway Code rule 176"; any other label as written; none -> "the rules"."""
     if not label:

@@ -25,7 +25,7 @@ from typing import Any, Callable, Iterable
 from store import EventRef
 
 from .junctions import sector
-from .model import Finding
+from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
 from .passage import Other, Passage
 from .signals import WORDS, Light, shown
@@ -49,20 +49,6 @@ MOVING_MPS = 1.0          # "V is stopped" is contradicted from this speed on (2
 SPEED_TOLERANCE_MPH = 3   # a stated speed this far from the measured one is a contradiction
 PLACE_TOLERANCE_M = 2.0   # "has crossed the stop line" / "is in the junction" contradicted this far short of it
 CLOCK_TOLERANCE_S = 0.5   # a light changing this close to the moment is not a contradiction either way
-
-
-@dataclass(frozen=True)
-class DerivedFact:
-    """A sentence the history shows (no full stop, as scenario facts are kept), how, and on what."""
-
-    sentence: str
-    method: str
-    evidence: tuple[EventRef, ...]
-    uncertain: str | None = None
-
-    def to_json(self) -> dict[str, Any]:
-        return {"sentence": self.sentence, "method": self.method, "uncertain": self.uncertain,
-                "evidence": [r.to_json() for r in self.evidence]}
 
 
 @dataclass(frozen=True)
@@ -515,3 +501,27 @@ def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
 
 _CHECKS = (_check_stopped, _check_speed, _check_light, _check_crossed_on, _check_crossed, _check_in_junction,
            _check_stopped_at_line, _check_emergency, _check_limit, _check_too_close)
+
+
+# --- derived facts beside stated ones ---------------------------------------------------------------
+
+_ONE_VALUE = (HAS_SPEED_OF, HAS_LIGHT, SPEED_LIMIT_IS, CROSSED_THE_STOP_LINE_ON)
+
+
+def beside(derived: Iterable[DerivedFact], stated: Iterable[Any]) -> tuple[DerivedFact, ...]:
+    """The derived facts that add to what producers stated: none that repeats a stated sentence,
+    and none of a kind that has one value (a speed, a light, the limit, the light at the line)
+    where a producer stated that kind for the same road user. A stated fact the measurements
+    contradict is a finding (`checked`); one they agree with is kept in the producer's words."""
+    said = {s.strip().rstrip(".").strip() for s in stated if isinstance(s, str)}
+    kinds = {(i, args[0] if args else None) for s in said for i, kind in enumerate(_ONE_VALUE)
+             if (args := _match(kind, s)) is not None}
+    out = []
+    for f in derived:
+        if f.sentence in said:
+            continue
+        if any((args := _match(kind, f.sentence)) is not None and (i, args[0] if args else None) in kinds
+               for i, kind in enumerate(_ONE_VALUE)):
+            continue
+        out.append(f)
+    return tuple(out)

@@ -30,18 +30,23 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, Timeline
 
+from . import acts, history
 from .chain_status import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
+from .derived import Contradiction, DerivedFact, beside, checked
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
 from .facts import FactReader
 from .findings import Gaps, decision_fault, missing_evidence
+from .margins import margin as measured_margin
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
-from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice, Scenarios,
-                    StageProof)
+from .model import (Control, Decision, Finding, Incident, Liability, Margin, Penalty, Proofs, RulebookChoice,
+                    Scenarios, StageProof)
+from .passage import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
+from .sweep import Candidate, Sweep
 from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks, recorded_rulebooks
 from .scenarios import (Scenario, entity, has_perception, monitor_scenario, spawn_facts, vehicle_action,
                         vehicle_scenario)
@@ -53,6 +58,8 @@ if TYPE_CHECKING:
     from .explanation import Explanation
 
 LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
+SECOND = 1_000_000_000
+SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one of the vehicle is that one
 
 
 @dataclass(frozen=True)
@@ -83,6 +90,17 @@ class _Case:
 
 
 @dataclass(frozen=True)
+class _Measured:
+    """What the vehicle's passage shows at the act: the derived facts added to the Monitor
+    Scenario (those that contradict a stated fact are held back and are findings)."""
+
+    passage: Passage | None = None
+    at: int | None = None
+    derived: tuple[DerivedFact, ...] = ()
+    contradictions: tuple[Contradiction, ...] = ()
+
+
+@dataclass(frozen=True)
 class _Validation:
     """What the validator stage found: the verdict, why, and what it rests on."""
 
@@ -107,6 +125,7 @@ class Investigation:
         self._rulesets: dict[str, RuleSet] = {}
         self._witnessed: dict[str, set[str]] = {}
         self._chains: dict[str, ChainStatus] = {}
+        self._contexts: dict[str, history.RunContext] = {}
         self.problems: dict[str, list[str]] = {}
 
     # -- public ---------------------------------------------------------------------------
@@ -117,12 +136,19 @@ class Investigation:
         rs = self.ruleset(run, recorded)
         monitor = rs["monitor"]
         eps: list[Episode] = []
+        swept: list[Candidate] = []
         if monitor is not None:
             rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
+            sweeper = Sweep(self.context(run).map)
             with CollectorPaused():    # hundreds of thousands of parsed observations, no cycles
-                eps = list(episodes(self.store.events(run, kinds=["monitor.observation"]), rederiver))
+                eps = list(episodes(_fed(self.store.events(run, kinds=["monitor.observation"]), sweeper), rederiver))
+                if not sweeper.fed:
+                    for state in self.store.events(run, kinds=["entity.state"]):
+                        sweeper.add(state)
+            swept = sweeper.candidates()
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
+        todo += self._unrecorded(run, swept, todo)
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
         timeline, gaps = Timeline(self.store, run), Gaps(self.store, run)
         found = []
@@ -130,10 +156,39 @@ class Investigation:
             body = pv["body"] if pv else {}
             case = _Case(run, rs, timeline.at(t), t, src, pv, ep,
                          str(body.get("vehicle")) if pv else ep.vehicle, str(body.get("action")) if pv else ep.action)
-            found.append(self._judge(case, gaps))
+            incident = self._judge(case, gaps)
+            if incident is not None:
+                found.append(incident)
             if progress is not None:
                 progress(len(found), len(todo))
         return found
+
+    def context(self, run: str) -> history.RunContext:
+        """What every history of the run shares (its map, its signals), read once."""
+        if run not in self._contexts:
+            self._contexts[run] = history.run_context(self.store, run)
+        return self._contexts[run]
+
+    def _unrecorded(self, run: str, swept: list[Candidate], todo: list) -> list:
+        """The swept candidates no recorded or re-derived potential violation of the same act
+        already covers, as one-observation episodes."""
+        near = int(SWEPT_NEAR_S * SECOND)
+        taken: dict[tuple[str, str], list[int]] = {}
+        for t, _, pv, ep in todo:
+            vehicle, action = (str(pv["body"].get("vehicle")), str(pv["body"].get("action"))) if pv else \
+                (ep.vehicle, ep.action)
+            taken.setdefault((vehicle, action), []).append(t)
+        out = []
+        for c in swept:
+            times = taken.setdefault((c.user, c.action), [])
+            if any(abs(c.t - t) <= near for t in times):
+                continue
+            times.append(c.t)
+            junction = self.context(run).map.junction(c.junction)
+            src = c.event["src"] if c.event["kind"] == "monitor.observation" or not junction or not junction.monitors \
+                else junction.monitors[0]
+            out.append((c.t, src, None, Episode(src, c.user, c.action, [c.event])))
+        return out
 
     def ruleset(self, run: str, recorded: list[dict] | None = None) -> RuleSet:
         """The rulebooks each stage of this run is judged with (given, recorded, current).
@@ -171,26 +226,35 @@ class Investigation:
         return explain(self, incident, list(why_not), counterfactuals)
 
     # -- one incident ---------------------------------------------------------------------
-    def _judge(self, case: _Case, gaps: Gaps) -> Incident:
+    def _judge(self, case: _Case, gaps: Gaps) -> Incident | None:
+        """The incident; None for a potential violation nobody recorded that the observations
+        suggested but the whole record (the measurements at the act) does not show."""
         unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
+        measured = self._measured(case, mscen)
+        for f in measured.derived:
+            mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown)
         rederived = pv_answer is not None and pv_answer.holds
+        if not case.pv and not rederived:
+            return None
         vscen = vehicle_scenario(case.state, case.vehicle)
         judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
         if case.pv and not rederived:
             validation = _Validation("dismissed", _unsupported(mscen))
         else:
-            validation = self._validate(case, judged_on, vscen, mscen, unknown)
+            validation = self._validate(case, judged_on, vscen, mscen, unknown,
+                                        frozenset(f.sentence for f in measured.derived))
         action = vehicle_action(case.state, case.vehicle)
         control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
         fault = self._decision_fault(case, action, vscen, unknown)
         rule = rule or validation.rule
         penalty, liability = self._sanctions(case, validation, control, vscen)
-        findings = (_disagreement(case, mscen, rederived), *_present(validation.dispute), *_present(fault),
+        findings = (_disagreement(case, mscen, rederived, bool(measured.derived)), *_present(validation.dispute), *_present(fault),
+                    *(c.to_finding() for c in measured.contradictions),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor], case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
-                    *_dedup_unknown(unknown))
+                    *_dedup_unknown(unknown, {f.sentence for f in measured.derived}))
         findings = tuple(f for f in findings if f is not None)
         return Incident(
             id=f"{case.anchor['src']}:{case.anchor['seq']}", run=case.run, t=case.t, vehicle=case.vehicle,
@@ -198,11 +262,23 @@ class Investigation:
             rule=rule.label if rule else None, law=rule.law if rule else None,
             verdict=validation.verdict, why=validation.why, penalty=penalty,
             liable=_liable(liability), liability=liability, control=control, findings=findings,
-            evidence=_evidence(case, mscen, vscen, action, control, findings), judged_on=judged_on,
+            evidence=_evidence(case, mscen, vscen, action, control, findings, measured), judged_on=judged_on,
             rulebook=validation.rulebook, rulebooks=_choices(case.rs),
             scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
             proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen), validation.proof),
+            margin=_margin(measured, case.action, rule.label if rule else None), derived=measured.derived,
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
+
+    def _measured(self, case: _Case, mscen: Scenario) -> _Measured:
+        """The vehicle's passage through the junction of the act, and what it shows at the act
+        beside what the monitor stated (DESIGN "Reasoning": histories)."""
+        found = acts.of(history.passage(self.store, case.run, case.vehicle, case.t, context=self.context(case.run)),
+                        case.t)
+        if found is None:
+            return _Measured()
+        at = acts.moment(found, case.t, case.action)
+        agreed, contradictions = checked(found, at, mscen.facts)
+        return _Measured(found, at, beside(agreed, mscen.sentences), contradictions)
 
     def _monitor_scenario(self, case: _Case) -> Scenario:
         if case.episode is not None:
@@ -226,7 +302,7 @@ class Investigation:
         return answer, rule
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
-                  unknown: list[Finding]) -> _Validation:
+                  unknown: list[Finding], derived: frozenset[str] = frozenset()) -> _Validation:
         choice = case.rs["validator"]
         if choice is None:
             return _Validation("dismissed", "no rulebook defines punishable and mitigated violations")
@@ -234,7 +310,7 @@ class Investigation:
         mine = self.reader.pairs(rb, vscen.facts, unknown)
         seen = self.reader.pairs(rb, mscen.facts, unknown)
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
-        facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen)
+        facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=True)
         rendered = tuple((rb.render(a), ev) for a, ev in facts)
         evidence = dict(rendered)
@@ -248,14 +324,21 @@ class Investigation:
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
         return _Validation(verdict, _why(verdict, rb, me, act), _choice(choice), rendered, proof, rule, dispute)
 
-    def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list
-                         ) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
-        """The Validator Scenario: the vehicle's view corrected by what the monitor witnessed; or,
-        for a vehicle that recorded no perception, its spawn and what the monitor saw."""
+    def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list,
+                         derived: frozenset[str]) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
+        """The Validator Scenario: the vehicle's view corrected by what the monitor witnessed and
+        the history measured; or, for a vehicle that recorded no perception, its spawn and what
+        the monitor saw and the history measured. What the history measured is no belief of the
+        vehicle's: it is added whatever the monitor rules look at, and the vehicle's silence on
+        it is no perception fault."""
         if judged_on == "vehicle scenario":
             monitor_rb = case.rs["monitor"].rulebook if case.rs["monitor"] else rb
             others = {constant([src.split("/", 1)[1]]) for src in case.state.entities if "/" in src} - {case.me}
-            return corrected(mine, seen, self._witnessed_by(monitor_rb), case.me, others)
+            out, disputes = corrected(mine, seen, self._witnessed_by(monitor_rb), case.me, others)
+            measured = {a for a, _ in self.reader.pairs(rb, [(s, None) for s in derived], [])}
+            have = {a for a, _ in out}
+            out += [(a, ev) for a, ev in seen if a in measured and a not in have]
+            return out, [d for d in disputes if d["vehicle"] or any(a not in measured for a, _ in d["monitor"])]
         spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
         own = [(a, EventRef.of(spawn, case.state.run, "entity.spawn"))
                for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
@@ -384,10 +467,13 @@ def _present(finding: Finding | None) -> tuple[Finding, ...]:
     return (finding,) if finding is not None else ()
 
 
-def _dedup_unknown(unknown: list[Finding]) -> list[Finding]:
-    """One finding per unknown sentence and event, however many stages tried to read it."""
+def _dedup_unknown(unknown: list[Finding], derived: set[str]) -> list[Finding]:
+    """One finding per unknown sentence and event, however many stages tried to read it. A
+    derived sentence a rulebook has no template for is offered, not recorded: no finding."""
     seen, out = set(), []
     for f in unknown:
+        if f.fact in derived:
+            continue
         key = (f.fact, tuple(e.key for e in f.evidence))
         if key not in seen:
             seen.add(key)
@@ -395,7 +481,7 @@ def _dedup_unknown(unknown: list[Finding]) -> list[Finding]:
     return out
 
 
-def _disagreement(case: _Case, mscen: Scenario, rederived: bool) -> Finding | None:
+def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool) -> Finding | None:
     """A monitor disagreement: it recorded what its rules do not derive, or derived what it did
     not record."""
     if case.pv and rederived:
@@ -406,8 +492,9 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool) -> Finding | No
                   "the monitor recorded this potential violation without any observation of the vehicle to "
                   "support it")
     else:
-        detail = ("the monitor rules derive a potential violation from the monitor's observations, but the "
-                  "monitor did not record one")
+        detail = ("the monitor rules derive a potential violation from the monitor's observations" +
+                  (" and what the measurements show at the act" if measured else "") +
+                  ", but the monitor did not record one")
     event = case.pv if case.pv else case.episode.first
     return Finding("monitor disagreement", detail,
                    (EventRef.of(event), *(ev for _, ev in mscen.facts[:1])))
@@ -427,6 +514,13 @@ def _last_seen(state: State, vehicle: str) -> int | None:
     return max(times) if times and not record.get("despawned") else None
 
 
+def _fed(events: Iterable[dict], sweeper: Sweep) -> Iterable[dict]:
+    """The events, each shown to the sweeper on its way through."""
+    for event in events:
+        sweeper.add(event)
+        yield event
+
+
 def _anchor_key(pv: dict | None, episode: Episode | None) -> str:
     anchor = pv if pv else episode.first
     return f"{anchor['src']}:{anchor['seq']:020d}"
@@ -436,10 +530,15 @@ def _num(value: Any) -> float:
     return value if isinstance(value, (int, float)) else 0
 
 
+def _margin(measured: _Measured, action: str, rule: str | None) -> Margin | None:
+    return measured_margin(measured.passage, action, rule) if measured.passage is not None else None
+
+
 def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision | None, control: Control,
-              findings: Iterable[Finding]) -> tuple[EventRef, ...]:
+              findings: Iterable[Finding], measured: _Measured) -> tuple[EventRef, ...]:
     """Every event the incident rests on, once each, the anchor first."""
     refs = [EventRef.of(case.anchor)] + [ev for _, ev in (*mscen.facts, *vscen.facts)]
+    refs += [ev for f in measured.derived for ev in f.evidence]
     if decision:
         refs.append(decision.evidence)
     if control.last_ads_event:

@@ -202,6 +202,21 @@ class Margin:
 
 
 @dataclass(frozen=True)
+class DerivedFact:
+    """A sentence a vehicle's history shows (no full stop, as scenario facts are kept), how, and on
+    what: reasoner/derived.py derives them, and an incident carries those it was judged with."""
+
+    sentence: str
+    method: str
+    evidence: tuple[EventRef, ...]
+    uncertain: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"sentence": self.sentence, "method": self.method, "uncertain": self.uncertain,
+                "evidence": [r.to_json() for r in self.evidence]}
+
+
+@dataclass(frozen=True)
 class Decision:
     """The Vehicle Action: the vehicle's latest vehicle.decision at the incident."""
 
@@ -295,6 +310,7 @@ class Incident:
     proofs: Proofs
     margin: Margin | None = None
     rulebook_problems: tuple[str, ...] = field(default=())
+    derived: tuple[DerivedFact, ...] = ()           # what the history added to the Monitor Scenario
 
     @property
     def anchor(self) -> EventRef | None:
@@ -317,8 +333,10 @@ class Incident:
                "scenarios": self.scenarios.to_json(), "proofs": self.proofs.to_json()}
         if self.rulebook_problems:
             out["rulebook_problems"] = list(self.rulebook_problems)
+        if self.derived:
+            out["derived"] = [f.to_json() for f in self.derived]
         return out
 
     def summary_json(self) -> dict[str, Any]:
         """What `gaps incidents --json` prints: all but the scenarios and the proofs."""
-        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios")}
+        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios", "derived")}

@@ -153,9 +153,14 @@ class RunBuilder:
         return self.emit(f"vehicle/{vehicle}", ns(at), "vehicle.decision", body)
 
     def observe(self, vehicle: str, at: float, facts: list[str], monitor: str = "m1", *,
-                speed_mps: float = 9.0, x: float = -2.0) -> dict:
-        return self.emit(f"monitor/{monitor}", ns(at), "monitor.observation",
-                         {"vehicle": vehicle, "facts": list(facts), "speed_mps": speed_mps, "x": x, "y": 0.0})
+                speed_mps: float | None = None, x: float | None = None) -> dict:
+        """A monitor's observation: its sentences, and its measurements only where given."""
+        body: dict = {"vehicle": vehicle, "facts": list(facts)}
+        if speed_mps is not None:
+            body["speed_mps"] = speed_mps
+        if x is not None:
+            body.update(x=x, y=0.0)
+        return self.emit(f"monitor/{monitor}", ns(at), "monitor.observation", body)
 
     def potential_violation(self, vehicle: str, at: float, action: str, facts: list[str],
                             monitor: str = "m1") -> dict:
@@ -182,15 +187,15 @@ class RunBuilder:
         out["decision"] = self.decide(vehicle, at - 0.5, perceived, goal or action,
                                       says=says, proceeds=proceeds)
         inside = junction if proceeds else None
-        out["state"] = self.state(vehicle, at, x0 - 2.0 if proceeds else x0 - 5.0, moving, inside)
+        out["state"] = self.state(vehicle, at, x0 - 2.0 if proceeds else x0 - 15.0, moving, inside)
         out["observations"] = [
             self.observe(vehicle, at - 0.2 * (observations - 1 - i), observed, monitor,
-                         speed_mps=moving, x=x0 - 2.0 if proceeds else x0 - 5.0)
+                         speed_mps=moving, x=x0 - 2.0 if proceeds else x0 - 15.0)
             for i in range(observations)]
         out["observation"] = out["observations"][0]
         if record:
             out["pv"] = self.potential_violation(vehicle, at, action, observed, monitor)
-        out["after"] = self.state(vehicle, at + 1.0, x0 + 7.0 if proceeds else x0 - 5.0, moving,
+        out["after"] = self.state(vehicle, at + 1.0, x0 + 7.0 if proceeds else x0 - 15.0, moving,
                                   junction if proceeds else None)
         return out
 

@@ -23,7 +23,8 @@ from tests.helpers.explained_cases import av_taken_over  # 301: its driver took 
 VERDICTS = {"punishable", "mitigated", "dismissed"}
 LIABLE = {"driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator", "none"}
 IN_CONTROL = {"driver", "self-driving feature", "user-in-charge"}
-FINDING_KINDS = {"perception fault", "decision fault", "monitor disagreement", "missing evidence", "unknown fact"}
+FINDING_KINDS = {"perception fault", "decision fault", "monitor disagreement", "missing evidence", "unknown fact",
+                 "contradiction"}
 REF_KEYS = {"run", "src", "seq", "t", "kind"}
 FIELDS = {"id", "run", "t", "vehicle", "action", "monitor", "recorded", "rederived", "rule", "law", "verdict",
           "why", "penalty", "liable", "control", "findings", "evidence"}
@@ -573,17 +574,22 @@ def test_another_rulebook_changes_the_amber_verdict(tmp_path, given_as):
 
 # 15: a camera that knows only DESIGN's core vocabulary (issue 12) ------------------------------
 def camera_run(vehicle: str, type: str, observed: list[str], *, emergency: bool = False,
-               record: bool = True) -> list[dict]:
+               record: bool = True, proceeds: bool = True) -> list[dict]:
     """A vehicle that records nothing of its own (a human driver without a recorder), seen by a
-    roadside camera that writes core sentences only: judged on the monitor scenario."""
+    roadside camera that writes core sentences only: judged on the monitor scenario. Its own
+    positions say where it was: through the junction at 9 m/s, or (proceeds=False) braking to
+    a stop 15 m before the centre, outside the junction."""
     run = RunBuilder()
     run.spawn(vehicle, type, emergency=emergency)
     run.lights(10, "red")
-    run.state(vehicle, 9.0, -20.0, 9.0)
+    run.state(vehicle, 9.0, -20.0, 9.0 if proceeds else 5.0)
     run.observe(vehicle, 10.0, observed)
     if record:
         run.potential_violation(vehicle, 10.0, ENTER, observed)
-    run.state(vehicle, 11.0, 7.0, 9.0, "j1")
+    if proceeds:
+        run.state(vehicle, 11.0, 7.0, 9.0, "j1")
+    else:
+        run.state(vehicle, 11.0, -15.0, 0.0)
     return run.finish()
 
 
@@ -592,8 +598,8 @@ def test_a_car_braking_to_a_stop_at_red_has_done_nothing(tmp_path):
     still moving but not over the line, is no potential violation; one a monitor recorded anyway
     is dismissed."""
     braking = ["1 is of type car", "1 has red light", "1 has speed of 12", "the speed limit is 30"]
-    assert judge(tmp_path, camera_run("1", "car", braking, record=False), "unrecorded.db") == []
-    (inc,) = judge(tmp_path, camera_run("1", "car", braking), "recorded.db")
+    assert judge(tmp_path, camera_run("1", "car", braking, record=False, proceeds=False), "unrecorded.db") == []
+    (inc,) = judge(tmp_path, camera_run("1", "car", braking, proceeds=False), "recorded.db")
     assert (inc.verdict, inc.rederived, inc.penalty) == ("dismissed", False, None)
 
 

@@ -1,0 +1,42 @@
+"""The moment of the act a potential violation is about, in a vehicle's passage.
+
+The law judges acts (DESIGN "Reasoning"): proceeding beyond the stop line on red, entering from
+a Stop line without having stopped, entering when giving way would not let the main-road traffic
+pass unhindered. A monitor may record a potential violation before the act (a car still moving
+near a red light) or after it (in the junction, clearing it); the derived facts are taken at the
+act itself, so that a car that then crosses is judged on its crossing and one that stops behind
+the line on its stop. Speeding and stopping in a box are judged when recorded.
+"""
+from __future__ import annotations
+
+from .motion import STOPPED_MPS
+from .passage import Passage
+
+SECOND = 1_000_000_000
+NEAR_S = 5.0          # a passage this far (in time) from a moment is still the one of its act
+SPEEDING = "exceed the speed limit"
+BOX = "enter the box junction"
+
+
+def of(passage: Passage | None, t: int) -> Passage | None:
+    """The passage if the moment falls in it (or within NEAR_S of it), else None: a passage
+    far from the moment is another visit to a junction, and no evidence of this act."""
+    if passage is None:
+        return None
+    near = int(NEAR_S * SECOND)
+    return passage if passage.start - near <= t <= passage.end + near else None
+
+
+def moment(passage: Passage, t: int, action: str) -> int:
+    """When the act of `action` recorded (or re-derived) at t happened in the passage."""
+    if action == SPEEDING:
+        return t
+    if action == BOX:
+        still = [s.t for s in passage.samples if s.t >= t and s.placed and s.speed_mps is not None
+                 and s.speed_mps <= STOPPED_MPS and passage.junction.in_box(s.x, s.y)]
+        return still[0] if still else t
+    if passage.crossing is not None and t < passage.crossing.t:
+        return passage.crossing.t
+    if passage.crossing is None and passage.entered is not None and t < passage.entered.t:
+        return passage.entered.t
+    return t

@@ -1,0 +1,168 @@
+"""Acts nobody recorded: where the measurements suggest one, a moment for the history to judge.
+
+A monitor's rules raise a potential violation from the sentences it states (episodes.py). Some
+acts are in no sentence a camera writes: a car rolling over a Stop line (nobody wrote "has not
+stopped"), a car pulling out of a Give Way junction so that a main-road car brakes, a car
+standing in a yellow box, a car crossing on red seen by a camera that writes positions and speeds
+but no light. This module reads the same measurements (x, y, speed_mps of each observation, in
+the run's order) and names the moments worth a history: the reasoner rebuilds the passage there
+and asks the monitor rules on what it shows (investigation.py); most candidates come to nothing.
+
+Which measurements: the monitors' (monitor.observation), already read for the episodes; a run
+whose monitors recorded none is swept on the road users' own entity.state. Candidates, per road
+user and junction entry (first position inside the junction's area after EPISODE_GAP_S outside):
+
+    stop line      entries at a Stop junction without a measurement below STILL_MPS since
+                   APPROACH_S before (a stop at the line shows as one)
+    give way       entries at a Give Way junction, or one the map gives a major road, within
+                   FORCE_WINDOW_S of another road user's braking at FORCE_DECEL_MPS2 or harder
+    lights         entries at a signal junction whose measurement states no light for the road user
+                   (a camera that states lights raises these acts from its sentences)
+    box            the first measurement standing still inside a yellow box
+
+Every candidate is found in one pass with a few comparisons an observation, so the sweep costs
+little beside reading the observations, and the histories run only where a candidate is.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Iterable
+
+from .derived import FORCE_DECEL_MPS2
+from .junctions import Junction, Map
+from .motion import STOPPED_MPS
+
+SECOND = 1_000_000_000
+EPISODE_GAP_S = 5.0       # inside the junction again after this long outside: a new entry
+APPROACH_S = 15.0         # the approach to a Stop line looked at for a standstill
+STILL_MPS = 1.0           # a measurement this slow may be a stop a 2 Hz camera caught the end of
+FORCE_WINDOW_S = 6.0      # another road user's braking this close to an entry is looked at
+MAX_CANDIDATES = 10_000   # bounded work for any input
+ENTER = "enter the junction"
+BOX = "enter the box junction"
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A moment of a road user's passage to rebuild, and the event it was seen in."""
+
+    user: str
+    action: str
+    junction: str
+    event: dict
+    why: str
+
+    @property
+    def t(self) -> int:
+        return self.event["t"]
+
+
+@dataclass
+class _Track:
+    inside_t: int | None = None       # the last measurement inside the junction's area
+    slowest: float = math.inf         # slowest speed measured outside since the last entry
+    since: int | None = None          # ... from this time
+    boxed: bool = False               # already a box candidate on this entry
+    last: tuple[int, float] | None = None
+
+
+@dataclass
+class Sweep:
+    """Feed events in (t, seq, src) order with `add`; `candidates()` after the last."""
+
+    map: Map
+    by_monitor: dict[str, Junction] = field(default_factory=dict)
+    _tracks: dict[tuple[str, str], _Track] = field(default_factory=dict)
+    _entries: list[tuple[Junction, str, dict, bool]] = field(default_factory=list)   # (j, user, event, lights stated)
+    _braking: dict[str, list[tuple[int, str]]] = field(default_factory=dict)           # junction -> (t, user)
+    _found: list[Candidate] = field(default_factory=list)
+    fed: int = 0                                                                        # events seen
+
+    def __post_init__(self) -> None:
+        self.by_monitor = {m: j for j in self.map.junctions for m in j.monitors}
+        self._wanted = {j.id for j in self.map.junctions
+                        if j.control in ("stop", "give_way", "lights") or j.boxed or j.major}
+
+    def add(self, event: dict) -> None:
+        self.fed += 1
+        body = event["body"]
+        if type(body) is not dict or not self._wanted:
+            return
+        if event["kind"] == "monitor.observation":
+            user, where = body.get("vehicle"), event["src"]
+        else:
+            user, where = event["src"].split("/", 1)[-1], None
+        x, y, v = body.get("x"), body.get("y"), body.get("speed_mps")
+        if type(user) is not str or not _number(x) or not _number(y):
+            return
+        j = self.by_monitor.get(where) if where else None
+        if j is None:
+            near = self.map.near(x, y, 100.0)
+            j = near[0] if near else None
+        if j is None or j.id not in self._wanted:
+            return
+        self._measure(j, user, event, x, y, v if _number(v) else None)
+
+    def _measure(self, j: Junction, user: str, event: dict, x: float, y: float, v: float | None) -> None:
+        t = event["t"]
+        track = self._tracks.setdefault((j.id, user), _Track())
+        if v is not None and track.last is not None and 0 < t - track.last[0] <= 2 * SECOND:
+            if (track.last[1] - v) / ((t - track.last[0]) / SECOND) >= FORCE_DECEL_MPS2:
+                self._braking.setdefault(j.id, []).append((t, user))
+        if v is not None:
+            track.last = (t, v)
+        if not j.inside(x, y):
+            if track.since is None or t - track.since > APPROACH_S * SECOND:
+                track.slowest, track.since = math.inf, t
+            if v is not None:
+                track.slowest = min(track.slowest, v)
+            return
+        entry = track.inside_t is None or t - track.inside_t > EPISODE_GAP_S * SECOND
+        track.inside_t = t
+        if entry:
+            track.boxed = False
+            self._entry(j, user, event, track)
+        if j.boxed and not track.boxed and v is not None and v <= STOPPED_MPS and j.in_box(x, y):
+            track.boxed = True
+            self._keep(Candidate(user, BOX, j.id, event, "standing still inside the yellow box"))
+
+    def _entry(self, j: Junction, user: str, event: dict, track: _Track) -> None:
+        if j.control == "stop" and track.slowest > STILL_MPS:
+            slowest = "none measured" if track.slowest == math.inf else f"slowest {track.slowest:.1f} m/s"
+            self._keep(Candidate(user, ENTER, j.id, event, f"entered a Stop junction ({slowest} on its approach)"))
+        if j.control == "give_way" or j.major:
+            self._entries.append((j, user, event, False))
+        if j.control == "lights" and event["kind"] == "monitor.observation" and not _states_light(event, user):
+            self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; the camera stated no light"))
+        track.slowest, track.since = math.inf, None
+
+    def _keep(self, candidate: Candidate) -> None:
+        if len(self._found) < MAX_CANDIDATES:
+            self._found.append(candidate)
+
+    def candidates(self) -> list[Candidate]:
+        """Every candidate, the give-way ones matched against the braking seen near them."""
+        window = int(FORCE_WINDOW_S * SECOND)
+        for j, user, event, _ in self._entries:
+            braked = [(t, u) for t, u in self._braking.get(j.id, ()) if u != user and abs(t - event["t"]) <= window]
+            if braked:
+                self._keep(Candidate(user, ENTER, j.id, event,
+                                     f"entered {j.id} while {braked[0][1]} braked at {FORCE_DECEL_MPS2:g} m/s² or harder"))
+        return sorted(self._found, key=lambda c: (c.t, c.event["src"], c.event["seq"]))
+
+
+def sweep(events: Iterable[dict], map_: Map) -> list[Candidate]:
+    found = Sweep(map_)
+    for event in events:
+        found.add(event)
+    return found.candidates()
+
+
+def _number(value: object) -> bool:
+    return type(value) in (int, float) and math.isfinite(value)
+
+
+def _states_light(event: dict, user: str) -> bool:
+    facts = event["body"].get("facts")
+    return type(facts) is list and any(type(f) is str and f.startswith(user + " ") and " light" in f for f in facts)
