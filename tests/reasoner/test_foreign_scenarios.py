@@ -562,9 +562,10 @@ AMBULANCE_LAG = 2.0
 
 def pedestrian(run: Foreign, who: str, crossing: float, type: str = "pedestrian", speed: float = 1.4) -> None:
     """A pedestrian (or cyclist) coming down the north arm towards the junction while the vehicle
-    crosses: 26 m from the centre at the crossing, still 13 m away when it stops."""
-    motion = Motion(-26.0 - speed * (crossing - START), speed, [((26.0 - 13.0) / speed + (crossing - START), 0.0),
-                                                                (1.0, -speed * 2)])
+    crosses: 26 m from the centre at the crossing. A pedestrian waits at the kerb 13 m out; a
+    cyclist rides on (it reaches the junction 3.5 s after the crossing, when the vehicle has left)."""
+    stops = [((26.0 - 13.0) / speed + (crossing - START), 0.0), (1.0, -speed * 2)] if type == "pedestrian" else []
+    motion = Motion(-26.0 - speed * (crossing - START), speed, stops)
     run.spawn(who, type, role="pedestrian" if type == "pedestrian" else "vehicle")
     run.drive(who, motion, "north", rate(2, START, crossing + 8.0), t_start=START,
               role="pedestrian" if type == "pedestrian" else "vehicle")
@@ -722,18 +723,20 @@ def test_a_lost_red_report_leaves_the_crossing_light_uncertain(tmp_path):
 
 
 def test_a_gap_across_the_onset_of_red_leaves_the_crossing_light_uncertain(tmp_path):
-    """The car crosses 0.3 s after red, and its own positions are lost from 0.7 s before to 0.7 s
-    after the crossing: the two samples around it bracket the change to red, so what it crossed on
+    """The car crosses 0.3 s after red, and its own positions and the camera's measurements of it
+    are lost from 0.7 s before to 0.7 s after the crossing: the two samples around it bracket the
+    change to red, so what it crossed on
     rests on the interpolation (exact here, at a steady speed, but not shown by a sample). It had
     been 43 m from the line when amber came (28 mph: rule 126's 23 m), so it could have stopped
     either way: punishable (HC 176, or HC 175 if taken as amber); the margin says its light is
     uncertain, and the lost events are a "missing evidence" finding."""
     lag = 0.3
     run, motion, crossing, _ = runner_run("7", mps(28), lag, "5 Hz", "measured")
-    gone = [e["seq"] for e in run.events if e["src"] == "vehicle/7" and e["kind"] == "entity.state"
-            and abs(e["t"] - run.events[0]["t"] - crossing * 1e9) < 0.7e9]
-    assert len(gone) >= 6
-    run.drop("vehicle/7", gone)
+    for src in ("vehicle/7", "monitor/m1"):
+        gone = [e["seq"] for e in run.events if e["src"] == src and e["kind"] in ("entity.state", "monitor.observation")
+                and abs(e["t"] - run.events[0]["t"] - crossing * 1e9) < 0.7e9]
+        assert len(gone) >= 6
+        run.drop(src, gone)
     inc = one(judge(tmp_path, run), "7")
     assert inc.verdict == "punishable" and inc.rule in ("HC 175", "HC 176"), (inc.verdict, inc.rule, inc.why)
     assert inc.margin is not None and inc.margin.uncertain, inc.margin
