@@ -30,9 +30,10 @@ from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_a
 from .passage import Other, Passage
 from .signals import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
-from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT, HAS_SPEED_OF,
-                         HAS_STOPPED_AT_THE_STOP_LINE, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
-                         IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED, IS_STOPPED_IN_THE_BOX_JUNCTION,
+from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,
+                         HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
+                         HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
+                         IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED, IS_STOPPED_IN_THE_BOX_JUNCTION,
                          IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, WOULD_FORCE, Sentence)
 from .when import format_time
 
@@ -173,6 +174,38 @@ def _stopped_at_line(p: Passage, at: int) -> list[DerivedFact]:
     return [DerivedFact(HAS_STOPPED_AT_THE_STOP_LINE.text(p.vehicle), how, (s.first.ref, s.last.ref))]
 
 
+def _sign(p: Passage, at: int) -> list[DerivedFact]:
+    """`V has a stop sign` / `V has a give way sign`: the map's line across V's approach is a Stop
+    or Give Way line (its kind; without one, the junction's control). DESIGN's map states where
+    the signs are, so a producer that draws the map need not state the sign at every frame."""
+    sign = _sign_of(p)
+    if sign is None or p.map_ref is None or at < p.start - SECOND or at > p.end:
+        return []
+    how = (f"the {p.approach} approach of {p.junction.id} has a {sign} line in the run's map "
+           f"({'kind ' + repr(p.line.kind) if p.line.kind else 'junction control ' + repr(p.junction.control)}, "
+           f"{p.line.source})")
+    return [DerivedFact(HAS_SIGN.text(p.vehicle, sign), how, (p.map_ref,))]
+
+
+def _stopped_before_major_road(p: Passage, at: int) -> list[DerivedFact]:
+    """`V has stopped before entering the major road`: at a Stop line, V stood still outside the
+    junction's area before it entered it (TSRGD 2016 Sch 9 Pt 7 para 1: where the line "is not
+    clearly visible", the stop is owed "before entering the major road"). A stop at the line is
+    one (highway_code.le says so too); one past a worn line, short of the junction, is one."""
+    if not _stop_line(p):
+        return []
+    limit = min(at, p.entered.t) if p.entered else at
+    stops = [s for s in p.standstills if s.last.t <= limit and s.first.placed and s.last.placed
+             and not p.junction.inside(s.first.x, s.first.y) and not p.junction.inside(s.last.x, s.last.y)]
+    if not stops:
+        return []
+    s = stops[-1]
+    edge = p.junction.edge(s.last.x, s.last.y)
+    how = (f"stood still for {s.duration_s:.1f} s ({s.samples} samples from {s.first.label} to {s.last.label} below "
+           f"0.5 mph), {edge:.1f} m outside {p.junction.id}'s area ({p.junction.extent_source}), before entering it")
+    return [DerivedFact(HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD.text(p.vehicle), how, (s.first.ref, s.last.ref))]
+
+
 def _too_close(p: Passage, at: int) -> list[DerivedFact]:
     """`V is too close to the stop line to stop safely`: when amber came, the distance to the line
     was less than rule 126's stopping distance at V's speed then."""
@@ -201,6 +234,10 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
             out.append(approaching)
         if forced is not None:
             out.append(forced)
+        if other.type and other.spawn is not None and (approaching is not None or forced is not None):
+            out.append(DerivedFact(IS_OF_TYPE.text(other.user, other.type),
+                                   f"{other.spawn.src} #{other.spawn.seq} (entity.spawn) gives type {other.type}",
+                                   (other.spawn,)))
         if other.main_road and (approaching is not None or forced is not None):
             first = other.samples[0]
             out.append(DerivedFact(IS_ON_THE_MAIN_ROAD.text(other.user),
@@ -231,7 +268,8 @@ def _box(p: Passage, at: int) -> list[DerivedFact]:
 
 
 _DERIVERS: tuple[Callable[[Passage, int], list[DerivedFact]], ...] = (
-    _light, _crossed, _in_junction, _speed, _limit, _emergency, _stopped_at_line, _too_close, _others, _box)
+    _light, _sign, _crossed, _in_junction, _speed, _limit, _emergency, _stopped_at_line, _stopped_before_major_road,
+    _too_close, _others, _box)
 
 
 # --- pieces -----------------------------------------------------------------------------------------
@@ -247,7 +285,15 @@ def _first_inside(p: Passage) -> bool:
 
 
 def _stop_line(p: Passage) -> bool:
-    return p.line is not None and (p.line.kind == "stop" or (not p.line.kind and p.junction.control == "stop"))
+    return _sign_of(p) == "stop"
+
+
+def _sign_of(p: Passage) -> str | None:
+    """The sign of V's line: "stop" or "give way" (a Give Way line's kind is give_way)."""
+    if p.line is None:
+        return None
+    kind = p.line.kind or p.junction.control
+    return {"stop": "stop", "give_way": "give way", "give way": "give way"}.get(kind)
 
 
 def _amber(p: Passage, at: int):

@@ -101,7 +101,7 @@ def _record(store: Store, run: str, vehicle: str, around: int | None, before_s: 
     spawns = list(islice(store.events(run, kinds=["entity.spawn"], srcs=[src], t_to=t_to), 100))
     return Record(run, ident, ctx.map, ctx.signals, own, seen, spawns[-1] if spawns else None,
                   _store_gaps(store, ctx, {src} | {s.ref.src for s in seen}), tuple(notes) + skipped[:20],
-                  _store_others(store, ctx, ident), (t_from, t_to)), found
+                  _store_others(store, ctx, ident), (t_from, t_to), _store_spawns(store, ctx)), found
 
 
 def passage_at(found: Iterable[Passage], t: int) -> Passage | None:
@@ -127,7 +127,7 @@ def from_events(events: Iterable[dict], vehicle: str, *, around: int | None = No
     seen, more = samples(index.seen) if _holes(own) else ((), ())      # as from a store
     return rebuild.passages(Record(
         index.run, ident, read_map(index.start), read_signals(index.signals), own, seen, index.spawn,
-        index.gaps(), tuple(index.notes) + (skipped + more)[:20], index.others, (t_from, t_to)))
+        index.gaps(), tuple(index.notes) + (skipped + more)[:20], index.others, (t_from, t_to), index.spawn_of))
 
 
 # --- reading a store ----------------------------------------------------------------------------
@@ -206,6 +206,15 @@ def _store_gaps(store: Store, ctx: RunContext, srcs: set[str]) -> tuple[Gap, ...
     return tuple(out)
 
 
+def _store_spawns(store: Store, ctx: RunContext):
+    """Another road user's entity.spawn (its type), as a vehicle or a pedestrian source."""
+    def find(user: str) -> dict | None:
+        srcs = [user] if "/" in user else [f"vehicle/{user}", f"pedestrian/{user}"]
+        found = list(islice(store.events(ctx.run, kinds=["entity.spawn"], srcs=srcs), 10))
+        return found[-1] if found else None
+    return find
+
+
 def _store_others(store: Store, ctx: RunContext, vehicle: str):
     """The road users near a junction in a window: from its monitors, else every entity.state."""
     def find(junction: Junction, t_from: int, t_to: int) -> Mapping[str, Track]:
@@ -274,6 +283,7 @@ class _Index:
         self.observed: dict[str, list[dict]] = {}
         self.seqs: dict[str, dict[int, int]] = {}
         self.notes: list[str] = []
+        self.spawns: dict[str, dict] = {}
 
     def add(self, event: dict) -> None:
         if not isinstance(event, dict) or not isinstance(event.get("src"), str):
@@ -291,6 +301,8 @@ class _Index:
             self._keep(self.signals, event)
         elif kind == "entity.spawn" and src == self.src and (self.t_to is None or t <= self.t_to):
             self.spawn = event
+        elif kind == "entity.spawn" and src.split("/", 1)[0] in ("vehicle", "pedestrian"):
+            self.spawns.setdefault(user_id(src), event)
         elif kind == "entity.state" and self._within(t):
             self._keep(self.own if src == self.src else self.states.setdefault(src, []), event)
         elif kind == "monitor.observation" and self._within(t):
@@ -318,6 +330,9 @@ class _Index:
                     out.append(Gap(src, expected, seq - 1, seqs.get(expected - 1), seqs[seq]))
                 expected = max(expected, seq + 1)
         return tuple(out[:1000])
+
+    def spawn_of(self, user: str) -> dict | None:
+        return self.spawns.get(user_id(user))
 
     def others(self, junction: Junction, t_from: int, t_to: int) -> Mapping[str, Track]:
         tracks: dict[str, Track] = {}

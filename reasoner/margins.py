@@ -81,8 +81,10 @@ def _amber(p: Passage) -> Margin | None:
                    ("stopping distance at that speed (rule 126)", round(needed, 1), "m"),
                    ("distance beyond what stopping takes", round(a.to_line_m - needed, 1), "m"))
     method = f"amber from {format_time(a.light.t)} ({a.light.ref.src} #{a.light.ref.seq}); {a.method}; {RULE_126}"
+    c = p.crossing           # what the record leaves open about the light it crossed on is open here too
+    doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None if c else None
     return Margin("metres from the stop line when amber came", round(a.to_line_m, 2), "m",
-                  tuple(s.ref for s in a.used) + (a.light.ref,), method, figures)
+                  tuple(s.ref for s in a.used) + (a.light.ref,), method, figures, doubt)
 
 
 def _stop(p: Passage) -> Margin | None:

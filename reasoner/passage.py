@@ -117,9 +117,12 @@ class Other:
     braking: Braking | None
     stopped: Sample | None
     light: Light | None              # what its own signal showed when it braked or stopped
+    type: str | None = None          # its entity.spawn's type (pedestrian, cyclist, car ...)
+    spawn: EventRef | None = None    # ... and that event
 
     def to_json(self) -> dict[str, Any]:
-        return {"user": self.user, "src": self.src, "arm": self.arm, "closing": self.closing, "main_road": self.main_road,
+        return {"user": self.user, "src": self.src, "type": self.type, "arm": self.arm, "closing": self.closing,
+                "main_road": self.main_road,
                 "closest_m": round(self.closest_m, 2), "braking": self.braking.to_json() if self.braking else None,
                 "stopped": self.stopped.ref.to_json() if self.stopped else None,
                 "light": self.light.to_json() if self.light else None, "samples": len(self.samples)}
@@ -161,6 +164,7 @@ class Passage:
         refs = {s.ref for s in self.samples} | {light.ref for light in self.lights}
         refs |= {s.ref for other in self.others for s in other.samples}
         refs |= {o.light.ref for o in self.others if o.light} | {ref for _, _, ref in self.emergency}
+        refs |= {o.spawn for o in self.others if o.spawn is not None}
         refs |= {r for r in (self.map_ref, self.spawn) if r is not None}
         if self.crossing and self.crossing.light:
             refs.add(self.crossing.light.ref)

@@ -20,6 +20,7 @@ between them, a light changing between two samples, no stop line on the map.
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import NamedTuple
 
 from store import EventRef
@@ -27,7 +28,7 @@ from store import EventRef
 from .junctions import Junction, Map, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, stop_could_hide
 from .others import near_users
-from .passage import AtChange, Crossing, Moment, Passage, Standstill
+from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record
 from .signals import Light, changed_between, shown
 from .when import format_time
@@ -142,6 +143,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
                         junction, record.vehicle, approach, max(t0, key - int(OTHERS_BEFORE_S * SECOND)),
                         out + int(REACTION_S * SECOND),
                         (key - int(ANTICIPATION_S * SECOND), out + int(REACTION_S * SECOND)), record.signals)
+    others = tuple(_typed(o, record.spawns(o.user)) for o in others)
     spawn = record.spawn
     return Passage(
         run=record.run, vehicle=record.vehicle, junction=junction, approach=approach, approach_method=method,
@@ -345,6 +347,15 @@ def _emergency(record: Record) -> tuple[tuple[int, bool, EventRef], ...]:
         if not out or out[-1][1] != mark[1]:
             out.append(mark)
     return tuple(out)
+
+
+TYPES = frozenset({"car", "ambulance", "fire_engine", "police_car", "bus", "cyclist", "pedestrian"})   # DESIGN's
+
+
+def _typed(other: Other, spawn: dict | None) -> Other:
+    """The other road user with the type its entity.spawn gives, if any."""
+    kind = _type(spawn)
+    return replace(other, type=kind, spawn=EventRef.of(spawn)) if kind in TYPES else other
 
 
 def _type(spawn: dict | None) -> str | None:

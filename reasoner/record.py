@@ -47,8 +47,15 @@ class Gap:
         return f"{self.src} {span} missing, {when}"
 
 
+Spawns = Callable[[str], "dict | None"]                      # road user (id or src) -> its entity.spawn event
+
+
 def no_others(junction: Junction, t_from: int, t_to: int) -> Mapping[str, Track]:
     return {}
+
+
+def no_spawns(user: str) -> dict | None:
+    return None
 
 
 @dataclass(frozen=True)
@@ -66,6 +73,7 @@ class Record:
     notes: tuple[str, ...] = ()             # values left out, reads cut short
     others: Others = no_others
     window: tuple[int | None, int | None] = (None, None)
+    spawns: Spawns = no_spawns              # the other road users' entity.spawn (their type)
 
     def gaps_of(self, srcs: set[str], t_from: int, t_to: int) -> tuple[Gap, ...]:
         return tuple(g for g in self.gaps if g.src in srcs and g.overlaps(t_from, t_to))

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 T0 = 1_750_000_000_000_000_000          # 2025-06-15T15:06:40Z
 SECOND = 1_000_000_000
@@ -157,11 +157,12 @@ class Foreign:
         j = next(j for j in self.junctions if j["id"] == junction)
         return j["x"], j["y"]
 
-    def spawn(self, vehicle: str, type: str = "car", *, emergency: bool | None = None, at: float = 0.0) -> dict:
+    def spawn(self, vehicle: str, type: str = "car", *, emergency: bool | None = None, at: float = 0.0,
+              role: str = "vehicle") -> dict:
         body: dict[str, Any] = {"type": type}
         if emergency is not None:
             body["emergency"] = emergency
-        return self.emit(f"vehicle/{vehicle}", ns(at), "entity.spawn", body)
+        return self.emit(f"{role}/{vehicle}", ns(at), "entity.spawn", body)
 
     def lights(self, junction: str, approach: str, changes: Iterable[tuple[float, str]]) -> None:
         for at, colour in changes:
@@ -169,27 +170,41 @@ class Foreign:
                       {"junction": junction, "approach": approach, "colour": colour})
 
     def drive(self, vehicle: str, motion: Motion, approach: str, times: Iterable[float], *, junction: str = "J1",
-              t_start: float = 0.0, extra: dict | None = None) -> list[dict]:
+              t_start: float = 0.0, extra: dict | None = None, role: str = "vehicle") -> list[dict]:
         """entity.state of the vehicle at each time (seconds from the run start); the motion's
-        clock starts at t_start."""
+        clock starts at t_start. `extra`: more body fields (e.g. {"emergency": True}); `role`:
+        the source's role ("pedestrian" for a pedestrian's own positions)."""
         out = []
         for at in times:
             x, y, heading, v = self._where(motion, approach, junction, at - t_start)
             body = {"x": round(x, 3), "y": round(y, 3), "heading_deg": heading, "speed_mps": round(v, 3)}
             body.update(extra or {})
-            out.append(self.emit(f"vehicle/{vehicle}", ns(at), "entity.state", body))
+            out.append(self.emit(f"{role}/{vehicle}", ns(at), "entity.state", body))
         return out
 
     def watch(self, vehicle: str, motion: Motion, approach: str, times: Iterable[float], *, monitor: str = "m1",
-              junction: str = "J1", t_start: float = 0.0, facts: list[str] | None = None) -> list[dict]:
-        """A camera's monitor.observation of the vehicle, with its measured speed and position."""
+              junction: str = "J1", t_start: float = 0.0,
+              facts: list[str] | Callable[[float, float, float], list[str]] | None = None) -> list[dict]:
+        """A camera's monitor.observation of the vehicle, with its measured speed and position.
+        `facts`: the sentences of every frame, or a function of (run time, s, speed) giving them
+        (what the camera sees at that frame, in DESIGN's core vocabulary)."""
         out = []
         for at in times:
             x, y, _, v = self._where(motion, approach, junction, at - t_start)
+            said = facts(at, *motion.at(at - t_start)) if callable(facts) else list(facts or [])
             out.append(self.emit(f"monitor/{monitor}", ns(at), "monitor.observation", {
-                "vehicle": vehicle, "facts": list(facts or []), "speed_mps": round(v, 3),
+                "vehicle": vehicle, "facts": said, "speed_mps": round(v, 3),
                 "x": round(x, 3), "y": round(y, 3)}))
         return out
+
+    def violation(self, vehicle: str, at: float, action: str, facts: list[str], *, monitor: str = "m1") -> dict:
+        """A camera's monitor.potential_violation: what it flagged on line, on its own reading (a
+        foreign producer records no rulebook of ours)."""
+        return self.emit(f"monitor/{monitor}", ns(at), "monitor.potential_violation",
+                         {"vehicle": vehicle, "action": action, "facts": list(facts)})
+
+    def end(self, at: float) -> dict:
+        return self.emit("sim/camera-vendor", ns(at), "run.end", {"reason": "end of footage"})
 
     def _where(self, motion: Motion, approach: str, junction: str, t: float) -> tuple[float, float, float, float]:
         s, v = motion.at(t)

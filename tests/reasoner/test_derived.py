@@ -200,3 +200,87 @@ def test_a_passage_is_json():
     assert data["crossing"]["light"]["colour"] == "red" and data["vehicle"] == "173"
     assert data["junction"]["stop_lines"][0]["source"] == "map stop_lines"
     assert T0 < data["crossing"]["t"]
+
+
+# --- what a map-only producer needs derived (tests/reasoner/test_foreign_scenarios.py) -----------------
+
+def _through(junction, motion, approach="west", hz=2, end=20.0, others=()):
+    run = Foreign(junctions=[junction], monitors=[])
+    run.spawn("7")
+    for who, kind, other_motion, other_approach in others:
+        run.spawn(who, kind, role="pedestrian" if kind == "pedestrian" else "vehicle")
+        run.drive(who, other_motion, other_approach, rate(hz, 0, end), role="pedestrian" if kind == "pedestrian" else "vehicle")
+    run.drive("7", motion, approach, rate(hz, 0, end))
+    return run
+
+
+@pytest.mark.parametrize("control,kind,sign", [("stop", "stop", "stop"), ("give_way", "give_way", "give way"),
+                                               ("stop", "", "stop"), ("lights", "signal", None)])
+def test_the_maps_stop_or_give_way_line_gives_the_sign(control, kind, sign):
+    """DESIGN's map marks a Stop or Give Way line by its kind (or the junction's control); a producer
+    that draws the map states no sign at every frame, so `V has a S sign` is derived from it (the
+    monitors' HC 171 and HC 172 rules need it: without it a measured-only run raised neither)."""
+    run = _through(crossroads("J1", 0.0, 0.0, control, kinds={"west": kind, "east": kind}), Motion(-60, 8.0))
+    p = history.from_events(run.events, "7")[0]
+    signs = [f for f in derived.facts(p, p.crossing.t - SECOND) if " sign" in f.sentence]
+    assert [f.sentence for f in signs] == ([f"7 has a {sign} sign"] if sign else [])
+    assert all(f.evidence == (p.map_ref,) for f in signs)
+
+
+def test_a_stop_short_of_the_junction_past_a_worn_line_is_a_stop_before_the_major_road():
+    """Sch 9 Pt 7 para 1: with the line not clearly visible, the stop is owed "before entering the
+    major road". A car standing 1.5 m past a Stop line drawn 16 m out, short of the junction's
+    12 m edge, stopped before entering the major road, not at the line; one rolling through did
+    neither."""
+    j = crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop", "north": ""})
+    west = next(line for line in j["stop_lines"] if line["approach"] == "west")
+    west["from"], west["to"] = [-16.0, 0.0], [-16.0, 3.5]
+    stops = Motion.stopping_at(-60.0, 10.0, -14.5, wait=3.0, then=10.0)
+    p = history.from_events(_through(j, stops, hz=5).events, "7")[0]
+    shown = {f.sentence for f in derived.facts(p, p.entered.t + SECOND)}
+    assert "7 has stopped before entering the major road" in shown
+    assert "7 has stopped at the stop line" not in shown
+    assert "7 has stopped before entering the major road" not in {   # not before it stood still
+        f.sentence for f in derived.facts(p, p.crossing.t + SECOND // 10)}
+    rolls = history.from_events(_through(j, Motion(-60.0, 10.0, [(3.0, -2.0)]), hz=5).events, "7")[0]
+    assert "7 has stopped before entering the major road" not in {
+        f.sentence for f in derived.facts(rolls, rolls.entered.t + SECOND)}
+
+
+def test_another_road_users_type_comes_with_it_approaching():
+    """TSRGD para 5(5) "likely to endanger any person": highway_code.le reads `U is approaching V`
+    with `U is of type pedestrian` (or cyclist); the type is in U's entity.spawn, which the
+    history now reads for the other road users, from a list of events and from a store alike."""
+    walker = Motion(-40.0, 1.4)
+    run = _through(crossroads("J1", 0.0, 0.0, "lights"), Motion(-60.0, 9.0), hz=5, end=12.0,
+                   others=[("p1", "pedestrian", walker, "north")])
+    run.lights("J1", "west", [(0, "red")])
+    p = history.from_events(run.events, "7")[0]
+    facts = {f.sentence: f for f in derived.facts(p, p.crossing.t)}
+    assert "p1 is approaching 7" in facts and "p1 is of type pedestrian" in facts
+    spawn = next(e for e in run.events if e["src"] == "pedestrian/p1" and e["kind"] == "entity.spawn")
+    assert [r.key for r in facts["p1 is of type pedestrian"].evidence] == [("pedestrian/p1", spawn["seq"])]
+    import tempfile
+    from store import Store
+    with tempfile.TemporaryDirectory() as d, Store(Path(d) / "s.db") as s:
+        s.append(run.events)
+        stored = history.passage(s, run.run, "7", p.crossing.t)
+        assert "p1 is of type pedestrian" in {f.sentence for f in derived.facts(stored, p.crossing.t)}
+
+
+def test_the_amber_margin_says_when_the_light_at_the_crossing_is_uncertain():
+    """The signal's red report is lost: the crossing reads amber, with a signal event missing; the
+    amber margin (metres from the line when amber came) carries that doubt, as the red one does."""
+    from reasoner import margins
+    motion = Motion(-90, 12.5)
+    crossing = motion.when(-12.0)
+    run = Foreign()
+    run.spawn("7")
+    run.lights("J1", "west", [(0, "green"), (crossing - 3.4, "amber"), (crossing - 0.4, "red"),
+                              (crossing + 8, "red_amber"), (crossing + 10, "green")])
+    run.drive("7", motion, "west", rate(5, 0, crossing + 5))
+    run.drop("signal/J1-west", [2])
+    p = history.from_events(run.events, "7")[0]
+    m = margins.margin(p, "enter the junction")
+    assert p.crossing.light.colour == "amber" and m.unit == "m"
+    assert m.uncertain and "signal/J1-west event 2 missing" in m.uncertain
