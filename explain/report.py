@@ -122,6 +122,7 @@ def _entry(store: Store, inv: Any, inc: Incident, number: int, the_map: dict) ->
     me = next((v for v in picture["vehicles"] if v["incident"]), None)
     tl = timeline(store, inc.run, inc.t, inc.vehicle, vehicle_junction(picture))
     tl["heading_deg"] = me["heading_deg"] if me else None
+    tl["moments"] = [{"what": what, "t": t} for what, t in inc.moments if tl["t_from"] <= t <= tl["t_to"]]
     return {"number": number, "row": summary_row(inc), "explanation": doc, "scene": picture, "timeline": tl,
             "rulebooks": [{"stage": stage, **b.to_json()} for stage, b in inc.rulebooks.items()]}
 

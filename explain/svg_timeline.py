@@ -1,6 +1,7 @@
 """The seconds around an incident as an inline SVG: the vehicle's speed (its own entity.state
 reports as a line, what monitors observed as crosses) above one colour band per signal approach of
-its junction, with the incident marked.
+its junction, on one time axis with the incident and the moments of its passage the history found
+(crossing the stop line, entering and leaving the junction, standing still) marked.
 
 Drawn from report_data.timeline only. Between two reports the speed is drawn as a straight line
 and the colour as held: that is all the record says, and the points show where it says it. The
@@ -61,6 +62,7 @@ def timeline_svg(tl: dict[str, Any], heading_deg: float | None = None) -> str:
                    "window</text>")
     axis_y = base + len(bands) * (BAND_H + BAND_GAP) + (12 if not bands else 0)
     out += _time_axis(tl, x, axis_y)
+    out += _moments(tl, x, axis_y)
     ix = x(tl["t"])
     out.append(f'<line class="incident-time" x1="{f(ix)}" y1="{TOP - 4}" x2="{f(ix)}" y2="{f(axis_y)}" '
                'stroke="#7b1fa2" stroke-width="1.5" stroke-dasharray="4 3"/>')
@@ -148,6 +150,21 @@ def _band(tl: dict[str, Any], approach: str, changes: list[dict], top: float, x,
         title = f"signal {tl['junction']} {approach}: {c['colour']} from {_rel(tl, c['t'])}"
         out.append(f'<rect class="signal-band" x="{f(a)}" y="{f(top)}" width="{f(b - a)}" height="{BAND_H}" '
                    f'fill="{fill(c["colour"])}" stroke="#333" stroke-width="0.5"><title>{esc(title)}</title></rect>')
+    return out
+
+
+def _moments(tl: dict[str, Any], x, axis_y: float) -> list[str]:
+    """The moments of the vehicle's passage the history found (crossing the stop line, entering
+    the junction...) as labelled vertical lines across the speed and the signal bands, so the
+    light at the crossing reads off the band under it."""
+    out = []
+    for i, m in enumerate(tl.get("moments") or []):
+        mx = x(m["t"])
+        label = f"{m['what']} ({_rel(tl, m['t'])})"
+        out.append(f'<line class="moment" x1="{f(mx)}" y1="{TOP}" x2="{f(mx)}" y2="{f(axis_y)}" stroke="#222" '
+                   f'stroke-width="1"><title>{esc(label)}</title></line>')
+        out.append(f'<text class="moment-label" x="{f(mx + 3)}" y="{TOP + 22 + 12 * (i % 4)}" fill="#222" '
+                   f'font-size="10">{esc(m["what"])}</text>')
     return out
 
 

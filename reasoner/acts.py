@@ -40,3 +40,19 @@ def moment(passage: Passage, t: int, action: str) -> int:
     if passage.crossing is None and passage.entered is not None and t < passage.entered.t:
         return passage.entered.t
     return t
+
+
+def moments(passage: Passage) -> tuple[tuple[str, int], ...]:
+    """The passage's moments an investigator places the act by, in time order: standing still
+    before the line, crossing it, entering and leaving the junction."""
+    found = [("stood still before the line", s.first.t) for s in passage.standstills if s.to_line_m is not None
+             and s.to_line_m >= -1.0]
+    found += [("moved off", s.last.t) for s in passage.standstills if s.to_line_m is not None and s.to_line_m >= -1.0
+              and (passage.crossing is None or s.last.t <= passage.crossing.t)]
+    if passage.crossing is not None:
+        found.append(("crossed the stop line", passage.crossing.t))
+    if passage.entered is not None:
+        found.append(("entered the junction", passage.entered.t))
+    if passage.left is not None:
+        found.append(("left the junction", passage.left.t))
+    return tuple(sorted(found, key=lambda m: m[1]))

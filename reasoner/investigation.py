@@ -252,7 +252,8 @@ class Investigation:
         penalty, liability = self._sanctions(case, validation, control, vscen)
         findings = (_disagreement(case, mscen, rederived, bool(measured.derived)), *_present(validation.dispute), *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
-                    *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor], case.t,
+                    *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
+                                      measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
                     *_dedup_unknown(unknown, {f.sentence for f in measured.derived}))
         findings = tuple(f for f in findings if f is not None)
@@ -267,6 +268,7 @@ class Investigation:
             scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
             proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen), validation.proof),
             margin=_margin(measured, case.action, rule.label if rule else None), derived=measured.derived,
+            moments=acts.moments(measured.passage) if measured.passage is not None else (),
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
 
     def _measured(self, case: _Case, mscen: Scenario) -> _Measured:
@@ -528,6 +530,12 @@ def _anchor_key(pv: dict | None, episode: Episode | None) -> str:
 
 def _num(value: Any) -> float:
     return value if isinstance(value, (int, float)) else 0
+
+
+def _signals(measured: _Measured) -> list[str]:
+    """The signals whose reports the passage read: their lost events are missing evidence too."""
+    p = measured.passage
+    return sorted({light.ref.src for light in p.lights}) if p is not None else []
 
 
 def _margin(measured: _Measured, action: str, rule: str | None) -> Margin | None:

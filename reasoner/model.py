@@ -311,6 +311,7 @@ class Incident:
     margin: Margin | None = None
     rulebook_problems: tuple[str, ...] = field(default=())
     derived: tuple[DerivedFact, ...] = ()           # what the history added to the Monitor Scenario
+    moments: tuple[tuple[str, int], ...] = ()       # the passage's moments: ("crossed the stop line", t), ...
 
     @property
     def anchor(self) -> EventRef | None:
@@ -335,8 +336,10 @@ class Incident:
             out["rulebook_problems"] = list(self.rulebook_problems)
         if self.derived:
             out["derived"] = [f.to_json() for f in self.derived]
+        if self.moments:
+            out["moments"] = [{"what": what, "t": t} for what, t in self.moments]
         return out
 
     def summary_json(self) -> dict[str, Any]:
         """What `gaps incidents --json` prints: all but the scenarios and the proofs."""
-        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios", "derived")}
+        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios", "derived", "moments")}

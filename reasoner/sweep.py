@@ -17,8 +17,11 @@ user and junction entry (first position inside the junction's area after EPISODE
     give way       entries at a Give Way junction, or one the map gives a major road, within
                    FORCE_WINDOW_S of another road user's braking at FORCE_DECEL_MPS2 or harder
     lights         entries at a signal junction whose measurement states no light for the road user
-                   (a camera that states lights raises these acts from its sentences)
+                   (a camera that states lights raises these acts from its sentences; an
+                   entity.state states none)
     box            the first measurement standing still inside a yellow box
+    speed limit    the first measurement above the speed limit of the road it is on, near a
+                   junction (a history is a junction passage), per SPEEDING_GAP_S
 
 Every candidate is found in one pass with a few comparisons an observation, so the sweep costs
 little beside reading the observations, and the histories run only where a candidate is.
@@ -31,16 +34,18 @@ from typing import Iterable
 
 from .derived import FORCE_DECEL_MPS2
 from .junctions import Junction, Map
-from .motion import STOPPED_MPS
+from .motion import MPH_PER_MPS, STOPPED_MPS
 
 SECOND = 1_000_000_000
 EPISODE_GAP_S = 5.0       # inside the junction again after this long outside: a new entry
 APPROACH_S = 15.0         # the approach to a Stop line looked at for a standstill
 STILL_MPS = 1.0           # a measurement this slow may be a stop a 2 Hz camera caught the end of
 FORCE_WINDOW_S = 6.0      # another road user's braking this close to an entry is looked at
+SPEEDING_GAP_S = 15.0     # a road user over the limit again after this long: another candidate
 MAX_CANDIDATES = 10_000   # bounded work for any input
 ENTER = "enter the junction"
 BOX = "enter the box junction"
+SPEEDING = "exceed the speed limit"
 
 
 @dataclass(frozen=True)
@@ -83,6 +88,9 @@ class Sweep:
         self.by_monitor = {m: j for j in self.map.junctions for m in j.monitors}
         self._wanted = {j.id for j in self.map.junctions
                         if j.control in ("stop", "give_way", "lights") or j.boxed or j.major}
+        limits = [r.limit_mph for r in self.map.roads if r.limit_mph is not None]
+        self._slowest_limit_mps = min(limits) / MPH_PER_MPS if limits else math.inf
+        self._speeding: dict[str, int] = {}          # road user -> last time over the limit
 
     def add(self, event: dict) -> None:
         self.fed += 1
@@ -100,9 +108,22 @@ class Sweep:
         if j is None:
             near = self.map.near(x, y, 100.0)
             j = near[0] if near else None
-        if j is None or j.id not in self._wanted:
+        if j is None:
             return
-        self._measure(j, user, event, x, y, v if _number(v) else None)
+        if _number(v) and v > self._slowest_limit_mps:
+            self._over_limit(user, event, x, y, v)
+        if j.id in self._wanted:
+            self._measure(j, user, event, x, y, v if _number(v) else None)
+
+    def _over_limit(self, user: str, event: dict, x: float, y: float, v: float) -> None:
+        road = self.map.road(event["body"].get("road"), x, y)
+        if road is None or road.limit_mph is None or v * MPH_PER_MPS < road.limit_mph + 0.5:
+            return
+        last = self._speeding.get(user)
+        self._speeding[user] = event["t"]
+        if last is None or event["t"] - last > SPEEDING_GAP_S * SECOND:
+            self._keep(Candidate(user, SPEEDING, road.id, event,
+                                 f"{v * MPH_PER_MPS:.0f} mph on road {road.id}, limit {road.limit_mph:g} mph"))
 
     def _measure(self, j: Junction, user: str, event: dict, x: float, y: float, v: float | None) -> None:
         t = event["t"]
@@ -133,8 +154,8 @@ class Sweep:
             self._keep(Candidate(user, ENTER, j.id, event, f"entered a Stop junction ({slowest} on its approach)"))
         if j.control == "give_way" or j.major:
             self._entries.append((j, user, event, False))
-        if j.control == "lights" and event["kind"] == "monitor.observation" and not _states_light(event, user):
-            self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; the camera stated no light"))
+        if j.control == "lights" and not _states_light(event, user):
+            self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; no light stated with it"))
         track.slowest, track.since = math.inf, None
 
     def _keep(self, candidate: Candidate) -> None:
