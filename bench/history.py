@@ -1,18 +1,19 @@
-"""Histories rebuilt over the synthetic run of bench/incidents.py: what the verdicts will pay once
-derived facts join them, and what every passage of every vehicle costs.
+"""Histories over the synthetic run of bench/incidents.py: what the verdicts pay for them, and
+what every passage of every vehicle costs.
 
     .venv/bin/python bench/history.py [--repeats 3] [--dir /tmp/gaps-bench] [--no-whole] [--json]
 
-On the store file bench/incidents.py generates (its working copy; generated if missing), through
-the public API, read-only for the history:
+On the store file bench/incidents.py generates (its working copy; generated if missing):
 
-    judgement    Investigation(store).incidents(run), fresh objects, warm: bench/incidents.py's figure,
-                 measured here again so that the sum below is of one machine at one time
+    judgement    Investigation(store).incidents(run), fresh objects, warm: every act's history,
+                 derived facts, margin and the sweep of acts nobody recorded included (issue 12's
+                 target: 500x real time or more)
+    without      the same with the histories left out (Investigation._measured answering nothing:
+                 the judgement before issue 12), measured in the same repeats, so that the
+                 difference is the histories' cost on one machine at one time
     per act      for each recorded potential violation: history.passage(store, run, vehicle, t),
-                 derived.facts(passage, t) and margins.margin(passage, action), one run context
-                 (map and signal timelines) shared, as an investigation would share it
-    together     judgement + per act, as a multiple of the run's duration: the target is that the
-                 whole judgement stays at 500x real time or more (issue 12)
+                 derived.facts(passage, t) and margins.margin(passage, action) alone, one run
+                 context shared
     whole record every vehicle's passages over its whole record (history.passages(around=None)):
                  events read per second and as a multiple of real time
 
@@ -83,6 +84,18 @@ def per_act(path: Path) -> dict[str, Any]:
             "events_read": store.read, "wall_s": wall, "cpu_s": cpu}
 
 
+def without_histories(path: Path) -> float:
+    """Wall seconds of the judgement with no history (for the difference only)."""
+    from reasoner import investigation
+
+    measured = investigation.Investigation._measured
+    investigation.Investigation._measured = lambda self, case, mscen: investigation._Measured()
+    try:
+        return incidents_once(path)[1]
+    finally:
+        investigation.Investigation._measured = measured
+
+
 def whole_record(path: Path) -> dict[str, Any]:
     """Every vehicle's passages over its whole record."""
     from reasoner import history
@@ -109,24 +122,27 @@ def main() -> None:
     with Store.open_read_only(path) as store:
         span = next(r for r in store.runs() if r.run == RUN)
     duration = (span.last_t - span.first_t) / 1e9
-    judged, acts, speeds = [], [], []
+    judged, bare, acts, speeds = [], [], [], []
     for i in range(args.repeats):
         speeds.append(calibration_elsewhere())
         _, wall, _ = incidents_once(path)
         judged.append(wall)
+        bare.append(without_histories(path))
         acts.append(per_act(path))
-        print(f"repeat {i + 1}: judgement {wall:.2f} s, histories of {acts[-1]['acts']} acts {acts[-1]['wall_s']:.3f} s "
-              f"(calibration before: {speeds[-1]:.2f} ms, {QUIET_MS})", flush=True)
+        print(f"repeat {i + 1}: judgement {wall:.2f} s, without histories {bare[-1]:.2f} s, histories of "
+              f"{acts[-1]['acts']} acts alone {acts[-1]['wall_s']:.3f} s (calibration before: {speeds[-1]:.2f} ms, "
+              f"{QUIET_MS})", flush=True)
     whole = None if args.no_whole else whole_record(path)
     judge = statistics.median(judged)
+    without = statistics.median(bare)
     act = statistics.median(a["wall_s"] for a in acts)
     last = acts[-1]
     result = {
         "run": RUN, "events": span.events, "run_seconds": duration, "machine": machine(),
         "calibration_ms": [round(x, 2) for x in speeds],
-        "judgement_s": judged, "per_act": acts, "judgement_median_s": judge, "per_act_median_s": act,
-        "per_act_ms": act / max(last["acts"], 1) * 1000,
-        "together_x_real_time": duration / (judge + act), "judgement_x_real_time": duration / judge,
+        "judgement_s": judged, "without_s": bare, "per_act": acts, "judgement_median_s": judge,
+        "without_median_s": without, "per_act_median_s": act, "per_act_ms": act / max(last["acts"], 1) * 1000,
+        "judgement_x_real_time": duration / judge, "without_x_real_time": duration / without,
         "whole_record": whole,
     }
     record_result(result, args.repeats)
@@ -135,12 +151,13 @@ def main() -> None:
         return
     print(f"machine: {result['machine']}")
     print(f"run {RUN}: {span.events:,} events over {duration:,.0f} s; {last['acts']} recorded potential violations")
-    print(f"judgement: median {judge:.2f} s = {duration / judge:,.0f}x real time")
-    print(f"histories of the acts: median {act:.3f} s ({result['per_act_ms']:.1f} ms an act; {last['events_read']:,} "
-          f"events read, {last['events_read'] / act:,.0f} events/s; {last['crossings']} crossings, {last['facts']} "
-          f"derived facts, {last['margins']} margins)")
-    print(f"together: {judge + act:.2f} s = {result['together_x_real_time']:,.0f}x real time; target {TARGET:.0f}x: "
-          f"{'met' if result['together_x_real_time'] >= TARGET else 'NOT met'}")
+    print(f"judgement with histories: median {judge:.2f} s = {duration / judge:,.0f}x real time; target "
+          f"{TARGET:.0f}x: {'met' if duration / judge >= TARGET else 'NOT met'}")
+    print(f"judgement without histories: median {without:.2f} s = {duration / without:,.0f}x real time "
+          f"(the histories' share: {judge - without:+.2f} s)")
+    print(f"histories of the recorded acts alone: median {act:.3f} s ({result['per_act_ms']:.1f} ms an act; "
+          f"{last['events_read']:,} events read, {last['events_read'] / act:,.0f} events/s; {last['crossings']} "
+          f"crossings, {last['facts']} derived facts, {last['margins']} margins)")
     if whole:
         print(f"whole record: {whole['vehicles']} vehicles, {whole['passages']:,} passages in {whole['wall_s']:.1f} s; "
               f"{whole['events_read']:,} events read = {whole['events_read'] / whole['wall_s']:,.0f} events/s, "
@@ -153,14 +170,16 @@ def record_result(result: dict[str, Any], repeats: int) -> None:
     last = acts[-1]
     act = result["per_act_median_s"]
     figures = [
-        Figure("all incidents judged (Investigation.incidents, warm)", result["judgement_median_s"], "s",
-               tuple(result["judgement_s"])),
-        Figure("histories of every recorded act (passage, derived facts, margin)", act, "s",
-               tuple(a["wall_s"] for a in acts), peer="all incidents judged (Investigation.incidents, warm)",
+        Figure("all incidents judged with histories (Investigation.incidents, warm)", result["judgement_median_s"],
+               "s", tuple(result["judgement_s"])),
+        Figure("judgement with histories, as a speed", result["judgement_x_real_time"], "× real time",
+               tuple(duration / j for j in result["judgement_s"]), target=f"≥ {TARGET:.0f}× real time"),
+        Figure("the same judgement without histories", result["without_median_s"], "s", tuple(result["without_s"]),
+               peer="all incidents judged with histories (Investigation.incidents, warm)",
+               note=f"{result['without_x_real_time']:,.0f}× real time"),
+        Figure("histories of every recorded act alone (passage, derived facts, margin)", act, "s",
+               tuple(a["wall_s"] for a in acts),
                note=f"{result['per_act_ms']:.1f} ms an act; {last['events_read'] / act:,.0f} events read/s"),
-        Figure("judgement and histories together, as a speed", result["together_x_real_time"], "× real time",
-               tuple(duration / (j + a["wall_s"]) for j, a in zip(result["judgement_s"], acts)),
-               target=f"≥ {TARGET:.0f}× real time"),
     ]
     if whole:
         figures.append(Figure("every passage of every vehicle, whole record", whole["events_read"] / whole["wall_s"],

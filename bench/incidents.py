@@ -19,6 +19,7 @@ The copy (with whatever the reasoner wrote into it) is kept for bench/scene.py.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import shutil
@@ -31,6 +32,7 @@ from typing import Any
 
 from machine import QUIET_MS, calibration_elsewhere, machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
+from reasoner.bundled import RULES_DIR
 from sim_replay.synthetic import GENERATOR, synthetic_run
 from store import Store
 
@@ -40,9 +42,18 @@ BATCH = 10_000
 TARGET = 500.0  # x real time
 
 
+def rulebooks_tag() -> str:
+    """The bundled rulebooks' digest, short: the run records them and its ground truth is asked of
+    them, so a file generated under other rulebooks is another run, not this one."""
+    digest = hashlib.sha256()
+    for path in sorted(RULES_DIR.glob("*.le")):
+        digest.update(path.name.encode() + b"\0" + path.read_bytes())
+    return digest.hexdigest()[:10]
+
+
 def base_file(directory: Path) -> Path:
     """The pristine store file of the run (and its ground truth), generated if missing."""
-    path = directory / f"incidents-{RUN}-g{GENERATOR}-v{VEHICLES}-s{SECONDS}-seed{SEED}.db"
+    path = directory / f"incidents-{RUN}-g{GENERATOR}-r{rulebooks_tag()}-v{VEHICLES}-s{SECONDS}-seed{SEED}.db"
     truth_path = path.with_suffix(".truth.json")
     if path.exists() and truth_path.exists():
         return path

@@ -15,7 +15,9 @@ user and junction entry (first position inside the junction's area after EPISODE
     stop line      entries at a Stop junction without a measurement below STILL_MPS since
                    APPROACH_S before (a stop at the line shows as one)
     give way       entries at a Give Way junction, or one the map gives a major road, within
-                   FORCE_WINDOW_S of another road user's braking at FORCE_DECEL_MPS2 or harder
+                   FORCE_WINDOW_S of braking at FORCE_DECEL_MPS2 or harder by a road user on an
+                   arm the map makes the major road (where it does not say, "on the main road"
+                   cannot be derived, and no candidate could come to anything)
     lights         entries at a signal junction whose measurement states no light for the road user
                    (a camera that states lights raises these acts from its sentences; an
                    entity.state states none)
@@ -33,7 +35,7 @@ from dataclasses import dataclass, field
 from typing import Iterable
 
 from .derived import FORCE_DECEL_MPS2
-from .junctions import Junction, Map
+from .junctions import Junction, Map, sector
 from .motion import MPH_PER_MPS, STOPPED_MPS
 
 SECOND = 1_000_000_000
@@ -88,32 +90,38 @@ class Sweep:
         self.by_monitor = {m: j for j in self.map.junctions for m in j.monitors}
         self._wanted = {j.id for j in self.map.junctions
                         if j.control in ("stop", "give_way", "lights") or j.boxed or j.major}
+        self._tracked = {j.id for j in self.map.junctions if j.control in ("stop", "give_way") or j.boxed or j.major}
+        self._inside: dict[tuple[str, str], int] = {}    # (junction, road user) -> last time inside
         limits = [r.limit_mph for r in self.map.roads if r.limit_mph is not None]
         self._slowest_limit_mps = min(limits) / MPH_PER_MPS if limits else math.inf
         self._speeding: dict[str, int] = {}          # road user -> last time over the limit
 
     def add(self, event: dict) -> None:
+        """One measurement; a few comparisons for most (this runs once per observation)."""
         self.fed += 1
         body = event["body"]
         if type(body) is not dict or not self._wanted:
             return
         if event["kind"] == "monitor.observation":
-            user, where = body.get("vehicle"), event["src"]
+            user, j = body.get("vehicle"), self.by_monitor.get(event["src"])
         else:
-            user, where = event["src"].split("/", 1)[-1], None
+            user, j = event["src"].split("/", 1)[-1], None
         x, y, v = body.get("x"), body.get("y"), body.get("speed_mps")
-        if type(user) is not str or not _number(x) or not _number(y):
-            return
-        j = self.by_monitor.get(where) if where else None
+        if type(user) is not str or type(x) not in _NUMBER or type(y) not in _NUMBER or x - x or y - y:
+            return      # (x - x is 0 for a finite number, NaN otherwise)
         if j is None:
             near = self.map.near(x, y, 100.0)
-            j = near[0] if near else None
-        if j is None:
-            return
-        if _number(v) and v > self._slowest_limit_mps:
+            if not near:
+                return
+            j = near[0]
+        if type(v) not in _NUMBER or v - v:
+            v = None
+        elif v > self._slowest_limit_mps:
             self._over_limit(user, event, x, y, v)
-        if j.id in self._wanted:
-            self._measure(j, user, event, x, y, v if _number(v) else None)
+        if j.id in self._tracked:
+            self._measure(j, user, event, x, y, v)
+        elif j.id in self._wanted and j.inside(x, y):
+            self._inside_at(j, user, event)
 
     def _over_limit(self, user: str, event: dict, x: float, y: float, v: float) -> None:
         road = self.map.road(event["body"].get("road"), x, y)
@@ -128,9 +136,10 @@ class Sweep:
     def _measure(self, j: Junction, user: str, event: dict, x: float, y: float, v: float | None) -> None:
         t = event["t"]
         track = self._tracks.setdefault((j.id, user), _Track())
-        if v is not None and track.last is not None and 0 < t - track.last[0] <= 2 * SECOND:
-            if (track.last[1] - v) / ((t - track.last[0]) / SECOND) >= FORCE_DECEL_MPS2:
-                self._braking.setdefault(j.id, []).append((t, user))
+        if v is not None and track.last is not None and 0 < t - track.last[0] <= 2 * SECOND \
+                and (track.last[1] - v) / ((t - track.last[0]) / SECOND) >= FORCE_DECEL_MPS2 \
+                and j.is_major(sector(x - j.x, y - j.y)):
+            self._braking.setdefault(j.id, []).append((t, user))
         if v is not None:
             track.last = (t, v)
         if not j.inside(x, y):
@@ -147,6 +156,14 @@ class Sweep:
         if j.boxed and not track.boxed and v is not None and v <= STOPPED_MPS and j.in_box(x, y):
             track.boxed = True
             self._keep(Candidate(user, BOX, j.id, event, "standing still inside the yellow box"))
+
+    def _inside_at(self, j: Junction, user: str, event: dict) -> None:
+        """A measurement inside a junction where only entries matter (a signal junction)."""
+        key, t = (j.id, user), event["t"]
+        last = self._inside.get(key)
+        self._inside[key] = t
+        if (last is None or t - last > EPISODE_GAP_S * SECOND) and not _states_light(event, user):
+            self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; no light stated with it"))
 
     def _entry(self, j: Junction, user: str, event: dict, track: _Track) -> None:
         if j.control == "stop" and track.slowest > STILL_MPS:
@@ -180,8 +197,7 @@ def sweep(events: Iterable[dict], map_: Map) -> list[Candidate]:
     return found.candidates()
 
 
-def _number(value: object) -> bool:
-    return type(value) in (int, float) and math.isfinite(value)
+_NUMBER = (int, float)
 
 
 def _states_light(event: dict, user: str) -> bool:
