@@ -241,7 +241,7 @@ class Investigation:
         vscen = vehicle_scenario(case.state, case.vehicle)
         judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
         if case.pv and not rederived:
-            validation = _Validation("dismissed", _unsupported(mscen))
+            validation = _Validation("dismissed", _unsupported(mscen, bool(measured.derived)))
         else:
             validation = self._validate(case, judged_on, vscen, mscen, unknown,
                                         frozenset(f.sentence for f in measured.derived))
@@ -436,8 +436,11 @@ def _why(verdict: str, rb: Rulebook, me: Any, act: Any) -> str:
     }[verdict]
 
 
-def _unsupported(mscen: Scenario) -> str:
+def _unsupported(mscen: Scenario, measured: bool) -> str:
     """Why a recorded potential violation the monitor rules do not re-derive is dismissed."""
+    if measured:
+        return ("the monitor's own observation, with what the measurements show at the act (see the facts marked "
+                "measured), does not show the potential violation it recorded")
     return ("the monitor's own observation does not show the potential violation it recorded" if mscen.facts
             else "no observation of the vehicle by the monitor supports the potential violation it recorded")
 
@@ -490,7 +493,8 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool)
         return None
     if case.pv:
         detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
-                  "its own observation of the vehicle" if mscen.facts else
+                  "its own observation of the vehicle" + (" with what the measurements show at the act"
+                                                          if measured else "") if mscen.facts else
                   "the monitor recorded this potential violation without any observation of the vehicle to "
                   "support it")
     else:

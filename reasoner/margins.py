@@ -103,7 +103,7 @@ def _stop(p: Passage) -> Margin | None:
 
 
 def _give_way(p: Passage) -> Margin | None:
-    braked = [o for o in p.others if o.braking is not None]
+    braked = [o for o in p.others if o.braking is not None and o.followed is None]
     if not braked:
         return None
     o = max(braked, key=lambda o: o.braking.decel_mps2)

@@ -5,14 +5,17 @@ counts as near when it came within CONFLICT_M of it in the window read; one foll
 on its own approach is left out (it does not cross its path). For each: the arm it was first seen
 on and whether it was closing on the centre, whether that arm is the major road, the hardest it braked while the vehicle passed (its speed
 series, averaged over at least a second: motion.peak_deceleration), whether it came to a stop, and
-what its own signal showed then (braking for one's own red light is not being forced by another).
+what its own signal showed then (braking for one's own red light is not being forced by another),
+and whether a road user ahead of it on its arm explains its braking (following a slower or stopped
+vehicle within FOLLOW_S of headway is not being forced by the vehicle that passed).
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Mapping
 
 from .junctions import Junction, heading_sector, sector
-from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration
+from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration, position_at, speed_at
 from .passage import Other
 from .record import Track
 from .signals import Signals, shown
@@ -20,6 +23,8 @@ from .signals import Signals, shown
 CONFLICT_M = 50.0      # 30 mph covers 50 m in under 4 s, and a car needs 23 m to stop from it (HC 126)
 MOVING_MPS = 2.0       # "came to a stop" needs it moving at least this fast first (4.5 mph)
 MAX_OTHERS = 64        # the nearest this many; a crowd beyond that adds nothing to a judgement
+FOLLOW_S = 2.0         # headway of the two-second rule (HC 126): a road user this close behind another follows it
+FOLLOW_M = 8.0         # ... plus a car's length and the gap of a queue (a stopped one behind a stopped one)
 
 
 def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
@@ -40,6 +45,7 @@ def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, ap
         if closest > CONFLICT_M or (arm is not None and arm == approach and closing):
             continue
         found.append(_other(user, src, window, junction, arm, closing, closest, passing, signals))
+    found = [_followed(o, found, junction) for o in found]
     found.sort(key=lambda o: (o.closest_m, o.user))
     return tuple(found[:MAX_OTHERS])
 
@@ -66,6 +72,33 @@ def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, 
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
     light = shown(timeline, moment) if moment is not None and timeline else None
     return Other(user, src, window, arm, closing, junction.is_major(arm), closest, braking, stopped, light)
+
+
+def _followed(other: Other, everyone: list[Other], junction: Junction) -> Other:
+    """The road user with, where one explains its braking or stop, the one it followed: ahead of
+    it on the same arm, heading for the centre or standing, no faster, within FOLLOW_S of headway
+    when it began to brake (or stopped, without braking measured)."""
+    moment = other.braking.first.t if other.braking is not None else other.stopped.t if other.stopped else None
+    if moment is None or other.arm is None:
+        return other
+    here, _ = position_at(other.samples, moment)
+    speed, _ = speed_at(other.samples, moment)
+    if here is None or speed is None:
+        return other
+    mine = junction.distance(*here)
+    for ahead in everyone:
+        if ahead.user == other.user:
+            continue
+        there, _ = position_at(ahead.samples, moment)
+        its, _ = speed_at(ahead.samples, moment)
+        if there is None or its is None or sector(there[0] - junction.x, there[1] - junction.y) != other.arm:
+            continue
+        gap = mine - junction.distance(*there)
+        earlier, _ = position_at(ahead.samples, moment - 500_000_000)
+        heading_in = its <= STOPPED_MPS or (earlier is not None and junction.distance(*earlier) > junction.distance(*there))
+        if 0 < gap <= FOLLOW_M + FOLLOW_S * speed and its <= speed and heading_in:
+            return replace(other, followed=ahead.user)
+    return other
 
 
 def _braking(window: tuple[Sample, ...], junction: Junction, passing: tuple[int, int]) -> Braking | None:

@@ -197,6 +197,24 @@ def test_a_main_road_car_that_keeps_its_speed_was_not_forced():
     assert not any("would force" in f for f in sentences(p, 6))
 
 
+def test_a_main_road_car_braking_behind_a_slower_one_was_not_forced():
+    """The same failure to slow at the Give Way line, but the main-road car 8 brakes because the
+    car 9 ahead of it in its lane is slowing to a stop: following within the two-second rule's
+    headway (HC 126) explains the braking, so 7 is not shown to force 8 (others.py)."""
+    run = give_way_run()
+    for v in ("7", "8", "9"):
+        run.spawn(v)
+    run.drive("7", Motion(-60, 8.0), "west", rate(5, 0, 10))
+    run.drive("9", Motion(-55, 13.0, [(2.5, 0.0), (3.0, -4.5)]), "north", rate(5, 0, 10))   # ahead, braking
+    run.drive("8", Motion(-70, 13.0, [(2.5, 0.0), (3.0, -4.5)]), "north", rate(5, 0, 10))   # 15 m behind it
+    p = one(run.events)
+    eight = next(o for o in p.others if o.user == "8")
+    assert eight.braking.decel_mps2 > 4.0 and eight.followed == "9"
+    crossing = p.crossing.t / SECOND - T0 / SECOND
+    assert "7 would force 8 to change speed or course" not in sentences(p, crossing)
+    assert "7 would force 9 to change speed or course" in sentences(p, crossing)     # the leader was forced
+
+
 # --- box junction ---------------------------------------------------------------------------------
 
 def test_a_blocked_box_junction():
