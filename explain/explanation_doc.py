@@ -299,9 +299,17 @@ class _Builder:
                 uses[at].append(what)
         if anchor:
             note(anchor, "the recorded potential violation" if inc.recorded else "the first observation")
+        measured = {f.sentence for f in inc.derived}
         for part in (inc.scenarios.monitor, inc.scenarios.vehicle, inc.scenarios.validator):
             for s, ev in part:
-                note(ev, f"“{s}”")
+                if s not in measured:
+                    note(ev, f"“{s}”")
+        for f in inc.derived:
+            for ev in f.evidence:
+                note(ev, f"“{f.sentence}” (measured)")
+        if inc.margin is not None:
+            for ev in inc.margin.evidence:
+                note(ev, "the margin")
         decision = inc.scenarios.action
         if decision:
             note(decision.evidence, f"the decision “{decision.goal}”")

@@ -213,7 +213,7 @@ def _counterfactuals(doc: dict) -> list[Block]:
 def _findings(doc: dict) -> list[Block]:
     if not doc["findings"]:
         return [("heading", "7. Findings"), ("para", "None: no perception or decision fault, no monitor "
-                                                     "disagreement, no missing evidence, no unknown fact.")]
+                                                     "disagreement, no contradiction, no missing evidence, no unknown fact.")]
     items = [f"{f['kind']}: {f.get('detail', '')}" + (f" [{', '.join(f['evidence'])}]" if f.get("evidence") else "")
              for f in doc["findings"]]
     return [("heading", "7. Findings"), ("list", items)]

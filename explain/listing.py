@@ -21,7 +21,7 @@ def incident_line(inc: Incident, number: int | None = None) -> str:
     fields = [format_time(inc.t), inc.id, f"vehicle {inc.vehicle}", inc.action, str(inc.rule),
               inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
     if inc.margin is not None:
-        fields.append(f"margin {_margin(inc.margin)}")
+        fields.append(_margin(inc.margin))
     fields.append(_findings(inc.findings))
     line = "  ".join(fields)
     return f"{number:>3}  {line}" if number is not None else line
@@ -43,8 +43,20 @@ def _penalty(p: Penalty | None) -> str:
     return " + ".join(part for part in parts if part) or p.offence
 
 
+SHORT = {   # a margin's quantity as a listing line says it, value and unit filled in
+    "seconds after red the stop line was crossed": "crossed {} after red",
+    "metres from the stop line when amber came": "{} from the line at amber",
+    "seconds stationary at the Stop line": "stood {} at the Stop line",
+    "deceleration of the other road user": "made another brake at {}",
+    "seconds stopped in the box junction": "stood {} in the box",
+    "mph over the speed limit": "{} over the limit",
+}
+
+
 def _margin(m: Margin) -> str:
-    return f"{m.quantity} {m.value:g} {m.unit}" + (" (uncertain)" if m.uncertain else "")
+    amount = f"{m.value:g} {m.unit}"
+    text = SHORT[m.quantity].format(amount) if m.quantity in SHORT else f"{m.quantity} {amount}"
+    return text + (" (uncertain)" if m.uncertain else "")
 
 
 def _findings(findings: tuple[Finding, ...]) -> str:

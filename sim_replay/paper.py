@@ -21,7 +21,8 @@ ACTION = "enter the junction"
 MAP = {
     "roads": [{"id": "r1", "from": [-200.0, 0.0], "to": [200.0, 0.0]},
               {"id": "r2", "from": [0.0, -200.0], "to": [0.0, 200.0]}],
-    "junctions": [{"id": "j1", "x": 0.0, "y": 0.0, "control": "lights"}],
+    "junctions": [{"id": "j1", "x": 0.0, "y": 0.0, "control": "lights",
+                   "stop_lines": [{"approach": "west", "from": [-12.0, -3.5], "to": [-12.0, 3.5], "kind": "signal"}]}],
     "monitors": [{"id": "m1", "junction": "j1", "x": -15.0, "y": 10.0, "heading_deg": 0.0,
                   "range_m": 60.0, "fov_deg": 90.0}],
 }

@@ -38,7 +38,7 @@ def test_incidents_json_gives_the_margin_and_the_line_shows_it(runner_db):
     assert margin["value"] == pytest.approx(LAG_S, abs=0.01)
     assert {r["kind"] for r in margin["evidence"]} == {"entity.state", "signal.state"}
     line = gaps("incidents", "--run", "measured-runner", db=runner_db).stdout
-    assert f"margin seconds after red the stop line was crossed {margin['value']:g} s" in line
+    assert f"crossed {margin['value']:g} s after red" in line
 
 
 def test_the_explanation_marks_measured_facts_and_gives_their_method(runner_db):

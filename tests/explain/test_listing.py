@@ -34,9 +34,12 @@ def test_the_line_says_what_an_investigator_scans_for():
 
 def test_no_penalty_no_findings_and_a_margin():
     line = incident_line(incident(verdict="mitigated", penalty=None, liable="none", findings=(),
-                                  margin=Margin(quantity="after red", value=1.2, unit="s")))
-    assert line.endswith("mitigated  no penalty  liable: none  margin after red 1.2 s  no findings")
-    assert "margin" not in incident_line(incident(margin=None))
+                                  margin=Margin(quantity="seconds after red the stop line was crossed", value=1.2,
+                                                unit="s")))
+    assert line.endswith("mitigated  no penalty  liable: none  crossed 1.2 s after red  no findings")
+    assert "after red" not in incident_line(incident(margin=None))
+    doubtful = Margin(quantity="a quantity of a newer reasoner", value=3, unit="m", uncertain="a gap")
+    assert incident_line(incident(margin=doubtful)).count("a quantity of a newer reasoner 3 m (uncertain)") == 1
 
 
 def test_a_penalty_without_a_fine_names_the_offence():
