@@ -8,8 +8,9 @@ fault and the verdict is taken on what was observed. Decisions made here:
   conditions of the monitor rules (the light, stopped, crossed the stop line, speed, the speed
   limit, ...). For those, the Validator Scenario takes the monitor's facts about the vehicle in
   place of the vehicle's own; the monitor saying nothing of one (no "173 is stopped") counts, as
-  the monitor rules read it, as its not being so. Everything else (its type, an emergency call,
-  what it knows of a pedestrian's path) stays as the vehicle perceived it.
+  the monitor rules read it, as its not being so. Everything else about the vehicle (its type, an
+  emergency call, what it knows of a pedestrian's path) stays as the vehicle perceived it; what
+  the monitor saw of another road user that the vehicle perceived nothing of (its type) is added.
 - A disagreement is a fault of the verdict only if it changes it: the verdict on the vehicle's
   own facts is compared with the verdict on the corrected ones. A speed of 29 against 31 under a
   limit of 30 is a perception fault; 21 against 22 is not worth one.
@@ -66,7 +67,18 @@ def corrected(vehicle_facts: list[tuple[Atom, EventRef]], monitor_facts: list[tu
         if {a for a, _ in mine} != {a for a, _ in seen}:
             disputes.append({"functor": functor, "vehicle": mine, "monitor": seen})
     out += [(a, ev) for a, ev in monitor_facts if a.functor in witnessed and _about(a, me, others)]
+    out += _unperceived(vehicle_facts, monitor_facts, witnessed, me)
     return out, disputes
+
+
+def _unperceived(vehicle_facts: list[tuple[Atom, EventRef]], monitor_facts: list[tuple[Atom, EventRef]],
+                 witnessed: set[str], me: Any) -> list[tuple[Atom, EventRef]]:
+    """What the monitor saw of other road users that the vehicle perceived nothing of ("p1 is of
+    type pedestrian" beside the witnessed "p1 is approaching 253"): the monitor witnessed it, the
+    vehicle holds no view of it to keep, and the rules may need it (para 5(5) asks who approaches)."""
+    known = {(a.functor, a.args[:1]) for a, _ in vehicle_facts}
+    return [(a, ev) for a, ev in monitor_facts if a.functor not in witnessed and me not in a.args and a.args
+            and (a.functor, a.args[:1]) not in known]
 
 
 def dispute_finding(disputes: list[dict], rb: Rulebook, on_vehicle: str, on_monitor: str) -> Finding:

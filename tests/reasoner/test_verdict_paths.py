@@ -629,6 +629,24 @@ def test_an_ambulance_on_call_with_a_road_user_approaching(tmp_path, road_user, 
     assert inc.rule == "HC 176"
 
 
+def test_a_pedestrian_only_the_camera_saw_counts_against_an_ambulance_that_recorded_its_own_view(tmp_path):
+    """TSRGD para 5(5) again, on the vehicle-scenario path: the ambulance records its perception
+    (its call, its red light, nobody about) and the camera states "p1 is approaching 8" and "p1
+    is of type pedestrian". What the monitor saw of a road user the vehicle perceived nothing of
+    joins the Validator Scenario, so the endangered pedestrian makes it punishable."""
+    run = RunBuilder()
+    run.spawn("8", "ambulance", emergency=True)
+    run.lights(10, "red")
+    own = ["8 is of type ambulance", "8 is on an emergency call", "8 has red light"]
+    seen = ["8 has red light", "8 crossed the stop line on red light", "p1 is approaching 8",
+            "p1 is of type pedestrian"]
+    run.crossing("8", 10, own, seen)
+    inc = one(judge(tmp_path, run.finish()), "8")
+    assert inc.judged_on == "vehicle scenario"
+    assert "p1 is of type pedestrian" in [s for s, _ in inc.scenarios.validator]
+    assert inc.verdict == "punishable" and inc.rule == "HC 176", (inc.verdict, inc.why)
+
+
 def test_an_unmarked_police_car_on_a_call_is_exempt_and_an_ambulance_off_call_is_not(tmp_path):
     """TSRGD para 5(6): the exemption follows the purpose (an emergency call), not the type."""
     unmarked = ["5 is of type car", "5 is on an emergency call", "5 crossed the stop line on red light"]
