@@ -41,18 +41,23 @@ MAX_OTHER_EVENTS = 50_000   # events read to find the road users near a junction
 FIRST_BEFORE_S = 10.0       # the first read around a moment: a moving vehicle's passage up to its act (100 m at 25 mph: 9 s)
 FIRST_AFTER_S = 4.0         # ... and out of the junction (30 m beyond its centre)
 HOLE_S = 1.5                # a hole this long in its own series and the monitors' measurements are read too
+MAX_KEPT_SPAWNS = 100_000   # road users whose entity.spawn a run context keeps
 
 
 @dataclass(frozen=True)
 class RunContext:
     """What every passage of a run shares, read once: its map, its signal timelines, and
-    whether any of its sources misses a seq (the gaps themselves are looked up per source)."""
+    whether any of its sources misses a seq (the gaps themselves are looked up per source).
+    What the passages read of their other road users is kept too, for the next act at the same
+    junction and time (_Seen) and the next passage by the same road user (spawns)."""
 
     run: str
     map: Map
     signals: Signals
     gappy: bool
     _gaps: dict[str, tuple[Gap, ...]] = field(default_factory=dict, compare=False, repr=False)
+    _spawns: dict[str, dict | None] = field(default_factory=dict, compare=False, repr=False)
+    _seen: dict[str, _Seen] = field(default_factory=dict, compare=False, repr=False)
 
 
 def run_context(store: Store, run: str) -> RunContext:
@@ -207,11 +212,16 @@ def _store_gaps(store: Store, ctx: RunContext, srcs: set[str]) -> tuple[Gap, ...
 
 
 def _store_spawns(store: Store, ctx: RunContext):
-    """Another road user's entity.spawn (its type), as a vehicle or a pedestrian source."""
+    """Another road user's entity.spawn (its type), as a vehicle or a pedestrian source; read
+    once per road user and run (the same road users pass one junction after another)."""
     def find(user: str) -> dict | None:
-        srcs = [user] if "/" in user else [f"vehicle/{user}", f"pedestrian/{user}"]
-        found = list(islice(store.events(ctx.run, kinds=["entity.spawn"], srcs=srcs), 10))
-        return found[-1] if found else None
+        if user not in ctx._spawns:
+            srcs = [user] if "/" in user else [f"vehicle/{user}", f"pedestrian/{user}"]
+            found = list(islice(store.events(ctx.run, kinds=["entity.spawn"], srcs=srcs), 10))
+            if len(ctx._spawns) >= MAX_KEPT_SPAWNS:
+                ctx._spawns.clear()
+            ctx._spawns[user] = found[-1] if found else None
+        return ctx._spawns[user]
     return find
 
 
@@ -219,9 +229,7 @@ def _store_others(store: Store, ctx: RunContext, vehicle: str):
     """The road users near a junction in a window: from its monitors, else every entity.state."""
     def find(junction: Junction, t_from: int, t_to: int) -> Mapping[str, Track]:
         if junction.monitors:
-            watched = islice(store.events(ctx.run, kinds=["monitor.observation"], srcs=list(junction.monitors),
-                                          t_from=t_from, t_to=t_to), MAX_OTHER_EVENTS)
-            tracks = _observed(watched, vehicle, junction)
+            tracks = _observed(_watched(store, ctx, junction, t_from, t_to), vehicle, junction)
             for user, (src, series) in list(tracks.items()):
                 if _holes(series):
                     own, _ = samples(store.source_events(ctx.run, f"vehicle/{user}", kinds=["entity.state"],
@@ -232,6 +240,45 @@ def _store_others(store: Store, ctx: RunContext, vehicle: str):
         states = islice(store.events(ctx.run, kinds=["entity.state"], t_from=t_from, t_to=t_to), MAX_OTHER_EVENTS)
         return _states_by_user(states, vehicle)
     return find
+
+
+@dataclass(frozen=True)
+class _Seen:
+    """A junction's monitor observations read for a passage: all of them in [t_from, t_to], in
+    the store's (t, seq, src) order."""
+
+    t_from: int
+    t_to: int
+    events: list[dict]
+
+
+def _watched(store: Store, ctx: RunContext, junction: Junction, t_from: int, t_to: int) -> list[dict]:
+    """The first MAX_OTHER_EVENTS observations by the junction's monitors in [t_from, t_to].
+    Acts at a junction come close together (a queue through a red light, a recorded act and the
+    passage before it): what the last read at this junction holds of the window is taken from
+    it, and only the rest is read. The pieces are disjoint in time and each in the store's
+    order, so together they are what one read of the window gives."""
+    last = ctx._seen.get(junction.id)
+    if last is None or last.t_from > t_to or last.t_to < t_from:
+        pieces = [_read_watched(store, ctx, junction, t_from, t_to)]
+    else:
+        kept = [e for e in last.events if t_from <= e["t"] <= t_to]
+        pieces = [_read_watched(store, ctx, junction, t_from, last.t_from - 1) if t_from < last.t_from else [],
+                  kept,
+                  _read_watched(store, ctx, junction, last.t_to + 1, t_to) if t_to > last.t_to else []]
+    events = [e for piece in pieces for e in piece]
+    if len(events) > MAX_OTHER_EVENTS:
+        ctx._seen.pop(junction.id, None)        # (a piece may be cut short: not a whole window)
+        return events[:MAX_OTHER_EVENTS]
+    ctx._seen[junction.id] = _Seen(t_from, t_to, events)
+    return events
+
+
+def _read_watched(store: Store, ctx: RunContext, junction: Junction, t_from: int, t_to: int) -> list[dict]:
+    """One read of the junction's monitors' observations, MAX_OTHER_EVENTS + 1 at most (one
+    more than is used tells that the window held more)."""
+    return list(islice(store.events(ctx.run, kinds=["monitor.observation"], srcs=list(junction.monitors),
+                                    t_from=t_from, t_to=t_to), MAX_OTHER_EVENTS + 1))
 
 
 def _observed(events: Iterable[dict], vehicle: str, junction: Junction) -> dict[str, Track]:

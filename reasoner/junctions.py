@@ -135,6 +135,13 @@ class Junction:
         return self.distance(x, y) - self.extent_m
 
     def inside(self, x: float, y: float) -> bool:
+        """Whether a position is in the junction's area. Most positions asked about are tens of
+        metres out: a position further than the extent along either axis is outside the square
+        and the disc alike (a hypotenuse is never shorter than a side), so they are turned away
+        before the distance is computed."""
+        dx, dy, extent = x - self.x, y - self.y, self.extent_m
+        if dx > extent or dx < -extent or dy > extent or dy < -extent:
+            return False
         return self.edge(x, y) <= 0.0
 
     def in_box(self, x: float, y: float) -> bool:

@@ -19,7 +19,7 @@ from typing import Any, Iterable, NamedTuple, Sequence
 
 from store import EventRef
 
-from .junctions import finite
+from .junctions import MAX_COORD_M, finite
 
 MAX_SPEED_MPS = 150.0        # 540 km/h: no road vehicle measures more
 MPH_PER_MPS = 3600 / 1609.344    # an international mile is 1,609.344 m, exactly
@@ -66,8 +66,14 @@ def sample_of(event: dict) -> tuple[Sample | None, str | None]:
     body = event.get("body")
     if type(body) is not dict:
         return None, "no body"
-    x, y = finite(body.get("x")), finite(body.get("y"))
-    speed = finite(body.get("speed_mps"), MAX_SPEED_MPS)
+    x, y, speed, t, seq, src = (body.get("x"), body.get("y"), body.get("speed_mps"), event.get("t"),
+                                event.get("seq"), event.get("src"))
+    if type(x) is float and type(y) is float and type(speed) is float and type(t) is int and type(seq) is int \
+            and type(src) is str and -MAX_COORD_M <= x <= MAX_COORD_M and -MAX_COORD_M <= y <= MAX_COORD_M \
+            and 0.0 <= speed <= MAX_SPEED_MPS:
+        return _sample(event, body, x, y, speed, t, seq, src), None    # every value a measurement: the usual case
+    x, y = finite(x), finite(y)
+    speed = finite(speed, MAX_SPEED_MPS)
     if speed is not None and speed < 0:
         speed = None
     bad = None
@@ -77,15 +83,20 @@ def sample_of(event: dict) -> tuple[Sample | None, str | None]:
             x = y = None
         if x is None and speed is None:
             return None, "neither a position nor a speed that can be a measurement"
-    t, seq, src = event.get("t"), event.get("seq"), event.get("src")
     if type(t) is not int or type(seq) is not int or type(src) is not str:
         return None, "not an event (t, seq, src)"
+    return _sample(event, body, x, y, speed, t, seq, src), (f"{', '.join(bad)} left out: not a measurement"
+                                                           if bad else None)
+
+
+def _sample(event: dict, body: dict, x: float | None, y: float | None, speed: float | None, t: int, seq: int,
+            src: str) -> Sample:
+    """The sample of an event whose measurements have been checked."""
     ref = EventRef(event.get("run"), src, seq, t, event.get("kind"))
     road, junction, emergency = body.get("road"), body.get("junction"), body.get("emergency")
-    sample = Sample(t, x, y, speed, finite(body.get("heading_deg"), 1e6), ref,
-                    road if type(road) is str else None, junction if type(junction) is str else None,
-                    emergency if type(emergency) is bool else None)
-    return sample, (f"{', '.join(bad)} left out: not a measurement" if bad else None)
+    return Sample(t, x, y, speed, finite(body.get("heading_deg"), 1e6), ref,
+                  road if type(road) is str else None, junction if type(junction) is str else None,
+                  emergency if type(emergency) is bool else None)
 
 
 def samples(events: Iterable[dict]) -> tuple[tuple[Sample, ...], tuple[str, ...]]:

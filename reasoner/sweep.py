@@ -95,6 +95,15 @@ class Sweep:
         limits = [r.limit_mph for r in self.map.roads if r.limit_mph is not None]
         self._slowest_limit_mps = min(limits) / MPH_PER_MPS if limits else math.inf
         self._speeding: dict[str, int] = {}          # road user -> last time over the limit
+        self._by_src = {m: self._route(j) for m, j in self.by_monitor.items()}
+
+    def _route(self, j: Junction) -> tuple[Junction, bool, float]:
+        """What a measurement near this junction is looked at for, settled once per junction
+        rather than once per measurement: (the junction, tracked (every measurement counts),
+        the reach within which an entry at a junction where only entries count is looked for;
+        -1 where none is)."""
+        tracked = j.id in self._tracked
+        return j, tracked, j.extent_m if j.id in self._wanted and not tracked else -1.0
 
     def add(self, event: dict) -> None:
         """One measurement; a few comparisons for most (this runs once per observation)."""
@@ -103,25 +112,26 @@ class Sweep:
         if type(body) is not dict or not self._wanted:
             return
         if event["kind"] == "monitor.observation":
-            user, j = body.get("vehicle"), self.by_monitor.get(event["src"])
+            user, route = body.get("vehicle"), self._by_src.get(event["src"])
         else:
-            user, j = event["src"].split("/", 1)[-1], None
+            user, route = event["src"].split("/", 1)[-1], None
         x, y, v = body.get("x"), body.get("y"), body.get("speed_mps")
         if type(user) is not str or type(x) not in _NUMBER or type(y) not in _NUMBER or x - x or y - y:
             return      # (x - x is 0 for a finite number, NaN otherwise)
-        if j is None:
+        if route is None:
             near = self.map.near(x, y, 100.0)
             if not near:
                 return
-            j = near[0]
+            route = self._route(near[0])
         if type(v) not in _NUMBER or v - v:
             v = None
         elif v > self._slowest_limit_mps:
             self._over_limit(user, event, x, y, v)
-        if j.id in self._tracked:
+        j, tracked, reach = route
+        if tracked:
             self._measure(j, user, event, x, y, v)
-        elif j.id in self._wanted and j.inside(x, y):
-            self._inside_at(j, user, event)
+        elif -reach <= x - j.x <= reach and -reach <= y - j.y <= reach and j.inside(x, y):
+            self._inside_at(j, user, event)     # (only a measurement within reach on both axes can be inside)
 
     def _over_limit(self, user: str, event: dict, x: float, y: float, v: float) -> None:
         road = self.map.road(event["body"].get("road"), x, y)
@@ -135,7 +145,9 @@ class Sweep:
 
     def _measure(self, j: Junction, user: str, event: dict, x: float, y: float, v: float | None) -> None:
         t = event["t"]
-        track = self._tracks.setdefault((j.id, user), _Track())
+        track = self._tracks.get((j.id, user))
+        if track is None:
+            track = self._tracks[j.id, user] = _Track()
         if v is not None and track.last is not None and 0 < t - track.last[0] <= 2 * SECOND \
                 and (track.last[1] - v) / ((t - track.last[0]) / SECOND) >= FORCE_DECEL_MPS2 \
                 and j.is_major(sector(x - j.x, y - j.y)):
