@@ -6,10 +6,11 @@ is cheaper to fold the few events in between than to load a snapshot again. A Ti
 that, and falls back to `state_at` when the next moment is further than MAX_STEP events ahead
 or earlier than the last one. Each answer equals `state_at(store, run, t)` (tests check it).
 
-The Timeline folds on in its own dict; each answer is a State holding copies of the dict's
-containers (entities, signals, monitors, collisions, each entity record and monitor), so that it
-stays as it was when the Timeline moves on. The pieces themselves are shared: the fold never
-changes a piece in place, it only replaces it.
+The Timeline folds on in its own dict; an answer is a State over that dict, and before folding
+on from a dict it has handed out, the Timeline copies the dict's containers (entities, signals,
+monitors, collisions, each entity record and monitor), so that every State handed out stays as
+it was. The pieces themselves are shared: the fold never changes a piece in place, it only
+replaces it.
 """
 from __future__ import annotations
 
@@ -34,44 +35,51 @@ class Timeline:
     def __init__(self, store: Store, run: str) -> None:
         self.store, self.run = store, run
         self._state: dict[str, Any] | None = None
+        self._lent = False          # a State handed out shares the containers of self._state
         self._t = 0
         self.jumps = self.steps = 0
 
     def at(self, t: int) -> State:
         state = self._state
-        if state is None or t < self._t or state["last"] is None or not self._step(state, t):
+        if state is None or t < self._t or state["last"] is None or not self._near(state, t):
             self.jumps += 1
             with CollectorPaused():
                 state = self._state = fold_at(self.store, self.run, t)
         else:
             self.steps += 1
+            if self._lent:
+                state = self._state = _detached(state)
+            self._step(state, t)
             prune(state, t)
-        self._t = t
-        return _detached(self.run, t, state)
+        self._t, self._lent = t, True
+        return State.of(self.run, t, state)
 
-    def _step(self, state: dict[str, Any], t: int) -> bool:
-        """Fold the events after the state's last one up to t; False if there are too many."""
-        last = state["last"]
-        conn = self.store.connection
-        where = (self.run, t, last["t"], last["seq"], last["src"])
-        (ahead,) = conn.execute(_HOW_FAR, (*where, MAX_STEP + 1)).fetchone()
-        if ahead > MAX_STEP:
-            return False
-        cursor = conn.execute(_AFTER, where)
+    def _near(self, state: dict[str, Any], t: int) -> bool:
+        """Whether at most MAX_STEP events lie between the state's last one and t."""
+        (ahead,) = self.store.connection.execute(_HOW_FAR, (*self._where(state, t), MAX_STEP + 1)).fetchone()
+        return ahead <= MAX_STEP
+
+    def _step(self, state: dict[str, Any], t: int) -> None:
+        """Fold the events after the state's last one up to t."""
+        cursor = self.store.connection.execute(_AFTER, self._where(state, t))
         for rows in iter(lambda: cursor.fetchmany(_CHUNK), []):
             fold_rows(state, rows)
-        return True
+
+    def _where(self, state: dict[str, Any], t: int) -> tuple:
+        last = state["last"]
+        return (self.run, t, last["t"], last["seq"], last["src"])
 
 
-def _detached(run: str, t: int, state: dict[str, Any]) -> State:
-    """A State that the fold's next changes to `state` leave alone: every container the fold
-    changes in place is copied (records and monitors are changed in place; pieces, signal
-    approaches and ADS statuses are only ever replaced)."""
+def _detached(state: dict[str, Any]) -> dict[str, Any]:
+    """A copy of the fold's dict that the fold can change without changing a State handed out
+    before: every container the fold changes in place is copied (records and monitors are
+    changed in place; pieces, signal approaches and ADS statuses are only ever replaced).
+    Copied only when the Timeline folds on after handing a State out: most moments of a long
+    run are reached by a jump to a snapshot, whose dict is new anyway."""
     monitors = {src: {part: dict(held) for part, held in monitor.items()}
                 for src, monitor in state["monitors"].items()}
-    copied = {**state,
-              "entities": {src: dict(record) for src, record in state["entities"].items()},
-              "signals": {junction: dict(approaches) for junction, approaches in state["signals"].items()},
-              "monitors": monitors,
-              "collisions": dict(state["collisions"])}
-    return State.of(run, t, copied)
+    return {**state,
+            "entities": {src: dict(record) for src, record in state["entities"].items()},
+            "signals": {junction: dict(approaches) for junction, approaches in state["signals"].items()},
+            "monitors": monitors,
+            "collisions": dict(state["collisions"])}
