@@ -99,13 +99,18 @@ def test_an_altered_message_is_caught_by_the_exported_checkpoints(source, tmp_pa
     altered (valid) event but the chain check names the first checkpoint after it."""
     original = exported_file(source, tmp_path / "busy.mcap")
     altered = tmp_path / "altered.mcap"
+    keys = [(e["src"], e["seq"]) for e in source.events("busy")]
+    (target,) = [key for key, pos in source.chain_positions("busy", keys).items() if pos == 1000]
+    assert target[0] != "monitor/m"  # an entity.state (every fourth event is a monitor's)
     with open(original, "rb") as f, open(altered, "wb") as out:
         reader = make_reader(f)
         writer = Writer(out)
         writer.start()
         for m in reader.iter_metadata():
             writer.add_metadata(m.name, m.metadata)
-        ids, n = {}, 0
+        for a in reader.iter_attachments():  # the chain order: the file is in time order
+            writer.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
+        ids = {}
         for schema, channel, message in reader.iter_messages(log_time_order=False):
             if schema.id not in ids.setdefault("s", {}):
                 ids["s"][schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
@@ -113,11 +118,9 @@ def test_an_altered_message_is_caught_by_the_exported_checkpoints(source, tmp_pa
                 ids["c"][channel.id] = writer.register_channel(channel.topic, channel.message_encoding,
                                                                ids["s"][schema.id], channel.metadata)
             data = message.data
-            if channel.topic.startswith("gaps/"):
-                n += 1
-                if n == 1001:  # an entity.state (every fourth event is a monitor's)
-                    data = data.replace(b'"speed_mps":5.0', b'"speed_mps":4.0')
-                    assert data != message.data
+            if channel.topic.startswith("gaps/") and (json.loads(data)["src"], json.loads(data)["seq"]) == target:
+                data = data.replace(b'"speed_mps":5.0', b'"speed_mps":4.0')
+                assert data != message.data
             writer.add_message(ids["c"][channel.id], message.log_time, data, message.publish_time, message.sequence)
         writer.finish()
     with Store(tmp_path / "copy.db") as copy:
