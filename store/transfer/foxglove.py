@@ -180,6 +180,7 @@ class SceneBuilder:
     spawned: dict[str, dict[str, Any]] = field(default_factory=dict)  # src -> entity.spawn body
     _road_users: _Layer = field(default_factory=lambda: _Layer(ENTITIES_TOPIC))
     _signals: _Layer = field(default_factory=lambda: _Layer(SIGNALS_TOPIC))
+    _signal_events: dict[str, dict[str, Any]] = field(default_factory=dict)  # src -> latest signal.state
     _first_change: int | None = None  # t of the first change not drawn yet
     _last_change: int = 0  # t of the latest change not drawn yet
     _looks: dict[str, _Look] = field(default_factory=dict)
@@ -249,6 +250,7 @@ class SceneBuilder:
     def _despawned(self, event: dict[str, Any]) -> list[Derived]:
         self._road_users.remove(event["src"])
         self._signals.remove(event["src"])
+        self._signal_events.pop(event["src"], None)
         self._changed(event["t"])
         return []
 
@@ -258,6 +260,13 @@ class SceneBuilder:
         return []
 
     def _signal(self, event: dict[str, Any]) -> list[Derived]:
+        self._signal_events[event["src"]] = event
+        self._signals.put(event["src"], self._signal_entity(event))
+        self._changed(event["t"])
+        return []
+
+    def _signal_entity(self, event: dict[str, Any]) -> dict[str, Any]:
+        """A signal beside its junction (the map's; at the origin while no map has placed it)."""
         body = event["body"]
         jx, jy = self.junctions.get(_text(body.get("junction")), (0.0, 0.0))
         dx, dy = _APPROACH.get(_text(body.get("approach")), (0, 0))
@@ -268,9 +277,7 @@ class SceneBuilder:
         pole = {"pose": _pose(x, y, 1.6), "size": _vec(0.2, 0.2, 3.2), "color": _rgba((0.2, 0.2, 0.2)),
                 "bottom_scale": 1.0, "top_scale": 1.0}
         metadata = {"junction": body.get("junction"), "approach": body.get("approach"), "colour": colour}
-        self._signals.put(event["src"], _entity(event["src"], event["t"], metadata, spheres=[sphere], cylinders=[pole]))
-        self._changed(event["t"])
-        return []
+        return _entity(event["src"], event["t"], metadata, spheres=[sphere], cylinders=[pole])
 
     def _map(self, event: dict[str, Any]) -> list[Derived]:
         world = event["body"].get("map")
@@ -297,6 +304,10 @@ class SceneBuilder:
                  "points": points, "color": _rgba((0.5, 0.5, 0.5)), "colors": [], "indices": []}
         entity = _entity("map", event["t"], None, lines=[roads] if points else [], cylinders=cylinders,
                          texts=texts, arrows=arrows)
+        if self._signal_events:  # signals drawn before the map (at the same t) move beside their junction
+            for src, signal in self._signal_events.items():
+                self._signals.put(src, self._signal_entity(signal))
+            self._changed(event["t"])
         return [Derived(MAP_TOPIC, event["t"], _json({"deletions": [], "entities": [entity]}))]
 
     # --- the log -----------------------------------------------------------------------------
