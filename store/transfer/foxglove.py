@@ -28,7 +28,8 @@ from typing import Any, Iterable, NamedTuple
 import orjson
 
 from ..envelope import key_for
-from .foxglove_schemas import LOG, SCENE_UPDATE, Codes, codes
+from .foxglove_schemas import LOG, SCENE_UPDATE, Codes
+from .foxglove_schemas import codes as foxglove_codes
 
 MAP_TOPIC, ENTITIES_TOPIC, SIGNALS_TOPIC, LOG_TOPIC = "/scene/map", "/scene/entities", "/scene/signals", "/log"
 TOPICS = {MAP_TOPIC: SCENE_UPDATE, ENTITIES_TOPIC: SCENE_UPDATE, SIGNALS_TOPIC: SCENE_UPDATE, LOG_TOPIC: LOG}
@@ -175,7 +176,7 @@ class SceneBuilder:
     back what comes after it and write every message in log-time order."""
 
     period_ns: int = SCENE_PERIOD_NS
-    codes: Codes = field(default_factory=codes)
+    codes: Codes = field(default_factory=foxglove_codes)  # the enum values, from foxglove-sdk
     junctions: dict[str, tuple[float, float]] = field(default_factory=dict)
     spawned: dict[str, dict[str, Any]] = field(default_factory=dict)  # src -> entity.spawn body
     _road_users: _Layer = field(default_factory=lambda: _Layer(ENTITIES_TOPIC))

@@ -9,7 +9,7 @@ read (protobuf_descriptors.py) and written out in Foxglove's JSON conventions: a
 (google.protobuf.Timestamp, Duration) is {"sec", "nsec"}, an enum is its integer value (typed
 "integer", its names as `oneOf` consts), bytes are a base64 string, a repeated field an array, a
 double a number. Field names, nesting and enum values therefore come from Foxglove, never from
-here; the enum values the drawing uses (LINE_LIST, the log levels, the deletion types) are read
+here; the enum values the drawing uses (LINE_LIST, the log levels, the deletion of ALL) are read
 from the same descriptors (`codes()`). Every field is optional, as in protobuf: the drawing fills
 them all anyway, because viewers differ in how they treat missing ones.
 
@@ -116,7 +116,6 @@ class Codes:
     """The enum values the drawing writes, as Foxglove's descriptors number them."""
 
     line_list: int
-    delete_matching_id: int
     delete_all: int
     info: int
     warning: int
@@ -128,7 +127,6 @@ def codes() -> Codes:
     line, deletion, level = "foxglove.LinePrimitive.Type", "foxglove.SceneEntityDeletion.Type", "foxglove.Log.Level"
     return Codes(
         line_list=enum_value(SCENE_UPDATE, line, "LINE_LIST"),
-        delete_matching_id=enum_value(SCENE_UPDATE, deletion, "MATCHING_ID"),
         delete_all=enum_value(SCENE_UPDATE, deletion, "ALL"),
         info=enum_value(LOG, level, "INFO"),
         warning=enum_value(LOG, level, "WARNING"),

@@ -26,7 +26,7 @@ from __future__ import annotations
 import heapq
 import json
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from mcap.writer import CompressionType, Writer
 
@@ -125,7 +125,7 @@ def _chain_order(store: Store, run: str) -> bytes | None:
     order the messages are written in, so an import in file order rebuilds the chain)."""
     in_time_order, previous = True, None
 
-    def keys() -> Any:
+    def keys() -> Iterator[tuple[str, int]]:
         nonlocal in_time_order, previous
         for src, seq, t in chain_keys(store, run):
             if in_time_order and previous is not None and (t, seq, src) < previous:

@@ -47,6 +47,7 @@ _DEFS_PREFIX = "#/$defs/"
 
 def viewer_safe(schema: dict[str, Any]) -> dict[str, Any]:
     """A copy of `schema` that Foxglove's and Lichtblick's JSON Schema parser accepts."""
+    schema = copy.deepcopy(schema)  # the copy shares nothing with the store's schemas
     defs = schema.get("$defs", {})
     inlined = _inline({k: v for k, v in schema.items() if k != "$defs"}, defs, ())
     safe = _typed(inlined)
@@ -81,7 +82,7 @@ def _resolve(node: dict[str, Any], defs: dict[str, Any], stack: tuple[str, ...])
         if target.get("type") == "object":
             open_node["type"] = "object"
         return {**open_node, **siblings}
-    return {**_inline(copy.deepcopy(defs[name]), defs, (*stack, name)), **siblings}
+    return {**_inline(defs[name], defs, (*stack, name)), **siblings}
 
 
 # --- one type per value ----------------------------------------------------------------------

@@ -77,8 +77,7 @@ def test_the_schemas_are_the_sdks_descriptors_in_json():
 def test_the_enum_values_drawn_are_the_sdks():
     c = codes()
     assert c.line_list == int(fm.LinePrimitiveLineType.LineList)
-    assert (c.delete_matching_id, c.delete_all) == (int(fm.SceneEntityDeletionType.MatchingId),
-                                                    int(fm.SceneEntityDeletionType.All))
+    assert c.delete_all == int(fm.SceneEntityDeletionType.All)
     assert (c.info, c.warning, c.error) == (int(fm.LogLevel.Info), int(fm.LogLevel.Warning), int(fm.LogLevel.Error))
 
 
