@@ -91,9 +91,15 @@ class _InLogTimeOrder:
         self._held: list[tuple[int, int, int, bytes, int]] = []
         self._given = 0
 
-    def put(self, channel: int, t: int, data: bytes, seq: int = 0) -> None:
+    def put(self, channel: int, t: int, data: bytes, seq: int = 0, horizon: int | None = None) -> None:
+        """Hold the message, or write it at once when nothing is held and nothing drawn can precede it."""
+        log_time = max(t, 0)
+        if not self._held and (horizon is None or log_time <= horizon):
+            self.writer.add_message(channel_id=channel, log_time=log_time, publish_time=log_time, data=data,
+                                    sequence=seq % _UINT32)
+            return
         self._given += 1
-        heapq.heappush(self._held, (max(t, 0), self._given, channel, data, seq % _UINT32))
+        heapq.heappush(self._held, (log_time, self._given, channel, data, seq % _UINT32))
 
     def release(self, horizon: int | None = None) -> None:
         """Write every held message, or those at or before `horizon`."""
@@ -137,9 +143,9 @@ def _chain_order(store: Store, run: str) -> bytes | None:
     return None if in_time_order else data
 
 
-def _draw(out: _InLogTimeOrder, channels: _Channels, drawn: list[Derived]) -> int:
+def _draw(out: _InLogTimeOrder, channels: _Channels, drawn: list[Derived], horizon: int | None) -> int:
     for item in drawn:
-        out.put(channels.for_derived(item.topic), item.t, item.data)
+        out.put(channels.for_derived(item.topic), item.t, item.data, horizon=horizon)
     return len(drawn)
 
 
@@ -171,18 +177,18 @@ def export_mcap(
         channels, out = _Channels(writer, run), _InLogTimeOrder(writer)
         drawing = SceneBuilder() if scene else None
         for row in stored_rows(store, run, "time"):
-            out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
-            report.events += 1
-            if drawing is not None:
-                drawn = drawing.add(json.loads(row.text)) if row.kind in DRAWN_KINDS else drawing.advance(row.t)
-                report.derived += _draw(out, channels, drawn)
-                out.release(drawing.horizon())
+            if drawing is None:  # events alone come in time order: nothing to hold back
+                out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
             else:
-                out.release()
+                out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq, drawing.horizon())
+                drawn = drawing.add(json.loads(row.text)) if row.kind in DRAWN_KINDS else drawing.advance(row.t)
+                report.derived += _draw(out, channels, drawn, drawing.horizon())
+                out.release(drawing.horizon())
+            report.events += 1
             if progress is not None and report.events % _PROGRESS_EVERY == 0:
                 progress(report.events)
         if drawing is not None:
-            report.derived += _draw(out, channels, drawing.finish())
+            report.derived += _draw(out, channels, drawing.finish(), None)
         out.release()
         writer.finish()
         report.bytes = stream.tell()

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import fastjsonschema
 import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 from mcap.reader import make_reader
 from mcap.records import Channel, Message
 from mcap.stream_reader import StreamReader
@@ -243,3 +245,53 @@ def test_it_imports_back_to_the_same_events_and_chain(exported, tmp_path):
         assert report.stored == source.count(RUN) and report.rejected == 0
         assert list(copy.events(RUN)) == list(source.events(RUN))
         assert heads(copy) == heads(source) and report.chains[0]["match"] is True
+
+
+# --- any run: random times, kinds and arrival order -----------------------------------------------
+
+_KINDS = ["entity.state", "entity.state", "entity.state", "signal.state", "vehicle.decision", "entity.despawn",
+          "monitor.potential_violation", "vehicle.perception"]
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(st.tuples(st.sampled_from(["vehicle/1", "vehicle/2", "pedestrian/3", "signal/s"]),
+                          st.integers(0, 3 * S), st.sampled_from(_KINDS)), min_size=1, max_size=60),
+       st.randoms(use_true_random=False))
+def test_any_run_is_written_in_log_time_order_with_whole_scenes(tmp_path, drawn_events, shuffle):
+    from tests.helpers.store_testkit import event
+    seqs: dict[str, int] = {}
+    events = []
+    for src, dt, kind in sorted(drawn_events, key=lambda d: d[1]):  # a source's seq rises with its t
+        if src == "signal/s":
+            kind, body = "signal.state", {"junction": "j1", "approach": "west", "colour": "red"}
+        elif kind in ("signal.state", "monitor.potential_violation"):
+            kind, body = "entity.state", {"x": dt / S, "y": 0.0, "speed_mps": 1.0, "junction": None}
+        elif kind == "entity.state":
+            body = {"x": dt / S, "y": 0.0, "speed_mps": 1.0, "junction": None}
+        elif kind == "vehicle.decision":
+            body = {"goal": "1 can enter the junction", "action": "enter the junction", "proceeds": True}
+        else:
+            body = {"facts": ["1 has red light"]} if kind == "vehicle.perception" else {}
+        if src.startswith("pedestrian") and kind in ("vehicle.decision", "vehicle.perception"):
+            continue
+        seqs[src] = seqs.get(src, -1) + 1
+        events.append(event(seqs[src], run="any", src=src, t=T0 + dt, kind=kind, body=body))
+    assume(events)
+    arrival = list(events)
+    shuffle.shuffle(arrival)
+    path = tmp_path / f"any-{len(list(tmp_path.iterdir()))}"
+    path.mkdir()
+    with Store(path / "gaps.db") as store:
+        store.append(arrival)
+        export_run(store, "any", path / "any.mcap")
+        source_heads = heads(store)
+    messages = in_file_order(path / "any.mcap")
+    times = [m.log_time for m, _ in messages]
+    assert times == sorted(times)
+    for m, topic in messages:
+        if topic == ENTITIES_TOPIC:
+            drawn = {e["id"] for e in json.loads(m.data)["entities"]}
+            assert drawn == set(alive_at(events, m.log_time))
+    with Store(path / "copy.db") as copy:
+        import_file(copy, path / "any.mcap")
+        assert heads(copy) == source_heads
