@@ -33,6 +33,7 @@ ATTACHMENT = "gaps.chain_order"
 MEDIA_TYPE = "application/x-gaps-chain-order+zlib"
 FORMAT = "gaps.chain_order v1"
 MAX_HELD = 100_000
+MAX_BYTES = 1 << 28  # decompressed: some 100 million events; a hostile attachment must not inflate further
 
 Key = tuple[str, int]  # (src, seq)
 
@@ -102,7 +103,12 @@ def _read_varint(data: bytes, pos: int) -> tuple[int, int]:
 def decode(data: bytes) -> ChainOrder:
     """The chain order in an attachment's data; ValueError if it is not one this reader knows."""
     try:
-        raw = zlib.decompress(data)
+        inflate = zlib.decompressobj()
+        raw = inflate.decompress(data, MAX_BYTES)
+        if inflate.unconsumed_tail:
+            raise ValueError(f"it inflates to more than {MAX_BYTES} bytes")
+        if not inflate.eof:
+            raise ValueError("its compressed data ends early")
         head, _, body = raw.partition(b"\n")
         meta = json.loads(head)
         if meta.get("format") != FORMAT:

@@ -30,7 +30,6 @@ MAX_CHUNK_BYTES = 1 << 30  # writers use chunks of about a MiB; ours are 1 MiB
 _FRAME = struct.Struct("<BQ")  # opcode, record length
 
 
-
 def _attachment(stream: ReadDataStream, length: int) -> Attachment:
     """An Attachment, its CRC checked (the mcap package skips it): the chain order travels in one."""
     body = stream.read(length)

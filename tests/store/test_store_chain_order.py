@@ -27,6 +27,7 @@ def test_a_long_regular_run_costs_little():
 
 
 @pytest.mark.parametrize("damage", [b"not zlib", zlib.compress(b'{"format":"other"}\n'),
+                                    encode("r", [("a", 0), ("a", 1)])[:-3],
                                     zlib.compress(b'{"format":"gaps.chain_order v1","run":"r","events":3,'
                                                   b'"sources":["a"]}\n\x00\x00')])
 def test_a_damaged_chain_order_is_refused_whole(damage):
@@ -79,3 +80,9 @@ def test_other_runs_and_unparsed_input_pass_straight_through():
 
 def test_the_attachment_is_named_for_what_it_holds():
     assert chain_order.ATTACHMENT == "gaps.chain_order" and chain_order.MEDIA_TYPE.endswith("+zlib")
+
+
+def test_an_attachment_that_inflates_past_the_bound_is_refused(monkeypatch):
+    monkeypatch.setattr(chain_order, "MAX_BYTES", 1000)
+    with pytest.raises(ValueError, match="inflates to more than 1000 bytes"):
+        decode(zlib.compress(b"\x00" * 5000))
