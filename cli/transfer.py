@@ -137,7 +137,8 @@ def export(run: str = RunRequired,
                                        help="The file to write (.jsonl, .ndjson or .mcap); - for stdout."),
            db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
            order: Optional[str] = typer.Option(None, "--order", help=(
-               "chain (default): as appended, so that a re-import rebuilds the identical hash chain; "
+               "chain (default): a re-import appends the events as they were appended, rebuilding the "
+               "identical hash chain (MCAP is written in log-time order, with the chain order beside it); "
                "time: (t, seq, src), which reads naturally but chains differently on re-import.")),
            no_scene: bool = typer.Option(False, "--no-scene", help=(
                "MCAP: leave out the Foxglove scene and log channels (a faster export, for moving "

@@ -2,25 +2,40 @@
 (foxglove.SceneUpdate) of the map, the road users and the signals, and a log (foxglove.Log) of
 the decisions, potential violations and collisions.
 
-These are views derived from the events, never evidence: an import skips them. Road users that
-move at the same time are drawn in one update, so a viewer that jumps to a moment (and shows the
-latest message on each topic) shows all of them. The map, the road users and the signals are on
-separate topics for the same reason.
+These are views derived from the events, never evidence: an import skips them.
+
+A viewer that jumps to a moment shows the latest message of each topic before it, so every
+message on the road-user and the signal topics is the whole live scene of that topic: a deletion
+of ALL (the topic's previous drawing) and every road user alive then (spawned or moving, not
+despawned) at its latest recorded position, or every signal at its latest colour. A scene is drawn
+per tick: the changes (entity.state, entity.despawn, signal.state) within SCENE_PERIOD_NS of the
+first change not yet drawn are drawn together, at the time of the latest of them, so that sources
+that each publish at their own instant (a microsecond apart, or staggered over a simulation step)
+still share one scene per step, and the number of scenes follows the run's duration, not its
+number of sources. The map is drawn once, on its own topic; log lines at their event's time.
+
+Each road user's entity is serialized once per change and reused by every scene until it changes
+again, so a scene costs a join of bytes, not a serialization of the whole scene.
 """
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable, NamedTuple
 
+import orjson
+
 from ..envelope import key_for
-from .foxglove_schemas import ERROR, INFO, LINE_LIST, LOG, MATCHING_ID, SCENE_UPDATE, WARNING
+from .foxglove_schemas import LOG, SCENE_UPDATE, Codes
+from .foxglove_schemas import codes as foxglove_codes
 
 MAP_TOPIC, ENTITIES_TOPIC, SIGNALS_TOPIC, LOG_TOPIC = "/scene/map", "/scene/entities", "/scene/signals", "/log"
 TOPICS = {MAP_TOPIC: SCENE_UPDATE, ENTITIES_TOPIC: SCENE_UPDATE, SIGNALS_TOPIC: SCENE_UPDATE, LOG_TOPIC: LOG}
 FRAME = "map"
 DERIVED_MARK = "gaps.derived"  # channel metadata key marking these channels as drawn, not evidence
+SCENE_PERIOD_NS = 100_000_000  # one scene per 100 ms of world time at most: a simulation step of 10 Hz
 _NS = 1_000_000_000
 _UINT32 = (1 << 32) - 1
 
@@ -42,9 +57,20 @@ _SIGNAL_OFFSET_M = 10.0
 
 @dataclass(frozen=True)
 class Derived:
+    """One drawn message: its topic, its log time and its JSON bytes."""
+
     topic: str
     t: int
-    message: dict[str, Any]
+    data: bytes
+
+    @property
+    def message(self) -> dict[str, Any]:
+        return json.loads(self.data)
+
+
+def _json(value: Any) -> bytes:
+    """Compact UTF-8 JSON; a NaN or an infinity (from a hostile body) becomes null, never invalid JSON."""
+    return orjson.dumps(value)
 
 
 def stamp(t: int) -> dict[str, int]:
@@ -87,9 +113,10 @@ def _number(value: Any, default: float = 0.0) -> float:
     if not isinstance(value, (int, float)) or isinstance(value, bool):
         return default
     try:
-        return float(value)
+        number = float(value)
     except OverflowError:
         return default
+    return number if math.isfinite(number) else default
 
 
 def _text(value: Any) -> str | None:
@@ -117,41 +144,86 @@ _LIFETIME_FOREVER = {"sec": 0, "nsec": 0}
 _WHITE = _rgba((1.0, 1.0, 1.0))
 
 
+class _Layer:
+    """One scene topic's live entities, each kept as the JSON bytes of its latest drawing."""
+
+    def __init__(self, topic: str) -> None:
+        self.topic = topic
+        self.live: dict[str, bytes] = {}
+        self.changed = False
+
+    def put(self, entity_id: str, entity: dict[str, Any]) -> None:
+        self.live[entity_id] = _json(entity)
+        self.changed = True
+
+    def remove(self, entity_id: str) -> None:
+        if self.live.pop(entity_id, None) is not None:
+            self.changed = True
+
+    def scene(self, t: int, delete_all: int) -> Derived:
+        """The whole layer at t: clear the topic's previous drawing, then every live entity."""
+        self.changed = False
+        deletions = _json([{"timestamp": stamp(t), "type": delete_all, "id": ""}])
+        data = b'{"deletions":' + deletions + b',"entities":[' + b",".join(self.live.values()) + b"]}"
+        return Derived(self.topic, t, data)
+
+
 @dataclass
 class SceneBuilder:
-    """Follows a run's events in order and returns the visualisation messages they call for."""
+    """Follows a run's events in time order and returns the visualisation messages they call for.
 
+    `horizon()` is the earliest log time of a message not returned yet, so that a writer can hold
+    back what comes after it and write every message in log-time order."""
+
+    period_ns: int = SCENE_PERIOD_NS
+    codes: Codes = field(default_factory=foxglove_codes)  # the enum values, from foxglove-sdk
     junctions: dict[str, tuple[float, float]] = field(default_factory=dict)
     spawned: dict[str, dict[str, Any]] = field(default_factory=dict)  # src -> entity.spawn body
-    _pending_t: int | None = None
-    _pending: dict[str, dict[str, Any]] = field(default_factory=dict)  # road users moved at _pending_t
+    _road_users: _Layer = field(default_factory=lambda: _Layer(ENTITIES_TOPIC))
+    _signals: _Layer = field(default_factory=lambda: _Layer(SIGNALS_TOPIC))
+    _signal_events: dict[str, dict[str, Any]] = field(default_factory=dict)  # src -> latest signal.state
+    _first_change: int | None = None  # t of the first change not drawn yet
+    _last_change: int = 0  # t of the latest change not drawn yet
     _looks: dict[str, _Look] = field(default_factory=dict)
 
     def add(self, event: dict[str, Any]) -> list[Derived]:
-        kind = event["kind"]
-        if kind == "entity.state":
-            return self._moved(event)
-        handler = _HANDLERS.get(kind)
-        return [] if handler is None else handler(self, event)
+        out = self.advance(event["t"])
+        handler = _HANDLERS.get(event["kind"])
+        if handler is not None:
+            out += handler(self, event)
+        return out
+
+    def advance(self, t: int) -> list[Derived]:
+        """The scene of the pending changes, when the world has moved on a tick past the first."""
+        if self._first_change is not None and t - self._first_change >= self.period_ns:
+            return self._draw()
+        return []
 
     def finish(self) -> list[Derived]:
-        return self._flush()
+        return self._draw()
+
+    def horizon(self) -> int | None:
+        """The earliest log time a later message may have (None: nothing is pending)."""
+        return self._first_change
 
     # --- the scene ---------------------------------------------------------------------------
 
-    def _moved(self, event: dict[str, Any]) -> list[Derived]:
-        out = self._flush() if event["t"] != self._pending_t else []
-        self._pending_t = event["t"]
-        self._pending[event["src"]] = self._road_user(event)
-        return out
+    def _changed(self, t: int) -> None:
+        if self._first_change is None:
+            self._first_change = self._last_change = t
+        else:
+            self._last_change = max(self._last_change, t)
 
-    def _flush(self) -> list[Derived]:
-        if not self._pending:
+    def _draw(self) -> list[Derived]:
+        if self._first_change is None:
             return []
-        update = {"deletions": [], "entities": list(self._pending.values())}
-        out = [Derived(ENTITIES_TOPIC, self._pending_t, update)]
-        self._pending, self._pending_t = {}, None
-        return out
+        t, self._first_change, self._last_change = self._last_change, None, 0
+        return [layer.scene(t, self.codes.delete_all) for layer in (self._road_users, self._signals) if layer.changed]
+
+    def _moved(self, event: dict[str, Any]) -> list[Derived]:
+        self._road_users.put(event["src"], self._road_user(event))
+        self._changed(event["t"])
+        return []
 
     def _road_user(self, event: dict[str, Any]) -> dict[str, Any]:
         src, body = event["src"], event["body"]
@@ -177,9 +249,11 @@ class SceneBuilder:
         return look
 
     def _despawned(self, event: dict[str, Any]) -> list[Derived]:
-        out = self._flush()
-        deletion = {"timestamp": stamp(event["t"] + 1), "type": MATCHING_ID, "id": event["src"]}
-        return [*out, Derived(ENTITIES_TOPIC, event["t"], {"deletions": [deletion], "entities": []})]
+        self._road_users.remove(event["src"])
+        self._signals.remove(event["src"])
+        self._signal_events.pop(event["src"], None)
+        self._changed(event["t"])
+        return []
 
     def _spawned(self, event: dict[str, Any]) -> list[Derived]:
         self.spawned[event["src"]] = event["body"]
@@ -187,6 +261,13 @@ class SceneBuilder:
         return []
 
     def _signal(self, event: dict[str, Any]) -> list[Derived]:
+        self._signal_events[event["src"]] = event
+        self._signals.put(event["src"], self._signal_entity(event))
+        self._changed(event["t"])
+        return []
+
+    def _signal_entity(self, event: dict[str, Any]) -> dict[str, Any]:
+        """A signal beside its junction (the map's; at the origin while no map has placed it)."""
         body = event["body"]
         jx, jy = self.junctions.get(_text(body.get("junction")), (0.0, 0.0))
         dx, dy = _APPROACH.get(_text(body.get("approach")), (0, 0))
@@ -197,8 +278,7 @@ class SceneBuilder:
         pole = {"pose": _pose(x, y, 1.6), "size": _vec(0.2, 0.2, 3.2), "color": _rgba((0.2, 0.2, 0.2)),
                 "bottom_scale": 1.0, "top_scale": 1.0}
         metadata = {"junction": body.get("junction"), "approach": body.get("approach"), "colour": colour}
-        entity = _entity(event["src"], event["t"], metadata, spheres=[sphere], cylinders=[pole])
-        return [Derived(SIGNALS_TOPIC, event["t"], {"deletions": [], "entities": [entity]})]
+        return _entity(event["src"], event["t"], metadata, spheres=[sphere], cylinders=[pole])
 
     def _map(self, event: dict[str, Any]) -> list[Derived]:
         world = event["body"].get("map")
@@ -221,11 +301,15 @@ class SceneBuilder:
                            "shaft_diameter": 0.3, "head_length": 1.0, "head_diameter": 0.8,
                            "color": _rgba((0.7, 0.2, 0.9))})
             texts.append(_label(f"monitor {monitor.get('id')}", x, y, 5.0))
-        roads = {"type": LINE_LIST, "pose": _pose(0.0, 0.0), "thickness": 7.0, "scale_invariant": False,
+        roads = {"type": self.codes.line_list, "pose": _pose(0.0, 0.0), "thickness": 7.0, "scale_invariant": False,
                  "points": points, "color": _rgba((0.5, 0.5, 0.5)), "colors": [], "indices": []}
         entity = _entity("map", event["t"], None, lines=[roads] if points else [], cylinders=cylinders,
                          texts=texts, arrows=arrows)
-        return [Derived(MAP_TOPIC, event["t"], {"deletions": [], "entities": [entity]})]
+        if self._signal_events:  # signals drawn before the map (at the same t) move beside their junction
+            for src, signal in self._signal_events.items():
+                self._signals.put(src, self._signal_entity(signal))
+            self._changed(event["t"])
+        return [Derived(MAP_TOPIC, event["t"], _json({"deletions": [], "entities": [entity]}))]
 
     # --- the log -----------------------------------------------------------------------------
 
@@ -235,7 +319,7 @@ class SceneBuilder:
         answer = ("permitted" if permitted is True else "not permitted" if permitted is False
                   else "no rulebook answer recorded")
         did = "proceeds" if body.get("proceeds") else "holds"
-        level = WARNING if body.get("proceeds") and permitted is False else INFO
+        level = self.codes.warning if body.get("proceeds") and permitted is False else self.codes.info
         text = f"{ident} {did} to {body.get('action')} ({answer}; goal: {body.get('goal')})"
         return [_log(event, level, text)]
 
@@ -245,19 +329,19 @@ class SceneBuilder:
         facts = body.get("facts")
         if isinstance(facts, list) and facts:
             text += " — " + "; ".join(map(str, facts))
-        return [_log(event, WARNING, text)]
+        return [_log(event, self.codes.warning, text)]
 
     def _collision(self, event: dict[str, Any]) -> list[Derived]:
         entities = event["body"].get("entities")
         names = ", ".join(map(str, entities)) if isinstance(entities, list) else str(entities)
-        return [_log(event, ERROR, f"collision between {names}")]
+        return [_log(event, self.codes.error, f"collision between {names}")]
 
 
 def _log(event: dict[str, Any], level: int, text: str) -> Derived:
     """A log line that names the event it came from: file is its key, line its seq."""
     message = {"timestamp": stamp(event["t"]), "level": level, "message": text, "name": event["src"],
                "file": key_for(event), "line": min(event["seq"], _UINT32)}
-    return Derived(LOG_TOPIC, event["t"], message)
+    return Derived(LOG_TOPIC, event["t"], _json(message))
 
 
 def _dicts(value: Any) -> Iterable[dict[str, Any]]:
@@ -267,6 +351,7 @@ def _dicts(value: Any) -> Iterable[dict[str, Any]]:
 
 _HANDLERS = {
     "run.start": SceneBuilder._map,
+    "entity.state": SceneBuilder._moved,
     "entity.spawn": SceneBuilder._spawned,
     "entity.despawn": SceneBuilder._despawned,
     "signal.state": SceneBuilder._signal,
@@ -274,4 +359,4 @@ _HANDLERS = {
     "monitor.potential_violation": SceneBuilder._violation,
     "collision": SceneBuilder._collision,
 }
-DRAWN_KINDS = frozenset(_HANDLERS) | {"entity.state"}  # the kinds whose bodies an export must read
+DRAWN_KINDS = frozenset(_HANDLERS)  # the kinds whose bodies an export must read

@@ -1,159 +1,134 @@
-"""JSON Schemas of the two Foxglove well-known schemas our exports use, foxglove.SceneUpdate and
-foxglove.Log, built from the fields Foxglove documents for them.
+"""The Foxglove well-known schemas our exports draw with (foxglove.SceneUpdate, foxglove.Log), as
+JSON Schemas derived from Foxglove's own published definitions: the `foxglove-sdk` package.
 
-Foxglove and Lichtblick recognise these by schema name ("foxglove.SceneUpdate", "foxglove.Log")
-with schema encoding jsonschema and message encoding json, and then draw the 3D scene and fill
-the Log panel. In JSON, times and durations are {sec, nsec} objects and enums are integers.
+What is taken from foxglove-sdk: `foxglove.messages.SceneUpdate.get_schema()` and
+`foxglove.messages.Log.get_schema()`, the schemas the SDK itself writes into MCAP files: each a
+protobuf FileDescriptorSet holding every message of the schema (SceneEntity, the primitives, Pose,
+Color, ...) with its fields and enumerations. The SDK exposes no JSON Schemas, so the descriptor is
+read (protobuf_descriptors.py) and written out in Foxglove's JSON conventions: a time or duration
+(google.protobuf.Timestamp, Duration) is {"sec", "nsec"}, an enum is its integer value (typed
+"integer", its names as `oneOf` consts), bytes are a base64 string, a repeated field an array, a
+double a number. Field names, nesting and enum values therefore come from Foxglove, never from
+here; the enum values the drawing uses (LINE_LIST, the log levels, the deletion of ALL) are read
+from the same descriptors (`codes()`). Every field is optional, as in protobuf: the drawing fills
+them all anyway, because viewers differ in how they treat missing ones.
+
+The result is also what Lichtblick's JSON Schema parser needs (every field one type, enums typed),
+which Foxglove's own published JSON Schema files are not (their enums have no "type").
+
+foxglove-sdk is imported on first use, not with the store: only an MCAP export with its drawing
+needs it, and loading it costs a tenth of a second.
 """
 
 from __future__ import annotations
 
+import copy
 import json
+from dataclasses import dataclass
+from functools import lru_cache
+from importlib.metadata import version
 from typing import Any
+
+from .protobuf_descriptors import Definitions, FieldDef, read_descriptor_set
 
 SCENE_UPDATE = "foxglove.SceneUpdate"
 LOG = "foxglove.Log"
+_SDK_CLASS = {SCENE_UPDATE: "SceneUpdate", LOG: "Log"}  # in foxglove.messages
+SDK = "foxglove-sdk"
 
-LINE_STRIP, LINE_LOOP, LINE_LIST = 0, 1, 2
-UNKNOWN, DEBUG, INFO, WARNING, ERROR, FATAL = range(6)  # foxglove.LogLevel
-MATCHING_ID, ALL = 0, 1  # foxglove.SceneEntityDeletionType
-
-
-def _object(title: str, description: str, **properties: Any) -> dict[str, Any]:
-    return {"title": title, "description": description, "type": "object", "properties": properties}
-
-
-def _number(description: str = "") -> dict[str, Any]:
-    return {"type": "number", "description": description} if description else {"type": "number"}
-
-
-def _array(items: dict[str, Any], description: str) -> dict[str, Any]:
-    return {"type": "array", "items": items, "description": description}
-
-
-def _enum(title: str, description: str, names: list[str]) -> dict[str, Any]:
-    return {"title": title, "description": description,
-            "oneOf": [{"title": name, "const": value} for value, name in enumerate(names)]}
-
-
-def _time(description: str) -> dict[str, Any]:
-    return {"type": "object", "title": "time", "description": description, "properties": {
-        "sec": {"type": "integer", "minimum": 0},
-        "nsec": {"type": "integer", "minimum": 0, "maximum": 999_999_999}}}
+_NSEC = {"type": "integer", "minimum": 0, "maximum": 999_999_999}
+_TIMES = {
+    "google.protobuf.Timestamp": {"title": "time", "type": "object",
+                                  "properties": {"sec": {"type": "integer", "minimum": 0}, "nsec": _NSEC}},
+    "google.protobuf.Duration": {"title": "duration", "type": "object",
+                                 "properties": {"sec": {"type": "integer"}, "nsec": _NSEC}},
+}
+_UNSIGNED = {"type": "integer", "minimum": 0}
+# FieldDescriptorProto.Type -> JSON Schema (11 message and 14 enum are handled apart)
+_SCALARS: dict[int, dict[str, Any]] = {
+    1: {"type": "number"}, 2: {"type": "number"},  # double, float
+    3: {"type": "integer"}, 5: {"type": "integer"}, 15: {"type": "integer"}, 16: {"type": "integer"},
+    17: {"type": "integer"}, 18: {"type": "integer"},  # int64, int32, sfixed32, sfixed64, sint32, sint64
+    4: _UNSIGNED, 6: _UNSIGNED, 7: _UNSIGNED, 13: _UNSIGNED,  # uint64, fixed64, fixed32, uint32
+    8: {"type": "boolean"},
+    9: {"type": "string"},
+    12: {"type": "string", "contentEncoding": "base64"},  # bytes
+}
+_MESSAGE, _ENUM = 11, 14
 
 
-def _duration(description: str) -> dict[str, Any]:
-    return {"type": "object", "title": "duration", "description": description, "properties": {
-        "sec": {"type": "integer"},
-        "nsec": {"type": "integer", "minimum": 0, "maximum": 999_999_999}}}
+@lru_cache(maxsize=None)
+def definitions(name: str) -> Definitions:
+    """The messages and enums of one of Foxglove's schemas, from foxglove-sdk's descriptor."""
+    from foxglove import messages  # see the module docstring: loaded only when drawing
+
+    schema = getattr(messages, _SDK_CLASS[name]).get_schema()
+    if schema.name != name or schema.encoding != "protobuf":
+        raise ValueError(f"{SDK} gives {schema.name!r} in {schema.encoding!r} for {name}; expected a protobuf schema")
+    return read_descriptor_set(schema.data)
 
 
-def _xyz(title: str, description: str) -> dict[str, Any]:
-    return _object(title, description, x=_number(), y=_number(), z=_number())
+def _message(defs: Definitions, name: str, within: tuple[str, ...]) -> dict[str, Any]:
+    if name in _TIMES:
+        return copy.deepcopy(_TIMES[name])
+    if name in within:
+        raise ValueError(f"{name} contains itself; a JSON Schema for viewers cannot")
+    message = defs.messages[name]
+    return {"title": name, "type": "object",
+            "properties": {f.name: _field(defs, f, (*within, name)) for f in message.fields}}
 
 
-def _quaternion() -> dict[str, Any]:
-    return _object("foxglove.Quaternion", "A quaternion representing a rotation in 3D space",
-                   x=_number(), y=_number(), z=_number(), w=_number())
+def _field(defs: Definitions, field: FieldDef, within: tuple[str, ...]) -> dict[str, Any]:
+    target = field.type_name.lstrip(".")
+    if field.type == _MESSAGE:
+        item = _message(defs, target, within)
+    elif field.type == _ENUM:
+        enum = defs.enums[target]
+        item = {"title": enum.name, "type": "integer",
+                "oneOf": [{"title": label, "const": number} for label, number in enum.values]}
+    elif field.type in _SCALARS:
+        item = dict(_SCALARS[field.type])
+    else:
+        raise ValueError(f"field {field.name} of type {field.type} has no JSON form here")
+    return {"type": "array", "items": item} if field.repeated else item
 
 
-def _pose(description: str) -> dict[str, Any]:
-    return _object("foxglove.Pose", description,
-                   position=_xyz("foxglove.Vector3", "Point denoting position in 3D space"),
-                   orientation=_quaternion())
-
-
-def _color(description: str = "Color") -> dict[str, Any]:
-    channel = {"type": "number", "minimum": 0, "maximum": 1}
-    return _object("foxglove.Color", description, r=channel, g=channel, b=channel, a=channel)
-
-
-def _point3() -> dict[str, Any]:
-    return _xyz("foxglove.Point3", "A point representing a position in 3D space")
-
-
-def _primitive(name: str, description: str, **properties: Any) -> dict[str, Any]:
-    return _object(f"foxglove.{name}", description, **properties)
-
-
-def _primitives() -> dict[str, dict[str, Any]]:
-    """The primitive arrays of a SceneEntity, by field name."""
-    size = _xyz("foxglove.Vector3", "Size of the shape along each axis")
-    indices = _array({"type": "integer", "minimum": 0}, "Indices into the points and colors attribute arrays")
-    return {
-        "arrows": _primitive("ArrowPrimitive", "A primitive representing an arrow",
-                             pose=_pose("Position of the arrow's tail and orientation of the arrow"),
-                             shaft_length=_number(), shaft_diameter=_number(), head_length=_number(),
-                             head_diameter=_number(), color=_color()),
-        "cubes": _primitive("CubePrimitive", "A primitive representing a cube or rectangular prism",
-                            pose=_pose("Position of the center of the cube and orientation of the cube"),
-                            size=size, color=_color()),
-        "spheres": _primitive("SpherePrimitive", "A primitive representing a sphere or ellipsoid",
-                              pose=_pose("Position of the center of the sphere and orientation of the sphere"),
-                              size=size, color=_color()),
-        "cylinders": _primitive("CylinderPrimitive", "A primitive representing a cylinder, elliptic cylinder, or truncated cone",
-                                pose=_pose("Position of the center of the cylinder and orientation of the cylinder"),
-                                size=size, bottom_scale=_number(), top_scale=_number(), color=_color()),
-        "lines": _primitive("LinePrimitive", "A primitive representing a series of points connected by lines",
-                            type=_enum("foxglove.LineType", "Drawing primitive to use for lines",
-                                       ["LINE_STRIP", "LINE_LOOP", "LINE_LIST"]),
-                            pose=_pose("Origin of lines relative to reference frame"),
-                            thickness=_number("Line thickness"), scale_invariant={"type": "boolean"},
-                            points=_array(_point3(), "Points along the line"), color=_color(),
-                            colors=_array(_color(), "Per-point colors"), indices=indices),
-        "triangles": _primitive("TriangleListPrimitive", "A primitive representing a set of triangles",
-                                pose=_pose("Origin of triangles relative to reference frame"),
-                                points=_array(_point3(), "Vertices to use for triangles"), color=_color(),
-                                colors=_array(_color(), "Per-vertex colors"), indices=indices),
-        "texts": _primitive("TextPrimitive", "A primitive representing a text label",
-                            pose=_pose("Position of the center of the text box and orientation of the text"),
-                            billboard={"type": "boolean"}, font_size=_number(), scale_invariant={"type": "boolean"},
-                            color=_color(), text={"type": "string"}),
-        "models": _primitive("ModelPrimitive", "A primitive representing a 3D model file loaded from an external URL or embedded data",
-                             pose=_pose("Origin of model relative to reference frame"),
-                             scale=_xyz("foxglove.Vector3", "Scale factor to apply to the model along each axis"),
-                             color=_color(), override_color={"type": "boolean"}, url={"type": "string"},
-                             media_type={"type": "string"},
-                             data={"type": "string", "contentEncoding": "base64"}),
-    }
-
-
-def scene_update_schema() -> dict[str, Any]:
-    entity = _object(
-        "foxglove.SceneEntity",
-        "A visual element in a 3D scene. An entity may be composed of multiple primitives which all share the same frame of reference.",
-        timestamp=_time("Timestamp of the entity"),
-        frame_id={"type": "string", "description": "Frame of reference"},
-        id={"type": "string", "description": "Identifier for the entity; replaces any prior entity on the same topic with the same id"},
-        lifetime=_duration("How long after timestamp the entity is removed; zero keeps it until replaced or deleted"),
-        frame_locked={"type": "boolean"},
-        metadata=_array(_object("foxglove.KeyValuePair", "A key with its associated value",
-                                key={"type": "string"}, value={"type": "string"}), "Additional user-provided metadata"),
-        **{name: _array(item, item["description"]) for name, item in _primitives().items()},
-    )
-    deletion = _object(
-        "foxglove.SceneEntityDeletion", "Command to remove previously published entities",
-        timestamp=_time("Only matching entities earlier than this timestamp are deleted"),
-        type=_enum("foxglove.SceneEntityDeletionType", "Type of deletion action to perform", ["MATCHING_ID", "ALL"]),
-        id={"type": "string", "description": "Identifier which must match if type is MATCHING_ID"},
-    )
-    return _object(SCENE_UPDATE, "An update to the entities displayed in a 3D scene",
-                   deletions=_array(deletion, "Scene entities to delete"),
-                   entities=_array(entity, "Scene entities to add or replace"))
-
-
-def log_schema() -> dict[str, Any]:
-    schema = _object(LOG, "A log message",
-                     timestamp=_time("Timestamp of log message"),
-                     level=_enum("foxglove.LogLevel", "Log level",
-                                 ["UNKNOWN", "DEBUG", "INFO", "WARNING", "ERROR", "FATAL"]),
-                     message={"type": "string", "description": "Log message"},
-                     name={"type": "string", "description": "Process or node name"},
-                     file={"type": "string", "description": "Filename"},
-                     line={"type": "integer", "minimum": 0, "description": "Line number in the file"})
-    schema["required"] = ["timestamp", "level", "message", "name", "file", "line"]
+@lru_cache(maxsize=None)
+def json_schema(name: str) -> dict[str, Any]:
+    """The JSON Schema of SCENE_UPDATE or LOG, as written into MCAP Schema records."""
+    schema = _message(definitions(name), name, ())
+    schema["$comment"] = (f"Derived from the protobuf descriptor of {name} in {SDK} {version(SDK)} "
+                          f"(foxglove.messages.{_SDK_CLASS[name]}.get_schema()), in Foxglove's JSON conventions.")
     return schema
 
 
-def schema_bytes(schema: dict[str, Any]) -> bytes:
-    return json.dumps(schema, separators=(",", ":")).encode("utf-8")
+def schema_bytes(name: str) -> bytes:
+    return json.dumps(json_schema(name), separators=(",", ":")).encode("utf-8")
+
+
+def enum_value(name: str, enum: str, label: str) -> int:
+    """The number of `label` in the enum `enum` (full name) of the schema `name`."""
+    return dict(definitions(name).enums[enum].values)[label]
+
+
+@dataclass(frozen=True)
+class Codes:
+    """The enum values the drawing writes, as Foxglove's descriptors number them."""
+
+    line_list: int
+    delete_all: int
+    info: int
+    warning: int
+    error: int
+
+
+@lru_cache(maxsize=None)
+def codes() -> Codes:
+    line, deletion, level = "foxglove.LinePrimitive.Type", "foxglove.SceneEntityDeletion.Type", "foxglove.Log.Level"
+    return Codes(
+        line_list=enum_value(SCENE_UPDATE, line, "LINE_LIST"),
+        delete_all=enum_value(SCENE_UPDATE, deletion, "ALL"),
+        info=enum_value(LOG, level, "INFO"),
+        warning=enum_value(LOG, level, "WARNING"),
+        error=enum_value(LOG, level, "ERROR"),
+    )

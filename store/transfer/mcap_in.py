@@ -7,6 +7,13 @@ topic that is a gaps key expression, the event must also be the one that key nam
 store has no use for are counted as skipped, per channel, with the reason: the derived Foxglove
 channels of our own exports (they are rebuilt from the events on export) and channels in an
 encoding other than JSON. A file cut short imports everything before the cut (see mcap_records).
+
+Messages come in log-time order; when the file carries its run's chain order (the
+`gaps.chain_order` attachment, chain_order.py), the events go to the store in that order, so that
+the run's chain heads are rebuilt. A file without it (older exports, which were written in chain
+order, and other tools' files) is imported in file order. Schemas are not checked against the
+store's: the store judges every event by its own schemas, whatever the file's say (older exports
+carry the exact schemas, newer ones viewer-safe copies).
 """
 
 from __future__ import annotations
@@ -16,11 +23,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator
 
-from mcap.records import Channel, Message, Metadata, Schema
+from mcap.records import Attachment, Channel, Message, Metadata, Schema
 
 from ..db import Store
 from ..envelope import key_for
 from ..intake import Candidate, from_raw
+from . import chain_order
 from .chain_check import ChainCheck
 from .errors import TransferError
 from .feed import feed
@@ -61,6 +69,7 @@ class _Messages:
         self.schemas: dict[int, Schema] = {}
         self.routes: dict[int, _Route] = {}
         self.messages = 0  # event messages read (offered to the store)
+        self.reorder = chain_order.Reorder()
 
     def candidates(self) -> Iterator[Candidate]:
         for located in self.reader.records():
@@ -68,13 +77,30 @@ class _Messages:
             if isinstance(record, Message):
                 candidate = self._message(located, record)
                 if candidate is not None:
-                    yield candidate
+                    yield from self._in_chain_order(self.reorder.push(candidate))
             elif isinstance(record, Schema):
                 self.schemas.setdefault(record.id, record)
             elif isinstance(record, Channel):
                 self.routes.setdefault(record.id, route(record, self.schemas.get(record.schema_id)))
             elif isinstance(record, Metadata):
                 self.chains.metadata(record.name, record.metadata)
+            elif isinstance(record, Attachment) and record.name == chain_order.ATTACHMENT:
+                self._chain_order(located, record)
+        yield from self._in_chain_order(self.reorder.finish())
+
+    def _in_chain_order(self, released: list[Candidate]) -> Iterator[Candidate]:
+        """The candidates the reordering lets go, each extending the file's chain as it goes."""
+        for candidate in released:
+            if candidate.event is not None and candidate.reason is None:
+                self.chains.observe(candidate.event, candidate.canonical)
+            yield candidate
+
+    def _chain_order(self, located: Located, record: Attachment) -> None:
+        try:
+            self.reorder.expect(chain_order.decode(record.data))
+        except ValueError as exc:
+            self.reader.damaged.append({"offset": located.offset, "record": f"Attachment {record.name}",
+                                        "reason": f"{exc}; the events are imported in file order"})
 
     def _message(self, located: Located, message: Message) -> Candidate | None:
         where = f"{'chunk at' if located.in_chunk else 'record at'} byte {located.offset}"
@@ -96,7 +122,6 @@ class _Messages:
         if channel.topic.startswith(_EVENT_TOPIC_PREFIX) and key_for(candidate.event) != channel.topic:
             reason = f"channel topic {channel.topic} does not match the event's own key {key_for(candidate.event)}"
             return Candidate(origin, message.data, reason=reason)
-        self.chains.observe(candidate.event, candidate.canonical)
         return candidate
 
 
@@ -114,6 +139,11 @@ def import_mcap(store: Store, path: Path, report: ImportReport, progress: Progre
         feed(store, messages.candidates(), report, after_batch=after)
     report.damaged.extend(reader.damaged)
     report.chains.extend(chains.results(store))
+    for result in report.chains:
+        if result["run"] in messages.reorder.abandoned:
+            result["chain_order"] = ("not followed to the end: an event it lists is missing from the file, or "
+                                     f"more than {messages.reorder.max_held} events came before their turn; "
+                                     "the rest of the run was imported in file order")
     if reader.cut is not None:
         report.truncated = {**reader.cut.as_dict(), "messages_read": messages.messages,
                             "stored": report.stored}

@@ -3,11 +3,18 @@ Lichtblick open, and that `gaps import` turns back into the same chain.
 
 Layout, as DESIGN says: one channel per (src, kind) with topic = the Zenoh key expression
 `gaps/<run>/<src>/<kind>`, message encoding json (the canonical envelope as stored), schema
-encoding jsonschema (the envelope with the kind's body schema); log_time = publish_time = t,
-sequence = seq. Metadata records come first, so that even a file cut short still says what it
-should have held: `gaps.run` (run, events, span, sources, chain head, order) and one
-`gaps.checkpoint` per chain checkpoint, every column as a string. Beside the events,
-foxglove.SceneUpdate and foxglove.Log channels draw the run (see foxglove.py).
+encoding jsonschema (the envelope with the kind's body schema, in its viewer-safe form:
+message_schema.py); log_time = publish_time = t, sequence = seq. Metadata records come first, so
+that even a file cut short still says what it should have held: `gaps.run` (run, events, span,
+sources, chain head, order) and one `gaps.checkpoint` per chain checkpoint, every column as a
+string. Beside the events, foxglove.SceneUpdate and foxglove.Log channels draw the run (see
+foxglove.py).
+
+Every message, events and drawing alike, is written in log-time order (events by (t, seq, src)),
+in chunks with their message indexes, so that viewers play the file and the official reader's
+summary and indexes hold. When the run's chain order is not its time order, the chain order
+follows the metadata as the `gaps.chain_order` attachment (chain_order.py), so that an import still
+rebuilds the same chain.
 
 MCAP fields are narrower than the envelope's: log_time is unsigned, so an event before 1970 is
 logged at 0; sequence is 32 bits, so seq is written modulo 2^32. The payload always holds the
@@ -16,21 +23,21 @@ exact t and seq, and import reads those.
 
 from __future__ import annotations
 
+import heapq
 import json
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from mcap.writer import CompressionType, Writer
 
 from ..db import Store
+from . import chain_order
 from .atomic import replacing
 from .chain_check import CHECKPOINT_METADATA, RUN_METADATA
 from .foxglove import DERIVED_MARK, DRAWN_KINDS, TOPICS, Derived, SceneBuilder
-from .foxglove_schemas import SCENE_UPDATE, log_schema, scene_update_schema
-from .foxglove_schemas import schema_bytes as foxglove_bytes
 from .message_schema import schema_bytes as event_schema_bytes
 from .outcomes import ExportReport
-from .rows import Row, chain_head, run_summary, stored_rows
+from .rows import Row, chain_head, chain_keys, run_summary, stored_rows
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
 LIBRARY = "mind-the-gaps store.transfer"
@@ -64,13 +71,43 @@ class _Channels:
 
     def for_derived(self, topic: str) -> int:
         if topic not in self.channels:
+            from .foxglove_schemas import schema_bytes as foxglove_bytes  # loads foxglove-sdk: only when drawing
+
             name = TOPICS[topic]
-            schema = scene_update_schema if name == SCENE_UPDATE else log_schema
-            schema_id = self._schema(name, lambda: foxglove_bytes(schema()))
+            schema_id = self._schema(name, lambda: foxglove_bytes(name))
             self.channels[topic] = self.writer.register_channel(
                 topic=topic, message_encoding="json", schema_id=schema_id,
                 metadata={DERIVED_MARK: "drawn from the events on export; not evidence"})
         return self.channels[topic]
+
+
+class _InLogTimeOrder:
+    """Writes messages in log-time order. The drawing may still return a scene at the time of its
+    first pending change (its horizon), so what comes after that is held back until it is drawn;
+    equal log times keep the order they were given in."""
+
+    def __init__(self, writer: Writer) -> None:
+        self.writer = writer
+        self._held: list[tuple[int, int, int, bytes, int]] = []
+        self._given = 0
+
+    def put(self, channel: int, t: int, data: bytes, seq: int = 0, horizon: int | None = None) -> None:
+        """Hold the message, or write it at once when nothing is held and nothing drawn can precede it."""
+        log_time = max(t, 0)
+        if not self._held and (horizon is None or log_time <= horizon):
+            self.writer.add_message(channel_id=channel, log_time=log_time, publish_time=log_time, data=data,
+                                    sequence=seq % _UINT32)
+            return
+        self._given += 1
+        heapq.heappush(self._held, (log_time, self._given, channel, data, seq % _UINT32))
+
+    def release(self, horizon: int | None = None) -> None:
+        """Write every held message, or those at or before `horizon`."""
+        held = self._held
+        while held and (horizon is None or held[0][0] <= horizon):
+            log_time, _, channel, data, sequence = heapq.heappop(held)
+            self.writer.add_message(channel_id=channel, log_time=log_time, publish_time=log_time, data=data,
+                                    sequence=sequence)
 
 
 def _strings(record: dict[str, Any]) -> dict[str, str]:
@@ -89,16 +126,26 @@ def _write_metadata(writer: Writer, store: Store, run: str, order: str) -> None:
         writer.add_metadata(CHECKPOINT_METADATA, _strings(checkpoint))
 
 
-def _add(writer: Writer, channel: int, t: int, data: bytes, seq: int = 0) -> None:
-    log_time = max(t, 0)
-    writer.add_message(channel_id=channel, log_time=log_time, publish_time=log_time, data=data,
-                       sequence=seq % _UINT32)
+def _chain_order(store: Store, run: str) -> bytes | None:
+    """The chain-order attachment's data, or None when the chain order is the time order (the
+    order the messages are written in, so an import in file order rebuilds the chain)."""
+    in_time_order, previous = True, None
+
+    def keys() -> Iterator[tuple[str, int]]:
+        nonlocal in_time_order, previous
+        for src, seq, t in chain_keys(store, run):
+            if in_time_order and previous is not None and (t, seq, src) < previous:
+                in_time_order = False
+            previous = (t, seq, src)
+            yield src, seq
+
+    data = chain_order.encode(run, keys())
+    return None if in_time_order else data
 
 
-def _draw(writer: Writer, channels: _Channels, drawn: list[Derived]) -> int:
+def _draw(out: _InLogTimeOrder, channels: _Channels, drawn: list[Derived], horizon: int | None) -> int:
     for item in drawn:
-        data = json.dumps(item.message, separators=(",", ":"), ensure_ascii=False).encode("utf-8")
-        _add(writer, channels.for_derived(item.topic), item.t, data)
+        out.put(channels.for_derived(item.topic), item.t, item.data, horizon=horizon)
     return len(drawn)
 
 
@@ -114,24 +161,37 @@ def export_mcap(
 ) -> ExportReport:
     """Write the run, its checkpoints and (unless scene=False) its drawing to `path`, replaced
     only when complete. Drawing costs most of the time of an export; a file that only carries
-    events between stores (ingest to ingest) can do without it."""
+    events between stores (ingest to ingest) can do without it. order="chain" lets an import
+    rebuild the chain; order="time" appends the events in time order on import."""
     run_summary(store, run)  # an unknown run is an error before any file is created
     report = ExportReport(str(path), "mcap", run, order)
-    with replacing(path) as out:
-        writer = Writer(out, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
+    with replacing(path) as stream:
+        writer = Writer(stream, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
         writer.start(profile="", library=LIBRARY)
         _write_metadata(writer, store, run, order)
-        channels, drawing = _Channels(writer, run), SceneBuilder()
-        for row in stored_rows(store, run, order):
-            _add(writer, channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
+        attachment = _chain_order(store, run) if order == "chain" else None
+        if attachment is not None:
+            writer.add_attachment(create_time=0, log_time=0, name=chain_order.ATTACHMENT,
+                                  media_type=chain_order.MEDIA_TYPE, data=attachment)
+            report.chain_order = True
+        channels, out = _Channels(writer, run), _InLogTimeOrder(writer)
+        drawing = SceneBuilder() if scene else None
+        for row in stored_rows(store, run, "time"):
+            if drawing is None:  # events alone come in time order: nothing to hold back
+                out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
+            else:
+                out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq, drawing.horizon())
+                drawn = drawing.add(json.loads(row.text)) if row.kind in DRAWN_KINDS else drawing.advance(row.t)
+                report.derived += _draw(out, channels, drawn, drawing.horizon())
+                out.release(drawing.horizon())
             report.events += 1
-            if scene and row.kind in DRAWN_KINDS:
-                report.derived += _draw(writer, channels, drawing.add(json.loads(row.text)))
             if progress is not None and report.events % _PROGRESS_EVERY == 0:
                 progress(report.events)
-        report.derived += _draw(writer, channels, drawing.finish())
+        if drawing is not None:
+            report.derived += _draw(out, channels, drawing.finish(), None)
+        out.release()
         writer.finish()
-        report.bytes = out.tell()
+        report.bytes = stream.tell()
     if progress is not None:
         progress(report.events)
     return report

@@ -13,13 +13,14 @@ and reading goes on past it: its length framed it, so the records after it are s
 from __future__ import annotations
 
 import struct
+import zlib
 from dataclasses import asdict, dataclass, field
 from io import BytesIO
 from typing import Any, BinaryIO, Callable, Iterator, NamedTuple
 
 from mcap.data_stream import ReadDataStream
 from mcap.opcode import Opcode
-from mcap.records import Channel, Chunk, DataEnd, Footer, Header, McapRecord, Message, Metadata, Schema
+from mcap.records import Attachment, Channel, Chunk, DataEnd, Footer, Header, McapRecord, Message, Metadata, Schema
 from mcap.stream_reader import breakup_chunk
 
 from .errors import TransferError
@@ -28,9 +29,21 @@ MAGIC = b"\x89MCAP0\r\n"
 MAX_CHUNK_BYTES = 1 << 30  # writers use chunks of about a MiB; ours are 1 MiB
 _FRAME = struct.Struct("<BQ")  # opcode, record length
 
-# Only what an import needs is parsed; every other record (indexes, statistics, attachments) is
-# framed and passed over, so a damaged index never stops an import of intact messages.
+
+def _attachment(stream: ReadDataStream, length: int) -> Attachment:
+    """An Attachment, its CRC checked (the mcap package skips it): the chain order travels in one."""
+    body = stream.read(length)
+    record = Attachment.read(ReadDataStream(BytesIO(body)))
+    (crc,) = struct.unpack("<I", body[-4:])
+    if crc and crc != zlib.crc32(body[:-4]):
+        raise ValueError(f"CRC mismatch in attachment {record.name!r}")
+    return record
+
+
+# Only what an import needs is parsed; every other record (indexes, statistics) is framed and
+# passed over, so a damaged index never stops an import of intact messages.
 _PARSERS: dict[int, Callable[[ReadDataStream, int], McapRecord]] = {
+    Opcode.ATTACHMENT: _attachment,
     Opcode.HEADER: lambda s, n: Header.read(s),
     Opcode.SCHEMA: lambda s, n: Schema.read(s),
     Opcode.CHANNEL: lambda s, n: Channel.read(s),

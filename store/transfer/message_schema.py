@@ -4,15 +4,22 @@ An MCAP message on `gaps/<run>/<src>/<kind>` is the full event envelope, so its 
 the envelope and takes `body` from store/schemas/<kind>.json. The body schema's $defs move to the
 top so that its "#/$defs/..." references still resolve, and the envelope's rules are written out
 so that a tool that knows nothing of this project can check a message with the schema alone.
+
+What an export writes into the file is the viewer-safe copy of that schema (viewer_schema.py):
+Foxglove and Lichtblick refuse a channel whose schema uses $ref, an untyped enum or a type array,
+and with it every message on the channel. The copy accepts every message the exact schema accepts;
+its description names the exact schema it was derived from.
 """
 
 from __future__ import annotations
 
 import json
+from functools import lru_cache
 from typing import Any
 
 from ..envelope import ENVELOPE_FIELDS, ROLES
 from ..kinds import SCHEMAS
+from .viewer_schema import viewer_safe
 
 _ID = "[A-Za-z0-9._-]{1,64}"
 _INT64 = {"type": "integer", "minimum": -(1 << 63), "maximum": (1 << 63) - 1}
@@ -48,6 +55,18 @@ def envelope_schema(kind: str) -> dict[str, Any]:
     return schema
 
 
+def viewer_envelope_schema(kind: str) -> dict[str, Any]:
+    """The viewer-safe copy of envelope_schema(kind), as written into MCAP files."""
+    exact = envelope_schema(kind)
+    schema = viewer_safe(exact)
+    schema["$id"] = f"{exact['$id']}:viewer"
+    schema["description"] = (f"{exact['description']} Viewer-safe copy of {exact['$id']} (body: "
+                             f"{SCHEMAS[kind].get('$id', kind)}, store/schemas/{kind}.json), derived by "
+                             f"store/transfer/viewer_schema.py: it accepts every message the exact schema accepts.")
+    return schema
+
+
+@lru_cache(maxsize=None)
 def schema_bytes(kind: str) -> bytes:
-    """The schema as written into an MCAP Schema record."""
-    return json.dumps(envelope_schema(kind), separators=(",", ":"), sort_keys=True).encode("utf-8")
+    """The schema as written into an MCAP Schema record: the viewer-safe copy."""
+    return json.dumps(viewer_envelope_schema(kind), separators=(",", ":"), sort_keys=True).encode("utf-8")

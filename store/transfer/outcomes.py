@@ -72,10 +72,11 @@ class ExportReport:
     file: str
     format: str
     run: str
-    order: str  # "time" or "chain": the order events were written in
+    order: str  # "time" or "chain": the order a re-import appends the events in
     events: int = 0
     derived: int = 0  # visualisation messages written beside the events (MCAP only)
     bytes: int = 0
+    chain_order: bool = False  # MCAP: the chain order travels as an attachment (it is not time order)
 
     def as_dict(self) -> dict[str, Any]:
         return dict(self.__dict__)

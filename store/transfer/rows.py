@@ -57,3 +57,12 @@ def chain_head(store: Store, run: str) -> str | None:
         "SELECT hash FROM events WHERE run = ? ORDER BY chain_pos DESC LIMIT 1", (run,)
     ).fetchone()
     return None if row is None else row[0]
+
+
+def chain_keys(store: Store, run: str) -> Iterator[tuple[str, int, int]]:
+    """(src, seq, t) of the run's events in chain order: what an MCAP export, written in time
+    order, needs to tell an import the order to append them in."""
+    cursor = store.connection.execute(
+        "SELECT src, seq, t FROM events WHERE run = ? ORDER BY chain_pos", (run,)
+    )
+    return iter(cursor)

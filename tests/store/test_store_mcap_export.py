@@ -147,12 +147,15 @@ def derived(path: Path, topic: str) -> list[tuple[int, dict]]:
     return [(m.log_time, json.loads(m.data)) for _, c, m in messages if c.topic == topic]
 
 
-def test_scene_draws_road_users_at_their_positions_once_per_tick(exported):
+def test_scene_draws_every_live_road_user_at_its_position_once_per_tick(exported):
+    """Each message is the whole live scene: a deletion of everything drawn before on the topic,
+    then every road user alive then; the pedestrian, despawned at the last tick, is not in it."""
     path, _, _ = exported
     updates = derived(path, ENTITIES_TOPIC)
-    moves = [(t, u) for t, u in updates if u["entities"]]
-    assert [t for t, _ in moves] == [T0 + tick * S for tick in range(5)]
-    t, first = moves[0]
+    assert [t for t, _ in updates] == [T0 + tick * S for tick in range(5)]
+    for t, update in updates:
+        assert update["deletions"] == [{"timestamp": {"sec": t // S, "nsec": 0}, "type": 1, "id": ""}]
+    t, first = updates[0]
     by_id = {e["id"]: e for e in first["entities"]}
     assert set(by_id) == {"vehicle/173", "vehicle/253", "pedestrian/p1"}
     car = by_id["vehicle/173"]
@@ -163,8 +166,7 @@ def test_scene_draws_road_users_at_their_positions_once_per_tick(exported):
     assert car["frame_id"] == "map" and car["timestamp"] == {"sec": T0 // S, "nsec": 0}
     assert by_id["vehicle/253"]["spheres"], "an ambulance on an emergency call shows a blue light"
     assert by_id["pedestrian/p1"]["cubes"][0]["size"]["x"] < 1.0
-    deletions = [u["deletions"] for _, u in updates if u["deletions"]]
-    assert deletions == [[{"timestamp": {"sec": T0 // S + 4, "nsec": 1}, "type": 0, "id": "pedestrian/p1"}]]
+    assert [{e["id"] for e in u["entities"]} for _, u in updates[1:]] == [set(by_id)] * 3 + [{"vehicle/173", "vehicle/253"}]
 
 
 def test_signals_are_coloured_spheres_beside_their_junction(exported):

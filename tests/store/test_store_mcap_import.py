@@ -99,13 +99,18 @@ def test_an_altered_message_is_caught_by_the_exported_checkpoints(source, tmp_pa
     altered (valid) event but the chain check names the first checkpoint after it."""
     original = exported_file(source, tmp_path / "busy.mcap")
     altered = tmp_path / "altered.mcap"
+    keys = [(e["src"], e["seq"]) for e in source.events("busy")]
+    (target,) = [key for key, pos in source.chain_positions("busy", keys).items() if pos == 1000]
+    assert target[0] != "monitor/m"  # an entity.state (every fourth event is a monitor's)
     with open(original, "rb") as f, open(altered, "wb") as out:
         reader = make_reader(f)
         writer = Writer(out)
         writer.start()
         for m in reader.iter_metadata():
             writer.add_metadata(m.name, m.metadata)
-        ids, n = {}, 0
+        for a in reader.iter_attachments():  # the chain order: the file is in time order
+            writer.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
+        ids = {}
         for schema, channel, message in reader.iter_messages(log_time_order=False):
             if schema.id not in ids.setdefault("s", {}):
                 ids["s"][schema.id] = writer.register_schema(schema.name, schema.encoding, schema.data)
@@ -113,11 +118,9 @@ def test_an_altered_message_is_caught_by_the_exported_checkpoints(source, tmp_pa
                 ids["c"][channel.id] = writer.register_channel(channel.topic, channel.message_encoding,
                                                                ids["s"][schema.id], channel.metadata)
             data = message.data
-            if channel.topic.startswith("gaps/"):
-                n += 1
-                if n == 1001:  # an entity.state (every fourth event is a monitor's)
-                    data = data.replace(b'"speed_mps":5.0', b'"speed_mps":4.0')
-                    assert data != message.data
+            if channel.topic.startswith("gaps/") and (json.loads(data)["src"], json.loads(data)["seq"]) == target:
+                data = data.replace(b'"speed_mps":5.0', b'"speed_mps":4.0')
+                assert data != message.data
             writer.add_message(ids["c"][channel.id], message.log_time, data, message.publish_time, message.sequence)
         writer.finish()
     with Store(tmp_path / "copy.db") as copy:
@@ -241,8 +244,7 @@ def test_a_cut_file_imports_everything_before_the_cut_and_says_where(source, tmp
     data = full.read_bytes()
     layout = chunk_layout(full)
     assert len(layout) > 5
-    chain_order = [json.loads(row[0]) for row in source.connection.execute(
-        "SELECT event FROM events ORDER BY chain_pos")]
+    time_order = list(source.events("busy"))  # the file's order
     first_chunk, last_end = layout[0][0], layout[-1][1]
     data_end = data.index(b"\x0f" + (4).to_bytes(8, "little"), last_end) + 13  # after the DataEnd record
     cuts = [20, first_chunk + 5, layout[2][0] + 100, layout[3][1] + 3, (layout[4][0] + layout[4][1]) // 2,
@@ -255,9 +257,9 @@ def test_a_cut_file_imports_everything_before_the_cut_and_says_where(source, tmp
             complete = [(start, end, n) for start, end, n in layout if end <= cut]
             expected = sum(n for _, _, n in complete)
             assert report.stored == expected, cut
-            # what was imported is exactly the first events of the chain
+            # what was imported is exactly the events of the complete chunks: the first in time
             assert sorted(store.events("busy"), key=lambda e: (e["src"], e["seq"])) == \
-                sorted(chain_order[:expected], key=lambda e: (e["src"], e["seq"]))
+                sorted(time_order[:expected], key=lambda e: (e["src"], e["seq"]))
             cut_info = report.truncated
             assert cut_info is not None and cut_info["file_size"] == cut
             assert (complete[-1][1] if complete else 0) <= cut_info["offset"] <= cut
@@ -347,3 +349,42 @@ def test_a_chunk_claiming_a_huge_size_is_damaged_not_allocated(tmp_path):
         report = import_file(store, tmp_path / "huge.mcap")
     (damage,) = report.damaged
     assert damage["offset"] == 8 and "over the" in damage["reason"]
+
+
+# --- files written before the export was in log-time order ---------------------------------------
+
+
+def older_export(store: Store, run: str, path: Path) -> Path:
+    """What exports wrote before issue 13: messages in chain order (log times going back), the
+    exact schemas ($ref, untyped enums, type arrays), no chain-order attachment."""
+    from store.transfer.message_schema import envelope_schema
+    with open(path, "wb") as f:
+        writer = Writer(f)
+        writer.start(profile="", library="mind-the-gaps store.transfer")
+        summary = {r.run: r for r in store.runs()}[run]
+        writer.add_metadata("gaps.run", {"run": run, "events": str(summary.events), "order": "chain",
+                                         "head": heads(store)[run]})
+        schemas, channels = {}, {}
+        for (text,) in store.connection.execute("SELECT event FROM events WHERE run = ? ORDER BY chain_pos", (run,)):
+            ev = json.loads(text)
+            if ev["kind"] not in schemas:
+                schemas[ev["kind"]] = writer.register_schema(ev["kind"], "jsonschema",
+                                                             json.dumps(envelope_schema(ev["kind"])).encode())
+            topic = key_for(ev)
+            if topic not in channels:
+                channels[topic] = writer.register_channel(topic, "json", schemas[ev["kind"]])
+            writer.add_message(channels[topic], max(ev["t"], 0), text.encode(), max(ev["t"], 0), ev["seq"])
+        writer.finish()
+    return path
+
+
+def test_an_older_export_still_imports_to_the_same_events_and_chain(source, tmp_path):
+    path = older_export(source, "busy", tmp_path / "old.mcap")
+    with open(path, "rb") as f:
+        times = [m.log_time for _, _, m in make_reader(f).iter_messages(log_time_order=False)]
+    assert times != sorted(times)  # chain order: what the doctor warned about
+    with Store(tmp_path / "copy.db") as copy:
+        report = import_file(copy, path)
+        assert (report.stored, report.rejected) == (3000, 0)
+        assert list(copy.events("busy")) == list(source.events("busy")) and heads(copy) == heads(source)
+        assert report.chains[0]["match"] is True
