@@ -22,12 +22,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from store import GapsError
+
 __all__ = ["Monitor", "MonitorsError", "read_monitors"]
 
 _ID = set("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-")
 
 
-class MonitorsError(ValueError):
+class MonitorsError(GapsError, ValueError):
     """A monitors file that cannot be used, with what is wrong and where."""
 
 

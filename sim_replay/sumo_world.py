@@ -29,6 +29,7 @@ import libsumo
 from sim_replay.road_users import PEDESTRIAN, TYPES, define_types
 from sim_replay.sumo_net import Lane, Network, read_network
 from sim_replay.world_state import COLOURS, Collision, PedestrianState, SignalState, Snapshot, VehicleState
+from store import GapsError
 
 __all__ = ["SPEED_MODE_OURS", "SPEED_MODE_SUMO", "World", "WorldError"]
 
@@ -50,7 +51,7 @@ _ROAD = tc.VAR_ROAD_ID
 _open: World | None = None
 
 
-class WorldError(RuntimeError):
+class WorldError(GapsError, RuntimeError):
     """SUMO refused something, or a World is used wrongly (a second one open, one already closed)."""
 
 
