@@ -27,7 +27,7 @@ from pathlib import Path
 import libsumo
 
 from sim_replay.road_users import PEDESTRIAN, TYPES, define_types
-from sim_replay.sumo_net import Lane, Network, read_network
+from sim_replay.sumo_net import Network, read_network
 from sim_replay.world_state import COLOURS, Collision, PedestrianState, SignalState, Snapshot, VehicleState
 from store import GapsError
 
@@ -53,6 +53,11 @@ _open: World | None = None
 
 class WorldError(GapsError, RuntimeError):
     """SUMO refused something, or a World is used wrongly (a second one open, one already closed)."""
+
+
+def _unknown(lane_id: str) -> tuple:
+    """A lane the network does not list (none should be): its edge by SUMO's naming, nothing else."""
+    return (lane_id.rsplit("_", 1)[0], None, None, None, None, None, 0.0)
 
 
 def heading(sumo_angle: float) -> float:
@@ -100,6 +105,8 @@ class World:
         self._where: dict[str, tuple[str, float]] = {}     # vehicle -> (lane, lane position) last tick
         self._lanes = self.network.lanes
         self._edges = {lane.edge: lane for lane in self._lanes.values()}
+        self._by_lane = {lane.id: (lane.edge, lane.road, lane.junction, lane.ahead, lane.approach, lane.line_kind,
+                                   lane.length_m) for lane in self._lanes.values()}
         self._step = 0
         self.last: Snapshot | None = None
 
@@ -268,34 +275,35 @@ class World:
         return tuple(current), tuple(changed), lights
 
     def _vehicles(self, results: dict, lights: dict[tuple[str, str], str]) -> tuple[VehicleState, ...]:
+        """Each subscribed vehicle as a VehicleState (the hot loop of a tick: a thousand vehicles)."""
         out = []
-        lanes, types, where = self._lanes, self._types, self._where
-        controlled, held = self._controlled, self._held
-        for ident in sorted(results):
-            r = results[ident]
+        append, where, by_lane = out.append, self._where, self._by_lane
+        types, controlled, held = self._types, self._controlled, self._held
+        for ident, r in results.items():           # libsumo's order: by id
             lane_id, pos = r[_LANE], r[_LANEPOS]
             where[ident] = (lane_id, pos)
-            lane: Lane | None = lanes.get(lane_id)
-            x, y = r[_POS]
-            if lane is None or lane.junction is not None:
-                road, junction, ahead, approach, to_junction, to_line, kind, light = \
-                    None, lane.junction if lane else None, None, None, None, None, None, None
+            edge, road, junction, ahead, approach, kind, length = by_lane.get(lane_id) or _unknown(lane_id)
+            if ahead is None:
+                to_junction = to_line = light = None
             else:
-                road, junction, ahead, approach, kind = lane.road, None, lane.ahead, lane.approach, lane.line_kind
-                to_junction = lane.length_m - pos if ahead is not None else None
+                to_junction = length - pos
                 to_line = to_junction if kind is not None else None
-                light = lights.get((ahead, approach)) if ahead is not None else None
-            out.append(VehicleState(ident, types.get(ident) or libsumo.vehicle.getTypeID(ident), x, y,
-                                    (90.0 - r[_ANGLE]) % 360.0, r[_SPEED], r[_ACCEL], road,
-                                    lane.edge if lane else lane_id.rsplit("_", 1)[0], lane_id, pos, r[_SIGNALS],
-                                    junction, ahead, approach, to_junction, to_line, kind, light,
-                                    ident in controlled, ident in held))
+                light = lights.get((ahead, approach))
+            x, y = r[_POS]
+            kind_of = types.get(ident) or self._type_of(ident)
+            append(VehicleState(ident, kind_of, x, y, (90.0 - r[_ANGLE]) % 360.0, r[_SPEED], r[_ACCEL], road, edge,
+                                lane_id, pos, r[_SIGNALS], junction, ahead, approach, to_junction, to_line, kind,
+                                light, ident in controlled, ident in held))
         return tuple(out)
+
+    def _type_of(self, ident: str) -> str:
+        """The type of a vehicle SUMO put on the network itself (from a route file): asked once."""
+        kind = self._types[ident] = libsumo.vehicle.getTypeID(ident)
+        return kind
 
     def _pedestrians(self, results: dict) -> tuple[PedestrianState, ...]:
         out = []
-        for ident in sorted(results):
-            r = results[ident]
+        for ident, r in results.items():
             edge = r[_ROAD]
             lane = self._edges.get(edge)
             junction = lane.junction if lane else None
