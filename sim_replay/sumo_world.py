@@ -91,11 +91,15 @@ class World:
             raise WorldError(f"SUMO did not start on {net}: {e}") from e
         _open = self
         self._closed = False
-        define_types(libsumo)
-        libsumo.simulation.subscribe(SIM_VARS)
-        self._tls = sorted(self.network.links)
-        for tls in self._tls:
-            libsumo.trafficlight.subscribe(tls, (tc.TL_RED_YELLOW_GREEN_STATE,))
+        try:
+            define_types(libsumo)
+            libsumo.simulation.subscribe(SIM_VARS)
+            self._tls = sorted(self.network.links)
+            for tls in self._tls:
+                libsumo.trafficlight.subscribe(tls, (tc.TL_RED_YELLOW_GREEN_STATE,))
+        except libsumo.TraCIException as e:
+            self.close()
+            raise WorldError(f"SUMO refused the world's set-up on {net}: {e}") from e
         self._signal_keys = self._signal_layout()
         self._colours: dict[tuple[str, str, str | None], SignalState] = {}
         self._types: dict[str, str] = {}
@@ -171,9 +175,9 @@ class World:
     def hold(self, ident: str) -> bool:
         """Stop the vehicle behind the stop line (the end of its lane) ahead of it, until released.
 
-        False where it cannot: it is inside a junction or on a lane that leads to none, or it is
-        already too close to the line to stop there with its braking (SUMO refuses; the agent then
-        knows the vehicle will cross)."""
+        False where it cannot: it is not on the network yet (a tick must have reported it), it is
+        inside a junction or on a lane that leads to none, or it is already too close to the line to
+        stop there with its braking (SUMO refuses; the agent then knows the vehicle will cross)."""
         where = self._where.get(ident)
         lane = self._lanes.get(where[0]) if where else None
         if lane is None or lane.ahead is None:
@@ -231,6 +235,8 @@ class World:
             libsumo.person.subscribe(ident, PERSON_VARS)
         for ident in arrived_v:
             self._forget(ident)
+        for ident in arrived_p:
+            self._types.pop(ident, None)
         t = self.t_s
         signals, changed, lights = self._signals(t)
         vehicles = self._vehicles(libsumo.vehicle.getAllSubscriptionResults(), lights)
@@ -238,10 +244,12 @@ class World:
         collisions = tuple(Collision(c.collider, c.victim, c.type, c.lane, c.pos)
                            for c in libsumo.simulation.getCollisions())
         self.last = Snapshot(self._step, t, vehicles, pedestrians, signals, changed,
-                             tuple(departed_v) + tuple(departed_p), tuple(arrived_v) + tuple(arrived_p), collisions)
+                             tuple(departed_v) + tuple(departed_p), tuple(arrived_v) + tuple(arrived_p), collisions,
+                             {v.id: v for v in vehicles}, {p.id: p for p in pedestrians})
         return self.last
 
     def _forget(self, ident: str) -> None:
+        self._types.pop(ident, None)
         self._controlled.discard(ident)
         self._held.pop(ident, None)
         self._where.pop(ident, None)
@@ -260,8 +268,8 @@ class World:
         return layout
 
     def _signals(self, t: float) -> tuple[tuple[SignalState, ...], tuple[SignalState, ...], dict[tuple[str, str], str]]:
-        states = {tls: libsumo.trafficlight.getSubscriptionResults(tls)[tc.TL_RED_YELLOW_GREEN_STATE]
-                  for tls in self._tls}
+        states = {tls: r[tc.TL_RED_YELLOW_GREEN_STATE]
+                  for tls, r in libsumo.trafficlight.getAllSubscriptionResults().items()}
         current, changed, lights = [], [], {}
         for tls, index, key in self._signal_keys:
             colour = COLOURS.get(states[tls][index], "off")

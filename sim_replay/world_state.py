@@ -12,7 +12,7 @@ object.__setattr__), which matters when a tick builds a thousand of them ten tim
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any, NamedTuple
 
 __all__ = ["COLOURS", "Collision", "PedestrianState", "SignalState", "Snapshot", "VehicleState"]
@@ -108,12 +108,17 @@ class Snapshot:
     departed: tuple[str, ...]              # road users that entered the network in this tick
     arrived: tuple[str, ...]               # road users that left it
     collisions: tuple[Collision, ...]
+    by_id: dict[str, VehicleState] = field(default_factory=dict, compare=False, repr=False)
+    pedestrians_by_id: dict[str, PedestrianState] = field(default_factory=dict, compare=False, repr=False)
 
     def vehicle(self, ident: str) -> VehicleState | None:
-        return next((v for v in self.vehicles if v.id == ident), None)
+        """A vehicle by id (None where it is not on the network), without a search."""
+        return self.by_id.get(ident) if self.by_id or not self.vehicles else \
+            next((v for v in self.vehicles if v.id == ident), None)
 
     def pedestrian(self, ident: str) -> PedestrianState | None:
-        return next((p for p in self.pedestrians if p.id == ident), None)
+        return self.pedestrians_by_id.get(ident) if self.pedestrians_by_id or not self.pedestrians else \
+            next((p for p in self.pedestrians if p.id == ident), None)
 
     def signal(self, junction: str, approach: str) -> SignalState | None:
         return next((s for s in self.signals if s.junction == junction and s.approach == approach

@@ -122,6 +122,21 @@ def test_a_vehicle_under_our_control_runs_a_red_light_unless_held_and_goes_when_
     assert any(s.vehicle("held") and s.vehicle("held").junction == "j1" for s in after)
 
 
+def test_a_vehicle_released_before_it_reaches_the_line_drives_on_without_stopping():
+    with World(NET) as world:
+        world.add_vehicle("v", "car", world.route("w_j1", "j1_j2"), depart_pos=0.0)
+        world.take_control("v")
+        assert world.hold("v") is False                     # not on the network until a tick reports it
+        world.step()
+        assert world.hold("v") and world.hold("v")          # (holding twice is holding)
+        run(world, 3.0)
+        world.release("v")
+        world.release("v")                                  # (releasing twice is harmless)
+        snaps = run(world, 20.0)
+    speeds = [s.vehicle("v").speed_mps for s in snaps if s.vehicle("v")]
+    assert min(speeds) > 12.0 and any(s.vehicle("v") and s.vehicle("v").junction == "j1" for s in snaps)
+
+
 def test_a_vehicle_too_close_to_stop_cannot_be_held():
     """At 13.4 m/s a car needs 20 m to stop at its planned 4.5 m/s²: 8 m before the line SUMO refuses."""
     with World(NET) as world:
