@@ -48,6 +48,7 @@ SIM_VARS = (tc.VAR_DEPARTED_VEHICLES_IDS, tc.VAR_ARRIVED_VEHICLES_IDS, tc.VAR_DE
             tc.VAR_ARRIVED_PERSONS_IDS)
 _POS, _ANGLE, _SPEED, _ACCEL, _LANE, _LANEPOS, _SIGNALS = VEHICLE_VARS
 _ROAD = tc.VAR_ROAD_ID
+_new = tuple.__new__          # a NamedTuple from its fields in order, without its Python-level __new__ (half the time)
 _open: World | None = None
 
 
@@ -106,7 +107,6 @@ class World:
         self._routes: dict[tuple[str, ...], str] = {}
         self._controlled: set[str] = set()
         self._held: dict[str, tuple[str, float, int]] = {}
-        self._where: dict[str, tuple[str, float]] = {}     # vehicle -> (lane, lane position) last tick
         self._lanes = self.network.lanes
         self._edges = {lane.edge: lane for lane in self._lanes.values()}
         self._by_lane = {lane.id: (lane.edge, lane.road, lane.junction, lane.ahead, lane.approach, lane.line_kind,
@@ -178,8 +178,8 @@ class World:
         False where it cannot: it is not on the network yet (a tick must have reported it), it is
         inside a junction or on a lane that leads to none, or it is already too close to the line to
         stop there with its braking (SUMO refuses; the agent then knows the vehicle will cross)."""
-        where = self._where.get(ident)
-        lane = self._lanes.get(where[0]) if where else None
+        seen = self.last.vehicle(ident) if self.last is not None else None
+        lane = self._lanes.get(seen.lane) if seen is not None else None
         if lane is None or lane.ahead is None:
             return False
         if ident in self._held:
@@ -252,7 +252,6 @@ class World:
         self._types.pop(ident, None)
         self._controlled.discard(ident)
         self._held.pop(ident, None)
-        self._where.pop(ident, None)
 
     def _signal_layout(self) -> list[tuple[str, int, tuple[str, str, str | None]]]:
         """Per traffic light, which index of its state each approach and crossing shows."""
@@ -285,11 +284,10 @@ class World:
     def _vehicles(self, results: dict, lights: dict[tuple[str, str], str]) -> tuple[VehicleState, ...]:
         """Each subscribed vehicle as a VehicleState (the hot loop of a tick: a thousand vehicles)."""
         out = []
-        append, where, by_lane = out.append, self._where, self._by_lane
+        append, by_lane = out.append, self._by_lane
         types, controlled, held = self._types, self._controlled, self._held
         for ident, r in results.items():           # libsumo's order: by id
             lane_id, pos = r[_LANE], r[_LANEPOS]
-            where[ident] = (lane_id, pos)
             edge, road, junction, ahead, approach, kind, length = by_lane.get(lane_id) or _unknown(lane_id)
             if ahead is None:
                 to_junction = to_line = light = None
@@ -299,9 +297,9 @@ class World:
                 light = lights.get((ahead, approach))
             x, y = r[_POS]
             kind_of = types.get(ident) or self._type_of(ident)
-            append(VehicleState(ident, kind_of, x, y, (90.0 - r[_ANGLE]) % 360.0, r[_SPEED], r[_ACCEL], road, edge,
-                                lane_id, pos, r[_SIGNALS], junction, ahead, approach, to_junction, to_line, kind,
-                                light, ident in controlled, ident in held))
+            append(_new(VehicleState, (ident, kind_of, x, y, (90.0 - r[_ANGLE]) % 360.0, r[_SPEED], r[_ACCEL], road,
+                                       edge, lane_id, pos, r[_SIGNALS], junction, ahead, approach, to_junction,
+                                       to_line, kind, light, ident in controlled, ident in held)))
         return tuple(out)
 
     def _type_of(self, ident: str) -> str:
