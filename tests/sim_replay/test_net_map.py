@@ -165,3 +165,23 @@ def test_the_reasoner_finds_a_stop_line_at_j2_on_the_exported_map(the_map):
     assert p.approach == "north" and p.line.kind == "stop" and p.crossing is not None
     assert crossed - 0.1 <= (p.crossing.t - T0) / SECOND <= crossed
     assert p.exit == "south"
+
+
+def test_the_papers_run_judged_on_the_exported_map_gives_the_papers_verdicts(the_map, tmp_path):
+    """sim_replay/paper.py's events with its hand-written map swapped for the SUMO network's: the
+    verdicts are the paper's, with the margins measured against the exported west stop line (12 m out,
+    as the hand-written one)."""
+    import reasoner
+    from sim_replay.paper import RUN, paper_run
+    from store import Store
+
+    events = paper_run()
+    (start,) = [e for e in events if e["kind"] == "run.start"]
+    start["body"]["map"] = the_map
+    with Store(tmp_path / "gaps.db") as store:
+        store.append(events)
+    with reasoner.open(tmp_path / "gaps.db") as case:
+        found = case.incidents(RUN)
+    assert [(i.vehicle, i.rule, i.verdict) for i in found] == [
+        ("173", "HC 176", "punishable"), ("253", "HC 176", "mitigated")]
+    assert [i.margin.value for i in found] == [2.444, 2.444]      # as on the hand-written map (README)
