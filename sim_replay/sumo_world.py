@@ -61,11 +61,6 @@ def _unknown(lane_id: str) -> tuple:
     return (lane_id.rsplit("_", 1)[0], None, None, None, None, None, 0.0)
 
 
-def heading(sumo_angle: float) -> float:
-    """SUMO's angle (compass: 0 north, clockwise) as the map's heading (0 east, counter-clockwise)."""
-    return (90.0 - sumo_angle) % 360.0
-
-
 class World:
     """One SUMO simulation of a network, stepped by the caller.
 
@@ -112,13 +107,16 @@ class World:
         self._by_lane = {lane.id: (lane.edge, lane.road, lane.junction, lane.ahead, lane.approach, lane.line_kind,
                                    lane.length_m) for lane in self._lanes.values()}
         self._step = 0
-        self.last: Snapshot | None = None
+        self.last: Snapshot | None = None            # the latest tick's snapshot
 
     # --- putting road users on the network ------------------------------------------------------
 
     def route(self, from_edge: str, to_edge: str, kind: str = "car") -> tuple[str, ...]:
         """The fastest route between two edges for a type of vehicle (SUMO's router)."""
-        found = libsumo.simulation.findRoute(from_edge, to_edge, vType=kind)
+        try:
+            found = libsumo.simulation.findRoute(from_edge, to_edge, vType=kind)
+        except libsumo.TraCIException as e:
+            raise WorldError(f"no route for a {kind} from {from_edge} to {to_edge}: {e}") from e
         if not found.edges:
             raise WorldError(f"no route for a {kind} from {from_edge} to {to_edge}")
         return tuple(found.edges)
@@ -130,13 +128,17 @@ class World:
         if kind not in TYPES or kind == PEDESTRIAN:
             raise WorldError(f"unknown vehicle type {kind!r}; one of {', '.join(t for t in TYPES if t != PEDESTRIAN)}")
         edges = tuple(route)
-        rid = self._routes.get(edges)
-        if rid is None:
-            rid = self._routes[edges] = f"route{len(self._routes)}"
-            libsumo.route.add(rid, list(edges))
         try:
+            rid = self._routes.get(edges)
+            if rid is None:
+                rid = f"route{len(self._routes)}"
+                libsumo.route.add(rid, list(edges))
+                self._routes[edges] = rid
             libsumo.vehicle.add(ident, rid, typeID=kind, depart="now", departLane=depart_lane,
                                 departPos=str(depart_pos), departSpeed=str(depart_speed))
+            if not libsumo.vehicle.isRouteValid(ident):     # else SUMO stops the whole simulation at insertion
+                libsumo.vehicle.remove(ident)
+                raise WorldError(f"vehicle {ident}: its route {' '.join(edges)} is not connected for a {kind}")
         except libsumo.TraCIException as e:
             raise WorldError(f"vehicle {ident}: {e}") from e
         self._types[ident] = kind
@@ -145,9 +147,12 @@ class World:
                    arrival_pos: float | None = None) -> tuple[str, ...]:
         """Put a pedestrian on a pavement, walking to another edge by the pavements and crossings
         SUMO's router picks; returns the edges of the walk."""
-        stages = libsumo.simulation.findIntermodalRoute(
-            from_edge, to_edge, departPos=depart_pos, pType=PEDESTRIAN,
-            **({"arrivalPos": arrival_pos} if arrival_pos is not None else {}))
+        try:
+            stages = libsumo.simulation.findIntermodalRoute(
+                from_edge, to_edge, departPos=depart_pos, pType=PEDESTRIAN,
+                **({"arrivalPos": arrival_pos} if arrival_pos is not None else {}))
+        except libsumo.TraCIException as e:
+            raise WorldError(f"no walk for pedestrian {ident} from {from_edge} to {to_edge}: {e}") from e
         if not stages or not stages[0].edges:
             raise WorldError(f"no walk for pedestrian {ident} from {from_edge} to {to_edge}")
         try:

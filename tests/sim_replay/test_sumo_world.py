@@ -189,5 +189,11 @@ def test_vehicles_and_bicycles_of_every_type_drive():
         snap = run(world, 3.0)[-1]
     assert {v.type for v in snap.vehicles} == set(kinds)
     assert all(v.speed_mps > 0 for v in snap.vehicles)
-    with World(NET) as world, pytest.raises(WorldError, match="unknown vehicle type"):
-        world.add_vehicle("x", "tank", ("w_j1",))
+    with World(NET) as world:
+        with pytest.raises(WorldError, match="unknown vehicle type"):
+            world.add_vehicle("x", "tank", ("w_j1",))
+        with pytest.raises(WorldError, match="no route"):
+            world.route("w_j1", "nowhere")
+        with pytest.raises(WorldError, match="vehicle y"):
+            world.add_vehicle("y", "car", ("w_j1", "n2_j2"))         # edges that do not meet
+        assert world.step().vehicles == ()                           # and the world goes on without it
