@@ -217,21 +217,18 @@ def _approach(node, edge) -> Approach:
 
 
 def _line(lanes) -> tuple[Point, Point]:
-    """Across the ends of an approach's lanes: each lane's end, half its width either side,
-    perpendicular to its last stretch; the two outermost points."""
+    """Across the ends of an approach's lanes: the two outermost of the points half a lane's width
+    either side of each lane's end, along the normal to the first lane's last stretch."""
+    (x0, y0), (x1, y1) = (p[:2] for p in lanes[0].getShape()[-2:])
+    length = math.hypot(x1 - x0, y1 - y0) or 1.0
+    nx, ny = -(y1 - y0) / length, (x1 - x0) / length      # the normal (lanes of one edge are parallel at their end)
     points: list[Point] = []
     for lane in lanes:
-        shape = lane.getShape()
-        (x0, y0), (x1, y1) = shape[-2][:2], shape[-1][:2]
-        length = math.hypot(x1 - x0, y1 - y0) or 1.0
-        nx, ny = -(y1 - y0) / length, (x1 - x0) / length
+        ex, ey = lane.getShape()[-1][:2]
         half = lane.getWidth() / 2
-        points += [(x1 + nx * half, y1 + ny * half), (x1 - nx * half, y1 - ny * half)]
-    ox, oy = points[0]
-    (x0, y0), (x1, y1) = lanes[0].getShape()[-2][:2], lanes[0].getShape()[-1][:2]
-    nx, ny = -(y1 - y0), (x1 - x0)
-    ordered = sorted(points, key=lambda p: (p[0] - ox) * nx + (p[1] - oy) * ny)
-    return (round(ordered[0][0], 3), round(ordered[0][1], 3)), (round(ordered[-1][0], 3), round(ordered[-1][1], 3))
+        points += [(ex + nx * half, ey + ny * half), (ex - nx * half, ey - ny * half)]
+    ordered = sorted(points, key=lambda p: p[0] * nx + p[1] * ny)
+    return tuple((round(p[0], 3), round(p[1], 3)) for p in (ordered[0], ordered[-1]))  # type: ignore[return-value]
 
 
 def _kind(node, edge) -> str | None:
