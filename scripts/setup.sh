@@ -26,7 +26,7 @@ export SWIPL   # janus-swi's build finds Prolog through it
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check -c requirements.lock pip
 "$VENV/bin/python" -m pip install -q --disable-pip-version-check -c requirements.lock \
   --no-cache-dir --force-reinstall --no-deps janus-swi
-"$VENV/bin/python" -m pip install -q --disable-pip-version-check -c requirements.lock -e '.[test]'
+"$VENV/bin/python" -m pip install -q --disable-pip-version-check -c requirements.lock -e '.[test,net]'
 echo "$HOME_DIR" > "$VENV/gaps-swipl-home"
 "$VENV/bin/python" -c 'from reasoner.prolog_home import import_janus; import_janus()' \
   || { echo "setup: janus_swi cannot start SWI-Prolog from $HOME_DIR" >&2; exit 1; }

@@ -12,12 +12,14 @@ from reasoner.le.errors import LEError
 from reasoner.le.expectations import ExpectationError
 from reasoner.prolog_home import PrologUnavailable
 from reasoner.when import TimeError, parse_time
+from sim_replay.monitors import MonitorsError
+from sim_replay.sumo_world import WorldError
 from store import GapsError, NoSuchRun, StoreError
 from store.envelope import EventError
 from store.transfer.errors import TransferError
 
 USER_MISTAKES = [StoreError, NoSuchRun, EventError, TransferError, TimeError, LEError,
-                 ExpectationError, QuestionError, QuestionUnreadable, ReportError, PdfError]
+                 ExpectationError, QuestionError, QuestionUnreadable, ReportError, PdfError, MonitorsError, WorldError]
 SET_UP = [PrologUnavailable, ToolMissing]
 
 
