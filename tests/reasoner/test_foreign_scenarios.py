@@ -469,10 +469,13 @@ def test_a_camera_flag_against_a_lawful_stop_is_dismissed_with_the_seconds_stati
 # 7. Give Way (HC 172)
 # ==================================================================================================
 
-def give_way_run(other: Motion, sampling: str, producer: str) -> Foreign:
+def give_way_run(other: Motion, sampling: str, producer: str, mixed: bool = False) -> Foreign:
     """7 pulls out of the west Give Way line at 6 m/s without slowing; c2 comes down the major
-    road from the north. The camera watches both."""
-    j = crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})
+    road from the north. The camera watches both. `mixed`: the junction's control says "stop"
+    (its south arm has a Stop line), as a simulator's junction with a Stop arm and a Give Way
+    arm does; the west arm's line is still a Give Way line."""
+    kinds = {"west": "give_way", "south": "stop"} if mixed else {"west": "give_way", "east": "give_way"}
+    j = crossroads("J1", 0.0, 0.0, "stop" if mixed else "give_way", kinds=kinds)
     run = Foreign(junctions=[j])
     run.spawn("7")
     run.spawn("c2")
@@ -508,6 +511,17 @@ def test_a_give_way_failure_that_makes_main_road_traffic_brake_hard_is_punishabl
     verdict(inc, "punishable", "HC 172")
     margin(inc, "deceleration", "m/s²", 5.0, 0.25)
     no_incident(found, "c2")                       # braking to avoid 7 is no act of c2's
+
+
+def test_a_give_way_failure_at_a_junction_that_also_has_a_stop_arm_is_judged_by_its_own_line(tmp_path):
+    """The same act at a junction whose control names its Stop arm: 7's line is a Give Way line,
+    so HC 172 (not HC 171's duty to stop) applies, and its margin is c2's deceleration, 5 m/s²
+    (a Stop margin, seconds stationary, would say nothing here). c2 on the major road owes no stop."""
+    found = judge(tmp_path, give_way_run(FORCED, "5 Hz", "measured", mixed=True))
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 172")
+    margin(inc, "deceleration", "m/s²", 5.0, 0.25)
+    no_incident(found, "c2")
 
 
 @pytest.mark.parametrize("sampling", ["2 Hz", "irregular 2-10 Hz"])
