@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import socket
 from pathlib import Path
-from typing import Optional
+from typing import Callable, Iterable, Optional
 
 import typer
 
@@ -15,6 +15,7 @@ from cli.incidents import show_incidents
 from cli.options import DbOption, JsonOption
 from explain import write_report
 from reasoner.api import Case
+from sim_replay.outlets import OutletSummary
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
@@ -28,7 +29,7 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
     from sim_replay.paper import paper_run
     path = db_path(db)
     events = paper_run()
-    totals = publish_through_zenoh(path, events)
+    totals, _ = publish_through_zenoh(path, events)
     run = events[0]["run"]
     if not json_out:
         typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
@@ -51,17 +52,21 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def publish_through_zenoh(db: Path, events: list[dict], timeout_s: float = 30.0) -> dict:
-    """Publish the events over a loopback Zenoh link into the store; return the ingest's totals."""
+def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 30.0, *,
+                          record: Path | None = None, speed: float | None = None,
+                          each: Callable[[dict], None] | None = None) -> tuple[dict, OutletSummary]:
+    """Publish the events over a loopback Zenoh link into an in-process ingest on the store (and
+    record them, paced, as asked); return the ingest's totals and what went out."""
     from ingest.service import IngestService
-    from sim_replay.publisher import EventPublisher, zenoh_config
+    from sim_replay.outlets import Outlets
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     with IngestService(db, listen=[endpoint]) as ingest:
-        with EventPublisher(config=zenoh_config(connect=[endpoint])) as pub:
-            if not pub.wait_until_matched(events[0], timeout_s):
-                raise RuntimeError(f"the ingest did not subscribe within {timeout_s} s on {endpoint}")
-            pub.publish_all(events)
-        if not ingest.wait_until_settled(len(events), timeout_s):
+        with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s) as out:
+            for event in events:
+                out.put(event)
+                if each is not None:
+                    each(event)
+        sent = out.summary()
+        if not ingest.wait_until_settled(sent.published, timeout_s):
             raise RuntimeError(f"not every event reached the store within {timeout_s} s: {ingest.stats()}")
-        return ingest.stats()
-
+        return ingest.stats(), sent
