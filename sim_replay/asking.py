@@ -20,7 +20,7 @@ from reasoner.bundled import CURRENT_SET, bundled
 from reasoner.engine import Rulebook, enrich, get_engine
 from reasoner.facts import FactReader
 
-__all__ = ["Asked", "Rulebooks"]
+__all__ = ["Asked", "Rulebooks", "design_tree"]
 
 _BLANK = "\x00"
 
@@ -32,6 +32,17 @@ class Asked:
     question: str
     holds: bool
     proof: dict[str, Any] | None
+
+
+def design_tree(node: dict[str, Any]) -> dict[str, Any]:
+    """An enriched proof tree in DESIGN's event form ("Proof trees"): the sentence as English,
+    `rule` the label it cites ("HC 176"), its source line, and the children."""
+    out = {"sentence": node["text"], "status": node["status"], "rule": node.get("label"),
+           "source": node.get("source"), "evidence": list(node.get("evidence", ())),
+           "children": [design_tree(k) for k in node.get("children", ())]}
+    if node.get("truncated"):
+        out["truncated"] = True
+    return out
 
 
 class Rulebooks:
@@ -71,7 +82,7 @@ class Rulebooks:
         self.queries += 1
         answer = self.engine.ask(rb, goal, atoms)
         tree = answer.proofs[0] if answer.proofs else answer.why_not
-        return Asked(question, answer.holds, enrich(tree, rb) if isinstance(tree, dict) else None)
+        return Asked(question, answer.holds, design_tree(enrich(tree, rb)) if isinstance(tree, dict) else None)
 
     def holds(self, name: str, question: str, facts: list[str], vehicle: str) -> bool:
         """Yes or no, remembered by the facts' shape (the vehicle's id blanked)."""

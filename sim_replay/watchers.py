@@ -117,12 +117,13 @@ class Watchers:
             if line.kind == "stop" and s.stopped_at_line:
                 facts.append(HAS_STOPPED_AT_THE_STOP_LINE.text(vid))
         elif here and v.junction == m.junction:           # over its line, in the junction
+            # what happened at the line is stated only by a camera that watched the vehicle there
             if s.before_line and s.crossing_seen is None and line.kind == "signal":
                 s.crossing_seen = line.crossed_on         # it watched the line as the vehicle passed it
             if line.kind == "signal":
                 if s.crossing_seen is not None:
                     facts += [CROSSED_THE_STOP_LINE_ON.text(vid, c) for c in LIGHT_WORDS[s.crossing_seen]]
-            else:
+            elif s.before_line:
                 facts.append(HAS_SIGN.text(vid, SIGN_WORDS[line.kind]))
                 if line.kind == "stop" and s.stopped_at_line:
                     facts.append(HAS_STOPPED_AT_THE_STOP_LINE.text(vid))
