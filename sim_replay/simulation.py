@@ -21,6 +21,7 @@ same config gives the same events byte for byte.
 """
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -41,7 +42,7 @@ from sim_replay.senses import Around
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes
 from sim_replay.sumo_world import World, WorldError
-from sim_replay.truth import Act, Truth
+from sim_replay.truth import REACTION_S, Act, Truth
 from sim_replay.watchers import Line, Watchers
 from sim_replay.world_state import Snapshot, VehicleState
 
@@ -96,6 +97,8 @@ class _Agent:
     limit_mph: int | None = None
     over: dict[str, Any] | None = None      # a stretch over the limit in progress
     speed_factor: float = 1.0
+    route: tuple[str, ...] = ()
+    boxed: dict[str, Any] | None = None     # standing in a yellow box: since when, where
 
     @property
     def id(self) -> str:
@@ -128,6 +131,7 @@ class Simulation:
         self.by_kind: dict[str, int] = {}
         self.summary: Summary | None = None
         self._collisions: set[tuple[str, str]] = set()
+        self._pending: list[dict[str, Any]] = []     # acts waiting for the reactions of those about them
 
     # --- the run ------------------------------------------------------------------------------
 
@@ -168,6 +172,12 @@ class Simulation:
                 yield from self._drain()
                 if self.progress is not None and step % 100 == 0:
                     self.progress(snap.t_s, c.duration_s)
+            self._react(None, world.t_s)
+            for agent in self.agents.values():
+                if agent.over is not None:
+                    self._end_stretch(agent, world.t_s)
+                if agent.boxed is not None:
+                    self._end_box(agent, world.t_s)
             self._emit("sim/world", world.t_s, "run.end", {"reason": "duration reached"})
             yield from self._drain()
             world_s = world.t_s
@@ -198,11 +208,12 @@ class Simulation:
         if d.role != "human":
             profile = drivers.Profile("careful", profile.reaction_s, recorder=True)
         try:
-            self.world.add_vehicle(d.id, d.kind, self.world.route(d.entry, d.exit, d.kind), depart_pos=0.0,
-                                   depart_speed="max")
+            route = self.world.route(d.entry, d.exit, d.kind)
+            self.world.add_vehicle(d.id, d.kind, route, depart_pos=0.0, depart_speed="max")
         except WorldError:
             return
-        agent = _Agent(d, rng, profile, asks=d.role in ("autonomous", "emergency"), recorder=profile.recorder)
+        agent = _Agent(d, rng, profile, asks=d.role in ("autonomous", "emergency"), recorder=profile.recorder,
+                       route=route)
         if d.role == "autonomous":
             agent.ads = av.Ads(level=rng.choice((3, 4)))
         if d.role == "emergency":
@@ -244,6 +255,8 @@ class Simulation:
                 self._each_second(agent, v, t)
             self._lines(agent, v, t, lights, around)
             self._speeding(agent, v, t)
+            self._box(agent, v, t, snap)
+        self._react(snap, t)
         if publish:
             for v in snap.vehicles:
                 agent = self.agents.get(v.id)
@@ -272,6 +285,8 @@ class Simulation:
             agent = self.agents.get(ident)
             if agent is not None and agent.over is not None:
                 self._end_stretch(agent, t)
+            if agent is not None and agent.boxed is not None:
+                self._end_box(agent, t)
             self.lines.pop(ident, None)
             self._emit(f"{role}/{ident}", t, "entity.despawn", {"reason": "left the map"})
 
@@ -337,6 +352,8 @@ class Simulation:
             if p is not None:
                 p.observe(v, t)
                 light = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
+                if light == "amber" and "at_amber" not in p.draws:
+                    p.draws["at_amber"] = (round(v.to_line_m, 2), round(v.speed_mps, 2))
                 self._decide(agent, p, Moment(t, v, light, tuple(around.near(v)), p.stopped_at_line))
             return
         if line is None:
@@ -421,13 +438,72 @@ class Simulation:
         elif p is not None and p.missed:
             fault = "missed_road_user: " + ", ".join(sorted(p.missed))
         line = self.lines[v.id]
-        self.truth.act(Act(
-            "crossed the stop line", v.id, agent.d.kind, agent.driving(), t, line.junction, line.approach,
-            line.kind, colour, round(v.speed_mps, 2), round(v.speed_mps * MPH_PER_MPS), agent.limit_mph,
-            bool(p and p.stopped_at_line), agent.on_call,
-            tuple(f"{o.id} {o.type}{' main' if o.main_road else ''} eta {o.eta_s:.1f}s" for o in others),
-            tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
-            (p.why if p else "no passage") + f" [{agent.profile.name}]", p.decision if p else None, fault))
+        watch = {o.id: 0.0 for o in others if not o.pedestrian}
+        self._pending.append({"until": t + REACTION_S, "watch": watch, "act": dict(
+            kind="crossed the stop line", vehicle=v.id, type=agent.d.kind, driver=agent.driving(), t_s=t,
+            junction=line.junction, approach=line.approach, line=line.kind, light=colour,
+            speed_mps=round(v.speed_mps, 2), speed_mph=round(v.speed_mps * MPH_PER_MPS), limit_mph=agent.limit_mph,
+            stopped_at_line=bool(p and p.stopped_at_line), on_call=agent.on_call,
+            approaching=tuple(f"{o.id} {o.type}{' main' if o.main_road else ''} eta {o.eta_s:.1f}s" for o in others),
+            turn=self._turn(agent, line.junction, line.approach), at_amber=p.draws.get("at_amber") if p else None,
+            seen_by=tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
+            why=(p.why if p else "no passage") + f" [{agent.profile.name}]", decision=p.decision if p else None,
+            fault=fault)})
+
+    def _react(self, snap: Snapshot | None, t: float) -> None:
+        """The braking of the road users about each recent act, until REACTION_S after it (None: the
+        run has ended, every pending act is written)."""
+        still = []
+        for pending in self._pending:
+            if snap is not None:
+                for ident in pending["watch"]:
+                    other = snap.vehicle(ident)
+                    if other is not None:
+                        pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
+            if snap is not None and t < pending["until"]:
+                still.append(pending)
+                continue
+            self.truth.act(Act(**pending["act"], reactions=tuple(sorted(pending["watch"].items()))))
+        self._pending = still
+
+    def _turn(self, agent: _Agent, junction: str, approach: str) -> str | None:
+        """Left, straight or right at a junction, from its route's edges in and out."""
+        j = self.world.network.junctions[junction]
+        a = j.approach(approach)
+        if a is None or a.edge not in agent.route:
+            return None
+        i = agent.route.index(a.edge)
+        if i + 1 >= len(agent.route):
+            return None
+        net = self.world.network.net
+        e_in, e_out = net.getEdge(a.edge), net.getEdge(agent.route[i + 1])
+        (x0, y0), (x1, y1) = e_in.getFromNode().getCoord()[:2], e_in.getToNode().getCoord()[:2]
+        (x2, y2), (x3, y3) = e_out.getFromNode().getCoord()[:2], e_out.getToNode().getCoord()[:2]
+        turn = (math.degrees(math.atan2(y3 - y2, x3 - x2) - math.atan2(y1 - y0, x1 - x0)) + 180.0) % 360.0 - 180.0
+        return "straight" if abs(turn) < 30 else "left" if turn > 0 else "right"
+
+    # --- the yellow box -------------------------------------------------------------------------
+
+    def _box(self, agent: _Agent, v: VehicleState, t: float, snap: Snapshot) -> None:
+        box = self.world.network.junctions[v.junction].box if v.junction is not None else None
+        inside = box is not None and v.speed_mps < 0.1 and _inside(v.x, v.y, box)
+        if inside and agent.boxed is None:
+            line = self.lines.get(v.id)
+            ahead = [o.id for o in snap.vehicles if o.id != v.id and _ahead(v, o)]
+            walkers = [p.id for p in snap.pedestrians if p.junction == v.junction and p.crossing is not None]
+            agent.boxed = dict(kind="stopped in the box", vehicle=v.id, type=agent.d.kind, driver=agent.driving(),
+                               t_s=t, junction=v.junction, approach=line.approach if line else None,
+                               light=line.crossed_on if line else None, on_call=agent.on_call,
+                               approaching=tuple(ahead + walkers),
+                               turn=self._turn(agent, v.junction, line.approach) if line else None,
+                               seen_by=tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
+                               why="stood still in the box behind " + (", ".join(ahead + walkers) or "nothing it could see"))
+        elif not inside and agent.boxed is not None:
+            self._end_box(agent, t)
+
+    def _end_box(self, agent: _Agent, t: float) -> None:
+        self.truth.act(Act(**agent.boxed, until_s=t))
+        agent.boxed = None
 
     # --- the speed limit ----------------------------------------------------------------------
 
@@ -448,11 +524,28 @@ class Simulation:
     def _end_stretch(self, agent: _Agent, t: float) -> None:
         o = agent.over
         agent.over = None
-        self.truth.act(Act("exceeded the speed limit", agent.id, agent.d.kind, o["driving"], o["t_s"],
+        self.truth.act(Act("exceeded the speed limit", agent.id, agent.d.kind, o["driving"], o["t_s"], until_s=t,
                            speed_mph=o["max_mph"], limit_mph=o["limit"], on_call=o["on_call"],
                            seen_by=tuple(sorted(o["seen_by"])),
                            why=f"speed factor {agent.speed_factor} [{agent.profile.name}]"
                            + (" on a call" if o["on_call"] else "")))
+
+
+def _inside(x: float, y: float, polygon: tuple[tuple[float, float], ...]) -> bool:
+    """Whether a point is inside a polygon (even-odd rule)."""
+    inside = False
+    for (x1, y1), (x2, y2) in zip(polygon, polygon[1:] + polygon[:1]):
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
+            inside = not inside
+    return inside
+
+
+def _ahead(v: VehicleState, o: VehicleState, within_m: float = 12.0) -> bool:
+    """Whether o is within a few metres in front of v (what v stands behind)."""
+    dx, dy = o.x - v.x, o.y - v.y
+    h = math.radians(v.heading_deg)
+    along = dx * math.cos(h) + dy * math.sin(h)
+    return 0.0 < along <= within_m and abs(-dx * math.sin(h) + dy * math.cos(h)) < 4.0
 
 
 def simulate(config: SimConfig, progress: Progress | None = None) -> Iterator[dict[str, Any]]:

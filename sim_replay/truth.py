@@ -20,18 +20,21 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Act", "InjectedFault", "Truth"]
+__all__ = ["Act", "InjectedFault", "REACTION_S", "Truth"]
+
+REACTION_S = 5.0                     # how long after an act the road users about it are watched braking
 
 
 @dataclass(frozen=True)
 class Act:
     """One thing a road user did that a law may be about."""
 
-    kind: str                         # "crossed the stop line", "exceeded the speed limit"
+    kind: str                         # "crossed the stop line", "exceeded the speed limit", "stopped in the box"
     vehicle: str
     type: str
     driver: str                       # human, autonomous (engaged), user (took over from the ADS)
     t_s: float                        # world seconds (envelope t = sim_events.t_ns(t_s))
+    until_s: float | None = None      # the end of a stretch (over the limit, standing in the box)
     junction: str | None = None
     approach: str | None = None
     line: str | None = None           # signal, stop, give_way
@@ -42,6 +45,9 @@ class Act:
     stopped_at_line: bool = False     # stood still within a couple of metres of the line before crossing
     on_call: bool = False
     approaching: tuple[str, ...] = () # road users approaching as it crossed ("p3 pedestrian", "112 car main")
+    reactions: tuple[tuple[str, float], ...] = ()   # each approaching vehicle's hardest braking (m/s²) in REACTION_S after
+    at_amber: tuple[float, float] | None = None     # metres to the line and speed (m/s) when amber came, if it came
+    turn: str | None = None           # left, straight, right: where it went from the line
     seen_by: tuple[str, ...] = ()     # monitors that had it in their cone at the act (or during the stretch)
     why: str = ""                     # profile, decision or fault that made it happen
     decision: dict[str, Any] | None = None   # the vehicle's last decision before the act, if it asked
@@ -51,6 +57,7 @@ class Act:
         out = asdict(self)
         out["approaching"] = list(self.approaching)
         out["seen_by"] = list(self.seen_by)
+        out["reactions"] = {who: decel for who, decel in self.reactions}
         return out
 
 
@@ -84,8 +91,9 @@ class Truth:
         self.faults.append(fault)
 
     def to_json(self) -> dict[str, Any]:
+        acts = sorted(self.acts, key=lambda a: (a.t_s, a.vehicle, a.kind))
         return {"run": self.run, "seed": self.seed, "config": self.config, "road_users": self.road_users,
-                "acts": [a.to_json() for a in self.acts], "faults": [f.to_json() for f in self.faults]}
+                "acts": [a.to_json() for a in acts], "faults": [f.to_json() for f in self.faults]}
 
     def write(self, path: str | Path) -> Path:
         path = Path(path)
