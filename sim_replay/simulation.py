@@ -51,6 +51,8 @@ __all__ = ["Progress", "Simulation", "Summary", "simulate"]
 Progress = Callable[[float, float], None]      # (world seconds done, world seconds in all)
 ON_CALL_SPEED_FACTOR = 1.25
 MRM_SPEED_FACTOR = 0.3
+CRAWL_FACTOR = 0.3           # an emergency vehicle on a call approaches a red light at this share of the limit,
+                             # as its drivers are trained to, so that it can still stop if the rulebook says no
 SOFTWARE = {"ads": "gaps-sim-ads 1.0", "rulebook": "highway_code.le"}
 
 
@@ -118,9 +120,13 @@ class _Agent:
 class Simulation:
     """One run of the simulation for a config; iterate `events()` once."""
 
-    def __init__(self, config: SimConfig, progress: Progress | None = None) -> None:
+    def __init__(self, config: SimConfig, progress: Progress | None = None, *,
+                 departures: list[Departure] | None = None, walks: list[Walk] | None = None) -> None:
+        """`departures` and `walks` replace the drawn demand (sim_replay.demand.plan): a scenario
+        written by hand, as the tests write the paper's red-light situations."""
         self.config = config
         self.progress = progress
+        self._given = (departures, walks)
         files = map_files(config.map)
         self.net_path = Path(config.net) if config.net else files.net
         self.monitors_path = Path(config.monitors) if config.monitors else files.monitors
@@ -144,6 +150,10 @@ class Simulation:
             monitors = read_monitors(self.monitors_path, set(network.junctions)) if self.monitors_path.is_file() else ()
             self.watchers = Watchers(monitors, self.books, self.faults)
             departures, walks = plan(c, network, stream(c.seed, "demand"))
+            if self._given[0] is not None:
+                departures = sorted(self._given[0], key=lambda d: (d.depart_s, d.id))
+            if self._given[1] is not None:
+                walks = sorted(self._given[1], key=lambda w: (w.depart_s, w.id))
             self.agents: dict[str, _Agent] = {}
             self.lines: dict[str, Line] = {}
             self._limits = {e.getID(): round(e.getSpeed() * MPH_PER_MPS)
@@ -354,6 +364,9 @@ class Simulation:
                 light = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
                 if light == "amber" and "at_amber" not in p.draws:
                     p.draws["at_amber"] = (round(v.to_line_m, 2), round(v.speed_mps, 2))
+                if agent.on_call and light in ("red", "red_amber") and "crawl" not in p.draws:
+                    p.draws["crawl"] = True         # blue lights against a red: up to the line at a crawl
+                    self._set_factor(agent, CRAWL_FACTOR)
                 self._decide(agent, p, Moment(t, v, light, tuple(around.near(v)), p.stopped_at_line))
             return
         if line is None:
@@ -429,8 +442,8 @@ class Simulation:
         p = agent.passage
         agent.passage = None
         agent.asked_facts = ()
-        if p is not None and p.draws.get("rolls_stop"):
-            self._set_factor(agent, agent.profile.speed_factor)
+        if p is not None and (p.draws.get("rolls_stop") or p.draws.get("crawl")):
+            self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else agent.profile.speed_factor)
         others = around.about(v.junction, v.id, self.lines[v.id].approach)
         fault = None
         if p is not None and p.draws.get("misread"):
