@@ -3,7 +3,7 @@
 What a monitor states about a vehicle V it sees (monitor.observation), and why it can:
 
     V is of type T                 the body it sees; an unmarked police car is a car
-    V is on an emergency call      only while V's blue lights are on: a camera sees the lights, not the call
+    V is on an emergency call      only while V's blue lights flash: a camera sees the lights, not the call
     V has C light                  before V's line, the signal facing V's approach (it sees the heads)
     V crossed the stop line on C   the light showing in the tick it saw V's front pass the line
                                    (a stop-line camera's record); not stated when it did not see it
@@ -45,6 +45,7 @@ __all__ = ["ACTIONS", "Line", "Watchers"]
 
 RULEBOOK = "monitors.le"
 ACTIONS = ("enter the junction", "exceed the speed limit")
+FLASH_S = 1.5               # blue lights flash (SUMO: a second on, a second off): lit this recently is lit
 FORGET_S = 5.0              # unseen this long: the next sighting is a new episode
 
 
@@ -66,6 +67,7 @@ class _Sighting:
     crossing_seen: str | None = None    # the light it saw the vehicle cross on
     stopped_at_line: bool = False
     before_line: bool = False
+    blue_at_s: float | None = None      # when it last saw the blue lights lit (they flash)
     active: set[str] = field(default_factory=set)   # actions of an open episode
 
 
@@ -92,6 +94,8 @@ class Watchers:
                 if s is None or t_s - s.last_s > FORGET_S:
                     s = self._seen[key] = _Sighting(t_s, self.faults.speed_factor(m.id, v.id))
                 s.last_s = t_s
+                if v.signals & BLUE_LIGHT:
+                    s.blue_at_s = t_s
                 facts = self._facts(m, v, s, around, lines.get(v.id), lights, limits.get(v.id))
                 speed = v.speed_mps * s.speed_factor
                 emit(src, "monitor.observation", {"vehicle": v.id, "facts": facts, "speed_mps": round(speed, 2),
@@ -103,7 +107,7 @@ class Watchers:
                lights: dict[tuple[str, str], str], limit: int | None) -> list[str]:
         vid = v.id
         facts = [IS_OF_TYPE.text(vid, v.type)]
-        if v.signals & BLUE_LIGHT:
+        if s.blue_at_s is not None and s.last_s - s.blue_at_s <= FLASH_S:
             facts.append(IS_ON_AN_EMERGENCY_CALL.text(vid))
         here = line is not None and line.junction == m.junction
         if here and line.crossed_on is None:              # before its line at this monitor's junction
