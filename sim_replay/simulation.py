@@ -38,7 +38,7 @@ from sim_replay.faults import Faults, stream
 from sim_replay.maps import map_files
 from sim_replay.monitors import read_monitors
 from sim_replay.net_map import world_map
-from sim_replay.senses import Around
+from sim_replay.senses import Around, Other
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes
 from sim_replay.sumo_world import World, WorldError
@@ -51,6 +51,7 @@ __all__ = ["Progress", "Simulation", "Summary", "simulate"]
 Progress = Callable[[float, float], None]      # (world seconds done, world seconds in all)
 ON_CALL_SPEED_FACTOR = 1.25
 MRM_SPEED_FACTOR = 0.3
+FOLLOW_M = 25.0              # a road user this close behind another is following it
 CRAWL_FACTOR = 0.3           # an emergency vehicle on a call approaches a red light at this share of the limit,
                              # as its drivers are trained to, so that it can still stop if the rulebook says no
 SOFTWARE = {"ads": "gaps-sim-ads 1.0", "rulebook": "highway_code.le"}
@@ -182,7 +183,7 @@ class Simulation:
                 yield from self._drain()
                 if self.progress is not None and step % 100 == 0:
                     self.progress(snap.t_s, c.duration_s)
-            self._react(None, world.t_s)
+            self._react(None, None, world.t_s)
             for agent in self.agents.values():
                 if agent.over is not None:
                     self._end_stretch(agent, world.t_s)
@@ -266,7 +267,7 @@ class Simulation:
             self._lines(agent, v, t, lights, around)
             self._speeding(agent, v, t)
             self._box(agent, v, t, snap)
-        self._react(snap, t)
+        self._react(snap, around, t)
         if publish:
             for v in snap.vehicles:
                 agent = self.agents.get(v.id)
@@ -452,26 +453,38 @@ class Simulation:
             fault = "missed_road_user: " + ", ".join(sorted(p.missed))
         line = self.lines[v.id]
         watch = {o.id: 0.0 for o in others if not o.pedestrian}
-        self._pending.append({"until": t + REACTION_S, "watch": watch, "act": dict(
+        self._pending.append({"until": t + REACTION_S, "watch": watch, "known": {o.id for o in others},
+                              "where": (v.id, line.junction, line.approach), "act": dict(
             kind="crossed the stop line", vehicle=v.id, type=agent.d.kind, driver=agent.driving(), t_s=t,
             junction=line.junction, approach=line.approach, line=line.kind, light=colour,
             speed_mps=round(v.speed_mps, 2), speed_mph=round(v.speed_mps * MPH_PER_MPS), limit_mph=agent.limit_mph,
             stopped_at_line=bool(p and p.stopped_at_line), on_call=agent.on_call,
-            approaching=tuple(f"{o.id} {o.type}{' main' if o.main_road else ''} eta {o.eta_s:.1f}s" for o in others),
+            approaching=tuple(_approaching(o, 0.0) for o in others),
             turn=self._turn(agent, line.junction, line.approach), at_amber=p.draws.get("at_amber") if p else None,
             seen_by=tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
             why=(p.why if p else "no passage") + f" [{agent.profile.name}]", decision=p.decision if p else None,
             fault=fault)})
 
-    def _react(self, snap: Snapshot | None, t: float) -> None:
+    def _react(self, snap: Snapshot | None, around: Around | None, t: float) -> None:
         """The braking of the road users about each recent act, until REACTION_S after it (None: the
-        run has ended, every pending act is written)."""
+        run has ended, every pending act is written). Braking for a light of its own that is not
+        green, or behind a vehicle it follows (within FOLLOW_M), is not counted: it has other causes."""
         still = []
         for pending in self._pending:
             if snap is not None:
+                vid, junction, approach = pending["where"]
+                me = snap.vehicle(vid)
+                if me is not None and me.junction == junction:     # still crossing: who comes up meanwhile
+                    for o in around.about(junction, vid, approach):
+                        if o.id not in pending["known"]:
+                            pending["known"].add(o.id)
+                            pending["act"]["approaching"] += (_approaching(o, t - pending["act"]["t_s"]),)
+                            if not o.pedestrian:
+                                pending["watch"][o.id] = 0.0
                 for ident in pending["watch"]:
                     other = snap.vehicle(ident)
-                    if other is not None:
+                    if other is not None and other.light in (None, "green") and \
+                            not any(_ahead(other, x, FOLLOW_M) for x in snap.vehicles if x.id not in (ident, vid)):
                         pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
             if snap is not None and t < pending["until"]:
                 still.append(pending)
@@ -542,6 +555,13 @@ class Simulation:
                            seen_by=tuple(sorted(o["seen_by"])),
                            why=f"speed factor {agent.speed_factor} [{agent.profile.name}]"
                            + (" on a call" if o["on_call"] else "")))
+
+
+def _approaching(o: Other, after_s: float) -> str:
+    """A road user about an act, as the truth lists it: "118 car main eta 3.8s (+1.2s)" (main: on
+    the major road; +: came up that long after the act, while the vehicle was in the junction)."""
+    return f"{o.id} {o.type}{' main' if o.main_road else ''} eta {o.eta_s:.1f}s" + \
+        (f" (+{after_s:.1f}s)" if after_s > 0 else "")
 
 
 def _inside(x: float, y: float, polygon: tuple[tuple[float, float], ...]) -> bool:

@@ -45,7 +45,8 @@ class Act:
     stopped_at_line: bool = False     # stood still within a couple of metres of the line before crossing
     on_call: bool = False
     approaching: tuple[str, ...] = () # road users approaching as it crossed ("p3 pedestrian", "112 car main")
-    reactions: tuple[tuple[str, float], ...] = ()   # each approaching vehicle's hardest braking (m/s²) in REACTION_S after
+    reactions: tuple[tuple[str, float], ...] = ()   # each approaching vehicle's hardest braking (m/s²) in REACTION_S after,
+                                                    # not counting braking for its own red or amber, or behind a leader
     at_amber: tuple[float, float] | None = None     # metres to the line and speed (m/s) when amber came, if it came
     turn: str | None = None           # left, straight, right: where it went from the line
     seen_by: tuple[str, ...] = ()     # monitors that had it in their cone at the act (or during the stretch)
