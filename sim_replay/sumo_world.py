@@ -31,7 +31,7 @@ from sim_replay.sumo_net import Network, read_network
 from sim_replay.world_state import COLOURS, Collision, PedestrianState, SignalState, Snapshot, VehicleState
 from store import GapsError
 
-__all__ = ["SPEED_MODE_OURS", "SPEED_MODE_SUMO", "World", "WorldError"]
+__all__ = ["BLUE_LIGHT", "SPEED_MODE_OURS", "SPEED_MODE_SUMO", "World", "WorldError"]
 
 tc = libsumo.constants
 # SUMO's speed mode bits: 1 safe speed (never into the vehicle ahead), 2 maximum acceleration,
@@ -39,6 +39,7 @@ tc = libsumo.constants
 # light, 32 (set: disregard) foes already inside the junction.
 SPEED_MODE_SUMO = 0b011111   # SUMO's default: it obeys signals and right of way itself
 SPEED_MODE_OURS = 0b000111   # physics only: no red lights, no right of way; it still keeps its distance
+BLUE_LIGHT = 1 << 11         # SUMO's VEH_SIGNAL_EMERGENCY_BLUE
 HOLD_GAP_M = 0.3             # a held vehicle stops with its front this far behind the line
 HOLD_S = 1e7                 # how long a hold lasts unless released (for ever, in practice)
 VEHICLE_VARS = (tc.VAR_POSITION, tc.VAR_ANGLE, tc.VAR_SPEED, tc.VAR_ACCELERATION, tc.VAR_LANE_ID,
@@ -212,6 +213,11 @@ class World:
     def set_speed_factor(self, ident: str, factor: float) -> None:
         """Drive at `factor` times the speed limit where the road is clear (1: at the limit)."""
         self._vehicle_call(ident, libsumo.vehicle.setSpeedFactor, factor)
+
+    def set_blue_lights(self, ident: str, on: bool) -> None:
+        """Switch an emergency vehicle's blue lights on or off (SUMO's signal bit 11, reported back
+        in VehicleState.signals); off hands the signals back to SUMO."""
+        self._vehicle_call(ident, libsumo.vehicle.setSignals, BLUE_LIGHT if on else -1)
 
     def _vehicle_call(self, ident: str, call, *args) -> None:
         try:

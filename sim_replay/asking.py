@@ -1,0 +1,97 @@
+"""The simulation's one way to the law: the bundled rulebooks, asked through the reasoner's engine.
+
+The agents hold no copy of a rule: a vehicle asks highway_code.le "V can enter the junction" on
+its perceived facts, a monitor asks monitors.le "V potentially violates A" on its observation.
+Sentences are read with the rulebook's own templates into terms (reasoner.facts.FactReader) and
+handed to the engine as data, never as Prolog text (DESIGN "Facts are data").
+
+A monitor asks on every observation, and most observations differ from an earlier one only in
+which vehicle they are about; `holds` therefore remembers answers by the facts with the vehicle's
+id blanked (the rulebooks mention no vehicle id), as reasoner.episodes does. A vehicle's question
+is asked in full every time, with the proof its vehicle.trace carries.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from reasoner.bundled import CURRENT_SET, bundled
+from reasoner.engine import Rulebook, enrich, get_engine
+from reasoner.facts import FactReader
+
+__all__ = ["Asked", "Rulebooks", "design_tree"]
+
+_BLANK = "\x00"
+
+
+@dataclass(frozen=True)
+class Asked:
+    """A question's answer and the proof (or why-not tree) that carries it, as DESIGN's JSON."""
+
+    question: str
+    holds: bool
+    proof: dict[str, Any] | None
+
+
+def design_tree(node: dict[str, Any]) -> dict[str, Any]:
+    """An enriched proof tree in DESIGN's event form ("Proof trees"): the sentence as English,
+    `rule` the label it cites ("HC 176"), its source line, and the children."""
+    out = {"sentence": node["text"], "status": node["status"], "rule": node.get("label"),
+           "source": node.get("source"), "evidence": list(node.get("evidence", ())),
+           "children": [design_tree(k) for k in node.get("children", ())]}
+    if node.get("truncated"):
+        out["truncated"] = True
+    return out
+
+
+class Rulebooks:
+    """The bundled rulebooks (reasoner.bundled.CURRENT_SET), loaded once; counts every question."""
+
+    def __init__(self, names: tuple[str, ...] = CURRENT_SET) -> None:
+        self.engine = get_engine()
+        self.texts = {name: bundled(name) for name in names}
+        self.books: dict[str, Rulebook] = {name: self.engine.load(text, name) for name, text in self.texts.items()}
+        self.reader = FactReader()
+        self.queries = 0
+        self._cache: dict[tuple, bool] = {}
+
+    def records(self) -> list[dict[str, str]]:
+        """run.start's `rulebooks`: name, sha256 and full text of each."""
+        return [{"name": name, "sha256": self.books[name].sha256, "text": text} for name, text in self.texts.items()]
+
+    def sha256(self, name: str) -> str:
+        return self.books[name].sha256
+
+    def _atoms(self, rb: Rulebook, question: str, facts: list[str]) -> tuple[Any, list]:
+        goal = self.reader.atom(rb, question)
+        if goal is None:
+            raise ValueError(f"{rb.name} has no template for the question {question!r}")
+        atoms = []
+        for f in facts:
+            atom = self.reader.atom(rb, f)
+            if atom is None:
+                raise ValueError(f"{rb.name} has no template for {f!r}: the simulation states only its sentences")
+            atoms.append(atom)
+        return goal, atoms
+
+    def ask(self, name: str, question: str, facts: list[str]) -> Asked:
+        """One question with its proof: the first proof where it holds, the why-not tree where not."""
+        rb = self.books[name]
+        goal, atoms = self._atoms(rb, question, facts)
+        self.queries += 1
+        answer = self.engine.ask(rb, goal, atoms)
+        tree = answer.proofs[0] if answer.proofs else answer.why_not
+        return Asked(question, answer.holds, design_tree(enrich(tree, rb)) if isinstance(tree, dict) else None)
+
+    def holds(self, name: str, question: str, facts: list[str], vehicle: str) -> bool:
+        """Yes or no, remembered by the facts' shape (the vehicle's id blanked)."""
+        word = re.compile(rf"(?<![\w.-]){re.escape(vehicle)}(?![\w.-])")
+        key = (name, word.sub(_BLANK, question), tuple(sorted(word.sub(_BLANK, f) for f in facts)))
+        found = self._cache.get(key)
+        if found is None:
+            rb = self.books[name]
+            goal, atoms = self._atoms(rb, question, facts)
+            self.queries += 1
+            found = self._cache[key] = self.engine.holds(rb, goal, atoms)
+        return found

@@ -1,0 +1,97 @@
+"""Who takes part in a run, and when and where each sets off: drawn once, from the seed, before the run.
+
+Vehicles enter at the network's edges that come in from outside (a road end that is not a
+junction) and leave by one that goes out, never back the way they came; the mix of kinds and
+drivers follows the config's shares. Pedestrians walk between two arms of a junction, which takes
+them over its crossings. Each road user gets a random stream of its own, so adding one does not
+change the others' behaviour.
+"""
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+
+from sim_replay.sim_config import SimConfig
+from sim_replay.sumo_net import Network
+
+__all__ = ["Departure", "Walk", "plan"]
+
+EMERGENCY_KINDS = ("ambulance", "fire_engine", "police_car", "unmarked")
+
+
+@dataclass(frozen=True)
+class Departure:
+    id: str
+    depart_s: float
+    kind: str              # road_users type (an unmarked police car is a "car")
+    role: str              # human, autonomous, emergency
+    unmarked: bool
+    entry: str             # edge ids
+    exit: str
+
+
+@dataclass(frozen=True)
+class Walk:
+    id: str
+    depart_s: float
+    from_edge: str
+    to_edge: str
+
+
+def _ends(network: Network) -> tuple[list[str], list[str]]:
+    entries, exits = [], []
+    for edge in sorted(network.net.getEdges(withInternal=False), key=lambda e: e.getID()):
+        if not any(lane.allows("passenger") for lane in edge.getLanes()):
+            continue
+        if edge.getFromNode().getID() not in network.junctions:
+            entries.append(edge.getID())
+        if edge.getToNode().getID() not in network.junctions:
+            exits.append(edge.getID())
+    return entries, exits
+
+
+def plan(config: SimConfig, network: Network, rng: random.Random) -> tuple[list[Departure], list[Walk]]:
+    """Every departure and walk of the run, in time order."""
+    entries, exits = _ends(network)
+    window = max(1.0, config.duration_s * config.depart_within)
+    departures = []
+    for n in range(config.vehicles):
+        r = rng.random()
+        unmarked = False
+        if r < config.emergency_share:
+            kind, role = rng.choice(EMERGENCY_KINDS), "emergency"
+            unmarked = kind == "unmarked"
+            kind = "car" if unmarked else kind
+        elif r < config.emergency_share + config.bus_share:
+            kind, role = "bus", "human"
+        elif r < config.emergency_share + config.bus_share + config.cyclist_share:
+            kind, role = "cyclist", "human"
+        else:
+            kind, role = "car", "autonomous" if rng.random() < config.av_share else "human"
+        entry = rng.choice(entries)
+        back = network.net.getEdge(entry).getFromNode().getID()
+        exit_ = rng.choice([e for e in exits if network.net.getEdge(e).getToNode().getID() != back])
+        departures.append(Departure(str(101 + n), round(rng.uniform(0.0, window), 1), kind, role, unmarked,
+                                    entry, exit_))
+    departures.sort(key=lambda d: (d.depart_s, d.id))
+    arms = {}
+    for j in network.junctions.values():
+        arms[j.id] = sorted({a.edge for a in j.approaches})
+    walks = []
+    junctions = sorted(arms)
+    for n in range(config.pedestrians):
+        j = rng.choice(junctions)
+        a, b = rng.sample(arms[j], 2)
+        walks.append(Walk(f"p{n + 1}", round(rng.uniform(0.0, window), 1), a, _out_edge(network, b)))
+    walks.sort(key=lambda w: (w.depart_s, w.id))
+    return departures, walks
+
+
+def _out_edge(network: Network, incoming: str) -> str:
+    """The edge leaving the junction along the same arm as an incoming one (its other direction)."""
+    edge = network.net.getEdge(incoming)
+    src, dst = edge.getFromNode(), edge.getToNode()
+    for out in dst.getOutgoing():
+        if out.getToNode() is src:
+            return out.getID()
+    return incoming

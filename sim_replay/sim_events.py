@@ -1,0 +1,43 @@
+"""DESIGN's envelopes for the simulation: seq per source, t from world time, and the lost-event fault.
+
+Every source numbers its events from 0 (DESIGN "Envelope"). `t` is a fixed epoch start plus the
+world's time, so a seed reproduces a run's timestamps exactly; nothing here reads the wall clock.
+A lost event (faults.Faults.lose) takes its seq and is never delivered: the gap in the source's
+numbering is the evidence an ingest and an investigator see.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+__all__ = ["Envelopes", "T0", "SECOND", "t_ns"]
+
+T0 = 1_732_262_400_000_000_000     # 2024-11-22T08:00:00Z: fixed, so a seed reproduces the run's times
+SECOND = 1_000_000_000
+
+
+def t_ns(t_s: float) -> int:
+    """World seconds as the envelope's t (ns since the epoch), rounded to the microsecond so that
+    float noise in the step count never shows."""
+    return T0 + round(t_s * 1_000_000) * 1_000
+
+
+class Envelopes:
+    """Builds each source's events in order; `lose(src, kind)` says whether one is lost."""
+
+    def __init__(self, run: str, lose: Callable[[str, str, int], bool] | None = None) -> None:
+        self.run = run
+        self.seqs: dict[str, int] = {}
+        self.count = 0
+        self.lost = 0
+        self._lose = lose
+
+    def make(self, src: str, t_s: float, kind: str, body: dict[str, Any]) -> dict[str, Any] | None:
+        """The event, or None when the fault model loses it (its seq is used all the same)."""
+        seq = self.seqs.get(src, 0)
+        self.seqs[src] = seq + 1
+        if self._lose is not None and self._lose(src, kind, seq):
+            self.lost += 1
+            return None
+        self.count += 1
+        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": t_ns(t_s), "kind": kind, "body": body}

@@ -1,0 +1,154 @@
+"""From the simulation's ground truth to the verdicts the law should give: a small table, read top down.
+
+The simulation records acts, never verdicts (sim_replay/truth.py). This table is the test's own
+reading of the law, one row per kind of act and circumstance, each citing its source; the first
+row that fits an act gives the expected verdict and rule (None: no incident expected).
+`compare` matches the reasoner's incidents to the acts and lists every disagreement.
+
+Measured circumstances use published yardsticks, named where used: "braked hard" is 2 m/s² or
+more (Hupfer 1997, the threshold the reasoner's derived.py cites for a forced change of speed);
+"too close to stop" at amber is nearer than the Highway Code rule 126 stopping distance at the
+speed the vehicle had when the amber came.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from reasoner.stopping import stopping_distance_m
+
+MPH = 2.23694
+HARD_BRAKING = 2.0
+SECOND = 1_000_000_000
+
+
+def _main(act: dict) -> set[str]:
+    return {a.split()[0] for a in act["approaching"] if " main " in a}
+
+
+def _vulnerable(act: dict) -> set[str]:
+    return {a.split()[0] for a in act["approaching"] if a.split()[1] in ("pedestrian", "cyclist")}
+
+
+def braked(act: dict, who: set[str] | None = None) -> bool:
+    """Whether a road user about the act (of `who`, if given) braked hard in the seconds after it."""
+    return any(d >= HARD_BRAKING for r, d in act["reactions"].items() if who is None or r in who)
+
+
+def too_close_at_amber(act: dict) -> bool:
+    if not act.get("at_amber"):
+        return True                                     # over the line before the amber came
+    to_line, speed = act["at_amber"]
+    return to_line < stopping_distance_m(speed * MPH)
+
+
+def signal(act: dict, *colours: str) -> bool:
+    return act["kind"] == "crossed the stop line" and act["line"] == "signal" and act["light"] in colours
+
+
+def line(act: dict, kind: str) -> bool:
+    return act["kind"] == "crossed the stop line" and act["line"] == kind
+
+
+@dataclass(frozen=True)
+class Row:
+    name: str
+    fits: Callable[[dict], bool]
+    verdict: str | None
+    rule: str | None
+
+
+TABLE = (
+    Row("crossed on green", lambda a: signal(a, "green", None, "off", "none"), None, None),
+    # HC 176; TSRGD 2016 Sch 14 Pt 1 para 5(3) and (7): no proceeding beyond the line on red (or red and amber)
+    Row("crossed on red, no call", lambda a: signal(a, "red", "red_amber") and not a["on_call"], "punishable", "HC 176"),
+    # TSRGD para 5(5): on a call, but endangering a pedestrian or cyclist or forcing a driver to brake
+    Row("crossed on red on a call, someone endangered or forced",
+        lambda a: signal(a, "red", "red_amber") and (bool(_vulnerable(a)) or braked(a)), "punishable", "HC 176"),
+    # TSRGD para 5(4)-(6): the emergency exception
+    Row("crossed on red on a call, nobody endangered", lambda a: signal(a, "red", "red_amber"), "mitigated", "HC 176"),
+    # HC 175: amber means stop, unless so close that stopping might cause a collision
+    Row("crossed on amber, too close to stop", lambda a: signal(a, "amber") and too_close_at_amber(a),
+        "mitigated", "HC 175"),
+    Row("crossed on amber, could have stopped", lambda a: signal(a, "amber"), "punishable", "HC 175"),
+    # HC 171; TSRGD 2016 Sch 9 Pt 7 para 1: stop at the Stop line
+    Row("over a Stop line without stopping", lambda a: line(a, "stop") and not a["stopped_at_line"],
+        "punishable", "HC 171"),
+    # HC 171: having stopped, do not pull out so that traffic on the major road must change speed
+    Row("stopped at a Stop line, then forced major-road traffic to brake",
+        lambda a: line(a, "stop") and braked(a, _main(a)), "punishable", "HC 171"),
+    Row("stopped at a Stop line, pulled out into a gap", lambda a: line(a, "stop"), None, None),
+    # HC 172; TSRGD 2016 Sch 9 Pts 7 and 8: give way to traffic on the major road
+    Row("out of a Give Way line, major-road traffic braked hard", lambda a: line(a, "give_way") and braked(a, _main(a)),
+        "punishable", "HC 172"),
+    Row("out of a Give Way line, major-road traffic approaching, nobody braked",
+        lambda a: line(a, "give_way") and bool(_main(a)), "mitigated", "HC 172"),
+    Row("out of a Give Way line, major road empty", lambda a: line(a, "give_way"), None, None),
+    # HC 124; RTRA 1984 s.89, and s.87's exemption for emergency purposes
+    Row("over the limit on a call", lambda a: a["kind"] == "exceeded the speed limit" and a["on_call"],
+        "mitigated", "HC 124"),
+    Row("over the limit", lambda a: a["kind"] == "exceeded the speed limit", "punishable", "HC 124"),
+    # HC 174; TSRGD 2016 Sch 9 Pts 7 and 8: do not enter the box unless the exit is clear
+    Row("stood still in a yellow box", lambda a: a["kind"] == "stopped in the box", "punishable", "HC 174"),
+)
+
+ACTION = {"crossed the stop line": "enter the junction", "exceeded the speed limit": "exceed the speed limit",
+          "stopped in the box": "enter the box junction"}
+
+
+def expected(act: dict) -> Row:
+    return next(row for row in TABLE if row.fits(act))
+
+
+@dataclass
+class Line:
+    """One act (or one incident without an act) and how the reasoner judged it."""
+
+    act: dict[str, Any] | None
+    row: Row | None
+    incidents: list[Any]
+    seen: bool                      # a monitor had it in its cone
+
+    @property
+    def got(self) -> tuple[tuple[str, str | None], ...]:
+        return tuple(sorted({(i.verdict, i.rule) for i in self.incidents}))
+
+    @property
+    def agrees(self) -> bool:
+        if self.act is None:
+            return False
+        if self.row.verdict is None:
+            return not self.incidents
+        if not self.incidents:
+            return not self.seen        # an act no monitor saw may go unnoticed
+        return all(g == (self.row.verdict, self.row.rule) for g in self.got)
+
+    def describe(self) -> str:
+        a = self.act
+        if a is None:
+            i = self.incidents[0]
+            return f"(no act) {i.vehicle} {i.action} at {i.id}: {i.verdict} {i.rule}"
+        where = f"{a['junction']}/{a['approach']} {a['line'] or ''}".strip() if a["junction"] else ""
+        want = f"{self.row.verdict} {self.row.rule}" if self.row.verdict else "no incident"
+        got = ", ".join(f"{v} {r}" for v, r in self.got) or "no incident"
+        return (f"{a['t_s']:7.1f}s {a['vehicle']:>4} {a['type']:<11} {a['kind']:<24} {where:<16} "
+                f"light={a['light']} {a['speed_mph']}mph seen={','.join(a['seen_by']) or '-'} | {self.row.name} "
+                f"| want {want} | got {got}")
+
+
+def compare(truth: dict, incidents: list, t0: int) -> list[Line]:
+    """Every act beside the incidents of its vehicle and action in its time window, then the
+    incidents no act accounts for."""
+    lines, used = [], set()
+    for act in truth["acts"]:
+        action = ACTION[act["kind"]]
+        start = act["t_s"] - 5.0
+        end = (act["until_s"] if act["until_s"] is not None else act["t_s"]) + 5.0
+        found = [i for i in incidents if i.vehicle == act["vehicle"] and i.action == action
+                 and start <= (i.t - t0) / SECOND <= end]
+        used.update(i.id for i in found)
+        lines.append(Line(act, expected(act), found, bool(act["seen_by"])))
+    for i in incidents:
+        if i.id not in used:
+            lines.append(Line(None, None, [i], True))
+    return lines
