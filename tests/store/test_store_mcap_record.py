@@ -74,3 +74,14 @@ def test_one_run_per_recording_and_envelopes_only(tmp_path):
     with pytest.raises(TransferError, match="not an event envelope"):
         with Recorder(tmp_path / "b.mcap") as rec:
             rec.add({"run": RUN, "src": "vehicle/1", "seq": "0", "t": 1, "kind": "entity.state"})
+
+
+def test_a_recording_gets_the_permissions_any_new_file_gets(tmp_path):
+    import os
+    mask = os.umask(0o022)
+    try:
+        with Recorder(tmp_path / "run.mcap") as rec:
+            rec.add(viewer_events()[0])
+    finally:
+        os.umask(mask)
+    assert (tmp_path / "run.mcap").stat().st_mode & 0o777 == 0o644
