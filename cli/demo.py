@@ -6,44 +6,94 @@ from __future__ import annotations
 
 import socket
 from pathlib import Path
-from typing import Callable, Iterable, Optional
+from typing import TYPE_CHECKING, Callable, Iterable, Optional
 
 import typer
 
 from cli.app import db_path, fail, open_existing
 from cli.incidents import show_incidents
+from cli.progress import stderr_progress
+from cli.safe_text import printable
 from cli.options import DbOption, JsonOption
 from explain import write_report
 from reasoner.api import Case
-from sim_replay.outlets import OutletSummary
+
+if TYPE_CHECKING:
+    from sim_replay.outlets import OutletSummary
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
          report: Optional[Path] = typer.Option(
              None, "--report", help="Where to write the HTML report (default: gaps-report.html beside the store; "
-                                    ".md or .json by suffix).")) -> None:
-    """Replay the paper's two junction scenarios into the store, explain them and write a report.
+                                    ".md or .json by suffix)."),
+         paper: bool = typer.Option(False, "--paper", help="Replay the paper's two hand-written scenarios "
+                                    "(section 7.2) instead of simulating.")) -> None:
+    """Simulate the paper's junctions on SUMO with a seeded mix of road users, publish over Zenoh
+    into the store, judge and explain the incidents, and write a report.
 
-    The events travel over a loopback Zenoh link into an in-process ingest, as a recorder's would.
+    The run holds a car running the red (punishable), an ambulance on a call crossing it
+    (mitigated), an automated car whose camera misread the light (its ASDE liable) and a Stop
+    line run; each is explained in full, every other incident listed in a line.
     """
-    from sim_replay.paper import paper_run
     path = db_path(db)
-    events = paper_run()
-    totals, _ = publish_through_zenoh(path, events)
-    run = events[0]["run"]
-    if not json_out:
-        typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
-                   f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
+    if paper:
+        from sim_replay.paper import paper_run
+        events = paper_run()
+        run = events[0]["run"]
+        totals, _ = publish_through_zenoh(path, events)
+        if not json_out:
+            typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
+                       f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
+    else:
+        run = _simulate(path, json_out)
     target = report or path.parent / "gaps-report.html"
     with open_existing(path) as store:
         case = Case(store)              # judged once, for the listing and the report
-        show_incidents(case, run, json_out, explain=True)
+        if paper or json_out:
+            show_incidents(case, run, json_out, explain=True)
+        else:
+            _tour(case, run)
         try:
             written = write_report(case, run, target)
         except OSError as exc:
             fail(f"cannot write the report to {target}: {exc.strerror or exc}")
     typer.echo(f"Report of run {run}: {written.resolve()} (open it in a browser; `gaps report --run {run} -o FILE --pdf` "
                "prints a PDF)", err=json_out)
+
+
+def _simulate(path: Path, json_out: bool) -> str:
+    """The demo's simulation, published into the store; its summary on stdout (stderr with --json)."""
+    from cli.progress import stderr_progress
+    from sim_replay.demo import DEMO
+    from sim_replay.simulation import Simulation
+    with stderr_progress("simulating the paper's junctions on SUMO") as bar:
+        simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
+        totals, _ = publish_through_zenoh(path, simulation.events())
+    s = simulation.summary
+    typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {s.world_s:g} s of "
+               f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
+               f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations.\n"
+               f"Published over Zenoh; stored {totals['stored']:,}, duplicates {totals['duplicates']:,}, "
+               f"rejected {totals['rejected']:,} → {path}\n", err=json_out)
+    return DEMO.run
+
+
+def _tour(case: Case, run: str) -> None:
+    """Every incident in a line, then the featured ones explained in full."""
+    from explain.featured import featured
+    from explain.listing import explanations, incident_line
+    with stderr_progress("judging incidents") as progress:
+        found = [(case.number(inc), inc) for inc in case.incidents(run, progress=progress)]
+    typer.echo(f"{len(found)} incidents in run {run} (`gaps incidents --run {run}`; `gaps explain --run {run} N` "
+               "explains one):")
+    for n, inc in found:
+        typer.echo(printable(incident_line(inc, n)))
+    for feature, hit in featured(found):
+        typer.echo(f"\n━━ {feature.title} ━━")
+        if hit is None:
+            typer.echo("none in this run")
+        else:
+            typer.echo("\n".join(explanations(case, [hit])))
 
 
 def free_port() -> int:
