@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Iterator
+
 from .varint import read_varint
 
 _VARINT, _I64, _LEN, _I32 = 0, 1, 2, 5
