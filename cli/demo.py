@@ -28,10 +28,9 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
                                     ".md or .json by suffix)."),
          paper: bool = typer.Option(False, "--paper", help="Replay the paper's two hand-written scenarios "
                                     "(section 7.2) instead of simulating.")) -> None:
-    """Simulate the paper's junctions on SUMO with a seeded mix of road users, publish over Zenoh
-    into the store, judge and explain the incidents, and write a report.
+    """Simulate the paper's junctions on SUMO, store, judge and explain the incidents, write a report.
 
-    The run holds a car running the red (punishable), an ambulance on a call crossing it
+    A seeded mix of road users, published over Zenoh into the store. The run holds a car running the red (punishable), an ambulance on a call crossing it
     (mitigated), an automated car whose camera misread the light (its ASDE liable) and a Stop
     line run; each is explained in full, every other incident listed in a line.
     """

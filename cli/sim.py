@@ -78,9 +78,11 @@ def sim(
                                       "an in-process ingest (default: $GAPS_DB or ./gaps.db)."),
     json_out: bool = JsonOption,
 ) -> None:
-    """Simulate the junctions on SUMO: automated vehicles ask the rulebook, human drivers follow
-    their profiles, monitors watch; publish every event over Zenoh (into an ingest here, or to
-    the endpoints given), record it as MCAP if asked, and write the ground truth beside it."""
+    """Simulate the junctions on SUMO and publish every event over Zenoh.
+
+    Automated vehicles ask the rulebook, human drivers follow their profiles, monitors watch.
+    The events go into an ingest here (on --db), or to the endpoints given; --record keeps them
+    as MCAP too; the ground truth is written beside."""
     from sim_replay.sim_config import FaultRates, SimConfig
     from store import GapsError
 
