@@ -43,10 +43,15 @@ class _Want(NamedTuple):
     bold: bool = False
 
 
+def view_of(pic: dict[str, Any]) -> View:
+    """The picture's world-to-pixel mapping (tests and viewers place things through it)."""
+    return View(_focus(pic))
+
+
 def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
     """The picture as one <svg class="gaps-scene"> element; `number` keeps its clip path's id
     apart from the other pictures of the same page."""
-    view = View(_focus(pic))
+    view = view_of(pic)
     junction = _junction(pic)
     me = next((v for v in pic["vehicles"] if v["incident"]), None)
     clip = f"scene-clip-{int(number)}"
