@@ -22,6 +22,7 @@ from .presence import presence_at
 SECOND = 1_000_000_000
 BEFORE_NS = 20 * SECOND      # the timeline starts this long before the incident ...
 AFTER_NS = 5 * SECOND        # ... and ends this long after it
+LANES_NEAR_M = 150.0     # a picture carries the lanes this close to what it shows (svg_scene zooms closer)
 NEAR_JUNCTION_M = 40.0   # a road user this close to a junction's centre is at it, for focus_junction
 # approach named by where traffic comes from (as sim_replay names them): its direction from the junction
 APPROACH_DIRECTIONS = {"west": 180.0, "w": 180.0, "south": 270.0, "s": 270.0, "east": 0.0, "e": 0.0,
@@ -132,7 +133,25 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
                "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
                "vehicles": vehicles, "road_users": users, "note": sc.note}
     picture["junction"] = junction if junction is not None else focus_junction(picture)
+    picture["lanes"] = _lanes_near(picture)
     return picture
+
+
+def _lanes_near(picture: dict[str, Any]) -> list[dict]:
+    """The lanes within LANES_NEAR_M of the focus junction and the incident's vehicle: the most a
+    picture zoomed to them can show. A whole city's network (netconvert from OpenStreetMap) is
+    thousands of lanes, and the JSON report carries each incident's picture as it is."""
+    centres = [(j["x"], j["y"]) for j in picture["junctions"] if j["id"] == picture["junction"]]
+    centres += [(v["x"], v["y"]) for v in picture["vehicles"] if v["incident"] and v["x"] is not None
+                and v["y"] is not None]
+    if not centres:
+        return picture["lanes"]
+
+    def near(lane: dict) -> bool:
+        xs, ys = [p[0] for p in lane["shape"]], [p[1] for p in lane["shape"]]
+        return any(min(xs) - LANES_NEAR_M <= x <= max(xs) + LANES_NEAR_M and
+                   min(ys) - LANES_NEAR_M <= y <= max(ys) + LANES_NEAR_M for x, y in centres)
+    return [lane for lane in picture["lanes"] if near(lane)]
 
 
 def focus_junction(picture: dict[str, Any]) -> str | None:
