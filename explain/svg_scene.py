@@ -88,6 +88,14 @@ def drawn(item: dict[str, Any]) -> bool:
     return item["x"] is not None and item["y"] is not None and item.get("present", True)
 
 
+def out_of_view(pic: dict[str, Any]) -> list[str]:
+    """The road users present and placed but outside the zoomed picture, for its caption to name."""
+    view = view_of(pic)
+    frame = Box(0, 0, W, H - LEGEND_H)
+    return [str(u["id"]) for u in pic["vehicles"] + pic["road_users"]
+            if drawn(u) and not frame.holds(*view(u["x"], u["y"]))]
+
+
 def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
     """Why the incident's own vehicle is not in the picture, if it is not."""
     if me is None or me["x"] is None:

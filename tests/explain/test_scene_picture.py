@@ -18,7 +18,7 @@ from explain.labels import Box
 from explain.report_data import run_map
 from explain.scene_view import H, LEGEND_H, W
 from explain.svg import SIGNAL_FILL
-from explain.svg_scene import LAMP_OUT_M, scene_svg, view_of
+from explain.svg_scene import LAMP_OUT_M, out_of_view, scene_svg, view_of
 from sim_replay.paper import RUN, T0, paper_run
 from store import Store
 from tests.helpers.cli import gaps
@@ -131,6 +131,13 @@ def test_the_view_is_the_junction_not_the_whole_map():
     x0, y0, x1, y1 = view.world_frame()
     assert x1 - x0 < 150 and y1 - y0 < 100                # the map is 400 m across
     assert view.scale * 3.5 >= 12                          # a lane is at least 12 px wide
+
+
+def test_a_road_user_outside_the_zoom_is_named_not_lost():
+    pic = lanes_picture()
+    pic["vehicles"].append({**pic["vehicles"][1], "id": "far", "x": 150.0, "y": -1.75})
+    assert out_of_view(pic) == ["far"]
+    assert ">far bus" not in scene_svg(pic)                # clipped, and no label at the frame's edge
 
 
 def test_labels_over_the_lanes_do_not_overlap():
