@@ -6,7 +6,8 @@ with its width, each junction's outline, its pedestrian crossings, its yellow bo
 line of each approach. Drawn at their true width through the picture's one scale (scene_view.py),
 they show what the reasoner measured against: which side of the line a car stood, whether it sat
 in the box. A map without lanes (the paper's hand-written run, a foreign producer that sends only
-roads) gets the older drawing: each road as a grey band and each junction as a square.
+roads) gets the older drawing, each road as a grey band and each junction as a square, with the
+stop lines and box it does record.
 
 Only lanes that meet the drawing area are written, so a 600 m map does not fill the page's SVG
 with paths nobody can see. Recorded ids go into titles only through `esc`.
@@ -36,11 +37,12 @@ def surface(pic: dict[str, Any], view: View, number: int) -> list[str]:
     """Every part of the road surface, bottom to top; `number` keeps the box hatch's pattern id
     apart from the other pictures of the same page."""
     if not has_lanes(pic):
-        return roads(pic, view) + [junction_square(j, view, pic.get("junction")) for j in pic["junctions"]]
-    out = lanes(pic, view)
-    for j in pic["junctions"]:
-        out += junction_area(j, view, pic.get("junction"))
-    out += lane_markings(pic, view)
+        out = roads(pic, view) + [junction_square(j, view, pic.get("junction")) for j in pic["junctions"]]
+    else:
+        out = lanes(pic, view)
+        for j in pic["junctions"]:
+            out += junction_area(j, view, pic.get("junction"))
+        out += lane_markings(pic, view)
     hatch = f"box-hatch-{int(number)}"
     out.append(f'<defs><pattern id="{hatch}" patternUnits="userSpaceOnUse" width="8" height="8" '
                f'patternTransform="rotate(45)"><path d="M0,0 L0,8 M0,0 L8,0" stroke="{BOX_YELLOW}" '

