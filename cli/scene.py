@@ -2,8 +2,11 @@
 
 The scene is reasoner/scene.py's, its text explain/scene_text.py's, the time forms
 reasoner/when.py's; this module reads the options and prints, with every recorded string escaped
-(cli/safe_text.py). Exit codes: 0 shown; 2 for what names nothing (no store, no such run, a time
-that cannot be read, a vehicle not present at that time).
+(cli/safe_text.py). `--svg FILE` writes the scene as a picture instead (explain/svg_scene.py, the
+report's drawing): the junction of `--vehicle`, else `--junction`, else the busiest one, zoomed so
+that lanes and road users can be read. Exit codes: 0 shown; 2 for what names nothing (no store, no
+such run, a time that cannot be read, a vehicle not present at that time, a junction not on the
+map, a folder that does not exist).
 """
 from __future__ import annotations
 
@@ -26,12 +29,20 @@ def scene(run: str = RunRequired,
           judge: Optional[bool] = typer.Option(
               None, "--judge/--no-judge",
               help="Ask the validator rulebook whether each goal is lawful (default: with --vehicle)."),
+          svg: Optional[Path] = typer.Option(
+              None, "--svg", help="Write the scene as an SVG picture to this file instead of printing it."),
+          junction: Optional[str] = typer.Option(
+              None, "--junction", help="With --svg: zoom to this junction (default: --vehicle's, else the busiest)."),
           db: Optional[Path] = DbOption, json_out: bool = JsonOption) -> None:
     """Show the scene at a time: signals, monitors and every vehicle present.
 
     Per vehicle: its position, who was in control, the Vehicle, Monitor and Validator Scenarios
-    and the Vehicle Action, each fact with the event it came from.
+    and the Vehicle Action, each fact with the event it came from. With --svg: a picture of the
+    lanes, stop lines, signals per approach, monitors' cones and the road users present, in mph.
     """
+    if svg is not None:
+        _picture(run, at, vehicle, junction, svg, db)
+        return
     from reasoner.scene import SceneError, run_start
     from reasoner.scene import scene as scene_at
     from reasoner.when import TimeError, parse_time
@@ -48,3 +59,37 @@ def scene(run: str = RunRequired,
     from explain.scene_text import scene_lines
     for line in scene_lines(found):
         typer.echo(printable(line))
+
+
+def _picture(run: str, at: str, vehicle: Optional[str], junction: Optional[str], target: Path,
+             db: Optional[Path]) -> None:
+    """`--svg`: the scene picture written to `target`, and one line saying what it shows."""
+    from explain.report_data import run_map, run_start_body, scene_picture
+    from explain.svg_scene import scene_svg
+    from reasoner.scene import SceneError, run_start
+    from reasoner.scene import scene as scene_at
+    from reasoner.when import TimeError, parse_time
+    if not target.parent.is_dir():
+        fail(f"no such folder for the picture: {target.parent}")
+    with open_existing(db) as store:
+        require_run(store, run)
+        try:
+            t = parse_time(at, run_start(store, run))
+            if vehicle is not None:
+                scene_at(store, run, t, vehicle=vehicle, judge=False)      # UnknownVehicle names who was there
+        except (SceneError, TimeError) as exc:
+            fail(str(exc))
+        the_map = run_map(run_start_body(store, run))
+        names = [j["id"] for j in the_map["junctions"]]
+        if junction is not None and junction not in names:
+            fail(f"no junction {junction!r} on the map of run {run!r}; its junctions: {', '.join(names) or 'none'}")
+        pic = scene_picture(store, run, t, vehicle, the_map, junction=junction)
+    text = scene_svg(pic)
+    try:
+        target.write_text('<?xml version="1.0" encoding="UTF-8"?>\n' + text + "\n", encoding="utf-8")
+    except OSError as exc:
+        fail(f"cannot write {target}: {exc.strerror or exc}")
+    drawn = sum(1 for u in pic["vehicles"] + pic["road_users"] if u["x"] is not None and u.get("present", True))
+    where = f"junction {pic['junction']}" if pic["junction"] is not None else "the whole map"
+    typer.echo(printable(f"Scene of run {run} at {pic['offset']} from the run start ({where}; {drawn} road users "
+                         f"present on the map) written to {target}"))

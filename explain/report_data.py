@@ -22,6 +22,8 @@ from .presence import presence_at
 SECOND = 1_000_000_000
 BEFORE_NS = 20 * SECOND      # the timeline starts this long before the incident ...
 AFTER_NS = 5 * SECOND        # ... and ends this long after it
+LANES_NEAR_M = 150.0     # a picture carries the lanes this close to what it shows (svg_scene zooms closer)
+NEAR_JUNCTION_M = 40.0   # a road user this close to a junction's centre is at it, for focus_junction
 # approach named by where traffic comes from (as sim_replay names them): its direction from the junction
 APPROACH_DIRECTIONS = {"west": 180.0, "w": 180.0, "south": 270.0, "s": 270.0, "east": 0.0, "e": 0.0,
                        "north": 90.0, "n": 90.0}
@@ -48,8 +50,11 @@ def recorded_rulebooks(start_body: dict[str, Any]) -> list[dict[str, Any]]:
             for b in _dicts(start_body.get("rulebooks"))]
 
 
-def run_map(start_body: dict[str, Any]) -> dict[str, list[dict]]:
-    """The map the run recorded in its run.start (DESIGN "Events"), its entries that can be drawn."""
+def run_map(start_body: dict[str, Any]) -> dict[str, Any]:
+    """The map the run recorded in its run.start (DESIGN "Events"), its entries that can be drawn:
+    roads, junctions (with their stop lines, yellow box, outline and crossings when the producer
+    sent them), monitors, and the lanes as polylines with their widths (a SUMO run's; a map
+    without them, like the paper's hand-written one, has none and the picture draws its roads)."""
     raw = start_body.get("map")
     raw = raw if isinstance(raw, dict) else {}
     roads = []
@@ -57,19 +62,47 @@ def run_map(start_body: dict[str, Any]) -> dict[str, list[dict]]:
         a, b = _point(r.get("from")), _point(r.get("to"))
         if a and b:
             roads.append({"id": _text(r.get("id")), "from": a, "to": b})
-    junctions = [{"id": _text(j.get("id")), "x": number(j["x"]), "y": number(j["y"]),
-                  "control": _text(j.get("control"))}
-                 for j in _dicts(raw.get("junctions")) if number(j.get("x")) is not None
+    junctions = [_junction(j) for j in _dicts(raw.get("junctions")) if number(j.get("x")) is not None
                  and number(j.get("y")) is not None]
-    return {"roads": roads, "junctions": junctions, "monitors": list(_dicts(raw.get("monitors")))}
+    lanes = []
+    for lane in _dicts(raw.get("lanes")):
+        shape, width = _points(lane.get("shape")), number(lane.get("width_m"))
+        if len(shape) >= 2 and width is not None and width > 0:
+            lanes.append({"id": _text(lane.get("id")), "kind": _text(lane.get("kind")), "width_m": width,
+                          "shape": shape})
+    network = raw.get("network") if isinstance(raw.get("network"), dict) else {}
+    return {"roads": roads, "junctions": junctions, "monitors": list(_dicts(raw.get("monitors"))),
+            "lanes": lanes, "lefthand": network.get("lefthand") is not False}
+
+
+def _junction(j: dict[str, Any]) -> dict[str, Any]:
+    """A junction's drawable parts; a stop line, crossing or outline that is not numbers is left out."""
+    lines = []
+    for line in _dicts(j.get("stop_lines")):
+        a, b = _point(line.get("from")), _point(line.get("to"))
+        if a and b:
+            lines.append({"approach": _text(line.get("approach")), "from": a, "to": b,
+                          "kind": _text(line.get("kind"))})
+    crossings = []
+    for c in _dicts(j.get("crossings")):
+        shape, width = _points(c.get("shape")), number(c.get("width_m"))
+        if len(shape) >= 2 and width is not None and width > 0:
+            crossings.append({"id": _text(c.get("id")), "shape": shape, "width_m": width})
+    box, outline = _points(j.get("box")), _points(j.get("shape"))
+    return {"id": _text(j.get("id")), "x": number(j["x"]), "y": number(j["y"]), "control": _text(j.get("control")),
+            "stop_lines": lines, "box": box if len(box) >= 3 else None,
+            "shape": outline if len(outline) >= 3 else None, "crossings": crossings}
 
 
 # --- the picture at t -----------------------------------------------------------------------------
 
-def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | None = None) -> dict[str, Any]:
-    """Roads, junctions, signal colours per approach, vehicles and road users with position and
-    heading (and whether that position is fresh enough to draw: presence.py), and each monitor's
-    field of view, at t; `vehicle` is the incident's."""
+def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: dict | None = None,
+                  junction: str | None = None) -> dict[str, Any]:
+    """Roads and lanes, junctions, signal colours per approach, vehicles and road users with
+    position, heading and speed (and whether that position is fresh enough to draw: presence.py),
+    and each monitor's field of view, at t. `vehicle` is the incident's (None: a scene without
+    one, as `gaps scene --svg` draws it); `junction` the one to zoom to (None: the vehicle's, else
+    the busiest, see focus_junction)."""
     the_map = the_map if the_map is not None else run_map(run_start_body(store, run))
     sc = scene(store, run, t, judge=False)
     vehicles = []
@@ -80,22 +113,61 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str, the_map: dict | 
                          "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
                          "junction": at.get("junction"), "incident": v["vehicle"] == vehicle,
                          "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
-    users = [{"id": u["src"], "type": u["type"], "x": number((u["state"] or {}).get("x")),
-              "y": number((u["state"] or {}).get("y")), "heading_deg": number((u["state"] or {}).get("heading_deg")),
-              "evidence": (u["state"] or {}).get("evidence"), **presence_at((u["state"] or {}).get("evidence"), t)}
-             for u in sc.road_users]
+    users = []
+    for u in sc.road_users:
+        at = u["state"] or {}
+        users.append({"id": u["src"], "type": u["type"], "x": number(at.get("x")), "y": number(at.get("y")),
+                      "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
+                      "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
     monitors = []
     for m in sc.monitors:
         entry = m["map"] or {}
         monitors.append({"id": m["monitor"], "junction": entry.get("junction"), "x": number(entry.get("x")),
                          "y": number(entry.get("y")), "heading_deg": number(entry.get("heading_deg")),
                          "fov_deg": number(entry.get("fov_deg")), "range_m": number(entry.get("range_m")),
-                         "observed": m["observed"], "watching": vehicle in m["observed"]})
+                         "observed": m["observed"], "watching": vehicle is not None and vehicle in m["observed"]})
     signals = [{"junction": s["junction"], "approach": s["approach"], "colour": s["colour"],
                 "since_t": s["since"]["t"], "evidence": s["evidence"]} for s in sc.signals]
-    return {"t": t, "offset": sc.offset, "vehicle": vehicle, "roads": the_map["roads"],
-            "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
-            "vehicles": vehicles, "road_users": users, "note": sc.note}
+    picture = {"t": t, "offset": sc.offset, "vehicle": vehicle, "roads": the_map["roads"],
+               "lanes": the_map.get("lanes", []), "lefthand": the_map.get("lefthand", True),
+               "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
+               "vehicles": vehicles, "road_users": users, "note": sc.note}
+    picture["junction"] = junction if junction is not None else focus_junction(picture)
+    picture["lanes"] = _lanes_near(picture)
+    return picture
+
+
+def _lanes_near(picture: dict[str, Any]) -> list[dict]:
+    """The lanes within LANES_NEAR_M of the focus junction and the incident's vehicle: the most a
+    picture zoomed to them can show. A whole city's network (netconvert from OpenStreetMap) is
+    thousands of lanes, and the JSON report carries each incident's picture as it is."""
+    centres = [(j["x"], j["y"]) for j in picture["junctions"] if j["id"] == picture["junction"]]
+    centres += [(v["x"], v["y"]) for v in picture["vehicles"] if v["incident"] and v["x"] is not None
+                and v["y"] is not None]
+    if not centres:
+        return picture["lanes"]
+
+    def near(lane: dict) -> bool:
+        xs, ys = [p[0] for p in lane["shape"]], [p[1] for p in lane["shape"]]
+        return any(min(xs) - LANES_NEAR_M <= x <= max(xs) + LANES_NEAR_M and
+                   min(ys) - LANES_NEAR_M <= y <= max(ys) + LANES_NEAR_M for x, y in centres)
+    return [lane for lane in picture["lanes"] if near(lane)]
+
+
+def focus_junction(picture: dict[str, Any]) -> str | None:
+    """The junction a picture zooms to: the incident vehicle's (vehicle_junction); without an
+    incident vehicle, the one with the most road users present within NEAR_JUNCTION_M of it (the
+    first on the map on a tie), so that `gaps scene --svg` shows where things happen."""
+    if picture["vehicle"] is not None:
+        return vehicle_junction(picture)
+    if not picture["junctions"]:
+        return None
+    here = [u for u in picture["vehicles"] + picture["road_users"]
+            if u["x"] is not None and u["y"] is not None and u.get("present", True)]
+
+    def crowd(j: dict[str, Any]) -> int:
+        return sum(math.hypot(u["x"] - j["x"], u["y"] - j["y"]) <= NEAR_JUNCTION_M for u in here)
+    return max(picture["junctions"], key=crowd)["id"]     # max keeps the first of equals
 
 
 def vehicle_junction(picture: dict[str, Any]) -> str | None:
@@ -171,6 +243,14 @@ def _point(value: Any) -> list[float] | None:
         if x is not None and y is not None:
             return [x, y]
     return None
+
+
+def _points(value: Any) -> list[list[float]]:
+    """A polyline's points; any point that is not two numbers makes the whole of it unusable."""
+    if not isinstance(value, list):
+        return []
+    points = [_point(p) for p in value]
+    return [] if any(p is None for p in points) else points      # type: ignore[misc]
 
 
 def _text(value: Any) -> str | None:

@@ -16,7 +16,7 @@ from typing import Any
 from .explanation_formats import esc, html_fragment
 from .presence import FRESH_NS
 from .report_data import SECOND
-from .svg_scene import scene_svg
+from .svg_scene import out_of_view, scene_svg
 from .svg_timeline import timeline_svg
 
 STYLE = """
@@ -198,9 +198,16 @@ def _scene_caption(pic: dict[str, Any]) -> str:
     unplaced = [v["id"] for v in pic["vehicles"] if v["x"] is None]
     stale = [f"{v['id']} ({v['age_s']:g} s before)" for v in pic["vehicles"] + pic["road_users"]
              if v["x"] is not None and not v.get("present", True) and v.get("age_s") is not None]
-    text = (f"The scene at the incident, {pic['offset']} from the run start, as the record holds it: "
-            f"vehicle {pic['vehicle']} highlighted, arrows point where each vehicle was heading, wedges are the "
-            f"monitors' fields of view. Signals: {signals}.")
+    surface = ("lanes, crossings, stop lines and the yellow box as the map recorded them, "
+               if pic.get("lanes") else "")
+    where = f" around junction {pic['junction']}" if pic.get("junction") is not None else ""
+    text = (f"The scene at the incident, {pic['offset']} from the run start, as the record holds it{where}: "
+            f"{surface}vehicle {pic['vehicle']} highlighted, arrows point where each vehicle was heading, labels "
+            f"give speeds in mph, each lamp stands at its approach's stop line, wedges are the monitors' fields "
+            f"of view. Signals: {signals}.")
+    outside = out_of_view(pic)
+    if outside:
+        text += f" Present but outside the picture: {', '.join(outside)}."
     if unplaced:
         text += f" Not drawn (no position recorded): {', '.join(map(str, unplaced))}."
     if stale:

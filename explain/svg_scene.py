@@ -1,15 +1,17 @@
-"""The scene at an incident as an inline SVG: roads, junctions, the colour each signal approach
-showed, every vehicle present (the incident's highlighted) pointing where it headed, and each
-monitor's field of view, scaled to fit around the incident, with a legend and a scale bar.
+"""The scene at a moment as an inline SVG: the road surface as the map recorded it (svg_lanes.py:
+SUMO's lanes at their widths, crossings, the yellow box, stop lines; a map without lanes gets its
+roads as bands), the colour each signal approach showed at that approach's stop line, every road
+user present (the incident's vehicle highlighted) pointing where it headed with its speed in mph,
+and each monitor's field of view, with a legend and a scale bar.
 
 Drawn from report_data.scene_picture only. World coordinates are metres with y up and headings
-counter-clockwise from +x (as sim_replay and the Foxglove export read them); the SVG's y runs
-down, so points are flipped here and arcs are drawn as polylines, leaving no sweep flag to get
-wrong. The view is centred on what matters (the vehicle, its junction, the monitors watching it,
-road users within 120 m), not on the whole map, so a 400 m road does not shrink the junction to a
-dot; roads are clipped to the frame. Only road users present at the moment are drawn (a position
-older than presence.FRESH_NS is not where the road user was), and the labels are placed by
-labels.py so that none covers another.
+counter-clockwise from +x (as sim_replay and the Foxglove export read them); scene_view.py flips
+them, and arcs are drawn as polylines, leaving no sweep flag to get wrong. The view is zoomed to
+the junction that matters (the incident vehicle's, or the busiest for `gaps scene --svg`) and
+the vehicle, not to the whole map: see _focus. Only road users present at the moment are drawn
+(despawned and not yet spawned ones are not in the scene at all; a position older than
+presence.FRESH_NS is not where the road user was), and the labels are placed by labels.py so that
+none covers another.
 """
 from __future__ import annotations
 
@@ -18,14 +20,14 @@ from typing import Any, NamedTuple
 
 from .labels import Box, Label, Placer
 from .report_data import APPROACH_DIRECTIONS, vehicle_junction
+from .scene_view import H, LEGEND_H, PAD, W, View
 from .svg import esc, f, fill, legend_swatches
-from .units import mph_text
+from .svg_lanes import has_lanes, surface
+from .units import mph, mph_text
 
-W, H = 640, 440
-PAD = 28
-LEGEND_H = 44
-NEAR_M = 120.0
-MIN_SPAN_M = 50.0
+NEAR_M = 40.0              # road users this close to the incident's vehicle are kept in view
+JUNCTION_REACH_M = 30.0    # the view holds this much of each arm around the focus junction
+LAMP_OUT_M = 2.0           # a signal lamp stands this far beyond the kerb end of its stop line
 INCIDENT_COLOUR, VEHICLE_COLOUR, USER_COLOUR, MONITOR_COLOUR = "#7b1fa2", "#34495e", "#16a085", "#1d4f9c"
 
 
@@ -41,29 +43,20 @@ class _Want(NamedTuple):
     bold: bool = False
 
 
-class _View:
-    """World metres to SVG pixels: one scale for both axes, the focus box centred."""
-
-    def __init__(self, points: list[tuple[float, float]]) -> None:
-        xs, ys = [p[0] for p in points] or [0.0], [p[1] for p in points] or [0.0]
-        cx, cy = (min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2
-        span_x = max(max(xs) - min(xs), MIN_SPAN_M) * 1.15
-        span_y = max(max(ys) - min(ys), MIN_SPAN_M) * 1.15
-        self.scale = min((W - 2 * PAD) / span_x, (H - LEGEND_H - 2 * PAD) / span_y)
-        self.cx, self.cy = cx, cy
-
-    def __call__(self, x: float, y: float) -> tuple[float, float]:
-        return (W / 2 + (x - self.cx) * self.scale, PAD + (H - LEGEND_H - 2 * PAD) / 2 - (y - self.cy) * self.scale)
+def view_of(pic: dict[str, Any]) -> View:
+    """The picture's world-to-pixel mapping (tests and viewers place things through it)."""
+    return View(_focus(pic))
 
 
 def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
     """The picture as one <svg class="gaps-scene"> element; `number` keeps its clip path's id
     apart from the other pictures of the same page."""
-    view = _View(_focus(pic))
-    junction = vehicle_junction(pic)
+    view = view_of(pic)
+    junction = _junction(pic)
     me = next((v for v in pic["vehicles"] if v["incident"]), None)
     clip = f"scene-clip-{int(number)}"
-    label = f"Scene at the incident ({pic['offset']} from the run start): vehicle {pic['vehicle']}"
+    label = (f"Scene at the incident ({pic['offset']} from the run start): vehicle {pic['vehicle']}"
+             if pic["vehicle"] is not None else f"Scene at {pic['offset']} from the run start")
     out = [f'<svg class="gaps-scene" xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {H}" width="{W}" '
            f'height="{H}" role="img" aria-label="{esc(label)}" font-family="sans-serif" font-size="11">',
            f"<title>{esc(label)}</title>",
@@ -73,19 +66,19 @@ def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
            f'<g clip-path="url(#{clip})">']
     placer = Placer(Box(0, 0, W, H - LEGEND_H))
     wants: list[_Want] = []
-    out += _roads(pic, view)
+    out += surface(pic, view, number)
     out += _monitors(pic, view, placer, wants)
-    out += _junctions(pic, view, junction, placer, wants)
+    out += _junctions(pic, view, wants)
     out += _signals(pic, view, placer)
     out += _road_users(pic, view, placer, wants)
     out += _vehicles(pic, view, placer, wants)
-    missing = _not_drawn(me, pic["vehicle"])
+    missing = _not_drawn(me, pic["vehicle"]) if pic["vehicle"] is not None else None
     if missing:
         placer.block(Box(0, 0, W, PAD + 6))
         out.append(f'<text x="{W / 2}" y="{PAD}" text-anchor="middle" fill="#a40000">{esc(missing)}</text>')
     out += _labels(placer, wants)
     out.append("</g>")
-    out += _legend(view)
+    out += _legend(view, has_lanes(pic))
     out.append("</svg>")
     return "".join(out)
 
@@ -93,6 +86,14 @@ def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
 def drawn(item: dict[str, Any]) -> bool:
     """A vehicle or road user the picture shows: placed, and present at the moment (presence.py)."""
     return item["x"] is not None and item["y"] is not None and item.get("present", True)
+
+
+def out_of_view(pic: dict[str, Any]) -> list[str]:
+    """The road users present and placed but outside the zoomed picture, for its caption to name."""
+    view = view_of(pic)
+    frame = Box(0, 0, W, H - LEGEND_H)
+    return [str(u["id"]) for u in pic["vehicles"] + pic["road_users"]
+            if drawn(u) and not frame.holds(*view(u["x"], u["y"]))]
 
 
 def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
@@ -130,18 +131,31 @@ def _label(placed: Label, colour: str) -> str:
                   f'data-box="{f(box.x)} {f(box.y)} {f(box.w)} {f(box.h)}">{esc(placed.text)}</text>')
 
 
+def _junction(pic: dict[str, Any]) -> str | None:
+    """The junction the picture zooms to: the one report_data chose, else the vehicle's."""
+    return pic["junction"] if pic.get("junction") is not None else vehicle_junction(pic)
+
+
 def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
-    """The points the view must hold."""
+    """The points the view must hold: the incident's vehicle, its junction with JUNCTION_REACH_M
+    of every arm (the stop lines and the queue at them), the monitors there (their cones reach
+    80 m and are clipped: holding them would shrink the junction), and road users near the vehicle.
+
+    Why not the whole map: at 600 m across, a lane is 2 px and a car a dot; at about 70 m a lane
+    is some 17 px wide, a car sits visibly before or beyond its stop line, and the labels have
+    room. A road user outside the view is clipped and named nowhere in the picture; the caption
+    and `gaps scene` text list every one."""
     me = next((v for v in pic["vehicles"] if v["incident"] and drawn(v)), None)
-    junction = vehicle_junction(pic)
+    junction = _junction(pic)
     pts: list[tuple[float, float]] = []
     if me is not None:
         pts.append((me["x"], me["y"]))
-    pts += [(j["x"], j["y"]) for j in pic["junctions"] if j["id"] == junction]
+    for j in pic["junctions"]:
+        if j["id"] == junction:
+            pts += [(j["x"] + dx * JUNCTION_REACH_M, j["y"] + dy * JUNCTION_REACH_M) for dx in (-1, 1) for dy in (-1, 1)]
     for m in pic["monitors"]:
         if m["x"] is not None and m["y"] is not None and (m["watching"] or (junction and m["junction"] == junction)):
             pts.append((m["x"], m["y"]))
-            pts += _wedge_points(m)[1::4]
     if me is not None:
         for other in pic["vehicles"] + pic["road_users"]:
             if drawn(other) and math.hypot(other["x"] - me["x"], other["y"] - me["y"]) <= NEAR_M:
@@ -166,50 +180,32 @@ def _wedge_points(m: dict[str, Any]) -> list[tuple[float, float]]:
     return [(m["x"], m["y"])] + arc
 
 
-def _roads(pic: dict[str, Any], view: _View) -> list[str]:
-    width = max(6.0, 7.0 * view.scale)
-    out = []
-    for r in pic["roads"]:
-        (x1, y1), (x2, y2) = view(*r["from"]), view(*r["to"])
-        out.append(f'<line class="road" x1="{f(x1)}" y1="{f(y1)}" x2="{f(x2)}" y2="{f(y2)}" stroke="#b9b4aa" '
-                   f'stroke-width="{f(width)}" stroke-linecap="butt"><title>road {esc(r["id"])}</title></line>')
-        out.append(f'<line x1="{f(x1)}" y1="{f(y1)}" x2="{f(x2)}" y2="{f(y2)}" stroke="#ffffff" '
-                   'stroke-width="1" stroke-dasharray="6 6"/>')
-    return out
-
-
-def _junctions(pic: dict[str, Any], view: _View, focus: str | None, placer: Placer,
-               wants: list[_Want]) -> list[str]:
-    out = []
-    size = max(10.0, 9.0 * view.scale)
+def _junctions(pic: dict[str, Any], view: View, wants: list[_Want]) -> list[str]:
+    """Each junction's name, placed last (svg_lanes.py draws the junction itself)."""
     for j in pic["junctions"]:
         x, y = view(j["x"], j["y"])
-        stroke = "#333" if j["id"] == focus else "#888"
-        out.append(f'<rect class="junction" x="{f(x - size / 2)}" y="{f(y - size / 2)}" width="{f(size)}" '
-                   f'height="{f(size)}" fill="#d8d2c4" stroke="{stroke}" stroke-width="1">'
-                   f'<title>junction {esc(j["id"])} ({esc(j["control"] or "control not recorded")})</title></rect>')
-        wants.append(_Want(4, f"junction {_short(str(j['id']))}", x, y, size * 0.75, "#333"))
-    return out
+        wants.append(_Want(4, f"junction {_short(str(j['id']))}", x, y, max(5.0, 4.5 * view.scale), "#333"))
+    return []
 
 
-def _signals(pic: dict[str, Any], view: _View, placer: Placer) -> list[str]:
-    """One lamp per approach, placed on the side the traffic comes from; labels keep off it."""
-    where = {j["id"]: (j["x"], j["y"]) for j in pic["junctions"]}
+def _signals(pic: dict[str, Any], view: View, placer: Placer) -> list[str]:
+    """One lamp per approach showing the colour that approach faced, standing just beyond the
+    kerb end of the approach's stop line, where a driver at the line sees it. An approach the map
+    gives no stop line for gets its lamp on the side its traffic comes from (by compass name), to
+    the approaching driver's left. Labels keep off the lamps."""
+    where = {j["id"]: j for j in pic["junctions"]}
     by_junction: dict[Any, list[dict]] = {}
     for s in pic["signals"]:
         by_junction.setdefault(s["junction"], []).append(s)
     out = []
-    dist = max(10.0, 26.0 / view.scale)            # metres: about 26 px out from the centre
-    side = 16.0 / view.scale                       # and 16 px to the approaching driver's left (UK kerb side)
     for junction, shown in by_junction.items():
         if junction not in where:
             continue
-        jx, jy = where[junction]
+        j = where[junction]
+        lines = {line["approach"]: line for line in j.get("stop_lines") or []}
         for i, s in enumerate(shown):
-            name = s["approach"].lower() if isinstance(s["approach"], str) else ""
-            a = math.radians(APPROACH_DIRECTIONS.get(name, 45.0 + 90.0 * i))
-            x, y = view(jx + dist * math.cos(a) + side * math.cos(a - math.pi / 2),
-                        jy + dist * math.sin(a) + side * math.sin(a - math.pi / 2))
+            line = lines.get(s["approach"]) if isinstance(s["approach"], str) else None
+            x, y = view(*(_at_line(line) if line else _by_compass(j, s["approach"], i, view.scale)))
             title = f"signal {junction} {s['approach']}: {s['colour']}"
             placer.block(Box(x - 7, y - 11, 14, 22))
             out.append(f'<g class="signal"><title>{esc(title)}</title>'
@@ -219,7 +215,24 @@ def _signals(pic: dict[str, Any], view: _View, placer: Placer) -> list[str]:
     return out
 
 
-def _monitors(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Want]) -> list[str]:
+def _at_line(line: dict[str, Any]) -> tuple[float, float]:
+    """LAMP_OUT_M beyond the stop line's kerb end (its `to`; `from` is at the centre line)."""
+    (ax, ay), (bx, by) = line["from"], line["to"]
+    length = math.hypot(bx - ax, by - ay) or 1.0
+    return bx + (bx - ax) / length * LAMP_OUT_M, by + (by - ay) / length * LAMP_OUT_M
+
+
+def _by_compass(j: dict[str, Any], approach: Any, i: int, scale: float) -> tuple[float, float]:
+    """About 26 px out from the centre towards where the approach's traffic comes from, and 16 px
+    to that driver's left (the UK kerb side)."""
+    name = approach.lower() if isinstance(approach, str) else ""
+    a = math.radians(APPROACH_DIRECTIONS.get(name, 45.0 + 90.0 * i))
+    dist, side = max(10.0, 26.0 / scale), 16.0 / scale
+    return (j["x"] + dist * math.cos(a) + side * math.cos(a - math.pi / 2),
+            j["y"] + dist * math.sin(a) + side * math.sin(a - math.pi / 2))
+
+
+def _monitors(pic: dict[str, Any], view: View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
     for m in pic["monitors"]:
         if m["x"] is None or m["y"] is None:
@@ -242,7 +255,7 @@ def _fov_title(m: dict[str, Any]) -> str:
             f"range {_n(m['range_m'])} m")
 
 
-def _vehicles(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Want]) -> list[str]:
+def _vehicles(pic: dict[str, Any], view: View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
     for v in sorted(pic["vehicles"], key=lambda v: v["incident"]):      # the incident's drawn last, on top
         if not drawn(v):
@@ -263,9 +276,15 @@ def _vehicles(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Wan
                    f'stroke-width="1.5"><title>{esc(_vehicle_title(v))}</title></circle></g>')
         reach = r + 5 if v["incident"] else r
         placer.block(Box(x - reach, y - reach, 2 * reach, 2 * reach))
-        text = _short(str(v["id"])) + (" " + _short(str(v["type"])) if v["type"] else "")
+        text = _short(str(v["id"])) + (" " + _short(str(v["type"])) if v["type"] else "") + _speed(v)
         wants.append(_Want(0 if v["incident"] else 1, text, x, y, reach + 2, colour, v["incident"]))
     return out
+
+
+def _speed(v: dict[str, Any]) -> str:
+    """" 17 mph" for a label: whole miles per hour, the unit UK roads and the Highway Code use (the
+    title and the caption give the recorded m/s); nothing when no speed was recorded."""
+    return "" if v.get("speed_mps") is None else f" {mph(v['speed_mps']):.0f} mph"
 
 
 def _vehicle_title(v: dict[str, Any]) -> str:
@@ -276,7 +295,7 @@ def _vehicle_title(v: dict[str, Any]) -> str:
             f"heading {_n(v['heading_deg'])}°, {speed}{seen}")
 
 
-def _road_users(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_Want]) -> list[str]:
+def _road_users(pic: dict[str, Any], view: View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
     for u in pic["road_users"]:
         if not drawn(u):
@@ -286,7 +305,7 @@ def _road_users(pic: dict[str, Any], view: _View, placer: Placer, wants: list[_W
                    f'L{f(x - 5)},{f(y)} Z" fill="{USER_COLOUR}"><title>{esc(u["id"])} ({esc(u["type"] or "?")})'
                    "</title></path>")
         placer.block(Box(x - 5, y - 5, 10, 10))
-        wants.append(_Want(2, _short(str(u["id"])), x, y, 6.0, USER_COLOUR))
+        wants.append(_Want(2, _short(str(u["id"])) + _speed(u), x, y, 6.0, USER_COLOUR))
     return out
 
 
@@ -297,7 +316,7 @@ def _arrow_head(x: float, y: float, a: float, colour: str) -> str:
             f'fill="{colour}"/>')
 
 
-def _legend(view: _View) -> list[str]:
+def _legend(view: View, lanes: bool) -> list[str]:
     y0 = H - LEGEND_H
     bar_m = _bar_metres(view.scale)
     bar_px = bar_m * view.scale
@@ -313,6 +332,8 @@ def _legend(view: _View) -> list[str]:
            '<text x="0" y="20">signal lamps:</text>',
            legend_swatches(80, 20, [("red", fill("red")), ("red+amber", fill("red_amber")), ("amber", fill("amber")),
                                    ("green", fill("green")), ("off", fill("off")), ("other", fill(None))]),
+           ('<rect x="530" y="11" width="12" height="10" fill="none" stroke="#f2c200" stroke-width="2"/>'
+            '<text x="546" y="20">yellow box</text>' if lanes else ""),
            "</g>"]
     return out
 

@@ -179,7 +179,7 @@ def test_only_what_is_there_at_the_moment_is_drawn(tmp_path):
     svg = scene_svg(pic, 2)
     drawn_vehicles = re.findall(r"<title>vehicle (\w+) \(", svg)
     assert sorted(drawn_vehicles) == ["253", "500"]
-    assert svg.count('class="road-user"') == 1 and ">pedestrian/p2<" in svg and "pedestrian/p1" not in svg
+    assert svg.count('class="road-user"') == 1 and ">pedestrian/p2 3 mph<" in svg and "pedestrian/p1" not in svg
     caption = render_report(report, "html")
     assert "173 (30 s before), 501 (2.5 s before), pedestrian/p1 (30 s before)" in caption
 
@@ -222,13 +222,14 @@ def test_labels_of_vehicles_close_together_do_not_overlap():
     svg = scene_svg(pic, 1)
     labels = label_boxes(svg)
     texts = [t for t, _ in labels]
-    assert sorted(texts) == sorted(["1 car", "22 car", "333 car", "4444 car", "55 car", "ambulance-6 car",
-                                    "7 car", "pedestrian/p", "monitor/m1", "junction j1"])
+    assert sorted(texts) == sorted(["1 car 11 mph", "22 car 11 mph", "333 car 11 mph", "4444 car 11 mph",
+                                    "55 car 11 mph", "ambulance-6 car 11 mph", "7 car 11 mph", "pedestrian/p",
+                                    "monitor/m1", "junction j1"])      # 5 m/s is 11.2 mph
     for (a, box_a), (b, box_b) in itertools.combinations(labels, 2):
         assert not box_a.intersects(box_b), (a, box_a, b, box_b)
     frame = Box(0, 0, 640, 440 - 44)
     assert all(box.within(frame) for _, box in labels)
-    assert texts[0] == "1 car"                 # the incident's vehicle placed first, nearest its marker
+    assert texts[0] == "1 car 11 mph"          # the incident's vehicle placed first, nearest its marker
     assert scene_svg(pic, 1) == svg          # the same picture, the same layout
 
 

@@ -18,3 +18,71 @@ def crowded_picture() -> dict:
                          for i, x, y, me in cars],
             "road_users": [{"id": "pedestrian/p", "type": "pedestrian", "x": 0.5, "y": 0.5, "heading_deg": None,
                             "present": True, "age_s": 0.0}]}
+
+
+def _rotate(points: list[list[float]], quarter: int) -> list[list[float]]:
+    """Points turned `quarter` quarter-turns anticlockwise about the origin."""
+    out = [list(p) for p in points]
+    for _ in range(quarter % 4):
+        out = [[-y, x] for x, y in out]
+    return out
+
+
+ARMS = ("west", "south", "east", "north")     # the approach from where the traffic comes; west turned by 90°s
+
+
+def sumo_like_map() -> dict:
+    """A run.start map as sim_replay/net_map.py writes it for a four-arm junction j1 at the origin
+    (left-hand traffic): per arm a 3.5 m lane each way and a 2 m pavement each side, 188 m long,
+    a stop line at 12 m on the inbound lane, a zebra crossing, the yellow box, and one lane far
+    away (out of any view of j1)."""
+    lanes, lines, crossings = [], [], []
+    for quarter, arm in enumerate(ARMS):
+        def turned(points: list[list[float]]) -> list[list[float]]:
+            return _rotate(points, quarter)
+        lanes += [
+            {"id": f"{arm}_in_1", "kind": "road", "width_m": 3.5, "shape": turned([[-200.0, 1.75], [-12.0, 1.75]])},
+            {"id": f"{arm}_out_1", "kind": "road", "width_m": 3.5, "shape": turned([[-12.0, -1.75], [-200.0, -1.75]])},
+            {"id": f"{arm}_in_0", "kind": "sidewalk", "width_m": 2.0, "shape": turned([[-200.0, 4.5], [-12.0, 4.5]])},
+            {"id": f"{arm}_out_0", "kind": "sidewalk", "width_m": 2.0,
+             "shape": turned([[-12.0, -4.5], [-200.0, -4.5]])},
+        ]
+        a, b = turned([[-12.0, 0.0], [-12.0, 3.5]])
+        lines.append({"approach": arm, "from": a, "to": b, "kind": "signal", "edge": f"{arm}_in", "road": "r"})
+        crossings.append({"id": f":j1_c{quarter}", "arm": arm, "shape": turned([[-10.0, -3.5], [-10.0, 3.5]]),
+                          "width_m": 4.0, "priority": True})
+    lanes.append({"id": "far_0", "kind": "road", "width_m": 3.5, "shape": [[900.0, 500.0], [1000.0, 500.0]]})
+    box = [[-8.0, -4.5], [-8.0, 4.5], [-4.5, 8.0], [4.5, 8.0], [8.0, 4.5], [8.0, -4.5], [4.5, -8.0], [-4.5, -8.0]]
+    shape = [[-12.0, -5.5], [-12.0, 5.5], [-5.5, 12.0], [5.5, 12.0], [12.0, 5.5], [12.0, -5.5], [5.5, -12.0],
+             [-5.5, -12.0]]
+    return {"network": {"file": "test.net.xml", "sha256": "0" * 64, "lefthand": True},
+            "roads": [{"id": "r1", "from": [-200.0, 0.0], "to": [200.0, 0.0], "speed_limit_mph": 30},
+                      {"id": "r2", "from": [0.0, -200.0], "to": [0.0, 200.0], "speed_limit_mph": 30}],
+            "junctions": [{"id": "j1", "x": 0.0, "y": 0.0, "control": "lights", "stop_lines": lines, "box": box,
+                           "shape": shape, "crossings": crossings, "sumo_type": "traffic_light",
+                           "approaches": [{"name": a, "edge": f"{a}_in", "road": "r"} for a in ARMS]}],
+            "monitors": [{"id": "m1", "junction": "j1", "x": 15.0, "y": 10.0, "heading_deg": 190.0,
+                          "range_m": 80.0, "fov_deg": 90.0}],
+            "lanes": lanes}
+
+
+SIGNAL_COLOURS = {"west": "red", "east": "red", "north": "green", "south": "amber"}
+
+
+def lanes_picture() -> dict:
+    """A scene picture over sumo_like_map(): the incident's car stopped at the west line (on red),
+    a car crossing from the south, a pedestrian on the east zebra, each approach's colour."""
+    from explain.report_data import run_map
+    the_map = run_map({"map": sumo_like_map()})
+    vehicle = {"junction": None, "evidence": None, "present": True, "age_s": 0.0}
+    return {"t": 0, "offset": "+60s", "vehicle": "7", "note": None, "junction": "j1", **the_map,
+            "signals": [{"junction": "j1", "approach": a, "colour": c, "since_t": 0, "evidence": None}
+                        for a, c in SIGNAL_COLOURS.items()],
+            "monitors": [{"id": "monitor/m1", "junction": "j1", "x": 15.0, "y": 10.0, "heading_deg": 190.0,
+                          "fov_deg": 90.0, "range_m": 80.0, "observed": ["7"], "watching": True}],
+            "vehicles": [{**vehicle, "id": "7", "type": "car", "x": -14.5, "y": 1.75, "heading_deg": 0.0,
+                          "speed_mps": 0.0, "incident": True},
+                         {**vehicle, "id": "8", "type": "bus", "x": -1.75, "y": -20.0, "heading_deg": 90.0,
+                          "speed_mps": 13.41, "incident": False}],
+            "road_users": [{"id": "pedestrian/p1", "type": "pedestrian", "x": 10.0, "y": 0.0, "heading_deg": 90.0,
+                            "speed_mps": 1.3, "evidence": None, "present": True, "age_s": 0.0}]}
