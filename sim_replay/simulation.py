@@ -42,7 +42,7 @@ from sim_replay.senses import Around, Other
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes
 from sim_replay.sumo_world import World, WorldError
-from sim_replay.truth import REACTION_S, Act, Truth
+from sim_replay.truth import EXIT_M, REACTION_S, Act, Truth
 from sim_replay.watchers import Line, Watchers
 from sim_replay.world_state import Snapshot, VehicleState
 
@@ -376,9 +376,9 @@ class Simulation:
             colour = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
             self.lines[v.id] = Line(line.junction, line.approach, line.kind, colour or "none", t)
             self._crossed(agent, v, t, colour, around)
+            self.world.hand_back(v.id)              # over the line: SUMO's physics keeps it out of others' way
         elif line.crossed_on is not None and v.junction is None:
-            self.lines.pop(v.id, None)              # out of the junction: SUMO drives it again
-            self.world.hand_back(v.id)
+            self.lines.pop(v.id, None)
 
     def _decide(self, agent: _Agent, p: Passage, m: Moment) -> None:
         """The agent's look at this tick: a rulebook question for those that ask, a habit for humans."""
@@ -492,6 +492,14 @@ class Simulation:
             self.truth.act(Act(**pending["act"], reactions=tuple(sorted(pending["watch"].items()))))
         self._pending = still
 
+    def _exit(self, agent: _Agent, junction: str, approach: str) -> str | None:
+        """The edge its route leaves a junction by, after the approach it came in on."""
+        a = self.world.network.junctions[junction].approach(approach)
+        if a is None or a.edge not in agent.route:
+            return None
+        i = agent.route.index(a.edge)
+        return agent.route[i + 1] if i + 1 < len(agent.route) else None
+
     def _turn(self, agent: _Agent, junction: str, approach: str) -> str | None:
         """Left, straight or right at a junction, from its route's edges in and out."""
         j = self.world.network.junctions[junction]
@@ -517,10 +525,13 @@ class Simulation:
             line = self.lines.get(v.id)
             ahead = [o.id for o in snap.vehicles if o.id != v.id and _ahead(v, o)]
             walkers = [p.id for p in snap.pedestrians if p.junction == v.junction and p.crossing is not None]
+            out = self._exit(agent, v.junction, line.approach) if line else None
+            queue = tuple(o.id for o in snap.vehicles if out is not None and o.edge == out
+                          and o.lane_pos_m <= EXIT_M + 5.0 and o.speed_mps < 1.0)
             agent.boxed = dict(kind="stopped in the box", vehicle=v.id, type=agent.d.kind, driver=agent.driving(),
                                t_s=t, junction=v.junction, approach=line.approach if line else None,
                                light=line.crossed_on if line else None, on_call=agent.on_call,
-                               approaching=tuple(ahead + walkers),
+                               approaching=tuple(ahead + walkers), exit_queue=queue,
                                turn=self._turn(agent, v.junction, line.approach) if line else None,
                                seen_by=tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
                                why="stood still in the box behind " + (", ".join(ahead + walkers) or "nothing it could see"))
