@@ -249,9 +249,10 @@ class Simulation:
 
     def _tick(self, snap: Snapshot, publish: bool) -> None:
         t = snap.t_s
-        for s in snap.changed:
+        began = max(0.0, round(t - self.world.step_s, 9))
+        for s in snap.changed:      # SUMO switched the light at the start of this step, and moved everyone under it
             if s.crossing is None:
-                self._emit(f"signal/{s.junction}-{s.approach}", t, "signal.state",
+                self._emit(f"signal/{s.junction}-{s.approach}", began, "signal.state",
                            {"junction": s.junction, "approach": s.approach, "colour": s.colour})
         lights = {(s.junction, s.approach): s.colour for s in snap.signals if s.crossing is None}
         for ident in snap.departed:
@@ -396,20 +397,27 @@ class Simulation:
             go = self._carry_out(agent, p, asked.holds)
             why = ("rulebook: can enter" if asked.holds else "rulebook: cannot enter") + \
                   ("" if go == asked.holds else " (too close to stop: went on)")
-            self._publish_decision(agent, p, m.t_s, facts, go, asked)
+            self._record(agent, m.t_s, "vehicle.perception", {"facts": facts})
+            self._publish_decision(agent, p, m.t_s, go, asked)
         else:
             go, why = drivers.human_decision(agent.profile, p, m, agent.rng, self.config.behaviour.propensity)
-            if go == p.go:
-                return
-            wanted = go
-            go = self._carry_out(agent, p, go)
-            if go != wanted:
-                why += " (too close to stop: went on)"
-            if agent.recorder:
+            changed = go != p.go
+            if changed:
+                wanted = go
+                go = self._carry_out(agent, p, go)
+                if go != wanted:
+                    why += " (too close to stop: went on)"
+                if go and why.startswith("stop roller"):
+                    self._set_factor(agent, drivers.ROLL_FACTOR)
+            if agent.recorder:           # what the driver saw, whenever it changed; what it did, when that changed
                 facts = av.perceive(agent.id, agent.d.kind, p, m, engaged=False, on_call=agent.on_call, faults=None)
-                self._publish_decision(agent, p, m.t_s, facts, go, None)
-            if go and why.startswith("stop roller"):
-                self._set_factor(agent, drivers.ROLL_FACTOR)
+                if changed or tuple(facts) != agent.asked_facts:
+                    agent.asked_facts = tuple(facts)
+                    self._record(agent, m.t_s, "vehicle.perception", {"facts": facts})
+                if changed:
+                    self._publish_decision(agent, p, m.t_s, go, None)
+            if not changed:
+                return
         p.why = why
 
     def _carry_out(self, agent: _Agent, p: Passage, go: bool) -> bool:
@@ -426,9 +434,8 @@ class Simulation:
         p.go = go
         return go
 
-    def _publish_decision(self, agent: _Agent, p: Passage, t: float, facts: list[str], go: bool,
-                          asked: av.Asked | None) -> None:
-        self._record(agent, t, "vehicle.perception", {"facts": facts})
+    def _publish_decision(self, agent: _Agent, p: Passage, t: float, go: bool, asked: av.Asked | None) -> None:
+        """vehicle.trace (the question, its answer and proof) where it asked, then vehicle.decision."""
         body: dict[str, Any] = {"goal": CAN.text(agent.id, av.ACTION), "action": av.ACTION, "proceeds": go}
         if asked is not None:
             trace = self._record(agent, t, "vehicle.trace", {"query": asked.question, "answer": asked.holds,
