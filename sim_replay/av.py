@@ -44,8 +44,10 @@ SIGN_WORDS = {"stop": "stop", "give_way": "give way"}
 
 
 def perceive(vid: str, kind: str, p: Passage, m: Moment, *, engaged: bool, on_call: bool,
-             faults: Faults | None) -> list[str]:
-    """The Vehicle Scenario as v senses it at this moment, through the fault model."""
+             faults: Faults | None, predicts: bool = True) -> list[str]:
+    """The Vehicle Scenario as v senses it at this moment, through the fault model. `predicts`:
+    with its own predictions ("too close to stop", "would force U"), as a vehicle that asks the
+    rulebook states them; a human driver's recorder records what its sensors saw, without them."""
     v = m.v
     facts = [IS_OF_TYPE.text(vid, kind)]
     if on_call:
@@ -58,7 +60,7 @@ def perceive(vid: str, kind: str, p: Passage, m: Moment, *, engaged: bool, on_ca
             p.draws["misread"] = faults.misread_light(vid, light)
         seen = p.draws.get("misread") or light
         facts += [HAS_LIGHT.text(vid, c) for c in LIGHT_WORDS[seen]]
-        if seen == "amber" and p.go is not False and not can_stop(v):
+        if predicts and seen == "amber" and p.go is not False and not can_stop(v):
             facts.append(IS_TOO_CLOSE_TO_STOP.text(vid))
     else:
         facts.append(HAS_SIGN.text(vid, SIGN_WORDS[p.line]))
@@ -77,7 +79,7 @@ def perceive(vid: str, kind: str, p: Passage, m: Moment, *, engaged: bool, on_ca
         facts += [IS_OF_TYPE.text(o.id, o.type), IS_APPROACHING.text(o.id, vid)]
         if o.main_road:
             facts.append(IS_ON_THE_MAIN_ROAD.text(o.id))
-        if not o.pedestrian and o.eta_s < (FORCE_FROM_STOP_S if v.speed_mps < SLOW_MPS else FORCE_S):
+        if predicts and not o.pedestrian and o.eta_s < (FORCE_FROM_STOP_S if v.speed_mps < SLOW_MPS else FORCE_S):
             facts.append(WOULD_FORCE.text(vid, o.id))
     return facts
 

@@ -410,15 +410,14 @@ class Simulation:
                 if go and why.startswith("stop roller"):
                     self._set_factor(agent, drivers.ROLL_FACTOR)
             if agent.recorder:           # what the driver saw, whenever it changed; what it did, when that changed
-                facts = av.perceive(agent.id, agent.d.kind, p, m, engaged=False, on_call=agent.on_call, faults=None)
+                facts = av.perceive(agent.id, agent.d.kind, p, m, engaged=False, on_call=agent.on_call, faults=None,
+                                    predicts=False)
                 if changed or tuple(facts) != agent.asked_facts:
                     agent.asked_facts = tuple(facts)
                     self._record(agent, m.t_s, "vehicle.perception", {"facts": facts})
                 if changed:
                     self._publish_decision(agent, p, m.t_s, go, None)
-            if not changed:
-                return
-        p.why = why
+        p.why = why                      # the latest reason it goes or waits (a habit may take over at amber)
 
     def _carry_out(self, agent: _Agent, p: Passage, go: bool) -> bool:
         """Hold or release in the world; returns whether the vehicle goes (a hold may come too late)."""

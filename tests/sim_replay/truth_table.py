@@ -69,7 +69,19 @@ class Row:
     rule: str | None
 
 
+def against_its_rulebook(a: dict) -> bool:
+    """It asked, its rulebook said it could not enter, and it went on (too late to stop)."""
+    d = a.get("decision") or {}
+    return a["kind"] == "crossed the stop line" and d.get("permitted") is False and d.get("proceeds") is True
+
 TABLE = (
+    # DESIGN "Reasoning": the Vehicle Scenario is the vehicle's own; on it, its own rulebook forbade the act
+    Row("went on against its own rulebook at a red light", lambda a: against_its_rulebook(a) and signal(a, "red", "red_amber"),
+        "punishable", "HC 176"),
+    Row("went on against its own rulebook at a Stop line", lambda a: against_its_rulebook(a) and line(a, "stop"),
+        "punishable", "HC 171"),
+    Row("went on against its own rulebook at a Give Way line", lambda a: against_its_rulebook(a) and line(a, "give_way"),
+        "punishable", "HC 172"),
     Row("crossed on green", lambda a: signal(a, "green", None, "off", "none"), None, None),
     # HC 176; TSRGD 2016 Sch 14 Pt 1 para 5(3) and (7): no proceeding beyond the line on red (or red and amber)
     Row("crossed on red, no call", lambda a: signal(a, "red", "red_amber") and not a["on_call"], "punishable", "HC 176"),
