@@ -157,3 +157,12 @@ def test_an_unmarked_police_car_is_a_car_on_a_call():
     assert spawn["type"] == "car" and spawn["emergency"] is True and spawn["driver"] == "human"
     assert sim.truth.road_users["101"]["unmarked"] is True
     assert all(e["body"]["emergency"] for e in events if e["kind"] == "entity.state")
+
+
+def test_progress_is_reported_in_world_seconds_up_to_the_end():
+    seen = []
+    sim = Simulation(SimConfig(vehicles=3, duration_s=25.0, pedestrians=0),
+                     progress=lambda done, total: seen.append((done, total)))
+    list(sim.events())
+    assert seen[-1] == (25.0, 25.0) and [d for d, _ in seen] == sorted(d for d, _ in seen) and len(seen) >= 3
+    assert sim.summary.world_s == 25.0 and sim.summary.events_per_s > 0
