@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from reasoner.vocabulary import CAN
+from reasoner.vocabulary import CAN, IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 from sim_replay import av, drivers
 from sim_replay.agent import Agent
 from sim_replay.approach import Moment, Passage
@@ -286,6 +286,11 @@ class Simulation:
         if agent.d.role == "emergency" and self._calls.random() < c.call_change_per_min / 60.0:
             agent.on_call = not agent.on_call
             self.world.set_blue_lights(agent.id, agent.on_call)
+            if agent.asks:               # the crew's recorder notes the call as it begins or ends
+                facts = [IS_OF_TYPE.text(agent.id, agent.d.kind)] + \
+                    ([IS_ON_AN_EMERGENCY_CALL.text(agent.id)] if agent.on_call else [])
+                self._record(agent, t, "vehicle.perception", {"facts": facts})
+                agent.asked_facts = ()
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else 1.0)
             self.truth.road_user(agent.id, calls=self.truth.road_users[agent.id].get("calls", []) +
                                  [{"t_s": t, "on_call": agent.on_call}])
@@ -314,8 +319,9 @@ class Simulation:
             if p is not None:
                 p.observe(v, t)
                 light = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
-                if light == "amber" and "at_amber" not in p.draws:
+                if light == "amber" and p.draws.get("light") != "amber":      # the amber it may cross under
                     p.draws["at_amber"] = (round(v.to_line_m, 2), round(v.speed_mps, 2))
+                p.draws["light"] = light
                 if agent.on_call and light in ("red", "red_amber") and "crawl" not in p.draws:
                     p.draws["crawl"] = True         # blue lights against a red: up to the line at a crawl
                     self._set_factor(agent, CRAWL_FACTOR)

@@ -37,6 +37,9 @@ KNOWN = {
     ("out of a Give Way line, major road empty", "mitigated HC 172"):
         "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
         "junction raises a potential violation, which the validator then excuses",
+    ("out of a Give Way line, major road empty", "punishable HC 172"):
+        "a major-road user that came up more than a second after V crossed its line braked for V: the reasoner "
+        "counts it (V would force U, U approaching, on the main road), the table does not (LATE_S)",
     ("stood still in a yellow box, its exit clear", "punishable HC 174"):
         "the reasoner derives 'the exit of the box junction is clear' only from road users it measured beyond the "
         "junction, and never HC 174's right-turn exception; a vehicle standing behind one turning in the box is punished",
