@@ -6,37 +6,52 @@ from __future__ import annotations
 
 import socket
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Callable, Iterable, Optional
 
 import typer
 
 from cli.app import db_path, fail, open_existing
 from cli.incidents import show_incidents
+from cli.progress import stderr_progress
+from cli.safe_text import printable
 from cli.options import DbOption, JsonOption
 from explain import write_report
 from reasoner.api import Case
+
+if TYPE_CHECKING:
+    from sim_replay.outlets import OutletSummary
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
          report: Optional[Path] = typer.Option(
              None, "--report", help="Where to write the HTML report (default: gaps-report.html beside the store; "
-                                    ".md or .json by suffix).")) -> None:
-    """Replay the paper's two junction scenarios into the store, explain them and write a report.
+                                    ".md or .json by suffix)."),
+         paper: bool = typer.Option(False, "--paper", help="Replay the paper's two hand-written scenarios "
+                                    "(section 7.2) instead of simulating.")) -> None:
+    """Simulate the paper's junctions on SUMO, store, judge and explain the incidents, write a report.
 
-    The events travel over a loopback Zenoh link into an in-process ingest, as a recorder's would.
+    A seeded mix of road users, published over Zenoh into the store. The run holds a car running the red (punishable), an ambulance on a call crossing it
+    (mitigated), an automated car whose camera misread the light (its ASDE liable) and a Stop
+    line run; each is explained in full, every other incident listed in a line.
     """
-    from sim_replay.paper import paper_run
     path = db_path(db)
-    events = paper_run()
-    totals = publish_through_zenoh(path, events)
-    run = events[0]["run"]
-    if not json_out:
-        typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
-                   f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
+    if paper:
+        from sim_replay.paper import paper_run
+        events = paper_run()
+        run = events[0]["run"]
+        totals, _ = publish_through_zenoh(path, events)
+        if not json_out:
+            typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
+                       f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
+    else:
+        run = _simulate(path, json_out)
     target = report or path.parent / "gaps-report.html"
     with open_existing(path) as store:
         case = Case(store)              # judged once, for the listing and the report
-        show_incidents(case, run, json_out, explain=True)
+        if paper or json_out:
+            show_incidents(case, run, json_out, explain=True)
+        else:
+            _tour(case, run)
         try:
             written = write_report(case, run, target)
         except OSError as exc:
@@ -45,23 +60,62 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
                "prints a PDF)", err=json_out)
 
 
+def _simulate(path: Path, json_out: bool) -> str:
+    """The demo's simulation, published into the store; its summary on stdout (stderr with --json)."""
+    from cli.progress import stderr_progress
+    from sim_replay.demo import DEMO
+    from sim_replay.simulation import Simulation
+    with stderr_progress("simulating the paper's junctions on SUMO") as bar:
+        simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
+        totals, _ = publish_through_zenoh(path, simulation.events())
+    s = simulation.summary
+    typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {s.world_s:g} s of "
+               f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
+               f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations.\n"
+               f"Published over Zenoh; stored {totals['stored']:,}, duplicates {totals['duplicates']:,}, "
+               f"rejected {totals['rejected']:,} → {path}\n", err=json_out)
+    return DEMO.run
+
+
+def _tour(case: Case, run: str) -> None:
+    """Every incident in a line, then the featured ones explained in full."""
+    from explain.featured import featured
+    from explain.listing import explanations, incident_line
+    with stderr_progress("judging incidents") as progress:
+        found = [(case.number(inc), inc) for inc in case.incidents(run, progress=progress)]
+    typer.echo(f"{len(found)} incidents in run {run} (`gaps incidents --run {run}`; `gaps explain --run {run} N` "
+               "explains one):")
+    for n, inc in found:
+        typer.echo(printable(incident_line(inc, n)))
+    for feature, hit in featured(found):
+        typer.echo(f"\n━━ {feature.title} ━━")
+        if hit is None:
+            typer.echo("none in this run")
+        else:
+            typer.echo("\n".join(explanations(case, [hit])))
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
 
 
-def publish_through_zenoh(db: Path, events: list[dict], timeout_s: float = 30.0) -> dict:
-    """Publish the events over a loopback Zenoh link into the store; return the ingest's totals."""
+def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 30.0, *,
+                          record: Path | None = None, speed: float | None = None,
+                          each: Callable[[dict], None] | None = None) -> tuple[dict, OutletSummary]:
+    """Publish the events over a loopback Zenoh link into an in-process ingest on the store (and
+    record them, paced, as asked); return the ingest's totals and what went out."""
     from ingest.service import IngestService
-    from sim_replay.publisher import EventPublisher, zenoh_config
+    from sim_replay.outlets import Outlets
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     with IngestService(db, listen=[endpoint]) as ingest:
-        with EventPublisher(config=zenoh_config(connect=[endpoint])) as pub:
-            if not pub.wait_until_matched(events[0], timeout_s):
-                raise RuntimeError(f"the ingest did not subscribe within {timeout_s} s on {endpoint}")
-            pub.publish_all(events)
-        if not ingest.wait_until_settled(len(events), timeout_s):
+        with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s) as out:
+            for event in events:
+                out.put(event)
+                if each is not None:
+                    each(event)
+        sent = out.summary()
+        if not ingest.wait_until_settled(sent.published, timeout_s):
             raise RuntimeError(f"not every event reached the store within {timeout_s} s: {ingest.stats()}")
-        return ingest.stats()
-
+        return ingest.stats(), sent

@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from cli import demo, explain, incidents, migrate, quarantine, report, rules, runs, scene, transfer, verify
+from cli import demo, explain, incidents, migrate, quarantine, report, rules, runs, scene, sim, transfer, verify
 from cli.app import new_app
 
 
@@ -20,6 +20,7 @@ def build() -> typer.Typer:
     app = new_app()
     app.callback()(_version_option)
     app.command()(demo.demo)
+    app.command()(sim.sim)
     app.command()(runs.runs)
     app.command()(scene.scene)
     app.command()(incidents.incidents)

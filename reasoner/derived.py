@@ -327,8 +327,10 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
 
 def _forced(p: Passage, other: Other) -> DerivedFact | None:
     """U braked at FORCE_DECEL_MPS2 or harder, or came to a stop, while V passed, and not for a
-    red or amber light of its own nor behind a road user it followed (others.py)."""
-    if (other.light is not None and other.light.colour != "green") or other.followed is not None:
+    red or amber light of its own, nor at a Stop line of its own, nor behind a road user it
+    followed (others.py)."""
+    if (other.light is not None and other.light.colour != "green") or other.followed is not None \
+            or other.own_stop_line:
         return None
     b, stop = other.braking, other.stopped
     if stop is not None:

@@ -31,6 +31,7 @@ Point = tuple[float, float]
 COMPASS = ("east", "north", "west", "south")
 UNIT = {"east": (1.0, 0.0), "north": (0.0, 1.0), "west": (-1.0, 0.0), "south": (0.0, -1.0)}
 MINOR_KINDS = ("stop", "give_way", "give way")
+CONTROL_OF_KIND = {"give way": "give_way", "signal": "lights", "signals": "lights", "traffic_light": "lights"}
 MAX_COORD_M = 1e7            # 10,000 km: anything further is not a position on a road map
 DEFAULT_EXTENT_M = 10.0      # "in the junction" within 10 m of the centre, when the map says nothing
 ROAD_SNAP_M = 15.0           # a position this close to a road (two lanes and a verge) is on it
@@ -151,6 +152,19 @@ class Junction:
 
     def line_for(self, approach: str | None) -> StopLine | None:
         return next((line for line in self.lines if line.approach == approach), None)
+
+    def control_from(self, approach: str | None) -> str:
+        """The control traffic from this approach meets: its line's kind where the line has one
+        (a junction may have a Stop arm and a Give Way arm, its `control` naming only one);
+        "none" for an arm without a line where the other lines carry kinds (the major road of a
+        Stop or Give Way junction); else the junction's control. Kinds are read as the map's
+        controls: "give way" and "give_way" alike, a "signal" line as "lights"."""
+        line = self.line_for(approach) if approach is not None else None
+        if line is not None and line.kind:
+            return CONTROL_OF_KIND.get(line.kind, line.kind)
+        if approach is not None and line is None and any(other.kind for other in self.lines):
+            return "none"
+        return self.control
 
     def is_major(self, approach: str | None) -> bool | None:
         """Whether an approach is on the major road; None where the map does not say."""

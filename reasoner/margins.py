@@ -47,7 +47,8 @@ def _kind(p: Passage, action: str, rule: str | None) -> str | None:
         return "red"
     if colour == "amber":
         return "amber"
-    return {"stop": "stop", "give_way": "give way"}.get(p.junction.control)
+    control = p.junction.control_from(p.approach)
+    return {"stop": "stop", "give_way": "give way"}.get(control)
 
 
 def _red(p: Passage) -> Margin | None:

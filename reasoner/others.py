@@ -5,7 +5,8 @@ counts as near when it came within CONFLICT_M of it in the window read; one foll
 on its own approach is left out (it does not cross its path). For each: the arm it was first seen
 on and whether it was closing on the centre, whether that arm is the major road, the hardest it braked while the vehicle passed (its speed
 series, averaged over at least a second: motion.peak_deceleration), whether it came to a stop, and
-what its own signal showed then (braking for one's own red light is not being forced by another),
+what its own signal showed then (braking for one's own red light is not being forced by another)
+or whether a Stop line of its own was ahead of it (stopping there is its own duty, HC 171),
 and whether a road user ahead of it on its arm explains its braking (following a slower or stopped
 vehicle within FOLLOW_S of headway is not being forced by the vehicle that passed).
 """
@@ -71,7 +72,18 @@ def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, 
     timeline = signals.timeline(junction.id, arm) if arm else ()
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
     light = shown(timeline, moment) if moment is not None and timeline else None
-    return Other(user, src, window, arm, closing, junction.is_major(arm), closest, braking, stopped, light)
+    return Other(user, src, window, arm, closing, junction.is_major(arm), closest, braking, stopped, light,
+                 own_stop_line=_before_own_stop_line(junction, arm, window, moment))
+
+
+def _before_own_stop_line(junction: Junction, arm: str | None, window: tuple[Sample, ...], moment: int | None) -> bool:
+    """Whether the road user braked or stopped before a Stop line on its own arm: that line
+    makes it stop whoever passes (HC 171), so its stop is not forced by the vehicle passing."""
+    line = junction.line_for(arm) if arm is not None else None
+    if line is None or moment is None or junction.control_from(arm) != "stop":
+        return False
+    here, _ = position_at(window, moment)
+    return here is not None and line.to_line(*here) >= -1.0
 
 
 def _followed(other: Other, everyone: list[Other], junction: Junction) -> Other:

@@ -120,10 +120,11 @@ class Other:
     type: str | None = None          # its entity.spawn's type (pedestrian, cyclist, car ...)
     spawn: EventRef | None = None    # ... and that event
     followed: str | None = None      # the road user ahead of it that explains its braking or stop
+    own_stop_line: bool = False      # it braked or stopped before a Stop line of its own arm
 
     def to_json(self) -> dict[str, Any]:
         return {"user": self.user, "src": self.src, "type": self.type, "arm": self.arm, "closing": self.closing,
-                "main_road": self.main_road, "followed": self.followed,
+                "main_road": self.main_road, "followed": self.followed, "own_stop_line": self.own_stop_line,
                 "closest_m": round(self.closest_m, 2), "braking": self.braking.to_json() if self.braking else None,
                 "stopped": self.stopped.ref.to_json() if self.stopped else None,
                 "light": self.light.to_json() if self.light else None, "samples": len(self.samples)}

@@ -72,6 +72,7 @@ class _Track:
     since: int | None = None          # ... from this time
     boxed: bool = False               # already a box candidate on this entry
     last: tuple[int, float] | None = None
+    approach: str | None = None       # where the last measurement outside was: the arm it comes from
 
 
 @dataclass
@@ -89,8 +90,9 @@ class Sweep:
     def __post_init__(self) -> None:
         self.by_monitor = {m: j for j in self.map.junctions for m in j.monitors}
         self._wanted = {j.id for j in self.map.junctions
-                        if j.control in ("stop", "give_way", "lights") or j.boxed or j.major}
-        self._tracked = {j.id for j in self.map.junctions if j.control in ("stop", "give_way") or j.boxed or j.major}
+                        if j.control in ("stop", "give_way", "lights") or _minor_lines(j) or j.boxed or j.major}
+        self._tracked = {j.id for j in self.map.junctions
+                         if j.control in ("stop", "give_way") or _minor_lines(j) or j.boxed or j.major}
         self._inside: dict[tuple[str, str], int] = {}    # (junction, road user) -> last time inside
         limits = [r.limit_mph for r in self.map.roads if r.limit_mph is not None]
         self._slowest_limit_mps = min(limits) / MPH_PER_MPS if limits else math.inf
@@ -155,6 +157,7 @@ class Sweep:
         if v is not None:
             track.last = (t, v)
         if not j.inside(x, y):
+            track.approach = sector(x - j.x, y - j.y)
             if track.since is None or t - track.since > APPROACH_S * SECOND:
                 track.slowest, track.since = math.inf, t
             if v is not None:
@@ -178,12 +181,15 @@ class Sweep:
             self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; no light stated with it"))
 
     def _entry(self, j: Junction, user: str, event: dict, track: _Track) -> None:
-        if j.control == "stop" and track.slowest > STILL_MPS:
+        """An entry, looked at for what the arm it came from asks (a junction may have a Stop
+        arm, a Give Way arm and a major road)."""
+        control = j.control_from(track.approach)
+        if control == "stop" and track.slowest > STILL_MPS:
             slowest = "none measured" if track.slowest == math.inf else f"slowest {track.slowest:.1f} m/s"
             self._keep(Candidate(user, ENTER, j.id, event, f"entered a Stop junction ({slowest} on its approach)"))
-        if j.control == "give_way" or j.major:
+        if (control == "give_way" or j.major) and not j.is_major(track.approach):
             self._entries.append((j, user, event, False))
-        if j.control == "lights" and not _states_light(event, user):
+        if control == "lights" and not _states_light(event, user):
             self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; no light stated with it"))
         track.slowest, track.since = math.inf, None
 
@@ -210,6 +216,10 @@ def sweep(events: Iterable[dict], map_: Map) -> list[Candidate]:
 
 
 _NUMBER = (int, float)
+
+
+def _minor_lines(j: Junction) -> bool:
+    return any(j.control_from(line.approach) in ("stop", "give_way") for line in j.lines)
 
 
 def _states_light(event: dict, user: str) -> bool:

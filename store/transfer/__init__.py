@@ -2,6 +2,7 @@
 
     import_file(store, "run.mcap")                  # -> ImportReport
     export_run(store, "demo-001", "run.jsonl")      # -> ExportReport
+    with Recorder("run.mcap") as rec: rec.add(event) # a producer's live recording (mcap_record.py)
 
 The format comes from the extension (.jsonl, .ndjson, .mcap) unless given. A user's mistake (no
 such file, an unknown format or run, a file that is not MCAP) raises TransferError; bad events
@@ -19,12 +20,13 @@ from .formats import FORMATS, format_of
 from .jsonl import export_jsonl, import_jsonl
 from .mcap_in import import_mcap
 from .mcap_out import export_mcap
+from .mcap_record import Recorder
 from .outcomes import ExportReport, ImportReport
 from .rows import ORDERS
 
 DEFAULT_ORDER = {"jsonl": "chain", "mcap": "chain"}
 
-__all__ = ["DEFAULT_ORDER", "FORMATS", "ORDERS", "ExportReport", "ImportReport", "TransferError",
+__all__ = ["DEFAULT_ORDER", "FORMATS", "ORDERS", "ExportReport", "ImportReport", "Recorder", "TransferError",
            "check_source", "export_run", "format_of", "import_file"]
 
 

@@ -15,6 +15,12 @@ from typing import BinaryIO, Iterator
 from .errors import TransferError
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextmanager
 def replacing(path: str | Path) -> Iterator[BinaryIO]:
     """A binary file that becomes `path` when the block finishes without an exception."""
@@ -29,6 +35,7 @@ def replacing(path: str | Path) -> Iterator[BinaryIO]:
             yield out
             out.flush()
             os.fsync(out.fileno())
+        os.chmod(temp, 0o666 & ~_umask())      # mkstemp's 0600 would hide the file from its readers
         os.replace(temp, target)
     except BaseException:
         Path(temp).unlink(missing_ok=True)

@@ -28,6 +28,7 @@ from itertools import chain
 from typing import Iterable, Iterator
 
 from ..intake import Candidate
+from .varint import read_varint
 
 ATTACHMENT = "gaps.chain_order"
 MEDIA_TYPE = "application/x-gaps-chain-order+zlib"
@@ -79,25 +80,14 @@ class ChainOrder:
         last = [-1] * len(self.sources)
         body, pos, end = self.body, 0, len(self.body)
         while pos < end:
-            value, pos = _read_varint(body, pos)
+            value, pos = read_varint(body, pos)
             index, explicit = value >> 1, value & 1
             if explicit:
-                seq, pos = _read_varint(body, pos)
+                seq, pos = read_varint(body, pos)
             else:
                 seq = last[index] + 1
             last[index] = seq
             yield self.sources[index], seq
-
-
-def _read_varint(data: bytes, pos: int) -> tuple[int, int]:
-    value = shift = 0
-    while True:
-        byte = data[pos]
-        pos += 1
-        value |= (byte & 0x7F) << shift
-        if not byte & 0x80:
-            return value, pos
-        shift += 7
 
 
 def decode(data: bytes) -> ChainOrder:

@@ -26,7 +26,7 @@ from __future__ import annotations
 import heapq
 import json
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any, Callable, Iterable, Iterator
 
 from mcap.writer import CompressionType, Writer
 
@@ -149,6 +149,45 @@ def _draw(out: _InLogTimeOrder, channels: _Channels, drawn: list[Derived], horiz
     return len(drawn)
 
 
+class RowWriter:
+    """Writes a run's rows, put in (t, seq, src) order, and (with scene) their drawing, every
+    message in log-time order, counting them in the report: an export's whole run, or a
+    recording's events as they come (mcap_record.py)."""
+
+    def __init__(self, writer: Writer, run: str, report: ExportReport, progress: Progress | None = None,
+                 scene: bool = True) -> None:
+        self.report, self.progress = report, progress
+        self.channels, self.out = _Channels(writer, run), _InLogTimeOrder(writer)
+        self.drawing = SceneBuilder() if scene else None
+
+    def put(self, row: Row) -> None:
+        out, drawing, report = self.out, self.drawing, self.report
+        if drawing is None:  # events alone come in time order: nothing to hold back
+            out.put(self.channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
+        else:
+            out.put(self.channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq, drawing.horizon())
+            drawn = drawing.add(json.loads(row.text)) if row.kind in DRAWN_KINDS else drawing.advance(row.t)
+            report.derived += _draw(out, self.channels, drawn, drawing.horizon())
+            out.release(drawing.horizon())
+        report.events += 1
+        if self.progress is not None and report.events % _PROGRESS_EVERY == 0:
+            self.progress(report.events)
+
+    def finish(self) -> None:
+        if self.drawing is not None:
+            self.report.derived += _draw(self.out, self.channels, self.drawing.finish(), None)
+        self.out.release()
+
+
+def write_rows(writer: Writer, run: str, rows: Iterable[Row], report: ExportReport, progress: Progress | None,
+               scene: bool) -> None:
+    """Every row of a run, given in (t, seq, src) order (RowWriter)."""
+    out = RowWriter(writer, run, report, progress, scene)
+    for row in rows:
+        out.put(row)
+    out.finish()
+
+
 def export_mcap(
     store: Store,
     run: str,
@@ -174,22 +213,7 @@ def export_mcap(
             writer.add_attachment(create_time=0, log_time=0, name=chain_order.ATTACHMENT,
                                   media_type=chain_order.MEDIA_TYPE, data=attachment)
             report.chain_order = True
-        channels, out = _Channels(writer, run), _InLogTimeOrder(writer)
-        drawing = SceneBuilder() if scene else None
-        for row in stored_rows(store, run, "time"):
-            if drawing is None:  # events alone come in time order: nothing to hold back
-                out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
-            else:
-                out.put(channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq, drawing.horizon())
-                drawn = drawing.add(json.loads(row.text)) if row.kind in DRAWN_KINDS else drawing.advance(row.t)
-                report.derived += _draw(out, channels, drawn, drawing.horizon())
-                out.release(drawing.horizon())
-            report.events += 1
-            if progress is not None and report.events % _PROGRESS_EVERY == 0:
-                progress(report.events)
-        if drawing is not None:
-            report.derived += _draw(out, channels, drawing.finish(), None)
-        out.release()
+        write_rows(writer, run, stored_rows(store, run, "time"), report, progress, scene)
         writer.finish()
         report.bytes = stream.tell()
     if progress is not None:

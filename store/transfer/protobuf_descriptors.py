@@ -13,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Iterator
 
+from .varint import read_varint
+
 _VARINT, _I64, _LEN, _I32 = 0, 1, 2, 5
 REPEATED = 3  # FieldDescriptorProto.Label
 
@@ -49,16 +51,10 @@ class DescriptorError(ValueError):
 
 
 def _varint(data: bytes, pos: int) -> tuple[int, int]:
-    value = shift = 0
-    while True:
-        if pos >= len(data):
-            raise DescriptorError("a varint runs past the end of the data")
-        byte = data[pos]
-        pos += 1
-        value |= (byte & 0x7F) << shift
-        if not byte & 0x80:
-            return value, pos
-        shift += 7
+    try:
+        return read_varint(data, pos)
+    except ValueError as exc:
+        raise DescriptorError(str(exc)) from None
 
 
 def _fields(data: bytes) -> Iterator[tuple[int, int | bytes]]:

@@ -72,7 +72,7 @@ def test_pdf_without_chromium_is_a_missing_tool(paper_db, tmp_path):
 
 def test_demo_writes_the_report_and_says_where(tmp_path):
     report = tmp_path / "demo-report.html"
-    r = gaps("demo", "--report", str(report), db=tmp_path / "gaps.db")
+    r = gaps("demo", "--paper", "--report", str(report), db=tmp_path / "gaps.db")
     assert r.returncode == 0, r.stderr
     assert "Vehicle 173 committed a punishable violation" in r.stdout
     assert "Vehicle 253 committed a mitigated violation" in r.stdout
@@ -81,7 +81,7 @@ def test_demo_writes_the_report_and_says_where(tmp_path):
 
 
 def test_demo_report_defaults_to_beside_the_store(tmp_path):
-    r = gaps("demo", db=tmp_path / "gaps.db")
+    r = gaps("demo", "--paper", db=tmp_path / "gaps.db")
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "gaps-report.html").is_file()
     assert str(tmp_path / "gaps-report.html") in r.stdout

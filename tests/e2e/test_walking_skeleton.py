@@ -15,13 +15,13 @@ def gaps(*args, db):
 
 def test_demo_incidents_verify_and_tamper(tmp_path):
     db = tmp_path / "gaps.db"
-    demo = gaps("demo", db=db)
+    demo = gaps("demo", "--paper", db=db)
     assert demo.returncode == 0, demo.stderr
     assert "stored 20" in demo.stdout
     assert "Vehicle 173 committed a punishable violation of Highway Code rule 176" in demo.stdout
     assert "Vehicle 253 committed a mitigated violation of Highway Code rule 176" in demo.stdout
 
-    again = gaps("demo", db=db)          # idempotent: the same events are duplicates
+    again = gaps("demo", "--paper", db=db)          # idempotent: the same events are duplicates
     assert again.returncode == 0 and "duplicates 20" in again.stdout
 
     listed = gaps("incidents", "--json", db=db)

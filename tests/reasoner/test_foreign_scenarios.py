@@ -469,10 +469,13 @@ def test_a_camera_flag_against_a_lawful_stop_is_dismissed_with_the_seconds_stati
 # 7. Give Way (HC 172)
 # ==================================================================================================
 
-def give_way_run(other: Motion, sampling: str, producer: str) -> Foreign:
+def give_way_run(other: Motion, sampling: str, producer: str, mixed: bool = False) -> Foreign:
     """7 pulls out of the west Give Way line at 6 m/s without slowing; c2 comes down the major
-    road from the north. The camera watches both."""
-    j = crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})
+    road from the north. The camera watches both. `mixed`: the junction's control says "stop"
+    (its south arm has a Stop line), as a simulator's junction with a Stop arm and a Give Way
+    arm does; the west arm's line is still a Give Way line."""
+    kinds = {"west": "give_way", "south": "stop"} if mixed else {"west": "give_way", "east": "give_way"}
+    j = crossroads("J1", 0.0, 0.0, "stop" if mixed else "give_way", kinds=kinds)
     run = Foreign(junctions=[j])
     run.spawn("7")
     run.spawn("c2")
@@ -508,6 +511,43 @@ def test_a_give_way_failure_that_makes_main_road_traffic_brake_hard_is_punishabl
     verdict(inc, "punishable", "HC 172")
     margin(inc, "deceleration", "m/s²", 5.0, 0.25)
     no_incident(found, "c2")                       # braking to avoid 7 is no act of c2's
+
+
+def test_a_give_way_failure_at_a_junction_that_also_has_a_stop_arm_is_judged_by_its_own_line(tmp_path):
+    """The same act at a junction whose control names its Stop arm: 7's line is a Give Way line,
+    so HC 172 (not HC 171's duty to stop) applies, and its margin is c2's deceleration, 5 m/s²
+    (a Stop margin, seconds stationary, would say nothing here). c2 on the major road owes no stop."""
+    found = judge(tmp_path, give_way_run(FORCED, "5 Hz", "measured", mixed=True))
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 172")
+    margin(inc, "deceleration", "m/s²", 5.0, 0.25)
+    no_incident(found, "c2")
+
+
+def test_a_car_stopping_at_its_own_stop_line_across_the_junction_is_not_forced_by_a_give_way_emergence(tmp_path):
+    """7 emerges from the west Give Way line while c3, on the east arm, brakes to a stop at its
+    own Stop line (as HC 171 obliges it to, whoever passes), and c2 on the main road is still far
+    off (UNHINDERED). HC 172's duty is to the main road's traffic; c3's stop is its own line's
+    doing, not 7's. No violation by 7; c3 stopped lawfully and did nothing either."""
+    j = crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "give_way", "east": "stop"})
+    run = Foreign(junctions=[j])
+    for user in ("7", "c2", "c3"):
+        run.spawn(user)
+    mine, across = Motion(-40.0, 6.0), Motion.stopping_at(-45.0, 8.0, -12.5, wait=6, then=3)
+    times = SAMPLING["5 Hz"](START, START + 16.0)
+    run.drive("7", mine, "west", times, t_start=START)
+    run.drive("c2", UNHINDERED, "north", times, t_start=START)
+    run.drive("c3", across, "east", times, t_start=START)
+    # the camera states what a simulator's does: the sign, and the main-road car coming
+    said = camera("7", sign="give way", also=("c2 is approaching 7", "c2 is on the main road"))
+    run.watch("7", mine, "west", rate(5, START, START + 16.0), t_start=START, facts=said)
+    for user, motion, arm in (("c2", UNHINDERED, "north"), ("c3", across, "east")):
+        run.watch(user, motion, arm, rate(5, START, START + 16.0), t_start=START)
+    found = judge(tmp_path, run)
+    assert of(found, "7"), "the camera's sentences raise a potential violation to judge"
+    no_violation(found, "7")
+    assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_incident(found, "c3")
 
 
 @pytest.mark.parametrize("sampling", ["2 Hz", "irregular 2-10 Hz"])

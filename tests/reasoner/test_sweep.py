@@ -82,3 +82,27 @@ def test_hostile_bodies_are_passed_over():
     run.emit("monitor/m1", 2, "monitor.observation", {"vehicle": ["7"], "x": 1.0, "y": 1.0})
     run.emit("monitor/m1", 3, "monitor.observation", {"vehicle": "7", "x": float("inf"), "y": 0.0})
     assert candidates(run) == []
+
+
+def mixed_junction() -> Foreign:
+    """The simulation's j2: a Stop line on the north arm, a Give Way line on the south arm, the
+    east-west road major (no line); the junction's `control` names only "stop"."""
+    return Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"north": "stop", "south": "give_way"})])
+
+
+def test_at_a_mixed_junction_only_the_stop_arm_is_held_to_stopping():
+    # HC 171: stop at the Stop line; the major road (no line) and the Give Way arm (HC 172: give
+    # way, no duty to stop) owe no stop, so driving through from them is no Stop candidate
+    run = mixed_junction()
+    run.watch("north", Motion(-80, 13.4), "north", rate(5, 0, 8))
+    run.watch("major", Motion(-80, 13.4), "west", rate(5, 0, 8))
+    run.watch("giveway", Motion(-80, 13.4), "south", rate(5, 0, 8))
+    assert [(c.user, c.action) for c in candidates(run)] == [("north", ENTER)]
+
+
+def test_at_a_mixed_junction_a_give_way_entry_before_major_road_braking_is_a_candidate_a_major_entry_not():
+    run = mixed_junction()
+    run.watch("7", Motion(-40, 6.0), "south", rate(5, 0, 10))
+    run.watch("u1", Motion(-60, 13.0, [(4.0, 0.0), (2.0, -5.0)]), "west", rate(5, 0, 10))
+    run.watch("u2", Motion(-45, 10.0), "east", rate(5, 0, 10))     # on the major road: entering is its right
+    assert [c.user for c in candidates(run) if "braked" in c.why] == ["7"]

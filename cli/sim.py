@@ -1,0 +1,151 @@
+"""`gaps sim`: run the junction simulation on SUMO and publish what its road users, signals and
+monitors record (DESIGN "Simulation"). Argument parsing and output only: the simulation is
+sim_replay.simulation's, the publishing and recording sim_replay.outlets', the ingest ingest's."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from cli.app import db_path, fail
+from cli.options import JsonOption
+
+_UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
+
+
+def parse_duration(text: str) -> float:
+    """"10m", "90s", "1.5h" or plain seconds, as world seconds."""
+    found = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*(s|m|min|h)?\s*", text or "")
+    if not found or float(found.group(1)) <= 0:
+        raise typer.BadParameter(f"{text!r} is not a duration: write e.g. 90s, 10m or 1h")
+    return float(found.group(1)) * _UNITS[found.group(2) or ""]
+
+
+def parse_speed(text: str) -> float | None:
+    """"max" (as fast as the simulation runs) or a factor of real time ("1", "10")."""
+    if text.strip().lower() == "max":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value > 0 or value != value:
+        raise typer.BadParameter(f"{text!r} is not a speed: write max, or a factor of real time such as 1 or 10")
+    return value
+
+
+def parse_faults(text: str | None, names: tuple[str, ...]) -> dict[str, float]:
+    """"misperceived_light=0.2,lost_event=0.01" as {name: rate}; rates from 0 to 1."""
+    rates: dict[str, float] = {}
+    for part in filter(None, (p.strip() for p in (text or "").split(","))):
+        name, _, value = part.partition("=")
+        name = name.strip().replace("-", "_")
+        if name not in names:
+            raise typer.BadParameter(f"unknown fault {name!r}: use {', '.join(names)} (each =RATE from 0 to 1)")
+        try:
+            rate = float(value)
+        except ValueError:
+            rate = -1.0
+        if not 0.0 <= rate <= 1.0:
+            raise typer.BadParameter(f"fault {name}: {value!r} is not a rate from 0 to 1")
+        rates[name] = rate
+    return rates
+
+
+def sim(
+    map_: str = typer.Option("paper", "--map", help="A bundled map (paper) or a SUMO network FILE.net.xml."),
+    monitors: Optional[Path] = typer.Option(None, "--monitors", help="Monitors file for a --map FILE "
+                                            "(JSON: id, junction, x, y, heading_deg, range_m, fov_deg)."),
+    vehicles: int = typer.Option(40, "--vehicles", min=1, max=100_000, help="Vehicles that set off in the run."),
+    duration: str = typer.Option("3m", "--duration", help="World time to simulate: 90s, 10m, 1h."),
+    seed: int = typer.Option(0, "--seed", help="Same seed, same events."),
+    rate: float = typer.Option(10.0, "--rate", min=0.5, max=10.0, help="entity.state and observations per second."),
+    av_share: float = typer.Option(0.3, "--av-share", min=0.0, max=1.0, help="Share of cars driving themselves."),
+    faults: Optional[str] = typer.Option(None, "--faults", help="Injected faults with rates, e.g. "
+                                         "misperceived_light=0.2,lost_event=0.01."),
+    run: str = typer.Option("sim-001", "--run", help="Run id."),
+    record: Optional[Path] = typer.Option(None, "--record", help="Also record the events as MCAP."),
+    truth: Optional[Path] = typer.Option(None, "--truth", help="Write the ground truth here (default: beside "
+                                         "the recording or the store, RUN.truth.json)."),
+    speed: str = typer.Option("max", "--speed", help="max, or a factor of real time (1: real time)."),
+    listen: list[str] = typer.Option([], "--listen", help="Zenoh endpoint to listen on for an ingest (repeatable)."),
+    connect: list[str] = typer.Option([], "--connect", help="Zenoh endpoint of a running `gaps serve` (repeatable)."),
+    db: Optional[Path] = typer.Option(None, "--db", help="Without --listen/--connect: store into this file through "
+                                      "an in-process ingest (default: $GAPS_DB or ./gaps.db)."),
+    json_out: bool = JsonOption,
+) -> None:
+    """Simulate the junctions on SUMO and publish every event over Zenoh.
+
+    Automated vehicles ask the rulebook, human drivers follow their profiles, monitors watch.
+    The events go into an ingest here (on --db), or to the endpoints given; --record keeps them
+    as MCAP too; the ground truth is written beside."""
+    from sim_replay.sim_config import FaultRates, SimConfig
+    from store import GapsError
+
+    names = tuple(f.name for f in dataclasses.fields(FaultRates))
+    net = Path(map_) if map_.endswith(".xml") or "/" in map_ else None
+    if net is not None and not net.is_file():
+        fail(f"no such network file: {net}")
+    if net is not None and monitors is None:
+        fail("a --map FILE needs --monitors FILE (where the cameras are)")
+    config = SimConfig(run=run, seed=seed, map="paper" if net else map_, net=str(net) if net else None,
+                       monitors=str(monitors) if monitors else None, vehicles=vehicles,
+                       duration_s=parse_duration(duration), rate_hz=rate, av_share=av_share,
+                       faults=FaultRates(**parse_faults(faults, names)))
+    pace = parse_speed(speed)
+    store_file = None if listen or connect else db_path(db)
+    truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
+    try:
+        summary, sent, stored = _run(config, pace, record, listen, connect, store_file, truth_file)
+    except (GapsError, TimeoutError, OSError) as exc:
+        fail(str(exc))
+    out = {"run": run, "simulation": summary.to_json(), "published": sent.to_json(), "stored": stored,
+           "truth": str(truth_file)}
+    if json_out:
+        typer.echo(json.dumps(out, indent=2))
+        return
+    _print(out, store_file)
+
+
+def _run(config, pace, record, listen, connect, store_file, truth_file):
+    """Simulate and send; composition of the rooms' own calls only."""
+    from cli.demo import publish_through_zenoh
+    from cli.progress import stderr_progress
+    from sim_replay.outlets import Outlets
+    from sim_replay.simulation import Simulation
+
+    with stderr_progress(f"simulating {config.run}") as bar:
+        simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None)
+        stored = None
+        if store_file is not None:
+            stored, sent = publish_through_zenoh(store_file, simulation.events(), record=record, speed=pace)
+        else:
+            with Outlets(listen=listen, connect=connect, record=record, speed=pace) as outlets:
+                for event in simulation.events():
+                    outlets.put(event)
+            sent = outlets.summary()
+    simulation.truth.write(truth_file)
+    return simulation.summary, sent, stored
+
+
+def _print(out: dict, store_file: Path | None) -> None:
+    s, sent = out["simulation"], out["published"]
+    typer.echo(f"Simulated run {out['run']}: {s['world_s']:g} s of world time in {s['wall_s']:g} s; "
+               f"{s['vehicles']} vehicles, {s['pedestrians']} pedestrians")
+    typer.echo(f"  events {s['events']:,} ({s['lost_events']:,} lost on purpose), rulebook queries "
+               f"{s['rulebook_queries']:,}, potential violations {s['potential_violations']:,}, "
+               f"acts in the ground truth {s['acts']:,}")
+    if store_file is not None:
+        st = out["stored"]
+        typer.echo(f"  stored {st['stored']:,}, duplicates {st['duplicates']:,}, rejected {st['rejected']:,} → {store_file}")
+    else:
+        typer.echo(f"  published {sent['published']:,} events over Zenoh")
+    if sent["recording"]:
+        typer.echo(f"  recorded {sent['recorded']:,} events → {sent['recording']} ({sent['recording_bytes']:,} bytes)")
+    typer.echo(f"  ground truth → {out['truth']}")
+    if store_file is not None:
+        typer.echo(f"Next: gaps incidents --db {store_file} --run {out['run']}")

@@ -1,0 +1,128 @@
+"""Where a producer's events go: onto Zenoh, into its own MCAP recording, at the pace asked.
+
+    with Outlets(connect=["tcp/127.0.0.1:7447"], record="run.mcap", speed=1.0) as out:
+        for event in events:
+            out.put(event)
+    out.summary()      # events published and recorded, sources, world and wall seconds
+
+The simulation and the replay of a recording both end here, so that what reaches an ingest and
+what the recording holds are the same events in the same order. Publishing is RELIABLE with
+BLOCK (publisher.py): a slow ingest slows the producer down rather than losing events. With a
+speed, world time is paced against the wall clock (1.0: real time; 10.0: ten times faster);
+without one the events go as fast as they are made.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Sequence
+
+from store import Recorder
+
+from .publisher import EventPublisher, zenoh_config
+
+SECOND = 1_000_000_000
+
+
+@dataclass(frozen=True)
+class OutletSummary:
+    """What went out: counts, sources, the world time covered and the wall time it took."""
+
+    published: int
+    recorded: int
+    late_in_recording: int
+    sources: int
+    world_s: float
+    wall_s: float
+    recording: str | None
+    recording_bytes: int
+
+    def to_json(self) -> dict:
+        return dict(self.__dict__)
+
+
+class Outlets:
+    """Publishes (when endpoints are given) and records (when a path is given) each event put."""
+
+    def __init__(self, *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer",
+                 record: str | Path | None = None, speed: float | None = None, wait_s: float = 30.0) -> None:
+        if speed is not None and not speed > 0:
+            raise ValueError(f"speed must be positive (1 = real time) or None (as fast as possible), not {speed!r}")
+        self.endpoints = (tuple(listen), tuple(connect))
+        self.mode, self.record_path, self.speed, self.wait_s = mode, record, speed, wait_s
+        self._publisher: EventPublisher | None = None
+        self._recorder: Recorder | None = None
+        self._published = 0
+        self._sources: set[str] = set()
+        self._first_t: int | None = None
+        self._last_t: int | None = None
+        self._wall0 = 0.0
+        self._matched = False
+        self._result: OutletSummary | None = None
+
+    def __enter__(self) -> Outlets:
+        listen, connect = self.endpoints
+        if listen or connect:
+            self._publisher = EventPublisher(config=zenoh_config(listen=listen, connect=connect, mode=self.mode))
+        if self.record_path is not None:
+            try:
+                self._recorder = Recorder(self.record_path).__enter__()
+            except BaseException:
+                self._close_publisher()
+                raise
+        self._wall0 = time.monotonic()
+        return self
+
+    def put(self, event: dict) -> None:
+        """Send one event on (blocking while Zenoh's queue is full, or until its time comes)."""
+        t = event["t"]
+        if self._first_t is None:
+            self._first_t = t
+        self._last_t = t if self._last_t is None else max(self._last_t, t)
+        if self.speed is not None:
+            due = self._wall0 + (t - self._first_t) / SECOND / self.speed
+            ahead = due - time.monotonic()
+            if ahead > 0:
+                time.sleep(ahead)
+        if self._publisher is not None:
+            if not self._matched:
+                self._matched = self._publisher.wait_until_matched(event, self.wait_s)
+                if not self._matched:
+                    raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
+                                       "is `gaps serve` running there?")
+            self._publisher.publish(event)
+            self._published += 1
+        if self._recorder is not None:
+            self._recorder.add(event)
+        self._sources.add(event["src"])
+
+    def summary(self) -> OutletSummary:
+        if self._result is not None:
+            return self._result
+        rec = self._recorder
+        world = 0.0 if self._first_t is None else (self._last_t - self._first_t) / SECOND
+        return OutletSummary(self._published, rec.report.events if rec and rec.report else 0, rec.late if rec else 0,
+                             len(self._sources), world, time.monotonic() - self._wall0,
+                             str(self.record_path) if self.record_path is not None else None,
+                             rec.report.bytes if rec and rec.report else 0)
+
+    def _where(self) -> str:
+        listen, connect = self.endpoints
+        return ", ".join([*(f"connect {e}" for e in connect), *(f"listen {e}" for e in listen)])
+
+    def _close_publisher(self) -> None:
+        if self._publisher is not None:
+            self._publisher.close()
+            self._publisher = None
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        try:
+            if self._recorder is not None:
+                self._recorder.__exit__(exc_type, exc, tb)
+        finally:
+            self._close_publisher()
+        if exc_type is None:
+            self._result = self.summary()
