@@ -31,9 +31,9 @@ KNOWN = {
         "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped')",
     ("out of a Give Way line, major-road traffic braked hard", "mitigated HC 172"):
         "for the major-road user that braked, the reasoner does not derive all three of 'U is approaching V', "
-        "'U is on the main road' and 'V would force U' (seed 7: '107 is on the main road' missing for 139's; 'would "
-        "force 124' missing for 118's, while it derives 'would force 113' for a car that stopped at its own Stop "
-        "line 4 m from the centre), so HC 172's prohibition does not hold",
+        "'U is on the main road' and 'V would force U' (seed 7: '107 is on the main road' missing for 139's; no "
+        "'118 would force 124' although 124, approaching on the main road, braked at 4.3 m/s² in the world's "
+        "record), so HC 172's prohibition does not hold",
     ("out of a Give Way line, major road empty", "mitigated HC 172"):
         "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
         "junction raises a potential violation, which the validator then excuses",
