@@ -166,3 +166,20 @@ def test_progress_is_reported_in_world_seconds_up_to_the_end():
     list(sim.events())
     assert seen[-1] == (25.0, 25.0) and [d for d, _ in seen] == sorted(d for d, _ in seen) and len(seen) >= 3
     assert sim.summary.world_s == 25.0 and sim.summary.events_per_s > 0
+
+
+def test_a_speed_error_shows_in_the_cameras_readings(busy):
+    sim, events = busy
+    errors = {(f.src.split("/")[1], f.detail["vehicle"]): f.detail["factor"]
+              for f in sim.truth.faults if f.kind == "speed_error"}
+    assert errors
+    speed = {(e["src"].split("/")[1], e["t"]): e["body"]["speed_mps"]
+             for e in events if e["kind"] == "entity.state" and e["src"].startswith("vehicle/")}
+    high = 0
+    for e in events:
+        if e["kind"] == "monitor.observation" and (e["src"].split("/")[1], e["body"]["vehicle"]) in errors:
+            true = speed.get((e["body"]["vehicle"], e["t"]))
+            if true is not None and true > 1.0:
+                assert e["body"]["speed_mps"] > true
+                high += 1
+    assert high > 0
