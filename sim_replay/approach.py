@@ -19,13 +19,15 @@ __all__ = ["AT_LINE_M", "COMFORT_DECEL", "Moment", "Passage", "can_stop"]
 AT_LINE_M = 3.0          # standing within this of the line is standing at it
 COMFORT_DECEL = 3.5      # m/s²: the braking a driver or an ADS plans a stop with
 MARGIN_M = 1.0
+MARGIN_S = 0.3          # ... of a quarter second's travel, up to MARGIN_M
 
 
 def can_stop(v: VehicleState) -> bool:
     """Whether v can still stop before its line braking at COMFORT_DECEL (physics, not law)."""
     if v.to_line_m is None:
         return False
-    return v.to_line_m >= v.speed_mps * v.speed_mps / (2 * COMFORT_DECEL) + MARGIN_M
+    margin = min(MARGIN_M, v.speed_mps * MARGIN_S)      # a vehicle standing at its line can stay there
+    return v.to_line_m >= v.speed_mps * v.speed_mps / (2 * COMFORT_DECEL) + margin
 
 
 @dataclass(frozen=True)

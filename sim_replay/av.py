@@ -10,7 +10,8 @@ endanger or force to change speed or course).
 
 Perception goes through the fault model: an ADS may misread the light (for the whole passage) or
 miss a road user. What a sensor cannot tell is not stated: "V would force U to change speed or
-course" is the vehicle's own prediction (U reaches the junction within FORCE_S at its speed),
+course" is the vehicle's own prediction (U reaches the junction before V could be through it:
+within FORCE_S, or FORCE_FROM_STOP_S when V sets off from a standstill),
 "V is too close to the stop line to stop safely" its own braking distance.
 
 `Ads` is the automated driving system's DSSAD story (ads.event, UN R157 §8.2.1): activated at
@@ -36,13 +37,17 @@ __all__ = ["ACTION", "Ads", "FORCE_S", "LIGHT_WORDS", "perceive", "ask_to_enter"
 ACTION = "enter the junction"
 RULEBOOK = "highway_code.le"
 FORCE_S = 5.0            # a road user reaching the junction this soon would have to change speed or course
+FORCE_FROM_STOP_S = 8.0  # ... when V still has to set off (about 5 s to clear a junction from rest, and a margin)
+SLOW_MPS = 3.0
 LIGHT_WORDS = {"red": ("red",), "red_amber": ("red", "amber"), "amber": ("amber",), "green": ("green",), "off": ()}
 SIGN_WORDS = {"stop": "stop", "give_way": "give way"}
 
 
 def perceive(vid: str, kind: str, p: Passage, m: Moment, *, engaged: bool, on_call: bool,
-             faults: Faults | None) -> list[str]:
-    """The Vehicle Scenario as v senses it at this moment, through the fault model."""
+             faults: Faults | None, predicts: bool = True) -> list[str]:
+    """The Vehicle Scenario as v senses it at this moment, through the fault model. `predicts`:
+    with its own predictions ("too close to stop", "would force U"), as a vehicle that asks the
+    rulebook states them; a human driver's recorder records what its sensors saw, without them."""
     v = m.v
     facts = [IS_OF_TYPE.text(vid, kind)]
     if on_call:
@@ -55,7 +60,7 @@ def perceive(vid: str, kind: str, p: Passage, m: Moment, *, engaged: bool, on_ca
             p.draws["misread"] = faults.misread_light(vid, light)
         seen = p.draws.get("misread") or light
         facts += [HAS_LIGHT.text(vid, c) for c in LIGHT_WORDS[seen]]
-        if seen == "amber" and p.go is not False and not can_stop(v):
+        if predicts and seen == "amber" and p.go is not False and not can_stop(v):
             facts.append(IS_TOO_CLOSE_TO_STOP.text(vid))
     else:
         facts.append(HAS_SIGN.text(vid, SIGN_WORDS[p.line]))
@@ -74,7 +79,7 @@ def perceive(vid: str, kind: str, p: Passage, m: Moment, *, engaged: bool, on_ca
         facts += [IS_OF_TYPE.text(o.id, o.type), IS_APPROACHING.text(o.id, vid)]
         if o.main_road:
             facts.append(IS_ON_THE_MAIN_ROAD.text(o.id))
-        if not o.pedestrian and o.eta_s < FORCE_S:
+        if predicts and not o.pedestrian and o.eta_s < (FORCE_FROM_STOP_S if v.speed_mps < SLOW_MPS else FORCE_S):
             facts.append(WOULD_FORCE.text(vid, o.id))
     return facts
 

@@ -20,6 +20,7 @@ from sim_replay.sim_config import Behaviour
 __all__ = ["GAP_S", "Profile", "ROLL_FACTOR", "draw_profile", "human_decision"]
 
 GAP_S = 5.0           # a driver waits while a road user it must let pass is this close in time
+GAP_FROM_STOP_S = 8.0 # ... this close, when it has to set off from a standstill
 STOP_WAIT_S = 1.5     # a careful driver stands this long at a Stop line before pulling out
 ROLL_FACTOR = 0.2     # a Stop-line roller creeps over at this share of the limit (about 6 mph in a 30)
 
@@ -80,7 +81,8 @@ def human_decision(profile: Profile, p: Passage, m: Moment, rng: random.Random,
         if _habit(p, rng, "runs_red", profile.runs_red, propensity):
             return True, "red runner: went on at red"
         return False, f"stopping for {light.replace('_', ' and ')}"
-    clear = not any(o.main_road and o.eta_s < GAP_S for o in m.others)
+    gap = GAP_FROM_STOP_S if v.speed_mps < 3.0 else GAP_S
+    clear = not any(o.main_road and o.eta_s < gap for o in m.others)
     if p.line == "stop":
         if _habit(p, rng, "rolls_stop", profile.rolls_stop, propensity):
             return True, "stop roller: rolled over the Stop line"

@@ -21,16 +21,15 @@ same config gives the same events byte for byte.
 """
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from reasoner.motion import MPH_PER_MPS
-from reasoner.vocabulary import CAN
+from reasoner.vocabulary import CAN, IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 from sim_replay import av, drivers
+from sim_replay.agent import Agent
 from sim_replay.approach import Moment, Passage
 from sim_replay.asking import Rulebooks
 from sim_replay.demand import Departure, Walk, plan
@@ -38,12 +37,13 @@ from sim_replay.faults import Faults, stream
 from sim_replay.maps import map_files
 from sim_replay.monitors import read_monitors
 from sim_replay.net_map import world_map
-from sim_replay.senses import Around, Other
+from sim_replay.senses import Around
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes
 from sim_replay.sumo_world import World, WorldError
-from sim_replay.truth import REACTION_S, Act, Truth
+from sim_replay.truth import Truth
 from sim_replay.watchers import Line, Watchers
+from sim_replay.witness import Witness
 from sim_replay.world_state import Snapshot, VehicleState
 
 __all__ = ["Progress", "Simulation", "Summary", "simulate"]
@@ -51,7 +51,6 @@ __all__ = ["Progress", "Simulation", "Summary", "simulate"]
 Progress = Callable[[float, float], None]      # (world seconds done, world seconds in all)
 ON_CALL_SPEED_FACTOR = 1.25
 MRM_SPEED_FACTOR = 0.3
-FOLLOW_M = 25.0              # a road user this close behind another is following it
 CRAWL_FACTOR = 0.3           # an emergency vehicle on a call approaches a red light at this share of the limit,
                              # as its drivers are trained to, so that it can still stop if the rulebook says no
 SOFTWARE = {"ads": "gaps-sim-ads 1.0", "rulebook": "highway_code.le"}
@@ -83,41 +82,6 @@ class Summary:
                 "wall_s": round(self.wall_s, 3)}
 
 
-@dataclass
-class _Agent:
-    """One vehicle's driver (or ADS) and what the simulation keeps about it."""
-
-    d: Departure
-    rng: Any
-    profile: drivers.Profile
-    asks: bool                              # asks the rulebook (automated, emergency crews)
-    recorder: bool
-    ads: av.Ads | None = None
-    on_call: bool = False
-    recorder_stops_s: float | None = None
-    passage: Passage | None = None
-    asked_facts: tuple[str, ...] = ()
-    limit_mph: int | None = None
-    over: dict[str, Any] | None = None      # a stretch over the limit in progress
-    speed_factor: float = 1.0
-    route: tuple[str, ...] = ()
-    boxed: dict[str, Any] | None = None     # standing in a yellow box: since when, where
-
-    @property
-    def id(self) -> str:
-        return self.d.id
-
-    @property
-    def driver(self) -> str:
-        return "autonomous" if self.ads is not None else "human"
-
-    def driving(self) -> str:
-        """Who drives now, as the ground truth says it."""
-        if self.ads is None:
-            return "human"
-        return "autonomous" if self.ads.engaged else "user"
-
-
 class Simulation:
     """One run of the simulation for a config; iterate `events()` once."""
 
@@ -138,7 +102,6 @@ class Simulation:
         self.by_kind: dict[str, int] = {}
         self.summary: Summary | None = None
         self._collisions: set[tuple[str, str]] = set()
-        self._pending: list[dict[str, Any]] = []     # acts waiting for the reactions of those about them
 
     # --- the run ------------------------------------------------------------------------------
 
@@ -155,10 +118,9 @@ class Simulation:
                 departures = sorted(self._given[0], key=lambda d: (d.depart_s, d.id))
             if self._given[1] is not None:
                 walks = sorted(self._given[1], key=lambda w: (w.depart_s, w.id))
-            self.agents: dict[str, _Agent] = {}
+            self.agents: dict[str, Agent] = {}
             self.lines: dict[str, Line] = {}
-            self._limits = {e.getID(): round(e.getSpeed() * MPH_PER_MPS)
-                            for e in network.net.getEdges(withInternal=False)}
+            self.witness = Witness(self.truth, network, monitors)
             out: list[dict[str, Any]] = []
             self._out = out
             self._emit("sim/world", 0.0, "run.start", {
@@ -183,12 +145,7 @@ class Simulation:
                 yield from self._drain()
                 if self.progress is not None and step % 100 == 0:
                     self.progress(snap.t_s, c.duration_s)
-            self._react(None, None, world.t_s)
-            for agent in self.agents.values():
-                if agent.over is not None:
-                    self._end_stretch(agent, world.t_s)
-                if agent.boxed is not None:
-                    self._end_box(agent, world.t_s)
+            self.witness.close(self.agents, world.t_s)
             self._emit("sim/world", world.t_s, "run.end", {"reason": "duration reached"})
             yield from self._drain()
             world_s = world.t_s
@@ -223,7 +180,7 @@ class Simulation:
             self.world.add_vehicle(d.id, d.kind, route, depart_pos=0.0, depart_speed="max")
         except WorldError:
             return
-        agent = _Agent(d, rng, profile, asks=d.role in ("autonomous", "emergency"), recorder=profile.recorder,
+        agent = Agent(d, rng, profile, asks=d.role in ("autonomous", "emergency"), recorder=profile.recorder,
                        route=route)
         if d.role == "autonomous":
             agent.ads = av.Ads(level=rng.choice((3, 4)))
@@ -249,9 +206,10 @@ class Simulation:
 
     def _tick(self, snap: Snapshot, publish: bool) -> None:
         t = snap.t_s
-        for s in snap.changed:
+        began = max(0.0, round(t - self.world.step_s, 9))
+        for s in snap.changed:      # SUMO switched the light at the start of this step, and moved everyone under it
             if s.crossing is None:
-                self._emit(f"signal/{s.junction}-{s.approach}", t, "signal.state",
+                self._emit(f"signal/{s.junction}-{s.approach}", began, "signal.state",
                            {"junction": s.junction, "approach": s.approach, "colour": s.colour})
         lights = {(s.junction, s.approach): s.colour for s in snap.signals if s.crossing is None}
         for ident in snap.departed:
@@ -265,9 +223,7 @@ class Simulation:
             if second:
                 self._each_second(agent, v, t)
             self._lines(agent, v, t, lights, around)
-            self._speeding(agent, v, t)
-            self._box(agent, v, t, snap)
-        self._react(snap, around, t)
+        self.witness.tick(snap, around, t, self.agents, self.lines)
         if publish:
             for v in snap.vehicles:
                 agent = self.agents.get(v.id)
@@ -280,12 +236,9 @@ class Simulation:
                     "x": round(p.x, 2), "y": round(p.y, 2), "heading_deg": round(p.heading_deg, 1),
                     "speed_mps": round(p.speed_mps, 2), "road": None if p.junction else p.edge,
                     "junction": p.junction})
-            limits = {a.id: a.limit_mph for a in self.agents.values() if a.limit_mph is not None}
-            seen = self.watchers.observe(t, around, self.lines, lights, limits,
+            seen = self.watchers.observe(t, around, self.lines, lights, self.witness.limit_mph,
                                          lambda src, kind, body: self._emit(src, t, kind, body))
-            for vid, agent in self.agents.items():
-                if agent.over is not None:
-                    agent.over["seen_by"].update(m for m, v in seen if v == vid)
+            self.witness.seen(seen)
         for c in snap.collisions:
             pair = tuple(sorted((c.collider, c.victim)))
             if pair not in self._collisions:
@@ -294,10 +247,8 @@ class Simulation:
         for ident in snap.arrived:
             role = "pedestrian" if ident.startswith("p") and ident not in self.agents else "vehicle"
             agent = self.agents.get(ident)
-            if agent is not None and agent.over is not None:
-                self._end_stretch(agent, t)
-            if agent is not None and agent.boxed is not None:
-                self._end_box(agent, t)
+            if agent is not None:
+                self.witness.gone(agent, t)
             self.lines.pop(ident, None)
             self._emit(f"{role}/{ident}", t, "entity.despawn", {"reason": "left the map"})
 
@@ -319,22 +270,27 @@ class Simulation:
             self._record(agent, t, "ads.event", {"event": "activated", "reason": "journey start",
                                                  "software": SOFTWARE})
 
-    def _set_factor(self, agent: _Agent, factor: float) -> None:
+    def _set_factor(self, agent: Agent, factor: float) -> None:
         if factor != agent.speed_factor:
             self.world.set_speed_factor(agent.id, factor)
             agent.speed_factor = factor
 
-    def _record(self, agent: _Agent, t: float, kind: str, body: dict[str, Any]) -> dict[str, Any] | None:
+    def _record(self, agent: Agent, t: float, kind: str, body: dict[str, Any]) -> dict[str, Any] | None:
         """An event of the vehicle's own recorder (none once the recorder has stopped)."""
         if not agent.recorder or (agent.recorder_stops_s is not None and t >= agent.recorder_stops_s):
             return None
         return self._emit(f"vehicle/{agent.id}", t, kind, body)
 
-    def _each_second(self, agent: _Agent, v: VehicleState, t: float) -> None:
+    def _each_second(self, agent: Agent, v: VehicleState, t: float) -> None:
         c = self.config
         if agent.d.role == "emergency" and self._calls.random() < c.call_change_per_min / 60.0:
             agent.on_call = not agent.on_call
             self.world.set_blue_lights(agent.id, agent.on_call)
+            if agent.asks:               # the crew's recorder notes the call as it begins or ends
+                facts = [IS_OF_TYPE.text(agent.id, agent.d.kind)] + \
+                    ([IS_ON_AN_EMERGENCY_CALL.text(agent.id)] if agent.on_call else [])
+                self._record(agent, t, "vehicle.perception", {"facts": facts})
+                agent.asked_facts = ()
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else 1.0)
             self.truth.road_user(agent.id, calls=self.truth.road_users[agent.id].get("calls", []) +
                                  [{"t_s": t, "on_call": agent.on_call}])
@@ -350,7 +306,7 @@ class Simulation:
 
     # --- stop lines ---------------------------------------------------------------------------
 
-    def _lines(self, agent: _Agent, v: VehicleState, t: float, lights: dict[tuple[str, str], str],
+    def _lines(self, agent: Agent, v: VehicleState, t: float, lights: dict[tuple[str, str], str],
                around: Around) -> None:
         line = self.lines.get(v.id)
         if v.junction is None and v.to_line_m is not None and v.line_kind is not None and v.next_junction:
@@ -363,8 +319,9 @@ class Simulation:
             if p is not None:
                 p.observe(v, t)
                 light = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
-                if light == "amber" and "at_amber" not in p.draws:
+                if light == "amber" and p.draws.get("light") != "amber":      # the amber it may cross under
                     p.draws["at_amber"] = (round(v.to_line_m, 2), round(v.speed_mps, 2))
+                p.draws["light"] = light
                 if agent.on_call and light in ("red", "red_amber") and "crawl" not in p.draws:
                     p.draws["crawl"] = True         # blue lights against a red: up to the line at a crawl
                     self._set_factor(agent, CRAWL_FACTOR)
@@ -375,12 +332,13 @@ class Simulation:
         if line.crossed_on is None and v.junction == line.junction:
             colour = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
             self.lines[v.id] = Line(line.junction, line.approach, line.kind, colour or "none", t)
-            self._crossed(agent, v, t, colour, around)
+            self.witness.crossed(agent, v, t, self.lines[v.id], colour, around)
+            self._crossed(agent)
+            self.world.hand_back(v.id)              # over the line: SUMO's physics keeps it out of others' way
         elif line.crossed_on is not None and v.junction is None:
-            self.lines.pop(v.id, None)              # out of the junction: SUMO drives it again
-            self.world.hand_back(v.id)
+            self.lines.pop(v.id, None)
 
-    def _decide(self, agent: _Agent, p: Passage, m: Moment) -> None:
+    def _decide(self, agent: Agent, p: Passage, m: Moment) -> None:
         """The agent's look at this tick: a rulebook question for those that ask, a habit for humans."""
         every = 5 if agent.asks and agent.driving() != "user" else max(1, round(agent.profile.reaction_s * 10))
         if p.go is not None and round((m.t_s - p.began_s) * 10) % every != 0:
@@ -396,23 +354,29 @@ class Simulation:
             go = self._carry_out(agent, p, asked.holds)
             why = ("rulebook: can enter" if asked.holds else "rulebook: cannot enter") + \
                   ("" if go == asked.holds else " (too close to stop: went on)")
-            self._publish_decision(agent, p, m.t_s, facts, go, asked)
+            self._record(agent, m.t_s, "vehicle.perception", {"facts": facts})
+            self._publish_decision(agent, p, m.t_s, go, asked)
         else:
             go, why = drivers.human_decision(agent.profile, p, m, agent.rng, self.config.behaviour.propensity)
-            if go == p.go:
-                return
-            wanted = go
-            go = self._carry_out(agent, p, go)
-            if go != wanted:
-                why += " (too close to stop: went on)"
-            if agent.recorder:
-                facts = av.perceive(agent.id, agent.d.kind, p, m, engaged=False, on_call=agent.on_call, faults=None)
-                self._publish_decision(agent, p, m.t_s, facts, go, None)
-            if go and why.startswith("stop roller"):
-                self._set_factor(agent, drivers.ROLL_FACTOR)
-        p.why = why
+            changed = go != p.go
+            if changed:
+                wanted = go
+                go = self._carry_out(agent, p, go)
+                if go != wanted:
+                    why += " (too close to stop: went on)"
+                if go and why.startswith("stop roller"):
+                    self._set_factor(agent, drivers.ROLL_FACTOR)
+            if agent.recorder:           # what the driver saw, whenever it changed; what it did, when that changed
+                facts = av.perceive(agent.id, agent.d.kind, p, m, engaged=False, on_call=agent.on_call, faults=None,
+                                    predicts=False)
+                if changed or tuple(facts) != agent.asked_facts:
+                    agent.asked_facts = tuple(facts)
+                    self._record(agent, m.t_s, "vehicle.perception", {"facts": facts})
+                if changed:
+                    self._publish_decision(agent, p, m.t_s, go, None)
+        p.why = why                      # the latest reason it goes or waits (a habit may take over at amber)
 
-    def _carry_out(self, agent: _Agent, p: Passage, go: bool) -> bool:
+    def _carry_out(self, agent: Agent, p: Passage, go: bool) -> bool:
         """Hold or release in the world; returns whether the vehicle goes (a hold may come too late)."""
         if go:
             if p.held:
@@ -426,9 +390,8 @@ class Simulation:
         p.go = go
         return go
 
-    def _publish_decision(self, agent: _Agent, p: Passage, t: float, facts: list[str], go: bool,
-                          asked: av.Asked | None) -> None:
-        self._record(agent, t, "vehicle.perception", {"facts": facts})
+    def _publish_decision(self, agent: Agent, p: Passage, t: float, go: bool, asked: av.Asked | None) -> None:
+        """vehicle.trace (the question, its answer and proof) where it asked, then vehicle.decision."""
         body: dict[str, Any] = {"goal": CAN.text(agent.id, av.ACTION), "action": av.ACTION, "proceeds": go}
         if asked is not None:
             trace = self._record(agent, t, "vehicle.trace", {"query": asked.question, "answer": asked.holds,
@@ -439,146 +402,13 @@ class Simulation:
         if self._record(agent, t, "vehicle.decision", body) is not None or asked is not None:
             p.decision = body
 
-    def _crossed(self, agent: _Agent, v: VehicleState, t: float, colour: str | None, around: Around) -> None:
+    def _crossed(self, agent: Agent) -> None:
+        """Its passage is over: habits that change its speed for a line end with it."""
         p = agent.passage
         agent.passage = None
         agent.asked_facts = ()
         if p is not None and (p.draws.get("rolls_stop") or p.draws.get("crawl")):
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else agent.profile.speed_factor)
-        others = around.about(v.junction, v.id, self.lines[v.id].approach)
-        fault = None
-        if p is not None and p.draws.get("misread"):
-            fault = f"misperceived_light: saw {p.draws['misread']}"
-        elif p is not None and p.missed:
-            fault = "missed_road_user: " + ", ".join(sorted(p.missed))
-        line = self.lines[v.id]
-        watch = {o.id: 0.0 for o in others if not o.pedestrian}
-        self._pending.append({"until": t + REACTION_S, "watch": watch, "known": {o.id for o in others},
-                              "where": (v.id, line.junction, line.approach), "act": dict(
-            kind="crossed the stop line", vehicle=v.id, type=agent.d.kind, driver=agent.driving(), t_s=t,
-            junction=line.junction, approach=line.approach, line=line.kind, light=colour,
-            speed_mps=round(v.speed_mps, 2), speed_mph=round(v.speed_mps * MPH_PER_MPS), limit_mph=agent.limit_mph,
-            stopped_at_line=bool(p and p.stopped_at_line), on_call=agent.on_call,
-            approaching=tuple(_approaching(o, 0.0) for o in others),
-            turn=self._turn(agent, line.junction, line.approach), at_amber=p.draws.get("at_amber") if p else None,
-            seen_by=tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
-            why=(p.why if p else "no passage") + f" [{agent.profile.name}]", decision=p.decision if p else None,
-            fault=fault)})
-
-    def _react(self, snap: Snapshot | None, around: Around | None, t: float) -> None:
-        """The braking of the road users about each recent act, until REACTION_S after it (None: the
-        run has ended, every pending act is written). Braking for a light of its own that is not
-        green, or behind a vehicle it follows (within FOLLOW_M), is not counted: it has other causes."""
-        still = []
-        for pending in self._pending:
-            if snap is not None:
-                vid, junction, approach = pending["where"]
-                me = snap.vehicle(vid)
-                if me is not None and me.junction == junction:     # still crossing: who comes up meanwhile
-                    for o in around.about(junction, vid, approach):
-                        if o.id not in pending["known"]:
-                            pending["known"].add(o.id)
-                            pending["act"]["approaching"] += (_approaching(o, t - pending["act"]["t_s"]),)
-                            if not o.pedestrian:
-                                pending["watch"][o.id] = 0.0
-                for ident in pending["watch"]:
-                    other = snap.vehicle(ident)
-                    if other is not None and other.light in (None, "green") and \
-                            not any(_ahead(other, x, FOLLOW_M) for x in snap.vehicles if x.id not in (ident, vid)):
-                        pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
-            if snap is not None and t < pending["until"]:
-                still.append(pending)
-                continue
-            self.truth.act(Act(**pending["act"], reactions=tuple(sorted(pending["watch"].items()))))
-        self._pending = still
-
-    def _turn(self, agent: _Agent, junction: str, approach: str) -> str | None:
-        """Left, straight or right at a junction, from its route's edges in and out."""
-        j = self.world.network.junctions[junction]
-        a = j.approach(approach)
-        if a is None or a.edge not in agent.route:
-            return None
-        i = agent.route.index(a.edge)
-        if i + 1 >= len(agent.route):
-            return None
-        net = self.world.network.net
-        e_in, e_out = net.getEdge(a.edge), net.getEdge(agent.route[i + 1])
-        (x0, y0), (x1, y1) = e_in.getFromNode().getCoord()[:2], e_in.getToNode().getCoord()[:2]
-        (x2, y2), (x3, y3) = e_out.getFromNode().getCoord()[:2], e_out.getToNode().getCoord()[:2]
-        turn = (math.degrees(math.atan2(y3 - y2, x3 - x2) - math.atan2(y1 - y0, x1 - x0)) + 180.0) % 360.0 - 180.0
-        return "straight" if abs(turn) < 30 else "left" if turn > 0 else "right"
-
-    # --- the yellow box -------------------------------------------------------------------------
-
-    def _box(self, agent: _Agent, v: VehicleState, t: float, snap: Snapshot) -> None:
-        box = self.world.network.junctions[v.junction].box if v.junction is not None else None
-        inside = box is not None and v.speed_mps < 0.1 and _inside(v.x, v.y, box)
-        if inside and agent.boxed is None:
-            line = self.lines.get(v.id)
-            ahead = [o.id for o in snap.vehicles if o.id != v.id and _ahead(v, o)]
-            walkers = [p.id for p in snap.pedestrians if p.junction == v.junction and p.crossing is not None]
-            agent.boxed = dict(kind="stopped in the box", vehicle=v.id, type=agent.d.kind, driver=agent.driving(),
-                               t_s=t, junction=v.junction, approach=line.approach if line else None,
-                               light=line.crossed_on if line else None, on_call=agent.on_call,
-                               approaching=tuple(ahead + walkers),
-                               turn=self._turn(agent, v.junction, line.approach) if line else None,
-                               seen_by=tuple(m.id for m in self.watchers.monitors if m.sees(v.x, v.y)),
-                               why="stood still in the box behind " + (", ".join(ahead + walkers) or "nothing it could see"))
-        elif not inside and agent.boxed is not None:
-            self._end_box(agent, t)
-
-    def _end_box(self, agent: _Agent, t: float) -> None:
-        self.truth.act(Act(**agent.boxed, until_s=t))
-        agent.boxed = None
-
-    # --- the speed limit ----------------------------------------------------------------------
-
-    def _speeding(self, agent: _Agent, v: VehicleState, t: float) -> None:
-        if v.junction is None:
-            agent.limit_mph = self._limits.get(v.edge, agent.limit_mph)
-        if agent.limit_mph is None:
-            return
-        mph = round(v.speed_mps * MPH_PER_MPS)
-        if mph > agent.limit_mph:
-            if agent.over is None:
-                agent.over = {"t_s": t, "max_mph": mph, "seen_by": set(), "on_call": agent.on_call,
-                              "driving": agent.driving(), "limit": agent.limit_mph}
-            agent.over["max_mph"] = max(agent.over["max_mph"], mph)
-        elif agent.over is not None:
-            self._end_stretch(agent, t)
-
-    def _end_stretch(self, agent: _Agent, t: float) -> None:
-        o = agent.over
-        agent.over = None
-        self.truth.act(Act("exceeded the speed limit", agent.id, agent.d.kind, o["driving"], o["t_s"], until_s=t,
-                           speed_mph=o["max_mph"], limit_mph=o["limit"], on_call=o["on_call"],
-                           seen_by=tuple(sorted(o["seen_by"])),
-                           why=f"speed factor {agent.speed_factor} [{agent.profile.name}]"
-                           + (" on a call" if o["on_call"] else "")))
-
-
-def _approaching(o: Other, after_s: float) -> str:
-    """A road user about an act, as the truth lists it: "118 car main eta 3.8s (+1.2s)" (main: on
-    the major road; +: came up that long after the act, while the vehicle was in the junction)."""
-    return f"{o.id} {o.type}{' main' if o.main_road else ''} eta {o.eta_s:.1f}s" + \
-        (f" (+{after_s:.1f}s)" if after_s > 0 else "")
-
-
-def _inside(x: float, y: float, polygon: tuple[tuple[float, float], ...]) -> bool:
-    """Whether a point is inside a polygon (even-odd rule)."""
-    inside = False
-    for (x1, y1), (x2, y2) in zip(polygon, polygon[1:] + polygon[:1]):
-        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
-            inside = not inside
-    return inside
-
-
-def _ahead(v: VehicleState, o: VehicleState, within_m: float = 12.0) -> bool:
-    """Whether o is within a few metres in front of v (what v stands behind)."""
-    dx, dy = o.x - v.x, o.y - v.y
-    h = math.radians(v.heading_deg)
-    along = dx * math.cos(h) + dy * math.sin(h)
-    return 0.0 < along <= within_m and abs(-dx * math.sin(h) + dy * math.cos(h)) < 4.0
 
 
 def simulate(config: SimConfig, progress: Progress | None = None) -> Iterator[dict[str, Any]]:

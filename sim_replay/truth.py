@@ -20,8 +20,9 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Act", "InjectedFault", "REACTION_S", "Truth"]
+__all__ = ["Act", "EXIT_M", "InjectedFault", "REACTION_S", "Truth"]
 
+EXIT_M = 20.0                        # a road user standing this close beyond the junction blocks its exit
 REACTION_S = 5.0                     # how long after an act the road users about it are watched braking
 
 
@@ -47,6 +48,7 @@ class Act:
     approaching: tuple[str, ...] = () # road users approaching as it crossed ("p3 pedestrian", "112 car main")
     reactions: tuple[tuple[str, float], ...] = ()   # each approaching vehicle's hardest braking (m/s²) in REACTION_S after,
                                                     # not counting braking for its own red or amber, or behind a leader
+    exit_queue: tuple[str, ...] = ()  # standing in a box: who stood on its exit within EXIT_M of the junction
     at_amber: tuple[float, float] | None = None     # metres to the line and speed (m/s) when amber came, if it came
     turn: str | None = None           # left, straight, right: where it went from the line
     seen_by: tuple[str, ...] = ()     # monitors that had it in their cone at the act (or during the stretch)
@@ -58,6 +60,7 @@ class Act:
         out = asdict(self)
         out["approaching"] = list(self.approaching)
         out["seen_by"] = list(self.seen_by)
+        out["exit_queue"] = list(self.exit_queue)
         out["reactions"] = {who: decel for who, decel in self.reactions}
         return out
 

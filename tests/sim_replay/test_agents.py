@@ -91,3 +91,15 @@ def test_the_ambulance_on_a_call_waits_while_cross_traffic_approaches(gap_s):
     assert all(decel < 2.0 for _, decel in act.reactions), f"a road user braked hard for it: {act.reactions}"
     first_cross = min(a.t_s for c in cross for a in crossings(sim, c.id))
     assert act.t_s > first_cross
+
+
+def test_an_automated_car_that_misses_the_major_road_traffic_pulls_out_in_front_of_it():
+    main_road = [Departure(str(110 + n), 3.0 + 2.0 * n, "car", "human", False, "e_j2", "j1_w") for n in range(4)]
+    sim, events = run([Departure("101", 5.0, "car", "autonomous", False, "s2_j2", "j2_n2"), *main_road],
+                      duration_s=40.0, faults=FaultRates(missed_road_user=1.0))
+    missed = {f.detail["missed"] for f in sim.truth.faults if f.kind == "missed_road_user"}
+    assert missed
+    for p in bodies(events, "101", "vehicle.perception"):
+        assert not any(f"{other} is approaching 101" in p["facts"] for other in missed)
+    (act, *_) = crossings(sim, "101")
+    assert act.line == "give_way" and act.fault.startswith("missed_road_user")

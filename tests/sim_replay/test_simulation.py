@@ -123,3 +123,63 @@ def test_a_camera_states_the_blue_lights_it_sees_not_a_call_it_cannot(busy):
     assert stated, "no vehicle on a call passed a monitor"
     for key, says in stated.items():        # the lights flash: stated from the first flash it sees on
         assert any(says) and all(says[says.index(True):]), key
+
+
+def test_a_recorder_that_stops_publishes_nothing_of_its_own_after(busy):
+    sim, events = busy
+    stops = {f.src: f.t_s for f in sim.truth.faults if f.kind == "recorder_stops"}
+    assert stops, "no recorder stopped at this rate and seed"
+    own = ("vehicle.perception", "vehicle.decision", "vehicle.trace", "ads.event")
+    t0 = events[0]["t"]
+    for ev in events:
+        if ev["src"] in stops and ev["kind"] in own:
+            assert (ev["t"] - t0) / 1e9 < stops[ev["src"]]
+
+
+def test_automated_vehicles_keep_a_dssad_record(busy):
+    sim, events = busy
+    spawned = {e["src"]: e["body"] for e in events if e["kind"] == "entity.spawn"}
+    ads = [e for e in events if e["kind"] == "ads.event"]
+    assert ads and all(spawned[e["src"]]["driver"] == "autonomous" for e in ads)
+    assert all(spawned[e["src"]]["automation_level"] in (3, 4) for e in ads)
+    firsts = {}
+    for e in ads:
+        firsts.setdefault(e["src"], e["body"]["event"])
+    assert set(firsts.values()) == {"activated"}
+
+
+def test_an_unmarked_police_car_is_a_car_on_a_call():
+    from sim_replay.demand import Departure
+    sim = Simulation(SimConfig(duration_s=20.0, pedestrians=0, on_call_share=1.0, call_change_per_min=0.0),
+                     departures=[Departure("101", 0.0, "car", "emergency", True, "w_j1", "j2_e")])
+    events = list(sim.events())
+    (spawn,) = [e["body"] for e in events if e["kind"] == "entity.spawn"]
+    assert spawn["type"] == "car" and spawn["emergency"] is True and spawn["driver"] == "human"
+    assert sim.truth.road_users["101"]["unmarked"] is True
+    assert all(e["body"]["emergency"] for e in events if e["kind"] == "entity.state")
+
+
+def test_progress_is_reported_in_world_seconds_up_to_the_end():
+    seen = []
+    sim = Simulation(SimConfig(vehicles=3, duration_s=25.0, pedestrians=0),
+                     progress=lambda done, total: seen.append((done, total)))
+    list(sim.events())
+    assert seen[-1] == (25.0, 25.0) and [d for d, _ in seen] == sorted(d for d, _ in seen) and len(seen) >= 3
+    assert sim.summary.world_s == 25.0 and sim.summary.events_per_s > 0
+
+
+def test_a_speed_error_shows_in_the_cameras_readings(busy):
+    sim, events = busy
+    errors = {(f.src.split("/")[1], f.detail["vehicle"]): f.detail["factor"]
+              for f in sim.truth.faults if f.kind == "speed_error"}
+    assert errors
+    speed = {(e["src"].split("/")[1], e["t"]): e["body"]["speed_mps"]
+             for e in events if e["kind"] == "entity.state" and e["src"].startswith("vehicle/")}
+    high = 0
+    for e in events:
+        if e["kind"] == "monitor.observation" and (e["src"].split("/")[1], e["body"]["vehicle"]) in errors:
+            true = speed.get((e["body"]["vehicle"], e["t"]))
+            if true is not None and true > 1.0:
+                assert e["body"]["speed_mps"] > true
+                high += 1
+    assert high > 0

@@ -22,17 +22,28 @@ HARD_BRAKING = 2.0
 SECOND = 1_000_000_000
 
 
+LATE_S = 1.0    # a road user that came up later than this after V crossed saw V in the junction: V did not pull out on it
+
+
+def _came_after(entry: str) -> float:
+    """"118 car main eta 3.7s (+1.7s)" -> 1.7: how long after the act it came up (0: there already)."""
+    return float(entry.rsplit("(+", 1)[1].rstrip("s)")) if "(+" in entry else 0.0
+
+
 def _main(act: dict) -> set[str]:
-    return {a.split()[0] for a in act["approaching"] if " main " in a}
+    """The major-road users approaching as V crossed its line (or within LATE_S of it)."""
+    return {a.split()[0] for a in act["approaching"] if " main " in a and _came_after(a) <= LATE_S}
 
 
 def _vulnerable(act: dict) -> set[str]:
-    return {a.split()[0] for a in act["approaching"] if a.split()[1] in ("pedestrian", "cyclist")}
+    return {a.split()[0] for a in act["approaching"] if a.split()[1] in ("pedestrian", "cyclist")
+            and _came_after(a) <= LATE_S}
 
 
 def braked(act: dict, who: set[str] | None = None) -> bool:
-    """Whether a road user about the act (of `who`, if given) braked hard in the seconds after it."""
-    return any(d >= HARD_BRAKING for r, d in act["reactions"].items() if who is None or r in who)
+    """Whether a road user about the act (of `who`; default: those there as V crossed) braked hard after it."""
+    there = {a.split()[0] for a in act["approaching"] if _came_after(a) <= LATE_S} if who is None else who
+    return any(d >= HARD_BRAKING for r, d in act["reactions"].items() if r in there)
 
 
 def too_close_at_amber(act: dict) -> bool:
@@ -58,7 +69,19 @@ class Row:
     rule: str | None
 
 
+def against_its_rulebook(a: dict) -> bool:
+    """It asked, its rulebook said it could not enter, and it went on (too late to stop)."""
+    d = a.get("decision") or {}
+    return a["kind"] == "crossed the stop line" and d.get("permitted") is False and d.get("proceeds") is True
+
 TABLE = (
+    # DESIGN "Reasoning": the Vehicle Scenario is the vehicle's own; on it, its own rulebook forbade the act
+    Row("went on against its own rulebook at a red light", lambda a: against_its_rulebook(a) and signal(a, "red", "red_amber"),
+        "punishable", "HC 176"),
+    Row("went on against its own rulebook at a Stop line", lambda a: against_its_rulebook(a) and line(a, "stop"),
+        "punishable", "HC 171"),
+    Row("went on against its own rulebook at a Give Way line", lambda a: against_its_rulebook(a) and line(a, "give_way"),
+        "punishable", "HC 172"),
     Row("crossed on green", lambda a: signal(a, "green", None, "off", "none"), None, None),
     # HC 176; TSRGD 2016 Sch 14 Pt 1 para 5(3) and (7): no proceeding beyond the line on red (or red and amber)
     Row("crossed on red, no call", lambda a: signal(a, "red", "red_amber") and not a["on_call"], "punishable", "HC 176"),
@@ -89,7 +112,9 @@ TABLE = (
         "mitigated", "HC 124"),
     Row("over the limit", lambda a: a["kind"] == "exceeded the speed limit", "punishable", "HC 124"),
     # HC 174; TSRGD 2016 Sch 9 Pts 7 and 8: do not enter the box unless the exit is clear
-    Row("stood still in a yellow box", lambda a: a["kind"] == "stopped in the box", "punishable", "HC 174"),
+    Row("stood still in a yellow box, its exit blocked", lambda a: a["kind"] == "stopped in the box" and a["exit_queue"],
+        "punishable", "HC 174"),
+    Row("stood still in a yellow box, its exit clear", lambda a: a["kind"] == "stopped in the box", None, None),
 )
 
 ACTION = {"crossed the stop line": "enter the junction", "exceeded the speed limit": "exceed the speed limit",
@@ -142,8 +167,8 @@ def compare(truth: dict, incidents: list, t0: int) -> list[Line]:
     lines, used = [], set()
     for act in truth["acts"]:
         action = ACTION[act["kind"]]
-        start = act["t_s"] - 5.0
-        end = (act["until_s"] if act["until_s"] is not None else act["t_s"]) + 5.0
+        start = act["t_s"] - 5.0            # a crossing is judged until the vehicle is through the junction
+        end = (act["until_s"] if act["until_s"] is not None else act["t_s"]) + (5.0 if act["until_s"] else 15.0)
         found = [i for i in incidents if i.vehicle == act["vehicle"] and i.action == action
                  and start <= (i.t - t0) / SECOND <= end]
         used.update(i.id for i in found)

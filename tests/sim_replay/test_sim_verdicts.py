@@ -1,0 +1,94 @@
+"""End to end: a seeded simulated run, stored, investigated, and the verdicts compared with the ground truth.
+
+The run (60 road users, 150 s on the paper's map, habits and the misread-light fault raised so that
+acts happen) is appended to a Store; reasoner.investigation judges it; tests/helpers/sim_truth_table turns each act
+of the ground truth into the verdict the law should give and lines them up. Every disagreement is
+printed (pytest -s). The ones below are known and explained (the note of the sim-agents branch
+gives the evidence for each); any other fails the test. They are findings about the reasoner and
+its rulebooks, not tuned away in the simulation.
+"""
+from __future__ import annotations
+
+import pytest
+
+from reasoner.investigation import Investigation
+from sim_replay.sim_config import Behaviour, FaultRates, SimConfig
+from sim_replay.sim_events import T0
+from sim_replay.simulation import Simulation
+from store import Store
+
+from tests.helpers.sim_truth_table import compare
+
+RUN = SimConfig(run="sim-e2e", vehicles=60, duration_s=150.0, seed=7, emergency_share=0.15, pedestrians=8,
+                av_share=0.4, behaviour=Behaviour(red_runner=0.3, amber_runner=0.4, stop_roller=0.4, no_give_way=0.4,
+                                                  speeder=0.2),
+                faults=FaultRates(misperceived_light=0.5))
+
+# (table row, what the reasoner gave) -> why they differ
+KNOWN = {
+    ("stopped at a Stop line, then forced major-road traffic to brake", "no incident"):
+        "monitors.le raises no potential violation for HC 171's 'must not enter the junction if it would force a road "
+        "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped')",
+    ("out of a Give Way line, major-road traffic braked hard", "mitigated HC 172"):
+        "for the major-road user that braked, the reasoner does not derive all three of 'U is approaching V', "
+        "'U is on the main road' and 'V would force U' (seed 7: '107 is on the main road' missing for 139's; no "
+        "'118 would force 124' although 124, approaching on the main road, braked at 4.3 m/s² in the world's "
+        "record), so HC 172's prohibition does not hold",
+    ("out of a Give Way line, major road empty", "mitigated HC 172"):
+        "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
+        "junction raises a potential violation, which the validator then excuses",
+    ("out of a Give Way line, major road empty", "punishable HC 172"):
+        "a major-road user that came up more than a second after V crossed its line braked for V: the reasoner "
+        "counts it (V would force U, U approaching, on the main road), the table does not (LATE_S)",
+    ("stood still in a yellow box, its exit clear", "punishable HC 174"):
+        "the vehicles are right-turners waiting in the box for oncoming traffic (HC 174 allows it) with their exit "
+        "empty; reasoner/derived.py's _exit_clear counts any slow road user within 12 m beyond the junction on the "
+        "exit arm, whatever its direction, so the queue standing at that arm's own red light in the other lane "
+        "(e.g. at (1.75, 12.3) for a north exit) makes the exit 'not clear'; the right-turn exception is never derived",
+}
+
+
+@pytest.fixture(scope="module")
+def judged(tmp_path_factory):
+    sim = Simulation(RUN)
+    events = list(sim.events())
+    store = Store(tmp_path_factory.mktemp("sim") / "gaps.db")
+    report = store.append(events)
+    assert report.stored == len(events) and not report.rejected
+    incidents = Investigation(store).incidents(RUN.run)
+    return sim, compare(sim.truth.to_json(), incidents, T0)
+
+
+def test_the_run_has_the_acts_the_table_is_about(judged):
+    sim, lines = judged
+    rows = {line.row.name for line in lines if line.row is not None}
+    assert rows >= {"crossed on red, no call", "crossed on red on a call, nobody endangered",
+                    "crossed on amber, too close to stop", "crossed on amber, could have stopped",
+                    "over a Stop line without stopping", "over the limit", "over the limit on a call"}
+    assert any(f.kind == "misperceived_light" for f in sim.truth.faults)
+
+
+def test_incidents_agree_with_the_ground_truth_but_for_known_findings(judged):
+    _, lines = judged
+    unexplained = []
+    for line in lines:
+        if line.agrees:
+            continue
+        got = ", ".join(f"{v} {r}" for v, r in line.got) or "no incident"
+        print("DISAGREES", line.describe(), "|", KNOWN.get((line.row.name if line.row else None, got), "UNEXPLAINED"))
+        if (line.row.name if line.row else None, got) not in KNOWN:
+            unexplained.append(line.describe())
+    agreed = [line for line in lines if line.agrees and line.incidents]
+    assert len(agreed) >= 10
+    assert unexplained == []
+
+
+def test_a_red_light_crossed_after_misreading_it_is_the_asdes(judged):
+    _, lines = judged
+    faulted = [line for line in lines if line.act and (line.act["fault"] or "").startswith("misperceived_light: saw green")
+               and line.act["light"] == "red" and line.incidents]
+    assert faulted
+    for line in faulted:
+        (inc,) = line.incidents
+        assert inc.verdict == "punishable" and any(f.kind == "perception fault" for f in inc.findings)
+        assert inc.liable == "authorised self-driving entity"
