@@ -18,13 +18,14 @@ finding candidate, `to_finding()`), leaving the decision to whoever weighs the e
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable
 
 from store import EventRef
 
-from .junctions import sector
+from .junctions import UNIT, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
 from .passage import Other, Passage
@@ -350,7 +351,8 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
 
 def _exit_clear(p: Passage, at: int) -> DerivedFact | None:
     """`the exit of the box junction is clear for V`: no road user at QUEUED_MPS or slower in the
-    EXIT_ZONE_M beyond the junction's edge on V's exit arm at `at`."""
+    EXIT_ZONE_M beyond the junction's edge on V's exit arm at `at`, on the way out (HC 174: "your
+    exit road or lane"; the queue waiting at that arm's own line faces the other way)."""
     j = p.junction
     arm, doubt = p.exit, None
     if arm is None and p.approach in _OPPOSITE:
@@ -365,7 +367,7 @@ def _exit_clear(p: Passage, at: int) -> DerivedFact | None:
             continue
         seen += [s.ref for s in used]
         on_exit = sector(where[0] - j.x, where[1] - j.y) == arm and 0 < j.edge(*where) <= EXIT_ZONE_M
-        if on_exit and (speed is None or speed <= QUEUED_MPS):
+        if on_exit and (speed is None or speed <= QUEUED_MPS) and _outbound(other, at, arm, where, j):
             return None
     refs = (p.map_ref,) + ((p.left.refs if p.left else ()) + tuple(seen))
     how = (f"at {format_time(at)} no road user recorded at {QUEUED_MPS:g} m/s or slower within {EXIT_ZONE_M:g} m beyond "
@@ -374,6 +376,18 @@ def _exit_clear(p: Passage, at: int) -> DerivedFact | None:
 
 
 _OPPOSITE = {"west": "east", "east": "west", "north": "south", "south": "north"}
+
+
+def _outbound(other: Other, at: int, arm: str, where: tuple[float, float], j) -> bool:
+    """Whether a road user on an exit arm is on the way out of the junction (in the exit lane),
+    not queued towards it: its heading points away from the centre; with no heading recorded, it
+    stands on the left of the way out (the map's traffic keeps left, as on UK roads)."""
+    ux, uy = UNIT[arm]
+    before = [s for s in other.samples if s.t <= at and s.heading_deg is not None]
+    if before:
+        rad = math.radians(before[-1].heading_deg)
+        return math.cos(rad) * ux + math.sin(rad) * uy > 0.0
+    return (where[0] - j.x) * -uy + (where[1] - j.y) * ux > 0.0
 
 
 # --- stated facts against derived ones ------------------------------------------------------------

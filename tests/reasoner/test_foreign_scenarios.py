@@ -593,6 +593,28 @@ def test_stopping_in_a_box_junction_with_the_exit_queued_is_punishable(tmp_path,
     assert 6.0 - SPACING[sampling] - 0.01 <= m.value <= 6.2, m
 
 
+def test_a_queue_facing_the_junction_on_the_exit_arm_does_not_block_the_exit(tmp_path):
+    """HC 174 forbids entering the box "until your exit road or lane is clear". 7 stands in the
+    box for 6 s; beyond the junction on its exit arm the only road user is q2, standing at that
+    arm's own line in the other lane, facing the junction (waiting for its own light). 7's exit
+    lane was clear: no violation. (The simulation's ground truth found the reasoner counting such
+    a queue as a blocked exit.)"""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "lights", box=True)])
+    mine = Motion(-60.0, 8.0, [(6.0, 0.0), (2.5, -3.2), (6.0, 0.0), (10.0, 2.0)])   # stands at s = -2
+    waiting = Motion(-16.0, 0.0, [(24.0, 0.0)])                                        # on the east arm, facing west
+    run.spawn("7")
+    run.spawn("q2")
+    run.lights("J1", "west", [(0.0, "green")])
+    times = SAMPLING["5 Hz"](START, START + 24.0)
+    run.drive("7", mine, "west", times, t_start=START)
+    run.drive("q2", waiting, "east", rate(2, START, START + 24.0), t_start=START)
+    run.watch("7", mine, "west", rate(5, START, START + 24.0), t_start=START)
+    run.watch("q2", waiting, "east", rate(5, START, START + 24.0), t_start=START)
+    found = judge(tmp_path, run)
+    no_violation(found, "7")
+    no_incident(found, "q2")
+
+
 # ==================================================================================================
 # 9. Emergency vehicles on red (TSRGD 2016 Sch 14 Pt 1 para 5(4)-(6))
 # ==================================================================================================

@@ -40,11 +40,6 @@ KNOWN = {
     ("out of a Give Way line, major road empty", "punishable HC 172"):
         "a major-road user that came up more than a second after V crossed its line braked for V: the reasoner "
         "counts it (V would force U, U approaching, on the main road), the table does not (LATE_S)",
-    ("stood still in a yellow box, its exit clear", "punishable HC 174"):
-        "the vehicles are right-turners waiting in the box for oncoming traffic (HC 174 allows it) with their exit "
-        "empty; reasoner/derived.py's _exit_clear counts any slow road user within 12 m beyond the junction on the "
-        "exit arm, whatever its direction, so the queue standing at that arm's own red light in the other lane "
-        "(e.g. at (1.75, 12.3) for a north exit) makes the exit 'not clear'; the right-turn exception is never derived",
 }
 
 
