@@ -313,6 +313,17 @@ def _stopped_after(p: Passage, t: int, at: int):
 
 
 def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
+    """U closing on the centre at `at`; or, for a road user that braked or stopped while V
+    passed (one V may have forced), when it began to: it was approaching V then, whether or not
+    it was yet in view, or near enough, at the moment asked about."""
+    found = _approaching_at(p, other, at)
+    reacted = other.braking.first.t if other.braking else other.stopped.t if other.stopped else None
+    if found is None and reacted is not None and reacted != at:
+        found = _approaching_at(p, other, reacted)
+    return found
+
+
+def _approaching_at(p: Passage, other: Other, at: int) -> DerivedFact | None:
     now, used = position_at(other.samples, at)
     before, used_before = position_at(other.samples, at - int(APPROACH_DT_S * SECOND))
     if now is None or before is None:
@@ -361,6 +372,8 @@ def _exit_clear(p: Passage, at: int) -> DerivedFact | None:
         return None
     seen: list[EventRef] = []
     for other in p.others:
+        if other.type == "pedestrian" or other.src.startswith("pedestrian/"):
+            continue        # on the pavement or a crossing: no vehicle in the exit lane
         where, used = position_at(other.samples, at)
         speed, _ = speed_at(other.samples, at)
         if where is None:

@@ -226,20 +226,32 @@ def _store_spawns(store: Store, ctx: RunContext):
 
 
 def _store_others(store: Store, ctx: RunContext, vehicle: str):
-    """The road users near a junction in a window: from its monitors, else every entity.state."""
+    """The road users near a junction in a window: from its monitors, and, where no monitor's
+    cone covers an arm (a camera on the minor road only), from every entity.state of the window
+    too, so that the traffic on that arm is not missed; at a junction no monitor watches, from
+    every entity.state."""
     def find(junction: Junction, t_from: int, t_to: int) -> Mapping[str, Track]:
-        if junction.monitors:
-            tracks = _observed(_watched(store, ctx, junction, t_from, t_to), vehicle, junction)
-            for user, (src, series) in list(tracks.items()):
-                if _holes(series):
-                    own, _ = samples(store.source_events(ctx.run, f"vehicle/{user}", kinds=["entity.state"],
-                                                         t_from=t_from, t_to=t_to)[:MAX_SAMPLES])
-                    if own:
-                        tracks[user] = (f"vehicle/{user}", own)
-            return tracks
-        states = islice(store.events(ctx.run, kinds=["entity.state"], t_from=t_from, t_to=t_to), MAX_OTHER_EVENTS)
-        return _states_by_user(states, vehicle)
+        if not junction.monitors:
+            return _states_near(store, ctx, junction, vehicle, t_from, t_to)
+        tracks = _observed(_watched(store, ctx, junction, t_from, t_to), vehicle, junction)
+        for user, (src, series) in list(tracks.items()):
+            if _holes(series):
+                own, _ = samples(store.source_events(ctx.run, f"vehicle/{user}", kinds=["entity.state"],
+                                                     t_from=t_from, t_to=t_to)[:MAX_SAMPLES])
+                if own:
+                    tracks[user] = (f"vehicle/{user}", own)
+        if junction.unwatched:      # their own record, where it holds more than the cameras saw of them
+            for user, track in _states_near(store, ctx, junction, vehicle, t_from, t_to).items():
+                if user not in tracks or len(track[1]) > len(tracks[user][1]):
+                    tracks[user] = track
+        return tracks
     return find
+
+
+def _states_near(store: Store, ctx: RunContext, junction: Junction, vehicle: str, t_from: int,
+                 t_to: int) -> dict[str, Track]:
+    states = islice(store.events(ctx.run, kinds=["entity.state"], t_from=t_from, t_to=t_to), MAX_OTHER_EVENTS)
+    return _states_by_user(states, vehicle)
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,7 @@ MAX_JUNCTIONS = 10_000
 MAX_ROADS = 100_000
 MAX_LINES = 64               # stop lines of one junction
 CELL_M = 200.0               # the grid that finds junctions near a position
+ARM_CHECK_M = 25.0           # an arm counts as watched when a monitor's cone covers this point out along it
 
 
 def finite(value: Any, bound: float = MAX_COORD_M) -> float | None:
@@ -125,6 +126,7 @@ class Junction:
     major_source: str
     monitors: tuple[str, ...]              # srcs of the monitors the map puts at this junction
     ref: EventRef | None = None            # the run.start that described it
+    unwatched: frozenset[str] = frozenset()  # arms no monitor's cone covers (ARM_CHECK_M out from the centre)
 
     def distance(self, x: float, y: float) -> float:
         return math.hypot(x - self.x, y - self.y)
@@ -262,15 +264,44 @@ def _roads(value: Any, problems: list[str]) -> Iterable[Road]:
         yield Road(raw["id"], a, b, limit if limit is not None and limit > 0 else None)
 
 
-def _monitors(value: Any) -> dict[str, list[str]]:
-    found: dict[str, list[str]] = {}
+Cone = tuple[float, float, float, float, float]    # x, y, heading (deg), range (m), field of view (deg)
+
+
+def _monitors(value: Any) -> dict[str, list[tuple[str, Cone | None]]]:
+    """Per junction, its monitors' srcs and cones (None where the map gives no whole cone)."""
+    found: dict[str, list[tuple[str, Cone | None]]] = {}
     for raw in value if isinstance(value, list) else []:
         if isinstance(raw, dict) and isinstance(raw.get("id"), str) and isinstance(raw.get("junction"), str):
-            found.setdefault(raw["junction"], []).append(f"monitor/{raw['id']}")
+            cone = tuple(finite(raw.get(k)) for k in ("x", "y", "heading_deg", "range_m", "fov_deg"))
+            found.setdefault(raw["junction"], []).append(
+                (f"monitor/{raw['id']}", None if None in cone else cone))       # type: ignore[arg-type]
     return found
 
 
-def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[str]], ref: EventRef | None,
+def _unwatched(x: float, y: float, cones: list[tuple[str, Cone | None]]) -> frozenset[str]:
+    """The arms whose point ARM_CHECK_M out from the centre lies in no monitor's cone: the road
+    users there are in no camera's record, only in their own. A monitor without a whole cone in
+    the map is taken to watch every arm (nothing then says otherwise)."""
+    if not cones or any(cone is None for _, cone in cones):
+        return frozenset()
+    out = set()
+    for arm, (ux, uy) in UNIT.items():
+        px, py = x + ux * ARM_CHECK_M, y + uy * ARM_CHECK_M
+        if not any(_in_cone(px, py, cone) for _, cone in cones):
+            out.add(arm)
+    return frozenset(out)
+
+
+def _in_cone(px: float, py: float, cone: Cone) -> bool:
+    cx, cy, heading, reach, fov = cone
+    if math.hypot(px - cx, py - cy) > reach:
+        return False
+    off = (math.degrees(math.atan2(py - cy, px - cx)) - heading + 180.0) % 360.0 - 180.0
+    return abs(off) <= fov / 2.0
+
+
+def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[tuple[str, Cone | None]]],
+               ref: EventRef | None,
                problems: list[str]) -> Iterable[Junction]:
     for raw in _items(value, MAX_JUNCTIONS, "junctions", problems):
         x, y = finite(raw.get("x")), finite(raw.get("y"))
@@ -282,8 +313,9 @@ def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[str
         box, boxed = _box(raw.get("box"))
         major, major_source = _major(raw, (x, y), lines, roads)
         control = raw.get("control") if isinstance(raw.get("control"), str) else "none"
+        cones = monitors.get(raw["id"], [])
         yield Junction(raw["id"], x, y, control, lines, extent, square, extent_source, box, boxed, major,
-                       major_source, tuple(monitors.get(raw["id"], ())), ref)
+                       major_source, tuple(src for src, _ in cones), ref, _unwatched(x, y, cones))
 
 
 def _lines(raw: dict, centre: Point, problems: list[str]) -> tuple[StopLine, ...]:

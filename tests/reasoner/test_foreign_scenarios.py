@@ -513,6 +513,28 @@ def test_a_give_way_failure_that_makes_main_road_traffic_brake_hard_is_punishabl
     no_incident(found, "c2")                       # braking to avoid 7 is no act of c2's
 
 
+def test_a_main_road_car_no_camera_watches_is_read_from_its_own_record(tmp_path):
+    """A camera that looks only down the minor (west) arm, as a simulator's Give Way camera does:
+    it states the sign and that c2 comes on the main road, but c2's braking is in no camera's
+    record, only in c2's own entity.state. HC 172 is about the main road's traffic; the reasoner
+    reads the arms no camera covers from the road users' own records, so 7 forcing c2 to brake at
+    5 m/s² is punishable, HC 172."""
+    j = crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})
+    run = Foreign(junctions=[j], monitors=[{"id": "m1", "junction": "J1", "x": -30.0, "y": 8.0, "heading_deg": 0.0,
+                                            "range_m": 60.0, "fov_deg": 60.0}])
+    run.spawn("7")
+    run.spawn("c2")
+    mine = Motion(-40.0, 6.0)
+    times = SAMPLING["5 Hz"](START, START + 16.0)
+    run.drive("7", mine, "west", times, t_start=START)
+    run.drive("c2", FORCED, "north", times, t_start=START)
+    run.watch("7", mine, "west", rate(5, START, START + 16.0), t_start=START,
+              facts=camera("7", sign="give way", also=("c2 is approaching 7", "c2 is on the main road")))
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 172")
+    margin(inc, "deceleration", "m/s²", 5.0, 0.25)
+
+
 def test_a_give_way_failure_at_a_junction_that_also_has_a_stop_arm_is_judged_by_its_own_line(tmp_path):
     """The same act at a junction whose control names its Stop arm: 7's line is a Give Way line,
     so HC 172 (not HC 171's duty to stop) applies, and its margin is c2's deceleration, 5 m/s²

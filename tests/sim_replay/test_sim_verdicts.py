@@ -28,12 +28,9 @@ RUN = SimConfig(run="sim-e2e", vehicles=60, duration_s=150.0, seed=7, emergency_
 KNOWN = {
     ("stopped at a Stop line, then forced major-road traffic to brake", "no incident"):
         "monitors.le raises no potential violation for HC 171's 'must not enter the junction if it would force a road "
-        "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped')",
-    ("out of a Give Way line, major-road traffic braked hard", "mitigated HC 172"):
-        "for the major-road user that braked, the reasoner does not derive all three of 'U is approaching V', "
-        "'U is on the main road' and 'V would force U' (seed 7: '107 is on the main road' missing for 139's; no "
-        "'118 would force 124' although 124, approaching on the main road, braked at 4.3 m/s² in the world's "
-        "record), so HC 172's prohibition does not hold",
+        "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped'). "
+        "A monitor rule on 'would force' would make that sentence one the monitors are taken to witness, and a "
+        "vehicle's own prediction of it would then be overruled by a camera's silence (reasoner/perception.py)",
     ("out of a Give Way line, major road empty", "mitigated HC 172"):
         "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
         "junction raises a potential violation, which the validator then excuses",
