@@ -67,17 +67,20 @@ def corrected(vehicle_facts: list[tuple[Atom, EventRef]], monitor_facts: list[tu
         if {a for a, _ in mine} != {a for a, _ in seen}:
             disputes.append({"functor": functor, "vehicle": mine, "monitor": seen})
     out += [(a, ev) for a, ev in monitor_facts if a.functor in witnessed and _about(a, me, others)]
-    out += _unperceived(vehicle_facts, monitor_facts, witnessed, me)
+    out += _unperceived(vehicle_facts, monitor_facts, witnessed, me, others)
     return out, disputes
 
 
 def _unperceived(vehicle_facts: list[tuple[Atom, EventRef]], monitor_facts: list[tuple[Atom, EventRef]],
-                 witnessed: set[str], me: Any) -> list[tuple[Atom, EventRef]]:
+                 witnessed: set[str], me: Any, others: set) -> list[tuple[Atom, EventRef]]:
     """What the monitor saw of other road users that the vehicle perceived nothing of ("p1 is of
-    type pedestrian" beside the witnessed "p1 is approaching 253"): the monitor witnessed it, the
-    vehicle holds no view of it to keep, and the rules may need it (para 5(5) asks who approaches)."""
+    type pedestrian" beside the witnessed "p1 is approaching 253", or "107 is on the main road"
+    for a car the vehicle never saw): the monitor witnessed it, the vehicle holds no view of it to
+    keep, and the rules may need it (para 5(5) asks who approaches; HC 172 whether they are on the
+    main road). Facts naming the vehicle are corrected above, not here."""
     known = {(a.functor, a.args[:1]) for a, _ in vehicle_facts}
-    return [(a, ev) for a, ev in monitor_facts if a.functor not in witnessed and me not in a.args and a.args
+    return [(a, ev) for a, ev in monitor_facts if me not in a.args and a.args
+            and not (a.functor in witnessed and _about(a, me, others))
             and (a.functor, a.args[:1]) not in known]
 
 

@@ -721,3 +721,21 @@ def test_a_stated_fact_the_measurements_contradict_is_a_finding_not_an_override(
     assert (obs["src"], obs["seq"]) in {(r.src, r.seq) for r in c.evidence}
     assert {r.kind for r in c.evidence} >= {"monitor.observation", "entity.state"}
     assert "7 has speed of 20" not in [s for s, _ in inc.scenarios.monitor]     # the measured speed is held back
+
+
+def test_a_main_road_car_the_vehicle_never_perceived_still_counts_as_on_the_main_road(tmp_path):
+    """HC 172: 212, driving itself, perceived only its sign; the monitor saw 107 approaching on the
+    main road. The Validator Scenario is the vehicle's view corrected by what the monitor
+    witnessed: 212 holds no view of 107 at all, so the monitor's "107 is on the main road" joins it
+    beside "107 is approaching 212" (found by the simulation's ground truth, where it was lost, so
+    that a car forcing 107 to brake, measured, was judged mitigated)."""
+    run = RunBuilder()
+    run.spawn("212", "car", driver="autonomous", automation_level=4)
+    run.spawn("107", "car")                 # a road user the record knows, as in a simulated run
+    run.ads("212", "activated", 1.0)
+    run.crossing("212", 10, ["212 is of type car", "212 is driving itself", "212 has a give way sign"],
+                 ["212 is of type car", "212 has a give way sign", "212 has crossed the stop line", "212 is in the junction",
+                  "107 is of type car", "107 is approaching 212", "107 is on the main road"])
+    inc = one(judge(tmp_path, run.finish()), "212")
+    validator = [text for text, _ in inc.scenarios.validator]
+    assert "107 is on the main road" in validator and "107 is approaching 212" in validator, validator
