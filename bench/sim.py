@@ -22,7 +22,7 @@ Open (2026-11-25): the quick size runs (200 vehicles, 20 s: 4.1x real time, 7,31
 step 23% of the time); the full size stalled after SUMO alone (64.3 steps/s = 6.4x real time with
 1,000 vehicles), the process idle and the simulation not advancing, not yet explained (a publisher
 blocked on a full Zenoh queue while the ingest in the same process cannot take its samples is the
-first suspect). Not in `make bench` until it is.
+first suspect).
 """
 from __future__ import annotations
 
