@@ -20,9 +20,11 @@ so the two loops are compared at the vehicle counts they really had.
 
 Open (2026-11-25): the quick size runs (200 vehicles, 20 s: 4.1x real time, 7,316 events/s, SUMO's
 step 23% of the time); the full size stalled after SUMO alone (64.3 steps/s = 6.4x real time with
-1,000 vehicles), the process idle and the simulation not advancing, not yet explained (a publisher
-blocked on a full Zenoh queue while the ingest in the same process cannot take its samples is the
-first suspect).
+1,000 vehicles), the process idle and the simulation not advancing. The same simulation in a fresh
+process (no SUMO-alone loop before it), publishing into an ingest in that process, completed: 60 s
+of world time, 357,664 events published in 55.6-70.9 s (1.08-0.85x real time), every one stored
+(settled 11 s later). So the first suspect is libsumo started a second time in one process after a
+large run; the fix is to measure SUMO alone in a child process.
 """
 from __future__ import annotations
 
