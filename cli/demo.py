@@ -4,22 +4,19 @@ Only composition lives here: each step is a call into the room that owns it.
 """
 from __future__ import annotations
 
-import socket
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Iterable, Optional
+from typing import Optional
 
 import typer
 
 from cli.app import db_path, fail, open_existing
 from cli.incidents import show_incidents
+from cli.local_ingest import publish_through_zenoh
 from cli.progress import stderr_progress
 from cli.safe_text import printable
 from cli.options import DbOption, JsonOption
 from explain import write_report
 from reasoner.api import Case
-
-if TYPE_CHECKING:
-    from sim_replay.outlets import OutletSummary
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
@@ -30,9 +27,10 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
                                     "(section 7.2) instead of simulating.")) -> None:
     """Simulate the paper's junctions on SUMO, store, judge and explain the incidents, write a report.
 
-    A seeded mix of road users, published over Zenoh into the store. The run holds a car running the red (punishable), an ambulance on a call crossing it
-    (mitigated), an automated car whose camera misread the light (its ASDE liable) and a Stop
-    line run; each is explained in full, every other incident listed in a line.
+    A seeded mix of road users, published over Zenoh into the store. The run holds a car running
+    the red (punishable), an ambulance on a call crossing it (mitigated), an automated car whose
+    camera misread the light (its ASDE liable) and a Stop line run; each is explained in full,
+    every other incident listed in a line.
     """
     path = db_path(db)
     if paper:
@@ -62,7 +60,6 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
 
 def _simulate(path: Path, json_out: bool) -> str:
     """The demo's simulation, published into the store; its summary on stdout (stderr with --json)."""
-    from cli.progress import stderr_progress
     from sim_replay.demo import DEMO
     from sim_replay.simulation import Simulation
     with stderr_progress("simulating the paper's junctions on SUMO") as bar:
@@ -93,29 +90,3 @@ def _tour(case: Case, run: str) -> None:
             typer.echo("none in this run")
         else:
             typer.echo("\n".join(explanations(case, [hit])))
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 30.0, *,
-                          record: Path | None = None, speed: float | None = None,
-                          each: Callable[[dict], None] | None = None) -> tuple[dict, OutletSummary]:
-    """Publish the events over a loopback Zenoh link into an in-process ingest on the store (and
-    record them, paced, as asked); return the ingest's totals and what went out."""
-    from ingest.service import IngestService
-    from sim_replay.outlets import Outlets
-    endpoint = f"tcp/127.0.0.1:{free_port()}"
-    with IngestService(db, listen=[endpoint]) as ingest:
-        with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s) as out:
-            for event in events:
-                out.put(event)
-                if each is not None:
-                    each(event)
-        sent = out.summary()
-        if not ingest.wait_until_settled(sent.published, timeout_s):
-            raise RuntimeError(f"not every event reached the store within {timeout_s} s: {ingest.stats()}")
-        return ingest.stats(), sent

@@ -113,7 +113,7 @@ def sim(
 
 def _run(config, pace, record, listen, connect, store_file, truth_file):
     """Simulate and send; composition of the rooms' own calls only."""
-    from cli.demo import publish_through_zenoh
+    from cli.local_ingest import publish_through_zenoh
     from cli.progress import stderr_progress
     from sim_replay.outlets import Outlets
     from sim_replay.simulation import Simulation

@@ -25,7 +25,7 @@ from typing import Any, Callable, Iterable
 
 from store import EventRef
 
-from .junctions import UNIT, sector
+from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
 from .passage import Other, Passage
@@ -391,7 +391,7 @@ def _exit_clear(p: Passage, at: int) -> DerivedFact | None:
 _OPPOSITE = {"west": "east", "east": "west", "north": "south", "south": "north"}
 
 
-def _outbound(other: Other, at: int, arm: str, where: tuple[float, float], j) -> bool:
+def _outbound(other: Other, at: int, arm: str, where: tuple[float, float], j: Junction) -> bool:
     """Whether a road user on an exit arm is on the way out of the junction (in the exit lane),
     not queued towards it: its heading points away from the centre; with no heading recorded, it
     stands on the left of the way out (the map's traffic keeps left, as on UK roads)."""

@@ -272,9 +272,9 @@ def _monitors(value: Any) -> dict[str, list[tuple[str, Cone | None]]]:
     found: dict[str, list[tuple[str, Cone | None]]] = {}
     for raw in value if isinstance(value, list) else []:
         if isinstance(raw, dict) and isinstance(raw.get("id"), str) and isinstance(raw.get("junction"), str):
-            cone = tuple(finite(raw.get(k)) for k in ("x", "y", "heading_deg", "range_m", "fov_deg"))
-            found.setdefault(raw["junction"], []).append(
-                (f"monitor/{raw['id']}", None if None in cone else cone))       # type: ignore[arg-type]
+            values = [finite(raw.get(k)) for k in ("x", "y", "heading_deg", "range_m", "fov_deg")]
+            cone: Cone | None = None if None in values else tuple(values)     # type: ignore[assignment]
+            found.setdefault(raw["junction"], []).append((f"monitor/{raw['id']}", cone))
     return found
 
 
@@ -301,8 +301,7 @@ def _in_cone(px: float, py: float, cone: Cone) -> bool:
 
 
 def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[tuple[str, Cone | None]]],
-               ref: EventRef | None,
-               problems: list[str]) -> Iterable[Junction]:
+               ref: EventRef | None, problems: list[str]) -> Iterable[Junction]:
     for raw in _items(value, MAX_JUNCTIONS, "junctions", problems):
         x, y = finite(raw.get("x")), finite(raw.get("y"))
         if not isinstance(raw.get("id"), str) or x is None or y is None:

@@ -1,0 +1,41 @@
+"""An ingest in this process, fed over a loopback Zenoh link: how `gaps demo` and `gaps sim --db`
+store what they publish, exactly as a recorder's events would reach a running `gaps serve`.
+Composition only: the ingest is ingest's, the publishing sim_replay.outlets'."""
+from __future__ import annotations
+
+import socket
+from pathlib import Path
+from typing import TYPE_CHECKING, Iterable
+
+if TYPE_CHECKING:
+    from sim_replay.outlets import OutletSummary
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 30.0, *,
+                          record: Path | None = None, speed: float | None = None) -> tuple[dict, OutletSummary]:
+    """Publish the events over a loopback Zenoh link into an in-process ingest on the store (and
+    record them, paced, as asked); return the ingest's totals and what went out. The ingest may
+    trail a fast producer by a hundred thousand events: it is waited for as long as it keeps
+    storing, and a TimeoutError says so when it stops for timeout_s."""
+    from ingest.service import IngestService
+    from sim_replay.outlets import Outlets
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    with IngestService(db, listen=[endpoint]) as ingest:
+        with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s) as out:
+            for event in events:
+                out.put(event)
+        sent = out.summary()
+        progress = -1
+        while not ingest.wait_until_settled(sent.published, timeout_s):
+            stats = ingest.stats()
+            done = stats["stored"] + stats["duplicates"] + stats["rejected"] + stats["failed"]
+            if done == progress:
+                raise TimeoutError(f"not every event reached the store within {timeout_s:g} s: {stats}")
+            progress = done
+        return ingest.stats(), sent
