@@ -26,6 +26,7 @@ def read_commands(tmp):
         ("incidents",), ("incidents", "--json"), ("incidents", "--run", RUN, "--vehicle", "173"),
         ("explain", "1", "--run", RUN), ("explain", "1", "--run", RUN, "--format", "json"),
         ("scene", "--run", RUN, "--at", "10s"), ("scene", "--run", RUN, "--at", "40.5s", "--vehicle", "253"),
+        ("scene", "--run", RUN, "--at", "10s", "--svg", tmp / "scene.svg"),
         ("report", "--run", RUN, "-o", tmp / "report.html"), ("report", "--run", RUN, "-o", tmp / "report.md"),
         ("export", "--run", RUN, "-o", tmp / "run.jsonl"), ("export", "--run", RUN, "-o", tmp / "run.mcap"),
         ("quarantine",), ("quarantine", "--json"),
@@ -40,6 +41,7 @@ def test_every_read_command_leaves_the_store_file_as_it_was(paper_db, tmp_path):
         assert fingerprint(paper_db) == before, command
     assert json.loads(read(paper_db, "incidents", "--json").stdout)  # the commands did read the run
     assert (tmp_path / "report.html").stat().st_size > 0 and (tmp_path / "run.mcap").stat().st_size > 0
+    assert (tmp_path / "scene.svg").stat().st_size > 0
 
 
 def test_the_cache_beside_it_is_safe_to_delete(paper_db):
