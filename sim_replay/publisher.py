@@ -12,9 +12,16 @@ from types import TracebackType
 
 import zenoh
 
-from store import canonical_json, key_for
+from store import SYNC_KEY, canonical_json, key_for
 
 __all__ = ["EventPublisher", "zenoh_config"]
+
+BLOCK_FOR_US = 3_600_000_000
+"""How long a put may wait for room before Zenoh gives up the link (microseconds). Zenoh's default is
+5 s, after which it closes the link and the puts that follow vanish without an error (measured: an
+ingest that paused 8 s lost 50,000 of 60,000 events); an audit producer waits instead. A dead ingest
+is still found within the lease (10 s), which closes the link whatever this says."""
+SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 
 
 def zenoh_config(
@@ -31,6 +38,7 @@ def zenoh_config(
     config.insert_json5("connect/endpoints", json.dumps(list(connect)))
     config.insert_json5("scouting/multicast/enabled", "false")
     config.insert_json5("scouting/gossip/enabled", "false")
+    config.insert_json5("transport/link/tx/queue/congestion_control/block/wait_before_close", str(BLOCK_FOR_US))
     return config
 
 
@@ -58,6 +66,7 @@ class EventPublisher:
         self._session = session if session is not None else zenoh.open(config or zenoh_config())
         self._publishers: dict[str, zenoh.Publisher] = {}
         self._closed = False
+        self.confirmed_by: int | None = None   # ingests that confirmed receipt at close (None: not closed)
 
     @property
     def session(self) -> zenoh.Session:
@@ -90,10 +99,22 @@ class EventPublisher:
             time.sleep(0.01)
         return True
 
+    def sync(self, timeout: float = SYNC_TIMEOUT_S) -> int:
+        """Wait until every ingest has what was published before; returns how many ingests said so
+        (0: none answers, e.g. a foreign subscriber, or none within ``timeout``)."""
+        replies = self._session.get(SYNC_KEY, target=zenoh.QueryTarget.ALL,
+                                    consolidation=zenoh.ConsolidationMode.NONE, timeout=timeout)
+        return sum(1 for reply in replies if reply.ok is not None)
+
     def close(self) -> None:
-        """Undeclare the publishers, and close the session if this object opened it. Safe to call twice."""
+        """Undeclare the publishers, and close the session if this object opened it. Safe to call twice.
+
+        Anything published is first confirmed by the ingests (`sync`): a session closed with samples
+        still queued drops them (measured: 7,500 of 60,000 to a slow subscriber)."""
         if self._closed:
             return
+        if self._publishers:
+            self.confirmed_by = self.sync()
         self._closed = True
         for publisher in self._publishers.values():
             publisher.undeclare()

@@ -289,6 +289,13 @@ def parse_event(raw: bytes) -> dict:
     return decode_event(raw)[0]
 
 
+SYNC_KEY = "gaps/@ingest/sync"
+"""Where every ingest answers a producer's "has all I put before this reached you?". Zenoh delivers a
+query after the samples put before it on the same link, so the answer means they are in the ingest's
+hands, and a producer may close its session without losing what was still on the way (a session
+closed with samples queued drops them). An @ chunk: no `gaps/**` subscription or query matches it."""
+
+
 def key_for(ev: dict) -> str:
     """The Zenoh key expression a (valid) event is published under."""
     return f"gaps/{ev['run']}/{ev['src']}/{ev['kind']}"
