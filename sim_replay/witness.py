@@ -32,6 +32,7 @@ from sim_replay.world_state import Snapshot, VehicleState
 __all__ = ["FOLLOW_M", "Witness"]
 
 FOLLOW_M = 25.0              # a road user this close behind another is following it
+ABREAST_M = 4.0              # and no further to one side of its heading (the same lane)
 STILL_MPS = 0.1
 
 
@@ -89,8 +90,7 @@ class Witness:
                                 pending["watch"][o.id] = 0.0
                 for ident in pending["watch"]:
                     other = snap.vehicle(ident)
-                    if other is not None and other.light in (None, "green") and \
-                            not any(_ahead(other, x, FOLLOW_M) for x in snap.vehicles if x.id not in (ident, vid)):
+                    if other is not None and other.light in (None, "green") and not _following(other, snap, vid):
                         pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
             if snap is not None and t < pending["until"]:
                 still.append(pending)
@@ -215,9 +215,15 @@ def _inside(x: float, y: float, polygon: tuple[tuple[float, float], ...]) -> boo
     return inside
 
 
+def _following(v: VehicleState, snap: Snapshot, besides: str) -> bool:
+    """Whether v follows a road user (other than `besides`) closely: its braking is then the queue's."""
+    return any(_ahead(v, o, FOLLOW_M) for o in snap.near(v.x, v.y, math.hypot(FOLLOW_M, ABREAST_M))
+               if o.id not in (v.id, besides))
+
+
 def _ahead(v: VehicleState, o: VehicleState, within_m: float = 12.0) -> bool:
     """Whether o is within a few metres in front of v (what v stands behind)."""
     dx, dy = o.x - v.x, o.y - v.y
     h = math.radians(v.heading_deg)
     along = dx * math.cos(h) + dy * math.sin(h)
-    return 0.0 < along <= within_m and abs(-dx * math.sin(h) + dy * math.cos(h)) < 4.0
+    return 0.0 < along <= within_m and abs(-dx * math.sin(h) + dy * math.cos(h)) < ABREAST_M
