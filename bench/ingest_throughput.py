@@ -20,6 +20,7 @@ from pathlib import Path
 import zenoh
 
 from ingest import IngestService, session_config
+from ingest.service import BATCH_SIZE
 from sim_replay.publisher import EventPublisher, zenoh_config
 from store import Store
 
@@ -120,7 +121,7 @@ def main() -> None:
     parser.add_argument("--events", type=int, default=5_000 if quick() else 50_000)
     parser.add_argument("--not-durable", action="store_true")
     parser.add_argument("--same-process", action="store_true")
-    parser.add_argument("--batch-size", type=int, default=1000)
+    parser.add_argument("--batch-size", type=int, default=BATCH_SIZE)
     args = parser.parse_args()
     where = "same process" if args.same_process else "publisher in a child process"
     print(f"{args.events} events, {where}, durable={not args.not_durable}, batch_size={args.batch_size}")

@@ -24,6 +24,12 @@ from .writer import BatchWriter
 log = logging.getLogger(__name__)
 
 SUBSCRIPTION = "gaps/**"
+BATCH_SIZE = 10_000
+"""The most events one commit takes. A busy ingest commits full batches, and each commit rewrites
+every page its inserts touched: with a thousand sources the (run, src, seq) index is touched all
+over, so a batch of 1,000 cost as much disk as one of 10,000 (measured on 588,655 events of a
+1,000-vehicle simulation: 62.7 s against 36.0 s). A quiet ingest commits after flush_interval_s
+whatever it has, so this bounds work per commit, not latency."""
 MAX_PENDING = 100_000  # samples Zenoh may hold for the writer before it pushes back on publishers
 OPEN_TIMEOUT_S = 30.0
 
@@ -42,7 +48,7 @@ class IngestService:
         listen: Sequence[str] = (),
         connect: Sequence[str] = (),
         mode: str = "peer",
-        batch_size: int = 1000,
+        batch_size: int = BATCH_SIZE,
         flush_interval_s: float = 0.05,
         durable: bool = True,
         max_pending: int = MAX_PENDING,
