@@ -1,6 +1,7 @@
 """The engine over janus_swi: answers, proofs, why-not, isolation, and facts that stay data."""
 from reasoner.bundled import bundled
 from reasoner.engine import get_engine
+from reasoner.le.render import sentence_text
 from reasoner.le.sentences import parse_fact
 from reasoner.le.terms import Atom
 
@@ -69,3 +70,17 @@ def test_hostile_fact_strings_are_constants_not_code(tmp_path):
     assert not answer.holds and not marker.exists()
     # the engine is still alive and answering
     assert get_engine().ask(rb, Atom("can", (173, ENTER)), facts(rb, "173 has green light")).holds
+
+
+def test_a_sentence_of_words_renders_the_same_when_remembered():
+    rb = load()
+    for data in (["has_light", "c12", "red"], ["is_of_type", "c12", "ambulance"], ["has_light", "c12", "red"]):
+        assert rb.render(data) == sentence_text(data, rb.document)
+    assert rb.render(["is_of_type", "173", "car"]) != rb.render(["is_of_type", "174", "car"])
+
+
+def test_remembered_sentences_keep_numbers_words_and_truth_apart():
+    rb = load()
+    for data in (["is_of_type", 173, "car"], ["is_of_type", "173", "car"], ["is_of_type", 1, "car"],
+                 ["is_of_type", True, "car"], ["is_of_type", 173, "car"]):
+        assert rb.render(data) == sentence_text(data, rb.document)
