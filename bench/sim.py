@@ -4,27 +4,28 @@ Issue 13's target: 1,000 vehicles at 10 Hz at least as fast as real time on one 
 everything into a running ingest; events/s, rulebook queries/s and SUMO's share of the time reported,
 as a ratio to SUMO stepping alone measured in the same run.
 
-    .venv/bin/python bench/sim.py [--vehicles 1000] [--seconds 60] [--seed 1] [--depart-within 0.1]
+    .venv/bin/python bench/sim.py [--vehicles 1000] [--warmup 60] [--seconds 60] [--seed 1]
 
 On bench/sumo_step.py's left-hand 10 x 10 signal grid (the paper's map holds a few hundred vehicles),
-with two monitors at grid junctions (written beside the grid). In order, in this one process:
+with two monitors at grid junctions (written beside the grid). Three processes, one after another
+or side by side:
 
-    sumo alone   N vehicles kept on the grid (sumo_step.Traffic), stepped with subscriptions for the
-                 run's number of steps after they are all on: steps per second
-    simulation   sim_replay.simulation with N vehicles set off within the first `depart-within` share
-                 of the run, every event published over loopback Zenoh into an ingest in this process
-                 that appends them to a store file; World.step timed inside it (SUMO's share)
+    sumo alone   a child process on CPU 0: N vehicles kept on the grid (sumo_step.Traffic), stepped
+                 with subscriptions for the timed window's steps once they are all on: steps per
+                 second (a child, because libsumo started a second time in one process after a
+                 large run stalled)
+    ingest       a child process on CPU 1, as `gaps serve` runs: IngestService listening on a
+                 loopback port, appending to a store file (not durable); it reports what it stored
+    simulation   this process, on CPU 0 (and Zenoh's threads with it): sim_replay.simulation with
+                 N vehicles set off over the warm-up, every event published over Zenoh to the
+                 ingest; only the window after the warm-up is timed (wall and CPU), World.step
+                 timed inside it (SUMO's share)
 
-Vehicles on the network are counted from the entity.state events published (per step, on average),
-so the two loops are compared at the vehicle counts they really had.
-
-Open (2026-11-25): the quick size runs (200 vehicles, 20 s: 4.1x real time, 7,316 events/s, SUMO's
-step 23% of the time); the full size stalled after SUMO alone (64.3 steps/s = 6.4x real time with
-1,000 vehicles), the process idle and the simulation not advancing. The same simulation in a fresh
-process (no SUMO-alone loop before it), publishing into an ingest in that process, completed: 60 s
-of world time, 357,664 events published in 55.6-70.9 s (1.08-0.85x real time), every one stored
-(settled 11 s later). So the first suspect is libsumo started a second time in one process after a
-large run; the fix is to measure SUMO alone in a child process.
+Vehicles on the network are counted from the entity.state events of the window (per step, on
+average), so the two loops are compared at the vehicle counts they really had. Where the machine is
+shared, the wall figure carries the neighbours' load; the CPU figure (world seconds per CPU second
+of the simulation's process) is what a core of its own would give. Fails if any published event was
+not stored.
 """
 from __future__ import annotations
 
@@ -32,6 +33,7 @@ import argparse
 import json
 import os
 import socket
+import subprocess
 import sys
 import tempfile
 import time
@@ -53,8 +55,19 @@ MONITORS = [{"id": "g1", "junction": "B1", "x": 315.0, "y": 310.0, "heading_deg"
             {"id": "g2", "junction": "C2", "x": 485.0, "y": 490.0, "heading_deg": 10.0, "range_m": 80.0, "fov_deg": 90.0}]
 
 
-def sumo_alone(net: Path, vehicles: int, steps: int, seed: int) -> tuple[float, float]:
-    """(steps per second, mean vehicles) of SUMO alone with N vehicles kept on the network."""
+def pin(cpu: int) -> str:
+    """Keep this process (and the threads it starts from now on) on one CPU, when there are two or
+    more: the target is "on one core", and the ingest is another process on another core."""
+    if (os.cpu_count() or 1) < 2 or not hasattr(os, "sched_setaffinity"):
+        return "not pinned (one CPU)"
+    os.sched_setaffinity(0, {cpu})
+    return f"pinned to CPU {cpu}"
+
+
+def sumo_alone(net: Path, vehicles: int, steps: int, seed: int) -> dict:
+    """Steps per second and mean vehicles of SUMO alone with N vehicles kept on the network (run in a
+    child process: libsumo started twice in one process after a large run stalled the second)."""
+    pin(0)
     with sumo_world.World(net, seed=seed, step_s=STEP_S) as world:
         traffic = Traffic(world, vehicles, seed)
         for _ in range(3000):
@@ -63,12 +76,45 @@ def sumo_alone(net: Path, vehicles: int, steps: int, seed: int) -> tuple[float, 
             if len(snap.vehicles) >= vehicles * 0.98:
                 break
         rate, _, mean = sumo_loop(traffic, steps)
-    return rate, mean
+    return {"steps_per_s": rate, "vehicles_mean": mean}
 
 
-def simulation(net: Path, monitors: Path, args: argparse.Namespace) -> dict:
-    """The simulation published into an ingest here; its wall time, events, queries, SUMO's share."""
+def serve(db: Path, endpoint: str) -> dict:
+    """An ingest on its own core, as `gaps serve` would run: listens, says "ready" on stdout, reads
+    the number of events to expect from stdin, and waits until they are all stored."""
     from ingest.service import IngestService
+    pin(1)
+    with IngestService(db, listen=[endpoint], durable=False) as ingest:
+        print("ready", flush=True)
+        expected = int(sys.stdin.readline())
+        started = time.perf_counter()
+        stored = -1
+        while not ingest.wait_until_settled(expected, 30):
+            now = ingest.stats()["stored"]
+            if now == stored:
+                break
+            stored = now
+        stats = ingest.stats()
+        stats["settle_wait_s"] = time.perf_counter() - started
+        stats["cpu_s"] = time.process_time()
+    return stats
+
+
+def child(part: str, *args: str, stdin: int | None = None) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, __file__, "--part", part, *args], stdin=stdin,
+                            stdout=subprocess.PIPE, text=True)
+
+
+def last_json(proc: subprocess.Popen) -> dict:
+    out, _ = proc.communicate()
+    if proc.returncode != 0:
+        raise SystemExit(f"bench/sim.py: the {proc.args[3]} part failed (exit {proc.returncode})")
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path) -> dict:
+    """The simulation in this process, on one core, published into an ingest in a child process on
+    the other: its wall time, events, queries and SUMO's share (World.step timed inside it)."""
     from sim_replay.outlets import Outlets
     stepping = [0.0]
     real_step = sumo_world.World.step
@@ -80,31 +126,48 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace) -> dict:
         finally:
             stepping[0] += time.perf_counter() - started
 
-    sumo_world.World.step = timed_step
-    config = SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
-                       duration_s=args.seconds, depart_within=args.depart_within, pedestrians=0)
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         endpoint = f"tcp/127.0.0.1:{s.getsockname()[1]}"
-    with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
-        try:
-            with IngestService(Path(folder) / "sim.db", listen=[endpoint], durable=False) as ingest:
-                started = time.perf_counter()
-                sim = Simulation(config)
-                with Outlets(connect=[endpoint]) as out:
-                    for event in sim.events():
-                        out.put(event)
-                published = time.perf_counter() - started
-                ingest.wait_until_settled(out.summary().published, 600)
-                settled = time.perf_counter() - started
-                stats = ingest.stats()
-        finally:
-            sumo_world.World.step = real_step
-    summary = sim.summary
-    states = summary.by_kind.get("entity.state", 0)
-    return {"wall_s": published, "settled_s": settled, "events": summary.events, "stored": stats["stored"],
-            "queries": summary.rulebook_queries, "sumo_s": stepping[0], "steps": round(args.seconds / STEP_S),
-            "vehicles_mean": states / (args.seconds / STEP_S), "potential_violations": summary.potential_violations}
+    ingest = child("serve", str(folder / "sim.db"), endpoint, stdin=subprocess.PIPE)
+    if ingest.stdout.readline().strip() != "ready":
+        raise SystemExit("bench/sim.py: the ingest did not start")
+    cpus = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
+    pinned = pin(0)
+    config = SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
+                       duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
+    sumo_world.World.step = timed_step
+    window_from: int | None = None  # the first event's t (the run's start) + the warm-up
+    mark: dict | None = None
+    events = states = 0
+    try:
+        sim = Simulation(config)
+        with Outlets(connect=[endpoint]) as out:
+            for event in sim.events():
+                if window_from is None:
+                    window_from = event["t"] + int(args.warmup * 1e9)
+                if mark is None and event["t"] >= window_from:
+                    mark = {"wall": time.perf_counter(), "cpu": time.process_time(), "sumo": stepping[0],
+                            "queries": sim.books.queries}
+                if mark is not None:
+                    events += 1
+                    states += event["kind"] == "entity.state"
+                out.put(event)
+        wall, cpu = time.perf_counter() - mark["wall"], time.process_time() - mark["cpu"]
+    finally:
+        sumo_world.World.step = real_step
+        if cpus is not None:
+            os.sched_setaffinity(0, cpus)  # the machine line counts this machine's CPUs, not the pin
+    ingest.stdin.write(f"{out.summary().published}\n")
+    ingest.stdin.flush()
+    stats = last_json(ingest)
+    steps = round(args.seconds / STEP_S)
+    return {"wall_s": wall, "cpu_s": cpu, "pinned": pinned, "settled_after_s": stats["settle_wait_s"],
+            "events": events, "published": out.summary().published, "stored": stats["stored"],
+            "ingest_cpu_s": stats["cpu_s"], "queries": sim.books.queries - mark["queries"],
+            "sumo_s": stepping[0] - mark["sumo"], "steps": steps, "vehicles_mean": states / steps,
+            "potential_violations": sim.summary.potential_violations,
+            "ingest": {k: v for k, v in stats.items() if k not in ("cpu_s", "settle_wait_s")}}
 
 
 def main() -> None:
@@ -112,38 +175,61 @@ def main() -> None:
     ap.add_argument("--vehicles", type=int, default=200 if quick() else 1000)
     ap.add_argument("--seconds", type=float, default=20.0 if quick() else 60.0, help="world seconds simulated")
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--depart-within", type=float, default=0.1, help="share of the run over which vehicles set off")
+    ap.add_argument("--warmup", type=float, default=10.0 if quick() else 60.0,
+                    help="world seconds, not timed, in which the vehicles enter the network")
+    ap.add_argument("--depart-within", type=float, default=None,
+                    help="share of the run over which vehicles set off (default: the warm-up)")
+    ap.add_argument("--part", choices=["sumo-alone", "serve"], help=argparse.SUPPRESS)
+    ap.add_argument("part_args", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.depart_within is None:
+        args.depart_within = args.warmup / (args.warmup + args.seconds)
     net = grid_net()
+    steps = round(args.seconds / STEP_S)
+    if args.part == "sumo-alone":
+        print(json.dumps(sumo_alone(net, args.vehicles, steps, args.seed)))
+        return
+    if args.part == "serve":
+        print(json.dumps(serve(Path(args.part_args[0]), args.part_args[1])))
+        return
     monitors = net.with_name("grid10-lefthand.monitors.json")
     monitors.write_text(json.dumps({"monitors": MONITORS}), encoding="utf-8")
-    steps = round(args.seconds / STEP_S)
-
-    alone, alone_vehicles = sumo_alone(net, args.vehicles, steps, args.seed)
+    sizes = ["--vehicles", str(args.vehicles), "--seconds", str(args.seconds), "--seed", str(args.seed)]
+    alone_got = last_json(child("sumo-alone", *sizes))
+    alone, alone_vehicles = alone_got["steps_per_s"], alone_got["vehicles_mean"]
     print(f"SUMO alone: {alone:,.1f} steps/s with {alone_vehicles:,.0f} vehicles ({alone * STEP_S:.2f} x real time)",
           flush=True)
-    got = simulation(net, monitors, args)
+    with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
+        got = simulation(net, monitors, args, Path(folder))
     sim_rate = steps / got["wall_s"]
-    print(f"simulation: {args.seconds:g} s of world time in {got['wall_s']:.1f} s ({args.seconds / got['wall_s']:.2f} x "
-          f"real time), {got['vehicles_mean']:,.0f} vehicles on the network on average; {got['events']:,} events "
-          f"({got['events'] / got['wall_s']:,.0f}/s), {got['queries']:,} rulebook queries ({got['queries'] / got['wall_s']:,.0f}/s), "
-          f"stored {got['stored']:,} (all settled after {got['settled_s']:.1f} s); SUMO's step "
+    print(f"simulation ({got['pinned']}): {args.seconds:g} s of world time in {got['wall_s']:.1f} s "
+          f"({args.seconds / got['wall_s']:.2f} x real time; CPU {got['cpu_s']:.1f} s = {args.seconds / got['cpu_s']:.2f} x), {got['vehicles_mean']:,.0f} "
+          f"vehicles on the network on average; {got['events']:,} events ({got['events'] / got['wall_s']:,.0f}/s), "
+          f"{got['queries']:,} rulebook queries ({got['queries'] / got['wall_s']:,.0f}/s); SUMO's step "
           f"{got['sumo_s']:.1f} s = {got['sumo_s'] / got['wall_s']:.0%} of the time")
+    print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "
+          f"all settled {got['settled_after_s']:.1f} s after the simulation ended; CPU {got['ingest_cpu_s']:.1f} s")
     print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s)")
     print(f"machine: {machine()}")
+    if got["stored"] != got["published"]:
+        raise SystemExit(f"bench/sim.py: {got['published'] - got['stored']:,} published events were not stored; "
+                         f"the ingest's totals: {got['ingest']}")
     figures = [
         Figure("SUMO alone", alone, "steps/s", note=f"{alone_vehicles:,.0f} vehicles kept on the grid"),
         Figure("the simulation, publishing into an ingest", sim_rate, "steps/s", peer="SUMO alone",
                note=f"{got['vehicles_mean']:,.0f} vehicles on average"),
         Figure("real-time factor of the simulation", args.seconds / got["wall_s"], "x real time",
                target=">= 1 at 1,000 vehicles, one core"),
+        Figure("real-time factor by the simulation's CPU time", args.seconds / got["cpu_s"], "x real time",
+               note="world seconds per CPU second of its process: what a core of its own would give"),
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
         Figure("rulebook queries", got["queries"] / got["wall_s"], "queries/s"),
         Figure("SUMO's share of the simulation's time", 100 * got["sumo_s"] / got["wall_s"], "%"),
     ]
     record("sim", "The whole simulation, publishing into a running ingest", figures,
            notes=f"grid10-lefthand, {args.vehicles:,} vehicles set off within {args.depart_within:.0%} of "
-                 f"{args.seconds:g} s, seed {args.seed}, two monitors; an ingest in this process, store not durable",
+                 f"{args.seconds:g} s, seed {args.seed}, two monitors; the simulation on one core, the ingest "
+                 f"in another process on the other (store not durable); SUMO alone in a child process",
            details={k: v for k, v in got.items()})
 
 
