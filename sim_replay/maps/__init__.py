@@ -2,7 +2,7 @@
 
 A map `NAME` is `maps/NAME/NAME.net.xml` (built by scripts/build-net.py from the plain files beside it)
 and `maps/NAME/NAME.monitors.json` (sim_replay.monitors). `paper` is the paper's map and the default;
-`town` is twelve junctions of the same kinds, room for the two hundred vehicles of a long run (the
+`town` is twenty junctions of the same kinds, room for the two hundred vehicles of a long run (the
 benchmarks' run, bench/sim_runs.py).
 """
 from __future__ import annotations
