@@ -4,8 +4,8 @@
 
 Before issue 11 every explanation re-hashed the whole run to say whether its chain verified
 (8.3 s for one incident of a 355,000-event run). Now an investigation checks each run's chain
-once and every explanation cites that. Measured on the store file of bench/incidents.py (its
-working copy; generated if missing), through the public API, read-only:
+once and every explanation cites that. Measured on the simulated run of bench/sim_runs.py (the
+working copy bench/incidents.py judged; recorded if missing), through the public API, read-only:
 
     judge     case.incidents(run): every incident judged (the investigation loads once)
     chain     the run's hash chain recomputed: what each explanation used to pay on top
@@ -22,9 +22,9 @@ import statistics
 import time
 from pathlib import Path
 
-from incidents import RUN, work_file  # bench/incidents.py, beside this file
 from machine import machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
+from sim_runs import RUN, work_file  # bench/sim_runs.py, beside this file
 
 
 def seconds(call) -> tuple[float, object]:
@@ -60,7 +60,7 @@ def main() -> None:
     result = measure(work_file(args.dir, fresh=False), args.explain)
     result["machine"] = machine()
     each = statistics.median(result["each_s"])
-    record("explanations", "Explaining the incidents of a synthetic run", [
+    record("explanations", "Explaining the incidents of a simulated run", [
         Figure("every incident judged (case.incidents)", result["judge_s"], "s"),
         Figure("the run's hash chain recomputed (once per investigation)", result["chain_s"], "s"),
         Figure("the first explanation (includes the chain check)", result["first_s"], "s"),

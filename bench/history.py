@@ -1,9 +1,9 @@
-"""Histories over the synthetic run of bench/incidents.py: what the verdicts pay for them, and
+"""Histories over the simulated run of bench/incidents.py: what the verdicts pay for them, and
 what every passage of every vehicle costs.
 
     .venv/bin/python bench/history.py [--repeats 3] [--dir /tmp/gaps-bench] [--no-whole] [--json]
 
-On the store file bench/incidents.py generates (its working copy; generated if missing):
+On the store file bench/sim_runs.py records (its working copy; recorded if missing):
 
     judgement    Investigation(store).incidents(run), fresh objects, warm: every act's history,
                  derived facts, margin and the sweep of acts nobody recorded included (issue 12's
@@ -29,9 +29,10 @@ import time
 from pathlib import Path
 from typing import Any
 
-from incidents import RUN, TARGET, incidents_once, work_file  # bench/incidents.py, beside this file
+from incidents import TARGET, incidents_once  # bench/incidents.py, beside this file
 from machine import QUIET_MS, calibration_elsewhere, machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
+from sim_runs import RUN, describe, work_file  # bench/sim_runs.py, beside this file
 from store import Store
 
 
@@ -113,7 +114,7 @@ def whole_record(path: Path) -> dict[str, Any]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dir", type=Path, default=Path("/tmp/gaps-bench"))
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=2 if quick() else 3)
     parser.add_argument("--no-whole", action="store_true", help="skip every vehicle's whole record")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
@@ -185,9 +186,8 @@ def record_result(result: dict[str, Any], repeats: int) -> None:
         figures.append(Figure("every passage of every vehicle, whole record", whole["events_read"] / whole["wall_s"],
                               "events/s", note=f"{whole['passages']:,} passages of {whole['vehicles']} vehicles in "
                               f"{whole['wall_s']:.1f} s = {duration / whole['wall_s']:,.0f}× real time"))
-    size = "100 vehicles for 300 s" if quick() else "200 vehicles for 3600 s"
-    record("history", "Histories rebuilt over a synthetic run", figures,
-           notes=f"sim_replay.synthetic, {size}, seed 7: {result['events']:,} events, {last['acts']} recorded potential "
+    record("history", "Histories rebuilt over a simulated run", figures,
+           notes=f"{describe()}: {result['events']:,} events, {last['acts']} recorded potential "
                  f"violations ({last['crossings']} with a stop-line crossing, {last['facts']} derived facts, "
                  f"{last['margins']} margins); median of {repeats} runs; calibration "
                  f"{', '.join(map(str, result['calibration_ms']))} ms ({QUIET_MS})",

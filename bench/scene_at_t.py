@@ -2,233 +2,64 @@
 
     .venv/bin/python bench/scene_at_t.py [--sizes 100k,1m,10m] [--queries 200] [--dir /tmp/gaps-bench]
 
-DESIGN's target: median <= 5 ms at 10 million events, growing sub-linearly. Each size is one
-synthetic run of DESIGN's catalogue: 200 vehicles around a square of four light-controlled
-junctions, entity.state at 10 Hz, a perception and a decision per vehicle per second, ADS
-hand-overs, signals cycling, a monitor per junction observing the vehicles in its range. The
-store files are generated once (the 10-million-event one takes several minutes) and kept under
---dir with their snapshots; later runs reuse them. A file is renamed into place only when
-complete, so an interrupted generation is simply redone.
+DESIGN's target: median <= 5 ms at 10 million events, growing sub-linearly. Each size is the first
+N events of the simulated run of bench/sim_runs.py (the town map, about 200 vehicles through the
+hour; recorded if missing), copied into a store file of its own: entity.state at 10 Hz, the
+monitors' observations, perceptions, decisions and traces, signals, ADS events. A size larger than
+the run is the whole run (the figure names the events it really has). The files are made once and
+kept under --dir with their snapshots, named after the run they are cut from; later runs reuse
+them. A file is renamed into place only when complete, so an interrupted copy is simply redone.
 """
 
 from __future__ import annotations
 
 import argparse
-import hashlib
-import math
 import multiprocessing
 import os
 import random
 import resource
 import statistics
 import time
+from itertools import islice
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 from store import State, Store
 from store import snapshots
 from store.state import SNAPSHOT_EVERY, build_snapshots, state_at
 from machine import calibration, machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
+from sim_runs import RUN, recorded  # bench/sim_runs.py, beside this file
 
-RUN = "bench-scene"
-T0 = 1_732_184_100_000_000_000
-SECOND = 1_000_000_000
-VEHICLES = 200
-SIDE = 400.0  # metres between neighbouring junctions
-LOOP = 4 * SIDE
-MONITOR_RANGE = 50.0
-GENERATOR = 3  # bump when the synthetic run changes, so cached files are regenerated
 WARM_UP = 30  # untimed queries before the timed ones
 SIZES = {"100k": 100_000, "1m": 1_000_000, "10m": 10_000_000}
-RULEBOOK = "hashed only: the bench needs a sha256 to cite"
-RULEBOOK_SHA = hashlib.sha256(RULEBOOK.encode()).hexdigest()
-
-# Junction i sits at corner i of the square, reached after i sides of the loop.
-CORNERS = [(0.0, 0.0), (SIDE, 0.0), (SIDE, SIDE), (0.0, SIDE)]
-JUNCTIONS = [f"J{i + 1}" for i in range(4)]
-HEADINGS = [0.0, 90.0, 180.0, 270.0]  # of the side that leaves corner i
-APPROACHES = ["north", "east", "south", "west"]
-CYCLE = [("green", 20), ("amber", 3), ("red", 23)]  # seconds; north/south, east/west offset by half
-
-
-# --- the synthetic world ------------------------------------------------------------------------
-
-
-def world_map() -> dict[str, Any]:
-    roads = [{"id": f"R{i + 1}", "from": list(CORNERS[i]), "to": list(CORNERS[(i + 1) % 4])} for i in range(4)]
-    junctions = [{"id": j, "x": x, "y": y, "control": "lights"} for j, (x, y) in zip(JUNCTIONS, CORNERS)]
-    monitors = [
-        {"id": f"m{i + 1}", "junction": j, "x": x + 5, "y": y + 5, "heading_deg": 225.0,
-         "range_m": MONITOR_RANGE, "fov_deg": 360.0}
-        for i, (j, (x, y)) in enumerate(zip(JUNCTIONS, CORNERS))
-    ]
-    return {"roads": roads, "junctions": junctions, "monitors": monitors}
-
-
-def place(distance: float) -> tuple[float, float, float, int]:
-    """Position on the loop: x, y, heading and the side (= index of the corner it left)."""
-    distance %= LOOP
-    side, along = int(distance // SIDE), distance % SIDE
-    (x0, y0), (x1, y1) = CORNERS[side], CORNERS[(side + 1) % 4]
-    f = along / SIDE
-    return x0 + (x1 - x0) * f, y0 + (y1 - y0) * f, HEADINGS[side], side
-
-
-def colour(junction: int, approach: int, second: int) -> str:
-    """Fixed-time signal plan: approaches 0/2 and 1/3 alternate, junctions staggered."""
-    period = sum(d for _, d in CYCLE)
-    phase = (second + junction * 7 + (approach % 2) * period // 2) % period
-    for name, duration in CYCLE:
-        if phase < duration:
-            return name
-        phase -= duration
-    return "red"
-
-
-class Vehicle:
-    def __init__(self, ident: int, rng: random.Random) -> None:
-        self.id = str(ident)
-        self.src = f"vehicle/{ident}"
-        self.start = rng.uniform(0, LOOP)
-        self.speed = round(rng.uniform(7.0, 14.0), 2)  # as a speedometer would report it
-        self.autonomous = rng.random() < 0.6
-        self.engaged = False
-        self.type = "ambulance" if ident % 50 == 7 else "bus" if ident % 20 == 3 else "car"
-
-
-class Events:
-    """Numbers each source's events from 0, as the envelope requires."""
-
-    def __init__(self) -> None:
-        self.seqs: dict[str, int] = {}
-
-    def __call__(self, src: str, t: int, kind: str, body: dict[str, Any]) -> dict[str, Any]:
-        seq = self.seqs[src] = self.seqs.get(src, -1) + 1
-        return {"v": 1, "run": RUN, "src": src, "seq": seq, "t": t, "kind": kind, "body": body}
-
-
-def synthetic_run(n: int, seed: int = 7) -> Iterator[dict[str, Any]]:
-    """The first n events of the synthetic run, in time order."""
-    rng = random.Random(seed)
-    vehicles = [Vehicle(i, rng) for i in range(VEHICLES)]
-    start = {"map": world_map(), "seed": seed, "config": {"generator": GENERATOR},
-             "rulebooks": [{"name": "bench", "version": "1", "sha256": RULEBOOK_SHA, "text": RULEBOOK}]}
-    for produced, ev in enumerate(_run_events(vehicles, Events(), start), 1):
-        yield ev
-        if produced == n:
-            return
-
-
-def _run_events(vehicles: list[Vehicle], event: Events, start: dict[str, Any]) -> Iterator[dict[str, Any]]:
-    yield event("sim/world", T0, "run.start", start)
-    for v in vehicles:
-        body = {"type": v.type, "driver": "autonomous" if v.autonomous else "human",
-                "automation_level": 4 if v.autonomous else 0, "plate": f"BN{int(v.id):03d}AV",
-                "emergency": v.type == "ambulance"}
-        yield event(v.src, T0 + int(v.id) * 1000 + 1, "entity.spawn", body)
-        if v.autonomous:
-            v.engaged = True
-            yield event(v.src, T0 + int(v.id) * 1000 + 2, "ads.event", {"event": "activated"})
-    tick = 0
-    while True:
-        yield from _tick(vehicles, event, tick)
-        tick += 1
-
-
-def _tick(vehicles: list[Vehicle], event: Events, tick: int) -> Iterator[dict[str, Any]]:
-    """Everything published in one 100 ms tick."""
-    t = T0 + SECOND + tick * SECOND // 10  # a second after the spawns
-    second, whole = divmod(tick, 10)
-    if whole == 0:
-        yield from _signals(event, t, second)
-    for v in vehicles:
-        vt = t + (int(v.id) + 1) * 1000  # after the signals, spread over the tick
-        x, y, heading, side = place(v.start + v.speed * tick / 10)
-        corner = min(range(4), key=lambda c: math.dist((x, y), CORNERS[c]))
-        near = math.dist((x, y), CORNERS[corner])
-        junction = JUNCTIONS[corner] if near < 15 else None
-        body = {"x": round(x, 2), "y": round(y, 2), "heading_deg": heading, "speed_mps": v.speed,
-                "road": f"R{side + 1}", "junction": junction}
-        yield event(v.src, vt, "entity.state", body)
-        if whole == int(v.id) % 10:
-            light = colour(corner, side, second)
-            yield from _vehicle_second(v, event, vt + 10, light, junction)
-            if near < MONITOR_RANGE:
-                monitor = f"monitor/m{corner + 1}"
-                facts = [f"{v.id} has {light} light", f"{v.id} has speed of {round(v.speed * 2.237)}"]
-                if junction:
-                    facts.append(f"{v.id} is in the junction")
-                seen = {"vehicle": v.id, "facts": facts, "speed_mps": v.speed, "x": body["x"], "y": body["y"]}
-                yield event(monitor, vt + 20, "monitor.observation", seen)
-            if v.autonomous:
-                yield from _handover(v, event, vt + 30, second)
-
-
-def _vehicle_second(v: Vehicle, event: Events, t: int, light: str, junction: str | None) -> Iterator[dict]:
-    """A vehicle's perception and decision, once a second."""
-    facts = [f"{v.id} is of type {v.type}", f"{v.id} has {light} light",
-             f"{v.id} has speed of {round(v.speed * 2.237)}"]
-    if v.engaged:
-        facts.append(f"{v.id} is driving itself")
-    if junction:
-        facts.append(f"{v.id} is in the junction")
-    yield event(v.src, t, "vehicle.perception", {"facts": facts})
-    permitted = light == "green"
-    yield event(v.src, t + 1, "vehicle.decision",
-                {"goal": f"{v.id} can enter the junction", "action": "enter the junction",
-                 "permitted": permitted, "proceeds": permitted, "rulebook": RULEBOOK_SHA})
-
-
-def _handover(v: Vehicle, event: Events, t: int, second: int) -> Iterator[dict[str, Any]]:
-    """Every ten minutes each automated vehicle asks its driver to take over, who does, and
-    hands back a minute later."""
-    phase = (second + int(v.id) * 3) % 600
-    if phase == 0:
-        yield event(v.src, t, "ads.event", {"event": "transition_demand", "reason": "end of ODD"})
-    elif phase == 5:
-        v.engaged = False
-        yield event(v.src, t, "ads.event", {"event": "driver_override"})
-    elif phase == 60:
-        v.engaged = True
-        yield event(v.src, t, "ads.event", {"event": "activated"})
-
-
-def _signals(event: Events, t: int, second: int) -> Iterator[dict[str, Any]]:
-    """Each junction reports an approach when its colour changes, and all of them every 5 s."""
-    for j, junction in enumerate(JUNCTIONS):
-        for a, approach in enumerate(APPROACHES):
-            now = colour(j, a, second)
-            if second % 5 == 0 or now != colour(j, a, second - 1):
-                yield event(f"signal/{junction}", t + j, "signal.state",
-                            {"junction": junction, "approach": approach, "colour": now})
-
-
-# --- the store files ------------------------------------------------------------------------------
+BATCH = 50_000
 
 
 def store_file(directory: Path, label: str, n: int) -> Path:
-    """The cached file for a size, generated if missing."""
-    path = directory / f"scene-{label}-g{GENERATOR}.db"
+    """The cached file for a size, cut from the recorded run if missing."""
+    base = recorded(directory)
+    path = directory / f"scene-{label}-{base.stem}.db"
     if path.exists():
         return path
     partial = path.with_suffix(".partial")
     for leftover in directory.glob(partial.name + "*"):
         leftover.unlink()
     started = time.perf_counter()
-    with Store(partial, durable=False) as store:
+    with Store.open_read_only(base) as source, Store(partial, durable=False) as store:
         batch: list[dict[str, Any]] = []
-        for ev in synthetic_run(n):
+        for ev in islice(source.events(RUN), n):
             batch.append(ev)
-            if len(batch) == 50_000:
+            if len(batch) == BATCH:
                 store.append(batch, origin="bench")
                 batch.clear()
         store.append(batch, origin="bench")
-        assert store.count(RUN) == n
+        copied = store.count(RUN)
+        assert copied == min(n, source.count(RUN))
     if partial.with_name(partial.name + "-wal").exists():
         raise SystemExit(f"{partial} was not checkpointed on close; not renaming it")
     partial.rename(path)
-    print(f"  generated {label}: {n:,} events in {time.perf_counter() - started:.0f} s")
+    print(f"  cut {label}: the first {copied:,} events of {RUN} in {time.perf_counter() - started:.0f} s")
     return path
 
 

@@ -57,7 +57,7 @@ def parse_faults(text: str | None, names: tuple[str, ...]) -> dict[str, float]:
 
 
 def sim(
-    map_: str = typer.Option("paper", "--map", help="A bundled map (paper) or a SUMO network FILE.net.xml."),
+    map_: str = typer.Option("paper", "--map", help="A bundled map (paper, town) or a SUMO network FILE.net.xml."),
     monitors: Optional[Path] = typer.Option(None, "--monitors", help="Monitors file for a --map FILE "
                                             "(JSON: id, junction, x, y, heading_deg, range_m, fov_deg)."),
     vehicles: int = typer.Option(40, "--vehicles", min=1, max=100_000, help="Vehicles that set off in the run."),

@@ -5,8 +5,9 @@ A producer describes a junction as it can, so each piece is read from what the m
 says where it came from (`*_source`), because a derived fact cites it:
 
     stop lines  `stop_lines` [{approach, from, to, kind}] (DESIGN); else `stop_line_m`, the
-                distance of every approach's line from the centre (sim_replay.synthetic); else none
-    area        `box_m`, the half-size of the square "in the junction" (synthetic); else the
+                distance of every approach's line from the centre (a map with no line geometry); else none
+    area        `box_m`, the half-size of the square "in the junction" (a map that gives only the
+                junction's extent); else the
                 distance of the nearest stop line from the centre (a disc); else a 10 m disc
     yellow box  `box`: a polygon [[x, y], ...], or true for the junction's whole area (HC 174);
                 `box_m` is not a yellow box, only the junction's extent
@@ -15,7 +16,7 @@ says where it came from (`*_source`), because a derived fact cites it:
 
 Approaches are named, as signal.state names them, by where traffic comes from: a vehicle west of
 the centre comes from the west. Coordinates are metres, headings degrees counter-clockwise from
-east (the synthetic run's convention). Nothing here trusts a value: a NaN, a string or a number
+east (the run.start map's convention, which the simulation follows). Nothing here trusts a value: a NaN, a string or a number
 beyond 10,000 km is left out and the map's `problems` say so.
 """
 from __future__ import annotations

@@ -26,7 +26,7 @@ MPH_PER_MPS = 3600 / 1609.344    # an international mile is 1,609.344 m, exactly
 STOPPED_MPS = 0.5 / MPH_PER_MPS  # "V is stopped" exactly when its speed rounds to 0 mph (< 0.5 mph)
 MIN_DECEL_SPAN_S = 1.0       # decelerations are averaged over at least a second (speed noise)
 MAX_DECEL_MPS2 = 4.0         # the hardest braking (or pulling away) assumed between two samples when
-                             # asking whether a stop could hide between them (sim_replay.synthetic A_MAX)
+                             # asking whether a stop could hide between them
 SECOND = 1_000_000_000
 
 

@@ -9,8 +9,8 @@ Three kinds are named:
 - the stages' questions and their answers (`potentially_violates`, `punishably_violates`, `can`,
   the penalty and the liability sentences), which the rulebooks conclude;
 - the input sentences the code writes: DESIGN's core vocabulary ("Facts are Logical English
-  sentences"), which every producer may state, and the further ones the reasoner or the synthetic
-  generator states (docs/vocabulary.md lists them for producers);
+  sentences"), which every producer may state, and the further ones the reasoner or the
+  simulation states (docs/vocabulary.md lists them for producers);
 - the sentences an explanation words in its own way (explain/phrases.py: "against a red light"),
   where the rulebook's template alone does not give the English a verdict needs.
 

@@ -12,7 +12,7 @@ run.start map and the pictures measure in them), no U-turns at junctions, road n
 heads its output with the date and its configuration; the date is dropped, so a rebuild of unchanged
 files is byte for byte the checked-in network.
 
-    scripts/build-net.py                      # rebuild sim_replay/maps/paper
+    scripts/build-net.py                      # rebuild sim_replay/maps/paper and town
     scripts/build-net.py --check [DIR ...]    # exit 1 if a checked-in network differs from a rebuild
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-DEFAULT_MAPS = (ROOT / "sim_replay" / "maps" / "paper",)
+DEFAULT_MAPS = tuple(ROOT / "sim_replay" / "maps" / name for name in ("paper", "town"))
 OPTIONS = (
     "--lefthand",                        # UK: keep left; lane 0 is the kerb lane on the left
     "--offset.disable-normalization",    # the plain files' coordinates are the map's
@@ -74,7 +74,7 @@ def build(map_dir: Path, netconvert: str) -> bytes:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("maps", nargs="*", type=Path, help="map folders (default: sim_replay/maps/paper)")
+    parser.add_argument("maps", nargs="*", type=Path, help="map folders (default: sim_replay/maps/paper and town)")
     parser.add_argument("--check", action="store_true", help="compare with the checked-in networks; write nothing")
     args = parser.parse_args(argv)
     netconvert = find_netconvert()

@@ -1,5 +1,5 @@
-"""Producers of recorded runs: the paper's scenarios, a synthetic city run, the SUMO world the
-simulation runs on, and publishing them on Zenoh.
+"""Producers of recorded runs: the paper's scenarios, the multi-agent simulation and the SUMO world
+it runs on, and publishing them on Zenoh.
 
 These stand where vehicles, monitors and signals stand in DESIGN: they write events, and nothing in
 the other rooms imports them: only `gaps demo`, the benchmarks and the tests do. The SUMO world

@@ -1,7 +1,9 @@
 """The simulation's maps: each a folder of SUMO plain files, the network built from them and its monitors.
 
 A map `NAME` is `maps/NAME/NAME.net.xml` (built by scripts/build-net.py from the plain files beside it)
-and `maps/NAME/NAME.monitors.json` (sim_replay.monitors). `paper` is the paper's map and the default.
+and `maps/NAME/NAME.monitors.json` (sim_replay.monitors). `paper` is the paper's map and the default;
+`town` is twenty junctions of the same kinds, room for the two hundred vehicles of a long run (the
+benchmarks' run, bench/sim_runs.py).
 """
 from __future__ import annotations
 

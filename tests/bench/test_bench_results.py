@@ -14,7 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "bench"
-HELPERS = {"machine.py", "results.py", "performance_md.py"}
+HELPERS = {"machine.py", "results.py", "performance_md.py", "sim_runs.py"}
 
 
 def _module(name: str) -> ModuleType:

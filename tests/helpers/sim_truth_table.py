@@ -3,7 +3,9 @@
 The simulation records acts, never verdicts (sim_replay/truth.py). This table is the test's own
 reading of the law, one row per kind of act and circumstance, each citing its source; the first
 row that fits an act gives the expected verdict and rule (None: no incident expected).
-`compare` matches the reasoner's incidents to the acts and lists every disagreement.
+`compare` matches the reasoner's incidents to the acts and lists every disagreement; KNOWN holds
+the disagreements that are known and explained (a line's `known`), findings about the reasoner and
+its rulebooks rather than tuned away in the simulation; any other is unexplained.
 
 Measured circumstances use published yardsticks, named where used: "braked hard" is 2 m/s² or
 more (Hupfer 1997, the threshold the reasoner's derived.py cites for a forced change of speed);
@@ -117,6 +119,22 @@ TABLE = (
     Row("stood still in a yellow box, its exit clear", lambda a: a["kind"] == "stopped in the box", None, None),
 )
 
+# (table row, what the reasoner gave) -> why they differ
+KNOWN = {
+    ("stopped at a Stop line, then forced major-road traffic to brake", "no incident"):
+        "monitors.le raises no potential violation for HC 171's 'must not enter the junction if it would force a road "
+        "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped'). "
+        "A monitor rule on 'would force' would make that sentence one the monitors are taken to witness, and a "
+        "vehicle's own prediction of it would then be overruled by a camera's silence (reasoner/perception.py)",
+    ("out of a Give Way line, major road empty", "mitigated HC 172"):
+        "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
+        "junction raises a potential violation, which the validator then excuses",
+    ("out of a Give Way line, major road empty", "punishable HC 172"):
+        "a major-road user that came up more than a second after V crossed its line braked for V: the reasoner "
+        "counts it (V would force U, U approaching, on the main road), the table does not (LATE_S)",
+}
+
+
 ACTION = {"crossed the stop line": "enter the junction", "exceeded the speed limit": "exceed the speed limit",
           "stopped in the box": "enter the box junction"}
 
@@ -139,6 +157,15 @@ class Line:
         return tuple(sorted({(i.verdict, i.rule) for i in self.incidents}))
 
     @property
+    def got_text(self) -> str:
+        return ", ".join(f"{v} {r}" for v, r in self.got) or "no incident"
+
+    @property
+    def known(self) -> str | None:
+        """Why this disagreement is known (KNOWN), or None when it is not."""
+        return KNOWN.get((self.row.name if self.row else None, self.got_text))
+
+    @property
     def agrees(self) -> bool:
         if self.act is None:
             return False
@@ -155,7 +182,7 @@ class Line:
             return f"(no act) {i.vehicle} {i.action} at {i.id}: {i.verdict} {i.rule}"
         where = f"{a['junction']}/{a['approach']} {a['line'] or ''}".strip() if a["junction"] else ""
         want = f"{self.row.verdict} {self.row.rule}" if self.row.verdict else "no incident"
-        got = ", ".join(f"{v} {r}" for v, r in self.got) or "no incident"
+        got = self.got_text
         return (f"{a['t_s']:7.1f}s {a['vehicle']:>4} {a['type']:<11} {a['kind']:<24} {where:<16} "
                 f"light={a['light']} {a['speed_mph']}mph seen={','.join(a['seen_by']) or '-'} | {self.row.name} "
                 f"| want {want} | got {got}")

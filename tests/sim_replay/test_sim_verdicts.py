@@ -3,9 +3,9 @@
 The run (60 road users, 150 s on the paper's map, habits and the misread-light fault raised so that
 acts happen) is appended to a Store; reasoner.investigation judges it; tests/helpers/sim_truth_table turns each act
 of the ground truth into the verdict the law should give and lines them up. Every disagreement is
-printed (pytest -s). The ones below are known and explained (the note of the sim-agents branch
-gives the evidence for each); any other fails the test. They are findings about the reasoner and
-its rulebooks, not tuned away in the simulation.
+printed (pytest -s). The ones in the table's KNOWN are known and explained (the note of the
+sim-agents branch gives the evidence for each); any other fails the test. They are findings about
+the reasoner and its rulebooks, not tuned away in the simulation.
 """
 from __future__ import annotations
 
@@ -23,22 +23,6 @@ RUN = SimConfig(run="sim-e2e", vehicles=60, duration_s=150.0, seed=7, emergency_
                 av_share=0.4, behaviour=Behaviour(red_runner=0.3, amber_runner=0.4, stop_roller=0.4, no_give_way=0.4,
                                                   speeder=0.2),
                 faults=FaultRates(misperceived_light=0.5))
-
-# (table row, what the reasoner gave) -> why they differ
-KNOWN = {
-    ("stopped at a Stop line, then forced major-road traffic to brake", "no incident"):
-        "monitors.le raises no potential violation for HC 171's 'must not enter the junction if it would force a road "
-        "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped'). "
-        "A monitor rule on 'would force' would make that sentence one the monitors are taken to witness, and a "
-        "vehicle's own prediction of it would then be overruled by a camera's silence (reasoner/perception.py)",
-    ("out of a Give Way line, major road empty", "mitigated HC 172"):
-        "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
-        "junction raises a potential violation, which the validator then excuses",
-    ("out of a Give Way line, major road empty", "punishable HC 172"):
-        "a major-road user that came up more than a second after V crossed its line braked for V: the reasoner "
-        "counts it (V would force U, U approaching, on the main road), the table does not (LATE_S)",
-}
-
 
 @pytest.fixture(scope="module")
 def judged(tmp_path_factory):
@@ -66,9 +50,8 @@ def test_incidents_agree_with_the_ground_truth_but_for_known_findings(judged):
     for line in lines:
         if line.agrees:
             continue
-        got = ", ".join(f"{v} {r}" for v, r in line.got) or "no incident"
-        print("DISAGREES", line.describe(), "|", KNOWN.get((line.row.name if line.row else None, got), "UNEXPLAINED"))
-        if (line.row.name if line.row else None, got) not in KNOWN:
+        print("DISAGREES", line.describe(), "|", line.known or "UNEXPLAINED")
+        if line.known is None:
             unexplained.append(line.describe())
     agreed = [line for line in lines if line.agrees and line.incidents]
     assert len(agreed) >= 10
