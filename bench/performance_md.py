@@ -15,7 +15,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from results import Figure, Result, read, results_path  # noqa: E402  (bench/results.py, beside this file)
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "performance.md"
-ORDER = ["rules", "append", "transfer", "ingest_throughput", "scene_at_t", "incidents", "history", "scene", "sumo_step"]
+ORDER = ["rules", "append", "transfer", "ingest_throughput", "scene_at_t", "incidents", "history", "scene", "sumo_step", "sim"]
 
 HEADER = """\
 # Performance
