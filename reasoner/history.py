@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from itertools import islice
 from typing import Iterable, Mapping
 
-from store import Store
+from store import Store, sources_near
 
 from . import rebuild
 from .junctions import Junction, Map, finite, read_map
@@ -250,8 +250,17 @@ def _store_others(store: Store, ctx: RunContext, vehicle: str):
 
 def _states_near(store: Store, ctx: RunContext, junction: Junction, vehicle: str, t_from: int,
                  t_to: int) -> dict[str, Track]:
-    states = islice(store.events(ctx.run, kinds=["entity.state"], t_from=t_from, t_to=t_to), MAX_OTHER_EVENTS)
-    return _states_by_user(states, vehicle)
+    """The road users' own entity.state of the window, of those the store's index of where
+    each was (store.sources_near) puts within CONFLICT_M of the junction in it: the index
+    can name some that never came that near (near_users measures them), never leave out one
+    that did. MAX_OTHER_EVENTS at most, the sources in name order."""
+    states: list[dict] = []
+    for src in sources_near(store, ctx.run, junction.x, junction.y, CONFLICT_M, t_from, t_to):
+        if src.split("/", 1)[0] in ("vehicle", "pedestrian") and user_id(src) != vehicle:
+            states += store.source_events(ctx.run, src, kinds=["entity.state"], t_from=t_from, t_to=t_to)
+            if len(states) >= MAX_OTHER_EVENTS:
+                break
+    return _states_by_user(states[:MAX_OTHER_EVENTS], vehicle)
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .snapshots import enable_snapshots
+from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
 from .timeline import Timeline
@@ -68,6 +69,7 @@ __all__ = [
     "VerifyReport",
     "build_snapshots",
     "canonical_json",
+    "check_presence",
     "check_snapshots",
     "check_source",
     "decode_event",
@@ -77,6 +79,7 @@ __all__ = [
     "format_of",
     "import_file",
     "SYNC_KEY",
+    "sources_near",
     "key_for",
     "migrate_copy",
     "parse_event",

@@ -1,4 +1,5 @@
-"""The cache file: derived data (state snapshots, verification results) kept out of the evidence.
+"""The cache file: derived data (state snapshots, where road users were, verification results) kept
+out of the evidence.
 
 The store file is evidence, and reading it must not change it; what reads derive from it to go
 faster lives in a separate SQLite file, `<store>.cache` beside it, or under
@@ -14,11 +15,13 @@ from __future__ import annotations
 import hashlib
 import os
 import sqlite3
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Iterator
 
 from .opening import read_only_place
 
-CACHE_VERSION = 1  # raise when a table below changes: a file of another version is emptied
+CACHE_VERSION = 2  # raise when a table below changes: a file of another version is emptied
 SUFFIX = ".cache"
 MEMORY = ":memory:"
 _TIMEOUT_S = 2.0  # a cache write waits this long for another process's, then goes without
@@ -40,6 +43,22 @@ _DDL = (
         chain_len INTEGER NOT NULL,
         head TEXT NOT NULL
     )""",
+    # store/presence.py: where each road user was, per source and bucket of time
+    """CREATE TABLE IF NOT EXISTS presence (
+        run TEXT NOT NULL,
+        bucket INTEGER NOT NULL,
+        src TEXT NOT NULL,
+        x0 REAL NOT NULL,
+        x1 REAL NOT NULL,
+        y0 REAL NOT NULL,
+        y1 REAL NOT NULL,
+        PRIMARY KEY (run, bucket, src)
+    ) WITHOUT ROWID""",
+    """CREATE TABLE IF NOT EXISTS presence_marks (
+        run TEXT PRIMARY KEY,
+        chain_len INTEGER NOT NULL,
+        head TEXT NOT NULL
+    )""",
     """CREATE TABLE IF NOT EXISTS verifications (
         run TEXT NOT NULL,
         chain_len INTEGER NOT NULL,
@@ -48,7 +67,7 @@ _DDL = (
         PRIMARY KEY (run, chain_len, head)
     )""",
 )
-_TABLES = ("state_snapshots", "state_watermarks", "verifications")
+_TABLES = ("state_snapshots", "state_watermarks", "presence", "presence_marks", "verifications")
 
 
 def cache_path(store_path: str) -> str:
@@ -90,6 +109,18 @@ class Cache:
         if self._conn is not None:
             self._conn.close()
             self._conn = None
+
+
+@contextmanager
+def writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
+    """A write transaction on the cache, the lock taken first (BEGIN IMMEDIATE)."""
+    cache.execute("BEGIN IMMEDIATE")
+    try:
+        yield cache
+        cache.execute("COMMIT")
+    except BaseException:
+        cache.execute("ROLLBACK")
+        raise
 
 
 def _open(path: str) -> sqlite3.Connection | None:

@@ -32,13 +32,13 @@ import sqlite3
 import struct
 import weakref
 import zlib
-from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Iterable, Iterator
 
 import orjson
 
 from . import fastjson
+from .cache import writing as _writing
 from .db import Store
 
 FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions are ignored
@@ -113,17 +113,6 @@ def _on_append(store: Store, run: str, min_t: int) -> None:
             catch_up(store, run)
     except sqlite3.OperationalError:
         pass
-
-
-@contextmanager
-def _writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
-    cache.execute("BEGIN IMMEDIATE")
-    try:
-        yield cache
-        cache.execute("COMMIT")
-    except BaseException:
-        cache.execute("ROLLBACK")
-        raise
 
 
 def clear(store: Store, run: str | None = None) -> None:
