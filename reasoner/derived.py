@@ -70,7 +70,7 @@ class Contradiction:
         return f"\"{self.stated}\" was stated ({self.stated_by.src} #{self.stated_by.seq}), but {self.measured}"
 
     def to_finding(self) -> Finding:
-        return Finding("contradiction", self.detail, (self.stated_by, *self.evidence))
+        return Finding("contradiction", self.detail, (self.stated_by, *self.evidence), fact=self.stated)
 
     def to_json(self) -> dict[str, Any]:
         return {"stated": self.stated, "stated_by": self.stated_by.to_json(), "measured": self.measured,
