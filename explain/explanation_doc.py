@@ -245,6 +245,7 @@ class _Builder:
             out.append(f"The {lia['liable']} is liable: {lia['in_control_text']}.")
         if inc.margin is not None and inc.verdict != "dismissed":
             out.append(f"Measured margin: {ph.margin_text(inc.margin)}.")
+        out += self._doubts()
         if inc.findings:
             kinds = ph.join(sorted({f.kind for f in inc.findings}))
             out.append(f"Also found: {kinds} (see Findings).")
@@ -264,6 +265,19 @@ class _Builder:
         else:
             out.append(("WARNING: " if chain["checked"] else "Note: ") + chain["text"] + ".")
         return out
+
+    def _doubts(self) -> list[str]:
+        """The contradictions the verdict itself rests on, said in the summary rather than left
+        among the findings: a stated fact the measurements contradict stays in the scenario (DESIGN
+        "Reasoning": a finding, not a silent override), so the verdict stands on it, and whoever
+        acts on the verdict must weigh it first."""
+        if self.inc.verdict == "dismissed":
+            return []
+        used = trees.facts_used(self.pv_tree) | trees.facts_used(self.verdict_tree)
+        return [f"In doubt: the verdict rests on “{f.fact}”, and the record's measurements contradict it: "
+                f"{f.detail.split(', but ', 1)[-1]}. The verdict is taken on what was stated, as the rules read it; "
+                "the contradiction is for whoever weighs the evidence (see Findings)."
+                for f in self.inc.findings if f.kind == "contradiction" and f.fact in used]
 
     # -- helpers --------------------------------------------------------------------------------------
     def _facts(self, facts: Iterable[tuple[Any, EventRef]]) -> list[dict]:

@@ -171,3 +171,19 @@ def walk(tree: dict):
 
 def events_of(tree: dict) -> list[dict]:
     return [ref for node in walk(tree) for ref in node.get("evidence", [])]
+
+
+def facts_used(tree: dict | None) -> set[str]:
+    """The recorded sentences a proof rests on: the text of its fact leaves that held (a
+    negation's failed inside is what was *not* recorded, and is left out)."""
+    if tree is None:
+        return set()
+    found: set[str] = set()
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        if node["status"] == "fact":
+            found.add(node["text"])
+        if node["status"] != "failed":
+            todo.extend(node["children"])
+    return found

@@ -28,7 +28,9 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .passage import Other, Passage
+from .others import since
+from .rebuild import ANTICIPATION_S
+from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
 from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,
@@ -68,7 +70,7 @@ class Contradiction:
         return f"\"{self.stated}\" was stated ({self.stated_by.src} #{self.stated_by.seq}), but {self.measured}"
 
     def to_finding(self) -> Finding:
-        return Finding("contradiction", self.detail, (self.stated_by, *self.evidence))
+        return Finding("contradiction", self.detail, (self.stated_by, *self.evidence), fact=self.stated)
 
     def to_json(self) -> dict[str, Any]:
         return {"stated": self.stated, "stated_by": self.stated_by.to_json(), "measured": self.measured,
@@ -313,11 +315,15 @@ def _stopped_after(p: Passage, t: int, at: int):
 
 
 def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
-    """U closing on the centre at `at`; or, for a road user that braked or stopped while V
-    passed (one V may have forced), when it began to: it was approaching V then, whether or not
-    it was yet in view, or near enough, at the moment asked about."""
+    """U closing on the centre at `at`; or, for a road user that came to a stop or braked at
+    FORCE_DECEL_MPS2 or harder while V passed (one V may have forced), when it did: it was
+    approaching V then, whether or not it was yet in view, or near enough, at the moment asked
+    about. Gentler braking is no sign of V: a main-road car easing off as it went through the
+    junction ahead of V is not one V emerged in front of."""
     found = _approaching_at(p, other, at)
-    reacted = other.braking.first.t if other.braking else other.stopped.t if other.stopped else None
+    hard = other.braking if other.braking and (other.stopped or other.braking.decel_mps2 >= FORCE_DECEL_MPS2) \
+        else None
+    reacted = hard.first.t if hard else other.stopped.t if other.stopped else None
     if found is None and reacted is not None and reacted != at:
         found = _approaching_at(p, other, reacted)
     return found
@@ -338,19 +344,24 @@ def _approaching_at(p: Passage, other: Other, at: int) -> DerivedFact | None:
 
 
 def _forced(p: Passage, other: Other) -> DerivedFact | None:
-    """U braked at FORCE_DECEL_MPS2 or harder, or came to a stop, while V passed, and not for a
-    red or amber light of its own, nor at a Stop line of its own, nor behind a road user it
-    followed (others.py)."""
+    """U braked at FORCE_DECEL_MPS2 or harder, or came to a stop, while V passed (from when V set
+    off, if it stood before its line: _set_off), and not for a red or amber light of its own, nor
+    at a Stop line of its own, nor behind a road user it followed (others.py)."""
+    off = _set_off(p)
+    after = ""
+    if off is not None:
+        other = since(other, p.others, p.junction, off.last.t)
+        after = f" after {p.vehicle} set off from its standstill ({off.last.label}, {format_time(off.last.t)})"
     if (other.light is not None and other.light.colour != "green") or other.followed is not None \
             or other.own_stop_line:
         return None
     b, stop = other.braking, other.stopped
     if stop is not None:
-        how = f"{other.user} came to a stop ({stop.label}, {format_time(stop.t)}) while {p.vehicle} passed"
+        how = f"{other.user} came to a stop ({stop.label}, {format_time(stop.t)}) while {p.vehicle} passed{after}"
         refs: tuple[EventRef, ...] = (stop.ref,)
     elif b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:
         how = (f"{other.user} braked at {b.decel_mps2:.1f} m/s² ({b.first.speed_mps:.1f} m/s at {b.first.label} to "
-               f"{b.last.speed_mps:.1f} m/s at {b.last.label}) while {p.vehicle} passed; from {FORCE_DECEL_MPS2:g} m/s² "
+               f"{b.last.speed_mps:.1f} m/s at {b.last.label}) while {p.vehicle} passed{after}; from {FORCE_DECEL_MPS2:g} m/s² "
                "a change of speed is a considerable reaction (Hupfer 1997)")
         refs = (b.first.ref, b.last.ref)
     else:
@@ -358,6 +369,18 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     own = f"; its own light was {other.light.colour}" if other.light else ""
     return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user), f"{how}, {other.closest_m:.0f} m from the centre{own}",
                        refs + ((other.light.ref,) if other.light else ()))
+
+
+def _set_off(p: Passage) -> Standstill | None:
+    """V's last standstill before it crossed its line (or, with no line, entered the junction),
+    when it ended after the road users' reactions began to be counted: V's act began when it set
+    off. Standing where the law asks it to wait, V made no one change speed; a road user already
+    slowing then (behind a queue, for another road user) was slowing for something else."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if act is None:
+        return None
+    before = [s for s in p.standstills if act - ANTICIPATION_S * SECOND < s.last.t <= act]
+    return before[-1] if before else None
 
 
 def _exit_clear(p: Passage, at: int) -> DerivedFact | None:

@@ -130,8 +130,8 @@ def _speed(p: Passage) -> Margin | None:
     if not timed or p.limit_mph is None:
         return None
     fastest = max(timed, key=lambda s: s.speed_mps)
-    over = fastest.speed_mps * MPH_PER_MPS - p.limit_mph
-    return Margin("mph over the speed limit", round(over, 1), "mph", (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
+    over = round(fastest.speed_mps * MPH_PER_MPS - p.limit_mph, 1) or 0.0    # never "-0"
+    return Margin("mph over the speed limit", over, "mph", (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
                   f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) against road "
                   f"{p.limit_road}'s {p.limit_mph:g} mph")
 

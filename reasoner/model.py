@@ -50,7 +50,8 @@ class Finding:
     kind: str
     detail: str
     evidence: tuple[EventRef, ...] = ()
-    fact: str | None = None                              # unknown fact: the sentence, cut to 200 characters
+    fact: str | None = None                              # unknown fact: the sentence, cut to 200 characters;
+                                                         # contradiction: the stated sentence
     src: str | None = None                               # missing evidence: the source
     missing_seq: tuple[int, int] | None = None           # missing evidence: first and last missing seq
     vehicle_said: tuple[str, ...] = ()                   # perception fault
@@ -86,6 +87,8 @@ class Finding:
         if self.kind == "missing evidence":
             seq = {"missing_seq": list(self.missing_seq)} if self.missing_seq is not None else {}
             return {"kind": self.kind, "src": self.src, **seq, "evidence": evidence, "detail": self.detail}
+        if self.kind == "contradiction" and self.fact is not None:
+            return {"kind": self.kind, "fact": self.fact, "detail": self.detail, "evidence": evidence}
         return {"kind": self.kind, "detail": self.detail, "evidence": evidence}
 
 

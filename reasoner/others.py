@@ -5,7 +5,8 @@ counts as near when it came within CONFLICT_M of it in the window read; one foll
 on its own approach is left out (it does not cross its path). For each: the arm it was first seen
 on and whether it was closing on the centre, whether that arm is the major road, the hardest it braked while the vehicle passed (its speed
 series, averaged over at least a second: motion.peak_deceleration), whether it came to a stop, and
-what its own signal showed then (braking for one's own red light is not being forced by another)
+what its own signal showed then (braking for one's own red light is not being forced by another; a
+stop counts only on the way into the junction: `since` recounts both from a later moment)
 or whether a Stop line of its own was ahead of it (stopping there is its own duty, HC 171),
 and whether a road user ahead of it on its arm explains its braking (following a slower or stopped
 vehicle within FOLLOW_S of headway is not being forced by the vehicle that passed).
@@ -13,7 +14,7 @@ vehicle within FOLLOW_S of headway is not being forced by the vehicle that passe
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Mapping
+from typing import Mapping, Sequence
 
 from .junctions import Junction, heading_sector, sector
 from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration, position_at, speed_at
@@ -68,7 +69,7 @@ def _closing(junction: Junction, placed: list[Sample]) -> bool:
 def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, arm: str | None, closing: bool,
            closest: float, passing: tuple[int, int], signals: Signals) -> Other:
     braking = _braking(window, junction, passing)
-    stopped = _stopped(window, passing)
+    stopped = _stopped(window, junction, passing)
     timeline = signals.timeline(junction.id, arm) if arm else ()
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
     light = shown(timeline, moment) if moment is not None and timeline else None
@@ -126,15 +127,46 @@ def _braking(window: tuple[Sample, ...], junction: Junction, passing: tuple[int,
     return braking
 
 
-def _stopped(window: tuple[Sample, ...], passing: tuple[int, int]) -> Sample | None:
+def _stopped(window: tuple[Sample, ...], junction: Junction, passing: tuple[int, int],
+             moving_from: int | None = None) -> Sample | None:
     """The sample at which the road user came to a stop while the vehicle passed, having been
-    moving at MOVING_MPS or more in the window before it."""
-    moving = False
+    moving at MOVING_MPS or more before it (in the window, or from `moving_from` on), on its way
+    into the junction: closer to its centre than when it was last moving. A road
+    user that stops on its way out of the junction, beyond the vehicle, stops for what lies ahead
+    of it, not for the vehicle behind it."""
+    last_moving: Sample | None = None
     for s in window:
         if s.speed_mps is None or s.t > passing[1]:
             continue
-        if s.speed_mps >= MOVING_MPS:
-            moving = True
-        elif moving and s.speed_mps <= STOPPED_MPS and s.t >= passing[0]:
-            return s
+        if s.speed_mps >= MOVING_MPS and (moving_from is None or s.t >= moving_from):
+            last_moving = s
+        elif last_moving is not None and s.speed_mps <= STOPPED_MPS and s.t >= passing[0]:
+            if _heading_in(junction, last_moving, s):
+                return s
+            last_moving = None
     return None
+
+
+def _heading_in(junction: Junction, moving: Sample, stop: Sample) -> bool:
+    """Whether a road user stopped nearer the junction's centre than it was while last moving
+    (unplaced samples cannot tell: taken as heading in, as before positions were looked at)."""
+    if not (moving.placed and stop.placed):
+        return True
+    return junction.distance(stop.x, stop.y) < junction.distance(moving.x, moving.y)
+
+
+def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: int) -> Other:
+    """The road user with its braking and its stop counted only from `t_from`: the moment the
+    vehicle set off from a standstill before its line. Until then the vehicle stood where the law
+    asks it to wait, so a road user slowing before then was slowing for something else; a stop
+    counts only if it was still moving at MOVING_MPS or more once the vehicle set off. What
+    explains the reaction (a Stop line of its own, one it followed) is looked for again at its
+    new moment; its own light stays as found (the signals are not at hand here)."""
+    end = max((s.t for s in other.samples), default=t_from)
+    passing = (t_from, end)
+    braking = _braking(other.samples, junction, passing)
+    stopped = _stopped(other.samples, junction, passing, moving_from=t_from)
+    moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
+    recounted = replace(other, braking=braking, stopped=stopped, followed=None,
+                        own_stop_line=_before_own_stop_line(junction, other.arm, other.samples, moment))
+    return _followed(recounted, list(everyone), junction)

@@ -169,12 +169,21 @@ HAS_STOPPED_AT_THE_STOP_LINE = Sentence(
 WOULD_FORCE = Sentence(
     "*a vehicle* would force *a road user* to change speed or course", "highway_code.le",
     "V proceeding would cause U to change speed or course to avoid an accident (TSRGD Sch 14 para 5(5))")
+WOULD_ENDANGER = Sentence(
+    "*a vehicle* would endanger *a person*", "highway_code.le",
+    "V proceeding would be likely to endanger P (TSRGD Sch 14 para 5(5), Sch 9 Pt 7 para 1)")
 MONITOR_OBSERVED_LIGHT = Sentence(
     "the monitor observed *a colour* light for *a vehicle*", "validators.le",
     "the light the monitor recorded for V, beside the vehicle's own perception of it")
 HAS_A_LIGHT_PERCEPTION_FAULT = Sentence(
     "*a vehicle* has a perception fault about the light", "validators.le",
     "the light V perceived differs from the one the monitor observed")
+
+# Judgements about what V's proceeding would cause, or whether it could still stop: open texture
+# (DESIGN "Reasoning"), no camera's observation of a moment. The history measures them
+# (reasoner/derived.py) and a vehicle that asks its rulebook states them as its own predictions; a
+# monitor's silence on one is therefore no evidence against the vehicle's (reasoner/perception.py).
+OPEN_TEXTURE: tuple[Sentence, ...] = (WOULD_FORCE, WOULD_ENDANGER, IS_TOO_CLOSE_TO_STOP)
 
 # liability.le's inputs, stated from the vehicle's spawn and ads.event history (reasoner/control.py)
 IS_THE_DRIVER_OF = Sentence(
@@ -214,6 +223,6 @@ SENTENCES: tuple[Sentence, ...] = (
     *STAGES.values(), MITIGATELY_VIOLATES, MUST_NOT, IS_AN_OFFENCE_UNDER, GETS_LICENCE_POINTS,
     IS_OFFERED_A_FIXED_PENALTY, FACES_REGULATORY_SANCTIONS, *CORE, CROSSED_THE_STOP_LINE_ON,
     HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, STOP_LINE_NOT_CLEARLY_VISIBLE, IS_TOO_CLOSE_TO_STOP,
-    HAS_STOPPED_AT_THE_STOP_LINE, WOULD_FORCE,
+    HAS_STOPPED_AT_THE_STOP_LINE, WOULD_FORCE, WOULD_ENDANGER,
     MONITOR_OBSERVED_LIGHT, HAS_A_LIGHT_PERCEPTION_FAULT, IS_THE_DRIVER_OF, IS_THE_USER_IN_CHARGE_OF,
     IS_THE_AUTHORISED_SELF_DRIVING_ENTITY_FOR, IS_THE_NO_USER_IN_CHARGE_OPERATOR_OF, TRANSITION_DEMAND_EXPIRED, *EXPLAINED)

@@ -24,27 +24,29 @@ HARD_BRAKING = 2.0
 SECOND = 1_000_000_000
 
 
-LATE_S = 1.0    # a road user that came up later than this after V crossed saw V in the junction: V did not pull out on it
-
-
-def _came_after(entry: str) -> float:
-    """"118 car main eta 3.7s (+1.7s)" -> 1.7: how long after the act it came up (0: there already)."""
-    return float(entry.rsplit("(+", 1)[1].rstrip("s)")) if "(+" in entry else 0.0
+# Who counts as "about" an act: every road user the simulation's witness recorded approaching as V
+# crossed its line, or coming up while V was still in the junction ("(+1.7s)": sim_replay/witness.py
+# adds them only then). V's crossing lasts until it is through: a main-road driver who comes up while
+# a car that pulled away from its line is still crossing, and has to brake for it, was made to change
+# speed by that crossing (TSRGD 2016 Sch 9 Pt 7 para 1, Sch 14 Pt 1 para 5(5): "so as to be likely
+# to ... cause the driver of another vehicle to change its speed or course"), the reading the
+# reasoner's history takes too (braking counted until 3 s after V left). This table once left out
+# those that came up more than a second after V crossed, and listed the resulting disagreements
+# as known; that was the table's reading, not the law's.
 
 
 def _main(act: dict) -> set[str]:
-    """The major-road users approaching as V crossed its line (or within LATE_S of it)."""
-    return {a.split()[0] for a in act["approaching"] if " main " in a and _came_after(a) <= LATE_S}
+    """The major-road users approaching V as it crossed its line, or coming up while it crossed."""
+    return {a.split()[0] for a in act["approaching"] if " main " in a}
 
 
 def _vulnerable(act: dict) -> set[str]:
-    return {a.split()[0] for a in act["approaching"] if a.split()[1] in ("pedestrian", "cyclist")
-            and _came_after(a) <= LATE_S}
+    return {a.split()[0] for a in act["approaching"] if a.split()[1] in ("pedestrian", "cyclist")}
 
 
 def braked(act: dict, who: set[str] | None = None) -> bool:
-    """Whether a road user about the act (of `who`; default: those there as V crossed) braked hard after it."""
-    there = {a.split()[0] for a in act["approaching"] if _came_after(a) <= LATE_S} if who is None else who
+    """Whether a road user about the act (of `who`; default: all of them) braked hard after it."""
+    there = {a.split()[0] for a in act["approaching"]} if who is None else who
     return any(d >= HARD_BRAKING for r, d in act["reactions"].items() if r in there)
 
 
@@ -121,18 +123,43 @@ TABLE = (
 
 # (table row, what the reasoner gave) -> why they differ
 KNOWN = {
-    ("stopped at a Stop line, then forced major-road traffic to brake", "no incident"):
-        "monitors.le raises no potential violation for HC 171's 'must not enter the junction if it would force a road "
-        "user to change speed or course' (highway_code.le has the prohibition; monitors.le only 'not stopped'). "
-        "A monitor rule on 'would force' would make that sentence one the monitors are taken to witness, and a "
-        "vehicle's own prediction of it would then be overruled by a camera's silence (reasoner/perception.py)",
-    ("out of a Give Way line, major road empty", "mitigated HC 172"):
-        "monitors.le's HC 172 rule reads a snapshot: a major-road user that comes up while V is still in the "
-        "junction raises a potential violation, which the validator then excuses",
-    ("out of a Give Way line, major road empty", "punishable HC 172"):
-        "a major-road user that came up more than a second after V crossed its line braked for V: the reasoner "
-        "counts it (V would force U, U approaching, on the main road), the table does not (LATE_S)",
+    ("stopped at a Stop line, pulled out into a gap", "punishable HC 171"):
+        "TSRGD 2016 Sch 9 Pt 7 para 1 forbids crossing a Stop line 'so as to ... cause the driver of another "
+        "vehicle to change its speed or course': any other vehicle. The reasoner counts a car or bus from the "
+        "opposite minor arm that came to a stop or braked at 2 m/s² or more while V crossed (long-3: 269's pull-out "
+        "stopped 155; 187's made bus 132 brake at 3.1 m/s²); this row, as its name says, counts only major-road "
+        "traffic, since the witness's braking figure (SUMO's one-tick deceleration) does not tell a minor-road "
+        "car slowing for its own Give Way line from one made to brake. Where two vehicles emerge together "
+        "(187 and 132), a main-road car's braking is credited to both by the reasoner, to the one that turned in "
+        "front of it by the witness",
+    ("out of a Give Way line, major-road traffic approaching, nobody braked", "punishable HC 172"):
+        "the main-road car braked hard within the 3 s after V left the junction that the reasoner counts, as a "
+        "second vehicle pulled out of the opposite Stop line (long-3: 265 braked at 4.5 m/s² 1.4 s after 155 "
+        "left, as 147 crossed; the witness credits the braking to 147's act): the history cannot tell which of "
+        "two vehicles crossing one after the other a road user braked for",
+    ("went on against its own rulebook at a Stop line", "no incident"):
+        "the vehicle stopped at its line, then went on though its rulebook said it must not: its perception "
+        "stated a pedestrian on a crossing 'approaching' it (long-3: 230 and p7, who was crossing the east arm, "
+        "not 230's north-south path), which highway_code.le reads as 'likely to endanger' (para 5(5)'s reading, "
+        "which its HC 171 rule uses too). Nobody changed speed for it (measured), and monitors.le raises the "
+        "second limb of para 1 only on a measured or stated forcing or a stated endangerment, not on every "
+        "pedestrian near the junction (that would make most lawful Stops potential violations): no potential "
+        "violation, so no incident, and the decision fault (it went on against its own rulebook) has no incident "
+        "to be found on",
+    (None, "punishable HC 124"):
+        "the camera's speed reading was high (the injected speed_error fault: 12-30 % over); RTRA 1984 s.89 makes "
+        "exceeding the limit the offence, and the verdict is taken on the monitor's statement (DESIGN: a derived "
+        "fact never overrides a stated one). The vehicle's own entity.state speeds contradict it: the incident "
+        "carries a contradiction finding on the speed the verdict rests on, and its explanation says in its "
+        "summary that the verdict is in doubt and why (explain/explanation_doc.py). Known only with that finding",
 }
+
+
+def _speed_in_doubt(line: "Line") -> bool:
+    """A speeding incident with no act behind it whose speed the vehicle's own record contradicts."""
+    return all(i.action == "exceed the speed limit" and any(
+        f.kind == "contradiction" and f.fact and " has speed of " in f.fact for f in i.findings)
+        for i in line.incidents)
 
 
 ACTION = {"crossed the stop line": "enter the junction", "exceeded the speed limit": "exceed the speed limit",
@@ -163,6 +190,8 @@ class Line:
     @property
     def known(self) -> str | None:
         """Why this disagreement is known (KNOWN), or None when it is not."""
+        if self.row is None and not _speed_in_doubt(self):
+            return None
         return KNOWN.get((self.row.name if self.row else None, self.got_text))
 
     @property

@@ -572,6 +572,31 @@ def test_a_car_stopping_at_its_own_stop_line_across_the_junction_is_not_forced_b
     no_incident(found, "c3")
 
 
+def test_a_vehicle_that_went_on_though_it_judged_it_would_force_main_road_traffic_is_punishable(tmp_path):
+    """An automated 7 perceives c2 on the main road coming and states its own prediction, "7 would
+    force c2 to change speed or course"; its rulebook answers that it cannot enter (HC 172), and it
+    goes on anyway. c2 keeps its speed (UNHINDERED): no measurement shows a forcing. The camera
+    states c2 approaching on the main road, which raises the potential violation. DESIGN: the
+    Validator Scenario is the vehicle's own, with what the monitor witnessed in place of its view;
+    a camera witnesses no prediction, so its silence on "would force" (a sentence monitors.le now
+    also reads, for HC 171) does not overrule the vehicle's own: on it, 7 must not have entered.
+    Punishable, HC 172, with the decision fault found."""
+    from tests.helpers.foreign import ns
+
+    run = give_way_run(UNHINDERED, "5 Hz", "measured")
+    seen = ["7 is of type car", "7 is driving itself", "7 has a give way sign", "c2 is of type car",
+            "c2 is approaching 7", "c2 is on the main road", "7 would force c2 to change speed or course"]
+    at = START + 3.0
+    run.emit("vehicle/7", ns(at), "vehicle.perception", {"facts": seen})
+    run.emit("vehicle/7", ns(at), "vehicle.decision", {"goal": "7 can enter the junction", "action": ENTER,
+                                                        "permitted": False, "proceeds": True})
+    run.watch("7", Motion(-40.0, 6.0), "west", rate(5, START, START + 16.0), t_start=START, monitor="m2",
+              facts=camera("7", sign="give way", also=("c2 is approaching 7", "c2 is on the main road")))
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 172")
+    assert any(f.kind == "decision fault" for f in inc.findings)
+
+
 @pytest.mark.parametrize("sampling", ["2 Hz", "irregular 2-10 Hz"])
 def test_a_pull_out_that_makes_nobody_brake_is_no_violation(tmp_path, sampling):
     """HC 172's duty is to give way; 7 emerges while c2 is still 87 m up the main road, and c2
@@ -580,6 +605,102 @@ def test_a_pull_out_that_makes_nobody_brake_is_no_violation(tmp_path, sampling):
     found = judge(tmp_path, give_way_run(UNHINDERED, sampling, "measured"))
     no_violation(found, "7")
     no_incident(found, "c2")
+
+
+# HC 171's second limb and who was made to change speed: 7 stands at the west Stop line of a
+# crossroads whose major road runs north-south, then pulls away at 2 m/s². It reaches its line
+# (0.5 m ahead) 0.71 s after setting off at 8.87 s (braking from 8 m/s: 6.87 s, then 2 s still).
+_SET_OFF = 6.87 + 2.0
+STOPS_THEN_GOES = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=2.0, then=10.0)
+
+
+def stop_then_go_run(*others: tuple[str, Motion, str], said: tuple[str, ...] = ()) -> Foreign:
+    """7 stops at its Stop line and goes on; `others` (user, motion, arm) drive about it, watched
+    by the camera at 5 Hz as a simulator's monitors are; the camera states 7's sign and `said`."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    run.spawn("7")
+    times = SAMPLING["5 Hz"](START, START + 25.0)
+    run.drive("7", STOPS_THEN_GOES, "west", times, t_start=START)
+    run.watch("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START,
+              facts=camera("7", sign="stop", also=said))
+    for user, motion, arm in others:
+        run.spawn(user, "bus" if user.startswith("b") else "car")
+        run.drive(user, motion, arm, times, t_start=START)
+        run.watch(user, motion, arm, rate(5, START, START + 25.0), t_start=START)
+    return run
+
+
+def test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1: "no vehicle must cross the transverse line ... so as to ...
+    cause the driver of another vehicle to change its speed or course in order to avoid an
+    accident" (HC 171: "Wait for a safe gap in the traffic before you move off"). 7 stopped, then
+    pulled out; c2 on the main road brakes at 5 m/s² to a stop from 0.9 s after 7 crossed its
+    line. Having stopped does not excuse it: punishable, HC 171."""
+    c2 = Motion(-164.0, 13.4, [(_SET_OFF + 0.9 + 0.71, 0.0), (13.4 / 5.0, -5.0), (4.0, 0.0), (8.0, 2.0)])
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "north")))
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    no_incident(found, "c2")
+
+
+def test_a_queue_already_slowing_before_the_vehicle_set_off_was_not_forced_by_it(tmp_path):
+    """The same stop and pull-out, with c2 on the main road braking gently (1.2 m/s²) to stand
+    behind a bus, b4, that stands 14 m from the centre, 11 m ahead of it: c2 began slowing 8 s
+    before 7 set off, was down to 1.4 m/s when it did, and came to a stop 1.2 s later, as 7 crossed. Para 1 asks whether 7's
+    crossing caused c2 to change speed; c2 was already stopping for the bus (the simulation's
+    cyclist 171 and car 259 at j2). The camera states c2 approaching on the main road, so the act
+    is looked at: no potential violation by 7 under HC 171's second limb, and no incident."""
+    slowing_from = _SET_OFF - 8.0
+    c2 = Motion(-25.0 - 11.0 * slowing_from - 11.0 ** 2 / 2.4, 11.0, [(slowing_from, 0.0), (11.0 / 1.2, -1.2)])
+    b4 = Motion(-14.0, 0.0)
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "north"), ("b4", b4, "north"),
+                                             said=("c2 is approaching 7", "c2 is on the main road")))
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+
+
+def test_a_road_user_stopping_on_its_way_out_of_the_junction_was_not_forced(tmp_path):
+    """The same stop and pull-out; c5 has come down the main road from the north, is through the
+    junction as 7 sets off, and brakes at 3 m/s² to a stop 30 m out on the south arm (for whatever
+    lies ahead of it, beyond the junction). A road user stopping on its way away from the junction, beyond
+    the vehicle, was not made to stop by it: no violation by 7, no incident."""
+    c5 = Motion(24.0 - 6.0 * _SET_OFF, 6.0, [(_SET_OFF, 0.0), (2.0, -3.0)])
+    assert c5.at(_SET_OFF)[0] > LINE_M and c5.at(_SET_OFF + 3.0) == (30.0, 0.0)   # out of it, then 30 m out
+    found = judge(tmp_path, stop_then_go_run(("c5", c5, "north")))
+    assert not any("would force c5" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_incident(found, "7")
+
+
+def test_a_camera_speed_the_vehicles_own_record_contradicts_is_judged_on_the_camera_and_said_in_doubt(tmp_path):
+    """RTRA 1984 s.89 (HC 124): over the limit is an offence. The camera states "28 has speed of
+    38" where the limit is 30; the car's own entity.state has it at a steady 13.4 m/s (30.0 mph).
+    DESIGN "Reasoning": a stated fact the measurements contradict is a finding, not a silent
+    override, so the verdict is the rules' on what was stated, punishable, HC 124; but it rests on
+    that sentence, so the explanation says, in its summary and not only among the findings, that
+    the verdict is in doubt and why (the measured speed). The margin (the fastest measured sample)
+    is 0 mph over, never "-0"."""
+    import explain
+    import reasoner
+
+    v = "28"
+    run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=30))
+    motion = Motion(-95.0, 13.41)
+    run.spawn(v)
+    run.lights("J1", "west", [(0.0, "green")])
+    run.drive(v, motion, "west", SAMPLING["5 Hz"](START, START + 9.0), t_start=START)
+    run.watch(v, motion, "west", rate(5, START, START + 9.0), t_start=START,
+              facts=lambda at, s, speed: [f"{v} has speed of 38", "the speed limit is 30"])
+    inc = one(judge(tmp_path, run), v, SPEEDING)
+    verdict(inc, "punishable", "HC 124")
+    doubt = [f for f in inc.findings if f.kind == "contradiction"]
+    assert doubt and doubt[0].fact == f"{v} has speed of 38" and "30.0 mph" in doubt[0].detail, doubt
+    assert inc.margin is not None and str(inc.margin.value) == "0.0", inc.margin
+    with reasoner.open(tmp_path / "foreign.db") as case:
+        text = explain.explanation(case, case.incident(run.run, inc.id), level="summary")
+    said = " ".join(text.split())
+    assert f"In doubt: the verdict rests on “{v} has speed of 38”" in said, text
+    assert "it was measured at 30.0 mph then" in said, text
 
 
 # ==================================================================================================
