@@ -88,4 +88,4 @@ def test_rules_check_reads_stdin(tmp_path):
 
 def test_help_paragraphs_are_reflowed_not_broken_where_the_source_breaks():
     wide = gaps("verify", "-h", db=None, columns=240).stdout
-    assert "2 for a usage error such as a missing store or run. Snapshots live in the cache beside the store" in wide
+    assert "2 for a usage error such as a missing store or run. Snapshots, and the index of where each road user was, live in the cache beside the store" in wide
