@@ -274,6 +274,9 @@ class _Builder:
         if self.inc.verdict == "dismissed":
             return []
         used = trees.facts_used(self.pv_tree) | trees.facts_used(self.verdict_tree)
+        if self.verdict_tree is not None:     # an exception that held sits under a failed prohibition
+            for node in trees.exceptions(self.verdict_tree, MUST_NOT.functor):
+                used |= trees.facts_used(node)
         return [f"In doubt: the verdict rests on “{f.fact}”, and the record's measurements contradict it: "
                 f"{f.detail.split(', but ', 1)[-1]}. The verdict is taken on what was stated, as the rules read it; "
                 "the contradiction is for whoever weighs the evidence (see Findings)."

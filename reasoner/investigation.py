@@ -252,6 +252,7 @@ class Investigation:
         penalty, liability = self._sanctions(case, validation, control, vscen)
         findings = (_disagreement(case, mscen, rederived, bool(measured.derived)), *_present(validation.dispute), *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
+                    *(c.to_finding() for c in _beliefs_contradicted(measured, validation, mscen)),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -512,6 +513,23 @@ def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario) ->
     rb = choice.rulebook
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
     return StageProof(rb.sha256, tuple(enrich(tree, rb, scenario.evidence) for tree in trees))
+
+
+def _beliefs_contradicted(measured: _Measured, validation: _Validation, mscen: Scenario
+                          ) -> tuple[Contradiction, ...]:
+    """What the vehicle itself stated (its perception) and the verdict was taken on, that its
+    passage's measurements contradict: an automated car that judged itself "too close to the
+    stop line to stop safely" 28 m out at 30 mph (rule 126: 23 m) went on at amber on a belief
+    the record does not bear out. The Validator Scenario keeps it (DESIGN "Reasoning": a
+    contradiction is a finding, not an override); this is the finding. A belief the monitor's
+    witness replaced (a misread light) is not in that scenario and has its perception-fault
+    finding already."""
+    if measured.passage is None or measured.at is None:
+        return ()
+    stated = {text for text, _ in mscen.facts}
+    own = [(text, ref) for text, ref in validation.scenario
+           if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
+    return checked(measured.passage, measured.at, own)[1]
 
 
 def _last_seen(state: State, vehicle: str) -> int | None:

@@ -146,6 +146,20 @@ KNOWN = {
         "pedestrian near the junction (that would make most lawful Stops potential violations): no potential "
         "violation, so no incident, and the decision fault (it went on against its own rulebook) has no incident "
         "to be found on",
+    ("out of a Give Way line, major-road traffic braked hard", "mitigated HC 172"):
+        "the table's braking figure is SUMO's deceleration over one 0.1 s tick (town-4m: 296 at 4.5 m/s² as 249 "
+        "pulled out of j10's Give Way line); the reasoner measures a change of speed over at least a second of "
+        "samples (reasoner/motion.py MIN_DECEL_SPAN_S: 296 went from 13.4 to 12.7 m/s, 0.7 m/s²), below the "
+        "2 m/s² of a considerable reaction (Hupfer 1997): a dab of the brakes is not being made to change speed, "
+        "so on the rules 249's exit was lawful. Known only when the incident's measured deceleration is below "
+        "that yardstick",
+    ("crossed on amber, could have stopped", "mitigated HC 175"):
+        "an automated car judged itself 'too close to the stop line to stop safely' and went on at amber; the "
+        "Validator Scenario is its own view (a camera witnesses no such judgement), so on it the exception of "
+        "HC 175 holds. Its record contradicts the belief (town-4m: 163 was 28.7 m from the line at 30 mph when "
+        "amber came; rule 126: 23 m): the incident carries a contradiction finding on the sentence the "
+        "mitigation rests on, and its explanation says in its summary that the verdict is in doubt. Known only "
+        "with that finding",
     (None, "punishable HC 124"):
         "the camera's speed reading was high (the injected speed_error fault: 12-30 % over); RTRA 1984 s.89 makes "
         "exceeding the limit the offence, and the verdict is taken on the monitor's statement (DESIGN: a derived "
@@ -160,6 +174,19 @@ def _speed_in_doubt(line: "Line") -> bool:
     return all(i.action == "exceed the speed limit" and any(
         f.kind == "contradiction" and f.fact and " has speed of " in f.fact for f in i.findings)
         for i in line.incidents)
+
+
+def _braked_gently(line: "Line") -> bool:
+    """Every incident of the line measured the other road user's deceleration below HARD_BRAKING."""
+    return bool(line.incidents) and all(
+        i.margin is not None and i.margin.quantity == "deceleration of the other road user"
+        and i.margin.value < HARD_BRAKING for i in line.incidents)
+
+
+def _belief_in_doubt(line: "Line", words: str) -> bool:
+    """Every incident of the line carries a contradiction finding on a sentence with these words."""
+    return bool(line.incidents) and all(any(f.kind == "contradiction" and f.fact and words in f.fact
+                                            for f in i.findings) for i in line.incidents)
 
 
 ACTION = {"crossed the stop line": "enter the junction", "exceeded the speed limit": "exceed the speed limit",
@@ -191,6 +218,12 @@ class Line:
     def known(self) -> str | None:
         """Why this disagreement is known (KNOWN), or None when it is not."""
         if self.row is None and not _speed_in_doubt(self):
+            return None
+        if self.row is not None and self.row.name == "crossed on amber, could have stopped" and \
+                not _belief_in_doubt(self, " is too close to the stop line to stop safely"):
+            return None
+        if self.row is not None and self.row.name == "out of a Give Way line, major-road traffic braked hard" and \
+                not _braked_gently(self):
             return None
         return KNOWN.get((self.row.name if self.row else None, self.got_text))
 

@@ -342,6 +342,45 @@ def test_amber_too_close_to_stop_is_mitigated_and_far_away_punishable(tmp_path, 
     margin(inc, "amber", "m", distance, 0.05)
 
 
+def test_an_automated_cars_belief_that_it_was_too_close_to_stop_which_its_record_contradicts(tmp_path):
+    """HC 175, as above: go on at amber only if so close that stopping might cause a collision;
+    rule 126's stopping distance at 30 mph is 23 m. An automated 7 states in its own perception
+    "7 is too close to the stop line to stop safely" when amber comes, while its record has it 35 m
+    from the line at a steady 30 mph: it could have stopped. DESIGN "Reasoning": the Validator
+    Scenario is the vehicle's own view (a camera witnesses no such judgement), so on it 7 may go
+    on: mitigated, HC 175; but the stated belief the measurements contradict is a finding, not a
+    silent override, and the mitigation rests on it, so the explanation's summary says it is in
+    doubt, with the distance and rule 126's figure (a simulated automated car did this on the
+    town map: 28.7 m from the line at 30 mph)."""
+    import explain
+    import reasoner
+    from tests.helpers.foreign import ns
+
+    v, speed, distance = "7", mps(30), 35.0
+    run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=40))
+    motion = Motion(-100.0, speed)
+    amber_at = START + motion.when(-LINE_M - distance)
+    west = cycle(amber_at + 3.0)
+    run.spawn(v)
+    run.lights("J1", "west", west)
+    run.drive(v, motion, "west", SAMPLING["5 Hz"](START, amber_at + 8.0), t_start=START)
+    run.watch(v, motion, "west", rate(5, START, amber_at + 8.0), t_start=START)
+    run.emit(f"vehicle/{v}", ns(amber_at + 0.5), "vehicle.perception",
+             {"facts": [f"{v} is of type car", f"{v} is driving itself", f"{v} has amber light",
+                        f"{v} is too close to the stop line to stop safely"]})
+    run.emit(f"vehicle/{v}", ns(amber_at + 0.5), "vehicle.decision",
+             {"goal": f"{v} can enter the junction", "action": ENTER, "permitted": True, "proceeds": True})
+    inc = one(judge(tmp_path, run), v)
+    verdict(inc, "mitigated", "HC 175")
+    doubt = [f for f in inc.findings if f.kind == "contradiction"]
+    assert [f.fact for f in doubt] == [f"{v} is too close to the stop line to stop safely"], inc.findings
+    assert "35.0 m before the line" in doubt[0].detail and "23.0 m" in doubt[0].detail, doubt[0].detail
+    with reasoner.open(tmp_path / "foreign.db") as case:
+        text = explain.explanation(case, case.incident(run.run, inc.id), level="summary")
+    said = " ".join(text.split())
+    assert f"In doubt: the verdict rests on “{v} is too close to the stop line to stop safely”" in said, text
+
+
 # ==================================================================================================
 # 5, 6. The Stop sign (HC 171, TSRGD 2016 Sch 9 Pt 7 para 1)
 # ==================================================================================================
