@@ -4,7 +4,7 @@ event, snapshot or box that does not match (exit 1)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
+from typing import Callable, Optional
 
 import typer
 
@@ -73,11 +73,15 @@ def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
 def _wrong_snapshots(store: Store, runs: list[str]) -> dict[str, list[list]]:
     """Per run, the positions [t, seq, src] of the snapshots that differ from a fresh fold."""
     from store import check_snapshots
+    return _per_run("checking snapshots", runs, lambda name: check_snapshots(store, name))
 
-    with stderr_progress("checking snapshots") as progress:
+
+def _per_run(label: str, runs: list[str], check: Callable[[str], list]) -> dict[str, list[list]]:
+    """Each run's wrong entries (as lists, for JSON), with a progress bar on a terminal."""
+    with stderr_progress(label) as progress:
         wrong = {}
         for i, name in enumerate(runs):
-            wrong[name] = [list(position) for position in check_snapshots(store, name)]
+            wrong[name] = [list(entry) for entry in check(name)]
             if progress is not None:
                 progress(i + 1, len(runs))
     return wrong
@@ -96,11 +100,4 @@ def _wrong_presence(store: Store, runs: list[str]) -> dict[str, list[list]]:
     """Per run, the [src, bucket] of the cached boxes of where road users were that differ from
     the events (store/presence.py)."""
     from store import check_presence
-
-    with stderr_progress("checking where road users were") as progress:
-        wrong = {}
-        for i, name in enumerate(runs):
-            wrong[name] = [list(key) for key in check_presence(store, name)]
-            if progress is not None:
-                progress(i + 1, len(runs))
-    return wrong
+    return _per_run("checking where road users were", runs, lambda name: check_presence(store, name))
