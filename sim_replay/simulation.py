@@ -32,6 +32,7 @@ from sim_replay import av, drivers
 from sim_replay.agent import Agent
 from sim_replay.approach import Moment, Passage
 from sim_replay.asking import Rulebooks
+from sim_replay.collector import fewer_collections
 from sim_replay.demand import Departure, Walk, plan
 from sim_replay.faults import Faults, stream
 from sim_replay.maps import map_files
@@ -108,7 +109,7 @@ class Simulation:
     def events(self) -> Iterator[dict[str, Any]]:
         started = time.perf_counter()
         c = self.config
-        with World(self.net_path, seed=c.seed) as world:
+        with fewer_collections(), World(self.net_path, seed=c.seed) as world:
             self.world = world
             network = world.network
             monitors = read_monitors(self.monitors_path, set(network.junctions)) if self.monitors_path.is_file() else ()
