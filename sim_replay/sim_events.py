@@ -23,7 +23,8 @@ def t_ns(t_s: float) -> int:
 
 
 class Envelopes:
-    """Builds each source's events in order; `lose(src, kind)` says whether one is lost."""
+    """Builds each source's events in order; `lose(src, kind, seq)` says whether one is lost (None:
+    none is, without asking per event)."""
 
     def __init__(self, run: str, lose: Callable[[str, str, int], bool] | None = None) -> None:
         self.run = run
@@ -31,6 +32,7 @@ class Envelopes:
         self.count = 0
         self.lost = 0
         self._lose = lose
+        self._t = (None, 0)       # the latest (t_s, t): a tick's events share their t_s
 
     def make(self, src: str, t_s: float, kind: str, body: dict[str, Any]) -> dict[str, Any] | None:
         """The event, or None when the fault model loses it (its seq is used all the same)."""
@@ -40,4 +42,8 @@ class Envelopes:
             self.lost += 1
             return None
         self.count += 1
-        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": t_ns(t_s), "kind": kind, "body": body}
+        t_s_was, t = self._t
+        if t_s != t_s_was:
+            t = t_ns(t_s)
+            self._t = (t_s, t)
+        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": t, "kind": kind, "body": body}
