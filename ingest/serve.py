@@ -14,7 +14,7 @@ import logging
 import os
 import signal
 import threading
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
 from types import FrameType, TracebackType
@@ -48,7 +48,6 @@ class ServeOptions:
     key: str = SUBSCRIPTION
     status_every_s: float | None = None  # None: 1 s on a terminal, 10 s in logs
     durable: bool = True
-    extra: dict = field(default_factory=dict)  # further IngestService arguments (tests, benchmarks)
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -108,7 +107,7 @@ def _open_service(options: ServeOptions) -> IngestService:
     try:
         return IngestService(options.db, listen=listen, connect=connect, mode=options.mode,
                              config_file=options.config_file, key_expr=options.key,
-                             durable=options.durable, **options.extra)
+                             durable=options.durable)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -152,7 +151,8 @@ class StopRequest:
 def serve(options: ServeOptions, *, json_out: bool = False, out: TextIO, err: TextIO) -> int:
     """Run until SIGINT or SIGTERM, then flush, close and report; returns the exit code (0: stopped
     with every received sample stored, counted or quarantined; 1: some were lost, or the writer died).
-    A GapsError (bad options, store in use, port busy) propagates before anything is received."""
+    A GapsError (bad options, store in use, port busy) propagates before anything is received.
+    Signals can only be caught on the main thread: called from another, it runs until the process ends."""
     reporter = Reporter.for_stream(err)
     stop = StopRequest(reporter).install()
     logger = logging.getLogger("ingest")
@@ -194,7 +194,8 @@ def _serve(options: ServeOptions, reporter: Reporter, stop: StopRequest, json_ou
     final = meter.read()
     news.report(service.stats())
     metrics = _metrics(options, server, started_at, stopped_by, at_stop, final, service)
-    reporter.event("serve.stopped", _summary(metrics), **metrics)
+    if not reporter.is_terminal:  # on a terminal the summary on stdout says it once
+        reporter.event("serve.stopped", _summary(metrics), **metrics)
     reporter.close()
     out.write(json.dumps(metrics, indent=2) + "\n" if json_out else _summary(metrics) + "\n")
     out.flush()

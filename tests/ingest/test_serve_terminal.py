@@ -48,7 +48,16 @@ def test_status_line_is_redrawn_in_place(tmp_path) -> None:
         out, _ = proc.communicate(timeout=30)
         assert proc.returncode == 0
         assert out.startswith("Stopped (SIGINT) after ") and "stored 500, duplicates 0, quarantined 0, failed 0" in out
-        assert b"SIGINT: storing what was received, then closing" in read_until(parent, b"then closing", 10)
+        rest = read_until(parent, b"then closing", 10)
+        time.sleep(0.2)
+        while select.select([parent], [], [], 0)[0]:
+            try:
+                rest += os.read(parent, 65536)
+            except OSError:
+                break
+        assert b"SIGINT: storing what was received, then closing" in rest
+        assert b"Stopped (" not in rest          # the summary is said once, on stdout
+        assert rest.endswith(b"\r\x1b[2K")      # and the status line is wiped, not left half-drawn
     finally:
         if proc.poll() is None:
             proc.kill()
