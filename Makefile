@@ -31,4 +31,4 @@ $(READY): pyproject.toml requirements.lock scripts/setup.sh scripts/ensure-swipl
 	@bash scripts/setup.sh
 
 clean:
-	rm -rf $(VENV) gaps.db gaps.db-wal gaps.db-shm gaps-report.html out
+	rm -rf $(VENV) gaps.db gaps.db-wal gaps.db-shm gaps.db.serve.lock gaps-report.html out

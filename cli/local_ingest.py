@@ -1,6 +1,7 @@
 """An ingest in this process, fed over a loopback Zenoh link: how `gaps demo` and `gaps sim --db`
-store what they publish, exactly as a recorder's events would reach a running `gaps serve`.
-Composition only: the ingest is ingest's, the publishing sim_replay.outlets'."""
+store what they publish, through the same ingest.serve.Server as `gaps serve` (its store lock
+included: a `gaps serve` already writing the store refuses them, exit 4), without its signals and
+status line. Composition only: the ingest is ingest's, the publishing sim_replay.outlets'."""
 from __future__ import annotations
 
 import socket
@@ -23,10 +24,11 @@ def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 3
     record them, paced, as asked); return the ingest's totals and what went out. The ingest may
     trail a fast producer by a hundred thousand events: it is waited for as long as it keeps
     storing, and a TimeoutError says so when it stops for timeout_s."""
-    from ingest.service import IngestService
+    from ingest.serve import Server, ServeOptions
     from sim_replay.outlets import Outlets
     endpoint = f"tcp/127.0.0.1:{free_port()}"
-    with IngestService(db, listen=[endpoint]) as ingest:
+    with Server(ServeOptions(db, listen=(endpoint,))) as server:
+        ingest = server.service
         with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s) as out:
             for event in events:
                 out.put(event)

@@ -8,18 +8,21 @@ from __future__ import annotations
 
 import bisect
 import threading
+import time
 
 Range = list[int]  # [first, last], inclusive
 
 
 class _Source:
-    """Highest seq seen and the ranges still missing below it, sorted and disjoint."""
+    """Highest seq seen, the ranges still missing below it (sorted and disjoint), and when it last
+    sent something (monotonic seconds)."""
 
-    __slots__ = ("highest", "missing")
+    __slots__ = ("highest", "missing", "last_seen")
 
     def __init__(self) -> None:
         self.highest = -1
         self.missing: list[Range] = []
+        self.last_seen = 0.0
 
     def observe(self, seq: int) -> bool:
         """Record ``seq``; return True if it arrived late, filling a gap below the highest seen."""
@@ -47,11 +50,35 @@ class GapTracker:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._sources: dict[tuple[str, str], _Source] = {}
+        self._now = time.monotonic()
+
+    def tick(self) -> None:
+        """Read the clock once for the samples observed next (a batch), not once per sample."""
+        self._now = time.monotonic()
 
     def observe(self, run: str, src: str, seq: int) -> bool:
         """Note an event's seq; returns True if it filled a gap, i.e. arrived out of order."""
         with self._lock:
-            return self._sources.setdefault((run, src), _Source()).observe(seq)
+            source = self._sources.get((run, src))
+            if source is None:
+                source = self._sources[(run, src)] = _Source()
+            source.last_seen = self._now
+            return source.observe(seq)
+
+    def sources(self, active_within_s: float) -> tuple[int, int]:
+        """(sources seen, sources that sent something in the last ``active_within_s`` seconds).
+
+        "Active" is only what arrived: a source that went quiet is not known to be gone (liveliness
+        tokens would tell that), and an event whose key disagreed with its body names no source."""
+        cutoff = time.monotonic() - active_within_s
+        with self._lock:
+            return len(self._sources), sum(s.last_seen >= cutoff for s in self._sources.values())
+
+    def missing(self) -> tuple[int, int]:
+        """(sequence numbers missing in all, sources missing any)."""
+        with self._lock:
+            gappy = [s for s in self._sources.values() if s.missing]
+            return sum(last - first + 1 for s in gappy for first, last in s.missing), len(gappy)
 
     def gaps(self) -> list[dict]:
         """Sources with missing seqs: ``{run, src, missing: [[first, last], ...], highest}``, sorted."""

@@ -15,7 +15,7 @@ import time
 
 import zenoh
 
-Received = tuple[str, bytes, bool]  # (key, payload, is_put)
+Received = tuple[str, bytes, bool, str]  # (key, payload, is_put, encoding as Zenoh names it)
 POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
 
 
@@ -26,6 +26,7 @@ class Inbox:
         self._session = session
         self._subscriber = session.declare_subscriber(key_expr, zenoh.handlers.FifoChannel(capacity))
         self._closed = False
+        self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
 
     @property
     def closing(self) -> bool:
@@ -42,7 +43,8 @@ class Inbox:
         if first is None:
             return None
         batch = [first]
-        deadline = time.monotonic() + wait_s
+        self.first_at = time.monotonic()
+        deadline = self.first_at + wait_s
         while len(batch) < max_items:
             sample = self._next(block=False)
             if sample is not None:
@@ -54,7 +56,9 @@ class Inbox:
         return batch
 
     def _next(self, *, block: bool) -> Received | None:
-        """One sample as (key, payload, is_put); None if there is none now (or ever, once closed)."""
+        """One sample as (key, payload, is_put, encoding); None if there is none now (or ever, once
+        closed). The encoding travels so that a sample declared as something other than JSON is
+        refused for what it claims to be, not parsed by luck."""
         if self._closed:
             return None
         try:
@@ -64,4 +68,5 @@ class Inbox:
             return None
         if sample is None:
             return None
-        return str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT
+        return (str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT,
+                str(sample.encoding))

@@ -4,7 +4,10 @@ Validity is the store's definition: its own parser runs here, once, and the resu
 ``Store.append_candidates`` so the store does not parse again. The ingest adds the one check only it
 can make: does the Zenoh key agree with the event it carries? An event for vehicle/173 arriving on
 vehicle/174's key is misrouted or forged; routing by key (slices of the key space per ingest, per-key
-subscriptions downstream) would otherwise trust the wrong identity. DELETE samples are refused too: the
+subscriptions downstream) would otherwise trust the wrong identity. A sample whose declared Zenoh encoding
+says it is not JSON (CBOR, protobuf, an image) is refused for what it claims to be: DESIGN puts events on
+the wire as ``application/json``; one that declares nothing carries Zenoh's default ``zenoh/bytes`` and is
+judged by its content, as foreign producers often declare nothing. DELETE samples are refused too: the
 log is append-only.
 """
 from __future__ import annotations
@@ -20,6 +23,10 @@ MAX_IDENTITY_BYTES = 8 * MAX_EVENT_BYTES
 
 Identity = tuple[str, str, int]  # (run, src, seq)
 
+JSON_ENCODINGS = frozenset({"application/json", "text/json", "zenoh/bytes", "zenoh/string"})
+"""Declared encodings under which a payload may be an event: JSON itself, or none declared (Zenoh's
+default, ``zenoh/bytes``, and its UTF-8 variant). A schema suffix (``;...``) is ignored."""
+
 
 class Screened(NamedTuple):
     """A store candidate, and the (run, src, seq) it arrived as, if known, for gap tracking.
@@ -32,10 +39,14 @@ class Screened(NamedTuple):
     identity: Identity | None
 
 
-def screen(key: str, payload: bytes, *, is_put: bool = True) -> Screened:
-    """Parse once; refuse deletes and key/body mismatches; let the store judge everything else."""
+def screen(key: str, payload: bytes, *, is_put: bool = True, encoding: str = "application/json") -> Screened:
+    """Parse once; refuse deletes, foreign encodings and key/body mismatches; let the store judge
+    everything else."""
     if not is_put:
         return Screened(refused(key, payload, f"DELETE sample on {key}: audit events are never deleted"), None)
+    if encoding.partition(";")[0] not in JSON_ENCODINGS:
+        reason = f"sample on {key} declares encoding {encoding!r}: audit events are application/json"
+        return Screened(refused(key, payload, reason), None)
     try:
         event, canonical = decode_event(payload)
     except EventError as exc:

@@ -35,7 +35,8 @@ OPEN_TIMEOUT_S = 30.0
 
 
 class IngestService:
-    """Subscribes to ``gaps/**`` and appends everything received to the store at ``db_path``.
+    """Subscribes to ``key_expr`` (``gaps/**``: every run) and appends everything received to the store
+    at ``db_path``.
 
     Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
     received into the store and closes the store and the session.
@@ -47,7 +48,9 @@ class IngestService:
         *,
         listen: Sequence[str] = (),
         connect: Sequence[str] = (),
-        mode: str = "peer",
+        mode: str | None = None,
+        config_file: str | os.PathLike | None = None,
+        key_expr: str = SUBSCRIPTION,
         batch_size: int = BATCH_SIZE,
         flush_interval_s: float = 0.05,
         durable: bool = True,
@@ -58,10 +61,11 @@ class IngestService:
         self._stats = IngestStats()
         self._tracker = GapTracker()
         self._stopped = False
-        self._session = zenoh.open(session_config(listen=listen, connect=connect, mode=mode))
+        config = session_config(listen=listen, connect=connect, mode=mode, config_file=config_file)
+        self._session = zenoh.open(config)
         try:
             self._writer = BatchWriter(
-                db_path, Inbox(self._session, SUBSCRIPTION, max_pending), self._stats, self._tracker,
+                db_path, Inbox(self._session, key_expr, max_pending), self._stats, self._tracker,
                 batch_size=batch_size, flush_interval_s=flush_interval_s, durable=durable,
             )
             self._writer.start()
@@ -80,6 +84,20 @@ class IngestService:
     def gaps(self) -> list[dict]:
         """Sequence gaps seen on the wire: ``[{run, src, missing: [[first, last], ...], highest}]``."""
         return self._tracker.gaps()
+
+    def missing(self) -> tuple[int, int]:
+        """(sequence numbers missing on the wire in all, sources missing any): ``gaps`` in a line."""
+        return self._tracker.missing()
+
+    def sources(self, active_within_s: float) -> tuple[int, int]:
+        """(sources seen, sources that sent something within the last ``active_within_s`` seconds)."""
+        return self._tracker.sources(active_within_s)
+
+    @property
+    def writing(self) -> bool:
+        """Whether the writer thread still runs: False after ``stop``, or if it died, which a
+        supervisor must hear about rather than watch a service that accepts and stores nothing."""
+        return self._writer.is_alive()
 
     def wait_for(self, predicate: Callable[[dict], bool], timeout: float) -> bool:
         """Wait until ``predicate(stats)`` holds; False on timeout."""

@@ -11,15 +11,20 @@ from collections.abc import Callable
 
 COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late")
 KEEP_ERRORS = 20
+KEEP_REJECTED = 20
 
 
 class IngestStats:
-    """Thread-safe counters plus the last few writer errors (kept so a failure is never only in a log)."""
+    """Thread-safe counters plus the last few writer errors and refusals (kept so a failure or a
+    quarantined sample is never only in a log), and the writer's lag."""
 
     def __init__(self) -> None:
         self._cond = threading.Condition()
         self._counts = dict.fromkeys(COUNTERS, 0)
         self._errors: list[str] = []
+        self._rejected: list[dict[str, str]] = []
+        self._lag_s = 0.0
+        self._lag_max_s = 0.0
 
     def add(self, **deltas: int) -> None:
         """Add to counters and wake waiters."""
@@ -35,16 +40,34 @@ class IngestStats:
             self._errors = (self._errors + [message])[-KEEP_ERRORS:]
             self._cond.notify_all()
 
-    def snapshot(self) -> dict:
-        """A consistent copy of the counters, with ``last_errors``."""
+    def record_rejected(self, refusals: list[dict[str, str]]) -> None:
+        """Keep the most recent refusals ({origin, reason}) so an operator sees why, not just how many."""
+        if refusals:
+            with self._cond:
+                self._rejected = (self._rejected + refusals[-KEEP_REJECTED:])[-KEEP_REJECTED:]
+
+    def record_lag(self, seconds: float) -> None:
+        """The last batch's lag: from its first sample leaving Zenoh's channel to its commit. Time a
+        sample spent queued inside Zenoh before that is not visible to Python, so it is not included."""
         with self._cond:
-            return {**self._counts, "last_errors": list(self._errors)}
+            self._lag_s = seconds
+            self._lag_max_s = max(self._lag_max_s, seconds)
+
+    def snapshot(self) -> dict:
+        """A consistent copy of the counters, with ``last_errors``, ``last_rejected``, ``lag_s`` and
+        ``lag_max_s``."""
+        with self._cond:
+            return self._snapshot()
+
+    def _snapshot(self) -> dict:
+        return {**self._counts, "last_errors": list(self._errors), "last_rejected": list(self._rejected),
+                "lag_s": self._lag_s, "lag_max_s": self._lag_max_s}
 
     def wait_for(self, predicate: Callable[[dict], bool], timeout: float) -> bool:
         """Block until ``predicate(snapshot)`` holds or ``timeout`` seconds pass; returns whether it held."""
         deadline = time.monotonic() + timeout
         with self._cond:
-            while not predicate({**self._counts, "last_errors": list(self._errors)}):
+            while not predicate(self._snapshot()):
                 remaining = deadline - time.monotonic()
                 if remaining <= 0:
                     return False

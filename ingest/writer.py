@@ -101,6 +101,7 @@ class BatchWriter(threading.Thread):
                 return
             self._stats.add(received=len(batch))
             self._write(store, batch)
+            self._stats.record_lag(time.monotonic() - self._inbox.first_at)
 
     def _write(self, store: Store, batch: list[Received]) -> None:
         """Screen and store one batch. If it keeps failing, store its samples one by one, so that a
@@ -129,6 +130,7 @@ class BatchWriter(threading.Thread):
                 self._stats.record_error(f"store ({len(candidates)} samples): {exc!r}")
                 error = exc
                 continue
+            self._stats.record_rejected(report.rejected)
             self._stats.add(
                 stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1
             )
@@ -150,9 +152,10 @@ class BatchWriter(threading.Thread):
     def _screen(self, batch: list[Received]) -> list[Screened]:
         """Screen each sample and track its sequence number; a sample that breaks screening is quarantined."""
         screened = []
-        for key, payload, is_put in batch:
+        self._tracker.tick()
+        for key, payload, is_put, encoding in batch:
             try:
-                item = screen(key, payload, is_put=is_put)
+                item = screen(key, payload, is_put=is_put, encoding=encoding)
             except Exception as exc:  # a screening bug must cost one sample's verdict, not the writer
                 log.exception("ingest: screening a sample on %s failed", key)
                 self._stats.record_error(f"screening: {exc!r}")

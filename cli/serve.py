@@ -1,0 +1,41 @@
+"""`gaps serve`: the ingest service, Zenoh to the store. Argument parsing only: the service, its
+signals, lock, status line and logs are ingest.serve's (so that `python -m ingest` is the same)."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from cli.app import db_path
+from cli.options import DbOption, JsonOption
+
+
+def serve(
+    db: Optional[Path] = DbOption,
+    listen: list[str] = typer.Option([], "--listen", metavar="ENDPOINT", help="Zenoh endpoint to listen on "
+                                     "(repeatable; default tcp/127.0.0.1:7447 when neither --connect nor --config "
+                                     "is given)."),
+    connect: list[str] = typer.Option([], "--connect", metavar="ENDPOINT", help="Zenoh endpoint to connect to: "
+                                      "a router or a publisher (repeatable)."),
+    mode: Optional[str] = typer.Option(None, "--mode", metavar="peer|client|router",
+                                       help="Zenoh mode (default: peer, or the config file's)."),
+    config: Optional[Path] = typer.Option(None, "--config", metavar="FILE", help="A Zenoh config file (JSON5); "
+                                          "--listen/--connect/--mode given here override it."),
+    key: str = typer.Option("gaps/**", "--key", help="Key expression to receive."),
+    status_every: Optional[float] = typer.Option(None, "--status-every", metavar="SECONDS", min=0.01,
+                                                 help="Seconds between status readings (default: 1 on a terminal, "
+                                                      "10 in the logs)."),
+    json_out: bool = JsonOption,
+) -> None:
+    """Receive audit events over Zenoh and append them to the store until SIGINT or SIGTERM.
+
+    A live status line on a terminal, JSON lines on stderr otherwise; on SIGINT or SIGTERM it stores
+    everything received, closes the store and exits 0 (1 if a sample could be neither stored nor
+    quarantined). A second serve on the same store is refused (exit 4). See docs/serve.md.
+    """
+    from ingest.serve import ServeOptions, serve as run
+    options = ServeOptions(db=db_path(db), listen=tuple(listen), connect=tuple(connect), mode=mode,
+                           config_file=config, key=key, status_every_s=status_every)
+    raise typer.Exit(run(options, json_out=json_out, out=sys.stdout, err=sys.stderr))

@@ -1,0 +1,62 @@
+"""`python -m ingest`: the command line of `gaps serve`, for a host that runs the ingest alone.
+
+The ingest room may not import the `gaps` command (cli/), so its options are declared here a second
+time, with argparse, onto the same ServeOptions and the same ``serve``; tests/ingest/test_serve_cli.py
+checks that both take the same options. Messages and exit codes are the same as `gaps serve`'s.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from store import GapsError
+
+from .serve import DEFAULT_LISTEN, ServeOptions, serve
+from .service import SUBSCRIPTION
+from .session_config import MODES
+
+USAGE_ERROR = 2
+
+
+def parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(
+        prog="python -m ingest",
+        description="Receive audit events over Zenoh and append them to the store until SIGINT or SIGTERM "
+                    "(the same service as `gaps serve`).")
+    ap.add_argument("--db", type=Path, default=None, help="SQLite event store (default: $GAPS_DB or ./gaps.db).")
+    ap.add_argument("--listen", action="append", default=[], metavar="ENDPOINT",
+                    help=f"Zenoh endpoint to listen on (repeatable; default {DEFAULT_LISTEN} when neither "
+                         "--connect nor --config is given).")
+    ap.add_argument("--connect", action="append", default=[], metavar="ENDPOINT",
+                    help="Zenoh endpoint to connect to: a router or a publisher (repeatable).")
+    ap.add_argument("--mode", choices=MODES, default=None, help="Zenoh mode (default: peer, or the config file's).")
+    ap.add_argument("--config", type=Path, default=None, metavar="FILE",
+                    help="A Zenoh config file (JSON5); --listen/--connect/--mode given here override it.")
+    ap.add_argument("--key", default=SUBSCRIPTION, help=f"Key expression to receive (default {SUBSCRIPTION}).")
+    ap.add_argument("--status-every", type=float, default=None, metavar="SECONDS",
+                    help="Seconds between status readings (default: 1 on a terminal, 10 in the logs).")
+    ap.add_argument("--json", action="store_true", help="Print the final metrics as JSON on exit.")
+    return ap
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = parser().parse_args(argv)
+    if args.status_every is not None and not args.status_every > 0:
+        _fail(f"--status-every must be a positive number of seconds, not {args.status_every:g}", USAGE_ERROR)
+    options = ServeOptions(db=args.db or Path(os.environ.get("GAPS_DB") or "gaps.db"),
+                           listen=tuple(args.listen), connect=tuple(args.connect), mode=args.mode,
+                           config_file=args.config, key=args.key, status_every_s=args.status_every)
+    try:
+        code = serve(options, json_out=args.json, out=sys.stdout, err=sys.stderr)
+    except GapsError as exc:
+        _fail(str(exc), exc.exit_code)
+    except KeyboardInterrupt:  # before the handlers were in place
+        sys.exit(130)
+    sys.exit(code)
+
+
+def _fail(message: str, code: int) -> None:
+    print(f"gaps: {message}", file=sys.stderr)
+    sys.exit(code)
