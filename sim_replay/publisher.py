@@ -23,6 +23,7 @@ ingest that paused 8 s lost 50,000 of 60,000 events); an audit producer waits in
 is still found within the lease (10 s), which closes the link whatever this says."""
 DESPAWN = "entity.despawn"  # a source's last event: its publishers are released after it
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
+SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
 
 
 def zenoh_config(
@@ -48,8 +49,9 @@ def _source_of(key: str) -> str:
     return key.rsplit("/", 1)[0]
 
 
-def _matching(publisher: zenoh.Publisher) -> bool:
-    """Whether a subscriber matches; zenoh 1.10 returns a MatchingStatus here despite its stub saying bool."""
+def _matching(publisher: zenoh.Publisher | zenoh.Querier) -> bool:
+    """Whether a subscriber (a queryable) matches; zenoh 1.10 returns a MatchingStatus here despite its
+    stub saying bool."""
     status = publisher.matching_status
     return bool(getattr(status, "matching", status))
 
@@ -122,10 +124,22 @@ class EventPublisher:
 
     def sync(self, timeout: float = SYNC_TIMEOUT_S) -> int:
         """Wait until every ingest has what was published before; returns how many ingests said so
-        (0: none answers, e.g. a foreign subscriber, or none within ``timeout``)."""
-        replies = self._session.get(SYNC_KEY, target=zenoh.QueryTarget.ALL,
-                                    consolidation=zenoh.ConsolidationMode.NONE, timeout=timeout)
-        return sum(1 for reply in replies if reply.ok is not None)
+        (0: none answers, e.g. a foreign subscriber, or none within ``timeout``).
+
+        An ingest declares its sync queryable just after its subscriber, and the declarations
+        reach this session one by one: a publisher that matched the subscriber a moment ago may
+        not know the queryable yet, and a query then finds nobody to ask (seen in a test that
+        published two events and closed at once). So the query waits up to SYNC_MATCH_S for a
+        queryable to match first."""
+        querier = self._session.declare_querier(SYNC_KEY, target=zenoh.QueryTarget.ALL,
+                                                consolidation=zenoh.ConsolidationMode.NONE, timeout=timeout)
+        try:
+            deadline = time.monotonic() + SYNC_MATCH_S
+            while not _matching(querier) and time.monotonic() < deadline:
+                time.sleep(0.01)
+            return sum(1 for reply in querier.get() if reply.ok is not None)
+        finally:
+            querier.undeclare()
 
     def close(self) -> None:
         """Undeclare the publishers, and close the session if this object opened it. Safe to call twice.

@@ -17,7 +17,7 @@ import zenoh
 
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import Store
+from store import SYNC_KEY, Store
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, make_event
 
 
@@ -80,3 +80,19 @@ def test_close_does_not_wait_where_no_ingest_answers() -> None:
         publisher.close()
         assert time.monotonic() - started < 5.0
         assert publisher.confirmed_by == 0
+
+
+def test_close_waits_for_an_ingests_sync_queryable_that_is_still_on_its_way() -> None:
+    """An ingest declares its subscriber, then its sync queryable: a publisher that has just matched
+    the subscriber and closes at once must still be confirmed (a fresh-clone test run once closed
+    before the queryable's declaration had arrived, and was told nobody confirmed)."""
+    endpoint = free_endpoint()
+    with zenoh.open(zenoh_config(listen=[endpoint])) as session:
+        session.declare_subscriber("gaps/**", lambda sample: None)
+        publisher = EventPublisher(config=zenoh_config(connect=[endpoint]))
+        await_match(publisher, make_event("vehicle/1", 0))
+        publisher.publish(make_event("vehicle/1", 0))
+        time.sleep(0.05)
+        session.declare_queryable(SYNC_KEY, lambda query: query.reply(SYNC_KEY, b"ok"))   # late, as it can be
+        publisher.close()
+        assert publisher.confirmed_by == 1
