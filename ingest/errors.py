@@ -2,14 +2,14 @@
 `gaps serve` and `python -m ingest` print one line and exit with a code that says what happened."""
 from __future__ import annotations
 
-from store import GapsError
+from store import GapsError, WireConfigError, zenoh_message
 
 EXIT_STORE_IN_USE = 4
 
 
-class IngestConfigError(GapsError, ValueError):
-    """An option, a Zenoh config file, an endpoint or a key expression that cannot be used (exit 2).
-    A ValueError too, as a bad mode was before this class existed."""
+IngestConfigError = WireConfigError
+"""An option, a Zenoh config file, an endpoint or a key expression that cannot be used (exit 2): the
+wire contract's own error (store/wire.py), under the name the ingest has always raised."""
 
 
 class StoreInUse(GapsError):
@@ -19,8 +19,4 @@ class StoreInUse(GapsError):
     exit_code = EXIT_STORE_IN_USE
 
 
-def zenoh_message(exc: BaseException) -> str:
-    """Zenoh's error text without the Rust source location it appends (`... at /root/.cargo/...`)."""
-    text = str(exc)
-    cut = text.find(" at /")
-    return (text[:cut] if cut > 0 else text).rstrip(".") or type(exc).__name__
+__all__ = ["EXIT_STORE_IN_USE", "IngestConfigError", "StoreInUse", "zenoh_message"]

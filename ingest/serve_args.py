@@ -15,7 +15,7 @@ from store import GapsError
 
 from .serve import DEFAULT_LISTEN, ServeOptions, serve
 from .service import SUBSCRIPTION
-from .session_config import MODES
+from store import MODES
 
 USAGE_ERROR = 2
 

@@ -13,11 +13,10 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY
+from store import SYNC_KEY, session_config
 
 from .gap_tracker import GapTracker
 from .inbox import Inbox
-from .session_config import session_config
 from .stats import IngestStats
 from .writer import BatchWriter
 

@@ -5,22 +5,16 @@ disagrees with its body, so building keys any other way would only manufacture q
 """
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Iterable, Sequence
 from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, canonical_json, key_for
+from store import SYNC_KEY, audit_qos, canonical_json, key_for, session_config
 
 __all__ = ["EventPublisher", "zenoh_config"]
 
-BLOCK_FOR_US = 3_600_000_000
-"""How long a put may wait for room before Zenoh gives up the link (microseconds). Zenoh's default is
-5 s, after which it closes the link and the puts that follow vanish without an error (measured: an
-ingest that paused 8 s lost 50,000 of 60,000 events); an audit producer waits instead. A dead ingest
-is still found within the lease (10 s), which closes the link whatever this says."""
 DESPAWN = "entity.despawn"  # a source's last event: its publishers are released after it
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
@@ -29,19 +23,9 @@ SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable
 def zenoh_config(
     *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer"
 ) -> zenoh.Config:
-    """A config that reaches exactly the endpoints named, so that runs and tests never find strangers.
-
-    Multicast and gossip scouting are off: peers meet only through ``listen``/``connect``. An empty ``listen``
-    is written out explicitly because Zenoh's peer default would open a port on every interface.
-    """
-    config = zenoh.Config()
-    config.insert_json5("mode", json.dumps(mode))
-    config.insert_json5("listen/endpoints", json.dumps(list(listen)))
-    config.insert_json5("connect/endpoints", json.dumps(list(connect)))
-    config.insert_json5("scouting/multicast/enabled", "false")
-    config.insert_json5("scouting/gossip/enabled", "false")
-    config.insert_json5("transport/link/tx/queue/congestion_control/block/wait_before_close", str(BLOCK_FOR_US))
-    return config
+    """A producer's session config: the wire contract's (store.session_config), which reaches exactly
+    the endpoints named, so that runs and tests never find strangers."""
+    return session_config(listen=listen, connect=connect, mode=mode)
 
 
 def _source_of(key: str) -> str:
@@ -164,12 +148,7 @@ class EventPublisher:
             raise RuntimeError("publisher is closed")
         publisher = self._publishers.get(key)
         if publisher is None:
-            publisher = self._session.declare_publisher(
-                key,
-                encoding=zenoh.Encoding.APPLICATION_JSON,
-                congestion_control=zenoh.CongestionControl.BLOCK,
-                reliability=zenoh.Reliability.RELIABLE,
-            )
+            publisher = self._session.declare_publisher(key, **audit_qos())
             self._publishers[key] = publisher
             self._keys_of.setdefault(_source_of(key), []).append(key)
         return publisher

@@ -25,6 +25,7 @@ from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .snapshots import enable_snapshots
+from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -43,6 +44,12 @@ from .transfer import (
 )
 
 __all__ = [
+    "BLOCK_FOR_US",
+    "MODES",
+    "WireConfigError",
+    "audit_qos",
+    "session_config",
+    "zenoh_message",
     "AppendReport",
     "Candidate",
     "CollectorPaused",

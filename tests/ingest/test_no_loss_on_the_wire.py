@@ -2,7 +2,7 @@
 into an ingest that fell behind, and what keeps them now (a slow disk stands for that ingest):
 
 - a put that waited for room longer than Zenoh's 5 s default closed the link, and the puts after it
-  vanished without an error (publisher.BLOCK_FOR_US);
+  vanished without an error (store.BLOCK_FOR_US, in the wire contract store/wire.py);
 - a session closed while samples were still queued dropped them (EventPublisher.close asks the
   ingests to confirm first, store.SYNC_KEY).
 

@@ -6,7 +6,7 @@ import json
 import pytest
 
 from ingest.screen import screen
-from ingest.session_config import session_config
+from store import session_config
 from tests.helpers.ingest_testkit import make_event
 from store import MAX_EVENT_BYTES, canonical_json, key_for
 

@@ -17,7 +17,7 @@ from ingest.errors import StoreInUse
 from ingest.screen import screen
 from ingest.serve_args import parser
 from ingest.serve_lock import ServeLock, lock_path
-from ingest.session_config import session_config
+from store import session_config
 from store import GapsError, canonical_json, key_for
 from tests.helpers.cli import gaps
 from tests.helpers.ingest_testkit import free_endpoint, make_event

@@ -1,0 +1,117 @@
+"""The wire contract in one module: how every gaps session meets Zenoh (the config builder), what a
+producer's publishers promise (the audit QoS), and where events and the sync question go (the key
+expressions, `key_for` and `SYNC_KEY`, beside the envelope in store/envelope.py).
+
+Every producer (`gaps sim`, replays, the publisher API) and every ingest (`gaps serve`, the
+in-process ingest of `gaps demo`) builds its session here, so the two sides cannot drift apart.
+It lives in the store because the store is the room every other room may import (DESIGN's table),
+and the keys are the envelope's.
+
+Explicit endpoints only, no scouting, unless an operator's file says otherwise: an audit session
+should reach the peers it was pointed at, not whatever answers a multicast probe; ``--listen`` and
+``--connect`` map one to one onto the arguments. An operator with a Zenoh config file of their own
+(``gaps serve --config zenoh.json5``: TLS, access control, tuned transports) gets exactly that file,
+with only the options given on the command line written over it.
+"""
+from __future__ import annotations
+
+import json
+import os
+import re
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+from .envelope import SYNC_KEY, key_for
+from .errors import GapsError
+
+if TYPE_CHECKING:       # imported where used: `gaps --help` and every reader of a store load no Zenoh
+    import zenoh
+
+__all__ = ["BLOCK_FOR_US", "MODES", "SYNC_KEY", "WireConfigError", "audit_qos", "key_for", "session_config",
+           "zenoh_message"]
+
+BLOCK_FOR_US = 3_600_000_000
+"""How long a put may wait for room before Zenoh gives up the link (microseconds). Zenoh's default is
+5 s, after which it closes the link and the puts that follow vanish without an error (measured: an
+ingest that paused 8 s lost 50,000 of 60,000 events); an audit producer waits instead. A dead ingest
+is still found within the lease (10 s), which closes the link whatever this says."""
+
+
+class WireConfigError(GapsError, ValueError):
+    """An option, a Zenoh config file, an endpoint or a key expression that cannot be used (exit 2).
+    A ValueError too, as a bad mode was before this class existed."""
+
+
+def audit_qos() -> dict[str, Any]:
+    """What every event publisher is declared with: JSON, RELIABLE and BLOCK, because an audit log
+    may not lose data silently (a full queue makes the producer wait, never drops)."""
+    import zenoh
+    return {"encoding": zenoh.Encoding.APPLICATION_JSON, "congestion_control": zenoh.CongestionControl.BLOCK,
+            "reliability": zenoh.Reliability.RELIABLE}
+
+
+def zenoh_message(exc: BaseException) -> str:
+    """Zenoh's error text without the Rust source location it appends (`... at /root/.cargo/...`)."""
+    text = str(exc)
+    cut = text.find(" at /")
+    return (text[:cut] if cut > 0 else text).rstrip(".") or type(exc).__name__
+
+
+MODES = ("peer", "client", "router")
+ENDPOINT = re.compile(r"[a-z][a-z0-9+-]*/[^/?#\s][^\s]*")  # <protocol>/<address>[?<metadata>][#<config>]
+
+
+def session_config(
+    *,
+    listen: Sequence[str] = (),
+    connect: Sequence[str] = (),
+    mode: str | None = None,
+    config_file: str | os.PathLike | None = None,
+) -> zenoh.Config:
+    """Build the config. Without a file: ``mode`` (default peer), the endpoints given (``listen`` is
+    always written out, so a peer never opens Zenoh's default any-port), no scouting, and a put that
+    waits BLOCK_FOR_US for room. With a file: the file, and over it only ``mode``, ``listen`` and
+    ``connect`` where they were given."""
+    if mode is not None and mode not in MODES:
+        raise WireConfigError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
+    for endpoint in (*listen, *connect):
+        if not ENDPOINT.fullmatch(endpoint):
+            raise WireConfigError(f"endpoint {endpoint!r} is not of the form PROTOCOL/ADDRESS, "
+                                  "e.g. tcp/127.0.0.1:7447")
+    import zenoh
+    if config_file is None:
+        config = zenoh.Config()
+        mode = mode or "peer"
+        _insert(config, "scouting/multicast/enabled", False)
+        _insert(config, "scouting/gossip/enabled", False)
+        _insert(config, "listen/endpoints", list(listen))
+        _insert(config, "transport/link/tx/queue/congestion_control/block/wait_before_close", BLOCK_FOR_US)
+    else:
+        config = _read(config_file)
+        if listen:
+            _insert(config, "listen/endpoints", list(listen))
+    if mode is not None:
+        _insert(config, "mode", mode)
+    if connect or config_file is None:
+        _insert(config, "connect/endpoints", list(connect))
+    return config
+
+
+def _read(path: str | os.PathLike) -> zenoh.Config:
+    """The operator's file, or an error naming it and what Zenoh found wrong."""
+    if not os.path.isfile(path):
+        raise WireConfigError(f"no Zenoh config file at {os.fspath(path)}")
+    import zenoh
+    try:
+        return zenoh.Config.from_file(os.fspath(path))
+    except zenoh.ZError as exc:
+        raise WireConfigError(f"cannot use the Zenoh config file {os.fspath(path)}: {zenoh_message(exc)}") from None
+
+
+def _insert(config: zenoh.Config, key: str, value: object) -> None:
+    """Write one setting; one Zenoh refuses is the user's mistake, said as such."""
+    import zenoh
+    try:
+        config.insert_json5(key, json.dumps(value))
+    except zenoh.ZError as exc:
+        raise WireConfigError(f"Zenoh refuses {key} = {value!r}: {zenoh_message(exc)}") from None
