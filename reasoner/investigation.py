@@ -529,7 +529,7 @@ def _beliefs_contradicted(measured: _Measured, validation: _Validation, mscen: S
     stated = {text for text, _ in mscen.facts}
     own = [(text, ref) for text, ref in validation.scenario
            if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
-    return checked(measured.passage, measured.at, own)[1]
+    return checked(measured.passage, measured.at, own)[1] if own else ()
 
 
 def _last_seen(state: State, vehicle: str) -> int | None:

@@ -24,14 +24,20 @@ whoever can write the cache file could otherwise hide a road user from the reaso
 from __future__ import annotations
 
 import sqlite3
+import weakref
+
 from .cache import writing as _writing
 from .db import Store
-from .snapshots import hash_at
+from .snapshots import chain_end, hash_at
 
 BUCKET_S = 2
 _BUCKET_NS = BUCKET_S * 1_000_000_000
 
 Box = tuple[str, int, float, float, float, float]  # src, bucket, x0, x1, y0, y1
+
+# Boxes a read had to keep in memory (the cache locked by another writer), per store: (run, chain
+# length, head) -> boxes, so that the acts judged after it do not scan the run again.
+_in_memory: weakref.WeakKeyDictionary[Store, dict[tuple[str, int, str], list[Box]]] = weakref.WeakKeyDictionary()
 
 # One pass over the run's entity.state events from a chain position: json_extract once per
 # value (a materialised CTE, else SQLite repeats it for every use of x and y), then the boxes.
@@ -78,7 +84,7 @@ def _current(store: Store, run: str) -> list[Box] | None:
     """Bring the run's boxes in the cache up to the store's chain. None when they are there;
     the boxes themselves when the cache could not take them (locked by another writer, or read
     only): this read then uses them from memory."""
-    length, head = _chain(store, run)
+    length, head = chain_end(store.connection, run)
     cache = store.cache.connection
     row = cache.execute("SELECT chain_len, head FROM presence_marks WHERE run = ?", (run,)).fetchone()
     if row is not None and row[0] == length and row[1] == head:
@@ -88,7 +94,11 @@ def _current(store: Store, run: str) -> list[Box] | None:
             _catch_up(store, run, length, head)
         return None
     except sqlite3.OperationalError:
-        return _boxes(store, run, 0, length)
+        kept = _in_memory.setdefault(store, {})
+        if (run, length, head) not in kept:
+            kept.clear()
+            kept[(run, length, head)] = _boxes(store, run, 0, length)
+        return kept[(run, length, head)]
 
 
 def _catch_up(store: Store, run: str, length: int, head: str) -> None:
@@ -112,13 +122,6 @@ def _boxes(store: Store, run: str, start: int, end: int) -> list[Box]:
     return store.connection.execute(_BOXES, (_BUCKET_NS, run, start, end)).fetchall()
 
 
-def _chain(store: Store, run: str) -> tuple[int, str]:
-    """The run's chain length and head hash: two index probes."""
-    (last,) = store.connection.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
-    length = 0 if last is None else last + 1
-    return length, hash_at(store.connection, run, length - 1) or ""
-
-
 def check_presence(store: Store, run: str) -> list[tuple[str, int]]:
     """(src, bucket) of every box the cache holds for the part of the chain its watermark
     covers that differs from the events (a box missing, added or changed). A cache whose
@@ -134,10 +137,3 @@ def check_presence(store: Store, run: str) -> list[tuple[str, int]]:
     held = {(src, b): [x0, x1, y0, y1] for src, b, x0, x1, y0, y1 in cache.execute(
         "SELECT src, bucket, x0, x1, y0, y1 FROM presence WHERE run = ?", (run,))}
     return sorted(key for key in fresh.keys() | held.keys() if fresh.get(key) != held.get(key))
-
-
-def clear(store: Store, run: str) -> None:
-    """Forget a run's boxes: they are rebuilt on the next read that needs them."""
-    with _writing(store.cache.connection) as cache:
-        cache.execute("DELETE FROM presence WHERE run = ?", (run,))
-        cache.execute("DELETE FROM presence_marks WHERE run = ?", (run,))

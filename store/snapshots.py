@@ -161,12 +161,18 @@ def hash_at(conn: sqlite3.Connection, run: str, chain_pos: int) -> str | None:
     return None if row is None else row[0]
 
 
+def chain_end(conn: sqlite3.Connection, run: str) -> tuple[int, str]:
+    """The run's chain length and head hash ("" for none): two index probes, what a cache of
+    derived data is keyed by."""
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    length = 0 if last is None else last + 1
+    return length, hash_at(conn, run, length - 1) or ""
+
+
 def marks(store: Store, run: str) -> Marks:
     """A few index probes (this runs on every read)."""
     conn = store.connection
-    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
-    length = 0 if last is None else last + 1
-    head = hash_at(conn, run, length - 1) or ""
+    length, head = chain_end(conn, run)
     row = store.cache.connection.execute(
         "SELECT chain_len, head FROM state_watermarks WHERE run = ?", (run,)).fetchone()
     if row is None:
