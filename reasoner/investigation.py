@@ -6,7 +6,8 @@
 
 An incident is a potential violation: recorded on line by a monitor, or re-derived off line from
 the monitor's observations (episodes.py); both, normally. For each, at its time t, from the
-store's state at t (store.state_at, a store.State):
+store's state at t of the vehicle and of the monitor's observation of it (store.state_of: the
+parts of store.state_at an act needs, folded from their own sources' events):
 
 1. the Monitor Scenario re-derives the potential violation (monitor stage); a recorded one that
    the monitor's own observation does not support is *dismissed*;
@@ -28,7 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
-from store import CollectorPaused, EventRef, State, Store, Timeline
+from store import CollectorPaused, EventRef, State, Store, entity_since, state_of
 
 from . import acts, history
 from .chain_status import ChainStatus, chain_status
@@ -126,6 +127,8 @@ class Investigation:
         self._witnessed: dict[str, set[str]] = {}
         self._chains: dict[str, ChainStatus] = {}
         self._contexts: dict[str, history.RunContext] = {}
+        self._names: dict[str, dict[Any, list[str]]] = {}
+        self._entity_since: dict[tuple[str, str], float] = {}
         self.problems: dict[str, list[str]] = {}
 
     # -- public ---------------------------------------------------------------------------
@@ -150,12 +153,13 @@ class Investigation:
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo += self._unrecorded(run, swept, todo)
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
-        timeline, gaps = Timeline(self.store, run), Gaps(self.store, run)
+        gaps = Gaps(self.store, run)
         found = []
         for t, src, pv, ep in todo:
             body = pv["body"] if pv else {}
-            case = _Case(run, rs, timeline.at(t), t, src, pv, ep,
-                         str(body.get("vehicle")) if pv else ep.vehicle, str(body.get("action")) if pv else ep.action)
+            vehicle = str(body.get("vehicle")) if pv else ep.vehicle
+            state = state_of(self.store, run, t, entities=[f"vehicle/{vehicle}"], observed=[(src, vehicle)])
+            case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
             incident = self._judge(case, gaps)
             if incident is not None:
                 found.append(incident)
@@ -336,8 +340,8 @@ class Investigation:
         it is no perception fault."""
         if judged_on == "vehicle scenario":
             monitor_rb = case.rs["monitor"].rulebook if case.rs["monitor"] else rb
-            others = {constant([src.split("/", 1)[1]]) for src in case.state.entities if "/" in src} - {case.me}
-            out, disputes = corrected(mine, seen, self._witnessed_by(monitor_rb), case.me, others)
+            out, disputes = corrected(mine, seen, self._witnessed_by(monitor_rb), case.me,
+                                      self._others(case, [*mine, *seen]))
             measured = {a for a, _ in self.reader.pairs(rb, [(s, None) for s in derived], [])}
             have = {a for a, _ in out}
             out += [(a, ev) for a, ev in seen if a in measured and a not in have]
@@ -352,6 +356,37 @@ class Investigation:
         choice = case.rs.vehicle_rulebook(action.rulebook if action else None)
         own = action if action and action.action == case.action else None
         return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
+
+    def _others(self, case: _Case, pairs: list[tuple[Atom, EventRef]]) -> set:
+        """The constants of these facts that name another road user on record by the act's time
+        (a source with an entity event by then, named by the part of its src after the "/"):
+        a fact about one of them is not the vehicle's own."""
+        named = self._named(case.run)
+        out = set()
+        for atom, _ in pairs:
+            for arg in atom.args:
+                if isinstance(arg, (str, int)) and arg != case.me and arg in named and arg not in out \
+                        and any(self._since(case.run, src) <= case.t for src in named[arg]):
+                    out.add(arg)
+        return out
+
+    def _named(self, run: str) -> dict[Any, list[str]]:
+        """The run's sources by the constant their id reads as, read once per run."""
+        if run not in self._names:
+            names: dict[Any, list[str]] = {}
+            for src in self.store.sources(run):
+                if "/" in src:
+                    names.setdefault(constant([src.split("/", 1)[1]]), []).append(src)
+            self._names[run] = names
+        return self._names[run]
+
+    def _since(self, run: str, src: str) -> float:
+        """When the source became an entity of the run's state (inf: never)."""
+        key = (run, src)
+        if key not in self._entity_since:
+            since = entity_since(self.store, run, src)
+            self._entity_since[key] = float("inf") if since is None else since
+        return self._entity_since[key]
 
     def _witnessed_by(self, monitor_rb: Rulebook) -> set[str]:
         if monitor_rb.sha256 not in self._witnessed:

@@ -26,6 +26,7 @@ from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .snapshots import enable_snapshots
 from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
+from .partial_state import entity_since, state_of
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -87,6 +88,8 @@ __all__ = [
     "import_file",
     "SYNC_KEY",
     "sources_near",
+    "state_of",
+    "entity_since",
     "key_for",
     "migrate_copy",
     "parse_event",

@@ -1,0 +1,146 @@
+"""The state of a few sources at t, read from their own events: what judging one act needs.
+
+`state_at` folds every event of the run up to t (from the nearest snapshot). Judging an act
+needs two parts of that state: the record of the vehicle (its spawn, latest state, perception
+and decision, its ADS status, its despawn) and what its monitor last observed of it. Each part
+depends only on its own source's events, so it can be folded from those alone: the vehicle's
+events since its last spawn before t, and the monitor's observations of the vehicle in the
+OBSERVATION_WINDOW_S before t. Their cost follows the act, not the run: no fold of the other
+road users' millions of events, and no snapshots to build first (a one-hour run's snapshots
+took over an hour to build; see docs/history.md "Cost").
+
+Every part `state_of` holds is the same part `state_at` gives (the same fold handlers fold the
+same events; tests/store/test_partial_state.py compares them on generated runs); the parts it
+was not asked for are empty. One assumption, the one `Store.source_events` makes too: a
+source's t rises with its seq, give or take SEQ_SLACK places.
+"""
+from __future__ import annotations
+
+from typing import Any, Iterable
+
+from . import fastjson
+from .db import Store
+from .ddl import DENSE_KINDS, SPARSE_ONLY
+from .kinds import SRC_ROLES
+from .queries import SEQ_SLACK, _first_seq_past, highest_seq
+from .state import _HANDLERS, _LATEST, _TOUCH, OBSERVATION_WINDOW_S, _key, empty_state, fold_rows
+from .state_value import State
+
+_SECOND = 1_000_000_000
+ENTITY_KINDS = frozenset(("entity.spawn", "entity.despawn", "ads.event", *_LATEST, *_TOUCH))
+_OWN = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? AND seq <= ? ORDER BY seq DESC"
+_TEXT = "SELECT seq, event FROM events WHERE run = ? AND src = ? AND seq IN ({})"
+_IN_ORDER = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? ORDER BY seq"
+_SPARSE_FIRST = f"SELECT min(t) FROM events WHERE run = ? AND kind IN ({{}}) AND {SPARSE_ONLY} AND src = ?"
+# body.vehicle is a string (the schema refuses any other), compared in SQLite
+_OBSERVED = ("SELECT t, seq, event FROM events WHERE run = ? AND kind = 'monitor.observation' AND "
+             f"{SPARSE_ONLY} AND src = ? AND t >= ? AND t <= ? AND json_extract(event, '$.body.vehicle') = ? "
+             "ORDER BY t DESC, seq DESC")
+
+
+def state_of(store: Store, run: str, t: int, *, entities: Iterable[str] = (),
+             observed: Iterable[tuple[str, str]] = ()) -> State:
+    """The state of `run` at t restricted to these entity srcs ("vehicle/173") and these
+    (monitor src, vehicle) observations: each present part equal to state_at's. `events` and
+    `last` count what was folded here, not the run's events."""
+    folded = empty_state()
+    with store._reading():
+        for src in entities:
+            record = entity_at(store, run, src, t)
+            if record is not None:
+                folded["entities"][src] = record
+        for monitor, vehicle in observed:
+            piece = observation_at(store, run, monitor, vehicle, t)
+            if piece is not None:
+                held = folded["monitors"].setdefault(monitor, {"observations": {}, "potential_violations": {}})
+                held["observations"][vehicle] = piece
+    return State.of(run, t, folded)
+
+
+def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None:
+    """The fold's record of the entity `src` at t (state_at(...).entities[src]), or None.
+
+    Only the events after its last entity.spawn at or before t count (a spawn starts a fresh
+    record), and of those only the latest of each kind the fold keeps the latest of: the rest
+    are listed by (seq, t, kind) through the (run, src, seq) index and never parsed."""
+    conn = store.connection
+    highest = highest_seq(conn, run, src)
+    if highest is None:
+        return None
+    top = _first_seq_past(conn, run, src, highest, t, True) - 1 + SEQ_SLACK
+    rows = _since_spawn(conn.execute(_OWN, (run, src, top)), t)
+    if not rows:
+        return None
+    wanted = _needed(rows)
+    texts = dict(conn.execute(_TEXT.format(",".join("?" * len(wanted))), (run, src, *wanted)))
+    state = empty_state()
+    fold_rows(state, [(src, seq, at, kind, texts.get(seq, "null")) for seq, at, kind in rows
+                      if seq in wanted or kind in _TOUCH])
+    return state["entities"].get(src)
+
+
+def _since_spawn(cursor: Iterable[tuple[int, int, str]], t: int) -> list[tuple[int, int, str]]:
+    """(seq, t, kind) of the entity kinds at or before t from the last spawn on, in (t, seq)
+    order. The source is read back from the top of its window; the reading stops SEQ_SLACK
+    places below the latest spawn found (an event further out of order is not looked for)."""
+    kept: list[tuple[int, int, str]] = []
+    stop: int | None = None
+    for seq, at, kind in cursor:
+        if stop is not None and seq < stop:
+            break
+        if at > t or kind not in ENTITY_KINDS:
+            continue
+        kept.append((seq, at, kind))
+        if kind == "entity.spawn" and stop is None:
+            stop = seq - SEQ_SLACK
+    kept.sort(key=lambda row: (row[1], row[0]))
+    spawns = [i for i, row in enumerate(kept) if row[2] == "entity.spawn"]
+    return kept[spawns[-1]:] if spawns else kept
+
+
+def _needed(rows: list[tuple[int, int, str]]) -> set[int]:
+    """The seqs whose bodies the fold reads: every event of a kind it folds in full, the latest
+    of each kind of which it keeps only the latest."""
+    latest: dict[str, int] = {}
+    out: set[int] = set()
+    for seq, _, kind in rows:
+        if kind in _LATEST:
+            latest[kind] = seq
+        elif kind in _HANDLERS:
+            out.add(seq)
+    return out | set(latest.values())
+
+
+def observation_at(store: Store, run: str, monitor: str, vehicle: str, t: int) -> dict[str, Any] | None:
+    """The fold's monitors[monitor]["observations"][vehicle] at t: the monitor's last observation
+    of the vehicle at or before t, if made within OBSERVATION_WINDOW_S of it."""
+    horizon = t - OBSERVATION_WINDOW_S * _SECOND
+    for at, seq, text in store.connection.execute(_OBSERVED, (run, monitor, horizon, t, vehicle)):
+        event = fastjson.loads(text)
+        body = event.get("body") if isinstance(event, dict) else None
+        if isinstance(body, dict) and _key(body.get("vehicle")) == vehicle:
+            return {"src": monitor, "seq": seq, "t": at, "body": body}
+    return None
+
+
+def entity_since(store: Store, run: str, src: str) -> int | None:
+    """The t of the source's first entity event: from then on state_at lists it among the
+    entities (None: it never is one). A source whose role sends no dense kind (a monitor, a
+    signal: spawns and despawns only) is looked up in the kind index; any other is read from
+    its first event on, up to SEQ_SLACK places past its first entity event."""
+    role = src.split("/", 1)[0]
+    kinds = sorted(k for k in ENTITY_KINDS if role in SRC_ROLES.get(k, ()))
+    if not kinds:
+        return None
+    if not set(kinds) & set(DENSE_KINDS):
+        sql = _SPARSE_FIRST.format(",".join("?" * len(kinds)))
+        return store.connection.execute(sql, (run, *kinds, src)).fetchone()[0]
+    first: int | None = None
+    stop: int | None = None
+    for seq, at, kind in store.connection.execute(_IN_ORDER, (run, src)):
+        if stop is not None and seq > stop:
+            break
+        if kind in ENTITY_KINDS:
+            first = at if first is None else min(first, at)
+            stop = seq + SEQ_SLACK if stop is None else stop
+    return first
