@@ -30,6 +30,8 @@ EPISODE_GAP_S = 5
 MATCH_S = 2
 _BLANK = "\x00"
 _EXACT_LIMIT = 500_000
+_STAND_IN_NUMBER = "990000000001"   # asked about in place of a vehicle whose id is a number ...
+_STAND_IN_NAME = "vehicle_asked_about"   # ... or any other word
 
 
 @dataclass
@@ -90,7 +92,7 @@ class Rederiver:
             key = self._shape(vehicle, facts)
             found = self._cache.get(key)
             if found is None:
-                found = self._cache[key] = self._ask(vehicle, [s for s in facts if isinstance(s, str)])
+                found = self._cache[key] = self._ask(*self._asked_as(vehicle, facts, key))
             if exact is not None:
                 if len(self._exact) >= _EXACT_LIMIT:
                     self._exact.clear()
@@ -98,22 +100,25 @@ class Rederiver:
         return found
 
     def _shape(self, vehicle: str, facts: list) -> tuple:
-        """The sentences with the vehicle's own id blanked where it is a whole word (the common
-        case, the id opening the sentence, without splitting it into words)."""
+        """The sentences with the vehicle's own id blanked where it is a whole word."""
         if vehicle in self._mentioned:
             return (vehicle, *facts)
-        prefix, n = vehicle + " ", len(vehicle) + 1
-        out = []
-        for s in facts:
-            if type(s) is not str:
-                out.append(repr(s))
-            elif s.startswith(prefix) and vehicle not in s[n:]:
-                out.append(_BLANK + s[n - 1:])
-            elif vehicle in s:
-                out.append(" ".join(_BLANK if w == vehicle else w for w in s.split(" ")))
-            else:
-                out.append(s)
-        return tuple(out)
+        return tuple(_blanked(s, vehicle, _BLANK) if type(s) is str else repr(s) for s in facts)
+
+    def _asked_as(self, vehicle: str, facts: list, shape: tuple) -> tuple[str, list[str]]:
+        """The vehicle and sentences to ask about for a shape: the shape itself, a stand-in id in
+        the blanks, so that the sentences parsed repeat across vehicles (a sentence is parsed once
+        per rulebook, and "173 has speed of 23" and "174 has speed of 23" are two); the vehicle's
+        own sentences where the shape keeps its id, or the stand-in's word occurs in them. Sound
+        for the reason the shapes are (module docstring)."""
+        sentences = [s for s in facts if isinstance(s, str)]
+        stand_in = _STAND_IN_NUMBER if vehicle.isdigit() else _STAND_IN_NAME
+        if shape[:1] == (vehicle,) or stand_in in self._mentioned or any(stand_in in s for s in sentences):
+            return vehicle, sentences
+        asked = [_blanked(s, vehicle, stand_in) for s in sentences]
+        if any(_names(s, vehicle) for s in asked):     # an id of several words, not at the start
+            return vehicle, sentences
+        return stand_in, asked
 
     def _ask(self, vehicle: str, sentences: list[str]) -> frozenset[str]:
         self.asked += 1
@@ -123,6 +128,22 @@ class Rederiver:
         me = constant([vehicle])
         result = self.engine.answers(self.rb, self._question, atoms)
         return frozenset(arg_text(b[0][2]) for b in result.bindings if b[0][1] == me)
+
+
+def _blanked(sentence: str, vehicle: str, blank: str) -> str:
+    """The sentence with the vehicle's id, where it is a whole word, replaced (the common case,
+    the id opening the sentence, without splitting it into words)."""
+    prefix, n = vehicle + " ", len(vehicle) + 1
+    if sentence.startswith(prefix) and vehicle not in sentence[n:]:
+        return blank + sentence[n - 1:]
+    if vehicle in sentence:
+        return " ".join(blank if w == vehicle else w for w in sentence.split(" "))
+    return sentence
+
+
+def _names(sentence: str, vehicle: str) -> bool:
+    """Whether the vehicle's id is still in the sentence (as a word, or as words)."""
+    return vehicle in sentence if " " in vehicle else vehicle in sentence.split(" ")
 
 
 def episodes(observations: Iterable[dict], rederiver: Rederiver) -> Iterator[Episode]:
