@@ -16,6 +16,7 @@ import zenoh
 from store import SYNC_KEY, session_config
 
 from .gap_tracker import GapTracker
+from .history_queryable import HistoryQueryable
 from .inbox import Inbox
 from .stats import IngestStats
 from .writer import BatchWriter
@@ -70,6 +71,7 @@ class IngestService:
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)
             self._sync = self._session.declare_queryable(SYNC_KEY, _answer_sync)
+            self._history = HistoryQueryable(self._session, db_path, key_expr)  # docs/serve.md "History"
         except BaseException:
             self._session.close()
             raise
@@ -116,10 +118,12 @@ class IngestService:
         if self._stopped:
             return
         self._stopped = True
+        self._history.close()
         try:
             self._session.close()
         finally:
             self._writer.join()
+            self._history.join()
 
     def __enter__(self) -> IngestService:
         return self
