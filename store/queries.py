@@ -263,17 +263,21 @@ def _history_terms(run: str, wanted: Any) -> tuple[list[str], list[Any]]:
 
 def history_window(conn: sqlite3.Connection, run: str, wanted: Any) -> tuple[int, int] | None:
     """(first, last) chain position of the run's events that pass `wanted`, or None if none does.
-    Without a time bound these are two probes; with one, a scan of the time index over the window
-    (its cost follows the events in the window, not the run's length)."""
+    Asked as two statements, so that without filters each is one probe of (run, chain_pos) (min
+    and max together would scan the run); with a time bound each walks the time index over the
+    window, so the cost follows the events in the window, not the run's length."""
     clauses, params = ["run = ?"], [run]
     for term, value in (("t >= ?", wanted.t_from), ("t <= ?", wanted.t_to),
                         ("src = ?", wanted.src), ("kind = ?", wanted.kind)):
         if value is not None:
             clauses.append(term)
             params.append(value)
-    row = conn.execute(f"SELECT min(chain_pos), max(chain_pos) FROM events WHERE {' AND '.join(clauses)}",
-                       params).fetchone()
-    return None if row[0] is None else (row[0], row[1])
+    where = " AND ".join(clauses)
+    (first,) = conn.execute(f"SELECT min(chain_pos) FROM events WHERE {where}", params).fetchone()
+    if first is None:
+        return None
+    (last,) = conn.execute(f"SELECT max(chain_pos) FROM events WHERE {where}", params).fetchone()
+    return first, last
 
 
 def history_chunk(conn: sqlite3.Connection, run: str, wanted: Any, after: int, last: int,
