@@ -13,7 +13,7 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, session_config
+from store import SYNC_KEY, session_config, zenoh_message
 
 from .gap_tracker import GapTracker
 from .history_queryable import HistoryQueryable
@@ -121,6 +121,9 @@ class IngestService:
         self._history.close()
         try:
             self._session.close()
+        except zenoh.ZError as exc:   # Zenoh gives up after 10 s, e.g. on a history reply a querier never takes
+            log.warning("ingest: closing the Zenoh session: %s; storing what was received all the same",
+                        zenoh_message(exc))
         finally:
             self._writer.join()
             self._history.join()
