@@ -25,7 +25,7 @@ from typing import Any
 
 import zenoh
 
-from store import SYNC_KEY, GapsError, ReceivedChains, Store, session_config
+from store import SYNC_KEY, Candidate, GapsError, ReceivedChains, Store, session_config
 
 from .errors import zenoh_message
 from .history_request import DEFAULT_LIMIT
@@ -185,7 +185,8 @@ def _nobody(options: FetchOptions) -> str:
 def _take(replies: zenoh.handlers.Handler, store: Store, report: FetchReport, chains: ReceivedChains,
           progress: Callable[[int], None] | None) -> list[str]:
     """Store every event of one page of answers; return the cursors of answers cut at their limit."""
-    cursors, batch = [], []
+    cursors: list[str] = []
+    batch: list[Candidate] = []
     for reply in replies:
         if reply.ok is None:
             problem = _error_of(reply.err)
@@ -202,7 +203,7 @@ def _take(replies: zenoh.handlers.Handler, store: Store, report: FetchReport, ch
     return cursors
 
 
-def _candidate(sample: zenoh.Sample, chains: ReceivedChains):
+def _candidate(sample: zenoh.Sample, chains: ReceivedChains) -> Candidate:
     """The sample screened as the ingest screens a live one; an accepted event is followed on the
     sender's chain as its attachment states it."""
     key, payload = str(sample.key_expr), sample.payload.to_bytes()
@@ -245,7 +246,7 @@ def _error_of(err: zenoh.ReplyError) -> dict[str, Any]:
     return {"error": "timeout" if text == "Timeout" else "zenoh", "message": text}
 
 
-def _append(store: Store, batch: list, report: FetchReport, progress: Callable[[int], None] | None) -> None:
+def _append(store: Store, batch: list[Candidate], report: FetchReport, progress: Callable[[int], None] | None) -> None:
     if not batch:
         return
     done = store.append_candidates(batch)

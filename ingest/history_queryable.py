@@ -24,6 +24,7 @@ import os
 import queue
 import threading
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import zenoh
@@ -135,7 +136,7 @@ class HistoryQueryable:
             thread.join(timeout)
 
 
-def _rows(store: Store, request: HistoryRequest, matches: _Matcher):
+def _rows(store: Store, request: HistoryRequest, matches: _Matcher) -> Iterator[HistoryRow]:
     """The stored events the request selects, runs in name order, each in chain order."""
     wanted = request.filter_for()
     for run in store.run_names():

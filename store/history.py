@@ -14,11 +14,13 @@ source's very chain, and its heads can be compared with the source's (`gaps fetc
 from __future__ import annotations
 
 import sqlite3
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from typing import TypeVar
 
 from . import queries
 
+R = TypeVar("R")
 CHUNK = 1000  # rows per read transaction: one chunk of events is all an answer holds in memory
 
 
@@ -64,7 +66,7 @@ def history_rows(conn: sqlite3.Connection, run: str, wanted: HistoryFilter, afte
         last = rows[-1][0]
 
 
-def _read(conn: sqlite3.Connection, read):
+def _read(conn: sqlite3.Connection, read: Callable[[], R]) -> R:
     """One short read transaction (or the caller's, if one is open)."""
     if conn.in_transaction:
         return read()
