@@ -11,8 +11,8 @@ from typing import Optional
 
 import typer
 
-from cli import (demo, explain, incidents, migrate, quarantine, report, rules, runs, scene, serve, sim, transfer,
-                 verify)
+from cli import (demo, explain, fetch, incidents, migrate, quarantine, report, rules, runs, scene, serve, sim,
+                 transfer, verify)
 from cli.app import new_app
 
 
@@ -32,6 +32,7 @@ def build() -> typer.Typer:
     app.command()(quarantine.quarantine)
     app.command("import")(transfer.import_)
     app.command()(transfer.export)
+    app.command()(fetch.fetch)
     app.command()(migrate.migrate)
     app.add_typer(_rules_group(), name="rules")
     return app

@@ -33,7 +33,8 @@ def serve(
 
     A live status line on a terminal, JSON lines on stderr otherwise; on SIGINT or SIGTERM it stores
     everything received, closes the store and exits 0 (1 if a sample could be neither stored nor
-    quarantined). A second serve on the same store is refused (exit 4). See docs/serve.md.
+    quarantined). A second serve on the same store is refused (exit 4). It also answers history
+    queries on its key from the store (`gaps/RUN/**?_time=[t1..t2]`; `gaps fetch`). See docs/serve.md.
     """
     from ingest.serve import ServeOptions, serve as run
     options = ServeOptions(db=db_path(db), listen=tuple(listen), connect=tuple(connect), mode=mode,

@@ -13,9 +13,10 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, session_config
+from store import SYNC_KEY, session_config, zenoh_message
 
 from .gap_tracker import GapTracker
+from .history_queryable import HistoryQueryable
 from .inbox import Inbox
 from .stats import IngestStats
 from .writer import BatchWriter
@@ -70,6 +71,7 @@ class IngestService:
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)
             self._sync = self._session.declare_queryable(SYNC_KEY, _answer_sync)
+            self._history = HistoryQueryable(self._session, db_path, key_expr)  # docs/serve.md "History"
         except BaseException:
             self._session.close()
             raise
@@ -116,10 +118,15 @@ class IngestService:
         if self._stopped:
             return
         self._stopped = True
+        self._history.close()
         try:
             self._session.close()
+        except zenoh.ZError as exc:   # Zenoh gives up after 10 s, e.g. on a history reply a querier never takes
+            log.warning("ingest: closing the Zenoh session: %s; storing what was received all the same",
+                        zenoh_message(exc))
         finally:
             self._writer.join()
+            self._history.join()
 
     def __enter__(self) -> IngestService:
         return self

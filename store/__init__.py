@@ -19,6 +19,7 @@ from .envelope import (
     parse_event,
     validate_event,
 )
+from .history import HistoryFilter, HistoryRow
 from .intake import Candidate
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
@@ -27,6 +28,7 @@ from .run_summary import RunSummary
 from .snapshots import enable_snapshots
 from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
 from .partial_state import entity_since, state_of
+from .received_chain import ReceivedChains
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -59,6 +61,8 @@ __all__ = [
     "EventRef",
     "ExportReport",
     "GapsError",
+    "HistoryFilter",
+    "HistoryRow",
     "ImportReport",
     "Recorder",
     "KINDS",
@@ -67,6 +71,7 @@ __all__ = [
     "NoSuchRun",
     "OBSERVATION_WINDOW_S",
     "ORDERS",
+    "ReceivedChains",
     "RunSummary",
     "SRC_ROLES",
     "State",

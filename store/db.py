@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import fastjson, opening, queries, rulebooks, verify_cache
+from . import fastjson, history, opening, queries, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -256,6 +256,19 @@ class Store:
         with self._reading():
             rows = list(queries.observation_rows(self._conn, run, str(vehicle), srcs, t_from, t_to))
         return fastjson.loads_all([row[3] for row in rows])
+
+    def history(self, run: str, wanted: history.HistoryFilter = history.HistoryFilter(), *,
+                after: int = -1, chunk: int = history.CHUNK) -> Iterator[history.HistoryRow]:
+        """The run's events that pass `wanted`, above chain position `after`, in chain order, as
+        stored (canonical text and chain hash): what a history query over Zenoh answers. Read
+        `chunk` rows at a time, each chunk in its own short read transaction, so a long answer
+        holds neither memory nor a snapshot that keeps a live ingest's WAL from being folded back
+        (store/history.py)."""
+        return history.history_rows(self._conn, run, wanted, after, chunk)
+
+    def chain_head(self, run: str) -> tuple[int, str]:
+        """(events in the run's chain, stored hash of its last event); (0, "") for no events."""
+        return verify_cache.chain_key(self._conn, run)
 
     def runs(self) -> list[RunSummary]:
         """Every run with events, by run name."""

@@ -244,3 +244,47 @@ def _time_window(clauses: list[str], params: list[Any], t_from: int | None, t_to
     if t_to is not None:
         clauses.append("t <= ?")
         params.append(t_to)
+
+
+# --- a run's events in chain order, for history queries (store/history.py) ----------------------
+
+def _history_terms(run: str, wanted: Any) -> tuple[list[str], list[Any]]:
+    """WHERE terms for a HistoryFilter. The filters on t, src and kind carry a unary + so that
+    SQLite never picks their indexes for a chain-order read: it walks (run, chain_pos) and tests
+    them, instead of sorting a whole source's or a whole time range's rows for every chunk."""
+    clauses, params = ["run = ?"], [run]
+    for term, value in (("+t >= ?", wanted.t_from), ("+t <= ?", wanted.t_to),
+                        ("+src = ?", wanted.src), ("+kind = ?", wanted.kind)):
+        if value is not None:
+            clauses.append(term)
+            params.append(value)
+    return clauses, params
+
+
+def history_window(conn: sqlite3.Connection, run: str, wanted: Any) -> tuple[int, int] | None:
+    """(first, last) chain position of the run's events that pass `wanted`, or None if none does.
+    Asked as two statements, so that without filters each is one probe of (run, chain_pos) (min
+    and max together would scan the run); with a time bound each walks the time index over the
+    window, so the cost follows the events in the window, not the run's length."""
+    clauses, params = ["run = ?"], [run]
+    for term, value in (("t >= ?", wanted.t_from), ("t <= ?", wanted.t_to),
+                        ("src = ?", wanted.src), ("kind = ?", wanted.kind)):
+        if value is not None:
+            clauses.append(term)
+            params.append(value)
+    where = " AND ".join(clauses)
+    (first,) = conn.execute(f"SELECT min(chain_pos) FROM events WHERE {where}", params).fetchone()
+    if first is None:
+        return None
+    (last,) = conn.execute(f"SELECT max(chain_pos) FROM events WHERE {where}", params).fetchone()
+    return first, last
+
+
+def history_chunk(conn: sqlite3.Connection, run: str, wanted: Any, after: int, last: int,
+                  limit: int) -> list[tuple]:
+    """Up to `limit` rows (chain_pos, t, src, kind, event, hash) at chain positions in
+    (after, last] that pass `wanted`, in chain order: one range of the (run, chain_pos) index."""
+    clauses, params = _history_terms(run, wanted)
+    sql = (f"SELECT chain_pos, t, src, kind, event, hash FROM events WHERE {' AND '.join(clauses)} "
+           "AND chain_pos > ? AND chain_pos <= ? ORDER BY chain_pos LIMIT ?")
+    return conn.execute(sql, [*params, after, last, limit]).fetchall()
