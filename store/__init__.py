@@ -20,10 +20,12 @@ from .envelope import (
     validate_event,
 )
 from .intake import Candidate
+from .keyfiles import PUBLIC_KEYS_FILE, KeyFolder, KeysError, Signer, TrustedKeys
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
+from .signatures import SIG_FIELD, sign_event, signed_bytes
 from .snapshots import enable_snapshots
 from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
 from .presence import check_presence, sources_near
@@ -61,6 +63,12 @@ __all__ = [
     "ImportReport",
     "Recorder",
     "KINDS",
+    "KeyFolder",
+    "KeysError",
+    "PUBLIC_KEYS_FILE",
+    "SIG_FIELD",
+    "Signer",
+    "TrustedKeys",
     "MAX_EVENT_BYTES",
     "MigrateReport",
     "NoSuchRun",
@@ -90,6 +98,8 @@ __all__ = [
     "key_for",
     "migrate_copy",
     "parse_event",
+    "sign_event",
+    "signed_bytes",
     "state_at",
     "validate_event",
 ]
