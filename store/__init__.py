@@ -25,7 +25,7 @@ from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
-from .signatures import SIG_FIELD, sign_event, signed_bytes
+from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
 from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
 from .presence import check_presence, sources_near
@@ -96,6 +96,7 @@ __all__ = [
     "SYNC_KEY",
     "sources_near",
     "key_for",
+    "key_id",
     "migrate_copy",
     "parse_event",
     "sign_event",

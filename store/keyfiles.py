@@ -115,12 +115,18 @@ class KeyFolder:
         found = (f"{p.parent.name}/{p.name[:-len(KEY_SUFFIX)]}" for p in self.path.glob(f"*/*{KEY_SUFFIX}"))
         return sorted(src for src in found if is_source(src))
 
-    def public_keys(self) -> dict[str, str]:
-        """{src: public key in base64} for every key here: the public keys file's content."""
+    def public_key(self, src: str) -> bytes:
+        """The source's public key (32 bytes); a KeysError if the folder has no key for it."""
         from nacl.signing import SigningKey
 
-        return {src: base64.b64encode(bytes(SigningKey(self.seed(src)).verify_key)).decode("ascii")
-                for src in self.sources()}
+        seed = self.seed(src)
+        if seed is None:
+            raise KeysError(f"no key for {src} in {self.path}")
+        return bytes(SigningKey(seed).verify_key)
+
+    def public_keys(self) -> dict[str, str]:
+        """{src: public key in base64} for every key here: the public keys file's content."""
+        return {src: base64.b64encode(self.public_key(src)).decode("ascii") for src in self.sources()}
 
     def write_public_keys(self, path: str | os.PathLike | None = None) -> Path:
         """Write the public keys file (default `<folder>/public-keys.json`); returns where."""
