@@ -1,18 +1,20 @@
 """What requiring signatures costs the ingest (a benchmark, not a test).
 
-    .venv/bin/python bench/signatures.py [--events 30000]
+    .venv/bin/python bench/signatures.py [--events 30000] [--runs 3]
 
 In one run: the same signed events published from a child process (signed there before the
 clock starts, so that the publisher is not what is measured) into an ingest that stores them as
 they come, and into one that checks every signature (`gaps serve --require-signatures`); and
 one Ed25519 check alone, as this machine does it. Events/s is from the first sample received to
-the last event stored, durable (FULL), as bench/ingest_throughput.py counts it.
+the last event stored, durable (FULL), as bench/ingest_throughput.py counts it; the two ingests
+take turns, `--runs` times each, and the medians are recorded.
 """
 from __future__ import annotations
 
 import argparse
 import multiprocessing as mp
 import os
+import statistics
 import sys
 import tempfile
 import time
@@ -24,6 +26,7 @@ from store import KeyFolder, Signer, Store, TrustedKeys, canonical_json
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ingest_throughput import RUN, VEHICLES, endpoint, events  # noqa: E402  (beside this file)
+from results import Figure, quick, record  # noqa: E402
 
 
 def publish(connect: str, n: int, keys: str) -> None:
@@ -67,7 +70,8 @@ def check_us(keys: str, trusted: TrustedKeys, n: int = 5000) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--events", type=int, default=30_000)
+    parser.add_argument("--events", type=int, default=3_000 if quick() else 30_000)
+    parser.add_argument("--runs", type=int, default=1 if quick() else 3)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(dir=os.environ.get("TMPDIR")) as keys:
         folder = KeyFolder(keys)
@@ -77,12 +81,23 @@ def main() -> None:
         size = len(canonical_json(Signer(folder).sign(next(events(1)))))
         print(f"{args.events:,} signed events ({size} bytes each, {VEHICLES} sources), publisher in a child process; "
               f"load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs")
-        print(f"one signature check: {check_us(keys, trusted):.0f} us")
-        plain, _ = ingest_rate(args.events, keys, None)
-        print(f"ingest, signatures stored unchecked: {plain:,.0f} events/s")
-        required, _ = ingest_rate(args.events, keys, trusted)
-        print(f"ingest, --require-signatures:        {required:,.0f} events/s ({required / plain:.2f} x)")
+        check = check_us(keys, trusted)
+        print(f"one signature check: {check:.0f} us")
+        plain, required = [], []
+        for _ in range(args.runs):
+            plain.append(ingest_rate(args.events, keys, None)[0])
+            print(f"ingest, signatures stored unchecked: {plain[-1]:,.0f} events/s")
+            required.append(ingest_rate(args.events, keys, trusted)[0])
+            print(f"ingest, --require-signatures:        {required[-1]:,.0f} events/s")
         print(f"load average after: {os.getloadavg()[0]:.2f}")
+    unchecked = "ingest of signed events, stored unchecked"
+    record("signatures", "What --require-signatures costs the ingest",
+           [Figure(unchecked, statistics.median(plain), "events/s", tuple(plain)),
+            Figure("ingest with --require-signatures", statistics.median(required), "events/s", tuple(required),
+                   peer=unchecked),
+            Figure("one signature check (TrustedKeys.reason)", check, "us")],
+           notes=f"{args.events:,} signed events of {VEHICLES} sources, publisher in a child process, durable; "
+                 f"the two ingests in turn, {args.runs} run(s) each")
 
 
 if __name__ == "__main__":
