@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Iterable
 
 if TYPE_CHECKING:
     from sim_replay.outlets import OutletSummary
+    from store import Signer
 
 
 def free_port() -> int:
@@ -19,9 +20,10 @@ def free_port() -> int:
 
 
 def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 30.0, *,
-                          record: Path | None = None, speed: float | None = None) -> tuple[dict, OutletSummary]:
+                          record: Path | None = None, speed: float | None = None,
+                          signer: Signer | None = None) -> tuple[dict, OutletSummary]:
     """Publish the events over a loopback Zenoh link into an in-process ingest on the store (and
-    record them, paced, as asked); return the ingest's totals and what went out. The ingest may
+    record them, paced, and signed, as asked); return the ingest's totals and what went out. The ingest may
     trail a fast producer by a hundred thousand events: it is waited for as long as it keeps
     storing, and a TimeoutError says so when it stops for timeout_s."""
     from ingest.serve import Server, ServeOptions
@@ -29,7 +31,7 @@ def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 3
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     with Server(ServeOptions(db, listen=(endpoint,))) as server:
         ingest = server.service
-        with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s) as out:
+        with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s, signer=signer) as out:
             for event in events:
                 out.put(event)
         sent = out.summary()

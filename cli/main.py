@@ -11,8 +11,8 @@ from typing import Optional
 
 import typer
 
-from cli import (demo, explain, fetch, incidents, migrate, quarantine, report, rules, runs, scene, serve, sim,
-                 transfer, verify)
+from cli import (demo, explain, fetch, incidents, keys, migrate, quarantine, report, rules, runs, scene, serve,
+                 sim, transfer, verify)
 from cli.app import new_app
 
 
@@ -35,6 +35,7 @@ def build() -> typer.Typer:
     app.command()(fetch.fetch)
     app.command()(migrate.migrate)
     app.add_typer(_rules_group(), name="rules")
+    app.add_typer(_keys_group(), name="keys")
     return app
 
 
@@ -42,6 +43,13 @@ def _rules_group() -> typer.Typer:
     group = new_app(help=rules.HELP)
     for command in (rules.check, rules.query, rules.prolog, rules.verify):
         group.command()(command)
+    return group
+
+
+def _keys_group() -> typer.Typer:
+    group = new_app(help=keys.HELP)
+    group.command()(keys.new)
+    group.command()(keys.public)
     return group
 
 

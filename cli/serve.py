@@ -27,6 +27,9 @@ def serve(
     status_every: Optional[float] = typer.Option(None, "--status-every", metavar="SECONDS", min=0.01,
                                                  help="Seconds between status readings (default: 1 on a terminal, "
                                                       "10 in the logs)."),
+    require_signatures: Optional[Path] = typer.Option(
+        None, "--require-signatures", metavar="KEYS", help="Quarantine every event not signed by a key the public "
+        "keys file KEYS trusts for its source (unsigned, unknown key, forged)."),
     json_out: bool = JsonOption,
 ) -> None:
     """Receive audit events over Zenoh and append them to the store until SIGINT or SIGTERM.
@@ -38,5 +41,6 @@ def serve(
     """
     from ingest.serve import ServeOptions, serve as run
     options = ServeOptions(db=db_path(db), listen=tuple(listen), connect=tuple(connect), mode=mode,
-                           config_file=config, key=key, status_every_s=status_every)
+                           config_file=config, key=key, status_every_s=status_every,
+                           require_signatures=require_signatures)
     raise typer.Exit(run(options, json_out=json_out, out=sys.stdout, err=sys.stderr))

@@ -76,13 +76,17 @@ def sim(
     connect: list[str] = typer.Option([], "--connect", help="Zenoh endpoint of a running `gaps serve` (repeatable)."),
     db: Optional[Path] = typer.Option(None, "--db", help="Without --listen/--connect: store into this file through "
                                       "an in-process ingest (default: $GAPS_DB or ./gaps.db)."),
+    sign_keys: Optional[Path] = typer.Option(None, "--sign-keys", metavar="DIR", help="Sign every event with its "
+                                             "source's Ed25519 key from DIR (made for sources that have none), and "
+                                             "write DIR/public-keys.json."),
     json_out: bool = JsonOption,
 ) -> None:
     """Simulate the junctions on SUMO and publish every event over Zenoh.
 
     Automated vehicles ask the rulebook, human drivers follow their profiles, monitors watch.
     The events go into an ingest here (on --db), or to the endpoints given; --record keeps them
-    as MCAP too; the ground truth is written beside."""
+    as MCAP too; the ground truth is written beside. With --sign-keys each source signs its
+    events; `gaps verify --keys DIR/public-keys.json` checks them."""
     from sim_replay.sim_config import FaultRates, SimConfig
     from store import GapsError
 
@@ -100,18 +104,28 @@ def sim(
     store_file = None if listen or connect else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
     try:
-        summary, sent, stored = _run(config, pace, record, listen, connect, store_file, truth_file)
+        signer = _signer(sign_keys)
+        summary, sent, stored = _run(config, pace, record, listen, connect, store_file, truth_file, signer)
+        public_keys = str(signer.folder.write_public_keys()) if signer else None
     except (GapsError, TimeoutError, OSError) as exc:
         fail(str(exc))
     out = {"run": run, "simulation": summary.to_json(), "published": sent.to_json(), "stored": stored,
-           "truth": str(truth_file)}
+           "truth": str(truth_file), "public_keys": public_keys}
     if json_out:
         typer.echo(json.dumps(out, indent=2))
         return
     _print(out, store_file)
 
 
-def _run(config, pace, record, listen, connect, store_file, truth_file):
+def _signer(folder: Path | None):
+    """The events' signer from a key folder (keys made for new sources), or None."""
+    if folder is None:
+        return None
+    from store import KeyFolder, Signer
+    return Signer(KeyFolder(folder), create=True)
+
+
+def _run(config, pace, record, listen, connect, store_file, truth_file, signer=None):
     """Simulate and send; composition of the rooms' own calls only."""
     from cli.local_ingest import publish_through_zenoh
     from cli.progress import stderr_progress
@@ -122,9 +136,10 @@ def _run(config, pace, record, listen, connect, store_file, truth_file):
         simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None)
         stored = None
         if store_file is not None:
-            stored, sent = publish_through_zenoh(store_file, simulation.events(), record=record, speed=pace)
+            stored, sent = publish_through_zenoh(store_file, simulation.events(), record=record, speed=pace,
+                                                 signer=signer)
         else:
-            with Outlets(listen=listen, connect=connect, record=record, speed=pace) as outlets:
+            with Outlets(listen=listen, connect=connect, record=record, speed=pace, signer=signer) as outlets:
                 for event in simulation.events():
                     outlets.put(event)
             sent = outlets.summary()
@@ -147,5 +162,7 @@ def _print(out: dict, store_file: Path | None) -> None:
     if sent["recording"]:
         typer.echo(f"  recorded {sent['recorded']:,} events → {sent['recording']} ({sent['recording_bytes']:,} bytes)")
     typer.echo(f"  ground truth → {out['truth']}")
+    if out["public_keys"]:
+        typer.echo(f"  signed by each source; public keys → {out['public_keys']} (gaps verify --keys FILE)")
     if store_file is not None:
         typer.echo(f"Next: gaps incidents --db {store_file} --run {out['run']}")

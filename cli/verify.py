@@ -1,6 +1,7 @@
 """`gaps verify`: recompute the hash chains, Merkle roots and checkpoints, check the cached state
-snapshots and the cached index of where road users were against the events, and name the first
-event, snapshot or box that does not match (exit 1)."""
+snapshots and the cached index of where road users were against the events, count the signed
+events and check their signatures against a public keys file, and name the first event, snapshot,
+box or signature that does not match (exit 1)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -21,7 +22,12 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
            with_snapshots: bool = typer.Option(
                True, "--snapshots/--no-snapshots",
                help="Also re-fold each run and name the cached state snapshots (and boxes of where road users "
-                    "were) that differ from its events.")) -> None:
+                    "were) that differ from its events."),
+           keys_file: Optional[Path] = typer.Option(
+               None, "--keys", metavar="KEYS", help="Check every signed event against the keys this public keys "
+                                                     "file trusts for its source (`gaps keys public`)."),
+           all_signed: bool = typer.Option(
+               False, "--all-signed", help="Fail (exit 1) if any event is unsigned, too.")) -> None:
     """Check the hash chains, Merkle roots, checkpoints and cached snapshots against the events.
 
     Exit 1 if anything does not match, naming the first event (or snapshot) that does not; 2 for
@@ -30,24 +36,55 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     and verdicts read state and find the road users near a junction from them, so
     verify checks them too unless told --no-snapshots: nothing read can change a verdict without
     verify failing. Deleting the cache is safe; it is rebuilt from the events.
+
+    Signed events are counted; with --keys each signature is checked against the keys trusted for
+    its event's source, and an invalid one (altered, forged, a key not trusted for that source)
+    fails, naming the first. A signature proves its event even where the chain is broken.
     """
     wrong: dict[str, list] = {}
     misplaced: dict[str, list] = {}
+    keys = _trusted(keys_file)
     with open_existing(db) as store:
         require_run(store, run)
         with stderr_progress("verifying") as progress:
-            report = store.verify(run, progress)
+            report = store.verify(run, progress, keys)
         if with_snapshots:
             wrong = _wrong_snapshots(store, [r["run"] for r in report.runs])
             misplaced = _wrong_presence(store, [r["run"] for r in report.runs])
-    ok = report.ok and not any(wrong.values()) and not any(misplaced.values())
+    signatures = report.signatures
+    signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
+    ok = report.ok and signed_ok and not any(wrong.values()) and not any(misplaced.values())
     if json_out:
-        print_json({**report.as_dict(), "ok": ok,
+        print_json({**report.as_dict(), "ok": ok, "signatures": {**signatures, "ok": signed_ok},
                     **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {})})
     else:
         _print_report(report, wrong, with_snapshots)
         _print_presence(misplaced)
+        _print_signatures(signatures, all_signed)
     raise typer.Exit(0 if ok else 1)
+
+
+def _trusted(keys_file: Optional[Path]):
+    """The public keys file, loaded (a KeysError, exit 2, names what is wrong with it); None without one."""
+    if keys_file is None:
+        return None
+    from store import TrustedKeys
+    return TrustedKeys.load(keys_file)
+
+
+def _print_signatures(s: dict, all_signed: bool) -> None:
+    counts = f"{s['signed']:,} signed, {s['unsigned']:,} unsigned"
+    if not s["checked"]:
+        typer.echo(f"signatures: {counts} (not checked: give --keys KEYS)")
+    elif not s["invalid"]:
+        typer.echo(f"signatures: {counts}; every signature is valid ({s['keys']})")
+    else:
+        p = s["first_invalid"]
+        typer.echo(f"signatures: {counts}; {s['valid']:,} valid, {s['invalid']:,} INVALID ({s['keys']})")
+        typer.echo(f"INVALID SIGNATURE at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
+                   f"(chain position {p['chain_pos']}): {printable(p['what'])}")
+    if all_signed and s["unsigned"]:
+        typer.echo(f"UNSIGNED: {s['unsigned']:,} events carry no signature, and --all-signed asks that all do")
 
 
 def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:

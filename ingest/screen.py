@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 from typing import NamedTuple
 
-from store import MAX_EVENT_BYTES, Candidate, EventError, decode_event, key_for
+from store import MAX_EVENT_BYTES, Candidate, EventError, TrustedKeys, decode_event, key_for
 
 # An oversized event is refused by the store without being parsed, but it did arrive, so its seq should
 # still count as seen. Beyond this size even reading the identity would stall the writer.
@@ -55,6 +55,18 @@ def screen(key: str, payload: bytes, *, is_put: bool = True, encoding: str = "ap
     if expected != key:
         return Screened(refused(key, payload, f"key {key} does not match the event's own key {expected}"), None)
     return Screened(Candidate(key, payload, event, canonical), (event["run"], event["src"], event["seq"]))
+
+
+def require_signature(item: Screened, keys: TrustedKeys) -> Screened:
+    """The same item if it is refused already or its event is signed by a key trusted for its
+    source; else the item refused with the reason (its identity kept: it did arrive)."""
+    candidate = item.candidate
+    if candidate.reason is not None:
+        return item
+    reason = keys.reason(candidate.event)
+    if reason is None:
+        return item
+    return Screened(refused(candidate.origin, candidate.raw, reason), item.identity)
 
 
 def refused(origin: str, raw: bytes, reason: str) -> Candidate:

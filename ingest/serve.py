@@ -22,6 +22,8 @@ from typing import TextIO
 
 import zenoh
 
+from store import TrustedKeys
+
 from .errors import IngestConfigError, zenoh_message
 from .sd_notify import notify
 from .serve_lock import ServeLock
@@ -48,6 +50,7 @@ class ServeOptions:
     key: str = SUBSCRIPTION
     status_every_s: float | None = None  # None: 1 s on a terminal, 10 s in logs
     durable: bool = True
+    require_signatures: Path | None = None  # the public keys file: quarantine what they do not sign
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -69,9 +72,10 @@ class Server:
 
     def __enter__(self) -> Server:
         check_key(self.options.key)
+        keys = TrustedKeys.load(self.options.require_signatures) if self.options.require_signatures else None
         self._lock.acquire()
         try:
-            self.service = _open_service(self.options)
+            self.service = _open_service(self.options, keys)
         except BaseException:
             self._lock.release()
             raise
@@ -101,13 +105,13 @@ def check_key(key: str) -> None:
                                 "gaps/<run>/<src>/<kind> (e.g. gaps/** or gaps/site-a/**)")
 
 
-def _open_service(options: ServeOptions) -> IngestService:
+def _open_service(options: ServeOptions, keys: TrustedKeys | None) -> IngestService:
     """The IngestService, with Zenoh's refusal to open (a port in use, an address not ours) said plainly."""
     listen, connect = options.endpoints()
     try:
         return IngestService(options.db, listen=listen, connect=connect, mode=options.mode,
                              config_file=options.config_file, key_expr=options.key,
-                             durable=options.durable)
+                             durable=options.durable, trusted_keys=keys)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -207,12 +211,13 @@ def _announce(options: ServeOptions, server: Server, reporter: Reporter) -> None
     READY=1 for systemd."""
     listen, connect = options.endpoints()
     where = "; ".join([*(f"listening on {e}" for e in listen), *(f"connected to {e}" for e in connect)])
+    signed = f"; signatures required ({options.require_signatures})" if options.require_signatures else ""
     reporter.event("serve.ready", f"Serving {options.db} ({where or 'endpoints of ' + str(options.config_file)}; "
-                   f"key {options.key}); Ctrl-C or SIGTERM stops it after storing what was received",
+                   f"key {options.key}{signed}); Ctrl-C or SIGTERM stops it after storing what was received",
                    db=str(options.db), lock=str(server.lock_path), listen=list(listen), connect=list(connect),
                    mode=options.mode or ("peer" if options.config_file is None else "from config"),
                    config=str(options.config_file) if options.config_file else None, key=options.key,
-                   pid=os.getpid())
+                   require_signatures=_keys_file(options), pid=os.getpid())
     notify(f"READY=1\nMAINPID={os.getpid()}")
 
 
@@ -253,12 +258,17 @@ def _metrics(options: ServeOptions, server: Server, started_at: str, stopped_by:
         "uptime_s": final.uptime_s, "received": final.received, "stored": final.stored,
         "duplicates": final.duplicates, "quarantined": final.quarantined, "failed": final.failed,
         "errors": final.errors, "late": final.late, "batches": stats["batches"],
+        "require_signatures": _keys_file(options), "signature_refused": stats["signature_refused"],
         "settled_after_stop": final.settled - at_stop.settled,
         "events_per_s_mean": round(final.settled / final.uptime_s, 1) if final.uptime_s else 0.0,
         "lag_max_s": final.lag_max_s, "sources": final.sources, "missing": final.missing,
         "gaps": service.gaps(), "last_errors": stats["last_errors"], "last_rejected": stats["last_rejected"],
         "exit_code": EXIT_LOST if lost else EXIT_OK,
     }
+
+
+def _keys_file(options: ServeOptions) -> str | None:
+    return str(options.require_signatures) if options.require_signatures else None
 
 
 def _summary(m: dict) -> str:

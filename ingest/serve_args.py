@@ -37,6 +37,9 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--key", default=SUBSCRIPTION, help=f"Key expression to receive (default {SUBSCRIPTION}).")
     ap.add_argument("--status-every", type=float, default=None, metavar="SECONDS",
                     help="Seconds between status readings (default: 1 on a terminal, 10 in the logs).")
+    ap.add_argument("--require-signatures", type=Path, default=None, metavar="KEYS",
+                    help="Quarantine every event not signed by a key the public keys file KEYS trusts for its "
+                         "source (unsigned, unknown key, forged).")
     ap.add_argument("--json", action="store_true", help="Print the final metrics as JSON on exit.")
     return ap
 
@@ -47,7 +50,8 @@ def main(argv: list[str] | None = None) -> None:
         _fail(f"--status-every must be a positive number of seconds, not {args.status_every:g}", USAGE_ERROR)
     options = ServeOptions(db=args.db or Path(os.environ.get("GAPS_DB") or "gaps.db"),
                            listen=tuple(args.listen), connect=tuple(args.connect), mode=args.mode,
-                           config_file=args.config, key=args.key, status_every_s=args.status_every)
+                           config_file=args.config, key=args.key, status_every_s=args.status_every,
+                           require_signatures=args.require_signatures)
     try:
         code = serve(options, json_out=args.json, out=sys.stdout, err=sys.stderr)
     except GapsError as exc:

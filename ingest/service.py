@@ -13,7 +13,7 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, session_config, zenoh_message
+from store import SYNC_KEY, TrustedKeys, session_config, zenoh_message
 
 from .gap_tracker import GapTracker
 from .history_queryable import HistoryQueryable
@@ -38,7 +38,8 @@ class IngestService:
     """Subscribes to ``key_expr`` (``gaps/**``: every run) and appends everything received to the store
     at ``db_path``.
 
-    Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
+    With ``trusted_keys`` (the public keys file, loaded), an event not signed by a key trusted for its
+    source is quarantined with the reason. Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
     received into the store and closes the store and the session.
     """
 
@@ -55,6 +56,7 @@ class IngestService:
         flush_interval_s: float = 0.05,
         durable: bool = True,
         max_pending: int = MAX_PENDING,
+        trusted_keys: TrustedKeys | None = None,
     ) -> None:
         if batch_size < 1 or flush_interval_s < 0 or max_pending < 1:
             raise ValueError("batch_size and max_pending must be >= 1, flush_interval_s >= 0")
@@ -67,6 +69,7 @@ class IngestService:
             self._writer = BatchWriter(
                 db_path, Inbox(self._session, key_expr, max_pending), self._stats, self._tracker,
                 batch_size=batch_size, flush_interval_s=flush_interval_s, durable=durable,
+                trusted_keys=trusted_keys,
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)

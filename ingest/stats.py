@@ -9,7 +9,9 @@ import threading
 import time
 from collections.abc import Callable
 
-COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late")
+COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late", "signature_refused")
+"""signature_refused: samples quarantined for their signature (unsigned, unknown key, forged), when
+signatures are required; they are counted in rejected too."""
 KEEP_ERRORS = 20
 KEEP_REJECTED = 20
 

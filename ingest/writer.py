@@ -12,11 +12,11 @@ import os
 import threading
 import time
 
-from store import Candidate, Store, enable_snapshots
+from store import Candidate, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
-from .screen import Screened, refused, screen
+from .screen import Screened, refused, require_signature, screen
 from .stats import IngestStats
 
 log = logging.getLogger(__name__)
@@ -38,8 +38,10 @@ class BatchWriter(threading.Thread):
         batch_size: int,
         flush_interval_s: float,
         durable: bool,
+        trusted_keys: TrustedKeys | None = None,
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
+        self._keys = trusted_keys
         self._db_path = db_path
         self._inbox = inbox
         self._stats = stats
@@ -161,7 +163,18 @@ class BatchWriter(threading.Thread):
                 self._stats.record_error(f"screening: {exc!r}")
                 item = Screened(refused(key, payload, f"ingest could not screen this sample: {exc!r}"), None)
             screened.append(item)
+        if self._keys is not None:
+            screened = self._check_signatures(screened)
         late = sum(self._tracker.observe(*item.identity) for item in screened if item.identity is not None)
         if late:
             self._stats.add(late=late)
         return screened
+
+    def _check_signatures(self, screened: list[Screened]) -> list[Screened]:
+        """Quarantine, with the reason, each event not signed by a key trusted for its source. Here,
+        on the writer's thread, not on Zenoh's: a check costs tens of microseconds."""
+        checked = [require_signature(item, self._keys) for item in screened]
+        refused_now = sum(new is not old for new, old in zip(checked, screened))
+        if refused_now:
+            self._stats.add(signature_refused=refused_now)
+        return checked

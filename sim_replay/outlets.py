@@ -19,7 +19,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Sequence
 
-from store import Recorder
+from store import Recorder, Signer
 
 from .publisher import EventPublisher, zenoh_config
 
@@ -47,11 +47,13 @@ class Outlets:
     """Publishes (when endpoints are given) and records (when a path is given) each event put."""
 
     def __init__(self, *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer",
-                 record: str | Path | None = None, speed: float | None = None, wait_s: float = 30.0) -> None:
+                 record: str | Path | None = None, speed: float | None = None, wait_s: float = 30.0,
+                 signer: Signer | None = None) -> None:
         if speed is not None and not speed > 0:
             raise ValueError(f"speed must be positive (1 = real time) or None (as fast as possible), not {speed!r}")
         self.endpoints = (tuple(listen), tuple(connect))
         self.mode, self.record_path, self.speed, self.wait_s = mode, record, speed, wait_s
+        self.signer = signer  # signs each event once, before it is published and recorded alike
         self._publisher: EventPublisher | None = None
         self._recorder: Recorder | None = None
         self._published = 0
@@ -77,6 +79,8 @@ class Outlets:
 
     def put(self, event: dict) -> None:
         """Send one event on (blocking while Zenoh's queue is full, or until its time comes)."""
+        if self.signer is not None:
+            event = self.signer.sign(event)
         t = event["t"]
         if self._first_t is None:
             self._first_t = t

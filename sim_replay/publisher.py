@@ -11,7 +11,7 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, audit_qos, canonical_json, key_for, session_config
+from store import SYNC_KEY, Signer, audit_qos, canonical_json, key_for, session_config
 
 __all__ = ["EventPublisher", "zenoh_config"]
 
@@ -49,11 +49,14 @@ class EventPublisher:
     """
 
     def __init__(
-        self, session: zenoh.Session | None = None, *, config: zenoh.Config | None = None
+        self, session: zenoh.Session | None = None, *, config: zenoh.Config | None = None,
+        signer: Signer | None = None,
     ) -> None:
-        """Use ``session`` if given (the caller keeps ownership), else open one from ``config``."""
+        """Use ``session`` if given (the caller keeps ownership), else open one from ``config``.
+        With ``signer`` (store.Signer), each event is published with its source's signature."""
         if session is not None and config is not None:
             raise ValueError("give either a session or a config, not both")
+        self._signer = signer
         self._owns_session = session is None
         self._session = session if session is not None else zenoh.open(config or zenoh_config())
         self._publishers: dict[str, zenoh.Publisher] = {}
@@ -79,6 +82,8 @@ class EventPublisher:
         (`_release`): a run that lets thousands of road users come and go keeps only the living
         ones' publishers."""
         key = key_for(event)
+        if self._signer is not None:
+            event = self._signer.sign(event)
         self._publisher_for(key).put(canonical_json(event))
         self._published = True
         if event["kind"] == DESPAWN:

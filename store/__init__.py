@@ -21,10 +21,12 @@ from .envelope import (
 )
 from .history import HistoryFilter, HistoryRow
 from .intake import Candidate
+from .keyfiles import PUBLIC_KEYS_FILE, KeyFolder, KeysError, Signer, TrustedKeys
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
+from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
 from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
 from .partial_state import entity_since, state_of
@@ -66,6 +68,12 @@ __all__ = [
     "ImportReport",
     "Recorder",
     "KINDS",
+    "KeyFolder",
+    "KeysError",
+    "PUBLIC_KEYS_FILE",
+    "SIG_FIELD",
+    "Signer",
+    "TrustedKeys",
     "MAX_EVENT_BYTES",
     "MigrateReport",
     "NoSuchRun",
@@ -96,8 +104,11 @@ __all__ = [
     "state_of",
     "entity_since",
     "key_for",
+    "key_id",
     "migrate_copy",
     "parse_event",
+    "sign_event",
+    "signed_bytes",
     "state_at",
     "validate_event",
 ]

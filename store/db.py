@@ -25,6 +25,7 @@ from .kinds import SRC_ROLES
 from .errors import StoreError
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
+from .signature_tally import SignatureTally
 from .verify import Progress, verify_store
 
 _INSERT_EVENT = (
@@ -346,19 +347,22 @@ class Store:
         """The chain position of each stored (src, seq) of the run; keys not stored are left out."""
         return queries.chain_positions(self._conn, run, keys)
 
-    def verify(self, run: str | None = None, progress: Progress | None = None) -> VerifyReport:
+    def verify(self, run: str | None = None, progress: Progress | None = None, keys: Any = None) -> VerifyReport:
         """Recompute the chains and checkpoints (and, for the whole store, the rulebook
         addresses); `progress(done, total)` is called now and then with events checked. Always
-        recomputes; each run's result is then kept in the cache file for `verified`."""
+        recomputes; each run's result is then kept in the cache file for `verified`. Signed
+        events are counted, and with `keys` (a TrustedKeys) their signatures checked
+        (report.signatures)."""
         with self._reading():
-            report = verify_store(self._conn, run, progress)
+            report = verify_store(self._conn, run, progress, keys)
             keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
         for summary in report.runs:
             name = summary["run"]
             problem = report.problem if report.problem and report.problem.get("run") == name else None
             if keys[name][0] and (summary["ok"] or problem is not None):
+                counted = SignatureTally.counted(summary["signed"], summary["unsigned"])
                 verify_cache.record(self.cache.connection, name, keys[name],
-                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem))
+                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted))
         return report
 
     def verified(self, run: str, progress: Progress | None = None) -> VerifyReport:

@@ -21,24 +21,29 @@ from .describe import json_type as _json_type
 from .describe import show as _show
 from .errors import GapsError
 from .kinds import KINDS, REQUIRED, SRC_ROLES
+from .signatures import SIG_FIELD, sig_ok, sig_problem
 
 MAX_EVENT_BYTES = 1 << 20  # 1 MiB
 ENVELOPE_FIELDS = ("v", "run", "src", "seq", "t", "kind", "body")
+OPTIONAL_FIELDS = (SIG_FIELD,)  # the source's signature (store/signatures.py)
 ROLES = ("vehicle", "monitor", "signal", "pedestrian", "sim")
 
 _ID = re.compile(r"[A-Za-z0-9._-]{1,64}")
 _SRC = re.compile(rf"(?:{'|'.join(ROLES)})/[A-Za-z0-9._-]{{1,64}}")
 _ENVELOPE_VALUES = itemgetter(*ENVELOPE_FIELDS)
 _INT64_MIN, _INT64_MAX = -(1 << 63), (1 << 63) - 1  # SQLite INTEGER range
+_SIGNED_FIELDS = len(ENVELOPE_FIELDS) + 1
 
 __all__ = [
     "ENVELOPE_FIELDS",
     "EventError",
+    "OPTIONAL_FIELDS",
     "KINDS",
     "MAX_EVENT_BYTES",
     "ROLES",
     "decode_event",
     "encode_event",
+    "is_source",
     "key_for",
     "parse_event",
     "validate_event",
@@ -82,6 +87,11 @@ def _is_src(value: Any) -> bool:
     return role in ROLES and _is_id(ident)
 
 
+def is_source(value: Any) -> bool:
+    """Whether a value is a valid `src` (`<role>/<id>`)."""
+    return _is_src(value)
+
+
 def _is_int(value: Any) -> bool:
     """JSON integers only: bool is an int subclass in Python but true/false in JSON."""
     return isinstance(value, int) and not isinstance(value, bool)
@@ -113,7 +123,7 @@ def _check_fields(ev: dict) -> Problem:
     missing = [name for name in ENVELOPE_FIELDS if name not in ev]
     if missing:
         return missing[0], f"missing envelope field(s) {', '.join(missing)}"
-    extra = [_show(name) for name in ev if name not in ENVELOPE_FIELDS]
+    extra = [_show(name) for name in ev if name not in ENVELOPE_FIELDS and name not in OPTIONAL_FIELDS]
     if extra:
         return "envelope", f"unknown envelope field(s) {', '.join(extra)}: extra data belongs in body"
     return None
@@ -185,6 +195,13 @@ def _check_body(ev: dict) -> Problem:
     return body_problem(kind, body)
 
 
+def _check_sig(ev: dict) -> Problem:
+    if SIG_FIELD not in ev:
+        return None
+    problem = sig_problem(ev[SIG_FIELD])
+    return None if problem is None else (SIG_FIELD, problem)
+
+
 _CHECKS: tuple[Callable[[dict], Problem], ...] = (
     _check_fields,
     _check_v,
@@ -195,6 +212,7 @@ _CHECKS: tuple[Callable[[dict], Problem], ...] = (
     _check_kind,
     _check_role,
     _check_body,
+    _check_sig,
 )
 
 
@@ -218,7 +236,9 @@ def _plainly_valid(ev: Any) -> bool:
     for every event appended). It may refuse what the checks would accept (they decide then),
     but must never accept what they would refuse."""
     try:
-        if type(ev) is not dict or len(ev) != len(ENVELOPE_FIELDS):
+        if type(ev) is not dict:
+            return False
+        if len(ev) != len(ENVELOPE_FIELDS) and not (len(ev) == _SIGNED_FIELDS and sig_ok(ev.get(SIG_FIELD))):
             return False
         v, run, src, seq, t, kind, body = _ENVELOPE_VALUES(ev)
         return (

@@ -20,6 +20,7 @@ from . import merkle
 from .canonical import canonical_json
 from .chain import GENESIS, link
 from .outcomes import VerifyReport
+from .signature_tally import SignatureTally
 
 _COLUMNS = ("run", "src", "seq", "t", "kind")
 _PROGRESS_EVERY = 1 << 14  # events between two progress calls
@@ -27,21 +28,24 @@ _PROGRESS_EVERY = 1 << 14  # events between two progress calls
 Progress = Callable[[int, int], None]  # (events checked so far, events to check)
 
 
-def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Progress | None = None) -> VerifyReport:
-    """Check one run, or every run and every rulebook."""
+def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Progress | None = None,
+                 keys: Any = None) -> VerifyReport:
+    """Check one run, or every run and every rulebook; count the signed events, and with `keys`
+    (store.TrustedKeys) check each signature against the keys trusted for its source."""
     names = [run] if run is not None else _all_runs(conn)
     ticker = _Ticker(progress, _event_total(conn, run) if progress else 0)
     legacy = _legacy_through(conn)
+    tally = SignatureTally(keys)
     summaries, problems = [], []
     for name in names:
-        summary, problem = _verify_run(conn, name, legacy, ticker, required=run is not None)
+        summary, problem = _verify_run(conn, name, legacy, ticker, tally, required=run is not None)
         summaries.append(summary)
         problems.append(problem)
     if run is None:
         problems.append(_verify_rulebooks(conn))
     ticker.done()
     first = next((problem for problem in problems if problem is not None), None)
-    return VerifyReport(ok=first is None, runs=summaries, problem=first)
+    return VerifyReport(ok=first is None, runs=summaries, problem=first, signatures=tally.to_json())
 
 
 def _all_runs(conn: sqlite3.Connection) -> list[str]:
@@ -124,9 +128,9 @@ def _sequence_fault(modern: bool, count: Any, before: Any, root: Any, frontier: 
 
 
 def _verify_run(
-    conn: sqlite3.Connection, run: str, legacy: int, ticker: _Ticker, *, required: bool
+    conn: sqlite3.Connection, run: str, legacy: int, ticker: _Ticker, tally: SignatureTally, *, required: bool
 ) -> tuple[dict, dict | None]:
-    walk = _Walk(run, _checkpoints(conn, run, legacy))
+    walk = _Walk(run, _checkpoints(conn, run, legacy), tally)
     rows = conn.execute(
         "SELECT chain_pos, src, seq, t, kind, event, hash FROM events WHERE run = ? ORDER BY chain_pos",
         (run,),
@@ -136,15 +140,19 @@ def _verify_run(
         ticker.tick()
     walk.finish(required=required)
     ok = walk.problem is None
-    summary = {"run": run, "events": walk.rows, "head": walk.head.hex() if ok else None, "ok": ok}
+    summary = {"run": run, "events": walk.rows, "head": walk.head.hex() if ok else None, "ok": ok,
+               "signed": walk.signed, "unsigned": walk.unsigned}
     return summary, walk.problem
 
 
 class _Walk:
     """State of one run's recomputation, fed its rows in chain order."""
 
-    def __init__(self, run: str, checkpoints: dict[int, list[_Checkpoint]]) -> None:
+    def __init__(self, run: str, checkpoints: dict[int, list[_Checkpoint]], tally: SignatureTally) -> None:
         self.run = run
+        self.tally = tally
+        self.signed = self.unsigned = 0  # events of the run with and without a signature
+        self.parsed: dict | None = None  # the event of the row being checked, once its text parsed
         self.checkpoints = checkpoints
         self.covered = max(checkpoints, default=0)  # events covered by the latest checkpoint
         self.count = 0  # events verified so far
@@ -155,9 +163,17 @@ class _Walk:
         self.problem: dict[str, Any] | None = None
 
     def feed(self, row: tuple) -> None:
+        """Check the row against the chain (until the first problem); count and check its signature
+        in any case: a signature proves its event on its own, even past a broken link."""
         self.rows += 1
+        self.parsed = None
         if self.problem is None:
             self.problem = self._check(row)
+        event = self.parsed if self.parsed is not None else _parse(row[5])
+        if event is not None:
+            signed = self.tally.see(self.run, row[0], row[1], row[2], event)
+            self.signed += signed
+            self.unsigned += 1 - signed
 
     def finish(self, *, required: bool) -> None:
         if self.problem is not None:
@@ -199,7 +215,7 @@ class _Walk:
         digest = link(self.head, data)
         if digest.hex() != stored:
             return f"hash does not match: stored {_short(stored)}, recomputed {_short(digest.hex())}"
-        what = _check_text(self.run, row, data)
+        what, self.parsed = _check_text(self.run, row, data)
         if what is not None:
             return what
         merkle.push(self.frontier, self.count, digest)
@@ -246,25 +262,35 @@ class _Walk:
         return None
 
 
-def _check_text(run: str, row: tuple, data: bytes) -> str | None:
-    """Does the event text parse, agree with the index columns and sit in canonical form?"""
+def _check_text(run: str, row: tuple, data: bytes) -> tuple[str | None, dict | None]:
+    """Does the event text parse, agree with the index columns and sit in canonical form?
+    Returns what is wrong (or None) and the parsed event (None if it is not a JSON object)."""
     try:
         ev = json.loads(data)
     except ValueError:
-        return "the stored event text is not valid JSON"
+        return "the stored event text is not valid JSON", None
     if not isinstance(ev, dict):
-        return "the stored event text is not a JSON object"
+        return "the stored event text is not a JSON object", None
     for column, value in zip(_COLUMNS, (run, *row[1:5])):
         said = ev.get(column)
         if type(value) is not type(said) or value != said:
-            return f"column {column} is {_show(value)} but the event says {_show(said)}"
+            return f"column {column} is {_show(value)} but the event says {_show(said)}", ev
     try:
         canonical = canonical_json(ev)
     except (ValueError, TypeError, RecursionError):
         canonical = None
     if canonical != data:
-        return "the stored event text is not in canonical form"
-    return None
+        return "the stored event text is not in canonical form", ev
+    return None, ev
+
+
+def _parse(text: Any) -> dict | None:
+    """A stored event's text as an object, or None (for rows past the first problem)."""
+    try:
+        ev = json.loads(text)
+    except (ValueError, TypeError, RecursionError):
+        return None
+    return ev if isinstance(ev, dict) else None
 
 
 def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:

@@ -37,7 +37,8 @@ def recorded(cache: sqlite3.Connection, run: str, key: ChainKey) -> VerifyReport
         return None
     try:
         data = json.loads(row[0])
-        return VerifyReport(ok=bool(data["ok"]), runs=list(data["runs"]), problem=data["problem"])
+        return VerifyReport(ok=bool(data["ok"]), runs=list(data["runs"]), problem=data["problem"],
+                            signatures=data.get("signatures"))
     except (ValueError, KeyError, TypeError):
         return None  # damaged: recompute
 

@@ -48,6 +48,19 @@ def envelope_schema(kind: str) -> dict[str, Any]:
             "t": {**_INT64, "description": "World time, integer nanoseconds since the Unix epoch."},
             "kind": {"type": "string", "const": kind},
             "body": body,
+            "sig": {
+                "type": "object",
+                "description": "The source's Ed25519 signature over the event's canonical JSON without sig "
+                               "(optional; docs/store.md, Signatures).",
+                "required": ["key", "ed25519"],
+                "additionalProperties": False,
+                "properties": {
+                    "key": {"type": "string", "pattern": "^[0-9a-f]{16}$",
+                            "description": "Key id: the first 16 hex digits of sha256(public key)."},
+                    "ed25519": {"type": "string", "pattern": "^[A-Za-z0-9+/]{85}[AQgw]==$",
+                                "description": "The 64-byte signature, standard base64."},
+                },
+            },
         },
     }
     if defs:

@@ -56,3 +56,20 @@ def test_argument_mistakes_are_clear_errors_without_a_traceback(tmp_path, args, 
     assert result.exit_code == 2
     assert message in " ".join(result.output.split()) and "Traceback" not in result.output
     assert not (tmp_path / "s.db").exists()
+
+
+def test_sign_keys_signs_every_event_published_and_recorded_alike(tmp_path):
+    keys = tmp_path / "keys"
+    result = gaps("sim", "--vehicles", "2", "--duration", "10s", "--run", "signed-1", "--sign-keys", keys,
+                  "--record", tmp_path / "run.mcap", "--json", db=tmp_path / "s.db")
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.stdout)
+    assert out["public_keys"] == str(keys / "public-keys.json")
+    with Store(tmp_path / "s.db", read_only=True) as store:
+        stored = sorted(canonical_json(e) for e in store.events("signed-1"))
+    with open(tmp_path / "run.mcap", "rb") as f:
+        recorded = sorted(m.data for _, c, m in make_reader(f).iter_messages() if c.topic.startswith("gaps/signed-1/"))
+    assert stored == recorded and all(b'"sig":{' in text for text in stored)
+    checked = gaps("verify", "--keys", keys / "public-keys.json", "--json", "--no-snapshots", db=tmp_path / "s.db")
+    s = json.loads(checked.stdout)["signatures"]
+    assert checked.exit_code == 0 and s["valid"] == s["signed"] == out["simulation"]["events"]

@@ -11,7 +11,9 @@ DOC = Path(__file__).parents[2] / "docs" / "store.md"
 
 
 def recipe() -> str:
-    [code] = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S)
+    """The chain check (the doc's other Python block checks a signature)."""
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S)
+    [code] = [block for block in blocks if "sqlite3.connect" in block]
     return code
 
 

@@ -68,15 +68,19 @@ def test_untampered_store_verifies(filled):
     heads = {run: digest for run, digest in rows(filled, "SELECT run, hash FROM events e WHERE chain_pos = "
                                                           "(SELECT max(chain_pos) FROM events WHERE run = e.run)")}
     assert report.runs == [
-        {"run": "r1", "events": N, "head": heads["r1"], "ok": True},
-        {"run": "r2", "events": 3, "head": heads["r2"], "ok": True},
+        {"run": "r1", "events": N, "head": heads["r1"], "ok": True, "signed": 0, "unsigned": N},
+        {"run": "r2", "events": 3, "head": heads["r2"], "ok": True, "signed": 0, "unsigned": 3},
     ]
-    assert report.as_dict() == {"ok": True, "runs": report.runs, "problem": None}
+    counted = {"signed": 0, "unsigned": N + 3, "checked": False, "keys": None, "valid": None, "invalid": None,
+               "first_invalid": None}
+    assert report.as_dict() == {"ok": True, "runs": report.runs, "problem": None, "signatures": counted}
 
 
 def test_empty_store_verifies():
     with Store(":memory:") as store:
-        assert store.verify() == VerifyReport(ok=True, runs=[], problem=None)
+        report = store.verify()
+        assert report == VerifyReport(ok=True, runs=[], problem=None, signatures=report.signatures)
+        assert report.signatures["signed"] == report.signatures["unsigned"] == 0
 
 
 def test_one_byte_of_an_event_changed(filled):

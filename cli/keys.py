@@ -1,0 +1,49 @@
+"""`gaps keys`: Ed25519 keys for sources that sign their events, and the public keys file that
+`gaps serve --require-signatures` and `gaps verify --keys` trust (store/keyfiles.py, docs/store.md)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from cli.app import print_json
+from cli.options import JsonOption, is_stdio
+
+HELP = "Make Ed25519 keys for sources to sign their events with, and the public keys file that checks them."
+
+
+def new(folder: Path = typer.Argument(..., help="The key folder (created if missing): FOLDER/<role>/<id>.key."),
+        sources: list[str] = typer.Argument(..., help="Sources to make a key for, e.g. vehicle/173 monitor/m1."),
+        json_out: bool = JsonOption) -> None:
+    """Make a private key for each source in FOLDER and write FOLDER/public-keys.json for all its keys.
+
+    A key that exists is never overwritten (exit 2). Keep FOLDER with the sources; give
+    public-keys.json to the ingest and the investigators.
+    """
+    from store import KeyFolder, key_id
+    keys = KeyFolder(folder)
+    for src in sources:
+        keys.key_path(src)  # every name checked before any key is made
+    made = [{"src": src, "path": str(keys.create(src)), "key": key_id(keys.public_key(src))} for src in sources]
+    public = keys.write_public_keys()
+    if json_out:
+        print_json({"created": made, "public_keys": str(public)})
+        return
+    for entry in made:
+        typer.echo(f"{entry['src']}: key {entry['key']} → {entry['path']}")
+    typer.echo(f"public keys of {len(keys.sources())} source(s) → {public}")
+
+
+def public(folder: Path = typer.Argument(..., help="The key folder."),
+           output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of "
+                                                 "FOLDER/public-keys.json; - for standard output.")) -> None:
+    """Write the public keys file of every key in FOLDER: JSON {source: base64 Ed25519 public key}."""
+    from store import KeyFolder
+    keys = KeyFolder(folder)
+    if output is not None and is_stdio(output):
+        typer.echo(json.dumps(keys.public_keys(), indent=2, sort_keys=True))
+        return
+    target = keys.write_public_keys(output)
+    typer.echo(f"public keys of {len(keys.sources())} source(s) → {target}")
