@@ -58,6 +58,14 @@ class RunContext:
     _gaps: dict[str, tuple[Gap, ...]] = field(default_factory=dict, compare=False, repr=False)
     _spawns: dict[str, dict | None] = field(default_factory=dict, compare=False, repr=False)
     _seen: dict[str, _Seen] = field(default_factory=dict, compare=False, repr=False)
+    _signal_srcs: list[frozenset[str]] = field(default_factory=list, compare=False, repr=False)
+
+    def signal_srcs(self) -> frozenset[str]:
+        """Every signal's src, gathered once (every passage's gaps include theirs)."""
+        if not self._signal_srcs:
+            self._signal_srcs.append(frozenset(light.ref.src for line in self.signals.lines.values()
+                                               for light in line))
+        return self._signal_srcs[0]
 
 
 def run_context(store: Store, run: str) -> RunContext:
@@ -201,8 +209,7 @@ def _store_gaps(store: Store, ctx: RunContext, srcs: set[str]) -> tuple[Gap, ...
     if not ctx.gappy:
         return ()
     out: list[Gap] = []
-    signals = {light.ref.src for line in ctx.signals.lines.values() for light in line}
-    for src in sorted(srcs | signals):
+    for src in sorted(srcs | ctx.signal_srcs()):
         if src not in ctx._gaps:
             ctx._gaps[src] = tuple(Gap(src, first, last, store.t_of(ctx.run, src, first - 1),
                                        store.t_of(ctx.run, src, last + 1))

@@ -28,7 +28,16 @@ from .state_value import State
 
 _SECOND = 1_000_000_000
 ENTITY_KINDS = frozenset(("entity.spawn", "entity.despawn", "ads.event", *_LATEST, *_TOUCH))
-_OWN = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? AND seq <= ? ORDER BY seq DESC"
+_DENSE_LATEST = tuple(k for k in _LATEST if k in DENSE_KINDS)      # entity.state, vehicle.perception
+_SPARSE_KINDS = tuple(sorted(k for k in ENTITY_KINDS if k not in DENSE_KINDS))
+_WINDOW = "FROM events WHERE run = ? AND src = ? AND seq >= ? AND seq <= ? AND t <= ?"
+# through the covering kind index: the few sparse events of all sources in the window, no row read
+_SPARSE_ROWS = (f"SELECT seq, t, kind FROM events WHERE run = ? AND kind IN ({', '.join(repr(k) for k in _SPARSE_KINDS)})"
+                f" AND {SPARSE_ONLY} AND src = ? AND t >= ? AND t <= ?")
+_LATEST_ROWS = f"SELECT seq, t, kind {_WINDOW} AND kind = ? ORDER BY seq DESC LIMIT ?"
+_T_MIN = -(1 << 63)
+_LAST_SPAWN = ("SELECT seq, t FROM events WHERE run = ? AND kind = 'entity.spawn' AND "
+               f"{SPARSE_ONLY} AND src = ? AND t <= ? ORDER BY t DESC, seq DESC LIMIT 1")
 _TEXT = "SELECT seq, event FROM events WHERE run = ? AND src = ? AND seq IN ({})"
 _IN_ORDER = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? ORDER BY seq"
 _SPARSE_FIRST = f"SELECT min(t) FROM events WHERE run = ? AND kind IN ({{}}) AND {SPARSE_ONLY} AND src = ?"
@@ -61,41 +70,35 @@ def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None
     """The fold's record of the entity `src` at t (state_at(...).entities[src]), or None.
 
     Only the events after its last entity.spawn at or before t count (a spawn starts a fresh
-    record), and of those only the latest of each kind the fold keeps the latest of: the rest
-    are listed by (seq, t, kind) through the (run, src, seq) index and never parsed."""
+    record), and of those only the latest of each kind the fold keeps the latest of. The spawn
+    and the other sparse kinds are found in the kind index (no row read), the latest state and
+    perception by kind within the source's seq range from the spawn, SQLite doing the filtering:
+    a vehicle's thousands of states are neither returned nor parsed."""
     conn = store.connection
     highest = highest_seq(conn, run, src)
     if highest is None:
         return None
     top = _first_seq_past(conn, run, src, highest, t, True) - 1 + SEQ_SLACK
-    rows = _since_spawn(conn.execute(_OWN, (run, src, top)), t)
+    spawn = conn.execute(_LAST_SPAWN, (run, src, t)).fetchone()
+    low = max(0, spawn[0] - SEQ_SLACK) if spawn else 0
+    window = (run, src, low, top, t)
+    rows = conn.execute(_SPARSE_ROWS, (run, src, spawn[1] if spawn else _T_MIN, t)).fetchall()
+    for kind in (*_DENSE_LATEST, *(() if spawn else _TOUCH)):
+        rows += _last_of(conn.execute(_LATEST_ROWS, (*window, kind, SEQ_SLACK + 1)).fetchall())
+    rows = sorted({r for r in rows if spawn is None or (r[1], r[0]) >= (spawn[1], spawn[0])},
+                  key=lambda row: (row[1], row[0]))
     if not rows:
         return None
     wanted = _needed(rows)
     texts = dict(conn.execute(_TEXT.format(",".join("?" * len(wanted))), (run, src, *wanted)))
     state = empty_state()
-    fold_rows(state, [(src, seq, at, kind, texts.get(seq, "null")) for seq, at, kind in rows
-                      if seq in wanted or kind in _TOUCH])
+    fold_rows(state, [(src, seq, at, kind, texts.get(seq, "null")) for seq, at, kind in rows])
     return state["entities"].get(src)
 
 
-def _since_spawn(cursor: Iterable[tuple[int, int, str]], t: int) -> list[tuple[int, int, str]]:
-    """(seq, t, kind) of the entity kinds at or before t from the last spawn on, in (t, seq)
-    order. The source is read back from the top of its window; the reading stops SEQ_SLACK
-    places below the latest spawn found (an event further out of order is not looked for)."""
-    kept: list[tuple[int, int, str]] = []
-    stop: int | None = None
-    for seq, at, kind in cursor:
-        if stop is not None and seq < stop:
-            break
-        if at > t or kind not in ENTITY_KINDS:
-            continue
-        kept.append((seq, at, kind))
-        if kind == "entity.spawn" and stop is None:
-            stop = seq - SEQ_SLACK
-    kept.sort(key=lambda row: (row[1], row[0]))
-    spawns = [i for i, row in enumerate(kept) if row[2] == "entity.spawn"]
-    return kept[spawns[-1]:] if spawns else kept
+def _last_of(rows: list[tuple[int, int, str]]) -> list[tuple[int, int, str]]:
+    """The latest in (t, seq) order of a kind's last SEQ_SLACK + 1 rows by seq."""
+    return [max(rows, key=lambda row: (row[1], row[0]))] if rows else []
 
 
 def _needed(rows: list[tuple[int, int, str]]) -> set[int]:
