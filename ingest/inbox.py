@@ -1,5 +1,10 @@
 """What the ingest has received and not yet written: Zenoh's own bounded FIFO channel on ``gaps/**``.
 
+The subscription is an advanced one (store.recovering_subscriber_options): on start, and whenever
+a publisher appears, it asks the publishers' caches for what they hold, and it asks again when a
+publisher's sequence numbers show a sample missing; what comes back lands in the same channel and
+is screened like the rest (a repeat of a stored event is counted as a duplicate).
+
 This is the "callback only enqueues" rule taken one step further: Zenoh enqueues in native code, so no
 Python runs on the receive path at all and receiving never waits for the GIL (a writer busy parsing cannot
 stall the link). The writer takes samples in bursts. When the channel is full Zenoh waits, which pushes
@@ -14,9 +19,13 @@ from __future__ import annotations
 import time
 
 import zenoh
+from zenoh import ext
+
+from store import recovering_subscriber_options
 
 Received = tuple[str, bytes, bool, str]  # (key, payload, is_put, encoding as Zenoh names it)
 POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
+IDLE_S = 0.02   # how long `take` waits for a first sample before returning none (the writer looks around)
 
 
 class Inbox:
@@ -24,29 +33,36 @@ class Inbox:
 
     def __init__(self, session: zenoh.Session, key_expr: str, capacity: int) -> None:
         self._session = session
-        self._subscriber = session.declare_subscriber(key_expr, zenoh.handlers.FifoChannel(capacity))
+        self._subscriber = ext.declare_advanced_subscriber(
+            session, key_expr, zenoh.handlers.FifoChannel(capacity), **recovering_subscriber_options())
         self._closed = False
         self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
+
+    @property
+    def subscriber(self) -> ext.AdvancedSubscriber:
+        """The subscription, for the listeners declared on it (ingest/wire_watch.py)."""
+        return self._subscriber
 
     @property
     def closing(self) -> bool:
         """Whether the session was closed: the writer's cue to give up on a failing channel."""
         return self._closed or self._session.is_closed()
 
-    def take(self, max_items: int, wait_s: float) -> list[Received] | None:
+    def take(self, max_items: int, wait_s: float, idle_s: float = IDLE_S) -> list[Received] | None:
         """Up to ``max_items`` samples, waiting at most ``wait_s`` after the first for more to arrive.
 
-        Blocks (without the GIL) until at least one sample is there. Returns None once the session is
-        closed and every sample received before has been taken.
+        Waits up to ``idle_s`` for a first sample and returns an empty list if none came, so that
+        the writer records liveliness changes on a quiet link too. Returns None once the session
+        is closed and every sample received before has been taken.
         """
-        first = self._next(block=True)
+        first = self._first(idle_s)
         if first is None:
-            return None
+            return None if self._closed else []
         batch = [first]
         self.first_at = time.monotonic()
         deadline = self.first_at + wait_s
         while len(batch) < max_items:
-            sample = self._next(block=False)
+            sample = self._next()
             if sample is not None:
                 batch.append(sample)
             elif self._closed or time.monotonic() >= deadline:
@@ -55,14 +71,24 @@ class Inbox:
                 time.sleep(POLL_S)
         return batch
 
-    def _next(self, *, block: bool) -> Received | None:
+    def _first(self, idle_s: float) -> Received | None:
+        """The next sample within ``idle_s``, looking every POLL_S (Zenoh's channel has no
+        receive with a timeout); None if none came or the channel is closed and empty."""
+        deadline = time.monotonic() + idle_s
+        while (sample := self._next()) is None and not self._closed:
+            if time.monotonic() >= deadline:
+                return None
+            time.sleep(POLL_S)
+        return sample
+
+    def _next(self) -> Received | None:
         """One sample as (key, payload, is_put, encoding); None if there is none now (or ever, once
         closed). The encoding travels so that a sample declared as something other than JSON is
         refused for what it claims to be, not parsed by luck."""
         if self._closed:
             return None
         try:
-            sample = self._subscriber.recv() if block else self._subscriber.try_recv()
+            sample = self._subscriber.try_recv()
         except zenoh.ZError:  # "channel is empty and closed": the session was closed
             self._closed = True
             return None

@@ -18,6 +18,7 @@ from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
 from .screen import Screened, refused, screen
 from .stats import IngestStats
+from .wire_watch import WireWatch
 
 log = logging.getLogger(__name__)
 
@@ -38,8 +39,10 @@ class BatchWriter(threading.Thread):
         batch_size: int,
         flush_interval_s: float,
         durable: bool,
+        watch: WireWatch | None = None,
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
+        self._watch = watch
         self._db_path = db_path
         self._inbox = inbox
         self._stats = stats
@@ -97,11 +100,27 @@ class BatchWriter(threading.Thread):
                     return  # stop() was called; retrying a broken channel would hang it
                 time.sleep(RETRY_PAUSE_S)
                 continue
+            if batch:
+                self._stats.add(received=len(batch))
+                self._write(store, batch)
+                self._stats.record_lag(time.monotonic() - self._inbox.first_at)
+            self._record_wire(store)
             if batch is None:
                 return
-            self._stats.add(received=len(batch))
-            self._write(store, batch)
-            self._stats.record_lag(time.monotonic() - self._inbox.first_at)
+
+    def _record_wire(self, store: Store) -> None:
+        """Record the liveliness changes and losses noticed since the last look, after the batch
+        taken with them, so that each says how far its source had got. A failure costs those
+        records (logged and counted), never the events."""
+        if self._watch is None:
+            return
+        try:
+            noticed = self._watch.drain(self._tracker.highest)
+            if noticed:
+                store.record_wire(noticed.changes, noticed.misses)
+        except Exception as exc:
+            log.exception("ingest: recording liveliness changes and losses failed")
+            self._stats.record_error(f"wire records: {exc!r}")
 
     def _write(self, store: Store, batch: list[Received]) -> None:
         """Screen and store one batch. If it keeps failing, store its samples one by one, so that a

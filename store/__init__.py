@@ -20,12 +20,15 @@ from .envelope import (
     validate_event,
 )
 from .intake import Candidate
+from .liveliness import LivelinessChange, SourceLife, WireMiss
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .snapshots import enable_snapshots
-from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
+from .wire import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
+                   cache_samples, live_key, live_slice, recovering_subscriber_options, session_config,
+                   source_of_live_key, zenoh_message)
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -45,13 +48,24 @@ from .transfer import (
 
 __all__ = [
     "BLOCK_FOR_US",
+    "CACHE_S",
+    "LIVE_PREFIX",
     "MODES",
+    "audit_publisher_options",
+    "cache_samples",
+    "live_key",
+    "live_slice",
+    "recovering_subscriber_options",
+    "source_of_live_key",
     "WireConfigError",
     "audit_qos",
     "session_config",
     "zenoh_message",
     "AppendReport",
     "Candidate",
+    "LivelinessChange",
+    "SourceLife",
+    "WireMiss",
     "CollectorPaused",
     "DEFAULT_ORDER",
     "EventError",

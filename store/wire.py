@@ -16,6 +16,7 @@ with only the options given on the command line written over it.
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 from collections.abc import Sequence
@@ -27,8 +28,9 @@ from .errors import GapsError
 if TYPE_CHECKING:       # imported where used: `gaps --help` and every reader of a store load no Zenoh
     import zenoh
 
-__all__ = ["BLOCK_FOR_US", "MODES", "SYNC_KEY", "WireConfigError", "audit_qos", "key_for", "session_config",
-           "zenoh_message"]
+__all__ = ["BLOCK_FOR_US", "CACHE_S", "LIVE_PREFIX", "MODES", "SYNC_KEY", "WireConfigError",
+           "audit_publisher_options", "audit_qos", "cache_samples", "key_for", "live_key", "live_slice",
+           "recovering_subscriber_options", "session_config", "source_of_live_key", "zenoh_message"]
 
 BLOCK_FOR_US = 3_600_000_000
 """How long a put may wait for room before Zenoh gives up the link (microseconds). Zenoh's default is
@@ -48,6 +50,70 @@ def audit_qos() -> dict[str, Any]:
     import zenoh
     return {"encoding": zenoh.Encoding.APPLICATION_JSON, "congestion_control": zenoh.CongestionControl.BLOCK,
             "reliability": zenoh.Reliability.RELIABLE}
+
+
+CACHE_S = 10.0
+"""How long every producer keeps what it published, for an ingest that was down to fetch again
+(issue 14: an ingest down for up to 10 s loses nothing)."""
+LIVE_PREFIX = "gaps/@live"
+"""Where sources declare liveliness tokens, ``gaps/@live/<run>/<src>`` (DESIGN "Zenoh"). An @ chunk:
+no ``gaps/**`` subscription matches it, so tokens never reach the event stream."""
+
+
+def cache_samples(rate_hz: float, cache_s: float = CACHE_S) -> int:
+    """Samples a key's cache keeps to cover ``cache_s`` seconds at ``rate_hz`` (at least 1). Zenoh sizes
+    a cache in samples per key, not in seconds, so the producer states its rate."""
+    if rate_hz <= 0 or cache_s < 0:
+        raise ValueError(f"rate_hz must be > 0 and cache_s >= 0, not {rate_hz!r} and {cache_s!r}")
+    return max(1, math.ceil(rate_hz * cache_s))
+
+
+def audit_publisher_options(max_samples: int) -> dict[str, Any]:
+    """What every event publisher is declared with (zenoh.ext.declare_advanced_publisher): the audit
+    QoS, a cache of ``max_samples`` per key that an ingest asks when it starts, sequence numbers on
+    every sample (an ingest told of samples it never got records them as lost), and publisher
+    detection (so that an ingest that starts later, or restarts, finds this cache). No heartbeat:
+    only an ingest with recovery listens to one, and recovery is off (recovering_subscriber_options)."""
+    from zenoh import ext
+    return {**audit_qos(), "cache": ext.CacheConfig(max_samples),
+            "sample_miss_detection": ext.MissDetectionConfig(heartbeat=None, sporadic_heartbeat=None),
+            "publisher_detection": True}
+
+
+def recovering_subscriber_options() -> dict[str, Any]:
+    """What the ingest's subscription is declared with (zenoh.ext.declare_advanced_subscriber): on
+    start and whenever a publisher appears, the publishers' caches are asked for what they hold, so
+    an ingest restarted within CACHE_S gets what it missed while it was down.
+
+    Zenoh's recovery (RecoveryConfig, by heartbeat or periodic queries) is left off: with zenoh
+    1.10.2 it hangs the link for good once the subscription's bounded channel has been full for a
+    while (measured: a subscriber that paused 6.5 s with 500 samples queued never received again,
+    and its publisher blocked in put; without recovery the same stall drained). The ingest's
+    channel fills by design (it pushes back on publishers instead of dropping), and on a connected
+    RELIABLE, BLOCK link Zenoh loses nothing for recovery to fetch; what an ingest misses while it
+    is down the history query at its start fetches."""
+    from zenoh import ext
+    return {"history": ext.HistoryConfig(detect_late_publishers=True)}
+
+
+def live_key(run: str, src: str) -> str:
+    """A source's liveliness token: ``gaps/@live/<run>/<src>``."""
+    return f"{LIVE_PREFIX}/{run}/{src}"
+
+
+def live_slice(key_expr: str) -> str:
+    """The liveliness tokens of the sources an ingest's key expression receives: ``gaps/**`` watches
+    ``gaps/@live/**``, a slice ``gaps/site-a/**`` watches ``gaps/@live/site-a/**``."""
+    rest = key_expr.partition("/")[2] if key_expr.startswith("gaps/") else "**"
+    return f"{LIVE_PREFIX}/{rest or '**'}"
+
+
+def source_of_live_key(key: str) -> tuple[str, str] | None:
+    """(run, src) of a liveliness token's key; None for a key of another shape."""
+    if not key.startswith(LIVE_PREFIX + "/"):
+        return None
+    run, _, src = key[len(LIVE_PREFIX) + 1:].partition("/")
+    return (run, src) if run and src.count("/") == 1 and all(src.split("/")) else None
 
 
 def zenoh_message(exc: BaseException) -> str:
