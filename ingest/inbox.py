@@ -1,9 +1,8 @@
 """What the ingest has received and not yet written: Zenoh's own bounded FIFO channel on ``gaps/**``.
 
-The subscription is an advanced one (store.recovering_subscriber_options): on start, and whenever
-a publisher appears, it asks the publishers' caches for what they hold, and it asks again when a
-publisher's sequence numbers show a sample missing; what comes back lands in the same channel and
-is screened like the rest (a repeat of a stored event is counted as a duplicate).
+The subscription is an advanced one (zenoh.ext), for what it tells besides the samples: the
+publishers it detects, whose caches the ingest asks (ingest/wire_watch.py), and the samples a
+publisher's sequence numbers say were missed.
 
 This is the "callback only enqueues" rule taken one step further: Zenoh enqueues in native code, so no
 Python runs on the receive path at all and receiving never waits for the GIL (a writer busy parsing cannot
@@ -21,8 +20,6 @@ import time
 import zenoh
 from zenoh import ext
 
-from store import recovering_subscriber_options
-
 Received = tuple[str, bytes, bool, str]  # (key, payload, is_put, encoding as Zenoh names it)
 POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
 IDLE_S = 0.02   # how long `take` waits for a first sample before returning none (the writer looks around)
@@ -33,9 +30,11 @@ class Inbox:
 
     def __init__(self, session: zenoh.Session, key_expr: str, capacity: int) -> None:
         self._session = session
-        self._subscriber = ext.declare_advanced_subscriber(
-            session, key_expr, zenoh.handlers.FifoChannel(capacity), **recovering_subscriber_options())
+        self._subscriber = ext.declare_advanced_subscriber(session, key_expr, zenoh.handlers.FifoChannel(capacity))
         self._closed = False
+        self.first_seen: dict[str, tuple[str, int]] = {}
+        """Per key, the publisher ("<zid>/<eid>") and Zenoh sequence number of the first sample taken
+        on it: what a restarted ingest missed of that publisher is what its cache holds below that."""
         self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
 
     @property
@@ -94,5 +93,19 @@ class Inbox:
             return None
         if sample is None:
             return None
-        return (str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT,
-                str(sample.encoding))
+        item = received(sample)
+        if item[0] not in self.first_seen:
+            self._note_first(item[0], sample)
+        return item
+
+    def _note_first(self, key: str, sample: zenoh.Sample) -> None:
+        """Note the first sample's publisher and sequence number (a plain publisher's carry none)."""
+        info = sample.source_info
+        if info is not None and info.source_id is not None:
+            self.first_seen[key] = (f"{info.source_id.zid}/{info.source_id.eid}", info.source_sn)
+
+
+def received(sample: zenoh.Sample) -> Received:
+    """A sample as the writer takes it."""
+    return (str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT,
+            str(sample.encoding))

@@ -70,7 +70,7 @@ class IngestService:
             self._writer = BatchWriter(
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
                 flush_interval_s=flush_interval_s, durable=durable,
-                watch=WireWatch(self._session, inbox.subscriber, key_expr),
+                watch=WireWatch(self._session, inbox, key_expr),
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)

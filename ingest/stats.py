@@ -9,7 +9,7 @@ import threading
 import time
 from collections.abc import Callable
 
-COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late")
+COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late", "recovered")
 KEEP_ERRORS = 20
 KEEP_REJECTED = 20
 

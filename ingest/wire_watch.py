@@ -1,6 +1,14 @@
-"""What the ingest watches on the wire besides the events: sources' liveliness tokens, and samples
-its advanced subscription reports as missed (sent, and neither received nor fetched from the
-publisher's cache).
+"""What the ingest watches on the wire besides the events: sources' liveliness tokens, the
+publishers its advanced subscription detects, whose caches it asks for what they hold, and
+samples a publisher's sequence numbers say were missed.
+
+Every publisher found, on start (its token is there already) or later, is asked once for what its
+cache holds from before the first sample the ingest received from it (store.cache_query_options,
+``_sn=..N``; all of it if none arrived within DEFER_S): an ingest that was down gets what was
+published meanwhile, as long as the cache still holds it (store.CACHE_S), and a publisher that put
+before the ingest's subscription reached it loses nothing. The replies go through the same screening
+as the rest (a repeat of a stored event is counted as a duplicate). What the cache no longer held leaves a hole
+in the source's seqs, which the store lists (`gaps runs --gaps`).
 
 Both arrive in Zenoh's own bounded channels, as the events do (ingest/inbox.py): no Python runs on
 Zenoh's threads and nothing there waits for the disk. The writer thread drains them between
@@ -18,12 +26,16 @@ from dataclasses import dataclass
 import zenoh
 from zenoh import ext
 
-from store import LivelinessChange, WireMiss, live_slice, source_of_live_key
+from store import ADV_MARK, LivelinessChange, WireMiss, cache_query_options, live_slice, source_of_live_key
+
+from .inbox import Inbox, Received, received
 
 log = logging.getLogger(__name__)
 
+DEFER_S = 0.5
+"""How long a newly found publisher's cache is left unasked while its first sample may still arrive:
+with it, the ingest asks only for what came before (no duplicates); without, for everything."""
 CAPACITY = 100_000   # changes a channel holds for the writer; a full one makes Zenoh wait, not drop
-ADV_MARK = "/@adv/pub/"  # a detected publisher's token: <key>/@adv/pub/<zid>/<eid>/...
 
 HighestSeq = Callable[[str, str], "int | None"]
 
@@ -43,9 +55,14 @@ class WireWatch:
     """The liveliness subscription of ``key_expr``'s sources and the miss listener of ``subscriber``.
     Only one thread (the writer) may drain it."""
 
-    def __init__(self, session: zenoh.Session, subscriber: ext.AdvancedSubscriber, key_expr: str) -> None:
+    def __init__(self, session: zenoh.Session, inbox: Inbox, key_expr: str) -> None:
+        self._session = session
+        self._inbox = inbox
+        self._asked: list[zenoh.Handler[zenoh.Reply]] = []   # caches asked whose replies are not all in
+        self._unasked: dict[str, tuple[str, str, float]] = {}  # id -> (token, key, when found)
         self._live = session.liveliness().declare_subscriber(
             live_slice(key_expr), zenoh.handlers.FifoChannel(CAPACITY), history=True)
+        subscriber = inbox.subscriber
         self._publishers = subscriber.detect_publishers(zenoh.handlers.FifoChannel(CAPACITY), history=True)
         self._misses = subscriber.sample_miss_listener(zenoh.handlers.FifoChannel(CAPACITY))
         self._keys: dict[str, str] = {}   # "<zid>/<eid>" of an advanced publisher -> its key
@@ -57,6 +74,7 @@ class WireWatch:
         changes = [self._change(sample, now, highest_seq) for sample in _taken(self._live)]
         for sample in _taken(self._publishers):
             self._learn(sample)
+        self._ask_caches()
         misses = [self._miss(miss, now, highest_seq) for miss in _taken(self._misses)]
         return Noticed(tuple(c for c in changes if c is not None), tuple(m for m in misses if m is not None))
 
@@ -67,16 +85,58 @@ class WireWatch:
             return None
         return LivelinessChange(*source, sample.kind == zenoh.SampleKind.PUT, now, highest_seq(*source))
 
+    def recovered(self, max_items: int) -> list[Received]:
+        """Up to ``max_items`` samples the caches asked have replied with so far."""
+        out: list[Received] = []
+        still: list[zenoh.Handler[zenoh.Reply]] = []
+        for replies in self._asked:
+            done = False
+            while len(out) < max_items:
+                try:
+                    reply = replies.try_recv()
+                except zenoh.ZError:   # every reply is in
+                    done = True
+                    break
+                if reply is None:
+                    break
+                if reply.ok is not None:
+                    out.append(received(reply.ok))
+            if not done:
+                still.append(replies)
+        self._asked = still
+        return out
+
     def _learn(self, sample: zenoh.Sample) -> None:
-        """Remember a detected publisher's key by its id (forgotten when it goes)."""
-        key, mark, ids = str(sample.key_expr).partition(ADV_MARK)
+        """Remember a detected publisher's key by its id (forgotten when it goes), and ask a new
+        one's cache for what it holds."""
+        token = str(sample.key_expr)
+        key, mark, ids = token.partition(ADV_MARK)
         if not mark:
             return
         ident = "/".join(ids.split("/")[:2])
-        if sample.kind == zenoh.SampleKind.PUT:
-            self._keys[ident] = key
-        else:
+        if sample.kind != zenoh.SampleKind.PUT:
             self._keys.pop(ident, None)
+            self._unasked.pop(ident, None)
+        elif ident not in self._keys:
+            self._keys[ident] = key
+            self._unasked[ident] = (token, key, time.monotonic())
+
+    def _ask_caches(self) -> None:
+        """Ask each found publisher's cache for what preceded its first sample received, once that
+        sample is in, or for everything once DEFER_S has passed without it."""
+        now = time.monotonic()
+        for ident, (token, key, found_at) in list(self._unasked.items()):
+            first = self._inbox.first_seen.get(key)
+            if first is not None and first[0] == ident:
+                selector = f"{token}?_sn=..{first[1] - 1}" if first[1] > 0 else None
+            elif now - found_at >= DEFER_S:
+                selector = token
+            else:
+                continue
+            del self._unasked[ident]
+            if selector is not None:
+                self._asked.append(self._session.get(selector, zenoh.handlers.FifoChannel(CAPACITY),
+                                                     **cache_query_options()))
 
     def _miss(self, miss: ext.Miss, now: int, highest_seq: HighestSeq) -> WireMiss | None:
         key = self._keys.get(f"{miss.source.zid}/{miss.source.eid}")

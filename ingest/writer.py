@@ -105,8 +105,17 @@ class BatchWriter(threading.Thread):
                 self._write(store, batch)
                 self._stats.record_lag(time.monotonic() - self._inbox.first_at)
             self._record_wire(store)
+            self._write_recovered(store)
             if batch is None:
                 return
+
+    def _write_recovered(self, store: Store) -> None:
+        """Store what the publishers' caches replied (ingest/wire_watch.py), as received samples."""
+        if self._watch is None:
+            return
+        while recovered := self._watch.recovered(self._batch_size):
+            self._stats.add(received=len(recovered), recovered=len(recovered))
+            self._write(store, recovered)
 
     def _record_wire(self, store: Store) -> None:
         """Record the liveliness changes and losses noticed since the last look, after the batch

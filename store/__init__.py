@@ -26,8 +26,8 @@ from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .snapshots import enable_snapshots
-from .wire import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
-                   cache_samples, live_key, live_slice, recovering_subscriber_options, session_config,
+from .wire import (ADV_MARK, BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
+                   cache_query_options, cache_samples, live_key, live_slice, session_config,
                    source_of_live_key, zenoh_message)
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
@@ -47,6 +47,7 @@ from .transfer import (
 )
 
 __all__ = [
+    "ADV_MARK",
     "BLOCK_FOR_US",
     "CACHE_S",
     "LIVE_PREFIX",
@@ -55,7 +56,7 @@ __all__ = [
     "cache_samples",
     "live_key",
     "live_slice",
-    "recovering_subscriber_options",
+    "cache_query_options",
     "source_of_live_key",
     "WireConfigError",
     "audit_qos",

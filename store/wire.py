@@ -30,7 +30,7 @@ if TYPE_CHECKING:       # imported where used: `gaps --help` and every reader of
 
 __all__ = ["BLOCK_FOR_US", "CACHE_S", "LIVE_PREFIX", "MODES", "SYNC_KEY", "WireConfigError",
            "audit_publisher_options", "audit_qos", "cache_samples", "key_for", "live_key", "live_slice",
-           "recovering_subscriber_options", "session_config", "source_of_live_key", "zenoh_message"]
+           "cache_query_options", "session_config", "source_of_live_key", "zenoh_message"]
 
 BLOCK_FOR_US = 3_600_000_000
 """How long a put may wait for room before Zenoh gives up the link (microseconds). Zenoh's default is
@@ -70,30 +70,37 @@ def cache_samples(rate_hz: float, cache_s: float = CACHE_S) -> int:
 
 def audit_publisher_options(max_samples: int) -> dict[str, Any]:
     """What every event publisher is declared with (zenoh.ext.declare_advanced_publisher): the audit
-    QoS, a cache of ``max_samples`` per key that an ingest asks when it starts, sequence numbers on
-    every sample (an ingest told of samples it never got records them as lost), and publisher
-    detection (so that an ingest that starts later, or restarts, finds this cache). No heartbeat:
-    only an ingest with recovery listens to one, and recovery is off (recovering_subscriber_options)."""
+    QoS, a cache of ``max_samples`` per key, sequence numbers on every sample (an ingest that sees
+    one skipped records the samples as lost), and publisher detection: a liveliness token on the
+    cache's own key (ADV_MARK), by which an ingest finds each cache, whenever it starts, and asks it
+    (cache_query_options).
+
+    No heartbeat, and the ingest declares no Zenoh recovery or history (RecoveryConfig,
+    HistoryConfig) but asks the caches itself, for two reasons measured with zenoh 1.10.2: with
+    recovery on, a link whose subscriber channel stayed full for seconds (the ingest's channel
+    fills by design, pushing back on publishers) hung for good, the publisher blocked in put; and
+    Zenoh's history hands over a cached sample only if no newer sample of its publisher has been
+    delivered, so an ingest that restarted while publishers went on got their live samples first
+    and the caches' none (kill -9 trials: 2 of 5 lost 146 to 175 events per source)."""
     from zenoh import ext
     return {**audit_qos(), "cache": ext.CacheConfig(max_samples),
             "sample_miss_detection": ext.MissDetectionConfig(heartbeat=None, sporadic_heartbeat=None),
             "publisher_detection": True}
 
 
-def recovering_subscriber_options() -> dict[str, Any]:
-    """What the ingest's subscription is declared with (zenoh.ext.declare_advanced_subscriber): on
-    start and whenever a publisher appears, the publishers' caches are asked for what they hold, so
-    an ingest restarted within CACHE_S gets what it missed while it was down.
+ADV_MARK = "/@adv/pub/"
+"""Where an advanced publisher announces itself and answers for its cache: ``<key>/@adv/pub/<zid>/<eid>/...``
+(zenoh-ext's own layout: the publisher's liveliness token and its cache's queryable share that key)."""
+CACHE_QUERY_S = 10.0  # how long an ingest waits for a publisher's cache to answer
 
-    Zenoh's recovery (RecoveryConfig, by heartbeat or periodic queries) is left off: with zenoh
-    1.10.2 it hangs the link for good once the subscription's bounded channel has been full for a
-    while (measured: a subscriber that paused 6.5 s with 500 samples queued never received again,
-    and its publisher blocked in put; without recovery the same stall drained). The ingest's
-    channel fills by design (it pushes back on publishers instead of dropping), and on a connected
-    RELIABLE, BLOCK link Zenoh loses nothing for recovery to fetch; what an ingest misses while it
-    is down the history query at its start fetches."""
-    from zenoh import ext
-    return {"history": ext.HistoryConfig(detect_late_publishers=True)}
+
+def cache_query_options() -> dict[str, Any]:
+    """How the ingest asks one publisher's cache (on the key its token announced) for everything it
+    holds: every sample, not only the latest per key (no consolidation), and replies on the
+    samples' own keys, which are not the key asked."""
+    import zenoh
+    return {"consolidation": zenoh.ConsolidationMode.NONE, "accept_replies": zenoh.ReplyKeyExpr.ANY,
+            "target": zenoh.QueryTarget.ALL, "timeout": CACHE_QUERY_S}
 
 
 def live_key(run: str, src: str) -> str:
