@@ -65,6 +65,13 @@ class GapTracker:
             source.last_seen = self._now
             return source.observe(seq)
 
+    def highest(self, run: str, src: str) -> int | None:
+        """The source's highest seq seen, or None if nothing of it arrived: where a liveliness
+        change or a loss on the wire sits in its sequence."""
+        with self._lock:
+            source = self._sources.get((run, src))
+            return None if source is None else source.highest
+
     def sources(self, active_within_s: float) -> tuple[int, int]:
         """(sources seen, sources that sent something in the last ``active_within_s`` seconds).
 

@@ -1,5 +1,9 @@
 """What the ingest has received and not yet written: Zenoh's own bounded FIFO channel on ``gaps/**``.
 
+The subscription is an advanced one (zenoh.ext), for what it tells besides the samples: the
+publishers it detects, whose caches the ingest asks (ingest/wire_watch.py), and the samples a
+publisher's sequence numbers say were missed.
+
 This is the "callback only enqueues" rule taken one step further: Zenoh enqueues in native code, so no
 Python runs on the receive path at all and receiving never waits for the GIL (a writer busy parsing cannot
 stall the link). The writer takes samples in bursts. When the channel is full Zenoh waits, which pushes
@@ -14,9 +18,11 @@ from __future__ import annotations
 import time
 
 import zenoh
+from zenoh import ext
 
 Received = tuple[str, bytes, bool, str]  # (key, payload, is_put, encoding as Zenoh names it)
 POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
+IDLE_S = 0.02   # how long `take` waits for a first sample before returning none (the writer looks around)
 
 
 class Inbox:
@@ -24,29 +30,38 @@ class Inbox:
 
     def __init__(self, session: zenoh.Session, key_expr: str, capacity: int) -> None:
         self._session = session
-        self._subscriber = session.declare_subscriber(key_expr, zenoh.handlers.FifoChannel(capacity))
+        self._subscriber = ext.declare_advanced_subscriber(session, key_expr, zenoh.handlers.FifoChannel(capacity))
         self._closed = False
+        self.first_seen: dict[str, tuple[str, int]] = {}
+        """Per key, the publisher ("<zid>/<eid>") and Zenoh sequence number of the first sample taken
+        on it: what a restarted ingest missed of that publisher is what its cache holds below that."""
         self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
+
+    @property
+    def subscriber(self) -> ext.AdvancedSubscriber:
+        """The subscription, for the listeners declared on it (ingest/wire_watch.py)."""
+        return self._subscriber
 
     @property
     def closing(self) -> bool:
         """Whether the session was closed: the writer's cue to give up on a failing channel."""
         return self._closed or self._session.is_closed()
 
-    def take(self, max_items: int, wait_s: float) -> list[Received] | None:
+    def take(self, max_items: int, wait_s: float, idle_s: float = IDLE_S) -> list[Received] | None:
         """Up to ``max_items`` samples, waiting at most ``wait_s`` after the first for more to arrive.
 
-        Blocks (without the GIL) until at least one sample is there. Returns None once the session is
-        closed and every sample received before has been taken.
+        Waits up to ``idle_s`` for a first sample and returns an empty list if none came, so that
+        the writer records liveliness changes on a quiet link too. Returns None once the session
+        is closed and every sample received before has been taken.
         """
-        first = self._next(block=True)
+        first = self._first(idle_s)
         if first is None:
-            return None
+            return None if self._closed else []
         batch = [first]
         self.first_at = time.monotonic()
         deadline = self.first_at + wait_s
         while len(batch) < max_items:
-            sample = self._next(block=False)
+            sample = self._next()
             if sample is not None:
                 batch.append(sample)
             elif self._closed or time.monotonic() >= deadline:
@@ -55,18 +70,42 @@ class Inbox:
                 time.sleep(POLL_S)
         return batch
 
-    def _next(self, *, block: bool) -> Received | None:
+    def _first(self, idle_s: float) -> Received | None:
+        """The next sample within ``idle_s``, looking every POLL_S (Zenoh's channel has no
+        receive with a timeout); None if none came or the channel is closed and empty."""
+        deadline = time.monotonic() + idle_s
+        while (sample := self._next()) is None and not self._closed:
+            if time.monotonic() >= deadline:
+                return None
+            time.sleep(POLL_S)
+        return sample
+
+    def _next(self) -> Received | None:
         """One sample as (key, payload, is_put, encoding); None if there is none now (or ever, once
         closed). The encoding travels so that a sample declared as something other than JSON is
         refused for what it claims to be, not parsed by luck."""
         if self._closed:
             return None
         try:
-            sample = self._subscriber.recv() if block else self._subscriber.try_recv()
+            sample = self._subscriber.try_recv()
         except zenoh.ZError:  # "channel is empty and closed": the session was closed
             self._closed = True
             return None
         if sample is None:
             return None
-        return (str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT,
-                str(sample.encoding))
+        item = received(sample)
+        if item[0] not in self.first_seen:
+            self._note_first(item[0], sample)
+        return item
+
+    def _note_first(self, key: str, sample: zenoh.Sample) -> None:
+        """Note the first sample's publisher and sequence number (a plain publisher's carry none)."""
+        info = sample.source_info
+        if info is not None and info.source_id is not None:
+            self.first_seen[key] = (f"{info.source_id.zid}/{info.source_id.eid}", info.source_sn)
+
+
+def received(sample: zenoh.Sample) -> Received:
+    """A sample as the writer takes it."""
+    return (str(sample.key_expr), sample.payload.to_bytes(), sample.kind == zenoh.SampleKind.PUT,
+            str(sample.encoding))

@@ -257,7 +257,7 @@ def _metrics(options: ServeOptions, server: Server, started_at: str, stopped_by:
         "pid": os.getpid(), "started_at": started_at, "stopped_at": _utc_now(), "stopped_by": stopped_by,
         "uptime_s": final.uptime_s, "received": final.received, "stored": final.stored,
         "duplicates": final.duplicates, "quarantined": final.quarantined, "failed": final.failed,
-        "errors": final.errors, "late": final.late, "batches": stats["batches"],
+        "errors": final.errors, "late": final.late, "recovered": stats["recovered"], "batches": stats["batches"],
         "require_signatures": _keys_file(options), "signature_refused": stats["signature_refused"],
         "settled_after_stop": final.settled - at_stop.settled,
         "events_per_s_mean": round(final.settled / final.uptime_s, 1) if final.uptime_s else 0.0,

@@ -1,7 +1,9 @@
 """The ingest service: Zenoh ``gaps/**`` in, the store out.
 
 Zenoh fills a bounded FIFO channel (``inbox.Inbox``) without running any Python; a single writer thread
-(``writer.BatchWriter``) owns the store and takes from the channel in batches. ``stop`` closes the session,
+(``writer.BatchWriter``) owns the store and takes from the channel in batches, and between batches
+records the sources' liveliness changes and the samples lost beyond their publishers' caches
+(``wire_watch.WireWatch``, channels too). ``stop`` closes the session,
 which closes the channel; the writer then takes what is left, commits it, closes the store and ends.
 """
 from __future__ import annotations
@@ -19,6 +21,7 @@ from .gap_tracker import GapTracker
 from .history_queryable import HistoryQueryable
 from .inbox import Inbox
 from .stats import IngestStats
+from .wire_watch import WireWatch
 from .writer import BatchWriter
 
 log = logging.getLogger(__name__)
@@ -66,10 +69,11 @@ class IngestService:
         config = session_config(listen=listen, connect=connect, mode=mode, config_file=config_file)
         self._session = zenoh.open(config)
         try:
+            inbox = Inbox(self._session, key_expr, max_pending)
             self._writer = BatchWriter(
-                db_path, Inbox(self._session, key_expr, max_pending), self._stats, self._tracker,
-                batch_size=batch_size, flush_interval_s=flush_interval_s, durable=durable,
-                trusted_keys=trusted_keys,
+                db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
+                flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys,
+                watch=WireWatch(self._session, inbox, key_expr),
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)

@@ -9,9 +9,11 @@ import threading
 import time
 from collections.abc import Callable
 
-COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late", "signature_refused")
+COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late", "signature_refused",
+            "recovered")
 """signature_refused: samples quarantined for their signature (unsigned, unknown key, forged), when
-signatures are required; they are counted in rejected too."""
+signatures are required; they are counted in rejected too. recovered: samples a producer's cache
+sent after a restart (docs/serve.md)."""
 KEEP_ERRORS = 20
 KEEP_REJECTED = 20
 

@@ -18,6 +18,7 @@ from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
 from .screen import Screened, refused, require_signature, screen
 from .stats import IngestStats
+from .wire_watch import WireWatch
 
 log = logging.getLogger(__name__)
 
@@ -39,9 +40,11 @@ class BatchWriter(threading.Thread):
         flush_interval_s: float,
         durable: bool,
         trusted_keys: TrustedKeys | None = None,
+        watch: WireWatch | None = None,
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
         self._keys = trusted_keys
+        self._watch = watch
         self._db_path = db_path
         self._inbox = inbox
         self._stats = stats
@@ -99,11 +102,36 @@ class BatchWriter(threading.Thread):
                     return  # stop() was called; retrying a broken channel would hang it
                 time.sleep(RETRY_PAUSE_S)
                 continue
+            if batch:
+                self._stats.add(received=len(batch))
+                self._write(store, batch)
+                self._stats.record_lag(time.monotonic() - self._inbox.first_at)
+            self._record_wire(store)
+            self._write_recovered(store)
             if batch is None:
                 return
-            self._stats.add(received=len(batch))
-            self._write(store, batch)
-            self._stats.record_lag(time.monotonic() - self._inbox.first_at)
+
+    def _write_recovered(self, store: Store) -> None:
+        """Store what the publishers' caches replied (ingest/wire_watch.py), as received samples."""
+        if self._watch is None:
+            return
+        while recovered := self._watch.recovered(self._batch_size):
+            self._stats.add(received=len(recovered), recovered=len(recovered))
+            self._write(store, recovered)
+
+    def _record_wire(self, store: Store) -> None:
+        """Record the liveliness changes and losses noticed since the last look, after the batch
+        taken with them, so that each says how far its source had got. A failure costs those
+        records (logged and counted), never the events."""
+        if self._watch is None:
+            return
+        try:
+            noticed = self._watch.drain(self._tracker.highest)
+            if noticed:
+                store.record_wire(noticed.changes, noticed.misses)
+        except Exception as exc:
+            log.exception("ingest: recording liveliness changes and losses failed")
+            self._stats.record_error(f"wire records: {exc!r}")
 
     def _write(self, store: Store, batch: list[Received]) -> None:
         """Screen and store one batch. If it keeps failing, store its samples one by one, so that a

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from store import EventRef, Store
+from store import EventRef, LivelinessChange, Store
 
 from .engine import Engine
 from .facts import FactReader
@@ -65,6 +65,16 @@ class Gaps:
         self.store, self.run = store, run
         self._found: dict[str, list[tuple[int, int]]] = {}
         self._any: bool | None = None
+        self._changes: dict[str, list[LivelinessChange]] | None = None
+
+    def liveliness(self, src: str) -> list[LivelinessChange]:
+        """The source's liveliness changes as the ingest recorded them (none for a store filled by
+        import, or a producer without tokens); the run's are read once."""
+        if self._changes is None:
+            self._changes = {}
+            for change in self.store.liveliness_changes(self.run):
+                self._changes.setdefault(change.src, []).append(change)
+        return self._changes.get(src, [])
 
     def of(self, src: str) -> list[tuple[int, int]]:
         if self._any is None:
@@ -80,8 +90,10 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
     """Sequence gaps of the sources an incident rests on, near it; and sources gone silent.
 
     A gap is near when the events on either side of it bracket a moment within WINDOW_S of t.
-    A source is silent if it had reported before t but not within SILENT_S before t, and
-    reports nothing again within SILENT_S after it."""
+    A source stopped publishing if the ingest recorded its liveliness token disappearing after its
+    last event before t (store.LivelinessChange), however short ago. Otherwise it is silent if it
+    had reported before t but not within SILENT_S before t, and reports nothing again within
+    SILENT_S after it; with liveliness recorded for it, that it was still connected is said."""
     store, run = gaps.store, gaps.run
     out = []
     lo, hi = t - WINDOW_S * SECOND, t + WINDOW_S * SECOND
@@ -95,14 +107,39 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
                                    f"{_when(after, 'its last event')}, within {WINDOW_S} s of the incident",
                                    src=src, missing_seq=(first, last)))
     for src, seen in last_seen.items():
-        if seen is None or t - seen <= SILENT_S * SECOND:
+        if seen is None:
+            continue
+        stopped = _stopped(gaps, src, seen, t)
+        if stopped is not None:
+            out.append(stopped)
+            continue
+        if t - seen <= SILENT_S * SECOND:
             continue
         next_t = store.next_t(run, src, t, t + SILENT_S * SECOND)
         if next_t is None or next_t - t > SILENT_S * SECOND:
-            out.append(Finding("missing evidence", f"{src} went silent: its last report before the incident was "
-                                                   f"{(t - seen) / SECOND:.1f} s earlier, and it reported nothing "
+            held = " though it was connected: its liveliness token was held, so it published nothing rather " \
+                   "than stopped" if gaps.liveliness(src) else ""
+            out.append(Finding("missing evidence", f"{src} went silent{held}: its last report before the incident "
+                                                   f"was {(t - seen) / SECOND:.1f} s earlier, and it reported nothing "
                                                    f"in the {SILENT_S} s after it", src=src))
     return out
+
+
+def _stopped(gaps: Gaps, src: str, seen: int, t: int) -> Finding | None:
+    """The source stopped publishing before the incident: its liveliness token disappeared after
+    its last event before t (a process that died, a link that broke, a publisher closed), which is
+    not the same as a source that was there and said nothing."""
+    for change in reversed(gaps.liveliness(src)):
+        if change.alive or change.last_seq is None:
+            continue
+        last_t = gaps.store.t_of(gaps.run, src, change.last_seq)
+        if last_t is not None and seen <= last_t <= t:
+            return Finding("missing evidence", f"{src} stopped publishing at {format_time(last_t)}, "
+                                               f"{(t - last_t) / SECOND:.1f} s before the incident: its liveliness "
+                                               f"token disappeared after its event {change.last_seq} (noticed by "
+                                               f"the ingest at {format_time(change.at)}), so nothing it would have "
+                                               "reported since is on record", src=src)
+    return None
 
 
 def _when(t: int | None, otherwise: str) -> str:

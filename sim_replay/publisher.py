@@ -2,22 +2,34 @@
 
 Every event goes on the key ``store.key_for(event)`` and nowhere else: the ingest refuses an event whose key
 disagrees with its body, so building keys any other way would only manufacture quarantine entries.
+
+Each key gets a Zenoh advanced publisher (store.audit_publisher_options) whose cache keeps the last
+``cache_s`` seconds at the producer's stated rate, so that an ingest restarted within that time fetches
+what it missed; each source holds a liveliness token (``gaps/@live/<run>/<src>``) from its first event
+to its despawn, so that an ingest records when it stopped publishing (or its process died).
 """
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Iterable, Sequence
 from types import TracebackType
 
 import zenoh
+from zenoh import ext
 
-from store import SYNC_KEY, Signer, audit_qos, canonical_json, key_for, session_config
+from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, cache_samples, canonical_json, key_for, live_key,
+                   session_config)
 
 __all__ = ["EventPublisher", "zenoh_config"]
 
 DESPAWN = "entity.despawn"  # a source's last event: its publishers are released after it
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
+RATE_HZ = 10.0
+"""The rate assumed per key when sizing its cache: the simulation's step rate (DESIGN: 10 Hz), one
+event per source and kind a step. A producer that publishes a key faster says so (``rate_hz``), or
+its cache covers less than ``cache_s`` seconds."""
 
 
 def zenoh_config(
@@ -31,6 +43,12 @@ def zenoh_config(
 def _source_of(key: str) -> str:
     """gaps/<run>/<src> of a key gaps/<run>/<src>/<kind> (a run and a kind have no slash)."""
     return key.rsplit("/", 1)[0]
+
+
+def _run_and_src(source: str) -> tuple[str, str]:
+    """(run, src) of gaps/<run>/<src>."""
+    _, run, src = source.split("/", 2)
+    return run, src
 
 
 def _matching(publisher: zenoh.Publisher | zenoh.Querier) -> bool:
@@ -50,17 +68,23 @@ class EventPublisher:
 
     def __init__(
         self, session: zenoh.Session | None = None, *, config: zenoh.Config | None = None,
+        rate_hz: float = RATE_HZ, cache_s: float = CACHE_S,
         signer: Signer | None = None,
     ) -> None:
         """Use ``session`` if given (the caller keeps ownership), else open one from ``config``.
-        With ``signer`` (store.Signer), each event is published with its source's signature."""
+        Each key's cache holds ``cache_s`` seconds at ``rate_hz`` (store.cache_samples). With
+        ``signer`` (store.Signer), each event is published with its source's signature."""
         if session is not None and config is not None:
             raise ValueError("give either a session or a config, not both")
         self._signer = signer
+        self._max_samples = cache_samples(rate_hz, cache_s)
+        self._linger_s = cache_s
         self._owns_session = session is None
         self._session = session if session is not None else zenoh.open(config or zenoh_config())
-        self._publishers: dict[str, zenoh.Publisher] = {}
+        self._publishers: dict[str, ext.AdvancedPublisher] = {}
         self._keys_of: dict[str, list[str]] = {}   # gaps/<run>/<src> -> its keys with a publisher
+        self._tokens: dict[str, zenoh.LivelinessToken] = {}   # gaps/<run>/<src> -> its liveliness token
+        self._retiring: deque[tuple[float, list[ext.AdvancedPublisher]]] = deque()  # despawned, cache kept
         self._published = False
         self._closed = False
         self.confirmed_by: int | None = None   # ingests that confirmed receipt at close (None: not closed)
@@ -72,22 +96,31 @@ class EventPublisher:
 
     @property
     def keys(self) -> tuple[str, ...]:
-        """The keys this session holds a publisher for (what `_release` keeps in bounds)."""
+        """The keys of the living sources' publishers (a despawned source's leave at once, and are
+        undeclared once their caches have been kept ``cache_s``)."""
         return tuple(self._publishers)
+
+    @property
+    def live_sources(self) -> tuple[str, ...]:
+        """The sources (gaps/<run>/<src>) holding a liveliness token: spoken and not despawned."""
+        return tuple(self._tokens)
 
     def publish(self, event: dict) -> None:
         """Put one event on its key; blocks while Zenoh's queue is full rather than dropping it.
 
-        A source's entity.despawn is its last word, so its publishers are undeclared after it
-        (`_release`): a run that lets thousands of road users come and go keeps only the living
-        ones' publishers."""
+        A source's entity.despawn is its last word: its liveliness token goes at once, and its
+        publishers (with their caches) are undeclared ``cache_s`` later (`_release_due`), once an
+        ingest that was down has had its chance to fetch them: a run that lets thousands of road
+        users come and go keeps only the living (and the recently gone) ones' publishers."""
         key = key_for(event)
         if self._signer is not None:
             event = self._signer.sign(event)
+        if self._retiring and self._retiring[0][0] <= time.monotonic():
+            self._release_due()
         self._publisher_for(key).put(canonical_json(event))
         self._published = True
         if event["kind"] == DESPAWN:
-            self._release(_source_of(key))
+            self._retire(_source_of(key))
 
     def publish_all(self, events: Iterable[dict]) -> int:
         """Publish events in order (per-source order is what the ingest checks); returns how many."""
@@ -100,16 +133,20 @@ class EventPublisher:
     def wait_until_matched(self, event: dict, timeout: float) -> bool:
         """Whether a subscriber for this event's key appeared within ``timeout`` seconds.
 
-        Pub/sub keeps no history: what is put before the ingest's subscription has reached this session is
-        gone, so a producer that starts first should wait here before its first event.
+        The caches make up for an ingest that starts after the first events (it asks them when it
+        starts), but only for ``cache_s``: a producer that starts first may still wait here. A plain
+        publisher is declared for the look, since an advanced one does not say whether it matches.
         """
-        publisher = self._publisher_for(key_for(event))
-        deadline = time.monotonic() + timeout
-        while not _matching(publisher):
-            if time.monotonic() >= deadline:
-                return False
-            time.sleep(0.01)
-        return True
+        probe = self._session.declare_publisher(key_for(event))
+        try:
+            deadline = time.monotonic() + timeout
+            while not _matching(probe):
+                if time.monotonic() >= deadline:
+                    return False
+                time.sleep(0.01)
+            return True
+        finally:
+            probe.undeclare()
 
     def sync(self, timeout: float = SYNC_TIMEOUT_S) -> int:
         """Wait until every ingest has what was published before; returns how many ingests said so
@@ -142,30 +179,51 @@ class EventPublisher:
         self._closed = True
         for publisher in self._publishers.values():
             publisher.undeclare()
+        for token in self._tokens.values():
+            token.undeclare()
+        for _, retired in self._retiring:
+            for publisher in retired:
+                publisher.undeclare()
         self._publishers.clear()
         self._keys_of.clear()
+        self._tokens.clear()
+        self._retiring.clear()
         if self._owns_session:
             self._session.close()
 
-    def _publisher_for(self, key: str) -> zenoh.Publisher:
-        """The cached publisher for ``key``, declared with the audit QoS on first use."""
+    def _publisher_for(self, key: str) -> ext.AdvancedPublisher:
+        """The cached publisher for ``key``, declared with the audit options on first use; the
+        source's liveliness token is declared before its first publisher."""
         if self._closed:
             raise RuntimeError("publisher is closed")
         publisher = self._publishers.get(key)
         if publisher is None:
-            publisher = self._session.declare_publisher(key, **audit_qos())
+            source = _source_of(key)
+            if source not in self._tokens:
+                self._tokens[source] = self._session.liveliness().declare_token(live_key(*_run_and_src(source)))
+            publisher = ext.declare_advanced_publisher(self._session, key, **audit_publisher_options(self._max_samples))
             self._publishers[key] = publisher
-            self._keys_of.setdefault(_source_of(key), []).append(key)
+            self._keys_of.setdefault(source, []).append(key)
         return publisher
 
-    def _release(self, source: str) -> None:
-        """Undeclare a source's publishers. Zenoh's put grows dearer with every publisher the session
-        holds (measured: 3.4 us with 1,000, 11 us with 6,000), and a despawned road user never
-        publishes again; should a source speak after its despawn, its publisher is declared anew.
-        What was put before is already queued on the link: undeclaring loses none of it."""
-        for key in self._keys_of.pop(source, ()):
-            publisher = self._publishers.pop(key, None)
-            if publisher is not None:
+    def _retire(self, source: str) -> None:
+        """A despawned source: its token goes now (it has stopped publishing, and says so); its
+        publishers leave the live set and are undeclared ``cache_s`` later (`_release_due`), their
+        caches kept until then. Should the source speak again, it gets new ones."""
+        token = self._tokens.pop(source, None)
+        if token is not None:
+            token.undeclare()
+        publishers = [self._publishers.pop(key) for key in self._keys_of.pop(source, ()) if key in self._publishers]
+        self._retiring.append((time.monotonic() + self._linger_s, publishers))
+
+    def _release_due(self) -> None:
+        """Undeclare the publishers of despawned sources whose caches were kept long enough.
+        Zenoh's put grows dearer with every publisher the session holds (measured: 3.4 us with
+        1,000, 11 us with 6,000), and a despawned road user never publishes again. What was put
+        before is already queued on the link: undeclaring loses none of it."""
+        now = time.monotonic()
+        while self._retiring and self._retiring[0][0] <= now:
+            for publisher in self._retiring.popleft()[1]:
                 publisher.undeclare()
 
     def __enter__(self) -> EventPublisher:

@@ -22,13 +22,16 @@ from .envelope import (
 from .history import HistoryFilter, HistoryRow
 from .intake import Candidate
 from .keyfiles import PUBLIC_KEYS_FILE, KeyFolder, KeysError, Signer, TrustedKeys
+from .liveliness import LivelinessChange, SourceLife, WireMiss
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
-from .wire import BLOCK_FOR_US, MODES, WireConfigError, audit_qos, session_config, zenoh_message
+from .wire import (ADV_MARK, BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
+                   cache_query_options, cache_samples, live_key, live_slice, session_config,
+                   source_of_live_key, zenoh_message)
 from .partial_state import entity_since, state_of
 from .received_chain import ReceivedChains
 from .presence import check_presence, sources_near
@@ -49,14 +52,26 @@ from .transfer import (
 )
 
 __all__ = [
+    "ADV_MARK",
     "BLOCK_FOR_US",
+    "CACHE_S",
+    "LIVE_PREFIX",
     "MODES",
+    "audit_publisher_options",
+    "cache_samples",
+    "live_key",
+    "live_slice",
+    "cache_query_options",
+    "source_of_live_key",
     "WireConfigError",
     "audit_qos",
     "session_config",
     "zenoh_message",
     "AppendReport",
     "Candidate",
+    "LivelinessChange",
+    "SourceLife",
+    "WireMiss",
     "CollectorPaused",
     "DEFAULT_ORDER",
     "EventError",

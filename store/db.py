@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import fastjson, history, opening, queries, rulebooks, verify_cache
+from . import fastjson, history, liveliness, opening, queries, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -302,6 +302,25 @@ class Store:
         missing lists [first, last] ranges. A source that stopped early shows no gap: what it
         never sent cannot be told from what was lost after its last stored event."""
         return queries.gaps(self._conn, run)
+
+    def record_wire(self, changes: Iterable[liveliness.LivelinessChange] = (),
+                    misses: Iterable[liveliness.WireMiss] = ()) -> None:
+        """Record what the ingest noticed on the wire (store/liveliness.py), in one transaction."""
+        with self._transaction() as conn:
+            liveliness.insert_changes(conn, changes)
+            liveliness.insert_misses(conn, misses)
+
+    def liveliness_changes(self, run: str, src: str | None = None) -> list[liveliness.LivelinessChange]:
+        """The liveliness changes recorded for a run (or one of its sources), in the order noticed."""
+        return liveliness.changes(self._conn, run, src)
+
+    def lives(self, run: str) -> list[liveliness.SourceLife]:
+        """Per source of the run whose token was seen: when it appeared and last disappeared."""
+        return liveliness.lives(self._conn, run)
+
+    def wire_misses(self, run: str | None = None) -> list[liveliness.WireMiss]:
+        """Samples the ingest recorded as lost on the wire, beyond their publisher's cache."""
+        return liveliness.misses(self._conn, run)
 
     def run_names(self) -> list[str]:
         """Every run with events, by name (one index probe per run)."""

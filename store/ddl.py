@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import sqlite3
 
+from . import liveliness
 from .errors import StoreError
 
-APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints")
+APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", *liveliness.TABLES)
 
 
 def _append_only(table: str) -> tuple[str, ...]:
@@ -99,7 +100,12 @@ _V4 = ("DROP INDEX events_by_kind",
 _V5 = ("DROP INDEX events_by_kind",
        f"CREATE INDEX events_by_kind ON events (run, kind, t, seq, src, event) WHERE {SPARSE_ONLY}")
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5}
+# v6: what the ingest notices on the wire beside the events (store/liveliness.py): liveliness
+# tokens appearing and disappearing, and samples lost beyond a publisher's cache. Append-only,
+# outside the hash chains (they are the ingest's observations, not a source's events).
+_V6 = (*liveliness.DDL, *(trigger for table in liveliness.TABLES for trigger in _append_only(table)))
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

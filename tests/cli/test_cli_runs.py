@@ -102,3 +102,24 @@ def test_runs_json_is_byte_for_byte_what_programs_read(db):
     with_gaps = gaps("runs", "--gaps", "--json", db=db).stdout
     runs_part = "\n".join("  " + line for line in RUNS_JSON.rstrip("\n").splitlines())
     assert with_gaps.startswith('{\n  "runs": ' + runs_part.lstrip() + ',\n  "gaps": [\n')
+
+
+def test_runs_live_lists_each_sources_liveliness_and_losses_on_the_wire(tmp_path):
+    from store import LivelinessChange, WireMiss
+    path = tmp_path / "gaps.db"
+    with Store(path) as store:
+        store.append([event(0, src="vehicle/173"), event(0, src="vehicle/9")])
+        store.record_wire([LivelinessChange("r1", "vehicle/173", True, T0, None),
+                           LivelinessChange("r1", "vehicle/9", True, T0, None),
+                           LivelinessChange("r1", "vehicle/173", False, T0 + 7_000_000_000, 0)],
+                          [WireMiss("r1", "vehicle/9", "entity.state", 4, T0 + 8_000_000_000, 0)])
+    listed = json.loads(gaps("runs", "--live", "--gaps", "--json", db=path).stdout)
+    assert listed["liveliness"] == [
+        {"run": "r1", "src": "vehicle/173", "alive": False, "appeared_at": T0, "disappeared_at": T0 + 7_000_000_000,
+         "last_seq": 0, "changes": 2},
+        {"run": "r1", "src": "vehicle/9", "alive": True, "appeared_at": T0, "disappeared_at": None,
+         "last_seq": None, "changes": 1}]
+    assert listed["wire_misses"] == [{"run": "r1", "src": "vehicle/9", "kind": "entity.state", "count": 4,
+                                      "at": T0 + 8_000_000_000, "after_seq": 0}]
+    text = gaps("runs", "--live", db=path).stdout
+    assert "2024-11-21T10:15:07Z" in text and "alive" in text and "token appeared" in text

@@ -3,10 +3,12 @@ the same function, so the settings that keep events from being lost cannot drift
 event publisher is declared with the audit QoS."""
 from __future__ import annotations
 
+import pytest
 import zenoh
+import zenoh.ext
 
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import BLOCK_FOR_US, audit_qos, session_config
+from store import BLOCK_FOR_US, audit_qos, cache_samples, session_config
 from tests.helpers.ingest_testkit import free_endpoint, make_event
 
 SETTINGS = ("mode", "listen/endpoints", "connect/endpoints", "scouting/multicast/enabled",
@@ -29,27 +31,24 @@ def test_an_operators_file_keeps_its_own_transport_settings(tmp_path) -> None:
     assert config.get_json(SETTINGS[-1]) == "7000000" and config.get_json("mode") == '"client"'
 
 
-def test_publishers_are_declared_with_the_audit_qos() -> None:
+def test_publishers_are_declared_with_the_audit_qos_and_a_cache(monkeypatch: pytest.MonkeyPatch) -> None:
     declared: list[dict] = []
-    publisher = EventPublisher(config=zenoh_config(listen=[free_endpoint()]))
-    session = publisher.session
+    real = zenoh.ext.declare_advanced_publisher
 
-    class Spy:
-        """The session, with its publisher declarations written down."""
+    def spy(session, key, **options):
+        declared.append(options)
+        return real(session, key, **options)
 
-        def __getattr__(self, name):
-            return getattr(session, name)
-
-        def declare_publisher(self, key, **qos):
-            declared.append(qos)
-            return session.declare_publisher(key, **qos)
-
-    publisher._session = Spy()
+    monkeypatch.setattr(zenoh.ext, "declare_advanced_publisher", spy)
+    publisher = EventPublisher(config=zenoh_config(listen=[free_endpoint()]), rate_hz=5, cache_s=2)
     try:
         publisher.publish(make_event("vehicle/1", 0))
     finally:
-        publisher._session = session
         publisher.close()
-    assert declared == [audit_qos()]
+    assert len(declared) == 1
+    assert {k: v for k, v in declared[0].items() if k in audit_qos()} == audit_qos()
+    assert declared[0]["publisher_detection"] is True and declared[0]["sample_miss_detection"] is not None
+    assert isinstance(declared[0]["cache"], zenoh.ext.CacheConfig)
+    assert cache_samples(5, 2) == 10 and cache_samples(10) == 100 and cache_samples(0.01, 1) == 1
     assert audit_qos()["congestion_control"] == zenoh.CongestionControl.BLOCK
     assert audit_qos()["reliability"] == zenoh.Reliability.RELIABLE

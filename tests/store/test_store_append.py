@@ -231,9 +231,9 @@ def test_schema_version_and_pragmas(db_path):
         assert durable._conn.execute("PRAGMA synchronous").fetchone() == (2,)  # FULL
     with Store(db_path, durable=False) as fast:
         assert fast._conn.execute("PRAGMA synchronous").fetchone() == (1,)  # NORMAL
-    assert rows(db_path, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,), (5,)]
+    assert rows(db_path, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,), (5,), (6,)]
     tables = {name for (name,) in rows(db_path, "SELECT name FROM sqlite_master WHERE type = 'table'")}
-    assert {"events", "quarantine", "checkpoints", "rulebooks", "schema_version"} <= tables
+    assert {"events", "quarantine", "checkpoints", "rulebooks", "schema_version", "liveliness", "wire_misses"} <= tables
 
 
 def test_a_newer_schema_is_refused(db_path):
