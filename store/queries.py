@@ -252,11 +252,16 @@ def _history_terms(run: str, wanted: Any) -> tuple[list[str], list[Any]]:
     """WHERE terms for a HistoryFilter. The filters on t, src and kind carry a unary + so that
     SQLite never picks their indexes for a chain-order read: it walks (run, chain_pos) and tests
     them, instead of sorting a whole source's or a whole time range's rows for every chunk."""
+    return _filter_terms(run, wanted, "+")
+
+
+def _filter_terms(run: str, wanted: Any, prefix: str = "") -> tuple[list[str], list[Any]]:
+    """WHERE terms for a HistoryFilter's run, t, src and kind, each column written after `prefix`."""
     clauses, params = ["run = ?"], [run]
-    for term, value in (("+t >= ?", wanted.t_from), ("+t <= ?", wanted.t_to),
-                        ("+src = ?", wanted.src), ("+kind = ?", wanted.kind)):
+    for column, op, value in (("t", ">=", wanted.t_from), ("t", "<=", wanted.t_to),
+                              ("src", "=", wanted.src), ("kind", "=", wanted.kind)):
         if value is not None:
-            clauses.append(term)
+            clauses.append(f"{prefix}{column} {op} ?")
             params.append(value)
     return clauses, params
 
@@ -266,12 +271,7 @@ def history_window(conn: sqlite3.Connection, run: str, wanted: Any) -> tuple[int
     Asked as two statements, so that without filters each is one probe of (run, chain_pos) (min
     and max together would scan the run); with a time bound each walks the time index over the
     window, so the cost follows the events in the window, not the run's length."""
-    clauses, params = ["run = ?"], [run]
-    for term, value in (("t >= ?", wanted.t_from), ("t <= ?", wanted.t_to),
-                        ("src = ?", wanted.src), ("kind = ?", wanted.kind)):
-        if value is not None:
-            clauses.append(term)
-            params.append(value)
+    clauses, params = _filter_terms(run, wanted)
     where = " AND ".join(clauses)
     (first,) = conn.execute(f"SELECT min(chain_pos) FROM events WHERE {where}", params).fetchone()
     if first is None:
