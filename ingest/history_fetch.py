@@ -25,7 +25,7 @@ from typing import Any
 
 import zenoh
 
-from store import SYNC_KEY, Candidate, GapsError, ReceivedChains, Store, session_config
+from store import SYNC_KEY, Candidate, GapsError, ReceivedChains, Store, matched_within, session_config
 
 from .errors import zenoh_message
 from .history_request import DEFAULT_LIMIT
@@ -116,7 +116,10 @@ def fetch(db: str | Path, options: FetchOptions, progress: Callable[[int], None]
     started = time.monotonic()
     session = _open(options)
     try:
-        if not _wait_for_match(session.declare_querier(SYNC_KEY), min(MATCH_S, options.timeout_s)):
+        # asked of the ingests' sync key (every gaps serve declares it), not of the history key:
+        # through a router, Zenoh 1.10 reports no match for a querier on gaps/** while the ingests'
+        # queryables are on slices inside it (gaps/site-a/**), though the query reaches them
+        if not matched_within(session.declare_querier(SYNC_KEY), min(MATCH_S, options.timeout_s), 0.02):
             raise NothingAnswers(_nobody(options))
         querier = session.declare_querier(options.key_expr, target=zenoh.QueryTarget.ALL,
                                           consolidation=zenoh.ConsolidationMode.NONE, timeout=options.timeout_s,
@@ -155,29 +158,15 @@ def _open(options: FetchOptions) -> zenoh.Session:
     try:
         return zenoh.open(config)
     except zenoh.ZError as exc:     # in client mode: no router or peer answered at any endpoint
-        where = ", ".join(options.connect) or "the configured endpoints"
-        raise NothingAnswers(f"cannot reach {where}: {zenoh_message(exc)}") from None
+        raise NothingAnswers(f"cannot reach {_where(options)}: {zenoh_message(exc)}") from None
 
 
-def _wait_for_match(querier: zenoh.Querier, within_s: float) -> bool:
-    """Whether a queryable on the querier's key becomes known within `within_s` (declarations take
-    a moment to arrive after the session opens).
-
-    Asked of the ingests' sync key (every gaps serve declares it), not of the history key: through
-    a router, Zenoh 1.10 reports no match for a querier on gaps/** while the ingests' queryables
-    are on slices inside it (gaps/site-a/**), though the query reaches them (checked here)."""
-    deadline = time.monotonic() + within_s
-    while True:
-        status = querier.matching_status
-        if bool(getattr(status, "matching", status)):
-            return True
-        if time.monotonic() >= deadline:
-            return False
-        time.sleep(0.02)
+def _where(options: FetchOptions) -> str:
+    return ", ".join(options.connect) or "the configured endpoints"
 
 
 def _nobody(options: FetchOptions) -> str:
-    where = ", ".join(options.connect) or "the configured endpoints"
+    where = _where(options)
     return (f"nothing answers history queries on {options.key_expr} at {where}: no gaps serve is reachable "
             "there (is one running, and is that its endpoint or a router it is connected to?)")
 

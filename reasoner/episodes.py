@@ -113,9 +113,10 @@ class Rederiver:
         for the reason the shapes are (module docstring)."""
         sentences = [s for s in facts if isinstance(s, str)]
         stand_in = _STAND_IN_NUMBER if vehicle.isdigit() else _STAND_IN_NAME
-        if shape[:1] == (vehicle,) or stand_in in self._mentioned or any(stand_in in s for s in sentences):
+        if shape[:1] == (vehicle,) or stand_in in self._mentioned or \
+                any(stand_in in s or _BLANK in s for s in sentences):
             return vehicle, sentences
-        asked = [_blanked(s, vehicle, stand_in) for s in sentences]
+        asked = [blanked.replace(_BLANK, stand_in) for blanked, s in zip(shape, facts) if isinstance(s, str)]
         if any(_names(s, vehicle) for s in asked):     # an id of several words, not at the start
             return vehicle, sentences
         return stand_in, asked

@@ -55,23 +55,17 @@ class RunContext:
     map: Map
     signals: Signals
     gappy: bool
+    signal_srcs: frozenset[str] = frozenset()    # every signal's src: every passage's gaps include theirs
     _gaps: dict[str, tuple[Gap, ...]] = field(default_factory=dict, compare=False, repr=False)
     _spawns: dict[str, dict | None] = field(default_factory=dict, compare=False, repr=False)
     _seen: dict[str, _Seen] = field(default_factory=dict, compare=False, repr=False)
-    _signal_srcs: list[frozenset[str]] = field(default_factory=list, compare=False, repr=False)
-
-    def signal_srcs(self) -> frozenset[str]:
-        """Every signal's src, gathered once (every passage's gaps include theirs)."""
-        if not self._signal_srcs:
-            self._signal_srcs.append(frozenset(light.ref.src for line in self.signals.lines.values()
-                                               for light in line))
-        return self._signal_srcs[0]
 
 
 def run_context(store: Store, run: str) -> RunContext:
     start = next(iter(store.events(run, kinds=["run.start"])), None)
     signals = read_signals(islice(store.events(run, kinds=["signal.state"]), MAX_SIGNAL_EVENTS + 1))
-    return RunContext(run, read_map(start), signals, store.has_sequence_gaps(run))
+    return RunContext(run, read_map(start), signals, store.has_sequence_gaps(run),
+                      frozenset(light.ref.src for line in signals.lines.values() for light in line))
 
 
 def vehicle_src(vehicle: str) -> str:
@@ -209,7 +203,7 @@ def _store_gaps(store: Store, ctx: RunContext, srcs: set[str]) -> tuple[Gap, ...
     if not ctx.gappy:
         return ()
     out: list[Gap] = []
-    for src in sorted(srcs | ctx.signal_srcs()):
+    for src in sorted(srcs | ctx.signal_srcs):
         if src not in ctx._gaps:
             ctx._gaps[src] = tuple(Gap(src, first, last, store.t_of(ctx.run, src, first - 1),
                                        store.t_of(ctx.run, src, last + 1))

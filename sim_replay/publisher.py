@@ -19,7 +19,7 @@ import zenoh
 from zenoh import ext
 
 from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, cache_samples, canonical_json, key_for, live_key,
-                   session_config)
+                   matched_within, session_config)
 
 __all__ = ["EventPublisher", "zenoh_config"]
 
@@ -49,13 +49,6 @@ def _run_and_src(source: str) -> tuple[str, str]:
     """(run, src) of gaps/<run>/<src>."""
     _, run, src = source.split("/", 2)
     return run, src
-
-
-def _matching(publisher: zenoh.Publisher | zenoh.Querier) -> bool:
-    """Whether a subscriber (a queryable) matches; zenoh 1.10 returns a MatchingStatus here despite its
-    stub saying bool."""
-    status = publisher.matching_status
-    return bool(getattr(status, "matching", status))
 
 
 class EventPublisher:
@@ -139,12 +132,7 @@ class EventPublisher:
         """
         probe = self._session.declare_publisher(key_for(event))
         try:
-            deadline = time.monotonic() + timeout
-            while not _matching(probe):
-                if time.monotonic() >= deadline:
-                    return False
-                time.sleep(0.01)
-            return True
+            return matched_within(probe, timeout)
         finally:
             probe.undeclare()
 
@@ -160,9 +148,7 @@ class EventPublisher:
         querier = self._session.declare_querier(SYNC_KEY, target=zenoh.QueryTarget.ALL,
                                                 consolidation=zenoh.ConsolidationMode.NONE, timeout=timeout)
         try:
-            deadline = time.monotonic() + SYNC_MATCH_S
-            while not _matching(querier) and time.monotonic() < deadline:
-                time.sleep(0.01)
+            matched_within(querier, SYNC_MATCH_S)
             return sum(1 for reply in querier.get() if reply.ok is not None)
         finally:
             querier.undeclare()

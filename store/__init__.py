@@ -30,7 +30,7 @@ from .run_summary import RunSummary
 from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
 from .wire import (ADV_MARK, BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
-                   cache_query_options, cache_samples, live_key, live_slice, session_config,
+                   cache_query_options, cache_samples, live_key, live_slice, matched_within, session_config,
                    source_of_live_key, zenoh_message)
 from .partial_state import entity_since, state_of
 from .received_chain import ReceivedChains
@@ -61,6 +61,7 @@ __all__ = [
     "cache_samples",
     "live_key",
     "live_slice",
+    "matched_within",
     "cache_query_options",
     "source_of_live_key",
     "WireConfigError",

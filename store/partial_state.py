@@ -50,8 +50,8 @@ _OBSERVED = ("SELECT t, seq, event FROM events WHERE run = ? AND kind = 'monitor
 def state_of(store: Store, run: str, t: int, *, entities: Iterable[str] = (),
              observed: Iterable[tuple[str, str]] = ()) -> State:
     """The state of `run` at t restricted to these entity srcs ("vehicle/173") and these
-    (monitor src, vehicle) observations: each present part equal to state_at's. `events` and
-    `last` count what was folded here, not the run's events."""
+    (monitor src, vehicle) observations: each present part equal to state_at's. Nothing of the
+    run as a whole is read: `events` is 0, and `last`, `start` and `end` are None."""
     folded = empty_state()
     with store._reading():
         for src in entities:

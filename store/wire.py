@@ -19,6 +19,7 @@ import json
 import math
 import os
 import re
+import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -121,6 +122,20 @@ def source_of_live_key(key: str) -> tuple[str, str] | None:
         return None
     run, _, src = key[len(LIVE_PREFIX) + 1:].partition("/")
     return (run, src) if run and src.count("/") == 1 and all(src.split("/")) else None
+
+
+def matched_within(entity: Any, within_s: float, poll_s: float = 0.01) -> bool:
+    """Whether a publisher's subscriber (a querier's queryable) becomes known within `within_s`:
+    declarations reach a session one by one after it opens. Zenoh 1.10 returns a MatchingStatus
+    from `matching_status`, despite its stub saying bool."""
+    deadline = time.monotonic() + within_s
+    while True:
+        status = entity.matching_status
+        if bool(getattr(status, "matching", status)):
+            return True
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(poll_s)
 
 
 def zenoh_message(exc: BaseException) -> str:
