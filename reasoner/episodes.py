@@ -8,10 +8,8 @@ Recorded potential violations are matched to the episode they fall in (within MA
 recorded one that no observation supports, and an episode nobody recorded, both show.
 
 Re-deriving means asking the monitor rulebook once per observation. Most observations differ
-from others only in which vehicle they are about, so answers are cached by the observation's
-*shape*: its sentences with the vehicle's own id blanked. That is sound because a rulebook's
-rules treat a constant they never mention like any other: if the rulebook does mention the
-vehicle's id, the shape keeps it.
+from others only in which road users they are about, so answers are cached by the observation's
+*shape* (shapes.py): its facts with the road users the rulebook never names renamed.
 """
 from __future__ import annotations
 
@@ -19,19 +17,17 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable, Iterator
 
 from .engine import Engine, Rulebook
-from .facts import FactReader, plain_constants, walk_atoms
+from .facts import FactReader
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Cond, Var
+from .shapes import Shaper
 from .vocabulary import POTENTIALLY_VIOLATES
 
 SECOND = 1_000_000_000
 EPISODE_GAP_S = 5
 MATCH_S = 2
-_BLANK = "\x00"
 _EXACT_LIMIT = 500_000
-_STAND_IN_NUMBER = "990000000001"   # asked about in place of a vehicle whose id is a number ...
-_STAND_IN_NAME = "vehicle_asked_about"   # ... or any other word
 
 
 @dataclass
@@ -60,21 +56,12 @@ class Episode:
         return found
 
 
-def rule_constants(rb: Rulebook) -> set:
-    """Every constant the rulebook's rules mention (the shapes must keep these)."""
-    out: set = set()
-    for rule in rb.document.rules:
-        for atom in walk_atoms([rule.head, rule.body]):
-            out |= plain_constants(atom.args)
-    return out
-
-
 class Rederiver:
     """Asks a monitor rulebook which actions each observation shows a vehicle potentially violating."""
 
     def __init__(self, engine: Engine, rb: Rulebook, reader: FactReader) -> None:
         self.engine, self.rb, self.reader = engine, rb, reader
-        self._mentioned = {str(c) for c in rule_constants(rb)}
+        self._shaper = Shaper(rb)
         self._question = [Cond(atom=POTENTIALLY_VIOLATES.atom(Var("vehicle"), Var("action")))]
         self._cache: dict[tuple, frozenset[str]] = {}
         self._exact: dict[tuple, frozenset[str]] = {}    # (vehicle, *facts): most observations repeat
@@ -89,62 +76,33 @@ class Rederiver:
         except TypeError:           # a fact that is not a string (an object, a list)
             exact, found = None, None
         if found is None:
-            key = self._shape(vehicle, facts)
-            found = self._cache.get(key)
-            if found is None:
-                found = self._cache[key] = self._ask(*self._asked_as(vehicle, facts, key))
+            found = self._by_shape(vehicle, facts)
             if exact is not None:
                 if len(self._exact) >= _EXACT_LIMIT:
                     self._exact.clear()
                 self._exact[exact] = found
         return found
 
-    def _shape(self, vehicle: str, facts: list) -> tuple:
-        """The sentences with the vehicle's own id blanked where it is a whole word."""
-        if vehicle in self._mentioned:
-            return (vehicle, *facts)
-        return tuple(_blanked(s, vehicle, _BLANK) if type(s) is str else repr(s) for s in facts)
+    def _by_shape(self, vehicle: str, facts: list) -> frozenset[str]:
+        """The answer for the observation's shape (shapes.py), asked when it is new; an
+        observation no shape can be made of is asked about as it is."""
+        atoms = [a for a in (self.reader.atom(self.rb, s) for s in facts) if a is not None]
+        me = constant(vehicle.split(" "))
+        shaped = self._shaper.shape(atoms, me)
+        if shaped is None:
+            return self._ask(me, atoms)
+        key, names = shaped
+        found = self._cache.get(key)
+        if found is None:
+            found = self._cache[key] = self._ask(names.get(me, me), list(key))
+        return found
 
-    def _asked_as(self, vehicle: str, facts: list, shape: tuple) -> tuple[str, list[str]]:
-        """The vehicle and sentences to ask about for a shape: the shape itself, a stand-in id in
-        the blanks, so that the sentences parsed repeat across vehicles (a sentence is parsed once
-        per rulebook, and "173 has speed of 23" and "174 has speed of 23" are two); the vehicle's
-        own sentences where the shape keeps its id, or the stand-in's word occurs in them. Sound
-        for the reason the shapes are (module docstring)."""
-        sentences = [s for s in facts if isinstance(s, str)]
-        stand_in = _STAND_IN_NUMBER if vehicle.isdigit() else _STAND_IN_NAME
-        if shape[:1] == (vehicle,) or stand_in in self._mentioned or \
-                any(stand_in in s or _BLANK in s for s in sentences):
-            return vehicle, sentences
-        asked = [blanked.replace(_BLANK, stand_in) for blanked, s in zip(shape, facts) if isinstance(s, str)]
-        if any(_names(s, vehicle) for s in asked):     # an id of several words, not at the start
-            return vehicle, sentences
-        return stand_in, asked
-
-    def _ask(self, vehicle: str, sentences: list[str]) -> frozenset[str]:
+    def _ask(self, me: Any, atoms: list) -> frozenset[str]:
         self.asked += 1
-        atoms = [a for a in (self.reader.atom(self.rb, s) for s in sentences) if a is not None]
         if not atoms:
             return frozenset()
-        me = constant([vehicle])
         result = self.engine.answers(self.rb, self._question, atoms)
         return frozenset(arg_text(b[0][2]) for b in result.bindings if b[0][1] == me)
-
-
-def _blanked(sentence: str, vehicle: str, blank: str) -> str:
-    """The sentence with the vehicle's id, where it is a whole word, replaced (the common case,
-    the id opening the sentence, without splitting it into words)."""
-    prefix, n = vehicle + " ", len(vehicle) + 1
-    if sentence.startswith(prefix) and vehicle not in sentence[n:]:
-        return blank + sentence[n - 1:]
-    if vehicle in sentence:
-        return " ".join(blank if w == vehicle else w for w in sentence.split(" "))
-    return sentence
-
-
-def _names(sentence: str, vehicle: str) -> bool:
-    """Whether the vehicle's id is still in the sentence (as a word, or as words)."""
-    return vehicle in sentence if " " in vehicle else vehicle in sentence.split(" ")
 
 
 def episodes(observations: Iterable[dict], rederiver: Rederiver) -> Iterator[Episode]:

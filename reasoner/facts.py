@@ -20,10 +20,19 @@ _CACHE_LIMIT = 200_000
 
 
 class FactReader:
-    """Parses sentences for any number of rulebooks, remembering what it parsed."""
+    """Parses sentences for any number of rulebooks, remembering what it parsed.
+
+    Sentences that differ only in their whole numbers ("173 has speed of 23", "174 has speed of
+    31") are parsed once, as their *skeleton* (each such number replaced by a placeholder number),
+    and the numbers put back in the atom's places. A skeleton is used only where that gives what
+    parsing the sentence gives: each placeholder lands whole in one argument, and no template of
+    the rulebook has a number among its own words (where "lane 2" could be a template's words, the
+    sentence is parsed as it is)."""
 
     def __init__(self) -> None:
         self._cache: dict[tuple[str, str], Atom | None] = {}
+        self._skeletons: dict[tuple[str, str], Atom | None] = {}
+        self._numbered: dict[str, bool] = {}     # rulebook sha256 -> a template has number words
 
     def atom(self, rb: Rulebook, sentence: Any) -> Atom | None:
         if not isinstance(sentence, str):
@@ -35,7 +44,32 @@ class FactReader:
             pass
         if len(self._cache) >= _CACHE_LIMIT:
             self._cache.clear()
-        found = self._cache[key] = parse_fact(sentence, rb.document.templates)
+        found = self._from_skeleton(rb, sentence)
+        if found is None:
+            found = parse_fact(sentence, rb.document.templates)
+        self._cache[key] = found
+        return found
+
+    def _from_skeleton(self, rb: Rulebook, sentence: str) -> Atom | None:
+        """The sentence's atom made from its skeleton's, or None (then it is parsed as it is)."""
+        skeleton, numbers = _skeleton(sentence)
+        if not numbers or self._has_number_words(rb):
+            return None
+        key = (rb.sha256, skeleton)
+        try:
+            shaped = self._skeletons[key]
+        except KeyError:
+            if len(self._skeletons) >= _CACHE_LIMIT:
+                self._skeletons.clear()
+            shaped = self._skeletons[key] = parse_fact(skeleton, rb.document.templates)
+        return _filled(shaped, numbers) if shaped is not None else None
+
+    def _has_number_words(self, rb: Rulebook) -> bool:
+        found = self._numbered.get(rb.sha256)
+        if found is None:
+            found = self._numbered[rb.sha256] = any(
+                isinstance(part, str) and any(ch.isdigit() for ch in part)
+                for template in rb.document.templates.values() for part in template.parts)
         return found
 
     def pairs(self, rb: Rulebook, facts: list[tuple[Any, EventRef]],
@@ -59,6 +93,48 @@ class FactReader:
     def known(self, rb: Rulebook, sentences: list[str]) -> list[Atom]:
         """The sentences the rulebook can read, parsed; for sentences the reasoner wrote itself."""
         return [a for a in (self.atom(rb, s) for s in sentences) if a is not None]
+
+
+_PLACEHOLDER = 7_306_000_000_000_000   # the first placeholder number; a sentence holding one is parsed as it is
+_MAX_DIGITS = 15
+
+
+def _skeleton(sentence: str) -> tuple[str, list[int]]:
+    """The sentence with each whole number word (no sign, no leading zero, at most _MAX_DIGITS
+    digits) replaced by a placeholder number, and the numbers in order; no numbers where the
+    sentence has none, or holds a word that could be a placeholder."""
+    words = sentence.split(" ")
+    numbers: list[int] = []
+    for i, word in enumerate(words):
+        if word.isdigit() and word.isascii():
+            if len(word) > _MAX_DIGITS or (word[0] == "0" and len(word) > 1):
+                if len(word) > _MAX_DIGITS:
+                    return sentence, []
+                continue
+            words[i] = str(_PLACEHOLDER + len(numbers))
+            numbers.append(int(word))
+    return (" ".join(words), numbers) if numbers else (sentence, [])
+
+
+def _filled(atom: Atom, numbers: list[int]) -> Atom | None:
+    """The skeleton's atom with its numbers put back: None unless every argument is a plain
+    constant and each placeholder is one whole argument, once."""
+    top = _PLACEHOLDER + len(numbers)
+    args, used = [], 0
+    for arg in atom.args:
+        kind = type(arg)
+        if kind is int and _PLACEHOLDER <= arg < top:
+            args.append(numbers[arg - _PLACEHOLDER])
+            used += 1
+        elif kind is str or kind is float or kind is int:
+            if kind is str and str(_PLACEHOLDER)[:6] in arg:
+                return None
+            args.append(arg)
+        else:
+            return None
+    if used != len(numbers) or len(set(a for a in atom.args if type(a) is int and _PLACEHOLDER <= a < top)) != used:
+        return None
+    return Atom(atom.functor, tuple(args))
 
 
 def unknown_fact(sentence: Any, evidence: EventRef, rb: Rulebook) -> Finding:

@@ -6,23 +6,22 @@ Sentences are read with the rulebook's own templates into terms (reasoner.facts.
 handed to the engine as data, never as Prolog text (DESIGN "Facts are data").
 
 A monitor asks on every observation, and most observations differ from an earlier one only in
-which vehicle they are about; `holds` therefore remembers answers by the facts with the vehicle's
-id blanked (the rulebooks mention no vehicle id), as reasoner.episodes does. A vehicle's question
+which road users they are about; `holds` therefore remembers answers by the facts' shape (the
+road users renamed: reasoner.shapes), as reasoner.episodes does. A vehicle's question
 is asked in full every time, with the proof its vehicle.trace carries.
 """
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Any
 
 from reasoner.bundled import CURRENT_SET, bundled
 from reasoner.engine import Rulebook, enrich, get_engine
 from reasoner.facts import FactReader
+from reasoner.le.sentences import constant
+from reasoner.shapes import Shaper
 
 __all__ = ["Asked", "Rulebooks", "design_tree"]
-
-_BLANK = "\x00"
 
 
 @dataclass(frozen=True)
@@ -55,6 +54,7 @@ class Rulebooks:
         self.reader = FactReader()
         self.queries = 0
         self._cache: dict[tuple, bool] = {}
+        self._shapers = {name: Shaper(rb) for name, rb in self.books.items()}
 
     def records(self) -> list[dict[str, str]]:
         """run.start's `rulebooks`: name, sha256 and full text of each."""
@@ -85,13 +85,17 @@ class Rulebooks:
         return Asked(question, answer.holds, design_tree(enrich(tree, rb)) if isinstance(tree, dict) else None)
 
     def holds(self, name: str, question: str, facts: list[str], vehicle: str) -> bool:
-        """Yes or no, remembered by the facts' shape (the vehicle's id blanked)."""
-        word = re.compile(rf"(?<![\w.-]){re.escape(vehicle)}(?![\w.-])")
-        key = (name, word.sub(_BLANK, question), tuple(sorted(word.sub(_BLANK, f) for f in facts)))
-        found = self._cache.get(key)
+        """Yes or no, remembered by the shape of the question and facts."""
+        rb = self.books[name]
+        goal, atoms = self._atoms(rb, question, facts)
+        shaped = self._shapers[name].shape([goal, *atoms], constant(vehicle.split(" ")))
+        if shaped is not None:
+            goal, *atoms = shaped[0]
+        key = (name, goal, *atoms) if shaped is not None else None
+        found = self._cache.get(key) if key is not None else None
         if found is None:
-            rb = self.books[name]
-            goal, atoms = self._atoms(rb, question, facts)
             self.queries += 1
-            found = self._cache[key] = self.engine.holds(rb, goal, atoms)
+            found = self.engine.holds(rb, goal, atoms)
+            if key is not None:
+                self._cache[key] = found
         return found
