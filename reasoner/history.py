@@ -32,6 +32,7 @@ from .others import CONFLICT_M
 from .passage import Passage
 from .record import Gap, Record, Track
 from .signals import MAX_SIGNAL_EVENTS, Signals, read_signals
+from .state_samples import StateSamples, Window
 
 SECOND = 1_000_000_000
 BEFORE_S = 60.0             # read at most this long before the moment asked about: a wait through a red phase
@@ -48,14 +49,15 @@ MAX_KEPT_SPAWNS = 100_000   # road users whose entity.spawn a run context keeps
 class RunContext:
     """What every passage of a run shares, read once: its map, its signal timelines, and
     whether any of its sources misses a seq (the gaps themselves are looked up per source).
-    What the passages read of their other road users is kept too, for the next act at the same
-    junction and time (_Seen) and the next passage by the same road user (spawns)."""
+    What the passages read is kept too, for the next act at the same junction and time: the
+    road users' entity.state (states), the junction's observations (_Seen), spawns."""
 
     run: str
     map: Map
     signals: Signals
     gappy: bool
     signal_srcs: frozenset[str] = frozenset()    # every signal's src: every passage's gaps include theirs
+    states: StateSamples | None = field(default=None, compare=False, repr=False)
     _gaps: dict[str, tuple[Gap, ...]] = field(default_factory=dict, compare=False, repr=False)
     _spawns: dict[str, dict | None] = field(default_factory=dict, compare=False, repr=False)
     _seen: dict[str, _Seen] = field(default_factory=dict, compare=False, repr=False)
@@ -65,7 +67,8 @@ def run_context(store: Store, run: str) -> RunContext:
     start = next(iter(store.events(run, kinds=["run.start"])), None)
     signals = read_signals(islice(store.events(run, kinds=["signal.state"]), MAX_SIGNAL_EVENTS + 1))
     return RunContext(run, read_map(start), signals, store.has_sequence_gaps(run),
-                      frozenset(light.ref.src for line in signals.lines.values() for light in line))
+                      frozenset(light.ref.src for line in signals.lines.values() for light in line),
+                      StateSamples(store, run))
 
 
 def vehicle_src(vehicle: str) -> str:
@@ -149,8 +152,13 @@ def _own(store: Store, ctx: RunContext, src: str, around: int | None, before_s: 
     to before_s and after_s: most passages take a few hundred events of reading, however long
     the run."""
     def read(a: int | None, b: int | None) -> tuple[tuple[Sample, ...], tuple[str, ...]]:
-        found = store.source_events(ctx.run, src, kinds=["entity.state"], t_from=a, t_to=b)
-        return samples(_capped(found, notes, f"{src} entity.state"))
+        if a is None or b is None or ctx.states is None:
+            found = store.source_events(ctx.run, src, kinds=["entity.state"], t_from=a, t_to=b)
+            return samples(_capped(found, notes, f"{src} entity.state"))
+        window = ctx.states.window(src, a, b, MAX_SAMPLES)
+        if window.events > MAX_SAMPLES:
+            notes.append(f"{window.events} {src} entity.state in the window; the first {MAX_SAMPLES} are read")
+        return window.samples, window.notes
 
     if around is None:
         return (*read(None, None), (None, None), None)
@@ -237,8 +245,7 @@ def _store_others(store: Store, ctx: RunContext, vehicle: str):
         tracks = _observed(_watched(store, ctx, junction, t_from, t_to), vehicle, junction)
         for user, (src, series) in list(tracks.items()):
             if _holes(series):
-                own, _ = samples(store.source_events(ctx.run, f"vehicle/{user}", kinds=["entity.state"],
-                                                     t_from=t_from, t_to=t_to)[:MAX_SAMPLES])
+                own = _states_of(store, ctx, f"vehicle/{user}", t_from, t_to, MAX_SAMPLES).samples
                 if own:
                     tracks[user] = (f"vehicle/{user}", own)
         if junction.unwatched:      # their own record, where it holds more than the cameras saw of them
@@ -255,13 +262,27 @@ def _states_near(store: Store, ctx: RunContext, junction: Junction, vehicle: str
     each was (store.sources_near) puts within CONFLICT_M of the junction in it: the index
     can name some that never came that near (near_users measures them), never leave out one
     that did. MAX_OTHER_EVENTS at most, the sources in name order."""
-    states: list[dict] = []
+    tracks: dict[str, Track] = {}
+    read = 0
     for src in sources_near(store, ctx.run, junction.x, junction.y, CONFLICT_M, t_from, t_to):
         if src.split("/", 1)[0] in ("vehicle", "pedestrian") and user_id(src) != vehicle:
-            states += store.source_events(ctx.run, src, kinds=["entity.state"], t_from=t_from, t_to=t_to)
-            if len(states) >= MAX_OTHER_EVENTS:
+            window = _states_of(store, ctx, src, t_from, t_to, MAX_OTHER_EVENTS - read)
+            if window.events:
+                tracks[user_id(src)] = (src, window.samples)
+            read += window.events
+            if read >= MAX_OTHER_EVENTS:
                 break
-    return _states_by_user(states[:MAX_OTHER_EVENTS], vehicle)
+    return tracks
+
+
+def _states_of(store: Store, ctx: RunContext, src: str, t_from: int, t_to: int, cap: int) -> Window:
+    """A road user's entity.state in the window, its first `cap` events: kept by the run
+    context (state_samples.py), or read."""
+    if ctx.states is not None:
+        return ctx.states.window(src, t_from, t_to, cap)
+    events = store.source_events(ctx.run, src, kinds=["entity.state"], t_from=t_from, t_to=t_to)
+    found, notes = samples(events[:cap])
+    return Window(found, notes, len(events))
 
 
 @dataclass(frozen=True)
@@ -323,15 +344,6 @@ def _observed(events: Iterable[dict], vehicle: str, junction: Junction) -> dict[
         series, _ = samples(grouped[user])
         out[user] = (series[0].ref.src, series)
     return out
-
-
-def _states_by_user(events: Iterable[dict], vehicle: str) -> dict[str, Track]:
-    grouped: dict[str, list[dict]] = {}
-    for event in events:
-        src = event.get("src")
-        if isinstance(src, str) and src.split("/", 1)[0] in ("vehicle", "pedestrian") and user_id(src) != vehicle:
-            grouped.setdefault(src, []).append(event)
-    return {user_id(src): (src, samples(found)[0]) for src, found in grouped.items()}
 
 
 # --- reading a list of events -------------------------------------------------------------------
