@@ -64,6 +64,15 @@ def _habit(p: Passage, rng: random.Random, name: str, has: bool, propensity: flo
     return p.draws[name]
 
 
+BREAKS_A_RULE = ("amber runner", "red runner", "stop roller", "no give way")
+"""The habits whose go breaks a rule (human_decision's reasons start with their names)."""
+
+
+def lawful(why: str) -> bool:
+    """Whether a go for this reason is the driver keeping the rules (then it also watches for foes)."""
+    return not why.startswith(BREAKS_A_RULE)
+
+
 def human_decision(profile: Profile, p: Passage, m: Moment, rng: random.Random,
                    propensity: float) -> tuple[bool, str]:
     """Go (True) or hold (False) at this look, and why, in the words the ground truth keeps."""

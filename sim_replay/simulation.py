@@ -359,7 +359,7 @@ class Simulation:
                 return
             agent.asked_facts = tuple(facts)
             asked = av.ask_to_enter(self.books, agent.id, facts)
-            go = self._carry_out(agent, p, asked.holds)
+            go = self._carry_out(agent, p, asked.holds, lawful=asked.holds)
             why = ("rulebook: can enter" if asked.holds else "rulebook: cannot enter") + \
                   ("" if go == asked.holds else " (too close to stop: went on)")
             self._record(agent, m.t_s, "vehicle.perception", {"facts": facts})
@@ -369,7 +369,7 @@ class Simulation:
             changed = go != p.go
             if changed:
                 wanted = go
-                go = self._carry_out(agent, p, go)
+                go = self._carry_out(agent, p, go, lawful=drivers.lawful(why))
                 if go != wanted:
                     why += " (too close to stop: went on)"
                 if go and why.startswith("stop roller"):
@@ -384,9 +384,14 @@ class Simulation:
                     self._publish_decision(agent, p, m.t_s, go, None)
         p.why = why                      # the latest reason it goes or waits (a habit may take over at amber)
 
-    def _carry_out(self, agent: Agent, p: Passage, go: bool) -> bool:
-        """Hold or release in the world; returns whether the vehicle goes (a hold may come too late)."""
+    def _carry_out(self, agent: Agent, p: Passage, go: bool, lawful: bool) -> bool:
+        """Hold or release in the world; returns whether the vehicle goes (a hold may come too late).
+        A lawful go through traffic lights also yields to foes with right of way (World.mind_foes):
+        oncoming traffic on a right turn on green, cross traffic in front of a vehicle on a call. At
+        a Stop or Give Way line the driver's own look for a gap is the act judged, and SUMO's is
+        not asked for."""
         if go:
+            self.world.mind_foes(agent.id, lawful and p.line == "signal")
             if p.held:
                 self.world.release(agent.id)
                 p.held = False

@@ -31,7 +31,7 @@ from sim_replay.sumo_net import Network, read_network
 from sim_replay.world_state import COLOURS, Collision, PedestrianState, SignalState, Snapshot, VehicleState
 from store import GapsError
 
-__all__ = ["BLUE_LIGHT", "SPEED_MODE_OURS", "SPEED_MODE_SUMO", "World", "WorldError"]
+__all__ = ["BLUE_LIGHT", "SPEED_MODE_MINDFUL", "SPEED_MODE_OURS", "SPEED_MODE_SUMO", "World", "WorldError"]
 
 tc = libsumo.constants
 # SUMO's speed mode bits: 1 safe speed (never into the vehicle ahead), 2 maximum acceleration,
@@ -39,6 +39,7 @@ tc = libsumo.constants
 # light, 32 (set: disregard) foes already inside the junction.
 SPEED_MODE_SUMO = 0b011111   # SUMO's default: it obeys signals and right of way itself
 SPEED_MODE_OURS = 0b000111   # physics only: no red lights, no right of way; it still keeps its distance
+SPEED_MODE_MINDFUL = 0b001111   # ours, going lawfully: it passes a red light only on a call, and yields to foes
 BLUE_LIGHT = 1 << 11         # SUMO's VEH_SIGNAL_EMERGENCY_BLUE
 HOLD_GAP_M = 0.3             # a held vehicle stops with its front this far behind the line
 HOLD_S = 1e7                 # how long a hold lasts unless released (for ever, in practice)
@@ -172,6 +173,15 @@ class World:
         for it; it still keeps its distance from what is ahead."""
         self._vehicle_call(ident, libsumo.vehicle.setSpeedMode, SPEED_MODE_OURS)
         self._controlled.add(ident)
+
+    def mind_foes(self, ident: str, mindful: bool = True) -> None:
+        """The vehicle goes lawfully: let SUMO keep it out of the way of foes that have right of way
+        (oncoming traffic on a right turn on green, cross traffic an emergency vehicle crosses a red
+        light in front of), as a lawful driver watching the road would. A vehicle that breaks a
+        rule keeps SPEED_MODE_OURS (mindful False): it goes regardless, and what follows is the
+        evidence."""
+        if ident in self._controlled:
+            self._vehicle_call(ident, libsumo.vehicle.setSpeedMode, SPEED_MODE_MINDFUL if mindful else SPEED_MODE_OURS)
 
     def hand_back(self, ident: str) -> None:
         """Let SUMO decide for the vehicle again (it obeys signals and right of way)."""

@@ -197,3 +197,33 @@ def test_vehicles_and_bicycles_of_every_type_drive():
         with pytest.raises(WorldError, match="vehicle y"):
             world.add_vehicle("y", "car", ("w_j1", "n2_j2"))         # edges that do not meet
         assert world.step().vehicles == ()                           # and the world goes on without it
+
+
+def _right_turn_on_green(mindful: bool) -> tuple[str | None, float]:
+    """j1 at 3 s: the west approach green. A car from the west turns right (across the oncoming
+    lane, in left-hand traffic) while a car from the east comes straight on; both are ours. The
+    light the turner entered on, and its lowest speed inside the junction."""
+    with World(NET) as world:
+        run(world, 3.0)
+        world.add_vehicle("oncoming", "car", world.route("j2_j1", "j1_w"), depart_pos=70.0)
+        world.add_vehicle("turner", "car", world.route("w_j1", "j1_s1"), depart_pos=110.0)
+        world.take_control("oncoming")
+        world.take_control("turner")
+        world.step()
+        world.mind_foes("turner", mindful)
+        entered_on, slowest = None, float("inf")
+        for snap in run(world, 25.0):
+            v = snap.vehicle("turner")
+            if v and v.junction == "j1":
+                entered_on = entered_on or snap.signal("j1", "west").colour
+                slowest = min(slowest, v.speed_mps)
+        return entered_on, slowest
+
+
+def test_a_vehicle_going_lawfully_on_green_waits_in_the_junction_for_oncoming_traffic():
+    """HC 180: turning right, wait until there is a safe gap in the oncoming traffic. A lawful go
+    (World.mind_foes) lets SUMO keep the turner out of the oncoming car's way: it stops inside the
+    junction until the car has passed. Without it, the turner drives through at speed."""
+    assert _right_turn_on_green(True) == ("green", 0.0)
+    entered_on, slowest = _right_turn_on_green(False)
+    assert entered_on == "green" and slowest > 5.0
