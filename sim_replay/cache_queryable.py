@@ -66,9 +66,11 @@ class CacheQueryable:
         if asked.index:
             query.reply(cache_token(self.cache_id), write_index(self._recent.index(wanted)), encoding=self._encoding)
             return
+        ranges: dict[tuple[str, str], list[tuple[int, int]]] = {}
         for run, src, first, last in asked.want:
-            for key, event in self._recent.between(run, src, first, last, wanted):
-                query.reply(key, event, encoding=self._encoding)
+            ranges.setdefault((run, src), []).append((first, last))
+        for key, event in self._recent.wanted(ranges, wanted):
+            query.reply(key, event, encoding=self._encoding)
 
 
 def _within(slice_key: str):
