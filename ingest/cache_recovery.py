@@ -8,8 +8,10 @@ Two things make the ingest ask, both by envelope seqs, which every event carries
   stored (so a restart gets what was published while it was down, a despawned source's last
   events included);
 - a hole in a source's seqs in the live stream (a seq above the highest stored, arrived or asked
-  for, plus one): the ingest asks every cache for the missing range. Only an ingest whose key
-  takes every kind (ends with ``*`` or ``**``) does: a slice by kind sees holes by design.
+  for, plus one): the ingest asks every cache for the missing range, the holes of a batch in one
+  query (after a restart, every source's first event opens one: a query each would have every
+  cache go through its ring a thousand times). Only an ingest whose key takes every kind (ends
+  with ``*`` or ``**``) does: a slice by kind sees holes by design.
 
 Replies are the events' exact bytes on their own keys; they go through the same screening as live
 samples (a repeat of a stored event is a duplicate). What no cache holds any more stays a hole,
@@ -48,6 +50,7 @@ class CacheRecovery:
         self._holes_asked = key_expr.rsplit("/", 1)[-1] in ("*", "**")
         self._known: dict[Source, int] = {}
         self._heard: set[Source] = set()          # heard live since start
+        self._holes: list[tuple[str, str, int, int]] = []   # seen in the live stream, not yet asked
         self._lock = threading.Lock()
         self._found: list[str] = []               # caches whose token came, not yet asked
         self._indexes: list[zenoh.Handler[zenoh.Reply]] = []
@@ -65,9 +68,9 @@ class CacheRecovery:
 
     @property
     def idle(self) -> bool:
-        """Whether every cache found has been asked and has answered."""
+        """Whether every cache found, and every hole seen, has been asked and answered."""
         with self._lock:
-            return not (self._found or self._indexes or self._asked)
+            return not (self._found or self._holes or self._indexes or self._asked)
 
     def saw(self, run: str, src: str, seq: int, live: bool) -> None:
         """An event screened (``live``: from the stream, not a cache's answer); a hole above what
@@ -80,13 +83,17 @@ class CacheRecovery:
         if live:
             self._heard.add(source)
             if seq > known + 1 and self._holes_asked:
-                self._ask(want_selector(self._key_expr), [(run, src, known + 1, seq - 1)])
+                self._holes.append((run, src, known + 1, seq - 1))
         if seq > known:
             known = seq
         self._known[source] = known
 
     def step(self) -> None:
-        """Ask the caches found since the last look for their index, and each index's sources."""
+        """Ask every cache for the holes seen since the last look, the caches found meanwhile for
+        their index, and each index's sources."""
+        if self._holes:
+            holes, self._holes = self._holes, []
+            self._ask(want_selector(self._key_expr), holes)
         with self._lock:
             found, self._found = self._found, []
         for cache_id in found:
