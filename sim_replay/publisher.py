@@ -55,7 +55,8 @@ class EventPublisher:
     """Publishes events as canonical JSON, RELIABLE and BLOCK, because an audit log may not lose data silently.
 
     Publishers are declared once per key and kept until their source's despawn, so a long run pays the
-    declaration cost per source and kind, not per event; the cache is one for all of them. Events are not validated here; the ingest does that and quarantines what it refuses.
+    declaration cost per source and kind, not per event; the cache is one for all of them. Events are
+    not validated here; the ingest does that and quarantines what it refuses.
     Use it from one thread at a time (per-source order is only meaningful from a single producer anyway).
     """
 
@@ -100,7 +101,8 @@ class EventPublisher:
 
     @property
     def cache(self) -> RecentEvents:
-        """The events kept for ingests that missed them (read-only use: len, nbytes, index)."""
+        """The events kept for ingests that missed them (len, nbytes, index; only the publisher's
+        thread may add to it, as a test does to stand for samples the wire lost)."""
         return self._recent
 
     @property
