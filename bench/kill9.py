@@ -3,7 +3,7 @@ reliability, not a test; tests/ingest/test_kill9.py runs two trials of the same 
 
     .venv/bin/python bench/kill9.py [--trials 20] [--sources 10] [--rate 500] [--seed 1]
 
-Each trial: a producer (EventPublisher, caches of store.CACHE_S) listens and publishes `--rate`
+Each trial: a producer (EventPublisher, its cache of store.CACHE_S) listens and publishes `--rate`
 events/s over `--sources` sources; `gaps serve` connects to it; at a random moment the serve is
 killed with SIGKILL, stays down a random while, and is started again on the same store while the
 producer goes on; the producer then stops and closes (its close waits for the serve to confirm),
@@ -61,7 +61,7 @@ class Producer(threading.Thread):
     def __init__(self, endpoint: str, sources: int, rate: float) -> None:
         super().__init__(daemon=True)
         self.sources, self.rate = sources, rate
-        self.publisher = EventPublisher(config=zenoh_config(listen=[endpoint]), rate_hz=rate / sources)
+        self.publisher = EventPublisher(config=zenoh_config(listen=[endpoint]))
         self.put_at: list[float] = []
         self._halt = threading.Event()
 

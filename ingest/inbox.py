@@ -1,8 +1,7 @@
 """What the ingest has received and not yet written: Zenoh's own bounded FIFO channel on ``gaps/**``.
 
-The subscription is an advanced one (zenoh.ext), for what it tells besides the samples: the
-publishers it detects, whose caches the ingest asks (ingest/wire_watch.py), and the samples a
-publisher's sequence numbers say were missed.
+The subscription is an advanced one (zenoh.ext), for what it tells besides the samples: the samples
+a publisher's sequence numbers say were missed on a live link (ingest/wire_watch.py records them).
 
 This is the "callback only enqueues" rule taken one step further: Zenoh enqueues in native code, so no
 Python runs on the receive path at all and receiving never waits for the GIL (a writer busy parsing cannot
@@ -32,9 +31,10 @@ class Inbox:
         self._session = session
         self._subscriber = ext.declare_advanced_subscriber(session, key_expr, zenoh.handlers.FifoChannel(capacity))
         self._closed = False
-        self.first_seen: dict[str, tuple[str, int]] = {}
-        """Per key, the publisher ("<zid>/<eid>") and Zenoh sequence number of the first sample taken
-        on it: what a restarted ingest missed of that publisher is what its cache holds below that."""
+        self.publisher_keys: dict[str, str] = {}
+        """Per publisher ("<zid>/<eid>") whose samples carry sequence numbers, the key it publishes
+        on, noted from its first sample taken: a miss names only the publisher."""
+        self._keys_seen: set[str] = set()
         self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
 
     @property
@@ -94,15 +94,18 @@ class Inbox:
         if sample is None:
             return None
         item = received(sample)
-        if item[0] not in self.first_seen:
+        if item[0] not in self._keys_seen:
             self._note_first(item[0], sample)
         return item
 
     def _note_first(self, key: str, sample: zenoh.Sample) -> None:
-        """Note the first sample's publisher and sequence number (a plain publisher's carry none)."""
+        """Note the publisher of a key's first sample (a plain publisher's carry none). A source
+        despawned and spoken again gets a new publisher on the same key, whose misses then go
+        unnamed (logged); that is rare, and its envelope seqs still show any hole."""
+        self._keys_seen.add(key)
         info = sample.source_info
         if info is not None and info.source_id is not None:
-            self.first_seen[key] = (f"{info.source_id.zid}/{info.source_id.eid}", info.source_sn)
+            self.publisher_keys[f"{info.source_id.zid}/{info.source_id.eid}"] = key
 
 
 def received(sample: zenoh.Sample) -> Received:

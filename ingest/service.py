@@ -70,14 +70,14 @@ class IngestService:
         self._session = zenoh.open(config)
         try:
             inbox = Inbox(self._session, key_expr, max_pending)
+            watch = WireWatch(self._session, inbox, key_expr)
             self._writer = BatchWriter(
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
-                flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys,
-                watch=WireWatch(self._session, inbox, key_expr),
+                flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys, watch=watch,
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)
-            self._sync = self._session.declare_queryable(SYNC_KEY, _answer_sync)
+            self._sync = self._session.declare_queryable(SYNC_KEY, watch.syncs)   # ingest/sync_answer.py
             self._history = HistoryQueryable(self._session, db_path, key_expr)  # docs/serve.md "History"
         except BaseException:
             self._session.close()
@@ -146,11 +146,6 @@ class IngestService:
     ) -> None:
         self.stop()
 
-
-def _answer_sync(query: zenoh.Query) -> None:
-    """A producer asks whether what it put before reached us: it did, since Zenoh handed us the
-    query after those samples (they are in the inbox). Answering needs no Python on the data path."""
-    query.reply(SYNC_KEY, b"received")
 
 
 def _settled(s: dict) -> bool:

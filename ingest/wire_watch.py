@@ -1,20 +1,14 @@
 """What the ingest watches on the wire besides the events: sources' liveliness tokens, the
-publishers its advanced subscription detects, whose caches it asks for what they hold, and
-samples a publisher's sequence numbers say were missed.
+producers' caches (ingest/cache_recovery.py asks them for what the ingest missed), and samples a
+publisher's sequence numbers say were missed on a live link.
 
-Every publisher found, on start (its token is there already) or later, is asked once for what its
-cache holds from before the first sample the ingest received from it (store.cache_query_options,
-``_sn=..N``; all of it if none arrived within DEFER_S): an ingest that was down gets what was
-published meanwhile, as long as the cache still holds it (store.CACHE_S), and a publisher that put
-before the ingest's subscription reached it loses nothing. The replies go through the same screening
-as the rest (a repeat of a stored event is counted as a duplicate). What the cache no longer held leaves a hole
-in the source's seqs, which the store lists (`gaps runs --gaps`).
-
-Both arrive in Zenoh's own bounded channels, as the events do (ingest/inbox.py): no Python runs on
-Zenoh's threads and nothing there waits for the disk. The writer thread drains them between
-batches (`drain`) and records what they say in the store (store.LivelinessChange, store.WireMiss).
-A miss names the publisher only by its Zenoh id, so the publishers announced by the subscription's
-publisher detection are kept, id to key, to say which source and kind the lost samples were.
+The tokens and the misses arrive in Zenoh's own bounded channels, as the events do
+(ingest/inbox.py): no Python runs on Zenoh's threads for them and nothing there waits for the disk.
+(A cache's token, one per producer process, is taken by a short callback: the answer to a
+producer's sync must know at once that a cache is still to be asked, ingest/sync_answer.py.) The
+writer thread drains them between batches (`drain`) and records what they say in the store
+(store.LivelinessChange, store.WireMiss). A miss names the publisher only by its Zenoh id, which
+the inbox maps to the key its samples came on.
 """
 from __future__ import annotations
 
@@ -26,15 +20,14 @@ from dataclasses import dataclass
 import zenoh
 from zenoh import ext
 
-from store import ADV_MARK, LivelinessChange, WireMiss, cache_query_options, live_slice, source_of_live_key
+from store import CACHE_PREFIX, LivelinessChange, WireMiss, live_slice, source_of_live_key
 
-from .inbox import Inbox, Received, received
+from .cache_recovery import CacheRecovery
+from .inbox import Inbox, Received
+from .sync_answer import SyncAnswers
 
 log = logging.getLogger(__name__)
 
-DEFER_S = 0.5
-"""How long a newly found publisher's cache is left unasked while its first sample may still arrive:
-with it, the ingest asks only for what came before (no duplicates); without, for everything."""
 CAPACITY = 100_000   # changes a channel holds for the writer; a full one makes Zenoh wait, not drop
 
 HighestSeq = Callable[[str, str], "int | None"]
@@ -52,29 +45,27 @@ class Noticed:
 
 
 class WireWatch:
-    """The liveliness subscription of ``key_expr``'s sources and the miss listener of ``subscriber``.
-    Only one thread (the writer) may drain it."""
+    """The liveliness subscriptions of ``key_expr``'s sources and of the caches, and the miss
+    listener of the inbox's subscriber. Only one thread (the writer) may drain it."""
 
     def __init__(self, session: zenoh.Session, inbox: Inbox, key_expr: str) -> None:
-        self._session = session
         self._inbox = inbox
-        self._asked: list[zenoh.Handler[zenoh.Reply]] = []   # caches asked whose replies are not all in
-        self._unasked: dict[str, tuple[str, str, float]] = {}  # id -> (token, key, when found)
+        self.recovery = CacheRecovery(session, key_expr)
+        self.syncs = SyncAnswers(lambda: self.recovery.idle)
         self._live = session.liveliness().declare_subscriber(
             live_slice(key_expr), zenoh.handlers.FifoChannel(CAPACITY), history=True)
-        subscriber = inbox.subscriber
-        self._publishers = subscriber.detect_publishers(zenoh.handlers.FifoChannel(CAPACITY), history=True)
-        self._misses = subscriber.sample_miss_listener(zenoh.handlers.FifoChannel(CAPACITY))
-        self._keys: dict[str, str] = {}   # "<zid>/<eid>" of an advanced publisher -> its key
+        self._caches = session.liveliness().declare_subscriber(f"{CACHE_PREFIX}/*", self.recovery.on_token,
+                                                               history=True)
+        self._misses = inbox.subscriber.sample_miss_listener(zenoh.handlers.FifoChannel(CAPACITY))
 
     def drain(self, highest_seq: HighestSeq) -> Noticed:
         """Everything noticed since the last drain; ``highest_seq(run, src)`` says how far each
-        source had got, which ties a change to the events."""
+        source had got, which ties a change to the events. Asks the caches found meanwhile, and
+        answers the syncs that waited for that."""
         now = time.time_ns()
         changes = [self._change(sample, now, highest_seq) for sample in _taken(self._live)]
-        for sample in _taken(self._publishers):
-            self._learn(sample)
-        self._ask_caches()
+        self.recovery.step()
+        self.syncs.answer_parked()
         misses = [self._miss(miss, now, highest_seq) for miss in _taken(self._misses)]
         return Noticed(tuple(c for c in changes if c is not None), tuple(m for m in misses if m is not None))
 
@@ -86,62 +77,13 @@ class WireWatch:
         return LivelinessChange(*source, sample.kind == zenoh.SampleKind.PUT, now, highest_seq(*source))
 
     def recovered(self, max_items: int) -> list[Received]:
-        """Up to ``max_items`` samples the caches asked have replied with so far."""
-        out: list[Received] = []
-        still: list[zenoh.Handler[zenoh.Reply]] = []
-        for replies in self._asked:
-            done = False
-            while len(out) < max_items:
-                try:
-                    reply = replies.try_recv()
-                except zenoh.ZError:   # every reply is in
-                    done = True
-                    break
-                if reply is None:
-                    break
-                if reply.ok is not None:
-                    out.append(received(reply.ok))
-            if not done:
-                still.append(replies)
-        self._asked = still
-        return out
-
-    def _learn(self, sample: zenoh.Sample) -> None:
-        """Remember a detected publisher's key by its id (forgotten when it goes), and ask a new
-        one's cache for what it holds."""
-        token = str(sample.key_expr)
-        key, mark, ids = token.partition(ADV_MARK)
-        if not mark:
-            return
-        ident = "/".join(ids.split("/")[:2])
-        if sample.kind != zenoh.SampleKind.PUT:
-            self._keys.pop(ident, None)
-            self._unasked.pop(ident, None)
-        elif ident not in self._keys:
-            self._keys[ident] = key
-            self._unasked[ident] = (token, key, time.monotonic())
-
-    def _ask_caches(self) -> None:
-        """Ask each found publisher's cache for what preceded its first sample received, once that
-        sample is in, or for everything once DEFER_S has passed without it."""
-        now = time.monotonic()
-        for ident, (token, key, found_at) in list(self._unasked.items()):
-            first = self._inbox.first_seen.get(key)
-            if first is not None and first[0] == ident:
-                selector = f"{token}?_sn=..{first[1] - 1}" if first[1] > 0 else None
-            elif now - found_at >= DEFER_S:
-                selector = token
-            else:
-                continue
-            del self._unasked[ident]
-            if selector is not None:
-                self._asked.append(self._session.get(selector, zenoh.handlers.FifoChannel(CAPACITY),
-                                                     **cache_query_options()))
+        """Up to ``max_items`` events the caches asked have replied with so far."""
+        return self.recovery.recovered(max_items)
 
     def _miss(self, miss: ext.Miss, now: int, highest_seq: HighestSeq) -> WireMiss | None:
-        key = self._keys.get(f"{miss.source.zid}/{miss.source.eid}")
+        key = self._inbox.publisher_keys.get(f"{miss.source.zid}/{miss.source.eid}")
         parts = key.split("/") if key else []
-        if len(parts) != 5:   # gaps/<run>/<role>/<id>/<kind>; a publisher never announced cannot be placed
+        if len(parts) != 5:   # gaps/<run>/<role>/<id>/<kind>; a publisher never heard from cannot be placed
             log.warning("ingest: %d samples of publisher %s were lost on the wire; its key is unknown",
                         miss.nb, miss.source)
             return None

@@ -81,6 +81,8 @@ class BatchWriter(threading.Thread):
             store = Store(self._db_path, durable=self._durable)
             try:
                 enable_snapshots(store)
+                if self._watch is not None:
+                    self._watch.recovery.stored_highest = store.highest_seq
             except BaseException:
                 store.close()
                 raise
@@ -117,7 +119,7 @@ class BatchWriter(threading.Thread):
             return
         while recovered := self._watch.recovered(self._batch_size):
             self._stats.add(received=len(recovered), recovered=len(recovered))
-            self._write(store, recovered)
+            self._write(store, recovered, live=False)
 
     def _record_wire(self, store: Store) -> None:
         """Record the liveliness changes and losses noticed since the last look, after the batch
@@ -133,11 +135,11 @@ class BatchWriter(threading.Thread):
             log.exception("ingest: recording liveliness changes and losses failed")
             self._stats.record_error(f"wire records: {exc!r}")
 
-    def _write(self, store: Store, batch: list[Received]) -> None:
+    def _write(self, store: Store, batch: list[Received], *, live: bool = True) -> None:
         """Screen and store one batch. If it keeps failing, store its samples one by one, so that a
         sample the store cannot digest costs only itself (see ``_give_up``); once even quarantine
         fails the store itself is broken, and the rest of the batch is counted failed without more tries."""
-        candidates = [item.candidate for item in self._screen(batch)]
+        candidates = [item.candidate for item in self._screen(batch, live)]
         error = self._append(store, candidates, retries=RETRIES)
         if error is None:
             return
@@ -179,8 +181,9 @@ class BatchWriter(threading.Thread):
         log.error("ingest: lost %d samples on %s", len(candidates), ", ".join(origins[:10]))
         self._stats.add(failed=len(candidates))
 
-    def _screen(self, batch: list[Received]) -> list[Screened]:
-        """Screen each sample and track its sequence number; a sample that breaks screening is quarantined."""
+    def _screen(self, batch: list[Received], live: bool) -> list[Screened]:
+        """Screen each sample and track its sequence number (a hole in the live stream is asked of
+        the producers' caches); a sample that breaks screening is quarantined."""
         screened = []
         self._tracker.tick()
         for key, payload, is_put, encoding in batch:
@@ -194,9 +197,23 @@ class BatchWriter(threading.Thread):
         if self._keys is not None:
             screened = self._check_signatures(screened)
         late = sum(self._tracker.observe(*item.identity) for item in screened if item.identity is not None)
+        if self._watch is not None:
+            self._follow_seqs(screened, live)
         if late:
             self._stats.add(late=late)
         return screened
+
+    def _follow_seqs(self, screened: list[Screened], live: bool) -> None:
+        """Tell the cache recovery each event's seq (a hole in the live stream is asked of the
+        producers' caches); a failure there costs the asking, never the batch."""
+        saw = self._watch.recovery.saw
+        try:
+            for item in screened:
+                if item.identity is not None:
+                    saw(*item.identity, live)
+        except Exception as exc:
+            log.exception("ingest: following the sources' seqs failed")
+            self._stats.record_error(f"cache recovery: {exc!r}")
 
     def _check_signatures(self, screened: list[Screened]) -> list[Screened]:
         """Quarantine, with the reason, each event not signed by a key trusted for its source. Here,

@@ -3,33 +3,33 @@
 Every event goes on the key ``store.key_for(event)`` and nowhere else: the ingest refuses an event whose key
 disagrees with its body, so building keys any other way would only manufacture quarantine entries.
 
-Each key gets a Zenoh advanced publisher (store.audit_publisher_options) whose cache keeps the last
-``cache_s`` seconds at the producer's stated rate, so that an ingest restarted within that time fetches
-what it missed; each source holds a liveliness token (``gaps/@live/<run>/<src>``) from its first event
-to its despawn, so that an ingest records when it stopped publishing (or its process died).
+Each key gets a Zenoh advanced publisher (store.audit_publisher_options: sequence numbers, so that a
+sample lost on a live link is recorded); the publisher as a whole keeps ONE cache of the last ``cache_s``
+seconds of every event it published (sim_replay/recent_events.py), answered by one queryable
+(sim_replay/cache_queryable.py), so that an ingest restarted within that time, or one that sees a hole
+in a source's seqs, fetches what it missed; each source holds a liveliness token
+(``gaps/@live/<run>/<src>``) from its first event to its despawn, so that an ingest records when it
+stopped publishing (or its process died).
 """
 from __future__ import annotations
 
-import time
-from collections import deque
 from collections.abc import Iterable, Sequence
 from types import TracebackType
 
 import zenoh
 from zenoh import ext
 
-from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, cache_samples, canonical_json, key_for, live_key,
+from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, canonical_json, key_for, live_key,
                    matched_within, session_config)
+
+from .cache_queryable import CacheQueryable
+from .recent_events import MAX_BYTES, MAX_EVENTS, RecentEvents
 
 __all__ = ["EventPublisher", "zenoh_config"]
 
 DESPAWN = "entity.despawn"  # a source's last event: its publishers are released after it
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
-RATE_HZ = 10.0
-"""The rate assumed per key when sizing its cache: the simulation's step rate (DESIGN: 10 Hz), one
-event per source and kind a step. A producer that publishes a key faster says so (``rate_hz``), or
-its cache covers less than ``cache_s`` seconds."""
 
 
 def zenoh_config(
@@ -54,30 +54,36 @@ def _run_and_src(source: str) -> tuple[str, str]:
 class EventPublisher:
     """Publishes events as canonical JSON, RELIABLE and BLOCK, because an audit log may not lose data silently.
 
-    Publishers are declared once per key and cached, so a long run pays the declaration cost per source and
-    kind, not per event. Events are not validated here; the ingest does that and quarantines what it refuses.
+    Publishers are declared once per key and kept until their source's despawn, so a long run pays the
+    declaration cost per source and kind, not per event; the cache is one for all of them. Events are
+    not validated here; the ingest does that and quarantines what it refuses.
     Use it from one thread at a time (per-source order is only meaningful from a single producer anyway).
     """
 
     def __init__(
         self, session: zenoh.Session | None = None, *, config: zenoh.Config | None = None,
-        rate_hz: float = RATE_HZ, cache_s: float = CACHE_S,
+        cache_s: float = CACHE_S, cache_events: int = MAX_EVENTS, cache_bytes: int = MAX_BYTES,
         signer: Signer | None = None,
     ) -> None:
         """Use ``session`` if given (the caller keeps ownership), else open one from ``config``.
-        Each key's cache holds ``cache_s`` seconds at ``rate_hz`` (store.cache_samples). With
-        ``signer`` (store.Signer), each event is published with its source's signature."""
+        The cache holds what was published in the last ``cache_s`` seconds, at most ``cache_events``
+        events and ``cache_bytes`` bytes of them (the oldest go first). With ``signer``
+        (store.Signer), each event is published with its source's signature."""
         if session is not None and config is not None:
             raise ValueError("give either a session or a config, not both")
         self._signer = signer
-        self._max_samples = cache_samples(rate_hz, cache_s)
-        self._linger_s = cache_s
+        self._recent = RecentEvents(cache_s, max_events=cache_events, max_bytes=cache_bytes)
         self._owns_session = session is None
         self._session = session if session is not None else zenoh.open(config or zenoh_config())
+        try:
+            self._cache = CacheQueryable(self._session, self._recent)
+        except BaseException:
+            if self._owns_session:
+                self._session.close()
+            raise
         self._publishers: dict[str, ext.AdvancedPublisher] = {}
         self._keys_of: dict[str, list[str]] = {}   # gaps/<run>/<src> -> its keys with a publisher
         self._tokens: dict[str, zenoh.LivelinessToken] = {}   # gaps/<run>/<src> -> its liveliness token
-        self._retiring: deque[tuple[float, list[ext.AdvancedPublisher]]] = deque()  # despawned, cache kept
         self._published = False
         self._closed = False
         self.confirmed_by: int | None = None   # ingests that confirmed receipt at close (None: not closed)
@@ -89,9 +95,20 @@ class EventPublisher:
 
     @property
     def keys(self) -> tuple[str, ...]:
-        """The keys of the living sources' publishers (a despawned source's leave at once, and are
-        undeclared once their caches have been kept ``cache_s``)."""
+        """The keys of the living sources' publishers (a despawned source's are undeclared at once;
+        what it published stays in the cache)."""
         return tuple(self._publishers)
+
+    @property
+    def cache(self) -> RecentEvents:
+        """The events kept for ingests that missed them (len, nbytes, index; only the publisher's
+        thread may add to it, as a test does to stand for samples the wire lost)."""
+        return self._recent
+
+    @property
+    def cache_id(self) -> str:
+        """The cache's id on the wire (its token is ``gaps/@cache/<id>``)."""
+        return self._cache.cache_id
 
     @property
     def live_sources(self) -> tuple[str, ...]:
@@ -101,16 +118,15 @@ class EventPublisher:
     def publish(self, event: dict) -> None:
         """Put one event on its key; blocks while Zenoh's queue is full rather than dropping it.
 
-        A source's entity.despawn is its last word: its liveliness token goes at once, and its
-        publishers (with their caches) are undeclared ``cache_s`` later (`_release_due`), once an
-        ingest that was down has had its chance to fetch them: a run that lets thousands of road
-        users come and go keeps only the living (and the recently gone) ones' publishers."""
+        A source's entity.despawn is its last word: its liveliness token and its publishers go at
+        once (what it published stays in the cache for ``cache_s``): a run that lets thousands of
+        road users come and go keeps only the living ones' publishers."""
         key = key_for(event)
         if self._signer is not None:
             event = self._signer.sign(event)
-        if self._retiring and self._retiring[0][0] <= time.monotonic():
-            self._release_due()
-        self._publisher_for(key).put(canonical_json(event))
+        payload = canonical_json(event)
+        self._publisher_for(key).put(payload)
+        self._recent.add(event["run"], event["src"], event["seq"], key, payload)
         self._published = True
         if event["kind"] == DESPAWN:
             self._retire(_source_of(key))
@@ -126,8 +142,8 @@ class EventPublisher:
     def wait_until_matched(self, event: dict, timeout: float) -> bool:
         """Whether a subscriber for this event's key appeared within ``timeout`` seconds.
 
-        The caches make up for an ingest that starts after the first events (it asks them when it
-        starts), but only for ``cache_s``: a producer that starts first may still wait here. A plain
+        The cache makes up for an ingest that starts after the first events (it asks it when it
+        finds it), but only for ``cache_s``: a producer that starts first may still wait here. A plain
         publisher is declared for the look, since an advanced one does not say whether it matches.
         """
         probe = self._session.declare_publisher(key_for(event))
@@ -167,13 +183,10 @@ class EventPublisher:
             publisher.undeclare()
         for token in self._tokens.values():
             token.undeclare()
-        for _, retired in self._retiring:
-            for publisher in retired:
-                publisher.undeclare()
+        self._cache.close()
         self._publishers.clear()
         self._keys_of.clear()
         self._tokens.clear()
-        self._retiring.clear()
         if self._owns_session:
             self._session.close()
 
@@ -187,29 +200,23 @@ class EventPublisher:
             source = _source_of(key)
             if source not in self._tokens:
                 self._tokens[source] = self._session.liveliness().declare_token(live_key(*_run_and_src(source)))
-            publisher = ext.declare_advanced_publisher(self._session, key, **audit_publisher_options(self._max_samples))
+            publisher = ext.declare_advanced_publisher(self._session, key, **audit_publisher_options())
             self._publishers[key] = publisher
             self._keys_of.setdefault(source, []).append(key)
         return publisher
 
     def _retire(self, source: str) -> None:
-        """A despawned source: its token goes now (it has stopped publishing, and says so); its
-        publishers leave the live set and are undeclared ``cache_s`` later (`_release_due`), their
-        caches kept until then. Should the source speak again, it gets new ones."""
+        """A despawned source: its token goes now (it has stopped publishing, and says so), and so
+        do its publishers (Zenoh's put grows dearer with every publisher the session holds,
+        measured: 3.4 us with 1,000, 11 us with 6,000). What was put is already queued on the
+        link, and kept in the cache: undeclaring loses none of it. Should the source speak again,
+        it gets new ones."""
         token = self._tokens.pop(source, None)
         if token is not None:
             token.undeclare()
-        publishers = [self._publishers.pop(key) for key in self._keys_of.pop(source, ()) if key in self._publishers]
-        self._retiring.append((time.monotonic() + self._linger_s, publishers))
-
-    def _release_due(self) -> None:
-        """Undeclare the publishers of despawned sources whose caches were kept long enough.
-        Zenoh's put grows dearer with every publisher the session holds (measured: 3.4 us with
-        1,000, 11 us with 6,000), and a despawned road user never publishes again. What was put
-        before is already queued on the link: undeclaring loses none of it."""
-        now = time.monotonic()
-        while self._retiring and self._retiring[0][0] <= now:
-            for publisher in self._retiring.popleft()[1]:
+        for key in self._keys_of.pop(source, ()):
+            publisher = self._publishers.pop(key, None)
+            if publisher is not None:
                 publisher.undeclare()
 
     def __enter__(self) -> EventPublisher:

@@ -29,9 +29,11 @@ from .outcomes import AppendReport, VerifyReport
 from .run_summary import RunSummary
 from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
-from .wire import (ADV_MARK, BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
-                   cache_query_options, cache_samples, live_key, live_slice, matched_within, session_config,
-                   source_of_live_key, zenoh_message)
+from .wire import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
+                   live_key, live_slice, matched_within, session_config, source_of_live_key, zenoh_message)
+from .cache_wire import (CACHE_PREFIX, CacheQuery, CacheQueryError, SourceSpan, cache_id_of_token, cache_query_options,
+                         cache_token, index_selector, parse_cache_query, read_index, want_payload, want_selector,
+                         write_index)
 from .partial_state import entity_since, state_of
 from .received_chain import ReceivedChains
 from .presence import check_presence, sources_near
@@ -52,13 +54,23 @@ from .transfer import (
 )
 
 __all__ = [
-    "ADV_MARK",
     "BLOCK_FOR_US",
+    "CACHE_PREFIX",
     "CACHE_S",
+    "CacheQuery",
+    "CacheQueryError",
+    "SourceSpan",
+    "cache_id_of_token",
+    "cache_token",
+    "index_selector",
+    "parse_cache_query",
+    "read_index",
+    "want_payload",
+    "want_selector",
+    "write_index",
     "LIVE_PREFIX",
     "MODES",
     "audit_publisher_options",
-    "cache_samples",
     "live_key",
     "live_slice",
     "matched_within",

@@ -348,6 +348,12 @@ class Store:
         bound = sum(queries.highest_seq(self._conn, run, src) + 1 for src in self.sources(run))
         return bound != queries.chain_length(self._conn, run)
 
+    def highest_seq(self, run: str, src: str) -> int | None:
+        """The highest seq stored of one source, None if none (the append path's cached answer):
+        where a restarted ingest asks the producers' caches to go on from."""
+        highest = self._heads.highest_seq(run, src)
+        return None if highest < 0 else highest
+
     def sequence_gaps(self, run: str, src: str) -> list[tuple[int, int]]:
         """The [first, last] seq ranges of one source that the store does not hold, below its
         highest stored seq: evidence that was sent and lost (two probes when there are none)."""

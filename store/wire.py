@@ -16,7 +16,6 @@ with only the options given on the command line written over it.
 from __future__ import annotations
 
 import json
-import math
 import os
 import re
 import time
@@ -30,8 +29,8 @@ if TYPE_CHECKING:       # imported where used: `gaps --help` and every reader of
     import zenoh
 
 __all__ = ["BLOCK_FOR_US", "CACHE_S", "LIVE_PREFIX", "MODES", "SYNC_KEY", "WireConfigError",
-           "audit_publisher_options", "audit_qos", "cache_samples", "key_for", "live_key", "live_slice",
-           "cache_query_options", "session_config", "source_of_live_key", "zenoh_message"]
+           "audit_publisher_options", "audit_qos", "key_for", "live_key", "live_slice",
+           "session_config", "source_of_live_key", "zenoh_message"]
 
 BLOCK_FOR_US = 3_600_000_000
 """How long a put may wait for room before Zenoh gives up the link (microseconds). Zenoh's default is
@@ -55,53 +54,28 @@ def audit_qos() -> dict[str, Any]:
 
 CACHE_S = 10.0
 """How long every producer keeps what it published, for an ingest that was down to fetch again
-(issue 14: an ingest down for up to 10 s loses nothing)."""
+(issue 14: an ingest down for up to 10 s loses nothing). The cache is one per producer process
+(sim_replay/recent_events.py), asked as store/cache_wire.py says."""
 LIVE_PREFIX = "gaps/@live"
 """Where sources declare liveliness tokens, ``gaps/@live/<run>/<src>`` (DESIGN "Zenoh"). An @ chunk:
 no ``gaps/**`` subscription matches it, so tokens never reach the event stream."""
 
 
-def cache_samples(rate_hz: float, cache_s: float = CACHE_S) -> int:
-    """Samples a key's cache keeps to cover ``cache_s`` seconds at ``rate_hz`` (at least 1). Zenoh sizes
-    a cache in samples per key, not in seconds, so the producer states its rate."""
-    if rate_hz <= 0 or cache_s < 0:
-        raise ValueError(f"rate_hz must be > 0 and cache_s >= 0, not {rate_hz!r} and {cache_s!r}")
-    return max(1, math.ceil(rate_hz * cache_s))
-
-
-def audit_publisher_options(max_samples: int) -> dict[str, Any]:
+def audit_publisher_options() -> dict[str, Any]:
     """What every event publisher is declared with (zenoh.ext.declare_advanced_publisher): the audit
-    QoS, a cache of ``max_samples`` per key, sequence numbers on every sample (an ingest that sees
-    one skipped records the samples as lost), and publisher detection: a liveliness token on the
-    cache's own key (ADV_MARK), by which an ingest finds each cache, whenever it starts, and asks it
-    (cache_query_options).
+    QoS and sequence numbers on every sample, so that an ingest that sees one skipped on a live link
+    records the samples as lost (wire_misses).
 
-    No heartbeat, and the ingest declares no Zenoh recovery or history (RecoveryConfig,
-    HistoryConfig) but asks the caches itself, for two reasons measured with zenoh 1.10.2: with
-    recovery on, a link whose subscriber channel stayed full for seconds (the ingest's channel
-    fills by design, pushing back on publishers) hung for good, the publisher blocked in put; and
-    Zenoh's history hands over a cached sample only if no newer sample of its publisher has been
-    delivered, so an ingest that restarted while publishers went on got their live samples first
-    and the caches' none (kill -9 trials: 2 of 5 lost 146 to 175 events per source)."""
+    No Zenoh cache and no publisher detection, measured (docs/serve.md "Recovery"): each declares
+    a queryable or a liveliness token per key, i.e. per source and kind, and a simulation's road
+    users coming and going made the ingest's Zenoh thread spend most of a CPU on those
+    declarations. The producer keeps one cache of its own instead (store/cache_wire.py). No
+    heartbeat and no Zenoh recovery or history either: with recovery on, a link whose subscriber
+    channel stayed full for seconds (the ingest's fills by design, pushing back on publishers)
+    hung for good, and Zenoh's history hands over a cached sample only if no newer one of its
+    publisher was delivered (zenoh 1.10.2)."""
     from zenoh import ext
-    return {**audit_qos(), "cache": ext.CacheConfig(max_samples),
-            "sample_miss_detection": ext.MissDetectionConfig(heartbeat=None, sporadic_heartbeat=None),
-            "publisher_detection": True}
-
-
-ADV_MARK = "/@adv/pub/"
-"""Where an advanced publisher announces itself and answers for its cache: ``<key>/@adv/pub/<zid>/<eid>/...``
-(zenoh-ext's own layout: the publisher's liveliness token and its cache's queryable share that key)."""
-CACHE_QUERY_S = 10.0  # how long an ingest waits for a publisher's cache to answer
-
-
-def cache_query_options() -> dict[str, Any]:
-    """How the ingest asks one publisher's cache (on the key its token announced) for everything it
-    holds: every sample, not only the latest per key (no consolidation), and replies on the
-    samples' own keys, which are not the key asked."""
-    import zenoh
-    return {"consolidation": zenoh.ConsolidationMode.NONE, "accept_replies": zenoh.ReplyKeyExpr.ANY,
-            "target": zenoh.QueryTarget.ALL, "timeout": CACHE_QUERY_S}
+    return {**audit_qos(), "sample_miss_detection": ext.MissDetectionConfig(heartbeat=None, sporadic_heartbeat=None)}
 
 
 def live_key(run: str, src: str) -> str:

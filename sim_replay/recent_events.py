@@ -1,0 +1,110 @@
+"""What a producer published lately, for every source and kind, in one bounded ring: the cache an
+ingest that was down (or that saw a hole) asks for what it missed (store/cache_wire.py).
+
+One ring per producer instead of one Zenoh cache per key: the per-key caches cost the ingest a
+queryable declaration per source and kind (docs/serve.md "Recovery"). The ring keeps events for
+``max_age_s`` (store.CACHE_S) and never more than ``max_events`` of them nor ``max_bytes`` of their
+payloads, dropping the oldest first: a producer publishing faster than the bounds allow keeps less
+time, never unbounded memory. The bytes kept are exactly those put on the wire (signed, if signed).
+
+One thread adds (the producer's); any thread may read (the cache's queryable): a reader copies the
+ring in one step, which the GIL makes atomic, and looks through the copy, so the producer's add
+takes no lock. A read goes through the whole ring (about 160,000 events for 10 s of a 1,000-vehicle
+simulation: tens of milliseconds), which is rare: an ingest's restart, or a hole.
+"""
+from __future__ import annotations
+
+import time
+from collections import deque
+from collections.abc import Callable
+
+from store import SourceSpan
+
+MAX_EVENTS = 1_000_000
+MAX_BYTES = 256 * 1024 * 1024
+"""The defaults bound a cache to about what a 1,000-vehicle simulation publishes in 10 s
+(bench/sim.py: about 16,000 events/s of a few hundred bytes each) with room to spare."""
+
+Source = tuple[str, str]   # (run, src)
+Held = tuple[float, str, str, int, str, bytes]
+"""One event held: when it was added (monotonic s), its run, src, seq, key and exact bytes. A tuple
+of strings and numbers, which Python's collector stops tracking (objects of a class made each add
+cost three times as much in collections, measured)."""
+AT, RUN, SRC, SEQ, KEY, PAYLOAD = range(6)
+
+
+class RecentEvents:
+    """The ring, in the order events were added."""
+
+    def __init__(self, max_age_s: float, *, max_events: int = MAX_EVENTS, max_bytes: int = MAX_BYTES,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        if max_age_s < 0 or max_events < 1 or max_bytes < 1:
+            raise ValueError(f"max_age_s must be >= 0, max_events and max_bytes >= 1, not "
+                             f"{max_age_s!r}, {max_events!r}, {max_bytes!r}")
+        self.max_age_s, self.max_events, self.max_bytes = max_age_s, max_events, max_bytes
+        self._clock = clock
+        self._order: deque[Held] = deque()
+        self._bytes = 0
+
+    def __len__(self) -> int:
+        return len(self._held())
+
+    @property
+    def nbytes(self) -> int:
+        """Payload bytes held (dropped by age only as the producer adds)."""
+        return self._bytes
+
+    def add(self, run: str, src: str, seq: int, key: str, payload: bytes) -> None:
+        """Keep one published event (and drop what the bounds no longer allow). The producer's
+        thread only."""
+        now = self._clock()
+        order = self._order
+        order.append((now, run, src, seq, key, payload))
+        self._bytes += len(payload)
+        if len(order) > self.max_events or self._bytes > self.max_bytes or order[0][AT] < now - self.max_age_s:
+            self._evict(now)
+
+    def index(self, wanted: Callable[[str], bool] = lambda key: True) -> list[SourceSpan]:
+        """Per source with an event whose key is ``wanted``: the lowest and highest seq held."""
+        spans: dict[Source, list[int]] = {}
+        for held in self._held():
+            if wanted(held[KEY]):
+                seq, span = held[SEQ], spans.get((held[RUN], held[SRC]))
+                if span is None:
+                    spans[(held[RUN], held[SRC])] = [seq, seq]
+                elif seq < span[0]:
+                    span[0] = seq
+                elif seq > span[1]:
+                    span[1] = seq
+        return [SourceSpan(run, src, first, last) for (run, src), (first, last) in spans.items()]
+
+    def between(self, run: str, src: str, first: int, last: int,
+                wanted: Callable[[str], bool] = lambda key: True) -> list[tuple[str, bytes]]:
+        """(key, payload) of the source's events held with ``first <= seq <= last`` and a
+        ``wanted`` key, in the order they were published."""
+        return self.wanted({(run, src): [(first, last)]}, wanted)
+
+    def wanted(self, ranges: dict[Source, list[tuple[int, int]]],
+               wanted: Callable[[str], bool] = lambda key: True) -> list[tuple[str, bytes]]:
+        """(key, payload) of the events held whose source has a range holding their seq, in the
+        order they were published (one pass for any number of sources)."""
+        out = []
+        for held in self._held():
+            found = ranges.get((held[RUN], held[SRC]))
+            if found and any(a <= held[SEQ] <= b for a, b in found) and wanted(held[KEY]):
+                out.append((held[KEY], held[PAYLOAD]))
+        return out
+
+    def _held(self) -> list[Held]:
+        """A copy of the ring without what is too old by now (one C-level copy: atomic under the GIL)."""
+        snapshot = list(self._order)
+        too_old = self._clock() - self.max_age_s
+        if snapshot and snapshot[0][AT] < too_old:
+            snapshot = [h for h in snapshot if h[AT] >= too_old]
+        return snapshot
+
+    def _evict(self, now: float) -> None:
+        """Drop the oldest while too many, too big or too old."""
+        order, too_old = self._order, now - self.max_age_s
+        while order and (len(order) > self.max_events or self._bytes > self.max_bytes or order[0][AT] < too_old):
+            self._bytes -= len(order.popleft()[PAYLOAD])
