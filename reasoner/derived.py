@@ -28,11 +28,11 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .others import VEHICLE_WIDTH_M, onset, path_gap, since
+from .others import VEHICLE_WIDTH_M, path_gap, since
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
-from .stopping import SOURCE as RULE_126, THINKING_S, stopping_distance_m
+from .stopping import SOURCE as RULE_126, stopping_distance_m
 from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,
                          HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
                          HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
@@ -388,17 +388,12 @@ def explained(p: Passage, other: Other) -> bool:
     """Whether something other than the vehicle passing explains the road user's braking or stop:
     a red or amber light of its own, a Stop line of its own, a road user it followed (others.py),
     or a path through the junction that never came within a vehicle's width of V's (others.path_gap:
-    no conflict point, so it slowed for its own manoeuvre), or braking that began later than a
-    driver's thinking time (THINKING_S) after V had left the junction (V was out of its way when it
-    decided to brake)."""
+    no conflict point, so it slowed for its own manoeuvre)."""
     if (other.light is not None and other.light.colour != "green") or other.followed is not None \
             or other.own_stop_line:
         return True
     if other.braking is None and other.stopped is None:
         return False
-    if p.left is not None and other.braking is not None \
-            and onset(other.samples, other.braking) > p.left.t + int(THINKING_S * SECOND):
-        return True
     gap = path_gap(p.samples, other.samples, p.junction)
     return gap is not None and gap >= VEHICLE_WIDTH_M
 

@@ -172,16 +172,6 @@ def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: i
     return _followed(recounted, list(everyone), junction)
 
 
-def onset(series: Sequence[Sample], braking: Braking) -> int:
-    """When the braking began: from its hardest second (`braking.first`) back through the samples
-    whose speed was still falling."""
-    speeds = [s for s in series if s.speed_mps is not None and s.t <= braking.first.t]
-    i = len(speeds) - 1
-    while i > 0 and speeds[i - 1].speed_mps > speeds[i].speed_mps:
-        i -= 1
-    return speeds[i].t if speeds else braking.first.t
-
-
 VEHICLE_WIDTH_M = 2.55  # the widest a vehicle may be (Road Vehicles (Construction and Use) Regulations 1986 reg. 8)
 
 

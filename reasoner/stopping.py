@@ -23,9 +23,6 @@ SOURCE = "Highway Code rule 126, Typical Stopping Distances (20 mph 12 m, 30 mph
          "60 mph 73 m, 70 mph 96 m)"
 
 
-THINKING_S = 0.3 / (1609.344 / 3600)   # the thinking distances' 0.3 m per mph, as time: 0.67 s to react
-
-
 def stopping_distance_m(speed_mph: float) -> float:
     """Overall stopping distance (thinking + braking) at a speed, in metres."""
     return thinking_m(speed_mph) + braking_m(speed_mph)
