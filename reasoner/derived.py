@@ -28,7 +28,7 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .others import since
+from .others import VEHICLE_WIDTH_M, path_gap, since
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -230,7 +230,7 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
     """`U is approaching V`, `V would force U to change speed or course`, `U is on the main road`."""
     out: list[DerivedFact] = []
     went = p.crossing is not None or p.entered is not None
-    for other in p.others:
+    for other in reacting(p):
         approaching = _approaching(p, other, at)
         forced = _forced(p, other) if went and p.start <= at <= p.end + 5 * SECOND else None
         if approaching is not None:
@@ -319,8 +319,11 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     FORCE_DECEL_MPS2 or harder while V passed (one V may have forced), when it did: it was
     approaching V then, whether or not it was yet in view, or near enough, at the moment asked
     about. Gentler braking is no sign of V: a main-road car easing off as it went through the
-    junction ahead of V is not one V emerged in front of."""
+    junction ahead of V is not one V emerged in front of; nor is braking something else explains
+    (its own light, its own Stop line, the road user it followed: `explained`)."""
     found = _approaching_at(p, other, at)
+    if explained(p, other):
+        return found
     hard = other.braking if other.braking and (other.stopped or other.braking.decel_mps2 >= FORCE_DECEL_MPS2) \
         else None
     reacted = hard.first.t if hard else other.stopped.t if other.stopped else None
@@ -343,17 +346,27 @@ def _approaching_at(p: Passage, other: Other, at: int) -> DerivedFact | None:
     return DerivedFact(IS_APPROACHING.text(other.user, p.vehicle), how, tuple(s.ref for s in used_before + used))
 
 
+def reacting(p: Passage) -> tuple[Other, ...]:
+    """The road users near V's passage with their braking and stops counted while V passed: from
+    when V set off, if it stood before its line (_set_off). Every sentence and margin about a
+    reaction to V reads these, so that a main-road car braking while V still waited at its line
+    (for a turn, a queue, its own light) is neither "forced" by V nor "approaching" V because of
+    that braking."""
+    off = _set_off(p)
+    if off is None:
+        return p.others
+    return tuple(since(o, p.others, p.junction, off.last.t) for o in p.others)
+
+
 def _forced(p: Passage, other: Other) -> DerivedFact | None:
-    """U braked at FORCE_DECEL_MPS2 or harder, or came to a stop, while V passed (from when V set
-    off, if it stood before its line: _set_off), and not for a red or amber light of its own, nor
-    at a Stop line of its own, nor behind a road user it followed (others.py)."""
+    """U (counted from when V set off: `reacting`) braked at FORCE_DECEL_MPS2 or harder, or came
+    to a stop, while V passed, and not for a red or amber light of its own, nor at a Stop line of
+    its own, nor behind a road user it followed (others.py)."""
     off = _set_off(p)
     after = ""
     if off is not None:
-        other = since(other, p.others, p.junction, off.last.t)
         after = f" after {p.vehicle} set off from its standstill ({off.last.label}, {format_time(off.last.t)})"
-    if (other.light is not None and other.light.colour != "green") or other.followed is not None \
-            or other.own_stop_line:
+    if explained(p, other):
         return None
     b, stop = other.braking, other.stopped
     if stop is not None:
@@ -369,6 +382,20 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     own = f"; its own light was {other.light.colour}" if other.light else ""
     return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user), f"{how}, {other.closest_m:.0f} m from the centre{own}",
                        refs + ((other.light.ref,) if other.light else ()))
+
+
+def explained(p: Passage, other: Other) -> bool:
+    """Whether something other than the vehicle passing explains the road user's braking or stop:
+    a red or amber light of its own, a Stop line of its own, a road user it followed (others.py),
+    or a path through the junction that never came within a vehicle's width of V's (others.path_gap:
+    no conflict point, so it slowed for its own manoeuvre)."""
+    if (other.light is not None and other.light.colour != "green") or other.followed is not None \
+            or other.own_stop_line:
+        return True
+    if other.braking is None and other.stopped is None:
+        return False
+    gap = path_gap(p.samples, other.samples, p.junction)
+    return gap is not None and gap >= VEHICLE_WIDTH_M
 
 
 def _set_off(p: Passage) -> Standstill | None:

@@ -7,7 +7,8 @@
     amber (HC 175)          metres from the line when amber came (with the speed, rule 126's stopping
                             distance at it, and the difference)
     Stop line (HC 171)      seconds stationary at the Stop line before crossing it (0 when it never stood)
-    give way (HC 172)       the hardest deceleration of another road user while the vehicle passed
+    give way (HC 172)       the hardest deceleration of another road user while the vehicle passed (from
+                            when it set off; none another cause explains: derived.explained)
     box junction (HC 174)   seconds stopped in the box
     speed limit             mph over the limit (the fastest sample of the passage)
 
@@ -17,6 +18,7 @@ to measure it by.
 """
 from __future__ import annotations
 
+from .derived import explained, reacting
 from .model import Margin
 from .motion import MPH_PER_MPS, STOPPED_MPS, between
 from .passage import Passage
@@ -104,7 +106,7 @@ def _stop(p: Passage) -> Margin | None:
 
 
 def _give_way(p: Passage) -> Margin | None:
-    braked = [o for o in p.others if o.braking is not None and o.followed is None]
+    braked = [o for o in reacting(p) if o.braking is not None and not explained(p, o)]
     if not braked:
         return None
     o = max(braked, key=lambda o: o.braking.decel_mps2)

@@ -170,3 +170,52 @@ def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: i
     recounted = replace(other, braking=braking, stopped=stopped, followed=None,
                         own_stop_line=_before_own_stop_line(junction, other.arm, other.samples, moment))
     return _followed(recounted, list(everyone), junction)
+
+
+VEHICLE_WIDTH_M = 2.55  # the widest a vehicle may be (Road Vehicles (Construction and Use) Regulations 1986 reg. 8)
+
+
+def path_gap(mine: Sequence[Sample], theirs: Sequence[Sample], junction: Junction) -> float | None:
+    """How close two road users' paths through the junction came, wherever each was when (the
+    smallest distance between the polylines of their positions inside the junction's area, with
+    the sample before and after it); None when either path, in and out, is not in the record. Paths whose
+    centre lines stay VEHICLE_WIDTH_M or more apart cannot both be occupied at once: a road user
+    on such a path (a main-road car turning left into the arm the vehicle leaves) has no conflict
+    point with the vehicle, and slows for its own manoeuvre, not to avoid it."""
+    a, b = _through(mine, junction), _through(theirs, junction)
+    if len(a) < 2 or len(b) < 2:
+        return None
+    return min(_segment_gap(p, q, r, s) for p, q in zip(a, a[1:]) for r, s in zip(b, b[1:]))
+
+
+def _through(series: Sequence[Sample], junction: Junction) -> list[tuple[float, float]]:
+    """The positions inside the junction's area, with the one just before and just after; none
+    unless the record shows the road user both come into the area and leave it: a path cut
+    short (one that stopped in the junction, or whose record ends there) is not its path."""
+    placed = [(s.x, s.y) for s in series if s.placed]
+    inside = [i for i, (x, y) in enumerate(placed) if junction.edge(x, y) <= 0]
+    if not inside or inside[0] == 0 or inside[-1] == len(placed) - 1:
+        return []
+    return placed[inside[0] - 1:inside[-1] + 2]
+
+
+def _segment_gap(p, q, r, s) -> float:
+    """The smallest distance between segments pq and rs (0 when they cross)."""
+    if _cross(p, q, r, s):
+        return 0.0
+    return min(_point_gap(p, r, s), _point_gap(q, r, s), _point_gap(r, p, q), _point_gap(s, p, q))
+
+
+def _cross(p, q, r, s) -> bool:
+    def side(a, b, c) -> float:
+        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    d1, d2, d3, d4 = side(r, s, p), side(r, s, q), side(p, q, r), side(p, q, s)
+    return ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4)
+
+
+def _point_gap(p, a, b) -> float:
+    """The distance from point p to segment ab."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length = dx * dx + dy * dy
+    f = 0.0 if length == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length))
+    return ((p[0] - a[0] - f * dx) ** 2 + (p[1] - a[1] - f * dy) ** 2) ** 0.5

@@ -160,6 +160,13 @@ KNOWN = {
         "amber came; rule 126: 23 m): the incident carries a contradiction finding on the sentence the "
         "mitigation rests on, and its explanation says in its summary that the verdict is in doubt. Known only "
         "with that finding",
+    ("crossed on amber, too close to stop", "punishable HC 175"):
+        "a boundary case of measurement: the act's distance when amber came is short of rule 126's stopping "
+        "distance, the reasoner's is beyond it, by less than the vehicle travels in one of the simulation's 0.1 s "
+        "ticks (town-1h: 1534 at 30 mph, 22.48 m in the truth, 23.82 m measured, 23 m needed). The witness takes "
+        "the position at the end of the first tick the amber shows; the reasoner interpolates the vehicle's "
+        "samples to the signal's event time. Neither is finer than a tick, so which side of the yardstick the act "
+        "falls is not decided by the record. Known only when the incident's margin is within one tick's travel",
     (None, "punishable HC 124"):
         "the camera's speed reading was high (the injected speed_error fault: 12-30 % over); RTRA 1984 s.89 makes "
         "exceeding the limit the offence, and the verdict is taken on the monitor's statement (DESIGN: a derived "
@@ -181,6 +188,22 @@ def _braked_gently(line: "Line") -> bool:
     return bool(line.incidents) and all(
         i.margin is not None and i.margin.quantity == "deceleration of the other road user"
         and i.margin.value < HARD_BRAKING for i in line.incidents)
+
+
+TICK_S = 0.1     # the simulation's step: the witness reads the world once a tick
+
+
+def _amber_within_a_tick(line: "Line") -> bool:
+    """Every incident's amber margin is beyond rule 126's stopping distance by less than the
+    vehicle travelled in one tick at its speed when amber came (the act's own figure is short of it)."""
+    def close(i) -> bool:
+        m = i.margin
+        if m is None or m.quantity != "metres from the stop line when amber came":
+            return False
+        figures = {q: v for q, v, _ in m.figures}
+        beyond, mph = figures.get("distance beyond what stopping takes"), figures.get("speed when amber came")
+        return beyond is not None and mph is not None and 0 <= beyond < mph / MPH * TICK_S
+    return bool(line.incidents) and all(close(i) for i in line.incidents)
 
 
 def _belief_in_doubt(line: "Line", words: str) -> bool:
@@ -221,6 +244,9 @@ class Line:
             return None
         if self.row is not None and self.row.name == "crossed on amber, could have stopped" and \
                 not _belief_in_doubt(self, " is too close to the stop line to stop safely"):
+            return None
+        if self.row is not None and self.row.name == "crossed on amber, too close to stop" and \
+                not _amber_within_a_tick(self):
             return None
         if self.row is not None and self.row.name == "out of a Give Way line, major-road traffic braked hard" and \
                 not _braked_gently(self):

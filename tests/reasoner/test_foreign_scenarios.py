@@ -28,6 +28,7 @@ the test says so.
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Callable
 
@@ -37,7 +38,7 @@ from reasoner.motion import MPH_PER_MPS
 from reasoner.stopping import stopping_distance_m
 from store import Store
 
-from tests.helpers.foreign import (LINE_M, Foreign, Motion, crossroads, irregular, rate,
+from tests.helpers.foreign import (LANE, LINE_M, Foreign, Motion, crossroads, irregular, ns, rate,
                                    roads_through)
 
 ENTER = "enter the junction"
@@ -986,3 +987,82 @@ def test_a_gap_across_the_onset_of_red_leaves_the_crossing_light_uncertain(tmp_p
     assert inc.margin is not None and inc.margin.uncertain, inc.margin
     assert any(f.kind == "missing evidence" and f.src == "vehicle/7" for f in inc.findings), \
         [(f.kind, f.detail) for f in inc.findings]
+
+
+# ==================================================================================================
+# Reactions that are not the emerging vehicle's doing (issue 12, the one-hour run's disagreements)
+# ==================================================================================================
+
+def _give_way_only() -> Foreign:
+    """J1 with Give Way lines on its west and east arms: the main road runs north-south."""
+    return Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
+
+
+def test_a_main_road_car_braking_while_the_vehicle_still_waits_at_its_line_is_not_approaching_it(tmp_path):
+    """HC 172: "You MUST give way to traffic on the main road when emerging". 7 waits 6 s at its
+    Give Way line; meanwhile c2, on the main road from the north, brakes at 5 m/s² from 8 m/s and
+    stands 32 m from the centre (to let someone out, say), 0.2 s before 7 sets off. When 7 emerges
+    nobody on the main road is coming: c2 stands still, and its braking happened while 7 waited
+    where the law asks it to wait. 7 gave way; no potential violation, no incident (the one-hour
+    run's car 181 at j4 and the bus 3081 braking 2 s before it set off). Sampled at 4 Hz."""
+    waits = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=6.0, then=10.0)    # sets off at 12.875 s
+    c2 = Motion(-38.4 - 8.0 * 11.1, 8.0, [(11.1, 0.0), (1.6, -5.0)])              # stands at -32 m from 12.7 s
+    assert abs(c2.at(12.8)[0] + 32.0) < 0.01 and c2.at(12.8)[1] == 0.0
+    run = _give_way_only()
+    run.spawn("7")
+    run.spawn("c2")
+    times = rate(4, START, START + 22.0)
+    run.drive("7", waits, "west", times, t_start=START)
+    run.drive("c2", c2, "north", times, t_start=START)
+    for user, motion, arm in (("7", waits, "west"), ("c2", c2, "north")):
+        run.watch(user, motion, arm, times, t_start=START)
+    found = judge(tmp_path, run)
+    assert not any(f.sentence.startswith("c2 is approaching") for i in of(found, "7") for f in i.derived)
+    no_incident(found, "7")
+    no_incident(found, "c2")
+
+
+def _turning_left_from_the_south(motion: Motion, t: float, radius: float = 6.0) -> tuple[float, float, float, float]:
+    """x, y, heading and speed of a car coming up the south arm (x = -1.75) that turns left into the
+    west arm (y = -1.75, heading west) on a quarter circle of `radius`: s along its path, 0 where
+    the turn begins."""
+    s, v = motion.at(t)
+    start_y = -(LANE + radius)
+    if s <= 0:
+        return -LANE, start_y + s, 90.0, v
+    arc = math.pi / 2 * radius
+    if s <= arc:
+        a = s / radius                                   # angle turned
+        cx, cy = -(LANE + radius), start_y
+        return cx + radius * math.cos(a), cy + radius * math.sin(a), 90.0 + math.degrees(a), v
+    return -(LANE + radius) - (s - arc), -LANE, 180.0, v
+
+
+def test_a_main_road_car_slowing_to_turn_into_the_arm_the_vehicle_leaves_was_not_forced(tmp_path):
+    """7 pulls out of the west Give Way line at 6 m/s and goes straight on (7's lane: y = +1.75).
+    c3, on the main road from the south, slows at 4 m/s² from 13.4 to 6 m/s as 7 crosses, and
+    turns left into the west arm (its lane: y = -1.75, the other side of the road from 7's). Its
+    path never comes within 3.5 m of 7's: there is no point where both could be, so it slowed for
+    its own turn, not "to avoid an accident" with 7 (TSRGD Sch 9 Pt 7 para 1's words; HC 172's
+    giving way is not making the main road's traffic change speed or course). 7 gave way: no
+    violation, and no "would force" (the one-hour run's 1336 and 2850 at j4). Sampled at 4 Hz."""
+    mine = Motion(-40.0, 6.0)                                     # crosses its line at 4.67 s
+    c3 = Motion(-21.85 - 13.4 * 3.5, 13.4, [(3.5, 0.0), (1.85, -4.0), (3.0, 0.0), (5.0, 2.0)])
+    run = _give_way_only()
+    run.spawn("7")
+    run.spawn("c3")
+    times = rate(4, START, START + 16.0)
+    run.drive("7", mine, "west", times, t_start=START)
+    for at in times:
+        x, y, heading, v = _turning_left_from_the_south(c3, at - START)
+        run.emit("vehicle/c3", ns(at), "entity.state",
+                 {"x": round(x, 3), "y": round(y, 3), "heading_deg": heading, "speed_mps": round(v, 3)})
+        run.emit("monitor/m1", ns(at), "monitor.observation",
+                 {"vehicle": "c3", "facts": [], "speed_mps": round(v, 3), "x": round(x, 3), "y": round(y, 3)})
+    run.watch("7", mine, "west", rate(4, START, START + 16.0), t_start=START,
+              facts=camera("7", sign="give way", also=("c3 is approaching 7", "c3 is on the main road")))
+    found = judge(tmp_path, run)
+    assert of(found, "7"), "the camera's c3 approaching on the main road raises the act to judge"
+    no_violation(found, "7")
+    assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_incident(found, "c3")
