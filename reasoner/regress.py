@@ -186,6 +186,8 @@ class Regressor:
         self.before = Investigation(store, engine, rules=base)
         self.after = Investigation(store, engine, rules=[*new.paths, *base])
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
+        given = [*zip(new.books, new.paths), *(zip(old.books, old.paths) if old else [])]
+        self._names = {rb.sha256: path for rb, path in reversed(given)}     # the first path of each text
         self._stages: dict[tuple[str, str], set[str]] = {}
 
     def diffs(self) -> tuple[RulebookDiff, ...]:
@@ -206,7 +208,7 @@ class Regressor:
     def _diff(self, old: Rulebook, new: Rulebook, stage: str) -> RulebookDiff:
         key = (old.sha256, new.sha256)
         if key not in self._diffs:
-            self._diffs[key] = diff_rulebooks(old, new)
+            self._diffs[key] = diff_rulebooks(old, new, names=self._names)
         self._stages.setdefault(key, set()).add(stage)
         return self._diffs[key]
 

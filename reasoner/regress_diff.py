@@ -59,7 +59,7 @@ class RuleChange:
 
     def sentence(self) -> str:
         """The change as a reason: "HC 175 no longer has the rule ...", "HC 176 now reads ..."."""
-        who = self.label or "a rule"
+        who = self.label or "the rulebook"
         if self.kind == "added":
             return f'{who} now has the rule "{_one_line(self.new.text)}" ({self.new.where})'
         if self.kind == "removed":
@@ -90,18 +90,23 @@ class RulebookDiff:
                 "changes": [c.to_json() for c in self.changes]}
 
 
-def diff_rulebooks(old: Rulebook, new: Rulebook, stages: tuple[str, ...] = ()) -> RulebookDiff:
-    """The rules added, removed and changed from `old` to `new`, in the order of their lines."""
+def diff_rulebooks(old: Rulebook, new: Rulebook, stages: tuple[str, ...] = (),
+                   names: dict[str, str] | None = None) -> RulebookDiff:
+    """The rules added, removed and changed from `old` to `new`, in the order of their lines.
+    `names`: sha256 -> the file to call a rulebook by (the engine keeps the name it was first
+    loaded under, which may be another copy of the same text)."""
+    names = names or {}
     left = _unmatched(old, new)
     right = _unmatched(new, old)
     pairs = _pairs(old, new, left, right)
     paired_old = {i for i, _ in pairs}
     paired_new = {j for _, j in pairs}
-    changes = [_change("changed", old, i, new, j) for i, j in pairs]
-    changes += [_change("removed", old, i, None, None) for i in left if i not in paired_old]
-    changes += [_change("added", None, None, new, j) for j in right if j not in paired_new]
+    changes = [_change("changed", old, i, new, j, names) for i, j in pairs]
+    changes += [_change("removed", old, i, None, None, names) for i in left if i not in paired_old]
+    changes += [_change("added", None, None, new, j, names) for j in right if j not in paired_new]
     changes.sort(key=lambda c: (c.new.line if c.new else c.old.line, c.kind))
-    return RulebookDiff(stages, old.name, old.sha256, new.name, new.sha256, tuple(changes))
+    return RulebookDiff(stages, names.get(old.sha256, old.name), old.sha256, names.get(new.sha256, new.name),
+                        new.sha256, tuple(changes))
 
 
 def _key(rule: Rule) -> tuple:
@@ -145,16 +150,17 @@ def _pairs(old: Rulebook, new: Rulebook, left: list[int], right: list[int]) -> l
     return out
 
 
-def _version(rb: Rulebook | None, index: int | None) -> RuleVersion | None:
+def _version(rb: Rulebook | None, index: int | None, names: dict[str, str]) -> RuleVersion | None:
     if rb is None or index is None:
         return None
     rule = rb.document.rules[index]
-    return RuleVersion(rb.name, rb.sha256, index, rule.line, rule.text)
+    return RuleVersion(names.get(rb.sha256, rb.name), rb.sha256, index, rule.line, rule.text)
 
 
-def _change(kind: str, old: Rulebook | None, i: int | None, new: Rulebook | None, j: int | None) -> RuleChange:
+def _change(kind: str, old: Rulebook | None, i: int | None, new: Rulebook | None, j: int | None,
+            names: dict[str, str]) -> RuleChange:
     rule = (old or new).document.rules[i if old is not None else j]
-    return RuleChange(kind, rule.label, rule.head.functor, _version(old, i), _version(new, j))
+    return RuleChange(kind, rule.label, rule.head.functor, _version(old, i, names), _version(new, j, names))
 
 
 def _one_line(text: str) -> str:

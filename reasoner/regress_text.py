@@ -2,6 +2,7 @@
 what changed and why, then the tally. Lines only; the command escapes them for the terminal."""
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Iterator
 
 from .regress import CaseResult, Change, Regression
@@ -36,7 +37,14 @@ def rule_change_report(result: Regression) -> Iterator[str]:
             continue
         yield (f"Rule changes, {diff.old_name} -> {diff.new_name} (stage {', '.join(diff.stages)}): "
                f"{len(diff.changes)} rule(s)")
-        for change in diff.changes:
+        shown = diff.changes
+        if Path(diff.old_name).name != Path(diff.new_name).name:
+            # another rulebook answers the stage now (stages.py): every rule one has and the other
+            # lacks differs; only those that changed something are worth reading here (--json has all)
+            shown = tuple(c for c in diff.changes if result.flipped_by(c))
+            yield (f"  the stage is now answered by another rulebook; {len(diff.changes) - len(shown)} differing "
+                   "rule(s) that changed nothing are left out (--json lists them)")
+        for change in shown:
             yield from _rule(change, result)
     if result.diffs and not any(d.changes for d in result.diffs):
         yield "Rule changes: none (the rulebooks differ only outside their rules: templates, scenarios, queries)"
