@@ -24,8 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterator, Sequence
 
-from store import NoSuchRun, Store
-from store.transfer import TransferError, import_file
+from store import NoSuchRun, Store, TransferError, import_file
 
 from .bundled import CURRENT_SET, RULES_DIR
 from .engine import Engine, get_engine
