@@ -186,7 +186,8 @@ class Regressor:
         self.before = Investigation(store, engine, rules=base)
         self.after = Investigation(store, engine, rules=[*new.paths, *base])
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
-        given = [*zip(new.books, new.paths), *(zip(old.books, old.paths) if old else [])]
+        given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
+                 if path not in side.unused]
         self._names = {rb.sha256: path for rb, path in reversed(given)}     # the first path of each text
         self._stages: dict[tuple[str, str], set[str]] = {}
 

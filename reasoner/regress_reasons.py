@@ -56,7 +56,7 @@ def attribute(diffs: Iterable[RulebookDiff], used: Used) -> tuple[RuleChange, ..
             if not marks:
                 continue
             (held if any(marks) else tried).append(change)
-    return tuple(held or tried)
+    return tuple(dict.fromkeys(held or tried))
 
 
 def _keys(change: RuleChange) -> list[tuple[str, int]]:
@@ -66,7 +66,7 @@ def _keys(change: RuleChange) -> list[tuple[str, int]]:
 def reasons(changes: tuple[RuleChange, ...], diffs: Iterable[RulebookDiff]) -> tuple[str, ...]:
     """The reasons in words; when no changed rule is in either proof, say which rulebooks differ."""
     if changes:
-        return tuple(c.sentence() for c in changes)
+        return tuple(dict.fromkeys(c.sentence() for c in changes))
     differing = [d for d in diffs if d.changes]
     if not differing:
         return ("the rules are the same; the judgement differs in what the rulebooks were given",)

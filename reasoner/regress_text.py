@@ -42,6 +42,7 @@ def rule_change_report(result: Regression) -> Iterator[str]:
             # another rulebook answers the stage now (stages.py): every rule one has and the other
             # lacks differs; only those that changed something are worth reading here (--json has all)
             shown = tuple(c for c in diff.changes if result.flipped_by(c))
+        if len(shown) < len(diff.changes):
             yield (f"  the stage is now answered by another rulebook; {len(diff.changes) - len(shown)} differing "
                    "rule(s) that changed nothing are left out (--json lists them)")
         for change in shown:
