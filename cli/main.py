@@ -11,8 +11,8 @@ from typing import Optional
 
 import typer
 
-from cli import (demo, explain, fetch, incidents, keys, migrate, quarantine, report, rules, runs, scene, serve,
-                 sim, transfer, verify)
+from cli import (demo, explain, fetch, incidents, keys, migrate, quarantine, regress, report, rules, runs, scene,
+                 serve, sim, transfer, verify)
 from cli.app import new_app
 
 
@@ -28,6 +28,7 @@ def build() -> typer.Typer:
     app.command()(incidents.incidents)
     app.command()(explain.explain)
     app.command()(report.report)
+    app.command()(regress.regress)
     app.command()(verify.verify)
     app.command()(quarantine.quarantine)
     app.command("import")(transfer.import_)

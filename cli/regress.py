@@ -1,0 +1,65 @@
+"""`gaps regress`: judge logged runs under new rulebooks and the baseline, and say what changed."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from cli.app import fail, open_existing, print_json
+from cli.options import DbOption, JsonOption
+from cli.safe_text import printable
+
+
+def regress(rules: Optional[list[Path]] = typer.Option(
+                None, "--rules", help="The new rulebook: a .le file or a directory of them (repeatable)."),
+            baseline: Optional[list[Path]] = typer.Option(
+                None, "--baseline", help="What to compare with: `in-force` (default: each run's own rulebooks, "
+                                         "else the project's) or OLD .le files or directories (repeatable)."),
+            run: Optional[list[str]] = typer.Option(None, "--run", help="A run to regress (repeatable)."),
+            all_runs: bool = typer.Option(False, "--all", help="Regress every run of the store."),
+            db: Optional[Path] = DbOption, json_out: bool = JsonOption,
+            junit: Optional[Path] = typer.Option(None, "--junit", help="Also write JUnit XML here, a testcase per "
+                                                                        "incident and decision."),
+            golden: Optional[Path] = typer.Option(None, "--golden", help="Compare the golden runs of this file "
+                                                                          "with their approved verdicts."),
+            update_golden: bool = typer.Option(False, "--update-golden", help="Approve the judgement: write it "
+                                                                              "into the --golden file.")
+            ) -> None:
+    """Re-judge logged runs under new rulebooks and show what changed, and why.
+
+    Every incident and recorded vehicle decision of the runs is judged under the baseline and
+    under --rules: verdicts flipped, incidents new or gone, penalties or liability changed,
+    decisions the new rules forbid or allow, each with the changed rules its proofs used; with
+    --baseline OLD the rule change report comes first. Exit 0 when nothing changed, 1 when
+    something did, 2 on a mistake (a file no stage uses, an unknown run, LE that does not parse).
+    """
+    from reasoner.regress import regress as run_regression
+    from reasoner.regress_golden import check_golden
+    from reasoner.regress_junit import junit_xml
+    from reasoner.regress_text import lines
+
+    rule_args = [str(p) for p in rules or []]
+    if golden is not None:
+        result = check_golden(golden, lambda: open_existing(db), rule_args, run or [], update_golden)
+    else:
+        if update_golden:
+            fail("--update-golden needs --golden FILE")
+        if not rule_args:
+            fail("name the new rulebook with --rules FILE.le (or a directory)")
+        if bool(run) == all_runs:
+            fail("name the runs with --run R (repeatable) or --all")
+        base = [str(p) for p in baseline or []]
+        with open_existing(db) as store:
+            result = run_regression(store, rule_args, None if base in ([], ["in-force"]) else base,
+                                    None if all_runs else run)
+    if junit is not None:
+        junit.write_bytes(junit_xml(result))
+    if json_out:
+        print_json(result.to_json())
+    else:
+        for line in lines(result):
+            typer.echo(printable(line))
+        if update_golden:
+            typer.echo(printable(f"Approved: {golden} now holds this judgement."))
+    raise typer.Exit(1 if result.changed and not update_golden else 0)

@@ -1,0 +1,338 @@
+"""Regression of a new rulebook over logged runs: which verdicts and decisions it changes, and why.
+
+    with Store.open_read_only("gaps.db") as store:
+        result = regress(store, rules=["new/validators.le"], runs=["demo-sumo"])
+        for case, change in result.changes:
+            print(case.id, change.kind, change.before, "->", change.after, change.reasons)
+
+Each chosen run is judged twice by the investigation (investigation.py), once with the baseline
+(the rulebooks in force: the run's own, else the project's current ones; or the OLD files given)
+and once with the new rulebooks in front of it (a stage they define is answered by them, the
+others as in the baseline). The incidents are matched (regress_match.py) and compared: a verdict
+flipped, an incident new or gone, the rule it falls under, and, where the verdict stayed, the
+penalty or who is liable. Every recorded vehicle.decision is asked again under both vehicle-stage
+rulebooks (regress_decisions.py). Each change carries the changed rules its two proofs went
+through (regress_reasons.py), from the rule-by-rule diff of the two rulebooks of each stage
+(regress_diff.py), which is also the rule change report.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, Sequence
+
+from store import NoSuchRun, Store
+
+from .engine import Engine, Rulebook, get_engine
+from .facts import FactReader
+from .investigation import Investigation
+from .le.sentences import constant
+from .le.terms import Cond, Var
+from .model import Incident
+from .regress_books import GivenBooks, RegressError, load_given
+from .regress_decisions import RecordedDecision, ask, recorded_decisions, vehicle_choice
+from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
+from .regress_match import match
+from .regress_reasons import Trees, attribute, reasons, used_rules
+from .stages import RuleSet
+from .vocabulary import INCURS_FIXED_PENALTY, PUNISHABLY_VIOLATES, STAGES
+
+Progress = Callable[[str, int, int], None]          # (run, done, total runs)
+IN_FORCE = "in-force"
+# The stages whose rules can explain each kind of change (the others' rules are not in its proofs).
+EXPLAINED_BY = {"new": ("monitor", "validator"), "gone": ("monitor", "validator"),
+                "verdict": ("monitor", "validator"), "rule": ("monitor", "validator"),
+                "penalty": ("penalties",), "liability": ("liability",), "decision": ("vehicle",)}
+Diffs = dict[str, RulebookDiff]                      # stage -> the diff of its two rulebooks
+
+
+@dataclass(frozen=True)
+class Change:
+    """One thing that differs between the two judgements of a case, and why."""
+
+    kind: str                            # new, gone, verdict, rule, penalty, liability, decision
+    before: str | None
+    after: str | None
+    reasons: tuple[str, ...]
+    rules: tuple[RuleChange, ...] = ()   # the changed rules it is attributed to
+
+    def to_json(self) -> dict[str, Any]:
+        return {"kind": self.kind, "before": self.before, "after": self.after, "reasons": list(self.reasons),
+                "rules": [r.key for r in self.rules]}
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    """One incident or recorded decision, judged under both rulebooks."""
+
+    run: str
+    case: str                            # "incident" or "decision"
+    id: str                              # the incident's id (the baseline's where both) or the decision's src:seq
+    vehicle: str
+    action: str
+    t: int
+    before: str | None                   # the judgement in a line; None: the incident is not there
+    after: str | None
+    changes: tuple[Change, ...] = ()
+
+    @property
+    def changed(self) -> bool:
+        return bool(self.changes)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"case": self.case, "id": self.id, "run": self.run, "vehicle": self.vehicle, "action": self.action,
+                "t": self.t, "before": self.before, "after": self.after,
+                "changes": [c.to_json() for c in self.changes]}
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """A run's incidents and decisions under both judgements, and the rulebooks each stage used."""
+
+    run: str
+    incidents: tuple[CaseResult, ...]
+    decisions: tuple[CaseResult, ...]
+    baseline: dict[str, dict]            # stage -> {name, sha256, source}
+    new: dict[str, dict]
+    problems: tuple[str, ...] = ()
+
+    def changed(self) -> list[CaseResult]:
+        return [c for c in (*self.incidents, *self.decisions) if c.changed]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"run": self.run, "rulebooks": {"baseline": self.baseline, "new": self.new},
+                "incidents": [c.to_json() for c in self.incidents],
+                "decisions": {"checked": len(self.decisions),
+                              "changed": [c.to_json() for c in self.decisions if c.changed]},
+                **({"problems": list(self.problems)} if self.problems else {})}
+
+
+@dataclass(frozen=True)
+class Regression:
+    """Everything `gaps regress` reports."""
+
+    rules: tuple[str, ...]
+    baseline: tuple[str, ...] | str      # IN_FORCE, or the OLD files
+    runs: tuple[RunResult, ...]
+    diffs: tuple[RulebookDiff, ...]
+    unused: tuple[str, ...] = ()
+
+    @property
+    def changes(self) -> list[tuple[CaseResult, Change]]:
+        return [(case, change) for run in self.runs for case in run.changed() for change in case.changes]
+
+    @property
+    def changed(self) -> bool:
+        return any(run.changed() for run in self.runs)
+
+    def flipped_by(self, rule: RuleChange) -> list[tuple[CaseResult, Change]]:
+        """The changes attributed to one changed rule (the rule change report's right column)."""
+        return [(case, change) for case, change in self.changes if rule in change.rules]
+
+    def counts(self) -> dict[str, int]:
+        out: dict[str, int] = {"runs": len(self.runs), "incidents": sum(len(r.incidents) for r in self.runs),
+                               "decisions": sum(len(r.decisions) for r in self.runs)}
+        for _, change in self.changes:
+            out[change.kind] = out.get(change.kind, 0) + 1
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return {"changed": self.changed, "rules": list(self.rules),
+                "baseline": self.baseline if isinstance(self.baseline, str) else list(self.baseline),
+                "unused": list(self.unused), "counts": self.counts(),
+                "rule_changes": [{**d.to_json(), "changes": [
+                    {**c.to_json(), "flipped": [f"{case.run} {case.id} {ch.kind}" for case, ch in self.flipped_by(c)]}
+                    for c in d.changes]} for d in self.diffs],
+                "runs": [r.to_json() for r in self.runs]}
+
+
+def regress(store: Store, rules: Sequence[str], baseline: Sequence[str] | None = None,
+            runs: Sequence[str] | None = None, *, engine: Engine | None = None,
+            progress: Progress | None = None) -> Regression:
+    """Judge the runs (None: every run) under the baseline and under `rules`, and compare."""
+    engine = engine or get_engine()
+    new = load_given(engine, rules, "--rules")
+    old = load_given(engine, baseline, "--baseline") if baseline else None
+    chosen = _runs(store, runs)
+    regressor = Regressor(store, engine, new, old)
+    results = []
+    for n, run in enumerate(chosen):
+        results.append(regressor.run(run))
+        if progress is not None:
+            progress(run, n + 1, len(chosen))
+    return Regression(new.paths, old.paths if old else IN_FORCE, tuple(results), regressor.diffs(), new.unused)
+
+
+def _runs(store: Store, runs: Sequence[str] | None) -> list[str]:
+    known = [r.run for r in store.runs()]
+    if runs is None:
+        if not known:
+            raise RegressError("the store holds no run to regress")
+        return known
+    for run in runs:
+        if run not in known:
+            raise NoSuchRun(run, known)
+    return list(dict.fromkeys(runs))
+
+
+class Regressor:
+    """Two investigations of one store, the baseline's and the new rulebooks', and the diffs of
+    the rulebooks they used, computed once per pair."""
+
+    def __init__(self, store: Store, engine: Engine, new: GivenBooks, old: GivenBooks | None) -> None:
+        self.engine = engine
+        self.store = store
+        self.reader = FactReader()
+        base = list(old.paths) if old else []
+        self.before = Investigation(store, engine, rules=base)
+        self.after = Investigation(store, engine, rules=[*new.paths, *base])
+        self._diffs: dict[tuple[str, str], RulebookDiff] = {}
+        given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
+                 if path not in side.unused]
+        self._names = {rb.sha256: path for rb, path in reversed(given)}     # the first path of each text
+        self._stages: dict[tuple[str, str], set[str]] = {}
+
+    def diffs(self) -> tuple[RulebookDiff, ...]:
+        """Every pair of rulebooks compared, with the stages each answered."""
+        return tuple(RulebookDiff(tuple(sorted(self._stages[k])), d.old_name, d.old_sha256, d.new_name,
+                                  d.new_sha256, d.changes) for k, d in self._diffs.items())
+
+    def run(self, run: str) -> RunResult:
+        base, new = self.before.incidents(run), self.after.incidents(run)
+        rs_b, rs_n = self.before.ruleset(run), self.after.ruleset(run)
+        diffs = self._stage_diffs(rs_b, rs_n)
+        incidents = tuple(self._incident(run, b, n, diffs) for b, n in match(base, new))
+        decisions = tuple(self._decision(d, rs_b, rs_n) for d in recorded_decisions(self.store, run))
+        problems = tuple(dict.fromkeys([*self.before.problems.get(run, []), *self.after.problems.get(run, [])]))
+        return RunResult(run, incidents, decisions, rs_b.describe(), rs_n.describe(), problems)
+
+    # -- the rulebooks ---------------------------------------------------------------------
+    def _diff(self, old: Rulebook, new: Rulebook, stage: str) -> RulebookDiff:
+        key = (old.sha256, new.sha256)
+        if key not in self._diffs:
+            self._diffs[key] = diff_rulebooks(old, new, names=self._names)
+        self._stages.setdefault(key, set()).add(stage)
+        return self._diffs[key]
+
+    def _stage_diffs(self, rs_b: RuleSet, rs_n: RuleSet) -> Diffs:
+        out = {}
+        for stage in STAGES:
+            b, n = rs_b[stage], rs_n[stage]
+            if b is not None and n is not None and b.rulebook.sha256 != n.rulebook.sha256:
+                out[stage] = self._diff(b.rulebook, n.rulebook, stage)
+        return out
+
+    # -- incidents -------------------------------------------------------------------------
+    def _incident(self, run: str, b: Incident | None, n: Incident | None, diffs: Diffs) -> CaseResult:
+        one = b or n
+        case = CaseResult(run, "incident", one.id, one.vehicle, one.action, one.t, _summary(b), _summary(n))
+        return _with(case, self._incident_changes(b, n, diffs))
+
+    def _incident_changes(self, b: Incident | None, n: Incident | None, diffs: Diffs) -> list[Change]:
+        if b is None or n is None:
+            kind = "new" if b is None else "gone"
+            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, n), diffs)]
+        if b.verdict != n.verdict:
+            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, n), diffs)]
+        out = []
+        if b.rule != n.rule:
+            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, n), diffs))
+        if _penalty(b) != _penalty(n):
+            out.append(self._because("penalty", _penalty_text(b), _penalty_text(n),
+                                     [*self._penalty_trees(b, self.before), *self._penalty_trees(n, self.after)],
+                                     diffs))
+        if _liability(b) != _liability(n):
+            out.append(self._because("liability", _liability_text(b), _liability_text(n),
+                                     [*_liability_trees(b), *_liability_trees(n)], diffs))
+        return out
+
+    def _because(self, kind: str, before: str | None, after: str | None, trees: Iterable[Trees],
+                 diffs: Diffs) -> Change:
+        """The change, attributed to the changed rules of the stages that explain its kind."""
+        relevant = [diffs[stage] for stage in EXPLAINED_BY[kind] if stage in diffs]
+        rules = attribute(relevant, used_rules(trees))
+        return Change(kind, before, after, reasons(rules, relevant), rules)
+
+    def _penalty_trees(self, inc: Incident, inv: Investigation) -> list[Trees]:
+        """The penalties stage's proof of the incident's penalty, asked again (the incident keeps
+        the penalty, not its proof)."""
+        choice = inc.rulebooks.get("penalties")
+        rb = inv.rulebook(choice.sha256) if choice else None
+        if rb is None or inc.verdict != "punishable":
+            return []
+        me = constant([inc.vehicle])
+        facts = self.reader.known(rb, [s for s, _ in inc.scenarios.validator if isinstance(s, str)])
+        facts.append(PUNISHABLY_VIOLATES.atom(me, constant(inc.action.split())))
+        asked = self.engine.answers(rb, [Cond(atom=INCURS_FIXED_PENALTY.atom(me, Var("amount"), Var("points"),
+                                                                             Var("offence")))], facts, explain=True)
+        trees = [t for proof in asked.proofs for t in proof] or list(asked.why_not or [])
+        return [Trees(rb.sha256, tuple(trees))]
+
+    # -- decisions -------------------------------------------------------------------------
+    def _decision(self, d: RecordedDecision, rs_b: RuleSet, rs_n: RuleSet) -> CaseResult:
+        cb, cn = vehicle_choice(rs_b, d), vehicle_choice(rs_n, d)
+        before = ask(self.engine, self.reader, cb, d)
+        same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
+        after = before if same else ask(self.engine, self.reader, cn, d)
+        case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
+                          _answer(after.permitted))
+        if before.permitted == after.permitted:
+            return case
+        proofs = [ask(self.engine, self.reader, c, d, proofs=True).proof for c in (cb, cn)]
+        diffs = {"vehicle": self._diff(cb.rulebook, cn.rulebook, "vehicle")} if cb and cn else {}
+        change = self._because("decision", case.before, case.after, [p for p in proofs if p is not None], diffs)
+        return _with(case, [change])
+
+
+def _with(case: CaseResult, changes: list[Change]) -> CaseResult:
+    return CaseResult(case.run, case.case, case.id, case.vehicle, case.action, case.t, case.before, case.after,
+                      tuple(changes))
+
+
+def _answer(permitted: bool | None) -> str:
+    return {True: "permitted", False: "forbidden"}.get(permitted, "not answerable")
+
+
+def _verdict_trees(*incs: Incident | None) -> list[Trees]:
+    """The monitor stage's and the validator's proofs of the incidents."""
+    out = []
+    for inc in incs:
+        if inc is None:
+            continue
+        out.append(Trees(inc.proofs.potential_violation.rulebook, tuple(inc.proofs.potential_violation.trees)))
+        if inc.proofs.verdict is not None:
+            out.append(Trees(inc.proofs.verdict.rulebook, tuple(inc.proofs.verdict.trees)))
+    return out
+
+
+def _liability_trees(inc: Incident) -> list[Trees]:
+    return [Trees(inc.liability.rulebook, tuple(inc.liability.trees))] if inc.liability else []
+
+
+def _penalty(inc: Incident) -> tuple | None:
+    p = inc.penalty
+    return None if p is None else (p.offence, p.fine_gbp, p.points, p.fine_gbp_by_law, p.points_by_law,
+                                   p.regulatory_sanctions)
+
+
+def _penalty_text(inc: Incident | None) -> str:
+    p = inc.penalty if inc else None
+    if p is None:
+        return "no penalty"
+    fine = "no fixed penalty" if p.fine_gbp is None else f"£{p.fine_gbp}"
+    return f"{fine} + {p.points} points ({p.offence})"
+
+
+def _liability(inc: Incident) -> tuple:
+    return inc.liable, inc.liability.parties if inc.liability else ()
+
+
+def _liability_text(inc: Incident) -> str:
+    parties = ", ".join(inc.liability.parties) if inc.liability else ""
+    return f"liable: {inc.liable}" + (f" (parties: {parties})" if parties and parties != inc.liable else "")
+
+
+def _summary(inc: Incident | None) -> str | None:
+    """An incident's judgement in a line: verdict, rule, penalty, who is liable."""
+    if inc is None:
+        return None
+    return f"{inc.verdict} {inc.rule or '(no rule)'}, {_penalty_text(inc)}, liable: {inc.liable}"
