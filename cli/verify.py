@@ -91,12 +91,14 @@ def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
     for r in report.runs:
         typer.echo(f"{printable(r['run'])}: {r['events']} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
                    f"head {r['head']}")
-    if report.problem:
+    if report.problem and report.problem["run"] is None:  # the file or a rulebook, not an event
+        typer.echo(f"FAILED: {printable(report.problem['what'])}")
+    elif report.problem:
         p = report.problem
         typer.echo(f"FAILED at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
                    f"(chain position {p['chain_pos']}): {printable(p['what'])}")
     else:
-        typer.echo("verified: every chain and checkpoint matches")
+        typer.echo("verified: every chain and checkpoint matches, and the file passes SQLite's integrity check")
     for name, positions in wrong.items():
         if positions:
             t, seq, src = positions[0]

@@ -20,10 +20,12 @@ from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
+from .integrity import integrity_problems
 from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
 from .errors import StoreError
 from .outcomes import AppendReport, VerifyReport
+from .reading import one_snapshot
 from .run_summary import RunSummary
 from .signature_tally import SignatureTally
 from .verify import Progress, verify_store
@@ -78,6 +80,7 @@ class Store:
         self._heads = Heads(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
+        self._integrity: tuple[tuple[int, int], list[str]] | None = None  # (file state, problems)
         self.cache = Cache(self.path)
 
     @classmethod
@@ -373,16 +376,28 @@ class Store:
         events are counted, and with `keys` (a TrustedKeys) their signatures checked
         (report.signatures)."""
         with self._reading():
-            report = verify_store(self._conn, run, progress, keys)
+            report = verify_store(self._conn, run, progress, keys, self._integrity_once)
             keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
+        if report.integrity and not report.integrity["ok"]:
+            return report  # no run of a damaged file is recorded as verified
         for summary in report.runs:
             name = summary["run"]
             problem = report.problem if report.problem and report.problem.get("run") == name else None
             if keys[name][0] and (summary["ok"] or problem is not None):
                 counted = SignatureTally.counted(summary["signed"], summary["unsigned"])
                 verify_cache.record(self.cache.connection, name, keys[name],
-                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted))
+                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted,
+                                                 integrity=report.integrity))
         return report
+
+    def _integrity_once(self, conn: sqlite3.Connection) -> list[str]:
+        """SQLite's integrity check of the file (store/integrity.py), run once per state of the
+        file this connection sees: an investigation that verifies run after run checks a whole
+        file once. Another connection's commit changes data_version, this one's total_changes."""
+        version = (self._read_data_version(), conn.total_changes)
+        if self._integrity is None or self._integrity[0] != version:
+            self._integrity = (version, integrity_problems(conn))
+        return self._integrity[1]
 
     def verified(self, run: str, progress: Progress | None = None) -> VerifyReport:
         """The run's chain recomputed, once per chain head: the result kept in the cache file if
@@ -397,15 +412,9 @@ class Store:
 
     @contextmanager
     def _reading(self) -> Iterator[None]:
-        """One read transaction, so that what is read together agrees."""
-        if self._conn.in_transaction:
+        """One read transaction, so that what is read together agrees (store/reading.py)."""
+        with one_snapshot(self._conn):
             yield
-            return
-        self._conn.execute("BEGIN")
-        try:
-            yield
-        finally:
-            self._conn.execute("COMMIT")
 
     # --- rulebooks -----------------------------------------------------------------------------
 

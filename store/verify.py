@@ -19,19 +19,33 @@ from typing import Any, Callable
 from . import merkle
 from .canonical import canonical_json
 from .chain import GENESIS, link
+from .integrity import integrity_problem, integrity_problems
 from .outcomes import VerifyReport
+from .reading import one_snapshot
 from .signature_tally import SignatureTally
 
 _COLUMNS = ("run", "src", "seq", "t", "kind")
 _PROGRESS_EVERY = 1 << 14  # events between two progress calls
 
 Progress = Callable[[int, int], None]  # (events checked so far, events to check)
+IntegrityCheck = Callable[[sqlite3.Connection], list[str]]  # the file's integrity problems ([] if none)
 
 
 def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Progress | None = None,
-                 keys: Any = None) -> VerifyReport:
-    """Check one run, or every run and every rulebook; count the signed events, and with `keys`
-    (store.TrustedKeys) check each signature against the keys trusted for its source."""
+                 keys: Any = None, integrity: IntegrityCheck = integrity_problems) -> VerifyReport:
+    """Check one run, or every run and every rulebook, and the file's own integrity (SQLite's
+    check: store/integrity.py); count the signed events, and with `keys` (store.TrustedKeys)
+    check each signature against the keys trusted for its source.
+
+    Everything is read in one read transaction: a store being appended to is verified as it was
+    at one moment, never as checkpoints from before a commit beside events from after it."""
+    with one_snapshot(conn):
+        return _verify(conn, run, progress, keys, integrity)
+
+
+def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None, keys: Any,
+            integrity: IntegrityCheck) -> VerifyReport:
+    messages = integrity(conn)
     names = [run] if run is not None else _all_runs(conn)
     ticker = _Ticker(progress, _event_total(conn, run) if progress else 0)
     legacy = _legacy_through(conn)
@@ -43,9 +57,11 @@ def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Pro
         problems.append(problem)
     if run is None:
         problems.append(_verify_rulebooks(conn))
+    problems.append(integrity_problem(messages))
     ticker.done()
     first = next((problem for problem in problems if problem is not None), None)
-    return VerifyReport(ok=first is None, runs=summaries, problem=first, signatures=tally.to_json())
+    return VerifyReport(ok=first is None, runs=summaries, problem=first, signatures=tally.to_json(),
+                        integrity={"ok": not messages, "messages": messages})
 
 
 def _all_runs(conn: sqlite3.Connection) -> list[str]:

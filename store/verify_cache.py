@@ -38,7 +38,7 @@ def recorded(cache: sqlite3.Connection, run: str, key: ChainKey) -> VerifyReport
     try:
         data = json.loads(row[0])
         return VerifyReport(ok=bool(data["ok"]), runs=list(data["runs"]), problem=data["problem"],
-                            signatures=data.get("signatures"))
+                            signatures=data.get("signatures"), integrity=data.get("integrity"))
     except (ValueError, KeyError, TypeError):
         return None  # damaged: recompute
 
