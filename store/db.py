@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import fastjson, history, liveliness, opening, queries, rulebooks, verify_cache
+from . import fastjson, history, index_guard, liveliness, opening, queries, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -207,7 +207,9 @@ class Store:
         t_from: int | None = None,
         t_to: int | None = None,
     ) -> Iterator[dict]:
-        """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive."""
+        """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive.
+        Sparse kinds are read through the covering index by kind, each entry checked against its
+        chained row: IndexDisagrees (exit 1) at the first that is not (store/index_guard.py)."""
         wanted = None if kinds is None else sorted(set(queries.collection("kinds", kinds)))
         if wanted is not None and len(wanted) > 1 and not set(wanted) & set(DENSE_KINDS):
             # one index range per kind, merged: cheaper than the whole run's time index
@@ -215,7 +217,7 @@ class Store:
             rows: Iterator[tuple] = heapq.merge(*streams)
         else:
             rows = self._rows(run, wanted, srcs, t_from, t_to)
-        return _parsed(rows)
+        return _parsed(index_guard.checked(rows, run))
 
     def _rows(self, run: str, kinds, srcs, t_from, t_to) -> Iterator[tuple]:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
@@ -255,10 +257,11 @@ class Store:
         """The monitor.observation events about one vehicle (body.vehicle, compared as text),
         from the monitors `srcs` (default: all), with t in [t_from, t_to], in (t, seq, src)
         order: what monitors measured of a vehicle that records nothing itself. Read through
-        the covering index by kind; the vehicle is matched inside SQLite, so observations of
-        other vehicles are never parsed."""
+        the covering index by kind, each entry checked against its chained row (IndexDisagrees);
+        the vehicle is matched inside SQLite, so observations of other vehicles are never parsed."""
         with self._reading():
-            rows = list(queries.observation_rows(self._conn, run, str(vehicle), srcs, t_from, t_to))
+            rows = list(index_guard.checked(queries.observation_rows(self._conn, run, str(vehicle), srcs,
+                                                                      t_from, t_to), run))
         return fastjson.loads_all([row[3] for row in rows])
 
     def history(self, run: str, wanted: history.HistoryFilter = history.HistoryFilter(), *,
