@@ -14,9 +14,10 @@ is read for it: SQLite's integrity check in `gaps verify` finds that (store/inte
 """
 from __future__ import annotations
 
+import sqlite3
 from typing import Any, Iterable, Iterator
 
-from .errors import IndexDisagrees
+from .errors import EvidenceError, IndexDisagrees
 
 # 1 when the index entry being read agrees with the table row it points at, 0 when a column
 # differs, NULL when it points at no row. Written for a query `FROM events` (not aliased).
@@ -26,11 +27,18 @@ AGREES = ("(SELECT x.run = events.run AND x.kind = events.kind AND x.t = events.
 
 def checked(rows: Iterable[tuple], run: str, src_at: int = 2, seq_at: int = 1) -> Iterator[tuple]:
     """The rows without their last column (AGREES), each one checked; IndexDisagrees at the first
-    entry that is not its table row."""
-    for row in rows:
-        if row[-1] != 1:
-            raise disagreement(run, row[src_at], row[seq_at])
-        yield row[:-1]
+    entry that is not its table row, EvidenceError at text that is not UTF-8 (sqlite3 cannot
+    return it)."""
+    try:
+        for row in rows:
+            if row[-1] != 1:
+                raise disagreement(run, row[src_at], row[seq_at])
+            yield row[:-1]
+    except sqlite3.OperationalError as exc:
+        if "decode" not in str(exc):
+            raise
+        raise EvidenceError(f"run {run}: a stored event's text is not valid UTF-8, which no append writes: "
+                            "the file was altered behind the store's back; `gaps verify` names the event") from None
 
 
 def disagreement(run: str, src: Any, seq: Any) -> IndexDisagrees:

@@ -13,8 +13,9 @@ from __future__ import annotations
 import hashlib
 import json
 import sqlite3
+from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from . import merkle
 from .canonical import canonical_json
@@ -39,8 +40,31 @@ def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Pro
 
     Everything is read in one read transaction: a store being appended to is verified as it was
     at one moment, never as checkpoints from before a commit beside events from after it."""
-    with one_snapshot(conn):
+    with one_snapshot(conn), _tolerant_text(conn):
         return _verify(conn, run, progress, keys, integrity)
+
+
+class NotUtf8(bytes):
+    """A TEXT value whose bytes are not UTF-8: sqlite3 would raise on it and end the verify with a
+    traceback; verify names the event instead (issue 15, finding 6)."""
+
+
+def _decoded(data: bytes) -> str | NotUtf8:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return NotUtf8(data)
+
+
+@contextmanager
+def _tolerant_text(conn: sqlite3.Connection) -> Iterator[None]:
+    """Read TEXT values that are not UTF-8 as NotUtf8 for the duration of the verify."""
+    before = conn.text_factory
+    conn.text_factory = _decoded
+    try:
+        yield
+    finally:
+        conn.text_factory = before
 
 
 def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None, keys: Any,
@@ -146,6 +170,8 @@ def _sequence_fault(modern: bool, count: Any, before: Any, root: Any, frontier: 
 def _verify_run(
     conn: sqlite3.Connection, run: str, legacy: int, ticker: _Ticker, tally: SignatureTally, *, required: bool
 ) -> tuple[dict, dict | None]:
+    if not isinstance(run, str) or isinstance(run, NotUtf8):
+        return _foreign_run(run)
     walk = _Walk(run, _checkpoints(conn, run, legacy), tally)
     rows = conn.execute(
         "SELECT chain_pos, src, seq, t, kind, event, hash FROM events WHERE run = ? ORDER BY chain_pos",
@@ -159,6 +185,16 @@ def _verify_run(
     summary = {"run": run, "events": walk.rows, "head": walk.head.hex() if ok else None, "ok": ok,
                "signed": walk.signed, "unsigned": walk.unsigned}
     return summary, walk.problem
+
+
+def _foreign_run(run: Any) -> tuple[dict, dict]:
+    """Rows under a run id that is not text (a blob, a number, bytes that are not UTF-8): no
+    append writes one, so they were put into the file behind the store's back."""
+    shown = _show(run)
+    what = (f"rows are recorded under a run id that is not text ({shown}): they were added to the file "
+            "behind the store's back")
+    summary = {"run": shown, "events": 0, "head": None, "ok": False, "signed": 0, "unsigned": 0}
+    return summary, _problem(shown, None, None, None, what)
 
 
 class _Walk:
@@ -225,6 +261,8 @@ class _Walk:
     def _check_event(self, row: tuple) -> str | None:
         """The first thing wrong with one stored event, or None; advances the chain if fine."""
         text, stored = row[5], row[6]
+        if isinstance(text, NotUtf8):
+            return "the stored event text is not valid UTF-8"
         if not isinstance(text, str):
             return f"the event column holds {type(text).__name__}, not text"
         data = text.encode("utf-8", "surrogatepass")
