@@ -11,7 +11,7 @@ import pytest
 
 from store import Store
 from tests.helpers.cli import gaps
-from tests.helpers.store_testkit import event, tamper
+from tests.helpers.store_testkit import event, rows, tamper
 
 BLOB_RUN = b"\x01\x02"
 
@@ -85,3 +85,16 @@ def test_import_into_a_store_of_a_newer_schema_is_refused(db, tmp_path):
     assert result.exit_code == 2
     assert "its store schema version 99 is newer than this gaps understands" in result.stderr
     assert db.read_bytes() == before  # refused before the writer switched it to WAL
+
+
+def test_incidents_on_a_forged_kind_index_entry_stop_with_a_message(db):
+    """Issue 15, finding 1: the potential violation's kind index entry rewritten (its row, and the
+    chain, intact); incidents must not judge the forgery, and say why (exit 1)."""
+    from tests.helpers.split_view import rowid_of, split
+    rowid = rowid_of(db, "r1", "monitor/m1", 0)
+    [(text,)] = rows(db, "SELECT event FROM events WHERE rowid = ?", (rowid,))
+    split(db, "events_by_kind", rowid, event=text.replace("enter the junction", "turn left"))
+    result = gaps("incidents", db=db)
+    assert result.exit_code == 1
+    assert result.stderr.startswith("gaps: event run=r1 src=monitor/m1 seq=0: the store's index by kind")
+    assert gaps("verify", db=db).exit_code == 1
