@@ -9,8 +9,12 @@ rowid, inside SQLite, and compares every column the index repeats: a row read is
 row the chain covers, or the read stops with IndexDisagrees naming the event.
 
 Measured (docs/guarantees.md): the row lookup roughly doubles the cost of the raw index read
-(a run's 39,715 observations: 0.30 s to 0.56-0.75 s, on a loaded machine). An entry removed from the index (an observation hidden) cannot be seen this way, since no row
-is read for it: SQLite's integrity check in `gaps verify` finds that (store/integrity.py).
+(a run's 39,715 observations: 0.30 s to 0.56-0.75 s, on a loaded machine), while all incidents of
+bench/incidents.py's quick run took no measurably longer (CPU median 7.52 s before, 6.75 s after,
+six interleaved runs each, spread 6.3-8.6 s: the some 0.3 s the run's observations should cost
+is below the noise). An entry removed from the index (an observation hidden) cannot be seen this
+way, since no row is read for it: SQLite's integrity check in `gaps verify` finds that
+(store/integrity.py).
 """
 from __future__ import annotations
 

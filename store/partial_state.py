@@ -33,7 +33,8 @@ _DENSE_LATEST = tuple(k for k in _LATEST if k in DENSE_KINDS)      # entity.stat
 _SPARSE_KINDS = tuple(sorted(k for k in ENTITY_KINDS if k not in DENSE_KINDS))
 _WINDOW = "FROM events WHERE run = ? AND src = ? AND seq >= ? AND seq <= ? AND t <= ?"
 # through the covering kind index: the few sparse events of all sources in the window, no row read
-_SPARSE_ROWS = (f"SELECT seq, t, kind, src, {AGREES} FROM events WHERE run = ? AND kind IN ({', '.join(repr(k) for k in _SPARSE_KINDS)})"
+_SPARSE_ROWS = (f"SELECT seq, t, kind, src, {AGREES} FROM events WHERE run = ? "
+                f"AND kind IN ({', '.join(repr(k) for k in _SPARSE_KINDS)})"
                 f" AND {SPARSE_ONLY} AND src = ? AND t >= ? AND t <= ?")
 _LATEST_ROWS = f"SELECT seq, t, kind {_WINDOW} AND kind = ? ORDER BY seq DESC LIMIT ?"
 _T_MIN = -(1 << 63)
