@@ -48,9 +48,10 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
         require_run(store, run)
         with stderr_progress("verifying") as progress:
             report = store.verify(run, progress, keys)
-        if with_snapshots:
-            wrong = _wrong_snapshots(store, [r["run"] for r in report.runs])
-            misplaced = _wrong_presence(store, [r["run"] for r in report.runs])
+        if with_snapshots:  # the runs whose chain holds: a broken one has already failed, and may not be readable
+            sound = [r["run"] for r in report.runs if r["ok"]]
+            wrong = _wrong_snapshots(store, sound)
+            misplaced = _wrong_presence(store, sound)
     signatures = report.signatures
     signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
     ok = report.ok and signed_ok and not any(wrong.values()) and not any(misplaced.values())

@@ -28,7 +28,7 @@ from .outcomes import AppendReport, VerifyReport
 from .reading import one_snapshot
 from .run_summary import RunSummary
 from .signature_tally import SignatureTally
-from .verify import Progress, verify_store
+from .verify import Progress, tolerant_text, verify_store
 
 _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
@@ -378,7 +378,7 @@ class Store:
         recomputes; each run's result is then kept in the cache file for `verified`. Signed
         events are counted, and with `keys` (a TrustedKeys) their signatures checked
         (report.signatures)."""
-        with self._reading():
+        with self._reading(), tolerant_text(self._conn):
             report = verify_store(self._conn, run, progress, keys, self._integrity_once)
             keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
         if report.integrity and not report.integrity["ok"]:

@@ -40,7 +40,7 @@ def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Pro
 
     Everything is read in one read transaction: a store being appended to is verified as it was
     at one moment, never as checkpoints from before a commit beside events from after it."""
-    with one_snapshot(conn), _tolerant_text(conn):
+    with one_snapshot(conn), tolerant_text(conn):
         return _verify(conn, run, progress, keys, integrity)
 
 
@@ -57,8 +57,9 @@ def _decoded(data: bytes) -> str | NotUtf8:
 
 
 @contextmanager
-def _tolerant_text(conn: sqlite3.Connection) -> Iterator[None]:
-    """Read TEXT values that are not UTF-8 as NotUtf8 for the duration of the verify."""
+def tolerant_text(conn: sqlite3.Connection) -> Iterator[None]:
+    """Read TEXT values that are not UTF-8 as NotUtf8 within the block (a verify, and what its
+    caller reads beside it)."""
     before = conn.text_factory
     conn.text_factory = _decoded
     try:
@@ -361,6 +362,9 @@ def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
 
 
 def _problem(run: str | None, src: Any, seq: Any, chain_pos: Any, what: str) -> dict[str, Any]:
+    """The report's account of a problem; a value no append writes (bytes, text that is not
+    UTF-8) is shown as its repr, so that the report stays plain JSON."""
+    src, seq, chain_pos = (_show(v) if isinstance(v, bytes) else v for v in (src, seq, chain_pos))
     return {"run": run, "src": src, "seq": seq, "chain_pos": chain_pos, "what": what}
 
 

@@ -98,3 +98,20 @@ def test_incidents_on_a_forged_kind_index_entry_stop_with_a_message(db):
     assert result.exit_code == 1
     assert result.stderr.startswith("gaps: event run=r1 src=monitor/m1 seq=0: the store's index by kind")
     assert gaps("verify", db=db).exit_code == 1
+
+
+def test_columns_that_are_not_utf8_are_named_by_verify_and_stop_the_other_commands(db):
+    """A src and a hash that are not UTF-8: verify names the first event; commands that read the
+    run's sources end in one message (exit 1) pointing at verify."""
+    tamper(db, ("UPDATE events SET src = CAST(? AS TEXT) WHERE seq = 2 AND kind = 'vehicle.perception'",
+                (b"vehicle/\xff",)),
+           ("UPDATE events SET hash = CAST(? AS TEXT) WHERE seq = 4 AND kind = 'vehicle.perception'", (b"\xff",)))
+    result = gaps("verify", db=db)
+    assert result.exit_code == 1
+    assert "FAILED at run r1 src b'vehicle/\\\\xff' seq 2 (chain position 2): column src is" in result.stdout
+    assert json.loads(gaps("verify", "--json", db=db).stdout)["ok"] is False
+    for command in ("runs", "incidents"):
+        other = gaps(command, db=db)
+        assert other.exit_code == 1
+        assert other.stderr.startswith("gaps: SQLite could not read the store: Could not decode to UTF-8")
+        assert "`gaps verify` says what and where" in other.stderr
