@@ -380,9 +380,9 @@ class Store:
         (report.signatures)."""
         with self._reading(), tolerant_text(self._conn):
             report = verify_store(self._conn, run, progress, keys, self._integrity_once)
+            if report.integrity and not report.integrity["ok"]:
+                return report  # no run of a damaged file is recorded as verified
             keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
-        if report.integrity and not report.integrity["ok"]:
-            return report  # no run of a damaged file is recorded as verified
         for summary in report.runs:
             name = summary["run"]
             problem = report.problem if report.problem and report.problem.get("run") == name else None

@@ -23,5 +23,17 @@ def one_snapshot(conn: sqlite3.Connection) -> Iterator[None]:
     try:
         yield
     finally:
+        _end(conn)
+
+
+def _end(conn: sqlite3.Connection) -> None:
+    """End the read transaction. Nothing was written in it, so a COMMIT that fails (SQLite
+    reporting a damaged page once more, on a damaged file) is a ROLLBACK, not a new error that
+    would hide what the block found or raised."""
+    if not conn.in_transaction:
+        return
+    try:
+        conn.execute("COMMIT")
+    except sqlite3.DatabaseError:
         if conn.in_transaction:
-            conn.execute("COMMIT")
+            conn.execute("ROLLBACK")

@@ -41,7 +41,16 @@ def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Pro
     Everything is read in one read transaction: a store being appended to is verified as it was
     at one moment, never as checkpoints from before a commit beside events from after it."""
     with one_snapshot(conn), tolerant_text(conn):
-        return _verify(conn, run, progress, keys, integrity)
+        try:
+            return _verify(conn, run, progress, keys, integrity)
+        except sqlite3.DatabaseError as exc:  # a page SQLite cannot read: the walk cannot go on
+            return _unreadable(exc, keys)
+
+
+def _unreadable(exc: sqlite3.DatabaseError, keys: Any) -> VerifyReport:
+    what = f"SQLite cannot read the store file: {exc}: it is damaged, and nothing in it can be vouched for"
+    return VerifyReport(ok=False, runs=[], problem=_problem(None, None, None, None, what),
+                        signatures=SignatureTally(keys).to_json(), integrity={"ok": False, "messages": [str(exc)]})
 
 
 class NotUtf8(bytes):
