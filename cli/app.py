@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import sqlite3
 from pathlib import Path
 from typing import Any, NoReturn, Optional
 
@@ -30,6 +31,12 @@ class GapsGroup(TyperGroup):
         except GapsError as exc:
             typer.echo(f"gaps: {_what(exc)}{exc}", err=True)
             raise typer.Exit(exc.exit_code) from None
+        except sqlite3.DatabaseError as exc:  # a damaged or hostile file, read past the store's own checks
+            typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
+            raise typer.Exit(1) from None
+
+
+_DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what and where"
 
 
 def _what(exc: GapsError) -> str:

@@ -25,12 +25,15 @@ def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
     """List the runs in the store with their events, sources, time span and chain status."""
     with open_existing(db) as store:
         rows = [_run_row(r) for r in store.runs()]
-        status: dict[str, bool] = {}
+        status: dict[str, str] = {}
         if check:
             with stderr_progress("verifying") as progress:
-                status = {r["run"]: r["ok"] for r in store.verify(progress=progress).runs}
+                report = store.verify(progress=progress)
+            damaged = report.integrity is not None and not report.integrity["ok"]
+            status = {r["run"]: "broken" if not r["ok"] else "file damaged" if damaged else "verified"
+                      for r in report.runs}
         for row in rows:
-            row["chain"] = ("verified" if status[row["run"]] else "broken") if check else "not checked"
+            row["chain"] = status.get(row["run"], "broken") if check else "not checked"
         missing = store.gaps() if gaps else None
         misses = store.wire_misses() if gaps else []
         lives = [life for r in rows for life in store.lives(r["run"])] if live else []

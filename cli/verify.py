@@ -48,9 +48,10 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
         require_run(store, run)
         with stderr_progress("verifying") as progress:
             report = store.verify(run, progress, keys)
-        if with_snapshots:
-            wrong = _wrong_snapshots(store, [r["run"] for r in report.runs])
-            misplaced = _wrong_presence(store, [r["run"] for r in report.runs])
+        if with_snapshots:  # the runs whose chain holds: a broken one has already failed, and may not be readable
+            sound = [r["run"] for r in report.runs if r["ok"]]
+            wrong = _wrong_snapshots(store, sound)
+            misplaced = _wrong_presence(store, sound)
     signatures = report.signatures
     signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
     ok = report.ok and signed_ok and not any(wrong.values()) and not any(misplaced.values())
@@ -91,12 +92,14 @@ def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
     for r in report.runs:
         typer.echo(f"{printable(r['run'])}: {r['events']} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
                    f"head {r['head']}")
-    if report.problem:
+    if report.problem and report.problem["run"] is None:  # the file or a rulebook, not an event
+        typer.echo(f"FAILED: {printable(report.problem['what'])}")
+    elif report.problem:
         p = report.problem
         typer.echo(f"FAILED at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
                    f"(chain position {p['chain_pos']}): {printable(p['what'])}")
     else:
-        typer.echo("verified: every chain and checkpoint matches")
+        typer.echo("verified: every chain and checkpoint matches, and the file passes SQLite's integrity check")
     for name, positions in wrong.items():
         if positions:
             t, seq, src = positions[0]

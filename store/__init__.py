@@ -7,7 +7,7 @@ store's own layout. docs/store.md describes it.
 
 from .canonical import canonical_json
 from .db import Store
-from .errors import GapsError, NoSuchRun, StoreError
+from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
 from .refs import EventRef
 from .envelope import (
     MAX_EVENT_BYTES,
@@ -90,6 +90,7 @@ __all__ = [
     "EventError",
     "EventRef",
     "ExportReport",
+    "EvidenceError",
     "GapsError",
     "HistoryFilter",
     "HistoryRow",
@@ -104,6 +105,7 @@ __all__ = [
     "TrustedKeys",
     "MAX_EVENT_BYTES",
     "MigrateReport",
+    "IndexDisagrees",
     "NoSuchRun",
     "OBSERVATION_WINDOW_S",
     "ORDERS",

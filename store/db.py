@@ -15,18 +15,20 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import fastjson, history, liveliness, opening, queries, rulebooks, verify_cache
+from . import fastjson, history, index_guard, liveliness, opening, queries, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
+from .integrity import integrity_problems
 from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
 from .errors import StoreError
 from .outcomes import AppendReport, VerifyReport
+from .reading import one_snapshot
 from .run_summary import RunSummary
 from .signature_tally import SignatureTally
-from .verify import Progress, verify_store
+from .verify import Progress, tolerant_text, verify_store
 
 _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
@@ -78,6 +80,7 @@ class Store:
         self._heads = Heads(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
+        self._integrity: tuple[tuple[int, int], list[str]] | None = None  # (file state, problems)
         self.cache = Cache(self.path)
 
     @classmethod
@@ -204,7 +207,9 @@ class Store:
         t_from: int | None = None,
         t_to: int | None = None,
     ) -> Iterator[dict]:
-        """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive."""
+        """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive.
+        Sparse kinds are read through the covering index by kind, each entry checked against its
+        chained row: IndexDisagrees (exit 1) at the first that is not (store/index_guard.py)."""
         wanted = None if kinds is None else sorted(set(queries.collection("kinds", kinds)))
         if wanted is not None and len(wanted) > 1 and not set(wanted) & set(DENSE_KINDS):
             # one index range per kind, merged: cheaper than the whole run's time index
@@ -212,7 +217,7 @@ class Store:
             rows: Iterator[tuple] = heapq.merge(*streams)
         else:
             rows = self._rows(run, wanted, srcs, t_from, t_to)
-        return _parsed(rows)
+        return _parsed(index_guard.checked(rows, run))
 
     def _rows(self, run: str, kinds, srcs, t_from, t_to) -> Iterator[tuple]:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
@@ -252,10 +257,11 @@ class Store:
         """The monitor.observation events about one vehicle (body.vehicle, compared as text),
         from the monitors `srcs` (default: all), with t in [t_from, t_to], in (t, seq, src)
         order: what monitors measured of a vehicle that records nothing itself. Read through
-        the covering index by kind; the vehicle is matched inside SQLite, so observations of
-        other vehicles are never parsed."""
+        the covering index by kind, each entry checked against its chained row (IndexDisagrees);
+        the vehicle is matched inside SQLite, so observations of other vehicles are never parsed."""
         with self._reading():
-            rows = list(queries.observation_rows(self._conn, run, str(vehicle), srcs, t_from, t_to))
+            rows = list(index_guard.checked(queries.observation_rows(self._conn, run, str(vehicle), srcs,
+                                                                      t_from, t_to), run))
         return fastjson.loads_all([row[3] for row in rows])
 
     def history(self, run: str, wanted: history.HistoryFilter = history.HistoryFilter(), *,
@@ -378,8 +384,10 @@ class Store:
         recomputes; each run's result is then kept in the cache file for `verified`. Signed
         events are counted, and with `keys` (a TrustedKeys) their signatures checked
         (report.signatures)."""
-        with self._reading():
-            report = verify_store(self._conn, run, progress, keys)
+        with self._reading(), tolerant_text(self._conn):
+            report = verify_store(self._conn, run, progress, keys, self._integrity_once)
+            if report.integrity and not report.integrity["ok"]:
+                return report  # no run of a damaged file is recorded as verified
             keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
         for summary in report.runs:
             name = summary["run"]
@@ -387,8 +395,18 @@ class Store:
             if keys[name][0] and (summary["ok"] or problem is not None):
                 counted = SignatureTally.counted(summary["signed"], summary["unsigned"])
                 verify_cache.record(self.cache.connection, name, keys[name],
-                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted))
+                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted,
+                                                 integrity=report.integrity))
         return report
+
+    def _integrity_once(self, conn: sqlite3.Connection) -> list[str]:
+        """SQLite's integrity check of the file (store/integrity.py), run once per state of the
+        file this connection sees: an investigation that verifies run after run checks a whole
+        file once. Another connection's commit changes data_version, this one's total_changes."""
+        version = (self._read_data_version(), conn.total_changes)
+        if self._integrity is None or self._integrity[0] != version:
+            self._integrity = (version, integrity_problems(conn))
+        return self._integrity[1]
 
     def verified(self, run: str, progress: Progress | None = None) -> VerifyReport:
         """The run's chain recomputed, once per chain head: the result kept in the cache file if
@@ -403,15 +421,9 @@ class Store:
 
     @contextmanager
     def _reading(self) -> Iterator[None]:
-        """One read transaction, so that what is read together agrees."""
-        if self._conn.in_transaction:
+        """One read transaction, so that what is read together agrees (store/reading.py)."""
+        with one_snapshot(self._conn):
             yield
-            return
-        self._conn.execute("BEGIN")
-        try:
-            yield
-        finally:
-            self._conn.execute("COMMIT")
 
     # --- rulebooks -----------------------------------------------------------------------------
 

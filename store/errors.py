@@ -34,3 +34,15 @@ class NoSuchRun(StoreError, LookupError):
         shown = ", ".join(self.known[:SHOWN]) or "none"
         more = len(self.known) - SHOWN
         super().__init__(f"no run {run!r}; runs: {shown}" + (f" and {more} more" if more > 0 else ""))
+
+
+class EvidenceError(GapsError):
+    """What the store file holds disagrees with its own hash chains: a read cannot go on without
+    showing something the chains do not vouch for. Exit 1, as a failed `gaps verify`."""
+
+    exit_code = 1
+
+
+class IndexDisagrees(EvidenceError):
+    """An index entry read in place of its row (the covering index by kind holds each sparse
+    event's text a second time) is not the row the chain covers (store/index_guard.py)."""

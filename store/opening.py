@@ -35,6 +35,7 @@ def connect_writable(path: str, *, durable: bool, check_same_thread: bool) -> sq
     is not an event store is a StoreError; one that cannot be opened or locked, sqlite3's error."""
     conn = sqlite3.connect(path, isolation_level=None, check_same_thread=check_same_thread)
     with _closed_on_error(conn, path, locked_as_is=True):
+        _refuse_newer(conn, path)  # before anything is switched: a refused file is left as it was
         # A new file gets 16 KiB pages (before WAL fixes the size): the append inserts each
         # event into a table and four indexes, and larger pages split less often (bench/
         # append.py: +10-20% events/s against 4 KiB). An existing file keeps its size.
@@ -60,6 +61,16 @@ def connect_read_only(path: str, *, check_same_thread: bool = True, oldest: int 
         conn.execute(f"PRAGMA cache_size=-{CACHE_KIB}")
         check_schema(conn, path, oldest)
     return conn
+
+
+def _refuse_newer(conn: sqlite3.Connection, path: str) -> None:
+    """StoreError for a store of a newer schema, read before the writer changes a byte of it (the
+    switch to WAL rewrites the file's header)."""
+    tables = {name for (name,) in conn.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+    if "schema_version" in tables and ddl.current_version(conn) > ddl.SCHEMA_VERSION:
+        raise StoreError(f"cannot open the event store {path}: its store schema version "
+                         f"{ddl.current_version(conn)} is newer than this gaps understands "
+                         f"({ddl.SCHEMA_VERSION}): use a newer gaps")
 
 
 def leave_rollback_journal(conn: sqlite3.Connection) -> None:

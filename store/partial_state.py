@@ -22,6 +22,7 @@ from . import fastjson
 from .db import Store
 from .ddl import DENSE_KINDS, SPARSE_ONLY
 from .kinds import SRC_ROLES
+from .index_guard import AGREES, checked
 from .queries import SEQ_SLACK, _first_seq_past, highest_seq
 from .state import _HANDLERS, _LATEST, _TOUCH, OBSERVATION_WINDOW_S, _key, empty_state, fold_rows
 from .state_value import State
@@ -32,17 +33,18 @@ _DENSE_LATEST = tuple(k for k in _LATEST if k in DENSE_KINDS)      # entity.stat
 _SPARSE_KINDS = tuple(sorted(k for k in ENTITY_KINDS if k not in DENSE_KINDS))
 _WINDOW = "FROM events WHERE run = ? AND src = ? AND seq >= ? AND seq <= ? AND t <= ?"
 # through the covering kind index: the few sparse events of all sources in the window, no row read
-_SPARSE_ROWS = (f"SELECT seq, t, kind FROM events WHERE run = ? AND kind IN ({', '.join(repr(k) for k in _SPARSE_KINDS)})"
+_SPARSE_ROWS = (f"SELECT seq, t, kind, src, {AGREES} FROM events WHERE run = ? "
+                f"AND kind IN ({', '.join(repr(k) for k in _SPARSE_KINDS)})"
                 f" AND {SPARSE_ONLY} AND src = ? AND t >= ? AND t <= ?")
 _LATEST_ROWS = f"SELECT seq, t, kind {_WINDOW} AND kind = ? ORDER BY seq DESC LIMIT ?"
 _T_MIN = -(1 << 63)
-_LAST_SPAWN = ("SELECT seq, t FROM events WHERE run = ? AND kind = 'entity.spawn' AND "
+_LAST_SPAWN = (f"SELECT seq, t, src, {AGREES} FROM events WHERE run = ? AND kind = 'entity.spawn' AND "
                f"{SPARSE_ONLY} AND src = ? AND t <= ? ORDER BY t DESC, seq DESC LIMIT 1")
 _TEXT = "SELECT seq, event FROM events WHERE run = ? AND src = ? AND seq IN ({})"
 _IN_ORDER = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? ORDER BY seq"
 _SPARSE_FIRST = f"SELECT min(t) FROM events WHERE run = ? AND kind IN ({{}}) AND {SPARSE_ONLY} AND src = ?"
 # body.vehicle is a string (the schema refuses any other), compared in SQLite
-_OBSERVED = ("SELECT t, seq, event FROM events WHERE run = ? AND kind = 'monitor.observation' AND "
+_OBSERVED = (f"SELECT t, seq, src, event, {AGREES} FROM events WHERE run = ? AND kind = 'monitor.observation' AND "
              f"{SPARSE_ONLY} AND src = ? AND t >= ? AND t <= ? AND json_extract(event, '$.body.vehicle') = ? "
              "ORDER BY t DESC, seq DESC")
 
@@ -79,10 +81,11 @@ def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None
     if highest is None:
         return None
     top = _first_seq_past(conn, run, src, highest, t, True) - 1 + SEQ_SLACK
-    spawn = conn.execute(_LAST_SPAWN, (run, src, t)).fetchone()
+    spawn = next(checked(conn.execute(_LAST_SPAWN, (run, src, t)), run, 2, 0), None)
     low = max(0, spawn[0] - SEQ_SLACK) if spawn else 0
     window = (run, src, low, top, t)
-    rows = conn.execute(_SPARSE_ROWS, (run, src, spawn[1] if spawn else _T_MIN, t)).fetchall()
+    rows = [row[:3] for row in checked(conn.execute(_SPARSE_ROWS, (run, src, spawn[1] if spawn else _T_MIN, t)),
+                                       run, 3, 0)]
     for kind in (*_DENSE_LATEST, *(() if spawn else _TOUCH)):
         rows += _last_of(conn.execute(_LATEST_ROWS, (*window, kind, SEQ_SLACK + 1)).fetchall())
     rows = sorted({r for r in rows if spawn is None or (r[1], r[0]) >= (spawn[1], spawn[0])},
@@ -118,7 +121,7 @@ def observation_at(store: Store, run: str, monitor: str, vehicle: str, t: int) -
     """The fold's monitors[monitor]["observations"][vehicle] at t: the monitor's last observation
     of the vehicle at or before t, if made within OBSERVATION_WINDOW_S of it."""
     horizon = t - OBSERVATION_WINDOW_S * _SECOND
-    for at, seq, text in store.connection.execute(_OBSERVED, (run, monitor, horizon, t, vehicle)):
+    for at, seq, _, text in checked(store.connection.execute(_OBSERVED, (run, monitor, horizon, t, vehicle)), run):
         event = fastjson.loads(text)
         body = event.get("body") if isinstance(event, dict) else None
         if isinstance(body, dict) and _key(body.get("vehicle")) == vehicle:

@@ -10,6 +10,7 @@ import sqlite3
 from typing import Any, Collection, Iterator
 
 from .ddl import DENSE_KINDS, SPARSE_ONLY
+from .index_guard import AGREES
 from .run_summary import RunSummary
 
 
@@ -29,17 +30,21 @@ def select_events(
     t_from: int | None,
     t_to: int | None,
 ) -> tuple[str, list[Any]]:
-    """SQL and parameters for a run's events in (t, seq, src) order; t_to is inclusive."""
+    """SQL and parameters for a run's events in (t, seq, src) order; t_to is inclusive. Rows are
+    (t, seq, src, event, agrees): agrees is index_guard.AGREES for a read through the covering
+    index by kind (its text is the index's copy), 1 for a read of the table's own rows."""
     clauses, params = ["run = ?"], [run]
     for column, values in (("kind", collection("kinds", kinds)), ("src", collection("srcs", srcs))):
         if values is not None:
             clauses.append(f"{column} IN ({','.join('?' * len(values))})")
             params.extend(values)
     wanted = collection("kinds", kinds)
+    agrees = "1"
     if wanted is not None and not set(wanted) & set(DENSE_KINDS):
         clauses.append(SPARSE_ONLY)  # verbatim, so that SQLite may use the partial index by kind
+        agrees = AGREES
     _time_window(clauses, params, t_from, t_to)
-    sql = f"SELECT t, seq, src, event FROM events WHERE {' AND '.join(clauses)} ORDER BY t, seq, src"
+    sql = f"SELECT t, seq, src, event, {agrees} FROM events WHERE {' AND '.join(clauses)} ORDER BY t, seq, src"
     return sql, params
 
 
@@ -221,9 +226,10 @@ def source_rows(conn: sqlite3.Connection, run: str, src: str, kinds: Collection[
 
 def observation_rows(conn: sqlite3.Connection, run: str, vehicle: str, srcs: Collection[str] | None,
                      t_from: int | None, t_to: int | None) -> Iterator[tuple]:
-    """(t, seq, src, event) of the monitors' observations of one vehicle, in (t, seq, src)
-    order: a range of the covering kind index, the vehicle compared in SQLite (its id as text,
-    so that a producer writing 173 and one writing "173" are both found)."""
+    """(t, seq, src, event, agrees) of the monitors' observations of one vehicle, in (t, seq,
+    src) order: a range of the covering kind index, the vehicle compared in SQLite (its id as
+    text, so that a producer writing 173 and one writing "173" are both found); agrees checks
+    each entry against its table row (store/index_guard.py)."""
     clauses = ["run = ?", "kind = 'monitor.observation'", SPARSE_ONLY,
                "CAST(json_extract(event, '$.body.vehicle') AS TEXT) = ?"]
     params: list[Any] = [run, vehicle]
@@ -232,7 +238,7 @@ def observation_rows(conn: sqlite3.Connection, run: str, vehicle: str, srcs: Col
         clauses.append(f"src IN ({','.join('?' * len(chosen))})")
         params.extend(chosen)
     _time_window(clauses, params, t_from, t_to)
-    return conn.execute(f"SELECT t, seq, src, event FROM events WHERE {' AND '.join(clauses)} "
+    return conn.execute(f"SELECT t, seq, src, event, {AGREES} FROM events WHERE {' AND '.join(clauses)} "
                         "ORDER BY t, seq, src", params)
 
 

@@ -13,25 +13,73 @@ from __future__ import annotations
 import hashlib
 import json
 import sqlite3
+from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from . import merkle
 from .canonical import canonical_json
 from .chain import GENESIS, link
+from .integrity import integrity_problem, integrity_problems
 from .outcomes import VerifyReport
+from .reading import one_snapshot
 from .signature_tally import SignatureTally
 
 _COLUMNS = ("run", "src", "seq", "t", "kind")
 _PROGRESS_EVERY = 1 << 14  # events between two progress calls
 
 Progress = Callable[[int, int], None]  # (events checked so far, events to check)
+IntegrityCheck = Callable[[sqlite3.Connection], list[str]]  # the file's integrity problems ([] if none)
 
 
 def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Progress | None = None,
-                 keys: Any = None) -> VerifyReport:
-    """Check one run, or every run and every rulebook; count the signed events, and with `keys`
-    (store.TrustedKeys) check each signature against the keys trusted for its source."""
+                 keys: Any = None, integrity: IntegrityCheck = integrity_problems) -> VerifyReport:
+    """Check one run, or every run and every rulebook, and the file's own integrity (SQLite's
+    check: store/integrity.py); count the signed events, and with `keys` (store.TrustedKeys)
+    check each signature against the keys trusted for its source.
+
+    Everything is read in one read transaction: a store being appended to is verified as it was
+    at one moment, never as checkpoints from before a commit beside events from after it."""
+    with one_snapshot(conn), tolerant_text(conn):
+        try:
+            return _verify(conn, run, progress, keys, integrity)
+        except sqlite3.DatabaseError as exc:  # a page SQLite cannot read: the walk cannot go on
+            return _unreadable(exc, keys)
+
+
+def _unreadable(exc: sqlite3.DatabaseError, keys: Any) -> VerifyReport:
+    what = f"SQLite cannot read the store file: {exc}: it is damaged, and nothing in it can be vouched for"
+    return VerifyReport(ok=False, runs=[], problem=_problem(None, None, None, None, what),
+                        signatures=SignatureTally(keys).to_json(), integrity={"ok": False, "messages": [str(exc)]})
+
+
+class NotUtf8(bytes):
+    """A TEXT value whose bytes are not UTF-8: sqlite3 would raise on it and end the verify with a
+    traceback; verify names the event instead (issue 15, finding 6)."""
+
+
+def _decoded(data: bytes) -> str | NotUtf8:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return NotUtf8(data)
+
+
+@contextmanager
+def tolerant_text(conn: sqlite3.Connection) -> Iterator[None]:
+    """Read TEXT values that are not UTF-8 as NotUtf8 within the block (a verify, and what its
+    caller reads beside it)."""
+    before = conn.text_factory
+    conn.text_factory = _decoded
+    try:
+        yield
+    finally:
+        conn.text_factory = before
+
+
+def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None, keys: Any,
+            integrity: IntegrityCheck) -> VerifyReport:
+    messages = integrity(conn)
     names = [run] if run is not None else _all_runs(conn)
     ticker = _Ticker(progress, _event_total(conn, run) if progress else 0)
     legacy = _legacy_through(conn)
@@ -43,9 +91,11 @@ def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Pro
         problems.append(problem)
     if run is None:
         problems.append(_verify_rulebooks(conn))
+    problems.append(integrity_problem(messages))
     ticker.done()
     first = next((problem for problem in problems if problem is not None), None)
-    return VerifyReport(ok=first is None, runs=summaries, problem=first, signatures=tally.to_json())
+    return VerifyReport(ok=first is None, runs=summaries, problem=first, signatures=tally.to_json(),
+                        integrity={"ok": not messages, "messages": messages})
 
 
 def _all_runs(conn: sqlite3.Connection) -> list[str]:
@@ -130,6 +180,8 @@ def _sequence_fault(modern: bool, count: Any, before: Any, root: Any, frontier: 
 def _verify_run(
     conn: sqlite3.Connection, run: str, legacy: int, ticker: _Ticker, tally: SignatureTally, *, required: bool
 ) -> tuple[dict, dict | None]:
+    if not isinstance(run, str) or isinstance(run, NotUtf8):
+        return _foreign_run(run)
     walk = _Walk(run, _checkpoints(conn, run, legacy), tally)
     rows = conn.execute(
         "SELECT chain_pos, src, seq, t, kind, event, hash FROM events WHERE run = ? ORDER BY chain_pos",
@@ -143,6 +195,16 @@ def _verify_run(
     summary = {"run": run, "events": walk.rows, "head": walk.head.hex() if ok else None, "ok": ok,
                "signed": walk.signed, "unsigned": walk.unsigned}
     return summary, walk.problem
+
+
+def _foreign_run(run: Any) -> tuple[dict, dict]:
+    """Rows under a run id that is not text (a blob, a number, bytes that are not UTF-8): no
+    append writes one, so they were put into the file behind the store's back."""
+    shown = _show(run)
+    what = (f"rows are recorded under a run id that is not text ({shown}): they were added to the file "
+            "behind the store's back")
+    summary = {"run": shown, "events": 0, "head": None, "ok": False, "signed": 0, "unsigned": 0}
+    return summary, _problem(shown, None, None, None, what)
 
 
 class _Walk:
@@ -209,6 +271,8 @@ class _Walk:
     def _check_event(self, row: tuple) -> str | None:
         """The first thing wrong with one stored event, or None; advances the chain if fine."""
         text, stored = row[5], row[6]
+        if isinstance(text, NotUtf8):
+            return "the stored event text is not valid UTF-8"
         if not isinstance(text, str):
             return f"the event column holds {type(text).__name__}, not text"
         data = text.encode("utf-8", "surrogatepass")
@@ -307,6 +371,9 @@ def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
 
 
 def _problem(run: str | None, src: Any, seq: Any, chain_pos: Any, what: str) -> dict[str, Any]:
+    """The report's account of a problem; a value no append writes (bytes, text that is not
+    UTF-8) is shown as its repr, so that the report stays plain JSON."""
+    src, seq, chain_pos = (_show(v) if isinstance(v, bytes) else v for v in (src, seq, chain_pos))
     return {"run": run, "src": src, "seq": seq, "chain_pos": chain_pos, "what": what}
 
 

@@ -24,8 +24,8 @@ def chain_key(conn: sqlite3.Connection, run: str) -> ChainKey:
     count, last = conn.execute("SELECT count(*), max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
     if last is None:
         return (0, "")
-    (head,) = conn.execute("SELECT hash FROM events WHERE run = ? AND chain_pos = ?", (run, last)).fetchone()
-    return (count, str(head))
+    row = conn.execute("SELECT hash FROM events WHERE run = ? AND chain_pos = ?", (run, last)).fetchone()
+    return (count, "" if row is None else str(row[0]))  # None: a damaged index lost the row it found
 
 
 def recorded(cache: sqlite3.Connection, run: str, key: ChainKey) -> VerifyReport | None:
@@ -38,7 +38,7 @@ def recorded(cache: sqlite3.Connection, run: str, key: ChainKey) -> VerifyReport
     try:
         data = json.loads(row[0])
         return VerifyReport(ok=bool(data["ok"]), runs=list(data["runs"]), problem=data["problem"],
-                            signatures=data.get("signatures"))
+                            signatures=data.get("signatures"), integrity=data.get("integrity"))
     except (ValueError, KeyError, TypeError):
         return None  # damaged: recompute
 

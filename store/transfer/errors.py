@@ -7,8 +7,14 @@ reported, and the rest of the file is still imported. This error is for when not
 
 from __future__ import annotations
 
-from ..errors import GapsError
+from ..errors import EvidenceError, GapsError
 
 
 class TransferError(GapsError, ValueError):
     """A message for the person at the command line, naming the file and what is wrong."""
+
+
+class ExportIncomplete(EvidenceError):
+    """An export that did not write the run the chain holds (store/transfer/whole_run.py): no file
+    is left in its place, and the message says how many events were written and how many the
+    chain holds. Exit 1: the store's indexes disagree with its chain; `gaps verify` says where."""

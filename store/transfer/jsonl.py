@@ -15,11 +15,13 @@ from typing import BinaryIO, Callable, Iterator, NamedTuple
 from ..db import Store
 from ..envelope import MAX_EVENT_BYTES
 from ..intake import Candidate, from_raw
+from ..reading import one_snapshot
 from .atomic import replacing
 from .errors import TransferError
 from .feed import feed
 from .outcomes import ExportReport, ImportReport
 from .rows import run_summary, stored_rows
+from .whole_run import WholeRun
 
 KEEP_BYTES = 16 * MAX_EVENT_BYTES  # how much of an over-size line quarantine keeps
 _READ_LIMIT = MAX_EVENT_BYTES + 2  # the largest event, plus CR LF
@@ -106,13 +108,16 @@ def export_jsonl(
     """Write the run's events, one canonical JSON line each, in time or chain order."""
     run_summary(store, run)  # an unknown run is an error, not an empty file
     report = ExportReport(str(path), "jsonl", run, order)
-    with replacing(path) as out:
+    with one_snapshot(store.connection), replacing(path) as out:
+        whole = WholeRun.of(store, run, order)
         for row in stored_rows(store, run, order):
             out.write(row.text.encode("utf-8"))
             out.write(b"\n")
+            whole.see(row.text)
             report.events += 1
             if progress is not None and report.events % 10_000 == 0:
                 progress(report.events)
+        whole.check()  # before the file is put in place
         report.bytes = out.tell()
     if progress is not None:
         progress(report.events)

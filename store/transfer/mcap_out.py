@@ -31,6 +31,7 @@ from typing import Any, Callable, Iterable, Iterator
 from mcap.writer import CompressionType, Writer
 
 from ..db import Store
+from ..reading import one_snapshot
 from . import chain_order
 from .atomic import replacing
 from .chain_check import CHECKPOINT_METADATA, RUN_METADATA
@@ -38,6 +39,7 @@ from .foxglove import DERIVED_MARK, DRAWN_KINDS, TOPICS, Derived, SceneBuilder
 from .message_schema import schema_bytes as event_schema_bytes
 from .outcomes import ExportReport
 from .rows import Row, chain_head, chain_keys, run_summary, stored_rows
+from .whole_run import WholeRun
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
 LIBRARY = "mind-the-gaps store.transfer"
@@ -188,6 +190,13 @@ def write_rows(writer: Writer, run: str, rows: Iterable[Row], report: ExportRepo
     out.finish()
 
 
+def _seen(rows: Iterable[Row], whole: WholeRun) -> Iterator[Row]:
+    """The rows, each counted as written."""
+    for row in rows:
+        whole.see(row.text)
+        yield row
+
+
 def export_mcap(
     store: Store,
     run: str,
@@ -204,7 +213,8 @@ def export_mcap(
     rebuild the chain; order="time" appends the events in time order on import."""
     run_summary(store, run)  # an unknown run is an error before any file is created
     report = ExportReport(str(path), "mcap", run, order)
-    with replacing(path) as stream:
+    with one_snapshot(store.connection), replacing(path) as stream:
+        whole = WholeRun.of(store, run, "time")  # the events are written in time order
         writer = Writer(stream, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
         writer.start(profile="", library=LIBRARY)
         _write_metadata(writer, store, run, order)
@@ -213,7 +223,8 @@ def export_mcap(
             writer.add_attachment(create_time=0, log_time=0, name=chain_order.ATTACHMENT,
                                   media_type=chain_order.MEDIA_TYPE, data=attachment)
             report.chain_order = True
-        write_rows(writer, run, stored_rows(store, run, "time"), report, progress, scene)
+        write_rows(writer, run, _seen(stored_rows(store, run, "time"), whole), report, progress, scene)
+        whole.check()  # before the file is finished and put in place
         writer.finish()
         report.bytes = stream.tell()
     if progress is not None:

@@ -96,3 +96,18 @@ def test_installed_gaps_verify_draws_progress_on_stderr_only(tmp_path):
     assert result.returncode == 0, result.stderr
     assert json.loads(result.stdout)["ok"] is True  # stdout stays pure JSON
     assert "verifying" in result.stderr
+
+
+def test_verify_fails_on_an_index_that_disagrees_with_its_table(db):
+    """Issue 15, finding 1: a kind index entry rewritten (the chain intact) fails `gaps verify`."""
+    from tests.helpers.split_view import rowid_of, split
+    rowid = rowid_of(db, "r2", "monitor/m1", 0)
+    split(db, "events_by_kind", rowid, kind="entity.state")  # the observation hidden from reads by kind
+    bad = gaps("verify", db=db)
+    assert bad.exit_code == 1
+    assert "r2: 1 events, chain ok" in bad.stdout
+    assert ("FAILED: the store file fails SQLite's integrity check: row " in bad.stdout
+            and "missing from index events_by_kind" in bad.stdout)
+    as_json = json.loads(gaps("verify", "--json", db=db).stdout)
+    assert as_json["ok"] is False and as_json["integrity"]["ok"] is False
+    assert "events_by_kind" in as_json["integrity"]["messages"][0]

@@ -73,13 +73,15 @@ def test_untampered_store_verifies(filled):
     ]
     counted = {"signed": 0, "unsigned": N + 3, "checked": False, "keys": None, "valid": None, "invalid": None,
                "first_invalid": None}
-    assert report.as_dict() == {"ok": True, "runs": report.runs, "problem": None, "signatures": counted}
+    assert report.as_dict() == {"ok": True, "runs": report.runs, "problem": None, "signatures": counted,
+                                "integrity": {"ok": True, "messages": []}}
 
 
 def test_empty_store_verifies():
     with Store(":memory:") as store:
         report = store.verify()
-        assert report == VerifyReport(ok=True, runs=[], problem=None, signatures=report.signatures)
+        assert report == VerifyReport(ok=True, runs=[], problem=None, signatures=report.signatures,
+                                      integrity={"ok": True, "messages": []})
         assert report.signatures["signed"] == report.signatures["unsigned"] == 0
 
 
