@@ -42,11 +42,11 @@ from __future__ import annotations
 import gc
 import json
 import sqlite3
-from contextlib import contextmanager
-from typing import Any, Callable, Iterator
+from typing import Any, Callable
 
 from . import fastjson, snapshots
 from .db import Store
+from .reading import one_snapshot
 from .snapshots import Fresh, Position
 from .state_value import State
 
@@ -135,7 +135,7 @@ def check_snapshots(store: Store, run: str) -> list[Position]:
         return []
     conn = store.connection
     state, position, wrong = empty_state(), None, []
-    with _reading(conn), CollectorPaused():
+    with one_snapshot(conn), CollectorPaused():
         for held in snapshots.listed(store, run, snapshots.marks(store, run)):
             after = () if position is None else position
             params = (run, held.position[0], *after, *held.position)
@@ -198,22 +198,9 @@ class CollectorPaused:
             gc.enable()
 
 
-@contextmanager
-def _reading(conn: sqlite3.Connection) -> Iterator[None]:
-    """One read transaction, so that the chain length, the snapshot and the events read agree."""
-    if conn.in_transaction:
-        yield
-        return
-    conn.execute("BEGIN")
-    try:
-        yield
-    finally:
-        conn.execute("COMMIT")
-
-
 def _fold_all(conn: sqlite3.Connection, run: str, t: int) -> dict[str, Any]:
     state = empty_state()
-    with _reading(conn):
+    with one_snapshot(conn):
         cursor = conn.execute(_FROM_START, (run, t))
         for rows in iter(lambda: cursor.fetchmany(_CHUNK), []):
             fold_rows(state, rows)
@@ -230,7 +217,7 @@ def _advance(store: Store, run: str, t: int, every: int) -> dict[str, Any]:
     conn = store.connection
     saving = True
     while True:
-        with _reading(conn):
+        with one_snapshot(conn):
             seen = snapshots.marks(store, run)
             base = snapshots.nearest(store, run, t, seen)
             state = empty_state() if base is None else base.state
