@@ -11,8 +11,8 @@ from typing import Optional
 
 import typer
 
-from cli import (demo, explain, fetch, incidents, keys, migrate, quarantine, regress, report, rules, runs, scene,
-                 serve, sim, transfer, verify)
+from cli import (demo, explain, fetch, incidents, keys, migrate, quarantine, regress, replay, report, rules, runs,
+                 scene, serve, sim, transfer, verify)
 from cli.app import new_app
 
 
@@ -22,6 +22,7 @@ def build() -> typer.Typer:
     app.callback()(_version_option)
     app.command()(demo.demo)
     app.command()(sim.sim)
+    app.command()(replay.replay)
     app.command()(serve.serve)
     app.command()(runs.runs)
     app.command()(scene.scene)
