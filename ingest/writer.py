@@ -11,6 +11,7 @@ import logging
 import os
 import threading
 import time
+from dataclasses import replace
 
 from store import Candidate, Store, TrustedKeys, enable_snapshots
 
@@ -45,6 +46,7 @@ class BatchWriter(threading.Thread):
         super().__init__(name="ingest-writer", daemon=True)
         self._keys = trusted_keys
         self._watch = watch
+        self._noticed: list = []   # wire_watch.Noticed waiting for the inbox to catch up (_record_wire)
         self._db_path = db_path
         self._inbox = inbox
         self._stats = stats
@@ -108,7 +110,7 @@ class BatchWriter(threading.Thread):
                 self._stats.add(received=len(batch))
                 self._write(store, batch)
                 self._stats.record_lag(time.monotonic() - self._inbox.first_at)
-            self._record_wire(store)
+            self._record_wire(store, caught_up=batch is None or len(batch) < self._batch_size, last=batch is None)
             self._write_recovered(store)
             if batch is None:
                 return
@@ -121,16 +123,27 @@ class BatchWriter(threading.Thread):
             self._stats.add(received=len(recovered), recovered=len(recovered))
             self._write(store, recovered, live=False)
 
-    def _record_wire(self, store: Store) -> None:
-        """Record the liveliness changes and losses noticed since the last look, after the batch
-        taken with them, so that each says how far its source had got. A failure costs those
-        records (logged and counted), never the events."""
+    def _record_wire(self, store: Store, caught_up: bool, last: bool = False) -> None:
+        """Record the liveliness changes and losses noticed, each saying how far its source had
+        got. A change is noticed on its own channel, while samples received before it may still
+        wait in the inbox (a backlog of thousands at full speed): recorded at once, a token gone
+        at a despawn would say the source stopped before its last events. So what is noticed
+        waits until a later take found the inbox empty (`caught_up`: every sample received before
+        it is written), and a liveliness change's place in the sequence is read then (a loss on
+        the wire keeps the place it was noticed at); the last look (the inbox
+        closed and empty) records everything. A failure costs those records (logged and
+        counted), never the events."""
         if self._watch is None:
             return
         try:
+            due, self._noticed = (self._noticed, []) if caught_up else ([], self._noticed)
             noticed = self._watch.drain(self._tracker.highest)
             if noticed:
-                store.record_wire(noticed.changes, noticed.misses)
+                (due if last else self._noticed).append(noticed)
+            if due:
+                highest = self._tracker.highest
+                store.record_wire([replace(c, last_seq=highest(c.run, c.src)) for n in due for c in n.changes],
+                                  [m for n in due for m in n.misses])
         except Exception as exc:
             log.exception("ingest: recording liveliness changes and losses failed")
             self._stats.record_error(f"wire records: {exc!r}")
