@@ -9,17 +9,18 @@ import socket
 
 
 def notify(state: str) -> bool:
-    """Send ``state`` (e.g. ``READY=1``); True if a supervisor is listening. Never raises: a service
-    must not fall over because its supervisor's socket went away."""
+    """Send ``state`` (e.g. ``READY=1``); True if a supervisor took it. Never raises and never
+    waits: a service must not fall over, nor hang on its way down, because its supervisor's socket
+    went away or stopped reading (a datagram socket's queue holds a few messages: 10 by default)."""
     address = os.environ.get("NOTIFY_SOCKET")
     if not address:
         return False
     if address.startswith("@"):  # an abstract socket
         address = "\0" + address[1:]
     try:
-        with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC) as sock:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK) as sock:
             sock.connect(address)
-            sock.sendall(state.encode())
+            sock.send(state.encode())   # a full queue (a supervisor not reading) drops it: never wait
     except OSError:
         return False
     return True

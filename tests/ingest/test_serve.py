@@ -8,6 +8,7 @@ import os
 import signal
 import socket
 import subprocess
+import threading
 import time
 from pathlib import Path
 
@@ -152,14 +153,40 @@ def test_python_m_ingest_is_gaps_serve(served, tmp_path: Path) -> None:
 
 
 def test_systemd_hears_ready_status_and_stopping(served, tmp_path: Path) -> None:
+    """The supervisor reads as systemd does, all the time (a reader thread), so that what the
+    service says on its way down is there to read."""
     address = str(tmp_path / "notify.sock")
     with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as sock:
         sock.bind(address)
         sock.settimeout(20)
+        said: list[str] = []
+
+        def listen() -> None:
+            while not said or said[-1] != "STOPPING=1":
+                said.append(sock.recv(4096).decode())
+
+        reader = threading.Thread(target=listen, daemon=True)
         serve = served("--status-every", "0.1", NOTIFY_SOCKET=address)
-        assert sock.recv(4096).decode() == f"READY=1\nMAINPID={serve.proc.pid}"
-        assert sock.recv(4096).decode().startswith("STATUS=0 ev/s · stored 0 ·")
+        reader.start()
+        deadline = time.monotonic() + 20
+        while len(said) < 2 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert said[0] == f"READY=1\nMAINPID={serve.proc.pid}"
+        assert said[1].startswith("STATUS=0 ev/s · stored 0 ·")
         assert serve.stop()[0] == 0
-        said = []
-        while not said or said[-1] != "STOPPING=1":
-            said.append(sock.recv(4096).decode())
+        reader.join(20)
+        assert said[-1] == "STOPPING=1"
+
+
+def test_a_supervisor_that_stops_reading_never_holds_the_service_up(tmp_path: Path, monkeypatch) -> None:
+    """A datagram socket's queue holds 10 messages by default: past that, a notification is
+    dropped at once instead of waiting for a supervisor that no longer reads."""
+    from ingest.sd_notify import notify
+    address = str(tmp_path / "deaf.sock")
+    with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as sock:
+        sock.bind(address)
+        monkeypatch.setenv("NOTIFY_SOCKET", address)
+        started = time.monotonic()
+        taken = [notify(f"STATUS={n}") for n in range(200)]
+        assert time.monotonic() - started < 5
+        assert taken[0] and not taken[-1]
