@@ -52,8 +52,10 @@ class FactReader:
 
     def _from_skeleton(self, rb: Rulebook, sentence: str) -> Atom | None:
         """The sentence's atom made from its skeleton's, or None (then it is parsed as it is)."""
+        if self._has_number_words(rb):
+            return None
         skeleton, numbers = _skeleton(sentence)
-        if not numbers or self._has_number_words(rb):
+        if not numbers:
             return None
         key = (rb.sha256, skeleton)
         try:
@@ -107,9 +109,9 @@ def _skeleton(sentence: str) -> tuple[str, list[int]]:
     numbers: list[int] = []
     for i, word in enumerate(words):
         if word.isdigit() and word.isascii():
-            if len(word) > _MAX_DIGITS or (word[0] == "0" and len(word) > 1):
-                if len(word) > _MAX_DIGITS:
-                    return sentence, []
+            if len(word) > _MAX_DIGITS:          # as long as a placeholder: parsed as it is
+                return sentence, []
+            if word[0] == "0" and len(word) > 1:
                 continue
             words[i] = str(_PLACEHOLDER + len(numbers))
             numbers.append(int(word))
@@ -120,21 +122,17 @@ def _filled(atom: Atom, numbers: list[int]) -> Atom | None:
     """The skeleton's atom with its numbers put back: None unless every argument is a plain
     constant and each placeholder is one whole argument, once."""
     top = _PLACEHOLDER + len(numbers)
-    args, used = [], 0
+    args, placed = [], []
     for arg in atom.args:
         kind = type(arg)
         if kind is int and _PLACEHOLDER <= arg < top:
             args.append(numbers[arg - _PLACEHOLDER])
-            used += 1
-        elif kind is str or kind is float or kind is int:
-            if kind is str and str(_PLACEHOLDER)[:6] in arg:
-                return None
+            placed.append(arg)
+        elif kind is int or kind is float or (kind is str and str(_PLACEHOLDER)[:6] not in arg):
             args.append(arg)
         else:
             return None
-    if used != len(numbers) or len(set(a for a in atom.args if type(a) is int and _PLACEHOLDER <= a < top)) != used:
-        return None
-    return Atom(atom.functor, tuple(args))
+    return Atom(atom.functor, tuple(args)) if sorted(placed) == list(range(_PLACEHOLDER, top)) else None
 
 
 def unknown_fact(sentence: Any, evidence: EventRef, rb: Rulebook) -> Finding:

@@ -32,7 +32,7 @@ from .others import CONFLICT_M
 from .passage import Passage
 from .record import Gap, Record, Track
 from .signals import MAX_SIGNAL_EVENTS, Signals, read_signals
-from .state_samples import StateSamples, Window
+from .state_samples import StateSamples
 
 SECOND = 1_000_000_000
 BEFORE_S = 60.0             # read at most this long before the moment asked about: a wait through a red phase
@@ -56,8 +56,8 @@ class RunContext:
     map: Map
     signals: Signals
     gappy: bool
-    signal_srcs: frozenset[str] = frozenset()    # every signal's src: every passage's gaps include theirs
-    states: StateSamples | None = field(default=None, compare=False, repr=False)
+    signal_srcs: frozenset[str]                  # every signal's src: every passage's gaps include theirs
+    states: StateSamples = field(compare=False, repr=False)
     _gaps: dict[str, tuple[Gap, ...]] = field(default_factory=dict, compare=False, repr=False)
     _spawns: dict[str, dict | None] = field(default_factory=dict, compare=False, repr=False)
     _seen: dict[str, _Seen] = field(default_factory=dict, compare=False, repr=False)
@@ -152,7 +152,7 @@ def _own(store: Store, ctx: RunContext, src: str, around: int | None, before_s: 
     to before_s and after_s: most passages take a few hundred events of reading, however long
     the run."""
     def read(a: int | None, b: int | None) -> tuple[tuple[Sample, ...], tuple[str, ...]]:
-        if a is None or b is None or ctx.states is None:
+        if a is None or b is None:
             found = store.source_events(ctx.run, src, kinds=["entity.state"], t_from=a, t_to=b)
             return samples(_capped(found, notes, f"{src} entity.state"))
         window = ctx.states.window(src, a, b, MAX_SAMPLES)
@@ -245,7 +245,7 @@ def _store_others(store: Store, ctx: RunContext, vehicle: str):
         tracks = _observed(_watched(store, ctx, junction, t_from, t_to), vehicle, junction)
         for user, (src, series) in list(tracks.items()):
             if _holes(series):
-                own = _states_of(store, ctx, f"vehicle/{user}", t_from, t_to, MAX_SAMPLES).samples
+                own = ctx.states.window(f"vehicle/{user}", t_from, t_to, MAX_SAMPLES).samples
                 if own:
                     tracks[user] = (f"vehicle/{user}", own)
         if junction.unwatched:      # their own record, where it holds more than the cameras saw of them
@@ -266,23 +266,13 @@ def _states_near(store: Store, ctx: RunContext, junction: Junction, vehicle: str
     read = 0
     for src in sources_near(store, ctx.run, junction.x, junction.y, CONFLICT_M, t_from, t_to):
         if src.split("/", 1)[0] in ("vehicle", "pedestrian") and user_id(src) != vehicle:
-            window = _states_of(store, ctx, src, t_from, t_to, MAX_OTHER_EVENTS - read)
+            window = ctx.states.window(src, t_from, t_to, MAX_OTHER_EVENTS - read)
             if window.events:
                 tracks[user_id(src)] = (src, window.samples)
             read += window.events
             if read >= MAX_OTHER_EVENTS:
                 break
     return tracks
-
-
-def _states_of(store: Store, ctx: RunContext, src: str, t_from: int, t_to: int, cap: int) -> Window:
-    """A road user's entity.state in the window, its first `cap` events: kept by the run
-    context (state_samples.py), or read."""
-    if ctx.states is not None:
-        return ctx.states.window(src, t_from, t_to, cap)
-    events = store.source_events(ctx.run, src, kinds=["entity.state"], t_from=t_from, t_to=t_to)
-    found, notes = samples(events[:cap])
-    return Window(found, notes, len(events))
 
 
 @dataclass(frozen=True)

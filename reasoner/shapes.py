@@ -19,6 +19,7 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from .engine import Rulebook
+from .facts import plain_constants, walk_atoms
 from .le.templates import Slot
 from .le.terms import Atom
 
@@ -29,7 +30,6 @@ _STAND_IN = "\x00road user {}"   # no sentence a producer writes parses to one (
 
 def rule_constants(rb: Rulebook) -> set:
     """Every constant the rulebook's rules mention (a shape keeps these)."""
-    from .facts import plain_constants, walk_atoms
     out: set = set()
     for rule in rb.document.rules:
         for atom in walk_atoms([rule.head, rule.body]):

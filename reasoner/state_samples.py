@@ -56,10 +56,9 @@ class StateSamples:
         stretch = self._stretch(src, t_from, t_to)
         lo = bisect.bisect_left(stretch.times, t_from)
         hi = bisect.bisect_right(stretch.times, t_to)
-        entries = stretch.entries[lo:min(hi, lo + cap)]
-        found = [s for _, s, _ in entries if s is not None]
-        found.sort(key=lambda s: (s.t, s.ref.src, s.ref.seq))
-        return Window(tuple(found), tuple(n for _, _, n in entries if n is not None), hi - lo)
+        entries = stretch.entries[lo:min(hi, lo + cap)]      # in (t, seq) order: motion.samples' order
+        return Window(tuple(s for _, s, _ in entries if s is not None),
+                      tuple(n for _, _, n in entries if n is not None), hi - lo)
 
     def _stretch(self, src: str, t_from: int, t_to: int) -> _Stretch:
         """The source's stretch, grown to cover the window (or replaced by it, where the two

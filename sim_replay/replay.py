@@ -79,7 +79,8 @@ def replay(store: Store, runs: Sequence[str], *, listen: Sequence[str] = (), con
                 done += 1
                 if progress is not None and done % 1000 == 0:
                     progress(done, total)
-        out.append(Replayed(run, outlets.summary().published, outlets.summary()))
+        sent = outlets.summary()
+        out.append(Replayed(run, sent.published, sent))
     if progress is not None:
         progress(done, total)
     return out

@@ -102,7 +102,7 @@ class World:
         self._colours: dict[tuple[str, str, str | None], SignalState] = {}
         self._types: dict[str, str] = {}
         self._routes: dict[tuple[str, ...], str] = {}
-        self._controlled: set[str] = set()
+        self._controlled: dict[str, int] = {}   # vehicles whose decisions are ours -> their speed mode
         self._held: dict[str, tuple[str, float, int]] = {}
         self._lanes = self.network.lanes
         self._edges = {lane.edge: lane for lane in self._lanes.values()}
@@ -172,21 +172,23 @@ class World:
         """Make the vehicle's law-deciding ours: SUMO no longer stops it for red lights or gives way
         for it; it still keeps its distance from what is ahead."""
         self._vehicle_call(ident, libsumo.vehicle.setSpeedMode, SPEED_MODE_OURS)
-        self._controlled.add(ident)
+        self._controlled[ident] = SPEED_MODE_OURS
 
     def mind_foes(self, ident: str, mindful: bool = True) -> None:
         """The vehicle goes lawfully: let SUMO keep it out of the way of foes that have right of way
         (oncoming traffic on a right turn on green, cross traffic an emergency vehicle crosses a red
         light in front of), as a lawful driver watching the road would. A vehicle that breaks a
         rule keeps SPEED_MODE_OURS (mindful False): it goes regardless, and what follows is the
-        evidence."""
-        if ident in self._controlled:
-            self._vehicle_call(ident, libsumo.vehicle.setSpeedMode, SPEED_MODE_MINDFUL if mindful else SPEED_MODE_OURS)
+        evidence. Called at every go; SUMO is asked only when the mode changes."""
+        mode = SPEED_MODE_MINDFUL if mindful else SPEED_MODE_OURS
+        if self._controlled.get(ident, mode) != mode:
+            self._vehicle_call(ident, libsumo.vehicle.setSpeedMode, mode)
+            self._controlled[ident] = mode
 
     def hand_back(self, ident: str) -> None:
         """Let SUMO decide for the vehicle again (it obeys signals and right of way)."""
         self._vehicle_call(ident, libsumo.vehicle.setSpeedMode, SPEED_MODE_SUMO)
-        self._controlled.discard(ident)
+        self._controlled.pop(ident, None)
 
     def hold(self, ident: str) -> bool:
         """Stop the vehicle behind the stop line (the end of its lane) ahead of it, until released.
@@ -271,7 +273,7 @@ class World:
 
     def _forget(self, ident: str) -> None:
         self._types.pop(ident, None)
-        self._controlled.discard(ident)
+        self._controlled.pop(ident, None)
         self._held.pop(ident, None)
 
     def _signal_layout(self) -> list[tuple[str, int, tuple[str, str, str | None]]]:
