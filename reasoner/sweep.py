@@ -17,7 +17,10 @@ user and junction entry (first position inside the junction's area after EPISODE
     give way       entries at a Give Way junction, or one the map gives a major road, within
                    FORCE_WINDOW_S of braking at FORCE_DECEL_MPS2 or harder by a road user on an
                    arm the map makes the major road (where it does not say, "on the main road"
-                   cannot be derived, and no candidate could come to anything)
+                   cannot be derived, and no candidate could come to anything); and every such
+                   entry where an arm of the major road is in no monitor's view: the traffic
+                   there, braking or approaching, is only in its own record, which the history
+                   reads and a sweep of the cameras' measurements cannot
     lights         entries at a signal junction whose measurement states no light for the road user
                    (a camera that states lights raises these acts from its sentences; an
                    entity.state states none)
@@ -205,6 +208,11 @@ class Sweep:
             if braked:
                 self._keep(Candidate(user, ENTER, j.id, event,
                                      f"entered {j.id} while {braked[0][1]} braked at {FORCE_DECEL_MPS2:g} m/s² or harder"))
+            elif j.major and j.major & j.unwatched:
+                arms = " and ".join(sorted(j.major & j.unwatched))
+                self._keep(Candidate(user, ENTER, j.id, event,
+                                     f"entered {j.id} from a minor arm; its major road's {arms} arm is in no "
+                                     "monitor's view, so that traffic is measured from its own record"))
         return sorted(self._found, key=lambda c: (c.t, c.event["src"], c.event["seq"]))
 
 

@@ -684,6 +684,66 @@ def test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable
     no_incident(found, "c2")
 
 
+MINOR_ARM_CAMERA = {"id": "m1", "junction": "J1", "x": -30.0, "y": 8.0, "heading_deg": 0.0, "range_m": 60.0,
+                    "fov_deg": 60.0}      # looks east down the west (minor) arm into the junction, not along the main road
+
+
+def unseen_main_road_run(control: str, motion: Motion, facts: list[str]) -> Foreign:
+    """7 comes out of the west arm (`control`'s line) watched by MINOR_ARM_CAMERA, which states
+    `facts` and nothing of the main road; c2 drives the main road from the north, braking at
+    5 m/s² from 0.9 s after 7 crossed its line, in its own entity.state only (5 Hz)."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, control, kinds={"west": control, "east": control})],
+                  monitors=[MINOR_ARM_CAMERA])
+    run.spawn("7")
+    run.spawn("c2")
+    times = SAMPLING["5 Hz"](START, START + 25.0)
+    run.drive("7", motion, "west", times, t_start=START)
+    run.watch("7", motion, "west", rate(5, START, START + 25.0), t_start=START, facts=facts)
+    return run
+
+
+def stated_stop_camera():
+    """camera()'s sentences about 7 at its Stop line, and "7 has stopped at the stop line" from the
+    moment STOPS_THEN_GOES stands still (6.87 s in) on."""
+    core = camera("7", sign="stop")
+    return lambda at, s, speed: core(at, s, speed) + (["7 has stopped at the stop line"] if at - START >= 6.87 else [])
+
+
+def test_a_stop_then_a_pull_out_forcing_main_road_traffic_no_camera_watches_is_punishable(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171), as in the test above, but the camera looks only down
+    the Stop arm (as the simulation's town cameras do) and writes 7's sign, its measurements and,
+    once it has stood at the line, "7 has stopped at the stop line", and no sentence about the main
+    road: c2's braking at 5 m/s² is only in c2's own record. No sentence raises the act and no
+    camera measured the braking, yet the record shows it: punishable, HC 171."""
+    c2 = Motion(-164.0, 13.4, [(_SET_OFF + 0.9 + 0.71, 0.0), (13.4 / 5.0, -5.0), (4.0, 0.0), (8.0, 2.0)])
+    run = unseen_main_road_run("stop", STOPS_THEN_GOES, stated_stop_camera())
+    run.drive("c2", c2, "north", SAMPLING["5 Hz"](START, START + 25.0), t_start=START)
+    found = judge(tmp_path, run)
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+
+
+def test_the_same_stop_and_pull_out_with_the_unseen_main_road_clear_is_no_violation(tmp_path):
+    """The same camera and the same stop and pull-out with c2 87 m further back, keeping its speed:
+    7 went into a safe gap, as HC 171 asks. Nothing to judge, or nothing punishable."""
+    run = unseen_main_road_run("stop", STOPS_THEN_GOES, stated_stop_camera())
+    run.drive("c2", Motion(-251.0, 13.4), "north", SAMPLING["5 Hz"](START, START + 25.0), t_start=START)
+    no_violation(judge(tmp_path, run), "7")
+
+
+def test_a_give_way_failure_forcing_main_road_traffic_no_camera_sees_is_punishable(tmp_path):
+    """HC 172 (RTA 1988 s.36, TSRGD Sch 9 Pts 7 and 8), with a camera down the Give Way arm that
+    writes the sign and 7's measurements and nothing of the main road (unlike the test above where
+    it states "c2 is approaching 7"): c2 braking at 5 m/s² because 7 pulled out is in c2's own
+    record only. Punishable, HC 172, margin 5 m/s²."""
+    run = unseen_main_road_run("give_way", Motion(-40.0, 6.0), camera("7", sign="give way"))
+    run.drive("c2", FORCED, "north", SAMPLING["5 Hz"](START, START + 25.0), t_start=START)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 172")
+    margin(inc, "deceleration", "m/s²", 5.0, 0.25)
+
+
 def test_a_queue_already_slowing_before_the_vehicle_set_off_was_not_forced_by_it(tmp_path):
     """The same stop and pull-out, with c2 on the main road braking gently (1.2 m/s²) to stand
     behind a bus, b4, that stands 14 m from the centre, 11 m ahead of it: c2 began slowing 8 s
