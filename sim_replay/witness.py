@@ -6,8 +6,9 @@ sim_replay.truth.Truth:
 
     crossings     who crossed which line when, on what light, at what speed, whether it had stood
                   at the line, its turn, who was approaching, and how hard each of them braked in
-                  the REACTION_S after (braking for a light of its own that is not green, or behind
-                  a vehicle it follows, is not counted: it has other causes)
+                  the REACTION_S after (braking for a light of its own that is not green, behind a
+                  vehicle it follows, or on a way through the junction that neither crosses nor
+                  joins the vehicle's is not counted: it has other causes)
     box stops     standing still inside a yellow box, with what it stood behind and who queued on
                   its exit
     speeding      each stretch over the limit of the road, with its top speed and the monitors that
@@ -20,6 +21,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from reasoner.junctions import sector
 from reasoner.motion import MPH_PER_MPS
 from sim_replay.agent import Agent
 from sim_replay.monitors import Monitor
@@ -34,6 +36,8 @@ __all__ = ["FOLLOW_M", "Witness"]
 FOLLOW_M = 25.0              # a road user this close behind another is following it
 ABREAST_M = 4.0              # and no further to one side of its heading (the same lane)
 STILL_MPS = 0.1
+_CLOCKWISE = ("north", "east", "south", "west")
+EXIT_ARM_M = 10.0            # an exit's arm is read this far out along its road
 
 
 class Witness:
@@ -62,7 +66,8 @@ class Witness:
             fault = "missed_road_user: " + ", ".join(sorted(p.missed))
         watch = {o.id: 0.0 for o in others if not o.pedestrian}
         self._pending.append({"until": t + REACTION_S, "watch": watch, "known": {o.id for o in others},
-                              "where": (v.id, line.junction, line.approach), "act": dict(
+                              "where": (v.id, line.junction, line.approach),
+                              "way": self._way(agent, line.junction), "act": dict(
             kind="crossed the stop line", vehicle=v.id, type=agent.d.kind, driver=agent.driving(), t_s=t,
             junction=line.junction, approach=line.approach, line=line.kind, light=colour,
             speed_mps=round(v.speed_mps, 2), speed_mph=round(v.speed_mps * MPH_PER_MPS),
@@ -73,7 +78,8 @@ class Witness:
             why=(p.why if p else "no passage") + f" [{agent.profile.name}]", decision=p.decision if p else None,
             fault=fault)})
 
-    def _react(self, snap: Snapshot | None, around: Around | None, t: float) -> None:
+    def _react(self, snap: Snapshot | None, around: Around | None, t: float,
+               agents: dict[str, Agent] | None = None) -> None:
         """The braking of the road users about each recent crossing, until REACTION_S after it (None:
         the run has ended, every pending act is written)."""
         still = []
@@ -90,7 +96,8 @@ class Witness:
                                 pending["watch"][o.id] = 0.0
                 for ident in pending["watch"]:
                     other = snap.vehicle(ident)
-                    if other is not None and other.light in (None, "green") and not _following(other, snap, vid):
+                    if other is not None and other.light in (None, "green") and not _following(other, snap, vid) \
+                            and self._may_meet(pending, (agents or {}).get(ident), junction):
                         pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
             if snap is not None and t < pending["until"]:
                 still.append(pending)
@@ -105,6 +112,31 @@ class Witness:
             return None
         i = agent.route.index(a.edge)
         return agent.route[i + 1] if i + 1 < len(agent.route) else None
+
+    def _way(self, agent: Agent | None, junction: str) -> tuple[str, str] | None:
+        """The arms a road user's route comes in by and leaves by at a junction (None: unknown)."""
+        j = self.network.junctions.get(junction)
+        if agent is None or j is None:
+            return None
+        for a in j.approaches:
+            out = self._exit(agent, junction, a.name)
+            if out is not None:
+                return a.name, self._arm(j.x, j.y, out)
+        return None
+
+    def _arm(self, x: float, y: float, edge: str) -> str:
+        """The arm of a junction at (x, y) an outgoing edge leaves by, read EXIT_ARM_M out."""
+        shape = self.network.net.getEdge(edge).getShape()
+        far = next((p for p in shape if math.hypot(p[0] - x, p[1] - y) >= EXIT_ARM_M), shape[-1])
+        return sector(far[0] - x, far[1] - y)
+
+    def _may_meet(self, pending: dict[str, Any], other: Agent | None, junction: str) -> bool:
+        """Whether the other's way through the junction crosses or joins the vehicle's (and so
+        braking may be for it); where either way is unknown, it may."""
+        mine, theirs = pending["way"], self._way(other, junction)
+        if mine is None or theirs is None:
+            return True
+        return ways_meet(mine, theirs, self.network.lefthand)
 
     def _turn(self, agent: Agent, junction: str, approach: str) -> str | None:
         """Left, straight or right at a junction, from its route's edges in and out."""
@@ -128,7 +160,7 @@ class Witness:
             if agent is not None:
                 self._speeding(agent, v, t)
                 self._box(agent, v, t, snap, lines.get(v.id))
-        self._react(snap, around, t)
+        self._react(snap, around, t, agents)
 
     def seen(self, pairs: set[tuple[str, str]]) -> None:
         """The (monitor, vehicle) pairs the monitors observed this round."""
@@ -197,6 +229,24 @@ class Witness:
                            seen_by=tuple(sorted(o["seen_by"])),
                            why=f"speed factor {agent.speed_factor} [{agent.profile.name}]"
                            + (" on a call" if o["on_call"] else "")))
+
+
+def ways_meet(a: tuple[str, str], b: tuple[str, str], lefthand: bool = True) -> bool:
+    """Whether two ways through a four-arm junction, (arm in, arm out) each, cross or join: the
+    same exit (one joins the other), or chords that cross with each arm's two lanes placed round
+    the junction clockwise (left-hand traffic: the lane out, then the lane in; right-hand: in, out).
+    Two ways in by the same arm are one queue, not a conflict (the queue is `_following`'s)."""
+    if a[1] == b[1]:
+        return True
+    if a[0] == b[0] or not all(arm in _CLOCKWISE for arm in (*a, *b)):
+        return a[0] != b[0]
+
+    def place(arm: str, inbound: bool) -> int:
+        return 2 * _CLOCKWISE.index(arm) + (inbound == lefthand)
+
+    p1, p2 = sorted((place(a[0], True), place(a[1], False)))
+    q1, q2 = place(b[0], True), place(b[1], False)
+    return (p1 < q1 < p2) != (p1 < q2 < p2)
 
 
 def _approaching(o: Other, after_s: float) -> str:
