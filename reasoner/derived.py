@@ -394,7 +394,7 @@ def explained(p: Passage, other: Other) -> bool:
         return True
     if other.braking is None and other.stopped is None:
         return False
-    gap = path_gap(p.samples, other.samples, p.junction)
+    gap = path_gap(p.samples, other.way, p.junction)
     return gap is not None and gap >= VEHICLE_WIDTH_M
 
 

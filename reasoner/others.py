@@ -182,13 +182,13 @@ def path_gap(mine: Sequence[Sample], theirs: Sequence[Sample], junction: Junctio
     centre lines stay VEHICLE_WIDTH_M or more apart cannot both be occupied at once: a road user
     on such a path (a main-road car turning left into the arm the vehicle leaves) has no conflict
     point with the vehicle, and slows for its own manoeuvre, not to avoid it."""
-    a, b = _through(mine, junction), _through(theirs, junction)
+    a, b = through(mine, junction), through(theirs, junction)
     if len(a) < 2 or len(b) < 2:
         return None
     return min(_segment_gap(p, q, r, s) for p, q in zip(a, a[1:]) for r, s in zip(b, b[1:]))
 
 
-def _through(series: Sequence[Sample], junction: Junction) -> list[tuple[float, float]]:
+def through(series: Sequence[Sample], junction: Junction) -> list[tuple[float, float]]:
     """The positions inside the junction's area, with the one just before and just after; none
     unless the record shows the road user both come into the area and leave it: a path cut
     short (one that stopped in the junction, or whose record ends there) is not its path."""

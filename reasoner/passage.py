@@ -121,6 +121,13 @@ class Other:
     spawn: EventRef | None = None    # ... and that event
     followed: str | None = None      # the road user ahead of it that explains its braking or stop
     own_stop_line: bool = False      # it braked or stopped before a Stop line of its own arm
+    path: tuple[Sample, ...] = ()    # its way through the junction, read on past `samples` where
+                                     # they end before it left (rebuild.PATH_AFTER_S); else empty
+
+    @property
+    def way(self) -> tuple[Sample, ...]:
+        """The samples its way through the junction is read from."""
+        return self.path or self.samples
 
     def to_json(self) -> dict[str, Any]:
         return {"user": self.user, "src": self.src, "type": self.type, "arm": self.arm, "closing": self.closing,

@@ -27,7 +27,7 @@ from store import EventRef
 
 from .junctions import Junction, Map, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, stop_could_hide
-from .others import near_users
+from .others import near_users, through
 from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record
 from .signals import Light, changed_between, shown
@@ -46,6 +46,7 @@ MAX_BRACKET_S = 1.5       # samples further apart than this leave a moment betwe
 OTHERS_BEFORE_S = 3.0     # other road users are looked for from this long before the crossing or entry
 ANTICIPATION_S = 3.0      # braking counts from this long before the vehicle crossed (a driver sees it coming)
 REACTION_S = 3.0          # ... until this long after it left
+PATH_AFTER_S = 8.0        # a road user that braked or stopped is followed this much further, to see its way through
 
 
 def passages(record: Record) -> tuple[Passage, ...]:
@@ -143,7 +144,8 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
                         junction, record.vehicle, approach, max(t0, key - int(OTHERS_BEFORE_S * SECOND)),
                         out + int(REACTION_S * SECOND),
                         (key - int(ANTICIPATION_S * SECOND), out + int(REACTION_S * SECOND)), record.signals)
-    others = tuple(_typed(o, record.spawns(o.user)) for o in others)
+    others = _ways(record, junction, tuple(_typed(o, record.spawns(o.user)) for o in others),
+                   max(t0, key - int(OTHERS_BEFORE_S * SECOND)), out + int(REACTION_S * SECOND))
     spawn = record.spawn
     return Passage(
         run=record.run, vehicle=record.vehicle, junction=junction, approach=approach, approach_method=method,
@@ -156,6 +158,23 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
 
 
 # --- the pieces -------------------------------------------------------------------------------
+
+def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from: int, t_to: int) -> tuple[Other, ...]:
+    """The others, each that braked or stopped while its record in the window ends before its way
+    through the junction did given that way, read on for PATH_AFTER_S: whether that way meets the
+    vehicle's is what tells braking for it from braking for a turn of its own (derived.explained),
+    and a main-road car still slowing on its arm when the window closes shows no way at all."""
+    cut = [o for o in others if (o.braking or o.stopped) and not through(o.samples, junction)]
+    if not cut:
+        return others
+    longer = record.others(junction, t_from, t_to + int(PATH_AFTER_S * SECOND))
+    out = []
+    for o in others:
+        track = longer.get(o.user) if o in cut else None
+        path = tuple(s for s in track[1] if s.t >= t_from) if track else ()
+        out.append(replace(o, path=path) if through(path, junction) else o)
+    return tuple(out)
+
 
 def _series(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], str]:
     """The vehicle's own entity.state in the passage, unless the monitors placed it more often."""

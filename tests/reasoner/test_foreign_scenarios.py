@@ -1126,3 +1126,32 @@ def test_a_main_road_car_slowing_to_turn_into_the_arm_the_vehicle_leaves_was_not
     no_violation(found, "7")
     assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
     no_incident(found, "c3")
+
+
+def test_a_main_road_car_whose_turn_outlasts_the_reaction_window_is_read_to_the_end_of_its_turn(tmp_path):
+    """The same pull-out and the same turn of c3's, later: c3 brakes from 3.0 s after 7 crossed
+    its line, after 7 has gone on; its turn into the west arm is not over until 1 s after the 3 s
+    in which a reaction to 7 is counted. Whether its braking was for 7 or for its own turn is told
+    by its way through the junction (3.5 m from 7's at the nearest: the other side of the road),
+    so that way is read to its end, not cut where the reaction window closes; cut there, it showed
+    no way at all and its braking was taken for 7's doing (the hour's 161 at j19, braking 4.3 m/s²
+    into a left turn 1.75 s after 246 had left). 7 gave way: no violation, no "would force". 4 Hz."""
+    mine = Motion(-40.0, 6.0)                                     # crosses its line at 4.67 s, out at 8.67 s
+    c3 = Motion(-21.85 - 13.4 * 8.0, 13.4, [(8.0, 0.0), (1.85, -4.0), (3.0, 0.0), (5.0, 2.0)])
+    run = _give_way_only()
+    run.spawn("7")
+    run.spawn("c3")
+    times = rate(4, START, START + 24.0)
+    run.drive("7", mine, "west", times, t_start=START)
+    for at in times:
+        x, y, heading, v = _turning_left_from_the_south(c3, at - START)
+        run.emit("vehicle/c3", ns(at), "entity.state",
+                 {"x": round(x, 3), "y": round(y, 3), "heading_deg": heading, "speed_mps": round(v, 3)})
+        run.emit("monitor/m1", ns(at), "monitor.observation",
+                 {"vehicle": "c3", "facts": [], "speed_mps": round(v, 3), "x": round(x, 3), "y": round(y, 3)})
+    run.watch("7", mine, "west", rate(4, START, START + 24.0), t_start=START,
+              facts=camera("7", sign="give way", also=("c3 is approaching 7", "c3 is on the main road")))
+    found = judge(tmp_path, run)
+    assert of(found, "7"), "the camera's c3 approaching on the main road raises the act to judge"
+    no_violation(found, "7")
+    assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
