@@ -3,6 +3,7 @@ result as one process judging a store, a worker killed mid-task, a mistake said 
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
 import logging
 import os
@@ -65,10 +66,11 @@ def cluster():
 
 
 def test_two_workers_share_the_runs_and_give_what_one_process_gives(db, new, alone, cluster, tmp_path):
-    seen = []
+    seen, before = [], hashlib.sha256(db.read_bytes()).hexdigest()
     result = regress_store(db, [new], cluster=cluster, progress=lambda run, done, total: seen.append((done, total)),
                            judge_task=functools.partial(regress_dying.judge_noting_pid, str(tmp_path)))
     assert same(result) == alone
+    assert hashlib.sha256(db.read_bytes()).hexdigest() == before          # the workers only read it
     assert sorted(seen) == [(1, 3), (2, 3), (3, 3)]
     pids = {p.name.rpartition(".")[2] for p in tmp_path.iterdir()}
     assert len(list(tmp_path.iterdir())) == 3 and len(pids) == 2 and str(os.getpid()) not in pids
