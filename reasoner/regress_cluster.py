@@ -12,6 +12,11 @@ else. A run is never split across tasks: its incidents are matched, and its deci
 whole, and the investigation keeps per-run state (the rulesets, the chain's status) that a split
 would compute again in every part.
 
+A worker must be a process with one thread for another reason too: the engine must be called
+from the thread that started it (calling it from a second thread crashed the process here, a
+segmentation fault in SWI-Prolog), and a Dask worker's executor thread lives as long as the worker,
+so the first task starts the engine on it and every later task finds it there.
+
 The cluster is Dask's own: a LocalCluster of `workers` processes by default, a running scheduler
 with `scheduler`. A worker that dies has its task given to another by the scheduler (it tolerates
 `allowed-failures`, 3 by default, deaths per task before calling it lost); a task that raises
