@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import logging
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
@@ -113,8 +113,7 @@ def _store_regressor(path: str, job: Job, new: GivenBooks, old: GivenBooks | Non
 def _noting(part: RunPart, problems: tuple[str, ...]) -> RunPart:
     if not problems:
         return part
-    r = part.result
-    return RunPart(type(r)(r.run, r.incidents, r.decisions, r.baseline, r.new, (*problems, *r.problems)), part.diffs)
+    return replace(part, result=replace(part.result, problems=(*problems, *part.result.problems)))
 
 
 def regress_store(db: str | Path, rules: Sequence[str], baseline: Sequence[str] | None = None,

@@ -116,3 +116,14 @@ def test_the_golden_recording_regressed_straight_gives_what_importing_it_gives(n
         imported = regress(store, [new]).to_json()
     straight = regress_recordings([recording], [new]).to_json()
     assert imported["changed"] and imported["counts"]["verdict"] > 0 and straight == imported
+
+
+def test_events_a_recording_refuses_are_said_as_a_problem_of_its_runs(db, new, tmp_path):
+    recording = tmp_path / "run.jsonl"
+    with Store.open_read_only(db) as store:
+        export_run(store, RUNS[0], recording)
+    with recording.open("a", encoding="utf-8") as out:
+        out.write('{"v": 1, "run": "run-a", "src": "vehicle/5", "kind": "vehicle.decision"}\n')
+    (result,) = regress_recordings([recording], [new]).runs
+    assert result.problems == (f"{recording}: 1 event(s) refused on import, not judged (`gaps import` says why)",)
+    assert len(result.incidents) == 3
