@@ -6,12 +6,16 @@ from typing import Optional
 
 import typer
 
-from cli.app import fail, open_existing, print_json
+from cli.app import db_path, fail, open_existing, print_json
 from cli.options import DbOption, JsonOption
+from cli.progress import stderr_progress
 from cli.safe_text import printable
 
 
-def regress(rules: Optional[list[Path]] = typer.Option(
+def regress(recordings: Optional[list[Path]] = typer.Argument(
+                None, metavar="[FILES.mcap]...", help="Recordings (MCAP or JSONL) to regress straight from, "
+                                                      "nothing prepared: every run in each."),
+            rules: Optional[list[Path]] = typer.Option(
                 None, "--rules", help="The new rulebook: a .le file or a directory of them (repeatable)."),
             baseline: Optional[list[Path]] = typer.Option(
                 None, "--baseline", help="What to compare with: `in-force` (default: each run's own rulebooks, "
@@ -24,7 +28,11 @@ def regress(rules: Optional[list[Path]] = typer.Option(
             golden: Optional[Path] = typer.Option(None, "--golden", help="Compare the golden runs of this file "
                                                                           "with their approved verdicts."),
             update_golden: bool = typer.Option(False, "--update-golden", help="Approve the judgement: write it "
-                                                                              "into the --golden file.")
+                                                                              "into the --golden file."),
+            workers: int = typer.Option(1, "--workers", min=1, help="Judge the runs in parallel on a local Dask "
+                                                                     "cluster of this many worker processes."),
+            scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Judge the runs on the Dask cluster "
+                                                                                "of this scheduler (tcp://host:8786).")
             ) -> None:
     """Re-judge logged runs under new rulebooks and show what changed, and why.
 
@@ -33,26 +41,42 @@ def regress(rules: Optional[list[Path]] = typer.Option(
     decisions the new rules forbid or allow, each with the changed rules its proofs used; with
     --baseline OLD the rule change report comes first. Exit 0 when nothing changed, 1 when
     something did, 2 on a mistake (a file no stage uses, an unknown run, LE that does not parse).
+    Runs are judged one after another, or in parallel on Dask with --workers N or --scheduler.
     """
     from reasoner.regress import regress as run_regression
+    from reasoner.regress_cluster import Cluster, regress_recordings, regress_store
     from reasoner.regress_golden import check_golden
     from reasoner.regress_junit import junit_xml
     from reasoner.regress_text import lines
 
     rule_args = [str(p) for p in rules or []]
+    on = Cluster(workers, scheduler)
     if golden is not None:
+        if recordings or not on.in_process:
+            fail("--golden judges its own runs in one process: leave out FILES, --workers and --scheduler")
         result = check_golden(golden, lambda: open_existing(db), rule_args, run or [], update_golden)
     else:
         if update_golden:
             fail("--update-golden needs --golden FILE")
         if not rule_args:
             fail("name the new rulebook with --rules FILE.le (or a directory)")
-        if bool(run) == all_runs:
-            fail("name the runs with --run R (repeatable) or --all")
+        if recordings and (run or all_runs):
+            fail("regress either recordings (FILES.mcap) or a store's runs (--run R, --all), not both")
+        if not recordings and bool(run) == all_runs:
+            fail("name the runs with --run R (repeatable) or --all, or give recordings (FILES.mcap)")
         base = [str(p) for p in baseline or []]
-        with open_existing(db) as store:
-            result = run_regression(store, rule_args, None if base in ([], ["in-force"]) else base,
-                                    None if all_runs else run)
+        base_arg = None if base in ([], ["in-force"]) else base
+        with stderr_progress("judging runs") as bar:
+            progress = (lambda _label, done, total: bar(done, total)) if bar else None
+            if recordings:
+                result = regress_recordings(recordings, rule_args, base_arg, cluster=on, progress=progress)
+            elif on.in_process:
+                with open_existing(db) as store:
+                    result = run_regression(store, rule_args, base_arg, None if all_runs else run, progress=progress)
+            else:
+                open_existing(db).close()            # the store's own checks, said before a cluster starts
+                result = regress_store(db_path(db), rule_args, base_arg, None if all_runs else run, cluster=on,
+                                       progress=progress)
     if junit is not None:
         junit.write_bytes(junit_xml(result))
     if json_out:

@@ -145,6 +145,15 @@ class Regression:
                 "runs": [r.to_json() for r in self.runs]}
 
 
+@dataclass(frozen=True)
+class RunPart:
+    """One run's result and the rulebook diffs it went through (with the stages it used them
+    for): plain data, what a cluster's worker sends back (regress_cluster.py)."""
+
+    result: RunResult
+    diffs: tuple[RulebookDiff, ...]
+
+
 def regress(store: Store, rules: Sequence[str], baseline: Sequence[str] | None = None,
             runs: Sequence[str] | None = None, *, engine: Engine | None = None,
             progress: Progress | None = None) -> Regression:
@@ -152,17 +161,39 @@ def regress(store: Store, rules: Sequence[str], baseline: Sequence[str] | None =
     engine = engine or get_engine()
     new = load_given(engine, rules, "--rules")
     old = load_given(engine, baseline, "--baseline") if baseline else None
-    chosen = _runs(store, runs)
+    chosen = chosen_runs(store, runs)
     regressor = Regressor(store, engine, new, old)
-    results = []
+    parts = []
     for n, run in enumerate(chosen):
-        results.append(regressor.run(run))
+        parts.append(regressor.part(run))
         if progress is not None:
             progress(run, n + 1, len(chosen))
-    return Regression(new.paths, old.paths if old else IN_FORCE, tuple(results), regressor.diffs(), new.unused)
+    return assemble(new, old, parts)
 
 
-def _runs(store: Store, runs: Sequence[str] | None) -> list[str]:
+def assemble(new: GivenBooks, old: GivenBooks | None, parts: Iterable[RunPart]) -> Regression:
+    """The regression of runs judged apart (in one process or on a cluster), in the order given:
+    each diff listed where a run first went through it, with every stage any run used it for,
+    as one Regressor judging them one after another lists them."""
+    stages: dict[tuple[str, str], set[str]] = {}
+    diffs: dict[tuple[str, str], RulebookDiff] = {}
+    results = []
+    for part in parts:
+        results.append(part.result)
+        for d in part.diffs:
+            key = (d.old_sha256, d.new_sha256)
+            diffs.setdefault(key, d)
+            stages.setdefault(key, set()).update(d.stages)
+    merged = tuple(_with_stages(d, stages[key]) for key, d in diffs.items())
+    return Regression(new.paths, old.paths if old else IN_FORCE, tuple(results), merged, new.unused)
+
+
+def _with_stages(d: RulebookDiff, stages: Iterable[str]) -> RulebookDiff:
+    return RulebookDiff(tuple(sorted(stages)), d.old_name, d.old_sha256, d.new_name, d.new_sha256, d.changes)
+
+
+def chosen_runs(store: Store, runs: Sequence[str] | None) -> list[str]:
+    """The runs asked for (each must be in the store, NoSuchRun), else every run."""
     known = [r.run for r in store.runs()]
     if runs is None:
         if not known:
@@ -182,19 +213,20 @@ class Regressor:
         self.engine = engine
         self.store = store
         self.reader = FactReader()
-        base = list(old.paths) if old else []
+        base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
         self.before = Investigation(store, engine, rules=base)
-        self.after = Investigation(store, engine, rules=[*new.paths, *base])
+        self.after = Investigation(store, engine, rules=[*new.texts, *base])
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
         self._names = {rb.sha256: path for rb, path in reversed(given)}     # the first path of each text
-        self._stages: dict[tuple[str, str], set[str]] = {}
+        self._touched: dict[tuple[str, str], set[str]] = {}   # the diffs the run being judged used
 
-    def diffs(self) -> tuple[RulebookDiff, ...]:
-        """Every pair of rulebooks compared, with the stages each answered."""
-        return tuple(RulebookDiff(tuple(sorted(self._stages[k])), d.old_name, d.old_sha256, d.new_name,
-                                  d.new_sha256, d.changes) for k, d in self._diffs.items())
+    def part(self, run: str) -> RunPart:
+        """The run judged, with the diffs (and stages) it used."""
+        self._touched = {}
+        result = self.run(run)
+        return RunPart(result, tuple(_with_stages(self._diffs[k], stages) for k, stages in self._touched.items()))
 
     def run(self, run: str) -> RunResult:
         base, new = self.before.incidents(run), self.after.incidents(run)
@@ -210,7 +242,7 @@ class Regressor:
         key = (old.sha256, new.sha256)
         if key not in self._diffs:
             self._diffs[key] = diff_rulebooks(old, new, names=self._names)
-        self._stages.setdefault(key, set()).add(stage)
+        self._touched.setdefault(key, set()).add(stage)
         return self._diffs[key]
 
     def _stage_diffs(self, rs_b: RuleSet, rs_n: RuleSet) -> Diffs:

@@ -37,6 +37,7 @@ class GivenBooks:
     paths: tuple[str, ...]                   # the file each came from, same order
     stages: dict[str, str]                   # stage -> path of the book that answers it
     unused: tuple[str, ...] = ()             # directory files no stage uses (named files are errors)
+    texts: tuple[str, ...] = ()              # their LE, same order: a worker needs no rulebook file
 
     @property
     def names(self) -> list[str]:
@@ -62,31 +63,47 @@ def _stage_order(path: Path) -> tuple[int, str]:
     return (CURRENT_SET.index(path.name) if path.name in CURRENT_SET else len(CURRENT_SET), path.name)
 
 
+@dataclass(frozen=True)
+class BookText:
+    """A given rulebook's text and where it came from: what a cluster's worker loads, so that it
+    needs the project, not the files the rulebooks were read from."""
+
+    path: str
+    text: str
+    from_dir: bool
+
+
+def read_given(items: Iterable[str | Path]) -> tuple[BookText, ...]:
+    """The texts of every rulebook the arguments name, in the order stages look for them."""
+    return tuple(BookText(str(path), path.read_text(encoding="utf-8"), is_dir)
+                 for item in items for files, is_dir in [rule_files(item)] for path in files)
+
+
 def load_given(engine: Engine, items: Iterable[str | Path], what: str = "--rules") -> GivenBooks:
     """Load every rulebook the arguments name and check each is used by some stage: an LEError
     (file:line:column) for one that does not compile, a RegressError for one no stage uses."""
-    books: list[Rulebook] = []
-    paths: list[str] = []
-    from_dir: list[bool] = []
-    for item in items:
-        files, is_dir = rule_files(item)
-        for path in files:
-            books.append(engine.load(path.read_text(encoding="utf-8"), str(path)))
-            paths.append(str(path))
-            from_dir.append(is_dir)
-    if not books:
+    return load_texts(engine, read_given(items), what)
+
+
+def load_texts(engine: Engine, texts: Iterable[BookText], what: str = "--rules") -> GivenBooks:
+    """load_given on texts already read (a worker's half of it)."""
+    texts = tuple(texts)
+    if not texts:
         raise RegressError(f"{what} names no rulebook")
+    books = [engine.load(t.text, t.path) for t in texts]
+    paths = [t.path for t in texts]
     stages = RuleSet(engine, books, [], []).stages
     used = {choice.rulebook.sha256: stage for stage, choice in stages.items()}
     answered = {stage: paths[books.index(choice.rulebook)] for stage, choice in stages.items()}
     unused = [i for i, rb in enumerate(books) if rb.sha256 not in used]
-    named = [i for i in unused if not from_dir[i]]
+    named = [i for i in unused if not texts[i].from_dir]
     if named:
         raise RegressError(f"{what} {paths[named[0]]} is used by no stage: {_why_unused(books[named[0]], answered)}")
     if unused and len(unused) == len(books):
         raise RegressError(f"{what}: none of the rulebooks is used by a stage: "
                            + "; ".join(f"{paths[i]}: {_why_unused(books[i], answered)}" for i in unused))
-    return GivenBooks(tuple(books), tuple(paths), answered, tuple(paths[i] for i in unused))
+    return GivenBooks(tuple(books), tuple(paths), answered, tuple(paths[i] for i in unused),
+                      tuple(t.text for t in texts))
 
 
 def _why_unused(rb: Rulebook, answered: dict[str, str]) -> str:

@@ -85,17 +85,20 @@ class Outlets:
         if self._first_t is None:
             self._first_t = t
         self._last_t = t if self._last_t is None else max(self._last_t, t)
+        if self._publisher is not None and not self._matched:
+            self._matched = self._publisher.wait_until_matched(event, self.wait_s)
+            if not self._matched:
+                raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
+                                   "is `gaps serve` running there?")
+            # The clock starts when the first event can go out (the first is matched): paced from
+            # before an ingest came, the events due while waiting for it would go out in one burst.
+            self._wall0 = time.monotonic()
         if self.speed is not None:
             due = self._wall0 + (t - self._first_t) / SECOND / self.speed
             ahead = due - time.monotonic()
             if ahead > 0:
                 time.sleep(ahead)
         if self._publisher is not None:
-            if not self._matched:
-                self._matched = self._publisher.wait_until_matched(event, self.wait_s)
-                if not self._matched:
-                    raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
-                                       "is `gaps serve` running there?")
             self._publisher.publish(event)
             self._published += 1
         if self._recorder is not None:

@@ -3,6 +3,9 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import subprocess
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -107,3 +110,43 @@ def test_the_golden_runs_are_judged_as_approved():
     assert result.exit_code == 0, result.output
     assert "Nothing changed" in result.output
 
+
+
+def test_a_recording_regresses_straight_as_the_store_it_was_exported_from(db, tmp_path):
+    from store import Store, export_run
+    recording = tmp_path / "run.mcap"
+    with Store.open_read_only(db) as store:
+        export_run(store, R.RUN, recording)
+    new = R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))
+    straight = gaps("regress", recording, "--rules", new, "--json")
+    from_store = gaps("regress", "--rules", new, "--all", "--json", db=db)
+    assert straight.exit_code == from_store.exit_code == 1, straight.output
+    assert json.loads(straight.output) == json.loads(from_store.output)
+    assert list(tmp_path.glob("*.db")) == []                 # the store it was judged in is gone
+
+
+def test_two_local_workers_print_what_one_process_prints(db, tmp_path):
+    """About 12 s: a LocalCluster of two processes starts, each with its own Prolog engine. Both
+    commands run in fresh processes (a rulebook is named by the path a process first loaded it
+    from)."""
+    new = R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))
+    root = Path(__file__).parents[2]
+
+    def command(*more: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "cli.main", "regress", "--rules", str(new), "--all", "--json",
+                               "--db", str(db), *more], cwd=root, env={**os.environ, "PYTHONPATH": str(root)},
+                              capture_output=True, text=True, timeout=300)
+    one, two = command(), command("--workers", "2")
+    assert one.returncode == two.returncode == 1, two.stderr
+    assert one.stdout == two.stdout and "Traceback" not in two.stderr
+
+
+@pytest.mark.parametrize("args, says", [
+    (["nope.mcap", "--rules", "reasoner/rules/penalties.le"], "no such file: nope.mcap"),
+    (["tests/golden/golden-sim.mcap", "--rules", "reasoner/rules/penalties.le", "--run", R.RUN],
+     "regress either recordings (FILES.mcap) or a store's runs"),
+    (["--golden", str(GOLDEN), "--workers", "2"], "--golden judges its own runs in one process"),
+])
+def test_recording_and_cluster_mistakes_exit_2_with_a_message(db, args, says):
+    result = gaps("regress", *args, db=db)
+    assert result.exit_code == 2 and says in result.output, result.output

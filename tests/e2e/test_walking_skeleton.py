@@ -54,10 +54,10 @@ def test_read_command_on_missing_store_is_a_clear_error(tmp_path):
     assert "no event store at" in r.stderr and "Traceback" not in r.stderr
 
 
-def test_help_loads_neither_prolog_nor_zenoh():
+def test_help_loads_neither_prolog_nor_zenoh_nor_dask():
     code = ("import sys\nfrom cli.main import app\n"
             "try:\n    app(['--help'])\nexcept SystemExit:\n    pass\n"
-            "print(sorted(m for m in ('janus_swi', 'zenoh') if m in sys.modules))")
+            "print(sorted(m for m in ('janus_swi', 'zenoh', 'dask', 'distributed') if m in sys.modules))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert r.stdout.strip().endswith("[]"), r.stdout + r.stderr
     assert "demo" in r.stdout and "verify" in r.stdout

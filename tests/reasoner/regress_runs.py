@@ -26,8 +26,16 @@ GREEN_RULE = ("\n% a test's rule, unlabelled: entering on green is a potential v
               "    and the vehicle has crossed the stop line.\n")
 
 
-def build_store(path: Path) -> Path:
-    run = RunBuilder()
+def build_store(path: Path, runs: tuple[str, ...] = (RUN,)) -> Path:
+    """A store holding the run above under each of the names `runs`."""
+    with Store(path) as store:
+        for name in runs:
+            store.append(_events(name))
+    return path
+
+
+def _events(name: str) -> list[dict]:
+    run = RunBuilder(run=name)
     for v in ("5", "7", "9", "11"):
         run.spawn(v)
     run.signal("amber", 9.0)
@@ -42,9 +50,7 @@ def build_store(path: Path) -> Path:
     run.signal("red", 39.0)
     run.crossing("9", at=40, perceived=car("9") + ["9 has red light"], record=False,
                  observed=["9 has red light", "9 has crossed the stop line"])
-    with Store(path) as store:
-        store.append(run.finish())
-    return path
+    return run.finish()
 
 
 def edited(tmp: Path, name: str, cut: tuple[str, ...] = (), add: str = "", old: str = "", new: str = "") -> Path:

@@ -1,0 +1,203 @@
+"""Regression (two rulebooks, diff) as a speed against real time, from a store and straight from
+MCAP, and its scaling on a local Dask cluster.
+
+    .venv/bin/python bench/regress.py [--dir /tmp/gaps-bench] [--repeats 3] [--copies 4] [--json]
+
+Issue 16's targets: a one-hour, 200-vehicle run regressed at >= 1,000x real time from a store and
+>= 100x straight from its MCAP file with nothing prepared; >= 0.8x linear per worker on a local Dask
+cluster, against the single-process run in the same bench.
+
+The run: the simulation's one-hour town run (bench/sim_runs.py), exported once to MCAP beside it;
+BENCH_QUICK=1 takes the golden run instead (tests/golden/golden-sim.mcap: 90 s, 60 road users,
+25,533 events), imported once into a store under --dir. The new rulebook is validators.le without
+its amber exception (verdicts and decisions flip, so the diff and the reasons are computed); the
+baseline is the rulebooks in force.
+
+    store    regress.regress on the store, a fresh Store and Regressor each repeat (median)
+    mcap     regress_cluster.regress_recordings on the file: import into a temporary store, judge
+    scaling  `--copies` copies of the run in one store (renamed runs), judged in this process, then
+             on a LocalCluster of 1 and of 2 worker processes (started and warmed on another copy
+             of the file first: the figure is the judging, not the cluster's start)
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+from results import Figure, quick, record  # bench/results.py, beside this file
+
+ROOT = Path(__file__).resolve().parents[1]
+GOLDEN = ROOT / "tests" / "golden" / "golden-sim.mcap"
+AMBER = '% "or are so close to it that to stop might cause a collision"'
+TARGETS = {"store": 1000.0, "mcap": 100.0, "linear": 0.8}
+
+
+def new_rules(directory: Path) -> Path:
+    """validators.le without the amber exception (the rule under the AMBER comment)."""
+    from reasoner.bundled import bundled
+    text = bundled("validators.le")
+    start = text.index(AMBER)
+    path = directory / "validators.le"
+    path.write_text(text[:start] + text[text.index("\n\n", start) + 2:], encoding="utf-8")
+    return path
+
+
+def inputs(directory: Path) -> tuple[Path, Path, str]:
+    """The store file, the MCAP file and the run's name (made once under `directory`)."""
+    from store import Store, export_run, import_file
+    if quick():
+        db, mcap = directory / "regress-golden.db", GOLDEN
+        if not db.exists():
+            with Store(db.with_suffix(".partial"), durable=False) as store:
+                import_file(store, GOLDEN)
+            db.with_suffix(".partial").rename(db)
+        with Store.open_read_only(db) as store:
+            return db, mcap, store.run_names()[0]
+    sys.path.insert(0, str(Path(__file__).parent))
+    from sim_runs import RUN, recorded
+    db = recorded(directory)
+    mcap = db.with_suffix(".mcap")
+    if not mcap.exists():
+        with Store.open_read_only(db) as store:
+            export_run(store, RUN, mcap.with_suffix(".partial.mcap"), scene=False)
+        mcap.with_suffix(".partial.mcap").rename(mcap)
+    return db, mcap, RUN
+
+
+def copies(db: Path, run: str, n: int, directory: Path) -> Path:
+    """A store holding the run n times, as run-1..run-n (each its own chain)."""
+    from store import Store
+    path = directory / f"regress-{db.stem}-x{n}.db"
+    if path.exists():
+        return path
+    partial = path.with_suffix(".partial")
+    partial.unlink(missing_ok=True)
+    with Store.open_read_only(db) as source, Store(partial, durable=False) as target:
+        events = [json.loads(row.event) for row in source.history(run)]
+        for i in range(1, n + 1):
+            target.append([{**e, "run": f"{run}-{i}"} for e in events])
+    partial.rename(path)
+    return path
+
+
+def timed(fn: Callable[[], Any]) -> tuple[Any, float]:
+    started = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - started
+
+
+def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int) -> dict[str, Any]:
+    from reasoner.regress import regress
+    from reasoner.regress_cluster import regress_recordings
+    from store import Store
+
+    def from_store():
+        with Store.open_read_only(db) as store:
+            return regress(store, [rules], runs=[run])
+
+    with Store.open_read_only(db) as store:
+        span = next(r for r in store.runs() if r.run == run)
+    seconds = (span.last_t - span.first_t) / 1e9
+    out: dict[str, Any] = {"run": run, "events": span.events, "run_seconds": seconds, "store_s": [], "mcap_s": [],
+                           "load": [os.getloadavg()[0]]}
+    for i in range(repeats):
+        result, wall = timed(from_store)
+        out["store_s"].append(wall)
+        out["counts"] = result.counts()
+        _, wall_m = timed(lambda: regress_recordings([mcap], [rules]))
+        out["mcap_s"].append(wall_m)
+        out["load"].append(os.getloadavg()[0])
+        print(f"repeat {i + 1}: from the store {wall:.2f} s ({seconds / wall:,.0f}x real time), straight from MCAP "
+              f"{wall_m:.2f} s ({seconds / wall_m:,.0f}x)", flush=True)
+    return out
+
+
+def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str, Any]:
+    """The n copies judged in this process, then on 1 and 2 local workers (warmed first)."""
+    import logging
+
+    from distributed import LocalCluster
+    from reasoner.regress_cluster import Cluster, regress_store
+
+    many = copies(db, run, n, directory)
+    out: dict[str, Any] = {"runs": n, "load": [os.getloadavg()[0]]}
+    _, out["process_s"] = timed(lambda: regress_store(many, [rules]))
+    print(f"{n} runs in this process: {out['process_s']:.2f} s", flush=True)
+    with tempfile.TemporaryDirectory(prefix="gaps-bench-warm-", dir=directory) as tmp:
+        warm = Path(tmp) / "warm.db"
+        shutil.copyfile(many, warm)
+        for workers in (1, 2):
+            with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                              silence_logs=logging.ERROR) as local:
+                on = Cluster(scheduler=local.scheduler_address)
+                regress_store(warm, [rules], cluster=on)            # start every worker's engine
+                _, wall = timed(lambda: regress_store(many, [rules], cluster=on))
+            out[f"workers_{workers}_s"] = wall
+            out["load"].append(os.getloadavg()[0])
+            print(f"{n} runs on {workers} worker(s): {wall:.2f} s", flush=True)
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dir", type=Path, default=Path("/tmp/gaps-bench"))
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--copies", type=int, default=4, help="runs in the scaling store (two per worker)")
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+    args.dir.mkdir(parents=True, exist_ok=True)
+    db, mcap, run = inputs(args.dir)
+    with tempfile.TemporaryDirectory(prefix="gaps-bench-rules-") as tmp:
+        rules = str(new_rules(Path(tmp)))
+        speed = measure(db, mcap, run, rules, args.repeats)
+        scale = scaling(db, run, rules, args.copies, args.dir)
+    result = {**speed, "scaling": scale}
+    figures(result, mcap)
+    if args.json:
+        print(json.dumps(result, indent=2))
+
+
+def figures(r: dict[str, Any], mcap: Path) -> None:
+    seconds, s = r["run_seconds"], r["scaling"]
+    store, straight = statistics.median(r["store_s"]), statistics.median(r["mcap_s"])
+    one, two, alone = s["workers_1_s"], s["workers_2_s"], s["process_s"]
+    load = [*r["load"], *s["load"]]
+    lines = [
+        f"run {r['run']}: {r['events']:,} events over {seconds:,.0f} s; judged: {r['counts']}",
+        f"from the store: median {store:.2f} s = {seconds / store:,.0f}x real time (target {TARGETS['store']:,.0f}x)",
+        f"straight from MCAP ({mcap.stat().st_size / 1e6:.1f} MB): median {straight:.2f} s = "
+        f"{seconds / straight:,.0f}x real time (target {TARGETS['mcap']:,.0f}x)",
+        f"{s['runs']} runs: this process {alone:.2f} s, 1 worker {one:.2f} s, 2 workers {two:.2f} s: "
+        f"{alone / two / 2:.2f}x linear against this process, {one / two / 2:.2f}x against 1 worker "
+        f"(target {TARGETS['linear']}x)",
+        f"load average during the bench: {', '.join(f'{x:.2f}' for x in load)} (median {statistics.median(load):.2f})"]
+    for line in lines:
+        print(line)
+    record("regress", "Regression of a run under two rulebooks, from a store, from MCAP, on Dask", [
+        Figure("regression from a store (two rulebooks, diff)", store, "s", tuple(r["store_s"])),
+        Figure("the same as a speed", seconds / store, "× real time", tuple(seconds / x for x in r["store_s"]),
+               target=f"≥ {TARGETS['store']:,.0f}× real time"),
+        Figure("regression straight from MCAP, nothing prepared", straight, "s", tuple(r["mcap_s"])),
+        Figure("the same as a speed", seconds / straight, "× real time", tuple(seconds / x for x in r["mcap_s"]),
+               target=f"≥ {TARGETS['mcap']:,.0f}× real time"),
+        Figure(f"{s['runs']} runs in one process", alone, "s"),
+        Figure(f"{s['runs']} runs on 1 Dask worker", one, "s", peer=f"{s['runs']} runs in one process"),
+        Figure(f"{s['runs']} runs on 2 Dask workers", two, "s", peer=f"{s['runs']} runs in one process"),
+        Figure("2 workers as a fraction of linear (against one process)", alone / two / 2, "× linear",
+               target=f"≥ {TARGETS['linear']}× linear")],
+        notes=f"run {r['run']}, {r['events']:,} events over {seconds:,.0f} s; new rulebook: validators.le without "
+              f"its amber exception, baseline in force; median of {len(r['store_s'])}",
+        machine_extra=f"load average during the bench {', '.join(f'{x:.2f}' for x in load)}",
+        details={"counts": r["counts"], "scaling": s})
+
+
+if __name__ == "__main__":
+    sys.exit(main())
