@@ -328,18 +328,23 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
         else None
     reacted = hard.first.t if hard else other.stopped.t if other.stopped else None
     if found is None and reacted is not None and reacted != at:
-        found = _approaching_at(p, other, reacted)
+        found = _approaching_at(p, other, reacted, within=math.inf)
     return found
 
 
-def _approaching_at(p: Passage, other: Other, at: int) -> DerivedFact | None:
+def _approaching_at(p: Passage, other: Other, at: int, within: float = APPROACH_M) -> DerivedFact | None:
+    """U closing on the centre at `at`, from outside the junction and `within` metres of it: a road
+    user is approaching within APPROACH_M; one that braked hard or stopped while V passed, with
+    nothing else to explain it, was approaching V when it did, however far off (near_users has
+    already kept only those that came within CONFLICT_M): a main-road car braking at 3.3 m/s² 71 m
+    out as V turned into its lane was approaching V."""
     now, used = position_at(other.samples, at)
     before, used_before = position_at(other.samples, at - int(APPROACH_DT_S * SECOND))
     if now is None or before is None:
         return None
     j = p.junction
     d_now, d_before = j.distance(*now), j.distance(*before)
-    if j.edge(*now) <= 0 or d_now > APPROACH_M or d_before - d_now < 0.1:
+    if j.edge(*now) <= 0 or d_now > within or d_before - d_now < 0.1:
         return None
     how = (f"{other.user} was {d_now:.0f} m from the centre of {j.id} on the {other.arm} arm at {format_time(at)} and "
            f"{d_before - d_now:.1f} m closer than {APPROACH_DT_S:g} s before ({between(used, at)})")
