@@ -109,7 +109,7 @@ def _lz4(data: bytes, limit: int) -> bytes:
         while len(out) < limit and not decompressor.eof:
             piece = decompressor.decompress(pending, max_length=min(_SLICE, limit - len(out)))
             pending = b""
-            if not piece and decompressor.needs_input:
+            if not piece:  # the frame is cut short (the caller sees too few bytes), or has no more
                 break
             out += piece
     except RuntimeError as exc:  # lz4.frame raises RuntimeError for corrupt frames
