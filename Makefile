@@ -3,7 +3,7 @@ SHELL := /bin/bash
 VENV := .venv
 READY := $(VENV)/.ready
 
-.PHONY: demo test setup clean bench bench-quick
+.PHONY: demo test setup clean bench bench-quick fuzz
 
 demo: $(READY)
 	$(VENV)/bin/gaps demo
@@ -13,6 +13,21 @@ test: $(READY)
 	$(VENV)/bin/python -m pytest
 
 setup: $(READY)
+
+# The fuzzers (tests/fuzz: envelope decoding, JSONL and MCAP import, the LE parser and engine, the
+# command line's arguments) with ten times the examples `make test` gives them, round after round
+# with fresh seeds until FUZZ_SECONDS (default 600) have passed; the round in progress finishes.
+# A failure stops at once; Hypothesis keeps the failing example in .hypothesis/ and tries it first.
+FUZZ_SECONDS ?= 600
+
+fuzz: $(READY)
+	@end=$$(( $$(date +%s) + $(FUZZ_SECONDS) )); round=0; \
+	while [ $$(date +%s) -lt $$end ]; do \
+		round=$$((round + 1)); seed=$$(od -An -N4 -tu4 /dev/urandom | tr -d ' '); \
+		echo "== fuzz round $$round (seed $$seed)"; \
+		GAPS_FUZZ=long PYTHONPATH=$(CURDIR) $(VENV)/bin/python -m pytest -q -p no:cacheprovider \
+			--hypothesis-seed=$$seed tests/fuzz tests/reasoner/test_le_fuzz.py || exit 1; \
+	done
 
 # Every benchmark, one after another (a shared machine: never two at once), each recording its figures
 # in bench/results.json; then docs/performance.md is regenerated from it. The full sizes take an hour

@@ -243,6 +243,9 @@ class Engine:
 
 def _prolog_message(exc) -> str:
     text = str(exc)
+    if "integer_bits" in text:
+        return ("the question computed an integer of more than 4096 bits, the engine's limit "
+                "(a rule may multiply without end)")
     if "le_limit" in text:
         return "the question ran past the engine's inference limit (a rule may recurse without end)"
     if "le_resource" in text or "resource_error" in text:

@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import fastjson, history, index_guard, liveliness, opening, queries, rulebooks, verify_cache
+from . import history, index_guard, liveliness, opening, queries, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -23,7 +23,8 @@ from .heads import Heads
 from .integrity import integrity_problems
 from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
-from .errors import StoreError
+from .errors import EvidenceError, StoreError
+from .event_rows import events_of
 from .outcomes import AppendReport, VerifyReport
 from .reading import one_snapshot
 from .run_summary import RunSummary
@@ -217,7 +218,7 @@ class Store:
             rows: Iterator[tuple] = heapq.merge(*streams)
         else:
             rows = self._rows(run, wanted, srcs, t_from, t_to)
-        return _parsed(index_guard.checked(rows, run))
+        return _parsed(index_guard.checked(rows, run), run)
 
     def _rows(self, run: str, kinds, srcs, t_from, t_to) -> Iterator[tuple]:
         sql, params = queries.select_events(run, kinds, srcs, t_from, t_to)
@@ -243,7 +244,7 @@ class Store:
         up to SEQ_SLACK (64) places is still found, one further out may be missed."""
         with self._reading():
             rows = queries.source_rows(self._conn, run, src, kinds, t_from, t_to)
-        return fastjson.loads_all([row[3] for row in rows])
+        return events_of(rows, run)
 
     def observations_of(
         self,
@@ -262,7 +263,7 @@ class Store:
         with self._reading():
             rows = list(index_guard.checked(queries.observation_rows(self._conn, run, str(vehicle), srcs,
                                                                       t_from, t_to), run))
-        return fastjson.loads_all([row[3] for row in rows])
+        return events_of(rows, run)
 
     def history(self, run: str, wanted: history.HistoryFilter = history.HistoryFilter(), *,
                 after: int = -1, chunk: int = history.CHUNK) -> Iterator[history.HistoryRow]:
@@ -351,7 +352,13 @@ class Store:
         holds at most highest seq + 1 events (seqs are distinct and start at 0), with equality
         exactly when it has no gap, so the run has none exactly when those bounds add up to its
         chain length. Lets the reasoner skip looking for missing evidence on a complete run."""
-        bound = sum(queries.highest_seq(self._conn, run, src) + 1 for src in self.sources(run))
+        bound = 0
+        for src in self.sources(run):
+            highest = queries.highest_seq(self._conn, run, src)
+            if highest is None:  # one index lists the source, another holds none of its events
+                raise EvidenceError(f"run {run} src {src}: the store's indexes disagree about this source's "
+                                    "events: the file was damaged or altered; `gaps verify` says where")
+            bound += highest + 1
         return bound != queries.chain_length(self._conn, run)
 
     def highest_seq(self, run: str, src: str) -> int | None:
@@ -449,15 +456,15 @@ class Store:
 
 
 
-def _parsed(rows: Iterator[tuple]) -> Iterator[dict]:
+def _parsed(rows: Iterator[tuple], run: str) -> Iterator[dict]:
     """The events of rows (src, seq, t, event JSON, ...), parsed a chunk at a time: one parse
     of a chunk is several times cheaper than one parse an event. Chunks start small and grow,
     so that a reader taking the first few events of a long stream parses little more than it
     takes."""
     size = 16
     while True:
-        chunk = [row[3] for row in islice(rows, size)]
+        chunk = list(islice(rows, size))
         if not chunk:
             return
-        yield from fastjson.loads_all(chunk)
+        yield from events_of(chunk, run)
         size = min(size * 2, 1024)

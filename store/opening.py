@@ -132,6 +132,10 @@ def _closed_on_error(conn: sqlite3.Connection, path: str, *, locked_as_is: bool)
         if locked_as_is and isinstance(exc, sqlite3.OperationalError):
             raise
         raise _unusable(path, exc) from None
+    except UnicodeDecodeError:  # a damaged schema: SQLite hands Python text that is not UTF-8
+        conn.close()
+        raise StoreError(f"cannot open the event store {path}: its schema holds text that is not UTF-8 "
+                         "(the file is damaged or was altered)") from None
     except BaseException:
         conn.close()
         raise

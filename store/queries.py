@@ -10,6 +10,7 @@ import sqlite3
 from typing import Any, Collection, Iterator
 
 from .ddl import DENSE_KINDS, SPARSE_ONLY
+from .errors import EvidenceError
 from .index_guard import AGREES
 from .run_summary import RunSummary
 
@@ -173,6 +174,18 @@ def _at_or_after(conn: sqlite3.Connection, run: str, src: str, seq: int) -> tupl
                         (run, src, seq)).fetchone()
 
 
+def _probe(conn: sqlite3.Connection, run: str, src: str, seq: int) -> tuple[int, int]:
+    """_at_or_after for a seq at or below the source's highest: a row must be there. None means
+    the file's indexes disagree (the highest seq read through one index, this probe through
+    another): a damaged or altered file, said as such rather than crashing the search."""
+    found = _at_or_after(conn, run, src, seq)
+    if found is None:
+        raise EvidenceError(f"run {run} src {src}: the store's indexes disagree about this source's events "
+                            f"(no event at or after seq {seq}): the file was damaged or altered; "
+                            "`gaps verify` says where")
+    return found
+
+
 def _first_seq_past(conn: sqlite3.Connection, run: str, src: str, highest: int, t: int, strict: bool) -> int:
     """The lowest seq whose t is >= t (or > t when strict), searching the source's numbering:
     exact when the source's t never decreases as its seq rises; highest + 1 when none is.
@@ -185,7 +198,7 @@ def _first_seq_past(conn: sqlite3.Connection, run: str, src: str, highest: int, 
         return found_t > t or (found_t == t and not strict)
 
     lo, hi = 0, highest + 1
-    t_lo, t_hi = _at_or_after(conn, run, src, 0)[1], _at_or_after(conn, run, src, highest)[1]
+    t_lo, t_hi = _probe(conn, run, src, 0)[1], _probe(conn, run, src, highest)[1]
     bisect = False
     while lo < hi:
         if not bisect and t_hi > t_lo:
@@ -193,7 +206,7 @@ def _first_seq_past(conn: sqlite3.Connection, run: str, src: str, highest: int, 
         else:
             mid = (lo + hi) // 2
         width = hi - lo
-        seq, found_t = _at_or_after(conn, run, src, mid)
+        seq, found_t = _probe(conn, run, src, mid)
         if past(found_t):
             hi, t_hi = mid, found_t
         else:

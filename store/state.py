@@ -46,6 +46,7 @@ from typing import Any, Callable
 
 from . import fastjson, snapshots
 from .db import Store
+from .errors import EvidenceError
 from .reading import one_snapshot
 from .snapshots import Fresh, Position
 from .state_value import State
@@ -291,19 +292,40 @@ def fold_rows(state: dict[str, Any], rows: list[Row]) -> None:
         for i, (src, _, _, kind, _) in enumerate(rows)
         if kind in _HANDLERS and last_of.get((src, kind), i) == i
     ]
-    events = iter(fastjson.loads("[" + ",".join([rows[i][4] for i in parse]) + "]"))
+    try:
+        events = iter(fastjson.loads("[" + ",".join([rows[i][4] for i in parse]) + "]"))
+    except ValueError:
+        bad = next((i for i in parse if not _is_json(rows[i][4])), parse[0])
+        raise _damaged(rows[bad], "is not JSON") from None
     parsed = iter(parse)
     next_parsed = next(parsed, -1)
     for i, (src, seq, t, kind, _) in enumerate(rows):
         if i == next_parsed:
-            piece = {"src": src, "seq": seq, "t": t, "body": next(events)["body"]}
-            _HANDLERS[kind](state, piece)
+            try:
+                piece = {"src": src, "seq": seq, "t": t, "body": next(events)["body"]}
+                _HANDLERS[kind](state, piece)
+            except (KeyError, TypeError, ValueError, AttributeError, StopIteration):
+                raise _damaged(rows[i], f"is not a {kind} event") from None
             next_parsed = next(parsed, -1)
         elif kind in _LATEST or kind in _TOUCH:
             _entity(state, src)  # superseded within the batch, but the entity exists from here
     src, seq, t = rows[-1][:3]
     state["events"] += len(rows)
     state["last"] = {"src": src, "seq": seq, "t": t}
+
+
+def _is_json(text: str) -> bool:
+    try:
+        fastjson.loads(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _damaged(row: Row, what: str) -> EvidenceError:
+    """A row whose text no append writes (a damaged or altered file): the fold cannot go on."""
+    return EvidenceError(f"event src={row[0]} seq={row[1]}: the stored text {what}, which no append writes: "
+                         "the file was damaged or altered behind the store's back; `gaps verify` says where")
 
 
 def _key(value: Any) -> str:

@@ -15,6 +15,7 @@ nothing of the document is loaded.
 from __future__ import annotations
 
 import re
+import time
 from dataclasses import dataclass
 
 from .errors import LEError, LEWarning
@@ -42,6 +43,13 @@ DECLARATION_HEADERS = [
 ]
 MAX_SOURCE = 2_000_000
 MAX_HEADER = 64          # tokens: a section header is never longer
+# The parsing budget. The bundled rulebooks have at most a few hundred statements of at most a
+# hundred or so tokens each and read in milliseconds; a hostile document of the allowed size read
+# for a minute or more (100,000 conditions in one rule: 25 s; one sentence of 300,000 words: 55 s).
+MAX_TOKENS = 100_000  # highway_code.le, the largest, has about 6,000
+MAX_STATEMENTS = 5_000
+MAX_STATEMENT_TOKENS = 5_000
+PARSE_SECONDS = 10.0
 
 
 @dataclass
@@ -133,10 +141,13 @@ def parse_document(source: str, file: str = "<le>") -> Document:
         raise LEError("an LE document is text", file, 0, 1)
     if len(source) > MAX_SOURCE:
         raise LEError(f"the document is larger than {MAX_SOURCE} characters", file, 0, 1)
+    parser = _Parser(source, file)
     try:
-        return _Parser(source, file).parse()
+        return parser.parse()
     except RecursionError:
-        raise LEError("the document nests too deeply to read", file, 0, 1) from None
+        where = parser.current.first if parser.current is not None else None
+        raise parser.error("the document nests too deeply to read", where,
+                           "write fewer brackets or shorter sentences") from None
 
 
 class _Parser:
@@ -146,6 +157,7 @@ class _Parser:
         self.doc = Document(file)
         self.labels = self._labels(source)
         self.vocab: Vocabulary | None = None
+        self.current: Statement | None = None  # the statement being read, for an error's place
 
     @staticmethod
     def _labels(source: str) -> dict[int, tuple]:
@@ -164,14 +176,29 @@ class _Parser:
                                            tok.col if tok else 1, hint))
 
     # -- sections -------------------------------------------------------------------------
+    def _within_budget(self, st: Statement) -> None:
+        """Stop a document that is too long to read, at the statement where it goes over."""
+        self.current = st
+        if len(st.tokens) > MAX_STATEMENT_TOKENS:
+            raise self.error(f"a statement of {len(st.tokens)} words and signs; a statement has at most "
+                             f"{MAX_STATEMENT_TOKENS}", st.first, "split it into several rules")
+        if time.monotonic() > self.deadline:
+            raise self.error(f"the document took longer than {PARSE_SECONDS:.0f} s to read; stopped here",
+                             st.first, "split it into smaller documents")
+
     def parse(self) -> Document:
-        statements = split_statements(lex(self.source), self.file)
+        self.deadline = time.monotonic() + PARSE_SECONDS
+        statements = split_statements(lex(self.source, MAX_TOKENS, self.file), self.file)
+        if len(statements) > MAX_STATEMENTS:
+            raise self.error(f"the document has {len(statements)} statements; a document has at most "
+                             f"{MAX_STATEMENTS}", statements[MAX_STATEMENTS].first, "split it into several documents")
         section, name = None, None
         pending_templates: list[Template] = []
         content: list[tuple] = []
         asked: dict[str, Statement | None] = {}
         previous_end = 0
         for st in statements:
+            self._within_budget(st)
             if st.header:
                 section, name = st.header
                 if section in ("scenario", "query") and not name:
@@ -225,6 +252,7 @@ class _Parser:
                 raise LEError(f"query {qname!r} has no question", self.file, 0, 1)
         self._declare(pending_templates)
         for section, name, st, prev in content:
+            self._within_budget(st)
             if section == "query":
                 try:
                     self._query(name, st)

@@ -13,6 +13,7 @@ import re
 from dataclasses import dataclass
 
 from .dates import parse_date
+from .errors import LEError
 
 TAB = 4
 
@@ -67,11 +68,14 @@ def strip_comment(raw: str) -> str:
     return raw if i < 0 else raw[:i]
 
 
-def lex_line(raw: str, number: int, comments: bool = True) -> Line:
+def lex_line(raw: str, number: int, comments: bool = True, limit: int | None = None) -> Line:
+    """The line's tokens; with `limit`, reading stops after limit + 1 of them."""
     text = strip_comment(raw) if comments else raw
     tokens: list[Token] = []
     prev_end = -1
     for m in TOKEN.finditer(text):
+        if limit is not None and len(tokens) > limit:
+            break
         kind = m.lastgroup
         value = None
         tok_text = m.group(kind)
@@ -92,13 +96,19 @@ def lex_line(raw: str, number: int, comments: bool = True) -> Line:
     return Line(number, indentation(text), tokens)
 
 
-def lex(source: str) -> list[Line]:
-    """Every non-blank line of `source` (after comments are removed), with its tokens."""
+def lex(source: str, max_tokens: int | None = None, file: str = "<le>") -> list[Line]:
+    """Every non-blank line of `source` (after comments are removed), with its tokens; past
+    `max_tokens` tokens in all, an LEError at the line that goes over (reading stops there)."""
     lines = []
+    count = 0
     for number, raw in enumerate(source.splitlines(), 1):
-        line = lex_line(raw, number)
+        line = lex_line(raw, number, limit=None if max_tokens is None else max_tokens - count)
         if line.tokens:
             lines.append(line)
+            count += len(line.tokens)
+            if max_tokens is not None and count > max_tokens:
+                raise LEError(f"the document has more than {max_tokens} words and signs (reading stopped here)",
+                              file, number, 1, "split it into several documents")
     return lines
 
 

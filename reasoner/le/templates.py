@@ -79,6 +79,13 @@ class Template:
         return render(self, [f"*{s.phrase}*" for s in self.slots])
 
 
+# A template compiles to a Prolog predicate of one argument per slot, and SWI-Prolog refuses more
+# than 1,024 (`max_procedure_arity`): that used to end a load in a traceback. A sentence of the
+# Highway Code has a handful; these caps leave room and keep matching a sentence cheap.
+MAX_SLOTS = 64
+MAX_PARTS = 256
+
+
 def parse_template(text: str, line: int = 0) -> Template:
     """Parse `*a vehicle* has *a colour* light.` into its words and slots."""
     tokens = [t for t in lex_line(text.strip(), line or 1).tokens]
@@ -116,6 +123,13 @@ def template_from_tokens(tokens: list[Token], line: int = 0) -> Template:
             i += 1
     if not any(isinstance(p, Slot) for p in parts) and not parts:
         raise LEError("an empty template", "<le>", line, 1)
+    slots = sum(isinstance(p, Slot) for p in parts)
+    if slots > MAX_SLOTS:
+        raise LEError(f"a template of {slots} slots; a template has at most {MAX_SLOTS}", "<le>", line,
+                      tokens[0].col if tokens else 1, "split the sentence into several templates")
+    if len(parts) > MAX_PARTS:
+        raise LEError(f"a template of {len(parts)} words and slots; a template has at most {MAX_PARTS}",
+                      "<le>", line, tokens[0].col if tokens else 1, "split the sentence into several templates")
     return Template(tuple(parts), tuple(glue), line=line)
 
 

@@ -164,8 +164,40 @@ builtin_pred(le_max_list, 2). builtin_pred(le_min_list, 2).
 % -- built-ins: they fail (never raise) on values of the wrong kind ---------------------------
 
 eval(X, V) :- number(X), !, V = X.
-eval(X, V) :- is_expr(X), ground(X), !, catch(V is X, _, fail).
+eval(X, V) :- is_expr(X), ground(X), !, arith(X, V).
 eval(X, X).
+
+%   Arithmetic one operation at a time, each within the integer budget: the inference limit
+%   counts a multiplication as one step whatever its size, so a rule squaring a number forty
+%   times took 2 GB and a minute (and the resource error was read as "no answer").  An
+%   operation on values that are no numbers fails, as a comparison of the wrong kind does;
+%   running out of memory is never taken for a failure.
+:- dynamic max_integer_bits/1.
+max_integer_bits(4096).
+
+arith(X, V) :- number(X), !, V = X.
+arith(X, V) :-
+    compound(X), compound_name_arguments(X, Op, Args0),
+    maplist(arith, Args0, Args),
+    maplist(number, Args),
+    product_fits(Op, Args),
+    compound_name_arguments(E, Op, Args),
+    catch(V is E, error(Error, _), arith_error(Error)),
+    integer_fits(V).
+
+product_fits(*, [A, B]) :-
+    integer(A), integer(B), A =\= 0, B =\= 0, !,
+    integer_fits_bits(msb(abs(A)) + msb(abs(B)) + 2).
+product_fits(_, _).
+
+integer_fits(V) :- ( integer(V), V =\= 0 -> integer_fits_bits(msb(abs(V)) + 1) ; true ).
+integer_fits_bits(Expr) :-
+    max_integer_bits(Max),
+    Bits is Expr,
+    (   Bits =< Max -> true ; throw(error(le_limit(integer_bits(Max)), _)) ).
+
+arith_error(resource_error(R)) :- !, throw(error(le_resource(R), _)).
+arith_error(_) :- fail.
 
 eval_args([], []).
 eval_args([A|As], [V|Vs]) :- eval(A, V), eval_args(As, Vs).

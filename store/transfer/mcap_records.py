@@ -6,8 +6,9 @@ in the middle of a record. The official readers either need the summary at the e
 an exception; here each record is framed by hand (opcode, length, then exactly that many bytes,
 never more than the file still holds), parsed with the mcap package's record classes, and the
 first record that is not all there ends the reading with a Cut that says where and why. A chunk
-that is all there but cannot be decoded (CRC mismatch, corrupt compression) is listed as damaged
-and reading goes on past it: its length framed it, so the records after it are still sound.
+that is all there but cannot be decoded (CRC mismatch, corrupt compression, a decompression bomb:
+mcap_chunks.py) is listed as damaged and reading goes on past it: its length framed it, so the
+records after it are still sound.
 """
 
 from __future__ import annotations
@@ -21,12 +22,11 @@ from typing import Any, BinaryIO, Callable, Iterator, NamedTuple
 from mcap.data_stream import ReadDataStream
 from mcap.opcode import Opcode
 from mcap.records import Attachment, Channel, Chunk, DataEnd, Footer, Header, McapRecord, Message, Metadata, Schema
-from mcap.stream_reader import breakup_chunk
 
 from .errors import TransferError
+from .mcap_chunks import MAX_CHUNK_BYTES, Budget, ChunkRefused, chunk_bytes, chunk_records  # noqa: F401
 
 MAGIC = b"\x89MCAP0\r\n"
-MAX_CHUNK_BYTES = 1 << 30  # writers use chunks of about a MiB; ours are 1 MiB
 _FRAME = struct.Struct("<BQ")  # opcode, record length
 
 
@@ -97,6 +97,10 @@ class RecordReader:
     cut: Cut | None = None
     damaged: list[dict[str, Any]] = field(default_factory=list)
     data_ended: bool = False
+    budget: Budget = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.budget = Budget.for_file(self.size)
 
     def records(self) -> Iterator[Located]:
         """Every readable record; when it stops early, `cut` says why."""
@@ -164,18 +168,14 @@ class RecordReader:
             self._damage(offset, opcode_name(opcode), f"cannot be parsed: {_describe(exc)}")
             return None
 
-    def _unchunk(self, offset: int, chunk: Chunk) -> list[McapRecord]:
-        if chunk.uncompressed_size > MAX_CHUNK_BYTES:  # decompressors allocate what a chunk claims
-            self._damage(offset, "Chunk", f"claims {chunk.uncompressed_size} bytes uncompressed, "
-                                          f"over the {MAX_CHUNK_BYTES}-byte limit of this reader")
-            return []
+    def _unchunk(self, offset: int, chunk: Chunk) -> Iterator[McapRecord]:
+        """The chunk's records, decompressed within the file's budget (mcap_chunks.py); a chunk
+        refused is listed as damaged, and reading goes on after it."""
         try:
-            return breakup_chunk(chunk, validate_crc=True)
-        except Exception as exc:  # a CRC mismatch, corrupt compression, an unknown compression
+            yield from chunk_records(chunk_bytes(chunk, self.budget))
+        except ChunkRefused as exc:
             self._damage(offset, "Chunk", f"cannot be decoded ({chunk.compression or 'uncompressed'}, "
-                                          f"log times {chunk.message_start_time}..{chunk.message_end_time}): "
-                                          f"{_describe(exc)}")
-            return []
+                                          f"log times {chunk.message_start_time}..{chunk.message_end_time}): {exc}")
 
     def _damage(self, offset: int, record: str, reason: str) -> None:
         self.damaged.append({"offset": offset, "record": record, "reason": reason})
