@@ -23,6 +23,14 @@ watermark whose head is not the store's hash at that length belongs to another c
 snapshot of the run is ignored, and dropped on the next write. This is correct whoever appended.
 `enable_snapshots(store)` adds an append hook that does the same after each append, so that a
 reader of a live run never has to look at unchecked events.
+
+Sealed (store/cache_seal.py): a snapshot under its run, fold version, position and the chain it
+was folded from; a watermark under its run, with its chain length and head. A snapshot that does
+not carry its seal is passed over (and deleted when the cache can be written), a watermark that
+does not counts as none (every snapshot of the run is then unchecked): forged entries are never
+believed. A genuine snapshot put back after a late event made it stale is passed over too: a
+snapshot is used only if no event appended after the chain length it was folded from lies at or
+before its position (worked out once per process and chain length).
 """
 
 from __future__ import annotations
@@ -46,13 +54,14 @@ FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions 
 Position = tuple[int, int, str]  # (t, seq, src) of an event, the order of the fold
 Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: position, encoded state
 
+SNAPSHOTS, WATERMARKS = "state_snapshots", "state_watermarks"
 _NEAREST = (
-    "SELECT t, seq, src, chain_len, head, state FROM state_snapshots "
+    "SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots "
     "WHERE run = ? AND fold = ? AND t <= ? AND t < ? ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
 )
 _INSERT = (
-    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state) "
-    "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
+    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state, mac) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _HASH_AT = "SELECT hash FROM events WHERE run = ? AND chain_pos = ?"
 _T_MAX = (1 << 63) - 1
@@ -174,10 +183,10 @@ def marks(store: Store, run: str) -> Marks:
     conn = store.connection
     length, head = chain_end(conn, run)
     row = store.cache.connection.execute(
-        "SELECT chain_len, head FROM state_watermarks WHERE run = ?", (run,)).fetchone()
-    if row is None:
+        "SELECT chain_len, head, mac FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    if row is None or not store.cache.sealer.opens(WATERMARKS, (run,), (row[0], row[1]), row[2]):
         return Marks(length, head, 0)
-    checked, checked_head = row
+    checked, checked_head = row[:2]
     agrees = checked <= length and (checked == 0 or hash_at(conn, run, checked - 1) == checked_head)
     return Marks(length, head, checked if agrees else 0, agrees)
 
@@ -212,11 +221,8 @@ def catch_up(store: Store, run: str) -> None:
     if stale != _T_MAX:
         sql = "DELETE FROM state_snapshots WHERE run = ? AND t >= ?"
         cache.execute(sql, (run, stale))
-    cache.execute(
-        "INSERT INTO state_watermarks (run, chain_len, head) VALUES (?, ?, ?) "
-        "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len, head = excluded.head",
-        (run, seen.length, seen.head),
-    )
+    cache.execute("INSERT OR REPLACE INTO state_watermarks (run, chain_len, head, mac) VALUES (?, ?, ?, ?)",
+                  (run, seen.length, seen.head, store.cache.sealer.seal(WATERMARKS, (run,), (seen.length, seen.head))))
 
 
 # --- reading and writing ----------------------------------------------------------------------
@@ -228,6 +234,41 @@ def _of_this_chain(store: Store, run: str, chain_len: Any, head: Any, seen: Mark
             and hash_at(store.connection, run, chain_len - 1) == head)
 
 
+def _seal_key(run: str, row: tuple) -> tuple:
+    """What names a snapshot row (t, seq, src, chain_len, head, ...): its seal covers these."""
+    return (run, FOLD_VERSION, row[0], row[1], row[2], row[3], row[4])
+
+
+def _late_after(store: Store, run: str, chain_len: int, seen: Marks) -> int:
+    """The earliest t among events appended after `chain_len` (_T_MAX if none): a snapshot folded
+    from that chain length at or after it missed an event. Once per process and chain head."""
+    memo = ("late", run, chain_len, seen.length, seen.head)
+    late = store.cache.memo.get(memo)
+    if late is None:
+        late = _earliest_since(store.connection, run, chain_len)
+        late = _T_MAX if late is None else late
+        store.cache.memo[memo] = late
+    return late
+
+
+def _usable(store: Store, run: str, row: tuple, seen: Marks, *, count: bool = True) -> bool:
+    """May a read use this snapshot row (t, seq, src, chain_len, head, state, mac)? Of this chain,
+    sealed by this code, and not made stale by an event appended after it was folded."""
+    return (_of_this_chain(store, run, row[3], row[4], seen)
+            and store.cache.sealer.opens(SNAPSHOTS, _seal_key(run, row), row[5], row[6], count=count)
+            and row[0] < _late_after(store, run, row[3], seen))
+
+
+def _drop(store: Store, run: str, row: tuple) -> None:
+    """Delete a snapshot that is not to be believed, if the cache can be written now."""
+    try:
+        store.cache.connection.execute(
+            "DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t = ? AND seq = ? AND src = ?",
+            (run, FOLD_VERSION, row[0], row[1], row[2]))
+    except sqlite3.OperationalError:
+        pass
+
+
 def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
     """The latest usable snapshot at or before t, given the marks read in the same transaction.
     A snapshot that cannot be decoded, or that names a chain the store does not hold, is passed
@@ -236,10 +277,12 @@ def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
     cache = store.cache.connection
     row = cache.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
     while row is not None:
-        if _of_this_chain(store, run, row[3], row[4], seen):
+        if _usable(store, run, row, seen):
             state = decode(row[5])
             if state is not None:
                 return Snapshot((row[0], row[1], row[2]), state)
+        elif _of_this_chain(store, run, row[3], row[4], seen):
+            _drop(store, run, row)
         row = cache.execute(_NEAREST, (run, FOLD_VERSION, row[0] - 1, before)).fetchone()
     return None
 
@@ -248,13 +291,29 @@ def listed(store: Store, run: str, seen: Marks) -> Iterator[Snapshot]:
     """The run's usable snapshots (those a read may use), oldest first, one at a time; an
     undecodable one comes with an empty state (it can never equal a fold)."""
     sql = (
-        "SELECT t, seq, src, chain_len, head, state FROM state_snapshots "
+        "SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots "
         "WHERE run = ? AND fold = ? AND t < ? ORDER BY t, seq, src"
     )
     rows = store.cache.connection.execute(sql, (run, FOLD_VERSION, stale_from(store, run, seen))).fetchall()
-    for t, seq, src, chain_len, head, blob in rows:
-        if _of_this_chain(store, run, chain_len, head, seen):
-            yield Snapshot((t, seq, src), decode(blob, exact=True) or {})
+    for row in rows:
+        if _usable(store, run, row, seen, count=False):
+            yield Snapshot((row[0], row[1], row[2]), decode(row[5], exact=True) or {})
+
+
+def tampered_snapshots(store: Store, run: str) -> list[Position]:
+    """Positions of the run's snapshots (of this fold version) and its watermark that do not carry
+    their seals: never used by a read, but written by someone else (for `gaps verify`)."""
+    if not has_tables(store):
+        return []
+    cache, sealer = store.cache.connection, store.cache.sealer
+    rows = cache.execute("SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots "
+                         "WHERE run = ? AND fold = ? ORDER BY t, seq, src", (run, FOLD_VERSION)).fetchall()
+    wrong = [(t, seq, src) for t, seq, src, *rest in rows
+             if not sealer.opens(SNAPSHOTS, _seal_key(run, (t, seq, src, *rest)), rest[2], rest[3], count=False)]
+    mark = cache.execute("SELECT chain_len, head, mac FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    if mark is not None and not sealer.opens(WATERMARKS, (run,), (mark[0], mark[1]), mark[2], count=False):
+        wrong.append((-1, -1, "(watermark)"))
+    return wrong
 
 
 def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
@@ -276,8 +335,11 @@ def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
             late = _T_MIN
         catch_up(store, run)
         kept = [(position, blob) for position, blob in fresh if late is None or position[0] < late]
-        cache.executemany(
-            _INSERT, [(run, FOLD_VERSION, *position, seen.length, seen.head, blob) for position, blob in kept])
+        sealer = store.cache.sealer
+        cache.executemany(_INSERT, [
+            (run, FOLD_VERSION, *position, seen.length, seen.head, blob,
+             sealer.seal(SNAPSHOTS, (run, FOLD_VERSION, *position, seen.length, seen.head), blob))
+            for position, blob in kept])
         cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
         cache.execute("COMMIT")
     except sqlite3.OperationalError:
