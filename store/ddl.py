@@ -107,7 +107,7 @@ _V6 = (*liveliness.DDL, *(trigger for table in liveliness.TABLES for trigger in 
 
 # v7: the wire tables become hash chains, verified by `gaps verify` (store/liveliness.py): their
 # rows are read by the reasoner's missing-evidence finding, so an edit must not pass unnoticed.
-_V7_LIVELINESS = (*liveliness.DDL_V7, *_append_only("wire_legacy"))
+_V7_LIVELINESS = (*liveliness.DDL_V7, *_append_only("wire_legacy"), *_append_only("wire_checkpoints"))
 
 MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7_LIVELINESS}
 SCHEMA_VERSION = max(MIGRATIONS)

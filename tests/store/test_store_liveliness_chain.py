@@ -60,6 +60,20 @@ def test_an_edited_liveliness_or_wire_miss_row_fails_verify(wired: Path, stateme
     assert what is not None and what.startswith(row) and "does not match its hash chain" in what
 
 
+@pytest.mark.parametrize("statement, said", [
+    ("DELETE FROM liveliness WHERE id = 4", "a checkpoint names row 4, which the chain does not hold"),
+    ("DELETE FROM wire_misses WHERE id = 2", "a checkpoint names row 2, which the chain does not hold"),
+    ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id = 4", "row 4 is not covered"),
+    ("UPDATE wire_checkpoints SET head = '00' WHERE tbl = 'liveliness' AND through_id = 2", "another head"),
+])
+def test_rows_cut_off_the_end_or_checkpoints_changed_fail_verify(wired: Path, statement: str, said: str) -> None:
+    """The last rows (a 'stopped publishing' change) are covered by the write's checkpoint."""
+    raw(wired, "DROP TRIGGER IF EXISTS wire_checkpoints_no_update", "DROP TRIGGER IF EXISTS wire_checkpoints_no_delete",
+        statement)
+    what = problem(wired)
+    assert what is not None and said in what
+
+
 def test_the_chains_span_writes_and_hold_when_untouched(wired: Path) -> None:
     hashes = sqlite3.connect(wired).execute("SELECT hash FROM liveliness ORDER BY id").fetchall()
     assert len({h for (h,) in hashes}) == 4 and all(h and len(h) == 64 for (h,) in hashes)
