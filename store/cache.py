@@ -28,7 +28,7 @@ from typing import Any, Iterator
 from .cache_seal import Sealer, load_or_create_key, memory_key
 from .opening import read_only_place
 
-CACHE_VERSION = 3  # raise when a table below changes: a file of another version is emptied
+CACHE_VERSION = 4  # raise when a table below changes: a file of another version is emptied
 SUFFIX = ".cache"
 MEMORY = ":memory:"
 _TIMEOUT_S = 2.0  # a cache write waits this long for another process's, then goes without
@@ -43,6 +43,7 @@ _DDL = (
         chain_len INTEGER NOT NULL,
         head TEXT NOT NULL,
         state BLOB NOT NULL,
+        epoch INTEGER NOT NULL,
         mac BLOB NOT NULL,
         PRIMARY KEY (run, fold, t, seq, src)
     )""",
@@ -50,6 +51,7 @@ _DDL = (
         run TEXT PRIMARY KEY,
         chain_len INTEGER NOT NULL,
         head TEXT NOT NULL,
+        epoch INTEGER NOT NULL,
         mac BLOB NOT NULL
     )""",
     # store/presence.py: where each road user was, per source and bucket of time

@@ -28,9 +28,9 @@ Sealed (store/cache_seal.py): a snapshot under its run, fold version, position a
 was folded from; a watermark under its run, with its chain length and head. A snapshot that does
 not carry its seal is passed over (and deleted when the cache can be written), a watermark that
 does not counts as none (every snapshot of the run is then unchecked): forged entries are never
-believed. A genuine snapshot put back after a late event made it stale is passed over too: a
-snapshot is used only if no event appended after the chain length it was folded from lies at or
-before its position (worked out once per process and chain length).
+believed. A genuine snapshot put back after a late event made it stale is passed over too: each
+time late events make snapshots stale, the run's watermark starts a new epoch, the snapshots kept
+are sealed again under it, and a read uses only snapshots of the watermark's epoch.
 """
 
 from __future__ import annotations
@@ -56,12 +56,12 @@ Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: positio
 
 SNAPSHOTS, WATERMARKS = "state_snapshots", "state_watermarks"
 _NEAREST = (
-    "SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots "
+    "SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
     "WHERE run = ? AND fold = ? AND t <= ? AND t < ? ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
 )
 _INSERT = (
-    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state, mac) "
-    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)"
+    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state, epoch, mac) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _HASH_AT = "SELECT hash FROM events WHERE run = ? AND chain_pos = ?"
 _T_MAX = (1 << 63) - 1
@@ -156,6 +156,8 @@ class Marks:
     head: str
     checked: int
     agrees: bool = True
+    epoch: int = -1
+    """The watermark's epoch (-1 without a sealed watermark: no snapshot is of it)."""
 
     @property
     def unchecked(self) -> bool:
@@ -182,13 +184,21 @@ def marks(store: Store, run: str) -> Marks:
     """A few index probes (this runs on every read)."""
     conn = store.connection
     length, head = chain_end(conn, run)
-    row = store.cache.connection.execute(
-        "SELECT chain_len, head, mac FROM state_watermarks WHERE run = ?", (run,)).fetchone()
-    if row is None or not store.cache.sealer.opens(WATERMARKS, (run,), (row[0], row[1]), row[2]):
+    row = _watermark(store, run)
+    if row is None:
         return Marks(length, head, 0)
-    checked, checked_head = row[:2]
+    checked, checked_head, epoch = row
     agrees = checked <= length and (checked == 0 or hash_at(conn, run, checked - 1) == checked_head)
-    return Marks(length, head, checked if agrees else 0, agrees)
+    return Marks(length, head, checked if agrees else 0, agrees, epoch if agrees else -1)
+
+
+def _watermark(store: Store, run: str, *, count: bool = True) -> tuple[int, str, int] | None:
+    """The run's watermark (chain length, head, epoch) if it carries its seal."""
+    row = store.cache.connection.execute(
+        "SELECT chain_len, head, epoch, mac FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    if row is None or not store.cache.sealer.opens(WATERMARKS, (run,), tuple(row[:3]), row[3], count=count):
+        return None
+    return row[0], row[1], row[2]
 
 
 def _earliest_since(conn: sqlite3.Connection, run: str, chain_pos: int) -> int | None:
@@ -218,11 +228,35 @@ def catch_up(store: Store, run: str) -> None:
     seen = marks(store, run)
     stale = stale_from(store, run, seen)
     cache = store.cache.connection
+    epoch = max(seen.epoch, 0)
     if stale != _T_MAX:
         sql = "DELETE FROM state_snapshots WHERE run = ? AND t >= ?"
-        cache.execute(sql, (run, stale))
-    cache.execute("INSERT OR REPLACE INTO state_watermarks (run, chain_len, head, mac) VALUES (?, ?, ?, ?)",
-                  (run, seen.length, seen.head, store.cache.sealer.seal(WATERMARKS, (run,), (seen.length, seen.head))))
+        if cache.execute(sql, (run, stale)).rowcount or seen.epoch < 0:
+            epoch = _new_epoch(store, run, seen.epoch)
+    values = (seen.length, seen.head, epoch)
+    cache.execute("INSERT OR REPLACE INTO state_watermarks (run, chain_len, head, epoch, mac) VALUES (?, ?, ?, ?, ?)",
+                  (run, *values, store.cache.sealer.seal(WATERMARKS, (run,), values)))
+
+
+def _new_epoch(store: Store, run: str, epoch: int) -> int:
+    """Snapshots were dropped as stale: seal the run's remaining ones under a new epoch, so that a
+    dropped one put back (by whoever kept a copy) is not of the watermark's epoch. The new epoch is
+    above any the file holds, so an old watermark put back cannot name it either."""
+    cache, sealer = store.cache.connection, store.cache.sealer
+    (top,) = cache.execute("SELECT max(epoch) FROM state_snapshots WHERE run = ?", (run,)).fetchone()
+    fresh = max(epoch, top if isinstance(top, int) else 0) + 1
+    rows = cache.execute("SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
+                         "WHERE run = ? AND fold = ? AND epoch = ?", (run, FOLD_VERSION, epoch)).fetchall()
+    cache.execute("DELETE FROM state_snapshots WHERE run = ? AND epoch <> ?", (run, epoch))  # of no epoch in use
+    for row in rows:
+        if sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], epoch), row[6]):
+            cache.execute("UPDATE state_snapshots SET epoch = ?, mac = ? WHERE run = ? AND fold = ? AND t = ? "
+                          "AND seq = ? AND src = ?", (fresh, sealer.seal(SNAPSHOTS, _seal_key(run, row), (row[5], fresh)),
+                                                      run, FOLD_VERSION, row[0], row[1], row[2]))
+        else:
+            cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t = ? AND seq = ? AND src = ?",
+                          (run, FOLD_VERSION, row[0], row[1], row[2]))
+    return fresh
 
 
 # --- reading and writing ----------------------------------------------------------------------
@@ -239,24 +273,11 @@ def _seal_key(run: str, row: tuple) -> tuple:
     return (run, FOLD_VERSION, row[0], row[1], row[2], row[3], row[4])
 
 
-def _late_after(store: Store, run: str, chain_len: int, seen: Marks) -> int:
-    """The earliest t among events appended after `chain_len` (_T_MAX if none): a snapshot folded
-    from that chain length at or after it missed an event. Once per process and chain head."""
-    memo = ("late", run, chain_len, seen.length, seen.head)
-    late = store.cache.memo.get(memo)
-    if late is None:
-        late = _earliest_since(store.connection, run, chain_len)
-        late = _T_MAX if late is None else late
-        store.cache.memo[memo] = late
-    return late
-
-
 def _usable(store: Store, run: str, row: tuple, seen: Marks, *, count: bool = True) -> bool:
-    """May a read use this snapshot row (t, seq, src, chain_len, head, state, mac)? Of this chain,
-    sealed by this code, and not made stale by an event appended after it was folded."""
-    return (_of_this_chain(store, run, row[3], row[4], seen)
-            and store.cache.sealer.opens(SNAPSHOTS, _seal_key(run, row), row[5], row[6], count=count)
-            and row[0] < _late_after(store, run, row[3], seen))
+    """May a read use this snapshot row (t, seq, src, chain_len, head, state, mac, epoch)? Of this
+    chain and of the watermark's epoch, and sealed by this code."""
+    return (_of_this_chain(store, run, row[3], row[4], seen) and row[7] == seen.epoch
+            and store.cache.sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], row[7]), row[6], count=count))
 
 
 def _drop(store: Store, run: str, row: tuple) -> None:
@@ -291,7 +312,7 @@ def listed(store: Store, run: str, seen: Marks) -> Iterator[Snapshot]:
     """The run's usable snapshots (those a read may use), oldest first, one at a time; an
     undecodable one comes with an empty state (it can never equal a fold)."""
     sql = (
-        "SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots "
+        "SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
         "WHERE run = ? AND fold = ? AND t < ? ORDER BY t, seq, src"
     )
     rows = store.cache.connection.execute(sql, (run, FOLD_VERSION, stale_from(store, run, seen))).fetchall()
@@ -306,12 +327,12 @@ def tampered_snapshots(store: Store, run: str) -> list[Position]:
     if not has_tables(store):
         return []
     cache, sealer = store.cache.connection, store.cache.sealer
-    rows = cache.execute("SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots "
+    rows = cache.execute("SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
                          "WHERE run = ? AND fold = ? ORDER BY t, seq, src", (run, FOLD_VERSION)).fetchall()
-    wrong = [(t, seq, src) for t, seq, src, *rest in rows
-             if not sealer.opens(SNAPSHOTS, _seal_key(run, (t, seq, src, *rest)), rest[2], rest[3], count=False)]
-    mark = cache.execute("SELECT chain_len, head, mac FROM state_watermarks WHERE run = ?", (run,)).fetchone()
-    if mark is not None and not sealer.opens(WATERMARKS, (run,), (mark[0], mark[1]), mark[2], count=False):
+    wrong = [tuple(row[:3]) for row in rows
+             if not sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], row[7]), row[6], count=False)]
+    has_mark = cache.execute("SELECT 1 FROM state_watermarks WHERE run = ?", (run,)).fetchone() is not None
+    if has_mark and _watermark(store, run, count=False) is None:
         wrong.append((-1, -1, "(watermark)"))
     return wrong
 
@@ -335,10 +356,10 @@ def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
             late = _T_MIN
         catch_up(store, run)
         kept = [(position, blob) for position, blob in fresh if late is None or position[0] < late]
-        sealer = store.cache.sealer
+        sealer, epoch = store.cache.sealer, marks(store, run).epoch  # the watermark catch_up just wrote
         cache.executemany(_INSERT, [
-            (run, FOLD_VERSION, *position, seen.length, seen.head, blob,
-             sealer.seal(SNAPSHOTS, (run, FOLD_VERSION, *position, seen.length, seen.head), blob))
+            (run, FOLD_VERSION, *position, seen.length, seen.head, blob, epoch,
+             sealer.seal(SNAPSHOTS, (run, FOLD_VERSION, *position, seen.length, seen.head), (blob, epoch)))
             for position, blob in kept])
         cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
         cache.execute("COMMIT")

@@ -32,14 +32,15 @@ def forge_snapshot(path, offset, sealed=True):
     `sealed`: by someone who holds the cache key too (else its seal no longer opens)."""
     with Store(path) as store:
         conn = store.cache.connection
-        t, seq, src, n, head, blob, mac = conn.execute(
-            "SELECT t, seq, src, chain_len, head, state, mac FROM state_snapshots ORDER BY t LIMIT 1 OFFSET ?",
+        t, seq, src, n, head, blob, mac, epoch = conn.execute(
+            "SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots ORDER BY t LIMIT 1 OFFSET ?",
             (offset,)).fetchone()
         forged = snapshots.decode(blob)
         forged["entities"]["vehicle/173"]["state"]["body"]["x"] = -999.0
         blob = snapshots.encode(forged)
         if sealed:
-            mac = store.cache.sealer.seal("state_snapshots", ("r1", snapshots.FOLD_VERSION, t, seq, src, n, head), blob)
+            mac = store.cache.sealer.seal("state_snapshots", ("r1", snapshots.FOLD_VERSION, t, seq, src, n, head),
+                                          (blob, epoch))
         conn.execute("UPDATE state_snapshots SET state = ?, mac = ? WHERE t = ? AND seq = ? AND src = ?",
                      (blob, mac, t, seq, src))
     return t, seq, src

@@ -26,8 +26,8 @@ def reseal_snapshots(store: Store) -> None:
     altering one: what is left to catch it is `check_snapshots`' re-fold."""
     from store import snapshots
     conn, sealer = store.cache.connection, store.cache.sealer
-    for run, fold, t, seq, src, n, head, blob in conn.execute(
-            "SELECT run, fold, t, seq, src, chain_len, head, state FROM state_snapshots").fetchall():
-        mac = sealer.seal(snapshots.SNAPSHOTS, (run, fold, t, seq, src, n, head), blob)
+    for run, fold, t, seq, src, n, head, blob, epoch in conn.execute(
+            "SELECT run, fold, t, seq, src, chain_len, head, state, epoch FROM state_snapshots").fetchall():
+        mac = sealer.seal(snapshots.SNAPSHOTS, (run, fold, t, seq, src, n, head), (blob, epoch))
         conn.execute("UPDATE state_snapshots SET mac = ? WHERE run = ? AND fold = ? AND t = ? AND seq = ? AND src = ?",
                      (mac, run, fold, t, seq, src))

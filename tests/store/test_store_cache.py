@@ -48,9 +48,10 @@ def forge(store, t, chain_len, head):
     last = state["last"]
     blob = snapshots.encode(state)
     key = ("r1", snapshots.FOLD_VERSION, last["t"], last["seq"], last["src"], chain_len, head)
-    mac = store.cache.sealer.seal(snapshots.SNAPSHOTS, key, blob)  # by a holder of the cache key
-    store.cache.connection.execute("INSERT OR REPLACE INTO state_snapshots VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                                   (*key, blob, mac))
+    (epoch,) = store.cache.connection.execute("SELECT epoch FROM state_watermarks WHERE run = 'r1'").fetchone()
+    mac = store.cache.sealer.seal(snapshots.SNAPSHOTS, key, (blob, epoch))  # by a holder of the cache key
+    store.cache.connection.execute("INSERT OR REPLACE INTO state_snapshots VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                                   (*key, blob, epoch, mac))
 
 
 def test_a_wrong_snapshot_of_an_old_head_is_not_used_once_late_events_arrive(db_path):

@@ -101,3 +101,23 @@ def test_the_seal_binds_table_key_and_payload() -> None:
         assert not sealer.opens(table, key, payload, mac)
     assert sealer.tampered() == {"u": 1, "t": 4}
     assert not cache_seal.Sealer(os.urandom(32)).opens("t", ("r1", 3, "ab"), b"payload", mac)
+
+
+def test_a_stale_snapshot_put_back_is_not_used(tmp_path: Path) -> None:
+    """A genuine, sealed snapshot that a late event made stale, put back from a copy of the cache
+    kept before: it is of an older epoch than the watermark's, so no read uses it."""
+    db = tmp_path / "g.db"
+    with Store(db) as store:
+        store.append(states(30))
+        build_snapshots(store, "r1", every=5)
+        conn = store.cache.connection
+        kept = conn.execute("SELECT * FROM state_snapshots WHERE t >= ?", (T0 + 20_000_000,)).fetchall()
+        assert kept
+        store.append([event(0, src="vehicle/9", kind="entity.state", t=T0 + 15_500_000,
+                            body={"x": 9.0, "y": 9.0, "speed_mps": 0.0})])  # late: before those snapshots
+        truth = state_at(store, "r1", T0 + 29_000_000, use_snapshots=False)
+        assert state_at(store, "r1", T0 + 29_000_000) == truth  # the late event drops them
+        conn.executemany(f"INSERT OR REPLACE INTO state_snapshots VALUES ({', '.join('?' * len(kept[0]))})", kept)
+    with Store.open_read_only(db) as store:
+        assert "vehicle/9" in state_at(store, "r1", T0 + 29_000_000).entities
+        assert state_at(store, "r1", T0 + 29_000_000) == truth

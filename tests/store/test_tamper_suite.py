@@ -178,6 +178,16 @@ def _changed(path: Path, sql: str, params: tuple) -> bool:
         conn.close()
 
 
+def _inserted(path: Path, table: str, n: int, forged: tuple, column: int) -> bool:
+    """The forged row; where it collides with a row's key, the same with its other numbers moved
+    on (a new chain position, seq, id), then with its other text changed too."""
+    sql = f"INSERT INTO {table} VALUES ({', '.join('?' * n)})"
+    moved = tuple(v + 1_000_003 if isinstance(v, int) and not isinstance(v, bool) and i != column else v
+                  for i, v in enumerate(forged))
+    renamed = tuple(v + "~" if isinstance(v, str) and i != column else v for i, v in enumerate(moved))
+    return any(_changed(path, sql, attempt) for attempt in (forged, moved, renamed))
+
+
 def row_attacks(path: Path, file: str, rng: random.Random) -> list[Attack]:
     found = []
     for table in _tables(path):
@@ -197,8 +207,8 @@ def row_attacks(path: Path, file: str, rng: random.Random) -> list[Attack]:
             if "id" in columns:
                 forged[columns.index("id")] = None if table not in ("cache_key",) else forged[columns.index("id")]
             found.append(Attack(f"{file}:{table}: a forged row inserted ({columns[column]} changed)", file,
-                                lambda p, t=table, f=tuple(forged), n=len(columns):
-                                _changed(p, f"INSERT INTO {t} VALUES ({', '.join('?' * n)})", f)))
+                                lambda p, t=table, f=tuple(forged), n=len(columns), c=column:
+                                _inserted(p, t, n, f, c)))
         if not rows and table not in ("cache_key",):
             found.append(Attack(f"{file}:{table}: a row inserted into the empty table", file,
                                 lambda p, t=table, n=len(columns): _changed(
