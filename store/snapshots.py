@@ -298,12 +298,11 @@ def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
     cache = store.cache.connection
     row = cache.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
     while row is not None:
-        if _usable(store, run, row, seen):
-            state = decode(row[5])
-            if state is not None:
+        if _of_this_chain(store, run, row[3], row[4], seen) and row[7] == seen.epoch:
+            if not store.cache.sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], row[7]), row[6]):
+                _drop(store, run, row)  # written behind gaps' back (of another epoch: perhaps a race, kept)
+            elif (state := decode(row[5])) is not None:
                 return Snapshot((row[0], row[1], row[2]), state)
-        elif _of_this_chain(store, run, row[3], row[4], seen):
-            _drop(store, run, row)
         row = cache.execute(_NEAREST, (run, FOLD_VERSION, row[0] - 1, before)).fetchone()
     return None
 
