@@ -35,7 +35,9 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     was, live in the cache beside the store and are not evidence (nothing chains them), but scenes
     and verdicts read state and find the road users near a junction from them, so
     verify checks them too unless told --no-snapshots: nothing read can change a verdict without
-    verify failing. Deleting the cache is safe; it is rebuilt from the events.
+    verify failing. Deleting the cache is safe; it is rebuilt from the events. Cache entries that
+    do not carry their seal (written by something other than gaps) are never used, and are named in
+    a WARNING (exit 0: the evidence and every verdict stand).
 
     Signed events are counted; with --keys each signature is checked against the keys trusted for
     its event's source, and an invalid one (altered, forged, a key not trusted for that source)
@@ -52,16 +54,19 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
             sound = [r["run"] for r in report.runs if r["ok"]]
             wrong = _wrong_snapshots(store, sound)
             misplaced = _wrong_presence(store, sound)
+        tampering = _tampered_cache(store, report)
     signatures = report.signatures
     signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
     ok = report.ok and signed_ok and not any(wrong.values()) and not any(misplaced.values())
     if json_out:
         print_json({**report.as_dict(), "ok": ok, "signatures": {**signatures, "ok": signed_ok},
-                    **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {})})
+                    **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {}),
+                    "cache": tampering.to_json()})
     else:
         _print_report(report, wrong, with_snapshots)
         _print_presence(misplaced)
         _print_signatures(signatures, all_signed)
+        _print_tampering(tampering)
     raise typer.Exit(0 if ok else 1)
 
 
@@ -141,3 +146,27 @@ def _wrong_presence(store: Store, runs: list[str]) -> dict[str, list[list]]:
     the events (store/presence.py)."""
     from store import check_presence
     return _per_run("checking where road users were", runs, lambda name: check_presence(store, name))
+
+
+def _tampered_cache(store: Store, report):
+    """The cache entries that do not carry their seals (store/cache_check.py)."""
+    from store import cache_tampering
+    return cache_tampering(store, [r["run"] for r in report.runs if isinstance(r["run"], str)])
+
+
+def _print_tampering(tampering) -> None:
+    """A warning, not a failure: such entries are never read (they are dropped and rebuilt from the
+    events), so the evidence and every verdict stand; but someone wrote them into the cache file."""
+    if tampering.ok:
+        return
+    dropped = ", ".join(f"{n} {table}" for table, n in sorted(tampering.dropped_by_reads.items()))
+    typer.echo(f"WARNING: the cache file beside the store holds {tampering.count()} entries that do not carry "
+               "their seal (written by something other than gaps"
+               + (f"; dropped by reads: {dropped}" if dropped else "")
+               + "); they are never used, and are rebuilt from the events")
+    for run, positions in tampering.snapshots.items():
+        typer.echo(f"  run {text_or_null(run)}: {len(positions)} state snapshot(s), the first at {positions[0]}")
+    for run, what in tampering.presence.items():
+        typer.echo(f"  run {text_or_null(run)}: {'; '.join(what)}")
+    if tampering.verifications:
+        typer.echo(f"  {len(tampering.verifications)} recorded verification result(s)")

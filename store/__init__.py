@@ -36,6 +36,7 @@ from .cache_wire import (CACHE_PREFIX, CacheQuery, CacheQueryError, SourceSpan, 
                          write_index)
 from .partial_state import entity_since, state_of
 from .received_chain import ReceivedChains
+from .cache_check import CacheTampering, cache_tampering
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -120,6 +121,8 @@ __all__ = [
     "VerifyReport",
     "build_snapshots",
     "canonical_json",
+    "CacheTampering",
+    "cache_tampering",
     "check_presence",
     "check_snapshots",
     "check_source",

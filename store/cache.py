@@ -8,6 +8,11 @@ cannot be written (read-only media), or in memory when neither can. Everything i
 by the chain it was derived from (run, chain length, head hash) and checked against the store
 when read, so a cache from another chain head, another store or another version of this code is
 never used: deleting the file at any time changes no result, only how long the next read takes.
+
+Every entry is sealed (store/cache_seal.py) under a key kept outside the store's folder: an entry
+that does not carry its seal is dropped and rebuilt, never believed, and counted (`Cache.sealer`),
+so that whoever can write the folder can make reads slower, never different (issue 15, finding 2).
+A file sealed under another key (the key file was replaced) is emptied when opened.
 """
 
 from __future__ import annotations
@@ -15,13 +20,15 @@ from __future__ import annotations
 import hashlib
 import os
 import sqlite3
+from collections import Counter
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Iterator
 
+from .cache_seal import Sealer, load_or_create_key, memory_key
 from .opening import read_only_place
 
-CACHE_VERSION = 2  # raise when a table below changes: a file of another version is emptied
+CACHE_VERSION = 4  # raise when a table below changes: a file of another version is emptied
 SUFFIX = ".cache"
 MEMORY = ":memory:"
 _TIMEOUT_S = 2.0  # a cache write waits this long for another process's, then goes without
@@ -36,12 +43,16 @@ _DDL = (
         chain_len INTEGER NOT NULL,
         head TEXT NOT NULL,
         state BLOB NOT NULL,
+        epoch INTEGER NOT NULL,
+        mac BLOB NOT NULL,
         PRIMARY KEY (run, fold, t, seq, src)
     )""",
     """CREATE TABLE IF NOT EXISTS state_watermarks (
         run TEXT PRIMARY KEY,
         chain_len INTEGER NOT NULL,
-        head TEXT NOT NULL
+        head TEXT NOT NULL,
+        epoch INTEGER NOT NULL,
+        mac BLOB NOT NULL
     )""",
     # store/presence.py: where each road user was, per source and bucket of time
     """CREATE TABLE IF NOT EXISTS presence (
@@ -52,22 +63,30 @@ _DDL = (
         x1 REAL NOT NULL,
         y0 REAL NOT NULL,
         y1 REAL NOT NULL,
+        mac BLOB NOT NULL,
         PRIMARY KEY (run, bucket, src)
     ) WITHOUT ROWID""",
+    # boxes: how many the run has, digest: the XOR of their seals (a box removed shows)
     """CREATE TABLE IF NOT EXISTS presence_marks (
         run TEXT PRIMARY KEY,
         chain_len INTEGER NOT NULL,
-        head TEXT NOT NULL
+        head TEXT NOT NULL,
+        boxes INTEGER NOT NULL,
+        digest BLOB NOT NULL,
+        mac BLOB NOT NULL
     )""",
     """CREATE TABLE IF NOT EXISTS verifications (
         run TEXT NOT NULL,
         chain_len INTEGER NOT NULL,
         head TEXT NOT NULL,
         report TEXT NOT NULL,
+        mac BLOB NOT NULL,
         PRIMARY KEY (run, chain_len, head)
     )""",
+    "CREATE TABLE IF NOT EXISTS cache_key (id BLOB NOT NULL)",  # which key sealed this file
 )
-_TABLES = ("state_snapshots", "state_watermarks", "presence", "presence_marks", "verifications")
+_TABLES = ("state_snapshots", "state_watermarks", "presence", "presence_marks", "verifications", "cache_key")
+SEALED_TABLES = _TABLES[:-1]
 
 
 def cache_path(store_path: str) -> str:
@@ -90,16 +109,32 @@ class Cache:
     def __init__(self, store_path: str) -> None:
         self.path = cache_path(store_path)
         self._conn: sqlite3.Connection | None = None
+        self._sealer: Sealer | None = None
+        self.memo: dict[tuple, Any] = {}
+        """What this process has found about the cache (a run's whole set of boxes sound at one
+        chain head, the earliest event appended after a chain length), so that it is worked out
+        once, not on every read."""
 
     @property
     def connection(self) -> sqlite3.Connection:
         if self._conn is None:
-            self._conn = _open(self.path)
-            if self._conn is None:
-                self.path = MEMORY
-                self._conn = _open(MEMORY)
+            key = None if self.path == MEMORY else load_or_create_key()
+            if key is not None:
+                self._conn = _open(self.path, key)
+            if self._conn is None:  # no key to keep, or no file to keep it in: memory only
+                self.path, key = MEMORY, memory_key()
+                self._conn = _open(MEMORY, key)
+            if self._sealer is None or self._sealer.key != key:
+                self._sealer = Sealer(key, self._sealer.dropped if self._sealer else Counter())
         assert self._conn is not None
         return self._conn
+
+    @property
+    def sealer(self) -> Sealer:
+        """Seals and opens this cache's entries (store/cache_seal.py); counts what was dropped."""
+        self.connection
+        assert self._sealer is not None
+        return self._sealer
 
     def exists(self) -> bool:
         """Is there a cache yet? (Asked without creating one.)"""
@@ -109,6 +144,7 @@ class Cache:
         if self._conn is not None:
             self._conn.close()
             self._conn = None
+            self.memo.clear()
 
 
 @contextmanager
@@ -123,7 +159,7 @@ def writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
         raise
 
 
-def _open(path: str) -> sqlite3.Connection | None:
+def _open(path: str, key: bytes) -> sqlite3.Connection | None:
     """The cache connection with its tables, or None if this path cannot hold a cache."""
     try:
         if path != MEMORY:
@@ -133,27 +169,44 @@ def _open(path: str) -> sqlite3.Connection | None:
         return None
     try:
         conn.execute("PRAGMA synchronous=NORMAL")
-        _prepare(conn)
+        _prepare(conn, _key_id(key))
     except sqlite3.Error:  # not a database, another version being written, read-only
         conn.close()
         return None
     return conn
 
 
-def _prepare(conn: sqlite3.Connection) -> None:
-    """Create the tables; empty a file written for another CACHE_VERSION."""
-    (version,) = conn.execute("PRAGMA user_version").fetchone()
-    if version == CACHE_VERSION:
+def _key_id(key: bytes) -> bytes:
+    """Names the key without revealing it."""
+    return hashlib.sha256(b"mind-the-gaps cache key id" + key).digest()[:16]
+
+
+def _current(conn: sqlite3.Connection, key_id: bytes) -> bool:
+    """Is the file of this CACHE_VERSION and sealed under this key?"""
+    if conn.execute("PRAGMA user_version").fetchone()[0] != CACHE_VERSION:
+        return False
+    try:
+        row = conn.execute("SELECT id FROM cache_key LIMIT 1").fetchone()
+    except sqlite3.OperationalError:  # no such table: the file was altered
+        return False
+    return row is not None and row[0] == key_id
+
+
+def _prepare(conn: sqlite3.Connection, key_id: bytes) -> None:
+    """Create the tables; empty a file written for another CACHE_VERSION or under another key
+    (its seals could never open: not tampering, a new key)."""
+    if _current(conn, key_id):
         return
     conn.execute("BEGIN IMMEDIATE")
     try:
-        if conn.execute("PRAGMA user_version").fetchone()[0] == CACHE_VERSION:  # another process did it
+        if _current(conn, key_id):  # another process did it
             conn.execute("COMMIT")
             return
         for table in _TABLES:
             conn.execute(f"DROP TABLE IF EXISTS {table}")
         for statement in _DDL:
             conn.execute(statement)
+        conn.execute("INSERT INTO cache_key (id) VALUES (?)", (key_id,))
         conn.execute(f"PRAGMA user_version = {CACHE_VERSION}")
         conn.execute("COMMIT")
     except BaseException:

@@ -401,7 +401,7 @@ class Store:
             problem = report.problem if report.problem and report.problem.get("run") == name else None
             if keys[name][0] and (summary["ok"] or problem is not None):
                 counted = SignatureTally.counted(summary["signed"], summary["unsigned"])
-                verify_cache.record(self.cache.connection, name, keys[name],
+                verify_cache.record(self.cache, name, keys[name],
                                     VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted,
                                                  integrity=report.integrity))
         return report
@@ -421,7 +421,7 @@ class Store:
         For explanations and reports that cite the verdict; `gaps verify` always recomputes."""
         key = verify_cache.chain_key(self._conn, run)
         if key[0]:
-            kept = verify_cache.recorded(self.cache.connection, run, key)
+            kept = verify_cache.recorded(self.cache, run, key)
             if kept is not None:
                 return kept
         return self.verify(run, progress)

@@ -105,7 +105,11 @@ _V5 = ("DROP INDEX events_by_kind",
 # outside the hash chains (they are the ingest's observations, not a source's events).
 _V6 = (*liveliness.DDL, *(trigger for table in liveliness.TABLES for trigger in _append_only(table)))
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6}
+# v7: the wire tables become hash chains, verified by `gaps verify` (store/liveliness.py): their
+# rows are read by the reasoner's missing-evidence finding, so an edit must not pass unnoticed.
+_V7_LIVELINESS = (*liveliness.DDL_V7, *_append_only("wire_legacy"), *_append_only("wire_checkpoints"))
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7_LIVELINESS}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

@@ -17,8 +17,13 @@ Staleness works as for the snapshots (store/snapshots.py): a watermark per run h
 length and head hash up to which the boxes cover the events. A box only grows as events are
 appended, so events appended since (late ones included) are merged in on the next read; a
 watermark naming a chain this store does not hold drops the run's boxes, which are rebuilt.
-`check_presence` (run by `gaps verify --snapshots`) recomputes them from the events, because
-whoever can write the cache file could otherwise hide a road user from the reasoner.
+`check_presence` (run by `gaps verify --snapshots`) recomputes them from the events.
+
+Sealed (store/cache_seal.py): each box under its run, bucket and source; the watermark under its
+run, with the chain length and head, the number of boxes and the XOR of their seals. A box
+removed (a road user hidden), altered, added or put back from an older cache breaks the seal or
+the XOR, and the run's boxes are then rebuilt from the events, never believed. The whole set is
+checked once per process and chain head (a scan of the run's boxes), each box a read finds again.
 """
 
 from __future__ import annotations
@@ -26,7 +31,10 @@ from __future__ import annotations
 import sqlite3
 import weakref
 
+from dataclasses import dataclass
+
 from .cache import writing as _writing
+from .cache_seal import NO_ENTRIES, xor
 from .db import Store
 from .snapshots import chain_end, hash_at
 
@@ -50,16 +58,25 @@ SELECT src, b, min(x), max(x), min(y), max(y) FROM p
 WHERE typeof(x) IN ('integer', 'real') AND typeof(y) IN ('integer', 'real')
 GROUP BY src, b"""
 
-_MERGE = """
-INSERT INTO presence (run, bucket, src, x0, x1, y0, y1) VALUES (?, ?, ?, ?, ?, ?, ?)
-ON CONFLICT (run, bucket, src) DO UPDATE SET
-    x0 = min(x0, excluded.x0), x1 = max(x1, excluded.x1),
-    y0 = min(y0, excluded.y0), y1 = max(y1, excluded.y1)"""
+_PUT = "INSERT OR REPLACE INTO presence (run, bucket, src, x0, x1, y0, y1, mac) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
+_HELD = "SELECT x0, x1, y0, y1, mac FROM presence WHERE run = ? AND bucket = ? AND src = ?"
 
 _NEAR = """
-SELECT DISTINCT src FROM presence
+SELECT src, bucket, x0, x1, y0, y1, mac FROM presence
 WHERE run = ? AND bucket >= ? AND bucket <= ? AND x1 >= ? AND x0 <= ? AND y1 >= ? AND y0 <= ?
 ORDER BY src"""
+
+BOXES, MARKS = "presence", "presence_marks"
+
+
+@dataclass(frozen=True, slots=True)
+class _Marks:
+    """A run's watermark, its seal opened: the chain the boxes cover, how many, their seals' XOR."""
+
+    chain_len: int
+    head: str
+    boxes: int
+    digest: bytes
 
 
 def bucket(t: int) -> int:
@@ -74,10 +91,15 @@ def sources_near(store: Store, run: str, x: float, y: float, radius_m: float, t_
     placed state within radius_m of the point in the window, and some that did not."""
     boxes = _current(store, run)
     params = (bucket(t_from), bucket(t_to), x - radius_m, x + radius_m, y - radius_m, y + radius_m)
-    if boxes is not None:
-        return sorted({src for src, b, x0, x1, y0, y1 in boxes if params[0] <= b <= params[1]
-                       and x1 >= params[2] and x0 <= params[3] and y1 >= params[4] and y0 <= params[5]})
-    return [src for (src,) in store.cache.connection.execute(_NEAR, (run, *params))]
+    if boxes is None:
+        found = store.cache.connection.execute(_NEAR, (run, *params)).fetchall()
+        sealer = store.cache.sealer
+        if all(sealer.opens(BOXES, (run, b, src), (x0, x1, y0, y1), mac) for src, b, x0, x1, y0, y1, mac in found):
+            return sorted({row[0] for row in found})
+        store.cache.memo.pop(("presence", run), None)  # changed since it was checked: not believed
+        boxes = _boxes(store, run, 0, chain_end(store.connection, run)[0])
+    return sorted({src for src, b, x0, x1, y0, y1 in boxes if params[0] <= b <= params[1]
+                   and x1 >= params[2] and x0 <= params[3] and y1 >= params[4] and y0 <= params[5]})
 
 
 def _current(store: Store, run: str) -> list[Box] | None:
@@ -85,12 +107,11 @@ def _current(store: Store, run: str) -> list[Box] | None:
     the boxes themselves when the cache could not take them (locked by another writer, or read
     only): this read then uses them from memory."""
     length, head = chain_end(store.connection, run)
-    cache = store.cache.connection
-    row = cache.execute("SELECT chain_len, head FROM presence_marks WHERE run = ?", (run,)).fetchone()
-    if row is not None and row[0] == length and row[1] == head:
+    held = _marks(store, run)
+    if held is not None and (held.chain_len, held.head) == (length, head) and _sound(store, run, held):
         return None
     try:
-        with _writing(cache):
+        with _writing(store.cache.connection):
             _catch_up(store, run, length, head)
         return None
     except sqlite3.OperationalError:
@@ -101,21 +122,61 @@ def _current(store: Store, run: str) -> list[Box] | None:
         return kept[(run, length, head)]
 
 
+def _marks(store: Store, run: str, *, count: bool = True) -> _Marks | None:
+    """The run's watermark if there is one and it carries its seal."""
+    row = store.cache.connection.execute(
+        "SELECT chain_len, head, boxes, digest, mac FROM presence_marks WHERE run = ?", (run,)).fetchone()
+    if row is None or not store.cache.sealer.opens(MARKS, (run,), tuple(row[:4]), row[4], count=count):
+        return None
+    return _Marks(*row[:4])
+
+
+def _sound(store: Store, run: str, held: _Marks, *, count: bool = True) -> bool:
+    """Are the run's boxes exactly those the watermark sealed (each box's seal opens, and their
+    number and XOR are the watermark's)? Scanned once per process and watermark."""
+    memo = ("presence", run)
+    if store.cache.memo.get(memo) == held:
+        return True
+    sealer, number, digest = store.cache.sealer, 0, NO_ENTRIES
+    for b, src, x0, x1, y0, y1, mac in store.cache.connection.execute(
+            "SELECT bucket, src, x0, x1, y0, y1, mac FROM presence WHERE run = ?", (run,)):
+        if not sealer.opens(BOXES, (run, b, src), (x0, x1, y0, y1), mac, count=count):
+            return False
+        number, digest = number + 1, xor(digest, mac)
+    if (number, digest) != (held.boxes, held.digest):
+        if count:
+            sealer.dropped[MARKS] += 1
+        return False
+    store.cache.memo[memo] = held
+    return True
+
+
 def _catch_up(store: Store, run: str, length: int, head: str) -> None:
-    """Inside the cache's write transaction: merge in what the watermark has not covered."""
-    cache = store.cache.connection
-    row = cache.execute("SELECT chain_len, head FROM presence_marks WHERE run = ?", (run,)).fetchone()
-    covered = 0
-    if row is not None and 0 < row[0] <= length and hash_at(store.connection, run, row[0] - 1) == row[1]:
-        covered = row[0]
-    else:       # none yet, or of another chain
+    """Inside the cache's write transaction: merge in what the watermark has not covered, each
+    box merged in Python so that it is sealed as written."""
+    cache, sealer = store.cache.connection, store.cache.sealer
+    held = _marks(store, run, count=False)
+    if (held is not None and 0 < held.chain_len <= length
+            and hash_at(store.connection, run, held.chain_len - 1) == held.head
+            and _sound(store, run, held, count=False)):  # a failure was counted by the read that came here
+        covered, number, digest = held.chain_len, held.boxes, held.digest
+    else:       # none yet, of another chain, or not as sealed
         cache.execute("DELETE FROM presence WHERE run = ?", (run,))
-    if covered < length:
-        cache.executemany(_MERGE, ((run, b, src, x0, x1, y0, y1)
-                                   for src, b, x0, x1, y0, y1 in _boxes(store, run, covered, length)))
-    cache.execute("INSERT INTO presence_marks (run, chain_len, head) VALUES (?, ?, ?) "
-                  "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len, head = excluded.head",
-                  (run, length, head))
+        covered, number, digest = 0, 0, NO_ENTRIES
+    for src, b, x0, x1, y0, y1 in (_boxes(store, run, covered, length) if covered < length else ()):
+        old = cache.execute(_HELD, (run, b, src)).fetchone() if covered else None
+        if old is None:
+            number += 1
+        else:
+            x0, x1, y0, y1 = min(x0, old[0]), max(x1, old[1]), min(y0, old[2]), max(y1, old[3])
+            digest = xor(digest, old[4])
+        mac = sealer.seal(BOXES, (run, b, src), (x0, x1, y0, y1))
+        digest = xor(digest, mac)
+        cache.execute(_PUT, (run, b, src, x0, x1, y0, y1, mac))
+    marks = (length, head, number, digest)
+    cache.execute("INSERT OR REPLACE INTO presence_marks (run, chain_len, head, boxes, digest, mac) "
+                  "VALUES (?, ?, ?, ?, ?, ?)", (run, *marks, sealer.seal(MARKS, (run,), marks)))
+    store.cache.memo[("presence", run)] = _Marks(*marks)
 
 
 def _boxes(store: Store, run: str, start: int, end: int) -> list[Box]:
@@ -130,10 +191,27 @@ def check_presence(store: Store, run: str) -> list[tuple[str, int]]:
     if not store.cache.exists():
         return []
     cache = store.cache.connection
-    row = cache.execute("SELECT chain_len, head FROM presence_marks WHERE run = ?", (run,)).fetchone()
-    if row is None or not (row[0] > 0 and hash_at(store.connection, run, row[0] - 1) == row[1]):
+    held = _marks(store, run, count=False)
+    if held is None or not (held.chain_len > 0 and hash_at(store.connection, run, held.chain_len - 1) == held.head):
         return []
-    fresh = {(src, b): box for src, b, *box in _boxes(store, run, 0, row[0])}
+    if not _sound(store, run, held, count=False):
+        return []  # never used: reported by tampered_presence, rebuilt by the next read
+    fresh = {(src, b): box for src, b, *box in _boxes(store, run, 0, held.chain_len)}
     held = {(src, b): [x0, x1, y0, y1] for src, b, x0, x1, y0, y1 in cache.execute(
         "SELECT src, bucket, x0, x1, y0, y1 FROM presence WHERE run = ?", (run,))}
     return sorted(key for key in fresh.keys() | held.keys() if fresh.get(key) != held.get(key))
+
+
+def tampered_presence(store: Store, run: str) -> list[str]:
+    """What of the run's cached boxes does not carry its seal ([] if nothing, or no cache): such
+    entries are never used, but someone wrote them (for `gaps verify`)."""
+    if not store.cache.exists():
+        return []
+    row = store.cache.connection.execute("SELECT 1 FROM presence_marks WHERE run = ?", (run,)).fetchone()
+    held = _marks(store, run, count=False)
+    if held is None:
+        boxes = store.cache.connection.execute("SELECT count(*) FROM presence WHERE run = ?", (run,)).fetchone()[0]
+        return ["the watermark of the boxes does not carry its seal"] if row is not None or boxes else []
+    if not _sound(store, run, held, count=False):
+        return ["the boxes of where road users were are not those sealed (one altered, added or removed)"]
+    return []

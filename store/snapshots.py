@@ -23,6 +23,14 @@ watermark whose head is not the store's hash at that length belongs to another c
 snapshot of the run is ignored, and dropped on the next write. This is correct whoever appended.
 `enable_snapshots(store)` adds an append hook that does the same after each append, so that a
 reader of a live run never has to look at unchecked events.
+
+Sealed (store/cache_seal.py): a snapshot under its run, fold version, position and the chain it
+was folded from; a watermark under its run, with its chain length and head. A snapshot that does
+not carry its seal is passed over (and deleted when the cache can be written), a watermark that
+does not counts as none (every snapshot of the run is then unchecked): forged entries are never
+believed. A genuine snapshot put back after a late event made it stale is passed over too: each
+time late events make snapshots stale, the run's watermark starts a new epoch, the snapshots kept
+are sealed again under it, and a read uses only snapshots of the watermark's epoch.
 """
 
 from __future__ import annotations
@@ -46,13 +54,14 @@ FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions 
 Position = tuple[int, int, str]  # (t, seq, src) of an event, the order of the fold
 Fresh = tuple[Position, bytes]  # a snapshot folded but not yet written: position, encoded state
 
+SNAPSHOTS, WATERMARKS = "state_snapshots", "state_watermarks"
 _NEAREST = (
-    "SELECT t, seq, src, chain_len, head, state FROM state_snapshots "
+    "SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
     "WHERE run = ? AND fold = ? AND t <= ? AND t < ? ORDER BY t DESC, seq DESC, src DESC LIMIT 1"
 )
 _INSERT = (
-    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state) "
-    "VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
+    "INSERT OR REPLACE INTO state_snapshots (run, fold, t, seq, src, chain_len, head, state, epoch, mac) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _HASH_AT = "SELECT hash FROM events WHERE run = ? AND chain_pos = ?"
 _T_MAX = (1 << 63) - 1
@@ -147,6 +156,8 @@ class Marks:
     head: str
     checked: int
     agrees: bool = True
+    epoch: int = -1
+    """The watermark's epoch (-1 without a sealed watermark: no snapshot is of it)."""
 
     @property
     def unchecked(self) -> bool:
@@ -173,13 +184,21 @@ def marks(store: Store, run: str) -> Marks:
     """A few index probes (this runs on every read)."""
     conn = store.connection
     length, head = chain_end(conn, run)
-    row = store.cache.connection.execute(
-        "SELECT chain_len, head FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    row = _watermark(store, run)
     if row is None:
         return Marks(length, head, 0)
-    checked, checked_head = row
+    checked, checked_head, epoch = row
     agrees = checked <= length and (checked == 0 or hash_at(conn, run, checked - 1) == checked_head)
-    return Marks(length, head, checked if agrees else 0, agrees)
+    return Marks(length, head, checked if agrees else 0, agrees, epoch if agrees else -1)
+
+
+def _watermark(store: Store, run: str, *, count: bool = True) -> tuple[int, str, int] | None:
+    """The run's watermark (chain length, head, epoch) if it carries its seal."""
+    row = store.cache.connection.execute(
+        "SELECT chain_len, head, epoch, mac FROM state_watermarks WHERE run = ?", (run,)).fetchone()
+    if row is None or not store.cache.sealer.opens(WATERMARKS, (run,), tuple(row[:3]), row[3], count=count):
+        return None
+    return row[0], row[1], row[2]
 
 
 def _earliest_since(conn: sqlite3.Connection, run: str, chain_pos: int) -> int | None:
@@ -209,14 +228,35 @@ def catch_up(store: Store, run: str) -> None:
     seen = marks(store, run)
     stale = stale_from(store, run, seen)
     cache = store.cache.connection
+    epoch = max(seen.epoch, 0)
     if stale != _T_MAX:
         sql = "DELETE FROM state_snapshots WHERE run = ? AND t >= ?"
-        cache.execute(sql, (run, stale))
-    cache.execute(
-        "INSERT INTO state_watermarks (run, chain_len, head) VALUES (?, ?, ?) "
-        "ON CONFLICT (run) DO UPDATE SET chain_len = excluded.chain_len, head = excluded.head",
-        (run, seen.length, seen.head),
-    )
+        if cache.execute(sql, (run, stale)).rowcount or seen.epoch < 0:
+            epoch = _new_epoch(store, run, seen.epoch)
+    values = (seen.length, seen.head, epoch)
+    cache.execute("INSERT OR REPLACE INTO state_watermarks (run, chain_len, head, epoch, mac) VALUES (?, ?, ?, ?, ?)",
+                  (run, *values, store.cache.sealer.seal(WATERMARKS, (run,), values)))
+
+
+def _new_epoch(store: Store, run: str, epoch: int) -> int:
+    """Snapshots were dropped as stale: seal the run's remaining ones under a new epoch, so that a
+    dropped one put back (by whoever kept a copy) is not of the watermark's epoch. The new epoch is
+    above any the file holds, so an old watermark put back cannot name it either."""
+    cache, sealer = store.cache.connection, store.cache.sealer
+    (top,) = cache.execute("SELECT max(epoch) FROM state_snapshots WHERE run = ?", (run,)).fetchone()
+    fresh = max(epoch, top if isinstance(top, int) else 0) + 1
+    rows = cache.execute("SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
+                         "WHERE run = ? AND fold = ? AND epoch = ?", (run, FOLD_VERSION, epoch)).fetchall()
+    cache.execute("DELETE FROM state_snapshots WHERE run = ? AND epoch <> ?", (run, epoch))  # of no epoch in use
+    for row in rows:
+        if sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], epoch), row[6]):
+            cache.execute("UPDATE state_snapshots SET epoch = ?, mac = ? WHERE run = ? AND fold = ? AND t = ? "
+                          "AND seq = ? AND src = ?", (fresh, sealer.seal(SNAPSHOTS, _seal_key(run, row), (row[5], fresh)),
+                                                      run, FOLD_VERSION, row[0], row[1], row[2]))
+        else:
+            cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t = ? AND seq = ? AND src = ?",
+                          (run, FOLD_VERSION, row[0], row[1], row[2]))
+    return fresh
 
 
 # --- reading and writing ----------------------------------------------------------------------
@@ -228,6 +268,28 @@ def _of_this_chain(store: Store, run: str, chain_len: Any, head: Any, seen: Mark
             and hash_at(store.connection, run, chain_len - 1) == head)
 
 
+def _seal_key(run: str, row: tuple) -> tuple:
+    """What names a snapshot row (t, seq, src, chain_len, head, ...): its seal covers these."""
+    return (run, FOLD_VERSION, row[0], row[1], row[2], row[3], row[4])
+
+
+def _usable(store: Store, run: str, row: tuple, seen: Marks, *, count: bool = True) -> bool:
+    """May a read use this snapshot row (t, seq, src, chain_len, head, state, mac, epoch)? Of this
+    chain and of the watermark's epoch, and sealed by this code."""
+    return (_of_this_chain(store, run, row[3], row[4], seen) and row[7] == seen.epoch
+            and store.cache.sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], row[7]), row[6], count=count))
+
+
+def _drop(store: Store, run: str, row: tuple) -> None:
+    """Delete a snapshot that is not to be believed, if the cache can be written now."""
+    try:
+        store.cache.connection.execute(
+            "DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t = ? AND seq = ? AND src = ?",
+            (run, FOLD_VERSION, row[0], row[1], row[2]))
+    except sqlite3.OperationalError:
+        pass
+
+
 def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
     """The latest usable snapshot at or before t, given the marks read in the same transaction.
     A snapshot that cannot be decoded, or that names a chain the store does not hold, is passed
@@ -236,9 +298,10 @@ def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
     cache = store.cache.connection
     row = cache.execute(_NEAREST, (run, FOLD_VERSION, t, before)).fetchone()
     while row is not None:
-        if _of_this_chain(store, run, row[3], row[4], seen):
-            state = decode(row[5])
-            if state is not None:
+        if _of_this_chain(store, run, row[3], row[4], seen) and row[7] == seen.epoch:
+            if not store.cache.sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], row[7]), row[6]):
+                _drop(store, run, row)  # written behind gaps' back (of another epoch: perhaps a race, kept)
+            elif (state := decode(row[5])) is not None:
                 return Snapshot((row[0], row[1], row[2]), state)
         row = cache.execute(_NEAREST, (run, FOLD_VERSION, row[0] - 1, before)).fetchone()
     return None
@@ -248,13 +311,29 @@ def listed(store: Store, run: str, seen: Marks) -> Iterator[Snapshot]:
     """The run's usable snapshots (those a read may use), oldest first, one at a time; an
     undecodable one comes with an empty state (it can never equal a fold)."""
     sql = (
-        "SELECT t, seq, src, chain_len, head, state FROM state_snapshots "
+        "SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
         "WHERE run = ? AND fold = ? AND t < ? ORDER BY t, seq, src"
     )
     rows = store.cache.connection.execute(sql, (run, FOLD_VERSION, stale_from(store, run, seen))).fetchall()
-    for t, seq, src, chain_len, head, blob in rows:
-        if _of_this_chain(store, run, chain_len, head, seen):
-            yield Snapshot((t, seq, src), decode(blob, exact=True) or {})
+    for row in rows:
+        if _usable(store, run, row, seen, count=False):
+            yield Snapshot((row[0], row[1], row[2]), decode(row[5], exact=True) or {})
+
+
+def tampered_snapshots(store: Store, run: str) -> list[Position]:
+    """Positions of the run's snapshots (of this fold version) and its watermark that do not carry
+    their seals: never used by a read, but written by someone else (for `gaps verify`)."""
+    if not has_tables(store):
+        return []
+    cache, sealer = store.cache.connection, store.cache.sealer
+    rows = cache.execute("SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots "
+                         "WHERE run = ? AND fold = ? ORDER BY t, seq, src", (run, FOLD_VERSION)).fetchall()
+    wrong = [tuple(row[:3]) for row in rows
+             if not sealer.opens(SNAPSHOTS, _seal_key(run, row), (row[5], row[7]), row[6], count=False)]
+    has_mark = cache.execute("SELECT 1 FROM state_watermarks WHERE run = ?", (run,)).fetchone() is not None
+    if has_mark and _watermark(store, run, count=False) is None:
+        wrong.append((-1, -1, "(watermark)"))
+    return wrong
 
 
 def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
@@ -276,8 +355,11 @@ def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
             late = _T_MIN
         catch_up(store, run)
         kept = [(position, blob) for position, blob in fresh if late is None or position[0] < late]
-        cache.executemany(
-            _INSERT, [(run, FOLD_VERSION, *position, seen.length, seen.head, blob) for position, blob in kept])
+        sealer, epoch = store.cache.sealer, marks(store, run).epoch  # the watermark catch_up just wrote
+        cache.executemany(_INSERT, [
+            (run, FOLD_VERSION, *position, seen.length, seen.head, blob, epoch,
+             sealer.seal(SNAPSHOTS, (run, FOLD_VERSION, *position, seen.length, seen.head), (blob, epoch)))
+            for position, blob in kept])
         cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
         cache.execute("COMMIT")
     except sqlite3.OperationalError:

@@ -21,6 +21,7 @@ from . import merkle
 from .canonical import canonical_json
 from .chain import GENESIS, link
 from .integrity import integrity_problem, integrity_problems
+from .liveliness import wire_problem
 from .outcomes import VerifyReport
 from .reading import one_snapshot
 from .signature_tally import SignatureTally
@@ -91,6 +92,7 @@ def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None
         problems.append(problem)
     if run is None:
         problems.append(_verify_rulebooks(conn))
+    problems.append(_verify_wire(conn))
     problems.append(integrity_problem(messages))
     ticker.done()
     first = next((problem for problem in problems if problem is not None), None)
@@ -368,6 +370,15 @@ def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
             )
             return _problem(None, None, None, None, what)
     return None
+
+
+def _verify_wire(conn: sqlite3.Connection) -> dict[str, Any] | None:
+    """The liveliness and wire-miss chains (store/liveliness.py), which the missing-evidence
+    finding reads; a value no append writes (bytes, not UTF-8) is a problem too, not a crash."""
+    try:
+        return wire_problem(conn)
+    except (ValueError, TypeError) as exc:
+        return _problem(None, None, None, None, f"a liveliness or wire-miss row holds a value no append writes: {exc}")
 
 
 def _problem(run: str | None, src: Any, seq: Any, chain_pos: Any, what: str) -> dict[str, Any]:

@@ -5,8 +5,9 @@ or a report that cites the chain's verdict need not pay that each time. A result
 under the run, its chain length and the stored hash of its last event, read in the same read
 transaction as the verification itself, and is only handed back while the store still has that
 length and head: an append, or any change to the last event, makes it a miss. `gaps verify`
-never reads these: it always recomputes (a result in the cache is only as trustworthy as the
-cache file, which nothing protects).
+never reads these: it always recomputes. Each result is sealed (store/cache_seal.py) over its
+run, chain length, head and report: a result written behind the store's back (an altered run
+declared intact) does not open, and is dropped and recomputed, never cited.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import json
 import sqlite3
 
+from .cache import Cache
 from .outcomes import VerifyReport
 
 ChainKey = tuple[int, str]  # (events in the run's chain, stored hash of the last one)
@@ -28,12 +30,15 @@ def chain_key(conn: sqlite3.Connection, run: str) -> ChainKey:
     return (count, "" if row is None else str(row[0]))  # None: a damaged index lost the row it found
 
 
-def recorded(cache: sqlite3.Connection, run: str, key: ChainKey) -> VerifyReport | None:
-    """The verification recorded for exactly this chain, or None."""
-    row = cache.execute(
-        "SELECT report FROM verifications WHERE run = ? AND chain_len = ? AND head = ?", (run, *key)
+TABLE = "verifications"
+
+
+def recorded(cache: Cache, run: str, key: ChainKey) -> VerifyReport | None:
+    """The verification recorded for exactly this chain and sealed by this code, or None."""
+    row = cache.connection.execute(
+        "SELECT report, mac FROM verifications WHERE run = ? AND chain_len = ? AND head = ?", (run, *key)
     ).fetchone()
-    if row is None:
+    if row is None or not cache.sealer.opens(TABLE, (run, *key), row[0], row[1]):
         return None
     try:
         data = json.loads(row[0])
@@ -43,17 +48,25 @@ def recorded(cache: sqlite3.Connection, run: str, key: ChainKey) -> VerifyReport
         return None  # damaged: recompute
 
 
-def record(cache: sqlite3.Connection, run: str, key: ChainKey, report: VerifyReport) -> None:
-    """Keep one result per run (the latest chain's); a locked cache is skipped, not waited on."""
+def record(sealed: Cache, run: str, key: ChainKey, report: VerifyReport) -> None:
+    """Keep one result per run (the latest chain's), sealed; a locked cache is skipped, not waited on."""
     text = json.dumps(report.as_dict(), ensure_ascii=False)
+    cache, mac = sealed.connection, sealed.sealer.seal(TABLE, (run, *key), text)
     try:
         cache.execute("BEGIN IMMEDIATE")
     except sqlite3.OperationalError:
         return
     try:
         cache.execute("DELETE FROM verifications WHERE run = ?", (run,))
-        cache.execute("INSERT INTO verifications (run, chain_len, head, report) VALUES (?, ?, ?, ?)",
-                      (run, *key, text))
+        cache.execute("INSERT INTO verifications (run, chain_len, head, report, mac) VALUES (?, ?, ?, ?, ?)",
+                      (run, *key, text, mac))
         cache.execute("COMMIT")
     except sqlite3.OperationalError:
         cache.execute("ROLLBACK")
+
+
+def unsealed(cache: Cache) -> list[tuple]:
+    """(run, chain length, head) of every recorded result whose seal does not open (for verify)."""
+    rows = cache.connection.execute("SELECT run, chain_len, head, report, mac FROM verifications").fetchall()
+    return [(run, n, head) for run, n, head, report, mac in rows
+            if not cache.sealer.opens(TABLE, (run, n, head), report, mac, count=False)]

@@ -12,7 +12,8 @@ import store
 ROOT = Path(__file__).parents[2]
 INSIDE = {"store", "tests", "bench", ".venv", ".git"}
 TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", "schema_version",
-          "state_snapshots", "state_watermarks", "verifications")
+          "state_snapshots", "state_watermarks", "verifications", "liveliness", "wire_misses", "wire_checkpoints",
+          "wire_legacy", "presence_marks", "cache_key")
 SQL = re.compile(r"\b(SELECT|INSERT|UPDATE|DELETE|CREATE|DROP|ALTER)\b[\s\S]*\b(" + "|".join(TABLES) + r")\b")
 
 

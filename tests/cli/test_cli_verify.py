@@ -27,16 +27,22 @@ def snapshot_db(tmp_path):
     return path
 
 
-def forge_snapshot(path, offset):
-    """Alter one snapshot behind the store's back: vehicle/173 said to be somewhere it never was."""
+def forge_snapshot(path, offset, sealed=True):
+    """Alter one snapshot behind the store's back: vehicle/173 said to be somewhere it never was;
+    `sealed`: by someone who holds the cache key too (else its seal no longer opens)."""
     with Store(path) as store:
         conn = store.cache.connection
-        t, seq, src, blob = conn.execute(
-            "SELECT t, seq, src, state FROM state_snapshots ORDER BY t LIMIT 1 OFFSET ?", (offset,)).fetchone()
+        t, seq, src, n, head, blob, mac, epoch = conn.execute(
+            "SELECT t, seq, src, chain_len, head, state, mac, epoch FROM state_snapshots ORDER BY t LIMIT 1 OFFSET ?",
+            (offset,)).fetchone()
         forged = snapshots.decode(blob)
         forged["entities"]["vehicle/173"]["state"]["body"]["x"] = -999.0
-        conn.execute("UPDATE state_snapshots SET state = ? WHERE t = ? AND seq = ? AND src = ?",
-                     (snapshots.encode(forged), t, seq, src))
+        blob = snapshots.encode(forged)
+        if sealed:
+            mac = store.cache.sealer.seal("state_snapshots", ("r1", snapshots.FOLD_VERSION, t, seq, src, n, head),
+                                          (blob, epoch))
+        conn.execute("UPDATE state_snapshots SET state = ?, mac = ? WHERE t = ? AND seq = ? AND src = ?",
+                     (blob, mac, t, seq, src))
     return t, seq, src
 
 
@@ -48,9 +54,29 @@ def test_matching_snapshots_pass(snapshot_db):
     assert as_json["ok"] is True and as_json["snapshots"] == {"r1": []}
 
 
+def test_a_snapshot_forged_without_the_cache_key_is_a_warning_and_never_read(snapshot_db):
+    """Issue 15, finding 2: a snapshot written behind gaps' back does not carry its seal; reads
+    pass it over (so the scene is the events'), and verify names it as a warning, exit 0."""
+    from store import state_at
+    with Store(snapshot_db) as store:
+        before = state_at(store, "r1", T0 + 35_000_000).to_json()
+    t, seq, src = forge_snapshot(snapshot_db, 2, sealed=False)
+    with Store(snapshot_db) as store:
+        assert state_at(store, "r1", T0 + 35_000_000).to_json() == before
+        assert store.cache.sealer.tampered() == {"state_snapshots": 1}
+    forge_snapshot(snapshot_db, 1, sealed=False)
+    checked = gaps("verify", db=snapshot_db)
+    assert checked.exit_code == 0, checked.output
+    assert "WARNING: the cache file beside the store holds 1 entries that do not carry their seal" in checked.stdout
+    as_json = json.loads(gaps("verify", "--json", db=snapshot_db).stdout)
+    assert as_json["ok"] is True and as_json["cache"]["ok"] is False
+    assert len(as_json["cache"]["snapshots"]["r1"]) == 1
+
+
 def test_a_wrong_snapshot_fails_verify(snapshot_db):
     """A snapshot is not evidence, but scenes and verdicts read state from it: a forged one with
-    a correct key must fail plain `gaps verify`, or it could change a verdict quietly."""
+    a correct key and seal (by someone holding the cache key) must fail plain `gaps verify`, or it
+    could change a verdict quietly."""
     t, seq, src = forge_snapshot(snapshot_db, 2)
     skipped = gaps("verify", "--no-snapshots", db=snapshot_db)
     assert skipped.exit_code == 0  # the chain itself is intact

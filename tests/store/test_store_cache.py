@@ -46,9 +46,12 @@ def forge(store, t, chain_len, head):
     state = {k: v for k, v in folded(store, t).to_json().items() if k not in ("run", "t")}  # a snapshot's keys
     state["entities"]["vehicle/666"] = state["entities"]["vehicle/173"]
     last = state["last"]
-    store.cache.connection.execute(
-        "INSERT OR REPLACE INTO state_snapshots VALUES ('r1', ?, ?, ?, ?, ?, ?, ?)",
-        (snapshots.FOLD_VERSION, last["t"], last["seq"], last["src"], chain_len, head, snapshots.encode(state)))
+    blob = snapshots.encode(state)
+    key = ("r1", snapshots.FOLD_VERSION, last["t"], last["seq"], last["src"], chain_len, head)
+    (epoch,) = store.cache.connection.execute("SELECT epoch FROM state_watermarks WHERE run = 'r1'").fetchone()
+    mac = store.cache.sealer.seal(snapshots.SNAPSHOTS, key, (blob, epoch))  # by a holder of the cache key
+    store.cache.connection.execute("INSERT OR REPLACE INTO state_snapshots VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                                   (*key, blob, epoch, mac))
 
 
 def test_a_wrong_snapshot_of_an_old_head_is_not_used_once_late_events_arrive(db_path):
