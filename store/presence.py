@@ -68,6 +68,8 @@ ORDER BY src"""
 
 BOXES, MARKS = "presence", "presence_marks"
 
+PAD_M = 1e-6   # the square is this much wider: a point at exactly radius_m (rounded) is never left out
+
 
 @dataclass(frozen=True, slots=True)
 class _Marks:
@@ -90,7 +92,8 @@ def sources_near(store: Store, run: str, x: float, y: float, radius_m: float, t_
     (x, y) at some time in the buckets that meet [t_from, t_to]: every source that can have a
     placed state within radius_m of the point in the window, and some that did not."""
     boxes = _current(store, run)
-    params = (bucket(t_from), bucket(t_to), x - radius_m, x + radius_m, y - radius_m, y + radius_m)
+    reach = radius_m + PAD_M
+    params = (bucket(t_from), bucket(t_to), x - reach, x + reach, y - reach, y + reach)
     if boxes is None:
         found = store.cache.connection.execute(_NEAR, (run, *params)).fetchall()
         sealer = store.cache.sealer
