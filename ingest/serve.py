@@ -22,7 +22,7 @@ from typing import TextIO
 
 import zenoh
 
-from store import TrustedKeys
+from store import QuarantineCap, TrustedKeys
 
 from .errors import IngestConfigError, zenoh_message
 from .sd_notify import notify
@@ -51,6 +51,7 @@ class ServeOptions:
     status_every_s: float | None = None  # None: 1 s on a terminal, 10 s in logs
     durable: bool = True
     require_signatures: Path | None = None  # the public keys file: quarantine what they do not sign
+    quarantine_cap: QuarantineCap = QuarantineCap()
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -111,7 +112,7 @@ def _open_service(options: ServeOptions, keys: TrustedKeys | None) -> IngestServ
     try:
         return IngestService(options.db, listen=listen, connect=connect, mode=options.mode,
                              config_file=options.config_file, key_expr=options.key,
-                             durable=options.durable, trusted_keys=keys)
+                             durable=options.durable, trusted_keys=keys, quarantine_cap=options.quarantine_cap)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -273,6 +274,7 @@ def _metrics(options: ServeOptions, server: Server, started_at: str, stopped_by:
         "uptime_s": final.uptime_s, "received": final.received, "stored": final.stored,
         "duplicates": final.duplicates, "quarantined": final.quarantined, "failed": final.failed,
         "errors": final.errors, "write_failures": final.write_failures, "stalled_s": final.stalled_s,
+        "quarantine_full": stats["quarantine_full"],
         "late": final.late, "recovered": stats["recovered"], "batches": stats["batches"],
         "require_signatures": _keys_file(options), "signature_refused": stats["signature_refused"],
         "settled_after_stop": final.settled - at_stop.settled,

@@ -10,11 +10,12 @@ import time
 from collections.abc import Callable
 
 COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late", "signature_refused",
-            "recovered", "write_failures")
+            "recovered", "write_failures", "quarantine_full")
 """signature_refused: samples quarantined for their signature (unsigned, unknown key, forged), when
 signatures are required; they are counted in rejected too. recovered: samples a producer's cache
 sent after a restart (docs/serve.md). write_failures: commits the store refused (each try of a
-stalled write counts)."""
+stalled write counts). quarantine_full: refusals past the quarantine's cap, counted in the
+store per origin, their bytes not kept (store/quarantine.py)."""
 KEEP_ERRORS = 20
 KEEP_REJECTED = 20
 

@@ -13,7 +13,7 @@ import threading
 import time
 from dataclasses import replace
 
-from store import Candidate, Store, TrustedKeys, enable_snapshots
+from store import Candidate, QuarantineCap, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
@@ -46,6 +46,7 @@ class BatchWriter(threading.Thread):
         durable: bool,
         trusted_keys: TrustedKeys | None = None,
         watch: WireWatch | None = None,
+        quarantine_cap: QuarantineCap = QuarantineCap(),
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
         self._keys = trusted_keys
@@ -62,6 +63,8 @@ class BatchWriter(threading.Thread):
         self._open_error: BaseException | None = None
         self._stalled_since: float | None = None  # monotonic time the store last began refusing commits
         self._gave_up = False                     # a stop found the store unable to write (_stalled)
+        self._quarantine_full = False             # said once in the log
+        self._quarantine_cap = quarantine_cap
 
     def started(self, timeout: float) -> None:
         """Wait until the store is open; re-raise in the caller's thread if it could not be."""
@@ -86,7 +89,7 @@ class BatchWriter(threading.Thread):
         are read while they grow, and the check costs this writer a look at its own batch
         instead of costing every reader a scan of everything appended since its last snapshot."""
         try:
-            store = Store(self._db_path, durable=self._durable)
+            store = Store(self._db_path, durable=self._durable, quarantine_cap=self._quarantine_cap)
             try:
                 enable_snapshots(store)
                 if self._watch is not None:
@@ -206,8 +209,14 @@ class BatchWriter(threading.Thread):
             self._resumed()
             self._stats.record_rejected(report.rejected)
             self._stats.add(
-                stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1
+                stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
+                quarantine_full=report.quarantine_full,
             )
+            if report.quarantine_full and not self._quarantine_full:
+                self._quarantine_full = True
+                cap = store.quarantine_cap
+                log.error("ingest: the quarantine is full (%d rows or %d bytes): later refusals are counted per "
+                          "origin, their bytes not kept; `gaps quarantine --prune` makes room", cap.rows, cap.bytes)
             return None
 
     def _stalled(self, condition: str, held: int, exc: Exception) -> bool:

@@ -5,6 +5,8 @@ import json
 import sqlite3
 
 import pytest
+
+from store.ddl import SCHEMA_VERSION
 from tests.helpers.store_testkit import event, rows
 
 from store import AppendReport, Store, StoreError, canonical_json
@@ -18,7 +20,7 @@ def test_append_stores_and_reads_back(store):
     evs = [event(seq) for seq in range(5)]
     report = store.append(evs)
     assert report == AppendReport(stored=5, duplicates=0, rejected=[])
-    assert report.as_dict() == {"stored": 5, "duplicates": 0, "rejected": []}
+    assert report.as_dict() == {"stored": 5, "duplicates": 0, "rejected": [], "quarantine_repeats": 0, "quarantine_full": 0}
     assert list(store.events("r1")) == evs
     assert store.count() == store.count("r1") == 5
 
@@ -231,7 +233,7 @@ def test_schema_version_and_pragmas(db_path):
         assert durable._conn.execute("PRAGMA synchronous").fetchone() == (2,)  # FULL
     with Store(db_path, durable=False) as fast:
         assert fast._conn.execute("PRAGMA synchronous").fetchone() == (1,)  # NORMAL
-    assert rows(db_path, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,), (5,), (6,)]
+    assert rows(db_path, "SELECT version FROM schema_version") == [(v,) for v in range(1, SCHEMA_VERSION + 1)]
     tables = {name for (name,) in rows(db_path, "SELECT name FROM sqlite_master WHERE type = 'table'")}
     assert {"events", "quarantine", "checkpoints", "rulebooks", "schema_version", "liveliness", "wire_misses"} <= tables
 
