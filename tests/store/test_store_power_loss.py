@@ -7,10 +7,13 @@ from __future__ import annotations
 import json
 import os
 import signal
+import sqlite3
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+import pytest
 
 from store import Store
 from tests.helpers.store_testkit import event
@@ -61,3 +64,17 @@ def test_a_kill_between_write_and_commit_leaves_the_committed_prefix(tmp_path: P
         again = store.append(evs)
         assert (again.stored, again.duplicates) == (EVENTS - committed, committed)
         assert store.verify().ok and store.count() == EVENTS
+
+
+def test_a_full_disk_during_an_append_leaves_the_store_whole_and_appendable(tmp_path: Path) -> None:
+    evs = [event(seq, src="vehicle/173") for seq in range(3_000)]
+    with Store(tmp_path / "gaps.db") as store:
+        store.append(evs[:100])
+        pages = store.connection.execute("PRAGMA page_count").fetchone()[0]
+        store.connection.execute(f"PRAGMA max_page_count = {pages}")   # SQLite's own full disk
+        with pytest.raises(sqlite3.OperationalError, match="full"):
+            store.append(evs[100:])
+        assert store.count() == 100 and store.verify().ok
+        store.connection.execute("PRAGMA max_page_count = 1073741823")  # room again
+        assert store.append(evs[100:]).stored == 2_900
+        assert store.verify().ok and store.chain_head(evs[0]["run"])[0] == 3_000
