@@ -29,7 +29,8 @@ def quarantine(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
                                                     "age: 7d, 12h, 30m).")) -> None:
     """List what the store refused: when, from where, why, how often, and the first bytes received.
 
-    Identical refusals (same origin, reason and bytes) are one row with a count. The bytes are shown
+    Identical refusals (same source, reason and bytes: a file's line numbers aside) are one row with
+    a count. The bytes are shown
     escaped, so a hostile producer's text cannot drive the terminal. Past the quarantine's cap,
     refusals are counted per origin, not kept; pruned rows are summarised. See docs/store.md.
     """
@@ -85,7 +86,7 @@ def _quarantine_json(item: dict[str, Any]) -> dict[str, Any]:
     raw = item["raw"]
     return {"id": item["id"], "received_at": item["received_at"],
             "received": format_time_short(item["received_at"]), "count": item["count"],
-            "last_at": item["last_at"], "origin": item["origin"], "reason": item["reason"], "raw_bytes": len(raw),
+            "last_at": item["last_at"], "origin": item["origin"], "last_origin": item["last_origin"], "reason": item["reason"], "raw_bytes": len(raw),
             "raw_sha256": hashlib.sha256(raw).hexdigest(), "raw_preview": preview(raw, PREVIEW_BYTES),
             "raw_base64": base64.b64encode(raw).decode("ascii")}
 

@@ -297,10 +297,10 @@ class Store:
     def quarantined(self, limit: int | None = None, *, latest: bool = False) -> list[dict[str, Any]]:
         """What the quarantine keeps, oldest first, with the exact bytes received: all of it, the
         first `limit` entries, or with latest=True the last `limit` ones. A row stands for `count`
-        identical refusals (same origin, reason and bytes), the first at received_at, the last at
-        last_at (store/quarantine.py)."""
-        select = ("SELECT id, received_at, origin, reason, raw, count, coalesce(last_at, received_at), digest "
-                  "FROM quarantine")
+        identical refusals (same source, reason and bytes), the first from origin at received_at,
+        the last from last_origin at last_at (store/quarantine.py)."""
+        select = ("SELECT id, received_at, origin, reason, raw, count, coalesce(last_at, received_at), digest, "
+                  "coalesce(last_origin, origin) FROM quarantine")
         if latest:
             sql = f"SELECT * FROM ({select} ORDER BY id DESC LIMIT ?) ORDER BY id"
         else:
@@ -308,8 +308,8 @@ class Store:
         rows = self._conn.execute(sql, (-1 if limit is None else limit,))
         return [
             {"id": id_, "received_at": received_at, "origin": origin, "reason": reason, "raw": bytes(raw),
-             "count": count, "last_at": last_at, "digest": digest}
-            for id_, received_at, origin, reason, raw, count, last_at, digest in rows
+             "count": count, "last_at": last_at, "digest": digest, "last_origin": last_origin}
+            for id_, received_at, origin, reason, raw, count, last_at, digest, last_origin in rows
         ]
 
     def quarantine_count(self) -> int:

@@ -107,9 +107,10 @@ _V5 = ("DROP INDEX events_by_kind",
 _V6 = (*liveliness.DDL, *(trigger for table in liveliness.TABLES for trigger in _append_only(table)))
 
 # v7: a bounded quarantine (store/quarantine.py). A refusal identical to a kept one (same sha256
-# of its bytes, origin and reason: the unique index) is counted on that row, whose count and
-# last_at are then all an UPDATE may change, and only upwards. Past the cap, refusals are counted
-# per origin in quarantine_overflow (which only grows). Rows are removed only by a prune recorded
+# of its bytes, source and reason: the unique index; the source is the origin without a place in
+# a file) is counted on that row, whose count, last_at and last_origin are then all an UPDATE may
+# change, count and last_at only upwards. Past the cap, refusals are counted
+# per source in quarantine_overflow (which only grows). Rows are removed only by a prune recorded
 # first in quarantine_prunes (append-only): the DELETE trigger lets a row go only if the latest
 # prune record covers it (its id and last refusal time), so a bare DELETE is still refused. Rows
 # kept before v7 have no digest (NULL: never merged with a later repeat) and count 1.
@@ -117,11 +118,14 @@ _V7_QUARANTINE = (
     "ALTER TABLE quarantine ADD COLUMN digest TEXT",
     "ALTER TABLE quarantine ADD COLUMN count INTEGER NOT NULL DEFAULT 1",
     "ALTER TABLE quarantine ADD COLUMN last_at INTEGER",
-    "CREATE UNIQUE INDEX quarantine_repeats ON quarantine (digest, origin, reason)",
+    "ALTER TABLE quarantine ADD COLUMN source TEXT",
+    "ALTER TABLE quarantine ADD COLUMN last_origin TEXT",
+    "CREATE UNIQUE INDEX quarantine_repeats ON quarantine (digest, source, reason)",
     "DROP TRIGGER quarantine_no_update",
     "CREATE TRIGGER quarantine_no_update BEFORE UPDATE ON quarantine WHEN NEW.id IS NOT OLD.id "
     "OR NEW.received_at IS NOT OLD.received_at OR NEW.origin IS NOT OLD.origin OR NEW.reason IS NOT OLD.reason "
-    "OR NEW.raw IS NOT OLD.raw OR NEW.digest IS NOT OLD.digest OR NEW.count < OLD.count "
+    "OR NEW.raw IS NOT OLD.raw OR NEW.digest IS NOT OLD.digest OR NEW.source IS NOT OLD.source "
+    "OR NEW.count < OLD.count OR (NEW.last_origin IS NOT OLD.last_origin AND NEW.count = OLD.count) "
     "OR coalesce(NEW.last_at, 0) < coalesce(OLD.last_at, OLD.received_at) "
     "BEGIN SELECT RAISE(ABORT, 'append-only: quarantine rows cannot be updated, but for counting a repeat (count and last_at grow)'); END",
     """CREATE TABLE quarantine_prunes (

@@ -4,10 +4,12 @@ Hostile input is cheap to send and the quarantine keeps every refusal's bytes: 1
 once became 5.2 million rows (570 MB) that nothing could remove (issue 15, finding 6). Three rules
 bound it without losing count of anything:
 
-- a refusal identical to a kept one (same origin, reason and sha256 of the bytes) adds one to that
-  row's ``count`` and moves its ``last_at``; it keeps no second copy;
+- a refusal identical to a kept one (same source, reason and sha256 of the bytes) adds one to that
+  row's ``count`` and moves its ``last_at`` and ``last_origin``; it keeps no second copy. The source
+  is the origin without its place in a file (``run.jsonl:17`` is from ``run.jsonl``; see
+  ``source_of``): the same junk line repeated down a file is one row, as on one Zenoh key;
 - past a cap (rows and bytes, ``QuarantineCap``) a new refusal's bytes are not kept: it is counted,
-  per origin, in ``quarantine_overflow`` (samples, bytes, first and last time), and the caller is told;
+  per source, in ``quarantine_overflow`` (samples, bytes, first and last time), and the caller is told;
 - ``prune`` removes rows only together with a record in ``quarantine_prunes`` of what it removed
   (rows, samples, bytes, time span, counts per reason and origin, a digest of the rows' ids, byte
   digests and counts), written in the same transaction. The DELETE trigger lets a row go only if the
@@ -31,10 +33,11 @@ OTHER_ORIGINS = "(other origins)"
 SUMMARY_KEYS = 50           # reasons and origins named in a prune's summary; the rest are summed
 OTHERS = "(others)"
 
-_REPEAT = ("UPDATE quarantine SET count = count + 1, last_at = max(coalesce(last_at, received_at), ?) "
-           "WHERE digest = ? AND origin = ? AND reason = ?")
-_INSERT = ("INSERT INTO quarantine (received_at, origin, reason, raw, digest, count, last_at) "
-           "VALUES (?, ?, ?, ?, ?, 1, ?)")
+_REPEAT = ("UPDATE quarantine SET count = count + 1, last_at = max(coalesce(last_at, received_at), ?), "
+           "last_origin = ? WHERE digest = ? AND source = ? AND reason = ?")
+_INSERT = ("INSERT INTO quarantine (received_at, origin, reason, raw, digest, count, last_at, source, last_origin) "
+           "VALUES (?, ?, ?, ?, ?, 1, ?, ?, ?)")
+_PLACE = re.compile(r"(?::\d+|:message \d+ \(.*\))$")
 _OVERFLOW = ("INSERT INTO quarantine_overflow (origin, samples, bytes, first_at, last_at) VALUES (?, 1, ?, ?, ?) "
              "ON CONFLICT (origin) DO UPDATE SET samples = samples + 1, bytes = bytes + excluded.bytes, "
              "last_at = max(last_at, excluded.last_at)")
@@ -92,23 +95,29 @@ def keep(conn: sqlite3.Connection, refused: list[tuple], cap: QuarantineCap, tal
     is counted on its row, a new one kept while the cap allows, else counted as over the cap."""
     new = repeats = over = 0
     for received_at, origin, reason, raw in refused:
-        digest = hashlib.sha256(raw).hexdigest()
-        if conn.execute(_REPEAT, (received_at, digest, origin, reason)).rowcount:
+        digest, source = hashlib.sha256(raw).hexdigest(), source_of(origin)
+        if conn.execute(_REPEAT, (received_at, origin, digest, source, reason)).rowcount:
             repeats += 1
             continue
         rows, size = tally.held()
         if rows + 1 > cap.rows or size + len(raw) > cap.bytes:
-            _count_overflow(conn, received_at, origin, len(raw))
+            _count_overflow(conn, received_at, source, len(raw))
             over += 1
             continue
-        conn.execute(_INSERT, (received_at, origin, reason, raw, digest, received_at))
+        conn.execute(_INSERT, (received_at, origin, reason, raw, digest, received_at, source, origin))
         tally.add(len(raw))
         new += 1
     return Kept(new, repeats, over)
 
 
+def source_of(origin: str) -> str:
+    """Where a refusal came from, without its place there: a JSONL file's ``:LINE`` and an MCAP
+    file's ``:message N (log_time T, ...)`` are dropped; a Zenoh key is its own source."""
+    return _PLACE.sub("", origin)
+
+
 def _count_overflow(conn: sqlite3.Connection, at: int, origin: str, size: int) -> None:
-    """Count one refusal past the cap under its origin (or OTHER_ORIGINS once OVERFLOW_ORIGINS are
+    """Count one refusal past the cap under its source (or OTHER_ORIGINS once OVERFLOW_ORIGINS are
     counted: hostile input may invent origins too)."""
     known = conn.execute("SELECT 1 FROM quarantine_overflow WHERE origin = ?", (origin,)).fetchone()
     if known is None and conn.execute("SELECT count(*) FROM quarantine_overflow").fetchone()[0] >= OVERFLOW_ORIGINS:
@@ -143,7 +152,7 @@ def prune(conn: sqlite3.Connection, before: int, now: int) -> Pruned | None:
     through = conn.execute("SELECT max(id) FROM quarantine").fetchone()[0]
     if through is None:
         return None
-    rows = conn.execute(f"SELECT id, received_at, {_LAST_AT}, origin, reason, raw, count FROM quarantine "
+    rows = conn.execute(f"SELECT id, received_at, {_LAST_AT}, coalesce(source, origin), reason, raw, count FROM quarantine "
                         f"WHERE id <= ? AND {_LAST_AT} < ? ORDER BY id", (through, before))
     summary = _Summary()
     for row in rows:

@@ -33,16 +33,30 @@ def test_identical_junk_is_one_row_with_a_count(tmp_path: Path) -> None:
     assert held == {"rows": 3, "samples": 1_502, "bytes": 2 * len(JUNK) + len(b"other junk")}
 
 
+def test_the_same_junk_down_a_file_is_one_row(tmp_path: Path) -> None:
+    with Store(tmp_path / "q.db") as store:
+        store.append_raw([(JUNK, f"run.jsonl:{line}") for line in range(1, 1_001)])
+        store.append_raw([(JUNK, f"run.mcap:channel gaps/r/x/y:message {n} (log_time {n}, chunk at 9)")
+                          for n in range(3)])
+        store.append_raw([(JUNK, "other.jsonl:5")])
+        kept = store.quarantined()
+    assert [(q["origin"], q["last_origin"], q["count"]) for q in kept] == [
+        ("run.jsonl:1", "run.jsonl:1000", 1_000),
+        ("run.mcap:channel gaps/r/x/y:message 0 (log_time 0, chunk at 9)",
+         "run.mcap:channel gaps/r/x/y:message 2 (log_time 2, chunk at 9)", 3),
+        ("other.jsonl:5", "other.jsonl:5", 1)]
+
+
 def test_past_the_cap_refusals_are_counted_not_kept(tmp_path: Path) -> None:
     path = tmp_path / "q.db"
     with Store(path, quarantine_cap=QuarantineCap(rows=5, bytes=10**6)) as store:
-        report = store.append_raw([(b"junk %d" % i, f"file.jsonl:{i % 2}") for i in range(12)])
-        repeat = store.append_raw([(b"junk 0", "file.jsonl:0")])  # a kept row still counts repeats
+        report = store.append_raw([(b"junk %d" % i, f"key/{i % 2}") for i in range(12)])
+        repeat = store.append_raw([(b"junk 0", "key/0")])  # a kept row still counts repeats
         assert (report.quarantine_full, len(report.rejected), repeat.quarantine_repeats) == (7, 12, 1)
         summary = store.quarantine_summary()
     assert summary["held"] == {"rows": 5, "samples": 6, "bytes": 5 * 6}
     over = {o["origin"]: (o["samples"], o["bytes"]) for o in summary["over_cap"]}
-    assert over == {"file.jsonl:1": (4, 4 * 6 + 1), "file.jsonl:0": (3, 3 * 6 + 1)}
+    assert over == {"key/1": (4, 4 * 6 + 1), "key/0": (3, 3 * 6 + 1)}
     with Store(path, quarantine_cap=QuarantineCap(rows=1000, bytes=40)) as store:  # the byte cap, on reopening
         assert store.append_raw([(b"x" * 11, "b")]).quarantine_full == 1
         assert store.append_raw([(b"x" * 10, "b")]).quarantine_full == 0
@@ -80,7 +94,8 @@ def test_a_row_can_only_count_upwards(tmp_path: Path) -> None:
     with Store(tmp_path / "q.db") as store:
         store.append_raw([(JUNK, "a")] * 2)
         conn = store.connection
-        for change in ("count = 1", "raw = x'00'", "reason = 'fine'", "last_at = 0"):
+        for change in ("count = 1", "raw = x'00'", "reason = 'fine'", "last_at = 0", "last_origin = 'x'",
+                       "source = 'x'"):
             with pytest.raises(sqlite3.IntegrityError, match="append-only"):
                 conn.execute(f"UPDATE quarantine SET {change}")
         store.append_raw([(JUNK, "b")])
