@@ -30,6 +30,11 @@ def serve(
     require_signatures: Optional[Path] = typer.Option(
         None, "--require-signatures", metavar="KEYS", help="Quarantine every event not signed by a key the public "
         "keys file KEYS trusts for its source (unsigned, unknown key, forged)."),
+    quarantine_rows: int = typer.Option(1_000_000, "--quarantine-rows", min=1, metavar="N", help="The most rows "
+                                        "the quarantine keeps; past it (or --quarantine-bytes) refusals are counted, "
+                                        "not kept."),
+    quarantine_bytes: int = typer.Option(512 * 2**20, "--quarantine-bytes", min=1, metavar="BYTES",
+                                         help="The most bytes of refused samples the quarantine keeps."),
     json_out: bool = JsonOption,
 ) -> None:
     """Receive audit events over Zenoh and append them to the store until SIGINT or SIGTERM.
@@ -40,7 +45,9 @@ def serve(
     queries on its key from the store (`gaps/RUN/**?_time=[t1..t2]`; `gaps fetch`). See docs/serve.md.
     """
     from ingest.serve import ServeOptions, serve as run
+    from store import QuarantineCap
     options = ServeOptions(db=db_path(db), listen=tuple(listen), connect=tuple(connect), mode=mode,
                            config_file=config, key=key, status_every_s=status_every,
-                           require_signatures=require_signatures)
+                           require_signatures=require_signatures,
+                           quarantine_cap=QuarantineCap(rows=quarantine_rows, bytes=quarantine_bytes))
     raise typer.Exit(run(options, json_out=json_out, out=sys.stdout, err=sys.stderr))

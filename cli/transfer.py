@@ -89,6 +89,9 @@ def _print_import(r: dict, db: Path) -> None:
             typer.echo(f"    {item['origin']}: {item['reason']}")
         if r["rejected"] > SHOWN:
             typer.echo(f"    … {r['rejected'] - SHOWN} more (--json lists the first {len(r['details'])})")
+    if r["quarantine_full"]:
+        typer.echo(f"  QUARANTINE FULL: {r['quarantine_full']} of the rejected were past the quarantine's cap: counted "
+                   f"per origin, their bytes not kept (`gaps quarantine --prune` makes room)")
     for damage in r["damaged"]:
         typer.echo(f"  DAMAGED {damage['record']} at byte {damage['offset']} skipped: {damage['reason']}")
     if r["truncated"]:

@@ -22,7 +22,7 @@ from typing import TextIO
 
 import zenoh
 
-from store import TrustedKeys
+from store import QuarantineCap, TrustedKeys
 
 from .errors import IngestConfigError, zenoh_message
 from .sd_notify import notify
@@ -51,6 +51,7 @@ class ServeOptions:
     status_every_s: float | None = None  # None: 1 s on a terminal, 10 s in logs
     durable: bool = True
     require_signatures: Path | None = None  # the public keys file: quarantine what they do not sign
+    quarantine_cap: QuarantineCap = QuarantineCap()
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -111,7 +112,7 @@ def _open_service(options: ServeOptions, keys: TrustedKeys | None) -> IngestServ
     try:
         return IngestService(options.db, listen=listen, connect=connect, mode=options.mode,
                              config_file=options.config_file, key_expr=options.key,
-                             durable=options.durable, trusted_keys=keys)
+                             durable=options.durable, trusted_keys=keys, quarantine_cap=options.quarantine_cap)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -231,6 +232,7 @@ class _News:
         self._reporter = reporter
         self._rejected = 0
         self._errors = 0
+        self._stall: str | None = None
 
     def report(self, stats: dict) -> None:
         new = stats["rejected"] - self._rejected
@@ -244,6 +246,20 @@ class _News:
             self._reporter.event("serve.errors", f"{errors:,} writer error(s) (latest: {stats['last_errors'][-1]})",
                                  "error", count=errors, latest=stats["last_errors"][-min(errors, self.SHOWN):])
         self._rejected, self._errors = stats["rejected"], stats["errors"]
+        self._report_stall(stats)
+
+    def _report_stall(self, stats: dict) -> None:
+        """A stall of the store (a full disk) said once as it begins and once as it ends."""
+        if stats["stall"] and stats["stall"] != self._stall:
+            self._reporter.event("serve.stalled", f"the store cannot write ({stats['stall']}): holding what was "
+                                 "received, taking no more (publishers are held back), retrying", "error",
+                                 reason=stats["stall"], stalled_for_s=round(stats["stalled_for_s"], 3),
+                                 write_failures=stats["write_failures"])
+        elif self._stall and not stats["stall"]:
+            self._reporter.event("serve.resumed", f"the store writes again (stalled {stats['stalled_s']:.1f} s "
+                                 "in all)", "warning", stalled_s=round(stats["stalled_s"], 3),
+                                 write_failures=stats["write_failures"])
+        self._stall = stats["stall"]
 
 
 def _metrics(options: ServeOptions, server: Server, started_at: str, stopped_by: str | None,
@@ -257,7 +273,9 @@ def _metrics(options: ServeOptions, server: Server, started_at: str, stopped_by:
         "pid": os.getpid(), "started_at": started_at, "stopped_at": _utc_now(), "stopped_by": stopped_by,
         "uptime_s": final.uptime_s, "received": final.received, "stored": final.stored,
         "duplicates": final.duplicates, "quarantined": final.quarantined, "failed": final.failed,
-        "errors": final.errors, "late": final.late, "recovered": stats["recovered"], "batches": stats["batches"],
+        "errors": final.errors, "write_failures": final.write_failures, "stalled_s": final.stalled_s,
+        "quarantine_full": stats["quarantine_full"],
+        "late": final.late, "recovered": stats["recovered"], "batches": stats["batches"],
         "require_signatures": _keys_file(options), "signature_refused": stats["signature_refused"],
         "settled_after_stop": final.settled - at_stop.settled,
         "events_per_s_mean": round(final.settled / final.uptime_s, 1) if final.uptime_s else 0.0,

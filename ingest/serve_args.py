@@ -11,7 +11,7 @@ import os
 import sys
 from pathlib import Path
 
-from store import GapsError
+from store import GapsError, QuarantineCap
 
 from .serve import DEFAULT_LISTEN, ServeOptions, serve
 from .service import SUBSCRIPTION
@@ -40,6 +40,11 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--require-signatures", type=Path, default=None, metavar="KEYS",
                     help="Quarantine every event not signed by a key the public keys file KEYS trusts for its "
                          "source (unsigned, unknown key, forged).")
+    ap.add_argument("--quarantine-rows", type=int, default=QuarantineCap.rows, metavar="N",
+                    help="The most rows the quarantine keeps; past it (or --quarantine-bytes) refusals are counted, "
+                         "not kept.")
+    ap.add_argument("--quarantine-bytes", type=int, default=QuarantineCap.bytes, metavar="BYTES",
+                    help="The most bytes of refused samples the quarantine keeps.")
     ap.add_argument("--json", action="store_true", help="Print the final metrics as JSON on exit.")
     return ap
 
@@ -48,10 +53,13 @@ def main(argv: list[str] | None = None) -> None:
     args = parser().parse_args(argv)
     if args.status_every is not None and not args.status_every > 0:
         _fail(f"--status-every must be a positive number of seconds, not {args.status_every:g}", USAGE_ERROR)
+    if args.quarantine_rows < 1 or args.quarantine_bytes < 1:
+        _fail("--quarantine-rows and --quarantine-bytes must be at least 1", USAGE_ERROR)
     options = ServeOptions(db=args.db or Path(os.environ.get("GAPS_DB") or "gaps.db"),
                            listen=tuple(args.listen), connect=tuple(args.connect), mode=args.mode,
                            config_file=args.config, key=args.key, status_every_s=args.status_every,
-                           require_signatures=args.require_signatures)
+                           require_signatures=args.require_signatures,
+                           quarantine_cap=QuarantineCap(rows=args.quarantine_rows, bytes=args.quarantine_bytes))
     try:
         code = serve(options, json_out=args.json, out=sys.stdout, err=sys.stderr)
     except GapsError as exc:

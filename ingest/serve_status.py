@@ -36,6 +36,10 @@ class Status:
     gappy_sources: int  # sources missing at least one
     sources: int
     active_sources: int
+    write_failures: int = 0     # commits the store refused (each try counts)
+    stalled_s: float = 0.0      # time the store could not write, in all
+    stall: str | None = None    # why the store cannot write now (None: it can)
+    stalled_for_s: float = 0.0  # how long it has not been able to
 
     @property
     def settled(self) -> int:
@@ -54,6 +58,8 @@ class Status:
                  f"up {_clock(self.uptime_s)}"]
         if self.failed:
             parts.insert(4, f"FAILED {self.failed:,}")
+        if self.stall:
+            parts.insert(0, f"STALLED {_seconds(self.stalled_for_s)}: {self.stall}, holding publishers back, retrying")
         if self.in_flight:
             parts.insert(-1, f"in flight {self.in_flight:,}")
         return " · ".join(parts)
@@ -81,7 +87,8 @@ class StatusMeter:
             stored=s["stored"], duplicates=s["duplicates"], quarantined=s["rejected"], failed=s["failed"],
             errors=s["errors"], late=s["late"], in_flight=max(s["received"] - settled, 0),
             lag_s=round(s["lag_s"], 4), lag_max_s=round(s["lag_max_s"], 4), missing=missing,
-            gappy_sources=gappy, sources=sources, active_sources=active,
+            gappy_sources=gappy, sources=sources, active_sources=active, write_failures=s["write_failures"],
+            stalled_s=round(s["stalled_s"], 3), stall=s["stall"], stalled_for_s=round(s["stalled_for_s"], 3),
         )
 
     @property

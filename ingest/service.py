@@ -15,7 +15,7 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, TrustedKeys, session_config, zenoh_message
+from store import SYNC_KEY, QuarantineCap, TrustedKeys, session_config, zenoh_message
 
 from .gap_tracker import GapTracker
 from .history_queryable import HistoryQueryable
@@ -42,7 +42,8 @@ class IngestService:
     at ``db_path``.
 
     With ``trusted_keys`` (the public keys file, loaded), an event not signed by a key trusted for its
-    source is quarantined with the reason. Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
+    source is quarantined with the reason; ``quarantine_cap`` bounds what the quarantine keeps
+    (store/quarantine.py). Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
     received into the store and closes the store and the session.
     """
 
@@ -60,6 +61,7 @@ class IngestService:
         durable: bool = True,
         max_pending: int = MAX_PENDING,
         trusted_keys: TrustedKeys | None = None,
+        quarantine_cap: QuarantineCap = QuarantineCap(),
     ) -> None:
         if batch_size < 1 or flush_interval_s < 0 or max_pending < 1:
             raise ValueError("batch_size and max_pending must be >= 1, flush_interval_s >= 0")
@@ -74,6 +76,7 @@ class IngestService:
             self._writer = BatchWriter(
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
                 flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys, watch=watch,
+                quarantine_cap=quarantine_cap,
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)

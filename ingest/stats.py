@@ -10,10 +10,12 @@ import time
 from collections.abc import Callable
 
 COUNTERS = ("received", "stored", "duplicates", "rejected", "batches", "errors", "failed", "late", "signature_refused",
-            "recovered")
+            "recovered", "write_failures", "quarantine_full")
 """signature_refused: samples quarantined for their signature (unsigned, unknown key, forged), when
 signatures are required; they are counted in rejected too. recovered: samples a producer's cache
-sent after a restart (docs/serve.md)."""
+sent after a restart (docs/serve.md). write_failures: commits the store refused (each try of a
+stalled write counts). quarantine_full: refusals past the quarantine's cap, counted in the
+store per origin, their bytes not kept (store/quarantine.py)."""
 KEEP_ERRORS = 20
 KEEP_REJECTED = 20
 
@@ -29,6 +31,9 @@ class IngestStats:
         self._rejected: list[dict[str, str]] = []
         self._lag_s = 0.0
         self._lag_max_s = 0.0
+        self._stalled_at: float | None = None   # monotonic time the current stall began
+        self._stall_reason: str | None = None
+        self._stalled_before_s = 0.0            # the stalls that ended, in all
 
     def add(self, **deltas: int) -> None:
         """Add to counters and wake waiters."""
@@ -57,15 +62,35 @@ class IngestStats:
             self._lag_s = seconds
             self._lag_max_s = max(self._lag_max_s, seconds)
 
+    def stall(self, reason: str) -> None:
+        """The store cannot write (``reason``): the writer holds its batch and takes nothing more."""
+        with self._cond:
+            if self._stalled_at is None:
+                self._stalled_at = time.monotonic()
+            self._stall_reason = reason
+            self._cond.notify_all()
+
+    def resume(self) -> None:
+        """The store writes again: the stall's time is added to ``stalled_s``."""
+        with self._cond:
+            if self._stalled_at is not None:
+                self._stalled_before_s += time.monotonic() - self._stalled_at
+            self._stalled_at, self._stall_reason = None, None
+            self._cond.notify_all()
+
     def snapshot(self) -> dict:
-        """A consistent copy of the counters, with ``last_errors``, ``last_rejected``, ``lag_s`` and
-        ``lag_max_s``."""
+        """A consistent copy of the counters, with ``last_errors``, ``last_rejected``, ``lag_s``,
+        ``lag_max_s``, and the stalls: ``stall`` (why the store cannot write now, None when it can),
+        ``stalled_for_s`` (how long this stall has lasted) and ``stalled_s`` (all stalls, this one
+        included)."""
         with self._cond:
             return self._snapshot()
 
     def _snapshot(self) -> dict:
+        now = 0.0 if self._stalled_at is None else time.monotonic() - self._stalled_at
         return {**self._counts, "last_errors": list(self._errors), "last_rejected": list(self._rejected),
-                "lag_s": self._lag_s, "lag_max_s": self._lag_max_s}
+                "lag_s": self._lag_s, "lag_max_s": self._lag_max_s, "stall": self._stall_reason,
+                "stalled_for_s": now, "stalled_s": self._stalled_before_s + now}
 
     def wait_for(self, predicate: Callable[[dict], bool], timeout: float) -> bool:
         """Block until ``predicate(snapshot)`` holds or ``timeout`` seconds pass; returns whether it held."""

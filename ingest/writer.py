@@ -13,18 +13,22 @@ import threading
 import time
 from dataclasses import replace
 
-from store import Candidate, Store, TrustedKeys, enable_snapshots
+from store import Candidate, QuarantineCap, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
 from .inbox import Inbox, Received
 from .screen import Screened, refused, require_signature, screen
 from .stats import IngestStats
+from .store_faults import Backoff, store_condition
 from .wire_watch import WireWatch
 
 log = logging.getLogger(__name__)
 
 RETRIES = 3
-RETRY_PAUSE_S = 0.2  # times the attempt number: a locked or full disk gets a moment to recover
+RETRY_PAUSE_S = 0.2  # times the attempt number, between tries of a batch that fails for its own reasons
+STOP_GRACE_S = 10.0
+"""How long a stopping writer keeps trying a store that cannot write before it counts what it holds
+as failed (the publishers' caches still hold it for the next ingest, which asks for it)."""
 
 
 class BatchWriter(threading.Thread):
@@ -42,6 +46,7 @@ class BatchWriter(threading.Thread):
         durable: bool,
         trusted_keys: TrustedKeys | None = None,
         watch: WireWatch | None = None,
+        quarantine_cap: QuarantineCap = QuarantineCap(),
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
         self._keys = trusted_keys
@@ -56,6 +61,10 @@ class BatchWriter(threading.Thread):
         self._durable = durable
         self._ready = threading.Event()
         self._open_error: BaseException | None = None
+        self._stalled_since: float | None = None  # monotonic time the store last began refusing commits
+        self._gave_up = False                     # a stop found the store unable to write (_stalled)
+        self._quarantine_full = False             # said once in the log
+        self._quarantine_cap = quarantine_cap
 
     def started(self, timeout: float) -> None:
         """Wait until the store is open; re-raise in the caller's thread if it could not be."""
@@ -80,7 +89,7 @@ class BatchWriter(threading.Thread):
         are read while they grow, and the check costs this writer a look at its own batch
         instead of costing every reader a scan of everything appended since its last snapshot."""
         try:
-            store = Store(self._db_path, durable=self._durable)
+            store = Store(self._db_path, durable=self._durable, quarantine_cap=self._quarantine_cap)
             try:
                 enable_snapshots(store)
                 if self._watch is not None:
@@ -132,9 +141,10 @@ class BatchWriter(threading.Thread):
         it is written), and a liveliness change's place in the sequence is read then (a loss on
         the wire keeps the place it was noticed at); the last look (the inbox
         closed and empty) records everything. A failure costs those records (logged and
-        counted), never the events."""
+        counted), never the events; one of the disk's (a full disk) keeps them for a later look."""
         if self._watch is None:
             return
+        due: list = []
         try:
             due, self._noticed = (self._noticed, []) if caught_up else ([], self._noticed)
             noticed = self._watch.drain(self._tracker.highest)
@@ -145,16 +155,25 @@ class BatchWriter(threading.Thread):
                 store.record_wire([replace(c, last_seq=highest(c.run, c.src)) for n in due for c in n.changes],
                                   [m for n in due for m in n.misses])
         except Exception as exc:
+            if store_condition(exc) is not None and not last:
+                self._noticed = due + self._noticed  # the disk, not the records: tried again later
             log.exception("ingest: recording liveliness changes and losses failed")
             self._stats.record_error(f"wire records: {exc!r}")
 
     def _write(self, store: Store, batch: list[Received], *, live: bool = True) -> None:
-        """Screen and store one batch. If it keeps failing, store its samples one by one, so that a
-        sample the store cannot digest costs only itself (see ``_give_up``); once even quarantine
-        fails the store itself is broken, and the rest of the batch is counted failed without more tries."""
+        """Screen and store one batch. A store that cannot write (a full disk, an I/O error: see
+        ingest/store_faults.py) is waited for with the batch held, which is back-pressure: nothing
+        more is taken, Zenoh's channel fills and publishers block. A batch that keeps failing for
+        another reason is stored sample by sample, so that a sample the store cannot digest costs
+        only itself (quarantined with the error, see ``_give_up``). Samples are counted failed only
+        when the store takes not even their quarantine for a reason of theirs, or when a stop finds
+        the store still unable to write after STOP_GRACE_S."""
         candidates = [item.candidate for item in self._screen(batch, live)]
         error = self._append(store, candidates, retries=RETRIES)
         if error is None:
+            return
+        if store_condition(error) is not None:  # stopping, and the store still cannot write
+            self._lost(candidates)
             return
         for i, candidate in enumerate(candidates):
             error = error if len(candidates) == 1 else self._append(store, [candidate], retries=0)
@@ -163,24 +182,64 @@ class BatchWriter(threading.Thread):
                 return
 
     def _append(self, store: Store, candidates: list[Candidate], *, retries: int) -> Exception | None:
-        """Append, retrying after failures; account for the outcome. Returns the last error, or None."""
-        error: Exception | None = None
-        for attempt in range(retries + 1):
-            if attempt:
-                time.sleep(RETRY_PAUSE_S * attempt)
+        """Append and account for the outcome; returns None once stored, else the error that ended
+        the trying. An error of the sample's own is tried ``retries`` more times; the store's
+        condition (store_faults.store_condition) is waited out for as long as it lasts, with a
+        backoff, unless the service is stopping and it lasted STOP_GRACE_S."""
+        backoff = Backoff()
+        tried = 0
+        while True:
             try:
                 report = store.append_candidates(candidates)
             except Exception as exc:
-                log.warning("ingest: storing %d samples failed: %r", len(candidates), exc)
+                self._stats.add(write_failures=1)
                 self._stats.record_error(f"store ({len(candidates)} samples): {exc!r}")
-                error = exc
+                condition = store_condition(exc)
+                if condition is None:
+                    log.warning("ingest: storing %d samples failed: %r", len(candidates), exc)
+                    if tried >= retries:
+                        return exc
+                    tried += 1
+                    time.sleep(RETRY_PAUSE_S * tried)
+                elif self._stalled(condition, len(candidates), exc):
+                    time.sleep(backoff.pause())
+                else:
+                    return exc
                 continue
+            self._resumed()
             self._stats.record_rejected(report.rejected)
             self._stats.add(
-                stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1
+                stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
+                quarantine_full=report.quarantine_full,
             )
+            if report.quarantine_full and not self._quarantine_full:
+                self._quarantine_full = True
+                cap = store.quarantine_cap
+                log.error("ingest: the quarantine is full (%d rows or %d bytes): later refusals are counted per "
+                          "origin, their bytes not kept; `gaps quarantine --prune` makes room", cap.rows, cap.bytes)
             return None
-        return error
+
+    def _stalled(self, condition: str, held: int, exc: Exception) -> bool:
+        """Note that the store cannot write (once in the log, as it begins); returns whether to
+        keep waiting: always, unless a stop was asked for and the stall outlasted STOP_GRACE_S (then
+        every later batch gives up at its first failure too: the service is going down)."""
+        now = time.monotonic()
+        if self._stalled_since is None:
+            self._stalled_since = now
+            log.error("ingest: %s (%r): holding %d samples and taking no more (publishers are held back) "
+                      "until a commit succeeds; retrying", condition, exc, held)
+        self._stats.stall(condition)
+        if self._inbox.closing and (self._gave_up or now - self._stalled_since >= STOP_GRACE_S):
+            self._gave_up = True
+            return False
+        return True
+
+    def _resumed(self) -> None:
+        """A commit went through: an ongoing stall is over (logged with its length)."""
+        if self._stalled_since is not None:
+            log.warning("ingest: the store writes again after %.1f s", time.monotonic() - self._stalled_since)
+            self._stalled_since = None
+            self._stats.resume()
 
     def _give_up(self, store: Store, candidate: Candidate, error: Exception) -> bool:
         """Quarantine a sample the store would not take, with its bytes and the error, so it is not

@@ -26,6 +26,7 @@ from .liveliness import LivelinessChange, SourceLife, WireMiss
 from .kinds import KINDS, SRC_ROLES
 from .migration import MigrateReport, migrate_copy
 from .outcomes import AppendReport, VerifyReport
+from .quarantine import Pruned, QuarantineCap, parse_before
 from .run_summary import RunSummary
 from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
@@ -82,6 +83,9 @@ __all__ = [
     "session_config",
     "zenoh_message",
     "AppendReport",
+    "Pruned",
+    "QuarantineCap",
+    "parse_before",
     "Candidate",
     "LivelinessChange",
     "SourceLife",

@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator
 
-from . import history, index_guard, liveliness, opening, queries, rulebooks, verify_cache
+from . import history, index_guard, liveliness, opening, queries, quarantine, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -34,7 +34,6 @@ from .verify import Progress, tolerant_text, verify_store
 _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 )
-_INSERT_QUARANTINE = "INSERT INTO quarantine (received_at, origin, reason, raw) VALUES (?, ?, ?, ?)"
 _INSERT_CHECKPOINT = (
     "INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count) "
     "VALUES (?, ?, ?, ?, ?, ?, ?)"
@@ -58,6 +57,9 @@ class Store:
 
     read_only=True (or Store.open_read_only) reads the file without changing it; derived data
     (state snapshots, verification results) goes to `self.cache`, a separate file (store/cache.py).
+
+    quarantine_cap bounds what the quarantine keeps (store/quarantine.py): past it, refusals are
+    counted (AppendReport.quarantine_full), not kept.
     """
 
     def __init__(
@@ -68,6 +70,7 @@ class Store:
         check_same_thread: bool = True,
         checkpoint_every: int = CHECKPOINT_EVERY,
         read_only: bool = False,
+        quarantine_cap: quarantine.QuarantineCap = quarantine.QuarantineCap(),
     ) -> None:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
             raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
@@ -79,6 +82,8 @@ class Store:
         else:
             self._conn = opening.connect_writable(self.path, durable=durable, check_same_thread=check_same_thread)
         self._heads = Heads(self._conn)
+        self.quarantine_cap = quarantine_cap
+        self._quarantine_tally = quarantine.QuarantineTally(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
         self._integrity: tuple[tuple[int, int], list[str]] | None = None  # (file state, problems)
@@ -137,9 +142,10 @@ class Store:
             feed(batch)
             batch.finish()
             conn.executemany(_INSERT_EVENT, batch.events)
-            conn.executemany(_INSERT_QUARANTINE, batch.refused)
+            kept = quarantine.keep(conn, batch.refused, self.quarantine_cap, self._quarantine_tally)
             conn.executemany(_INSERT_CHECKPOINT, batch.checkpoints)
         self._run_hooks(batch.events)
+        batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
         return batch.report
 
     def add_append_hook(self, hook: AppendHook) -> None:
@@ -185,6 +191,7 @@ class Store:
             if self._conn.in_transaction:
                 self._conn.execute("ROLLBACK")
             self._heads.forget()
+            self._quarantine_tally.forget()
             raise
 
     def _refresh_caches(self) -> None:
@@ -192,6 +199,7 @@ class Store:
         version = self._read_data_version()
         if version != self._data_version:
             self._heads.forget()
+            self._quarantine_tally.forget()
             self._data_version = version
 
     def _read_data_version(self) -> int:
@@ -288,21 +296,41 @@ class Store:
         return self._conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()[0]
 
     def quarantined(self, limit: int | None = None, *, latest: bool = False) -> list[dict[str, Any]]:
-        """Everything refused, oldest first, with the exact bytes received: all of it, the first
-        `limit` entries, or with latest=True the last `limit` ones."""
-        select = "SELECT id, received_at, origin, reason, raw FROM quarantine"
+        """What the quarantine keeps, oldest first, with the exact bytes received: all of it, the
+        first `limit` entries, or with latest=True the last `limit` ones. A row stands for `count`
+        identical refusals (same source, reason and bytes), the first from origin at received_at,
+        the last from last_origin at last_at (store/quarantine.py)."""
+        select = ("SELECT id, received_at, origin, reason, raw, count, coalesce(last_at, received_at), digest, "
+                  "coalesce(last_origin, origin) FROM quarantine")
         if latest:
             sql = f"SELECT * FROM ({select} ORDER BY id DESC LIMIT ?) ORDER BY id"
         else:
             sql = f"{select} ORDER BY id LIMIT ?"
         rows = self._conn.execute(sql, (-1 if limit is None else limit,))
         return [
-            {"id": id_, "received_at": received_at, "origin": origin, "reason": reason, "raw": bytes(raw)}
-            for id_, received_at, origin, reason, raw in rows
+            {"id": id_, "received_at": received_at, "origin": origin, "reason": reason, "raw": bytes(raw),
+             "count": count, "last_at": last_at, "digest": digest, "last_origin": last_origin}
+            for id_, received_at, origin, reason, raw, count, last_at, digest, last_origin in rows
         ]
 
     def quarantine_count(self) -> int:
+        """Rows the quarantine keeps (each may stand for several identical refusals)."""
         return self._conn.execute("SELECT count(*) FROM quarantine").fetchone()[0]
+
+    def quarantine_summary(self) -> dict[str, Any]:
+        """The quarantine in figures, read together: what it holds ({rows, samples, bytes}), the
+        refusals counted past its cap per origin (`over_cap`), and every recorded prune."""
+        with self._reading():
+            return {"held": quarantine.held(self._conn), "over_cap": quarantine.overflow(self._conn),
+                    "prunes": [p.to_json() for p in quarantine.prunes(self._conn)]}
+
+    def prune_quarantine(self, before: int) -> quarantine.Pruned | None:
+        """Remove the quarantine rows whose last refusal came before `before` (ns), recording what
+        they were in the same transaction; None if none did (store/quarantine.py)."""
+        with self._transaction() as conn:
+            pruned = quarantine.prune(conn, before, time.time_ns())
+        self._quarantine_tally.forget()
+        return pruned
 
     def gaps(self, run: str | None = None) -> list[dict[str, Any]]:
         """Sources with seqs missing, from the stored seqs: {run, src, missing, highest}, where

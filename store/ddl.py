@@ -11,7 +11,8 @@ import sqlite3
 from . import liveliness
 from .errors import StoreError
 
-APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", *liveliness.TABLES)
+APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", *liveliness.TABLES,
+                      "quarantine_prunes", "quarantine_overflow")
 
 
 def _append_only(table: str) -> tuple[str, ...]:
@@ -109,7 +110,66 @@ _V6 = (*liveliness.DDL, *(trigger for table in liveliness.TABLES for trigger in 
 # rows are read by the reasoner's missing-evidence finding, so an edit must not pass unnoticed.
 _V7_LIVELINESS = (*liveliness.DDL_V7, *_append_only("wire_legacy"), *_append_only("wire_checkpoints"))
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7_LIVELINESS}
+# v7: a bounded quarantine (store/quarantine.py). A refusal identical to a kept one (same sha256
+# of its bytes, source and reason: the unique index; the source is the origin without a place in
+# a file) is counted on that row, whose count, last_at and last_origin are then all an UPDATE may
+# change, count and last_at only upwards. Past the cap, refusals are counted
+# per source in quarantine_overflow (which only grows). Rows are removed only by a prune recorded
+# first in quarantine_prunes (append-only): the DELETE trigger lets a row go only if the latest
+# prune record covers it (its id and last refusal time), so a bare DELETE is still refused. Rows
+# kept before v7 have no digest (NULL: never merged with a later repeat) and count 1.
+_V7_QUARANTINE = (
+    "ALTER TABLE quarantine ADD COLUMN digest TEXT",
+    "ALTER TABLE quarantine ADD COLUMN count INTEGER NOT NULL DEFAULT 1",
+    "ALTER TABLE quarantine ADD COLUMN last_at INTEGER",
+    "ALTER TABLE quarantine ADD COLUMN source TEXT",
+    "ALTER TABLE quarantine ADD COLUMN last_origin TEXT",
+    "CREATE UNIQUE INDEX quarantine_repeats ON quarantine (digest, source, reason)",
+    "DROP TRIGGER quarantine_no_update",
+    "CREATE TRIGGER quarantine_no_update BEFORE UPDATE ON quarantine WHEN NEW.id IS NOT OLD.id "
+    "OR NEW.received_at IS NOT OLD.received_at OR NEW.origin IS NOT OLD.origin OR NEW.reason IS NOT OLD.reason "
+    "OR NEW.raw IS NOT OLD.raw OR NEW.digest IS NOT OLD.digest OR NEW.source IS NOT OLD.source "
+    "OR NEW.count < OLD.count OR (NEW.last_origin IS NOT OLD.last_origin AND NEW.count = OLD.count) "
+    "OR coalesce(NEW.last_at, 0) < coalesce(OLD.last_at, OLD.received_at) "
+    "BEGIN SELECT RAISE(ABORT, 'append-only: quarantine rows cannot be updated, but for counting a repeat (count and last_at grow)'); END",
+    """CREATE TABLE quarantine_prunes (
+        id INTEGER PRIMARY KEY,
+        pruned_at INTEGER NOT NULL,
+        before INTEGER NOT NULL,
+        through_id INTEGER NOT NULL,
+        rows INTEGER NOT NULL,
+        samples INTEGER NOT NULL,
+        bytes INTEGER NOT NULL,
+        first_at INTEGER,
+        last_at INTEGER,
+        digest TEXT NOT NULL,
+        summary TEXT NOT NULL
+    )""",
+    *_append_only("quarantine_prunes"),
+    "DROP TRIGGER quarantine_no_delete",
+    "CREATE TRIGGER quarantine_no_delete BEFORE DELETE ON quarantine WHEN NOT EXISTS (SELECT 1 FROM "
+    "quarantine_prunes p WHERE p.id = (SELECT max(id) FROM quarantine_prunes) AND OLD.id <= p.through_id "
+    "AND coalesce(OLD.last_at, OLD.received_at) < p.before) "
+    "BEGIN SELECT RAISE(ABORT, 'append-only: quarantine rows cannot be deleted, but by a recorded prune "
+    "(gaps quarantine --prune)'); END",
+    """CREATE TABLE quarantine_overflow (
+        origin TEXT PRIMARY KEY,
+        samples INTEGER NOT NULL,
+        bytes INTEGER NOT NULL,
+        first_at INTEGER NOT NULL,
+        last_at INTEGER NOT NULL
+    )""",
+    "CREATE TRIGGER quarantine_overflow_no_update BEFORE UPDATE ON quarantine_overflow WHEN "
+    "NEW.origin IS NOT OLD.origin OR NEW.samples < OLD.samples OR NEW.bytes < OLD.bytes "
+    "OR NEW.first_at IS NOT OLD.first_at OR NEW.last_at < OLD.last_at "
+    "BEGIN SELECT RAISE(ABORT, 'append-only: quarantine_overflow counts only grow'); END",
+    "CREATE TRIGGER quarantine_overflow_no_delete BEFORE DELETE ON quarantine_overflow "
+    "BEGIN SELECT RAISE(ABORT, 'append-only: quarantine_overflow rows cannot be deleted'); END",
+)
+
+_V7 = (*_V7_LIVELINESS, *_V7_QUARANTINE)
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

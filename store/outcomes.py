@@ -9,11 +9,15 @@ from typing import Any
 @dataclass
 class AppendReport:
     """What one append call did: nothing offered is dropped, so stored + duplicates +
-    len(rejected) is the number of events offered."""
+    len(rejected) is the number of events offered. Of the rejected, quarantine_repeats were
+    counted on a quarantine row holding the same bytes, and quarantine_full were past the
+    quarantine's cap: counted, their bytes not kept (store/quarantine.py)."""
 
     stored: int = 0
     duplicates: int = 0
     rejected: list[dict[str, str]] = field(default_factory=list)  # {origin, reason}
+    quarantine_repeats: int = 0
+    quarantine_full: int = 0
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self)

@@ -24,6 +24,7 @@ class ImportReport:
     stored: int = 0
     duplicates: int = 0
     rejected: int = 0
+    quarantine_full: int = 0   # of the rejected, past the quarantine's cap: counted, bytes not kept
     skipped: int = 0
     details: list[dict[str, str]] = field(default_factory=list)  # first MAX_DETAILS {origin, reason}
     skips: dict[str, dict[str, Any]] = field(default_factory=dict)  # what -> {count, reason}
@@ -36,6 +37,7 @@ class ImportReport:
         self.stored += appended.stored
         self.duplicates += appended.duplicates
         self.rejected += len(appended.rejected)
+        self.quarantine_full += appended.quarantine_full
         room = MAX_DETAILS - len(self.details)
         if room > 0:
             self.details.extend(appended.rejected[:room])
@@ -58,6 +60,7 @@ class ImportReport:
             "stored": self.stored,
             "duplicates": self.duplicates,
             "rejected": self.rejected,
+            "quarantine_full": self.quarantine_full,
             "skipped": self.skipped,
             "details": list(self.details),
             "skips": [{"what": what, **entry} for what, entry in self.skips.items()],

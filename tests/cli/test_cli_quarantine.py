@@ -48,3 +48,48 @@ def test_a_file_that_is_not_a_store_is_a_clear_error(tmp_path):
         result = gaps(command, db=junk)
         assert result.exit_code == 2
         assert "cannot open the event store" in result.output and "file is not a database" in result.output
+
+
+def junk_store(tmp_path):
+    """A store whose quarantine holds 300 identical junk lines and one other."""
+    from store import Store
+    path = tmp_path / "junk.db"
+    with Store(path) as store:
+        store.append_raw([(b"junk", "file.jsonl:1")] * 300 + [(b"more junk", "file.jsonl:2")])
+    return path
+
+
+def test_identical_junk_is_listed_once_with_its_count(tmp_path):
+    db = junk_store(tmp_path)
+    listed = json.loads(gaps("quarantine", "--json", db=db).stdout)
+    assert [(i["count"], i["origin"]) for i in listed["items"]] == [(300, "file.jsonl:1"), (1, "file.jsonl:2")]
+    assert listed["held"] == {"rows": 2, "samples": 301, "bytes": 13} and listed["prunes"] == []
+    assert "300" in gaps("quarantine", db=db).stdout
+
+
+def test_prune_removes_the_rows_and_the_summary_stays(tmp_path):
+    db = junk_store(tmp_path)
+    result = gaps("quarantine", "--prune", db=db)
+    assert result.exit_code == 0 and "Pruned 2 rows (301 refusals, 13 bytes" in result.stdout
+    listed = json.loads(gaps("quarantine", "--json", db=db).stdout)
+    assert listed["total"] == 0 and listed["held"]["rows"] == 0
+    [prune] = listed["prunes"]
+    assert prune["by_origin"] == {"file.jsonl": 301} and len(prune["digest"]) == 64
+    text = gaps("quarantine", db=db).stdout
+    assert "keeps no rows now" in text and "Pruned at" in text and "2 rows (301 refusals" in text
+    assert gaps("quarantine", "--prune", db=db).stdout.strip() == "Nothing to prune."
+
+
+def test_prune_before_keeps_what_is_newer(tmp_path):
+    db = junk_store(tmp_path)
+    result = gaps("quarantine", "--prune", "--before", "1d", "--json", db=db)
+    assert result.exit_code == 0 and json.loads(result.stdout) == {"pruned": None, "rows_left": 2}
+
+
+def test_prune_mistakes_are_one_line_and_exit_2(tmp_path):
+    db = junk_store(tmp_path)
+    for args, said in ((("--before", "1d"), "--before goes with --prune"),
+                       (("--prune", "--before", "last week"), "neither a time")):
+        result = gaps("quarantine", *args, db=db)
+        assert result.exit_code == 2 and said in result.output
+    assert gaps("quarantine", "--prune", db=tmp_path / "none.db").exit_code == 2

@@ -1,7 +1,9 @@
 """A failing store costs retries and, at worst, the samples it cannot take: never the writer thread.
 
-Those samples are quarantined with the error if the store still takes that; only if the store takes
-nothing at all are they counted as failed.
+A failure of the store's condition (locked, full, I/O error) is waited out with the batch held
+(tests/ingest/test_back_pressure.py). A failure on a sample of its own (SQLite's "too big") is retried,
+then the sample is quarantined with the error if the store still takes that; only if it takes not even
+that are samples counted as failed.
 
 The failures are injected at Store.append_candidates (real Zenoh, real SQLite otherwise): the one real
 SQLite failure that is easy to cause here, a held write lock, only fails after the store's 5 s busy timeout.
@@ -21,14 +23,19 @@ from sim_replay.publisher import EventPublisher
 from store import AppendReport, Candidate, Store, canonical_json
 
 
-def failing_when(monkeypatch: pytest.MonkeyPatch, should_fail: Callable[[list], bool]) -> None:
-    """Make the writer's store call raise like a locked database whenever ``should_fail(candidates)``."""
+LOCKED = sqlite3.OperationalError("database is locked (injected)")
+TOO_BIG = sqlite3.DataError("string or blob too big (injected)")
+
+
+def failing_when(monkeypatch: pytest.MonkeyPatch, should_fail: Callable[[list], bool],
+                 error: Exception = TOO_BIG) -> None:
+    """Make the writer's store call raise ``error`` whenever ``should_fail(candidates)``."""
     real = Store.append_candidates
 
     def append(store: Store, candidates: Iterable[Candidate]) -> AppendReport:
         candidates = list(candidates)
         if should_fail(candidates):
-            raise sqlite3.OperationalError("database is locked (injected)")
+            raise error
         return real(store, candidates)
 
     monkeypatch.setattr(Store, "append_candidates", append)
@@ -39,15 +46,15 @@ def test_transient_failure_is_retried(
     monkeypatch: pytest.MonkeyPatch, link: tuple[EventPublisher, IngestService], db_path: Path
 ) -> None:
     calls = []
-    failing_when(monkeypatch, lambda candidates: calls.append(1) or len(calls) == 1)
+    failing_when(monkeypatch, lambda candidates: calls.append(1) or len(calls) == 1, LOCKED)
     publisher, ingest = link
     events = [make_event("vehicle/173", seq) for seq in range(20)]
     await_match(publisher, events[0])
     publisher.publish_all(events)
     assert ingest.wait_until_stored(20, timeout=10), ingest.stats()
     stats = ingest.stats()
-    assert (stats["errors"], stats["failed"]) == (1, 0)
-    assert "database is locked" in stats["last_errors"][0]
+    assert (stats["errors"], stats["write_failures"], stats["failed"], stats["rejected"]) == (1, 1, 0, 0)
+    assert "database is locked" in stats["last_errors"][0] and stats["stall"] is None
 
 
 def test_poison_sample_costs_only_itself(
@@ -67,10 +74,10 @@ def test_poison_sample_costs_only_itself(
     with Store(db_path) as store:
         assert [ev["seq"] for ev in store.events(RUN)] == [s for s in range(21) if s != 3]
         [kept] = store.quarantined()
-    assert kept["raw"] == canonical_json(events[3]) and "database is locked" in kept["reason"]
+    assert kept["raw"] == canonical_json(events[3]) and "too big" in kept["reason"]
 
 
-def test_broken_store_loses_counted_samples_and_the_writer_lives_on(
+def test_a_store_that_takes_not_even_quarantine_loses_counted_samples_and_the_writer_lives_on(
     monkeypatch: pytest.MonkeyPatch, link: tuple[EventPublisher, IngestService]
 ) -> None:
     broken = [True]
@@ -82,7 +89,7 @@ def test_broken_store_loses_counted_samples_and_the_writer_lives_on(
     assert ingest.wait_until_settled(3, timeout=10), ingest.stats()
     stats = ingest.stats()
     assert (stats["stored"], stats["failed"]) == (0, 3)
-    assert stats["errors"] >= 2 and all("database is locked" in e for e in stats["last_errors"])
-    broken[0] = False  # the disk recovers
+    assert stats["errors"] >= 2 and all("too big" in e for e in stats["last_errors"])
+    broken[0] = False  # the store recovers
     publisher.publish(make_event("vehicle/173", 3))
     assert ingest.wait_until_stored(1, timeout=10), ingest.stats()

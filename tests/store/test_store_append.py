@@ -5,6 +5,8 @@ import json
 import sqlite3
 
 import pytest
+
+from store.ddl import SCHEMA_VERSION
 from tests.helpers.store_testkit import event, rows
 
 from store.ddl import SCHEMA_VERSION
@@ -19,7 +21,7 @@ def test_append_stores_and_reads_back(store):
     evs = [event(seq) for seq in range(5)]
     report = store.append(evs)
     assert report == AppendReport(stored=5, duplicates=0, rejected=[])
-    assert report.as_dict() == {"stored": 5, "duplicates": 0, "rejected": []}
+    assert report.as_dict() == {"stored": 5, "duplicates": 0, "rejected": [], "quarantine_repeats": 0, "quarantine_full": 0}
     assert list(store.events("r1")) == evs
     assert store.count() == store.count("r1") == 5
 

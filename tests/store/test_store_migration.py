@@ -3,6 +3,8 @@ carry no Merkle root, are recognised as such and nothing later may lack one."""
 
 
 import pytest
+
+from store.ddl import SCHEMA_VERSION
 from tests.helpers.store_testkit import event, rows, tamper, write_v1_file
 
 from store.ddl import SCHEMA_VERSION
