@@ -8,6 +8,7 @@ import pytest
 from tests.helpers.store_testkit import event, rows
 
 from store import AppendReport, Store, StoreError, canonical_json
+from store.ddl import SCHEMA_VERSION
 
 
 def checkpoints(db_path):
@@ -231,7 +232,7 @@ def test_schema_version_and_pragmas(db_path):
         assert durable._conn.execute("PRAGMA synchronous").fetchone() == (2,)  # FULL
     with Store(db_path, durable=False) as fast:
         assert fast._conn.execute("PRAGMA synchronous").fetchone() == (1,)  # NORMAL
-    assert rows(db_path, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,), (5,), (6,)]
+    assert rows(db_path, "SELECT version FROM schema_version") == [(v,) for v in range(1, SCHEMA_VERSION + 1)]
     tables = {name for (name,) in rows(db_path, "SELECT name FROM sqlite_master WHERE type = 'table'")}
     assert {"events", "quarantine", "checkpoints", "rulebooks", "schema_version", "liveliness", "wire_misses"} <= tables
 

@@ -6,6 +6,7 @@ import pytest
 from tests.helpers.store_testkit import event, rows, tamper, write_v1_file
 
 from store import Store, merkle
+from store.ddl import SCHEMA_VERSION
 
 
 @pytest.fixture
@@ -20,7 +21,7 @@ def test_a_v1_file_opens_at_the_current_version_and_verifies(v1_file):
         assert [ev["seq"] for ev in store.events("r1")] == list(range(7))
         assert store.get_rulebook_by_name("hc")["text"] == "old rules"
         assert store.rulebooks()[0]["stored_at"] is None
-    assert rows(v1_file, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,), (5,), (6,)]
+    assert rows(v1_file, "SELECT version FROM schema_version") == [(v,) for v in range(1, SCHEMA_VERSION + 1)]
     assert rows(v1_file, "SELECT name FROM sqlite_master WHERE name = 'events_by_kind'") == [("events_by_kind",)]
     assert rows(v1_file, "SELECT through_id FROM legacy_checkpoints") == [(2,)]
     assert rows(v1_file, "SELECT merkle_root FROM checkpoints") == [(None,), (None,)]
@@ -40,7 +41,7 @@ def test_migrating_twice_changes_nothing(v1_file):
     before = rows(v1_file, "SELECT * FROM sqlite_master ORDER BY name")
     Store(v1_file).close()
     assert rows(v1_file, "SELECT * FROM sqlite_master ORDER BY name") == before
-    assert rows(v1_file, "SELECT version FROM schema_version") == [(1,), (2,), (3,), (4,), (5,), (6,)]
+    assert rows(v1_file, "SELECT version FROM schema_version") == [(v,) for v in range(1, SCHEMA_VERSION + 1)]
     assert rows(v1_file, "SELECT name FROM sqlite_master WHERE name = 'events_by_kind'") == [("events_by_kind",)]
 
 
