@@ -90,3 +90,23 @@ def test_import_onto_a_forged_tail_is_refused(signed, tmp_path):
     more.write_text(json.dumps(event(4, run="r2")) + "\n")
     result = gaps("import", more, "--checkpoint-key", tmp_path / "ckpt.key", db=copy)
     assert result.exit_code == 1 and "were not written by an append" in result.output
+
+
+def test_gaps_migrate_brings_a_v6_store_to_signed_checkpoints(tmp_path):
+    old = tmp_path / "v6.db"
+    from store import Store
+    with Store(old) as store:
+        store.append([event(i) for i in range(3)])
+    tamper(old, ("ALTER TABLE checkpoints DROP COLUMN signature", ()), ("ALTER TABLE checkpoints DROP COLUMN key_id", ()),
+           ("DELETE FROM schema_version WHERE version = 7", ()))
+    assert gaps("verify", db=old).exit_code == 2  # a reader refuses an older schema and says to migrate
+    new = tmp_path / "v7.db"
+    migrated = gaps("migrate", old, new)
+    assert migrated.exit_code == 0, migrated.output
+    assert gaps("keys", "checkpoint", tmp_path / "k").exit_code == 0
+    more = tmp_path / "more.jsonl"
+    more.write_text(json.dumps(event(3)) + "\n")
+    assert gaps("import", more, "--checkpoint-key", tmp_path / "k", "--witness", tmp_path / "w", db=new).exit_code == 0
+    result = gaps("verify", "--against", tmp_path / "w", "--key", tmp_path / "k.pub", "--json", db=new)
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["checkpoint_key"]["unsigned_before"] == 1
