@@ -69,37 +69,30 @@ def _check_run(conn: sqlite3.Connection, run: str, heads: list[TreeHead], public
 
 def _walk(conn: sqlite3.Connection, run: str, sizes: list[int], latest: int
           ) -> tuple[dict[int, bytes], int, tuple[list[bytes], bytes] | None]:
-    """Re-hash the run's events from their text: the Merkle root at each size asked, the number of
-    events, and the consistency proof from the latest size to the whole run, with its root."""
+    """Re-hash the run's events from their text, in one pass: the Merkle root at each size asked,
+    the number of events, and the consistency proof from the latest size to the whole run, with
+    its root (None if the run is shorter than that size)."""
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    length = last + 1 if isinstance(last, int) else 0
+    ranges = proof_ranges(latest, length) if length >= latest else []
+    streamed = RangeRoots(ranges)
     wanted = set(sizes)
     roots: dict[int, bytes] = {}
     frontier: list[bytes] = []
     head, count = GENESIS, 0
-    rows = conn.execute("SELECT event FROM events WHERE run = ? ORDER BY chain_pos", (run,))
-    for (text,) in rows:
+    for (text,) in conn.execute("SELECT event FROM events WHERE run = ? ORDER BY chain_pos", (run,)):
         head = link(head, _bytes(text))
         merkle.push(frontier, count, head)
+        streamed.feed(count, head)
         count += 1
         if count in wanted:
             roots[count] = merkle.root_of_frontier(frontier)
     if count < latest:
         return roots, count, None
-    whole = merkle.root_of_frontier(frontier)
-    return roots, count, (_proof(conn, run, latest, count), whole)
-
-
-def _proof(conn: sqlite3.Connection, run: str, m: int, n: int) -> list[bytes]:
-    """The consistency proof from size m to size n of the run, computed in a second pass."""
-    ranges = proof_ranges(m, n)
-    if not ranges:
-        return []
-    streamed = RangeRoots(ranges)
-    head = GENESIS
-    rows = conn.execute("SELECT event FROM events WHERE run = ? ORDER BY chain_pos", (run,))
-    for position, (text,) in enumerate(rows):
-        head = link(head, _bytes(text))
-        streamed.feed(position, head)
-    return streamed.proof(ranges) or []
+    proof = streamed.proof(ranges)
+    if count != length or proof is None:  # positions missing: the proof is not of the stored run
+        return roots, count, ([], bytes(32))
+    return roots, count, (proof, merkle.root_of_frontier(frontier))
 
 
 def _bytes(text: Any) -> bytes:
