@@ -53,10 +53,9 @@ def public(folder: Path = typer.Argument(..., help="The key folder."),
 def checkpoint(path: Path = typer.Argument(..., help="Where to write the private key; its public half goes to "
                                                      "PATH.pub."),
                json_out: bool = JsonOption) -> None:
-    """Make the checkpoint key that `gaps serve --checkpoint-key` and `gaps import --checkpoint-key` sign
-    checkpoints with, and PATH.pub, its public half, for `gaps verify --key`.
+    """Make the checkpoint key that the ingest and imports sign checkpoints with, and PATH.pub for `gaps verify --key`.
 
-    An existing key is never overwritten (exit 2). Keep PATH on the ingest's host only: whoever holds
+    `gaps serve --checkpoint-key PATH` and `gaps import --checkpoint-key PATH` use it. An existing key is never overwritten (exit 2). Keep PATH on the ingest's host only: whoever holds
     it can sign checkpoints over a rewritten store.
     """
     from store import CheckpointKey, public_path_of
