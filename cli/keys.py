@@ -11,7 +11,8 @@ import typer
 from cli.app import print_json
 from cli.options import JsonOption, is_stdio
 
-HELP = "Make Ed25519 keys for sources to sign their events with, and the public keys file that checks them."
+HELP = ("Make Ed25519 keys for sources to sign their events with, the public keys file that checks them, and the "
+        "ingest's checkpoint key.")
 
 
 def new(folder: Path = typer.Argument(..., help="The key folder (created if missing): FOLDER/<role>/<id>.key."),
@@ -47,3 +48,20 @@ def public(folder: Path = typer.Argument(..., help="The key folder."),
         return
     target = keys.write_public_keys(output)
     typer.echo(f"public keys of {len(keys.sources())} source(s) → {target}")
+
+
+def checkpoint(path: Path = typer.Argument(..., help="Where to write the private key; its public half goes to "
+                                                     "PATH.pub."),
+               json_out: bool = JsonOption) -> None:
+    """Make the checkpoint key that the ingest and imports sign checkpoints with, and PATH.pub for `gaps verify --key`.
+
+    `gaps serve --checkpoint-key PATH` and `gaps import --checkpoint-key PATH` use it. An existing key is never overwritten (exit 2). Keep PATH on the ingest's host only: whoever holds
+    it can sign checkpoints over a rewritten store.
+    """
+    from store import CheckpointKey, public_path_of
+    key = CheckpointKey.create(path)
+    made = {"path": str(path), "public": str(public_path_of(path)), "key": key.id}
+    if json_out:
+        print_json(made)
+        return
+    typer.echo(f"checkpoint key {key.id} → {path} (public half → {made['public']})")

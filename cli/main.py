@@ -52,6 +52,7 @@ def _keys_group() -> typer.Typer:
     group = new_app(help=keys.HELP)
     group.command()(keys.new)
     group.command()(keys.public)
+    group.command()(keys.checkpoint)
     return group
 
 

@@ -35,6 +35,15 @@ def serve(
                                         "not kept."),
     quarantine_bytes: int = typer.Option(512 * 2**20, "--quarantine-bytes", min=1, metavar="BYTES",
                                          help="The most bytes of refused samples the quarantine keeps."),
+    checkpoint_key: Optional[Path] = typer.Option(
+        None, "--checkpoint-key", metavar="KEY", help="Sign every checkpoint with this checkpoint key (`gaps keys "
+        "checkpoint`), and refuse to extend a run whose stored tail its last signed checkpoint does not vouch for."),
+    witness: Optional[Path] = typer.Option(
+        None, "--witness", metavar="FILE", help="Append each signed checkpoint's tree head to FILE (JSON lines, "
+        "fsynced), for `gaps verify --against FILE`; needs --checkpoint-key."),
+    publish_heads: bool = typer.Option(
+        False, "--publish-heads", help="Put each signed tree head on the Zenoh key gaps/@heads/<run>; needs "
+        "--checkpoint-key."),
     json_out: bool = JsonOption,
 ) -> None:
     """Receive audit events over Zenoh and append them to the store until SIGINT or SIGTERM.
@@ -49,5 +58,6 @@ def serve(
     options = ServeOptions(db=db_path(db), listen=tuple(listen), connect=tuple(connect), mode=mode,
                            config_file=config, key=key, status_every_s=status_every,
                            require_signatures=require_signatures,
-                           quarantine_cap=QuarantineCap(rows=quarantine_rows, bytes=quarantine_bytes))
+                           quarantine_cap=QuarantineCap(rows=quarantine_rows, bytes=quarantine_bytes),
+                           checkpoint_key=checkpoint_key, witness=witness, publish_heads=publish_heads)
     raise typer.Exit(run(options, json_out=json_out, out=sys.stdout, err=sys.stderr))

@@ -43,34 +43,60 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
             db: Optional[Path] = DbOption, json_out: bool = JsonOption, fmt: Optional[str] = FormatOption,
             fast: bool = typer.Option(False, "--fast", help=(
                 "Bulk import with synchronous=NORMAL instead of FULL: faster, but a power loss may lose "
-                "the last batches committed; repeat the import then (duplicates are ignored)."))) -> None:
+                "the last batches committed; repeat the import then (duplicates are ignored).")),
+            checkpoint_key: Optional[Path] = typer.Option(
+                None, "--checkpoint-key", metavar="KEY", help="Sign every checkpoint written with this checkpoint "
+                                                              "key (`gaps keys checkpoint`)."),
+            witness: Optional[Path] = typer.Option(
+                None, "--witness", metavar="FILE", help="Append each signed checkpoint's tree head to FILE (JSON "
+                                                        "lines, fsynced), for `gaps verify --against`; needs "
+                                                        "--checkpoint-key.")) -> None:
     """Import events from JSONL or MCAP into the store, creating it if missing.
 
     Bad events are quarantined with their bytes and the reason; the rest is still imported (exit 0).
+    With --checkpoint-key the checkpoints are signed (and a run whose stored tail its last
+    checkpoint does not vouch for is refused, exit 1); --witness keeps their heads outside the store.
     """
+    anchoring = _anchoring(checkpoint_key, witness)
     if is_stdio(file):
         if fmt is None:
             fail(STDIN_FORMAT)
         with stdin_file(f".{fmt.lower()}") as path:
-            report = _import(path, db, fmt, fast)
+            report = _import(path, db, fmt, fast, anchoring)
         report["file"] = "-"
     else:
-        report = _import(file, db, fmt, fast)
+        report = _import(file, db, fmt, fast, anchoring)
     if json_out:
         print_json(report)
     else:
         _print_import(report, db_path(db))
 
 
-def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool) -> dict:
-    from store import Store
+def _anchoring(checkpoint_key: Optional[Path], witness: Optional[Path]):
+    """(the checkpoint key, the witness file's path), checked before anything is read."""
+    from store import CheckpointKey
+    if witness is not None and checkpoint_key is None:
+        fail("--witness keeps signed tree heads: give --checkpoint-key KEY too")
+    return (CheckpointKey.load(checkpoint_key) if checkpoint_key else None), witness
+
+
+def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anchoring=(None, None)) -> dict:
+    from store import Store, WitnessFile
     from store import TransferError, check_source, import_file
+    key, witness_path = anchoring
     try:
         path, fmt = check_source(file, fmt)
         with _progress(f"importing {path.name}", path.stat().st_size,
                        path.stat().st_size >= PROGRESS_BYTES) as progress:
-            with Store(db_path(db), durable=not fast) as store:
-                return import_file(store, path, fmt, progress).as_dict()
+            with Store(db_path(db), durable=not fast, checkpoint_key=key) as store:
+                witness = WitnessFile(witness_path) if witness_path else None
+                if witness is not None:
+                    store.add_checkpoint_hook(witness.append)
+                try:
+                    return import_file(store, path, fmt, progress).as_dict()
+                finally:
+                    if witness is not None:
+                        witness.close()
     except TransferError as exc:
         fail(str(exc))
     except (OSError, sqlite3.Error) as exc:

@@ -27,7 +27,15 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
                None, "--keys", metavar="KEYS", help="Check every signed event against the keys this public keys "
                                                      "file trusts for its source (`gaps keys public`)."),
            all_signed: bool = typer.Option(
-               False, "--all-signed", help="Fail (exit 1) if any event is unsigned, too.")) -> None:
+               False, "--all-signed", help="Fail (exit 1) if any event is unsigned, too."),
+           against: Optional[Path] = typer.Option(
+               None, "--against", metavar="HEADS", help="Check the store against the signed tree heads of this "
+                                                        "witness file (`gaps serve --witness`): a run cut back, "
+                                                        "rewritten or deleted fails."),
+           checkpoint_key: Optional[Path] = typer.Option(
+               None, "--key", metavar="PUB", help="The checkpoint key's public file (`gaps keys checkpoint`): "
+                                                  "every checkpoint from its first signature on must be signed "
+                                                  "by it, and so must the heads of --against.")) -> None:
     """Check the hash chains, Merkle roots, checkpoints and cached snapshots against the events.
 
     Exit 1 if anything does not match, naming the first event (or snapshot) that does not; 2 for
@@ -42,14 +50,20 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     Signed events are counted; with --keys each signature is checked against the keys trusted for
     its event's source, and an invalid one (altered, forged, a key not trusted for that source)
     fails, naming the first. A signature proves its event even where the chain is broken.
+
+    A store agrees with itself after a consistent rewrite too; --against and --key check it
+    against what is kept outside it: the tree heads of a witness file (each run at least as long
+    as each head, its first events giving the head's Merkle root) and the checkpoint key.
     """
     wrong: dict[str, list] = {}
     misplaced: dict[str, list] = {}
     keys = _trusted(keys_file)
+    heads, public = _anchors(against, checkpoint_key)
     with open_existing(db) as store:
         require_run(store, run)
         with stderr_progress("verifying") as progress:
             report = store.verify(run, progress, keys)
+        outcomes, keyed = store.check_anchors(_for_run(heads, run), public, run)
         if with_snapshots:  # the runs whose chain holds: a broken one has already failed, and may not be readable
             sound = [r["run"] for r in report.runs if r["ok"]]
             wrong = _wrong_snapshots(store, sound)
@@ -57,16 +71,21 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
         tampering = _tampered_cache(store, report)
     signatures = report.signatures
     signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
-    ok = report.ok and signed_ok and not any(wrong.values()) and not any(misplaced.values())
+    anchored = all(o.ok for o in outcomes) and (keyed is None or keyed.ok)
+    ok = report.ok and signed_ok and anchored and not any(wrong.values()) and not any(misplaced.values())
     if json_out:
         print_json({**report.as_dict(), "ok": ok, "signatures": {**signatures, "ok": signed_ok},
                     **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {}),
-                    "cache": tampering.to_json()})
+                    "cache": tampering.to_json(),
+                    **({"heads": {"file": str(against), "ok": all(o.ok for o in outcomes),
+                                  "checked": [o.to_json() for o in outcomes]}} if against else {}),
+                    **({"checkpoint_key": keyed.to_json()} if keyed is not None else {})})
     else:
         _print_report(report, wrong, with_snapshots)
         _print_presence(misplaced)
         _print_signatures(signatures, all_signed)
         _print_tampering(tampering)
+        _print_anchors(against, outcomes, keyed)
     raise typer.Exit(0 if ok else 1)
 
 
@@ -76,6 +95,37 @@ def _trusted(keys_file: Optional[Path]):
         return None
     from store import TrustedKeys
     return TrustedKeys.load(keys_file)
+
+
+def _anchors(against: Optional[Path], checkpoint_key: Optional[Path]):
+    """The witness file's heads and the checkpoint public key, read (exit 2 naming what is wrong)."""
+    from store import load_public, read_heads
+    heads = read_heads(against) if against is not None else []
+    public = load_public(checkpoint_key) if checkpoint_key is not None else None
+    return heads, public
+
+
+def _for_run(heads: list, run: Optional[str]) -> list:
+    return heads if run is None else [h for h in heads if h.run == run]
+
+
+def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
+    if against is not None:
+        bad = [o for o in outcomes if not o.ok]
+        runs = len({o.run for o in outcomes})
+        if not bad:
+            typer.echo(f"heads: {len(outcomes):,} tree heads of {runs} run(s) in {printable(str(against))} match "
+                       "the store")
+        for o in bad[:10]:
+            typer.echo(f"HEAD FAILED: run {text_or_null(o.run)} at {o.size} events ({o.outcome}): {printable(o.what)}")
+        if len(bad) > 10:
+            typer.echo(f"... and {len(bad) - 10:,} more heads failed (--json lists them all)")
+    if keyed is not None:
+        if keyed.ok:
+            typer.echo(f"checkpoint key {keyed.key}: {keyed.signed:,} checkpoints signed by it, every one since its "
+                       f"first ({keyed.unsigned_before:,} before it unsigned)")
+        else:
+            typer.echo(f"CHECKPOINT KEY {keyed.key} FAILED: {printable(keyed.problem['what'])}")
 
 
 def _print_signatures(s: dict, all_signed: bool) -> None:

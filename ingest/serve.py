@@ -22,7 +22,7 @@ from typing import TextIO
 
 import zenoh
 
-from store import QuarantineCap, TrustedKeys
+from store import CheckpointKey, QuarantineCap, TrustedKeys
 
 from .errors import IngestConfigError, zenoh_message
 from .sd_notify import notify
@@ -52,6 +52,9 @@ class ServeOptions:
     durable: bool = True
     require_signatures: Path | None = None  # the public keys file: quarantine what they do not sign
     quarantine_cap: QuarantineCap = QuarantineCap()
+    checkpoint_key: Path | None = None      # sign every checkpoint with this key (store/tree_heads.py)
+    witness: Path | None = None             # append each signed tree head to this file
+    publish_heads: bool = False             # put each signed tree head on gaps/@heads/<run>
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -74,9 +77,10 @@ class Server:
     def __enter__(self) -> Server:
         check_key(self.options.key)
         keys = TrustedKeys.load(self.options.require_signatures) if self.options.require_signatures else None
+        checkpoint_key = _checkpoint_key(self.options)
         self._lock.acquire()
         try:
-            self.service = _open_service(self.options, keys)
+            self.service = _open_service(self.options, keys, checkpoint_key)
         except BaseException:
             self._lock.release()
             raise
@@ -106,13 +110,26 @@ def check_key(key: str) -> None:
                                 "gaps/<run>/<src>/<kind> (e.g. gaps/** or gaps/site-a/**)")
 
 
-def _open_service(options: ServeOptions, keys: TrustedKeys | None) -> IngestService:
+def _checkpoint_key(options: ServeOptions) -> CheckpointKey | None:
+    """The checkpoint key, loaded; --witness and --publish-heads need one (heads are signed)."""
+    if options.checkpoint_key is None:
+        if options.witness is not None or options.publish_heads:
+            raise IngestConfigError("--witness and --publish-heads publish signed tree heads: give --checkpoint-key "
+                                    "KEY too (gaps keys checkpoint KEY makes one)")
+        return None
+    return CheckpointKey.load(options.checkpoint_key)
+
+
+def _open_service(options: ServeOptions, keys: TrustedKeys | None,
+                  checkpoint_key: CheckpointKey | None = None) -> IngestService:
     """The IngestService, with Zenoh's refusal to open (a port in use, an address not ours) said plainly."""
     listen, connect = options.endpoints()
     try:
         return IngestService(options.db, listen=listen, connect=connect, mode=options.mode,
                              config_file=options.config_file, key_expr=options.key,
-                             durable=options.durable, trusted_keys=keys, quarantine_cap=options.quarantine_cap)
+                             durable=options.durable, trusted_keys=keys, quarantine_cap=options.quarantine_cap,
+                             checkpoint_key=checkpoint_key, witness=options.witness,
+                             publish_heads=options.publish_heads)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -213,12 +230,18 @@ def _announce(options: ServeOptions, server: Server, reporter: Reporter) -> None
     listen, connect = options.endpoints()
     where = "; ".join([*(f"listening on {e}" for e in listen), *(f"connected to {e}" for e in connect)])
     signed = f"; signatures required ({options.require_signatures})" if options.require_signatures else ""
+    if options.checkpoint_key:
+        signed += f"; checkpoints signed ({options.checkpoint_key})"
+        signed += f", heads to {options.witness}" if options.witness else ""
+        signed += ", heads on gaps/@heads/<run>" if options.publish_heads else ""
     reporter.event("serve.ready", f"Serving {options.db} ({where or 'endpoints of ' + str(options.config_file)}; "
                    f"key {options.key}{signed}); Ctrl-C or SIGTERM stops it after storing what was received",
                    db=str(options.db), lock=str(server.lock_path), listen=list(listen), connect=list(connect),
                    mode=options.mode or ("peer" if options.config_file is None else "from config"),
                    config=str(options.config_file) if options.config_file else None, key=options.key,
-                   require_signatures=_keys_file(options), pid=os.getpid())
+                   require_signatures=_keys_file(options), pid=os.getpid(),
+                   checkpoint_key=str(options.checkpoint_key) if options.checkpoint_key else None,
+                   witness=str(options.witness) if options.witness else None, publish_heads=options.publish_heads)
     notify(f"READY=1\nMAINPID={os.getpid()}")
 
 

@@ -45,6 +45,14 @@ def parser() -> argparse.ArgumentParser:
                          "not kept.")
     ap.add_argument("--quarantine-bytes", type=int, default=QuarantineCap.bytes, metavar="BYTES",
                     help="The most bytes of refused samples the quarantine keeps.")
+    ap.add_argument("--checkpoint-key", type=Path, default=None, metavar="KEY",
+                    help="Sign every checkpoint with this checkpoint key (`gaps keys checkpoint`), and refuse to "
+                         "extend a run whose stored tail its last signed checkpoint does not vouch for.")
+    ap.add_argument("--witness", type=Path, default=None, metavar="FILE",
+                    help="Append each signed checkpoint's tree head to FILE (JSON lines, fsynced), for "
+                         "`gaps verify --against FILE`; needs --checkpoint-key.")
+    ap.add_argument("--publish-heads", action="store_true",
+                    help="Put each signed tree head on the Zenoh key gaps/@heads/<run>; needs --checkpoint-key.")
     ap.add_argument("--json", action="store_true", help="Print the final metrics as JSON on exit.")
     return ap
 
@@ -59,7 +67,9 @@ def main(argv: list[str] | None = None) -> None:
                            listen=tuple(args.listen), connect=tuple(args.connect), mode=args.mode,
                            config_file=args.config, key=args.key, status_every_s=args.status_every,
                            require_signatures=args.require_signatures,
-                           quarantine_cap=QuarantineCap(rows=args.quarantine_rows, bytes=args.quarantine_bytes))
+                           quarantine_cap=QuarantineCap(rows=args.quarantine_rows, bytes=args.quarantine_bytes),
+                           checkpoint_key=args.checkpoint_key, witness=args.witness,
+                           publish_heads=args.publish_heads)
     try:
         code = serve(options, json_out=args.json, out=sys.stdout, err=sys.stderr)
     except GapsError as exc:

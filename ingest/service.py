@@ -15,9 +15,10 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, QuarantineCap, TrustedKeys, session_config, zenoh_message
+from store import SYNC_KEY, CheckpointKey, QuarantineCap, TrustedKeys, session_config, zenoh_message
 
 from .gap_tracker import GapTracker
+from .head_sinks import ZenohHeads, witness_sink
 from .history_queryable import HistoryQueryable
 from .inbox import Inbox
 from .stats import IngestStats
@@ -43,7 +44,10 @@ class IngestService:
 
     With ``trusted_keys`` (the public keys file, loaded), an event not signed by a key trusted for its
     source is quarantined with the reason; ``quarantine_cap`` bounds what the quarantine keeps
-    (store/quarantine.py). Use as a context manager, or call ``stop()``: it stops receiving, flushes every sample already
+    (store/quarantine.py). With ``checkpoint_key`` every checkpoint is signed, and each
+    signed tree head is appended to the ``witness`` file and, with ``publish_heads``, put on
+    ``gaps/@heads/<run>`` (ingest/head_sinks.py). Use as a context manager, or call ``stop()``: it stops
+    receiving, flushes every sample already
     received into the store and closes the store and the session.
     """
 
@@ -62,7 +66,12 @@ class IngestService:
         max_pending: int = MAX_PENDING,
         trusted_keys: TrustedKeys | None = None,
         quarantine_cap: QuarantineCap = QuarantineCap(),
+        checkpoint_key: CheckpointKey | None = None,
+        witness: str | os.PathLike | None = None,
+        publish_heads: bool = False,
     ) -> None:
+        if (witness is not None or publish_heads) and checkpoint_key is None:
+            raise ValueError("a witness file or published heads need a checkpoint key to sign them")
         if batch_size < 1 or flush_interval_s < 0 or max_pending < 1:
             raise ValueError("batch_size and max_pending must be >= 1, flush_interval_s >= 0")
         self._stats = IngestStats()
@@ -70,13 +79,18 @@ class IngestService:
         self._stopped = False
         config = session_config(listen=listen, connect=connect, mode=mode, config_file=config_file)
         self._session = zenoh.open(config)
+        self._witness = None
         try:
+            self._witness = witness_sink(witness)
+            sinks = tuple(s for s in (self._witness.append if self._witness else None,
+                                      ZenohHeads(self._session) if publish_heads else None) if s is not None)
             inbox = Inbox(self._session, key_expr, max_pending)
             watch = WireWatch(self._session, inbox, key_expr)
             self._writer = BatchWriter(
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
                 flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys, watch=watch,
                 quarantine_cap=quarantine_cap,
+                checkpoint_key=checkpoint_key, head_sinks=sinks,
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)
@@ -84,6 +98,8 @@ class IngestService:
             self._history = HistoryQueryable(self._session, db_path, key_expr)  # docs/serve.md "History"
         except BaseException:
             self._session.close()
+            if self._witness is not None:
+                self._witness.close()
             raise
 
     def stats(self) -> dict:
@@ -137,6 +153,8 @@ class IngestService:
         finally:
             self._writer.join()
             self._history.join()
+            if self._witness is not None:
+                self._witness.close()
 
     def __enter__(self) -> IngestService:
         return self

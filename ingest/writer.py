@@ -13,9 +13,10 @@ import threading
 import time
 from dataclasses import replace
 
-from store import Candidate, QuarantineCap, Store, TrustedKeys, enable_snapshots
+from store import Candidate, CheckpointKey, QuarantineCap, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
+from .head_sinks import HeadSink, HeadSinks
 from .inbox import Inbox, Received
 from .screen import Screened, refused, require_signature, screen
 from .stats import IngestStats
@@ -47,8 +48,12 @@ class BatchWriter(threading.Thread):
         trusted_keys: TrustedKeys | None = None,
         watch: WireWatch | None = None,
         quarantine_cap: QuarantineCap = QuarantineCap(),
+        checkpoint_key: CheckpointKey | None = None,
+        head_sinks: tuple[HeadSink, ...] = (),
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
+        self._checkpoint_key = checkpoint_key
+        self._head_sinks = head_sinks
         self._keys = trusted_keys
         self._watch = watch
         self._noticed: list = []   # wire_watch.Noticed waiting for the inbox to catch up (_record_wire)
@@ -89,9 +94,12 @@ class BatchWriter(threading.Thread):
         are read while they grow, and the check costs this writer a look at its own batch
         instead of costing every reader a scan of everything appended since its last snapshot."""
         try:
-            store = Store(self._db_path, durable=self._durable, quarantine_cap=self._quarantine_cap)
+            store = Store(self._db_path, durable=self._durable, quarantine_cap=self._quarantine_cap,
+                          checkpoint_key=self._checkpoint_key)
             try:
                 enable_snapshots(store)
+                if self._head_sinks:
+                    store.add_checkpoint_hook(HeadSinks(self._head_sinks, self._stats.record_error))
                 if self._watch is not None:
                     self._watch.recovery.stored_highest = store.highest_seq
             except BaseException:

@@ -30,6 +30,9 @@ from .quarantine import Pruned, QuarantineCap, parse_before
 from .run_summary import RunSummary
 from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
+from .tail_check import TamperedTail
+from .tree_heads import CheckpointKey, TreeHead, load_public, public_path_of
+from .witness import WitnessError, WitnessFile, read_heads
 from .wire import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
                    live_key, live_slice, matched_within, session_config, source_of_live_key, zenoh_message)
 from .cache_wire import (CACHE_PREFIX, CacheQuery, CacheQueryError, SourceSpan, cache_id_of_token, cache_query_options,
@@ -56,6 +59,14 @@ from .transfer import (
 )
 
 __all__ = [
+    "CheckpointKey",
+    "TamperedTail",
+    "TreeHead",
+    "WitnessError",
+    "WitnessFile",
+    "load_public",
+    "public_path_of",
+    "read_heads",
     "BLOCK_FOR_US",
     "CACHE_PREFIX",
     "CACHE_S",

@@ -21,19 +21,23 @@ from .envelope import EventError, encode_event
 from .heads import Heads
 from .intake import Candidate, raw_bytes
 from .outcomes import AppendReport
+from .tree_heads import CheckpointKey, TreeHead
 
 
 class Batch:
     """Rows for the events, quarantine and checkpoints tables, and the report of the call."""
 
-    def __init__(self, heads: Heads, every: int, received_at: int) -> None:
+    def __init__(self, heads: Heads, every: int, received_at: int, key: CheckpointKey | None = None) -> None:
         self.heads = heads
+        self.key = key
+        self.signed: list[TreeHead] = []  # the checkpoints' tree heads, signed (with a key)
         self._max_seq = heads.max_seq
         self.every = every
         self.received_at = received_at
         self.events: list[tuple] = []  # (run, chain_pos, src, seq, t, kind, event, hash)
         self.refused: list[tuple] = []  # (received_at, origin, reason, raw)
-        self.checkpoints: list[tuple] = []  # (run, count, head, created_at, merkle_root, frontier, prev_count)
+        self.checkpoints: list[tuple] = []  # (run, count, head, created_at, merkle_root, frontier, prev_count,
+        #                                      signature, key_id)
         self.report = AppendReport()
         self._grown: dict[str, RunChain] = {}  # runs this call extended
         self._placed: dict[tuple[str, str, int], str] | None = None  # built only if a seq repeats
@@ -120,13 +124,12 @@ class Batch:
         return chain
 
     def _checkpoint(self, run: str, chain: RunChain) -> None:
-        self.checkpoints.append((
-            run,
-            chain.count,
-            chain.head.hex(),
-            self.received_at,
-            chain.root().hex(),
-            merkle.pack(chain.frontier),
-            chain.checkpointed,
-        ))
+        """A checkpoint row at the chain's end, signed with the checkpoint key if there is one
+        (one signature per checkpoint: every 1,000 events and once per call and run)."""
+        head = TreeHead(run, chain.count, chain.root().hex(), chain.head.hex(), chain.checkpointed, self.received_at)
+        if self.key is not None:
+            head = self.key.sign(head)
+            self.signed.append(head)
+        self.checkpoints.append((run, head.size, head.head, head.created_at, head.root, merkle.pack(chain.frontier),
+                                 head.prev_size, head.sig, head.key))
         chain.checkpointed = chain.count

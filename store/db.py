@@ -13,9 +13,9 @@ import sqlite3
 import time
 from contextlib import contextmanager
 from itertools import islice
-from typing import Any, Callable, Collection, Iterable, Iterator
+from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 
-from . import history, index_guard, liveliness, opening, queries, quarantine, rulebooks, verify_cache
+from . import anchors, history, index_guard, liveliness, opening, queries, quarantine, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -29,19 +29,22 @@ from .outcomes import AppendReport, VerifyReport
 from .reading import one_snapshot
 from .run_summary import RunSummary
 from .signature_tally import SignatureTally
+from .anchors import HeadOutcome, KeyCheck
+from .tree_heads import CheckpointKey, TreeHead
 from .verify import Progress, tolerant_text, verify_store
 
 _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _INSERT_CHECKPOINT = (
-    "INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count) "
-    "VALUES (?, ?, ?, ?, ?, ?, ?)"
+    "INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count, signature, key_id) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
 CHECKPOINT_EVERY = 1000
 
 
 AppendHook = Callable[["Store", str, int], None]
+CheckpointHook = Callable[[list[TreeHead]], None]
 
 PAGE_SIZE = opening.PAGE_SIZE
 
@@ -54,6 +57,11 @@ class Store:
     are on disk and survive a power cut. durable=False (synchronous=NORMAL) may lose the last
     transactions on power loss, never corrupting the file; for bulk imports that can be
     repeated. Each run gets a checkpoint every `checkpoint_every` events (docs/store.md).
+
+    checkpoint_key (store/tree_heads.py) signs every checkpoint written; the signed tree heads
+    are handed to the checkpoint hooks once committed (a witness file, a Zenoh key). Before a
+    run read from the file is extended, its tail is checked against its last checkpoint signed
+    by that key (store/tail_check.py).
 
     read_only=True (or Store.open_read_only) reads the file without changing it; derived data
     (state snapshots, verification results) goes to `self.cache`, a separate file (store/cache.py).
@@ -71,6 +79,7 @@ class Store:
         checkpoint_every: int = CHECKPOINT_EVERY,
         read_only: bool = False,
         quarantine_cap: quarantine.QuarantineCap = quarantine.QuarantineCap(),
+        checkpoint_key: CheckpointKey | None = None,
     ) -> None:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
             raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
@@ -81,11 +90,13 @@ class Store:
             self._conn = opening.connect_read_only(self.path, check_same_thread=check_same_thread)
         else:
             self._conn = opening.connect_writable(self.path, durable=durable, check_same_thread=check_same_thread)
-        self._heads = Heads(self._conn)
+        self.checkpoint_key = checkpoint_key
+        self._heads = Heads(self._conn, checkpoint_key)
         self.quarantine_cap = quarantine_cap
         self._quarantine_tally = quarantine.QuarantineTally(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
+        self._checkpoint_hooks: list[CheckpointHook] = []
         self._integrity: tuple[tuple[int, int], list[str]] | None = None  # (file state, problems)
         self.cache = Cache(self.path)
 
@@ -138,7 +149,7 @@ class Store:
         """Feed a batch, then write its rows and run the hooks, all in one transaction that is
         committed (durably, by default) before the report is returned; then run the hooks."""
         with self._transaction() as conn:
-            batch = Batch(self._heads, self.checkpoint_every, time.time_ns())
+            batch = Batch(self._heads, self.checkpoint_every, time.time_ns(), self.checkpoint_key)
             feed(batch)
             batch.finish()
             conn.executemany(_INSERT_EVENT, batch.events)
@@ -146,7 +157,15 @@ class Store:
             conn.executemany(_INSERT_CHECKPOINT, batch.checkpoints)
         self._run_hooks(batch.events)
         batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
+        if batch.signed:
+            for hook in self._checkpoint_hooks:
+                hook(batch.signed)
         return batch.report
+
+    def add_checkpoint_hook(self, hook: CheckpointHook) -> None:
+        """Call `hook(heads)` with the signed tree heads of each append's checkpoints, once they are
+        committed (with a checkpoint key only): to publish them outside the store (store/witness.py)."""
+        self._checkpoint_hooks.append(hook)
 
     def add_append_hook(self, hook: AppendHook) -> None:
         """Call `hook(store, run, min_t)` after every append that stored events of `run`, with
@@ -433,6 +452,16 @@ class Store:
                                     VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted,
                                                  integrity=report.integrity))
         return report
+
+    def check_anchors(self, heads: Sequence[TreeHead] = (), public: bytes | None = None,
+                      run: str | None = None) -> tuple[list[HeadOutcome], KeyCheck | None]:
+        """The store against what is kept outside it (store/anchors.py): each tree head of a witness
+        (its signature too, with `public`), and with `public` the checkpoint key's signatures over
+        every checkpoint from its first on; all read in one snapshot."""
+        with self._reading(), tolerant_text(self._conn):
+            outcomes = anchors.check_heads(self._conn, heads, public)
+            keyed = None if public is None else anchors.check_checkpoint_key(self._conn, public, run)
+        return outcomes, keyed
 
     def _integrity_once(self, conn: sqlite3.Connection) -> list[str]:
         """SQLite's integrity check of the file (store/integrity.py), run once per state of the

@@ -167,7 +167,14 @@ _V7_QUARANTINE = (
     "BEGIN SELECT RAISE(ABORT, 'append-only: quarantine_overflow rows cannot be deleted'); END",
 )
 
-_V7 = (*_V7_LIVELINESS, *_V7_QUARANTINE)
+# v7: checkpoints signed by the ingest's checkpoint key (store/tree_heads.py): the Ed25519
+# signature (base64) of the checkpoint's tree head statement, and the signing key's id. Null on
+# checkpoints written without a key, and on every checkpoint written before v7.
+_V7_CHECKPOINT_SIGNATURES = (
+    "ALTER TABLE checkpoints ADD COLUMN signature TEXT",
+    "ALTER TABLE checkpoints ADD COLUMN key_id TEXT",
+)
+_V7 = (*_V7_CHECKPOINT_SIGNATURES, *_V7_LIVELINESS, *_V7_QUARANTINE)
 
 MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7}
 SCHEMA_VERSION = max(MIGRATIONS)

@@ -11,15 +11,17 @@ from __future__ import annotations
 
 import sqlite3
 
-from . import merkle
 from .chain import RunChain
+from .tail_check import anchored_chain
+from .tree_heads import CheckpointKey
 
 
 class Heads:
     """The cache, for one connection."""
 
-    def __init__(self, conn: sqlite3.Connection) -> None:
+    def __init__(self, conn: sqlite3.Connection, key: CheckpointKey | None = None) -> None:
         self._conn = conn
+        self.key = key  # the checkpoint key, whose last signed checkpoint a run's tail is checked against
         self.chains: dict[str, RunChain] = {}
         self.max_seq: dict[tuple[str, str], int] = {}  # (run, src) -> highest stored seq, -1 if none
 
@@ -55,37 +57,7 @@ class Heads:
         return None if row is None else row[0].encode("utf-8")
 
     def _load_chain(self, run: str) -> RunChain:
-        """The run's chain as stored: head from its last event; frontier from its latest
-        checkpoint when that checkpoint is at the head, else rebuilt from the event hashes."""
-        last = self._conn.execute(
-            "SELECT chain_pos, hash FROM events WHERE run = ? ORDER BY chain_pos DESC LIMIT 1", (run,)
-        ).fetchone()
-        latest = self._conn.execute(
-            "SELECT count, head, frontier FROM checkpoints WHERE run = ? ORDER BY id DESC LIMIT 1", (run,)
-        ).fetchone()
-        checkpointed = 0 if latest is None else latest[0]
-        if last is None:
-            return RunChain(checkpointed=checkpointed)
-        count, head = last[0] + 1, _digest(run, last[1])
-        frontier = None
-        if latest is not None and latest[0] == count and latest[1] == last[1]:
-            frontier = merkle.unpack(latest[2], count)
-        if frontier is None:
-            frontier = self._rebuild_frontier(run)
-        return RunChain(count, head, frontier, checkpointed)
+        """The run's chain as stored, its tail checked against its last (signed) checkpoint
+        first (store/tail_check.py): an append never seals events no append wrote."""
+        return anchored_chain(self._conn, run, self.key)
 
-    def _rebuild_frontier(self, run: str) -> list[bytes]:
-        """Read every event hash of the run: a file from v1, or one whose last checkpoint does
-        not match its events (verify will say why)."""
-        rows = self._conn.execute("SELECT hash FROM events WHERE run = ? ORDER BY chain_pos", (run,))
-        return merkle.frontier_of(_digest(run, stored) for (stored,) in rows)
-
-
-def _digest(run: str, stored: str) -> bytes:
-    """A stored hash as bytes; a non-hex value means the file was altered."""
-    try:
-        return bytes.fromhex(stored)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"an event hash of run {run} is not a sha256 hex digest: the store was altered; run verify"
-        ) from None

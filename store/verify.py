@@ -152,21 +152,25 @@ def _checkpoints(conn: sqlite3.Connection, run: str, legacy: int) -> dict[int, l
     recorded: dict[int, list[_Checkpoint]] = {}
     before = 0  # count of the previous checkpoint, in id order
     rows = conn.execute(
-        "SELECT id, count, head, merkle_root, frontier, prev_count FROM checkpoints WHERE run = ? ORDER BY id",
-        (run,),
+        "SELECT id, count, head, merkle_root, frontier, prev_count, signature FROM checkpoints WHERE run = ? "
+        "ORDER BY id", (run,),
     )
-    for id_, count, head, root, frontier, prev in rows:
-        fault = _sequence_fault(id_ > legacy, count, before, root, frontier, prev)
+    for id_, count, head, root, frontier, prev, signature in rows:
+        fault = _sequence_fault(id_ > legacy, count, before, root, frontier, prev, signature is not None)
         at = count if isinstance(count, int) and count > 0 else 1
         recorded.setdefault(at, []).append(_Checkpoint(id_, count, head, root, frontier, fault))
         before = count
     return recorded
 
 
-def _sequence_fault(modern: bool, count: Any, before: Any, root: Any, frontier: Any, prev: Any) -> str | None:
+def _sequence_fault(modern: bool, count: Any, before: Any, root: Any, frontier: Any, prev: Any,
+                    signed: bool = False) -> str | None:
     name = f"the checkpoint of {_show(count)} events"
     if modern and (root is None or frontier is None or prev is None):
         return f"{name} lacks the Merkle root, frontier or previous count every checkpoint since v2 records"
+    if not modern and (root is not None or frontier is not None or prev is not None or signed):
+        return (f"{name} carries a Merkle root, frontier, previous count or signature, which no v1 checkpoint has, "
+                "yet the legacy record excuses it as one: the legacy record was raised")
     if not isinstance(count, int) or count < 1:
         return f"{name} records an impossible event count"
     if isinstance(before, int) and count <= before:

@@ -81,7 +81,8 @@ def test_python_m_ingest_takes_the_options_of_gaps_serve() -> None:
     typer_options = {opt for param in command.params for opt in param.opts} - {"-h", "--help"}
     argparse_options = {opt for action in parser()._actions for opt in action.option_strings} - {"-h", "--help"}
     assert typer_options == argparse_options == {"--db", "--listen", "--connect", "--mode", "--config", "--key",
-                                                 "--status-every", "--require-signatures", "--json",
+                                                 "--status-every", "--require-signatures", "--checkpoint-key",
+                                                 "--witness", "--publish-heads", "--json",
                                                  "--quarantine-rows", "--quarantine-bytes"}
 
 

@@ -11,6 +11,7 @@ from tests.helpers.store_testkit import event, rows
 
 from store.ddl import SCHEMA_VERSION
 from store import AppendReport, Store, StoreError, canonical_json
+from store.ddl import SCHEMA_VERSION
 
 
 def checkpoints(db_path):

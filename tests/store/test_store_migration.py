@@ -9,6 +9,7 @@ from tests.helpers.store_testkit import event, rows, tamper, write_v1_file
 
 from store.ddl import SCHEMA_VERSION
 from store import Store, merkle
+from store.ddl import SCHEMA_VERSION
 
 
 @pytest.fixture

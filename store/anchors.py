@@ -1,0 +1,183 @@
+"""A store checked against what is kept outside it: signed tree heads (`gaps verify --against`)
+and the checkpoint key (`gaps verify --key`).
+
+`gaps verify` proves a store agrees with itself; someone holding the file can make a rewritten
+or shortened store agree with itself too. A tree head kept elsewhere says "run r had `size`
+events with Merkle root R": the store must still hold at least that many events of the run, the
+first `size` of them, re-hashed from their text, must give R, and the run's latest head is shown
+to be a prefix of the whole stored run by an RFC 6962 consistency proof (store/consistency.py).
+That catches a run cut back (truncation, even to one of its own checkpoints), events forged at
+its tail and sealed by a later append, a consistent rewrite of the whole run, and a deleted run.
+
+With the checkpoint key's public half, every checkpoint of a run from the first one that key
+signed on must be signed by it, and its signature must hold over what the checkpoint records
+(which verify checks against the events): a checkpoint added, or a run rewritten, by someone
+without the key fails.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from dataclasses import asdict, dataclass
+from typing import Any, Sequence
+
+from . import merkle
+from .chain import GENESIS, link
+from .consistency import RangeRoots, proof_ranges, verify_consistency
+from .signatures import key_id
+from .tree_heads import TreeHead
+
+
+@dataclass(frozen=True)
+class HeadOutcome:
+    """What the store says to one tree head: ok, or what is wrong (`what`)."""
+
+    run: str
+    size: int
+    root: str
+    ok: bool
+    stored: int                 # events of the run in the store
+    outcome: str                # "matches", "consistent" (a proof from size to stored), or the failure's name
+    what: str | None = None
+    proof_nodes: int | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def check_heads(conn: sqlite3.Connection, heads: Sequence[TreeHead], public: bytes | None) -> list[HeadOutcome]:
+    """Each head checked against the store, in the order given; one pass over each run named."""
+    by_run: dict[str, list[TreeHead]] = {}
+    for head in heads:
+        by_run.setdefault(head.run, []).append(head)
+    found: dict[tuple[str, int, str], HeadOutcome] = {}
+    for run, its_heads in by_run.items():
+        for outcome in _check_run(conn, run, its_heads, public):
+            found[(outcome.run, outcome.size, outcome.root)] = outcome
+    return [found[(h.run, h.size, h.root)] for h in heads]
+
+
+def _check_run(conn: sqlite3.Connection, run: str, heads: list[TreeHead], public: bytes | None) -> list[HeadOutcome]:
+    sizes = sorted({h.size for h in heads})
+    latest = sizes[-1]
+    roots, stored, proof = _walk(conn, run, sizes, latest)
+    outcomes = []
+    for head in heads:
+        outcomes.append(_judge(head, roots, stored, proof if head.size == latest else None, public))
+    return outcomes
+
+
+def _walk(conn: sqlite3.Connection, run: str, sizes: list[int], latest: int
+          ) -> tuple[dict[int, bytes], int, tuple[list[bytes], bytes] | None]:
+    """Re-hash the run's events from their text, in one pass: the Merkle root at each size asked,
+    the number of events, and the consistency proof from the latest size to the whole run, with
+    its root (None if the run is shorter than that size)."""
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    length = last + 1 if isinstance(last, int) else 0
+    ranges = proof_ranges(latest, length) if length >= latest else []
+    streamed = RangeRoots(ranges)
+    wanted = set(sizes)
+    roots: dict[int, bytes] = {}
+    frontier: list[bytes] = []
+    head, count = GENESIS, 0
+    for (text,) in conn.execute("SELECT event FROM events WHERE run = ? ORDER BY chain_pos", (run,)):
+        head = link(head, _bytes(text))
+        merkle.push(frontier, count, head)
+        streamed.feed(count, head)
+        count += 1
+        if count in wanted:
+            roots[count] = merkle.root_of_frontier(frontier)
+    if count < latest:
+        return roots, count, None
+    proof = streamed.proof(ranges)
+    if count != length or proof is None:  # positions missing: the proof is not of the stored run
+        return roots, count, ([], bytes(32))
+    return roots, count, (proof, merkle.root_of_frontier(frontier))
+
+
+def _bytes(text: Any) -> bytes:
+    """A stored event's text as the bytes it was hashed as (anything else hashes as itself, and fails)."""
+    if isinstance(text, bytes):
+        return bytes(text)
+    return str(text).encode("utf-8", "surrogatepass")
+
+
+def _judge(head: TreeHead, roots: dict[int, bytes], stored: int,
+           proof: tuple[list[bytes], bytes] | None, public: bytes | None) -> HeadOutcome:
+    def failed(outcome: str, what: str) -> HeadOutcome:
+        return HeadOutcome(head.run, head.size, head.root, False, stored, outcome, what)
+
+    if public is not None:
+        problem = head.signature_problem(public)
+        if problem is not None:
+            return failed("bad signature", f"the head is not signed by key {key_id(public)}: {problem}")
+    if stored == 0:
+        return failed("run missing", f"the store holds no events of run {head.run}, which had {head.size}: "
+                                     "the run was deleted")
+    if stored < head.size:
+        return failed("truncated", f"the store holds {stored} events of run {head.run}, the head {head.size}: "
+                                   f"events {stored} to {head.size - 1} were removed")
+    root = roots[head.size].hex()
+    if root != head.root:
+        return failed("rewritten", f"the first {head.size} events of run {head.run} recompute to Merkle root "
+                                   f"{root[:12]}…, the head records {head.root[:12]}…: they were rewritten")
+    if proof is None:
+        return HeadOutcome(head.run, head.size, head.root, True, stored, "matches")
+    nodes, whole = proof
+    if not verify_consistency(head.size, stored, bytes.fromhex(head.root), whole, nodes):
+        return failed("inconsistent", f"no consistency proof from {head.size} to {stored} events holds")
+    outcome = "matches" if stored == head.size else "consistent"
+    return HeadOutcome(head.run, head.size, head.root, True, stored, outcome, None, len(nodes))
+
+
+@dataclass(frozen=True)
+class KeyCheck:
+    """What `--key` found: signed checkpoints, and the first that should have been signed and is not."""
+
+    key: str
+    signed: int
+    unsigned_before: int        # checkpoints before the key's first signature (not demanded)
+    ok: bool
+    problem: dict[str, Any] | None
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | None) -> KeyCheck:
+    """From the first checkpoint `public` signed on (in the order written, any run), every
+    checkpoint must be signed by it: a run rewritten, or a checkpoint added, after signing began
+    shows as unsigned or signed by another key, even under the ids of the checkpoints it replaced."""
+    kid = key_id(public)
+    (first,) = conn.execute("SELECT min(id) FROM checkpoints WHERE key_id = ?", (kid,)).fetchone()
+    first = first if isinstance(first, int) else None
+    where = "" if run is None else "WHERE run = ? "
+    signed = unsigned_before = 0
+    sql = ("SELECT id, run, count, head, merkle_root, prev_count, created_at, signature, key_id FROM checkpoints "
+           f"{where}ORDER BY id")
+    for row in conn.execute(sql, () if run is None else (run,)):
+        if first is None or row[0] < first:
+            unsigned_before += 1
+            continue
+        problem = _signature_problem(row[1:], public)
+        if problem is not None:
+            name = row[1] if isinstance(row[1], str) else repr(row[1])
+            return KeyCheck(kid, signed, unsigned_before, False, {"run": name, "count": row[2], "what": problem})
+        signed += 1
+    if not signed:
+        what = f"no checkpoint{'' if run is None else ' of run ' + run} is signed by key {kid}"
+        return KeyCheck(kid, 0, unsigned_before, False, {"run": run, "count": None, "what": what})
+    return KeyCheck(kid, signed, unsigned_before, True, None)
+
+
+def _signature_problem(row: tuple, public: bytes) -> str | None:
+    name, count, head, root, prev, created_at, sig, kid = row
+    if sig is None:
+        return (f"the checkpoint of {count} events is unsigned, after the run's checkpoints were signed by "
+                f"key {key_id(public)}: it was added behind the ingest's back")
+    try:
+        statement = TreeHead(name, count, root, head, prev, created_at, kid, sig)
+        problem = statement.signature_problem(public)
+    except (TypeError, ValueError):
+        problem = "its fields are not those of a checkpoint"
+    return None if problem is None else f"the checkpoint of {count} events: {problem}"

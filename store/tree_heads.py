@@ -1,0 +1,174 @@
+"""Signed tree heads: a checkpoint as a statement the ingest's key signs, and that key on disk.
+
+A checkpoint written into the store proves nothing against someone who holds the file: they can
+rewrite a run and write checkpoints to match. Signed by a key the holder of the file does not
+have, and copied somewhere else (a witness file, a Zenoh key: store/witness.py), it does: the
+statement names the run (by its name, which does not depend on the file), its size (events in
+its chain), the Merkle root and chain head of those events, the size of the run's previous
+checkpoint, when it was written, and the signing key's id. Its canonical JSON is what is signed,
+so the same head read from a witness line or rebuilt from a checkpoint row checks the same way.
+
+The checkpoint key is an Ed25519 private key in PKCS#8 PEM, as a source's key is
+(store/keyfiles.py), readable by its owner only; its public half is a text file beside it
+(`<key>.pub`, the 32-byte public key in standard base64) for investigators (`gaps verify --key`).
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import os
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from .canonical import canonical_json
+from .keyfiles import KeysError, pem_of, seed_of
+from .signatures import key_id
+
+STATEMENT = "gaps.tree_head.v1"
+PUBLIC_SUFFIX = ".pub"
+
+
+@dataclass(frozen=True)
+class TreeHead:
+    """One run's tree at one size, as a checkpoint records it; `sig` (base64) once signed."""
+
+    run: str
+    size: int
+    root: str          # Merkle root of the first `size` events, hex
+    head: str          # chain hash of event size-1, hex
+    prev_size: int     # size of the run's previous checkpoint (0 for its first)
+    created_at: int    # ns since the epoch, when the checkpoint was written
+    key: str | None = None  # id of the signing key (16 hex digits)
+    sig: str | None = None
+
+    def statement(self) -> bytes:
+        """The bytes the signature covers: every field but `sig`, with the statement's name."""
+        return canonical_json({"statement": STATEMENT, "run": self.run, "size": self.size, "root": self.root,
+                               "head": self.head, "prev_size": self.prev_size, "created_at": self.created_at,
+                               "key": self.key})
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_json(cls, data: Any, where: str) -> TreeHead:
+        """A head read from a witness line; a KeysError naming `where` and the field that is wrong."""
+        if not isinstance(data, dict):
+            raise KeysError(f"{where}: a tree head is a JSON object, got {type(data).__name__}")
+        try:
+            head = cls(**{name: data[name] for name in ("run", "size", "root", "head", "prev_size", "created_at")},
+                       key=data.get("key"), sig=data.get("sig"))
+        except KeyError as exc:
+            raise KeysError(f"{where}: the tree head has no {exc.args[0]!r}") from None
+        problem = head.shape_problem()
+        if problem:
+            raise KeysError(f"{where}: {problem}")
+        return head
+
+    def shape_problem(self) -> str | None:
+        checks = ((isinstance(self.run, str), "run must be text"),
+                  (type(self.size) is int and self.size > 0, "size must be a positive integer"),
+                  (_is_hex(self.root), "root must be 64 hex digits"), (_is_hex(self.head), "head must be 64 hex digits"),
+                  (type(self.prev_size) is int and 0 <= self.prev_size < self.size, "prev_size must be below size"),
+                  (type(self.created_at) is int, "created_at must be an integer"),
+                  (self.key is None or isinstance(self.key, str), "key must be text"),
+                  (self.sig is None or isinstance(self.sig, str), "sig must be base64 text"))
+        return next((what for ok, what in checks if not ok), None)
+
+    def signature_problem(self, public: bytes) -> str | None:
+        """None if the head is signed by this public key (32 bytes); else why not."""
+        from nacl.exceptions import BadSignatureError
+        from nacl.signing import VerifyKey
+
+        if self.sig is None:
+            return "unsigned"
+        if self.key != key_id(public):
+            return f"signed with key {self.key}, not {key_id(public)}"
+        try:
+            VerifyKey(public).verify(self.statement(), base64.b64decode(self.sig, validate=True))
+        except (BadSignatureError, binascii.Error, ValueError):
+            return f"the signature of key {self.key} does not match the head: it was altered or forged"
+        return None
+
+
+def _is_hex(value: Any) -> bool:
+    if not isinstance(value, str) or len(value) != 64:
+        return False
+    try:
+        bytes.fromhex(value)
+    except ValueError:
+        return False
+    return True
+
+
+class CheckpointKey:
+    """The ingest's private key that signs checkpoints."""
+
+    def __init__(self, seed: bytes) -> None:
+        from nacl.signing import SigningKey
+
+        self._signing = SigningKey(seed)
+        self.public = bytes(self._signing.verify_key)
+        self.id = key_id(self.public)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> CheckpointKey:
+        """Read a checkpoint key; a KeysError names the file and what is wrong with it."""
+        try:
+            text = Path(path).read_text("ascii")
+        except FileNotFoundError:
+            raise KeysError(f"no checkpoint key at {path} (gaps keys checkpoint {path} makes one)") from None
+        except (OSError, UnicodeDecodeError) as exc:
+            raise KeysError(f"cannot read the checkpoint key {path}: {getattr(exc, 'strerror', None) or exc}") from None
+        return cls(seed_of(text, str(path)))
+
+    @classmethod
+    def create(cls, path: str | os.PathLike) -> CheckpointKey:
+        """A new key at `path` and its public half at `path`.pub; never overwrites a key."""
+        from nacl.signing import SigningKey
+
+        seed = bytes(SigningKey.generate())
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:
+            raise KeysError(f"{path} exists: a checkpoint key is never overwritten") from None
+        except OSError as exc:
+            raise KeysError(f"cannot write {path}: {exc.strerror or exc}") from None
+        with os.fdopen(fd, "w") as out:
+            out.write(pem_of(seed))
+        key = cls(seed)
+        public_path = public_path_of(path)
+        try:
+            public_path.write_text(base64.b64encode(key.public).decode("ascii") + "\n", "ascii")
+        except OSError as exc:
+            raise KeysError(f"cannot write {public_path}: {exc.strerror or exc}") from None
+        return key
+
+    def sign(self, head: TreeHead) -> TreeHead:
+        """The head with this key's id and signature."""
+        named = replace(head, key=self.id, sig=None)
+        signature = self._signing.sign(named.statement()).signature
+        return replace(named, sig=base64.b64encode(signature).decode("ascii"))
+
+
+def public_path_of(path: str | os.PathLike) -> Path:
+    return Path(f"{os.fspath(path)}{PUBLIC_SUFFIX}")
+
+
+def load_public(path: str | os.PathLike) -> bytes:
+    """A checkpoint public key file (`<key>.pub`: standard base64 of 32 bytes); KeysError if not."""
+    try:
+        text = Path(path).read_text("ascii").strip()
+    except FileNotFoundError:
+        raise KeysError(f"no public key file at {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise KeysError(f"cannot read the public key file {path}: {getattr(exc, 'strerror', None) or exc}") from None
+    try:
+        public = base64.b64decode(text, validate=True)
+    except binascii.Error:
+        raise KeysError(f"{path}: not a public key (one line of base64, as `gaps keys checkpoint` writes)") from None
+    if len(public) != 32:
+        raise KeysError(f"{path}: the key is {len(public)} bytes; an Ed25519 public key is 32")
+    return public
