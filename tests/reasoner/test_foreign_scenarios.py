@@ -1155,3 +1155,19 @@ def test_a_main_road_car_whose_turn_outlasts_the_reaction_window_is_read_to_the_
     assert of(found, "7"), "the camera's c3 approaching on the main road raises the act to judge"
     no_violation(found, "7")
     assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
+
+
+def test_a_main_road_car_made_to_brake_hard_far_out_was_approaching(tmp_path):
+    """HC 172 (RTA 1988 s.36, TSRGD Sch 9 Pts 7 and 8): "give way to traffic on the main road". c2
+    comes down the main road at 30 mph and, 70 m out, brakes at 5 m/s² to 6 m/s as 7 pulls across
+    from the Give Way line (the camera looks down the minor arm only; c2 is in its own record).
+    Further out than the 50 m within which a road user is said to approach, but a car made to brake
+    that hard by 7's pull-out, with nothing else to explain it, was approaching 7 when it did.
+    Punishable, HC 172, margin c2's deceleration 5 m/s²."""
+    c2 = Motion(-70.0 - 13.4 * 4.37, 13.4, [(4.37, 0.0), (1.48, -5.0), (3.0, 0.0), (5.0, 2.0)])
+    run = unseen_main_road_run("give_way", Motion(-40.0, 6.0), camera("7", sign="give way"))
+    run.drive("c2", c2, "north", SAMPLING["5 Hz"](START, START + 25.0), t_start=START)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 172")
+    assert any(f.sentence == "c2 is approaching 7" for f in inc.derived)
+    margin(inc, "deceleration", "m/s²", 5.0, 0.25)
