@@ -83,6 +83,7 @@ class Task:
 
 
 CONNECT_TIMEOUT_S = 10                                # a scheduler that does not answer is a mistake said
+WORKERS_UP_S = 120                                    # a local cluster's workers must be up by then
 Judge = Callable[[Task, Job], list[RunPart]]
 _open: dict[tuple[str, Job], Regressor] = {}        # this process's store, kept open across its tasks
 
@@ -186,4 +187,7 @@ def _client(cluster: Cluster) -> Iterator:
         return
     with LocalCluster(n_workers=cluster.workers, threads_per_worker=1, processes=True, dashboard_address=None,
                       silence_logs=logging.ERROR) as local, Client(local) as client:
+        # every worker up before the first task: one that came up late found the runs all taken by
+        # the first (seen on a loaded machine: three runs, one worker)
+        client.wait_for_workers(cluster.workers, timeout=WORKERS_UP_S)
         yield client

@@ -59,9 +59,11 @@ def alone(db, new):
 
 @pytest.fixture(scope="module")
 def cluster():
-    from distributed import LocalCluster
+    from distributed import Client, LocalCluster
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
                       silence_logs=logging.ERROR) as local:
+        with Client(local) as client:       # both workers registered before the first test's tasks
+            client.wait_for_workers(2, timeout=120)
         yield Cluster(scheduler=local.scheduler_address)
 
 
