@@ -27,7 +27,11 @@ fuzz: $(READY)
 		echo "== fuzz round $$round (seed $$seed)"; \
 		GAPS_FUZZ=long PYTHONPATH=$(CURDIR) $(VENV)/bin/python -m pytest -q -p no:cacheprovider \
 			--hypothesis-seed=$$seed tests/fuzz tests/reasoner/test_le_fuzz.py || exit 1; \
-	done
+	done; \
+	echo "== the tamper suite, every row of every table and index"; \
+	GAPS_TAMPER_ROWS=0 GAPS_TAMPER_COUNTS=$(CURDIR)/tests/artifacts/tamper-counts.json PYTHONPATH=$(CURDIR) \
+		$(VENV)/bin/python -m pytest -q -p no:cacheprovider tests/store/test_tamper_suite.py && \
+		cat tests/artifacts/tamper-counts.json
 
 # Every benchmark, one after another (a shared machine: never two at once), each recording its figures
 # in bench/results.json; then docs/performance.md is regenerated from it. The full sizes take an hour
