@@ -241,7 +241,7 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
             out.append(DerivedFact(IS_OF_TYPE.text(other.user, other.type),
                                    f"{other.spawn.src} #{other.spawn.seq} (entity.spawn) gives type {other.type}",
                                    (other.spawn,)))
-        if other.main_road and (approaching is not None or forced is not None):
+        if other.main_road and not _walking(other) and (approaching is not None or forced is not None):
             first = other.samples[0]
             out.append(DerivedFact(IS_ON_THE_MAIN_ROAD.text(other.user),
                                    f"first seen on the {other.arm} arm of {p.junction.id} ({first.label}); "
@@ -312,6 +312,13 @@ def _stopped_after(p: Passage, t: int, at: int):
     end = min(at, p.crossing.t) if p.crossing else at
     return next((s for s in p.standstills if t <= s.last.t and s.first.t <= end and
                  (s.to_line_m is None or s.to_line_m >= -1.0)), None)
+
+
+def _walking(other: Other) -> bool:
+    """A pedestrian: traffic on the main road, whose drivers a Give Way or Stop line protects
+    (TSRGD 2016 Sch 9 Pts 7 and 8: "the driver of ... a vehicle on the major road"), is vehicles; a
+    pedestrian on its pavement is no such traffic (HC 170 and para 5(5)'s "endanger" speak for them)."""
+    return other.type == "pedestrian" or other.src.startswith("pedestrian/")
 
 
 def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:

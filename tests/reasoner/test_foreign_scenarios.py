@@ -1171,3 +1171,16 @@ def test_a_main_road_car_made_to_brake_hard_far_out_was_approaching(tmp_path):
     verdict(inc, "punishable", "HC 172")
     assert any(f.sentence == "c2 is approaching 7" for f in inc.derived)
     margin(inc, "deceleration", "m/s²", 5.0, 0.25)
+
+
+def test_a_pedestrian_walking_towards_the_junction_along_the_main_road_is_not_main_road_traffic(tmp_path):
+    """HC 172 and TSRGD 2016 Sch 9 Pts 7 and 8 protect "the driver of ... a vehicle on the major road":
+    a Give Way line asks the emerging driver to give way to the main road's traffic. 7 pulls out of
+    the west Give Way line with the main road empty of vehicles; p2 walks towards the junction down
+    the main road's north arm, 30 m out. No vehicle was there to give way to, and p2 was not
+    endangered (it stops at the kerb 13 m out): no incident (the hour's 1978 at j14 was judged
+    'mitigated' for the pedestrian p2 35 m away, 'on the main road')."""
+    run = unseen_main_road_run("give_way", Motion(-40.0, 6.0), camera("7", sign="give way"))
+    pedestrian(run, "p2", START + 4.67)
+    found = judge(tmp_path, run)
+    no_incident(found, "7")
