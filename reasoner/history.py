@@ -111,7 +111,8 @@ def _record(store: Store, run: str, vehicle: str, around: int | None, before_s: 
     spawns = list(islice(store.events(run, kinds=["entity.spawn"], srcs=[src], t_to=t_to), 100))
     return Record(run, ident, ctx.map, ctx.signals, own, seen, spawns[-1] if spawns else None,
                   _store_gaps(store, ctx, {src} | {s.ref.src for s in seen}), tuple(notes) + skipped[:20],
-                  _store_others(store, ctx, ident), (t_from, t_to), _store_spawns(store, ctx)), found
+                  _store_others(store, ctx, ident), (t_from, t_to), _store_spawns(store, ctx),
+                  _store_track(ctx)), found
 
 
 def passage_at(found: Iterable[Passage], t: int) -> Passage | None:
@@ -232,6 +233,13 @@ def _store_spawns(store: Store, ctx: RunContext):
             ctx._spawns[user] = found[-1] if found else None
         return ctx._spawns[user]
     return find
+
+
+def _store_track(ctx: RunContext):
+    """One road user's own entity.state in a window, from the run's samples kept across acts."""
+    def track(src: str, t_from: int, t_to: int) -> tuple[Sample, ...]:
+        return ctx.states.window(src, t_from, t_to, MAX_OTHER_EVENTS).samples
+    return track
 
 
 def _store_others(store: Store, ctx: RunContext, vehicle: str):

@@ -21,7 +21,7 @@ between them, a light changing between two samples, no stop line on the map.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import NamedTuple
+from typing import Mapping, NamedTuple
 
 from store import EventRef
 
@@ -29,7 +29,7 @@ from .junctions import Junction, Map, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, stop_could_hide
 from .others import near_users, through
 from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
-from .record import Record
+from .record import Record, Track
 from .signals import Light, changed_between, shown
 from .when import format_time
 
@@ -164,16 +164,28 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
     through the junction did given that way, read on for PATH_AFTER_S: whether that way meets the
     vehicle's is what tells braking for it from braking for a turn of its own (derived.explained),
     and a main-road car still slowing on its arm when the window closes shows no way at all."""
-    cut = [o for o in others if (o.braking or o.stopped) and not through(o.samples, junction)]
+    cut = [o for o in others if (o.braking or o.stopped) and not _explained_else(o) and not through(o.samples, junction)]
     if not cut:
         return others
-    longer = record.others(junction, t_from, t_to + int(PATH_AFTER_S * SECOND))
+    until = t_to + int(PATH_AFTER_S * SECOND)
+    longer: Mapping[str, Track] | None = None
     out = []
     for o in others:
-        track = longer.get(o.user) if o in cut else None
-        path = tuple(s for s in track[1] if s.t >= t_from) if track else ()
+        path: tuple[Sample, ...] = ()
+        if o in cut:
+            own = record.track(o.src if not o.src.startswith("monitor/") else f"vehicle/{o.user}", t_from, until)
+            if own is None:                  # no store to read one source from: the others of the longer window
+                longer = record.others(junction, t_from, until) if longer is None else longer
+                own = longer[o.user][1] if o.user in longer else ()
+            path = tuple(s for s in own if s.t >= t_from)
         out.append(replace(o, path=path) if through(path, junction) else o)
     return tuple(out)
+
+
+def _explained_else(o: Other) -> bool:
+    """Braking or a stop that a light of its own, a Stop line of its own or a road user it followed
+    explains (derived.explained looks no further, so its way need not be read)."""
+    return (o.light is not None and o.light.colour != "green") or o.followed is not None or o.own_stop_line
 
 
 def _series(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], str]:

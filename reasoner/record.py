@@ -58,6 +58,13 @@ def no_spawns(user: str) -> dict | None:
     return None
 
 
+Track_of = Callable[[str, int, int], "tuple[Sample, ...] | None"]   # a source's own samples in a window
+
+
+def no_track(src: str, t_from: int, t_to: int) -> tuple[Sample, ...] | None:
+    return None          # None: not read this way (the others of a longer window are looked at)
+
+
 @dataclass(frozen=True)
 class Record:
     """Everything read for one vehicle (its own series are in (t, src, seq) order)."""
@@ -74,6 +81,7 @@ class Record:
     others: Others = no_others
     window: tuple[int | None, int | None] = (None, None)
     spawns: Spawns = no_spawns              # the other road users' entity.spawn (their type)
+    track: Track_of = no_track              # one road user's own entity.state in a window
 
     def gaps_of(self, srcs: set[str], t_from: int, t_to: int) -> tuple[Gap, ...]:
         return tuple(g for g in self.gaps if g.src in srcs and g.overlaps(t_from, t_to))
