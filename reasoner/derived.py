@@ -28,7 +28,7 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .others import VEHICLE_WIDTH_M, path_gap, since
+from .others import VEHICLE_WIDTH_M, own_cause, path_gap, since
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -401,8 +401,7 @@ def explained(p: Passage, other: Other) -> bool:
     a red or amber light of its own, a Stop line of its own, a road user it followed (others.py),
     or a path through the junction that never came within a vehicle's width of V's (others.path_gap:
     no conflict point, so it slowed for its own manoeuvre)."""
-    if (other.light is not None and other.light.colour != "green") or other.followed is not None \
-            or other.own_stop_line:
+    if own_cause(other):
         return True
     if other.braking is None and other.stopped is None:
         return False

@@ -172,6 +172,13 @@ def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: i
     return _followed(recounted, list(everyone), junction)
 
 
+def own_cause(other: Other) -> bool:
+    """Whether a cause of the road user's own explains its braking or stop: a red or amber light of
+    its own, a Stop line of its own, a road user it followed."""
+    return (other.light is not None and other.light.colour != "green") or other.followed is not None \
+        or other.own_stop_line
+
+
 VEHICLE_WIDTH_M = 2.55  # the widest a vehicle may be (Road Vehicles (Construction and Use) Regulations 1986 reg. 8)
 
 

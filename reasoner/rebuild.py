@@ -27,7 +27,7 @@ from store import EventRef
 
 from .junctions import Junction, Map, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, stop_could_hide
-from .others import near_users, through
+from .others import near_users, own_cause, through
 from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record, Track
 from .signals import Light, changed_between, shown
@@ -163,29 +163,27 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
     """The others, each that braked or stopped while its record in the window ends before its way
     through the junction did given that way, read on for PATH_AFTER_S: whether that way meets the
     vehicle's is what tells braking for it from braking for a turn of its own (derived.explained),
-    and a main-road car still slowing on its arm when the window closes shows no way at all."""
-    cut = [o for o in others if (o.braking or o.stopped) and not _explained_else(o) and not through(o.samples, junction)]
-    if not cut:
-        return others
+    and a main-road car still slowing on its arm when the window closes shows no way at all. Where a
+    cause of its own explains the braking (others.own_cause), derived.explained looks no further."""
     until = t_to + int(PATH_AFTER_S * SECOND)
-    longer: Mapping[str, Track] | None = None
+    longer: list[Mapping[str, Track]] = []      # without a store: the others of the longer window, read once
+
+    def way_on(o: Other) -> tuple[Sample, ...]:
+        own = record.track(o.src if not o.src.startswith("monitor/") else f"vehicle/{o.user}", t_from, until)
+        if own is None:
+            if not longer:
+                longer.append(record.others(junction, t_from, until))
+            own = longer[0][o.user][1] if o.user in longer[0] else ()
+        return tuple(s for s in own if s.t >= t_from)
+
     out = []
     for o in others:
-        path: tuple[Sample, ...] = ()
-        if o in cut:
-            own = record.track(o.src if not o.src.startswith("monitor/") else f"vehicle/{o.user}", t_from, until)
-            if own is None:                  # no store to read one source from: the others of the longer window
-                longer = record.others(junction, t_from, until) if longer is None else longer
-                own = longer[o.user][1] if o.user in longer else ()
-            path = tuple(s for s in own if s.t >= t_from)
-        out.append(replace(o, path=path) if through(path, junction) else o)
+        if (o.braking or o.stopped) and not own_cause(o) and not through(o.samples, junction):
+            path = way_on(o)
+            if through(path, junction):
+                o = replace(o, path=path)
+        out.append(o)
     return tuple(out)
-
-
-def _explained_else(o: Other) -> bool:
-    """Braking or a stop that a light of its own, a Stop line of its own or a road user it followed
-    explains (derived.explained looks no further, so its way need not be read)."""
-    return (o.light is not None and o.light.colour != "green") or o.followed is not None or o.own_stop_line
 
 
 def _series(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], str]:
