@@ -97,7 +97,7 @@ class Witness:
                 for ident in pending["watch"]:
                     other = snap.vehicle(ident)
                     if other is not None and other.light in (None, "green") and not _following(other, snap, vid) \
-                            and self._may_meet(pending, (agents or {}).get(ident), junction):
+                            and self._may_meet(pending, ident, (agents or {}).get(ident), junction):
                         pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
             if snap is not None and t < pending["until"]:
                 still.append(pending)
@@ -130,13 +130,15 @@ class Witness:
         far = next((p for p in shape if math.hypot(p[0] - x, p[1] - y) >= EXIT_ARM_M), shape[-1])
         return sector(far[0] - x, far[1] - y)
 
-    def _may_meet(self, pending: dict[str, Any], other: Agent | None, junction: str) -> bool:
+    def _may_meet(self, pending: dict[str, Any], ident: str, other: Agent | None, junction: str) -> bool:
         """Whether the other's way through the junction crosses or joins the vehicle's (and so
-        braking may be for it); where either way is unknown, it may."""
-        mine, theirs = pending["way"], self._way(other, junction)
-        if mine is None or theirs is None:
-            return True
-        return ways_meet(mine, theirs, self.network.lefthand)
+        braking may be for it); where either way is unknown, it may. Settled once per road user
+        and act, not at every tick of the reaction window."""
+        meets = pending.setdefault("meets", {})
+        if ident not in meets:
+            mine, theirs = pending["way"], self._way(other, junction)
+            meets[ident] = mine is None or theirs is None or ways_meet(mine, theirs, self.network.lefthand)
+        return meets[ident]
 
     def _turn(self, agent: Agent, junction: str, approach: str) -> str | None:
         """Left, straight or right at a junction, from its route's edges in and out."""
