@@ -1098,6 +1098,26 @@ def _turning_left_from_the_south(motion: Motion, t: float, radius: float = 6.0) 
     return -(LANE + radius) - (s - arc), -LANE, 180.0, v
 
 
+def pull_out_before_a_left_turn(mine: Motion, c3: Motion, seconds: float) -> Foreign:
+    """7 out of the west Give Way line on `mine`; c3 up the main road from the south on `c3`, turning
+    left into the west arm, in its own entity.state and the camera's measurements (4 Hz); the camera
+    states 7's sign and that c3 approaches on the main road."""
+    run = _give_way_only()
+    run.spawn("7")
+    run.spawn("c3")
+    times = rate(4, START, START + seconds)
+    run.drive("7", mine, "west", times, t_start=START)
+    for at in times:
+        x, y, heading, v = _turning_left_from_the_south(c3, at - START)
+        run.emit("vehicle/c3", ns(at), "entity.state",
+                 {"x": round(x, 3), "y": round(y, 3), "heading_deg": heading, "speed_mps": round(v, 3)})
+        run.emit("monitor/m1", ns(at), "monitor.observation",
+                 {"vehicle": "c3", "facts": [], "speed_mps": round(v, 3), "x": round(x, 3), "y": round(y, 3)})
+    run.watch("7", mine, "west", times, t_start=START,
+              facts=camera("7", sign="give way", also=("c3 is approaching 7", "c3 is on the main road")))
+    return run
+
+
 def test_a_main_road_car_slowing_to_turn_into_the_arm_the_vehicle_leaves_was_not_forced(tmp_path):
     """7 pulls out of the west Give Way line at 6 m/s and goes straight on (7's lane: y = +1.75).
     c3, on the main road from the south, slows at 4 m/s² from 13.4 to 6 m/s as 7 crosses, and
@@ -1108,20 +1128,7 @@ def test_a_main_road_car_slowing_to_turn_into_the_arm_the_vehicle_leaves_was_not
     violation, and no "would force" (the one-hour run's 1336 and 2850 at j4). Sampled at 4 Hz."""
     mine = Motion(-40.0, 6.0)                                     # crosses its line at 4.67 s
     c3 = Motion(-21.85 - 13.4 * 3.5, 13.4, [(3.5, 0.0), (1.85, -4.0), (3.0, 0.0), (5.0, 2.0)])
-    run = _give_way_only()
-    run.spawn("7")
-    run.spawn("c3")
-    times = rate(4, START, START + 16.0)
-    run.drive("7", mine, "west", times, t_start=START)
-    for at in times:
-        x, y, heading, v = _turning_left_from_the_south(c3, at - START)
-        run.emit("vehicle/c3", ns(at), "entity.state",
-                 {"x": round(x, 3), "y": round(y, 3), "heading_deg": heading, "speed_mps": round(v, 3)})
-        run.emit("monitor/m1", ns(at), "monitor.observation",
-                 {"vehicle": "c3", "facts": [], "speed_mps": round(v, 3), "x": round(x, 3), "y": round(y, 3)})
-    run.watch("7", mine, "west", rate(4, START, START + 16.0), t_start=START,
-              facts=camera("7", sign="give way", also=("c3 is approaching 7", "c3 is on the main road")))
-    found = judge(tmp_path, run)
+    found = judge(tmp_path, pull_out_before_a_left_turn(mine, c3, 16.0))
     assert of(found, "7"), "the camera's c3 approaching on the main road raises the act to judge"
     no_violation(found, "7")
     assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
@@ -1138,20 +1145,7 @@ def test_a_main_road_car_whose_turn_outlasts_the_reaction_window_is_read_to_the_
     into a left turn 1.75 s after 246 had left). 7 gave way: no violation, no "would force". 4 Hz."""
     mine = Motion(-40.0, 6.0)                                     # crosses its line at 4.67 s, out at 8.67 s
     c3 = Motion(-21.85 - 13.4 * 8.0, 13.4, [(8.0, 0.0), (1.85, -4.0), (3.0, 0.0), (5.0, 2.0)])
-    run = _give_way_only()
-    run.spawn("7")
-    run.spawn("c3")
-    times = rate(4, START, START + 24.0)
-    run.drive("7", mine, "west", times, t_start=START)
-    for at in times:
-        x, y, heading, v = _turning_left_from_the_south(c3, at - START)
-        run.emit("vehicle/c3", ns(at), "entity.state",
-                 {"x": round(x, 3), "y": round(y, 3), "heading_deg": heading, "speed_mps": round(v, 3)})
-        run.emit("monitor/m1", ns(at), "monitor.observation",
-                 {"vehicle": "c3", "facts": [], "speed_mps": round(v, 3), "x": round(x, 3), "y": round(y, 3)})
-    run.watch("7", mine, "west", rate(4, START, START + 24.0), t_start=START,
-              facts=camera("7", sign="give way", also=("c3 is approaching 7", "c3 is on the main road")))
-    found = judge(tmp_path, run)
+    found = judge(tmp_path, pull_out_before_a_left_turn(mine, c3, 24.0))
     assert of(found, "7"), "the camera's c3 approaching on the main road raises the act to judge"
     no_violation(found, "7")
     assert not any("would force c3" in f.sentence for i in of(found, "7") for f in i.derived)
