@@ -2,7 +2,6 @@
 bench/performance_md.py writes from bench/results.json, and every benchmark records through bench/results.py."""
 from __future__ import annotations
 
-import importlib.util
 import json
 import re
 import subprocess
@@ -12,18 +11,15 @@ from types import ModuleType
 
 import pytest
 
+from tests.helpers.script_module import load_script
+
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "bench"
 HELPERS = {"machine.py", "results.py", "performance_md.py", "sim_runs.py"}
 
 
 def _module(name: str) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(f"bench_{name}", BENCH / f"{name}.py")
-    assert spec and spec.loader
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up while the class is built
-    spec.loader.exec_module(module)
-    return module
+    return load_script(BENCH / f"{name}.py", f"bench_{name}")
 
 
 results = _module("results")

@@ -3,23 +3,19 @@ verifies, and every event sent is stored (much of it recovered from the producer
 as a gap; none is lost silently. Two trials of bench/kill9.py's own trial (the bench runs 20)."""
 from __future__ import annotations
 
-import importlib.util
 import random
-import sys
 from pathlib import Path
 
 import pytest
+
+from tests.helpers.script_module import load_script
 
 BENCH = Path(__file__).parents[2] / "bench" / "kill9.py"
 
 
 @pytest.fixture(scope="module")
 def kill9():
-    spec = importlib.util.spec_from_file_location("bench_kill9", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module     # its dataclass looks itself up there
-    spec.loader.exec_module(module)
-    return module
+    return load_script(BENCH, "bench_kill9")
 
 
 @pytest.mark.parametrize("seed", [3, 4])

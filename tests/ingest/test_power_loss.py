@@ -4,7 +4,6 @@ holds what was committed, and the batch that never committed, with everything se
 back from the producer's cache; nothing sent is unaccounted (issue 15, fault injection)."""
 from __future__ import annotations
 
-import importlib.util
 import json
 import signal
 import sys
@@ -15,6 +14,7 @@ import pytest
 
 from store import Store
 from tests.helpers.ingest_testkit import RUN, free_endpoint
+from tests.helpers.script_module import load_script
 from tests.helpers.serve_testkit import ServeProcess, child_env
 
 BENCH = Path(__file__).parents[2] / "bench" / "kill9.py"
@@ -24,11 +24,7 @@ SOURCES = 5
 
 @pytest.fixture(scope="module")
 def kill9():
-    spec = importlib.util.spec_from_file_location("bench_kill9_power", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module     # its dataclass looks itself up there
-    spec.loader.exec_module(module)
-    return module
+    return load_script(BENCH, "bench_kill9_power")
 
 
 def wait_for(marker: Path, child: ServeProcess, timeout: float = 30.0) -> dict:
