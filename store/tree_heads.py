@@ -25,6 +25,7 @@ from typing import Any
 from .canonical import canonical_json
 from .keyfiles import KeysError, pem_of, seed_of
 from .signatures import key_id
+from .text_file import read_named
 
 STATEMENT = "gaps.tree_head.v1"
 PUBLIC_SUFFIX = ".pub"
@@ -116,12 +117,7 @@ class CheckpointKey:
     @classmethod
     def load(cls, path: str | os.PathLike) -> CheckpointKey:
         """Read a checkpoint key; a KeysError names the file and what is wrong with it."""
-        try:
-            text = Path(path).read_text("ascii")
-        except FileNotFoundError:
-            raise KeysError(f"no checkpoint key at {path} (gaps keys checkpoint {path} makes one)") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise KeysError(f"cannot read the checkpoint key {path}: {getattr(exc, 'strerror', None) or exc}") from None
+        text = read_named(path, "checkpoint key", KeysError, "ascii", f" (gaps keys checkpoint {path} makes one)")
         return cls(seed_of(text, str(path)))
 
     @classmethod
@@ -159,12 +155,7 @@ def public_path_of(path: str | os.PathLike) -> Path:
 
 def load_public(path: str | os.PathLike) -> bytes:
     """A checkpoint public key file (`<key>.pub`: standard base64 of 32 bytes); KeysError if not."""
-    try:
-        text = Path(path).read_text("ascii").strip()
-    except FileNotFoundError:
-        raise KeysError(f"no public key file at {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise KeysError(f"cannot read the public key file {path}: {getattr(exc, 'strerror', None) or exc}") from None
+    text = read_named(path, "public key file", KeysError, "ascii").strip()
     try:
         public = base64.b64decode(text, validate=True)
     except binascii.Error:

@@ -16,6 +16,7 @@ from typing import Iterable
 
 from .errors import GapsError
 from .keyfiles import KeysError
+from .text_file import read_named
 from .tree_heads import TreeHead
 
 
@@ -51,12 +52,7 @@ class WitnessFile:
 
 def read_heads(path: str | os.PathLike) -> list[TreeHead]:
     """Every tree head of a witness file, in order; a WitnessError names the line that is wrong."""
-    try:
-        lines = Path(path).read_text("utf-8").splitlines()
-    except FileNotFoundError:
-        raise WitnessError(f"no witness file at {path}") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise WitnessError(f"cannot read the witness file {path}: {getattr(exc, 'strerror', None) or exc}") from None
+    lines = read_named(path, "witness file", WitnessError).splitlines()
     heads = []
     for number, line in enumerate(lines, 1):
         if not line.strip():
