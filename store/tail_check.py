@@ -8,8 +8,8 @@ its events, so in a file only ever written by appends the latest checkpoint of a
 whole chain, and names the hash of its last event. Events past it, a head that is not the last
 event's hash, fewer events than it covers, or (with a key) checkpoints after the last one that
 key signed, were not written by an append: the append refuses (TamperedTail, exit 1) and writes
-nothing. The anchor checkpoint's signature is checked, its Merkle frontier must give its root,
-and the events after it are re-hashed from their text into that frontier before it is trusted.
+nothing. The latest checkpoint's signature is checked, and its Merkle frontier must give its root;
+with the count and head checked against it, no event lies past it to re-hash.
 
 This costs a few queries and one signature check per run, once per connection (the chain is
 then kept in memory, store/heads.py), not per append.
@@ -21,7 +21,7 @@ import sqlite3
 from typing import Any
 
 from . import merkle
-from .chain import RunChain, link
+from .chain import RunChain
 from .errors import EvidenceError
 from .tree_heads import CheckpointKey, TreeHead
 
@@ -44,13 +44,11 @@ def anchored_chain(conn: sqlite3.Connection, run: str, key: CheckpointKey | None
     _check_latest(run, count, None if last is None else last[1], latest)
     if last is None:
         return RunChain()
-    anchor = _anchor(conn, run, key, latest)
-    frontier = _frontier(run, anchor)
+    _check_signed(conn, run, key, latest)
+    frontier = _frontier(run, latest)
     if frontier is None:  # a v1 checkpoint (no frontier): the run's hashes, as before v2
         rows = conn.execute("SELECT hash FROM events WHERE run = ? ORDER BY chain_pos", (run,))
         frontier = merkle.frontier_of(_digest(run, stored) for (stored,) in rows)
-    else:
-        _rehash_tail(conn, run, anchor, frontier)
     return RunChain(count, _digest(run, last[1]), frontier, latest[0])
 
 
@@ -66,22 +64,20 @@ def _check_latest(run: str, count: int, last_hash: Any, latest: tuple | None) ->
                      f"(event {count - 1}): the tail was rewritten")
 
 
-def _anchor(conn: sqlite3.Connection, run: str, key: CheckpointKey | None, latest: tuple) -> tuple:
-    """The checkpoint the tail is checked from: the latest. With a key that has begun signing
-    (any run's checkpoint before this one signed by it), it must be signed by that key, and its
-    signature must hold over what it records."""
+def _check_signed(conn: sqlite3.Connection, run: str, key: CheckpointKey | None, latest: tuple) -> None:
+    """With a key that has begun signing (any run's checkpoint before the latest signed by it), the
+    latest must be signed by that key, and its signature must hold over what it records."""
     if key is None:
-        return latest
+        return
     (first,) = conn.execute("SELECT min(id) FROM checkpoints WHERE key_id = ?", (key.id,)).fetchone()
     if first is None or latest[8] < first:
-        return latest  # the key has signed nothing before: signing starts here
+        return  # the key has signed nothing before: signing starts here
     if latest[7] != key.id:
         _refuse(run, f"has a latest checkpoint (of {latest[0]} events) written after key {key.id} began signing "
                      f"that this key did not sign: it was added behind the ingest's back")
     problem = _head_of(run, latest).signature_problem(key.public)
     if problem is not None:
         _refuse(run, f"its latest checkpoint (of {latest[0]} events) does not verify: {problem}")
-    return latest
 
 
 def _head_of(run: str, row: tuple) -> TreeHead:
@@ -98,19 +94,6 @@ def _frontier(run: str, anchor: tuple) -> list[bytes] | None:
     if frontier is None or merkle.root_of_frontier(frontier).hex() != root:
         _refuse(run, f"its checkpoint of {count} events records a Merkle frontier that does not give its root")
     return frontier
-
-
-def _rehash_tail(conn: sqlite3.Connection, run: str, anchor: tuple, frontier: list[bytes]) -> None:
-    """Re-hash the events after the anchor from their text, into its frontier (none, in a file
-    written by appends alone: _check_latest has made sure of it)."""
-    count, head = anchor[0], _digest(run, anchor[1])
-    rows = conn.execute("SELECT chain_pos, event, hash FROM events WHERE run = ? AND chain_pos >= ? ORDER BY chain_pos",
-                        (run, count))
-    for pos, text, stored in rows:
-        head = link(head, str(text).encode("utf-8", "surrogatepass"))
-        if head.hex() != stored:
-            _refuse(run, f"event {pos} does not re-hash to its stored hash from the checkpoint of {count} events")
-        merkle.push(frontier, pos, head)
 
 
 def _refuse(run: str, what: str) -> None:
