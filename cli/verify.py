@@ -220,3 +220,5 @@ def _print_tampering(tampering) -> None:
         typer.echo(f"  run {text_or_null(run)}: {'; '.join(what)}")
     if tampering.verifications:
         typer.echo(f"  {len(tampering.verifications)} recorded verification result(s)")
+    for run, what in tampering.derived.items():
+        typer.echo(f"  run {text_or_null(run)}: {len(what)} derived measurement(s), the first: {what[0]}")

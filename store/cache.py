@@ -28,7 +28,7 @@ from typing import Any, Iterator
 from .cache_seal import Sealer, load_or_create_key, memory_key
 from .opening import read_only_place
 
-CACHE_VERSION = 4  # raise when a table below changes: a file of another version is emptied
+CACHE_VERSION = 5  # raise when a table below changes: a file of another version is emptied
 SUFFIX = ".cache"
 MEMORY = ":memory:"
 _TIMEOUT_S = 2.0  # a cache write waits this long for another process's, then goes without
@@ -83,9 +83,21 @@ _DDL = (
         mac BLOB NOT NULL,
         PRIMARY KEY (run, chain_len, head)
     )""",
+    # store/derived_cache.py: what a reader derived from one run's chain (measurements, states)
+    """CREATE TABLE IF NOT EXISTS derived (
+        run TEXT NOT NULL,
+        kind TEXT NOT NULL,
+        version TEXT NOT NULL,
+        chain_len INTEGER NOT NULL,
+        head TEXT NOT NULL,
+        key TEXT NOT NULL,
+        payload TEXT NOT NULL,
+        mac BLOB NOT NULL,
+        PRIMARY KEY (run, kind, version, key)
+    ) WITHOUT ROWID""",
     "CREATE TABLE IF NOT EXISTS cache_key (id BLOB NOT NULL)",  # which key sealed this file
 )
-_TABLES = ("state_snapshots", "state_watermarks", "presence", "presence_marks", "verifications", "cache_key")
+_TABLES = ("state_snapshots", "state_watermarks", "presence", "presence_marks", "verifications", "derived", "cache_key")
 SEALED_TABLES = _TABLES[:-1]
 
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from . import verify_cache
+from .derived_cache import tampered_derived
 from .db import Store
 from .presence import tampered_presence
 from .snapshots import tampered_snapshots
@@ -22,18 +23,20 @@ class CacheTampering:
     snapshots: dict[str, list[list]] = field(default_factory=dict)
     presence: dict[str, list[str]] = field(default_factory=dict)
     verifications: list[list] = field(default_factory=list)
+    derived: dict[str, list[str]] = field(default_factory=dict)
     dropped_by_reads: dict[str, int] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
-        return not (self.snapshots or self.presence or self.verifications or self.dropped_by_reads)
+        return not (self.snapshots or self.presence or self.verifications or self.derived or self.dropped_by_reads)
 
     def count(self) -> int:
-        return sum(map(len, self.snapshots.values())) + sum(map(len, self.presence.values())) + len(self.verifications)
+        return sum(map(len, self.snapshots.values())) + sum(map(len, self.presence.values())) + len(self.verifications) \
+            + sum(map(len, self.derived.values()))
 
     def to_json(self) -> dict[str, Any]:
         return {"ok": self.ok, "snapshots": self.snapshots, "presence": self.presence,
-                "verifications": self.verifications, "dropped_by_reads": self.dropped_by_reads}
+                "verifications": self.verifications, "derived": self.derived, "dropped_by_reads": self.dropped_by_reads}
 
 
 def cache_tampering(store: Store, runs: list[str]) -> CacheTampering:
@@ -44,4 +47,5 @@ def cache_tampering(store: Store, runs: list[str]) -> CacheTampering:
     snaps = {run: [list(p) for p in found] for run in runs if (found := tampered_snapshots(store, run))}
     boxes = {run: found for run in runs if (found := tampered_presence(store, run))}
     verifications = [list(key) for key in verify_cache.unsealed(store.cache)]
-    return CacheTampering(snaps, boxes, verifications, store.cache.sealer.tampered())
+    derived = {run: found for run in runs if (found := tampered_derived(store, run))}
+    return CacheTampering(snaps, boxes, verifications, derived, store.cache.sealer.tampered())

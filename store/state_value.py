@@ -51,6 +51,11 @@ class State:
         return cls(run, t, folded["events"], folded["last"], folded["start"], folded["end"],
                    folded["entities"], folded["signals"], folded["monitors"], folded["collisions"])
 
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> State:
+        """The state `to_json` gave."""
+        return cls.of(data["run"], data["t"], data)
+
     def to_json(self) -> dict[str, Any]:
         """{"run", "t", then the fold's keys}: the state as plain JSON data."""
         return {"run": self.run, "t": self.t, "events": self.events, "last": self.last,

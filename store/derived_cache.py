@@ -1,0 +1,93 @@
+"""Results a reader derived from one run's chain, kept in the cache file under that chain.
+
+The reasoner measures every case of a run (where the vehicle was, what its passage shows, what
+the state held at the act) before the rulebooks judge it; none of that depends on a rulebook,
+and the measuring is most of the work (issue 12). Kept here, a second investigation of the
+same chain re-runs the law on every case without measuring again.
+
+An entry is named by the run, a kind (what the reader keeps: "measurement", "state", ...), a
+version (the reader's digest of the code that derived it: another version is never used), the
+chain it was derived from (count of events, stored hash of the last one) and a key; its payload
+is text (JSON) the reader encodes and decodes. Entries of a run are only handed back while the
+run's chain is exactly the one they were derived from, and only with their seal
+(store/cache_seal.py): a forged or altered entry is dropped, counted and recomputed, never
+believed, and `gaps verify` names it. Deleting the table changes no result.
+"""
+from __future__ import annotations
+
+import sqlite3
+from typing import Mapping
+
+from .db import Store
+from .verify_cache import ChainKey
+
+TABLE = "derived"
+MAX_PAYLOAD = 4 << 20           # an entry larger than this is not kept (recomputed instead)
+
+
+def current_chain(store: Store, run: str) -> ChainKey:
+    """The run's chain as stored now: its length by its last chain position, and the stored hash
+    there (two index probes; counting a long run's rows takes seconds). An append changes both;
+    a row taken out of the middle is no append and is for `gaps verify` to find, as the chain
+    then no longer holds."""
+    with store._reading():
+        conn = store.connection
+        last = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()[0]
+        if last is None:
+            return (0, "")
+        row = conn.execute("SELECT hash FROM events WHERE run = ? AND chain_pos = ?", (run, last)).fetchone()
+        return (int(last) + 1, "" if row is None else str(row[0]))
+
+
+def load(store: Store, run: str, kind: str, version: str, chain: ChainKey) -> dict[str, str]:
+    """The run's entries of this kind and version derived from exactly this chain, by key; each
+    one whose seal does not open is left out (and counted by the cache's sealer)."""
+    if not store.cache.exists():
+        return {}
+    rows = store.cache.connection.execute(
+        "SELECT key, payload, mac FROM derived WHERE run = ? AND kind = ? AND version = ? AND chain_len = ? "
+        "AND head = ?", (run, kind, version, *chain)).fetchall()
+    sealer = store.cache.sealer
+    return {key: payload for key, payload, mac in rows
+            if sealer.opens(TABLE, _names(run, kind, version, chain, key), payload, mac)}
+
+
+def save(store: Store, run: str, kind: str, version: str, chain: ChainKey, entries: Mapping[str, str]) -> bool:
+    """Keep these entries for the chain they were derived from, replacing the run's entries of
+    this kind derived from any other chain or version, provided the run's chain is still that
+    one (else the reads may have seen part of an append: nothing is kept). False when nothing
+    was written (a changed chain, a locked or read-only cache: it is an optimisation)."""
+    if current_chain(store, run) != chain:
+        return False
+    sealer, cache = store.cache.sealer, store.cache.connection
+    rows = [(run, kind, version, *chain, key, payload, sealer.seal(TABLE, _names(run, kind, version, chain, key), payload))
+            for key, payload in entries.items() if len(payload) <= MAX_PAYLOAD]
+    try:
+        cache.execute("BEGIN IMMEDIATE")
+    except sqlite3.OperationalError:
+        return False
+    try:
+        cache.execute("DELETE FROM derived WHERE run = ? AND kind = ? AND (version <> ? OR chain_len <> ? OR head <> ?)",
+                      (run, kind, version, *chain))
+        cache.executemany("INSERT OR REPLACE INTO derived (run, kind, version, chain_len, head, key, payload, mac) "
+                          "VALUES (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        cache.execute("COMMIT")
+        return True
+    except sqlite3.Error:
+        cache.execute("ROLLBACK")
+        return False
+
+
+def tampered_derived(store: Store, run: str) -> list[str]:
+    """"kind key" of each of the run's entries whose seal does not open (for `gaps verify`)."""
+    if not store.cache.exists():
+        return []
+    rows = store.cache.connection.execute(
+        "SELECT kind, version, chain_len, head, key, payload, mac FROM derived WHERE run = ?", (run,)).fetchall()
+    sealer = store.cache.sealer
+    return [f"{kind} {key}" for kind, version, n, head, key, payload, mac in rows
+            if not sealer.opens(TABLE, _names(run, kind, version, (n, head), key), payload, mac, count=False)]
+
+
+def _names(run: str, kind: str, version: str, chain: ChainKey, key: str) -> tuple:
+    return (run, kind, version, chain[0], chain[1], key)
