@@ -9,8 +9,15 @@ its ground truth beside it, and kept as a pristine log: the cold measurement run
 of it, so that "cold" always includes whatever the reasoner builds on first use (state snapshots,
 indexes).
 
-    cold   Investigation(store).incidents(run) on the fresh copy, the first call in this process
-    warm   the same on the copy again, each repeat with a fresh Store and Investigation (median)
+    cold       Investigation(store).incidents(run) on the fresh copy, the first call in this process:
+               every case found and measured (histories, derived facts, states), then judged
+    warm       the same on the copy again, each repeat with a fresh Store and Investigation (median):
+               the cases and their measurements read from the sealed cache the cold call kept
+               (reasoner/case_memo.py), every case judged again by the rulebooks
+    remeasured one more call with kept=False: every case measured again as in the cold call (the
+               presence index and other caches warm), the cost of the histories without their cache
+
+Every call's incidents must be the cold call's, by a digest of their JSON (the bench says so).
 
 Then the incidents are compared with the simulation's ground truth through the tests' own table
 (tests/helpers/sim_truth_table.py): each act the simulation made happen gets the verdict the law
@@ -20,6 +27,7 @@ The copy (with whatever the reasoner wrote into it) is kept for bench/scene.py.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import statistics
@@ -38,14 +46,19 @@ from store import Store
 TARGET = 500.0  # x real time
 
 
-def incidents_once(path: Path) -> tuple[list[Any], float, float]:
+def incidents_once(path: Path, kept: bool = True) -> tuple[list[Any], float, float]:
     """The incidents, and the wall and CPU seconds of one Investigation(store).incidents(run), fresh objects."""
     from reasoner.investigation import Investigation
 
     with Store(path, durable=False) as store:
         started, cpu = time.perf_counter(), time.process_time()
-        found = Investigation(store).incidents(RUN)
+        found = Investigation(store, kept=kept).incidents(RUN)
         return found, time.perf_counter() - started, time.process_time() - cpu
+
+
+def digest(found: list[Any]) -> str:
+    text = json.dumps([inc.to_json() for inc in found], sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
 def compare(found: list[Any], ground: dict[str, Any]) -> dict[str, Any]:
@@ -78,6 +91,7 @@ def main() -> None:
                         help="warm runs (0: the cold one only, which then gives the speed)")
     parser.add_argument("--no-cold", action="store_true", help="reuse the working copy (no cold figure)")
     parser.add_argument("--build-only", action="store_true", help="generate the store file and stop")
+    parser.add_argument("--no-remeasured", action="store_true", help="skip the call that measures every case again")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     if args.no_cold and args.repeats < 1:
@@ -95,9 +109,10 @@ def main() -> None:
     cold = None
     if not args.no_cold:
         found, wall, cpu = incidents_once(path)
-        cold = {"wall_s": wall, "cpu_s": cpu}
+        cold = {"wall_s": wall, "cpu_s": cpu, "digest": digest(found)}
         print(f"cold: {wall:.2f} s wall, {cpu:.2f} s CPU ({duration / wall:,.0f}x real time)", flush=True)
     warm_wall, warm_cpu, speeds = [], [], []
+    digests = {cold["digest"]} if cold else set()
     for i in range(args.repeats):
         load.append(os.getloadavg()[0])
         speed = calibration_elsewhere()
@@ -105,8 +120,16 @@ def main() -> None:
         warm_wall.append(wall)
         warm_cpu.append(cpu)
         speeds.append(speed)
+        digests.add(digest(found))
         print(f"warm {i + 1}: {wall:.2f} s wall, {cpu:.2f} s CPU (calibration before: {speed:.2f} ms, "
-              f"{QUIET_MS})", flush=True)
+              f"{QUIET_MS}), incidents {digest(found)}", flush=True)
+    remeasured = None
+    if not args.no_remeasured:
+        again, wall, cpu = incidents_once(path, kept=False)
+        remeasured = {"wall_s": wall, "cpu_s": cpu, "x_real_time": duration / wall}
+        digests.add(digest(again))
+        print(f"remeasured: {wall:.2f} s wall, {cpu:.2f} s CPU ({duration / wall:,.0f}x real time), "
+              f"incidents {digest(again)}", flush=True)
     load.append(os.getloadavg()[0])
     median = statistics.median(warm_wall) if warm_wall else None
     verdicts = Counter(inc.verdict for inc in found)
@@ -117,6 +140,7 @@ def main() -> None:
         "cold": cold and {**cold, "x_real_time": duration / cold["wall_s"]},
         "warm": median and {"wall_s": warm_wall, "cpu_s": warm_cpu, "median_wall_s": median,
                             "x_real_time": duration / median, "x_real_time_cpu": duration / statistics.median(warm_cpu)},
+        "remeasured": remeasured, "same_incidents_every_call": len(digests) == 1,
         "target_x_real_time": TARGET, "incidents": len(found), "by_verdict": dict(verdicts),
         "findings": dict(kinds), "truth": compare(found, ground), "recording": made,
     }
@@ -135,6 +159,10 @@ def main() -> None:
           f"{f' of {args.repeats} (CPU median {statistics.median(warm_cpu):.2f} s)' if median else ''} "
           f"= {duration / wall:,.0f}x real time; target {TARGET:.0f}x (<= {duration / TARGET:.1f} s): "
           f"{'met' if duration / wall >= TARGET else 'NOT met'}")
+    if remeasured:
+        print(f"remeasured (every case measured again, kept=False): {remeasured['wall_s']:.2f} s = "
+              f"{remeasured['x_real_time']:,.0f}x real time")
+    print(f"the same incidents from every call: {'yes' if len(digests) == 1 else 'NO: ' + ', '.join(sorted(digests))}")
     print_truth(result["truth"])
 
 
@@ -164,6 +192,10 @@ def record_result(result: dict[str, Any], repeats: int) -> None:
     if cold:
         figures.append(Figure("the same, cold (first call on a fresh copy of the file)", cold["wall_s"], "s",
                               note=f"{cold['x_real_time']:,.0f}× real time; CPU {cold['cpu_s']:.2f} s"))
+    if result["remeasured"]:
+        again = result["remeasured"]
+        figures.append(Figure("the same, measuring every case again (kept=False; other caches warm)", again["wall_s"],
+                              "s", note=f"{again['x_real_time']:,.0f}× real time; CPU {again['cpu_s']:.2f} s"))
     if not warm:
         figures.append(Figure("the cold call as a speed (no warm runs)", cold["x_real_time"], "× real time",
                               target=f"≥ {TARGET:.0f}× real time"))
@@ -172,7 +204,8 @@ def record_result(result: dict[str, Any], repeats: int) -> None:
            machine_extra=f"load average during the bench {', '.join(map(str, result['load_average']))}",
            notes=f"{describe()} ({made['vehicles_on_network']:.0f} on the network on average), recorded into the "
                  f"store in {made['wall_s']:,.0f} s: {result['events']:,} events, {result['incidents']} incidents; "
-                 f"median of {repeats} warm runs; ground truth: "
+                 f"median of {repeats} warm runs; the same incidents from every call: "
+                 f"{'yes' if result['same_incidents_every_call'] else 'NO'}; ground truth: "
                  f"{t['acts']:,} acts, {t['expected_incidents']} of them incidents by the tests' table, "
                  f"{t['expected_and_found']} found with its verdict and rule, {t['expected_unseen']} unseen by any "
                  f"monitor; {t['disagreements']} disagreements ({t['known']} known)",

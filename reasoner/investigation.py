@@ -34,17 +34,18 @@ from store import CollectorPaused, EventRef, State, Store, entity_since, state_o
 from . import acts, history
 from .chain_status import ChainStatus, chain_status
 from .control import ROLE, control_at, liability_facts, role
-from .derived import Contradiction, DerivedFact, beside, checked
+from .case_memo import CaseMemo, key_of
+from .derived import Contradiction, checked
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
 from .episodes import Episode, Rederiver, episodes, match
 from .facts import FactReader
 from .findings import Gaps, decision_fault, missing_evidence
-from .margins import margin as measured_margin
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
-from .model import (Control, Decision, Finding, Incident, Liability, Margin, Penalty, Proofs, RulebookChoice,
+from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
                     Scenarios, StageProof)
+from .measurement import Measurement, measure
 from .passage import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
 from .sweep import Candidate, Sweep
@@ -91,17 +92,6 @@ class _Case:
 
 
 @dataclass(frozen=True)
-class _Measured:
-    """What the vehicle's passage shows at the act: the derived facts added to the Monitor
-    Scenario (those that contradict a stated fact are held back and are findings)."""
-
-    passage: Passage | None = None
-    at: int | None = None
-    derived: tuple[DerivedFact, ...] = ()
-    contradictions: tuple[Contradiction, ...] = ()
-
-
-@dataclass(frozen=True)
 class _Validation:
     """What the validator stage found: the verdict, why, and what it rests on."""
 
@@ -117,8 +107,12 @@ class _Validation:
 class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
-    def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None) -> None:
+    def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
+                 kept: bool = True) -> None:
+        """`kept`: judge from what earlier investigations of the same chain measured, and keep what
+        this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing."""
         self.store = store
+        self.kept = kept
         self.engine = engine or get_engine()
         self.reader = FactReader()
         self._given = given_rulebooks(self.engine, rules or [])
@@ -129,6 +123,7 @@ class Investigation:
         self._contexts: dict[str, history.RunContext] = {}
         self._names: dict[str, dict[Any, list[str]]] = {}
         self._entity_since: dict[tuple[str, str], float] = {}
+        self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
 
     # -- public ---------------------------------------------------------------------------
@@ -137,6 +132,39 @@ class Investigation:
         is called as the incidents are judged (after the pass over the observations)."""
         recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
         rs = self.ruleset(run, recorded)
+        todo = self._todo(run, rs, recorded)
+        gaps = Gaps(self.store, run)
+        found = []
+        for t, src, pv, ep in todo:
+            body = pv["body"] if pv else {}
+            vehicle = str(body.get("vehicle")) if pv else ep.vehicle
+            state = self._state(run, t, vehicle, src)
+            case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
+            incident = self._judge(case, gaps)
+            if incident is not None:
+                found.append(incident)
+            if progress is not None:
+                progress(len(found), len(todo))
+        self.memo(run).save()
+        return found
+
+    def _todo(self, run: str, rs: RuleSet, recorded: list[dict]) -> list[tuple]:
+        """The cases to judge, in time order: the recorded potential violations, the episodes the
+        monitor rulebook re-derives from the observations, the acts the sweep of the measurements
+        finds. Kept under the monitor rulebook for the next investigation of the same chain."""
+        monitor = rs["monitor"]
+        memo, key = self.memo(run), key_of("cases", monitor.rulebook.sha256 if monitor else None)
+        kept = memo.get("cases", key, plain=True)
+        if kept is not None:
+            by_ref = {(pv["src"], pv["seq"]): pv for pv in recorded}
+            todo = [_case_unkept(item, by_ref) for item in kept]
+            if all(item is not None for item in todo):
+                return todo
+        todo = self._find_todo(run, rs, recorded)
+        memo.put("cases", key, [_case_kept(item) for item in todo], plain=True)
+        return todo
+
+    def _find_todo(self, run: str, rs: RuleSet, recorded: list[dict]) -> list[tuple]:
         monitor = rs["monitor"]
         eps: list[Episode] = []
         swept: list[Candidate] = []
@@ -153,19 +181,24 @@ class Investigation:
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo += self._unrecorded(run, swept, todo)
         todo.sort(key=lambda item: (item[0], _anchor_key(item[2], item[3])))
-        gaps = Gaps(self.store, run)
-        found = []
-        for t, src, pv, ep in todo:
-            body = pv["body"] if pv else {}
-            vehicle = str(body.get("vehicle")) if pv else ep.vehicle
-            state = state_of(self.store, run, t, entities=[f"vehicle/{vehicle}"], observed=[(src, vehicle)])
-            case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
-            incident = self._judge(case, gaps)
-            if incident is not None:
-                found.append(incident)
-            if progress is not None:
-                progress(len(found), len(todo))
-        return found
+        return todo
+
+    def _state(self, run: str, t: int, vehicle: str, src: str) -> State:
+        """The vehicle's record and what the monitor last observed of it at t (kept, like the
+        measurements, for the next investigation of the same chain)."""
+        memo, key = self.memo(run), key_of(t, vehicle, src)
+        kept = memo.get("state", key, plain=True)
+        if kept is not None:
+            return State.from_json(kept)
+        state = state_of(self.store, run, t, entities=[f"vehicle/{vehicle}"], observed=[(src, vehicle)])
+        memo.put("state", key, state.to_json(), plain=True)
+        return state
+
+    def memo(self, run: str) -> CaseMemo:
+        """What earlier investigations of the run's chain measured, and what this one adds."""
+        if run not in self._memos:
+            self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)
+        return self._memos[run]
 
     def context(self, run: str) -> history.RunContext:
         """What every history of the run shares (its map, its signals), read once."""
@@ -235,14 +268,14 @@ class Investigation:
         suggested but the whole record (the measurements at the act) does not show."""
         unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
-        measured = self._measured(case, mscen)
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        measured = self._measured(case, mscen, vscen)
         for f in measured.derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown)
         rederived = pv_answer is not None and pv_answer.holds
         if not case.pv and not rederived:
             return None
-        vscen = vehicle_scenario(case.state, case.vehicle)
         judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
         if case.pv and not rederived:
             validation = _Validation("dismissed", _unsupported(mscen, bool(measured.derived)))
@@ -256,7 +289,7 @@ class Investigation:
         penalty, liability = self._sanctions(case, validation, control, vscen)
         findings = (_disagreement(case, mscen, rederived, bool(measured.derived)), *_present(validation.dispute), *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
-                    *(c.to_finding() for c in _beliefs_contradicted(measured, validation, mscen)),
+                    *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -272,20 +305,44 @@ class Investigation:
             rulebook=validation.rulebook, rulebooks=_choices(case.rs),
             scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
             proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen), validation.proof),
-            margin=_margin(measured, case.action, rule.label if rule else None), derived=measured.derived,
-            moments=acts.moments(measured.passage) if measured.passage is not None else (),
+            margin=measured.margin(rule.label if rule else None) if measured.present else None,
+            derived=measured.derived, moments=measured.moments,
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
 
-    def _measured(self, case: _Case, mscen: Scenario) -> _Measured:
-        """The vehicle's passage through the junction of the act, and what it shows at the act
-        beside what the monitor stated (DESIGN "Reasoning": histories)."""
-        found = acts.of(history.passage(self.store, case.run, case.vehicle, case.t, context=self.context(case.run)),
-                        case.t)
-        if found is None:
-            return _Measured()
-        at = acts.moment(found, case.t, case.action)
-        agreed, contradictions = checked(found, at, mscen.facts)
-        return _Measured(found, at, beside(agreed, mscen.sentences), contradictions)
+    def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
+        """What the vehicle's passage through the junction of the act shows at the act beside
+        what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
+        of the same chain (reasoner/case_memo.py), since no rulebook changes it."""
+        key = key_of(case.t, case.vehicle, case.action, mscen.facts, mscen.sentences, vscen.facts)
+        return self.memo(case.run).remember("measurement", key, lambda: self._measure(case, mscen, vscen))
+
+    def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
+        return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
+
+    def _passage(self, case: _Case) -> Passage | None:
+        return history.passage(self.store, case.run, case.vehicle, case.t, context=self.context(case.run))
+
+    def _beliefs_contradicted(self, case: _Case, measured: Measurement, validation: _Validation,
+                              mscen: Scenario) -> tuple[Contradiction, ...]:
+        """What the vehicle itself stated (its perception) and the verdict was taken on, that its
+        passage's measurements contradict: an automated car that judged itself "too close to the
+        stop line to stop safely" 28 m out at 30 mph (rule 126: 23 m) went on at amber on a belief
+        the record does not bear out. The Validator Scenario keeps it (DESIGN "Reasoning": a
+        contradiction is a finding, not an override); this is the finding. A belief the monitor's
+        witness replaced (a misread light) is not in that scenario and has its perception-fault
+        finding already."""
+        if not measured.present:
+            return ()
+        stated = {text for text, _ in mscen.facts}
+        own = [(text, ref) for text, ref in validation.scenario
+               if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
+        if not own:
+            return ()
+        found = measured.contradicted(own)
+        if found is None:           # a belief the measurement did not cover: ask the passage itself
+            passage = acts.of(self._passage(case), case.t)
+            found = checked(passage, measured.at, own)[1] if passage is not None and measured.at is not None else ()
+        return found
 
     def _monitor_scenario(self, case: _Case) -> Scenario:
         if case.episode is not None:
@@ -384,7 +441,11 @@ class Investigation:
         """When the source became an entity of the run's state (inf: never)."""
         key = (run, src)
         if key not in self._entity_since:
-            since = entity_since(self.store, run, src)
+            memo, named = self.memo(run), key_of("since", src)
+            kept = memo.get("since", named, plain=True)
+            since = kept[0] if isinstance(kept, list) else entity_since(self.store, run, src)
+            if kept is None:
+                memo.put("since", named, [since], plain=True)
             self._entity_since[key] = float("inf") if since is None else since
         return self._entity_since[key]
 
@@ -550,23 +611,6 @@ def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario) ->
     return StageProof(rb.sha256, tuple(enrich(tree, rb, scenario.evidence) for tree in trees))
 
 
-def _beliefs_contradicted(measured: _Measured, validation: _Validation, mscen: Scenario
-                          ) -> tuple[Contradiction, ...]:
-    """What the vehicle itself stated (its perception) and the verdict was taken on, that its
-    passage's measurements contradict: an automated car that judged itself "too close to the
-    stop line to stop safely" 28 m out at 30 mph (rule 126: 23 m) went on at amber on a belief
-    the record does not bear out. The Validator Scenario keeps it (DESIGN "Reasoning": a
-    contradiction is a finding, not an override); this is the finding. A belief the monitor's
-    witness replaced (a misread light) is not in that scenario and has its perception-fault
-    finding already."""
-    if measured.passage is None or measured.at is None:
-        return ()
-    stated = {text for text, _ in mscen.facts}
-    own = [(text, ref) for text, ref in validation.scenario
-           if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
-    return checked(measured.passage, measured.at, own)[1] if own else ()
-
-
 def _last_seen(state: State, vehicle: str) -> int | None:
     record = entity(state, vehicle) or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
@@ -580,6 +624,26 @@ def _fed(events: Iterable[dict], sweeper: Sweep) -> Iterable[dict]:
         yield event
 
 
+def _case_kept(item: tuple) -> list:
+    """A case to judge as plain data: the recorded potential violation by its (src, seq), the
+    episode by the two observations a judgement reads of it (its first, and the one at t)."""
+    t, src, pv, ep = item
+    if ep is None:
+        return [t, src, [pv["src"], pv["seq"]], None]
+    first, at = ep.first, ep.observation_at(t)
+    return [t, src, [pv["src"], pv["seq"]] if pv else None,
+            [ep.monitor, ep.vehicle, ep.action, [first] if at is first else [first, at]]]
+
+
+def _case_unkept(item: list, recorded: dict[tuple[str, int], dict]) -> tuple | None:
+    """The case `_case_kept` gave (None: its potential violation is not among those read)."""
+    t, src, ref, ep = item
+    pv = recorded.get((ref[0], ref[1])) if ref else None
+    if ref and pv is None:
+        return None
+    return (t, src, pv, Episode(ep[0], ep[1], ep[2], ep[3]) if ep else None)
+
+
 def _anchor_key(pv: dict | None, episode: Episode | None) -> str:
     anchor = pv if pv else episode.first
     return f"{anchor['src']}:{anchor['seq']:020d}"
@@ -589,18 +653,13 @@ def _num(value: Any) -> float:
     return value if isinstance(value, (int, float)) else 0
 
 
-def _signals(measured: _Measured) -> list[str]:
+def _signals(measured: Measurement) -> list[str]:
     """The signals whose reports the passage read: their lost events are missing evidence too."""
-    p = measured.passage
-    return sorted({light.ref.src for light in p.lights}) if p is not None else []
-
-
-def _margin(measured: _Measured, action: str, rule: str | None) -> Margin | None:
-    return measured_margin(measured.passage, action, rule) if measured.passage is not None else None
+    return list(measured.signals)
 
 
 def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision | None, control: Control,
-              findings: Iterable[Finding], measured: _Measured) -> tuple[EventRef, ...]:
+              findings: Iterable[Finding], measured: Measurement) -> tuple[EventRef, ...]:
     """Every event the incident rests on, once each, the anchor first."""
     refs = [EventRef.of(case.anchor)] + [ev for _, ev in (*mscen.facts, *vscen.facts)]
     refs += [ev for f in measured.derived for ev in f.evidence]

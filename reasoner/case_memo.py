@@ -1,0 +1,159 @@
+"""What an investigation measured of a run's cases, kept for the next one (store/derived_cache.py).
+
+Judging a case is measuring it (the vehicle's passage, what it shows at the act, the state at
+the act) and then asking the rulebooks. The measuring reads and reconstructs from the record and
+is most of the cost; it depends on the events and on this code, never on a rulebook. So what it
+found is kept in the store's cache file, sealed, under the run's chain and a digest of the code
+that measured it; the next investigation of the same chain, under the same or other rulebooks,
+re-runs the law on every case from it. The list of cases is kept as well, under the monitor
+rulebook that found them (re-deriving potential violations from every observation is a rulebook
+question).
+
+Kept values are encoded as JSON through a closed list of this code's own value types
+(`_TYPES`): nothing read back can name a type outside it, and nothing executes.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Callable
+
+from store import EventRef, Store, derived_cache
+
+from .derived import Contradiction
+from .measurement import Measurement
+from .model import DerivedFact, Margin
+
+_ROOT = Path(__file__).resolve().parent.parent
+_CODE = ("reasoner", "store")           # the packages whose code measures
+
+
+class Uncacheable(TypeError):
+    """A value of a type the codec does not keep: the case is measured again next time."""
+
+
+@lru_cache(maxsize=1)
+def code_version() -> str:
+    """A digest of every Python file of the measuring packages: a kept measurement is only used by
+    the very code that made it (any change, even a comment, starts afresh)."""
+    digest = hashlib.sha256()
+    for package in _CODE:
+        for path in sorted((_ROOT / package).rglob("*.py")):
+            digest.update(str(path.relative_to(_ROOT)).encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:32]
+
+
+def key_of(*parts: Any) -> str:
+    """A key for what names an entry (times, ids, the stated facts and their refs)."""
+    text = json.dumps(parts, sort_keys=True, separators=(",", ":"), default=_plain)
+    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+
+
+class CaseMemo:
+    """One run's kept entries, per kind, loaded on first use; new ones are written by `save`."""
+
+    def __init__(self, store: Store, run: str, *, enabled: bool = True) -> None:
+        self.store, self.run, self.enabled = store, run, enabled
+        self.chain = derived_cache.current_chain(store, run) if enabled else (0, "")
+        self._kept: dict[str, dict[str, str]] = {}
+        self._fresh: dict[str, dict[str, str]] = {}
+        self.hits = self.misses = 0
+
+    def get(self, kind: str, key: str, *, plain: bool = False) -> Any:
+        """The kept value, or None (never kept, kept for another chain or code, or its seal failed).
+        `plain`: the value was kept as plain JSON data, not through the codec."""
+        if not self.enabled:
+            self.misses += 1
+            return None
+        if kind not in self._kept:
+            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
+        text = self._kept[kind].get(key)
+        if text is None:
+            self.misses += 1
+            return None
+        try:
+            value = json.loads(text) if plain else decode(json.loads(text))
+        except (ValueError, KeyError, TypeError, IndexError):
+            self.misses += 1
+            return None         # written by this code under this seal, so never expected: measured again
+        self.hits += 1
+        return value
+
+    def put(self, kind: str, key: str, value: Any, *, plain: bool = False) -> None:
+        if not self.enabled:
+            return
+        try:
+            text = json.dumps(value if plain else encode(value), separators=(",", ":"), allow_nan=True)
+            if plain and json.loads(text) != value:
+                return          # not plain after all (a tuple, a key that is not text): not kept
+        except (Uncacheable, TypeError, ValueError):
+            return
+        self._fresh.setdefault(kind, {})[key] = text
+
+    def remember(self, kind: str, key: str, compute: Callable[[], Any]) -> Any:
+        """The kept value, else computed now and kept (at `save`)."""
+        found = self.get(kind, key)
+        if found is None:
+            found = compute()
+            if found is not None:
+                self.put(kind, key, found)
+        return found
+
+    def save(self) -> None:
+        """Write what was measured afresh, if the run's chain is still the one it was read from."""
+        for kind, entries in self._fresh.items():
+            if entries:
+                derived_cache.save(self.store, self.run, kind, code_version(), self.chain, entries)
+        self._fresh.clear()
+
+
+# --- the codec ---------------------------------------------------------------------------------
+
+_TYPES: dict[str, type] = {cls.__name__: cls for cls in (EventRef, DerivedFact, Contradiction, Margin, Measurement)}
+
+
+def encode(value: Any) -> Any:
+    """Plain JSON data for a value: tuples, dicts and this code's value types tagged."""
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    if isinstance(value, list):
+        return [encode(v) for v in value]
+    if isinstance(value, tuple):
+        return {"()": [encode(v) for v in value]}
+    if isinstance(value, dict):
+        return {"{}": [[encode(k), encode(v)] for k, v in value.items()]}
+    if type(value) is EventRef:         # the most common value by far: kept short
+        return {"r": [value.run, value.src, value.seq, value.t, value.kind]}
+    name = type(value).__name__
+    if _TYPES.get(name) is type(value):
+        return {"@": name, "f": [encode(getattr(value, f.name)) for f in dataclasses.fields(value)]}
+    raise Uncacheable(f"{name} is not kept")
+
+
+def decode(data: Any) -> Any:
+    kind = type(data)
+    if kind is list:
+        return [decode(v) for v in data]
+    if kind is not dict:
+        return data
+    ref = data.get("r")
+    if ref is not None:
+        return EventRef(*ref)
+    if "()" in data:
+        return tuple(decode(v) for v in data["()"])
+    if "{}" in data:
+        return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
+    return _TYPES[data["@"]](*(decode(v) for v in data["f"]))
+
+
+def _hashable(key: Any) -> Any:
+    return tuple(key) if isinstance(key, list) else key
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, EventRef):
+        return value.to_json()
+    return repr(value)

@@ -1,0 +1,78 @@
+"""What a vehicle's passage shows at an act, cut loose from the passage (DESIGN "Reasoning").
+
+Judging a case uses its passage in a few ways: the facts it shows at the act (beside those
+stated), the stated facts it contradicts, the moments an investigator places the act by, the
+signals it read, the margin of the act under whichever rule judges it, and the vehicle's own
+beliefs it contradicts. All of them are worked out here at once, so that the result is a small
+value that can be kept (reasoner/case_memo.py) and used under any rulebook without the passage:
+the margins for every rule that picks one, the beliefs for every perceived fact.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Iterable
+
+from store import EventRef
+
+from . import acts
+from .derived import Contradiction, beside, checked
+from .margins import BY_RULE, margin
+from .model import DerivedFact, Margin
+from .passage import Passage
+
+Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
+
+
+@dataclass(frozen=True)
+class Measurement:
+    present: bool                                    # the act fell in a passage of the vehicle's
+    at: int | None = None                            # when the act happened in it
+    derived: tuple[DerivedFact, ...] = ()            # what it shows beside what was stated
+    contradictions: tuple[Contradiction, ...] = ()   # stated facts it contradicts
+    moments: tuple[tuple[str, int], ...] = ()
+    signals: tuple[str, ...] = ()                    # the signals whose reports it read
+    margins: tuple[tuple[str | None, Margin | None], ...] = ()   # by rule (None: no rule that picks one)
+    beliefs: tuple[Belief, ...] = ()                 # each perceived fact, and what contradicts it
+
+    def margin(self, rule: str | None) -> Margin | None:
+        """The margin of the act under this rule (margins.margin(passage, action, rule))."""
+        wanted = _rule_key(rule)
+        return next((m for r, m in self.margins if r == wanted), None)
+
+    def contradicted(self, own: Iterable[tuple[str, EventRef]]) -> tuple[Contradiction, ...] | None:
+        """What contradicts these perceived facts (derived.checked(passage, at, own)[1]); None
+        when one of them was not among those measured (the passage must be asked)."""
+        table = {(_said(text), src, seq): found for text, src, seq, found in self.beliefs}
+        out: list[Contradiction] = []
+        for text, ref in own:
+            found = table.get((_said(text), ref.src, ref.seq))
+            if found is None:
+                return None
+            out += found
+        return tuple(out)
+
+
+def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any, EventRef]],
+            sentences: Iterable[Any], perceived: Iterable[tuple[Any, EventRef | None]]) -> Measurement:
+    """The measurement of the act of `action` at t: `stated` the Monitor Scenario's facts,
+    `sentences` its sentences, `perceived` the vehicle's own facts (its Vehicle Scenario)."""
+    found = acts.of(passage, t)
+    if found is None:
+        return Measurement(False)
+    at = acts.moment(found, t, action)
+    agreed, contradictions = checked(found, at, stated)
+    beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)])[1])
+                    for text, ref in perceived
+                    if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
+    return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
+                       tuple(sorted({light.ref.src for light in found.lights})),
+                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs)
+
+
+def _rule_key(rule: str | None) -> str | None:
+    key = rule.strip().upper() if isinstance(rule, str) else None
+    return key if key in BY_RULE else None
+
+
+def _said(text: str) -> str:
+    return text.strip().rstrip(".").strip()
