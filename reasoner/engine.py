@@ -24,6 +24,7 @@ from .prolog_home import import_janus
 
 ENGINE_PL = Path(__file__).with_name("prolog") / "engine.pl"
 RENDERED_LIMIT = 1 << 16  # sentences a rulebook keeps rendered (then it starts again)
+_PLAIN = (str, int, float)
 
 
 class QuestionError(GapsError, RuntimeError):
@@ -48,18 +49,22 @@ class Rulebook:
     def render(self, data) -> str:
         """Any goal or answer data (or an Atom) as an LE sentence with this rulebook's templates.
 
-        A sentence of words and integers only (["has_light", 173, "red"], most nodes of a vehicle's
-        proof) is rendered once: a simulation renders a hundred thousand a minute, mostly the same.
-        (Exact types: True is not 1 here, and 173 is not "173", in the key as in the text.)"""
+        A sentence of words and plain values only (["has_light", 173, "red"], most nodes of a
+        vehicle's proof, most facts) is rendered once: a simulation renders a hundred thousand a
+        minute, mostly the same. (Exact types: True is not 1, 1.0 is not 1 and 173 is not "173",
+        in the key as in the text.)"""
         if type(data) is list and all(type(a) is str or type(a) is int for a in data):
-            key = tuple(data)
-            text = self._rendered.get(key)
-            if text is None:
-                if len(self._rendered) >= RENDERED_LIMIT:
-                    self._rendered.clear()
-                text = self._rendered[key] = sentence_text(data, self.document)
-            return text
-        return sentence_text(data, self.document)
+            key: tuple = tuple(data)
+        elif type(data) is Atom and all(type(a) in _PLAIN for a in data.args):
+            key = ("atom", data.functor, *((type(a).__name__, a) for a in data.args))
+        else:
+            return sentence_text(data, self.document)
+        text = self._rendered.get(key)
+        if text is None:
+            if len(self._rendered) >= RENDERED_LIMIT:
+                self._rendered.clear()
+            text = self._rendered[key] = sentence_text(data, self.document)
+        return text
 
     def source(self, rule_id) -> dict | None:
         rule = self.rule(rule_id)

@@ -31,6 +31,7 @@ _SECOND = 1_000_000_000
 ENTITY_KINDS = frozenset(("entity.spawn", "entity.despawn", "ads.event", *_LATEST, *_TOUCH))
 _DENSE_LATEST = tuple(k for k in _LATEST if k in DENSE_KINDS)      # entity.state, vehicle.perception
 _SPARSE_KINDS = tuple(sorted(k for k in ENTITY_KINDS if k not in DENSE_KINDS))
+_ENTITY_KIND_LIST = tuple(sorted(ENTITY_KINDS))
 _WINDOW = "FROM events WHERE run = ? AND src = ? AND seq >= ? AND seq <= ? AND t <= ?"
 # through the covering kind index: the few sparse events of all sources in the window, no row read
 _SPARSE_ROWS = (f"SELECT seq, t, kind, src, {AGREES} FROM events WHERE run = ? "
@@ -41,7 +42,8 @@ _T_MIN = -(1 << 63)
 _LAST_SPAWN = (f"SELECT seq, t, src, {AGREES} FROM events WHERE run = ? AND kind = 'entity.spawn' AND "
                f"{SPARSE_ONLY} AND src = ? AND t <= ? ORDER BY t DESC, seq DESC LIMIT 1")
 _TEXT = "SELECT seq, event FROM events WHERE run = ? AND src = ? AND seq IN ({})"
-_IN_ORDER = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? ORDER BY seq"
+# the source's first entity events by seq: SQLite skips its other kinds (a camera's observations)
+_ENTITY_IN_ORDER = "SELECT seq, t FROM events WHERE run = ? AND src = ? AND kind IN ({}) ORDER BY seq LIMIT ?"
 _SPARSE_FIRST = f"SELECT min(t) FROM events WHERE run = ? AND kind IN ({{}}) AND {SPARSE_ONLY} AND src = ?"
 # body.vehicle is a string (the schema refuses any other), compared in SQLite
 _OBSERVED = (f"SELECT t, seq, src, event, {AGREES} FROM events WHERE run = ? AND kind = 'monitor.observation' AND "
@@ -141,12 +143,6 @@ def entity_since(store: Store, run: str, src: str) -> int | None:
     if not set(kinds) & set(DENSE_KINDS):
         sql = _SPARSE_FIRST.format(",".join("?" * len(kinds)))
         return store.connection.execute(sql, (run, *kinds, src)).fetchone()[0]
-    first: int | None = None
-    stop: int | None = None
-    for seq, at, kind in store.connection.execute(_IN_ORDER, (run, src)):
-        if stop is not None and seq > stop:
-            break
-        if kind in ENTITY_KINDS:
-            first = at if first is None else min(first, at)
-            stop = seq + SEQ_SLACK if stop is None else stop
-    return first
+    rows = store.connection.execute(_ENTITY_IN_ORDER.format(",".join("?" * len(_ENTITY_KIND_LIST))),
+                                    (run, src, *_ENTITY_KIND_LIST, SEQ_SLACK + 1)).fetchall()
+    return min((at for seq, at in rows if seq <= rows[0][0] + SEQ_SLACK), default=None)

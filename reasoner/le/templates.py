@@ -13,6 +13,7 @@ whose last two parts are `that *a sentence*` takes a whole sentence in that slot
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 from .errors import LEError
 from .lexer import Token, join_tokens, lex_line
@@ -52,7 +53,7 @@ class Template:
     builtin: str | None = field(default=None, compare=False)   # Prolog functor of a built-in
     line: int = field(default=0, compare=False)
 
-    @property
+    @cached_property
     def functor(self) -> str:
         if self.builtin:
             return self.builtin
