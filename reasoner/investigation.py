@@ -272,7 +272,7 @@ class Investigation:
         measured = self._measured(case, mscen, vscen)
         for f in measured.derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
-        pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown)
+        pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown, why_not=case.pv is not None)
         rederived = pv_answer is not None and pv_answer.holds
         if not case.pv and not rederived:
             return None
@@ -355,13 +355,19 @@ class Investigation:
             scenario.add(case.pv["body"]["facts"], EventRef.of(case.pv))
         return scenario
 
-    def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any,
-                  unknown: list[Finding]) -> tuple[Answer | None, Any]:
+    def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any, unknown: list[Finding],
+                  why_not: bool = True) -> tuple[Answer | None, Any]:
+        """The monitor rulebook's answer with its proof; without `why_not`, None where it does not
+        hold (a case nobody recorded that does not hold is no incident, and why it does not, the
+        costliest question there is, is not asked)."""
         monitor = rs["monitor"]
         if monitor is None:
             return None, None
         rb = monitor.rulebook
-        answer = self.engine.ask(rb, POTENTIALLY_VIOLATES.atom(me, act), self.reader.atoms(rb, mscen.facts, unknown))
+        goal, atoms = POTENTIALLY_VIOLATES.atom(me, act), self.reader.atoms(rb, mscen.facts, unknown)
+        if not why_not and not self.engine.holds(rb, goal, atoms):
+            return None, None
+        answer = self.engine.ask(rb, goal, atoms)
         rule = rb.rule(answer.proofs[0]["rule"]) if answer.holds else None
         return answer, rule
 
@@ -460,11 +466,12 @@ class Investigation:
             if self.engine.holds(rb, punish, atoms):
                 return "punishable", None
             return ("mitigated" if self.engine.holds(rb, mitigate, atoms) else "dismissed"), None
-        punishable = self.engine.ask(rb, punish, atoms)
-        if punishable.holds:
-            return "punishable", punishable
-        mitigated = self.engine.ask(rb, mitigate, atoms)
-        return ("mitigated" if mitigated.holds else "dismissed"), (mitigated if mitigated.holds else punishable)
+        for verdict, goal in (("punishable", punish), ("mitigated", mitigate)):
+            if self.engine.holds(rb, goal, atoms):      # the plain question first: a proof of why
+                answer = self.engine.ask(rb, goal, atoms)   # not is asked only of a dismissal
+                if answer.holds:
+                    return verdict, answer
+        return "dismissed", self.engine.ask(rb, punish, atoms)
 
     # -- penalty and liability, for a punishable violation ----------------------------------
     def _sanctions(self, case: _Case, validation: _Validation, control: Control,
