@@ -65,6 +65,20 @@ class GapTracker:
             source.last_seen = self._now
             return source.observe(seq)
 
+    def observe_all(self, identities: list[tuple[str, str, int]]) -> int:
+        """``observe`` each (run, src, seq) of a batch in order, under one lock; returns how many
+        arrived late."""
+        late = 0
+        sources, now = self._sources, self._now
+        with self._lock:
+            for run, src, seq in identities:
+                source = sources.get((run, src))
+                if source is None:
+                    source = sources[(run, src)] = _Source()
+                source.last_seen = now
+                late += source.observe(seq)
+        return late
+
     def highest(self, run: str, src: str) -> int | None:
         """The source's highest seq seen, or None if nothing of it arrived: where a liveliness
         change or a loss on the wire sits in its sequence."""

@@ -16,6 +16,7 @@ from dataclasses import replace
 from store import Candidate, CheckpointKey, QuarantineCap, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
+from .gc_pacing import batch_sized_collections
 from .head_sinks import HeadSink, HeadSinks
 from .inbox import Inbox, Received
 from .screen import Screened, refused, require_signature, screen
@@ -83,7 +84,8 @@ class BatchWriter(threading.Thread):
         if store is None:
             return
         try:
-            self._drain(store)
+            with batch_sized_collections():
+                self._drain(store)
         finally:
             store.close()
 
@@ -276,7 +278,7 @@ class BatchWriter(threading.Thread):
             screened.append(item)
         if self._keys is not None:
             screened = self._check_signatures(screened)
-        late = sum(self._tracker.observe(*item.identity) for item in screened if item.identity is not None)
+        late = self._tracker.observe_all([item.identity for item in screened if item.identity is not None])
         if self._watch is not None:
             self._follow_seqs(screened, live)
         if late:

@@ -40,3 +40,16 @@ def test_sources_are_independent() -> None:
         ("q", "vehicle/1", [[0, 0]]),
         ("r", "vehicle/2", [[0, 1]]),
     ]
+
+
+@given(st.lists(st.tuples(st.sampled_from(["vehicle/1", "vehicle/2"]), st.integers(min_value=0, max_value=50)),
+                max_size=200), st.integers(min_value=1, max_value=40))
+def test_a_batch_observed_at_once_is_the_same_as_one_by_one(arrivals: list[tuple[str, int]], batch: int) -> None:
+    """What the writer does (a batch under one lock) leaves the same gaps and late counts as events
+    observed one at a time."""
+    one_by_one, batched = GapTracker(), GapTracker()
+    late_one = sum(one_by_one.observe("r", src, seq) for src, seq in arrivals)
+    late_batched = sum(batched.observe_all([("r", src, seq) for src, seq in arrivals[i:i + batch]])
+                       for i in range(0, len(arrivals), batch))
+    assert (late_batched, batched.gaps()) == (late_one, one_by_one.gaps())
+    assert batched.highest("r", "vehicle/1") == one_by_one.highest("r", "vehicle/1")
