@@ -30,7 +30,7 @@ from pathlib import Path
 import zenoh
 
 from ingest import IngestService, session_config
-from ingest.service import BATCH_SIZE
+from ingest.service import BATCH_SIZE, MAX_PENDING
 from sim_replay.publisher import EventPublisher, zenoh_config
 from store import Store
 
@@ -172,13 +172,15 @@ def raw_rate(n: int, seconds: float | None, same_process: bool) -> float:
     return rate
 
 
-def ingest_rate(n: int, seconds: float | None, durable: bool, same_process: bool, batch_size: int) -> Round:
+def ingest_rate(n: int, seconds: float | None, durable: bool, same_process: bool, batch_size: int,
+                max_pending: int) -> Round:
     """Events/s committed to the store, from the first sample received to the last event stored."""
     ep = endpoint()
     sent = mp.get_context("spawn").Value("q", -1)
     with tempfile.TemporaryDirectory() as tmp:
         db = Path(tmp) / "bench.db"
-        with IngestService(db, listen=[ep], durable=durable, batch_size=batch_size) as ingest:
+        with IngestService(db, listen=[ep], durable=durable, batch_size=batch_size,
+                           max_pending=max_pending) as ingest:
             proc = start_publisher(ep, n, seconds, same_process, sent)
             ingest.wait_for(lambda s: s["received"] >= 1, 60)
             t0, cpu0, load0 = time.perf_counter(), thread_cpu(), os.getloadavg()[0]
@@ -205,15 +207,18 @@ def main() -> None:
     parser.add_argument("--not-durable", action="store_true")
     parser.add_argument("--same-process", action="store_true")
     parser.add_argument("--batch-size", type=int, default=BATCH_SIZE)
+    parser.add_argument("--max-pending", type=int, default=MAX_PENDING, help="samples Zenoh may hold for the writer")
     args = parser.parse_args()
     where = "same process" if args.same_process else "publisher in a child process"
     size = f"{args.seconds:g} s of publishing" if args.seconds else f"{args.events:,} events"
-    print(f"{size}, {where}, durable={not args.not_durable}, batch_size={args.batch_size}, {args.repeat} round(s)")
+    print(f"{size}, {where}, durable={not args.not_durable}, batch_size={args.batch_size}, "
+          f"max_pending={args.max_pending}, {args.repeat} round(s)")
     raws, rounds = [], []
     for _ in range(args.repeat):
         raws.append(raw_rate(args.events, args.seconds, args.same_process))
         print(f"raw zenoh pub→sub: {raws[-1]:,.0f} samples/s", flush=True)
-        rounds.append(ingest_rate(args.events, args.seconds, not args.not_durable, args.same_process, args.batch_size))
+        rounds.append(ingest_rate(args.events, args.seconds, not args.not_durable, args.same_process, args.batch_size,
+                                  args.max_pending))
         print(f"ingest → store:    {rounds[-1].line()}", flush=True)
     raw = statistics.median(raws)
     mid = sorted(rounds, key=lambda r: r.rate)[len(rounds) // 2]
@@ -227,7 +232,7 @@ def main() -> None:
                         f"{mid.writer_cpu_s * us:.1f}), RSS peak {mid.peak_rss_mb:.0f} MB, "
                         f"load {mid.load:.2f}, errors {mid.stats['errors']}")],
            notes=f"{size}, small events, {where}, durable={not args.not_durable}, "
-                 f"batch_size={args.batch_size}; {args.repeat} round(s), raw and ingest alternately, medians")
+                 f"batch_size={args.batch_size}, max_pending={args.max_pending}; {args.repeat} round(s), raw and ingest alternately, medians")
 
 
 if __name__ == "__main__":
