@@ -53,3 +53,23 @@ def test_a_batch_observed_at_once_is_the_same_as_one_by_one(arrivals: list[tuple
                        for i in range(0, len(arrivals), batch))
     assert (late_batched, batched.gaps()) == (late_one, one_by_one.gaps())
     assert batched.highest("r", "vehicle/1") == one_by_one.highest("r", "vehicle/1")
+
+
+def test_after_a_restart_a_source_goes_on_from_its_highest_seq_stored() -> None:
+    """What an earlier ingest stored is not counted missing; a hole above it is."""
+    tracker = GapTracker()
+    tracker.stored_highest = lambda run, src: 99 if src == "vehicle/1" else None
+    assert tracker.highest("r", "vehicle/1") == 99            # stored, nothing heard yet
+    assert tracker.observe_all([("r", "vehicle/1", 200), ("r", "vehicle/2", 0)]) == 0
+    assert tracker.gaps() == [{"run": "r", "src": "vehicle/1", "missing": [[100, 199]], "highest": 200}]
+
+
+def test_highest_before_is_where_the_source_stood_at_the_previous_look() -> None:
+    tracker = GapTracker()
+    assert tracker.highest_before("r", "vehicle/1") is None
+    tracker.observe_all([("r", "vehicle/1", 0), ("r", "vehicle/1", 1)])
+    assert (tracker.highest_before("r", "vehicle/1"), tracker.highest("r", "vehicle/1")) == (None, 1)
+    tracker.new_look()
+    assert tracker.highest_before("r", "vehicle/1") == 1      # nothing since that look
+    tracker.observe_all([("r", "vehicle/1", 2)])
+    assert (tracker.highest_before("r", "vehicle/1"), tracker.highest("r", "vehicle/1")) == (1, 2)
