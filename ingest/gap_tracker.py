@@ -9,20 +9,24 @@ from __future__ import annotations
 import bisect
 import threading
 import time
+from collections.abc import Callable
 
 Range = list[int]  # [first, last], inclusive
 
 
 class _Source:
-    """Highest seq seen, the ranges still missing below it (sorted and disjoint), and when it last
-    sent something (monotonic seconds)."""
+    """Highest seq seen, the ranges still missing below it (sorted and disjoint), when it last
+    sent something (monotonic seconds), and its highest seq as the writer's last look at the
+    wire found it (``before``, valid in look ``look``: see GapTracker.highest_before)."""
 
-    __slots__ = ("highest", "missing", "last_seen")
+    __slots__ = ("highest", "missing", "last_seen", "before", "look")
 
     def __init__(self) -> None:
         self.highest = -1
         self.missing: list[Range] = []
         self.last_seen = 0.0
+        self.before = -1
+        self.look = -1
 
     def observe(self, seq: int) -> bool:
         """Record ``seq``; return True if it arrived late, filling a gap below the highest seen."""
@@ -51,6 +55,10 @@ class GapTracker:
         self._lock = threading.Lock()
         self._sources: dict[tuple[str, str], _Source] = {}
         self._now = time.monotonic()
+        self._look = 0   # how many times the writer looked at the wire (new_look)
+        self.stored_highest: Callable[[str, str], int | None] = lambda run, src: None
+        """Set by the writer once its store is open: a source first heard after a restart goes on
+        from its highest seq stored, so what an earlier ingest stored is not counted missing."""
 
     def tick(self) -> None:
         """Read the clock once for the samples observed next (a batch), not once per sample."""
@@ -59,18 +67,57 @@ class GapTracker:
     def observe(self, run: str, src: str, seq: int) -> bool:
         """Note an event's seq; returns True if it filled a gap, i.e. arrived out of order."""
         with self._lock:
-            source = self._sources.get((run, src))
-            if source is None:
-                source = self._sources[(run, src)] = _Source()
+            source = self._sources.get((run, src)) or self._new_source(run, src)
             source.last_seen = self._now
+            if source.look != self._look:
+                source.before, source.look = source.highest, self._look
             return source.observe(seq)
 
+    def observe_all(self, identities: list[tuple[str, str, int]]) -> int:
+        """``observe`` each (run, src, seq) of a batch in order, under one lock; returns how many
+        arrived late."""
+        late = 0
+        sources, now, look = self._sources, self._now, self._look
+        with self._lock:
+            for run, src, seq in identities:
+                source = sources.get((run, src)) or self._new_source(run, src)
+                source.last_seen = now
+                if source.look != look:
+                    source.before, source.look = source.highest, look
+                late += source.observe(seq)
+        return late
+
+    def _new_source(self, run: str, src: str) -> _Source:
+        """A source first heard, going on from its highest seq stored (under the lock)."""
+        source = self._sources[(run, src)] = _Source()
+        stored = self.stored_highest(run, src)
+        if stored is not None:
+            source.highest = stored
+        return source
+
     def highest(self, run: str, src: str) -> int | None:
-        """The source's highest seq seen, or None if nothing of it arrived: where a liveliness
-        change or a loss on the wire sits in its sequence."""
+        """The source's highest seq seen (or stored, if nothing of it arrived since the start), or
+        None if there is none: the upper bound of where a liveliness change sits in its
+        sequence, once every sample received before the change is written."""
         with self._lock:
             source = self._sources.get((run, src))
-            return None if source is None else source.highest
+            return self.stored_highest(run, src) if source is None else _seq_or_none(source.highest)
+
+    def highest_before(self, run: str, src: str) -> int | None:
+        """The source's highest seq as it stood at the writer's previous look at the wire
+        (``new_look``): the lower bound of where a change noticed at this look sits. Every event
+        written before that look arrived before the change did (the change was not there yet),
+        while events written since may have arrived after it, in the same take."""
+        with self._lock:
+            source = self._sources.get((run, src))
+            if source is None:
+                return self.stored_highest(run, src)
+            return _seq_or_none(source.before if source.look == self._look else source.highest)
+
+    def new_look(self) -> None:
+        """The writer has looked at the wire: what is observed from now on is after this look."""
+        with self._lock:
+            self._look += 1
 
     def sources(self, active_within_s: float) -> tuple[int, int]:
         """(sources seen, sources that sent something in the last ``active_within_s`` seconds).
@@ -95,3 +142,7 @@ class GapTracker:
                 for (run, src), s in sorted(self._sources.items())
                 if s.missing
             ]
+
+
+def _seq_or_none(seq: int) -> int | None:
+    return None if seq < 0 else seq

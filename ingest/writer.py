@@ -16,6 +16,7 @@ from dataclasses import replace
 from store import Candidate, CheckpointKey, QuarantineCap, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
+from .gc_pacing import batch_sized_collections
 from .head_sinks import HeadSink, HeadSinks
 from .inbox import Inbox, Received
 from .screen import Screened, refused, require_signature, screen
@@ -83,7 +84,8 @@ class BatchWriter(threading.Thread):
         if store is None:
             return
         try:
-            self._drain(store)
+            with batch_sized_collections():
+                self._drain(store)
         finally:
             store.close()
 
@@ -100,6 +102,7 @@ class BatchWriter(threading.Thread):
                 enable_snapshots(store)
                 if self._head_sinks:
                     store.add_checkpoint_hook(HeadSinks(self._head_sinks, self._stats.record_error))
+                self._tracker.stored_highest = store.highest_seq
                 if self._watch is not None:
                     self._watch.recovery.stored_highest = store.highest_seq
             except BaseException:
@@ -142,25 +145,30 @@ class BatchWriter(threading.Thread):
 
     def _record_wire(self, store: Store, caught_up: bool, last: bool = False) -> None:
         """Record the liveliness changes and losses noticed, each saying how far its source had
-        got. A change is noticed on its own channel, while samples received before it may still
-        wait in the inbox (a backlog of thousands at full speed): recorded at once, a token gone
-        at a despawn would say the source stopped before its last events. So what is noticed
-        waits until a later take found the inbox empty (`caught_up`: every sample received before
-        it is written), and a liveliness change's place in the sequence is read then (a loss on
-        the wire keeps the place it was noticed at); the last look (the inbox
-        closed and empty) records everything. A failure costs those records (logged and
-        counted), never the events; one of the disk's (a full disk) keeps them for a later look."""
+        got. A change is noticed on its own channel, between two takes of samples, not at its
+        place among them, so its place is known only between two bounds: the source's highest
+        seq at the previous look (every event written by then arrived before the change did) and
+        its highest once every sample received before the change is written (a later take found
+        the inbox empty: `caught_up`; at full speed a backlog of thousands may still wait when it
+        is noticed). A disappearance is placed at the upper bound, so that it never says a source
+        stopped before events it sent; an appearance, and a loss on the wire, at the lower bound,
+        so that neither says it came after events sent after it. So what is noticed waits until
+        caught up; the last look (the inbox closed and empty) records everything. A failure costs
+        those records (logged and counted), never the events; one of the disk's (a full disk)
+        keeps them for a later look. (tests/ingest/test_liveliness_order.py drives each ordering.)"""
         if self._watch is None:
             return
         due: list = []
         try:
             due, self._noticed = (self._noticed, []) if caught_up else ([], self._noticed)
-            noticed = self._watch.drain(self._tracker.highest)
+            noticed = self._watch.drain(self._tracker.highest_before)
+            self._tracker.new_look()
             if noticed:
                 (due if last else self._noticed).append(noticed)
             if due:
                 highest = self._tracker.highest
-                store.record_wire([replace(c, last_seq=highest(c.run, c.src)) for n in due for c in n.changes],
+                store.record_wire([c if c.alive else replace(c, last_seq=highest(c.run, c.src))
+                                   for n in due for c in n.changes],
                                   [m for n in due for m in n.misses])
         except Exception as exc:
             if store_condition(exc) is not None and not last:
@@ -276,7 +284,7 @@ class BatchWriter(threading.Thread):
             screened.append(item)
         if self._keys is not None:
             screened = self._check_signatures(screened)
-        late = sum(self._tracker.observe(*item.identity) for item in screened if item.identity is not None)
+        late = self._tracker.observe_all([item.identity for item in screened if item.identity is not None])
         if self._watch is not None:
             self._follow_seqs(screened, live)
         if late:

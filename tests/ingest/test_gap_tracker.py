@@ -40,3 +40,36 @@ def test_sources_are_independent() -> None:
         ("q", "vehicle/1", [[0, 0]]),
         ("r", "vehicle/2", [[0, 1]]),
     ]
+
+
+@given(st.lists(st.tuples(st.sampled_from(["vehicle/1", "vehicle/2"]), st.integers(min_value=0, max_value=50)),
+                max_size=200), st.integers(min_value=1, max_value=40))
+def test_a_batch_observed_at_once_is_the_same_as_one_by_one(arrivals: list[tuple[str, int]], batch: int) -> None:
+    """What the writer does (a batch under one lock) leaves the same gaps and late counts as events
+    observed one at a time."""
+    one_by_one, batched = GapTracker(), GapTracker()
+    late_one = sum(one_by_one.observe("r", src, seq) for src, seq in arrivals)
+    late_batched = sum(batched.observe_all([("r", src, seq) for src, seq in arrivals[i:i + batch]])
+                       for i in range(0, len(arrivals), batch))
+    assert (late_batched, batched.gaps()) == (late_one, one_by_one.gaps())
+    assert batched.highest("r", "vehicle/1") == one_by_one.highest("r", "vehicle/1")
+
+
+def test_after_a_restart_a_source_goes_on_from_its_highest_seq_stored() -> None:
+    """What an earlier ingest stored is not counted missing; a hole above it is."""
+    tracker = GapTracker()
+    tracker.stored_highest = lambda run, src: 99 if src == "vehicle/1" else None
+    assert tracker.highest("r", "vehicle/1") == 99            # stored, nothing heard yet
+    assert tracker.observe_all([("r", "vehicle/1", 200), ("r", "vehicle/2", 0)]) == 0
+    assert tracker.gaps() == [{"run": "r", "src": "vehicle/1", "missing": [[100, 199]], "highest": 200}]
+
+
+def test_highest_before_is_where_the_source_stood_at_the_previous_look() -> None:
+    tracker = GapTracker()
+    assert tracker.highest_before("r", "vehicle/1") is None
+    tracker.observe_all([("r", "vehicle/1", 0), ("r", "vehicle/1", 1)])
+    assert (tracker.highest_before("r", "vehicle/1"), tracker.highest("r", "vehicle/1")) == (None, 1)
+    tracker.new_look()
+    assert tracker.highest_before("r", "vehicle/1") == 1      # nothing since that look
+    tracker.observe_all([("r", "vehicle/1", 2)])
+    assert (tracker.highest_before("r", "vehicle/1"), tracker.highest("r", "vehicle/1")) == (1, 2)
