@@ -13,6 +13,7 @@ that hash at that row: the tables may have grown since, never shrunk or changed.
 """
 from __future__ import annotations
 
+import json
 import sqlite3
 from dataclasses import dataclass
 from typing import Any, Iterable
@@ -77,6 +78,27 @@ def problems(conn: sqlite3.Connection, ends: Iterable[WireEnd]) -> dict[WireEnd,
     for table, its_ends in wanted.items():
         found.update(_table(conn, table, its_ends))
     return found
+
+
+def checkpoint_problem(conn: sqlite3.Connection, run: str | None = None) -> str | None:
+    """What `gaps verify` says of the wire parts the checkpoints record (of one run): the first
+    that is not one, or whose ends the store no longer holds; None if all hold. (Someone holding
+    the file can change the checkpoints too: the checkpoint key and a witness catch that.)"""
+    where, params = ("AND run = ? ", (run,)) if run is not None else ("", ())
+    recorded: list[tuple[Any, Any, tuple[WireEnd, ...]]] = []
+    for id_, name, count, text in conn.execute(f"SELECT id, run, count, wire FROM checkpoints WHERE wire IS NOT NULL "
+                                               f"{where}ORDER BY id", params):
+        try:
+            recorded.append((name, count, from_part(json.loads(text) if isinstance(text, str) else None)))
+        except (ValueError, RecursionError):
+            return f"checkpoint {id_} (run {name!r}, {count} events) records a wire part that is not one"
+    found = problems(conn, [end for _, _, ends in recorded for end in ends])
+    for name, count, ends in recorded:
+        problem = next((found[end] for end in ends if found[end] is not None), None)
+        if problem is not None:
+            return (f"the checkpoint of {count} events of run {name} records the wire tables' ends, and {problem[1]} "
+                    f"({problem[0]})")
+    return None
 
 
 def _table(conn: sqlite3.Connection, table: str, ends: set[WireEnd]) -> dict[WireEnd, tuple[str, str] | None]:

@@ -5,7 +5,8 @@ The liveliness changes and wire misses are hash chains with checkpoints in `wire
 with their wire checkpoints, a table rewritten with its hashes recomputed, or a table emptied,
 leave a file that agrees with itself. Since schema v8 every checkpoint records where the wire
 chains stood when it was written (rows and head hash per table), and the ingest signs that with
-the run's tree head: a witness (`--against`) and the checkpoint key (`--key`) then catch it.
+the run's tree head: plain verify checks those records against the tables, and once someone drops
+or changes them too, a witness (`--against`) and the checkpoint key (`--key`) still catch it.
 """
 from __future__ import annotations
 
@@ -47,9 +48,18 @@ def wired_store(db: Path, key: CheckpointKey, witness_path: Path) -> list[TreeHe
     return read_heads(witness_path)
 
 
-def anchored(db: Path, heads, public):
+HIDE = ("UPDATE checkpoints SET wire = NULL", ())  # the checkpoints' record of the wire ends, dropped
+
+
+def plain_verify_problem(db: Path) -> str | None:
     with Store.open_read_only(db) as store:
-        assert store.verify().ok  # each attack is real: the file alone agrees with itself
+        report = store.verify()
+    return None if report.ok else report.problem["what"]
+
+
+def anchored(db: Path, heads, public):
+    assert plain_verify_problem(db) is None  # each attack is real: the file alone agrees with itself
+    with Store.open_read_only(db) as store:
         return store.check_anchors(heads, public)
 
 
@@ -61,12 +71,19 @@ def test_cutting_back_liveliness_with_its_wire_checkpoints_fails_against_and_key
            ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id > 2", ()))
     with Store.open_read_only(db) as store:
         assert [c.alive for c in store.liveliness_changes("r1")] == [True, True]  # both look alive now
-    outcomes, keyed = anchored(db, heads, key.public)
-    failed = [o for o in outcomes if not o.ok]
-    assert failed and {o.outcome for o in failed} == {"wire cut back"}
-    assert all("liveliness" in o.what and "row 4" in o.what for o in failed)
-    assert [o.size for o in failed] == [16, 20]  # the heads written after the disappearances
-    assert not keyed.ok and "liveliness" in keyed.problem["what"]
+        outcomes, keyed = store.check_anchors(heads, key.public)
+    # the checkpoints the events' appends wrote since record the longer chain: plain verify sees it
+    assert "the checkpoint of 16 events of run r1 records the wire tables' ends, and liveliness holds no row 4" \
+        in plain_verify_problem(db)
+    assert not keyed.ok and "liveliness holds no row 4" in keyed.problem["what"]
+    tamper(db, HIDE)  # unless those records go too; then only what is kept outside the file tells
+    for seen in (outcomes, anchored(db, heads, key.public)[0]):
+        failed = [o for o in seen if not o.ok]
+        assert failed and {o.outcome for o in failed} == {"wire cut back"}
+        assert all("liveliness" in o.what and "row 4" in o.what for o in failed)
+        assert [o.size for o in failed] == [16, 20]  # the heads written after the disappearances
+    _, keyed = anchored(db, heads, key.public)
+    assert not keyed.ok and "does not match the head" in keyed.problem["what"]
 
 
 def test_a_wire_table_rewritten_with_its_hashes_recomputed_fails(tmp_path, key):
@@ -82,15 +99,20 @@ def test_a_wire_table_rewritten_with_its_hashes_recomputed_fails(tmp_path, key):
     statements.append(("UPDATE wire_checkpoints SET head = ? WHERE tbl = 'liveliness' AND through_id = 4",
                        (prev.hex(),)))
     tamper(db, *statements)
+    assert "(wire rewritten)" in plain_verify_problem(db)
+    with Store.open_read_only(db) as store:
+        _, keyed = store.check_anchors((), key.public)
+    assert not keyed.ok and "the table was rewritten" in keyed.problem["what"]
+    tamper(db, HIDE)
     outcomes, keyed = anchored(db, heads, key.public)
     assert {o.outcome for o in outcomes if not o.ok} == {"wire rewritten"}
-    assert not keyed.ok and "rewritten" in keyed.problem["what"]
+    assert not keyed.ok
 
 
 def test_an_emptied_wire_table_fails(tmp_path, key):
     db = tmp_path / "s.db"
     heads = wired_store(db, key, tmp_path / "w.jsonl")
-    tamper(db, ("DELETE FROM wire_misses", ()), ("DELETE FROM wire_checkpoints WHERE tbl = 'wire_misses'", ()))
+    tamper(db, ("DELETE FROM wire_misses", ()), ("DELETE FROM wire_checkpoints WHERE tbl = 'wire_misses'", ()), HIDE)
     outcomes, keyed = anchored(db, heads, key.public)
     failed = [o for o in outcomes if not o.ok]
     assert [o.size for o in failed] == [16, 20] and {o.outcome for o in failed} == {"wire cut back"}
@@ -124,7 +146,7 @@ def test_a_head_without_the_wire_part_checks_the_events_and_says_so(tmp_path, ke
     old_heads = read_heads(tmp_path / "old.jsonl")
     assert all(h.wire is None for h in old_heads)
     tamper(db, ("DELETE FROM liveliness WHERE id > 2", ()),
-           ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id > 2", ()))
+           ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id > 2", ()), HIDE)
     outcomes, _ = anchored(db, old_heads, None)
     assert all(o.ok and o.wire == "not covered" for o in outcomes)
     # and signed as the v1 statement they were, they verify as before
@@ -149,7 +171,7 @@ def test_a_checkpoint_row_records_the_wire_part_it_signed(tmp_path, key):
     assert stored == [h.wire_part() for h in heads if h.run == "r1"]
     copy = tmp_path / "nulled.db"
     shutil.copy(db, copy)
-    tamper(copy, ("UPDATE checkpoints SET wire = NULL", ()))  # the wire parts dropped: the signatures break
+    tamper(copy, HIDE)  # the wire parts dropped: the signatures break
     with Store.open_read_only(copy) as store:
         _, keyed = store.check_anchors((), key.public)
     assert not keyed.ok and "does not match" in keyed.problem["what"]
@@ -212,8 +234,17 @@ def test_a_v7_store_migrates_its_signed_checkpoints_kept_and_later_ones_cover_th
     assert [o.wire for o in outcomes] == ["not covered", "not covered", "checked"]
     assert heads[-1].wire_part()["liveliness"]["count"] == 2
     tamper(new, ("DELETE FROM liveliness WHERE id = 2", ()),
-           ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id = 2", ()))
-    with Store.open_read_only(new) as store:
-        assert store.verify().ok
-        outcomes, keyed = store.check_anchors(heads, key.public)
+           ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id = 2", ()), HIDE)
+    outcomes, keyed = anchored(new, heads, key.public)
     assert [o.outcome for o in outcomes] == ["matches", "matches", "wire cut back"] and not keyed.ok
+
+
+@pytest.mark.parametrize("value", ['{"liveliness": 1}', "not json", b"\xff{", "[]"])
+def test_a_checkpoint_whose_wire_part_is_not_one_fails_plain_verify(tmp_path, key, value):
+    """A flipped bit in the column (issue 15's bit flips) is a located problem, never a traceback."""
+    db = tmp_path / "s.db"
+    wired_store(db, key, tmp_path / "w.jsonl")
+    (first,) = rows(db, "SELECT min(id) FROM checkpoints")[0]
+    tamper(db, ("UPDATE checkpoints SET wire = CAST(? AS TEXT) WHERE id = ?", (value, first)))
+    assert plain_verify_problem(db).startswith(f"checkpoint {first} (run 'r1', 8 events) records a wire part that is "
+                                               "not one")
