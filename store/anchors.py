@@ -77,7 +77,7 @@ def _with_wire(conn: sqlite3.Connection, heads: Sequence[TreeHead], outcomes: li
         elif not outcome.ok:
             judged.append(replace(outcome, wire="not checked"))
         else:
-            problem = next((problems[end] for end in head.wire if problems[end] is not None), None)
+            problem = wire_ends.first_problem(problems, head.wire)
             judged.append(replace(outcome, wire="checked") if problem is None else
                           replace(outcome, ok=False, outcome=problem[0], what=problem[1], wire="checked"))
     return judged
@@ -206,7 +206,7 @@ def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> 
     longer holds, as a KeyCheck problem; None if every one holds."""
     problems = wire_ends.problems(conn, [end for head in heads for end in head.wire or ()])
     for head in heads:
-        problem = next((problems[end] for end in head.wire or () if problems[end] is not None), None)
+        problem = wire_ends.first_problem(problems, head.wire or ())
         if problem is not None:
             return {"run": head.run, "count": head.size,
                     "what": f"the checkpoint of {head.size} events of run {head.run}, signed by key {kid}, records "

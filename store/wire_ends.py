@@ -80,6 +80,11 @@ def problems(conn: sqlite3.Connection, ends: Iterable[WireEnd]) -> dict[WireEnd,
     return found
 
 
+def first_problem(found: dict[WireEnd, tuple[str, str] | None], ends: Iterable[WireEnd]) -> tuple[str, str] | None:
+    """The first of a head's ends that `problems` found wrong, as (outcome, what); None if all hold."""
+    return next((found[end] for end in ends if found[end] is not None), None)
+
+
 def checkpoint_problem(conn: sqlite3.Connection, run: str | None = None) -> str | None:
     """What `gaps verify` says of the wire parts the checkpoints record (of one run): the first
     that is not one, or whose ends the store no longer holds; None if all hold. (Someone holding
@@ -94,7 +99,7 @@ def checkpoint_problem(conn: sqlite3.Connection, run: str | None = None) -> str 
             return f"checkpoint {id_} (run {name!r}, {count} events) records a wire part that is not one"
     found = problems(conn, [end for _, _, ends in recorded for end in ends])
     for name, count, ends in recorded:
-        problem = next((found[end] for end in ends if found[end] is not None), None)
+        problem = first_problem(found, ends)
         if problem is not None:
             return (f"the checkpoint of {count} events of run {name} records the wire tables' ends, and {problem[1]} "
                     f"({problem[0]})")
