@@ -114,8 +114,11 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
         bad = [o for o in outcomes if not o.ok]
         runs = len({o.run for o in outcomes})
         if not bad:
+            older = sum(o.wire != "checked" for o in outcomes)
+            wire = ("each with the wire tables' ends" if not older else
+                    f"{older:,} of them written before v8: those cover the events, not the wire tables")
             typer.echo(f"heads: {len(outcomes):,} tree heads of {runs} run(s) in {printable(str(against))} match "
-                       "the store")
+                       f"the store ({wire})")
         for o in bad[:10]:
             typer.echo(f"HEAD FAILED: run {text_or_null(o.run)} at {o.size} events ({o.outcome}): {printable(o.what)}")
         if len(bad) > 10:

@@ -8,20 +8,26 @@ first `size` of them, re-hashed from their text, must give R, and the run's late
 to be a prefix of the whole stored run by an RFC 6962 consistency proof (store/consistency.py).
 That catches a run cut back (truncation, even to one of its own checkpoints), events forged at
 its tail and sealed by a later append, a consistent rewrite of the whole run, and a deleted run.
+A head written since schema v8 also records where the wire tables' chains (liveliness changes,
+wire misses) stood (store/wire_ends.py): each table, re-hashed from its rows, must still have that
+hash at that row, which catches rows cut off the end with their wire checkpoints, a table
+rewritten or emptied. A head without that part (written before v8) checks the events only, and
+its outcome says so (`wire`: "not covered").
 
 With the checkpoint key's public half, every checkpoint of a run from the first one that key
 signed on must be signed by it, and its signature must hold over what the checkpoint records
-(which verify checks against the events): a checkpoint added, or a run rewritten, by someone
+(which verify checks against the events), and the wire tables' ends it records must hold in the
+store: a checkpoint added, a run rewritten, or a wire table cut back or rewritten, by someone
 without the key fails.
 """
 
 from __future__ import annotations
 
 import sqlite3
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any, Sequence
 
-from . import merkle
+from . import merkle, wire_ends
 from .chain import GENESIS, link
 from .consistency import RangeRoots, proof_ranges, verify_consistency
 from .signatures import key_id
@@ -40,6 +46,7 @@ class HeadOutcome:
     outcome: str                # "matches", "consistent" (a proof from size to stored), or the failure's name
     what: str | None = None
     proof_nodes: int | None = None
+    wire: str = "not covered"   # the wire tables' ends: "checked", "not covered" (a head before v8), "not checked"
 
     def to_json(self) -> dict[str, Any]:
         return asdict(self)
@@ -54,7 +61,26 @@ def check_heads(conn: sqlite3.Connection, heads: Sequence[TreeHead], public: byt
     for run, its_heads in by_run.items():
         for outcome in _check_run(conn, run, its_heads, public):
             found[(outcome.run, outcome.size, outcome.root)] = outcome
-    return [found[(h.run, h.size, h.root)] for h in heads]
+    outcomes = [found[(h.run, h.size, h.root)] for h in heads]
+    return _with_wire(conn, heads, outcomes)
+
+
+def _with_wire(conn: sqlite3.Connection, heads: Sequence[TreeHead], outcomes: list[HeadOutcome]) -> list[HeadOutcome]:
+    """Each head whose events hold, and which records the wire tables' ends, checked for those too
+    (one pass over each wire table for all heads)."""
+    ends = [end for head, o in zip(heads, outcomes) if o.ok and head.wire for end in head.wire]
+    problems = wire_ends.problems(conn, ends)
+    judged = []
+    for head, outcome in zip(heads, outcomes):
+        if head.wire is None:
+            judged.append(outcome)
+        elif not outcome.ok:
+            judged.append(replace(outcome, wire="not checked"))
+        else:
+            problem = wire_ends.first_problem(problems, head.wire)
+            judged.append(replace(outcome, wire="checked") if problem is None else
+                          replace(outcome, ok=False, outcome=problem[0], what=problem[1], wire="checked"))
+    return judged
 
 
 def _check_run(conn: sqlite3.Connection, run: str, heads: list[TreeHead], public: bytes | None) -> list[HeadOutcome]:
@@ -147,37 +173,56 @@ class KeyCheck:
 def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | None) -> KeyCheck:
     """From the first checkpoint `public` signed on (in the order written, any run), every
     checkpoint must be signed by it: a run rewritten, or a checkpoint added, after signing began
-    shows as unsigned or signed by another key, even under the ids of the checkpoints it replaced."""
+    shows as unsigned or signed by another key, even under the ids of the checkpoints it replaced.
+    The wire tables' ends the signed checkpoints record (v8 on) must then hold in the store."""
     kid = key_id(public)
     (first,) = conn.execute("SELECT min(id) FROM checkpoints WHERE key_id = ?", (kid,)).fetchone()
     first = first if isinstance(first, int) else None
     where = "" if run is None else "WHERE run = ? "
     signed = unsigned_before = 0
-    sql = ("SELECT id, run, count, head, merkle_root, prev_count, created_at, signature, key_id FROM checkpoints "
-           f"{where}ORDER BY id")
+    wired: list[TreeHead] = []
+    sql = ("SELECT id, run, count, head, merkle_root, prev_count, created_at, signature, key_id, wire "
+           f"FROM checkpoints {where}ORDER BY id")
     for row in conn.execute(sql, () if run is None else (run,)):
         if first is None or row[0] < first:
             unsigned_before += 1
             continue
-        problem = _signature_problem(row[1:], public)
+        head, problem = _signed_head(row[1:], public)
         if problem is not None:
             name = row[1] if isinstance(row[1], str) else repr(row[1])
             return KeyCheck(kid, signed, unsigned_before, False, {"run": name, "count": row[2], "what": problem})
+        if head is not None and head.wire:
+            wired.append(head)
         signed += 1
     if not signed:
         what = f"no checkpoint{'' if run is None else ' of run ' + run} is signed by key {kid}"
         return KeyCheck(kid, 0, unsigned_before, False, {"run": run, "count": None, "what": what})
-    return KeyCheck(kid, signed, unsigned_before, True, None)
+    wrong = _wire_problem(conn, wired, kid)
+    return KeyCheck(kid, signed, unsigned_before, wrong is None, wrong)
 
 
-def _signature_problem(row: tuple, public: bytes) -> str | None:
-    name, count, head, root, prev, created_at, sig, kid = row
+def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> dict[str, Any] | None:
+    """The first signed checkpoint (in the order written) whose wire tables' ends the store no
+    longer holds, as a KeyCheck problem; None if every one holds."""
+    problems = wire_ends.problems(conn, [end for head in heads for end in head.wire or ()])
+    for head in heads:
+        problem = wire_ends.first_problem(problems, head.wire or ())
+        if problem is not None:
+            return {"run": head.run, "count": head.size,
+                    "what": f"the checkpoint of {head.size} events of run {head.run}, signed by key {kid}, records "
+                            f"the wire tables' ends, and {problem[1]} ({problem[0]})"}
+    return None
+
+
+def _signed_head(row: tuple, public: bytes) -> tuple[TreeHead | None, str | None]:
+    """The checkpoint row's tree head and, if its signature by `public` does not hold, why not."""
+    name, count, head, root, prev, created_at, sig, kid, wire = row
     if sig is None:
-        return (f"the checkpoint of {count} events is unsigned, after the run's checkpoints were signed by "
-                f"key {key_id(public)}: it was added behind the ingest's back")
+        return None, (f"the checkpoint of {count} events is unsigned, after the run's checkpoints were signed by "
+                      f"key {key_id(public)}: it was added behind the ingest's back")
     try:
-        statement = TreeHead(name, count, root, head, prev, created_at, kid, sig)
+        statement = TreeHead.of_checkpoint(name, count, root, head, prev, created_at, kid, sig, wire)
         problem = statement.signature_problem(public)
     except (TypeError, ValueError):
-        problem = "its fields are not those of a checkpoint"
-    return None if problem is None else f"the checkpoint of {count} events: {problem}"
+        return None, f"the checkpoint of {count} events: its fields are not those of a checkpoint"
+    return statement, None if problem is None else f"the checkpoint of {count} events: {problem}"

@@ -16,20 +16,25 @@ from __future__ import annotations
 from typing import Iterable
 
 from . import merkle
+from .canonical import canonical_json
 from .chain import RunChain
 from .envelope import EventError, encode_event
 from .heads import Heads
 from .intake import Candidate, raw_bytes
 from .outcomes import AppendReport
 from .tree_heads import CheckpointKey, TreeHead
+from .wire_ends import WireEnd, to_part
 
 
 class Batch:
     """Rows for the events, quarantine and checkpoints tables, and the report of the call."""
 
-    def __init__(self, heads: Heads, every: int, received_at: int, key: CheckpointKey | None = None) -> None:
+    def __init__(self, heads: Heads, every: int, received_at: int, key: CheckpointKey | None = None,
+                 wire: tuple[WireEnd, ...] | None = None) -> None:
         self.heads = heads
         self.key = key
+        self.wire = wire  # the wire tables' ends, which every checkpoint of the call records (store/wire_ends.py)
+        self._wire_text = None if wire is None else canonical_json(to_part(wire)).decode()
         self.signed: list[TreeHead] = []  # the checkpoints' tree heads, signed (with a key)
         self._max_seq = heads.max_seq
         self.every = every
@@ -37,7 +42,7 @@ class Batch:
         self.events: list[tuple] = []  # (run, chain_pos, src, seq, t, kind, event, hash)
         self.refused: list[tuple] = []  # (received_at, origin, reason, raw)
         self.checkpoints: list[tuple] = []  # (run, count, head, created_at, merkle_root, frontier, prev_count,
-        #                                      signature, key_id)
+        #                                      signature, key_id, wire)
         self.report = AppendReport()
         self._grown: dict[str, RunChain] = {}  # runs this call extended
         self._placed: dict[tuple[str, str, int], str] | None = None  # built only if a seq repeats
@@ -126,10 +131,11 @@ class Batch:
     def _checkpoint(self, run: str, chain: RunChain) -> None:
         """A checkpoint row at the chain's end, signed with the checkpoint key if there is one
         (one signature per checkpoint: every 1,000 events and once per call and run)."""
-        head = TreeHead(run, chain.count, chain.root().hex(), chain.head.hex(), chain.checkpointed, self.received_at)
+        head = TreeHead(run, chain.count, chain.root().hex(), chain.head.hex(), chain.checkpointed, self.received_at,
+                        wire=self.wire)
         if self.key is not None:
             head = self.key.sign(head)
             self.signed.append(head)
         self.checkpoints.append((run, head.size, head.head, head.created_at, head.root, merkle.pack(chain.frontier),
-                                 head.prev_size, head.sig, head.key))
+                                 head.prev_size, head.sig, head.key, self._wire_text))
         chain.checkpointed = chain.count

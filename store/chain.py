@@ -14,6 +14,17 @@ from . import merkle
 GENESIS = bytes(32)  # the "previous hash" of a run's first event
 
 
+def is_digest_hex(value: object) -> bool:
+    """Whether a stored or received value is a sha256 digest as hex (64 hex digits)."""
+    if not isinstance(value, str) or len(value) != 64:
+        return False
+    try:
+        bytes.fromhex(value)
+    except ValueError:
+        return False
+    return True
+
+
 def link(prev: bytes, canonical: bytes) -> bytes:
     """sha256(prev || canonical): the hash of an event given the hash before it."""
     return hashlib.sha256(prev + canonical).digest()

@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 
-from . import anchors, history, index_guard, liveliness, opening, queries, quarantine, rulebooks, verify_cache
+from . import anchors, history, wire_ends, index_guard, liveliness, opening, queries, quarantine, rulebooks, verify_cache
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -37,8 +37,8 @@ _INSERT_EVENT = (
     "INSERT INTO events (run, chain_pos, src, seq, t, kind, event, hash) VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 )
 _INSERT_CHECKPOINT = (
-    "INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count, signature, key_id) "
-    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)"
+    "INSERT INTO checkpoints (run, count, head, created_at, merkle_root, frontier, prev_count, signature, key_id, "
+    "wire) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
 )
 CHECKPOINT_EVERY = 1000
 
@@ -149,7 +149,8 @@ class Store:
         """Feed a batch, then write its rows and run the hooks, all in one transaction that is
         committed (durably, by default) before the report is returned; then run the hooks."""
         with self._transaction() as conn:
-            batch = Batch(self._heads, self.checkpoint_every, time.time_ns(), self.checkpoint_key)
+            batch = Batch(self._heads, self.checkpoint_every, time.time_ns(), self.checkpoint_key,
+                          wire_ends.ends_now(conn))
             feed(batch)
             batch.finish()
             conn.executemany(_INSERT_EVENT, batch.events)

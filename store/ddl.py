@@ -12,7 +12,7 @@ from . import liveliness
 from .errors import StoreError
 
 APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", *liveliness.TABLES,
-                      "quarantine_prunes", "quarantine_overflow")
+                      "wire_legacy", "wire_checkpoints", "quarantine_prunes", "quarantine_overflow")
 
 
 def _append_only(table: str) -> tuple[str, ...]:
@@ -176,7 +176,13 @@ _V7_CHECKPOINT_SIGNATURES = (
 )
 _V7 = (*_V7_CHECKPOINT_SIGNATURES, *_V7_LIVELINESS, *_V7_QUARANTINE)
 
-MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7}
+# v8: each checkpoint records where the wire tables' chains stood when it was written (their last
+# row and its hash, as the JSON of store/wire_ends.py), which the checkpoint key signs with the
+# run's tree head: rows cut off the end of a wire table, with their wire checkpoints, are then
+# caught by a witness and by the key (issue 15). NULL on every checkpoint written before v8.
+_V8 = ("ALTER TABLE checkpoints ADD COLUMN wire TEXT",)
+
+MIGRATIONS: dict[int, tuple[str, ...]] = {1: _V1, 2: _V2, 3: _V3, 4: _V4, 5: _V5, 6: _V6, 7: _V7, 8: _V8}
 SCHEMA_VERSION = max(MIGRATIONS)
 
 

@@ -17,8 +17,9 @@ checkpoint in `wire_checkpoints` (the table, its last id and head), so that rows
 show as rows no checkpoint covers, as for the events. Rows written before v7 carry no hash;
 `wire_legacy` records up to which id, and every later row must carry one. Like the events'
 chains, the rows cut back to a checkpoint together with the checkpoints after it, or a whole table
-rewritten with its hashes recomputed, cannot be seen from the file alone: only heads kept elsewhere
-can show it (issue 15, "Anchored checkpoints").
+rewritten with its hashes recomputed, cannot be seen from the file alone: since v8 each run's
+checkpoint records where both chains stood (store/wire_ends.py), signed with its tree head, so a
+witness and the checkpoint key show it (issue 15, "Anchored checkpoints").
 """
 from __future__ import annotations
 
@@ -165,9 +166,21 @@ def wire_problem(conn: sqlite3.Connection) -> dict[str, Any] | None:
     return None
 
 
-def _table_problem(conn: sqlite3.Connection, table: str) -> str | None:
+def _legacy_through(conn: sqlite3.Connection, table: str) -> int:
+    """The last id of the table written before its chain began (v7), 0 if none."""
     (through,) = conn.execute("SELECT min(through_id) FROM wire_legacy WHERE tbl = ?", (table,)).fetchone()
-    through = through if isinstance(through, int) else 0
+    return through if isinstance(through, int) else 0
+
+
+def chain_rows(conn: sqlite3.Connection, table: str) -> tuple[int, Iterable[tuple]]:
+    """The table's legacy bound and every row as (id, columns ..., hash), in id order: for
+    recomputing the chain elsewhere (store/wire_ends.py)."""
+    return _legacy_through(conn, table), conn.execute(
+        f"SELECT id, {', '.join(_COLUMNS[table])}, hash FROM {table} ORDER BY id")
+
+
+def _table_problem(conn: sqlite3.Connection, table: str) -> str | None:
+    through = _legacy_through(conn, table)
     marks = {}
     for mark_id, at, head in conn.execute("SELECT id, through_id, head FROM wire_checkpoints WHERE tbl = ? "
                                           "ORDER BY id", (table,)):

@@ -25,7 +25,7 @@ from .chain import RunChain
 from .errors import EvidenceError
 from .tree_heads import CheckpointKey, TreeHead
 
-_CHECKPOINTS = ("SELECT count, head, merkle_root, frontier, prev_count, created_at, signature, key_id, id "
+_CHECKPOINTS = ("SELECT count, head, merkle_root, frontier, prev_count, created_at, signature, key_id, id, wire "
                 "FROM checkpoints WHERE run = ?")
 
 
@@ -75,14 +75,17 @@ def _check_signed(conn: sqlite3.Connection, run: str, key: CheckpointKey | None,
     if latest[7] != key.id:
         _refuse(run, f"has a latest checkpoint (of {latest[0]} events) written after key {key.id} began signing "
                      f"that this key did not sign: it was added behind the ingest's back")
-    problem = _head_of(run, latest).signature_problem(key.public)
+    try:
+        problem = _head_of(run, latest).signature_problem(key.public)
+    except (TypeError, ValueError) as exc:  # a wire column no append writes
+        problem = f"its fields are not those of a checkpoint ({exc})"
     if problem is not None:
         _refuse(run, f"its latest checkpoint (of {latest[0]} events) does not verify: {problem}")
 
 
 def _head_of(run: str, row: tuple) -> TreeHead:
-    count, head, root, _, prev, created_at, sig, kid = row[:8]
-    return TreeHead(run, count, root, head, prev, created_at, kid, sig)
+    count, head, root, _, prev, created_at, sig, kid, _, wire = row
+    return TreeHead.of_checkpoint(run, count, root, head, prev, created_at, kid, sig, wire)
 
 
 def _frontier(run: str, anchor: tuple) -> list[bytes] | None:

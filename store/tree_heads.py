@@ -7,6 +7,10 @@ statement names the run (by its name, which does not depend on the file), its si
 its chain), the Merkle root and chain head of those events, the size of the run's previous
 checkpoint, when it was written, and the signing key's id. Its canonical JSON is what is signed,
 so the same head read from a witness line or rebuilt from a checkpoint row checks the same way.
+Since schema v8 a head also carries `wire`: where the wire tables' chains (liveliness changes,
+wire misses) stood when the checkpoint was written (store/wire_ends.py), and is then the statement
+`gaps.tree_head.v2`; a head without it (written before v8) is the v1 statement, checked as before
+for the events it covers.
 
 The checkpoint key is an Ed25519 private key in PKCS#8 PEM, as a source's key is
 (store/keyfiles.py), readable by its owner only; its public half is a text file beside it
@@ -17,17 +21,21 @@ from __future__ import annotations
 
 import base64
 import binascii
+import json
 import os
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from .canonical import canonical_json
+from .chain import is_digest_hex
 from .keyfiles import KeysError, pem_of, seed_of
 from .signatures import key_id
 from .text_file import read_named
+from .wire_ends import WireEnd, from_part, to_part
 
 STATEMENT = "gaps.tree_head.v1"
+STATEMENT_WIRE = "gaps.tree_head.v2"  # the same, with the wire tables' ends
 PUBLIC_SUFFIX = ".pub"
 
 
@@ -43,15 +51,25 @@ class TreeHead:
     created_at: int    # ns since the epoch, when the checkpoint was written
     key: str | None = None  # id of the signing key (16 hex digits)
     sig: str | None = None
+    wire: tuple[WireEnd, ...] | None = None  # the wire tables' ends (v8 on); None in a head written before
 
     def statement(self) -> bytes:
-        """The bytes the signature covers: every field but `sig`, with the statement's name."""
-        return canonical_json({"statement": STATEMENT, "run": self.run, "size": self.size, "root": self.root,
-                               "head": self.head, "prev_size": self.prev_size, "created_at": self.created_at,
-                               "key": self.key})
+        """The bytes the signature covers: every field but `sig`, with the statement's name (v2
+        with the wire part, v1 without: a head written before v8 checks as it was signed)."""
+        fields = {"run": self.run, "size": self.size, "root": self.root, "head": self.head,
+                  "prev_size": self.prev_size, "created_at": self.created_at, "key": self.key}
+        if self.wire is None:
+            return canonical_json({"statement": STATEMENT, **fields})
+        return canonical_json({"statement": STATEMENT_WIRE, **fields, "wire": to_part(self.wire)})
+
+    def wire_part(self) -> dict[str, Any] | None:
+        """The wire part as a witness line and a checkpoint row hold it (None: not covered)."""
+        return None if self.wire is None else to_part(self.wire)
 
     def to_json(self) -> dict[str, Any]:
-        return asdict(self)
+        found = {name: getattr(self, name) for name in ("run", "size", "root", "head", "prev_size", "created_at",
+                                                       "key", "sig")}
+        return found if self.wire is None else {**found, "wire": to_part(self.wire)}
 
     @classmethod
     def from_json(cls, data: Any, where: str) -> TreeHead:
@@ -60,18 +78,32 @@ class TreeHead:
             raise KeysError(f"{where}: a tree head is a JSON object, got {type(data).__name__}")
         try:
             head = cls(**{name: data[name] for name in ("run", "size", "root", "head", "prev_size", "created_at")},
-                       key=data.get("key"), sig=data.get("sig"))
+                       key=data.get("key"), sig=data.get("sig"), wire=_wire_of(data.get("wire")))
         except KeyError as exc:
             raise KeysError(f"{where}: the tree head has no {exc.args[0]!r}") from None
+        except ValueError as exc:
+            raise KeysError(f"{where}: {exc}") from None
         problem = head.shape_problem()
         if problem:
             raise KeysError(f"{where}: {problem}")
         return head
 
+    @classmethod
+    def of_checkpoint(cls, run: str, count: Any, root: Any, head: Any, prev: Any, created_at: Any, key: Any,
+                      sig: Any, wire: Any) -> TreeHead:
+        """The head a checkpoint row records (its `wire` column is the part's JSON text, or NULL);
+        ValueError if that column is not a wire part."""
+        if wire is None:
+            return cls(run, count, root, head, prev, created_at, key, sig)
+        if not isinstance(wire, str):
+            raise ValueError("the checkpoint's wire column is not text")
+        return cls(run, count, root, head, prev, created_at, key, sig, from_part(json.loads(wire)))
+
     def shape_problem(self) -> str | None:
         checks = ((isinstance(self.run, str), "run must be text"),
                   (type(self.size) is int and self.size > 0, "size must be a positive integer"),
-                  (_is_hex(self.root), "root must be 64 hex digits"), (_is_hex(self.head), "head must be 64 hex digits"),
+                  (is_digest_hex(self.root), "root must be 64 hex digits"),
+                  (is_digest_hex(self.head), "head must be 64 hex digits"),
                   (type(self.prev_size) is int and 0 <= self.prev_size < self.size, "prev_size must be below size"),
                   (type(self.created_at) is int, "created_at must be an integer"),
                   (self.key is None or isinstance(self.key, str), "key must be text"),
@@ -94,14 +126,8 @@ class TreeHead:
         return None
 
 
-def _is_hex(value: Any) -> bool:
-    if not isinstance(value, str) or len(value) != 64:
-        return False
-    try:
-        bytes.fromhex(value)
-    except ValueError:
-        return False
-    return True
+def _wire_of(data: Any) -> tuple[WireEnd, ...] | None:
+    return None if data is None else from_part(data)
 
 
 class CheckpointKey:

@@ -17,7 +17,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
-from . import merkle
+from . import merkle, wire_ends
 from .canonical import canonical_json
 from .chain import GENESIS, link
 from .integrity import integrity_problem, integrity_problems
@@ -92,7 +92,7 @@ def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None
         problems.append(problem)
     if run is None:
         problems.append(_verify_rulebooks(conn))
-    problems.append(_verify_wire(conn))
+    problems.append(_verify_wire(conn, run))
     problems.append(integrity_problem(messages))
     ticker.done()
     first = next((problem for problem in problems if problem is not None), None)
@@ -376,13 +376,18 @@ def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
     return None
 
 
-def _verify_wire(conn: sqlite3.Connection) -> dict[str, Any] | None:
+def _verify_wire(conn: sqlite3.Connection, run: str | None) -> dict[str, Any] | None:
     """The liveliness and wire-miss chains (store/liveliness.py), which the missing-evidence
-    finding reads; a value no append writes (bytes, not UTF-8) is a problem too, not a crash."""
+    finding reads, and the ends of them the checkpoints (of the run) record (store/wire_ends.py);
+    a value no append writes (bytes, not UTF-8) is a problem too, not a crash."""
     try:
-        return wire_problem(conn)
+        found = wire_problem(conn)
     except (ValueError, TypeError) as exc:
         return _problem(None, None, None, None, f"a liveliness or wire-miss row holds a value no append writes: {exc}")
+    if found is not None:
+        return found
+    recorded = wire_ends.checkpoint_problem(conn, run)
+    return None if recorded is None else _problem(run, None, None, None, recorded)
 
 
 def _problem(run: str | None, src: Any, seq: Any, chain_pos: Any, what: str) -> dict[str, Any]:

@@ -120,3 +120,37 @@ def test_gaps_migrate_brings_a_v6_store_to_signed_checkpoints(tmp_path):
     result = gaps("verify", "--against", tmp_path / "w", "--key", tmp_path / "k.pub", "--json", db=new)
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["checkpoint_key"]["unsigned_before"] == 1
+
+
+def test_verify_against_and_key_catch_liveliness_cut_back_that_plain_verify_does_not(tmp_path):
+    """The wire tables are anchored too (schema v8): the last liveliness change (a source gone)
+    cut off with its wire checkpoint and the checkpoints' record of it passes plain verify, not
+    --against nor --key."""
+    from store import CheckpointKey, LivelinessChange, Store, WitnessFile
+    key = CheckpointKey.create(tmp_path / "ckpt.key")
+    db, witness = tmp_path / "s.db", WitnessFile(tmp_path / "w.jsonl")
+    with Store(db, checkpoint_key=key) as store:
+        store.add_checkpoint_hook(witness.append)
+        store.append([event(i) for i in range(3)])
+        store.record_wire([LivelinessChange("r1", "vehicle/173", True, 10, None)])
+        store.record_wire([LivelinessChange("r1", "vehicle/173", False, 20, 2)])
+        store.append([event(3)])
+    witness.close()
+    text = gaps("verify", "--against", tmp_path / "w.jsonl", "--no-snapshots", db=db)
+    assert text.exit_code == 0 and "(each with the wire tables' ends)" in text.output
+    tamper(db, ("DELETE FROM liveliness WHERE id = 2", ()),
+           ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id = 2", ()))
+    plain = gaps("verify", "--no-snapshots", db=db)  # the checkpoint after it records the longer chain
+    assert plain.exit_code == 1 and "liveliness holds no row 2" in plain.output
+    tamper(db, ("UPDATE checkpoints SET wire = NULL", ()))  # that record dropped too
+    assert gaps("verify", "--no-snapshots", db=db).exit_code == 0  # the file agrees with itself
+    result = gaps("verify", "--against", tmp_path / "w.jsonl", "--key", tmp_path / "ckpt.key.pub",
+                  "--no-snapshots", "--json", db=db)
+    assert result.exit_code == 1
+    report = json.loads(result.stdout)
+    [bad] = [h for h in report["heads"]["checked"] if not h["ok"]]
+    assert (bad["size"], bad["outcome"], bad["wire"]) == (4, "wire cut back", "checked")
+    assert not report["checkpoint_key"]["ok"] and "does not match" in report["checkpoint_key"]["problem"]["what"]
+    text = gaps("verify", "--against", tmp_path / "w.jsonl", "--no-snapshots", db=db)
+    assert text.exit_code == 1 and "HEAD FAILED: run r1 at 4 events (wire cut back): liveliness holds no row 2" \
+        in text.output
