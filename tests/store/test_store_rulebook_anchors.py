@@ -182,3 +182,23 @@ def test_a_rulebook_row_of_a_value_no_put_writes_is_a_problem_not_a_crash(tmp_pa
     tamper(db, ("UPDATE rulebooks SET version = CAST(x'ff00' AS BLOB) WHERE sha256 = ?", (sha,)))
     problem = plain_verify_problem(db)
     assert problem is not None and "rulebooks row 1" in problem
+
+
+def test_a_writers_running_end_is_the_recomputed_one_across_puts_here_and_elsewhere(tmp_path):
+    """The writer hashes only the rulebooks put since its last append (store/rulebook_chain.py),
+    and forgets that when another connection commits: every end it records is the table's."""
+    from store.rulebook_chain import recomputed
+    db = tmp_path / "s.db"
+    with Store(db) as store, Store(db) as other:
+        store.append([event(0)])
+        store.put_rulebook("a", "1", TEXT)
+        store.put_rulebook("b", "1", OTHER)
+        store.append([event(1)])  # two rows hashed onto the running end
+        other.put_rulebook("c", "1", TEXT + " ")
+        store.append([event(2)])  # another connection put one: recomputed from the table
+        store.put_rulebook("d", "1", OTHER + " ")
+        store.append([event(3)])
+        table = [(0, GENESIS.hex()), *recomputed(store.connection)]  # the end after each row
+    recorded = [(part["rulebooks"]["count"], part["rulebooks"]["head"]) for _, part in _parts(db)]
+    assert recorded == [table[i] for i in (0, 2, 3, 4)]
+    assert plain_verify_problem(db) is None
