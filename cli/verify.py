@@ -114,11 +114,8 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
         bad = [o for o in outcomes if not o.ok]
         runs = len({o.run for o in outcomes})
         if not bad:
-            older = sum(o.wire != "checked" for o in outcomes)
-            wire = ("each with the wire tables' ends" if not older else
-                    f"{older:,} of them written before v8: those cover the events, not the wire tables")
             typer.echo(f"heads: {len(outcomes):,} tree heads of {runs} run(s) in {printable(str(against))} match "
-                       f"the store ({wire})")
+                       f"the store ({_coverage(outcomes)})")
         for o in bad[:10]:
             typer.echo(f"HEAD FAILED: run {text_or_null(o.run)} at {o.size} events ({o.outcome}): {printable(o.what)}")
         if len(bad) > 10:
@@ -129,6 +126,20 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
                        f"first ({keyed.unsigned_before:,} before it unsigned)")
         else:
             typer.echo(f"CHECKPOINT KEY {keyed.key} FAILED: {printable(keyed.problem['what'])}")
+
+
+def _coverage(outcomes: list) -> str:
+    """What the heads that matched cover besides the events: heads written before v8 record no
+    wire part, and parts written before the rulebooks were chained record no rulebooks' end."""
+    older = sum(o.wire != "checked" for o in outcomes)
+    unbooked = sum(o.wire == "checked" and o.rulebooks != "checked" for o in outcomes)
+    if not older and not unbooked:
+        return "each with the wire tables' and the rulebooks' ends"
+    said = [f"{older:,} of them written before v8: those cover the events, not the wire tables"] if older else []
+    if unbooked:
+        said.append(f"{unbooked:,} with the wire tables' ends but not the rulebooks' (written before those were "
+                    "recorded)")
+    return "; ".join(said)
 
 
 def _print_signatures(s: dict, all_signed: bool) -> None:

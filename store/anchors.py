@@ -12,13 +12,15 @@ A head written since schema v8 also records where the wire tables' chains (livel
 wire misses) stood (store/wire_ends.py): each table, re-hashed from its rows, must still have that
 hash at that row, which catches rows cut off the end with their wire checkpoints, a table
 rewritten or emptied. A head without that part (written before v8) checks the events only, and
-its outcome says so (`wire`: "not covered").
+its outcome says so (`wire`: "not covered"). A part that also records the stored rulebooks' end
+(store/rulebook_chain.py) has that checked the same way, which catches a rulebook removed or its
+name, version or text changed (`rulebooks`: "checked"; "not covered" for a part without it).
 
 With the checkpoint key's public half, every checkpoint of a run from the first one that key
 signed on must be signed by it, and its signature must hold over what the checkpoint records
-(which verify checks against the events), and the wire tables' ends it records must hold in the
-store: a checkpoint added, a run rewritten, or a wire table cut back or rewritten, by someone
-without the key fails.
+(which verify checks against the events), and the wire tables' and rulebooks' ends it records
+must hold in the store: a checkpoint added, a run rewritten, or a wire table or the rulebooks cut
+back or rewritten, by someone without the key fails.
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ class HeadOutcome:
     what: str | None = None
     proof_nodes: int | None = None
     wire: str = "not covered"   # the wire tables' ends: "checked", "not covered" (a head before v8), "not checked"
+    rulebooks: str = "not covered"  # the rulebooks' end: the same ("not covered": a head whose part lacks it)
 
     def to_json(self) -> dict[str, Any]:
         return asdict(self)
@@ -66,20 +69,23 @@ def check_heads(conn: sqlite3.Connection, heads: Sequence[TreeHead], public: byt
 
 
 def _with_wire(conn: sqlite3.Connection, heads: Sequence[TreeHead], outcomes: list[HeadOutcome]) -> list[HeadOutcome]:
-    """Each head whose events hold, and which records the wire tables' ends, checked for those too
-    (one pass over each wire table for all heads)."""
+    """Each head whose events hold, and which records the wire tables' ends (and the rulebooks'),
+    checked for those too (one pass over each table for all heads)."""
     ends = [end for head, o in zip(heads, outcomes) if o.ok and head.wire for end in head.wire]
     problems = wire_ends.problems(conn, ends)
     judged = []
     for head, outcome in zip(heads, outcomes):
         if head.wire is None:
             judged.append(outcome)
-        elif not outcome.ok:
-            judged.append(replace(outcome, wire="not checked"))
-        else:
-            problem = wire_ends.first_problem(problems, head.wire)
-            judged.append(replace(outcome, wire="checked") if problem is None else
-                          replace(outcome, ok=False, outcome=problem[0], what=problem[1], wire="checked"))
+            continue
+        books = "checked" if wire_ends.covers_rulebooks(head.wire) else "not covered"
+        if not outcome.ok:
+            judged.append(replace(outcome, wire="not checked",
+                                  rulebooks="not checked" if books == "checked" else books))
+            continue
+        checked = replace(outcome, wire="checked", rulebooks=books)
+        problem = wire_ends.first_problem(problems, head.wire)
+        judged.append(checked if problem is None else replace(checked, ok=False, outcome=problem[0], what=problem[1]))
     return judged
 
 
@@ -174,7 +180,8 @@ def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | Non
     """From the first checkpoint `public` signed on (in the order written, any run), every
     checkpoint must be signed by it: a run rewritten, or a checkpoint added, after signing began
     shows as unsigned or signed by another key, even under the ids of the checkpoints it replaced.
-    The wire tables' ends the signed checkpoints record (v8 on) must then hold in the store."""
+    The wire tables' (and rulebooks') ends the signed checkpoints record (v8 on) must then hold in
+    the store."""
     kid = key_id(public)
     (first,) = conn.execute("SELECT min(id) FROM checkpoints WHERE key_id = ?", (kid,)).fetchone()
     first = first if isinstance(first, int) else None
@@ -202,15 +209,15 @@ def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | Non
 
 
 def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> dict[str, Any] | None:
-    """The first signed checkpoint (in the order written) whose wire tables' ends the store no
-    longer holds, as a KeyCheck problem; None if every one holds."""
+    """The first signed checkpoint (in the order written) whose wire tables' or rulebooks' ends the
+    store no longer holds, as a KeyCheck problem; None if every one holds."""
     problems = wire_ends.problems(conn, [end for head in heads for end in head.wire or ()])
     for head in heads:
         problem = wire_ends.first_problem(problems, head.wire or ())
         if problem is not None:
             return {"run": head.run, "count": head.size,
                     "what": f"the checkpoint of {head.size} events of run {head.run}, signed by key {kid}, records "
-                            f"the wire tables' ends, and {problem[1]} ({problem[0]})"}
+                            f"{wire_ends.recorded_as(problem[0])}, and {problem[1]} ({problem[0]})"}
     return None
 
 

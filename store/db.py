@@ -15,7 +15,8 @@ from contextlib import contextmanager
 from itertools import islice
 from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 
-from . import anchors, history, wire_ends, index_guard, liveliness, opening, queries, quarantine, rulebooks, verify_cache
+from . import (anchors, history, wire_ends, index_guard, liveliness, opening, queries, quarantine, rulebook_chain,
+               rulebooks, verify_cache)
 from .cache import Cache
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -92,6 +93,7 @@ class Store:
             self._conn = opening.connect_writable(self.path, durable=durable, check_same_thread=check_same_thread)
         self.checkpoint_key = checkpoint_key
         self._heads = Heads(self._conn, checkpoint_key)
+        self._rulebook_tip = rulebook_chain.RulebookTip()  # the rulebooks' chain end the checkpoints record
         self.quarantine_cap = quarantine_cap
         self._quarantine_tally = quarantine.QuarantineTally(self._conn)
         self._data_version = self._read_data_version()
@@ -150,7 +152,7 @@ class Store:
         committed (durably, by default) before the report is returned; then run the hooks."""
         with self._transaction() as conn:
             batch = Batch(self._heads, self.checkpoint_every, time.time_ns(), self.checkpoint_key,
-                          wire_ends.ends_now(conn))
+                          wire_ends.ends_now(conn, self._rulebook_tip))
             feed(batch)
             batch.finish()
             conn.executemany(_INSERT_EVENT, batch.events)
@@ -212,6 +214,7 @@ class Store:
                 self._conn.execute("ROLLBACK")
             self._heads.forget()
             self._quarantine_tally.forget()
+            self._rulebook_tip.forget()
             raise
 
     def _refresh_caches(self) -> None:
@@ -220,6 +223,7 @@ class Store:
         if version != self._data_version:
             self._heads.forget()
             self._quarantine_tally.forget()
+            self._rulebook_tip.forget()
             self._data_version = version
 
     def _read_data_version(self) -> int:

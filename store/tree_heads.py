@@ -10,7 +10,9 @@ so the same head read from a witness line or rebuilt from a checkpoint row check
 Since schema v8 a head also carries `wire`: where the wire tables' chains (liveliness changes,
 wire misses) stood when the checkpoint was written (store/wire_ends.py), and is then the statement
 `gaps.tree_head.v2`; a head without it (written before v8) is the v1 statement, checked as before
-for the events it covers.
+for the events it covers. The wire part may also carry `rulebooks`, the stored rulebooks' chain's
+end (store/rulebook_chain.py), which every head written since records; the statement stays v2
+(its canonical JSON is the part as recorded, so a part without the key signs and checks as it did).
 
 The checkpoint key is an Ed25519 private key in PKCS#8 PEM, as a source's key is
 (store/keyfiles.py), readable by its owner only; its public half is a text file beside it

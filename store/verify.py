@@ -5,7 +5,9 @@ Nothing stored is trusted: hashes, index columns, chain positions and checkpoint
 checked against the event text, and the report names the first event that does not match, so
 an investigator knows where the record stops being reliable. Checkpoints are checked as a
 sequence too: each names the count of the one before it, so removing, adding or reordering one
-shows. (Their created_at, the quarantine and rulebook names are not covered: docs/store.md.)
+shows. The wire tables and the stored rulebooks are chains too, whose ends every checkpoint
+records (store/wire_ends.py, store/rulebook_chain.py). (The checkpoints' created_at, the
+quarantine, and a rulebook put after the last checkpoint are not covered: docs/store.md.)
 """
 
 from __future__ import annotations
@@ -378,7 +380,8 @@ def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
 
 def _verify_wire(conn: sqlite3.Connection, run: str | None) -> dict[str, Any] | None:
     """The liveliness and wire-miss chains (store/liveliness.py), which the missing-evidence
-    finding reads, and the ends of them the checkpoints (of the run) record (store/wire_ends.py);
+    finding reads, and the ends of them and of the rulebooks' chain the checkpoints (of the run)
+    record (store/wire_ends.py);
     a value no append writes (bytes, not UTF-8) is a problem too, not a crash."""
     try:
         found = wire_problem(conn)

@@ -10,6 +10,12 @@ of rows written) and that row's hash, as they stand in the transaction that writ
 checkpoint key signs that with the run's tree head (store/tree_heads.py), and the witness keeps
 it. A store still holds such an end if the table's chain, recomputed from the rows' columns, has
 that hash at that row: the tables may have grown since, never shrunk or changed.
+
+The part records one more chain, under the key `rulebooks`: the stored rulebooks' chain
+(store/rulebook_chain.py), which has no hashes of its own in the file and is recomputed from
+the rows, checked the same way (outcomes `rulebooks cut back`, `rulebooks rewritten`). A part
+written before it was (no `rulebooks` key) still reads, and checks the wire tables it names: the
+rulebooks are then not covered by it.
 """
 from __future__ import annotations
 
@@ -18,31 +24,44 @@ import sqlite3
 from dataclasses import dataclass
 from typing import Any, Iterable
 
+from . import rulebook_chain
 from .chain import GENESIS, is_digest_hex
 from .liveliness import TABLES, chain_rows, row_hash
 
 CUT_BACK = "wire cut back"
 REWRITTEN = "wire rewritten"
+RULEBOOKS = rulebook_chain.TABLE  # the part's optional key: the stored rulebooks' chain
+RULEBOOKS_CUT_BACK = "rulebooks cut back"
+RULEBOOKS_REWRITTEN = "rulebooks rewritten"
 
 
 @dataclass(frozen=True)
 class WireEnd:
-    """One wire table's chain at one moment: its last row and that row's hash (hex)."""
+    """One chain of the wire part at one moment (a wire table's, or the rulebooks'): its last row
+    and that row's hash (hex)."""
 
     table: str
     count: int   # id of the table's last row, 0 for an empty table
     head: str    # that row's hash; GENESIS for none (or a row written before v7, which has none)
 
 
-def ends_now(conn: sqlite3.Connection) -> tuple[WireEnd, ...]:
-    """Each wire table's end as it stands (two index probes); inside a write transaction, what the
+def ends_now(conn: sqlite3.Connection, tip: rulebook_chain.RulebookTip | None = None) -> tuple[WireEnd, ...]:
+    """Each wire table's end as it stands (two index probes), and the rulebooks' (from a writer's
+    running `tip`, else recomputed from the table); inside a write transaction, what the
     checkpoints written in it record."""
     found = []
     for table in TABLES:
         last = conn.execute(f"SELECT id, hash FROM {table} ORDER BY id DESC LIMIT 1").fetchone()
         found.append(WireEnd(table, 0, GENESIS.hex()) if last is None
                      else WireEnd(table, last[0], last[1] or GENESIS.hex()))
+    count, head = rulebook_chain.end(conn) if tip is None else tip.end(conn)
+    found.append(WireEnd(RULEBOOKS, count, head))
     return tuple(found)
+
+
+def covers_rulebooks(ends: tuple[WireEnd, ...] | None) -> bool:
+    """Whether a wire part records the rulebooks' end (parts written before they were chained do not)."""
+    return any(end.table == RULEBOOKS for end in ends or ())
 
 
 def to_part(ends: tuple[WireEnd, ...]) -> dict[str, dict[str, Any]]:
@@ -51,11 +70,12 @@ def to_part(ends: tuple[WireEnd, ...]) -> dict[str, dict[str, Any]]:
 
 
 def from_part(data: Any) -> tuple[WireEnd, ...]:
-    """The ends of a tree head's `wire` part; ValueError saying what is wrong with it."""
-    if not isinstance(data, dict) or set(data) != set(TABLES):
-        raise ValueError(f"wire must name the tables {', '.join(TABLES)}")
+    """The ends of a tree head's `wire` part, the wire tables' and, if it has them, the
+    rulebooks'; ValueError saying what is wrong with it."""
+    if not isinstance(data, dict) or set(data) - {RULEBOOKS} != set(TABLES):
+        raise ValueError(f"wire must name the tables {', '.join(TABLES)} (and may name {RULEBOOKS})")
     ends = []
-    for table in TABLES:
+    for table in (*TABLES, *((RULEBOOKS,) if RULEBOOKS in data else ())):
         end = data[table]
         if not isinstance(end, dict) or set(end) != {"count", "head"}:
             raise ValueError(f"wire.{table} must hold count and head")
@@ -85,6 +105,11 @@ def first_problem(found: dict[WireEnd, tuple[str, str] | None], ends: Iterable[W
     return next((found[end] for end in ends if found[end] is not None), None)
 
 
+def recorded_as(outcome: str) -> str:
+    """What a checkpoint recorded, for a problem's account: the rulebooks' end or the wire tables'."""
+    return "the rulebooks' end" if outcome in (RULEBOOKS_CUT_BACK, RULEBOOKS_REWRITTEN) else "the wire tables' ends"
+
+
 def checkpoint_problem(conn: sqlite3.Connection, run: str | None = None) -> str | None:
     """What `gaps verify` says of the wire parts the checkpoints record (of one run): the first
     that is not one, or whose ends the store no longer holds; None if all hold. (Someone holding
@@ -101,27 +126,31 @@ def checkpoint_problem(conn: sqlite3.Connection, run: str | None = None) -> str 
     for name, count, ends in recorded:
         problem = first_problem(found, ends)
         if problem is not None:
-            return (f"the checkpoint of {count} events of run {name} records the wire tables' ends, and {problem[1]} "
-                    f"({problem[0]})")
+            return (f"the checkpoint of {count} events of run {name} records {recorded_as(problem[0])}, and "
+                    f"{problem[1]} ({problem[0]})")
     return None
 
 
 def _table(conn: sqlite3.Connection, table: str, ends: set[WireEnd]) -> dict[WireEnd, tuple[str, str] | None]:
+    books = table == RULEBOOKS
+    cut_back, rewritten = (RULEBOOKS_CUT_BACK, RULEBOOKS_REWRITTEN) if books else (CUT_BACK, REWRITTEN)
+    changed = ("a stored rulebook's address, name, version, text or time was changed, or a rulebook removed or "
+               "inserted, up to it" if books else "the table was rewritten up to it")
     by_count: dict[int, list[WireEnd]] = {}
     for end in ends:
         by_count.setdefault(end.count, []).append(end)
     found: dict[WireEnd, tuple[str, str] | None] = {end: None for end in by_count.pop(0, [])}  # empty then
     last = 0
-    for id_, recomputed in _recomputed(conn, table):
+    for id_, recomputed in (rulebook_chain.recomputed(conn) if books else _recomputed(conn, table)):
         last = id_
         for end in by_count.pop(id_, []):
-            found[end] = None if recomputed == end.head else (REWRITTEN, (
+            found[end] = None if recomputed == end.head else (rewritten, (
                 f"{table} row {id_} recomputes to hash {_short(recomputed)}, the head records {_short(end.head)}: "
-                f"the table was rewritten up to it"))
+                f"{changed}"))
     for count, missing in by_count.items():
         held = f"its last is {last}" if last else "it holds none"
         for end in missing:
-            found[end] = (CUT_BACK, f"{table} holds no row {count} ({held}), which the head records as its last: "
+            found[end] = (cut_back, f"{table} holds no row {count} ({held}), which the head records as its last: "
                                     f"rows were removed")
     return found
 

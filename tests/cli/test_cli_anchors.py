@@ -137,7 +137,7 @@ def test_verify_against_and_key_catch_liveliness_cut_back_that_plain_verify_does
         store.append([event(3)])
     witness.close()
     text = gaps("verify", "--against", tmp_path / "w.jsonl", "--no-snapshots", db=db)
-    assert text.exit_code == 0 and "(each with the wire tables' ends)" in text.output
+    assert text.exit_code == 0 and "(each with the wire tables' and the rulebooks' ends)" in text.output
     tamper(db, ("DELETE FROM liveliness WHERE id = 2", ()),
            ("DELETE FROM wire_checkpoints WHERE tbl = 'liveliness' AND through_id = 2", ()))
     plain = gaps("verify", "--no-snapshots", db=db)  # the checkpoint after it records the longer chain
@@ -154,3 +154,36 @@ def test_verify_against_and_key_catch_liveliness_cut_back_that_plain_verify_does
     text = gaps("verify", "--against", tmp_path / "w.jsonl", "--no-snapshots", db=db)
     assert text.exit_code == 1 and "HEAD FAILED: run r1 at 4 events (wire cut back): liveliness holds no row 2" \
         in text.output
+
+
+def test_verify_catches_a_stored_rulebooks_version_changed_and_against_and_key_when_covered_up(tmp_path):
+    """The rulebooks table is anchored too: a stored rulebook's version changed (a report would
+    show it) fails plain verify, naming the table; with the checkpoints' record of the rulebooks'
+    end changed to match, --against and --key."""
+    from store import CheckpointKey, Store, WitnessFile
+    from store.wire_ends import ends_now, to_part
+    key = CheckpointKey.create(tmp_path / "ckpt.key")
+    db, witness = tmp_path / "s.db", WitnessFile(tmp_path / "w.jsonl")
+    with Store(db, checkpoint_key=key) as store:
+        store.add_checkpoint_hook(witness.append)
+        sha = store.put_rulebook("highway code", "2024.1", "the templates are:\n*a vehicle* must stop.\n")
+        store.append([event(i) for i in range(3)])
+    witness.close()
+    text = gaps("verify", "--against", tmp_path / "w.jsonl", "--no-snapshots", db=db)
+    assert text.exit_code == 0 and "each with the wire tables' and the rulebooks' ends" in text.output
+    tamper(db, ("UPDATE rulebooks SET version = '2019.3' WHERE sha256 = ?", (sha,)))
+    plain = gaps("verify", "--no-snapshots", db=db)
+    assert plain.exit_code == 1 and "rulebooks row 1" in plain.output and "(rulebooks rewritten)" in plain.output
+    with Store.open_read_only(db) as store:
+        now = to_part(ends_now(store.connection))
+    tamper(db, ("UPDATE checkpoints SET wire = ?", (json.dumps(now),)))  # the record rewritten to match
+    assert gaps("verify", "--no-snapshots", db=db).exit_code == 0  # the file agrees with itself
+    result = gaps("verify", "--against", tmp_path / "w.jsonl", "--key", tmp_path / "ckpt.key.pub",
+                  "--no-snapshots", "--json", db=db)
+    assert result.exit_code == 1
+    report = json.loads(result.stdout)
+    [bad] = report["heads"]["checked"]
+    assert (bad["outcome"], bad["rulebooks"]) == ("rulebooks rewritten", "checked")
+    assert not report["checkpoint_key"]["ok"]
+    text = gaps("verify", "--key", tmp_path / "ckpt.key.pub", "--no-snapshots", db=db)
+    assert text.exit_code == 1 and "CHECKPOINT KEY" in text.output and "does not match" in text.output

@@ -132,9 +132,11 @@ def test_an_untouched_wired_store_matches_and_later_wire_rows_are_an_extension(t
         assert store.append([event(20)]).stored == 1
     lines = [json.loads(line) for line in (tmp_path / "w.jsonl").read_text().splitlines()]
     assert lines[-1]["wire"] == {"liveliness": {"count": 4, "head": heads[-1].wire_part()["liveliness"]["head"]},
-                                 "wire_misses": {"count": 1, "head": heads[-1].wire_part()["wire_misses"]["head"]}}
+                                 "wire_misses": {"count": 1, "head": heads[-1].wire_part()["wire_misses"]["head"]},
+                                 "rulebooks": {"count": 0, "head": GENESIS.hex()}}  # none stored (their own test)
     assert lines[0]["wire"] == {"liveliness": {"count": 0, "head": GENESIS.hex()},
-                                "wire_misses": {"count": 0, "head": GENESIS.hex()}}
+                                "wire_misses": {"count": 0, "head": GENESIS.hex()},
+                                "rulebooks": {"count": 0, "head": GENESIS.hex()}}
 
 
 def test_a_head_without_the_wire_part_checks_the_events_and_says_so(tmp_path, key):

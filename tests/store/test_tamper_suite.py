@@ -3,9 +3,10 @@ table of its cache file, changed one row at a time, and no change alters a verdi
 report without `gaps verify` failing.
 
 The store holds the paper's run (sim_replay/paper.py: an ambulance's mitigated crossing and a
-car's punishable one, judged by the bundled rulebooks), liveliness changes and a lost sample as the
-ingest records them, a quarantined line, and a cache with state snapshots, boxes of where road
-users were and a recorded verification. Each attack works on a fresh copy of store and cache:
+car's punishable one, judged by the bundled rulebooks), the paper's rulebook stored as `gaps rules
+put` stores it (its version is the one a report shows: the run's `run.start` records none),
+liveliness changes and a lost sample as the ingest records them, a quarantined line, and a cache
+with state snapshots, boxes of where road users were and a recorded verification. Each attack works on a fresh copy of store and cache:
 a column of a row set to another value (moved further where the value first drawn collides with
 another row's under a UNIQUE constraint), a row deleted, a forged row inserted (a row's copy with
 one column changed), or an index entry made to disagree with its row (the split view,
@@ -41,6 +42,7 @@ from typing import Any, Callable
 
 import pytest
 
+from reasoner.bundled import PAPER, bundled
 from sim_replay.paper import paper_run
 from store import LivelinessChange, Store, WireMiss, sources_near, state_at
 from store.state import build_snapshots
@@ -65,6 +67,7 @@ class Attack:
 def build(path: Path) -> None:
     events = paper_run()
     with Store(path) as store:
+        store.put_rulebook(PAPER, "2024.1", bundled(PAPER))  # the report's version of the run's rulebook
         store.append(events)
         store.append([{"junk": "not an event"}])  # a quarantined line
         t_end = max(e["t"] for e in events)
@@ -306,6 +309,7 @@ def pristine(tmp_path_factory) -> tuple[Path, dict[str, Any]]:
     assert baseline == outputs(path)  # the outputs are a function of the store
     verdicts = {i["verdict"] for i in json.loads(baseline["incidents"][1])}
     assert {"mitigated", "punishable"} <= verdicts, verdicts
+    assert '"version": "2024.1"' in baseline["report"][1]  # the stored rulebook's row is read by the report
     return path, baseline
 
 
@@ -341,7 +345,7 @@ def test_no_change_to_any_table_or_index_alters_an_output_without_verify_failing
     tables = {a.name.split(":")[1] for a in attacks}
     assert {"events", "checkpoints", "rulebooks", "quarantine", "liveliness", "wire_misses", "events_by_kind",
             "events_by_time", "state_snapshots", "presence", "verifications", "sqlite_autoindex_events_1",
-            "sqlite_autoindex_events_2"} <= tables  # the rulebooks table (and its index) is empty here
+            "sqlite_autoindex_events_2", "rulebooks_by_name", "sqlite_autoindex_rulebooks_1"} <= tables
     outcomes: Counter[str] = Counter()
     undetected, crashes = [], []
     for i, attack in enumerate(attacks):
