@@ -61,9 +61,11 @@ class Gaps:
     A run without gaps costs one probe per source (Store.has_sequence_gaps); only a source with
     gaps is read in full to list them."""
 
-    def __init__(self, store: Store, run: str) -> None:
-        self.store, self.run = store, run
-        self._found: dict[str, list[tuple[int, int]]] = {}
+    def __init__(self, store: Store, run: str, kept: Any = None) -> None:
+        """`kept`: a reasoner/case_memo.CaseMemo of the run, to keep each source's gaps in (a
+        long run's thousands of sources each cost a walk over their seqs)."""
+        self.store, self.run, self.kept = store, run, kept
+        self._found: dict[str, list[tuple[int, int, int | None, int | None]]] = {}
         self._any: bool | None = None
         self._changes: dict[str, list[LivelinessChange]] | None = None
 
@@ -77,12 +79,23 @@ class Gaps:
         return self._changes.get(src, [])
 
     def of(self, src: str) -> list[tuple[int, int]]:
+        return [(first, last) for first, last, _, _ in self.spans(src)]
+
+    def spans(self, src: str) -> list[tuple[int, int, int | None, int | None]]:
+        """The source's gaps, each (first missing seq, last missing seq, t of the event before,
+        t of the event after)."""
         if self._any is None:
             self._any = self.store.has_sequence_gaps(self.run)
         if not self._any:
             return []
         if src not in self._found:
-            self._found[src] = self.store.sequence_gaps(self.run, src)
+            kept = self.kept.get("gaps", src, plain=True) if self.kept is not None else None
+            if kept is None:
+                kept = [[first, last, self.store.t_of(self.run, src, first - 1), self.store.t_of(self.run, src, last + 1)]
+                        for first, last in self.store.sequence_gaps(self.run, src)]
+                if self.kept is not None:
+                    self.kept.put("gaps", src, kept, plain=True)
+            self._found[src] = [tuple(span) for span in kept]
         return self._found[src]
 
 
@@ -98,9 +111,7 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
     out = []
     lo, hi = t - WINDOW_S * SECOND, t + WINDOW_S * SECOND
     for src in srcs:
-        for first, last in gaps.of(src):
-            before = store.t_of(run, src, first - 1)
-            after = store.t_of(run, src, last + 1)
+        for first, last, before, after in gaps.spans(src):
             if (before is None or before <= hi) and (after is None or after >= lo):
                 out.append(Finding("missing evidence", f"{src} events {first} to {last} are missing "
                                    f"from the record, between {_when(before, 'its first event')} and "

@@ -130,10 +130,11 @@ class Investigation:
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
         """Every potential violation of the run, judged; ordered by time. `progress(done, total)`
         is called as the incidents are judged (after the pass over the observations)."""
+        self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
         recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
         rs = self.ruleset(run, recorded)
         todo = self._todo(run, rs, recorded)
-        gaps = Gaps(self.store, run)
+        gaps = Gaps(self.store, run, self.memo(run))
         found = []
         for t, src, pv, ep in todo:
             body = pv["body"] if pv else {}
@@ -313,7 +314,7 @@ class Investigation:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
         of the same chain (reasoner/case_memo.py), since no rulebook changes it."""
-        key = key_of(case.t, case.vehicle, case.action, mscen.facts, mscen.sentences, vscen.facts)
+        key = key_of(case.t, case.vehicle, case.monitor, case.action, _stated_by(mscen))
         return self.memo(case.run).remember("measurement", key, lambda: self._measure(case, mscen, vscen))
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
@@ -629,6 +630,12 @@ def _fed(events: Iterable[dict], sweeper: Sweep) -> Iterable[dict]:
     for event in events:
         sweeper.add(event)
         yield event
+
+
+def _stated_by(scenario: Scenario) -> list:
+    """The events a scenario's facts came from: they and the case's time, vehicle and monitor
+    (which give the state, hence the vehicle's own facts) name everything a measurement reads."""
+    return list(dict.fromkeys((ref.src, ref.seq) for _, ref in scenario.facts if ref is not None))
 
 
 def _case_kept(item: tuple) -> list:

@@ -90,13 +90,19 @@ def corrected(vehicle_facts: list[tuple[Atom, EventRef]], monitor_facts: list[tu
               witnessed: set[str], me: Any, others: set) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
     """The vehicle's facts with the monitor's in place of those it witnesses; and the disputes:
     per sentence kind where the two differ, what each side recorded."""
-    def about(pairs, functor):
-        return [(a, ev) for a, ev in pairs if a.functor == functor and _about(a, me, others)]
+    def about(pairs) -> dict[str, list[tuple[Atom, EventRef]]]:
+        """The witnessed facts about the vehicle, by functor (each list in the facts' order)."""
+        found: dict[str, list[tuple[Atom, EventRef]]] = {}
+        for a, ev in pairs:
+            if a.functor in witnessed and _about(a, me, others):
+                found.setdefault(a.functor, []).append((a, ev))
+        return found
 
     out = [(a, ev) for a, ev in vehicle_facts if not (a.functor in witnessed and _about(a, me, others))]
     disputes = []
+    by_vehicle, by_monitor = about(vehicle_facts), about(monitor_facts)
     for functor in sorted(witnessed):
-        mine, seen = about(vehicle_facts, functor), about(monitor_facts, functor)
+        mine, seen = by_vehicle.get(functor, []), by_monitor.get(functor, [])
         if {a for a, _ in mine} != {a for a, _ in seen}:
             disputes.append({"functor": functor, "vehicle": mine, "monitor": seen})
     out += [(a, ev) for a, ev in monitor_facts if a.functor in witnessed and _about(a, me, others)]
