@@ -7,7 +7,7 @@ import json
 import shutil
 
 import pytest
-from tests.helpers.store_testkit import event, tamper
+from tests.helpers.store_testkit import event, old_schema, tamper
 
 from tests.helpers.cli import gaps
 
@@ -94,16 +94,10 @@ def test_import_onto_a_forged_tail_is_refused(signed, tmp_path):
 
 def test_gaps_migrate_brings_a_v6_store_to_signed_checkpoints(tmp_path):
     old, written = tmp_path / "v6.db", tmp_path / "written.db"
-    import sqlite3
-    from store import Store, ddl
+    from store import Store
     with Store(written) as store:
         store.append([event(i) for i in range(3)])
-    conn = sqlite3.connect(old, isolation_level=None)       # schema 6, as gaps wrote it, with those rows
-    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
-    for step in range(1, 7):
-        for statement in ddl.MIGRATIONS[step]:
-            conn.execute(statement)
-        conn.execute("INSERT INTO schema_version VALUES (?)", (step,))
+    conn = old_schema(old, 6)       # schema 6, as gaps wrote it, with those rows
     conn.execute("ATTACH DATABASE ? AS w", (str(written),))
     conn.execute("INSERT INTO events SELECT run, chain_pos, src, seq, t, kind, event, hash FROM w.events")
     conn.execute("INSERT INTO checkpoints (id, run, count, head, created_at, merkle_root, frontier, prev_count) "

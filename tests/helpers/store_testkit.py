@@ -64,6 +64,18 @@ def event(
     }
 
 
+def old_schema(path: Path, version: int) -> sqlite3.Connection:
+    """A connection to a new file with the tables gaps wrote at schema `version` (its migration
+    steps 1..version, as an older gaps left them): for tests of reading and migrating old stores."""
+    conn = sqlite3.connect(path, isolation_level=None)
+    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
+    for step in range(1, version + 1):
+        for statement in MIGRATIONS[step]:
+            conn.execute(statement)
+        conn.execute("INSERT INTO schema_version VALUES (?)", (step,))
+    return conn
+
+
 def tamper(db_path: Path, *statements: tuple[str, tuple]) -> None:
     """Alter a closed store file behind the store's back, as an attacker with file access
     would: drop the append-only triggers, then run the statements."""

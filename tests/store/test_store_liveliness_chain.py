@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from store import LivelinessChange, Store, WireMiss, ddl, migrate_copy
+from store import LivelinessChange, Store, WireMiss, migrate_copy
+from tests.helpers.store_testkit import old_schema
 
 CHANGES = [LivelinessChange("r", "vehicle/1", True, 10, None), LivelinessChange("r", "vehicle/2", True, 11, None),
            LivelinessChange("r", "vehicle/1", False, 20, 41), LivelinessChange("r", "vehicle/2", False, 30, 9)]
@@ -82,12 +83,7 @@ def test_the_chains_span_writes_and_hold_when_untouched(wired: Path) -> None:
 
 def v6_file(path: Path) -> None:
     """A store as gaps wrote it at schema v6, with liveliness rows and no hashes."""
-    conn = sqlite3.connect(path, isolation_level=None)
-    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
-    for step in range(1, 7):
-        for statement in ddl.MIGRATIONS[step]:
-            conn.execute(statement)
-        conn.execute("INSERT INTO schema_version VALUES (?)", (step,))
+    conn = old_schema(path, 6)
     conn.execute("INSERT INTO liveliness (run, src, alive, at, last_seq) VALUES ('r', 'vehicle/1', 1, 10, NULL)")
     conn.execute("INSERT INTO wire_misses (run, src, kind, count, at, after_seq) "
                  "VALUES ('r', 'vehicle/1', 'entity.state', 2, 11, 3)")

@@ -16,7 +16,7 @@ import sqlite3
 from pathlib import Path
 
 import pytest
-from tests.helpers.store_testkit import event, rows, tamper
+from tests.helpers.store_testkit import event, old_schema, rows, tamper
 
 from store import CheckpointKey, LivelinessChange, Store, WireMiss, WitnessFile, read_heads
 from store.chain import GENESIS
@@ -185,16 +185,10 @@ def test_a_checkpoint_row_records_the_wire_part_it_signed(tmp_path, key):
 def v7_file(path: Path, key: CheckpointKey, witness_path: Path) -> None:
     """A store as gaps wrote it at schema v7: checkpoints signed as v1 tree heads (no wire part),
     witnessed, and a liveliness row chained with its wire checkpoint."""
-    from store import ddl
     written = path.with_name("written.db")
     with Store(written, checkpoint_every=8) as store:
         store.append([event(i) for i in range(10)])
-    conn = sqlite3.connect(path, isolation_level=None)
-    conn.execute("CREATE TABLE schema_version (version INTEGER NOT NULL)")
-    for step in range(1, 8):
-        for statement in ddl.MIGRATIONS[step]:
-            conn.execute(statement)
-        conn.execute("INSERT INTO schema_version VALUES (?)", (step,))
+    conn = old_schema(path, 7)
     conn.execute("ATTACH DATABASE ? AS w", (str(written),))
     conn.execute("INSERT INTO events SELECT * FROM w.events")
     witness = WitnessFile(witness_path)
