@@ -143,10 +143,10 @@ def decode(data: Any) -> Any:
     if ref is not None:
         return EventRef(*ref)
     if "()" in data:
-        return tuple(decode(v) for v in data["()"])
+        return tuple([decode(v) for v in data["()"]])
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
-    return _TYPES[data["@"]](*(decode(v) for v in data["f"]))
+    return _TYPES[data["@"]](*[decode(v) for v in data["f"]])
 
 
 def _hashable(key: Any) -> Any:

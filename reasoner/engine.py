@@ -185,14 +185,16 @@ class Engine:
         except self._janus.PrologError as exc:
             raise QuestionError(_prolog_message(exc)) from None
 
-    def answers(self, rb: Rulebook, body: list, facts: list, explain: bool = False) -> QueryResult:
-        """Every way the conditions hold (answers rendered as LE), with proofs if `explain`."""
+    def answers(self, rb: Rulebook, body: list, facts: list, explain: bool = False, *,
+                texts: bool = True) -> QueryResult:
+        """Every way the conditions hold (answers rendered as LE, unless `texts` is False: a caller
+        that reads only the bindings), with proofs if `explain`."""
         conds = body_data(body)
         facts_d = self._facts(facts)
         if not explain:
             result = self._guarded("gaps_engine:ask_plain(M, F, C, A)", M=rb.module, F=facts_d, C=conds)
             data = result["A"]
-            return QueryResult([self._answer_text(rb, d) for d in data], data)
+            return QueryResult([self._answer_text(rb, d) for d in data] if texts else [], data)
         result = self._guarded("gaps_engine:ask_proofs(M, F, C, A, W)", M=rb.module, F=facts_d, C=conds)
         pairs = result["A"]
         data = [p[0] for p in pairs]

@@ -101,7 +101,7 @@ class Rederiver:
         self.asked += 1
         if not atoms:
             return frozenset()
-        result = self.engine.answers(self.rb, self._question, atoms)
+        result = self.engine.answers(self.rb, self._question, atoms, texts=False)
         return frozenset(arg_text(b[0][2]) for b in result.bindings if b[0][1] == me)
 
 

@@ -501,9 +501,10 @@ class Investigation:
     def _penalty(self, rb: Rulebook, me: Any, facts: list[Atom]) -> Penalty | None:
         question = [Cond(atom=INCURS_FIXED_PENALTY.atom(me, Var("amount"), Var("points"), Var("offence")))]
         found = []
-        for binding in self.engine.answers(rb, question, facts).bindings:
+        for binding in self.engine.answers(rb, question, facts, texts=False).bindings:
             _, _, amount, points, offence = binding[0]
-            law = self.engine.answers(rb, [Cond(atom=IS_AN_OFFENCE_UNDER.atom(offence, Var("law")))], facts)
+            law = self.engine.answers(rb, [Cond(atom=IS_AN_OFFENCE_UNDER.atom(offence, Var("law")))], facts,
+                                      texts=False)
             found.append(Penalty(arg_text(offence), arg_text(law.bindings[0][0][2]) if law.bindings else None,
                                  amount, points))
         if not found:
@@ -515,7 +516,7 @@ class Investigation:
                    evidence: dict[str, EventRef]) -> Liability:
         def parties(sentence) -> tuple[str, ...]:
             question = [Cond(atom=sentence.atom(Var("party"), act, me))]
-            return tuple(role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts).bindings)
+            return tuple(role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts, texts=False).bindings)
 
         liable = self.engine.answers(rb, [Cond(atom=IS_LIABLE.atom(Var("party"), act, me))], facts, explain=True)
         return Liability(parties=tuple(role(arg_text(b[0][1])) for b in liable.bindings),

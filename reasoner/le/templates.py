@@ -59,7 +59,7 @@ class Template:
             return self.builtin
         return "_".join(p for p in self.parts if isinstance(p, str))
 
-    @property
+    @cached_property
     def arity(self) -> int:
         return sum(isinstance(p, Slot) for p in self.parts)
 

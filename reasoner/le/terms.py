@@ -124,11 +124,22 @@ class Document:
 
     def template_for(self, functor: str, arity: int):
         """The declared (or built-in) template that compiles to functor/arity, if any."""
-        from .builtins import BUILTIN_BY_KEY
         t = self.templates.get(functor)
         if t is not None and t.arity == arity:
             return t
         t = self.templates.get(f"{functor}/{arity}")
         if t is not None:
             return t
-        return BUILTIN_BY_KEY.get((functor, arity))
+        return _builtin(functor, arity)
+
+
+_BUILTINS: dict | None = None
+
+
+def _builtin(functor: str, arity: int):
+    """The built-in template of functor/arity (builtins.py imports templates, loaded on first use)."""
+    global _BUILTINS
+    if _BUILTINS is None:
+        from .builtins import BUILTIN_BY_KEY
+        _BUILTINS = BUILTIN_BY_KEY
+    return _BUILTINS.get((functor, arity))
