@@ -120,16 +120,16 @@ def main() -> None:
         warm_wall.append(wall)
         warm_cpu.append(cpu)
         speeds.append(speed)
-        digests.add(digest(found))
+        digests.add(this := digest(found))
         print(f"warm {i + 1}: {wall:.2f} s wall, {cpu:.2f} s CPU (calibration before: {speed:.2f} ms, "
-              f"{QUIET_MS}), incidents {digest(found)}", flush=True)
+              f"{QUIET_MS}), incidents {this}", flush=True)
     remeasured = None
     if not args.no_remeasured:
         again, wall, cpu = incidents_once(path, kept=False)
         remeasured = {"wall_s": wall, "cpu_s": cpu, "x_real_time": duration / wall}
-        digests.add(digest(again))
+        digests.add(this := digest(again))
         print(f"remeasured: {wall:.2f} s wall, {cpu:.2f} s CPU ({duration / wall:,.0f}x real time), "
-              f"incidents {digest(again)}", flush=True)
+              f"incidents {this}", flush=True)
     load.append(os.getloadavg()[0])
     median = statistics.median(warm_wall) if warm_wall else None
     verdicts = Counter(inc.verdict for inc in found)

@@ -93,13 +93,13 @@ class CaseMemo:
             return
         self._fresh.setdefault(kind, {})[key] = text
 
-    def remember(self, kind: str, key: str, compute: Callable[[], Any]) -> Any:
-        """The kept value, else computed now and kept (at `save`)."""
-        found = self.get(kind, key)
+    def remember(self, kind: str, key: str, compute: Callable[[], Any], *, plain: bool = False) -> Any:
+        """The kept value, else computed now and kept (at `save`); a None computed is not kept."""
+        found = self.get(kind, key, plain=plain)
         if found is None:
             found = compute()
             if found is not None:
-                self.put(kind, key, found)
+                self.put(kind, key, found, plain=plain)
         return found
 
     def save(self) -> None:

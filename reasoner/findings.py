@@ -89,14 +89,14 @@ class Gaps:
         if not self._any:
             return []
         if src not in self._found:
-            kept = self.kept.get("gaps", src, plain=True) if self.kept is not None else None
-            if kept is None:
-                kept = [[first, last, self.store.t_of(self.run, src, first - 1), self.store.t_of(self.run, src, last + 1)]
-                        for first, last in self.store.sequence_gaps(self.run, src)]
-                if self.kept is not None:
-                    self.kept.put("gaps", src, kept, plain=True)
-            self._found[src] = [tuple(span) for span in kept]
+            found = self.kept.remember("gaps", src, lambda: self._read(src), plain=True) if self.kept is not None \
+                else self._read(src)
+            self._found[src] = [tuple(span) for span in found]
         return self._found[src]
+
+    def _read(self, src: str) -> list[list]:
+        return [[first, last, self.store.t_of(self.run, src, first - 1), self.store.t_of(self.run, src, last + 1)]
+                for first, last in self.store.sequence_gaps(self.run, src)]
 
 
 def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, int | None]) -> list[Finding]:

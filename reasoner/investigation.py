@@ -187,13 +187,8 @@ class Investigation:
     def _state(self, run: str, t: int, vehicle: str, src: str) -> State:
         """The vehicle's record and what the monitor last observed of it at t (kept, like the
         measurements, for the next investigation of the same chain)."""
-        memo, key = self.memo(run), key_of(t, vehicle, src)
-        kept = memo.get("state", key, plain=True)
-        if kept is not None:
-            return State.from_json(kept)
-        state = state_of(self.store, run, t, entities=[f"vehicle/{vehicle}"], observed=[(src, vehicle)])
-        memo.put("state", key, state.to_json(), plain=True)
-        return state
+        return State.from_json(self.memo(run).remember("state", key_of(t, vehicle, src), lambda: state_of(
+            self.store, run, t, entities=[f"vehicle/{vehicle}"], observed=[(src, vehicle)]).to_json(), plain=True))
 
     def memo(self, run: str) -> CaseMemo:
         """What earlier investigations of the run's chain measured, and what this one adds."""
@@ -448,11 +443,8 @@ class Investigation:
         """When the source became an entity of the run's state (inf: never)."""
         key = (run, src)
         if key not in self._entity_since:
-            memo, named = self.memo(run), key_of("since", src)
-            kept = memo.get("since", named, plain=True)
-            since = kept[0] if isinstance(kept, list) else entity_since(self.store, run, src)
-            if kept is None:
-                memo.put("since", named, [since], plain=True)
+            since = self.memo(run).remember("since", key_of("since", src),      # [None]: never an entity
+                                            lambda: [entity_since(self.store, run, src)], plain=True)[0]
             self._entity_since[key] = float("inf") if since is None else since
         return self._entity_since[key]
 
