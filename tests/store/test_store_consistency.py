@@ -14,8 +14,13 @@ def leaves(n: int, salt: bytes = b"") -> list[bytes]:
     return [hashlib.sha256(salt + i.to_bytes(4, "big")).digest() for i in range(n)]
 
 
+def sizes(largest: int):
+    """(m, n) with 1 <= m <= n <= largest: an older tree size and a newer one."""
+    return st.integers(1, largest).flatmap(lambda n: st.tuples(st.integers(1, n), st.just(n)))
+
+
 @settings(max_examples=300, deadline=None)
-@given(st.integers(1, 300).flatmap(lambda n: st.tuples(st.integers(1, n), st.just(n))))
+@given(sizes(300))
 def test_a_proof_between_any_two_sizes_verifies(sizes):
     m, n = sizes
     all_leaves = leaves(n)
@@ -51,7 +56,7 @@ def test_equal_sizes_need_no_proof_and_equal_roots():
 
 
 @settings(max_examples=100, deadline=None)
-@given(st.integers(1, 150).flatmap(lambda n: st.tuples(st.integers(1, n), st.just(n))))
+@given(sizes(150))
 def test_range_roots_streamed_are_the_proof(sizes):
     m, n = sizes
     all_leaves = leaves(n)
