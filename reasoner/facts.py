@@ -7,6 +7,7 @@ part of re-deriving a run's observations, so results are cached per rulebook.
 """
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from store import EventRef
@@ -25,14 +26,15 @@ class FactReader:
     Sentences that differ only in their whole numbers ("173 has speed of 23", "174 has speed of
     31") are parsed once, as their *skeleton* (each such number replaced by a placeholder number),
     and the numbers put back in the atom's places. A skeleton is used only where that gives what
-    parsing the sentence gives: each placeholder lands whole in one argument, and no template of
-    the rulebook has a number among its own words (where "lane 2" could be a template's words, the
-    sentence is parsed as it is)."""
+    parsing the sentence gives: each placeholder lands whole in one argument, and a number that
+    is among the own words of one of the rulebook's templates stays as it is (where "section 87"
+    is a template's words, "87" is no placeholder: the template still fits the skeleton, and
+    only its arguments are placeholders)."""
 
     def __init__(self) -> None:
         self._cache: dict[tuple[str, str], Atom | None] = {}
         self._skeletons: dict[tuple[str, str], Atom | None] = {}
-        self._numbered: dict[str, bool] = {}     # rulebook sha256 -> a template has number words
+        self._numbered: dict[str, frozenset[str]] = {}     # rulebook sha256 -> its templates' number words
 
     def atom(self, rb: Rulebook, sentence: Any) -> Atom | None:
         if not isinstance(sentence, str):
@@ -52,9 +54,7 @@ class FactReader:
 
     def _from_skeleton(self, rb: Rulebook, sentence: str) -> Atom | None:
         """The sentence's atom made from its skeleton's, or None (then it is parsed as it is)."""
-        if self._has_number_words(rb):
-            return None
-        skeleton, numbers = _skeleton(sentence)
+        skeleton, numbers = _skeleton(sentence, self._number_words(rb))
         if not numbers:
             return None
         key = (rb.sha256, skeleton)
@@ -66,12 +66,14 @@ class FactReader:
             shaped = self._skeletons[key] = parse_fact(skeleton, rb.document.templates)
         return _filled(shaped, numbers) if shaped is not None else None
 
-    def _has_number_words(self, rb: Rulebook) -> bool:
+    def _number_words(self, rb: Rulebook) -> frozenset[str]:
+        """Every run of digits in the templates' own words ("5", "6" of "paragraph 5(6)"), as
+        written and as its number reads."""
         found = self._numbered.get(rb.sha256)
         if found is None:
-            found = self._numbered[rb.sha256] = any(
-                isinstance(part, str) and any(ch.isdigit() for ch in part)
-                for template in rb.document.templates.values() for part in template.parts)
+            runs = {run for template in rb.document.templates.values() for part in template.parts
+                    if isinstance(part, str) for run in re.findall(r"[0-9]+", part)}
+            found = self._numbered[rb.sha256] = frozenset(runs | {str(int(run)) for run in runs})
         return found
 
     def pairs(self, rb: Rulebook, facts: list[tuple[Any, EventRef]],
@@ -101,17 +103,18 @@ _PLACEHOLDER = 7_306_000_000_000_000   # the first placeholder number; a sentenc
 _MAX_DIGITS = 15
 
 
-def _skeleton(sentence: str) -> tuple[str, list[int]]:
+def _skeleton(sentence: str, kept: frozenset[str] = frozenset()) -> tuple[str, list[int]]:
     """The sentence with each whole number word (no sign, no leading zero, at most _MAX_DIGITS
-    digits) replaced by a placeholder number, and the numbers in order; no numbers where the
-    sentence has none, or holds a word that could be a placeholder."""
+    digits, not in `kept`: a template's own words) replaced by a placeholder number, and the
+    numbers in order; no numbers where the sentence has none, or holds a word that could be a
+    placeholder."""
     words = sentence.split(" ")
     numbers: list[int] = []
     for i, word in enumerate(words):
         if word.isdigit() and word.isascii():
             if len(word) > _MAX_DIGITS:          # as long as a placeholder: parsed as it is
                 return sentence, []
-            if word[0] == "0" and len(word) > 1:
+            if (word[0] == "0" and len(word) > 1) or word in kept:
                 continue
             words[i] = str(_PLACEHOLDER + len(numbers))
             numbers.append(int(word))

@@ -90,3 +90,44 @@ def test_a_skeleton_parses_as_the_sentence_does(monitors, values, pattern):
     _, rb = monitors
     sentence = pattern.format(a=values[0], b=values[1])
     assert FactReader().atom(rb, sentence) == parse_fact(sentence, rb.document.templates)
+
+
+NUMBERED = """the templates are:
+*a vehicle* is used for a purpose of section 87.
+*a vehicle* is used for a purpose of section *a number*.
+*a vehicle* is in lane 2.
+*a vehicle* has speed of *a speed*.
+*a vehicle* is checked.
+
+the knowledge base numbered includes:
+a vehicle is checked if the vehicle is in lane 2.
+"""
+
+
+@pytest.fixture(scope="module")
+def numbered():
+    return get_engine().load(NUMBERED, "numbered.le")
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.one_of(st.integers(0, 10**17), st.sampled_from(["87", "2", "02", "087", "5", "0"])),
+                min_size=2, max_size=2),
+       st.sampled_from(["{a} is used for a purpose of section {b}", "{a} is in lane {b}", "{a} has speed of {b}",
+                        "{a} is used for a purpose of section 87", "{a} is in lane 2"]))
+def test_a_skeleton_keeps_the_templates_own_numbers(numbered, values, pattern):
+    # "section 87" and "lane 2" are a template's own words: 87 and 2 there are no arguments,
+    # and the sentence's other numbers still are (the skeleton parses as the sentence does)
+    sentence = pattern.format(a=values[0], b=values[1])
+    assert FactReader().atom(numbered, sentence) == parse_fact(sentence, numbered.document.templates)
+
+
+def test_a_rulebook_with_number_words_still_parses_each_skeleton_once(numbered, monkeypatch):
+    import reasoner.facts as facts_module
+    parsed = []
+    monkeypatch.setattr(facts_module, "parse_fact", lambda s, t: parsed.append(s) or parse_fact(s, t))
+    reader = FactReader()
+    atoms = [reader.atom(numbered, f"{v} has speed of {v + 3}") for v in (173, 174, 175)]
+    assert [a.args for a in atoms] == [(173, 176), (174, 177), (175, 178)]
+    assert reader.atom(numbered, "173 is used for a purpose of section 87").functor != \
+        reader.atom(numbered, "173 is used for a purpose of section 88").functor
+    assert len(parsed) == 3
