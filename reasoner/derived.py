@@ -28,7 +28,7 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .others import VEHICLE_WIDTH_M, own_cause, path_gap, since
+from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -399,14 +399,13 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
 def explained(p: Passage, other: Other) -> bool:
     """Whether something other than the vehicle passing explains the road user's braking or stop:
     a red or amber light of its own, a Stop line of its own, a road user it followed (others.py),
-    or a path through the junction that never came within a vehicle's width of V's (others.path_gap:
+    or a path through the junction that never came within a vehicle's width of V's (others.paths_within:
     no conflict point, so it slowed for its own manoeuvre)."""
     if own_cause(other):
         return True
     if other.braking is None and other.stopped is None:
         return False
-    gap = path_gap(p.samples, other.way, p.junction)
-    return gap is not None and gap >= VEHICLE_WIDTH_M
+    return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False
 
 
 def _set_off(p: Passage) -> Standstill | None:

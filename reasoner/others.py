@@ -182,17 +182,36 @@ def own_cause(other: Other) -> bool:
 VEHICLE_WIDTH_M = 2.55  # the widest a vehicle may be (Road Vehicles (Construction and Use) Regulations 1986 reg. 8)
 
 
-def path_gap(mine: Sequence[Sample], theirs: Sequence[Sample], junction: Junction) -> float | None:
-    """How close two road users' paths through the junction came, wherever each was when (the
-    smallest distance between the polylines of their positions inside the junction's area, with
-    the sample before and after it); None when either path, in and out, is not in the record. Paths whose
+def paths_within(mine: Sequence[Sample], theirs: Sequence[Sample], junction: Junction,
+                 distance: float) -> bool | None:
+    """Whether two road users' paths through the junction came closer than `distance`, wherever
+    each was when (the polylines of their positions inside the junction's area, with the sample
+    before and after it); None when either path, in and out, is not in the record. Paths whose
     centre lines stay VEHICLE_WIDTH_M or more apart cannot both be occupied at once: a road user
     on such a path (a main-road car turning left into the arm the vehicle leaves) has no conflict
     point with the vehicle, and slows for its own manoeuvre, not to avoid it."""
     a, b = through(mine, junction), through(theirs, junction)
     if len(a) < 2 or len(b) < 2:
         return None
-    return min(_segment_gap(p, q, r, s) for p, q in zip(a, a[1:]) for r, s in zip(b, b[1:]))
+    return polylines_within(a, b, distance)
+
+
+def polylines_within(a: Sequence[tuple[float, float]], b: Sequence[tuple[float, float]], distance: float) -> bool:
+    """Whether some segment of polyline a comes closer than `distance` to some segment of b.
+
+    Pairs of segments whose bounding boxes are `distance` or more apart along either axis cannot
+    come that close and are not measured: at 10 Hz two paths through a junction are a few thousand
+    pairs, and most are metres apart."""
+    boxes = [(min(r[0], s[0]) - distance, max(r[0], s[0]) + distance,
+              min(r[1], s[1]) - distance, max(r[1], s[1]) + distance, r, s) for r, s in zip(b, b[1:])]
+    for p, q in zip(a, a[1:]):
+        x0, x1, y0, y1 = min(p[0], q[0]), max(p[0], q[0]), min(p[1], q[1]), max(p[1], q[1])
+        for bx0, bx1, by0, by1, r, s in boxes:
+            if x1 <= bx0 or x0 >= bx1 or y1 <= by0 or y0 >= by1:
+                continue
+            if _segment_gap(p, q, r, s) < distance:
+                return True
+    return False
 
 
 def through(series: Sequence[Sample], junction: Junction) -> list[tuple[float, float]]:
