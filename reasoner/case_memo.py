@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from store import EventRef, Store, derived_cache
+from store.fastjson import loads as fast_loads
 
 from .derived import Contradiction
 from .measurement import Measurement
@@ -75,7 +76,7 @@ class CaseMemo:
             self.misses += 1
             return None
         try:
-            value = json.loads(text) if plain else decode(json.loads(text))
+            value = fast_loads(text) if plain else decode(fast_loads(text))
         except (ValueError, KeyError, TypeError, IndexError):
             self.misses += 1
             return None         # written by this code under this seal, so never expected: measured again
@@ -133,20 +134,30 @@ def encode(value: Any) -> Any:
     raise Uncacheable(f"{name} is not kept")
 
 
+_SCALARS = frozenset({str, int, float, bool, type(None)})
+
+
 def decode(data: Any) -> Any:
+    """The value `encode` was given. (Scalars, most of a kept measurement, are passed over
+    without a call each: a judgement from kept measurements decodes half a million values.)"""
     kind = type(data)
     if kind is list:
-        return [decode(v) for v in data]
+        return _decoded(data)
     if kind is not dict:
         return data
     ref = data.get("r")
     if ref is not None:
         return EventRef(*ref)
     if "()" in data:
-        return tuple([decode(v) for v in data["()"]])
+        return tuple(_decoded(data["()"]))
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
-    return _TYPES[data["@"]](*[decode(v) for v in data["f"]])
+    return _TYPES[data["@"]](*_decoded(data["f"]))
+
+
+def _decoded(items: list) -> list:
+    scalars = _SCALARS
+    return [v if type(v) in scalars else decode(v) for v in items]
 
 
 def _hashable(key: Any) -> Any:

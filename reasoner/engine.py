@@ -89,7 +89,7 @@ class Rulebook:
 
 @dataclass
 class Answer:
-    """Every proof of a question (JSON-ready trees), or why it has none."""
+    """The first proof of a question (a JSON-ready tree, in a list), or why it has none."""
 
     proofs: list[dict]
     why_not: dict | None
@@ -172,7 +172,8 @@ class Engine:
 
     # -- asking ---------------------------------------------------------------------------
     def ask(self, rb: Rulebook, goal: Atom, facts: list) -> Answer:
-        """One sentence with proof trees: every proof, or why there is none."""
+        """One sentence with its proof tree: the first proof (the one a search for every proof
+        lists first), or why there is none."""
         result = self._guarded("gaps_engine:ask(M, F, G, P, W)", M=rb.module,
                                F=self._facts(facts), G=atom_data(goal))
         return Answer(result["P"], result["W"])

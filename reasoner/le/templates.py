@@ -63,9 +63,10 @@ class Template:
     def arity(self) -> int:
         return sum(isinstance(p, Slot) for p in self.parts)
 
-    @property
-    def slots(self) -> list[Slot]:
-        return [p for p in self.parts if isinstance(p, Slot)]
+    @cached_property
+    def slots(self) -> tuple[Slot, ...]:
+        """The slots in order (worked out once: every sentence rendered asks for them)."""
+        return tuple(p for p in self.parts if isinstance(p, Slot))
 
     @property
     def meta(self) -> bool:

@@ -131,3 +131,47 @@ def test_a_measurement_answers_for_every_rule_and_every_belief_it_measured():
     assert m.margin(" hc 175 ") == amber and m.margin("HC 999") == red and m.margin(None) == red
     assert m.contradicted([("7 has amber light.", ref)]) == ()
     assert m.contradicted([("7 is stopped", ref)]) is None
+
+
+def test_values_no_fast_parser_reads_come_back_exactly(tmp_path):
+    """Kept entries are read with orjson where it gives what `json` gives: an integer wider than
+    64 bits, NaN and infinities (which orjson refuses or rounds) come back as they were kept."""
+    db, run = _stored(tmp_path, "paper")
+    ref = EventRef(run, "vehicle/7", 12, 2**70, "vehicle.perception")
+    kept = Measurement(True, 2**70, (DerivedFact("7 has speed of 30", "m/s", (ref,), None),), (),
+                       (("crossed the stop line", float("inf")),), (), ((None, Margin("s", -1e308, "s", (ref,), "", ())),), ())
+    plain = {"big": 2**64 + 1, "neg": -(2**63) - 1, "inf": float("-inf"), "x": [1.5, "a", None, True]}
+    with Store(db) as store:
+        memo = case_memo.CaseMemo(store, run)
+        memo.put("measurement", "k", kept)
+        memo.put("state", "k", plain, plain=True)
+        memo.save()
+    with Store(db) as store:
+        memo = case_memo.CaseMemo(store, run)
+        assert memo.get("measurement", "k") == kept
+        back = memo.get("state", "k", plain=True)
+        assert back == plain and type(back["big"]) is int and back["inf"] == float("-inf")
+        memo.put("state", "n", {"v": float("nan")}, plain=True)     # NaN != NaN: not plain, not kept
+        memo.put("state", "m", {"v": 1.0}, plain=True)
+        memo.save()
+    with Store(db) as store:
+        memo = case_memo.CaseMemo(store, run)
+        assert memo.get("state", "n", plain=True) is None and memo.get("state", "m", plain=True) == {"v": 1.0}
+
+
+def test_cases_are_judged_with_the_collector_paused_and_young_cycles_collected(tmp_path, monkeypatch):
+    """A third of a judgement from kept measurements was the cyclic collector's full passes over
+    everything judged so far; judging pauses it, collects the young generations every
+    YOUNG_EVERY cases, and leaves it as it found it."""
+    import gc
+    db, run = _stored(tmp_path, "paper")
+    seen, young = [], []
+    judge = Investigation._judge
+    monkeypatch.setattr(Investigation, "_judge", lambda self, *a: seen.append(gc.isenabled()) or judge(self, *a))
+    monkeypatch.setattr(investigation_module, "YOUNG_EVERY", 1)
+    monkeypatch.setattr(investigation_module.gc, "collect", lambda generation=2: young.append(generation) or 0)
+    assert gc.isenabled()
+    found, _ = _judged(db, run)
+    assert found and seen and not any(seen)
+    assert young == [1] * len(seen)
+    assert gc.isenabled()
