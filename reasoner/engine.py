@@ -19,6 +19,7 @@ from .le.compile import atom_data, body_data, fact_data, predicates
 from .le.document import parse_document
 from .le.errors import LEError
 from .le.render import sentence_text
+from .le.render_memo import ShapeMemo
 from .le.terms import Atom, Document, Rule
 from .prolog_home import import_janus
 
@@ -40,6 +41,7 @@ class Rulebook:
     module: str
     document: Document
     _rendered: dict[tuple[str, ...], str] = field(default_factory=dict, repr=False, compare=False)
+    _shapes: ShapeMemo = field(default_factory=ShapeMemo, repr=False, compare=False)
 
     def rule(self, rule_id):
         if rule_id is None or isinstance(rule_id, str) or not 0 <= rule_id < len(self.document.rules):
@@ -49,22 +51,23 @@ class Rulebook:
     def render(self, data) -> str:
         """Any goal or answer data (or an Atom) as an LE sentence with this rulebook's templates.
 
-        A sentence of words and plain values only (["has_light", 173, "red"], most nodes of a
-        vehicle's proof, most facts) is rendered once: a simulation renders a hundred thousand a
-        minute, mostly the same. (Exact types: True is not 1, 1.0 is not 1 and 173 is not "173",
-        in the key as in the text.)"""
-        if type(data) is list and all(type(a) is str or type(a) is int for a in data):
-            key: tuple = tuple(data)
-        elif type(data) is Atom and all(type(a) in _PLAIN for a in data.args):
+        Prolog's data is rendered once per shape (le/render_memo.py: a simulation or a judgement
+        renders a hundred thousand sentences a minute, alike but for their numbers); an Atom of
+        plain values once (exact types: True is not 1, 1.0 is not 1 and 173 is not "173")."""
+        if type(data) is list:
+            return self._shapes.text(data, self._sentence)
+        if type(data) is Atom and all(type(a) in _PLAIN for a in data.args):
             key = ("atom", data.functor, *((type(a).__name__, a) for a in data.args))
-        else:
-            return sentence_text(data, self.document)
-        text = self._rendered.get(key)
-        if text is None:
-            if len(self._rendered) >= RENDERED_LIMIT:
-                self._rendered.clear()
-            text = self._rendered[key] = sentence_text(data, self.document)
-        return text
+            text = self._rendered.get(key)
+            if text is None:
+                if len(self._rendered) >= RENDERED_LIMIT:
+                    self._rendered.clear()
+                text = self._rendered[key] = sentence_text(data, self.document)
+            return text
+        return sentence_text(data, self.document)
+
+    def _sentence(self, data) -> str:
+        return sentence_text(data, self.document)
 
     def source(self, rule_id) -> dict | None:
         rule = self.rule(rule_id)
