@@ -1,6 +1,6 @@
 """All incidents of a one-hour, 200-vehicle run, recomputed: how many times faster than real time.
 
-    .venv/bin/python bench/incidents.py [--repeats 3] [--dir /tmp/gaps-bench] [--no-cold] [--json]
+    .venv/bin/python bench/incidents.py [--repeats 3] [--dir /tmp/gaps-bench] [--no-cold] [--recording KEY] [--json]
 
 Issue 6's target: all incidents of a one-hour, 200-vehicle run recomputed at >= 500x real time,
 i.e. in at most 7.2 s. The run is the simulation's (bench/sim_runs.py: the town map, about 200
@@ -39,7 +39,8 @@ from typing import Any
 
 from machine import QUIET_MS, calibration_elsewhere, machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
-from sim_runs import RUN, about, describe, recorded, truth, work_file  # bench/sim_runs.py, beside this file
+import sim_runs  # bench/sim_runs.py, beside this file
+from sim_runs import RUN, about, describe, recorded, truth, work_file
 from sim_replay.sim_events import T0
 from store import Store
 
@@ -92,8 +93,11 @@ def main() -> None:
     parser.add_argument("--no-cold", action="store_true", help="reuse the working copy (no cold figure)")
     parser.add_argument("--build-only", action="store_true", help="generate the store file and stop")
     parser.add_argument("--no-remeasured", action="store_true", help="skip the call that measures every case again")
+    parser.add_argument("--recording", metavar="KEY", help="judge the recording of this key under --dir (made by an "
+                        "earlier version of the simulation) instead of the one this code records")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
+    sim_runs.RECORDING = args.recording
     if args.no_cold and args.repeats < 1:
         parser.error("--no-cold needs at least one of --repeats")
     args.dir.mkdir(parents=True, exist_ok=True)
@@ -202,7 +206,8 @@ def record_result(result: dict[str, Any], repeats: int) -> None:
     made = result["recording"]
     record("incidents", "All incidents of a simulated run recomputed", figures,
            machine_extra=f"load average during the bench {', '.join(map(str, result['load_average']))}",
-           notes=f"{describe()} ({made['vehicles_on_network']:.0f} on the network on average), recorded into the "
+           notes=f"{describe()} ({made['vehicles_on_network']:.0f} on the network on average), recording "
+                 f"{made.get('key', '?')}{' (by an earlier version of the simulation)' if sim_runs.RECORDING else ''}, recorded into the "
                  f"store in {made['wall_s']:,.0f} s: {result['events']:,} events, {result['incidents']} incidents; "
                  f"median of {repeats} warm runs; the same incidents from every call: "
                  f"{'yes' if result['same_incidents_every_call'] else 'NO'}; ground truth: "
@@ -210,7 +215,7 @@ def record_result(result: dict[str, Any], repeats: int) -> None:
                  f"{t['expected_and_found']} found with its verdict and rule, {t['expected_unseen']} unseen by any "
                  f"monitor; {t['disagreements']} disagreements ({t['known']} known)",
            details={"by_verdict": result["by_verdict"], "findings": result["findings"],
-                    "recording": {k: made[k] for k in ("wall_s", "append_s", "vehicles_on_network", "simulation")},
+                    "recording": {k: made.get(k) for k in ("key", "wall_s", "append_s", "vehicles_on_network", "simulation")},
                     "truth_rows": t["by_row"], "misread_lights": t["misread_lights"], "disagreements": t["lines"]})
 
 

@@ -75,11 +75,20 @@ def key(config: SimConfig = CONFIG) -> str:
     return digest.hexdigest()[:12]
 
 
+RECORDING: str | None = None
+"""The key of a recording under the directory to use instead of the one this code would record
+(`--recording`): judging an hour already recorded by an earlier version of the simulation, rather
+than recording it again for 40 minutes because the simulation's code changed since."""
+
+
 def recorded(directory: Path, config: SimConfig = CONFIG) -> Path:
     """The pristine store file of the run (its ground truth and `about` beside it), generated if missing."""
-    path = directory / f"sim-{config.run}-{key(config)}.db"
+    path = directory / f"sim-{config.run}-{RECORDING or key(config)}.db"
     if path.exists() and truth_path(path).exists() and about_path(path).exists():
         return path
+    if RECORDING:
+        raise SystemExit(f"no recording {RECORDING} of {config.run} under {directory} (with its .truth.json and "
+                         f".about.json): record it without --recording")
     partial = path.with_suffix(".partial")
     for leftover in directory.glob(partial.name + "*"):
         leftover.unlink()
