@@ -21,8 +21,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
 
-from store import EventRef, Store, derived_cache
-from store.fastjson import loads as fast_loads
+from store import EventRef, Store, derived_cache, parse_json
 
 from .derived import Contradiction
 from .measurement import Measurement
@@ -76,7 +75,7 @@ class CaseMemo:
             self.misses += 1
             return None
         try:
-            value = fast_loads(text) if plain else decode(fast_loads(text))
+            value = parse_json(text) if plain else decode(parse_json(text))
         except (ValueError, KeyError, TypeError, IndexError):
             self.misses += 1
             return None         # written by this code under this seal, so never expected: measured again

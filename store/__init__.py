@@ -6,6 +6,7 @@ store's own layout. docs/store.md describes it.
 """
 
 from .canonical import canonical_json
+from .fastjson import loads as parse_json
 from .db import Store
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
 from .refs import EventRef
@@ -61,6 +62,7 @@ from .transfer import (
 
 __all__ = [
     "derived_cache",
+    "parse_json",
     "CheckpointKey",
     "TamperedTail",
     "TreeHead",
