@@ -63,9 +63,9 @@ if TYPE_CHECKING:
 LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
 SECOND = 1_000_000_000
 SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one of the vehicle is that one
-# The cases are judged with the cyclic collector paused (store.CollectorPaused): its full passes
-# traverse every incident judged so far and every value decoded from the kept measurements, a
-# third of a judgement from kept measurements, to find almost nothing. Every YOUNG_EVERY cases the
+# The cases are found and judged with the cyclic collector paused (store.CollectorPaused): its
+# full passes traverse every case read, every incident judged so far and every value decoded from
+# the kept measurements, a third of a judgement from kept measurements, to find almost nothing. Every YOUNG_EVERY cases the
 # young generations alone are collected, so the few cycles judging makes (a parse error kept for
 # its message) never pile up: memory stays what it is with the collector on.
 YOUNG_EVERY = 256
@@ -138,12 +138,12 @@ class Investigation:
         """Every potential violation of the run, judged; ordered by time. `progress(done, total)`
         is called as the incidents are judged (after the pass over the observations)."""
         self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
-        recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
-        rs = self.ruleset(run, recorded)
-        todo = self._todo(run, rs, recorded)
-        gaps = Gaps(self.store, run, self.memo(run))
-        found: list[Incident] = []
         with CollectorPaused():
+            recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
+            rs = self.ruleset(run, recorded)
+            todo = self._todo(run, rs, recorded)
+            gaps = Gaps(self.store, run, self.memo(run))
+            found: list[Incident] = []
             for done, (t, src, pv, ep) in enumerate(todo, 1):
                 body = pv["body"] if pv else {}
                 vehicle = str(body.get("vehicle")) if pv else ep.vehicle
