@@ -108,6 +108,13 @@ class Simulation:
     # --- the run ------------------------------------------------------------------------------
 
     def events(self) -> Iterator[dict[str, Any]]:
+        """The run's events one by one, in publication order."""
+        for batch in self.batches():
+            yield from batch
+
+    def batches(self) -> Iterator[list[dict[str, Any]]]:
+        """The run's events a tick at a time (run.start, each tick's, run.end), for an outlet that
+        puts a tick's events together (Outlets.put_all). Empty ticks are left out."""
         started = time.perf_counter()
         c = self.config
         with fewer_collections(), World(self.net_path, seed=c.seed) as world:
@@ -128,7 +135,7 @@ class Simulation:
             self._emit("sim/world", 0.0, "run.start", {
                 "map": world_map(network, monitors), "rulebooks": self.books.records(), "seed": c.seed,
                 "config": c.to_json()})
-            yield from self._drain()
+            yield from self._batch()
             steps = round(c.duration_s / world.step_s)
             di = wi = 0
             self._calls = stream(c.seed, "calls")
@@ -144,12 +151,12 @@ class Simulation:
                 snap = world.step()
                 self.faults.t_s = snap.t_s
                 self._tick(snap, step % c.step_every == 0)
-                yield from self._drain()
+                yield from self._batch()
                 if self.progress is not None and step % 100 == 0:
                     self.progress(snap.t_s, c.duration_s)
             self.witness.close(self.agents, world.t_s)
             self._emit("sim/world", world.t_s, "run.end", {"reason": "duration reached"})
-            yield from self._drain()
+            yield from self._batch()
             world_s = world.t_s
         self.summary = Summary(len(self.agents), len(walks), self.env.count, self.env.lost, dict(self.by_kind),
                                self.books.queries, self.watchers.potential_violations, len(self.truth.acts),
@@ -164,10 +171,12 @@ class Simulation:
             self.by_kind[kind] = self.by_kind.get(kind, 0) + 1
         return ev
 
-    def _drain(self) -> list[dict[str, Any]]:
-        events = list(self._out)
-        self._out.clear()
-        return events
+    def _batch(self) -> Iterator[list[dict[str, Any]]]:
+        """What the latest tick made, as one batch (none if it made nothing)."""
+        if self._out:
+            events = list(self._out)
+            self._out.clear()
+            yield events
 
     # --- putting road users on the network ----------------------------------------------------
 
