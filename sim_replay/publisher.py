@@ -31,7 +31,7 @@ DESPAWN = "entity.despawn"  # a source's last event: its publishers are released
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
 PUT_RUN = 1024          # publish_all encodes up to this many events, then puts them back to back
-_Prepared = tuple       # (publisher, key, event, canonical bytes): EventPublisher._prepared
+_Prepared = tuple[ext.AdvancedPublisher, str, dict, bytes]   # publisher, key, event, canonical bytes
 
 
 def zenoh_config(
