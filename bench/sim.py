@@ -26,6 +26,13 @@ average), so the two loops are compared at the vehicle counts they really had. W
 shared, the wall figure carries the neighbours' load; the CPU figure (world seconds per CPU second
 of the simulation's process) is what a core of its own would give. Fails if any published event was
 not stored.
+
+Where the window's time goes is printed per phase, so that a slow run says why: the wall clock split
+between SUMO's step, the simulation's own work (agents, monitors, events) and the outlets' put
+(canonical JSON, Zenoh, the producer's cache); the main thread's wall split by the kernel's
+scheduler statistics into running, waiting for the CPU (its neighbours: other processes on the
+core, Zenoh's threads) and sleeping (a BLOCK put waiting for the ingest, the GIL); and the CPU of
+the process's other threads (Zenoh's).
 """
 from __future__ import annotations
 
@@ -43,7 +50,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).parent))
 
-from machine import machine  # noqa: E402
+from machine import QUIET_MS, calibration_elsewhere, machine  # noqa: E402
 from results import Figure, quick, record  # noqa: E402
 from sumo_step import STEP_S, Traffic, grid_net, sumo_loop  # noqa: E402
 
@@ -100,6 +107,29 @@ def serve(db: Path, endpoint: str) -> dict:
     return stats
 
 
+def scheduled() -> tuple[float, float]:
+    """Seconds this thread has run on a CPU and waited for one (Linux's /proc/thread-self/schedstat;
+    zeros elsewhere): wall time that is neither was spent asleep (a blocked put, the GIL)."""
+    try:
+        ran, waited, _ = Path("/proc/thread-self/schedstat").read_text().split()
+    except (OSError, ValueError):
+        return 0.0, 0.0
+    return int(ran) / 1e9, int(waited) / 1e9
+
+
+def phases(got: dict) -> str:
+    """Where the window's wall time went, as printed beside the figures (see the module docstring)."""
+    wall = got["wall_s"]
+    own = got["generator_s"] - got["sumo_s"]
+    slept = max(0.0, wall - got["ran_s"] - got["waited_s"])
+    return (f"phases of the {wall:.1f} s: SUMO's step {got['sumo_s']:.1f} s (CPU {got['sumo_cpu_s']:.1f} s), the "
+            f"simulation's own work {own:.1f} s, the outlets' put {got['put_s']:.1f} s (CPU "
+            f"{got['put_cpu_s']:.1f} s), the loop "
+            f"{wall - got['generator_s'] - got['put_s']:.1f} s; the main thread ran {got['ran_s']:.1f} s, waited for "
+            f"the CPU {got['waited_s']:.1f} s, slept {slept:.1f} s; other threads' CPU (Zenoh's) "
+            f"{got['cpu_s'] - got['thread_cpu_s']:.1f} s")
+
+
 def child(part: str, *args: str, stdin: int | None = None) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, __file__, "--part", part, *args], stdin=stdin,
                             stdout=subprocess.PIPE, text=True)
@@ -116,15 +146,16 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
     """The simulation in this process, on one core, published into an ingest in a child process on
     the other: its wall time, events, queries and SUMO's share (World.step timed inside it)."""
     from sim_replay.outlets import Outlets
-    stepping = [0.0]
+    stepping = [0.0, 0.0]       # SUMO's step: wall, CPU of this thread
     real_step = sumo_world.World.step
 
     def timed_step(self):
-        started = time.perf_counter()
+        started, cpu = time.perf_counter(), time.thread_time()
         try:
             return real_step(self)
         finally:
             stepping[0] += time.perf_counter() - started
+            stepping[1] += time.thread_time() - cpu
 
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -140,20 +171,38 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
     window_from: int | None = None  # the first event's t (the run's start) + the warm-up
     mark: dict | None = None
     events = states = 0
+    generating = putting = put_cpu = 0.0  # in the window: wall making the next tick, wall and CPU putting it
+    clock = time.perf_counter
     try:
         sim = Simulation(config)
         with Outlets(connect=[endpoint]) as out:
-            for event in sim.events():
+            made = iter(sim.batches())
+            while True:
+                began = clock()
+                batch = next(made, None)
+                if batch is None:
+                    break
+                t = batch[0]["t"]
                 if window_from is None:
-                    window_from = event["t"] + int(args.warmup * 1e9)
-                if mark is None and event["t"] >= window_from:
+                    window_from = t + int(args.warmup * 1e9)
+                if mark is None and t >= window_from:
                     mark = {"wall": time.perf_counter(), "cpu": time.process_time(), "sumo": stepping[0],
+                            "sumo_cpu": stepping[1], "thread_cpu": time.thread_time(), "scheduled": scheduled(),
                             "queries": sim.books.queries}
-                if mark is not None:
-                    events += 1
-                    states += event["kind"] == "entity.state"
-                out.put(event)
+                    began = clock()
+                if mark is None:
+                    out.put_all(batch)
+                    continue
+                events += len(batch)
+                states += sum(1 for event in batch if event["kind"] == "entity.state")
+                made_at, cpu = clock(), time.thread_time()
+                generating += made_at - began
+                out.put_all(batch)
+                put_cpu += time.thread_time() - cpu
+                putting += clock() - made_at
         wall, cpu = time.perf_counter() - mark["wall"], time.process_time() - mark["cpu"]
+        thread_cpu = time.thread_time() - mark["thread_cpu"]
+        ran, waited = (now - before for now, before in zip(scheduled(), mark["scheduled"]))
     finally:
         sumo_world.World.step = real_step
         if cpus is not None:
@@ -165,7 +214,9 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
     return {"wall_s": wall, "cpu_s": cpu, "pinned": pinned, "settled_after_s": stats["settle_wait_s"],
             "events": events, "published": out.summary().published, "stored": stats["stored"],
             "ingest_cpu_s": stats["cpu_s"], "queries": sim.books.queries - mark["queries"],
-            "sumo_s": stepping[0] - mark["sumo"], "steps": steps, "vehicles_mean": states / steps,
+            "sumo_s": stepping[0] - mark["sumo"], "sumo_cpu_s": stepping[1] - mark["sumo_cpu"],
+            "generator_s": generating, "put_s": putting, "put_cpu_s": put_cpu, "thread_cpu_s": thread_cpu, "ran_s": ran,
+            "waited_s": waited, "steps": steps, "vehicles_mean": states / steps,
             "potential_violations": sim.summary.potential_violations,
             "ingest": {k: v for k, v in stats.items() if k not in ("cpu_s", "settle_wait_s")}}
 
@@ -200,18 +251,25 @@ def main() -> None:
     alone, alone_vehicles = alone_got["steps_per_s"], alone_got["vehicles_mean"]
     print(f"SUMO alone: {alone:,.1f} steps/s with {alone_vehicles:,.0f} vehicles ({alone * STEP_S:.2f} x real time)",
           flush=True)
+    speeds, loads = [calibration_elsewhere()], [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
         got = simulation(net, monitors, args, Path(folder))
+    speeds.append(calibration_elsewhere())
+    loads.append(os.getloadavg()[0])
+    got["calibration_ms"] = [round(x, 2) for x in speeds]
+    got["load_average"] = [round(x, 2) for x in loads]
     sim_rate = steps / got["wall_s"]
     print(f"simulation ({got['pinned']}): {args.seconds:g} s of world time in {got['wall_s']:.1f} s "
           f"({args.seconds / got['wall_s']:.2f} x real time; CPU {got['cpu_s']:.1f} s = {args.seconds / got['cpu_s']:.2f} x), {got['vehicles_mean']:,.0f} "
           f"vehicles on the network on average; {got['events']:,} events ({got['events'] / got['wall_s']:,.0f}/s), "
           f"{got['queries']:,} rulebook queries ({got['queries'] / got['wall_s']:,.0f}/s); SUMO's step "
           f"{got['sumo_s']:.1f} s = {got['sumo_s'] / got['wall_s']:.0%} of the time")
+    print(phases(got))
     print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "
           f"all settled {got['settled_after_s']:.1f} s after the simulation ended; CPU {got['ingest_cpu_s']:.1f} s")
     print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s)")
-    print(f"machine: {machine()}")
+    print(f"machine: {machine()}; load average {loads[0]:.2f} before the simulation, {loads[1]:.2f} after; "
+          f"calibration {speeds[0]:.2f} ms before, {speeds[1]:.2f} ms after ({QUIET_MS})")
     if got["stored"] != got["published"]:
         raise SystemExit(f"bench/sim.py: {got['published'] - got['stored']:,} published events were not stored; "
                          f"the ingest's totals: {got['ingest']}")
@@ -226,11 +284,20 @@ def main() -> None:
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
         Figure("rulebook queries", got["queries"] / got["wall_s"], "queries/s"),
         Figure("SUMO's share of the simulation's time", 100 * got["sumo_s"] / got["wall_s"], "%"),
+        Figure("the simulation's own work (agents, monitors, events)",
+               100 * (got["generator_s"] - got["sumo_s"]) / got["wall_s"], "% of the time"),
+        Figure("the outlets' put (canonical JSON, Zenoh, the producer's cache)", 100 * got["put_s"] / got["wall_s"],
+               "% of the time", note=f"its CPU {1e6 * got['put_cpu_s'] / got['events']:.0f} us an event"),
+        Figure("the main thread waiting for the CPU", 100 * got["waited_s"] / got["wall_s"], "% of the time",
+               note=f"Zenoh's threads, on the same core, used {got['cpu_s'] - got['thread_cpu_s']:.1f} s of CPU; "
+                    f"the rest is the machine's other processes"),
     ]
     record("sim", "The whole simulation, publishing into a running ingest", figures,
            notes=f"grid10-lefthand, {args.vehicles:,} vehicles set off within {args.depart_within:.0%} of "
                  f"{args.seconds:g} s, seed {args.seed}, two monitors; the simulation on one core, the ingest "
-                 f"in another process on the other (store not durable); SUMO alone in a child process",
+                 f"in another process on the other (store not durable); SUMO alone in a child process; "
+                 f"calibration {speeds[0]:.2f} / {speeds[1]:.2f} ms before / after the simulation ({QUIET_MS}), "
+                 f"load average {loads[0]:.2f} / {loads[1]:.2f}",
            details={k: v for k, v in got.items()})
 
 

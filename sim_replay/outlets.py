@@ -81,20 +81,9 @@ class Outlets:
         """Send one event on (blocking while Zenoh's queue is full, or until its time comes)."""
         if self.signer is not None:
             event = self.signer.sign(event)
-        t = event["t"]
-        if self._first_t is None:
-            self._first_t = t
-        self._last_t = t if self._last_t is None else max(self._last_t, t)
-        if self._publisher is not None and not self._matched:
-            self._matched = self._publisher.wait_until_matched(event, self.wait_s)
-            if not self._matched:
-                raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
-                                   "is `gaps serve` running there?")
-            # The clock starts when the first event can go out (the first is matched): paced from
-            # before an ingest came, the events due while waiting for it would go out in one burst.
-            self._wall0 = time.monotonic()
+        self._note(event)
         if self.speed is not None:
-            due = self._wall0 + (t - self._first_t) / SECOND / self.speed
+            due = self._wall0 + (event["t"] - self._first_t) / SECOND / self.speed
             ahead = due - time.monotonic()
             if ahead > 0:
                 time.sleep(ahead)
@@ -103,7 +92,41 @@ class Outlets:
             self._published += 1
         if self._recorder is not None:
             self._recorder.add(event)
+
+    def put_all(self, events: list[dict]) -> None:
+        """Send events on in order, as `put` each, but with their Zenoh puts back to back
+        (EventPublisher.publish_all: a third of the cost of a put each at a thousand events a tick).
+        Paced (a speed), each goes at its own time, one by one."""
+        if self.speed is not None:
+            for event in events:
+                self.put(event)
+            return
+        if self.signer is not None:
+            events = [self.signer.sign(event) for event in events]
+        for event in events:
+            self._note(event)
+        if self._publisher is not None:
+            self._published += self._publisher.publish_all(events)
+        if self._recorder is not None:
+            for event in events:
+                self._recorder.add(event)
+
+    def _note(self, event: dict) -> None:
+        """Count an event going out: its source, the world time covered; before the first, wait
+        for an ingest to subscribe."""
+        t = event["t"]
+        if self._first_t is None:
+            self._first_t = t
+        self._last_t = t if self._last_t is None else max(self._last_t, t)
         self._sources.add(event["src"])
+        if self._publisher is not None and not self._matched:
+            self._matched = self._publisher.wait_until_matched(event, self.wait_s)
+            if not self._matched:
+                raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
+                                   "is `gaps serve` running there?")
+            # The clock starts when the first event can go out (the first is matched): paced from
+            # before an ingest came, the events due while waiting for it would go out in one burst.
+            self._wall0 = time.monotonic()
 
     def summary(self) -> OutletSummary:
         if self._result is not None:

@@ -30,6 +30,8 @@ __all__ = ["EventPublisher", "zenoh_config"]
 DESPAWN = "entity.despawn"  # a source's last event: its publishers are released after it
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
+PUT_RUN = 1024          # publish_all encodes up to this many events, then puts them back to back
+_Prepared = tuple[ext.AdvancedPublisher, str, dict, bytes]   # publisher, key, event, canonical bytes
 
 
 def zenoh_config(
@@ -121,23 +123,50 @@ class EventPublisher:
         A source's entity.despawn is its last word: its liveliness token and its publishers go at
         once (what it published stays in the cache for ``cache_s``): a run that lets thousands of
         road users come and go keeps only the living ones' publishers."""
+        self._put_run([self._prepared(event)])
+
+    def publish_all(self, events: Iterable[dict]) -> int:
+        """Publish events in order (per-source order is what the ingest checks); returns how many.
+
+        They go out in runs of up to PUT_RUN whose puts follow one another with nothing between
+        them (each run's events encoded first): a put that finds Zenoh's sending thread idle wakes
+        it, and it sends that one sample on its own; puts back to back find it busy and go out
+        together. Measured on one core: a put with a microsecond or more of Python before it cost
+        14-28 us of wall time and 7-18 us of Zenoh's threads' CPU, against 5 us and under 1 us back
+        to back. A run ends after a despawn, whose source's publishers go before the next run's
+        events find theirs. A producer with a tick's events at hand (the simulation) hands them
+        over together; nothing is held back once this returns."""
+        count = 0
+        run: list[_Prepared] = []
+        for event in events:
+            run.append(self._prepared(event))
+            count += 1
+            if len(run) >= PUT_RUN or event["kind"] == DESPAWN:
+                self._put_run(run)
+                run = []
+        if run:
+            self._put_run(run)
+        return count
+
+    def _prepared(self, event: dict) -> _Prepared:
+        """An event ready to put: its publisher (declared on first use), key, event and exact bytes."""
         key = key_for(event)
         if self._signer is not None:
             event = self._signer.sign(event)
-        payload = canonical_json(event)
-        self._publisher_for(key).put(payload)
-        self._recent.add(event["run"], event["src"], event["seq"], key, payload)
-        self._published = True
-        if event["kind"] == DESPAWN:
-            self._retire(_source_of(key))
+        return self._publisher_for(key), key, event, canonical_json(event)
 
-    def publish_all(self, events: Iterable[dict]) -> int:
-        """Publish events in order (per-source order is what the ingest checks); returns how many."""
-        count = 0
-        for event in events:
-            self.publish(event)
-            count += 1
-        return count
+    def _put_run(self, run: list[_Prepared]) -> None:
+        """The run's puts back to back (see publish_all), then each into the cache; a despawn (only
+        ever a run's last event) retires its source."""
+        for publisher, _, _, payload in run:
+            publisher.put(payload)
+        add = self._recent.add
+        for _, key, event, payload in run:
+            add(event["run"], event["src"], event["seq"], key, payload)
+        self._published = True
+        _, key, last, _ = run[-1]
+        if last["kind"] == DESPAWN:
+            self._retire(_source_of(key))
 
     def wait_until_matched(self, event: dict, timeout: float) -> bool:
         """Whether a subscriber for this event's key appeared within ``timeout`` seconds.

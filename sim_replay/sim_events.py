@@ -47,3 +47,22 @@ class Envelopes:
             t = t_ns(t_s)
             self._t = (t_s, t)
         return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": t, "kind": kind, "body": body}
+
+    def make_all(self, t_s: float, kind: str, bodies: list[tuple[str, dict[str, Any]]]) -> list[dict[str, Any]]:
+        """The events of one kind and time, one per (src, body), in order: `make` for each, without
+        its per-call lookups (a tick's entity.states are a thousand of them)."""
+        if self._lose is not None or not bodies:
+            made = (self.make(src, t_s, kind, body) for src, body in bodies)
+            return [ev for ev in made if ev is not None]
+        seqs, run = self.seqs, self.run
+        t_s_was, t = self._t
+        if t_s != t_s_was:
+            t = t_ns(t_s)
+            self._t = (t_s, t)
+        out = []
+        for src, body in bodies:
+            seq = seqs.get(src, 0)
+            seqs[src] = seq + 1
+            out.append({"v": 1, "run": run, "src": src, "seq": seq, "t": t, "kind": kind, "body": body})
+        self.count += len(out)
+        return out

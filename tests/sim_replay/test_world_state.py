@@ -25,7 +25,7 @@ coordinate = st.floats(min_value=-500.0, max_value=500.0, allow_nan=False)
 
 @settings(max_examples=200, deadline=None)
 @given(points=st.lists(st.tuples(coordinate, coordinate), max_size=60), x=coordinate, y=coordinate,
-       within=st.floats(min_value=0.0, max_value=120.0))
+       within=st.floats(min_value=0.0, max_value=2000.0))
 def test_near_holds_every_vehicle_within_reach(points, x, y, within) -> None:
     snap = _snapshot(points)
     near = {v.id for v in snap.near(x, y, within)}
