@@ -64,7 +64,7 @@ def _simulate(path: Path, json_out: bool) -> str:
     from sim_replay.simulation import Simulation
     with stderr_progress("simulating the paper's junctions on SUMO") as bar:
         simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
-        totals, _ = publish_through_zenoh(path, simulation.events())
+        totals, _ = publish_through_zenoh(path, simulation.batches())
     s = simulation.summary
     typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {s.world_s:g} s of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "

@@ -19,21 +19,25 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def publish_through_zenoh(db: Path, events: Iterable[dict], timeout_s: float = 30.0, *,
+def publish_through_zenoh(db: Path, events: Iterable[dict] | Iterable[list[dict]], timeout_s: float = 30.0, *,
                           record: Path | None = None, speed: float | None = None,
                           signer: Signer | None = None) -> tuple[dict, OutletSummary]:
     """Publish the events over a loopback Zenoh link into an in-process ingest on the store (and
-    record them, paced, and signed, as asked); return the ingest's totals and what went out. The ingest may
-    trail a fast producer by a hundred thousand events: it is waited for as long as it keeps
-    storing, and a TimeoutError says so when it stops for timeout_s."""
+    record them, paced, and signed, as asked); return the ingest's totals and what went out.
+    `events` may come a tick at a time (lists, as Simulation.batches gives them: put together).
+    The ingest may trail a fast producer by a hundred thousand events: it is waited for as long
+    as it keeps storing, and a TimeoutError says so when it stops for timeout_s."""
     from ingest.serve import Server, ServeOptions
     from sim_replay.outlets import Outlets
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     with Server(ServeOptions(db, listen=(endpoint,))) as server:
         ingest = server.service
         with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s, signer=signer) as out:
-            for event in events:
-                out.put(event)
+            for item in events:
+                if isinstance(item, list):
+                    out.put_all(item)
+                else:
+                    out.put(item)
         sent = out.summary()
         progress = -1
         while not ingest.wait_until_settled(sent.published, timeout_s):

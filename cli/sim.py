@@ -136,12 +136,12 @@ def _run(config, pace, record, listen, connect, store_file, truth_file, signer=N
         simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None)
         stored = None
         if store_file is not None:
-            stored, sent = publish_through_zenoh(store_file, simulation.events(), record=record, speed=pace,
+            stored, sent = publish_through_zenoh(store_file, simulation.batches(), record=record, speed=pace,
                                                  signer=signer)
         else:
             with Outlets(listen=listen, connect=connect, record=record, speed=pace, signer=signer) as outlets:
-                for event in simulation.events():
-                    outlets.put(event)
+                for batch in simulation.batches():
+                    outlets.put_all(batch)
             sent = outlets.summary()
     simulation.truth.write(truth_file)
     return simulation.summary, sent, stored
