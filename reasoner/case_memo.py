@@ -7,7 +7,8 @@ found is kept in the store's cache file, sealed, under the run's chain and a dig
 that measured it; the next investigation of the same chain, under the same or other rulebooks,
 re-runs the law on every case from it. The list of cases is kept as well, under the monitor
 rulebook that found them (re-deriving potential violations from every observation is a rulebook
-question).
+question), and so are the cases nobody recorded that this rulebook does not raise (no incident,
+whatever the other stages' rulebooks say).
 
 Kept values are encoded as JSON through a closed list of this code's own value types
 (`_TYPES`): nothing read back can name a type outside it, and nothing executes.
@@ -37,11 +38,12 @@ class Uncacheable(TypeError):
 
 @lru_cache(maxsize=1)
 def code_version() -> str:
-    """A digest of every Python file of the measuring packages: a kept measurement is only used by
-    the very code that made it (any change, even a comment, starts afresh)."""
+    """A digest of every Python and Prolog file of the measuring packages: a kept value is only used
+    by the very code that made it (any change, even a comment, starts afresh). The Prolog engine is
+    in it because which cases the monitor rulebook does not raise is kept too."""
     digest = hashlib.sha256()
     for package in _CODE:
-        for path in sorted((_ROOT / package).rglob("*.py")):
+        for path in sorted([*(_ROOT / package).rglob("*.py"), *(_ROOT / package).rglob("*.pl")]):
             digest.update(str(path.relative_to(_ROOT)).encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()[:32]
 

@@ -24,7 +24,7 @@ from sim_replay.paper import paper_run
 from store import EventRef, Store, cache_tampering
 
 sys.path.insert(0, str(Path(__file__).parent))
-from test_foreign_scenarios import FORCED, ROLLING, give_way_run, mps, runner_run, stop_run  # noqa: E402
+from test_foreign_scenarios import FORCED, LAWFUL_STOP, ROLLING, give_way_run, mps, runner_run, stop_run  # noqa: E402
 from test_verdict_paths import mixed_run  # noqa: E402
 
 
@@ -37,7 +37,8 @@ def _events(name: str) -> tuple[list[dict], str]:
         return events, events[0]["run"]
     run = {"red runner": lambda: runner_run("7", mps(30), 1.5, "2 Hz", "camera")[0],
            "give way forced": lambda: give_way_run(FORCED, "5 Hz", "measured"),
-           "stop rolled": lambda: stop_run(ROLLING, "2 Hz")}[name]()
+           "stop rolled": lambda: stop_run(ROLLING, "2 Hz"),
+           "lawful stop": lambda: stop_run(LAWFUL_STOP, "2 Hz")}[name]()
     run.end((max(e["t"] for e in run.events) - run.events[0]["t"]) / 1e9 + 1)
     return run.events, run.run
 
@@ -175,3 +176,24 @@ def test_cases_are_judged_with_the_collector_paused_and_young_cycles_collected(t
     assert found and seen and not any(seen)
     assert young == [1] * len(seen)
     assert gc.isenabled()
+
+
+def test_cases_the_monitor_rulebook_does_not_raise_are_not_judged_again_under_it(tmp_path, monkeypatch):
+    """A swept case the monitor rules do not raise is no incident; the next investigation under the
+    same monitor rulebook skips it (same incidents), one under another monitor rulebook judges it."""
+    from reasoner.bundled import bundled
+    db, run = _stored(tmp_path, "lawful stop")   # stationary at the line, then away: swept, not raised
+    judged = []
+    judge = Investigation._judge
+    monkeypatch.setattr(Investigation, "_judge", lambda self, case, gaps: judged.append(case.t) or judge(self, case, gaps))
+    first, _ = _judged(db, run)
+    assert len(judged) > len(first)               # some swept cases were judged and raised nothing
+    judged.clear()
+    again, _ = _judged(db, run)
+    assert again == first and len(judged) == len(first)
+    judged.clear()
+    other = tmp_path / "monitors.le"
+    other.write_text(bundled("monitors.le") + "\n% another text, another sha256\n", encoding="utf-8")
+    with Store(db) as store:
+        Investigation(store, rules=[str(other)]).incidents(run)
+    assert len(judged) > len(first)
