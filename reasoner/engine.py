@@ -18,14 +18,12 @@ from store import EventRef, GapsError
 from .le.compile import atom_data, body_data, fact_data, predicates
 from .le.document import parse_document
 from .le.errors import LEError
-from .le.render import sentence_text
+from .le.render import atom_list, sentence_text
 from .le.render_memo import ShapeMemo
 from .le.terms import Atom, Document, Rule
 from .prolog_home import import_janus
 
 ENGINE_PL = Path(__file__).with_name("prolog") / "engine.pl"
-RENDERED_LIMIT = 1 << 16  # sentences a rulebook keeps rendered (then it starts again)
-_PLAIN = (str, int, float)
 
 
 class QuestionError(GapsError, RuntimeError):
@@ -40,7 +38,6 @@ class Rulebook:
     sha256: str
     module: str
     document: Document
-    _rendered: dict[tuple[str, ...], str] = field(default_factory=dict, repr=False, compare=False)
     _shapes: ShapeMemo = field(default_factory=ShapeMemo, repr=False, compare=False)
 
     def rule(self, rule_id):
@@ -49,21 +46,13 @@ class Rulebook:
         return self.document.rules[rule_id]
 
     def render(self, data) -> str:
-        """Any goal or answer data (or an Atom) as an LE sentence with this rulebook's templates.
-
-        Prolog's data is rendered once per shape (le/render_memo.py: a simulation or a judgement
-        renders a hundred thousand sentences a minute, alike but for their numbers); an Atom of
-        plain values once (exact types: True is not 1, 1.0 is not 1 and 173 is not "173")."""
+        """Any goal or answer data (or an Atom) as an LE sentence with this rulebook's templates,
+        rendered once per shape (le/render_memo.py: a simulation or a judgement renders a hundred
+        thousand sentences a minute, alike but for their numbers)."""
+        if type(data) is Atom:
+            data = atom_list(data)
         if type(data) is list:
             return self._shapes.text(data, self._sentence)
-        if type(data) is Atom and all(type(a) in _PLAIN for a in data.args):
-            key = ("atom", data.functor, *((type(a).__name__, a) for a in data.args))
-            text = self._rendered.get(key)
-            if text is None:
-                if len(self._rendered) >= RENDERED_LIMIT:
-                    self._rendered.clear()
-                text = self._rendered[key] = sentence_text(data, self.document)
-            return text
         return sentence_text(data, self.document)
 
     def _sentence(self, data) -> str:

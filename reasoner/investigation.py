@@ -65,9 +65,10 @@ SECOND = 1_000_000_000
 SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one of the vehicle is that one
 # The cases are found and judged with the cyclic collector paused (store.CollectorPaused): its
 # full passes traverse every case read, every incident judged so far and every value decoded from
-# the kept measurements, a third of a judgement from kept measurements, to find almost nothing. Every YOUNG_EVERY cases the
-# young generations alone are collected, so the few cycles judging makes (a parse error kept for
-# its message) never pile up: memory stays what it is with the collector on.
+# the kept measurements, a third of a judgement from kept measurements, to find almost nothing.
+# Every YOUNG_EVERY cases the young generations alone are collected, so the few cycles judging
+# makes (a parse error kept for its message) never pile up: memory stays what it is with the
+# collector on.
 YOUNG_EVERY = 256
 
 
