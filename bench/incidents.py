@@ -120,6 +120,7 @@ def main() -> None:
     for i in range(args.repeats):
         load.append(os.getloadavg()[0])
         speed = calibration_elsewhere()
+        found = None        # each call starts as a fresh process would, not holding the last one's incidents
         found, wall, cpu = incidents_once(path)
         warm_wall.append(wall)
         warm_cpu.append(cpu)

@@ -60,7 +60,7 @@ class CaseMemo:
     def __init__(self, store: Store, run: str, *, enabled: bool = True) -> None:
         self.store, self.run, self.enabled = store, run, enabled
         self.chain = derived_cache.current_chain(store, run) if enabled else (0, "")
-        self._kept: dict[str, dict[str, str]] = {}
+        self._kept: dict[str, derived_cache.Sealed] = {}
         self._fresh: dict[str, dict[str, str]] = {}
         self.hits = self.misses = 0
 

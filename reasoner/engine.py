@@ -11,7 +11,7 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping
+from typing import Mapping, Sequence
 
 from store import EventRef, GapsError
 
@@ -170,6 +170,19 @@ class Engine:
                                F=self._facts(facts), G=atom_data(goal))
         return Answer(result["P"], result["W"])
 
+    def ask_first(self, rb: Rulebook, goals: Sequence[Atom], facts: list) -> tuple[int, Answer]:
+        """The first of these sentences with a proof, on one scenario: its index and its first
+        proof, as asking `holds` and then `ask` of each in turn gives them; (-1, what `ask` gives
+        for the first) when none has a proof. The facts are sent and indexed once."""
+        result = self._guarded("gaps_engine:ask_first(M, F, G, I, P, W)", M=rb.module,
+                               F=self._facts(facts), G=[atom_data(g) for g in goals])
+        return result["I"], Answer(result["P"], result["W"])
+
+    def first_holding(self, rb: Rulebook, goals: Sequence[Atom], facts: list) -> int:
+        """The index of the first of these sentences `holds` says holds, or -1; one scenario."""
+        return self._guarded("gaps_engine:first_holding(M, F, G, I)", M=rb.module,
+                             F=self._facts(facts), G=[atom_data(g) for g in goals])["I"]
+
     def holds(self, rb: Rulebook, goal: Atom, facts: list) -> bool:
         """Plain yes/no for one sentence: the fastest question."""
         try:
@@ -194,6 +207,21 @@ class Engine:
         why = result["W"]
         return QueryResult([self._answer_text(rb, d) for d in data], data, [p[1] for p in pairs],
                            why if isinstance(why, list) else None)
+
+    def answers_all(self, rb: Rulebook, questions: Sequence[tuple[list, bool]], facts: list) -> list[QueryResult]:
+        """Several questions (conditions, explain) on one scenario, each answered as `answers`
+        answers it with `texts` False; the facts are sent and indexed once."""
+        data = [("proofs" if explain else "plain", body_data(body)) for body, explain in questions]
+        results = self._guarded("gaps_engine:ask_all(M, F, Q, R)", M=rb.module, F=self._facts(facts), Q=data)["R"]
+        out = []
+        for (_, explain), result in zip(questions, results):
+            if not explain:
+                out.append(QueryResult([], result))
+                continue
+            pairs, why = result
+            out.append(QueryResult([], [p[0] for p in pairs], [p[1] for p in pairs],
+                                   why if isinstance(why, list) else None))
+        return out
 
     def query(self, rb: Rulebook, query: str, scenario: str | None = None,
               facts: list | None = None, explain: bool = False) -> QueryResult:

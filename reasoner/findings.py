@@ -85,7 +85,8 @@ class Gaps:
         """The source's gaps, each (first missing seq, last missing seq, t of the event before,
         t of the event after)."""
         if self._any is None:
-            self._any = self.store.has_sequence_gaps(self.run)
+            self._any = self.kept.remember("any gaps", "", lambda: self.store.has_sequence_gaps(self.run), plain=True) \
+                if self.kept is not None else self.store.has_sequence_gaps(self.run)
         if not self._any:
             return []
         if src not in self._found:

@@ -34,6 +34,7 @@ from store import CollectorPaused, EventRef, State, Store, entity_since, state_o
 
 from . import acts, history
 from .chain_status import ChainStatus, chain_status
+from .collector import JudgementCollector
 from .control import ROLE, control_at, liability_facts, role
 from .case_memo import CaseMemo, key_of
 from .derived import Contradiction, checked
@@ -63,13 +64,13 @@ if TYPE_CHECKING:
 LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
 SECOND = 1_000_000_000
 SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one of the vehicle is that one
-# The cases are found and judged with the cyclic collector paused (store.CollectorPaused): its
+# The cases are found and judged with the cyclic collector paused (reasoner/collector.py): its
 # full passes traverse every case read, every incident judged so far and every value decoded from
 # the kept measurements, a third of a judgement from kept measurements, to find almost nothing.
-# Every YOUNG_EVERY cases the young generations alone are collected, so the few cycles judging
-# makes (a parse error kept for its message) never pile up: memory stays what it is with the
-# collector on.
+# Every YOUNG_EVERY cases the young generations alone are collected, so any cycles judging makes
+# never pile up: memory stays what it is with the collector on.
 YOUNG_EVERY = 256
+_VERDICTS = ("punishable", "mitigated")          # the questions of _verdict, in the order asked
 
 
 @dataclass(frozen=True)
@@ -145,7 +146,7 @@ class Investigation:
         not judge them again: two thirds of the hour's cases, a sixth of a judgement from kept
         measurements."""
         self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
-        with CollectorPaused():
+        with JudgementCollector():
             recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
             rs = self.ruleset(run, recorded)
             todo = self._todo(run, rs, recorded)
@@ -463,10 +464,12 @@ class Investigation:
         return out
 
     def _named(self, run: str) -> dict[Any, list[str]]:
-        """The run's sources by the constant their id reads as, read once per run."""
+        """The run's sources by the constant their id reads as, read once per run (and kept: a
+        long run's thousands of sources are an index probe each)."""
         if run not in self._names:
             names: dict[Any, list[str]] = {}
-            for src in self.store.sources(run):
+            for src in self.memo(run).remember("sources", key_of("sources"), lambda: self.store.sources(run),
+                                               plain=True):
                 if "/" in src:
                     names.setdefault(constant([src.split("/", 1)[1]]), []).append(src)
             self._names[run] = names
@@ -487,17 +490,14 @@ class Investigation:
         return self._witnessed[monitor_rb.sha256]
 
     def _verdict(self, rb: Rulebook, me: Any, act: Any, atoms: list[Atom], proofs: bool) -> tuple[str, Answer | None]:
-        punish, mitigate = PUNISHABLY_VIOLATES.atom(me, act), MITIGATELY_VIOLATES.atom(me, act)
+        # punishable, else mitigated, else dismissed (with why it is not punishable); each asked
+        # plainly first: a proof, or why not, is searched for only where it is shown
+        goals = (PUNISHABLY_VIOLATES.atom(me, act), MITIGATELY_VIOLATES.atom(me, act))
         if not proofs:
-            if self.engine.holds(rb, punish, atoms):
-                return "punishable", None
-            return ("mitigated" if self.engine.holds(rb, mitigate, atoms) else "dismissed"), None
-        for verdict, goal in (("punishable", punish), ("mitigated", mitigate)):
-            if self.engine.holds(rb, goal, atoms):      # the plain question first: a proof of why
-                answer = self.engine.ask(rb, goal, atoms)   # not is asked only of a dismissal
-                if answer.holds:
-                    return verdict, answer
-        return "dismissed", self.engine.ask(rb, punish, atoms)
+            first = self.engine.first_holding(rb, goals, atoms)
+            return (_VERDICTS[first] if first >= 0 else "dismissed"), None
+        first, answer = self.engine.ask_first(rb, goals, atoms)
+        return (_VERDICTS[first] if first >= 0 else "dismissed"), answer
 
     # -- penalty and liability, for a punishable violation ----------------------------------
     def _sanctions(self, case: _Case, validation: _Validation, control: Control,
@@ -539,19 +539,17 @@ class Investigation:
 
     def _liability(self, rb: Rulebook, me: Any, act: Any, facts: list[Atom],
                    evidence: dict[str, EventRef]) -> Liability:
-        def parties(sentence) -> tuple[str, ...]:
-            question = [Cond(atom=sentence.atom(Var("party"), act, me))]
-            return tuple(role(arg_text(b[0][1])) for b in self.engine.answers(rb, question, facts, texts=False).bindings)
-
-        liable = self.engine.answers(rb, [Cond(atom=IS_LIABLE.atom(Var("party"), act, me))], facts, explain=True)
-        return Liability(parties=tuple(role(arg_text(b[0][1])) for b in liable.bindings),
-                         licence_points=parties(GETS_LICENCE_POINTS),
-                         sanctions=parties(FACES_REGULATORY_SANCTIONS),
-                         fixed_penalty=(parties(IS_OFFERED_A_FIXED_PENALTY)
-                                        if defines(rb, IS_OFFERED_A_FIXED_PENALTY.functor) else None),
+        asked = [IS_LIABLE, GETS_LICENCE_POINTS, FACES_REGULATORY_SANCTIONS]
+        if defines(rb, IS_OFFERED_A_FIXED_PENALTY.functor):
+            asked.append(IS_OFFERED_A_FIXED_PENALTY)
+        results = self.engine.answers_all(rb, [([Cond(atom=sentence.atom(Var("party"), act, me))], i == 0)
+                                               for i, sentence in enumerate(asked)], facts)
+        liable, points, sanctions, *offered = [tuple(role(arg_text(b[0][1])) for b in r.bindings) for r in results]
+        return Liability(parties=liable, licence_points=points, sanctions=sanctions,
+                         fixed_penalty=offered[0] if offered else None,
                          facts=tuple(rb.render(a) for a in facts), rulebook=rb.sha256,
                          evidence=evidence,
-                         trees=tuple(enrich(tree, rb, evidence) for trees in liable.proofs[:1] for tree in trees))
+                         trees=tuple(enrich(tree, rb, evidence) for trees in results[0].proofs[:1] for tree in trees))
 
 
 def action_text(rb: Rulebook, me: Any, act: Any) -> str:

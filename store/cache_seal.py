@@ -21,6 +21,7 @@ import hashlib
 import hmac
 import os
 import secrets
+import struct
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -86,11 +87,17 @@ def memory_key() -> bytes:
     return secrets.token_bytes(KEY_BYTES)
 
 
+_LENGTH = struct.Struct(">Q").pack
+
+
 def _framed(parts: Iterable[Any]) -> bytes:
-    """Each part typed and length-prefixed, so that different tuples never frame alike."""
-    out = bytearray()
+    """Each part typed and length-prefixed, so that different tuples never frame alike. (Joined
+    once at the end: a judgement opens thousands of kept entries, each framed here.)"""
+    out: list[bytes] = []
     for part in parts:
-        if isinstance(part, bytes):
+        if type(part) is str:
+            tag, data = b"s", part.encode("utf-8", "surrogatepass")
+        elif isinstance(part, bytes):
             tag, data = b"b", part
         elif isinstance(part, bool) or part is None:
             tag, data = b"n", repr(part).encode()
@@ -100,8 +107,8 @@ def _framed(parts: Iterable[Any]) -> bytes:
             tag, data = b"f", part.hex().encode()
         else:
             tag, data = b"s", str(part).encode("utf-8", "surrogatepass")
-        out += tag + len(data).to_bytes(8, "big") + data
-    return bytes(out)
+        out += (tag, _LENGTH(len(data)), data)
+    return b"".join(out)
 
 
 @dataclass

@@ -16,7 +16,7 @@ believed, and `gaps verify` names it. Deleting the table changes no result.
 from __future__ import annotations
 
 import sqlite3
-from typing import Mapping
+from typing import Any, Mapping
 
 from .db import Store
 from .verify_cache import ChainKey
@@ -39,17 +39,40 @@ def current_chain(store: Store, run: str) -> ChainKey:
         return (int(last) + 1, "" if row is None else str(row[0]))
 
 
-def load(store: Store, run: str, kind: str, version: str, chain: ChainKey) -> dict[str, str]:
+class Sealed:
+    """A run's entries of one kind, each handed back only if its seal opens, checked when it is
+    asked for: a judgement that skips most of a run's cases reads the others' entries in one
+    query, but frames and checks only the seals of those it uses."""
+
+    def __init__(self, rows: dict[str, tuple[str, bytes]], sealer: Any, names: tuple) -> None:
+        self._rows, self._sealer, self._names = rows, sealer, names
+
+    def get(self, key: str) -> str | None:
+        """The entry's payload, or None (never kept, or its seal did not open: then it is
+        dropped, counted by the cache's sealer, and not asked again)."""
+        row = self._rows.get(key)
+        if row is None:
+            return None
+        payload, mac = row
+        if not self._sealer.opens(TABLE, (*self._names, key), payload, mac):
+            del self._rows[key]
+            return None
+        return payload
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+
+def load(store: Store, run: str, kind: str, version: str, chain: ChainKey) -> Sealed:
     """The run's entries of this kind and version derived from exactly this chain, by key; each
-    one whose seal does not open is left out (and counted by the cache's sealer)."""
+    one whose seal does not open is left out when asked for (and counted by the cache's sealer)."""
+    names = (run, kind, version, chain[0], chain[1])
     if not store.cache.exists():
-        return {}
+        return Sealed({}, None, names)
     rows = store.cache.connection.execute(
         "SELECT key, payload, mac FROM derived WHERE run = ? AND kind = ? AND version = ? AND chain_len = ? "
         "AND head = ?", (run, kind, version, *chain)).fetchall()
-    sealer = store.cache.sealer
-    return {key: payload for key, payload, mac in rows
-            if sealer.opens(TABLE, _names(run, kind, version, chain, key), payload, mac)}
+    return Sealed({key: (payload, mac) for key, payload, mac in rows}, store.cache.sealer, names)
 
 
 def save(store: Store, run: str, kind: str, version: str, chain: ChainKey, entries: Mapping[str, str]) -> bool:

@@ -153,7 +153,7 @@ class Vocabulary:
             try:
                 atom = self._build(template, fillers, trial, mode, file)
             except NoMatch as exc:
-                last_error = exc
+                last_error = str(exc)   # the message, not the exception: its traceback holds this frame
                 continue
             except LEError as exc:
                 if exc.file == "<le>":

@@ -25,6 +25,9 @@
             ask/5,                      % +Module, +FactsData, +GoalData, -Proofs, -WhyNot
             ask_plain/4,                % +Module, +FactsData, +CondsData, -Answers
             ask_proofs/5,               % +Module, +FactsData, +CondsData, -Answers, -WhyNot
+            ask_first/6,                % +Module, +FactsData, +GoalsData, -Index, -Proofs, -WhyNot
+            first_holding/4,            % +Module, +FactsData, +GoalsData, -Index
+            ask_all/4,                  % +Module, +FactsData, +Questions, -Results
             holds/3,                    % +Module, +FactsData, +GoalData
             holds/4,                    % +Module, +FactsData, +GoalData, -Bool
             clause_text/3               % +Module, +Id, -Text
@@ -281,14 +284,18 @@ isa_steps(M, X, Y) :- M:isa_fact(X, Z), Z \== Y, isa(M, Z, Y).
 %   The scenario's facts live in a backtrackable global for the question (a dict from functor
 %   to facts), so asking costs no assert or retract; its rules (rare) are thread-local clauses.
 with_scenario(M, FactsD, Goal) :-
+    in_scenario(M, FactsD, limited(Goal)).
+
+%   The scenario set up for Goal, which asks its questions itself (each under `limited`).
+in_scenario(M, FactsD, Goal) :-
     build_facts(FactsD, Facts, Rules),
     facts_dict(Facts, Dict),
     b_setval(le_facts, Dict),
     (   Rules == []
-    ->  limited(Goal)
+    ->  call(Goal)
     ;   setup_call_cleanup(
             forall(member(R, Rules), assertz(M:R)),
-            limited(Goal),
+            Goal,
             retractall(M:scenario_rule(_, _, _, _)))
     ).
 
@@ -356,6 +363,21 @@ ask_proofs(M, FactsD, CondsD, Answers, WhyNot) :-
     build_body(CondsD, Conds, [], Names),
     with_scenario(M, FactsD, proofs_or_why(M, Conds, Names, Answers, WhyNot)).
 
+%!  ask_all(+M, +FactsData, +Questions, -Results) is det.
+%   Several questions on one scenario, each answered as ask_plain/4 (plain-CondsData: Answers)
+%   or ask_proofs/5 (proofs-CondsData: [Answers, WhyNot]) would answer it, a question limit
+%   each; the facts are built and indexed once.
+ask_all(M, FactsD, Questions, Results) :-
+    in_scenario(M, FactsD, maplist(answer_one(M), Questions, Results)).
+
+answer_one(M, plain-CondsD, Answers) :-
+    build_body(CondsD, Conds, [], Names),
+    body_goal(M, Conds, Goal),
+    limited(findall(D, (M:Goal, conds_data(Conds, Names, D)), Answers)).
+answer_one(M, proofs-CondsD, [Answers, WhyNot]) :-
+    build_body(CondsD, Conds, [], Names),
+    limited(proofs_or_why(M, Conds, Names, Answers, WhyNot)).
+
 proofs_or_why(M, Conds, Names, Answers, WhyNot) :-
     findall(D-TD, ( prove_body(M, Conds, Ts, 0), conds_data(Conds, Names, D),
                     trees_data(Ts, Names, TD) ), Answers),
@@ -371,6 +393,41 @@ proofs_or_why(M, Conds, Names, Answers, WhyNot) :-
 ask(M, FactsD, GoalD, Proofs, WhyNot) :-
     build_atom(GoalD, Goal, [], Names),
     with_scenario(M, FactsD, first_answer(M, Goal, Names, Proofs, WhyNot)).
+
+%!  ask_first(+M, +FactsData, +GoalsData, -Index, -Proofs, -WhyNot) is det.
+%   Several sentences in turn on one scenario, each asked as holds/3 and then ask/5 would ask
+%   it (a question limit each): the first with a proof, its 0-based Index and that proof; Index
+%   -1 when none has one, with what ask/5 gives for the first.  The scenario is built once:
+%   shipping and indexing the facts for every question was a third of judging a verdict.
+ask_first(M, FactsD, [First|GoalsD], Index, Proofs, WhyNot) :-
+    in_scenario(M, FactsD, first_proved(M, [First|GoalsD], First, 0, Index, Proofs, WhyNot)).
+
+first_proved(M, [], First, _, -1, Proofs, WhyNot) :-
+    build_atom(First, Goal, [], Names),
+    limited(first_answer(M, Goal, Names, Proofs, WhyNot)).
+first_proved(M, [GD|GDs], First, I, Index, Proofs, WhyNot) :-
+    build_atom(GD, Goal, [], Names),
+    atom_goal(M, Goal, G),
+    (   limited(once(M:G)), limited(first_answer(M, Goal, Names, [P], W))
+    ->  Index = I, Proofs = [P], WhyNot = W
+    ;   I1 is I + 1,
+        first_proved(M, GDs, First, I1, Index, Proofs, WhyNot)
+    ).
+
+%!  first_holding(+M, +FactsData, +GoalsData, -Index) is det.
+%   The 0-based index of the first of the sentences that holds/3 says holds on one scenario,
+%   or -1.
+first_holding(M, FactsD, GoalsD, Index) :-
+    in_scenario(M, FactsD, first_true(M, GoalsD, 0, Index)).
+
+first_true(_, [], _, -1).
+first_true(M, [GD|GDs], I, Index) :-
+    build_atom(GD, Goal, [], _),
+    atom_goal(M, Goal, G),
+    (   limited(once(M:G))
+    ->  Index = I
+    ;   I1 is I + 1, first_true(M, GDs, I1, Index)
+    ).
 
 first_answer(M, Goal, Names, Proofs, WhyNot) :-
     (   once(prove(M, Goal, T, 0))
@@ -391,15 +448,23 @@ prove(M, G0, T, D) :-
 
 prove_(_, G0, node(G, builtin, @(none), [], []), _) :-
     builtin_atom(G0), !,
-    G0 =.. [F|As], eval_args(As, Vs), G =.. [F|Vs],
+    evaluated(G0, G),
     builtin(G).
 prove_(M, is_a(X, Y), T, D) :- !,
     isa_enter(X-Y, S),
     prove_isa(M, X, Y, T, D),
     b_setval(le_isa, S).
 prove_(M, G0, T, D) :-
-    G0 =.. [F|As], eval_args(As, Vs), G =.. [F|Vs],
+    evaluated(G0, G),
     prove_user(M, G, T, D).
+
+%   The goal with its ground arithmetic arguments evaluated (eval_args): most goals have none,
+%   and are their own result without being taken apart and rebuilt.
+evaluated(G0, G) :-
+    (   arg(_, G0, A), is_expr(A), ground(A)
+    ->  G0 =.. [F|As], eval_args(As, Vs), G =.. [F|Vs]
+    ;   G = G0
+    ).
 
 prove_user(_, G, node(G, fact, @(none), [], []), _) :-
     le_fact(G).
