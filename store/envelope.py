@@ -306,9 +306,6 @@ def decode_event(raw: bytes) -> tuple[dict, bytes]:
     plain = plain_event(raw)
     if plain is not None:
         return plain[0], raw
-    already = _already_canonical(raw)
-    if already is not None:
-        return already, raw
     ev = _parse_json(raw)
     return ev, encode_event(ev)
 
@@ -319,48 +316,45 @@ _LOADS, _DUMPS, _SORT_KEYS = orjson.loads, orjson.dumps, orjson.OPT_SORT_KEYS
 
 
 def plain_event(raw: Any) -> PlainEvent | None:
-    """The event, with its run, src, seq and kind, where raw is the canonical form of an unsigned
-    event of a run and a (kind, src) met before: what a producer sends all day long. None
-    otherwise, and then decode_event's other roads decide (a None says nothing about validity).
+    """The event, with its run, src, seq and kind, where the bytes received are already its
+    canonical form (what every producer here and any careful one sends): then a fast parser's
+    reading of them is the careful one's. Whatever the careful parser refuses or reads otherwise
+    cannot survive the comparison: a duplicate key, NaN, an integer beyond 64 bits (orjson reads it
+    as a float), a lone surrogate or any stray whitespace makes the canonical bytes differ from the
+    raw ones or fail to be written, and the careful road (decode_event's) then decides; None says
+    nothing about validity. Four times cheaper where it applies (an ingest's main cost).
 
-    The common case of _already_canonical in one function: the ingest's writer spends most of its
-    Python time per event here, and each call and check it leaves out is time per event. Every
-    test below is one _already_canonical makes, or implies one (plain_body implies body_ok and
-    canonical's float walk over the body), so what this accepts, that accepts alike
-    (tests/store/test_store_plain_event.py holds the two to that)."""
+    What a producer sends all day long (unsigned, of a run and a (kind, src) met before, a body
+    the kind's plain check takes) is judged in one expression: the ingest's writer spends most of
+    its Python time per event here. Each of its tests is one the second road below makes, or
+    implies one (plain_body implies body_ok and canonical's float walk over the body), so both
+    accept alike (tests/store/test_store_plain_event.py holds them to the careful road)."""
     if type(raw) is not bytes or len(raw) > MAX_EVENT_BYTES:
         return None
     try:
         ev = _LOADS(raw)
-        if type(ev) is not dict or len(ev) != len(ENVELOPE_FIELDS):
-            return None
-        v, run, src, seq, t, kind, body = _ENVELOPE_VALUES(ev)
-        if (type(v) is int and v == 1 and type(run) is str and run in _SEEN_RUNS
-                and type(src) is str and type(kind) is str and (kind, src) in _SEEN_SOURCES
-                and type(seq) is int and 0 <= seq <= _INT64_MAX and type(t) is int and _INT64_MIN <= t <= _INT64_MAX
-                and type(body) is dict and plain_body(kind)(body) and _DUMPS(ev, option=_SORT_KEYS) == raw):
-            return ev, run, src, seq, kind
-    except (ValueError, KeyError, TypeError, RecursionError):  # orjson's errors are ValueError, TypeError
+    except (ValueError, RecursionError):    # orjson.JSONDecodeError is a ValueError
+        return None
+    try:
+        if type(ev) is dict and len(ev) == len(ENVELOPE_FIELDS):
+            v, run, src, seq, t, kind, body = _ENVELOPE_VALUES(ev)
+            if (type(v) is int and v == 1 and type(run) is str and run in _SEEN_RUNS
+                    and type(src) is str and type(kind) is str and (kind, src) in _SEEN_SOURCES
+                    and type(seq) is int and 0 <= seq <= _INT64_MAX
+                    and type(t) is int and _INT64_MIN <= t <= _INT64_MAX
+                    and type(body) is dict and plain_body(kind)(body) and _DUMPS(ev, option=_SORT_KEYS) == raw):
+                return ev, run, src, seq, kind
+    except (KeyError, TypeError):  # another field set of seven; orjson.JSONEncodeError is a TypeError
         pass
-    return None
+    if not _plainly_valid(ev) or canonical_plain_event(ev) != raw:
+        return None
+    return ev, ev["run"], ev["src"], ev["seq"], ev["kind"]
 
 
 def _already_canonical(raw: Any) -> dict | None:
-    """The event, where the bytes received are already its canonical form (what every producer
-    here and any careful one sends): then a fast parser's reading of them is the careful one's.
-    Whatever the careful parser refuses or reads otherwise cannot survive the comparison: a
-    duplicate key, NaN, an integer beyond 64 bits (orjson reads it as a float), a lone surrogate or
-    any stray whitespace makes the canonical bytes differ from the raw ones or fail to be written,
-    and the careful path then decides. Four times cheaper where it applies (an ingest's main cost)."""
-    if type(raw) is not bytes or len(raw) > MAX_EVENT_BYTES:
-        return None
-    try:
-        ev = orjson.loads(raw)
-    except (ValueError, RecursionError):    # orjson.JSONDecodeError is a ValueError
-        return None
-    if not _plainly_valid(ev) or canonical_plain_event(ev) != raw:
-        return None
-    return ev
+    """plain_event's event alone."""
+    plain = plain_event(raw)
+    return None if plain is None else plain[0]
 
 
 def parse_event(raw: bytes) -> dict:

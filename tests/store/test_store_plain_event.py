@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from store import EventError, canonical_json, decode_event, plain_event
 from store.body_check import body_ok, plain_body, quick_source
 from store.canonical import PLAIN_FLOAT, _same_in_orjson, reference_canonical_json
+from store import envelope
 from store.envelope import _parse_json, encode_event
 from store.kinds import KINDS, SCHEMAS
 from tests.helpers.store_testkit import BODIES, event
@@ -110,16 +111,22 @@ def test_plain_event_accepts_only_what_the_careful_road_accepts_alike(case, twis
 
 
 @pytest.mark.parametrize("kind", FLAT_KINDS)
-def test_plain_event_is_taken_by_the_ordinary_events(kind) -> None:
+def test_the_ordinary_events_take_the_first_road(kind, monkeypatch) -> None:
+    """The one expression, not the itemised second road, judges what producers send all day."""
     raw = canonical_json(event(3, kind=kind))
     decode_event(canonical_json(event(kind=kind)))
+    monkeypatch.setattr(envelope, "_plainly_valid", lambda ev: pytest.fail("the second road was taken"))
     plain = plain_event(raw)
     assert plain is not None and plain[0] == json.loads(raw)
 
 
-def test_plain_event_passes_over_a_source_not_met_before() -> None:
-    """The envelope's identity checks (the regular expressions) stay with the other roads."""
-    raw = canonical_json(event(kind="vehicle.perception", src="vehicle/never-met-before-plain"))
-    assert plain_event(raw) is None
-    assert decode_event(raw)[1] == raw
-    assert plain_event(raw) is not None
+@pytest.mark.parametrize("ev", [
+    event(kind="vehicle.perception", src="vehicle/never-met-before-plain"),    # the regular expressions' turn
+    event(kind="vehicle.trace"),                                                # no plain check: nested schema
+    {**event(), "sig": {"key": "0" * 16, "ed25519": "A" * 85 + "A=="}},         # signed
+])
+def test_the_other_canonical_events_take_the_second_road(ev) -> None:
+    raw = canonical_json(ev)
+    plain = plain_event(raw)
+    assert plain is not None and ("ok", plain[0], raw) == careful(raw)
+    assert plain[1:] == (ev["run"], ev["src"], ev["seq"], ev["kind"])
