@@ -13,9 +13,10 @@ log is append-only.
 from __future__ import annotations
 
 import json
+from functools import partial
 from typing import NamedTuple
 
-from store import MAX_EVENT_BYTES, Candidate, EventError, TrustedKeys, decode_event, key_for
+from store import MAX_EVENT_BYTES, Candidate, EventError, TrustedKeys, decode_event, key_for, plain_event
 
 # An oversized event is refused by the store without being parsed, but it did arrive, so its seq should
 # still count as seen. Beyond this size even reading the identity would stall the writer.
@@ -41,7 +42,22 @@ class Screened(NamedTuple):
 
 def screen(key: str, payload: bytes, *, is_put: bool = True, encoding: str = "application/json") -> Screened:
     """Parse once; refuse deletes, foreign encodings and key/body mismatches; let the store judge
-    everything else."""
+    everything else. The common sample (a canonical event on its own key) takes one road through
+    the store's plain_event; anything else the general one, which decides alike for it too."""
+    if is_put and encoding == "application/json":
+        plain = plain_event(payload)
+        if plain is not None:
+            ev, run, src, seq, kind = plain
+            if key == f"gaps/{run}/{src}/{kind}":  # key_for(ev), its parts already at hand
+                return _screened((Candidate(key, payload, ev, payload), (run, src, seq)))
+    return _general(key, payload, is_put, encoding)
+
+
+_screened = partial(tuple.__new__, Screened)  # Screened from a (candidate, identity) pair, in C: no Python __new__
+
+
+def _general(key: str, payload: bytes, is_put: bool, encoding: str) -> Screened:
+    """Every sample's road: each refusal with its reason."""
     if not is_put:
         return Screened(refused(key, payload, f"DELETE sample on {key}: audit events are never deleted"), None)
     if encoding.partition(";")[0] not in JSON_ENCODINGS:

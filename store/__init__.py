@@ -18,6 +18,7 @@ from .envelope import (
     SYNC_KEY,
     key_for,
     parse_event,
+    plain_event,
     validate_event,
 )
 from .history import HistoryFilter, HistoryRow
@@ -159,6 +160,7 @@ __all__ = [
     "key_id",
     "migrate_copy",
     "parse_event",
+    "plain_event",
     "sign_event",
     "signed_bytes",
     "state_at",

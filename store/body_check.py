@@ -13,6 +13,7 @@ from typing import Any, Callable
 
 import fastjsonschema
 
+from .canonical import PLAIN_FLOAT
 from .describe import json_type, show
 from .kinds import SCHEMAS
 
@@ -92,12 +93,19 @@ class _Unsupported(Exception):
     """A schema uses something the quick check does not model; fastjsonschema decides it."""
 
 
-class _Writer:
-    """Python source for the quick check of one kind, with its helpers and constants."""
+# The plain check's number: an int, or a float orjson writes as the canonical form does (PLAIN_FLOAT).
+_PLAIN_NUMBER = f"(type({{v}}) is int or (type({{v}}) is float and ({PLAIN_FLOAT.format(x='{v}')})))"
 
-    def __init__(self) -> None:
+
+class _Writer:
+    """Python source for the quick check of one kind, with its helpers and constants. With
+    plain=True, the plain check instead (see `plain`): numbers as _PLAIN_NUMBER, and no value the
+    schema does not name."""
+
+    def __init__(self, plain: bool = False) -> None:
         self.lines: list[str] = []
         self.constants: dict[str, Any] = {}
+        self.plain = plain
 
     def constant(self, value: Any) -> str:
         name = f"_c{len(self.constants)}"
@@ -124,8 +132,11 @@ class _Writer:
         if enum is not None and not (isinstance(enum, list) and enum and all(type(e) is str for e in enum)):
             raise _Unsupported
         branches = []
+        if self.plain and ("object" in types or ("array" in types and "items" not in schema)):
+            raise _Unsupported  # values inside that nothing here looks at: the walk must see them
         for json_type in types:
-            parts = [_TYPE_TESTS[json_type].format(v=v)]
+            type_test = _PLAIN_NUMBER if self.plain and json_type == "number" else _TYPE_TESTS[json_type]
+            parts = [type_test.format(v=v)]
             for keyword, template in _KEYWORDS_BY_TYPE.get(json_type, {}).items():
                 if keyword in schema:
                     bound = schema[keyword]
@@ -163,8 +174,12 @@ class _Writer:
         missing = self.constant(object())
         lines = ["def quick(body):", "    if type(body) is not dict:", "        return False",
                  "    get = body.get"]
+        if self.plain:  # every value must be one of the properties checked: count the others
+            lines.append(f"    unnamed = len(body) - {sum(name in properties for name in required)}")
         for name in required:
             if name not in properties:
+                if self.plain:
+                    raise _Unsupported  # a value of no known type in every body: never plain
                 lines.append(f"    if {name!r} not in body:")
                 lines.append("        return False")
         for name, subschema in properties.items():
@@ -175,23 +190,28 @@ class _Writer:
             lines.append(f"    v = get({name!r}, {missing})")
             if name in required:
                 lines.append(f"    if v is {missing} or not {test}:")
+                lines.append("        return False")
             else:
-                lines.append(f"    if v is not {missing} and not {test}:")
-            lines.append("        return False")
-        lines.append("    return True")
+                lines.append(f"    if v is not {missing}:")
+                lines.append(f"        if not {test}:")
+                lines.append("            return False")
+                if self.plain:
+                    lines.append("        unnamed -= 1")
+        lines.append("    return unnamed == 0" if self.plain else "    return True")
         return "\n".join(self.lines + lines)
 
 
-def quick_source(schema: dict) -> str | None:
-    """The source of a kind's quick check (for reading and tests), None if it has none."""
+def quick_source(schema: dict, plain: bool = False) -> str | None:
+    """The source of a kind's quick check, or with plain=True its plain check (for reading and
+    tests), None if it has none."""
     try:
-        return _Writer().body(schema)
+        return _Writer(plain).body(schema)
     except _Unsupported:
         return None
 
 
-def _compile_quick(schema: dict) -> Callable[[Any], bool] | None:
-    writer = _Writer()
+def _compile_quick(schema: dict, plain: bool = False) -> Callable[[Any], bool] | None:
+    writer = _Writer(plain)
     try:
         source = writer.body(schema)
     except _Unsupported:
@@ -211,6 +231,28 @@ def quick(kind: str) -> Callable[[Any], bool] | None:
 
 _quick: dict[str, Callable[[Any], bool] | None] = {}
 _first_checks: dict[str, Callable[[Any], bool]] = {}  # quick check, or _cannot_tell where none
+
+
+# --- the plain check: valid, and written by orjson as canonical_json writes it ------------------
+#
+# The append path's fast lane (envelope.plain_event) needs two answers for a body: does it satisfy
+# its schema (body_ok), and does orjson write it as the canonical form does (canonical's
+# _same_in_orjson walk)? For a body that holds only the properties its schema names, with flat
+# values, one generated function answers both at once: the quick check with numbers narrowed to
+# ints and the floats both writers spell alike, and no value the schema does not name. Whatever it
+# answers False for goes to body_ok and the walk, so it can only make the lane faster, never wider.
+
+_plain: dict[str, Callable[[Any], bool]] = {}
+
+
+def plain_body(kind: str) -> Callable[[Any], bool]:
+    """The kind's plain check (a body it says yes to satisfies the schema and holds only values
+    orjson writes canonically), or one that always says no where the schema has no flat form
+    (KeyError for an unknown kind)."""
+    found = _plain.get(kind)
+    if found is None:
+        found = _plain[kind] = _compile_quick(SCHEMAS[kind], plain=True) or _cannot_tell
+    return found
 
 
 def _cannot_tell(body: Any) -> bool:

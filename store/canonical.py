@@ -66,6 +66,10 @@ def reference_canonical_json(obj: Any) -> bytes:
     return "".join(_C_ENCODE(obj, 0)).encode("utf-8")
 
 
+PLAIN_FLOAT = "1e-4 <= {x} < 1e16 or -1e16 < {x} <= -1e-4 or {x} == 0.0"
+"""The floats orjson writes as the reference does, as a Python condition on {x} (_same_in_orjson's
+test, which generated checks (store/body_check.py) use as source)."""
+
 _ORJSON_DUMPS = orjson.dumps
 _SORT_KEYS = orjson.OPT_SORT_KEYS
 _SCALARS = frozenset((str, int, bool, type(None)))
