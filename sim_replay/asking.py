@@ -58,8 +58,8 @@ class Rulebooks:
         self.texts = {name: bundled(name) for name in names}
         self.books: dict[str, Rulebook] = {name: self.engine.load(text, name) for name, text in self.texts.items()}
         self.reader = FactReader()
-        self.queries = 0          # questions asked (a vehicle's every question, a monitor's new shapes)
-        self.engine_asks = 0      # vehicles' questions the engine worked out (the rest: a shape answered before)
+        self.queries = 0          # questions: every one asked with its proof, and each yes/no of a new shape
+        self.engine_asks = 0      # questions with proofs the engine worked out (the rest: their shape's answer)
         self._cache: dict[tuple, bool] = {}
         self._answers: dict[tuple, Answer] = {}
         self._shapers = {name: Shaper(rb) for name, rb in self.books.items()}
