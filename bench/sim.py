@@ -188,7 +188,7 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
                 if mark is None and t >= window_from:
                     mark = {"wall": time.perf_counter(), "cpu": time.process_time(), "sumo": stepping[0],
                             "sumo_cpu": stepping[1], "thread_cpu": time.thread_time(), "scheduled": scheduled(),
-                            "queries": sim.books.queries}
+                            "queries": sim.books.queries, "engine_asks": sim.books.engine_asks}
                     began = clock()
                 if mark is None:
                     out.put_all(batch)
@@ -214,6 +214,7 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
     return {"wall_s": wall, "cpu_s": cpu, "pinned": pinned, "settled_after_s": stats["settle_wait_s"],
             "events": events, "published": out.summary().published, "stored": stats["stored"],
             "ingest_cpu_s": stats["cpu_s"], "queries": sim.books.queries - mark["queries"],
+            "engine_asks": sim.books.engine_asks - mark["engine_asks"],
             "sumo_s": stepping[0] - mark["sumo"], "sumo_cpu_s": stepping[1] - mark["sumo_cpu"],
             "generator_s": generating, "put_s": putting, "put_cpu_s": put_cpu, "thread_cpu_s": thread_cpu, "ran_s": ran,
             "waited_s": waited, "steps": steps, "vehicles_mean": states / steps,
@@ -262,7 +263,8 @@ def main() -> None:
     print(f"simulation ({got['pinned']}): {args.seconds:g} s of world time in {got['wall_s']:.1f} s "
           f"({args.seconds / got['wall_s']:.2f} x real time; CPU {got['cpu_s']:.1f} s = {args.seconds / got['cpu_s']:.2f} x), {got['vehicles_mean']:,.0f} "
           f"vehicles on the network on average; {got['events']:,} events ({got['events'] / got['wall_s']:,.0f}/s), "
-          f"{got['queries']:,} rulebook queries ({got['queries'] / got['wall_s']:,.0f}/s); SUMO's step "
+          f"{got['queries']:,} rulebook queries ({got['queries'] / got['wall_s']:,.0f}/s; {got['engine_asks']:,} proofs "
+          f"worked out by the engine, the other questions with proofs answered by their shape); SUMO's step "
           f"{got['sumo_s']:.1f} s = {got['sumo_s'] / got['wall_s']:.0%} of the time")
     print(phases(got))
     print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "

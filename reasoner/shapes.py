@@ -13,6 +13,14 @@ speed or a limit ("30 has speed of 30", "the speed limit is 30"): renaming by th
 word, keeps the speed a speed. (Renaming the words once shared one answer between vehicle 25 at
 25 mph and vehicle 35 at 35 mph under a 30 mph limit.) A rule that joined a road user's place
 with a number's would see the two apart after renaming; no rule of ours does, and none should.
+
+`Shaper.keeps_proofs` checks that for a rulebook, so that a first proof (or why-not tree) too can
+be worked out once per shape: the engine's search (engine.pl) does only unification, variant and
+functor tests on a value it takes from a road user's place unless a rule hands that value to a
+built-in (a comparison, arithmetic, a list or an aggregate, which sort and test types: an id may
+be a number, its stand-in is not) or to another kind of place; where no rule does, the search
+under a consistent renaming takes the same steps in the same order, and its trees are the
+renamed trees.
 """
 from __future__ import annotations
 
@@ -20,8 +28,9 @@ from typing import Any, Iterable
 
 from .engine import Rulebook
 from .facts import plain_constants, walk_atoms
+from .le.builtins import BUILTIN_FUNCTORS
 from .le.templates import Slot
-from .le.terms import Atom
+from .le.terms import Atom, Cond, Var
 
 ENTITY_SLOTS = frozenset({"vehicle", "road_user", "person", "pedestrian", "cyclist", "entity", "other_entity"})
 """Slot types (as the LE parser names them: words joined by "_") whose values are road users."""
@@ -47,6 +56,10 @@ class Shaper:
             slots = [p for p in template.parts if isinstance(p, Slot)]
             self._places[(template.functor, len(slots))] = tuple(
                 i for i, slot in enumerate(slots) if slot.type in ENTITY_SLOTS)
+        self.keeps_proofs = all(self._kept_apart(rule) for rule in rb.document.rules)
+        """Whether the renamed facts' first proof and why-not tree are the facts' own with the
+        names put back (module docstring): no rule puts a variable of a road user's place in
+        any other place, built-in or aggregate."""
 
     def shape(self, atoms: Iterable[Atom], first: Any = None) -> tuple[tuple[Atom, ...], dict] | None:
         """The atoms with every unmentioned constant in a road user's place renamed, in order of
@@ -75,3 +88,47 @@ class Shaper:
 
     def _renamable(self, value: Any) -> bool:
         return type(value) in (str, int) and value not in self._mentioned
+
+    def _kept_apart(self, rule: Any) -> bool:
+        """Whether the rule's variables in road users' places of its sentences appear nowhere else."""
+        entity: set = set()
+        other: set = set()
+        self._sort_atom(rule.head, entity, other)
+        for cond in rule.body:
+            self._sort_cond(cond, entity, other)
+        return not entity & other
+
+    def _sort_atom(self, atom: Atom, entity: set, other: set) -> None:
+        user = atom.functor not in BUILTIN_FUNCTORS and atom.functor != "is_a"
+        places = self._places.get((atom.functor, len(atom.args)), ()) if user else ()
+        for i, arg in enumerate(atom.args):
+            if isinstance(arg, Var):
+                (entity if i in places else other).add(arg.name)
+            else:
+                other.update(_variables(arg))
+
+    def _sort_cond(self, cond: Any, entity: set, other: set) -> None:
+        if not isinstance(cond, Cond):
+            other.update(_variables(cond))
+        elif cond.atom is not None:
+            self._sort_atom(cond.atom, entity, other)
+        elif cond.aggregate is not None:
+            other.update(_variables((cond.aggregate.result, cond.aggregate.each)))
+            for inner in cond.aggregate.body:
+                self._sort_cond(inner, entity, other)
+        else:
+            blocks = (cond.negated,) if cond.negated is not None else cond.any_of or cond.forall or ()
+            for block in blocks:
+                for inner in block:
+                    self._sort_cond(inner, entity, other)
+
+
+def _variables(value: Any) -> set:
+    """The names of the variables anywhere inside a term (atoms, lists, arithmetic, conditions)."""
+    if isinstance(value, Var):
+        return {value.name}
+    if isinstance(value, (list, tuple)):
+        return set().union(*map(_variables, value)) if value else set()
+    if hasattr(value, "__dataclass_fields__"):
+        return _variables([getattr(value, name) for name in value.__dataclass_fields__])
+    return set()

@@ -8,7 +8,11 @@ handed to the engine as data, never as Prolog text (DESIGN "Facts are data").
 A monitor asks on every observation, and most observations differ from an earlier one only in
 which road users they are about; `holds` therefore remembers answers by the facts' shape (the
 road users renamed: reasoner.shapes), as reasoner.episodes does. A vehicle's question
-is asked in full every time, with the proof its vehicle.trace carries.
+comes with the proof its vehicle.trace carries; where the rulebook keeps road users' values
+apart from everything else (`Shaper.keeps_proofs`), that proof too is worked out once per shape
+and the vehicle's own names put back into it (`_renamed`): the engine's answer to the renamed
+facts is its answer to the facts, renamed. Thousands of vehicles ask a few hundred shapes
+("a car driving itself with a green light and nobody about").
 """
 from __future__ import annotations
 
@@ -16,12 +20,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from reasoner.bundled import CURRENT_SET, bundled
-from reasoner.engine import Rulebook, enrich, get_engine
+from reasoner.engine import Answer, Rulebook, enrich, get_engine
 from reasoner.facts import FactReader
 from reasoner.le.sentences import constant
 from reasoner.shapes import Shaper
 
 __all__ = ["Asked", "Rulebooks", "design_tree"]
+
+KEPT_ANSWERS = 20_000     # answers kept by shape (the oldest go first): a long run's shapes stay few
 
 
 @dataclass(frozen=True)
@@ -52,8 +58,10 @@ class Rulebooks:
         self.texts = {name: bundled(name) for name in names}
         self.books: dict[str, Rulebook] = {name: self.engine.load(text, name) for name, text in self.texts.items()}
         self.reader = FactReader()
-        self.queries = 0
+        self.queries = 0          # questions: every one asked with its proof, and each yes/no of a new shape
+        self.engine_asks = 0      # questions with proofs the engine worked out (the rest: their shape's answer)
         self._cache: dict[tuple, bool] = {}
+        self._answers: dict[tuple, Answer] = {}
         self._shapers = {name: Shaper(rb) for name, rb in self.books.items()}
 
     def records(self) -> list[dict[str, str]]:
@@ -80,9 +88,31 @@ class Rulebooks:
         rb = self.books[name]
         goal, atoms = self._atoms(rb, question, facts)
         self.queries += 1
-        answer = self.engine.ask(rb, goal, atoms)
+        answer = self._answer(name, rb, goal, atoms)
         tree = answer.proofs[0] if answer.proofs else answer.why_not
         return Asked(question, answer.holds, design_tree(enrich(tree, rb)) if isinstance(tree, dict) else None)
+
+    def _answer(self, name: str, rb: Rulebook, goal: Any, atoms: list) -> Answer:
+        """The engine's answer with its trees as data, worked out once per shape of the question
+        and facts where the rulebook keeps proofs under renaming (module docstring), and given
+        back with these facts' own names in place of the stand-ins."""
+        shaper = self._shapers[name]
+        shaped = shaper.shape([goal, *atoms]) if shaper.keeps_proofs else None
+        if shaped is None:
+            self.engine_asks += 1
+            return self.engine.ask(rb, goal, atoms)
+        (shaped_goal, *shaped_atoms), names = shaped
+        key = (name, shaped_goal, *shaped_atoms)
+        found = self._answers.get(key)
+        if found is None:
+            self.engine_asks += 1
+            found = self.engine.ask(rb, shaped_goal, shaped_atoms)
+            if len(self._answers) >= KEPT_ANSWERS:
+                del self._answers[next(iter(self._answers))]
+            self._answers[key] = found
+        back = {stand_in: value for value, stand_in in names.items()}
+        return Answer([_renamed(t, back) for t in found.proofs],
+                      None if found.why_not is None else _renamed(found.why_not, back))
 
     def holds(self, name: str, question: str, facts: list[str], vehicle: str) -> bool:
         """Yes or no, remembered by the shape of the question and facts."""
@@ -99,3 +129,16 @@ class Rulebooks:
             if key is not None:
                 self._cache[key] = found
         return found
+
+
+def _renamed(data: Any, back: dict[str, Any]) -> Any:
+    """Prolog's data (dicts, lists, atoms, numbers) with each stand-in replaced by its value: a
+    copy, so that what is kept is never handed out."""
+    kind = type(data)
+    if kind is dict:
+        return {key: _renamed(value, back) for key, value in data.items()}
+    if kind is list:
+        return [_renamed(value, back) for value in data]
+    if kind is str:
+        return back.get(data, data)
+    return data

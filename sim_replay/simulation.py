@@ -39,6 +39,7 @@ from sim_replay.maps import map_files
 from sim_replay.monitors import read_monitors
 from sim_replay.net_map import world_map
 from sim_replay.senses import Around
+from sim_replay.rounding import hundredths, tenths
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes
 from sim_replay.sumo_world import World, WorldError
@@ -239,8 +240,8 @@ class Simulation:
             self._states(snap, t)
             for p in snap.pedestrians:
                 self._emit(f"pedestrian/{p.id}", t, "entity.state", {
-                    "x": round(p.x, 2), "y": round(p.y, 2), "heading_deg": round(p.heading_deg, 1),
-                    "speed_mps": round(p.speed_mps, 2), "road": None if p.junction else p.edge,
+                    "x": hundredths(p.x), "y": hundredths(p.y), "heading_deg": tenths(p.heading_deg),
+                    "speed_mps": hundredths(p.speed_mps), "road": None if p.junction else p.edge,
                     "junction": p.junction})
             seen = self.watchers.observe(t, around, self.lines, lights, self.witness.limit_mph,
                                          lambda src, kind, body: self._emit(src, t, kind, body))
@@ -261,21 +262,26 @@ class Simulation:
 
     def _states(self, snap: Snapshot, t: float) -> None:
         """Every vehicle's entity.state of this tick (the bulk of the events: one per vehicle per
-        tick). Rounding is the dearest part of a body, and a third of the vehicles at a thousand
-        stand still in queues, reporting the same measurements tick after tick: their rounded
-        values are kept (`_rounded`) and used again while SUMO reports exactly the same numbers."""
+        tick). Rounding is the dearest part of a body (sim_replay.rounding: round()'s floats without
+        its decimal text), and a third of the vehicles at a thousand stand still in queues,
+        reporting the same measurements tick after tick: their rounded values are kept
+        (`_rounded`, with the source's name) and used again while SUMO reports exactly the same
+        numbers."""
         agents, rounded = self.agents, self._rounded
         bodies = []
+        add = bodies.append
         for v in snap.vehicles:
-            raw = (v.x, v.y, v.heading_deg, v.speed_mps, v.accel_mps2)
-            kept = rounded.get(v.id)
+            ident = v[0]
+            raw = v[2:7]                           # x, y, heading_deg, speed_mps, accel_mps2 (VehicleState's order)
+            kept = rounded.get(ident)
             if kept is None or kept[0] != raw:
-                kept = rounded[v.id] = (raw, round(v.x, 2), round(v.y, 2), round(v.heading_deg, 1),
-                                        round(v.speed_mps, 2), round(v.accel_mps2, 2))
-            agent = agents.get(v.id)
-            bodies.append((f"vehicle/{v.id}", {
-                "x": kept[1], "y": kept[2], "heading_deg": kept[3], "speed_mps": kept[4], "accel_mps2": kept[5],
-                "road": v.road, "lane": v.lane, "junction": v.junction, "emergency": bool(agent and agent.on_call)}))
+                x, y, heading, speed, accel = raw
+                kept = rounded[ident] = (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading),
+                                         hundredths(speed), hundredths(accel))
+            agent = agents.get(ident)
+            add((kept[1], {"x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5],
+                           "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
+                           "emergency": agent is not None and agent.on_call}))
         made = self.env.make_all(t, "entity.state", bodies)
         self._out.extend(made)
         if made:
@@ -373,8 +379,10 @@ class Simulation:
         """Whether the agent looks at this tick: at once, then every half second for those that ask,
         every reaction time for humans. Asked before the moment is put together, which most ticks
         of a passage then skip (at 1,000 vehicles, half of them are within a passage)."""
+        if p.go is None:
+            return True
         every = 5 if agent.asks and agent.driving() != "user" else max(1, round(agent.profile.reaction_s * 10))
-        return p.go is None or round((t - p.began_s) * 10) % every == 0
+        return round((t - p.began_s) * 10) % every == 0
 
     def _decide(self, agent: Agent, p: Passage, m: Moment) -> None:
         """The agent's look at this tick (`_looks`): a rulebook question for those that ask, a habit

@@ -38,6 +38,7 @@ from sim_replay.asking import Rulebooks
 from sim_replay.av import LIGHT_WORDS, SIGN_WORDS
 from sim_replay.faults import Faults
 from sim_replay.monitors import Monitor
+from sim_replay.rounding import hundredths
 from sim_replay.senses import STOPPED_MPS, Around
 from sim_replay.sumo_world import BLUE_LIGHT
 from sim_replay.world_state import VehicleState
@@ -102,8 +103,8 @@ class Watchers:
                     s.blue_at_s = t_s
                 facts = self._facts(m, v, s, around, lines.get(v.id), lights, limits.get(v.id))
                 speed = v.speed_mps * s.speed_factor
-                emit(src, "monitor.observation", {"vehicle": v.id, "facts": facts, "speed_mps": round(speed, 2),
-                                                  "x": round(v.x, 2), "y": round(v.y, 2)})
+                emit(src, "monitor.observation", {"vehicle": v.id, "facts": facts, "speed_mps": hundredths(speed),
+                                                  "x": hundredths(v.x), "y": hundredths(v.y)})
                 self._judge(src, v.id, s, facts, emit)
         return seen
 

@@ -96,8 +96,9 @@ class Witness:
                                 pending["watch"][o.id] = 0.0
                 for ident in pending["watch"]:
                     other = snap.vehicle(ident)
-                    if other is not None and other.light in (None, "green") and not _following(other, snap, vid) \
-                            and self._may_meet(pending, ident, (agents or {}).get(ident), junction):
+                    if other is not None and other.light in (None, "green") \
+                            and self._may_meet(pending, ident, (agents or {}).get(ident), junction) \
+                            and not _following(other, snap, vid):      # the dear test last: it looks about
                         pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
             if snap is not None and t < pending["until"]:
                 still.append(pending)
@@ -157,11 +158,13 @@ class Witness:
 
     def tick(self, snap: Snapshot, around: Around, t: float, agents: dict[str, Agent],
              lines: dict[str, Line]) -> None:
+        boxed = self._boxed
         for v in snap.vehicles:
             agent = agents.get(v.id)
             if agent is not None:
                 self._speeding(agent, v, t)
-                self._box(agent, v, t, snap, lines.get(v.id))
+                if v.junction is not None or v.id in boxed:     # outside a junction, only a box stand can end
+                    self._box(agent, v, t, snap, lines.get(v.id))
         self._react(snap, around, t, agents)
 
     def seen(self, pairs: set[tuple[str, str]]) -> None:
