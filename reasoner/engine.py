@@ -202,26 +202,17 @@ class Engine:
             data = result["A"]
             return QueryResult([self._answer_text(rb, d) for d in data] if texts else [], data)
         result = self._guarded("gaps_engine:ask_proofs(M, F, C, A, W)", M=rb.module, F=facts_d, C=conds)
-        pairs = result["A"]
-        data = [p[0] for p in pairs]
-        why = result["W"]
-        return QueryResult([self._answer_text(rb, d) for d in data], data, [p[1] for p in pairs],
-                           why if isinstance(why, list) else None)
+        found = _proved(result["A"], result["W"])
+        found.answers = [self._answer_text(rb, d) for d in found.bindings]
+        return found
 
     def answers_all(self, rb: Rulebook, questions: Sequence[tuple[list, bool]], facts: list) -> list[QueryResult]:
         """Several questions (conditions, explain) on one scenario, each answered as `answers`
         answers it with `texts` False; the facts are sent and indexed once."""
         data = [("proofs" if explain else "plain", body_data(body)) for body, explain in questions]
         results = self._guarded("gaps_engine:ask_all(M, F, Q, R)", M=rb.module, F=self._facts(facts), Q=data)["R"]
-        out = []
-        for (_, explain), result in zip(questions, results):
-            if not explain:
-                out.append(QueryResult([], result))
-                continue
-            pairs, why = result
-            out.append(QueryResult([], [p[0] for p in pairs], [p[1] for p in pairs],
-                                   why if isinstance(why, list) else None))
-        return out
+        return [_proved(*result) if explain else QueryResult([], result)
+                for (_, explain), result in zip(questions, results)]
 
     def query(self, rb: Rulebook, query: str, scenario: str | None = None,
               facts: list | None = None, explain: bool = False) -> QueryResult:
@@ -267,6 +258,11 @@ class Engine:
         if not result.get("truth"):
             raise RuntimeError(f"Prolog query failed: {query}")
         return result
+
+
+def _proved(pairs: list, why) -> QueryResult:
+    """ask_proofs' answer (Data-Trees pairs, and why not: @none when there are answers), without texts."""
+    return QueryResult([], [p[0] for p in pairs], [p[1] for p in pairs], why if isinstance(why, list) else None)
 
 
 def _prolog_message(exc) -> str:

@@ -342,9 +342,14 @@ limit_error(E) :- throw(E).
 %!  holds(+M, +FactsData, +GoalData) is semidet.
 %   Plain yes/no for one sentence: the fastest way to ask.
 holds(M, FactsD, GoalD) :-
-    build_atom(GoalD, Goal, [], _),
+    in_scenario(M, FactsD, holds_plainly(M, GoalD, _, _)).
+
+%   The sentence (its data; Goal and Names: the term built from it) holds in the scenario set,
+%   by the compiled clauses, under a question limit.
+holds_plainly(M, GoalD, Goal, Names) :-
+    build_atom(GoalD, Goal, [], Names),
     atom_goal(M, Goal, G),
-    with_scenario(M, FactsD, once(M:G)).
+    limited(once(M:G)).
 
 holds(M, FactsD, GoalD, Bool) :-
     (   holds(M, FactsD, GoalD) -> Bool = true ; Bool = false ).
@@ -352,21 +357,17 @@ holds(M, FactsD, GoalD, Bool) :-
 %!  ask_plain(+M, +FactsData, +CondsData, -Answers) is det.
 %   Every way the conditions hold, each as the conditions' data with the bindings filled in.
 ask_plain(M, FactsD, CondsD, Answers) :-
-    build_body(CondsD, Conds, [], Names),
-    body_goal(M, Conds, Goal),
-    with_scenario(M, FactsD,
-                  findall(D, (M:Goal, conds_data(Conds, Names, D)), Answers)).
+    in_scenario(M, FactsD, answer_one(M, plain-CondsD, Answers)).
 
 %!  ask_proofs(+M, +FactsData, +CondsData, -Answers, -WhyNot) is det.
 %   Answers: Data-Trees per proof; WhyNot: why the conditions have no proof (@none otherwise).
 ask_proofs(M, FactsD, CondsD, Answers, WhyNot) :-
-    build_body(CondsD, Conds, [], Names),
-    with_scenario(M, FactsD, proofs_or_why(M, Conds, Names, Answers, WhyNot)).
+    in_scenario(M, FactsD, answer_one(M, proofs-CondsD, [Answers, WhyNot])).
 
 %!  ask_all(+M, +FactsData, +Questions, -Results) is det.
 %   Several questions on one scenario, each answered as ask_plain/4 (plain-CondsData: Answers)
-%   or ask_proofs/5 (proofs-CondsData: [Answers, WhyNot]) would answer it, a question limit
-%   each; the facts are built and indexed once.
+%   or ask_proofs/5 (proofs-CondsData: [Answers, WhyNot]) answers it, a question limit each;
+%   the facts are built and indexed once.
 ask_all(M, FactsD, Questions, Results) :-
     in_scenario(M, FactsD, maplist(answer_one(M), Questions, Results)).
 
@@ -406,9 +407,7 @@ first_proved(M, [], First, _, -1, Proofs, WhyNot) :-
     build_atom(First, Goal, [], Names),
     limited(first_answer(M, Goal, Names, Proofs, WhyNot)).
 first_proved(M, [GD|GDs], First, I, Index, Proofs, WhyNot) :-
-    build_atom(GD, Goal, [], Names),
-    atom_goal(M, Goal, G),
-    (   limited(once(M:G)), limited(first_answer(M, Goal, Names, [P], W))
+    (   holds_plainly(M, GD, Goal, Names), limited(first_answer(M, Goal, Names, [P], W))
     ->  Index = I, Proofs = [P], WhyNot = W
     ;   I1 is I + 1,
         first_proved(M, GDs, First, I1, Index, Proofs, WhyNot)
@@ -422,9 +421,7 @@ first_holding(M, FactsD, GoalsD, Index) :-
 
 first_true(_, [], _, -1).
 first_true(M, [GD|GDs], I, Index) :-
-    build_atom(GD, Goal, [], _),
-    atom_goal(M, Goal, G),
-    (   limited(once(M:G))
+    (   holds_plainly(M, GD, _, _)
     ->  Index = I
     ;   I1 is I + 1, first_true(M, GDs, I1, Index)
     ).
