@@ -5,7 +5,7 @@ unknown facts from facts.py.) Each is a model.Finding.
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
 from store import EventRef, LivelinessChange, Store
 
@@ -85,15 +85,15 @@ class Gaps:
         """The source's gaps, each (first missing seq, last missing seq, t of the event before,
         t of the event after)."""
         if self._any is None:
-            self._any = self.kept.remember("any gaps", "", lambda: self.store.has_sequence_gaps(self.run), plain=True) \
-                if self.kept is not None else self.store.has_sequence_gaps(self.run)
+            self._any = self._remembered("any gaps", "", lambda: self.store.has_sequence_gaps(self.run))
         if not self._any:
             return []
         if src not in self._found:
-            found = self.kept.remember("gaps", src, lambda: self._read(src), plain=True) if self.kept is not None \
-                else self._read(src)
-            self._found[src] = [tuple(span) for span in found]
+            self._found[src] = [tuple(span) for span in self._remembered("gaps", src, lambda: self._read(src))]
         return self._found[src]
+
+    def _remembered(self, kind: str, key: str, compute: Callable[[], Any]) -> Any:
+        return self.kept.remember(kind, key, compute, plain=True) if self.kept is not None else compute()
 
     def _read(self, src: str) -> list[list]:
         return [[first, last, self.store.t_of(self.run, src, first - 1), self.store.t_of(self.run, src, last + 1)]
