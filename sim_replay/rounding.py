@@ -17,6 +17,7 @@ float) goes to round() itself. tests/sim_replay/test_rounding.py compares the tw
 from __future__ import annotations
 
 import math
+from typing import Any, Callable
 
 __all__ = ["hundredths", "tenths"]
 
@@ -25,21 +26,21 @@ LIMIT = 1e6          # products at least this large too (the error bound above h
 _copysign = math.copysign
 
 
-def hundredths(x: float) -> float:
-    """round(x, 2), the same float."""
-    p = x * 100.0
-    if type(x) is float and -LIMIT < p < LIMIT:
-        n = round(p)
-        if abs(p - n) < 0.5 - TIE:
-            return n / 100.0 if n else _copysign(0.0, x)
-    return round(x, 2)
+def _rounder(digits: int) -> Callable[[Any], float]:
+    """round(x, digits), the same float (the module docstring says why and when)."""
+    scale = 10.0 ** digits       # 100.0 and 10.0: exact
+
+    def rounded(x: Any) -> float:
+        p = x * scale
+        if type(x) is float and -LIMIT < p < LIMIT:
+            n = round(p)
+            if abs(p - n) < 0.5 - TIE:
+                return n / scale if n else _copysign(0.0, x)
+        return round(x, digits)
+
+    rounded.__doc__ = f"round(x, {digits}), the same float."
+    return rounded
 
 
-def tenths(x: float) -> float:
-    """round(x, 1), the same float."""
-    p = x * 10.0
-    if type(x) is float and -LIMIT < p < LIMIT:
-        n = round(p)
-        if abs(p - n) < 0.5 - TIE:
-            return n / 10.0 if n else _copysign(0.0, x)
-    return round(x, 1)
+hundredths = _rounder(2)
+tenths = _rounder(1)
