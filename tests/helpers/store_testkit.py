@@ -140,3 +140,16 @@ def out_of_order_store(path: Path) -> Path:
             store.append(late[15:] + early[:20])
             store.append(late[:15] + early[20:])
     return path
+
+
+def careful(raw: bytes) -> tuple:
+    """What the careful road makes of raw bytes (the standard parser, which refuses duplicate keys
+    and NaN, then encode_event): ("ok", event, canonical bytes) or ("refused", reason). The fast
+    roads of store/envelope.py are held to it."""
+    from store import EventError
+    from store.envelope import _parse_json, encode_event
+    try:
+        ev = _parse_json(raw)
+        return ("ok", ev, encode_event(ev))
+    except EventError as exc:
+        return ("refused", str(exc))

@@ -12,13 +12,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from store import EventError, canonical_json, decode_event, plain_event
+from store import canonical_json, decode_event, plain_event
 from store.body_check import body_ok, plain_body, quick_source
 from store.canonical import PLAIN_FLOAT, _same_in_orjson, reference_canonical_json
 from store import envelope
-from store.envelope import _parse_json, encode_event
 from store.kinds import KINDS, SCHEMAS
-from tests.helpers.store_testkit import BODIES, event
+from tests.helpers.store_testkit import BODIES, careful, event
 
 FLAT_KINDS = sorted(kind for kind in KINDS if quick_source(SCHEMAS[kind], plain=True) is not None)
 
@@ -64,14 +63,6 @@ def test_the_plain_body_check_says_yes_to_the_plain_bodies(kind) -> None:
 @given(st.floats())
 def test_the_plain_float_is_the_float_walks_float(x) -> None:
     assert eval(PLAIN_FLOAT.format(x="x")) == _same_in_orjson([x])  # noqa: S307 (our own constant)
-
-
-def careful(raw: bytes):
-    try:
-        ev = _parse_json(raw)
-        return ("ok", ev, encode_event(ev))
-    except EventError as exc:
-        return ("refused", str(exc))
 
 
 _twists = [
