@@ -59,9 +59,6 @@ class Sealed:
             return None
         return payload
 
-    def __len__(self) -> int:
-        return len(self._rows)
-
 
 def load(store: Store, run: str, kind: str, version: str, chain: ChainKey) -> Sealed:
     """The run's entries of this kind and version derived from exactly this chain, by key; each
