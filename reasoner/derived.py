@@ -29,6 +29,7 @@ from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since
+from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, well_ahead
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -43,8 +44,6 @@ from .when import format_time
 SECOND = 1_000_000_000
 
 # Thresholds (docs/history.md gives the reasoning)
-FORCE_DECEL_MPS2 = 2.0    # Hupfer (1997), as cited by the criticality-metrics catalogue: below 2 m/s² a driver's
-                          # reaction is adaptation or ordinary reaction, from 2 m/s² a "considerable reaction"
 APPROACH_M = 50.0         # "approaching": outside the junction, within this distance of its centre, getting closer
 APPROACH_DT_S = 0.5       # ... by comparing its distance now with this long before
 EXIT_ZONE_M = 12.0        # a box junction's exit: this far beyond the junction's edge on the exit arm (a car, a gap)
@@ -399,13 +398,16 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
 def explained(p: Passage, other: Other) -> bool:
     """Whether something other than the vehicle passing explains the road user's braking or stop:
     a red or amber light of its own, a Stop line of its own, a road user it followed (others.py),
-    or a path through the junction that never came within a vehicle's width of V's (others.paths_within:
-    no conflict point, so it slowed for its own manoeuvre)."""
+    a path through the junction that never came within a vehicle's width of V's (others.paths_within:
+    no conflict point, so it slowed for its own manoeuvre), slowing that began more than a
+    perception-reaction time after V was out of its way, or V well ahead of it on its way, going
+    its way (reasoner/reaction.py)."""
     if own_cause(other):
         return True
     if other.braking is None and other.stopped is None:
         return False
-    return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False
+    return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
+        or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other)
 
 
 def _set_off(p: Passage) -> Standstill | None:

@@ -229,7 +229,7 @@ def _segment_gap(p, q, r, s) -> float:
     """The smallest distance between segments pq and rs (0 when they cross)."""
     if _cross(p, q, r, s):
         return 0.0
-    return min(_point_gap(p, r, s), _point_gap(q, r, s), _point_gap(r, p, q), _point_gap(s, p, q))
+    return min(point_gap(p, r, s), point_gap(q, r, s), point_gap(r, p, q), point_gap(s, p, q))
 
 
 def _cross(p, q, r, s) -> bool:
@@ -239,7 +239,7 @@ def _cross(p, q, r, s) -> bool:
     return ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4)
 
 
-def _point_gap(p, a, b) -> float:
+def point_gap(p, a, b) -> float:
     """The distance from point p to segment ab."""
     dx, dy = b[0] - a[0], b[1] - a[1]
     length = dx * dx + dy * dy

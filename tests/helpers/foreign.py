@@ -122,9 +122,21 @@ def irregular(start: float, end: float, seed: int = 1, low: float = 0.1, high: f
     return out
 
 
+OPPOSITE = {"west": "east", "east": "west", "north": "south", "south": "north"}
+
+
 def place(centre: tuple[float, float], approach: str, s: float) -> tuple[float, float, float]:
-    """x, y and heading of a vehicle s metres along the route through a junction from an approach."""
+    """x, y and heading of a vehicle s metres along the route through a junction from an approach.
+    "west>south": from the west arm, turning where its lane meets the south arm's outbound lane
+    and leaving by it (a right turn on the left of the road); s still counts along the route."""
+    approach, _, leaving = approach.partition(">")
     (dx, dy), (lx, ly) = DIRECTION[approach], LEFT[approach]
+    if leaving:
+        (ox, oy), (mx, my) = DIRECTION[OPPOSITE[leaving]], LEFT[OPPOSITE[leaving]]
+        corner = (mx * dx + my * dy) * LANE            # where the outbound lane crosses the inbound one
+        if s > corner:
+            cx, cy = centre[0] + dx * corner + lx * LANE, centre[1] + dy * corner + ly * LANE
+            return cx + ox * (s - corner), cy + oy * (s - corner), math.degrees(math.atan2(oy, ox)) % 360.0
     x, y = centre[0] + dx * s + lx * LANE, centre[1] + dy * s + ly * LANE
     return x, y, math.degrees(math.atan2(dy, dx)) % 360.0
 

@@ -131,12 +131,7 @@ KNOWN = {
         "traffic, since the witness's braking figure (SUMO's one-tick deceleration) does not tell a minor-road "
         "car slowing for its own Give Way line from one made to brake. Where two vehicles emerge together "
         "(187 and 132), a main-road car's braking is credited to both by the reasoner, to the one that turned in "
-        "front of it by the witness. Also a reasoner false positive, open: a main-road car that slows for a right "
-        "turn of its own, through the point V's way crossed, within the 3 s after V left the junction is counted as "
-        "forced by V although V was gone from that point (long-5: 123 braked at 4.0 m/s² 3 s after 164 had crossed "
-        "its way, then turned into the arm 164 came from; 177 braked for its turn while oncoming 134 passed, after "
-        "230 had crossed); the history does not yet ask whether V was still at the conflict point when the braking "
-        "began",
+        "front of it by the witness.",
     ("out of a Give Way line, major-road traffic approaching, nobody braked", "punishable HC 172"):
         "the main-road car braked hard within the 3 s after V left the junction that the reasoner counts, as a "
         "second vehicle pulled out of the opposite Stop line (long-3: 265 braked at 4.5 m/s² 1.4 s after 155 "

@@ -38,7 +38,7 @@ from reasoner.motion import MPH_PER_MPS
 from reasoner.stopping import stopping_distance_m
 from store import Store
 
-from tests.helpers.foreign import (LANE, LINE_M, Foreign, Motion, crossroads, irregular, ns, rate,
+from tests.helpers.foreign import (LANE, LINE_M, OPPOSITE, Foreign, Motion, crossroads, irregular, ns, rate,
                                    roads_through)
 
 ENTER = "enter the junction"
@@ -654,14 +654,15 @@ _SET_OFF = 6.87 + 2.0
 STOPS_THEN_GOES = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=2.0, then=10.0)
 
 
-def stop_then_go_run(*others: tuple[str, Motion, str], said: tuple[str, ...] = ()) -> Foreign:
-    """7 stops at its Stop line and goes on; `others` (user, motion, arm) drive about it, watched
-    by the camera at 5 Hz as a simulator's monitors are; the camera states 7's sign and `said`."""
-    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+def stop_then_go_run(*others: tuple[str, Motion, str], said: tuple[str, ...] = (), arm: str = "west") -> Foreign:
+    """7 stops at its Stop line on `arm` (the minor road's) and goes straight on; `others` (user,
+    motion, arm or "arm>exit") drive about it, watched by the camera at 5 Hz as a simulator's
+    monitors are; the camera states 7's sign and `said`."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={arm: "stop", OPPOSITE[arm]: "stop"})])
     run.spawn("7")
     times = SAMPLING["5 Hz"](START, START + 25.0)
-    run.drive("7", STOPS_THEN_GOES, "west", times, t_start=START)
-    run.watch("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START,
+    run.drive("7", STOPS_THEN_GOES, arm, times, t_start=START)
+    run.watch("7", STOPS_THEN_GOES, arm, rate(5, START, START + 25.0), t_start=START,
               facts=camera("7", sign="stop", also=said))
     for user, motion, arm in others:
         run.spawn(user, "bus" if user.startswith("b") else "car")
@@ -682,6 +683,73 @@ def test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
     no_incident(found, "c2")
+
+
+# When 7 (STOPS_THEN_GOES, along y = +1.75) is out of c2's way: c2 comes down the main road from the
+# north along x = +1.75, and 7 is a vehicle's width (2.55 m, C&U Regs 1986 reg. 8) past that line at
+# s = 4.30 m, reached 4.10 s after it set off (s = -12.5 + t², pulling away at 2 m/s²).
+_OUT_OF_C2S_WAY = _SET_OFF + math.sqrt(12.5 + 1.75 + 2.55)
+
+
+def braking_after_7_cleared(delay: float) -> Motion:
+    """c2 at 13.4 m/s (30 mph), 20 m short of the centre `delay` s after 7 was out of its way,
+    when it begins to brake at 4.5 m/s² for 2 s (then goes on at 4.4 m/s)."""
+    begins = _OUT_OF_C2S_WAY + delay
+    return Motion(-20.0 - 13.4 * begins, 13.4, [(begins, 0.0), (2.0, -4.5)])
+
+
+def test_a_main_road_car_that_begins_to_slow_long_after_the_vehicle_left_its_way_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 forbids crossing the Stop line "so as to ... cause the driver
+    of another vehicle to change its speed or course in order to avoid an accident". 7 stopped,
+    waited and crossed; c2, on the main road, begins to brake hard (4.5 m/s²) 3 s after 7 was out
+    of its lane, 20 m short of the centre, for something of its own (the simulation's car 123, which
+    slowed to turn into the arm 164 had left). A driver reacting to 7 would have begun within a
+    perception-reaction time (AASHTO's 2.5 s, above the 90th percentile of drivers): by then 7 was
+    gone from any point c2 would reach, so c2 did not change speed to avoid an accident with it.
+    A lawful Stop and pull-out: no violation by 7, and no sentence that it forced c2."""
+    found = judge(tmp_path, stop_then_go_run(("c2", braking_after_7_cleared(3.0), "north")))
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    no_incident(found, "c2")
+
+
+def test_the_same_braking_begun_within_a_reaction_time_of_the_vehicle_leaving_its_way_was_forced(tmp_path):
+    """The control of the test above: c2 begins the same braking 1.5 s after 7 was out of its lane
+    (within a perception-reaction time, 2.5 s), 20 m short of the centre: 7's crossing may well be
+    what it braked for, and the record cannot tell otherwise. Para 1's forcing: punishable, HC 171."""
+    inc = one(judge(tmp_path, stop_then_go_run(("c2", braking_after_7_cleared(1.5), "north"))), "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+
+
+def turning_after_7(ahead_m: float) -> Motion:
+    """c2 from the west at 13.4 m/s, turning right into the south arm (the lane 7 goes down), 20 m
+    short of the centre when 7 is `ahead_m` down the south arm; it then brakes at 4.5 m/s² to
+    4 m/s for its turn. 7 is y = -(t² - 12.5) m at t s after setting off (2 m/s² from its line)."""
+    begins = _SET_OFF + math.sqrt(ahead_m + 12.5)
+    return Motion(-20.0 - 13.4 * begins, 13.4, [(begins, 0.0), (9.4 / 4.5, -4.5)])
+
+
+def test_a_main_road_car_braking_for_its_turn_into_the_lane_the_vehicle_went_down_far_ahead_was_not_forced(tmp_path):
+    """Para 1 again (HC 171). 7 comes out of the north arm's Stop line and goes straight on down the
+    south arm; c2, on the main road from the west, turns right into that arm, into the lane 7 is
+    in (the simulation's 177 behind 230 at j2). c2 begins to brake hard (4.5 m/s² down to 4 m/s)
+    for its turn when 7 is already 30 m down the arm at 13 m/s, 54 m of road ahead of c2. Behind a
+    vehicle that far ahead, going its way, c2 could keep the two-second gap (HC 126) braking at
+    well under 2 m/s² (Hupfer's considerable reaction): it did not brake to avoid an accident with
+    7. A lawful Stop: no violation by 7, and no sentence that it forced c2."""
+    found = judge(tmp_path, stop_then_go_run(("c2", turning_after_7(30.0), "west>south"), arm="north"))
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+
+
+def test_a_main_road_car_braking_as_the_vehicle_pulls_out_into_its_lane_just_ahead_of_it_was_forced(tmp_path):
+    """The control of the test above: c2 begins the same braking when 7 is 3 m down the south arm
+    at 8 m/s, 26 m of road ahead of c2 at 13.4 m/s: keeping the two-second gap behind 7 would take
+    braking at about 5.6 m/s². 7 pulled out in front of it: punishable, HC 171."""
+    inc = one(judge(tmp_path, stop_then_go_run(("c2", turning_after_7(3.0), "west>south"), arm="north")), "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
 
 
 MINOR_ARM_CAMERA = {"id": "m1", "junction": "J1", "x": -30.0, "y": 8.0, "heading_deg": 0.0, "range_m": 60.0,

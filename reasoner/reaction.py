@@ -1,0 +1,169 @@
+"""Whether a road user's braking can have been a reaction to the vehicle that passed.
+
+Para 1 of TSRGD 2016 Sch 9 Pt 7 (and HC 170-172) asks whether the vehicle caused another driver
+"to change its speed or course in order to avoid an accident". A road user that braked while the
+vehicle passed did not always brake for it. derived.explained looks for causes of the road user's
+own (its light, its Stop line, a road user it followed, a path that never met the vehicle's); this
+module answers two questions about time and place:
+
+- Had the vehicle been out of the road user's way for longer than a perception-reaction time when
+  the road user began to slow (`reacted_after_clearing`)? A main-road car that slows for its own
+  right turn 3 s after a Stop-line vehicle crossed its lane did not slow for that vehicle.
+- Was the vehicle, all the while it was in the road user's way from a reaction time before the
+  slowing began, ahead of it, going its way, and far enough ahead that the road user could keep the
+  two-second gap behind it with gentle braking (`well_ahead`)? A vehicle already 50 m down the lane
+  a main-road car turns into is not what that car braked hard for.
+
+Neither answers "yes" on missing measurements: where the record cannot tell, the braking stays
+the vehicle's to explain, as before.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple, Sequence
+
+from .motion import Sample, position_at, speed_at
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, point_gap
+from .passage import Other
+
+SECOND = 1_000_000_000
+FORCE_DECEL_MPS2 = 2.0  # Hupfer (1997), as cited by the criticality-metrics catalogue: below 2 m/s² a driver's
+                        # reaction is adaptation or ordinary reaction, from 2 m/s² a "considerable reaction"
+REACTION_TIME_S = 2.5   # AASHTO Green Book (2018) 3.2.2.1: the brake reaction time for stopping sight distance,
+                        # above the 90th percentile of drivers' reaction times, surprise included
+SPEED_NOISE_MPS = 0.5   # a road user still within this of its top speed has not yet begun to slow (1 mph)
+SAME_WAY_DEG = 45.0     # a vehicle heading within this of the way's direction goes that way (not across it)
+
+Point = tuple[float, float]
+
+
+def slowing_began(other: Other) -> int | None:
+    """When the road user began the slowing that ended in its hardest braking or its stop: the last
+    of its samples up to that moment still within SPEED_NOISE_MPS of the fastest it went before it.
+    Braking is measured over its hardest second or more (motion.peak_deceleration); the driver's
+    reaction began where the slowing did, which may be earlier."""
+    marks = [m.t for m in (other.braking.first if other.braking else None, other.stopped) if m is not None]
+    if not marks:
+        return None
+    until = min(marks)
+    speeds = [s for s in other.samples if s.speed_mps is not None and s.t <= until]
+    if not speeds:
+        return until
+    top = max(s.speed_mps for s in speeds)
+    return max(s.t for s in speeds if s.speed_mps >= top - SPEED_NOISE_MPS)
+
+
+def cleared_at(mine: Sequence[Sample], theirs: Sequence[Sample], distance: float = VEHICLE_WIDTH_M) -> int | None:
+    """When the vehicle was first seen `distance` or more from the other's way, after it was last
+    within that distance of it: the moment it was out of the other's way. None when it never came
+    that close, or was still that close at its last position in the record (it may not have left)."""
+    way = _way(theirs)
+    placed = [s for s in mine if s.placed]
+    if len(way) < 2:
+        return None
+    for i in range(len(placed) - 1, -1, -1):      # from the end: the last time it was near
+        if _on_way((placed[i].x, placed[i].y), way, distance) is not None:
+            return placed[i + 1].t if i + 1 < len(placed) else None
+    return None
+
+
+def reacted_after_clearing(mine: Sequence[Sample], other: Other) -> bool:
+    """Whether the road user began to slow more than REACTION_TIME_S after the vehicle was out of
+    its way (`cleared_at`: within VEHICLE_WIDTH_M of any point of its way through and beyond the
+    junction): too late to be a reaction to the vehicle, gone from where the two could meet. One
+    that merges into the lane ahead of it stays in its way and is never cleared (`well_ahead`)."""
+    began = slowing_began(other)
+    clear = cleared_at(mine, other.way)
+    return began is not None and clear is not None and began - clear > REACTION_TIME_S * SECOND
+
+
+def well_ahead(mine: Sequence[Sample], other: Other) -> bool:
+    """Whether the vehicle, at each of its positions in the road user's way from REACTION_TIME_S
+    before the road user began to slow, was ahead of it along that way, heading its way, and so far
+    ahead that the road user could keep the two-second gap behind it (HC 126: FOLLOW_S, plus
+    FOLLOW_M of a car's length) by braking at less than FORCE_DECEL_MPS2 (`needed_deceleration`);
+    and was in its way ahead of it when the slowing began. Such a road user braked hard for
+    something else (a turn of its own, oncoming traffic it gives way to)."""
+    began = slowing_began(other)
+    way = _way(other.way)
+    if began is None or len(way) < 2:
+        return False
+    placed = [s for s in mine if s.placed and s.t >= began - REACTION_TIME_S * SECOND]
+    seen_at_start = False
+    for i, s in enumerate(placed):
+        hit = _on_way((s.x, s.y), way, VEHICLE_WIDTH_M)
+        if hit is None:
+            continue
+        if not _ahead_and_clear(placed, i, hit, way, other):
+            return False
+        seen_at_start = seen_at_start or s.t >= began
+    return seen_at_start
+
+
+def needed_deceleration(speed: float, ahead_speed: float, gap: float) -> float:
+    """The steady deceleration that takes a road user at `speed` down to the speed of the one
+    `gap` metres ahead of it before it is closer than the two-second rule's gap (FOLLOW_M +
+    FOLLOW_S × that speed); infinite when it is already that close."""
+    room = gap - FOLLOW_M - FOLLOW_S * max(ahead_speed, 0.0)
+    if room <= 0:
+        return math.inf
+    closing = speed - ahead_speed
+    return 0.0 if closing <= 0 else closing * closing / (2 * room)
+
+
+class _Hit(NamedTuple):
+    along_m: float          # how far along the way the nearest point is
+    direction: Point        # the way's direction there (a unit vector)
+
+
+def _way(samples: Sequence[Sample]) -> list[Point]:
+    return [(s.x, s.y) for s in samples if s.placed]
+
+
+def _on_way(point: Point, way: list[Point], distance: float) -> _Hit | None:
+    """The nearest point of the way within `distance` of `point`, or None."""
+    x, y = point
+    best: tuple[float, float, Point] | None = None
+    along = 0.0
+    for r, s in zip(way, way[1:]):
+        length = math.dist(r, s)
+        if min(r[0], s[0]) - distance < x < max(r[0], s[0]) + distance \
+                and min(r[1], s[1]) - distance < y < max(r[1], s[1]) + distance:
+            gap = point_gap(point, r, s)
+            if gap < distance and (best is None or gap < best[0]):
+                f = 0.0 if length == 0 else max(0.0, min(1.0, ((x - r[0]) * (s[0] - r[0]) + (y - r[1]) * (s[1] - r[1]))
+                                                        / (length * length)))
+                unit = ((s[0] - r[0]) / length, (s[1] - r[1]) / length) if length else (0.0, 0.0)
+                best = (gap, along + f * length, unit)
+        along += length
+    return None if best is None else _Hit(best[1], best[2])
+
+
+def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: list[Point], other: Other) -> bool:
+    """Whether the vehicle at placed[i] is ahead of the road user along its way, heading its way,
+    with room enough (`needed_deceleration` below FORCE_DECEL_MPS2) at the road user's speed then."""
+    s = placed[i]
+    where, _ = position_at(other.way, s.t)
+    speed, _ = speed_at(other.way, s.t)
+    heading = _heading(placed, i)
+    if where is None or speed is None or heading is None or s.speed_mps is None:
+        return False
+    own = _on_way(where, way, VEHICLE_WIDTH_M)
+    if own is None or hit.along_m <= own.along_m:
+        return False
+    along = heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
+    if along < math.cos(math.radians(SAME_WAY_DEG)):
+        return False
+    return needed_deceleration(speed, s.speed_mps * along, hit.along_m - own.along_m) < FORCE_DECEL_MPS2
+
+
+def _heading(placed: Sequence[Sample], i: int) -> Point | None:
+    """The vehicle's direction of travel at placed[i] (a unit vector): from its heading where it
+    states one, else from its positions on either side."""
+    s = placed[i]
+    if s.heading_deg is not None:
+        a = math.radians(s.heading_deg)
+        return math.cos(a), math.sin(a)
+    a, b = placed[max(i - 1, 0)], placed[min(i + 1, len(placed) - 1)]
+    length = math.dist((a.x, a.y), (b.x, b.y))
+    return None if length < 0.1 else ((b.x - a.x) / length, (b.y - a.y) / length)
