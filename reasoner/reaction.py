@@ -81,23 +81,26 @@ def well_ahead(mine: Sequence[Sample], other: Other) -> bool:
     """Whether the vehicle, at each of its positions in the road user's way from REACTION_TIME_S
     before the road user began to slow, was ahead of it along that way, heading its way, and so far
     ahead that the road user could keep the two-second gap behind it (HC 126: FOLLOW_S, plus
-    FOLLOW_M of a car's length) by braking at less than FORCE_DECEL_MPS2 (`needed_deceleration`);
-    and was in its way ahead of it when the slowing began. Such a road user braked hard for
-    something else (a turn of its own, oncoming traffic it gives way to)."""
+    FOLLOW_M of a car's length) by braking at less than FORCE_DECEL_MPS2 (`needed_deceleration`),
+    with at least one such position (the vehicle's record may end before the slowing began: it
+    was then moving away down that way). Such a road user braked hard for something else (a turn
+    of its own, oncoming traffic it gives way to)."""
     began = slowing_began(other)
     way = _way(other.way)
     if began is None or len(way) < 2:
         return False
-    placed = [s for s in mine if s.placed and s.t >= began - REACTION_TIME_S * SECOND]
-    seen_at_start = False
+    placed = [s for s in mine if s.placed]
+    seen = False
     for i, s in enumerate(placed):
+        if s.t < began - REACTION_TIME_S * SECOND:
+            continue
         hit = _on_way((s.x, s.y), way, VEHICLE_WIDTH_M)
         if hit is None:
             continue
-        if not _ahead_and_clear(placed, i, hit, way, other):
+        if not _ahead_and_clear(placed, i, hit, way, other, began):
             return False
-        seen_at_start = seen_at_start or s.t >= began
-    return seen_at_start
+        seen = True
+    return seen
 
 
 def needed_deceleration(speed: float, ahead_speed: float, gap: float) -> float:
@@ -139,22 +142,27 @@ def _on_way(point: Point, way: list[Point], distance: float) -> _Hit | None:
     return None if best is None else _Hit(best[1], best[2])
 
 
-def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: list[Point], other: Other) -> bool:
+def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: list[Point], other: Other,
+                     began: int) -> bool:
     """Whether the vehicle at placed[i] is ahead of the road user along its way, heading its way,
-    with room enough (`needed_deceleration` below FORCE_DECEL_MPS2) at the road user's speed then."""
+    with room enough (`needed_deceleration` below FORCE_DECEL_MPS2). The road user is taken as it
+    was when it began to slow and, later than that, as if it had gone on unslowed: slowed down,
+    it would be further back and slower, and its own braking would make the room it needed."""
     s = placed[i]
-    where, _ = position_at(other.way, s.t)
-    speed, _ = speed_at(other.way, s.t)
+    when = min(s.t, began)
+    where, _ = position_at(other.way, when)
+    speed, _ = speed_at(other.way, when)
     heading = _heading(placed, i)
     if where is None or speed is None or heading is None or s.speed_mps is None:
         return False
     own = _on_way(where, way, VEHICLE_WIDTH_M)
-    if own is None or hit.along_m <= own.along_m:
+    if own is None:
         return False
+    gap = hit.along_m - own.along_m - speed * max(0, s.t - began) / SECOND
     along = heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
-    if along < math.cos(math.radians(SAME_WAY_DEG)):
+    if gap <= 0 or along < math.cos(math.radians(SAME_WAY_DEG)):
         return False
-    return needed_deceleration(speed, s.speed_mps * along, hit.along_m - own.along_m) < FORCE_DECEL_MPS2
+    return needed_deceleration(speed, s.speed_mps * along, gap) < FORCE_DECEL_MPS2
 
 
 def _heading(placed: Sequence[Sample], i: int) -> Point | None:

@@ -131,7 +131,18 @@ KNOWN = {
         "traffic, since the witness's braking figure (SUMO's one-tick deceleration) does not tell a minor-road "
         "car slowing for its own Give Way line from one made to brake. Where two vehicles emerge together "
         "(187 and 132), a main-road car's braking is credited to both by the reasoner, to the one that turned in "
-        "front of it by the witness.",
+        "front of it by the witness. A main-road car that began to slow within the 2.5 s perception-reaction time "
+        "after V left its lane is counted by the reasoner, whose window runs until 3 s after V left the junction, "
+        "and not by the witness, which looks 3 s after V crossed its line (long-6: 147 began to slow 2.2 s after "
+        "256 had crossed its lane, 55 m ahead of it).",
+    ("stopped at a Stop line, then forced major-road traffic to brake", "no incident"):
+        "the witness counts a main-road car's hard braking in the 3 s after V crossed when that car's way joins "
+        "V's, whatever it braked for; the reasoner reads both ways and finds the car braked for a turn of its own "
+        "into the road V had gone down, with V already far ahead of it, going its way (the two-second gap behind V "
+        "could be kept braking at under 2 m/s², reasoner/reaction.py `well_ahead`): it was not made to brake by "
+        "V (TSRGD 2016 Sch 9 Pt 7 para 1: 'in order to avoid an accident'). long-6: 224 braked at 4.5 m/s² to "
+        "wait for oncoming 195 before turning right into j2's south arm, while 285, out of the north Stop line, "
+        "was 16 m down that arm at 11.9 m/s. Known only when every car the witness saw brake leaves by V's exit",
     ("out of a Give Way line, major-road traffic approaching, nobody braked", "punishable HC 172"):
         "the main-road car braked hard within the 3 s after V left the junction that the reasoner counts, as a "
         "second vehicle pulled out of the opposite Stop line (long-3: 265 braked at 4.5 m/s² 1.4 s after 155 "
@@ -228,6 +239,7 @@ class Line:
     row: Row | None
     incidents: list[Any]
     seen: bool                      # a monitor had it in its cone
+    braked_behind: bool = False     # every road user that braked hard after the act leaves by the act's exit
 
     @property
     def got(self) -> tuple[tuple[str, str | None], ...]:
@@ -250,6 +262,9 @@ class Line:
             return None
         if self.row is not None and self.row.name == "out of a Give Way line, major-road traffic braked hard" and \
                 not _braked_gently(self):
+            return None
+        if self.row is not None and self.row.name == "stopped at a Stop line, then forced major-road traffic to brake" \
+                and not self.braked_behind:
             return None
         return KNOWN.get((self.row.name if self.row else None, self.got_text))
 
@@ -276,6 +291,14 @@ class Line:
                 f"| want {want} | got {got}")
 
 
+def _braked_behind(act: dict, road_users: dict[str, dict]) -> bool:
+    """Whether every road user that braked hard after the act has a route that leaves by the road
+    the act's vehicle left by: it joined V's way behind V (its braking may be for a turn of its own)."""
+    exit_ = road_users.get(act["vehicle"], {}).get("exit")
+    hard = [r for r, d in act["reactions"].items() if d >= HARD_BRAKING]
+    return bool(hard) and exit_ is not None and all(road_users.get(r, {}).get("exit") == exit_ for r in hard)
+
+
 def compare(truth: dict, incidents: list, t0: int) -> list[Line]:
     """Every act beside the incidents of its vehicle and action in its time window, then the
     incidents no act accounts for."""
@@ -287,7 +310,7 @@ def compare(truth: dict, incidents: list, t0: int) -> list[Line]:
         found = [i for i in incidents if i.vehicle == act["vehicle"] and i.action == action
                  and start <= (i.t - t0) / SECOND <= end]
         used.update(i.id for i in found)
-        lines.append(Line(act, expected(act), found, bool(act["seen_by"])))
+        lines.append(Line(act, expected(act), found, bool(act["seen_by"]), _braked_behind(act, truth["road_users"])))
     for i in incidents:
         if i.id not in used:
             lines.append(Line(None, None, [i], True))
