@@ -512,14 +512,23 @@ class _Parser:
                     return kind, tokens[:i], each, end < len(words)
         return None
 
+    def _term(self, tokens, scope, mode):
+        """vocab.term, its errors located in this document (the vocabulary does not know the file)."""
+        try:
+            return self.vocab.term(tokens, scope, mode)
+        except LEError as exc:
+            if exc.file == "<le>":
+                exc.file = self.file
+            raise
+
     def _aggregate(self, lines, pos, tokens, agg, scope, mode):
         kind, result_toks, each_toks, has_closer = agg
         tok0 = tokens[0]
-        result = self.vocab.term(result_toks, scope, mode)
+        result = self._term(result_toks, scope, mode)
         nxt = pos + 1
         if kind in ("bag", "set"):
             if each_toks[0].text == "[":
-                each = self.vocab.term(each_toks, scope, mode)
+                each = self._term(each_toks, scope, mode)
             else:
                 each = self._each(each_toks, scope)
             if has_closer:

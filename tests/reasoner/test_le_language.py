@@ -298,3 +298,14 @@ when did which x turn red.
     with pytest.raises(LEError) as err:
         engine.query(rb, "bad", "s")
     assert err.value.line == 10 and "no template fits" in str(err.value)
+
+
+def test_an_error_in_an_aggregates_result_names_the_document_and_line():
+    """Found by tests/reasoner/test_le_fuzz.py: an undefined variable in the arithmetic of an
+    aggregate's result was reported as `<le>:7:8`, not in the file being read."""
+    doc = ("the templates are:\n    *a person* has total *an amount*,\n    *a person* owns *an amount*.\n\n"
+           "the knowledge base k includes:\nA person has total an amount\n"
+           "    if the* amount is the sum of each partial such that\n        the person owns the partial.\n")
+    with pytest.raises(LEError) as caught:
+        parse_document(doc, "mine.le")
+    assert str(caught.value).startswith("mine.le:7:8: undefined variable `the` in arithmetic")
