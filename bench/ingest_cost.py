@@ -12,7 +12,7 @@ writer, before Zenoh's threads take their share (measured end to end, beside it)
 
   receive  Zenoh's FIFO channel to a (key, payload, is_put, encoding) tuple (ingest/inbox.py),
            the samples put by another session in this process beforehand
-  screen   parse, validate, canonical check, key check (ingest/screen.py)
+  screen   parse, validate, canonical check, key check, a batch in one loop (ingest/screen.py's screen_all)
   track    the seqs followed, for gaps and for the caches (GapTracker.observe_all)
   chain    placing, chaining and checkpointing a batch's events in Python (store/batch.py)
   sqlite   the rows inserted and committed, fsync included (executemany + COMMIT)
@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from ingest.gap_tracker import GapTracker  # noqa: E402
 from ingest.gc_pacing import batch_sized_collections  # noqa: E402
 from ingest.inbox import received  # noqa: E402
-from ingest.screen import screen  # noqa: E402
+from ingest.screen import screen_all  # noqa: E402
 from store import Store, canonical_json, enable_snapshots, key_for, session_config  # noqa: E402
 from store.batch import Batch  # noqa: E402
 
@@ -90,14 +90,18 @@ def writer_costs(samples: list[tuple[str, bytes]], db: Path) -> dict[str, float]
     with Store(db, durable=True) as store, batch_sized_collections():
         enable_snapshots(store)
         for i in range(0, len(samples), BATCH):
-            chunk = samples[i:i + BATCH]
+            chunk = [(key, payload, True, "application/json") for key, payload in samples[i:i + BATCH]]
             screened: list = []
-            spent["screen"] += cpu(lambda: screened.extend(screen(key, payload) for key, payload in chunk))
+            spent["screen"] += cpu(lambda: screened.extend(screen_all(chunk, _unscreenable)))
             spent["track"] += cpu(lambda: tracker.observe_all([s.identity for s in screened]))
             spent["chain"] += cpu(lambda: _placed(store, [s.candidate for s in screened]))
             spent["sqlite"] += cpu(lambda: store.append_candidates([s.candidate for s in screened]))
     spent["sqlite"] -= spent["chain"]   # append_candidates places too: what is left is SQLite's
     return spent
+
+
+def _unscreenable(key: str, payload: bytes, exc: Exception) -> None:
+    raise AssertionError(f"screening {key} raised {exc!r}")
 
 
 def _placed(store: Store, candidates: list) -> None:

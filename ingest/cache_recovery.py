@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 
 import zenoh
 
@@ -75,18 +75,26 @@ class CacheRecovery:
     def saw(self, run: str, src: str, seq: int, live: bool) -> None:
         """An event screened (``live``: from the stream, not a cache's answer); a hole above what
         was known of its source is asked of every cache."""
-        source = (run, src)
-        known = self._known.get(source)
-        if known is None:
-            highest = self.stored_highest(run, src)
-            known = -1 if highest is None else highest
-        if live:
-            self._heard.add(source)
-            if seq > known + 1 and self._holes_asked:
-                self._holes.append((run, src, known + 1, seq - 1))
-        if seq > known:
-            known = seq
-        self._known[source] = known
+        self.saw_all(((run, src, seq),), live)
+
+    def saw_all(self, identities: Iterable[tuple[str, str, int]], live: bool) -> None:
+        """``saw`` each (run, src, seq) of a batch, in order, in one loop (the writer's hot path)."""
+        known_of, heard, holes = self._known, self._heard, self._holes
+        asking = live and self._holes_asked
+        for run, src, seq in identities:
+            source = (run, src)
+            known = known_of.get(source)
+            if known is None:
+                highest = self.stored_highest(run, src)
+                known = -1 if highest is None else highest
+            if live:
+                heard.add(source)
+                if asking and seq > known + 1:
+                    holes.append((run, src, known + 1, seq - 1))
+            if seq > known:
+                known_of[source] = seq
+            elif source not in known_of:
+                known_of[source] = known
 
     def step(self) -> None:
         """Ask every cache for the holes seen since the last look, the caches found meanwhile for

@@ -19,7 +19,7 @@ from .gap_tracker import GapTracker
 from .gc_pacing import batch_sized_collections
 from .head_sinks import HeadSink, HeadSinks
 from .inbox import Inbox, Received
-from .screen import Screened, refused, require_signature, screen
+from .screen import Screened, refused, require_signature, screen_all
 from .stats import IngestStats
 from .store_faults import Backoff, store_condition
 from .wire_watch import WireWatch
@@ -272,33 +272,29 @@ class BatchWriter(threading.Thread):
     def _screen(self, batch: list[Received], live: bool) -> list[Screened]:
         """Screen each sample and track its sequence number (a hole in the live stream is asked of
         the producers' caches); a sample that breaks screening is quarantined."""
-        screened = []
         self._tracker.tick()
-        for key, payload, is_put, encoding in batch:
-            try:
-                item = screen(key, payload, is_put=is_put, encoding=encoding)
-            except Exception as exc:  # a screening bug must cost one sample's verdict, not the writer
-                log.exception("ingest: screening a sample on %s failed", key)
-                self._stats.record_error(f"screening: {exc!r}")
-                item = Screened(refused(key, payload, f"ingest could not screen this sample: {exc!r}"), None)
-            screened.append(item)
+        screened = screen_all(batch, self._unscreenable)
         if self._keys is not None:
             screened = self._check_signatures(screened)
-        late = self._tracker.observe_all([item.identity for item in screened if item.identity is not None])
+        identities = [item.identity for item in screened if item.identity is not None]
+        late = self._tracker.observe_all(identities)
         if self._watch is not None:
-            self._follow_seqs(screened, live)
+            self._follow_seqs(identities, live)
         if late:
             self._stats.add(late=late)
         return screened
 
-    def _follow_seqs(self, screened: list[Screened], live: bool) -> None:
+    def _unscreenable(self, key: str, payload: bytes, exc: Exception) -> Screened:
+        """A screening bug must cost one sample's verdict, not the writer: quarantined with the error."""
+        log.error("ingest: screening a sample on %s failed", key, exc_info=exc)
+        self._stats.record_error(f"screening: {exc!r}")
+        return Screened(refused(key, payload, f"ingest could not screen this sample: {exc!r}"), None)
+
+    def _follow_seqs(self, identities: list[tuple[str, str, int]], live: bool) -> None:
         """Tell the cache recovery each event's seq (a hole in the live stream is asked of the
         producers' caches); a failure there costs the asking, never the batch."""
-        saw = self._watch.recovery.saw
         try:
-            for item in screened:
-                if item.identity is not None:
-                    saw(*item.identity, live)
+            self._watch.recovery.saw_all(identities, live)
         except Exception as exc:
             log.exception("ingest: following the sources' seqs failed")
             self._stats.record_error(f"cache recovery: {exc!r}")

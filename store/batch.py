@@ -65,12 +65,11 @@ class Batch:
     def offer_candidates(self, candidates: Iterable[Candidate]) -> None:
         """Place candidates judged already (accepted ones are trusted as built)."""
         place, refuse = self._place, self._refuse
-        for candidate in candidates:
-            reason = candidate.reason
+        for origin, raw, event, canonical, reason in candidates:
             if reason is None:
-                reason = place(candidate.event, candidate.canonical)
+                reason = place(event, canonical)
             if reason is not None:
-                refuse(candidate.origin, candidate.raw, reason)
+                refuse(origin, raw, reason)
 
     def finish(self) -> None:
         """Checkpoint every run this call extended beyond its latest checkpoint."""
@@ -88,9 +87,10 @@ class Batch:
     def _place(self, ev: dict, canonical: bytes) -> str | None:
         """Chain a valid event onto its run, or count it as a duplicate; return a reason to
         refuse it if it conflicts with an event already stored under its (run, src, seq)."""
-        run, src, seq = ev["run"], ev["src"], ev["seq"]
+        run, src, seq, kind = ev["run"], ev["src"], ev["seq"], ev["kind"]
+        source = (run, src)
         max_seq = self._max_seq
-        highest = max_seq.get((run, src))
+        highest = max_seq.get(source)
         if highest is None:
             highest = self.heads.highest_seq(run, src)
         if seq <= highest:
@@ -98,14 +98,15 @@ class Batch:
             if earlier is not None:
                 return self._duplicate(run, src, seq, earlier, canonical)
         else:
-            max_seq[(run, src)] = seq
+            max_seq[source] = seq
         chain = self._grown.get(run) or self._grow(run)
+        position = chain.count
         digest = chain.extend(canonical)
         text = canonical.decode()
-        self.events.append((run, chain.count - 1, src, seq, ev["t"], ev["kind"], text, digest.hex()))
+        self.events.append((run, position, src, seq, ev["t"], kind, text, digest.hex()))
         if self._placed is not None:
             self._placed[(run, src, seq)] = text
-        if chain.count % self.every == 0 or ev["kind"] == "run.end":
+        if chain.count % self.every == 0 or kind == "run.end":
             self._checkpoint(run, chain)
         return None
 

@@ -88,3 +88,17 @@ def test_a_slice_by_kind_asks_no_holes_and_its_index_within_its_key() -> None:
     recovery.on_token(SimpleNamespace(key_expr=f"gaps/@cache/{CACHE}", kind=zenoh.SampleKind.PUT))
     recovery.step()
     assert session.asked == [(f"gaps/@cache/{CACHE}/**/entity.state?_index", None)]
+
+
+def test_a_batch_followed_in_one_loop_asks_the_holes_its_seqs_leave_in_order() -> None:
+    """saw_all, the writer's road for a batch: every hole above what was known, per source, as
+    the seqs come (a late seq fills nothing and opens nothing); cache replies (not live) open none."""
+    recovery, session = _recovery(stored={("r", "vehicle/1"): 9})
+    recovery.saw_all([("r", "vehicle/1", 12), ("r", "vehicle/2", 3), ("r", "vehicle/1", 11), ("r", "vehicle/1", 20),
+                      ("r", "vehicle/2", 4), ("r", "vehicle/2", 7)], live=True)
+    recovery.saw_all([("r", "vehicle/3", 50)], live=False)
+    recovery.saw_all([("r", "vehicle/3", 52)], live=True)
+    recovery.step()
+    assert session.asked == [("gaps/@cache/*/**", [["r", "vehicle/1", 10, 11], ["r", "vehicle/2", 0, 2],
+                                                   ["r", "vehicle/1", 13, 19], ["r", "vehicle/2", 5, 6],
+                                                   ["r", "vehicle/3", 51, 51]])]

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+import ingest.screen
 import ingest.writer
 from ingest import IngestService
 from tests.helpers.ingest_testkit import RUN, await_match, make_event
@@ -93,3 +94,30 @@ def test_a_store_that_takes_not_even_quarantine_loses_counted_samples_and_the_wr
     broken[0] = False  # the store recovers
     publisher.publish(make_event("vehicle/173", 3))
     assert ingest.wait_until_stored(1, timeout=10), ingest.stats()
+
+
+def test_a_sample_that_breaks_screening_is_quarantined_and_costs_only_itself(
+    monkeypatch: pytest.MonkeyPatch, link: tuple[EventPublisher, IngestService], db_path: Path
+) -> None:
+    events = [make_event("vehicle/173", seq) for seq in range(20)]
+    poison = canonical_json(events[3])
+    real = ingest.screen.plain_event
+
+    def plain_event(raw: bytes):
+        if raw == poison:
+            raise RuntimeError("a screening bug (injected)")
+        return real(raw)
+
+    monkeypatch.setattr(ingest.screen, "plain_event", plain_event)
+    publisher, ingest_service = link
+    await_match(publisher, events[0])
+    publisher.publish_all(events)
+    assert ingest_service.wait_until_settled(20, timeout=10), ingest_service.stats()
+    stats = ingest_service.stats()
+    assert (stats["stored"], stats["rejected"], stats["failed"], stats["errors"]) == (19, 1, 0, 1)
+    assert "screening: RuntimeError" in stats["last_errors"][0]
+    ingest_service.stop()
+    with Store(db_path) as store:
+        assert [ev["seq"] for ev in store.events(RUN)] == [s for s in range(20) if s != 3]
+        [kept] = store.quarantined()
+    assert kept["raw"] == poison and "ingest could not screen this sample" in kept["reason"]

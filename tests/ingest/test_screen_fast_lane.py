@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import ingest.screen as screen_module
-from ingest.screen import _general, screen
+from ingest.screen import _general, screen, screen_all
 from store import canonical_json, decode_event, key_for
 from store.kinds import KINDS
 from tests.helpers.store_testkit import BODIES, event
@@ -67,3 +67,30 @@ def test_the_common_sample_takes_the_fast_lane(monkeypatch) -> None:
     item = screen(key_for(ev), raw)
     assert item.identity == ("r1", ev["src"], 0)
     assert item.candidate.reason is None and item.candidate.canonical is raw and item.candidate.event == ev
+
+
+@settings(deadline=None, max_examples=100)
+@given(st.lists(samples(), max_size=8))
+def test_a_batch_screened_in_one_loop_ends_where_each_sample_ends_on_the_general_road(batch) -> None:
+    """The writer screens a whole take in one loop (screen_all): same verdicts, same order."""
+    def failed(key: str, payload: bytes, exc: Exception) -> None:
+        raise AssertionError(f"screening raised on {key}: {exc!r}")
+
+    assert screen_all(batch, failed) == [_general(*sample) for sample in batch]
+
+
+def test_a_sample_whose_screening_raises_gets_the_callers_verdict_and_costs_no_other(monkeypatch) -> None:
+    good = [(key_for(ev), canonical_json(ev), True, "application/json") for ev in (event(0), event(1), event(2))]
+    real = screen_module.plain_event
+
+    def plain_event(raw: bytes):
+        if raw == good[1][1]:
+            raise RuntimeError("a bug")
+        return real(raw)
+
+    monkeypatch.setattr(screen_module, "plain_event", plain_event)
+    verdicts = screen_all(good, lambda key, payload, exc: ("failed", key, payload, repr(exc)))
+    assert verdicts[1] == ("failed", good[1][0], good[1][1], "RuntimeError('a bug')")
+    assert [verdicts[0], verdicts[2]] == [_general(*good[0]), _general(*good[2])]
+    with pytest.raises(RuntimeError, match="a bug"):   # screen alone leaves a failure to its caller
+        screen(*good[1][:2])
