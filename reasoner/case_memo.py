@@ -26,7 +26,8 @@ from store import EventRef, Store, derived_cache, parse_json
 
 from .derived import Contradiction
 from .measurement import Measurement
-from .model import DerivedFact, Margin
+from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Margin, Penalty, Proofs,
+                    RulebookChoice, Scenarios, StageProof)
 
 _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
@@ -114,7 +115,11 @@ class CaseMemo:
 
 # --- the codec ---------------------------------------------------------------------------------
 
-_TYPES: dict[str, type] = {cls.__name__: cls for cls in (EventRef, DerivedFact, Contradiction, Margin, Measurement)}
+# The measurements' types, and an incident's (a judgement under the rulebooks in force is kept too:
+# reasoner/investigation.py).
+_TYPES: dict[str, type] = {cls.__name__: cls for cls in (
+    EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
+    Control, Decision, Scenarios, StageProof, Proofs)}
 
 
 def encode(value: Any) -> Any:
@@ -126,6 +131,8 @@ def encode(value: Any) -> Any:
     if isinstance(value, tuple):
         return {"()": [encode(v) for v in value]}
     if isinstance(value, dict):
+        if all(type(k) is str for k in value):    # a proof tree's nodes: kept as an object
+            return {"s": {k: encode(v) for k, v in value.items()}}
         return {"{}": [[encode(k), encode(v)] for k, v in value.items()]}
     if type(value) is EventRef:         # the most common value by far: kept short
         return {"r": [value.run, value.src, value.seq, value.t, value.kind]}
@@ -151,6 +158,10 @@ def decode(data: Any) -> Any:
         return EventRef(*ref)
     if "()" in data:
         return tuple(_decoded(data["()"]))
+    plain = data.get("s")
+    if plain is not None:
+        scalars = _SCALARS
+        return {k: v if type(v) in scalars else decode(v) for k, v in plain.items()}
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
     return _TYPES[data["@"]](*_decoded(data["f"]))

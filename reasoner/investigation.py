@@ -117,11 +117,16 @@ class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
-                 kept: bool = True) -> None:
+                 kept: bool = True, verdicts: bool = False) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
-        this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing."""
+        this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
+        `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
+        incident, and the next such investigation of the same chain reads it instead of judging
+        it (`gaps incidents`, a regression's baseline); off, every case is judged again (the
+        benchmark of judging, tests of it)."""
         self.store = store
         self.kept = kept
+        self.verdicts = verdicts and kept
         self.engine = engine or get_engine()
         self.reader = FactReader()
         self._given = given_rulebooks(self.engine, rules or [])
@@ -176,6 +181,21 @@ class Investigation:
         return found
 
     def _case_judged(self, run: str, rs: RuleSet, gaps: Gaps, t: int, src: str, pv: dict | None,
+                     ep: Episode | None) -> Incident | None:
+        """The case's incident: kept under the rulebooks in force (`verdicts`), else judged."""
+        if not self.keeps_verdicts(run, rs):
+            return self._case_afresh(run, rs, gaps, t, src, pv, ep)
+        key = key_of("incident", rs.describe(), self.problems.get(run), t, src, _anchor_key(pv, ep),
+                     [pv["body"].get("vehicle"), pv["body"].get("action")] if pv else [ep.vehicle, ep.action])
+        return self.memo(run).remember("incident", key, lambda: self._case_afresh(run, rs, gaps, t, src, pv, ep))
+
+    def keeps_verdicts(self, run: str, rs: RuleSet) -> bool:
+        """Whether this run's incidents are kept: judged by the rulebooks in force (the run's own,
+        else the current ones), which is what `gaps incidents` shows; a judgement with a rulebook
+        given for any stage is worked out each time (a regression's new rules are judged afresh)."""
+        return self.verdicts and all(choice.source != "given" for choice in rs.stages.values())
+
+    def _case_afresh(self, run: str, rs: RuleSet, gaps: Gaps, t: int, src: str, pv: dict | None,
                      ep: Episode | None) -> Incident | None:
         body = pv["body"] if pv else {}
         vehicle = str(body.get("vehicle")) if pv else ep.vehicle
