@@ -131,7 +131,9 @@ def encode(value: Any) -> Any:
     if isinstance(value, tuple):
         return {"()": [encode(v) for v in value]}
     if isinstance(value, dict):
-        if all(type(k) is str for k in value):    # a proof tree's nodes: kept as an object
+        if _pure(value):            # a proof tree: kept as it is, read back by the parser alone
+            return {"j": value}
+        if all(type(k) is str for k in value):
             return {"s": {k: encode(v) for k, v in value.items()}}
         return {"{}": [[encode(k), encode(v)] for k, v in value.items()]}
     if type(value) is EventRef:         # the most common value by far: kept short
@@ -156,6 +158,8 @@ def decode(data: Any) -> Any:
     ref = data.get("r")
     if ref is not None:
         return EventRef(*ref)
+    if "j" in data:
+        return data["j"]
     if "()" in data:
         return tuple(_decoded(data["()"]))
     plain = data.get("s")
@@ -165,6 +169,19 @@ def decode(data: Any) -> Any:
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
     return _TYPES[data["@"]](*_decoded(data["f"]))
+
+
+def _pure(value: Any) -> bool:
+    """Whether the value is JSON's own data (objects with text keys, arrays, scalars), which JSON
+    gives back exactly as it was: no tuple, no value type, nothing the codec must tag."""
+    kind = type(value)
+    if kind in _SCALARS:
+        return kind is not float or value == value          # NaN is not itself: tagged, never equal
+    if kind is list:
+        return all(_pure(v) for v in value)
+    if kind is dict:
+        return all(type(k) is str and _pure(v) for k, v in value.items())
+    return False
 
 
 def _decoded(items: list) -> list:

@@ -117,18 +117,19 @@ class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
-                 kept: bool = True, verdicts: bool = False) -> None:
+                 kept: bool = True, verdicts: bool = False, reader: FactReader | None = None) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
         this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
         `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
         incident, and the next such investigation of the same chain reads it instead of judging
         it (`gaps incidents`, a regression's baseline); off, every case is judged again (the
-        benchmark of judging, tests of it)."""
+        benchmark of judging, tests of it). `reader`: a fact reader shared with other askers of
+        the same rulebooks (a regression's decisions), so that a sentence is parsed once."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
         self.engine = engine or get_engine()
-        self.reader = FactReader()
+        self.reader = reader or FactReader()
         self._given = given_rulebooks(self.engine, rules or [])
         self._current = current_rulebooks(self.engine)
         self._rulesets: dict[str, RuleSet] = {}

@@ -22,6 +22,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 from store import NoSuchRun, Store
 
+from .collector import JudgementCollector
 from .engine import Engine, Rulebook, get_engine
 from .facts import FactReader
 from .investigation import Investigation
@@ -29,8 +30,8 @@ from .le.sentences import constant
 from .le.terms import Cond, Var
 from .model import Incident
 from .regress_books import GivenBooks, RegressError, load_given
-from .regress_decisions import (Asked, KeptDecision, RecordedDecision, ask, decisions_seen, keep_decisions,
-                                kept_decisions, recorded_decisions, vehicle_choice)
+from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, decisions_seen,
+                                keep_decisions, kept_decisions, recorded_decisions, vehicle_choice)
 from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
 from .regress_match import match
 from .regress_reasons import Trees, attribute, reasons, used_rules
@@ -213,13 +214,15 @@ class Regressor:
     def __init__(self, store: Store, engine: Engine, new: GivenBooks, old: GivenBooks | None, *,
                  kept: bool = True) -> None:
         """`kept` False: nothing read from or written to the cache (every case measured and
-        judged, every decision asked): the plain path the kept one must agree with."""
+        judged, every decision asked, none answered by its shape): the plain path the kept one
+        must agree with."""
         self.engine = engine
         self.store = store
         self.reader = FactReader()
+        self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
         self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True)   # in force: kept
-        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept)
+        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader)
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
@@ -229,7 +232,8 @@ class Regressor:
     def part(self, run: str) -> RunPart:
         """The run judged, with the diffs (and stages) it used."""
         self._touched = {}
-        result = self.run(run)
+        with JudgementCollector():      # one collection for both sides and the decisions, not one each
+            result = self.run(run)
         return RunPart(result, tuple(_with_stages(self._diffs[k], stages) for k, stages in self._touched.items()))
 
     def run(self, run: str) -> RunResult:
@@ -331,9 +335,9 @@ class Regressor:
         if kept is not None and cb is not None and kept[0] == cb.rulebook.sha256:
             before = Asked(cb.rulebook, kept[1])
         else:
-            before = ask(self.engine, self.reader, cb, d)
+            before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
         same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
-        after = before if same else ask(self.engine, self.reader, cn, d)
+        after = before if same else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
         case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
                           _answer(after.permitted))
         if before.permitted == after.permitted:

@@ -24,6 +24,7 @@ from .engine import Engine, Rulebook
 from .facts import FactReader
 from .regress_reasons import Trees
 from .scenarios import Scenario, spawn_facts, vehicle_id
+from .shapes import Shaper
 from .stages import Choice, RuleSet
 
 KINDS = ("entity.spawn", "vehicle.perception", "vehicle.decision")
@@ -120,9 +121,37 @@ def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
     return rs.vehicle_rulebook(decision.rulebook if isinstance(decision.rulebook, str) else None)
 
 
+class Shapes:
+    """Yes-or-no answers remembered by the shape of the question and facts (reasoner/shapes.py),
+    for rulebooks whose answers keep under renaming road users (`Shaper.keeps_proofs`, checked on
+    the rules): a run's decisions are a few questions asked by thousands of vehicles."""
+
+    LIMIT = 100_000
+
+    def __init__(self) -> None:
+        self._shapers: dict[str, Shaper] = {}
+        self._found: dict[tuple, bool] = {}
+
+    def holds(self, engine: Engine, rb: Rulebook, goal: Any, facts: list) -> bool:
+        shaper = self._shapers.get(rb.sha256)
+        if shaper is None:
+            shaper = self._shapers[rb.sha256] = Shaper(rb)
+        shaped = shaper.shape([goal, *facts]) if shaper.keeps_proofs else None
+        if shaped is None:
+            return engine.holds(rb, goal, facts)
+        key = (rb.sha256, *shaped[0])
+        found = self._found.get(key)
+        if found is None:
+            if len(self._found) >= self.LIMIT:
+                self._found.clear()
+            found = self._found[key] = engine.holds(rb, shaped[0][0], list(shaped[0][1:]))
+        return found
+
+
 def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: RecordedDecision,
-        proofs: bool = False) -> Asked:
-    """The decision's goal asked of the choice's rulebook on the Vehicle Scenario."""
+        proofs: bool = False, shapes: Shapes | None = None) -> Asked:
+    """The decision's goal asked of the choice's rulebook on the Vehicle Scenario (`shapes`: a
+    yes or no remembered by shape)."""
     if choice is None or not isinstance(decision.goal, str):
         return Asked(None if choice is None else choice.rulebook, None)
     rb = choice.rulebook
@@ -131,7 +160,7 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
         return Asked(rb, None)
     facts = reader.atoms(rb, list(decision.facts), [])
     if not proofs:
-        return Asked(rb, engine.holds(rb, goal, facts))
+        return Asked(rb, shapes.holds(engine, rb, goal, facts) if shapes else engine.holds(rb, goal, facts))
     answer = engine.ask(rb, goal, facts)
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
     return Asked(rb, answer.holds, Trees(rb.sha256, tuple(trees)))

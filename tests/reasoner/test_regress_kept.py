@@ -15,7 +15,7 @@ from reasoner import regress as regress_module
 from reasoner.api import Case
 from reasoner.investigation import Investigation
 from reasoner.regress import regress
-from store import Store, cache_tampering
+from store import EventRef, Store, cache_tampering
 
 from tests.reasoner import regress_runs as R
 
@@ -135,3 +135,45 @@ def test_decisions_read_by_their_kept_perceptions_are_the_recorded_ones(db):
         assert regress_decisions.decisions_seen(store, R.RUN, seen) == plain
         moved = {key: (None if s is None else s + 1000) for key, s in seen.items()}
         assert regress_decisions.decisions_seen(store, R.RUN, moved) is None
+
+
+def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
+    from reasoner.engine import get_engine
+    from reasoner.facts import FactReader
+    from reasoner.stages import RuleSet, current_rulebooks
+    engine, reader, shapes = get_engine(), FactReader(), regress_decisions.Shapes()
+    rs = RuleSet(engine, [], [], current_rulebooks(engine))
+    with Store.open_read_only(db) as store:
+        decisions = list(regress_decisions.recorded_decisions(store, R.RUN)) * 3
+    calls = []
+    holds = engine.holds
+
+    class Counting:
+        def holds(self, *args):
+            calls.append(args)
+            return holds(*args)
+    one_by_one = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d) for d in decisions]
+    shaped = [regress_decisions.ask(Counting(), reader, regress_decisions.vehicle_choice(rs, d), d, shapes=shapes)
+              for d in decisions]
+    assert shaped == one_by_one and any(a.permitted for a in shaped)
+    assert 0 < len(calls) <= len(decisions) // 3          # each shape asked once, the repeats not at all
+
+
+def test_a_regression_collects_once_for_both_sides(db, new_rules, monkeypatch):
+    import gc
+    full = []
+    collect = gc.collect
+    monkeypatch.setattr(gc, "collect", lambda generation=2: full.append(generation) if generation == 2 else None
+                        or collect(generation))
+    _regress(db, new_rules)
+    assert full.count(2) == 1
+
+
+def test_the_codec_keeps_plain_data_as_it_is_and_tags_what_json_would_change():
+    tree = {"sentence": ["can", 5, "go"], "children": [{"rule": None, "x": 1.5}]}
+    assert case_memo.encode(tree) == {"j": tree}
+    for value in ({"v": float("nan")}, {"v": (1, 2)}, {1: "a"}, {"r": [EventRef("r", "s", 1, 2, "k")]}):
+        encoded = case_memo.encode(value)
+        assert "j" not in encoded
+        back = case_memo.decode(json.loads(json.dumps(encoded)))
+        assert repr(back) == repr(value)
