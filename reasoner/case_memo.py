@@ -65,25 +65,30 @@ class CaseMemo:
         self._fresh: dict[str, dict[str, str]] = {}
         self.hits = self.misses = 0
 
-    def get(self, kind: str, key: str, *, plain: bool = False) -> Any:
+    def get(self, kind: str, key: str, *, plain: bool = False, counted: bool = True) -> Any:
         """The kept value, or None (never kept, kept for another chain or code, or its seal failed).
-        `plain`: the value was kept as plain JSON data, not through the codec."""
+        `plain`: the value was kept as plain JSON data, not through the codec. `counted` False:
+        not counted in hits and misses (what is measured again): a stage's answer, not a measurement."""
+        value = self._value(kind, key, plain)
+        if counted:
+            if value is None:
+                self.misses += 1
+            else:
+                self.hits += 1
+        return value
+
+    def _value(self, kind: str, key: str, plain: bool) -> Any:
         if not self.enabled:
-            self.misses += 1
             return None
         if kind not in self._kept:
             self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
         text = self._kept[kind].get(key)
         if text is None:
-            self.misses += 1
             return None
         try:
-            value = parse_json(text) if plain else decode(parse_json(text))
+            return parse_json(text) if plain else decode(parse_json(text))
         except (ValueError, KeyError, TypeError, IndexError):
-            self.misses += 1
             return None         # written by this code under this seal, so never expected: measured again
-        self.hits += 1
-        return value
 
     def put(self, kind: str, key: str, value: Any, *, plain: bool = False) -> None:
         if not self.enabled:

@@ -177,3 +177,29 @@ def test_the_codec_keeps_plain_data_as_it_is_and_tags_what_json_would_change():
         assert "j" not in encoded
         back = case_memo.decode(json.loads(json.dumps(encoded)))
         assert repr(back) == repr(value)
+
+
+def test_the_new_side_asks_only_the_rulebooks_it_does_not_share_with_the_baseline(db, new_rules, monkeypatch):
+    """The monitor, decision fault, penalty and liability stages' answers the judgement in force
+    kept are read by the new side, which asks the same rulebooks the same questions on the same
+    facts; the new validators.le is asked (its verdicts, and the decisions: it answers the vehicle
+    stage), and the others only what no kept answer covers: a changed case's."""
+    from reasoner.bundled import CURRENT_SET, bundled
+    from reasoner.engine import Engine, sha256_text
+    first = _regress(db, new_rules)
+    asked: list[str] = []
+    for name in ("ask", "holds", "ask_first", "first_holding", "answers", "answers_all"):
+        original = getattr(Engine, name)
+
+        def counted(self, rb, *args, _original=original, **kwargs):
+            asked.append(names.get(rb.sha256, rb.sha256))
+            return _original(self, rb, *args, **kwargs)
+        monkeypatch.setattr(Engine, name, counted)
+    names = {sha256_text(bundled(n)): n for n in CURRENT_SET}      # the engine names a text by its first load
+    names[sha256_text(new_rules.read_text(encoding="utf-8"))] = "new"
+    assert _regress(db, new_rules) == first
+    flipped = [case for case in first["runs"][0]["incidents"] if case["changes"]]
+    assert len(flipped) == 1 and flipped[0]["after"].startswith("punishable")
+    assert "monitors.le" not in asked and "new" in asked
+    assert asked.count("liability.le") == 1              # for the one verdict now punishable, never kept
+    assert asked.count("highway_code.le") == 1           # the changed decision's baseline proof, never kept
