@@ -217,7 +217,8 @@ def figures(r: dict[str, Any], mcap: Path) -> None:
            notes=f"run {r['run']}, {r['events']:,} events over {seconds:,.0f} s; new rulebook: validators.le without "
                  f"its amber exception, baseline in force; medians of {len(r['store_s'])} from the store (the first "
                  f"{r['store_s'][0]:.2f} s: it keeps the baseline and any measurement not kept yet) and "
-                 f"{len(r['mcap_s'])} from MCAP; calibration {_spread(r['calibration_ms'])} ms ({QUIET_MS})"
+                 + (f"{len(r['mcap_s'])} from MCAP" if r["mcap_s"] else "none from MCAP (not measured in this run)")
+                 + f"; calibration {_spread(r['calibration_ms'])} ms ({QUIET_MS})"
                  + ("" if s else "; scaling not measured in this run"),
            machine_extra=f"load average during the bench {', '.join(f'{x:.2f}' for x in load)}",
            details={"counts": r["counts"], "scaling": s, "store_cpu_s": r["store_cpu_s"],
