@@ -32,6 +32,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
+from machine import QUIET_MS, calibration_elsewhere  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -94,7 +95,18 @@ def timed(fn: Callable[[], Any]) -> tuple[Any, float]:
     return out, time.perf_counter() - started
 
 
-def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int) -> dict[str, Any]:
+def timed_cpu(fn: Callable[[], Any]) -> tuple[Any, float, float]:
+    """The result, wall seconds and this process's CPU seconds (a shared machine's wall clock
+    counts the other tenants' work too)."""
+    cpu = time.process_time()
+    out, wall = timed(fn)
+    return out, wall, time.process_time() - cpu
+
+
+def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int, mcap_repeats: int) -> dict[str, Any]:
+    """`repeats` regressions from the store (the first may measure and keep what the run's chain
+    had not kept yet), then `mcap_repeats` straight from the file, each with the machine's
+    calibration (bench/machine.py) taken just before it."""
     from reasoner.regress import regress
     from reasoner.regress_cluster import regress_recordings
     from store import Store
@@ -107,16 +119,19 @@ def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int) -> dict[st
         span = next(r for r in store.runs() if r.run == run)
     seconds = (span.last_t - span.first_t) / 1e9
     out: dict[str, Any] = {"run": run, "events": span.events, "run_seconds": seconds, "store_s": [], "mcap_s": [],
-                           "load": [os.getloadavg()[0]]}
-    for i in range(repeats):
-        result, wall = timed(from_store)
-        out["store_s"].append(wall)
-        out["counts"] = result.counts()
-        _, wall_m = timed(lambda: regress_recordings([mcap], [rules]))
-        out["mcap_s"].append(wall_m)
-        out["load"].append(os.getloadavg()[0])
-        print(f"repeat {i + 1}: from the store {wall:.2f} s ({seconds / wall:,.0f}x real time), straight from MCAP "
-              f"{wall_m:.2f} s ({seconds / wall_m:,.0f}x)", flush=True)
+                           "store_cpu_s": [], "mcap_cpu_s": [], "calibration_ms": [], "load": [os.getloadavg()[0]]}
+    for what, fn, n in (("store", from_store, repeats), ("mcap", lambda: regress_recordings([mcap], [rules]),
+                                                          mcap_repeats)):
+        for i in range(n):
+            out["calibration_ms"].append(calibration_elsewhere())
+            result, wall, cpu = timed_cpu(fn)
+            out[f"{what}_s"].append(wall)
+            out[f"{what}_cpu_s"].append(cpu)
+            out.setdefault("counts", result.counts())
+            assert result.counts() == out["counts"], "every regression gives the same counts"
+            out["load"].append(os.getloadavg()[0])
+            print(f"{what} {i + 1}: {wall:.2f} s wall ({seconds / wall:,.0f}x real time), {cpu:.2f} s CPU "
+                  f"({seconds / cpu:,.0f}x); calibration {out['calibration_ms'][-1]:.2f} ms ({QUIET_MS})", flush=True)
     return out
 
 
@@ -153,15 +168,20 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dir", type=Path, default=Path("/tmp/gaps-bench"))
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--copies", type=int, default=4, help="runs in the scaling store (two per worker)")
+    parser.add_argument("--copies", type=int, default=4, help="runs in the scaling store (two per worker); "
+                        "0: no scaling measured")
+    parser.add_argument("--mcap-repeats", type=int, default=None,
+                        help="regressions straight from MCAP (default: --repeats); each imports and measures "
+                             "the whole run afresh, the hour's some twenty minutes")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     args.dir.mkdir(parents=True, exist_ok=True)
     db, mcap, run = inputs(args.dir)
     with tempfile.TemporaryDirectory(prefix="gaps-bench-rules-") as tmp:
         rules = str(new_rules(Path(tmp)))
-        speed = measure(db, mcap, run, rules, args.repeats)
-        scale = scaling(db, run, rules, args.copies, args.dir)
+        speed = measure(db, mcap, run, rules, args.repeats,
+                        args.repeats if args.mcap_repeats is None else args.mcap_repeats)
+        scale = scaling(db, run, rules, args.copies, args.dir) if args.copies else None
     result = {**speed, "scaling": scale}
     figures(result, mcap)
     if args.json:
@@ -170,36 +190,58 @@ def main() -> None:
 
 def figures(r: dict[str, Any], mcap: Path) -> None:
     seconds, s = r["run_seconds"], r["scaling"]
-    store, straight = statistics.median(r["store_s"]), statistics.median(r["mcap_s"])
-    one, two, alone = s["workers_1_s"], s["workers_2_s"], s["process_s"]
-    load = [*r["load"], *s["load"]]
-    lines = [
-        f"run {r['run']}: {r['events']:,} events over {seconds:,.0f} s; judged: {r['counts']}",
-        f"from the store: median {store:.2f} s = {seconds / store:,.0f}x real time (target {TARGETS['store']:,.0f}x)",
-        f"straight from MCAP ({mcap.stat().st_size / 1e6:.1f} MB): median {straight:.2f} s = "
-        f"{seconds / straight:,.0f}x real time (target {TARGETS['mcap']:,.0f}x)",
-        f"{s['runs']} runs: this process {alone:.2f} s, 1 worker {one:.2f} s, 2 workers {two:.2f} s: "
-        f"{alone / two / 2:.2f}x linear against this process, {one / two / 2:.2f}x against 1 worker "
-        f"(target {TARGETS['linear']}x)",
-        f"load average during the bench: {', '.join(f'{x:.2f}' for x in load)} (median {statistics.median(load):.2f})"]
+    load = [*r["load"], *(s["load"] if s else [])]
+    lines = [f"run {r['run']}: {r['events']:,} events over {seconds:,.0f} s; judged: {r['counts']}"]
+    found: list[Figure] = []
+    for what, label, target in (("store", "regression from a store (two rulebooks, diff)", "store"),
+                                ("mcap", "regression straight from MCAP, nothing prepared", "mcap")):
+        if r[f"{what}_s"]:
+            lines.append(_speed_line(r, what, seconds, target) + (
+                f" ({mcap.stat().st_size / 1e6:.1f} MB)" if what == "mcap" else ""))
+            found += _speed_figures(r, what, label, seconds, target)
+    if s:
+        one, two, alone = s["workers_1_s"], s["workers_2_s"], s["process_s"]
+        lines.append(f"{s['runs']} runs: this process {alone:.2f} s, 1 worker {one:.2f} s, 2 workers {two:.2f} s: "
+                     f"{alone / two / 2:.2f}x linear against this process, {one / two / 2:.2f}x against 1 worker "
+                     f"(target {TARGETS['linear']}x)")
+        found += [Figure(f"{s['runs']} runs in one process", alone, "s"),
+                  Figure(f"{s['runs']} runs on 1 Dask worker", one, "s", peer=f"{s['runs']} runs in one process"),
+                  Figure(f"{s['runs']} runs on 2 Dask workers", two, "s", peer=f"{s['runs']} runs in one process"),
+                  Figure("2 workers as a fraction of linear (against one process)", alone / two / 2, "× linear",
+                         target=f"≥ {TARGETS['linear']}× linear")]
+    lines.append(f"load average during the bench: {', '.join(f'{x:.2f}' for x in load)} "
+                 f"(median {statistics.median(load):.2f}); calibration {_spread(r['calibration_ms'])} ms ({QUIET_MS})")
     for line in lines:
         print(line)
-    record("regress", "Regression of a run under two rulebooks, from a store, from MCAP, on Dask", [
-        Figure("regression from a store (two rulebooks, diff)", store, "s", tuple(r["store_s"])),
-        Figure("the same as a speed", seconds / store, "× real time", tuple(seconds / x for x in r["store_s"]),
-               target=f"≥ {TARGETS['store']:,.0f}× real time"),
-        Figure("regression straight from MCAP, nothing prepared", straight, "s", tuple(r["mcap_s"])),
-        Figure("the same as a speed", seconds / straight, "× real time", tuple(seconds / x for x in r["mcap_s"]),
-               target=f"≥ {TARGETS['mcap']:,.0f}× real time"),
-        Figure(f"{s['runs']} runs in one process", alone, "s"),
-        Figure(f"{s['runs']} runs on 1 Dask worker", one, "s", peer=f"{s['runs']} runs in one process"),
-        Figure(f"{s['runs']} runs on 2 Dask workers", two, "s", peer=f"{s['runs']} runs in one process"),
-        Figure("2 workers as a fraction of linear (against one process)", alone / two / 2, "× linear",
-               target=f"≥ {TARGETS['linear']}× linear")],
-        notes=f"run {r['run']}, {r['events']:,} events over {seconds:,.0f} s; new rulebook: validators.le without "
-              f"its amber exception, baseline in force; median of {len(r['store_s'])}",
-        machine_extra=f"load average during the bench {', '.join(f'{x:.2f}' for x in load)}",
-        details={"counts": r["counts"], "scaling": s})
+    record("regress", "Regression of a run under two rulebooks, from a store, from MCAP, on Dask", found,
+           notes=f"run {r['run']}, {r['events']:,} events over {seconds:,.0f} s; new rulebook: validators.le without "
+                 f"its amber exception, baseline in force; medians of {len(r['store_s'])} from the store (the first "
+                 f"{r['store_s'][0]:.2f} s: it keeps the baseline and any measurement not kept yet) and "
+                 + (f"{len(r['mcap_s'])} from MCAP" if r["mcap_s"] else "none from MCAP (not measured in this run)")
+                 + f"; calibration {_spread(r['calibration_ms'])} ms ({QUIET_MS})"
+                 + ("" if s else "; scaling not measured in this run"),
+           machine_extra=f"load average during the bench {', '.join(f'{x:.2f}' for x in load)}",
+           details={"counts": r["counts"], "scaling": s, "store_cpu_s": r["store_cpu_s"],
+                    "mcap_cpu_s": r["mcap_cpu_s"], "calibration_ms": r["calibration_ms"]})
+
+
+def _speed_line(r: dict[str, Any], what: str, seconds: float, target: str) -> str:
+    wall, cpu = statistics.median(r[f"{what}_s"]), statistics.median(r[f"{what}_cpu_s"])
+    return (f"{'from the store' if what == 'store' else 'straight from MCAP'}: median {wall:.2f} s = "
+            f"{seconds / wall:,.0f}x real time, CPU {cpu:.2f} s = {seconds / cpu:,.0f}x "
+            f"(target {TARGETS[target]:,.0f}x)")
+
+
+def _speed_figures(r: dict[str, Any], what: str, label: str, seconds: float, target: str) -> list[Figure]:
+    walls, cpus = r[f"{what}_s"], r[f"{what}_cpu_s"]
+    wall, cpu = statistics.median(walls), statistics.median(cpus)
+    return [Figure(label, wall, "s", tuple(walls), note=f"CPU {cpu:.2f} s"),
+            Figure("the same as a speed", seconds / wall, "× real time", tuple(seconds / x for x in walls),
+                   target=f"≥ {TARGETS[target]:,.0f}× real time", note=f"{seconds / cpu:,.0f}× by CPU")]
+
+
+def _spread(values: list[float]) -> str:
+    return f"{min(values):.1f}-{max(values):.1f}" if values else "not taken"
 
 
 if __name__ == "__main__":

@@ -41,7 +41,7 @@ class Case:
 
     def __init__(self, store: Store, rules: Iterable[str | os.PathLike] = ()) -> None:
         self.store = store
-        self.investigation = Investigation(store, rules=[os.fspath(r) for r in rules])
+        self.investigation = Investigation(store, rules=[os.fspath(r) for r in rules], verdicts=True)
         self._incidents: dict[str, list[Incident]] = {}
 
     def __enter__(self) -> Case:

@@ -26,7 +26,8 @@ from store import EventRef, Store, derived_cache, parse_json
 
 from .derived import Contradiction
 from .measurement import Measurement
-from .model import DerivedFact, Margin
+from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Margin, Penalty, Proofs,
+                    RulebookChoice, Scenarios, StageProof)
 
 _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
@@ -64,25 +65,30 @@ class CaseMemo:
         self._fresh: dict[str, dict[str, str]] = {}
         self.hits = self.misses = 0
 
-    def get(self, kind: str, key: str, *, plain: bool = False) -> Any:
+    def get(self, kind: str, key: str, *, plain: bool = False, counted: bool = True) -> Any:
         """The kept value, or None (never kept, kept for another chain or code, or its seal failed).
-        `plain`: the value was kept as plain JSON data, not through the codec."""
+        `plain`: the value was kept as plain JSON data, not through the codec. `counted` False:
+        not counted in hits and misses (what is measured again): a stage's answer, not a measurement."""
+        value = self._value(kind, key, plain)
+        if counted:
+            if value is None:
+                self.misses += 1
+            else:
+                self.hits += 1
+        return value
+
+    def _value(self, kind: str, key: str, plain: bool) -> Any:
         if not self.enabled:
-            self.misses += 1
             return None
         if kind not in self._kept:
             self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
         text = self._kept[kind].get(key)
         if text is None:
-            self.misses += 1
             return None
         try:
-            value = parse_json(text) if plain else decode(parse_json(text))
+            return parse_json(text) if plain else decode(parse_json(text))
         except (ValueError, KeyError, TypeError, IndexError):
-            self.misses += 1
             return None         # written by this code under this seal, so never expected: measured again
-        self.hits += 1
-        return value
 
     def put(self, kind: str, key: str, value: Any, *, plain: bool = False) -> None:
         if not self.enabled:
@@ -114,7 +120,11 @@ class CaseMemo:
 
 # --- the codec ---------------------------------------------------------------------------------
 
-_TYPES: dict[str, type] = {cls.__name__: cls for cls in (EventRef, DerivedFact, Contradiction, Margin, Measurement)}
+# The measurements' types, and an incident's (a judgement under the rulebooks in force is kept too:
+# reasoner/investigation.py).
+_TYPES: dict[str, type] = {cls.__name__: cls for cls in (
+    EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
+    Control, Decision, Scenarios, StageProof, Proofs)}
 
 
 def encode(value: Any) -> Any:
@@ -126,6 +136,10 @@ def encode(value: Any) -> Any:
     if isinstance(value, tuple):
         return {"()": [encode(v) for v in value]}
     if isinstance(value, dict):
+        if _pure(value):            # a proof tree: kept as it is, read back by the parser alone
+            return {"j": value}
+        if all(type(k) is str for k in value):
+            return {"s": {k: encode(v) for k, v in value.items()}}
         return {"{}": [[encode(k), encode(v)] for k, v in value.items()]}
     if type(value) is EventRef:         # the most common value by far: kept short
         return {"r": [value.run, value.src, value.seq, value.t, value.kind]}
@@ -149,11 +163,30 @@ def decode(data: Any) -> Any:
     ref = data.get("r")
     if ref is not None:
         return EventRef(*ref)
+    if "j" in data:
+        return data["j"]
     if "()" in data:
         return tuple(_decoded(data["()"]))
+    plain = data.get("s")
+    if plain is not None:
+        scalars = _SCALARS
+        return {k: v if type(v) in scalars else decode(v) for k, v in plain.items()}
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
     return _TYPES[data["@"]](*_decoded(data["f"]))
+
+
+def _pure(value: Any) -> bool:
+    """Whether the value is JSON's own data (objects with text keys, arrays, scalars), which JSON
+    gives back exactly as it was: no tuple, no value type, nothing the codec must tag."""
+    kind = type(value)
+    if kind in _SCALARS:
+        return kind is not float or value == value          # NaN is not itself: tagged, never equal
+    if kind is list:
+        return all(_pure(v) for v in value)
+    if kind is dict:
+        return all(type(k) is str and _pure(v) for k, v in value.items())
+    return False
 
 
 def _decoded(items: list) -> list:

@@ -117,13 +117,19 @@ class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
-                 kept: bool = True) -> None:
+                 kept: bool = True, verdicts: bool = False, reader: FactReader | None = None) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
-        this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing."""
+        this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
+        `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
+        incident, and the next such investigation of the same chain reads it instead of judging
+        it (`gaps incidents`, a regression's baseline); off, every case is judged again (the
+        benchmark of judging, tests of it). `reader`: a fact reader shared with other askers of
+        the same rulebooks (a regression's decisions), so that a sentence is parsed once."""
         self.store = store
         self.kept = kept
+        self.verdicts = verdicts and kept
         self.engine = engine or get_engine()
-        self.reader = FactReader()
+        self.reader = reader or FactReader()
         self._given = given_rulebooks(self.engine, rules or [])
         self._current = current_rulebooks(self.engine)
         self._rulesets: dict[str, RuleSet] = {}
@@ -176,6 +182,21 @@ class Investigation:
         return found
 
     def _case_judged(self, run: str, rs: RuleSet, gaps: Gaps, t: int, src: str, pv: dict | None,
+                     ep: Episode | None) -> Incident | None:
+        """The case's incident: kept under the rulebooks in force (`verdicts`), else judged."""
+        if not self.keeps_verdicts(run, rs):
+            return self._case_afresh(run, rs, gaps, t, src, pv, ep)
+        key = key_of("incident", rs.describe(), self.problems.get(run), t, src, _anchor_key(pv, ep),
+                     [pv["body"].get("vehicle"), pv["body"].get("action")] if pv else [ep.vehicle, ep.action])
+        return self.memo(run).remember("incident", key, lambda: self._case_afresh(run, rs, gaps, t, src, pv, ep))
+
+    def keeps_verdicts(self, run: str, rs: RuleSet) -> bool:
+        """Whether this run's incidents are kept: judged by the rulebooks in force (the run's own,
+        else the current ones), which is what `gaps incidents` shows; a judgement with a rulebook
+        given for any stage is worked out each time (a regression's new rules are judged afresh)."""
+        return self.verdicts and all(choice.source != "given" for choice in rs.stages.values())
+
+    def _case_afresh(self, run: str, rs: RuleSet, gaps: Gaps, t: int, src: str, pv: dict | None,
                      ep: Episode | None) -> Incident | None:
         body = pv["body"] if pv else {}
         vehicle = str(body.get("vehicle")) if pv else ep.vehicle
@@ -302,7 +323,7 @@ class Investigation:
         measured = self._measured(case, mscen, vscen)
         for f in measured.derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
-        pv_answer, rule = self._rederive(case.rs, mscen, case.me, case.act, unknown, why_not=case.pv is not None)
+        pv_answer, rule = self._rederived(case, mscen, unknown)
         rederived = pv_answer is not None and pv_answer.holds
         if not case.pv and not rederived:
             return None
@@ -385,6 +406,39 @@ class Investigation:
             scenario.add(case.pv["body"]["facts"], EventRef.of(case.pv))
         return scenario
 
+    def _rederived(self, case: _Case, mscen: Scenario, unknown: list[Finding]) -> tuple[Answer | None, Any]:
+        """_rederive, as the judgement in force answered it where it asked the same monitor
+        rulebook the same question on the same facts (a regression's new side, `_asked`)."""
+        monitor, why_not = case.rs["monitor"], case.pv is not None
+        if monitor is None:
+            return None, None
+
+        def asked() -> list:
+            mine: list[Finding] = []
+            answer, _ = self._rederive(case.rs, mscen, case.me, case.act, mine, why_not=why_not)
+            return [None if answer is None else [answer.proofs, answer.why_not], mine]
+        kept, found = self._asked(case, "rederived", [monitor.rulebook.sha256, why_not, case.me, case.act,
+                                                      [[text, ref] for text, ref in mscen.facts]], asked)
+        unknown += found
+        if kept is None:
+            return None, None
+        answer = Answer(*kept)
+        return answer, (monitor.rulebook.rule(answer.proofs[0]["rule"]) if answer.holds else None)
+
+    def _asked(self, case: _Case, kind: str, question: list, compute: Callable[[], Any]) -> Any:
+        """A stage's answer to a question (its rulebook's sha256 and everything it is asked on),
+        computed, or read where the judgement in force of the same chain kept it: a regression's
+        new side asks the stages whose rulebook it shares with the baseline nothing again. Only
+        the judgement in force keeps them (what a new rulebook answers is worked out each time)."""
+        memo, key = self.memo(case.run), key_of(kind, question)
+        found = memo.get(kind, key, counted=False)
+        if found is not None:
+            return found
+        found = compute()
+        if self.keeps_verdicts(case.run, case.rs):
+            memo.put(kind, key, found)
+        return found
+
     def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any, unknown: list[Finding],
                   why_not: bool = True) -> tuple[Answer | None, Any]:
         """The monitor rulebook's answer with its proof; without `why_not`, None where it does not
@@ -448,7 +502,16 @@ class Investigation:
                         unknown: list[Finding]) -> Finding | None:
         choice = case.rs.vehicle_rulebook(action.rulebook if action else None)
         own = action if action and action.action == case.action else None
-        return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
+        if choice is None or own is None:
+            return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
+
+        def asked() -> list:
+            mine: list[Finding] = []
+            return [decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, mine), mine]
+        fault, found = self._asked(case, "fault", [choice.rulebook.sha256, case.vehicle, own.to_json(),
+                                                   [[text, ref] for text, ref in vscen.facts]], asked)
+        unknown += found
+        return fault
 
     def _others(self, case: _Case, pairs: list[tuple[Atom, EventRef]]) -> set:
         """The constants of these facts that name another road user on record by the act's time
@@ -508,13 +571,18 @@ class Investigation:
         penalty = None
         if (pen := case.rs["penalties"]) is not None:
             sentences = [s for s, _ in validation.scenario]
-            penalty = self._penalty(pen.rulebook, case.me, self.reader.known(pen.rulebook, sentences) + [punish])
+            facts = self.reader.known(pen.rulebook, sentences) + [punish]
+            penalty = self._asked(case, "penalty", [pen.rulebook.sha256, case.me, [repr(a) for a in facts]],
+                                  lambda: [self._penalty(pen.rulebook, case.me, facts)])[0]
         liability = None
         if (lia := case.rs["liability"]) is not None:
             shown = [(s, _control_ref(case.run, control, vscen, basis)) for s, basis in
                      liability_facts(case.vehicle, control.to_json())]
             facts = self.reader.known(lia.rulebook, [s for s, _ in shown]) + [punish]
-            liability = self._liability(lia.rulebook, case.me, case.act, facts, {s: r for s, r in shown if r})
+            evidence = {s: r for s, r in shown if r}
+            liability = self._asked(case, "liability", [lia.rulebook.sha256, case.me, case.act,
+                                                        [repr(a) for a in facts], list(evidence.items())],
+                                    lambda: self._liability(lia.rulebook, case.me, case.act, facts, evidence))
         if penalty is not None and liability is not None:
             offered = liability.fixed_penalty is None or bool(liability.fixed_penalty)
             penalty = replace(penalty, points_by_law=penalty.points, fine_gbp_by_law=penalty.fine_gbp,

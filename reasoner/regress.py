@@ -22,6 +22,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 from store import NoSuchRun, Store
 
+from .collector import JudgementCollector
 from .engine import Engine, Rulebook, get_engine
 from .facts import FactReader
 from .investigation import Investigation
@@ -29,7 +30,8 @@ from .le.sentences import constant
 from .le.terms import Cond, Var
 from .model import Incident
 from .regress_books import GivenBooks, RegressError, load_given
-from .regress_decisions import RecordedDecision, ask, recorded_decisions, vehicle_choice
+from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, decisions_seen,
+                                keep_decisions, kept_decisions, recorded_decisions, vehicle_choice)
 from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
 from .regress_match import match
 from .regress_reasons import Trees, attribute, reasons, used_rules
@@ -209,13 +211,18 @@ class Regressor:
     """Two investigations of one store, the baseline's and the new rulebooks', and the diffs of
     the rulebooks they used, computed once per pair."""
 
-    def __init__(self, store: Store, engine: Engine, new: GivenBooks, old: GivenBooks | None) -> None:
+    def __init__(self, store: Store, engine: Engine, new: GivenBooks, old: GivenBooks | None, *,
+                 kept: bool = True) -> None:
+        """`kept` False: nothing read from or written to the cache (every case measured and
+        judged, every decision asked, none answered by its shape): the plain path the kept one
+        must agree with."""
         self.engine = engine
         self.store = store
         self.reader = FactReader()
+        self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
-        self.before = Investigation(store, engine, rules=base)
-        self.after = Investigation(store, engine, rules=[*new.texts, *base])
+        self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True)   # in force: kept
+        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader)
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
@@ -225,7 +232,8 @@ class Regressor:
     def part(self, run: str) -> RunPart:
         """The run judged, with the diffs (and stages) it used."""
         self._touched = {}
-        result = self.run(run)
+        with JudgementCollector():      # one collection for both sides and the decisions, not one each
+            result = self.run(run)
         return RunPart(result, tuple(_with_stages(self._diffs[k], stages) for k, stages in self._touched.items()))
 
     def run(self, run: str) -> RunResult:
@@ -233,7 +241,7 @@ class Regressor:
         rs_b, rs_n = self.before.ruleset(run), self.after.ruleset(run)
         diffs = self._stage_diffs(rs_b, rs_n)
         incidents = tuple(self._incident(run, b, n, diffs) for b, n in match(base, new))
-        decisions = tuple(self._decision(d, rs_b, rs_n) for d in recorded_decisions(self.store, run))
+        decisions = self._decisions(run, rs_b, rs_n)
         problems = tuple(dict.fromkeys([*self.before.problems.get(run, []), *self.after.problems.get(run, [])]))
         return RunResult(run, incidents, decisions, rs_b.describe(), rs_n.describe(), problems)
 
@@ -300,19 +308,56 @@ class Regressor:
         return [Trees(rb.sha256, tuple(trees))]
 
     # -- decisions -------------------------------------------------------------------------
-    def _decision(self, d: RecordedDecision, rs_b: RuleSet, rs_n: RuleSet) -> CaseResult:
+    def _decisions(self, run: str, rs_b: RuleSet, rs_n: RuleSet) -> tuple[CaseResult, ...]:
+        """Every recorded decision under both sides: from the baseline's kept answers where no
+        decision's vehicle-stage rulebook differs between the sides, else each asked again (and
+        the baseline's answers kept, when it is the judgement in force)."""
+        keeps = self.before.keeps_verdicts(run, rs_b)
+        kept = kept_decisions(self.before.memo(run)) if keeps else None
+        if kept is not None and all(_unchanged(k, rs_b, rs_n) for k in kept):
+            return tuple(_kept_case(k) for k in kept)
+        answers = {(k.decision.src, k.decision.seq): (k.rulebook, k.permitted) for k in kept or ()}
+        read = decisions_seen(self.store, run, {key: k.decision.seen for key, k in zip(answers, kept)}) \
+            if kept is not None else None
+        judged = [self._decision(d, rs_b, rs_n, answers.get((d.src, d.seq)))
+                  for d in (recorded_decisions(self.store, run) if read is None else read)]
+        if keeps and kept is None:
+            memo = self.before.memo(run)
+            keep_decisions(memo, [(d, before) for d, _, before in judged])
+            memo.save()
+        return tuple(case for _, case, _ in judged)
+
+    def _decision(self, d: RecordedDecision, rs_b: RuleSet, rs_n: RuleSet,
+                  kept: tuple[str | None, bool | None] | None = None) -> tuple[RecordedDecision, CaseResult, Asked]:
+        """The decision's case, and the baseline's answer (`kept`: the rulebook and answer kept
+        for it, taken where the baseline asks that very rulebook)."""
         cb, cn = vehicle_choice(rs_b, d), vehicle_choice(rs_n, d)
-        before = ask(self.engine, self.reader, cb, d)
+        if kept is not None and cb is not None and kept[0] == cb.rulebook.sha256:
+            before = Asked(cb.rulebook, kept[1])
+        else:
+            before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
         same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
-        after = before if same else ask(self.engine, self.reader, cn, d)
+        after = before if same else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
         case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
                           _answer(after.permitted))
         if before.permitted == after.permitted:
-            return case
+            return d, case, before
         proofs = [ask(self.engine, self.reader, c, d, proofs=True).proof for c in (cb, cn)]
         diffs = {"vehicle": self._diff(cb.rulebook, cn.rulebook, "vehicle")} if cb and cn else {}
         change = self._because("decision", case.before, case.after, [p for p in proofs if p is not None], diffs)
-        return _with(case, [change])
+        return d, _with(case, [change]), before
+
+
+def _unchanged(k: KeptDecision, rs_b: RuleSet, rs_n: RuleSet) -> bool:
+    """Whether both sides ask the kept decision of the very rulebook its kept answer came from."""
+    cb, cn = vehicle_choice(rs_b, k.decision), vehicle_choice(rs_n, k.decision)
+    return cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256 == k.rulebook
+
+
+def _kept_case(k: KeptDecision) -> CaseResult:
+    """The decision's case from its kept answer (the same on both sides: no change)."""
+    d, answer = k.decision, _answer(k.permitted)
+    return CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, answer, answer)
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:

@@ -6,6 +6,11 @@ enter the junction"), on its Vehicle Scenario: what its spawn says and its lates
 question on the same facts of the baseline's vehicle-stage rulebook and of the new one: a
 decision the new rules would forbid (or allow) is a change, with the changed rules its two proofs
 went through. The events are read once per run, in (t, seq, src) order, three kinds only.
+
+The baseline's answers under the rulebooks in force are kept with the run's measurements
+(reasoner/case_memo.py: sealed, under the chain and the code), each with the sha256 of the rulebook
+that gave it: a later regression whose new rules ask a decision of the same vehicle-stage rulebook
+(the decision cannot change) takes the kept answer without reading the run's perceptions again.
 """
 from __future__ import annotations
 
@@ -14,10 +19,12 @@ from typing import Any, Iterator
 
 from store import EventRef, Store
 
+from .case_memo import CaseMemo, key_of
 from .engine import Engine, Rulebook
 from .facts import FactReader
 from .regress_reasons import Trees
 from .scenarios import Scenario, spawn_facts, vehicle_id
+from .shapes import Shaper
 from .stages import Choice, RuleSet
 
 KINDS = ("entity.spawn", "vehicle.perception", "vehicle.decision")
@@ -38,6 +45,7 @@ class RecordedDecision:
     proceeds: Any
     rulebook: Any                       # the sha256 it says it decided with
     facts: tuple[tuple[Any, EventRef], ...]
+    seen: int | None = None             # the seq of the perception its scenario holds (same src)
 
     @property
     def id(self) -> str:
@@ -67,6 +75,29 @@ def recorded_decisions(store: Store, run: str) -> Iterator[RecordedDecision]:
             yield _decision(run, event, spawns.get(src), seen.get(src))
 
 
+def decisions_seen(store: Store, run: str, seen: dict[tuple[str, int], int | None]) -> list[RecordedDecision] | None:
+    """recorded_decisions, given the perception each decision's scenario held (kept by an
+    earlier read of the same chain): the spawns and decisions through the index by kind, those
+    perceptions by their keys, instead of every perception of the run (a dense kind: read by
+    time, past every state). None when a decision or perception is not the one kept."""
+    wanted = {(src, seq) for (src, _), seq in seen.items() if seq is not None}
+    perceptions = store.events_at(run, wanted)
+    if len(perceptions) != len(wanted) or any(e["kind"] != "vehicle.perception" for e in perceptions.values()):
+        return None
+    spawns: dict[str, dict] = {}
+    out = []
+    for event in store.events(run, kinds=("entity.spawn", "vehicle.decision")):
+        src = event["src"]
+        if event["kind"] == "entity.spawn":
+            spawns[src] = event
+            continue
+        if (src, event["seq"]) not in seen:
+            return None
+        at = seen[(src, event["seq"])]
+        out.append(_decision(run, event, spawns.get(src), None if at is None else perceptions[(src, at)]))
+    return out if len(out) == len(seen) else None
+
+
 def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None) -> RecordedDecision:
     vehicle = vehicle_id(event["src"])
     scenario = Scenario()
@@ -77,7 +108,7 @@ def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None
     body = event["body"]
     return RecordedDecision(run, event["src"], event["seq"], event["t"], vehicle, body.get("goal"),
                             body.get("action"), body.get("permitted"), body.get("proceeds"), body.get("rulebook"),
-                            tuple(scenario.facts))
+                            tuple(scenario.facts), None if perception is None else perception["seq"])
 
 
 def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
@@ -90,9 +121,37 @@ def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
     return rs.vehicle_rulebook(decision.rulebook if isinstance(decision.rulebook, str) else None)
 
 
+class Shapes:
+    """Yes-or-no answers remembered by the shape of the question and facts (reasoner/shapes.py),
+    for rulebooks whose answers keep under renaming road users (`Shaper.keeps_proofs`, checked on
+    the rules): a run's decisions are a few questions asked by thousands of vehicles."""
+
+    LIMIT = 100_000
+
+    def __init__(self) -> None:
+        self._shapers: dict[str, Shaper] = {}
+        self._found: dict[tuple, bool] = {}
+
+    def holds(self, engine: Engine, rb: Rulebook, goal: Any, facts: list) -> bool:
+        shaper = self._shapers.get(rb.sha256)
+        if shaper is None:
+            shaper = self._shapers[rb.sha256] = Shaper(rb)
+        shaped = shaper.shape([goal, *facts]) if shaper.keeps_proofs else None
+        if shaped is None:
+            return engine.holds(rb, goal, facts)
+        key = (rb.sha256, *shaped[0])
+        found = self._found.get(key)
+        if found is None:
+            if len(self._found) >= self.LIMIT:
+                self._found.clear()
+            found = self._found[key] = engine.holds(rb, shaped[0][0], list(shaped[0][1:]))
+        return found
+
+
 def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: RecordedDecision,
-        proofs: bool = False) -> Asked:
-    """The decision's goal asked of the choice's rulebook on the Vehicle Scenario."""
+        proofs: bool = False, shapes: Shapes | None = None) -> Asked:
+    """The decision's goal asked of the choice's rulebook on the Vehicle Scenario (`shapes`: a
+    yes or no remembered by shape)."""
     if choice is None or not isinstance(decision.goal, str):
         return Asked(None if choice is None else choice.rulebook, None)
     rb = choice.rulebook
@@ -101,7 +160,46 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
         return Asked(rb, None)
     facts = reader.atoms(rb, list(decision.facts), [])
     if not proofs:
-        return Asked(rb, engine.holds(rb, goal, facts))
+        return Asked(rb, shapes.holds(engine, rb, goal, facts) if shapes else engine.holds(rb, goal, facts))
     answer = engine.ask(rb, goal, facts)
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
     return Asked(rb, answer.holds, Trees(rb.sha256, tuple(trees)))
+
+
+KEPT_CHUNK = 5_000                      # decisions per kept entry (an entry is at most 4 MB)
+
+
+@dataclass(frozen=True)
+class KeptDecision:
+    """A decision as kept: what names and chooses it, and the baseline's answer with the rulebook
+    that gave it (None: none was asked)."""
+
+    decision: RecordedDecision          # without its facts: it is not asked again
+    rulebook: str | None
+    permitted: bool | None
+
+
+def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
+    """The run's kept decisions, in time order, or None (never kept, or a part of them is not)."""
+    head = memo.get("decisions", key_of("decisions"), plain=True)
+    if not isinstance(head, int):
+        return None
+    out: list[KeptDecision] = []
+    for n in range(head):
+        chunk = memo.get("decisions", key_of("decisions", n), plain=True)
+        if chunk is None:
+            return None
+        out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
+                                              rulebook, (), seen), sha, answer)
+                for src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, seen, sha, answer in chunk]
+    return out
+
+
+def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) -> None:
+    """Keep the baseline's answers (written with the memo's other fresh entries, at its save)."""
+    rows = [[d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook, d.seen,
+             a.rulebook.sha256 if a.rulebook is not None else None, a.permitted] for d, a in asked]
+    chunks = [rows[i:i + KEPT_CHUNK] for i in range(0, len(rows), KEPT_CHUNK)]
+    for n, chunk in enumerate(chunks):
+        memo.put("decisions", key_of("decisions", n), chunk, plain=True)
+    memo.put("decisions", key_of("decisions"), len(chunks), plain=True)

@@ -1,0 +1,205 @@
+"""A regression from what earlier ones kept (reasoner/investigation.py `verdicts`,
+reasoner/regress_decisions.py): the baseline's incidents and decision answers under the rulebooks in
+force are read, not judged or asked again, and a decision's perception is fetched by its key
+instead of reading every perception of the run; the new rules are judged afresh every time. The
+result is the plain path's, to the byte, and a forged kept verdict is dropped and judged again."""
+from __future__ import annotations
+
+import json
+import sqlite3
+
+import pytest
+
+from reasoner import case_memo, regress_decisions
+from reasoner import regress as regress_module
+from reasoner.api import Case
+from reasoner.investigation import Investigation
+from reasoner.regress import regress
+from store import EventRef, Store, cache_tampering
+
+from tests.reasoner import regress_runs as R
+
+
+@pytest.fixture
+def db(tmp_path):
+    return R.build_store(tmp_path / "gaps.db")
+
+
+@pytest.fixture
+def new_rules(tmp_path):
+    return R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))      # answers the vehicle stage too
+
+
+def _regress(db, rules) -> dict:
+    with Store.open_read_only(db) as store:
+        return regress(store, [str(rules)], runs=[R.RUN]).to_json()
+
+
+def _plain(db, rules) -> dict:
+    """The regression with nothing kept: every case measured and judged, every decision asked."""
+    engine = regress_module.get_engine()
+    new = regress_module.load_given(engine, [str(rules)])
+    with Store.open_read_only(db) as store:
+        part = regress_module.Regressor(store, engine, new, None, kept=False).part(R.RUN)
+        return regress_module.assemble(new, None, [part]).to_json()
+
+
+class _Count:
+    """Calls of Investigation._case_afresh by side, of ask, and the kinds read."""
+
+    def __init__(self, monkeypatch) -> None:
+        self.judged = {True: 0, False: 0}
+        self.asked = 0
+        self.kinds: list[str] = []
+        afresh, ask, events = Investigation._case_afresh, regress_module.ask, Store.events
+
+        def counted_afresh(inv, *args):
+            self.judged[inv.verdicts] += 1
+            return afresh(inv, *args)
+
+        def counted_ask(*args, **kwargs):
+            self.asked += 1
+            return ask(*args, **kwargs)
+
+        def counted_events(store, run, **kwargs):
+            self.kinds += list(kwargs.get("kinds") or ["*"])
+            return events(store, run, **kwargs)
+        monkeypatch.setattr(Investigation, "_case_afresh", counted_afresh)
+        monkeypatch.setattr(regress_module, "ask", counted_ask)
+        monkeypatch.setattr(Store, "events", counted_events)
+
+
+def test_a_second_regression_reads_the_baselines_verdicts_and_answers_and_gives_the_same(db, new_rules, monkeypatch):
+    first = _regress(db, new_rules)
+    assert first["changed"] and first["counts"]["decisions"] == 4
+    count = _Count(monkeypatch)
+    again = _regress(db, new_rules)
+    assert again == first
+    assert count.judged[True] == 0 and count.judged[False] == 3       # the baseline kept, the new rules judged
+    assert count.asked == 4 + 2                                          # the new side's, and the changed one's proofs
+    assert "vehicle.perception" not in count.kinds
+
+
+def test_the_kept_path_gives_the_plain_paths_regression(db, new_rules):
+    plain = _plain(db, new_rules)
+    assert _regress(db, new_rules) == plain          # keeps
+    assert _regress(db, new_rules) == plain          # from what it kept
+
+
+def test_a_forged_kept_verdict_is_dropped_and_judged_again(db, new_rules):
+    """Someone who holds the folder turns the kept punishable verdicts mitigated: the seals no
+    longer open, so the baseline is judged again, the result is the untouched one, and the cache
+    check names the entries."""
+    first = _regress(db, new_rules)
+    with sqlite3.connect(f"{db}.cache") as cache:
+        assert cache.execute("UPDATE derived SET payload = replace(payload, '\"punishable\"', '\"mitigated\"') "
+                             "WHERE kind = 'incident' AND payload LIKE '%\"punishable\"%'").rowcount
+    with Store.open_read_only(db) as store:
+        assert any(key.startswith("incident ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
+    assert _regress(db, new_rules) == first
+
+
+def test_a_forged_kept_decision_answer_is_not_believed(db, new_rules):
+    first = _regress(db, new_rules)
+    with sqlite3.connect(f"{db}.cache") as cache:
+        assert cache.execute("UPDATE derived SET payload = replace(payload, 'true', 'false') "
+                             "WHERE kind = 'decisions'").rowcount
+    assert _regress(db, new_rules) == first
+
+
+def test_gaps_incidents_keeps_the_judgement_in_force_and_not_one_with_given_rules(db, new_rules, monkeypatch):
+    with Store.open_read_only(db) as store:
+        first = [i.to_json() for i in Case(store).incidents(R.RUN)]
+    count = _Count(monkeypatch)
+    with Store.open_read_only(db) as store:
+        assert [i.to_json() for i in Case(store).incidents(R.RUN)] == first
+        assert count.judged[True] == 0
+        Case(store, [new_rules]).incidents(R.RUN)
+        Case(store, [new_rules]).incidents(R.RUN)
+    assert count.judged[True] == 6                   # given rules: judged each time
+
+
+def test_the_codec_keeps_every_incident_exactly(db):
+    with Store.open_read_only(db) as store:
+        found = Investigation(store, kept=False).incidents(R.RUN)
+    assert found
+    for incident in found:
+        assert case_memo.decode(json.loads(json.dumps(case_memo.encode(incident)))) == incident
+
+
+def test_decisions_read_by_their_kept_perceptions_are_the_recorded_ones(db):
+    with Store.open_read_only(db) as store:
+        plain = list(regress_decisions.recorded_decisions(store, R.RUN))
+        seen = {(d.src, d.seq): d.seen for d in plain}
+        assert any(s is not None for s in seen.values())
+        assert regress_decisions.decisions_seen(store, R.RUN, seen) == plain
+        moved = {key: (None if s is None else s + 1000) for key, s in seen.items()}
+        assert regress_decisions.decisions_seen(store, R.RUN, moved) is None
+
+
+def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
+    from reasoner.engine import get_engine
+    from reasoner.facts import FactReader
+    from reasoner.stages import RuleSet, current_rulebooks
+    engine, reader, shapes = get_engine(), FactReader(), regress_decisions.Shapes()
+    rs = RuleSet(engine, [], [], current_rulebooks(engine))
+    with Store.open_read_only(db) as store:
+        decisions = list(regress_decisions.recorded_decisions(store, R.RUN)) * 3
+    calls = []
+    holds = engine.holds
+
+    class Counting:
+        def holds(self, *args):
+            calls.append(args)
+            return holds(*args)
+    one_by_one = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d) for d in decisions]
+    shaped = [regress_decisions.ask(Counting(), reader, regress_decisions.vehicle_choice(rs, d), d, shapes=shapes)
+              for d in decisions]
+    assert shaped == one_by_one and any(a.permitted for a in shaped)
+    assert 0 < len(calls) <= len(decisions) // 3          # each shape asked once, the repeats not at all
+
+
+def test_a_regression_collects_once_for_both_sides(db, new_rules, monkeypatch):
+    import gc
+    full = []
+    collect = gc.collect
+    monkeypatch.setattr(gc, "collect", lambda generation=2: full.append(generation) if generation == 2 else None
+                        or collect(generation))
+    _regress(db, new_rules)
+    assert full.count(2) == 1
+
+
+def test_the_codec_keeps_plain_data_as_it_is_and_tags_what_json_would_change():
+    tree = {"sentence": ["can", 5, "go"], "children": [{"rule": None, "x": 1.5}]}
+    assert case_memo.encode(tree) == {"j": tree}
+    for value in ({"v": float("nan")}, {"v": (1, 2)}, {1: "a"}, {"r": [EventRef("r", "s", 1, 2, "k")]}):
+        encoded = case_memo.encode(value)
+        assert "j" not in encoded
+        back = case_memo.decode(json.loads(json.dumps(encoded)))
+        assert repr(back) == repr(value)
+
+
+def test_the_new_side_asks_only_the_rulebooks_it_does_not_share_with_the_baseline(db, new_rules, monkeypatch):
+    """The monitor, decision fault, penalty and liability stages' answers the judgement in force
+    kept are read by the new side, which asks the same rulebooks the same questions on the same
+    facts; the new validators.le is asked (its verdicts, and the decisions: it answers the vehicle
+    stage), and the others only what no kept answer covers: a changed case's."""
+    from reasoner.bundled import CURRENT_SET, bundled
+    from reasoner.engine import Engine, sha256_text
+    first = _regress(db, new_rules)
+    asked: list[str] = []
+    for name in ("ask", "holds", "ask_first", "first_holding", "answers", "answers_all"):
+        original = getattr(Engine, name)
+
+        def counted(self, rb, *args, _original=original, **kwargs):
+            asked.append(names.get(rb.sha256, rb.sha256))
+            return _original(self, rb, *args, **kwargs)
+        monkeypatch.setattr(Engine, name, counted)
+    names = {sha256_text(bundled(n)): n for n in CURRENT_SET}      # the engine names a text by its first load
+    names[sha256_text(new_rules.read_text(encoding="utf-8"))] = "new"
+    assert _regress(db, new_rules) == first
+    flipped = [case for case in first["runs"][0]["incidents"] if case["changes"]]
+    assert len(flipped) == 1 and flipped[0]["after"].startswith("punishable")
+    assert "monitors.le" not in asked and "new" in asked
+    assert asked.count("liability.le") == 1              # for the one verdict now punishable, never kept
+    assert asked.count("highway_code.le") == 1           # the changed decision's baseline proof, never kept
