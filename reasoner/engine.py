@@ -9,7 +9,7 @@ thread-local context and retracted after it.
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Mapping, Sequence
 
@@ -138,13 +138,19 @@ class Engine:
         self._call("load_files(F, [if(not_loaded)]), gaps_engine:new_rulebook(gaps_probe, [])",
                    F=str(ENGINE_PL))
         self._loaded: dict[str, Rulebook] = {}
+        self._renamed: dict[tuple[str, str], Rulebook] = {}   # the same text loaded under other names
 
     # -- loading --------------------------------------------------------------------------
     def load(self, text: str, name: str = "<le>") -> Rulebook:
-        """Parse, check and load a rulebook (once per text); an LEError loads nothing."""
+        """Parse, check and load a rulebook (once per text); an LEError loads nothing. The same text
+        loaded under another name is the same module, named as this caller names it: what a report
+        or a citation (`validators.le:12`) shows must not depend on what the process loaded first."""
         sha = sha256_text(text)
         if sha in self._loaded:
-            return self._loaded[sha]
+            first = self._loaded[sha]
+            if first.name == name:
+                return first
+            return self._renamed.setdefault((sha, name), replace(first, name=name))
         doc = parse_document(text, name)
         rb = Rulebook(name, sha, f"le_{sha[:16]}", doc)
         try:

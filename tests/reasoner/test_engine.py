@@ -84,3 +84,20 @@ def test_remembered_sentences_keep_numbers_words_and_truth_apart():
     for data in (["is_of_type", 173, "car"], ["is_of_type", "173", "car"], ["is_of_type", 1, "car"],
                  ["is_of_type", True, "car"], ["is_of_type", 173, "car"]):
         assert rb.render(data) == sentence_text(data, rb.document)
+
+
+def test_a_rulebook_is_named_as_its_caller_names_it_whatever_the_process_loaded_first():
+    """One text loaded as reasoner/rules/paper.le and then as paper.le (a regression's --rules path,
+    then a recorded rulebook) is one Prolog module, but each caller sees its own name: reports and
+    citations (`paper.le:12`) did depend on which load came first (test_regress before
+    test_incidents_golden)."""
+    text = bundled("paper.le").replace("the knowledge base", "\n\nthe knowledge base", 1)   # a text of its own
+    by_path = get_engine().load(text, "reasoner/rules/paper-copy.le")
+    by_name = get_engine().load(text, "paper-copy.le")
+    assert (by_path.name, by_name.name) == ("reasoner/rules/paper-copy.le", "paper-copy.le")
+    assert by_name.module == by_path.module and by_name.sha256 == by_path.sha256
+    assert get_engine().load(text, "paper-copy.le") is by_name
+    answer = get_engine().ask(by_name, Atom("can", (173, ENTER)), facts(by_name, "173 is of type car",
+                                                                          "173 has red light"))
+    assert answer == get_engine().ask(by_path, Atom("can", (173, ENTER)),
+                                      facts(by_path, "173 is of type car", "173 has red light"))
