@@ -174,8 +174,8 @@ def writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
 def _open(path: str, key: bytes) -> sqlite3.Connection | None:
     """The cache connection with its tables, or None if this path cannot hold a cache."""
     try:
-        if path != MEMORY:
-            os.makedirs(os.path.dirname(path), exist_ok=True)
+        if path != MEMORY:      # a store named relative to here ("gaps.db", the default) has "" as its folder
+            os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
         conn = sqlite3.connect(path, isolation_level=None, timeout=_TIMEOUT_S, check_same_thread=False)
     except (OSError, sqlite3.Error):
         return None

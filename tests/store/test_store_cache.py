@@ -135,3 +135,16 @@ def test_a_cache_of_another_version_is_emptied(db_path, version):
     with Store(db_path) as store:
         assert snapshots.count(store, "r1") == 0
         assert state_at(store, "r1", T0 + 19_000_000) == folded(store, T0 + 19_000_000)
+
+
+def test_a_store_named_relative_to_the_working_folder_keeps_its_cache_beside_it(tmp_path, monkeypatch):
+    """`gaps incidents` with the default ./gaps.db (or any --db without a folder) kept nothing: the
+    cache's folder was "", making it failed, and the cache fell back to memory, so every command
+    measured the whole run again (a 10-minute run's 30 s, each time)."""
+    monkeypatch.chdir(tmp_path)
+    with Store("gaps.db") as store:
+        store.append(states(40))
+    with Store.open_read_only("gaps.db") as store:
+        assert build_snapshots(store, "r1", every=10) == 4
+        assert store.cache.path == "gaps.db.cache"
+    assert rows(str(tmp_path / "gaps.db.cache"), "SELECT count(*) FROM state_snapshots") == [(4,)]
