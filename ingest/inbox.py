@@ -67,50 +67,37 @@ class Inbox:
             time.sleep(POLL_S)
 
     def _take_waiting(self, batch: list[Received], max_items: int) -> None:
-        """Append to ``batch`` the samples waiting now, up to ``max_items`` in it: ``_next`` in
-        one loop, the writer's hot path (a call and a tuple less per sample)."""
+        """Append to ``batch`` the samples waiting now (as `received` makes them), up to
+        ``max_items`` in it, in one loop: the writer's hot path, and the one way samples are taken."""
         if self._closed:
             return
-        try_recv, seen, append, put = self._subscriber.try_recv, self._keys_seen, batch.append, zenoh.SampleKind.PUT
+        try_recv, seen, append = self._subscriber.try_recv, self._keys_seen, batch.append
         try:
             while len(batch) < max_items:
                 sample = try_recv()
                 if sample is None:
                     return
-                key = str(sample.key_expr)
-                if key not in seen:
-                    self._note_first(key, sample)
-                append((key, sample.payload.to_bytes(), sample.kind == put, str(sample.encoding)))
+                item = received(sample)
+                if item[0] not in seen:
+                    self._note_first(item[0], sample)
+                append(item)
         except zenoh.ZError:  # "channel is empty and closed": the session was closed
             self._closed = True
 
     def _first(self, idle_s: float) -> Received | None:
         """The next sample within ``idle_s``, looking every POLL_S (Zenoh's channel has no
-        receive with a timeout); None if none came or the channel is closed and empty."""
+        receive with a timeout); None if none came or the channel is closed and empty. The
+        encoding travels with it, so that a sample declared as something other than JSON is
+        refused for what it claims to be, not parsed by luck."""
         deadline = time.monotonic() + idle_s
-        while (sample := self._next()) is None and not self._closed:
-            if time.monotonic() >= deadline:
+        got: list[Received] = []
+        while True:
+            self._take_waiting(got, 1)
+            if got:
+                return got[0]
+            if self._closed or time.monotonic() >= deadline:
                 return None
             time.sleep(POLL_S)
-        return sample
-
-    def _next(self) -> Received | None:
-        """One sample as (key, payload, is_put, encoding); None if there is none now (or ever, once
-        closed). The encoding travels so that a sample declared as something other than JSON is
-        refused for what it claims to be, not parsed by luck."""
-        if self._closed:
-            return None
-        try:
-            sample = self._subscriber.try_recv()
-        except zenoh.ZError:  # "channel is empty and closed": the session was closed
-            self._closed = True
-            return None
-        if sample is None:
-            return None
-        item = received(sample)
-        if item[0] not in self._keys_seen:
-            self._note_first(item[0], sample)
-        return item
 
     def _note_first(self, key: str, sample: zenoh.Sample) -> None:
         """Note the publisher of a key's first sample (a plain publisher's carry none). A source
