@@ -44,8 +44,8 @@ class Sealed:
     asked for: a judgement that skips most of a run's cases reads the others' entries in one
     query, but frames and checks only the seals of those it uses."""
 
-    def __init__(self, rows: dict[str, tuple[str, bytes]], sealer: Any, names: tuple) -> None:
-        self._rows, self._sealer, self._names = rows, sealer, names
+    def __init__(self, rows: dict[str, tuple[str, bytes]], sealer: Any, where: tuple[str, str, str, ChainKey]) -> None:
+        self._rows, self._sealer, self._where = rows, sealer, where     # (run, kind, version, chain)
 
     def get(self, key: str) -> str | None:
         """The entry's payload, or None (never kept, or its seal did not open: then it is
@@ -54,7 +54,7 @@ class Sealed:
         if row is None:
             return None
         payload, mac = row
-        if not self._sealer.opens(TABLE, (*self._names, key), payload, mac):
+        if not self._sealer.opens(TABLE, _names(*self._where, key), payload, mac):
             del self._rows[key]
             return None
         return payload
@@ -63,13 +63,13 @@ class Sealed:
 def load(store: Store, run: str, kind: str, version: str, chain: ChainKey) -> Sealed:
     """The run's entries of this kind and version derived from exactly this chain, by key; each
     one whose seal does not open is left out when asked for (and counted by the cache's sealer)."""
-    names = (run, kind, version, chain[0], chain[1])
+    where = (run, kind, version, chain)
     if not store.cache.exists():
-        return Sealed({}, None, names)
+        return Sealed({}, None, where)
     rows = store.cache.connection.execute(
         "SELECT key, payload, mac FROM derived WHERE run = ? AND kind = ? AND version = ? AND chain_len = ? "
         "AND head = ?", (run, kind, version, *chain)).fetchall()
-    return Sealed({key: (payload, mac) for key, payload, mac in rows}, store.cache.sealer, names)
+    return Sealed({key: (payload, mac) for key, payload, mac in rows}, store.cache.sealer, where)
 
 
 def save(store: Store, run: str, kind: str, version: str, chain: ChainKey, entries: Mapping[str, str]) -> bool:
