@@ -241,7 +241,12 @@ def _cross(p, q, r, s) -> bool:
 
 def point_gap(p, a, b) -> float:
     """The distance from point p to segment ab."""
+    return project(p, a, b)[0]
+
+
+def project(p, a, b) -> tuple[float, float]:
+    """The distance from point p to segment ab, and how far along ab (0 to 1) its nearest point is."""
     dx, dy = b[0] - a[0], b[1] - a[1]
     length = dx * dx + dy * dy
     f = 0.0 if length == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length))
-    return ((p[0] - a[0] - f * dx) ** 2 + (p[1] - a[1] - f * dy) ** 2) ** 0.5
+    return ((p[0] - a[0] - f * dx) ** 2 + (p[1] - a[1] - f * dy) ** 2) ** 0.5, f

@@ -23,7 +23,7 @@ import math
 from typing import NamedTuple, Sequence
 
 from .motion import Sample, position_at, speed_at
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, point_gap
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, project
 from .passage import Other
 
 SECOND = 1_000_000_000
@@ -132,10 +132,8 @@ def _on_way(point: Point, way: list[Point], distance: float) -> _Hit | None:
         length = math.dist(r, s)
         if min(r[0], s[0]) - distance < x < max(r[0], s[0]) + distance \
                 and min(r[1], s[1]) - distance < y < max(r[1], s[1]) + distance:
-            gap = point_gap(point, r, s)
+            gap, f = project(point, r, s)
             if gap < distance and (best is None or gap < best[0]):
-                f = 0.0 if length == 0 else max(0.0, min(1.0, ((x - r[0]) * (s[0] - r[0]) + (y - r[1]) * (s[1] - r[1]))
-                                                        / (length * length)))
                 unit = ((s[0] - r[0]) / length, (s[1] - r[1]) / length) if length else (0.0, 0.0)
                 best = (gap, along + f * length, unit)
         along += length

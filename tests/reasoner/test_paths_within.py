@@ -28,4 +28,3 @@ def test_crossing_paths_and_parallel_lanes():
     assert polylines_within([(-20, 0), (20, 0)], [(20, 2.0), (-20, 2.0)], VEHICLE_WIDTH_M)
     # exactly a vehicle's width apart is not closer than it
     assert not polylines_within([(0, 0), (10, 0)], [(0, VEHICLE_WIDTH_M), (10, VEHICLE_WIDTH_M)], VEHICLE_WIDTH_M)
-
