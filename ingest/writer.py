@@ -11,12 +11,13 @@ import logging
 import os
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import replace
 
 from store import Candidate, CheckpointKey, QuarantineCap, Store, TrustedKeys, enable_snapshots
 
 from .gap_tracker import GapTracker
-from .gc_pacing import batch_sized_collections
+from .gc_pacing import collections_between_batches
 from .head_sinks import HeadSink, HeadSinks
 from .inbox import Inbox, Received
 from .screen import Screened, refused, require_signature, screen_all
@@ -84,8 +85,8 @@ class BatchWriter(threading.Thread):
         if store is None:
             return
         try:
-            with batch_sized_collections():
-                self._drain(store)
+            with collections_between_batches() as between_batches:
+                self._drain(store, between_batches)
         finally:
             store.close()
 
@@ -114,8 +115,9 @@ class BatchWriter(threading.Thread):
         self._ready.set()
         return store
 
-    def _drain(self, store: Store) -> None:
-        """Write batches until the inbox is closed and empty; nothing here may end the thread early."""
+    def _drain(self, store: Store, between_batches: Callable[[], None]) -> None:
+        """Write batches until the inbox is closed and empty; nothing here may end the thread early.
+        The collector runs between batches (ingest/gc_pacing.py), once the last one is let go."""
         while True:
             try:
                 batch = self._inbox.take(self._batch_size, self._flush_interval_s)
@@ -134,6 +136,8 @@ class BatchWriter(threading.Thread):
             self._write_recovered(store)
             if batch is None:
                 return
+            batch = None
+            between_batches()
 
     def _write_recovered(self, store: Store) -> None:
         """Store what the publishers' caches replied (ingest/wire_watch.py), as received samples."""
