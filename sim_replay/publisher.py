@@ -160,9 +160,8 @@ class EventPublisher:
         ever a run's last event) retires its source."""
         for publisher, _, _, payload in run:
             publisher.put(payload)
-        add = self._recent.add
-        for _, key, event, payload in run:
-            add(event["run"], event["src"], event["seq"], key, payload)
+        self._recent.add_all([(event["run"], event["src"], event["seq"], key, payload)
+                              for _, key, event, payload in run])
         self._published = True
         _, key, last, _ = run[-1]
         if last["kind"] == DESPAWN:
