@@ -9,8 +9,10 @@ went through. The events are read once per run, in (t, seq, src) order, three ki
 
 The baseline's answers under the rulebooks in force are kept with the run's measurements
 (reasoner/case_memo.py: sealed, under the chain and the code), each with the sha256 of the rulebook
-that gave it: a later regression whose new rules ask a decision of the same vehicle-stage rulebook
-(the decision cannot change) takes the kept answer without reading the run's perceptions again.
+that gave it and the decision itself with its Vehicle Scenario (the sentences and the events they
+cite): a later regression takes the kept answer where it asks the same vehicle-stage rulebook, and
+asks its new rulebook on the kept scenario, reading nothing of the run again (on the hour, reading
+the decisions and each one's perception by its key was a quarter of a warm regression).
 """
 from __future__ import annotations
 
@@ -45,7 +47,6 @@ class RecordedDecision:
     proceeds: Any
     rulebook: Any                       # the sha256 it says it decided with
     facts: tuple[tuple[Any, EventRef], ...]
-    seen: int | None = None             # the seq of the perception its scenario holds (same src)
 
     @property
     def id(self) -> str:
@@ -75,29 +76,6 @@ def recorded_decisions(store: Store, run: str) -> Iterator[RecordedDecision]:
             yield _decision(run, event, spawns.get(src), seen.get(src))
 
 
-def decisions_seen(store: Store, run: str, seen: dict[tuple[str, int], int | None]) -> list[RecordedDecision] | None:
-    """recorded_decisions, given the perception each decision's scenario held (kept by an
-    earlier read of the same chain): the spawns and decisions through the index by kind, those
-    perceptions by their keys, instead of every perception of the run (a dense kind: read by
-    time, past every state). None when a decision or perception is not the one kept."""
-    wanted = {(src, seq) for (src, _), seq in seen.items() if seq is not None}
-    perceptions = store.events_at(run, wanted)
-    if len(perceptions) != len(wanted) or any(e["kind"] != "vehicle.perception" for e in perceptions.values()):
-        return None
-    spawns: dict[str, dict] = {}
-    out = []
-    for event in store.events(run, kinds=("entity.spawn", "vehicle.decision")):
-        src = event["src"]
-        if event["kind"] == "entity.spawn":
-            spawns[src] = event
-            continue
-        if (src, event["seq"]) not in seen:
-            return None
-        at = seen[(src, event["seq"])]
-        out.append(_decision(run, event, spawns.get(src), None if at is None else perceptions[(src, at)]))
-    return out if len(out) == len(seen) else None
-
-
 def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None) -> RecordedDecision:
     vehicle = vehicle_id(event["src"])
     scenario = Scenario()
@@ -108,7 +86,7 @@ def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None
     body = event["body"]
     return RecordedDecision(run, event["src"], event["seq"], event["t"], vehicle, body.get("goal"),
                             body.get("action"), body.get("permitted"), body.get("proceeds"), body.get("rulebook"),
-                            tuple(scenario.facts), None if perception is None else perception["seq"])
+                            tuple(scenario.facts))
 
 
 def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
@@ -166,7 +144,7 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
     return Asked(rb, answer.holds, Trees(rb.sha256, tuple(trees)))
 
 
-KEPT_CHUNK = 5_000                      # decisions per kept entry (an entry is at most 4 MB)
+KEPT_CHUNK = 2_000                      # decisions per kept entry (an entry is at most 4 MB)
 
 
 @dataclass(frozen=True)
@@ -174,7 +152,7 @@ class KeptDecision:
     """A decision as kept: what names and chooses it, and the baseline's answer with the rulebook
     that gave it (None: none was asked)."""
 
-    decision: RecordedDecision          # without its facts: it is not asked again
+    decision: RecordedDecision          # with its Vehicle Scenario, to be asked of a new rulebook
     rulebook: str | None
     permitted: bool | None
 
@@ -190,16 +168,34 @@ def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
         if chunk is None:
             return None
         out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
-                                              rulebook, (), seen), sha, answer)
-                for src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, seen, sha, answer in chunk]
+                                              rulebook, _unkept_facts(memo.run, refs, facts)), sha, answer)
+                for src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, facts, sha, answer
+                in chunk]
     return out
 
 
 def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) -> None:
     """Keep the baseline's answers (written with the memo's other fresh entries, at its save)."""
-    rows = [[d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook, d.seen,
-             a.rulebook.sha256 if a.rulebook is not None else None, a.permitted] for d, a in asked]
+    rows = [[d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook,
+             *_kept_facts(d.facts), a.rulebook.sha256 if a.rulebook is not None else None, a.permitted]
+            for d, a in asked]
     chunks = [rows[i:i + KEPT_CHUNK] for i in range(0, len(rows), KEPT_CHUNK)]
     for n, chunk in enumerate(chunks):
         memo.put("decisions", key_of("decisions", n), chunk, plain=True)
     memo.put("decisions", key_of("decisions"), len(chunks), plain=True)
+
+
+def _kept_facts(facts: tuple[tuple[Any, EventRef], ...]) -> tuple[list, list]:
+    """A Vehicle Scenario as plain data: the events it cites, once each ([src, seq, t, kind]),
+    and each sentence with the place of its event among them (a decision's facts cite two
+    events, its spawn and its perception)."""
+    refs: dict[EventRef, int] = {}
+    for _, ref in facts:
+        refs.setdefault(ref, len(refs))
+    return [[r.src, r.seq, r.t, r.kind] for r in refs], [[text, refs[ref]] for text, ref in facts]
+
+
+def _unkept_facts(run: str, refs: list, facts: list) -> tuple[tuple[Any, EventRef], ...]:
+    """The Vehicle Scenario `_kept_facts` gave."""
+    cited = [EventRef(run, src, seq, t, kind) for src, seq, t, kind in refs]
+    return tuple((text, cited[n]) for text, n in facts)
