@@ -215,15 +215,16 @@ class Regressor:
     def __init__(self, store: Store, engine: Engine, new: GivenBooks, old: GivenBooks | None, *,
                  kept: bool = True) -> None:
         """`kept` False: nothing read from or written to the cache (every case measured and
-        judged, every decision asked, none answered by its shape): the plain path the kept one
-        must agree with."""
+        judged with its proofs, every decision asked, none answered by its shape): the plain
+        path the kept one must agree with."""
         self.engine = engine
         self.store = store
         self.reader = FactReader()
         self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
         self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True)   # in force: kept
-        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader)
+        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
+                                   proofs=not kept)     # proofs worked out for the changed incidents only
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
@@ -271,12 +272,12 @@ class Regressor:
     def _incident_changes(self, b: Incident | None, n: Incident | None, diffs: Diffs) -> list[Change]:
         if b is None or n is None:
             kind = "new" if b is None else "gone"
-            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, n), diffs)]
+            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, self.after.proved(n)), diffs)]
         if b.verdict != n.verdict:
-            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, n), diffs)]
+            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, self.after.proved(n)), diffs)]
         out = []
         if b.rule != n.rule:
-            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, n), diffs))
+            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, self.after.proved(n)), diffs))
         if _penalty(b) != _penalty(n):
             out.append(self._because("penalty", _penalty_text(b), _penalty_text(n),
                                      [*self._penalty_trees(b, self.before), *self._penalty_trees(n, self.after)],

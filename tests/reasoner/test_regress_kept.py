@@ -228,3 +228,34 @@ def test_a_regression_names_its_runs_without_summing_them_up(db, new_rules, monk
         assert regress(store, [str(new_rules)]).counts()["runs"] == 1
         with pytest.raises(regress_module.NoSuchRun):
             regress(store, [str(new_rules)], runs=["no-such-run"])
+
+
+def test_an_investigation_without_proofs_judges_alike_and_proves_on_demand(db, new_rules):
+    """`proofs` False (a regression's new side): the same incidents with their proofs left
+    empty, and `proved` gives each one as judged with them."""
+    with Store.open_read_only(db) as store:
+        full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
+        lazy = Investigation(store, rules=[str(new_rules)], proofs=False)
+        found = lazy.incidents(R.RUN)
+        assert [lazy.proved(i) for i in found] == full
+    assert any(i.proofs.verdict and i.proofs.verdict.trees for i in full)
+    assert all(not i.proofs.potential_violation.trees and not (i.proofs.verdict and i.proofs.verdict.trees)
+               for i in found)
+    from dataclasses import replace
+    assert [replace(i, proofs=None) for i in found] == [replace(i, proofs=None) for i in full]
+
+
+def test_the_new_side_searches_a_verdicts_proof_only_where_it_changed(db, new_rules, monkeypatch):
+    from reasoner.engine import Engine, sha256_text
+    first = _regress(db, new_rules)
+    new = sha256_text(new_rules.read_text(encoding="utf-8"))
+    proofs: list[str] = []
+    ask_first = Engine.ask_first
+
+    def counted(self, rb, *args, **kwargs):
+        proofs.append(rb.sha256)
+        return ask_first(self, rb, *args, **kwargs)
+    monkeypatch.setattr(Engine, "ask_first", counted)
+    assert _regress(db, new_rules) == first
+    changed = [case for case in first["runs"][0]["incidents"] if case["changes"]]
+    assert len(first["runs"][0]["incidents"]) > len(changed) == proofs.count(new) == 1
