@@ -102,13 +102,36 @@ def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
 class Shapes:
     """Yes-or-no answers remembered by the shape of the question and facts (reasoner/shapes.py),
     for rulebooks whose answers keep under renaming road users (`Shaper.keeps_proofs`, checked on
-    the rules): a run's decisions are a few questions asked by thousands of vehicles."""
+    the rules): a run's decisions are a few questions asked by thousands of vehicles. And, before
+    any parsing, by the very sentences: the answer depends on the rulebook and the sentences
+    alone (each parsed the same way every time), and a vehicle asks the same question on the
+    same view again and again (at every green light on its way), so such a repeat costs a
+    look-up instead of parsing and shaping its facts."""
 
     LIMIT = 100_000
 
     def __init__(self) -> None:
         self._shapers: dict[str, Shaper] = {}
         self._found: dict[tuple, bool] = {}
+        self._said: dict[tuple, bool | None] = {}
+
+    def permitted(self, engine: Engine, reader: FactReader, rb: Rulebook, decision: RecordedDecision) -> bool | None:
+        """The decision's goal asked of the rulebook on its Vehicle Scenario, as `ask` answers it
+        without proofs (None: the goal is no sentence of the rulebook)."""
+        key = (rb.sha256, decision.goal, *(text for text, _ in decision.facts))
+        try:
+            return self._said[key]
+        except KeyError:
+            pass
+        except TypeError:       # a recorded "sentence" that is no text (a list, an object): not remembered
+            key = None
+        goal = reader.atom(rb, decision.goal)
+        found = None if goal is None else self.holds(engine, rb, goal, reader.atoms(rb, list(decision.facts), []))
+        if key is not None:
+            if len(self._said) >= self.LIMIT:
+                self._said.clear()
+            self._said[key] = found
+        return found
 
     def holds(self, engine: Engine, rb: Rulebook, goal: Any, facts: list) -> bool:
         shaper = self._shapers.get(rb.sha256)
@@ -133,12 +156,14 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
     if choice is None or not isinstance(decision.goal, str):
         return Asked(None if choice is None else choice.rulebook, None)
     rb = choice.rulebook
+    if not proofs and shapes is not None:
+        return Asked(rb, shapes.permitted(engine, reader, rb, decision))
     goal = reader.atom(rb, decision.goal)
     if goal is None:
         return Asked(rb, None)
     facts = reader.atoms(rb, list(decision.facts), [])
     if not proofs:
-        return Asked(rb, shapes.holds(engine, rb, goal, facts) if shapes else engine.holds(rb, goal, facts))
+        return Asked(rb, engine.holds(rb, goal, facts))
     answer = engine.ask(rb, goal, facts)
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
     return Asked(rb, answer.holds, Trees(rb.sha256, tuple(trees)))

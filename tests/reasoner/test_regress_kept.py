@@ -172,6 +172,30 @@ def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
     assert 0 < len(calls) <= len(decisions) // 3          # each shape asked once, the repeats not at all
 
 
+def test_a_decision_asked_again_in_the_same_words_is_neither_parsed_nor_shaped(db, monkeypatch):
+    """The answer remembered by the sentences themselves: a repeat costs a look-up. A sentence
+    that is not text (a producer's list) is asked, never remembered."""
+    from dataclasses import replace
+    from reasoner.engine import get_engine
+    from reasoner.facts import FactReader
+    from reasoner.stages import RuleSet, current_rulebooks
+    engine, reader, shapes = get_engine(), FactReader(), regress_decisions.Shapes()
+    rs = RuleSet(engine, [], [], current_rulebooks(engine))
+    with Store.open_read_only(db) as store:
+        decisions = list(regress_decisions.recorded_decisions(store, R.RUN))
+    odd = replace(decisions[0], facts=(*decisions[0].facts, (["not", "a", "sentence"], decisions[0].facts[0][1])))
+    decisions += [odd, odd]
+    one_by_one = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d) for d in decisions]
+    shaped = []
+    shape = regress_decisions.Shaper.shape
+    monkeypatch.setattr(regress_decisions.Shaper, "shape", lambda self, *a, **k: shaped.append(1) or shape(self, *a, **k))
+    again = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d, shapes=shapes)
+             for d in decisions * 3]
+    assert again == one_by_one * 3
+    distinct = {(d.goal, *(text for text, _ in d.facts)) for d in decisions[:-2]}
+    assert len(shaped) == len(distinct) + 2 * 3          # each wording shaped once; the odd one every time
+
+
 def test_a_regression_collects_once_for_both_sides(db, new_rules, monkeypatch):
     import gc
     full = []
