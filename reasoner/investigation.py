@@ -135,7 +135,7 @@ class Investigation:
         self.kept = kept
         self.verdicts = verdicts and kept
         self.proofs = proofs or self.verdicts
-        self._unproved: dict[tuple[str, str], tuple[_Case, Gaps]] = {}
+        self._unproved: dict[tuple, tuple[_Case, Gaps]] = {}     # by _named(incident)
         self._answered: dict[tuple[str, str], Any] = {}     # stage answers of unkept cases (`proved` asks again)
         self.engine = engine or get_engine()
         self.reader = reader or FactReader()
@@ -213,7 +213,7 @@ class Investigation:
         case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
         incident = self._judge(case, gaps, self.proofs)
         if incident is not None and not self.proofs:
-            self._unproved[(run, incident.id)] = (case, gaps)
+            self._unproved[_named(incident)] = (case, gaps)
         return incident
 
     def proved(self, incident: Incident | None) -> Incident | None:
@@ -221,7 +221,7 @@ class Investigation:
         them out (`proofs` False); the same incident otherwise."""
         if incident is None or self.proofs:
             return incident
-        found = self._unproved.get((incident.run, incident.id))
+        found = self._unproved.get(_named(incident))
         return incident if found is None else self._judge(*found, True)
 
     def _todo(self, run: str, rs: RuleSet, recorded: list[dict]) -> list[tuple]:
@@ -779,6 +779,11 @@ def _case_unkept(item: list, recorded: dict[tuple[str, int], dict]) -> tuple | N
     if ref and pv is None:
         return None
     return (t, src, pv, Episode(ep[0], ep[1], ep[2], ep[3]) if ep else None)
+
+
+def _named(incident: Incident) -> tuple:
+    """What tells an incident from the run's others (two acts of one observation share its id)."""
+    return (incident.run, incident.id, incident.vehicle, incident.action, incident.t)
 
 
 def _anchor_key(pv: dict | None, episode: Episode | None) -> str:

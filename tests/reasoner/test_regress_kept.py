@@ -188,7 +188,8 @@ def test_a_decision_asked_again_in_the_same_words_is_neither_parsed_nor_shaped(d
     one_by_one = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d) for d in decisions]
     shaped = []
     shape = regress_decisions.Shaper.shape
-    monkeypatch.setattr(regress_decisions.Shaper, "shape", lambda self, *a, **k: shaped.append(1) or shape(self, *a, **k))
+    monkeypatch.setattr(regress_decisions.Shaper, "shape",
+                        lambda self, *a, **k: shaped.append(1) or shape(self, *a, **k))
     again = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d, shapes=shapes)
              for d in decisions * 3]
     assert again == one_by_one * 3
