@@ -24,9 +24,10 @@ from store import EventRef, Store
 from .case_memo import CaseMemo, key_of
 from .engine import Engine, Rulebook
 from .facts import FactReader
+from .le.terms import Atom
 from .regress_reasons import Trees
 from .scenarios import Scenario, spawn_facts, vehicle_id
-from .shapes import Shaper
+from .shapes import Plan, Shaper
 from .stages import Choice, RuleSet
 
 KINDS = ("entity.spawn", "vehicle.perception", "vehicle.decision")
@@ -106,12 +107,15 @@ class Shapes:
     any parsing, by the very sentences: the answer depends on the rulebook and the sentences
     alone (each parsed the same way every time), and a vehicle asks the same question on the
     same view again and again (at every green light on its way), so such a repeat costs a
-    look-up instead of parsing and shaping its facts."""
+    look-up instead of parsing and shaping its facts. What shaping needs of a sentence (its
+    parse, the places a shape renames) is kept by its text: a vehicle's sentences come back in
+    each of its decisions."""
 
     LIMIT = 100_000
 
     def __init__(self) -> None:
         self._shapers: dict[str, Shaper] = {}
+        self._plans: dict[str, dict[str, Plan | bool]] = {}     # rulebook -> sentence -> plan (False: unread)
         self._found: dict[tuple, bool] = {}
         self._said: dict[tuple, bool | None] = {}
 
@@ -125,28 +129,52 @@ class Shapes:
             pass
         except TypeError:       # a recorded "sentence" that is no text (a list, an object): not remembered
             key = None
-        goal = reader.atom(rb, decision.goal)
-        found = None if goal is None else self.holds(engine, rb, goal, reader.atoms(rb, list(decision.facts), []))
+        found = self._asked(engine, reader, rb, decision)
         if key is not None:
             if len(self._said) >= self.LIMIT:
                 self._said.clear()
             self._said[key] = found
         return found
 
-    def holds(self, engine: Engine, rb: Rulebook, goal: Any, facts: list) -> bool:
+    def _asked(self, engine: Engine, reader: FactReader, rb: Rulebook, decision: RecordedDecision) -> bool | None:
+        goal = reader.atom(rb, decision.goal)
+        if goal is None:
+            return None
         shaper = self._shapers.get(rb.sha256)
         if shaper is None:
             shaper = self._shapers[rb.sha256] = Shaper(rb)
-        shaped = shaper.shape([goal, *facts]) if shaper.keeps_proofs else None
+        shaped = self._shape(reader, shaper, rb, [decision.goal, *(text for text, _ in decision.facts)]) \
+            if shaper.keeps_proofs else None
         if shaped is None:
-            return engine.holds(rb, goal, facts)
-        key = (rb.sha256, *shaped[0])
+            return engine.holds(rb, goal, reader.atoms(rb, list(decision.facts), []))
+        key = (rb.sha256, *shaped)
         found = self._found.get(key)
         if found is None:
             if len(self._found) >= self.LIMIT:
                 self._found.clear()
-            found = self._found[key] = engine.holds(rb, shaped[0][0], list(shaped[0][1:]))
+            atoms = [Atom(functor, args) for functor, args in shaped]
+            found = self._found[key] = engine.holds(rb, atoms[0], atoms[1:])
         return found
+
+    def _shape(self, reader: FactReader, shaper: Shaper, rb: Rulebook, texts: list) -> tuple | None:
+        """The sentences' shape (Shaper.renamed of each one's plan; a sentence the rulebook
+        cannot read is left out, as `FactReader.atoms` leaves it out), or None."""
+        plans = self._plans.get(rb.sha256)
+        if plans is None or len(plans) >= self.LIMIT:
+            plans = self._plans[rb.sha256] = {}
+        planned = []
+        for text in texts:
+            if type(text) is not str:
+                continue                # no sentence: FactReader.atom reads none
+            plan = plans.get(text)
+            if plan is None:
+                atom = reader.atom(rb, text)
+                plan = plans[text] = False if atom is None else (shaper.plan(atom) or True)
+            if plan is True:
+                return None             # a sentence no shape can be made of
+            if plan is not False:
+                planned.append(plan)
+        return shaper.renamed(planned)
 
 
 def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: RecordedDecision,

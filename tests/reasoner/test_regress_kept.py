@@ -174,7 +174,8 @@ def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
 
 def test_a_decision_asked_again_in_the_same_words_is_neither_parsed_nor_shaped(db, monkeypatch):
     """The answer remembered by the sentences themselves: a repeat costs a look-up. A sentence
-    that is not text (a producer's list) is asked, never remembered."""
+    that is not text (a producer's list) is asked, never remembered. What shaping needs of a
+    sentence is worked out once, however many decisions hold it."""
     from dataclasses import replace
     from reasoner.engine import get_engine
     from reasoner.facts import FactReader
@@ -186,14 +187,17 @@ def test_a_decision_asked_again_in_the_same_words_is_neither_parsed_nor_shaped(d
     odd = replace(decisions[0], facts=(*decisions[0].facts, (["not", "a", "sentence"], decisions[0].facts[0][1])))
     decisions += [odd, odd]
     one_by_one = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d) for d in decisions]
-    shaped = []
-    shape = regress_decisions.Shaper.shape
-    monkeypatch.setattr(regress_decisions.Shaper, "shape",
-                        lambda self, *a, **k: shaped.append(1) or shape(self, *a, **k))
+    shaped, planned = [], []
+    asked, plan = regress_decisions.Shapes._asked, regress_decisions.Shaper.plan
+    monkeypatch.setattr(regress_decisions.Shapes, "_asked",
+                        lambda self, *a: shaped.append(1) or asked(self, *a))
+    monkeypatch.setattr(regress_decisions.Shaper, "plan", lambda self, atom: planned.append(atom) or plan(self, atom))
     again = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d, shapes=shapes)
              for d in decisions * 3]
     assert again == one_by_one * 3
     distinct = {(d.goal, *(text for text, _ in d.facts)) for d in decisions[:-2]}
+    sentences = {text for d in decisions for text in (d.goal, *(t for t, _ in d.facts)) if isinstance(text, str)}
+    assert len(planned) == len(set(planned)) <= len(sentences)     # each sentence planned once, whoever says it
     assert len(shaped) == len(distinct) + 2 * 3          # each wording shaped once; the odd one every time
 
 
