@@ -105,9 +105,9 @@ class Shapes:
     for rulebooks whose answers keep under renaming road users (`Shaper.keeps_proofs`, checked on
     the rules): a run's decisions are a few questions asked by thousands of vehicles. And, before
     any parsing, by the very sentences: the answer depends on the rulebook and the sentences
-    alone (each parsed the same way every time), and a vehicle asks the same question on the
-    same view again and again (at every green light on its way), so such a repeat costs a
-    look-up instead of parsing and shaping its facts. What shaping needs of a sentence (its
+    alone (each parsed the same way every time), and a vehicle may ask the same question on
+    the same view again (town-4m: 70 of its 873 decisions), so such a repeat costs a look-up
+    instead of parsing and shaping its facts. What shaping needs of a sentence (its
     parse, the places a shape renames) is kept by its text: a vehicle's sentences come back in
     each of its decisions."""
 
