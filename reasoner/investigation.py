@@ -117,17 +117,26 @@ class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
-                 kept: bool = True, verdicts: bool = False, reader: FactReader | None = None) -> None:
+                 kept: bool = True, verdicts: bool = False, reader: FactReader | None = None,
+                 proofs: bool = True) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
         this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
         `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
         incident, and the next such investigation of the same chain reads it instead of judging
         it (`gaps incidents`, a regression's baseline); off, every case is judged again (the
         benchmark of judging, tests of it). `reader`: a fact reader shared with other askers of
-        the same rulebooks (a regression's decisions), so that a sentence is parsed once."""
+        the same rulebooks (a regression's decisions), so that a sentence is parsed once.
+        `proofs` False: an incident's proofs of the potential violation and of the verdict are
+        left empty (the verdict asked plainly), and `proved` works them out for an incident
+        that shows them: a regression's new side shows the proofs of its changed incidents
+        only (on the hour 214 of 1,760), and the proof search and its trees were most of
+        judging the others. Such incidents are never kept (only the judgement in force is)."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
+        self.proofs = proofs or self.verdicts
+        self._unproved: dict[tuple, tuple[_Case, Gaps]] = {}     # by _named(incident)
+        self._answered: dict[tuple[str, str], Any] = {}     # stage answers of unkept cases (`proved` asks again)
         self.engine = engine or get_engine()
         self.reader = reader or FactReader()
         self._given = given_rulebooks(self.engine, rules or [])
@@ -201,8 +210,19 @@ class Investigation:
         body = pv["body"] if pv else {}
         vehicle = str(body.get("vehicle")) if pv else ep.vehicle
         state = self._state(run, t, vehicle, src)
-        return self._judge(_Case(run, rs, state, t, src, pv, ep, vehicle,
-                                 str(body.get("action")) if pv else ep.action), gaps)
+        case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
+        incident = self._judge(case, gaps, self.proofs)
+        if incident is not None and not self.proofs:
+            self._unproved[_named(incident)] = (case, gaps)
+        return incident
+
+    def proved(self, incident: Incident | None) -> Incident | None:
+        """The incident with its proofs: judged again with them where this investigation left
+        them out (`proofs` False); the same incident otherwise."""
+        if incident is None or self.proofs:
+            return incident
+        found = self._unproved.get(_named(incident))
+        return incident if found is None else self._judge(*found, True)
 
     def _todo(self, run: str, rs: RuleSet, recorded: list[dict]) -> list[tuple]:
         """The cases to judge, in time order: the recorded potential violations, the episodes the
@@ -314,9 +334,11 @@ class Investigation:
         return explain(self, incident, list(why_not), counterfactuals)
 
     # -- one incident ---------------------------------------------------------------------
-    def _judge(self, case: _Case, gaps: Gaps) -> Incident | None:
+    def _judge(self, case: _Case, gaps: Gaps, proofs: bool = True) -> Incident | None:
         """The incident; None for a potential violation nobody recorded that the observations
-        suggested but the whole record (the measurements at the act) does not show."""
+        suggested but the whole record (the measurements at the act) does not show. `proofs`
+        False: the stages' proofs left empty (the verdict's rule is then the monitor's; where
+        the monitor's proof names none, the validator's proof is worked out for its rule)."""
         unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
@@ -332,7 +354,7 @@ class Investigation:
             validation = _Validation("dismissed", _unsupported(mscen, bool(measured.derived)))
         else:
             validation = self._validate(case, judged_on, vscen, mscen, unknown,
-                                        frozenset(f.sentence for f in measured.derived))
+                                        frozenset(f.sentence for f in measured.derived), proofs or rule is None)
         action = vehicle_action(case.state, case.vehicle)
         control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
         fault = self._decision_fault(case, action, vscen, unknown)
@@ -355,7 +377,7 @@ class Investigation:
             evidence=_evidence(case, mscen, vscen, action, control, findings, measured), judged_on=judged_on,
             rulebook=validation.rulebook, rulebooks=_choices(case.rs),
             scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
-            proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen), validation.proof),
+            proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
@@ -432,11 +454,15 @@ class Investigation:
         the judgement in force keeps them (what a new rulebook answers is worked out each time)."""
         memo, key = self.memo(case.run), key_of(kind, question)
         found = memo.get(kind, key, counted=False)
+        if found is None and not self.proofs:
+            found = self._answered.get((kind, key))     # asked by this investigation (before `proved`)
         if found is not None:
             return found
         found = compute()
         if self.keeps_verdicts(case.run, case.rs):
             memo.put(kind, key, found)
+        elif not self.proofs:
+            self._answered[(kind, key)] = found
         return found
 
     def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any, unknown: list[Finding],
@@ -456,7 +482,9 @@ class Investigation:
         return answer, rule
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
-                  unknown: list[Finding], derived: frozenset[str] = frozenset()) -> _Validation:
+                  unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True) -> _Validation:
+        """The verdict on the Validator Scenario, with its proof (`proofs` False: asked plainly,
+        the proof left empty and no rule found)."""
         choice = case.rs["validator"]
         if choice is None:
             return _Validation("dismissed", "no rulebook defines punishable and mitigated violations")
@@ -465,7 +493,7 @@ class Investigation:
         seen = self.reader.pairs(rb, mscen.facts, unknown)
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
         facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
-        verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=True)
+        verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=proofs)
         rendered = tuple((rb.render(a), ev) for a, ev in facts)
         evidence = dict(rendered)
         proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
@@ -703,10 +731,13 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool)
                    (EventRef.of(event), *(ev for _, ev in mscen.facts[:1])))
 
 
-def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario) -> StageProof:
+def _proofs(answer: Answer | None, choice: Choice | None, scenario: Scenario, trees: bool = True) -> StageProof:
+    """The monitor stage's proof (`trees` False: its rulebook alone, the trees left out)."""
     if answer is None or choice is None:
         return StageProof(None, ())
     rb = choice.rulebook
+    if not trees:
+        return StageProof(rb.sha256, ())
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
     return StageProof(rb.sha256, tuple(enrich(tree, rb, scenario.evidence) for tree in trees))
 
@@ -748,6 +779,11 @@ def _case_unkept(item: list, recorded: dict[tuple[str, int], dict]) -> tuple | N
     if ref and pv is None:
         return None
     return (t, src, pv, Episode(ep[0], ep[1], ep[2], ep[3]) if ep else None)
+
+
+def _named(incident: Incident) -> tuple:
+    """What tells an incident from the run's others (two acts of one observation share its id)."""
+    return (incident.run, incident.id, incident.vehicle, incident.action, incident.t)
 
 
 def _anchor_key(pv: dict | None, episode: Episode | None) -> str:

@@ -30,8 +30,8 @@ from .le.sentences import constant
 from .le.terms import Cond, Var
 from .model import Incident
 from .regress_books import GivenBooks, RegressError, load_given
-from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, decisions_seen,
-                                keep_decisions, kept_decisions, recorded_decisions, vehicle_choice)
+from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, keep_decisions,
+                                kept_decisions, recorded_decisions, vehicle_choice)
 from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
 from .regress_match import match
 from .regress_reasons import Trees, attribute, reasons, used_rules
@@ -195,8 +195,9 @@ def _with_stages(d: RulebookDiff, stages: Iterable[str]) -> RulebookDiff:
 
 
 def chosen_runs(store: Store, runs: Sequence[str] | None) -> list[str]:
-    """The runs asked for (each must be in the store, NoSuchRun), else every run."""
-    known = [r.run for r in store.runs()]
+    """The runs asked for (each must be in the store, NoSuchRun), else every run. By name alone:
+    a run's summary counts its events (on the hour, a scan of 11 million index entries)."""
+    known = store.run_names()
     if runs is None:
         if not known:
             raise RegressError("the store holds no run to regress")
@@ -214,15 +215,16 @@ class Regressor:
     def __init__(self, store: Store, engine: Engine, new: GivenBooks, old: GivenBooks | None, *,
                  kept: bool = True) -> None:
         """`kept` False: nothing read from or written to the cache (every case measured and
-        judged, every decision asked, none answered by its shape): the plain path the kept one
-        must agree with."""
+        judged with its proofs, every decision asked, none answered by its shape): the plain
+        path the kept one must agree with."""
         self.engine = engine
         self.store = store
         self.reader = FactReader()
         self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
         self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True)   # in force: kept
-        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader)
+        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
+                                   proofs=not kept)     # proofs worked out for the changed incidents only
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
@@ -270,12 +272,12 @@ class Regressor:
     def _incident_changes(self, b: Incident | None, n: Incident | None, diffs: Diffs) -> list[Change]:
         if b is None or n is None:
             kind = "new" if b is None else "gone"
-            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, n), diffs)]
+            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, self.after.proved(n)), diffs)]
         if b.verdict != n.verdict:
-            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, n), diffs)]
+            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, self.after.proved(n)), diffs)]
         out = []
         if b.rule != n.rule:
-            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, n), diffs))
+            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, self.after.proved(n)), diffs))
         if _penalty(b) != _penalty(n):
             out.append(self._because("penalty", _penalty_text(b), _penalty_text(n),
                                      [*self._penalty_trees(b, self.before), *self._penalty_trees(n, self.after)],
@@ -310,17 +312,17 @@ class Regressor:
     # -- decisions -------------------------------------------------------------------------
     def _decisions(self, run: str, rs_b: RuleSet, rs_n: RuleSet) -> tuple[CaseResult, ...]:
         """Every recorded decision under both sides: from the baseline's kept answers where no
-        decision's vehicle-stage rulebook differs between the sides, else each asked again (and
-        the baseline's answers kept, when it is the judgement in force)."""
+        decision's vehicle-stage rulebook differs between the sides, else each asked again, on
+        its kept Vehicle Scenario where the baseline kept it (and the baseline's answers kept,
+        when it is the judgement in force)."""
         keeps = self.before.keeps_verdicts(run, rs_b)
         kept = kept_decisions(self.before.memo(run)) if keeps else None
         if kept is not None and all(_unchanged(k, rs_b, rs_n) for k in kept):
             return tuple(_kept_case(k) for k in kept)
-        answers = {(k.decision.src, k.decision.seq): (k.rulebook, k.permitted) for k in kept or ()}
-        read = decisions_seen(self.store, run, {key: k.decision.seen for key, k in zip(answers, kept)}) \
-            if kept is not None else None
-        judged = [self._decision(d, rs_b, rs_n, answers.get((d.src, d.seq)))
-                  for d in (recorded_decisions(self.store, run) if read is None else read)]
+        if kept is None:
+            judged = [self._decision(d, rs_b, rs_n) for d in recorded_decisions(self.store, run)]
+        else:
+            judged = [self._decision(k.decision, rs_b, rs_n, (k.rulebook, k.permitted)) for k in kept]
         if keeps and kept is None:
             memo = self.before.memo(run)
             keep_decisions(memo, [(d, before) for d, _, before in judged])

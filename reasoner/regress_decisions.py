@@ -9,8 +9,10 @@ went through. The events are read once per run, in (t, seq, src) order, three ki
 
 The baseline's answers under the rulebooks in force are kept with the run's measurements
 (reasoner/case_memo.py: sealed, under the chain and the code), each with the sha256 of the rulebook
-that gave it: a later regression whose new rules ask a decision of the same vehicle-stage rulebook
-(the decision cannot change) takes the kept answer without reading the run's perceptions again.
+that gave it and the decision itself with its Vehicle Scenario (the sentences and the events they
+cite): a later regression takes the kept answer where it asks the same vehicle-stage rulebook, and
+asks its new rulebook on the kept scenario, reading nothing of the run again (on the hour, reading
+the decisions and each one's perception by its key was a quarter of a warm regression).
 """
 from __future__ import annotations
 
@@ -22,9 +24,10 @@ from store import EventRef, Store
 from .case_memo import CaseMemo, key_of
 from .engine import Engine, Rulebook
 from .facts import FactReader
+from .le.terms import Atom
 from .regress_reasons import Trees
 from .scenarios import Scenario, spawn_facts, vehicle_id
-from .shapes import Shaper
+from .shapes import Plan, Shaper
 from .stages import Choice, RuleSet
 
 KINDS = ("entity.spawn", "vehicle.perception", "vehicle.decision")
@@ -45,7 +48,6 @@ class RecordedDecision:
     proceeds: Any
     rulebook: Any                       # the sha256 it says it decided with
     facts: tuple[tuple[Any, EventRef], ...]
-    seen: int | None = None             # the seq of the perception its scenario holds (same src)
 
     @property
     def id(self) -> str:
@@ -75,29 +77,6 @@ def recorded_decisions(store: Store, run: str) -> Iterator[RecordedDecision]:
             yield _decision(run, event, spawns.get(src), seen.get(src))
 
 
-def decisions_seen(store: Store, run: str, seen: dict[tuple[str, int], int | None]) -> list[RecordedDecision] | None:
-    """recorded_decisions, given the perception each decision's scenario held (kept by an
-    earlier read of the same chain): the spawns and decisions through the index by kind, those
-    perceptions by their keys, instead of every perception of the run (a dense kind: read by
-    time, past every state). None when a decision or perception is not the one kept."""
-    wanted = {(src, seq) for (src, _), seq in seen.items() if seq is not None}
-    perceptions = store.events_at(run, wanted)
-    if len(perceptions) != len(wanted) or any(e["kind"] != "vehicle.perception" for e in perceptions.values()):
-        return None
-    spawns: dict[str, dict] = {}
-    out = []
-    for event in store.events(run, kinds=("entity.spawn", "vehicle.decision")):
-        src = event["src"]
-        if event["kind"] == "entity.spawn":
-            spawns[src] = event
-            continue
-        if (src, event["seq"]) not in seen:
-            return None
-        at = seen[(src, event["seq"])]
-        out.append(_decision(run, event, spawns.get(src), None if at is None else perceptions[(src, at)]))
-    return out if len(out) == len(seen) else None
-
-
 def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None) -> RecordedDecision:
     vehicle = vehicle_id(event["src"])
     scenario = Scenario()
@@ -108,7 +87,7 @@ def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None
     body = event["body"]
     return RecordedDecision(run, event["src"], event["seq"], event["t"], vehicle, body.get("goal"),
                             body.get("action"), body.get("permitted"), body.get("proceeds"), body.get("rulebook"),
-                            tuple(scenario.facts), None if perception is None else perception["seq"])
+                            tuple(scenario.facts))
 
 
 def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
@@ -124,28 +103,78 @@ def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
 class Shapes:
     """Yes-or-no answers remembered by the shape of the question and facts (reasoner/shapes.py),
     for rulebooks whose answers keep under renaming road users (`Shaper.keeps_proofs`, checked on
-    the rules): a run's decisions are a few questions asked by thousands of vehicles."""
+    the rules): a run's decisions are a few questions asked by thousands of vehicles. And, before
+    any parsing, by the very sentences: the answer depends on the rulebook and the sentences
+    alone (each parsed the same way every time), and a vehicle may ask the same question on
+    the same view again (town-4m: 70 of its 873 decisions), so such a repeat costs a look-up
+    instead of parsing and shaping its facts. What shaping needs of a sentence (its
+    parse, the places a shape renames) is kept by its text: a vehicle's sentences come back in
+    each of its decisions."""
 
     LIMIT = 100_000
 
     def __init__(self) -> None:
         self._shapers: dict[str, Shaper] = {}
+        self._plans: dict[str, dict[str, Plan | bool]] = {}     # rulebook -> sentence -> plan (False: unread)
         self._found: dict[tuple, bool] = {}
+        self._said: dict[tuple, bool | None] = {}
 
-    def holds(self, engine: Engine, rb: Rulebook, goal: Any, facts: list) -> bool:
+    def permitted(self, engine: Engine, reader: FactReader, rb: Rulebook, decision: RecordedDecision) -> bool | None:
+        """The decision's goal asked of the rulebook on its Vehicle Scenario, as `ask` answers it
+        without proofs (None: the goal is no sentence of the rulebook)."""
+        key = (rb.sha256, decision.goal, *(text for text, _ in decision.facts))
+        try:
+            return self._said[key]
+        except KeyError:
+            pass
+        except TypeError:       # a recorded "sentence" that is no text (a list, an object): not remembered
+            key = None
+        found = self._asked(engine, reader, rb, decision)
+        if key is not None:
+            if len(self._said) >= self.LIMIT:
+                self._said.clear()
+            self._said[key] = found
+        return found
+
+    def _asked(self, engine: Engine, reader: FactReader, rb: Rulebook, decision: RecordedDecision) -> bool | None:
+        goal = reader.atom(rb, decision.goal)
+        if goal is None:
+            return None
         shaper = self._shapers.get(rb.sha256)
         if shaper is None:
             shaper = self._shapers[rb.sha256] = Shaper(rb)
-        shaped = shaper.shape([goal, *facts]) if shaper.keeps_proofs else None
+        shaped = self._shape(reader, shaper, rb, [decision.goal, *(text for text, _ in decision.facts)]) \
+            if shaper.keeps_proofs else None
         if shaped is None:
-            return engine.holds(rb, goal, facts)
-        key = (rb.sha256, *shaped[0])
+            return engine.holds(rb, goal, reader.atoms(rb, list(decision.facts), []))
+        key = (rb.sha256, *shaped)
         found = self._found.get(key)
         if found is None:
             if len(self._found) >= self.LIMIT:
                 self._found.clear()
-            found = self._found[key] = engine.holds(rb, shaped[0][0], list(shaped[0][1:]))
+            atoms = [Atom(functor, args) for functor, args in shaped]
+            found = self._found[key] = engine.holds(rb, atoms[0], atoms[1:])
         return found
+
+    def _shape(self, reader: FactReader, shaper: Shaper, rb: Rulebook, texts: list) -> tuple | None:
+        """The sentences' shape (Shaper.renamed of each one's plan; a sentence the rulebook
+        cannot read is left out, as `FactReader.atoms` leaves it out), or None."""
+        plans = self._plans.get(rb.sha256)
+        if plans is None or len(plans) >= self.LIMIT:
+            plans = self._plans[rb.sha256] = {}
+        planned = []
+        for text in texts:
+            if type(text) is not str:
+                continue                # no sentence: FactReader.atom reads none
+            plan = plans.get(text)
+            if plan is None:
+                atom = reader.atom(rb, text)
+                plan = plans[text] = False if atom is None else (shaper.plan(atom) or True)
+            if plan is True:
+                return None             # a sentence no shape can be made of
+            if plan is not False:
+                planned.append(plan)
+        return shaper.renamed(planned)
 
 
 def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: RecordedDecision,
@@ -155,18 +184,20 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
     if choice is None or not isinstance(decision.goal, str):
         return Asked(None if choice is None else choice.rulebook, None)
     rb = choice.rulebook
+    if not proofs and shapes is not None:
+        return Asked(rb, shapes.permitted(engine, reader, rb, decision))
     goal = reader.atom(rb, decision.goal)
     if goal is None:
         return Asked(rb, None)
     facts = reader.atoms(rb, list(decision.facts), [])
     if not proofs:
-        return Asked(rb, shapes.holds(engine, rb, goal, facts) if shapes else engine.holds(rb, goal, facts))
+        return Asked(rb, engine.holds(rb, goal, facts))
     answer = engine.ask(rb, goal, facts)
     trees = answer.proofs[:1] or ([answer.why_not] if answer.why_not else [])
     return Asked(rb, answer.holds, Trees(rb.sha256, tuple(trees)))
 
 
-KEPT_CHUNK = 5_000                      # decisions per kept entry (an entry is at most 4 MB)
+KEPT_CHUNK = 2_000                      # decisions per kept entry (an entry is at most 4 MB)
 
 
 @dataclass(frozen=True)
@@ -174,7 +205,7 @@ class KeptDecision:
     """A decision as kept: what names and chooses it, and the baseline's answer with the rulebook
     that gave it (None: none was asked)."""
 
-    decision: RecordedDecision          # without its facts: it is not asked again
+    decision: RecordedDecision          # with its Vehicle Scenario, to be asked of a new rulebook
     rulebook: str | None
     permitted: bool | None
 
@@ -190,16 +221,34 @@ def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
         if chunk is None:
             return None
         out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
-                                              rulebook, (), seen), sha, answer)
-                for src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, seen, sha, answer in chunk]
+                                              rulebook, _unkept_facts(memo.run, refs, facts)), sha, answer)
+                for src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, facts, sha, answer
+                in chunk]
     return out
 
 
 def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) -> None:
     """Keep the baseline's answers (written with the memo's other fresh entries, at its save)."""
-    rows = [[d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook, d.seen,
-             a.rulebook.sha256 if a.rulebook is not None else None, a.permitted] for d, a in asked]
+    rows = [[d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook,
+             *_kept_facts(d.facts), a.rulebook.sha256 if a.rulebook is not None else None, a.permitted]
+            for d, a in asked]
     chunks = [rows[i:i + KEPT_CHUNK] for i in range(0, len(rows), KEPT_CHUNK)]
     for n, chunk in enumerate(chunks):
         memo.put("decisions", key_of("decisions", n), chunk, plain=True)
     memo.put("decisions", key_of("decisions"), len(chunks), plain=True)
+
+
+def _kept_facts(facts: tuple[tuple[Any, EventRef], ...]) -> tuple[list, list]:
+    """A Vehicle Scenario as plain data: the events it cites, once each ([src, seq, t, kind]),
+    and each sentence with the place of its event among them (a decision's facts cite two
+    events, its spawn and its perception)."""
+    refs: dict[EventRef, int] = {}
+    for _, ref in facts:
+        refs.setdefault(ref, len(refs))
+    return [[r.src, r.seq, r.t, r.kind] for r in refs], [[text, refs[ref]] for text, ref in facts]
+
+
+def _unkept_facts(run: str, refs: list, facts: list) -> tuple[tuple[Any, EventRef], ...]:
+    """The Vehicle Scenario `_kept_facts` gave."""
+    cited = [EventRef(run, src, seq, t, kind) for src, seq, t, kind in refs]
+    return tuple((text, cited[n]) for text, n in facts)

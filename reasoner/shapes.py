@@ -32,6 +32,8 @@ from .le.builtins import BUILTIN_FUNCTORS
 from .le.templates import Slot
 from .le.terms import Atom, Cond, Var
 
+Plan = tuple[str, tuple, tuple[int, ...]] | None
+"""An atom's functor, arguments and the places a shape renames (Shaper.plan)."""
 ENTITY_SLOTS = frozenset({"vehicle", "road_user", "person", "pedestrian", "cyclist", "entity", "other_entity"})
 """Slot types (as the LE parser names them: words joined by "_") whose values are road users."""
 _STAND_IN = "\x00road user {}"   # no sentence a producer writes parses to one (checked all the same)
@@ -68,23 +70,49 @@ class Shaper:
         names: dict = {}
         if first is not None and self._renamable(first):
             names[first] = _STAND_IN.format(0)
+        plans = [self.plan(atom) for atom in atoms]
+        shaped = self.renamed(plans, names)
+        if shaped is None:
+            return None
+        return tuple(Atom(functor, args) for functor, args in shaped), names
+
+    def plan(self, atom: Atom) -> Plan:
+        """What shaping needs of one atom: its functor, its arguments and the places of those a
+        shape renames; None where no shape can be made of it (a value that is not a plain
+        constant, or one equal to a stand-in). A caller meeting the same atoms again keeps it."""
+        places = self._places.get((atom.functor, len(atom.args)), ())
+        renamed = []
+        for i, arg in enumerate(atom.args):
+            kind = type(arg)
+            if kind is str and arg.startswith("\x00"):
+                return None
+            if kind not in (str, int, float):
+                return None
+            if i in places and kind is not float and self._renamable(arg):
+                renamed.append(i)
+        return atom.functor, atom.args, tuple(renamed)
+
+    @staticmethod
+    def renamed(plans: Iterable[Plan], names: dict | None = None) -> tuple[tuple[str, tuple], ...] | None:
+        """Each planned atom as (functor, arguments) with its road users renamed, in order of
+        appearance, through `names` (filled in); None where a plan is None. Plain tuples: a key
+        made of them is hashed without a call per atom."""
+        names = {} if names is None else names
         out = []
-        for atom in atoms:
-            places = self._places.get((atom.functor, len(atom.args)), ())
-            args = list(atom.args)
-            for i, arg in enumerate(args):
-                kind = type(arg)
-                if kind is str and arg.startswith("\x00"):
-                    return None
-                if kind not in (str, int, float):
-                    return None
-                if i in places and kind is not float and self._renamable(arg):
-                    new = names.get(arg)
+        for plan in plans:
+            if plan is None:
+                return None
+            functor, args, renamed = plan
+            if renamed:
+                args = list(args)
+                for i in renamed:
+                    new = names.get(args[i])
                     if new is None:
-                        new = names[arg] = _STAND_IN.format(len(names))
+                        new = names[args[i]] = _STAND_IN.format(len(names))
                     args[i] = new
-            out.append(Atom(atom.functor, tuple(args)) if places else atom)
-        return tuple(out), names
+                args = tuple(args)
+            out.append((functor, args))
+        return tuple(out)
 
     def _renamable(self, value: Any) -> bool:
         return type(value) in (str, int) and value not in self._mentioned

@@ -186,7 +186,8 @@ def test_cases_the_monitor_rulebook_does_not_raise_are_not_judged_again_under_it
     db, run = _stored(tmp_path, "lawful stop")   # stationary at the line, then away: swept, not raised
     judged = []
     judge = Investigation._judge
-    monkeypatch.setattr(Investigation, "_judge", lambda self, case, gaps: judged.append(case.t) or judge(self, case, gaps))
+    monkeypatch.setattr(Investigation, "_judge",
+                        lambda self, case, gaps, *proofs: judged.append(case.t) or judge(self, case, gaps, *proofs))
     first, _ = _judged(db, run)
     assert len(judged) > len(first)               # some swept cases were judged and raised nothing
     judged.clear()

@@ -1,7 +1,7 @@
 """A regression from what earlier ones kept (reasoner/investigation.py `verdicts`,
 reasoner/regress_decisions.py): the baseline's incidents and decision answers under the rulebooks in
-force are read, not judged or asked again, and a decision's perception is fetched by its key
-instead of reading every perception of the run; the new rules are judged afresh every time. The
+force are read, not judged or asked again, and the decisions' Vehicle Scenarios are kept with
+them, so that no decision or perception is read again; the new rules are judged afresh every time. The
 result is the plain path's, to the byte, and a forged kept verdict is dropped and judged again."""
 from __future__ import annotations
 
@@ -77,7 +77,7 @@ def test_a_second_regression_reads_the_baselines_verdicts_and_answers_and_gives_
     assert again == first
     assert count.judged[True] == 0 and count.judged[False] == 3       # the baseline kept, the new rules judged
     assert count.asked == 4 + 2                                          # the new side's, and the changed one's proofs
-    assert "vehicle.perception" not in count.kinds
+    assert not {"vehicle.perception", "vehicle.decision"} & set(count.kinds), count.kinds   # the scenarios kept
 
 
 def test_the_kept_path_gives_the_plain_paths_regression(db, new_rules):
@@ -127,14 +127,27 @@ def test_the_codec_keeps_every_incident_exactly(db):
         assert case_memo.decode(json.loads(json.dumps(case_memo.encode(incident)))) == incident
 
 
-def test_decisions_read_by_their_kept_perceptions_are_the_recorded_ones(db):
+def test_the_kept_decisions_are_the_recorded_ones_with_their_scenarios(db, new_rules):
+    """What a regression keeps of each decision (its Vehicle Scenario: sentences and the events
+    they cite) is what reading the run gives, so asking a new rulebook on it is asking on the run."""
+    _regress(db, new_rules)
     with Store.open_read_only(db) as store:
-        plain = list(regress_decisions.recorded_decisions(store, R.RUN))
-        seen = {(d.src, d.seq): d.seen for d in plain}
-        assert any(s is not None for s in seen.values())
-        assert regress_decisions.decisions_seen(store, R.RUN, seen) == plain
-        moved = {key: (None if s is None else s + 1000) for key, s in seen.items()}
-        assert regress_decisions.decisions_seen(store, R.RUN, moved) is None
+        recorded = list(regress_decisions.recorded_decisions(store, R.RUN))
+        kept = regress_decisions.kept_decisions(case_memo.CaseMemo(store, R.RUN))
+    assert kept is not None and any(len({ref for _, ref in d.facts}) == 2 for d in recorded)
+    assert [k.decision for k in kept] == recorded
+
+
+def test_a_forged_kept_scenario_is_not_asked(db, new_rules):
+    """A kept decision's sentence altered (the vehicle now saw green where it saw red): the seal
+    does not open, the decisions are read from the run again, and the result is the untouched one."""
+    first = _regress(db, new_rules)
+    with sqlite3.connect(f"{db}.cache") as cache:
+        assert cache.execute("UPDATE derived SET payload = replace(payload, 'red light', 'green light') "
+                             "WHERE kind = 'decisions' AND payload LIKE '%red light%'").rowcount
+    with Store.open_read_only(db) as store:
+        assert any(key.startswith("decisions ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
+    assert _regress(db, new_rules) == first
 
 
 def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
@@ -157,6 +170,35 @@ def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
               for d in decisions]
     assert shaped == one_by_one and any(a.permitted for a in shaped)
     assert 0 < len(calls) <= len(decisions) // 3          # each shape asked once, the repeats not at all
+
+
+def test_a_decision_asked_again_in_the_same_words_is_neither_parsed_nor_shaped(db, monkeypatch):
+    """The answer remembered by the sentences themselves: a repeat costs a look-up. A sentence
+    that is not text (a producer's list) is asked, never remembered. What shaping needs of a
+    sentence is worked out once, however many decisions hold it."""
+    from dataclasses import replace
+    from reasoner.engine import get_engine
+    from reasoner.facts import FactReader
+    from reasoner.stages import RuleSet, current_rulebooks
+    engine, reader, shapes = get_engine(), FactReader(), regress_decisions.Shapes()
+    rs = RuleSet(engine, [], [], current_rulebooks(engine))
+    with Store.open_read_only(db) as store:
+        decisions = list(regress_decisions.recorded_decisions(store, R.RUN))
+    odd = replace(decisions[0], facts=(*decisions[0].facts, (["not", "a", "sentence"], decisions[0].facts[0][1])))
+    decisions += [odd, odd]
+    one_by_one = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d) for d in decisions]
+    shaped, planned = [], []
+    asked, plan = regress_decisions.Shapes._asked, regress_decisions.Shaper.plan
+    monkeypatch.setattr(regress_decisions.Shapes, "_asked",
+                        lambda self, *a: shaped.append(1) or asked(self, *a))
+    monkeypatch.setattr(regress_decisions.Shaper, "plan", lambda self, atom: planned.append(atom) or plan(self, atom))
+    again = [regress_decisions.ask(engine, reader, regress_decisions.vehicle_choice(rs, d), d, shapes=shapes)
+             for d in decisions * 3]
+    assert again == one_by_one * 3
+    distinct = {(d.goal, *(text for text, _ in d.facts)) for d in decisions[:-2]}
+    sentences = {text for d in decisions for text in (d.goal, *(t for t, _ in d.facts)) if isinstance(text, str)}
+    assert len(planned) == len(set(planned)) <= len(sentences)     # each sentence planned once, whoever says it
+    assert len(shaped) == len(distinct) + 2 * 3          # each wording shaped once; the odd one every time
 
 
 def test_a_regression_collects_once_for_both_sides(db, new_rules, monkeypatch):
@@ -203,3 +245,46 @@ def test_the_new_side_asks_only_the_rulebooks_it_does_not_share_with_the_baselin
     assert "monitors.le" not in asked and "new" in asked
     assert asked.count("liability.le") == 1              # for the one verdict now punishable, never kept
     assert asked.count("highway_code.le") == 1           # the changed decision's baseline proof, never kept
+
+
+def test_a_regression_names_its_runs_without_summing_them_up(db, new_rules, monkeypatch):
+    """The runs are chosen by name: a run's summary counts its events, a scan of the hour's 11
+    million index entries for a list of names."""
+    def summed(store):
+        raise AssertionError("Store.runs counts every event of every run")
+    monkeypatch.setattr(Store, "runs", summed)
+    with Store.open_read_only(db) as store:
+        assert regress(store, [str(new_rules)]).counts()["runs"] == 1
+        with pytest.raises(regress_module.NoSuchRun):
+            regress(store, [str(new_rules)], runs=["no-such-run"])
+
+
+def test_an_investigation_without_proofs_judges_alike_and_proves_on_demand(db, new_rules):
+    """`proofs` False (a regression's new side): the same incidents with their proofs left
+    empty, and `proved` gives each one as judged with them."""
+    with Store.open_read_only(db) as store:
+        full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
+        lazy = Investigation(store, rules=[str(new_rules)], proofs=False)
+        found = lazy.incidents(R.RUN)
+        assert [lazy.proved(i) for i in found] == full
+    assert any(i.proofs.verdict and i.proofs.verdict.trees for i in full)
+    assert all(not i.proofs.potential_violation.trees and not (i.proofs.verdict and i.proofs.verdict.trees)
+               for i in found)
+    from dataclasses import replace
+    assert [replace(i, proofs=None) for i in found] == [replace(i, proofs=None) for i in full]
+
+
+def test_the_new_side_searches_a_verdicts_proof_only_where_it_changed(db, new_rules, monkeypatch):
+    from reasoner.engine import Engine, sha256_text
+    first = _regress(db, new_rules)
+    new = sha256_text(new_rules.read_text(encoding="utf-8"))
+    proofs: list[str] = []
+    ask_first = Engine.ask_first
+
+    def counted(self, rb, *args, **kwargs):
+        proofs.append(rb.sha256)
+        return ask_first(self, rb, *args, **kwargs)
+    monkeypatch.setattr(Engine, "ask_first", counted)
+    assert _regress(db, new_rules) == first
+    changed = [case for case in first["runs"][0]["incidents"] if case["changes"]]
+    assert len(first["runs"][0]["incidents"]) > len(changed) == proofs.count(new) == 1
