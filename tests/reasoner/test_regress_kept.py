@@ -91,12 +91,18 @@ def test_a_forged_kept_verdict_is_dropped_and_judged_again(db, new_rules):
     longer open, so the baseline is judged again, the result is the untouched one, and the cache
     check names the entries."""
     first = _regress(db, new_rules)
-    with sqlite3.connect(f"{db}.cache") as cache:
-        assert cache.execute("UPDATE derived SET payload = replace(payload, '\"punishable\"', '\"mitigated\"') "
-                             "WHERE kind = 'incident' AND payload LIKE '%\"punishable\"%'").rowcount
-    with Store.open_read_only(db) as store:
-        assert any(key.startswith("incident ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
+    _forge(db, "incident", '"punishable"', '"mitigated"')
     assert _regress(db, new_rules) == first
+
+
+def _forge(db, kind: str, was: str, now: str) -> None:
+    """Rewrite `was` as `now` in the kept entries of `kind` that hold it, as someone holding the
+    folder could; the cache check must name them."""
+    with sqlite3.connect(f"{db}.cache") as cache:
+        assert cache.execute("UPDATE derived SET payload = replace(payload, ?, ?) WHERE kind = ? AND "
+                             "instr(payload, ?) > 0", (was, now, kind, was)).rowcount
+    with Store.open_read_only(db) as store:
+        assert any(key.startswith(f"{kind} ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
 
 
 def test_a_forged_kept_decision_answer_is_not_believed(db, new_rules):
@@ -142,11 +148,7 @@ def test_a_forged_kept_scenario_is_not_asked(db, new_rules):
     """A kept decision's sentence altered (the vehicle now saw green where it saw red): the seal
     does not open, the decisions are read from the run again, and the result is the untouched one."""
     first = _regress(db, new_rules)
-    with sqlite3.connect(f"{db}.cache") as cache:
-        assert cache.execute("UPDATE derived SET payload = replace(payload, 'red light', 'green light') "
-                             "WHERE kind = 'decisions' AND payload LIKE '%red light%'").rowcount
-    with Store.open_read_only(db) as store:
-        assert any(key.startswith("decisions ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
+    _forge(db, "decisions", "red light", "green light")
     assert _regress(db, new_rules) == first
 
 
