@@ -136,12 +136,20 @@ class Round:
     rss_mb: float
     peak_rss_mb: float
     stats: dict
+    elapsed_s: float = 0.0  # the timed window: the writer's share of it says whether it is the bottleneck
+
+    @property
+    def writer_busy(self) -> float:
+        """The writer thread's CPU over the window's wall time: near 1, the writer holds the rate back
+        (one core's worth of Python); well below, something else does (the publisher, the machine)."""
+        return self.writer_cpu_s / self.elapsed_s if self.elapsed_s else 0.0
 
     def line(self) -> str:
         us = 1e6 / self.events
         return (f"{self.rate:,.0f} events/s; load {self.load:.2f}; ingest CPU {self.cpu_s:.1f} s "
                 f"({self.cpu_s * us:.1f} us/event, writer {self.writer_cpu_s * us:.1f}, others "
-                f"{(self.cpu_s - self.writer_cpu_s) * us:.1f}); RSS {self.rss_mb:.0f} MB, peak {self.peak_rss_mb:.0f} MB; "
+                f"{(self.cpu_s - self.writer_cpu_s) * us:.1f}; writer busy {self.writer_busy:.0%} of the window); "
+                f"RSS {self.rss_mb:.0f} MB, peak {self.peak_rss_mb:.0f} MB; "
                 f"{self.stats['batches']} batches")
 
 
@@ -196,7 +204,7 @@ def ingest_rate(n: int, seconds: float | None, durable: bool, same_process: bool
             assert store.verify(RUN).ok
     spent = {name: cpu1[name] - cpu0.get(name, 0.0) for name in cpu1}
     return Round(total / elapsed, total, max(load0, load1), sum(spent.values()), spent.get("ingest-writer", 0.0),
-                 rss, peak, stats)
+                 rss, peak, stats, elapsed)
 
 
 def main() -> None:
@@ -229,7 +237,7 @@ def main() -> None:
            [Figure(raw_name, raw, "samples/s", tuple(raws)),
             Figure("ingest → store", mid.rate, "events/s", tuple(r.rate for r in rounds), peer=raw_name,
                    note=f"median round: ingest CPU {mid.cpu_s * us:.1f} us/event (writer thread "
-                        f"{mid.writer_cpu_s * us:.1f}), RSS peak {mid.peak_rss_mb:.0f} MB, "
+                        f"{mid.writer_cpu_s * us:.1f}, busy {mid.writer_busy:.0%} of the window), RSS peak {mid.peak_rss_mb:.0f} MB, "
                         f"load {mid.load:.2f}, errors {mid.stats['errors']}")],
            notes=f"{size}, small events, {where}, durable={not args.not_durable}, "
                  f"batch_size={args.batch_size}, max_pending={args.max_pending}; {args.repeat} round(s), raw and ingest alternately, medians")
