@@ -136,8 +136,10 @@ def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int, mcap_repea
 
 
 def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str, Any]:
-    """The n copies judged in this process, then on 1 and 2 local workers (warmed first), each
-    timed pass from the measurements a first untimed pass kept."""
+    """The n copies judged in this process, then on 1 and 2 local workers (warmed first), twice each:
+    warm, from the measurements a first untimed pass kept, and cold, on a copy of the store with
+    no derived cache (every case measured: a fleet's newly logged runs, and work large enough per
+    task that the cluster's own costs do not hide the scaling)."""
     import logging
 
     from distributed import LocalCluster
@@ -145,22 +147,30 @@ def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str
 
     many = copies(db, run, n, directory)
     out: dict[str, Any] = {"runs": n, "load": [os.getloadavg()[0]]}
-    regress_store(many, [rules])    # measures each run once and keeps it (reasoner/case_memo.py): every
-    #                                 timed pass below then judges from the same kept measurements
-    _, out["process_s"] = timed(lambda: regress_store(many, [rules]))
-    print(f"{n} runs in this process: {out['process_s']:.2f} s", flush=True)
     with tempfile.TemporaryDirectory(prefix="gaps-bench-warm-", dir=directory) as tmp:
-        warm = Path(tmp) / "warm.db"
-        shutil.copyfile(many, warm)
+        def cold_copy(name: str) -> Path:
+            path = Path(tmp) / f"{name}.db"
+            shutil.copyfile(many, path)     # the store file alone: its derived cache is not copied
+            return path
+
+        regress_store(many, [rules])    # measures each run once and keeps it (reasoner/case_memo.py): every
+        #                                 warm pass below then judges from the same kept measurements
+        _, out["process_s"] = timed(lambda: regress_store(many, [rules]))
+        cold = cold_copy("cold-process")
+        _, out["process_cold_s"] = timed(lambda: regress_store(cold, [rules]))
+        print(f"{n} runs in this process: {out['process_s']:.2f} s warm, {out['process_cold_s']:.2f} s cold",
+              flush=True)
         for workers in (1, 2):
             with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
                               silence_logs=logging.ERROR) as local:
                 on = Cluster(scheduler=local.scheduler_address)
-                regress_store(warm, [rules], cluster=on)            # start every worker's engine
+                regress_store(cold_copy(f"start-{workers}"), [rules], cluster=on)   # start every worker's engine
                 _, wall = timed(lambda: regress_store(many, [rules], cluster=on))
-            out[f"workers_{workers}_s"] = wall
+                cold = cold_copy(f"cold-{workers}")
+                _, cold_wall = timed(lambda: regress_store(cold, [rules], cluster=on))
+            out[f"workers_{workers}_s"], out[f"workers_{workers}_cold_s"] = wall, cold_wall
             out["load"].append(os.getloadavg()[0])
-            print(f"{n} runs on {workers} worker(s): {wall:.2f} s", flush=True)
+            print(f"{n} runs on {workers} worker(s): {wall:.2f} s warm, {cold_wall:.2f} s cold", flush=True)
     return out
 
 
@@ -200,15 +210,8 @@ def figures(r: dict[str, Any], mcap: Path) -> None:
                 f" ({mcap.stat().st_size / 1e6:.1f} MB)" if what == "mcap" else ""))
             found += _speed_figures(r, what, label, seconds, target)
     if s:
-        one, two, alone = s["workers_1_s"], s["workers_2_s"], s["process_s"]
-        lines.append(f"{s['runs']} runs: this process {alone:.2f} s, 1 worker {one:.2f} s, 2 workers {two:.2f} s: "
-                     f"{alone / two / 2:.2f}x linear against this process, {one / two / 2:.2f}x against 1 worker "
-                     f"(target {TARGETS['linear']}x)")
-        found += [Figure(f"{s['runs']} runs in one process", alone, "s"),
-                  Figure(f"{s['runs']} runs on 1 Dask worker", one, "s", peer=f"{s['runs']} runs in one process"),
-                  Figure(f"{s['runs']} runs on 2 Dask workers", two, "s", peer=f"{s['runs']} runs in one process"),
-                  Figure("2 workers as a fraction of linear (against one process)", alone / two / 2, "× linear",
-                         target=f"≥ {TARGETS['linear']}× linear")]
+        for temper in ("warm", "cold"):
+            lines += _scaling_lines(s, temper, found)
     lines.append(f"load average during the bench: {', '.join(f'{x:.2f}' for x in load)} "
                  f"(median {statistics.median(load):.2f}); calibration {_spread(r['calibration_ms'])} ms ({QUIET_MS})")
     for line in lines:
@@ -223,6 +226,23 @@ def figures(r: dict[str, Any], mcap: Path) -> None:
            machine_extra=f"load average during the bench {', '.join(f'{x:.2f}' for x in load)}",
            details={"counts": r["counts"], "scaling": s, "store_cpu_s": r["store_cpu_s"],
                     "mcap_cpu_s": r["mcap_cpu_s"], "calibration_ms": r["calibration_ms"]})
+
+
+def _scaling_lines(s: dict[str, Any], temper: str, found: list[Figure]) -> list[str]:
+    """The scaling figures of the warm or the cold passes (appended to `found`) and their line."""
+    suffix = "" if temper == "warm" else "_cold"
+    if f"workers_2{suffix}_s" not in s:
+        return []
+    one, two, alone = s[f"workers_1{suffix}_s"], s[f"workers_2{suffix}_s"], s[f"process{suffix}_s"]
+    runs = f"{s['runs']} runs, {temper},"
+    found += [Figure(f"{runs} in one process", alone, "s"),
+              Figure(f"{runs} on 1 Dask worker", one, "s", peer=f"{runs} in one process"),
+              Figure(f"{runs} on 2 Dask workers", two, "s", peer=f"{runs} in one process"),
+              Figure(f"2 workers as a fraction of linear ({temper}, against one process)", alone / two / 2,
+                     "× linear", target=f"≥ {TARGETS['linear']}× linear")]
+    return [f"{s['runs']} runs, {temper}: this process {alone:.2f} s, 1 worker {one:.2f} s, 2 workers {two:.2f} s: "
+            f"{alone / two / 2:.2f}x linear against this process, {one / two / 2:.2f}x against 1 worker "
+            f"(target {TARGETS['linear']}x)"]
 
 
 def _speed_line(r: dict[str, Any], what: str, seconds: float, target: str) -> str:
