@@ -77,6 +77,15 @@ class CaseMemo:
                 self.hits += 1
         return value
 
+    def text(self, kind: str, key: str) -> str | None:
+        """The kept entry's JSON text, its seal checked, not parsed (a caller that may not need it
+        parses it later), or None. Not counted in hits and misses."""
+        if not self.enabled:
+            return None
+        if kind not in self._kept:
+            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
+        return self._kept[kind].get(key)
+
     def _value(self, kind: str, key: str, plain: bool) -> Any:
         if not self.enabled:
             return None

@@ -597,20 +597,23 @@ class Investigation:
             return None, None
         punish = PUNISHABLY_VIOLATES.atom(case.me, case.act)
         penalty = None
+        # Each asked on the sentences, named by them (the rulebook reads them alike every time):
+        # a kept answer is found without parsing them or writing out the atoms.
         if (pen := case.rs["penalties"]) is not None:
             sentences = [s for s, _ in validation.scenario]
-            facts = self.reader.known(pen.rulebook, sentences) + [punish]
-            penalty = self._asked(case, "penalty", [pen.rulebook.sha256, case.me, [repr(a) for a in facts]],
-                                  lambda: [self._penalty(pen.rulebook, case.me, facts)])[0]
+            penalty = self._asked(case, "penalty", [pen.rulebook.sha256, case.me, case.act, sentences],
+                                  lambda: [self._penalty(pen.rulebook, case.me,
+                                                         self.reader.known(pen.rulebook, sentences) + [punish])])[0]
         liability = None
         if (lia := case.rs["liability"]) is not None:
             shown = [(s, _control_ref(case.run, control, vscen, basis)) for s, basis in
                      liability_facts(case.vehicle, control.to_json())]
-            facts = self.reader.known(lia.rulebook, [s for s, _ in shown]) + [punish]
             evidence = {s: r for s, r in shown if r}
             liability = self._asked(case, "liability", [lia.rulebook.sha256, case.me, case.act,
-                                                        [repr(a) for a in facts], list(evidence.items())],
-                                    lambda: self._liability(lia.rulebook, case.me, case.act, facts, evidence))
+                                                        [s for s, _ in shown], list(evidence.items())],
+                                    lambda: self._liability(lia.rulebook, case.me, case.act,
+                                                            self.reader.known(lia.rulebook, [s for s, _ in shown])
+                                                            + [punish], evidence))
         if penalty is not None and liability is not None:
             offered = liability.fixed_penalty is None or bool(liability.fixed_penalty)
             penalty = replace(penalty, points_by_law=penalty.points, fine_gbp_by_law=penalty.fine_gbp,

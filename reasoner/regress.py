@@ -315,17 +315,20 @@ class Regressor:
         decision's vehicle-stage rulebook differs between the sides, else each asked again, on
         its kept Vehicle Scenario where the baseline kept it (and the baseline's answers kept,
         when it is the judgement in force)."""
-        keeps = self.before.keeps_verdicts(run, rs_b)
-        kept = kept_decisions(self.before.memo(run)) if keeps else None
+        keeps, memo = self.before.keeps_verdicts(run, rs_b), self.before.memo(run)
+        kept = kept_decisions(memo) if keeps else None
         if kept is not None and all(_unchanged(k, rs_b, rs_n) for k in kept):
             return tuple(_kept_case(k) for k in kept)
+        if self.shapes is not None:
+            self.shapes.attach(memo)        # each decision's shape kept for the next regression
         if kept is None:
             judged = [self._decision(d, rs_b, rs_n) for d in recorded_decisions(self.store, run)]
         else:
             judged = [self._decision(k.decision, rs_b, rs_n, (k.rulebook, k.permitted)) for k in kept]
         if keeps and kept is None:
-            memo = self.before.memo(run)
             keep_decisions(memo, [(d, before) for d, _, before in judged])
+        shaped = self.shapes.keep() if self.shapes is not None else False
+        if (keeps and kept is None) or shaped:
             memo.save()
         return tuple(case for _, case, _ in judged)
 

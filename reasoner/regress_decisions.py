@@ -17,9 +17,10 @@ the decisions and each one's perception by its key was a quarter of a warm regre
 from __future__ import annotations
 
 from dataclasses import dataclass
+from collections.abc import Sequence
 from typing import Any, Iterator
 
-from store import EventRef, Store
+from store import EventRef, Store, parse_json
 
 from .case_memo import CaseMemo, key_of
 from .engine import Engine, Rulebook
@@ -47,7 +48,7 @@ class RecordedDecision:
     permitted: Any                      # what the vehicle recorded
     proceeds: Any
     rulebook: Any                       # the sha256 it says it decided with
-    facts: tuple[tuple[Any, EventRef], ...]
+    facts: Sequence[tuple[Any, EventRef]]      # a tuple, or KeptFacts (made when first read)
 
     @property
     def id(self) -> str:
@@ -100,6 +101,12 @@ def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
     return rs.vehicle_rulebook(decision.rulebook if isinstance(decision.rulebook, str) else None)
 
 
+GOALLESS, UNSHAPED = -1, -2
+"""A decision's form under a rulebook, beside a shape: its goal is no sentence of the rulebook (no
+answer), or no shape can be made of its sentences (asked as they are)."""
+Form = tuple | int
+
+
 class Shapes:
     """Yes-or-no answers remembered by the shape of the question and facts (reasoner/shapes.py),
     for rulebooks whose answers keep under renaming road users (`Shaper.keeps_proofs`, checked on
@@ -109,7 +116,14 @@ class Shapes:
     the same view again (town-4m: 70 of its 873 decisions), so such a repeat costs a look-up
     instead of parsing and shaping its facts. What shaping needs of a sentence (its
     parse, the places a shape renames) is kept by its text: a vehicle's sentences come back in
-    each of its decisions."""
+    each of its decisions.
+
+    Attached to a run's memo (`attach`), each decision's form (its shape, or GOALLESS, UNSHAPED)
+    is kept in the run's sealed cache under the shaper's identity (the templates and the
+    constants the rules mention, `Shaper.identity`; not the answers, not the rules): the next
+    regression of the run with a rulebook shaping alike asks each distinct shape of its
+    rulebook without parsing or shaping a sentence (on the hour, 50,489 decisions: 49,503
+    distinct sentences parsed and shaped each call, a fifth of a warm regression)."""
 
     LIMIT = 100_000
 
@@ -117,36 +131,76 @@ class Shapes:
         self._shapers: dict[str, Shaper] = {}
         self._plans: dict[str, dict[str, Plan | bool]] = {}     # rulebook -> sentence -> plan (False: unread)
         self._found: dict[tuple, bool] = {}
-        self._said: dict[tuple, bool | None] = {}
+        self._said: dict[tuple, tuple[bool | None, Form]] = {}
+        self._memo: CaseMemo | None = None
+        self._kept: dict[str, KeptForms | None] = {}            # shaper identity -> forms read from the memo
+        self._fresh: dict[str, dict[str, Form]] = {}            # shaper identity -> decision id -> form
+
+    def attach(self, memo: CaseMemo) -> None:
+        """Read the forms the run's memo kept, and keep the new ones there (`keep`)."""
+        self._memo, self._kept, self._fresh = memo, {}, {}
+
+    def keep(self) -> bool:
+        """Put the forms worked out since `attach` into the memo, with those it had kept (written
+        at its save); whether there were any."""
+        if self._memo is None:
+            return False
+        for identity, fresh in self._fresh.items():
+            kept = self._kept.get(identity)
+            self._memo.put("shapes", identity, KeptForms.data({**(kept.forms() if kept else {}), **fresh}),
+                           plain=True)
+        wrote, self._fresh = bool(self._fresh), {}
+        return wrote
 
     def permitted(self, engine: Engine, reader: FactReader, rb: Rulebook, decision: RecordedDecision) -> bool | None:
         """The decision's goal asked of the rulebook on its Vehicle Scenario, as `ask` answers it
         without proofs (None: the goal is no sentence of the rulebook)."""
+        shaper = self._shaper(rb)
+        kept = self._kept_forms(shaper) if self._memo is not None and shaper.keeps_proofs else None
+        form = kept.form_of(decision.id) if kept is not None else None
+        if form is not None and form != UNSHAPED:
+            return kept.permitted(engine, rb, form)
         key = (rb.sha256, decision.goal, *(text for text, _ in decision.facts))
         try:
-            return self._said[key]
-        except KeyError:
-            pass
-        except TypeError:       # a recorded "sentence" that is no text (a list, an object): not remembered
-            key = None
-        found = self._asked(engine, reader, rb, decision)
-        if key is not None:
-            if len(self._said) >= self.LIMIT:
-                self._said.clear()
-            self._said[key] = found
+            found, asked = self._said[key]
+        except (KeyError, TypeError):   # TypeError: a recorded "sentence" that is no text: not remembered
+            found, asked = self._asked(engine, reader, rb, decision)
+            try:
+                if len(self._said) >= self.LIMIT:
+                    self._said.clear()
+                self._said[key] = found, asked
+            except TypeError:
+                pass
+        if form is None:                # an unshaped one kept is kept already
+            self._record(shaper, decision, asked)
         return found
 
-    def _asked(self, engine: Engine, reader: FactReader, rb: Rulebook, decision: RecordedDecision) -> bool | None:
-        goal = reader.atom(rb, decision.goal)
-        if goal is None:
-            return None
+    def _shaper(self, rb: Rulebook) -> Shaper:
         shaper = self._shapers.get(rb.sha256)
         if shaper is None:
             shaper = self._shapers[rb.sha256] = Shaper(rb)
+        return shaper
+
+    def _kept_forms(self, shaper: Shaper) -> KeptForms | None:
+        if shaper.identity not in self._kept:
+            data = self._memo.get("shapes", shaper.identity, plain=True) if self._memo is not None else None
+            self._kept[shaper.identity] = KeptForms.read(data)
+        return self._kept[shaper.identity]
+
+    def _record(self, shaper: Shaper, decision: RecordedDecision, form: Form) -> None:
+        if self._memo is not None and shaper.keeps_proofs:
+            self._fresh.setdefault(shaper.identity, {})[decision.id] = form
+
+    def _asked(self, engine: Engine, reader: FactReader, rb: Rulebook,
+               decision: RecordedDecision) -> tuple[bool | None, Form]:
+        goal = reader.atom(rb, decision.goal)
+        if goal is None:
+            return None, GOALLESS
+        shaper = self._shaper(rb)
         shaped = self._shape(reader, shaper, rb, [decision.goal, *(text for text, _ in decision.facts)]) \
             if shaper.keeps_proofs else None
         if shaped is None:
-            return engine.holds(rb, goal, reader.atoms(rb, list(decision.facts), []))
+            return engine.holds(rb, goal, reader.atoms(rb, list(decision.facts), [])), UNSHAPED
         key = (rb.sha256, *shaped)
         found = self._found.get(key)
         if found is None:
@@ -154,7 +208,7 @@ class Shapes:
                 self._found.clear()
             atoms = [Atom(functor, args) for functor, args in shaped]
             found = self._found[key] = engine.holds(rb, atoms[0], atoms[1:])
-        return found
+        return found, shaped
 
     def _shape(self, reader: FactReader, shaper: Shaper, rb: Rulebook, texts: list) -> tuple | None:
         """The sentences' shape (Shaper.renamed of each one's plan; a sentence the rulebook
@@ -175,6 +229,67 @@ class Shapes:
             if plan is not False:
                 planned.append(plan)
         return shaper.renamed(planned)
+
+
+class KeptForms:
+    """The forms of a run's decisions under one shaper identity, as kept: each distinct atom of
+    the shapes once, each distinct shape as the places of its atoms, each decision's form as the
+    place of its shape (or GOALLESS, UNSHAPED). Each shape is asked of a rulebook once."""
+
+    def __init__(self, atoms: list[Atom], shapes: list[list[int]], of: dict[str, int]) -> None:
+        self._atoms, self._shapes, self._of = atoms, shapes, of
+        self._answers: dict[tuple[str, int], bool] = {}
+
+    @staticmethod
+    def data(forms: dict[str, Form]) -> dict:
+        """Plain data for a decision id -> form mapping (what `read` reads back)."""
+        atoms: dict[tuple, int] = {}
+        shapes: dict[tuple, int] = {}
+        of: dict[str, int] = {}
+        for ident, form in forms.items():
+            if isinstance(form, int):
+                of[ident] = form
+                continue
+            places = tuple(atoms.setdefault(pair, len(atoms)) for pair in form)
+            of[ident] = shapes.setdefault(places, len(shapes))
+        return {"atoms": [[functor, list(args)] for functor, args in atoms],
+                "shapes": [list(places) for places in shapes], "of": of}
+
+    @classmethod
+    def read(cls, data: Any) -> KeptForms | None:
+        """The kept forms, or None (none kept, or not what `data` writes)."""
+        if not isinstance(data, dict):
+            return None
+        try:
+            atoms = [Atom(functor, tuple(args)) for functor, args in data["atoms"]]
+            shapes = [[int(i) for i in places] for places in data["shapes"]]
+            of = {str(k): int(v) for k, v in data["of"].items()}
+            if any(not 0 <= i < len(atoms) for places in shapes for i in places) or \
+                    any(not (v in (GOALLESS, UNSHAPED) or 0 <= v < len(shapes)) for v in of.values()):
+                return None
+        except (KeyError, TypeError, ValueError):
+            return None
+        return cls(atoms, shapes, of)
+
+    def forms(self) -> dict[str, Form]:
+        """Decision id -> form, as `data` was given it."""
+        return {ident: n if n < 0 else tuple((self._atoms[i].functor, self._atoms[i].args) for i in self._shapes[n])
+                for ident, n in self._of.items()}
+
+    def form_of(self, ident: str) -> int | None:
+        """The place of the decision's shape, GOALLESS or UNSHAPED; None: it has no kept form."""
+        return self._of.get(ident)
+
+    def permitted(self, engine: Engine, rb: Rulebook, n: int) -> bool | None:
+        """The answer for a kept form (`form_of`, not UNSHAPED): each shape asked once."""
+        if n == GOALLESS:
+            return None
+        key = (rb.sha256, n)
+        found = self._answers.get(key)
+        if found is None:
+            atoms = [self._atoms[i] for i in self._shapes[n]]
+            found = self._answers[key] = engine.holds(rb, atoms[0], atoms[1:])
+        return found
 
 
 def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: RecordedDecision,
@@ -211,31 +326,92 @@ class KeptDecision:
 
 
 def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
-    """The run's kept decisions, in time order, or None (never kept, or a part of them is not)."""
+    """The run's kept decisions, in time order, or None (never kept, or a part of them is not).
+    Each one's Vehicle Scenario is kept apart from it and read when first asked for (a
+    regression that finds the decision's shape kept never asks: on the hour, reading the 50,489
+    scenarios was a tenth of a warm regression); its seal is checked here all the same."""
     head = memo.get("decisions", key_of("decisions"), plain=True)
     if not isinstance(head, int):
         return None
     out: list[KeptDecision] = []
     for n in range(head):
         chunk = memo.get("decisions", key_of("decisions", n), plain=True)
-        if chunk is None:
+        facts = memo.text("decisions", key_of("decision facts", n))
+        if chunk is None or facts is None:
             return None
+        scenarios = _Scenarios(memo.run, facts, len(chunk))
         out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
-                                              rulebook, _unkept_facts(memo.run, refs, facts)), sha, answer)
-                for src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, facts, sha, answer
-                in chunk]
+                                              rulebook, KeptFacts(scenarios, i, refs)), sha, answer)
+                for i, (src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, sha, answer)
+                in enumerate(chunk)]
     return out
 
 
 def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) -> None:
-    """Keep the baseline's answers (written with the memo's other fresh entries, at its save)."""
-    rows = [[d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook,
-             *_kept_facts(d.facts), a.rulebook.sha256 if a.rulebook is not None else None, a.permitted]
-            for d, a in asked]
-    chunks = [rows[i:i + KEPT_CHUNK] for i in range(0, len(rows), KEPT_CHUNK)]
-    for n, chunk in enumerate(chunks):
-        memo.put("decisions", key_of("decisions", n), chunk, plain=True)
+    """Keep the baseline's answers (written with the memo's other fresh entries, at its save):
+    per chunk, the decisions with the events their scenarios cite, and apart the scenarios'
+    sentences."""
+    rows, facts = [], []
+    for d, a in asked:
+        refs, sentences = _kept_facts(d.facts)
+        rows.append([d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook, refs,
+                     a.rulebook.sha256 if a.rulebook is not None else None, a.permitted])
+        facts.append(sentences)
+    chunks = range(0, len(rows), KEPT_CHUNK)
+    for n, i in enumerate(chunks):
+        memo.put("decisions", key_of("decisions", n), rows[i:i + KEPT_CHUNK], plain=True)
+        memo.put("decisions", key_of("decision facts", n), facts[i:i + KEPT_CHUNK], plain=True)
     memo.put("decisions", key_of("decisions"), len(chunks), plain=True)
+
+
+class _Scenarios:
+    """One kept chunk's scenario sentences, as sealed text, parsed when one of them is first read."""
+
+    def __init__(self, run: str, text: str, count: int) -> None:
+        self.run, self._text, self._count = run, text, count
+        self._rows: list | None = None
+
+    def row(self, i: int) -> list:
+        if self._rows is None:
+            rows = parse_json(self._text)
+            if not isinstance(rows, list) or len(rows) != self._count:
+                raise ValueError("kept scenarios do not match their decisions")   # sealed by this code: never
+            self._rows = rows
+        return self._rows[i]
+
+
+class KeptFacts(Sequence):
+    """A kept decision's Vehicle Scenario, the (sentence, EventRef) pairs `recorded_decisions`
+    gives, made when first read: equal to (and hashed as) the tuple of them."""
+
+    __slots__ = ("_chunk", "_i", "_refs", "_pairs")
+
+    def __init__(self, chunk: _Scenarios, i: int, refs: list) -> None:
+        self._chunk, self._i, self._refs = chunk, i, refs
+        self._pairs: tuple | None = None
+
+    def _made(self) -> tuple[tuple[Any, EventRef], ...]:
+        if self._pairs is None:
+            self._pairs = _unkept_facts(self._chunk.run, self._refs, self._chunk.row(self._i))
+        return self._pairs
+
+    def __getitem__(self, index: Any) -> Any:
+        return self._made()[index]
+
+    def __len__(self) -> int:
+        return len(self._made())
+
+    def __iter__(self) -> Iterator:
+        return iter(self._made())
+
+    def __eq__(self, other: object) -> bool:
+        return self._made() == (other._made() if isinstance(other, KeptFacts) else other)
+
+    def __hash__(self) -> int:
+        return hash(self._made())
+
+    def __repr__(self) -> str:
+        return repr(self._made())
 
 
 def _kept_facts(facts: tuple[tuple[Any, EventRef], ...]) -> tuple[list, list]:

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
+from .case_memo import key_of
 from .engine import Rulebook
 from .facts import plain_constants, walk_atoms
 from .le.builtins import BUILTIN_FUNCTORS
@@ -53,6 +54,11 @@ class Shaper:
 
     def __init__(self, rb: Rulebook) -> None:
         self._mentioned = rule_constants(rb)
+        self.identity = key_of("shaper", sorted(repr(t) for t in rb.document.templates.values()),
+                               sorted(repr(c) for c in self._mentioned))
+        """What the shapes made here depend on: the templates (how a sentence parses, which places
+        are a road user's) and the constants the rules mention (never renamed); not the rules
+        themselves, so a rulebook edited in its rules alone shapes its facts alike."""
         self._places: dict[tuple[str, int], tuple[int, ...]] = {}
         for template in rb.document.templates.values():
             slots = [p for p in template.parts if isinstance(p, Slot)]

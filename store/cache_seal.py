@@ -17,7 +17,6 @@ for this process: a persistent cache that any process could seal would protect n
 """
 from __future__ import annotations
 
-import hashlib
 import hmac
 import os
 import secrets
@@ -124,7 +123,7 @@ class Sealer:
         payload (bytes, text, a number, or a tuple of them)."""
         values = payload if isinstance(payload, tuple) else (payload,)
         message = _framed((table, len(key_parts), *key_parts, *values))
-        return hmac.new(self.key, message, hashlib.sha256).digest()
+        return hmac.digest(self.key, message, "sha256")     # one call into OpenSSL, not an HMAC object
 
     def opens(self, table: str, key_parts: tuple[Any, ...], payload: Any, seal: Any, *, count: bool = True) -> bool:
         """Does the entry carry its own seal? A failure is counted against the table (unless
