@@ -87,11 +87,7 @@ class CaseMemo:
         return self._kept[kind].get(key)
 
     def _value(self, kind: str, key: str, plain: bool) -> Any:
-        if not self.enabled:
-            return None
-        if kind not in self._kept:
-            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
-        text = self._kept[kind].get(key)
+        text = self.text(kind, key)
         if text is None:
             return None
         try:

@@ -435,13 +435,11 @@ class Investigation:
         if monitor is None:
             return None, None
 
-        def asked() -> list:
-            mine: list[Finding] = []
+        def asked(mine: list[Finding]) -> list | None:
             answer, _ = self._rederive(case.rs, mscen, case.me, case.act, mine, why_not=why_not)
-            return [None if answer is None else [answer.proofs, answer.why_not], mine]
-        kept, found = self._asked(case, "rederived", [monitor.rulebook.sha256, why_not, case.me, case.act,
-                                                      [[text, ref] for text, ref in mscen.facts]], asked)
-        unknown += found
+            return None if answer is None else [answer.proofs, answer.why_not]
+        kept = self._asked_noting(case, "rederived", [monitor.rulebook.sha256, why_not, case.me, case.act,
+                                                      [[text, ref] for text, ref in mscen.facts]], asked, unknown)
         if kept is None:
             return None, None
         answer = Answer(*kept)
@@ -464,6 +462,17 @@ class Investigation:
         elif not self.proofs:
             self._answered[(kind, key)] = found
         return found
+
+    def _asked_noting(self, case: _Case, kind: str, question: list,
+                      compute: Callable[[list[Finding]], Any], unknown: list[Finding]) -> Any:
+        """`_asked` of a stage that notes findings as it answers: they are kept with the answer,
+        and added to `unknown` whether the answer was computed or read."""
+        def asked() -> list:
+            mine: list[Finding] = []
+            return [compute(mine), mine]
+        answer, found = self._asked(case, kind, question, asked)
+        unknown += found
+        return answer
 
     def _rederive(self, rs: RuleSet, mscen: Scenario, me: Any, act: Any, unknown: list[Finding],
                   why_not: bool = True) -> tuple[Answer | None, Any]:
@@ -533,13 +542,10 @@ class Investigation:
         if choice is None or own is None:
             return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
 
-        def asked() -> list:
-            mine: list[Finding] = []
-            return [decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, mine), mine]
-        fault, found = self._asked(case, "fault", [choice.rulebook.sha256, case.vehicle, own.to_json(),
-                                                   [[text, ref] for text, ref in vscen.facts]], asked)
-        unknown += found
-        return fault
+        return self._asked_noting(case, "fault", [choice.rulebook.sha256, case.vehicle, own.to_json(),
+                                                  [[text, ref] for text, ref in vscen.facts]],
+                                  lambda mine: decision_fault(self.engine, self.reader, choice, case.vehicle, own,
+                                                              vscen.facts, mine), unknown)
 
     def _others(self, case: _Case, pairs: list[tuple[Atom, EventRef]]) -> set:
         """The constants of these facts that name another road user on record by the act's time
