@@ -34,7 +34,7 @@ from zenoh import ext
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from ingest.gap_tracker import GapTracker  # noqa: E402
-from ingest.gc_pacing import batch_sized_collections  # noqa: E402
+from ingest.gc_pacing import collections_between_batches  # noqa: E402
 from ingest.inbox import received  # noqa: E402
 from ingest.screen import screen_all  # noqa: E402
 from store import Store, canonical_json, enable_snapshots, key_for, session_config  # noqa: E402
@@ -87,7 +87,7 @@ def writer_costs(samples: list[tuple[str, bytes]], db: Path) -> dict[str, float]
     """Seconds of CPU per stage after receiving, batch by batch, as the writer runs them."""
     spent = dict.fromkeys(STAGES[1:], 0.0)
     tracker = GapTracker()
-    with Store(db, durable=True) as store, batch_sized_collections():
+    with Store(db, durable=True) as store, collections_between_batches() as between_batches:
         enable_snapshots(store)
         for i in range(0, len(samples), BATCH):
             chunk = [(key, payload, True, "application/json") for key, payload in samples[i:i + BATCH]]
@@ -96,6 +96,7 @@ def writer_costs(samples: list[tuple[str, bytes]], db: Path) -> dict[str, float]
             spent["track"] += cpu(lambda: tracker.observe_all([s.identity for s in screened]))
             spent["chain"] += cpu(lambda: _placed(store, [s.candidate for s in screened]))
             spent["sqlite"] += cpu(lambda: store.append_candidates([s.candidate for s in screened]))
+            between_batches()
     spent["sqlite"] -= spent["chain"]   # append_candidates places too: what is left is SQLite's
     return spent
 

@@ -93,3 +93,13 @@ def test_a_small_ratio_is_written_as_one_in_n_not_as_zero(ratio, text):
         assert _module("performance_md").ratio_text(ratio) == text
     finally:
         sys.path.remove(str(BENCH))
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in BENCH.glob("*.py")))
+def test_every_benchmark_script_imports_against_the_code_it_measures(name, monkeypatch):
+    """A benchmark is run by hand, not by the suite, so a name it imports that the code renamed
+    would go unseen until someone measures: importing each one (its main is not run) catches it.
+    Run as a script, a benchmark finds its siblings (machine, results) on its own directory."""
+    monkeypatch.syspath_prepend(str(BENCH))
+    module = _module(name)
+    assert module.__file__ == str(BENCH / f"{name}.py")
