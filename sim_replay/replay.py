@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
-from store import ImportReport, Store, import_file, parse_json
+from store import ImportReport, Store, import_file, parse_json, parse_json_all
 
 from .outlets import OutletSummary, Outlets
 from .publisher import PUT_RUN
@@ -71,17 +71,14 @@ def stored_runs_of(store: Store, run: str, size: int = PUT_RUN) -> Iterator[tupl
     """A run's events in chain order, in runs of up to `size`: each event with its stored text's
     bytes, which are its canonical form (what its hash covers), so that a replay at full speed
     puts them as they are, back to back, instead of encoding each event again."""
-    events: list[dict] = []
-    payloads: list[bytes] = []
+    texts: list[str] = []
     for row in store.history(run):
-        raw = row.event.encode()
-        events.append(parse_json(raw))
-        payloads.append(raw)
-        if len(events) >= size:
-            yield events, payloads
-            events, payloads = [], []
-    if events:
-        yield events, payloads
+        texts.append(row.event)
+        if len(texts) >= size:
+            yield parse_json_all(texts), [text.encode() for text in texts]
+            texts = []
+    if texts:
+        yield parse_json_all(texts), [text.encode() for text in texts]
 
 
 def replay(store: Store, runs: Sequence[str], *, listen: Sequence[str] = (), connect: Sequence[str] = (),

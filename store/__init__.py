@@ -6,7 +6,7 @@ store's own layout. docs/store.md describes it.
 """
 
 from .canonical import canonical_json
-from .fastjson import loads as parse_json
+from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .db import Store
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
 from .refs import EventRef
@@ -64,6 +64,7 @@ from .transfer import (
 __all__ = [
     "derived_cache",
     "parse_json",
+    "parse_json_all",
     "CheckpointKey",
     "TamperedTail",
     "TreeHead",
