@@ -30,6 +30,7 @@ FILE_FLOOR = 256 << 20  # ... and at least this much, so that a small honest fil
 MAX_WINDOW = 1 << 26  # a zstd frame asking for a larger history window is refused, not allocated
 _SLICE = 1 << 20  # decompressed bytes asked for at a time
 _FRAME = struct.Struct("<BQ")
+_MESSAGE_HEAD = struct.Struct("<HIQQ")  # a Message's channel id, sequence, log time, publish time
 _INNER = {Opcode.SCHEMA: lambda s, n: Schema.read(s), Opcode.CHANNEL: lambda s, n: Channel.read(s),
           Opcode.MESSAGE: lambda s, n: Message.read(s, n)}
 
@@ -126,6 +127,9 @@ def chunk_records(data: bytes) -> Iterator[McapRecord]:
         pass
     view = memoryview(data)
     for opcode, at, length in _frames(data):
+        if opcode == Opcode.MESSAGE and length >= _MESSAGE_HEAD.size:
+            yield _message(data, at + _FRAME.size, length)
+            continue
         parser = _INNER.get(opcode)
         if parser is None:
             continue
@@ -134,6 +138,15 @@ def chunk_records(data: bytes) -> Iterator[McapRecord]:
         except Exception as exc:  # hostile bytes reach the mcap package's parsing
             raise ChunkRefused(f"the record at byte {at} of the uncompressed records cannot be parsed: "
                                f"{type(exc).__name__}: {str(exc)[:200]}") from None
+
+
+def _message(data: bytes, at: int, length: int) -> Message:
+    """A Message record read with one unpack, as Message.read reads it field by field through a
+    stream: a chunk holds thousands of them, and the stream's calls were most of an import's
+    reading (a message shorter than its fixed fields goes through Message.read, which refuses it)."""
+    channel_id, sequence, log_time, publish_time = _MESSAGE_HEAD.unpack_from(data, at)
+    return Message(channel_id=channel_id, log_time=log_time, data=data[at + _MESSAGE_HEAD.size:at + length],
+                   publish_time=publish_time, sequence=sequence)
 
 
 def _frames(data: bytes) -> Iterator[tuple[int, int, int]]:
