@@ -54,9 +54,14 @@ def test_the_plain_body_check_says_yes_only_where_the_schema_and_the_float_walk_
 
 @pytest.mark.parametrize("kind", FLAT_KINDS)
 def test_the_plain_body_check_says_yes_to_the_plain_bodies(kind) -> None:
-    """Else the lane would only cost time: every flat kind's ordinary body takes it."""
+    """Else the lane would only cost time: every flat kind's ordinary body takes it, and so does one
+    with more to say than its schema names, in scalars both writers spell alike (a simulation's
+    states carry a lane, an acceleration, an emergency flag); a value there that orjson writes
+    otherwise, or one with values inside, is left to the walk."""
     assert plain_body(kind)(dict(BODIES[kind]))
-    assert not plain_body(kind)({**BODIES[kind], "extra": 1.0})  # a value no test looked at: the walk decides
+    assert plain_body(kind)({**BODIES[kind], "extra": 1.0, "lane": "w3_j11_1", "flag": False, "n": 7, "none": None})
+    for other in (1e-05, 1e16, -2.5e-07, {"x": 1}, [1]):
+        assert not plain_body(kind)({**BODIES[kind], "extra": other}), other
 
 
 @settings(deadline=None, max_examples=500)
@@ -109,6 +114,17 @@ def test_the_ordinary_events_take_the_first_road(kind, monkeypatch) -> None:
     monkeypatch.setattr(envelope, "_plainly_valid", lambda ev: pytest.fail("the second road was taken"))
     plain = plain_event(raw)
     assert plain is not None and plain[0] == json.loads(raw)
+
+
+def test_a_simulated_state_with_more_than_its_schema_names_takes_the_first_road(monkeypatch) -> None:
+    body = {"accel_mps2": 0.34, "emergency": False, "heading_deg": 0.0, "junction": None, "lane": "w3_j11_1",
+            "road": "r3", "speed_mps": 12.2, "x": -258.27, "y": 1001.75}
+    decode_event(canonical_json(event(kind="entity.state")))
+    raw = canonical_json(event(3, kind="entity.state", body=body))
+    expected = careful(raw)
+    monkeypatch.setattr(envelope, "_plainly_valid", lambda ev: pytest.fail("the second road was taken"))
+    plain = plain_event(raw)
+    assert plain is not None and ("ok", plain[0], raw) == expected
 
 
 @pytest.mark.parametrize("ev", [
