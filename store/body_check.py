@@ -197,8 +197,36 @@ class _Writer:
                 lines.append("            return False")
                 if self.plain:
                     lines.append("        unnamed -= 1")
-        lines.append("    return unnamed == 0" if self.plain else "    return True")
+        if self.plain:  # a value under a name the schema does not give must be a plain scalar
+            lines.append(f"    return unnamed == 0 or {self.constant(_extras_check(frozenset(properties)))}(body)")
+        else:
+            lines.append("    return True")
         return "\n".join(self.lines + lines)
+
+
+_PLAIN_SCALARS = (str, bool, type(None), int)  # orjson writes these as the canonical form does (ints
+#                                                of 64 bits; a wider one makes orjson refuse the event)
+
+
+def _extras_check(named: frozenset[str]) -> Callable[[dict], bool]:
+    """The plain check of a body's values under names its schema does not give (its additional
+    properties, which the schema takes whatever they hold): each a scalar orjson writes as the
+    canonical form does. A simulation's road users report more than the schema names (a lane,
+    an acceleration), and without this every one of their states left the fast lane."""
+    def extras_plain(body: dict) -> bool:
+        for name, x in body.items():
+            if name in named:
+                continue
+            if type(x) is float:
+                if not _plain_float(x):
+                    return False
+            elif type(x) not in _PLAIN_SCALARS:
+                return False
+        return True
+    return extras_plain
+
+
+exec(f"def _plain_float(x):\n    return {PLAIN_FLOAT.format(x='x')}", globals())  # the one condition, as source
 
 
 def quick_source(schema: dict, plain: bool = False) -> str | None:
