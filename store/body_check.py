@@ -94,7 +94,10 @@ class _Unsupported(Exception):
 
 
 # The plain check's number: an int, or a float orjson writes as the canonical form does (PLAIN_FLOAT).
-_PLAIN_NUMBER = f"(type({{v}}) is int or (type({{v}}) is float and ({PLAIN_FLOAT.format(x='{v}')})))"
+# An int is plain within the 64 bits orjson writes (signed or unsigned); it refuses a wider one.
+_INT_LOW, _INT_HIGH = -(1 << 63), (1 << 64) - 1
+_PLAIN_NUMBER = (f"((type({{v}}) is int and {_INT_LOW} <= {{v}} <= {_INT_HIGH}) "
+                 f"or (type({{v}}) is float and ({PLAIN_FLOAT.format(x='{v}')})))")
 
 
 class _Writer:
@@ -204,8 +207,7 @@ class _Writer:
         return "\n".join(self.lines + lines)
 
 
-_PLAIN_SCALARS = (str, bool, type(None), int)  # orjson writes these as the canonical form does (ints
-#                                                of 64 bits; a wider one makes orjson refuse the event)
+_PLAIN_SCALARS = (str, bool, type(None))  # orjson writes these as the canonical form does
 
 
 def _extras_check(named: frozenset[str]) -> Callable[[dict], bool]:
@@ -219,6 +221,9 @@ def _extras_check(named: frozenset[str]) -> Callable[[dict], bool]:
                 continue
             if type(x) is float:
                 if not _plain_float(x):
+                    return False
+            elif type(x) is int:
+                if not _INT_LOW <= x <= _INT_HIGH:
                     return False
             elif type(x) not in _PLAIN_SCALARS:
                 return False

@@ -60,7 +60,7 @@ def test_the_plain_body_check_says_yes_to_the_plain_bodies(kind) -> None:
     otherwise, or one with values inside, is left to the walk."""
     assert plain_body(kind)(dict(BODIES[kind]))
     assert plain_body(kind)({**BODIES[kind], "extra": 1.0, "lane": "w3_j11_1", "flag": False, "n": 7, "none": None})
-    for other in (1e-05, 1e16, -2.5e-07, {"x": 1}, [1]):
+    for other in (1e-05, 1e16, -2.5e-07, {"x": 1}, [1], 2 ** 64, -(2 ** 63) - 1):
         assert not plain_body(kind)({**BODIES[kind], "extra": other}), other
 
 
