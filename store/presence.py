@@ -173,6 +173,10 @@ def _catch_up(store: Store, run: str, length: int, head: str) -> None:
         else:
             x0, x1, y0, y1 = min(x0, old[0]), max(x1, old[1]), min(y0, old[2]), max(y1, old[3])
             digest = xor(digest, old[4])
+        # sealed as the REAL columns give them back: a JSON integer position (x 0) is an INTEGER
+        # min here, 0.0 once stored, and a seal over 0 does not open over 0.0 (the box would not be
+        # believed, and every read meeting it would rebuild the run's boxes from the events)
+        x0, x1, y0, y1 = float(x0), float(x1), float(y0), float(y1)
         mac = sealer.seal(BOXES, (run, b, src), (x0, x1, y0, y1))
         digest = xor(digest, mac)
         cache.execute(_PUT, (run, b, src, x0, x1, y0, y1, mac))
