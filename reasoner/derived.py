@@ -357,16 +357,46 @@ def _approaching_at(p: Passage, other: Other, at: int, within: float = APPROACH_
     return DerivedFact(IS_APPROACHING.text(other.user, p.vehicle), how, tuple(s.ref for s in used_before + used))
 
 
+class _ByIdentity:
+    """The answers of a pure function of immutable values (a passage, a road user of it), kept by
+    the values' identity: one measurement asks the same questions of the same passage again (its
+    facts ask `explained` of each road user twice, its margins once or twice more). An answer is
+    kept with its arguments, so that no id is reused while it is held; the newest `size` are kept
+    (a measurement's, not a run's: each holds its passage)."""
+
+    def __init__(self, fn: Callable[..., Any], size: int) -> None:
+        self._fn, self._size = fn, size
+        self._kept: dict[tuple[int, ...], tuple[tuple[Any, ...], Any]] = {}
+
+    def __call__(self, *args: Any) -> Any:
+        key = tuple(id(a) for a in args)
+        hit = self._kept.get(key)
+        if hit is not None:
+            return hit[1]
+        value = self._fn(*args)
+        if len(self._kept) >= self._size:
+            del self._kept[next(iter(self._kept))]
+        self._kept[key] = (args, value)
+        return value
+
+
 def reacting(p: Passage) -> tuple[Other, ...]:
     """The road users near V's passage with their braking and stops counted while V passed: from
     when V set off, if it stood before its line (_set_off). Every sentence and margin about a
     reaction to V reads these, so that a main-road car braking while V still waited at its line
     (for a turn, a queue, its own light) is neither "forced" by V nor "approaching" V because of
     that braking."""
+    return _reacting(p)
+
+
+def _reacting_afresh(p: Passage) -> tuple[Other, ...]:
     off = _set_off(p)
     if off is None:
         return p.others
     return tuple(since(o, p.others, p.junction, off.last.t) for o in p.others)
+
+
+_reacting = _ByIdentity(_reacting_afresh, 8)
 
 
 def _forced(p: Passage, other: Other) -> DerivedFact | None:
@@ -402,12 +432,19 @@ def explained(p: Passage, other: Other) -> bool:
     no conflict point, so it slowed for its own manoeuvre), slowing that began more than a
     perception-reaction time after V was out of its way, or V well ahead of it on its way, going
     its way (reasoner/reaction.py)."""
+    return _explained(p, other)
+
+
+def _explained_afresh(p: Passage, other: Other) -> bool:
     if own_cause(other):
         return True
     if other.braking is None and other.stopped is None:
         return False
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other)
+
+
+_explained = _ByIdentity(_explained_afresh, 128)   # a passage's road users (MAX_OTHERS) and more
 
 
 def _set_off(p: Passage) -> Standstill | None:
@@ -467,11 +504,15 @@ def _outbound(other: Other, at: int, arm: str, where: tuple[float, float], j: Ju
 
 # --- stated facts against derived ones ------------------------------------------------------------
 
-def checked(passage: Passage, at: int, stated: Iterable[tuple[Any, EventRef]]
+def checked(passage: Passage, at: int, stated: Iterable[tuple[Any, EventRef]],
+            derived: tuple[DerivedFact, ...] | None = None
             ) -> tuple[tuple[DerivedFact, ...], tuple[Contradiction, ...]]:
     """The derived facts that agree with what was stated, and a Contradiction for each stated
-    fact the measurements contradict (the derived facts showing it are held back)."""
-    derived = facts(passage, at)
+    fact the measurements contradict (the derived facts showing it are held back). `derived`:
+    facts(passage, at), where the caller has it already (one measurement checks the Monitor
+    Scenario's facts and then each perceived one against the same facts)."""
+    if derived is None:
+        derived = facts(passage, at)
     contradictions: list[Contradiction] = []
     held: set[str] = set()
     for sentence, ref in stated:

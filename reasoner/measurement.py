@@ -15,7 +15,7 @@ from typing import Any, Iterable
 from store import EventRef
 
 from . import acts
-from .derived import Contradiction, beside, checked
+from .derived import Contradiction, beside, checked, facts
 from .margins import BY_RULE, margin
 from .model import DerivedFact, Margin
 from .passage import Passage
@@ -60,8 +60,9 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
     if found is None:
         return Measurement(False)
     at = acts.moment(found, t, action)
-    agreed, contradictions = checked(found, at, stated)
-    beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)])[1])
+    derived = facts(found, at)
+    agreed, contradictions = checked(found, at, stated, derived)
+    beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)], derived)[1])
                     for text, ref in perceived
                     if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),

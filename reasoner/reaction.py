@@ -57,12 +57,12 @@ def cleared_at(mine: Sequence[Sample], theirs: Sequence[Sample], distance: float
     """When the vehicle was first seen `distance` or more from the other's way, after it was last
     within that distance of it: the moment it was out of the other's way. None when it never came
     that close, or was still that close at its last position in the record (it may not have left)."""
-    way = _way(theirs)
+    way = _Way.of(theirs, distance)
     placed = [s for s in mine if s.placed]
-    if len(way) < 2:
+    if len(way.points) < 2:
         return None
     for i in range(len(placed) - 1, -1, -1):      # from the end: the last time it was near
-        if _on_way((placed[i].x, placed[i].y), way, distance) is not None:
+        if way.hit((placed[i].x, placed[i].y)) is not None:
             return placed[i + 1].t if i + 1 < len(placed) else None
     return None
 
@@ -86,15 +86,15 @@ def well_ahead(mine: Sequence[Sample], other: Other) -> bool:
     was then moving away down that way). Such a road user braked hard for something else (a turn
     of its own, oncoming traffic it gives way to)."""
     began = slowing_began(other)
-    way = _way(other.way)
-    if began is None or len(way) < 2:
+    way = _Way.of(other.way, VEHICLE_WIDTH_M)
+    if began is None or len(way.points) < 2:
         return False
     placed = [s for s in mine if s.placed]
     seen = False
     for i, s in enumerate(placed):
         if s.t < began - REACTION_TIME_S * SECOND:
             continue
-        hit = _on_way((s.x, s.y), way, VEHICLE_WIDTH_M)
+        hit = way.hit((s.x, s.y))
         if hit is None:
             continue
         if not _ahead_and_clear(placed, i, hit, way, other, began):
@@ -123,6 +123,69 @@ def _way(samples: Sequence[Sample]) -> list[Point]:
     return [(s.x, s.y) for s in samples if s.placed]
 
 
+class _Way:
+    """A way (the placed positions of a road user's samples, a polyline) to measure points against
+    within `distance`: `hit(point)` is `_on_way(point, points, distance)`, found alike. Each
+    segment's box, widened by `distance`, is worked out once, and a grid of GRID_M cells lists the
+    segments whose widened box meets each cell (in the way's order): a point within a box lies in
+    one of the cells it meets, so only the segments listed in the point's cell can hold it, and
+    they are measured in the way's order with `_on_way`'s own arithmetic. A vehicle's passage is
+    measured against a road user's way point by point: hundreds of points, hundreds of segments."""
+
+    GRID_M = 8.0
+    MAX_CELLS = 64          # a segment meeting more cells (a jump in the record) is measured for every point
+
+    def __init__(self, points: list[Point], distance: float) -> None:
+        self.points = points
+        self._segments: list[tuple[float, float, float, float, Point, Point, float, float]] = []
+        self._cells: dict[tuple[int, int], list[int]] = {}
+        self._wide: list[int] = []
+        along = 0.0
+        for i, (r, s) in enumerate(zip(points, points[1:])):
+            length = math.dist(r, s)
+            box = (min(r[0], s[0]) - distance, max(r[0], s[0]) + distance,
+                   min(r[1], s[1]) - distance, max(r[1], s[1]) + distance)
+            self._segments.append((*box, r, s, length, along))
+            along += length
+            cells = self._cell(box[0], box[2]), self._cell(box[1], box[3])
+            if None in cells or (cells[1][0] - cells[0][0] + 1) * (cells[1][1] - cells[0][1] + 1) > self.MAX_CELLS:
+                self._wide.append(i)
+                continue
+            (x0, y0), (x1, y1) = cells
+            for cx in range(x0, x1 + 1):
+                for cy in range(y0, y1 + 1):
+                    self._cells.setdefault((cx, cy), []).append(i)
+        self._distance = distance
+
+    @classmethod
+    def of(cls, samples: Sequence[Sample], distance: float) -> _Way:
+        return cls(_way(samples), distance)
+
+    def _cell(self, x: float, y: float) -> tuple[int, int] | None:
+        if not (math.isfinite(x) and math.isfinite(y)):
+            return None
+        return math.floor(x / self.GRID_M), math.floor(y / self.GRID_M)
+
+    def hit(self, point: Point) -> _Hit | None:
+        """The nearest point of the way within the distance of `point`, or None (`_on_way`)."""
+        x, y = point
+        cell = self._cell(x, y)
+        if cell is None:        # not a finite position: every segment is measured, as _on_way does
+            candidates: Sequence[int] = range(len(self._segments))
+        else:
+            listed = self._cells.get(cell, [])
+            candidates = sorted(listed + self._wide) if self._wide else listed
+        best: tuple[float, float, Point] | None = None
+        for i in candidates:
+            x0, x1, y0, y1, r, s, length, along = self._segments[i]
+            if x0 < x < x1 and y0 < y < y1:
+                gap, f = project(point, r, s)
+                if gap < self._distance and (best is None or gap < best[0]):
+                    unit = ((s[0] - r[0]) / length, (s[1] - r[1]) / length) if length else (0.0, 0.0)
+                    best = (gap, along + f * length, unit)
+        return None if best is None else _Hit(best[1], best[2])
+
+
 def _on_way(point: Point, way: list[Point], distance: float) -> _Hit | None:
     """The nearest point of the way within `distance` of `point`, or None."""
     x, y = point
@@ -140,7 +203,7 @@ def _on_way(point: Point, way: list[Point], distance: float) -> _Hit | None:
     return None if best is None else _Hit(best[1], best[2])
 
 
-def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: list[Point], other: Other,
+def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: _Way, other: Other,
                      began: int) -> bool:
     """Whether the vehicle at placed[i] is ahead of the road user along its way, heading its way,
     with room enough (`needed_deceleration` below FORCE_DECEL_MPS2). The road user is taken as it
@@ -153,7 +216,7 @@ def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: list[Poin
     heading = _heading(placed, i)
     if where is None or speed is None or heading is None or s.speed_mps is None:
         return False
-    own = _on_way(where, way, VEHICLE_WIDTH_M)
+    own = way.hit(where)
     if own is None:
         return False
     gap = hit.along_m - own.along_m - speed * max(0, s.t - began) / SECOND

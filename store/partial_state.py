@@ -16,6 +16,9 @@ source's t rises with its seq, give or take SEQ_SLACK places.
 """
 from __future__ import annotations
 
+import bisect
+import weakref
+from dataclasses import dataclass
 from typing import Any, Iterable
 
 from . import fastjson
@@ -24,6 +27,7 @@ from .ddl import DENSE_KINDS, SPARSE_ONLY
 from .kinds import SRC_ROLES
 from .index_guard import AGREES, checked
 from .queries import SEQ_SLACK, _first_seq_past, highest_seq
+from .snapshots import chain_end
 from .state import _HANDLERS, _LATEST, _TOUCH, OBSERVATION_WINDOW_S, _key, empty_state, fold_rows
 from .state_value import State
 
@@ -89,7 +93,10 @@ def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None
     rows = [row[:3] for row in checked(conn.execute(_SPARSE_ROWS, (run, src, spawn[1] if spawn else _T_MIN, t)),
                                        run, 3, 0)]
     for kind in (*_DENSE_LATEST, *(() if spawn else _TOUCH)):
-        rows += _last_of(conn.execute(_LATEST_ROWS, (*window, kind, SEQ_SLACK + 1)).fetchall())
+        if kind == "entity.state":      # a few rows back from the top: the source's own series
+            rows += _last_of(conn.execute(_LATEST_ROWS, (*window, kind, SEQ_SLACK + 1)).fetchall())
+        else:
+            rows += _last_of(_kind_rows(store, run, src, kind, low, top, t))
     rows = sorted({r for r in rows if spawn is None or (r[1], r[0]) >= (spawn[1], spawn[0])},
                   key=lambda row: (row[1], row[0]))
     if not rows:
@@ -99,6 +106,63 @@ def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None
     state = empty_state()
     fold_rows(state, [(src, seq, at, kind, texts.get(seq, "null")) for seq, at, kind in rows])
     return state["entities"].get(src)
+
+
+# One source's rows of a dense kind other than entity.state (vehicle.perception, vehicle.trace),
+# per store: (run, src, kind) -> _KindRows. Such a kind has no index by kind, and a vehicle that
+# perceives only when it decides has a few dozen among thousands of states: _LATEST_ROWS then walks
+# back through every one of them, one table row each, to its spawn, for every act judged. Read once
+# per source and chain instead, and answered from memory.
+_kind_kept: weakref.WeakKeyDictionary[Store, dict[tuple[str, str, str], _KindRows]] = weakref.WeakKeyDictionary()
+_MAX_KIND_ROWS = 1_000_000     # rows kept per store; past it, all are let go
+_KIND_RANGE = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? AND seq >= ? AND seq <= ? AND kind = ? ORDER BY seq"
+
+
+@dataclass
+class _KindRows:
+    """Every row (seq, t, kind) of one kind of one source with seq in [low, high], in seq order,
+    as the chain (length, head) stood when they were read."""
+
+    chain: tuple[int, str]
+    low: int
+    high: int
+    rows: list[tuple[int, Any, str]]
+    seqs: list[int]
+
+
+def _kind_rows(store: Store, run: str, src: str, kind: str, low: int, top: int, t: int) -> list[tuple[int, Any, str]]:
+    """What _LATEST_ROWS gives for the window (run, src, low, top, t) and this kind: the last
+    SEQ_SLACK + 1 rows by seq with seq in [low, top] and t <= t, from the source's rows of the
+    kind kept for the chain as it stands (the part of [low, top] not kept yet read first)."""
+    if low > top:
+        return []
+    conn = store.connection
+    chain = chain_end(conn, run)
+    kept = _kind_kept.setdefault(store, {})
+    entry = kept.get((run, src, kind))
+    if entry is None or entry.chain != chain or top < entry.low - 1 or low > entry.high + 1:
+        entry = _KindRows(chain, low, top, [], [])
+        pieces = [(low, top)]
+    else:           # overlapping or next to it: read only what it lacks
+        pieces = [(low, entry.low - 1)] if low < entry.low else []
+        pieces += [(entry.high + 1, top)] if top > entry.high else []
+    if pieces:
+        if sum(len(e.rows) for e in kept.values()) > _MAX_KIND_ROWS:
+            kept.clear()
+        for a, b in pieces:
+            found = conn.execute(_KIND_RANGE, (run, src, a, b, kind)).fetchall()
+            entry.rows = found + entry.rows if a < entry.low else entry.rows + found
+        entry.low, entry.high = min(entry.low, low), max(entry.high, top)
+        entry.seqs = [row[0] for row in entry.rows]
+        kept[(run, src, kind)] = entry
+    lo, hi = bisect.bisect_left(entry.seqs, low), bisect.bisect_right(entry.seqs, top)
+    return [row for row in entry.rows[lo:hi] if _at_or_before(row[1], t)][-(SEQ_SLACK + 1):]
+
+
+def _at_or_before(at: Any, t: int) -> bool:
+    """SQLite's `at <= t` for a stored t and an integer t: numbers compared as numbers, any text
+    or blob (none an append writes) greater than every number."""
+    return type(at) in (int, float) and at <= t
 
 
 def _last_of(rows: list[tuple[int, int, str]]) -> list[tuple[int, int, str]]:

@@ -173,6 +173,7 @@ def _catch_up(store: Store, run: str, length: int, head: str) -> None:
         else:
             x0, x1, y0, y1 = min(x0, old[0]), max(x1, old[1]), min(y0, old[2]), max(y1, old[3])
             digest = xor(digest, old[4])
+        x0, x1, y0, y1 = _stored(x0), _stored(x1), _stored(y0), _stored(y1)
         mac = sealer.seal(BOXES, (run, b, src), (x0, x1, y0, y1))
         digest = xor(digest, mac)
         cache.execute(_PUT, (run, b, src, x0, x1, y0, y1, mac))
@@ -180,6 +181,15 @@ def _catch_up(store: Store, run: str, length: int, head: str) -> None:
     cache.execute("INSERT OR REPLACE INTO presence_marks (run, chain_len, head, boxes, digest, mac) "
                   "VALUES (?, ?, ?, ?, ?, ?)", (run, *marks, sealer.seal(MARKS, (run,), marks)))
     store.cache.memo[("presence", run)] = _Marks(*marks)
+
+
+def _stored(value: int | float) -> float:
+    """A box's bound as its REAL column gives it back, which is what its seal must cover: a float
+    (a JSON whole number, x 0, is an INTEGER min, read back as 0.0), and 0.0 for -0.0 (SQLite
+    writes a whole REAL as an integer, and -0.0 comes back as 0.0). Sealed otherwise, the box's
+    seal never opened: verify called the cache tampered, and every read meeting the box rebuilt
+    the run's boxes from all its events (the hour: 3 boxes of 470,438, half its first judgement)."""
+    return float(value) + 0.0       # -0.0 + 0.0 is 0.0; every other value is left as it is
 
 
 def _boxes(store: Store, run: str, start: int, end: int) -> list[Box]:
