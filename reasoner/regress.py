@@ -222,7 +222,8 @@ class Regressor:
         self.reader = FactReader()
         self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
-        self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True)   # in force: kept
+        self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True,   # in force: kept,
+                                    summaries=True)     # read by their summaries, whole where they changed
         self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
                                    proofs=not kept)     # proofs worked out for the changed incidents only
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
@@ -405,11 +406,11 @@ def _penalty_text(inc: Incident | None) -> str:
 
 
 def _liability(inc: Incident) -> tuple:
-    return inc.liable, inc.liability.parties if inc.liability else ()
+    return inc.liable, inc.parties
 
 
 def _liability_text(inc: Incident) -> str:
-    parties = ", ".join(inc.liability.parties) if inc.liability else ""
+    parties = ", ".join(inc.parties)
     return f"liable: {inc.liable}" + (f" (parties: {parties})" if parties and parties != inc.liable else "")
 
 
