@@ -247,6 +247,8 @@ def _hashable(key: Any) -> Any:
 
 
 def _plain(value: Any) -> Any:
+    """A key's value JSON has no form for. An event reference (a question names one per fact)
+    as a tagged array: its JSON object, keys sorted, cost most of a stage question's key."""
     if isinstance(value, EventRef):
-        return value.to_json()
+        return ("@ref", value.run, value.src, value.seq, value.t, value.kind)
     return repr(value)
