@@ -30,7 +30,7 @@ from .le.sentences import constant
 from .le.terms import Cond, Var
 from .model import Incident
 from .regress_books import GivenBooks, RegressError, load_given
-from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, keep_decisions, made,
+from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, keep_decisions,
                                 kept_decisions, recorded_decisions, vehicle_choice)
 from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
 from .regress_match import match
@@ -341,15 +341,15 @@ class Regressor:
         answer (`kept`: the rulebook and answer kept for it, taken where the baseline asks that
         very rulebook)."""
         if kept is not None and cb is not None and kept[0] == cb.rulebook.sha256:
-            before = made(Asked, cb.rulebook, kept[1], None)
+            before = Asked(cb.rulebook, kept[1])
         else:
             before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
         same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
         after = before if same else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
-        case = _case(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
-                     _answer(after.permitted))
         if before.permitted == after.permitted:
-            return d, case, before
+            return d, _unchanged_case(d, _answer(before.permitted)), before
+        case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
+                          _answer(after.permitted))
         proofs = [ask(self.engine, self.reader, c, d, proofs=True).proof for c in (cb, cn)]
         diffs = {"vehicle": self._diff(cb.rulebook, cn.rulebook, "vehicle")} if cb and cn else {}
         change = self._because("decision", case.before, case.after, [p for p in proofs if p is not None], diffs)
@@ -378,14 +378,19 @@ def _unchanged(k: KeptDecision, cb: Choice | None, cn: Choice | None) -> bool:
 
 def _kept_case(k: KeptDecision) -> CaseResult:
     """The decision's case from its kept answer (the same on both sides: no change)."""
-    d, answer = k.decision, _answer(k.permitted)
-    return _case(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, answer, answer)
+    return _unchanged_case(k.decision, _answer(k.permitted))
 
 
-def _case(*values: Any) -> CaseResult:
-    """CaseResult(*values) with no changes (regress_decisions.made: a run's tens of thousands of
-    decisions each make one)."""
-    return made(CaseResult, *values, ())
+def _unchanged_case(d: RecordedDecision, answer: str) -> CaseResult:
+    """The case of a decision answered alike on both sides: CaseResult(d.run, "decision", d.id,
+    d.vehicle, str(d.goal), d.t, answer, answer), made as its frozen dataclass's __init__ makes
+    it, but with its fields set at once rather than by a setattr call each (a run's tens of
+    thousands of decisions each make one)."""
+    case = object.__new__(CaseResult)
+    object.__setattr__(case, "__dict__", {"run": d.run, "case": "decision", "id": d.id, "vehicle": d.vehicle,
+                                          "action": str(d.goal), "t": d.t, "before": answer, "after": answer,
+                                          "changes": ()})
+    return case
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:

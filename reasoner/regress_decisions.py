@@ -16,7 +16,8 @@ the decisions and each one's perception by its key was a quarter of a warm regre
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
+from itertools import chain
 from collections.abc import Sequence
 from typing import Any, Iterator
 
@@ -34,9 +35,11 @@ from .stages import Choice, RuleSet
 KINDS = ("entity.spawn", "vehicle.perception", "vehicle.decision")
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class RecordedDecision:
-    """One vehicle.decision with the Vehicle Scenario it was taken on."""
+    """One vehicle.decision with the Vehicle Scenario it was taken on. (Slotted and not frozen:
+    a regression makes one per kept decision, 50,489 on the hour, and a frozen dataclass's
+    __init__ costs a setattr call per field.)"""
 
     run: str
     src: str
@@ -55,7 +58,7 @@ class RecordedDecision:
         return f"{self.src}:{self.seq}"
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Asked:
     """A decision's question answered by one rulebook, with the proof (or why-not) trees."""
 
@@ -262,12 +265,16 @@ class KeptForms:
             return None
         try:
             atoms = [Atom(functor, tuple(args)) for functor, args in data["atoms"]]
-            shapes = [[int(i) for i in places] for places in data["shapes"]]
-            of = {str(k): int(v) for k, v in data["of"].items()}
-            if any(not 0 <= i < len(atoms) for places in shapes for i in places) or \
-                    any(not (v in (GOALLESS, UNSHAPED) or 0 <= v < len(shapes)) for v in of.values()):
+            shapes, of = data["shapes"], data["of"]
+            places, forms = list(chain.from_iterable(shapes)), list(of.values())
+            # checked by type and range over whole columns (a run's tens of thousands of decisions)
+            if not (set(map(type, shapes)) <= {list} and set(map(type, places)) <= {int}
+                    and set(map(type, forms)) <= {int} and set(map(type, of)) <= {str}):
                 return None
-        except (KeyError, TypeError, ValueError):
+            if places and (min(places) < 0 or max(places) >= len(atoms)) or \
+                    forms and (min(forms) < min(GOALLESS, UNSHAPED) or max(forms) >= len(shapes)):
+                return None
+        except (AttributeError, KeyError, TypeError, ValueError):
             return None
         return cls(atoms, shapes, of)
 
@@ -300,7 +307,7 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
         return Asked(None if choice is None else choice.rulebook, None)
     rb = choice.rulebook
     if not proofs and shapes is not None:
-        return made(Asked, rb, shapes.permitted(engine, reader, rb, decision), None)
+        return Asked(rb, shapes.permitted(engine, reader, rb, decision))
     goal = reader.atom(rb, decision.goal)
     if goal is None:
         return Asked(rb, None)
@@ -315,7 +322,7 @@ def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: Rec
 KEPT_CHUNK = 2_000                      # decisions per kept entry (an entry is at most 4 MB)
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class KeptDecision:
     """A decision as kept: what names and chooses it, and the baseline's answer with the rulebook
     that gave it (None: none was asked)."""
@@ -340,26 +347,11 @@ def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
         if chunk is None or facts is None:
             return None
         scenarios = _Scenarios(memo.run, facts, len(chunk))
-        out += [made(KeptDecision, made(RecordedDecision, memo.run, src, seq, t, vehicle, goal, action, permitted,
-                                        proceeds, rulebook, KeptFacts(scenarios, i, refs)), sha, answer)
+        out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
+                                              rulebook, KeptFacts(scenarios, i, refs)), sha, answer)
                 for i, (src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, sha, answer)
                 in enumerate(chunk)]
     return out
-
-
-_FIELDS: dict[type, tuple[str, ...]] = {}
-
-
-def made(cls: type, *values: Any) -> Any:
-    """cls(*values) for a frozen dataclass given every field, as its __init__ makes it but
-    without a setattr call per field (a third of reading a run's tens of thousands of kept
-    decisions)."""
-    names = _FIELDS.get(cls)
-    if names is None:
-        names = _FIELDS[cls] = tuple(f.name for f in fields(cls))
-    value = object.__new__(cls)
-    value.__dict__.update(zip(names, values, strict=True))
-    return value
 
 
 def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) -> None:
