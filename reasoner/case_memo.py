@@ -33,6 +33,9 @@ _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
 
 
+_PIECES = "#pieces "       # an entry kept in pieces holds this, its count and digest: no JSON starts so
+
+
 class Uncacheable(TypeError):
     """A value of a type the codec does not keep: the case is measured again next time."""
 
@@ -84,7 +87,24 @@ class CaseMemo:
             return None
         if kind not in self._kept:
             self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
-        return self._kept[kind].get(key)
+        text = self._kept[kind].get(key)
+        if text is not None and text.startswith(_PIECES):
+            return self._joined(kind, key, text)
+        return text
+
+    def _joined(self, kind: str, key: str, head: str) -> str | None:
+        """The value kept in pieces, each under its own seal: None unless every piece is there
+        and together they are the value the head names by its digest (pieces of two writes of
+        the entry, each sealed, are not one value)."""
+        try:
+            count, digest = head[len(_PIECES):].split(" ")
+            pieces = [self._kept[kind].get(_piece_key(key, n)) for n in range(int(count))]
+        except ValueError:
+            return None
+        if any(piece is None for piece in pieces):
+            return None
+        text = "".join(pieces)
+        return text if _digest(text) == digest else None
 
     def _value(self, kind: str, key: str, plain: bool) -> Any:
         text = self.text(kind, key)
@@ -104,7 +124,14 @@ class CaseMemo:
                 return          # not plain after all (a tuple, a key that is not text): not kept
         except (Uncacheable, TypeError, ValueError):
             return
-        self._fresh.setdefault(kind, {})[key] = text
+        fresh, size = self._fresh.setdefault(kind, {}), _piece_size()
+        if len(text) <= size:
+            fresh[key] = text
+            return
+        pieces = range(0, len(text), size)
+        for n, i in enumerate(pieces):
+            fresh[_piece_key(key, n)] = text[i:i + size]
+        fresh[key] = f"{_PIECES}{len(pieces)} {_digest(text)}"
 
     def remember(self, kind: str, key: str, compute: Callable[[], Any], *, plain: bool = False) -> Any:
         """The kept value, else computed now and kept (at `save`); a None computed is not kept."""
@@ -121,6 +148,22 @@ class CaseMemo:
             if entries:
                 derived_cache.save(self.store, self.run, kind, code_version(), self.chain, entries)
         self._fresh.clear()
+
+
+def _piece_size() -> int:
+    """The most characters one kept entry holds: a longer value is kept in pieces of a quarter
+    of the cache's largest entry (store/derived_cache.py keeps none over it), so that a run
+    three times the hour keeps its cases and its decisions' forms as the hour does (its forms
+    are 1.5 MB, its cases 2.4 MB)."""
+    return max(1, derived_cache.MAX_PAYLOAD // 4)
+
+
+def _piece_key(key: str, n: int) -> str:
+    return f"{key} piece {n}"
+
+
+def _digest(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
 
 
 # --- the codec ---------------------------------------------------------------------------------
@@ -204,6 +247,8 @@ def _hashable(key: Any) -> Any:
 
 
 def _plain(value: Any) -> Any:
+    """A key's value JSON has no form for. An event reference (a question names one per fact)
+    as a tagged array: its JSON object, keys sorted, cost most of a stage question's key."""
     if isinstance(value, EventRef):
-        return value.to_json()
+        return ("@ref", value.run, value.src, value.seq, value.t, value.kind)
     return repr(value)

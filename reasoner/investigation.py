@@ -113,12 +113,43 @@ class _Validation:
     dispute: Finding | None = None
 
 
+_SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties")
+
+
+class KeptIncident:
+    """A kept incident of the judgement in force, read by its summary (`_SUMMARY`: what tells it
+    from the others and what a regression compares: its verdict, rule, penalty and who is
+    liable); any other part is that of the whole incident, decoded from the cache (or judged
+    again, if its entry no longer opens) when first asked for."""
+
+    __slots__ = (*_SUMMARY, "_load", "_whole")
+
+    def __init__(self, summary: list, load: Callable[[], Incident | None]) -> None:
+        for name, value in zip(_SUMMARY, summary, strict=True):
+            setattr(self, name, value)
+        self._load, self._whole = load, None
+
+    def whole(self) -> Incident:
+        if self._whole is None:
+            self._whole = self._load()
+        return self._whole
+
+    def __getattr__(self, name: str) -> Any:       # only for what the summary does not hold
+        if name.startswith("_"):
+            raise AttributeError(name)
+        return getattr(self.whole(), name)
+
+
+def _summary_of(incident: Incident) -> list:
+    return [getattr(incident, name) for name in _SUMMARY]
+
+
 class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
                  kept: bool = True, verdicts: bool = False, reader: FactReader | None = None,
-                 proofs: bool = True) -> None:
+                 proofs: bool = True, summaries: bool = False) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
         this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
         `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
@@ -130,10 +161,15 @@ class Investigation:
         left empty (the verdict asked plainly), and `proved` works them out for an incident
         that shows them: a regression's new side shows the proofs of its changed incidents
         only (on the hour 214 of 1,760), and the proof search and its trees were most of
-        judging the others. Such incidents are never kept (only the judgement in force is)."""
+        judging the others. Such incidents are never kept (only the judgement in force is).
+        `summaries` (with `verdicts`): a kept incident is handed back as a `KeptIncident`, read by
+        its summary (kept beside it) and decoded whole only when a part outside the summary is
+        asked for (a regression's baseline compares the summaries, and shows the proofs of the
+        changed incidents only: on the hour 214 of 1,758, whose whole entries are 24 MB of JSON)."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
+        self.summaries = summaries and self.verdicts
         self.proofs = proofs or self.verdicts
         self._unproved: dict[tuple, tuple[_Case, Gaps]] = {}     # by _named(incident)
         self._answered: dict[tuple[str, str], Any] = {}     # stage answers of unkept cases (`proved` asks again)
@@ -197,7 +233,19 @@ class Investigation:
             return self._case_afresh(run, rs, gaps, t, src, pv, ep)
         key = key_of("incident", rs.describe(), self.problems.get(run), t, src, _anchor_key(pv, ep),
                      [pv["body"].get("vehicle"), pv["body"].get("action")] if pv else [ep.vehicle, ep.action])
-        return self.memo(run).remember("incident", key, lambda: self._case_afresh(run, rs, gaps, t, src, pv, ep))
+        memo = self.memo(run)
+
+        def whole() -> Incident | None:
+            return memo.remember("incident", key, lambda: self._case_afresh(run, rs, gaps, t, src, pv, ep))
+        if not self.summaries:
+            return whole()
+        summary = memo.get("incident summary", key)
+        if summary is not None:
+            return KeptIncident(summary, whole)
+        incident = whole()
+        if incident is not None:
+            memo.put("incident summary", key, _summary_of(incident))
+        return incident
 
     def keeps_verdicts(self, run: str, rs: RuleSet) -> bool:
         """Whether this run's incidents are kept: judged by the rulebooks in force (the run's own,

@@ -317,6 +317,11 @@ class Incident:
     moments: tuple[tuple[str, int], ...] = ()       # the passage's moments: ("crossed the stop line", t), ...
 
     @property
+    def parties(self) -> tuple[str, ...]:
+        """Every party liable (the liability stage's), none without a liability."""
+        return self.liability.parties if self.liability else ()
+
+    @property
     def anchor(self) -> EventRef | None:
         """The event the incident is named after (the recorded potential violation, or the first
         observation it was re-derived from), among its evidence."""

@@ -35,7 +35,7 @@ from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, a
 from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
 from .regress_match import match
 from .regress_reasons import Trees, attribute, reasons, used_rules
-from .stages import RuleSet
+from .stages import Choice, RuleSet
 from .vocabulary import INCURS_FIXED_PENALTY, PUNISHABLY_VIOLATES, STAGES
 
 Progress = Callable[[str, int, int], None]          # (run, done, total runs)
@@ -222,7 +222,8 @@ class Regressor:
         self.reader = FactReader()
         self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
-        self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True)   # in force: kept
+        self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True,   # in force: kept,
+                                    summaries=True)     # read by their summaries, whole where they changed
         self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
                                    proofs=not kept)     # proofs worked out for the changed incidents only
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
@@ -317,14 +318,16 @@ class Regressor:
         when it is the judgement in force)."""
         keeps, memo = self.before.keeps_verdicts(run, rs_b), self.before.memo(run)
         kept = kept_decisions(memo) if keeps else None
-        if kept is not None and all(_unchanged(k, rs_b, rs_n) for k in kept):
+        cb, cn = _chooser(rs_b), _chooser(rs_n)
+        if kept is not None and all(_unchanged(k, cb(k.decision), cn(k.decision)) for k in kept):
             return tuple(_kept_case(k) for k in kept)
         if self.shapes is not None:
             self.shapes.attach(memo)        # each decision's shape kept for the next regression
         if kept is None:
-            judged = [self._decision(d, rs_b, rs_n) for d in recorded_decisions(self.store, run)]
+            judged = [self._decision(d, cb(d), cn(d)) for d in recorded_decisions(self.store, run)]
         else:
-            judged = [self._decision(k.decision, rs_b, rs_n, (k.rulebook, k.permitted)) for k in kept]
+            judged = [self._decision(k.decision, cb(k.decision), cn(k.decision), (k.rulebook, k.permitted))
+                      for k in kept]
         if keeps and kept is None:
             keep_decisions(memo, [(d, before) for d, _, before in judged])
         shaped = self.shapes.keep() if self.shapes is not None else False
@@ -332,37 +335,62 @@ class Regressor:
             memo.save()
         return tuple(case for _, case, _ in judged)
 
-    def _decision(self, d: RecordedDecision, rs_b: RuleSet, rs_n: RuleSet,
+    def _decision(self, d: RecordedDecision, cb: Choice | None, cn: Choice | None,
                   kept: tuple[str | None, bool | None] | None = None) -> tuple[RecordedDecision, CaseResult, Asked]:
-        """The decision's case, and the baseline's answer (`kept`: the rulebook and answer kept
-        for it, taken where the baseline asks that very rulebook)."""
-        cb, cn = vehicle_choice(rs_b, d), vehicle_choice(rs_n, d)
+        """The decision's case, asked of the two sides' vehicle-stage choices, and the baseline's
+        answer (`kept`: the rulebook and answer kept for it, taken where the baseline asks that
+        very rulebook)."""
         if kept is not None and cb is not None and kept[0] == cb.rulebook.sha256:
             before = Asked(cb.rulebook, kept[1])
         else:
             before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
         same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
         after = before if same else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
+        if before.permitted == after.permitted:
+            return d, _unchanged_case(d, _answer(before.permitted)), before
         case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
                           _answer(after.permitted))
-        if before.permitted == after.permitted:
-            return d, case, before
         proofs = [ask(self.engine, self.reader, c, d, proofs=True).proof for c in (cb, cn)]
         diffs = {"vehicle": self._diff(cb.rulebook, cn.rulebook, "vehicle")} if cb and cn else {}
         change = self._because("decision", case.before, case.after, [p for p in proofs if p is not None], diffs)
         return d, _with(case, [change]), before
 
 
-def _unchanged(k: KeptDecision, rs_b: RuleSet, rs_n: RuleSet) -> bool:
+def _chooser(rs: RuleSet) -> Callable[[RecordedDecision], Choice | None]:
+    """vehicle_choice of one side, worked out once per rulebook the decisions name (it depends on
+    nothing else of a decision; a run's tens of thousands of decisions name a few)."""
+    found: dict[str | None, Choice | None] = {}
+
+    def choose(d: RecordedDecision) -> Choice | None:
+        named = d.rulebook if isinstance(d.rulebook, str) else None
+        try:
+            return found[named]
+        except KeyError:
+            choice = found[named] = vehicle_choice(rs, d)
+            return choice
+    return choose
+
+
+def _unchanged(k: KeptDecision, cb: Choice | None, cn: Choice | None) -> bool:
     """Whether both sides ask the kept decision of the very rulebook its kept answer came from."""
-    cb, cn = vehicle_choice(rs_b, k.decision), vehicle_choice(rs_n, k.decision)
     return cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256 == k.rulebook
 
 
 def _kept_case(k: KeptDecision) -> CaseResult:
     """The decision's case from its kept answer (the same on both sides: no change)."""
-    d, answer = k.decision, _answer(k.permitted)
-    return CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, answer, answer)
+    return _unchanged_case(k.decision, _answer(k.permitted))
+
+
+def _unchanged_case(d: RecordedDecision, answer: str) -> CaseResult:
+    """The case of a decision answered alike on both sides: CaseResult(d.run, "decision", d.id,
+    d.vehicle, str(d.goal), d.t, answer, answer), made as its frozen dataclass's __init__ makes
+    it, but with its fields set at once rather than by a setattr call each (a run's tens of
+    thousands of decisions each make one)."""
+    case = object.__new__(CaseResult)
+    object.__setattr__(case, "__dict__", {"run": d.run, "case": "decision", "id": d.id, "vehicle": d.vehicle,
+                                          "action": str(d.goal), "t": d.t, "before": answer, "after": answer,
+                                          "changes": ()})
+    return case
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:
@@ -405,11 +433,11 @@ def _penalty_text(inc: Incident | None) -> str:
 
 
 def _liability(inc: Incident) -> tuple:
-    return inc.liable, inc.liability.parties if inc.liability else ()
+    return inc.liable, inc.parties
 
 
 def _liability_text(inc: Incident) -> str:
-    parties = ", ".join(inc.liability.parties) if inc.liability else ""
+    parties = ", ".join(inc.parties)
     return f"liable: {inc.liable}" + (f" (parties: {parties})" if parties and parties != inc.liable else "")
 
 

@@ -1,0 +1,113 @@
+"""A kept value longer than the cache keeps in one entry (store/derived_cache.py MAX_PAYLOAD) is
+kept in pieces, each under its own seal, with a head naming their count and digest
+(reasoner/case_memo.py): a run whose cases or decisions' forms outgrow one entry keeps them as
+a smaller run does, and a forged piece, or pieces of two writes put together, are not believed."""
+from __future__ import annotations
+
+import json
+import sqlite3
+
+import pytest
+
+from reasoner import regress_decisions
+from reasoner import regress as regress_module
+from reasoner.case_memo import CaseMemo
+from reasoner.engine import get_engine
+from reasoner.regress import regress
+from store import Store, cache_tampering, derived_cache
+
+from tests.reasoner import regress_runs as R
+
+SMALL = 256         # the largest entry, in characters: every kept value of the small run outgrows it
+
+
+@pytest.fixture
+def db(tmp_path):
+    return R.build_store(tmp_path / "gaps.db")
+
+
+@pytest.fixture
+def new_rules(tmp_path):
+    return R.edited(tmp_path / "new", "validators.le", cut=(R.AMBER_TOO_CLOSE,))    # answers the vehicle stage too
+
+
+def _regress(db, rules) -> dict:
+    with Store.open_read_only(db) as store:
+        return regress(store, [str(rules)], runs=[R.RUN]).to_json()
+
+
+def _plain(db, rules) -> dict:
+    engine = get_engine()
+    new = regress_module.load_given(engine, [str(rules)])
+    with Store.open_read_only(db) as store:
+        part = regress_module.Regressor(store, engine, new, None, kept=False).part(R.RUN)
+        return regress_module.assemble(new, None, [part]).to_json()
+
+
+def _shaping(monkeypatch) -> list:
+    calls: list = []
+    shape = regress_decisions.Shapes._shape
+    monkeypatch.setattr(regress_decisions.Shapes, "_shape", lambda self, *a: calls.append(a) or shape(self, *a))
+    return calls
+
+
+def test_values_larger_than_an_entry_are_kept_in_pieces_and_read_back(db, new_rules, monkeypatch):
+    """With entries of at most SMALL characters, the decisions' forms and the baseline's cases and
+    incidents are still kept: the second regression shapes no decision, judges no baseline case,
+    and gives the plain path's result."""
+    monkeypatch.setattr(derived_cache, "MAX_PAYLOAD", SMALL)
+    first = _regress(db, new_rules)
+    with sqlite3.connect(f"{db}.cache") as cache:
+        assert cache.execute("SELECT max(length(payload)) FROM derived").fetchone()[0] <= SMALL
+        assert cache.execute("SELECT count(*) FROM derived WHERE kind = 'shapes' AND instr(key, ' piece ')"
+                             ).fetchone()[0] > 1
+    calls = _shaping(monkeypatch)
+    judged: list = []
+    afresh = regress_module.Investigation._case_afresh
+    monkeypatch.setattr(regress_module.Investigation, "_case_afresh",
+                        lambda inv, *a: judged.append(inv.verdicts) or afresh(inv, *a))
+    assert _regress(db, new_rules) == first == _plain(db, new_rules)
+    assert calls == []
+    assert True not in judged                   # the baseline's incidents read, not judged
+
+
+def test_a_forged_piece_is_not_believed(db, new_rules, monkeypatch):
+    """The first piece of each kept set of forms altered: its seal does not open, `gaps verify`'s
+    check names it, and the decisions are shaped again, to the same result."""
+    monkeypatch.setattr(derived_cache, "MAX_PAYLOAD", SMALL)
+    first = _regress(db, new_rules)
+    with sqlite3.connect(f"{db}.cache") as cache:
+        forged = cache.execute("SELECT key, payload FROM derived WHERE kind = 'shapes' AND key LIKE '% piece 0'"
+                               ).fetchall()
+        assert forged
+        for key, payload in forged:
+            cache.execute("UPDATE derived SET payload = ? WHERE kind = 'shapes' AND key = ?",
+                          (payload[:-1] + ("0" if payload[-1] != "0" else "1"), key))
+    with Store.open_read_only(db) as store:
+        named = cache_tampering(store, [R.RUN]).derived[R.RUN]
+    assert sorted(named) == sorted(f"shapes {key}" for key, _ in forged)
+    calls = _shaping(monkeypatch)
+    assert _regress(db, new_rules) == first
+    assert calls
+
+
+def test_pieces_of_two_writes_are_not_one_value(db, monkeypatch):
+    """Each piece of an older write of the same entry opens its seal (this code wrote it under
+    that key), but put among a newer write's pieces they are not the value the head names."""
+    monkeypatch.setattr(derived_cache, "MAX_PAYLOAD", SMALL)
+    older, newer = list(range(200)), list(range(1, 201))
+    with Store.open_read_only(db) as store:
+        for value in (older, newer):
+            memo = CaseMemo(store, R.RUN)
+            memo.put("test", "k", value, plain=True)
+            memo.save()
+            if value is older:
+                kept = store.cache.connection.execute(
+                    "SELECT key, payload, mac FROM derived WHERE kind = 'test' AND key = 'k piece 0'").fetchone()
+        assert CaseMemo(store, R.RUN).get("test", "k", plain=True) == newer
+        store.cache.connection.execute("UPDATE derived SET payload = ?, mac = ? WHERE kind = 'test' AND key = ?",
+                                       (kept[1], kept[2], kept[0]))
+        assert not cache_tampering(store, [R.RUN]).derived.get(R.RUN)      # every seal opens
+        assert CaseMemo(store, R.RUN).get("test", "k", plain=True) is None
+    assert json.dumps(older) != json.dumps(newer) and len(json.dumps(older)) > SMALL // 4
+
