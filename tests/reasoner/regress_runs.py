@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from reasoner.bundled import bundled
 from store import Store
 from tests.helpers.verdict_runs import RUN, RunBuilder, car
@@ -74,3 +76,43 @@ def edited(tmp: Path, name: str, cut: tuple[str, ...] = (), add: str = "", old: 
 
 
 __all__ = ["RUN", "build_store", "edited"]
+
+
+def regressed(db: Path, rules: Path) -> dict:
+    """`regress` of the run under `rules` against the rulebooks in force, as its JSON."""
+    from reasoner.regress import regress
+    with Store.open_read_only(db) as store:
+        return regress(store, [str(rules)], runs=[RUN]).to_json()
+
+
+def plain(db: Path, rules: Path) -> dict:
+    """The same regression with nothing kept: every case measured and judged, every decision
+    asked; what every kept road must equal, to the byte."""
+    from reasoner import regress as regress_module
+    engine = regress_module.get_engine()
+    new = regress_module.load_given(engine, [str(rules)])
+    with Store.open_read_only(db) as store:
+        part = regress_module.Regressor(store, engine, new, None, kept=False).part(RUN)
+        return regress_module.assemble(new, None, [part]).to_json()
+
+
+def shaping(monkeypatch) -> list:
+    """Calls of Shapes._shape (parsing and shaping a decision's sentences), counted."""
+    from reasoner import regress_decisions
+    calls: list = []
+    shape = regress_decisions.Shapes._shape
+    monkeypatch.setattr(regress_decisions.Shapes, "_shape", lambda self, *a: calls.append(a) or shape(self, *a))
+    return calls
+
+
+@pytest.fixture
+def db(tmp_path):
+    """The run's store (a fixture: import it into a test module)."""
+    return build_store(tmp_path / "gaps.db")
+
+
+@pytest.fixture
+def new_rules(tmp_path):
+    """validators.le without its amber exception: it answers the vehicle stage too, so verdicts
+    and decisions change (a fixture: import it into a test module)."""
+    return edited(tmp_path / "new", "validators.le", cut=(AMBER_TOO_CLOSE,))

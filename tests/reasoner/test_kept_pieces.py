@@ -9,46 +9,14 @@ import sqlite3
 
 import pytest
 
-from reasoner import regress_decisions
 from reasoner import regress as regress_module
 from reasoner.case_memo import CaseMemo
-from reasoner.engine import get_engine
-from reasoner.regress import regress
 from store import Store, cache_tampering, derived_cache
 
 from tests.reasoner import regress_runs as R
+from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 
 SMALL = 256         # the largest entry, in characters: every kept value of the small run outgrows it
-
-
-@pytest.fixture
-def db(tmp_path):
-    return R.build_store(tmp_path / "gaps.db")
-
-
-@pytest.fixture
-def new_rules(tmp_path):
-    return R.edited(tmp_path / "new", "validators.le", cut=(R.AMBER_TOO_CLOSE,))    # answers the vehicle stage too
-
-
-def _regress(db, rules) -> dict:
-    with Store.open_read_only(db) as store:
-        return regress(store, [str(rules)], runs=[R.RUN]).to_json()
-
-
-def _plain(db, rules) -> dict:
-    engine = get_engine()
-    new = regress_module.load_given(engine, [str(rules)])
-    with Store.open_read_only(db) as store:
-        part = regress_module.Regressor(store, engine, new, None, kept=False).part(R.RUN)
-        return regress_module.assemble(new, None, [part]).to_json()
-
-
-def _shaping(monkeypatch) -> list:
-    calls: list = []
-    shape = regress_decisions.Shapes._shape
-    monkeypatch.setattr(regress_decisions.Shapes, "_shape", lambda self, *a: calls.append(a) or shape(self, *a))
-    return calls
 
 
 def test_values_larger_than_an_entry_are_kept_in_pieces_and_read_back(db, new_rules, monkeypatch):
@@ -56,17 +24,17 @@ def test_values_larger_than_an_entry_are_kept_in_pieces_and_read_back(db, new_ru
     incidents are still kept: the second regression shapes no decision, judges no baseline case,
     and gives the plain path's result."""
     monkeypatch.setattr(derived_cache, "MAX_PAYLOAD", SMALL)
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     with sqlite3.connect(f"{db}.cache") as cache:
         assert cache.execute("SELECT max(length(payload)) FROM derived").fetchone()[0] <= SMALL
         assert cache.execute("SELECT count(*) FROM derived WHERE kind = 'shapes' AND instr(key, ' piece ')"
                              ).fetchone()[0] > 1
-    calls = _shaping(monkeypatch)
+    calls = R.shaping(monkeypatch)
     judged: list = []
     afresh = regress_module.Investigation._case_afresh
     monkeypatch.setattr(regress_module.Investigation, "_case_afresh",
                         lambda inv, *a: judged.append(inv.verdicts) or afresh(inv, *a))
-    assert _regress(db, new_rules) == first == _plain(db, new_rules)
+    assert R.regressed(db, new_rules) == first == R.plain(db, new_rules)
     assert calls == []
     assert True not in judged                   # the baseline's incidents read, not judged
 
@@ -75,7 +43,7 @@ def test_a_forged_piece_is_not_believed(db, new_rules, monkeypatch):
     """The first piece of each kept set of forms altered: its seal does not open, `gaps verify`'s
     check names it, and the decisions are shaped again, to the same result."""
     monkeypatch.setattr(derived_cache, "MAX_PAYLOAD", SMALL)
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     with sqlite3.connect(f"{db}.cache") as cache:
         forged = cache.execute("SELECT key, payload FROM derived WHERE kind = 'shapes' AND key LIKE '% piece 0'"
                                ).fetchall()
@@ -86,8 +54,8 @@ def test_a_forged_piece_is_not_believed(db, new_rules, monkeypatch):
     with Store.open_read_only(db) as store:
         named = cache_tampering(store, [R.RUN]).derived[R.RUN]
     assert sorted(named) == sorted(f"shapes {key}" for key, _ in forged)
-    calls = _shaping(monkeypatch)
-    assert _regress(db, new_rules) == first
+    calls = R.shaping(monkeypatch)
+    assert R.regressed(db, new_rules) == first
     assert calls
 
 

@@ -13,43 +13,11 @@ import pytest
 from reasoner import regress as regress_module
 from reasoner import regress_decisions
 from reasoner.engine import get_engine
-from reasoner.regress import regress
 from reasoner.shapes import Shaper
 from store import Store, cache_tampering
 
 from tests.reasoner import regress_runs as R
-
-
-@pytest.fixture
-def db(tmp_path):
-    return R.build_store(tmp_path / "gaps.db")
-
-
-@pytest.fixture
-def new_rules(tmp_path):
-    return R.edited(tmp_path / "new", "validators.le", cut=(R.AMBER_TOO_CLOSE,))    # answers the vehicle stage too
-
-
-def _regress(db, rules) -> dict:
-    with Store.open_read_only(db) as store:
-        return regress(store, [str(rules)], runs=[R.RUN]).to_json()
-
-
-def _plain(db, rules) -> dict:
-    """The regression with nothing kept: every decision asked, none by a kept form."""
-    engine = get_engine()
-    new = regress_module.load_given(engine, [str(rules)])
-    with Store.open_read_only(db) as store:
-        part = regress_module.Regressor(store, engine, new, None, kept=False).part(R.RUN)
-        return regress_module.assemble(new, None, [part]).to_json()
-
-
-def _shaping(monkeypatch) -> list:
-    """Calls of Shapes._shape (parsing and shaping a decision's sentences), counted."""
-    calls: list = []
-    shape = regress_decisions.Shapes._shape
-    monkeypatch.setattr(regress_decisions.Shapes, "_shape", lambda self, *a: calls.append(a) or shape(self, *a))
-    return calls
+from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 
 
 def _masked(result: dict, *paths) -> str:
@@ -60,18 +28,18 @@ def _masked(result: dict, *paths) -> str:
 
 
 def test_a_later_regression_shapes_no_decision_and_gives_the_plain_paths_result(db, new_rules, monkeypatch):
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     assert first["changed"] and first["counts"]["decisions"] == 4
-    calls = _shaping(monkeypatch)
-    again = _regress(db, new_rules)
-    assert again == first == _plain(db, new_rules)
+    calls = R.shaping(monkeypatch)
+    again = R.regressed(db, new_rules)
+    assert again == first == R.plain(db, new_rules)
     assert calls == []                  # every decision's form read from the cache
 
 
 def test_a_forged_kept_form_is_not_believed(db, new_rules):
     """The kept forms altered (every decision pointed at the first shape): the seal does not
     open, `gaps verify`'s check names the entry, and the decisions are shaped again."""
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     with sqlite3.connect(f"{db}.cache") as cache:
         rows = cache.execute("SELECT key, payload FROM derived WHERE kind = 'shapes'").fetchall()
         assert rows
@@ -81,7 +49,7 @@ def test_a_forged_kept_form_is_not_believed(db, new_rules):
             cache.execute("UPDATE derived SET payload = ? WHERE kind = 'shapes' AND key = ?", (json.dumps(data), key))
     with Store.open_read_only(db) as store:
         assert any(key.startswith("shapes ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
 
 
 def test_a_rulebook_shaping_alike_reads_the_forms_and_answers_with_its_own_rules(db, new_rules, tmp_path,
@@ -94,11 +62,11 @@ def test_a_rulebook_shaping_alike_reads_the_forms_and_answers_with_its_own_rules
     whole_path = R.edited(tmp_path / "whole", "validators.le")
     whole = regress_module.load_given(engine, [str(whole_path)]).books[0]
     assert cut.sha256 != whole.sha256 and Shaper(cut).identity == Shaper(whole).identity
-    first = _regress(db, new_rules)
-    calls = _shaping(monkeypatch)
-    second = _regress(db, whole_path)
+    first = R.regressed(db, new_rules)
+    calls = R.shaping(monkeypatch)
+    second = R.regressed(db, whole_path)
     assert calls == []
-    assert _masked(second, whole_path) == _masked(_plain(db, whole_path), whole_path)
+    assert _masked(second, whole_path) == _masked(R.plain(db, whole_path), whole_path)
     assert first["counts"].get("decision") and not second["counts"].get("decision")
 
 
@@ -113,9 +81,9 @@ def test_the_shapers_identity_follows_its_templates_and_named_constants(tmp_path
 def test_a_kept_scenario_is_made_only_for_a_decision_that_needs_its_sentences(db, new_rules, monkeypatch):
     """With the forms kept, only a changed decision (whose two proofs are searched) reads its
     Vehicle Scenario; the others' are never made into sentences and events."""
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     made: list = []
     unkept = regress_decisions._unkept_facts
     monkeypatch.setattr(regress_decisions, "_unkept_facts", lambda *a: made.append(a[0]) or unkept(*a))
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
     assert len(made) == first["counts"]["decision"] == 1

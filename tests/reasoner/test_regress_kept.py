@@ -30,20 +30,6 @@ def new_rules(tmp_path):
     return R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))      # answers the vehicle stage too
 
 
-def _regress(db, rules) -> dict:
-    with Store.open_read_only(db) as store:
-        return regress(store, [str(rules)], runs=[R.RUN]).to_json()
-
-
-def _plain(db, rules) -> dict:
-    """The regression with nothing kept: every case measured and judged, every decision asked."""
-    engine = regress_module.get_engine()
-    new = regress_module.load_given(engine, [str(rules)])
-    with Store.open_read_only(db) as store:
-        part = regress_module.Regressor(store, engine, new, None, kept=False).part(R.RUN)
-        return regress_module.assemble(new, None, [part]).to_json()
-
-
 class _Count:
     """Calls of Investigation._case_afresh by side, of ask, and the kinds read."""
 
@@ -70,10 +56,10 @@ class _Count:
 
 
 def test_a_second_regression_reads_the_baselines_verdicts_and_answers_and_gives_the_same(db, new_rules, monkeypatch):
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     assert first["changed"] and first["counts"]["decisions"] == 4
     count = _Count(monkeypatch)
-    again = _regress(db, new_rules)
+    again = R.regressed(db, new_rules)
     assert again == first
     assert count.judged[True] == 0 and count.judged[False] == 3       # the baseline kept, the new rules judged
     assert count.asked == 4 + 2                                          # the new side's, and the changed one's proofs
@@ -81,18 +67,18 @@ def test_a_second_regression_reads_the_baselines_verdicts_and_answers_and_gives_
 
 
 def test_the_kept_path_gives_the_plain_paths_regression(db, new_rules):
-    plain = _plain(db, new_rules)
-    assert _regress(db, new_rules) == plain          # keeps
-    assert _regress(db, new_rules) == plain          # from what it kept
+    plain = R.plain(db, new_rules)
+    assert R.regressed(db, new_rules) == plain          # keeps
+    assert R.regressed(db, new_rules) == plain          # from what it kept
 
 
 def test_a_forged_kept_verdict_is_dropped_and_judged_again(db, new_rules):
     """Someone who holds the folder turns the kept punishable verdicts mitigated: the seals no
     longer open, so the baseline is judged again, the result is the untouched one, and the cache
     check names the entries."""
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     _forge(db, "incident", '"punishable"', '"mitigated"')
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
 
 
 def _forge(db, kind: str, was: str, now: str) -> None:
@@ -106,11 +92,11 @@ def _forge(db, kind: str, was: str, now: str) -> None:
 
 
 def test_a_forged_kept_decision_answer_is_not_believed(db, new_rules):
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     with sqlite3.connect(f"{db}.cache") as cache:
         assert cache.execute("UPDATE derived SET payload = replace(payload, 'true', 'false') "
                              "WHERE kind = 'decisions'").rowcount
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
 
 
 def test_gaps_incidents_keeps_the_judgement_in_force_and_not_one_with_given_rules(db, new_rules, monkeypatch):
@@ -136,7 +122,7 @@ def test_the_codec_keeps_every_incident_exactly(db):
 def test_the_kept_decisions_are_the_recorded_ones_with_their_scenarios(db, new_rules):
     """What a regression keeps of each decision (its Vehicle Scenario: sentences and the events
     they cite) is what reading the run gives, so asking a new rulebook on it is asking on the run."""
-    _regress(db, new_rules)
+    R.regressed(db, new_rules)
     with Store.open_read_only(db) as store:
         recorded = list(regress_decisions.recorded_decisions(store, R.RUN))
         kept = regress_decisions.kept_decisions(case_memo.CaseMemo(store, R.RUN))
@@ -147,9 +133,9 @@ def test_the_kept_decisions_are_the_recorded_ones_with_their_scenarios(db, new_r
 def test_a_forged_kept_scenario_is_not_asked(db, new_rules):
     """A kept decision's sentence altered (the vehicle now saw green where it saw red): the seal
     does not open, the decisions are read from the run again, and the result is the untouched one."""
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     _forge(db, "decisions", "red light", "green light")
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
 
 
 def test_decisions_asked_once_per_shape_answer_as_asked_one_by_one(db):
@@ -209,7 +195,7 @@ def test_a_regression_collects_once_for_both_sides(db, new_rules, monkeypatch):
     collect = gc.collect
     monkeypatch.setattr(gc, "collect", lambda generation=2: full.append(generation) if generation == 2 else None
                         or collect(generation))
-    _regress(db, new_rules)
+    R.regressed(db, new_rules)
     assert full.count(2) == 1
 
 
@@ -230,7 +216,7 @@ def test_the_new_side_asks_only_the_rulebooks_it_does_not_share_with_the_baselin
     stage), and the others only what no kept answer covers: a changed case's."""
     from reasoner.bundled import CURRENT_SET, bundled
     from reasoner.engine import Engine, sha256_text
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     asked: list[str] = []
     for name in ("ask", "holds", "ask_first", "first_holding", "answers", "answers_all"):
         original = getattr(Engine, name)
@@ -241,7 +227,7 @@ def test_the_new_side_asks_only_the_rulebooks_it_does_not_share_with_the_baselin
         monkeypatch.setattr(Engine, name, counted)
     names = {sha256_text(bundled(n)): n for n in CURRENT_SET}      # the engine names a text by its first load
     names[sha256_text(new_rules.read_text(encoding="utf-8"))] = "new"
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
     flipped = [case for case in first["runs"][0]["incidents"] if case["changes"]]
     assert len(flipped) == 1 and flipped[0]["after"].startswith("punishable")
     assert "monitors.le" not in asked and "new" in asked
@@ -278,7 +264,7 @@ def test_an_investigation_without_proofs_judges_alike_and_proves_on_demand(db, n
 
 def test_the_new_side_searches_a_verdicts_proof_only_where_it_changed(db, new_rules, monkeypatch):
     from reasoner.engine import Engine, sha256_text
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     new = sha256_text(new_rules.read_text(encoding="utf-8"))
     proofs: list[str] = []
     ask_first = Engine.ask_first
@@ -287,6 +273,6 @@ def test_the_new_side_searches_a_verdicts_proof_only_where_it_changed(db, new_ru
         proofs.append(rb.sha256)
         return ask_first(self, rb, *args, **kwargs)
     monkeypatch.setattr(Engine, "ask_first", counted)
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
     changed = [case for case in first["runs"][0]["incidents"] if case["changes"]]
     assert len(first["runs"][0]["incidents"]) > len(changed) == proofs.count(new) == 1

@@ -7,9 +7,7 @@ import sqlite3
 
 import pytest
 
-from reasoner import regress as regress_module
 from reasoner.case_memo import CaseMemo
-from reasoner.regress import regress
 from store import Store, cache_tampering
 
 from tests.reasoner import regress_runs as R
@@ -25,19 +23,6 @@ def new_rules(tmp_path):
     return R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))
 
 
-def _regress(db, rules) -> dict:
-    with Store.open_read_only(db) as store:
-        return regress(store, [str(rules)], runs=[R.RUN]).to_json()
-
-
-def _plain(db, rules) -> dict:
-    engine = regress_module.get_engine()
-    new = regress_module.load_given(engine, [str(rules)])
-    with Store.open_read_only(db) as store:
-        part = regress_module.Regressor(store, engine, new, None, kept=False).part(R.RUN)
-        return regress_module.assemble(new, None, [part]).to_json()
-
-
 def _read(monkeypatch) -> list[str]:
     """The kinds of the kept values read (decoded), one per read."""
     kinds: list[str] = []
@@ -47,12 +32,12 @@ def _read(monkeypatch) -> list[str]:
 
 
 def test_only_the_changed_incidents_are_decoded_whole(db, new_rules, monkeypatch):
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     incidents = first["runs"][0]["incidents"]
     changed = [i for i in incidents if i["changes"] and i["before"] is not None]
     assert changed and len(changed) < len(incidents)
     kinds = _read(monkeypatch)
-    assert _regress(db, new_rules) == first == _plain(db, new_rules)
+    assert R.regressed(db, new_rules) == first == R.plain(db, new_rules)
     assert kinds.count("incident summary") == len([i for i in incidents if i["before"] is not None])
     assert kinds.count("incident") == len(changed)
 
@@ -60,7 +45,7 @@ def test_only_the_changed_incidents_are_decoded_whole(db, new_rules, monkeypatch
 def test_a_forged_summary_is_not_believed(db, new_rules, monkeypatch):
     """The kept summaries' verdicts turned: their seals do not open, the cache check names them,
     and the incidents are read whole, to the same result."""
-    first = _regress(db, new_rules)
+    first = R.regressed(db, new_rules)
     with sqlite3.connect(f"{db}.cache") as cache:
         assert cache.execute("UPDATE derived SET payload = replace(replace(replace(payload, '\"punishable\"', '\"x\"'), "
                              "'\"mitigated\"', '\"punishable\"'), '\"x\"', '\"mitigated\"') "
@@ -68,5 +53,5 @@ def test_a_forged_summary_is_not_believed(db, new_rules, monkeypatch):
     with Store.open_read_only(db) as store:
         assert any(key.startswith("incident summary ") for key in cache_tampering(store, [R.RUN]).derived[R.RUN])
     kinds = _read(monkeypatch)
-    assert _regress(db, new_rules) == first
+    assert R.regressed(db, new_rules) == first
     assert kinds.count("incident") == len([i for i in first["runs"][0]["incidents"] if i["before"] is not None])
