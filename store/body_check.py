@@ -9,7 +9,7 @@ mean the same in both drafts.
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any, Callable, Iterable
 
 import fastjsonschema
 
@@ -157,6 +157,19 @@ class _Writer:
             raise _Unsupported
         return "(" + " or ".join(f"({b})" for b in branches) + ")"
 
+    def extras(self, named: Iterable[str]) -> str:
+        """The name of a helper that checks a body's values under names its schema does not give
+        (its additional properties, which the schema takes whatever they hold): each a scalar
+        orjson writes as the canonical form does. A simulation's road users report more than the
+        schema names (a lane, an acceleration), and without this every one of their states left
+        the fast lane."""
+        name = f"_extras{len(self.lines)}"
+        scalar = f"type(x) is str or type(x) is bool or x is None or {_PLAIN_NUMBER.format(v='x')}"
+        self.lines += [f"def {name}(body):", "    for name, x in body.items():",
+                       f"        if name not in {self.constant(frozenset(named))} and not ({scalar}):",
+                       "            return False", "    return True"]
+        return name
+
     def items(self, schema: Any) -> str:
         """The name of a helper that checks every element of a list against `schema`."""
         name = f"_items{len(self.lines)}"
@@ -201,37 +214,10 @@ class _Writer:
                 if self.plain:
                     lines.append("        unnamed -= 1")
         if self.plain:  # a value under a name the schema does not give must be a plain scalar
-            lines.append(f"    return unnamed == 0 or {self.constant(_extras_check(frozenset(properties)))}(body)")
+            lines.append(f"    return unnamed == 0 or {self.extras(properties)}(body)")
         else:
             lines.append("    return True")
         return "\n".join(self.lines + lines)
-
-
-_PLAIN_SCALARS = (str, bool, type(None))  # orjson writes these as the canonical form does
-
-
-def _extras_check(named: frozenset[str]) -> Callable[[dict], bool]:
-    """The plain check of a body's values under names its schema does not give (its additional
-    properties, which the schema takes whatever they hold): each a scalar orjson writes as the
-    canonical form does. A simulation's road users report more than the schema names (a lane,
-    an acceleration), and without this every one of their states left the fast lane."""
-    def extras_plain(body: dict) -> bool:
-        for name, x in body.items():
-            if name in named:
-                continue
-            if type(x) is float:
-                if not _plain_float(x):
-                    return False
-            elif type(x) is int:
-                if not _INT_LOW <= x <= _INT_HIGH:
-                    return False
-            elif type(x) not in _PLAIN_SCALARS:
-                return False
-        return True
-    return extras_plain
-
-
-exec(f"def _plain_float(x):\n    return {PLAIN_FLOAT.format(x='x')}", globals())  # the one condition, as source
 
 
 def quick_source(schema: dict, plain: bool = False) -> str | None:
