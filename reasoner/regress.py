@@ -17,7 +17,7 @@ through (regress_reasons.py), from the rule-by-rule diff of the two rulebooks of
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, Callable, Iterable, Sequence
 
 from store import NoSuchRun, Store
@@ -387,10 +387,12 @@ def _unchanged_case(d: RecordedDecision, answer: str) -> CaseResult:
     it, but with its fields set at once rather than by a setattr call each (a run's tens of
     thousands of decisions each make one)."""
     case = object.__new__(CaseResult)
-    object.__setattr__(case, "__dict__", {"run": d.run, "case": "decision", "id": d.id, "vehicle": d.vehicle,
-                                          "action": str(d.goal), "t": d.t, "before": answer, "after": answer,
-                                          "changes": ()})
+    object.__setattr__(case, "__dict__", dict(zip(_CASE_FIELDS, (d.run, "decision", d.id, d.vehicle, str(d.goal),
+                                                                 d.t, answer, answer, ()), strict=True)))
     return case
+
+
+_CASE_FIELDS = tuple(f.name for f in fields(CaseResult))   # a field added there fails _unchanged_case's zip
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:
