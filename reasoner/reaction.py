@@ -125,11 +125,13 @@ def _way(samples: Sequence[Sample]) -> list[Point]:
 
 class _Way:
     """A way (the placed positions of a road user's samples, a polyline) to measure points against
-    within `distance`: `hit(point)` is `_on_way(point, points, distance)`, found alike. Each
+    within `distance`: `hit(point)` is the nearest point of the way within `distance` of the
+    point, as measuring every segment in the way's order finds it (tests/reasoner/test_way_grid.py
+    holds it to that, to the bit). Each
     segment's box, widened by `distance`, is worked out once, and a grid of GRID_M cells lists the
     segments whose widened box meets each cell (in the way's order): a point within a box lies in
     one of the cells it meets, so only the segments listed in the point's cell can hold it, and
-    they are measured in the way's order with `_on_way`'s own arithmetic. A vehicle's passage is
+    they are measured in the way's order with the same arithmetic. A vehicle's passage is
     measured against a road user's way point by point: hundreds of points, hundreds of segments."""
 
     GRID_M = 8.0
@@ -167,10 +169,10 @@ class _Way:
         return math.floor(x / self.GRID_M), math.floor(y / self.GRID_M)
 
     def hit(self, point: Point) -> _Hit | None:
-        """The nearest point of the way within the distance of `point`, or None (`_on_way`)."""
+        """The nearest point of the way within the distance of `point`, or None."""
         x, y = point
         cell = self._cell(x, y)
-        if cell is None:        # not a finite position: every segment is measured, as _on_way does
+        if cell is None:        # not a finite position: every segment is measured
             candidates: Sequence[int] = range(len(self._segments))
         else:
             listed = self._cells.get(cell, [])
@@ -184,23 +186,6 @@ class _Way:
                     unit = ((s[0] - r[0]) / length, (s[1] - r[1]) / length) if length else (0.0, 0.0)
                     best = (gap, along + f * length, unit)
         return None if best is None else _Hit(best[1], best[2])
-
-
-def _on_way(point: Point, way: list[Point], distance: float) -> _Hit | None:
-    """The nearest point of the way within `distance` of `point`, or None."""
-    x, y = point
-    best: tuple[float, float, Point] | None = None
-    along = 0.0
-    for r, s in zip(way, way[1:]):
-        length = math.dist(r, s)
-        if min(r[0], s[0]) - distance < x < max(r[0], s[0]) + distance \
-                and min(r[1], s[1]) - distance < y < max(r[1], s[1]) + distance:
-            gap, f = project(point, r, s)
-            if gap < distance and (best is None or gap < best[0]):
-                unit = ((s[0] - r[0]) / length, (s[1] - r[1]) / length) if length else (0.0, 0.0)
-                best = (gap, along + f * length, unit)
-        along += length
-    return None if best is None else _Hit(best[1], best[2])
 
 
 def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: _Way, other: Other,

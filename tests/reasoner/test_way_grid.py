@@ -1,5 +1,5 @@
 """A road user's way measured point by point through a grid of its segments (reasoner/reaction.py
-`_Way`) finds what measuring every segment finds (`_on_way`), to the bit: the same segment, the
+`_Way`) finds what measuring every segment finds (`_on_way`, below), to the bit: the same segment, the
 same distance along the way, the same direction, on ways with jumps, repeated points, points on
 cell borders, and points that are not finite."""
 import math
@@ -8,9 +8,28 @@ import random
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reasoner.reaction import _on_way, _Way
+from reasoner.others import project
+from reasoner.reaction import _Hit, _Way
 
 _coord = st.floats(min_value=-200.0, max_value=200.0, allow_nan=False)
+
+
+def _on_way(point, way, distance):
+    """The reference: every segment measured, in the way's order (what reasoner/reaction.py did
+    before the grid)."""
+    x, y = point
+    best = None
+    along = 0.0
+    for r, s in zip(way, way[1:]):
+        length = math.dist(r, s)
+        if min(r[0], s[0]) - distance < x < max(r[0], s[0]) + distance \
+                and min(r[1], s[1]) - distance < y < max(r[1], s[1]) + distance:
+            gap, f = project(point, r, s)
+            if gap < distance and (best is None or gap < best[0]):
+                unit = ((s[0] - r[0]) / length, (s[1] - r[1]) / length) if length else (0.0, 0.0)
+                best = (gap, along + f * length, unit)
+        along += length
+    return None if best is None else _Hit(best[1], best[2])
 
 
 def _walk(rng: random.Random, n: int) -> list[tuple[float, float]]:
