@@ -17,7 +17,6 @@ source's t rises with its seq, give or take SEQ_SLACK places.
 from __future__ import annotations
 
 import bisect
-import weakref
 from dataclasses import dataclass
 from typing import Any, Iterable
 
@@ -109,11 +108,11 @@ def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None
 
 
 # One source's rows of a dense kind other than entity.state (vehicle.perception, vehicle.trace),
-# per store: (run, src, kind) -> _KindRows. Such a kind has no index by kind, and a vehicle that
+# in the store's memo (store.cache.memo[_KIND_MEMO]): (run, src, kind) -> _KindRows. Such a kind has no index by kind, and a vehicle that
 # perceives only when it decides has a few dozen among thousands of states: _LATEST_ROWS then walks
 # back through every one of them, one table row each, to its spawn, for every act judged. Read once
 # per source and chain instead, and answered from memory.
-_kind_kept: weakref.WeakKeyDictionary[Store, dict[tuple[str, str, str], _KindRows]] = weakref.WeakKeyDictionary()
+_KIND_MEMO = ("dense kind rows",)
 _MAX_KIND_ROWS = 1_000_000     # rows kept per store; past it, all are let go
 _KIND_RANGE = "SELECT seq, t, kind FROM events WHERE run = ? AND src = ? AND seq >= ? AND seq <= ? AND kind = ? ORDER BY seq"
 
@@ -138,7 +137,7 @@ def _kind_rows(store: Store, run: str, src: str, kind: str, low: int, top: int, 
         return []
     conn = store.connection
     chain = chain_end(conn, run)
-    kept = _kind_kept.setdefault(store, {})
+    kept: dict[tuple[str, str, str], _KindRows] = store.cache.memo.setdefault(_KIND_MEMO, {})
     entry = kept.get((run, src, kind))
     if entry is None or entry.chain != chain or top < entry.low - 1 or low > entry.high + 1:
         entry = _KindRows(chain, low, top, [], [])
