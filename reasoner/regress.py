@@ -324,10 +324,13 @@ class Regressor:
         if self.shapes is not None:
             self.shapes.attach(memo)        # each decision's shape kept for the next regression
         if kept is None:
-            judged = [self._decision(d, cb(d), cn(d)) for d in recorded_decisions(self.store, run)]
+            rows = [(d, cb(d), cn(d), None) for d in recorded_decisions(self.store, run)]
         else:
-            judged = [self._decision(k.decision, cb(k.decision), cn(k.decision), (k.rulebook, k.permitted))
-                      for k in kept]
+            rows = [(k.decision, cb(k.decision), cn(k.decision), (k.rulebook, k.permitted)) for k in kept]
+        if self.shapes is not None:     # the kept shapes the decisions ask, all at once: a call a rulebook
+            self.shapes.ask_kept(self.engine, [(c.rulebook, d) for d, b, n, k in rows for c in _asked_of(b, n, k)
+                                               if isinstance(d.goal, str)])
+        judged = [self._decision(*row) for row in rows]
         if keeps and kept is None:
             keep_decisions(memo, [(d, before) for d, _, before in judged])
         shaped = self.shapes.keep() if self.shapes is not None else False
@@ -340,12 +343,11 @@ class Regressor:
         """The decision's case, asked of the two sides' vehicle-stage choices, and the baseline's
         answer (`kept`: the rulebook and answer kept for it, taken where the baseline asks that
         very rulebook)."""
-        if kept is not None and cb is not None and kept[0] == cb.rulebook.sha256:
+        if _takes_kept(cb, kept):
             before = Asked(cb.rulebook, kept[1])
         else:
             before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
-        same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
-        after = before if same else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
+        after = before if _same(cb, cn) else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
         if before.permitted == after.permitted:
             return d, _unchanged_case(d, _answer(before.permitted)), before
         case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
@@ -354,6 +356,21 @@ class Regressor:
         diffs = {"vehicle": self._diff(cb.rulebook, cn.rulebook, "vehicle")} if cb and cn else {}
         change = self._because("decision", case.before, case.after, [p for p in proofs if p is not None], diffs)
         return d, _with(case, [change]), before
+
+
+def _takes_kept(cb: Choice | None, kept: tuple[str | None, bool | None] | None) -> bool:
+    """Whether the baseline's answer is the one kept (it asks the very rulebook that gave it)."""
+    return kept is not None and cb is not None and kept[0] == cb.rulebook.sha256
+
+
+def _same(cb: Choice | None, cn: Choice | None) -> bool:
+    """Whether the new side asks the baseline's vehicle-stage rulebook (and answers as it)."""
+    return cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
+
+
+def _asked_of(cb: Choice | None, cn: Choice | None, kept: tuple[str | None, bool | None] | None) -> list[Choice]:
+    """The choices `Regressor._decision` asks the decision of, without proofs."""
+    return [c for c, asked in ((cb, not _takes_kept(cb, kept)), (cn, not _same(cb, cn))) if c is not None and asked]
 
 
 def _chooser(rs: RuleSet) -> Callable[[RecordedDecision], Choice | None]:
