@@ -328,8 +328,7 @@ class Regressor:
         else:
             rows = [(k.decision, cb(k.decision), cn(k.decision), (k.rulebook, k.permitted)) for k in kept]
         if self.shapes is not None:     # the kept shapes the decisions ask, all at once: a call a rulebook
-            self.shapes.ask_kept(self.engine, [(c.rulebook, d) for d, b, n, k in rows for c in _asked_of(b, n, k)
-                                               if isinstance(d.goal, str)])
+            self.shapes.ask_kept(self.engine, _asked_plainly(rows))
         judged = [self._decision(*row) for row in rows]
         if keeps and kept is None:
             keep_decisions(memo, [(d, before) for d, _, before in judged])
@@ -368,9 +367,18 @@ def _same(cb: Choice | None, cn: Choice | None) -> bool:
     return cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
 
 
-def _asked_of(cb: Choice | None, cn: Choice | None, kept: tuple[str | None, bool | None] | None) -> list[Choice]:
-    """The choices `Regressor._decision` asks the decision of, without proofs."""
-    return [c for c, asked in ((cb, not _takes_kept(cb, kept)), (cn, not _same(cb, cn))) if c is not None and asked]
+def _asked_plainly(rows: list[tuple[RecordedDecision, Choice | None, Choice | None, Any]]
+                   ) -> list[tuple[Rulebook, RecordedDecision]]:
+    """The rulebooks `Regressor._decision` asks each decision of without proofs (`ask` asks a goal
+    that is a text)."""
+    out = []
+    for d, cb, cn, kept in rows:
+        if isinstance(d.goal, str):
+            if cb is not None and not _takes_kept(cb, kept):
+                out.append((cb.rulebook, d))
+            if cn is not None and not _same(cb, cn):
+                out.append((cn.rulebook, d))
+    return out
 
 
 def _chooser(rs: RuleSet) -> Callable[[RecordedDecision], Choice | None]:
@@ -403,13 +411,14 @@ def _unchanged_case(d: RecordedDecision, answer: str) -> CaseResult:
     d.vehicle, str(d.goal), d.t, answer, answer), made as its frozen dataclass's __init__ makes
     it, but with its fields set at once rather than by a setattr call each (a run's tens of
     thousands of decisions each make one)."""
-    case = object.__new__(CaseResult)
-    object.__setattr__(case, "__dict__", dict(zip(_CASE_FIELDS, (d.run, "decision", d.id, d.vehicle, str(d.goal),
-                                                                 d.t, answer, answer, ()), strict=True)))
+    case = _new(CaseResult)
+    _set(case, "__dict__", dict(zip(_CASE_FIELDS, (d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, answer,
+                                                   answer, ()), strict=True)))
     return case
 
 
 _CASE_FIELDS = tuple(f.name for f in fields(CaseResult))   # a field added there fails _unchanged_case's zip
+_new, _set = object.__new__, object.__setattr__             # looked up once, not per decision
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:

@@ -52,10 +52,7 @@ class RecordedDecision:
     proceeds: Any
     rulebook: Any                       # the sha256 it says it decided with
     facts: Sequence[tuple[Any, EventRef]]      # a tuple, or KeptFacts (made when first read)
-
-    @property
-    def id(self) -> str:
-        return f"{self.src}:{self.seq}"
+    id: str                             # src:seq, made once (a regression reads it thrice a decision)
 
 
 @dataclass(slots=True)
@@ -91,7 +88,7 @@ def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None
     body = event["body"]
     return RecordedDecision(run, event["src"], event["seq"], event["t"], vehicle, body.get("goal"),
                             body.get("action"), body.get("permitted"), body.get("proceeds"), body.get("rulebook"),
-                            tuple(scenario.facts))
+                            tuple(scenario.facts), f"{event['src']}:{event['seq']}")
 
 
 def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
@@ -390,7 +387,7 @@ def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
             return None
         scenarios = _Scenarios(memo.run, facts, len(chunk))
         out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
-                                              rulebook, KeptFacts(scenarios, i, refs)), sha, answer)
+                                              rulebook, KeptFacts(scenarios, i, refs), f"{src}:{seq}"), sha, answer)
                 for i, (src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, sha, answer)
                 in enumerate(chunk)]
     return out
