@@ -197,6 +197,21 @@ class Engine:
         except self._janus.PrologError as exc:
             raise QuestionError(_prolog_message(exc)) from None
 
+    def holds_each(self, rb: Rulebook, atoms: Sequence[Atom],
+                   questions: Sequence[Sequence[int]]) -> list[bool | QuestionError]:
+        """Plain yes/no for many sentences, each on its own scenario, in one Prolog call (a
+        regression asks thousands; a call each was a janus round trip and every fact shipped
+        and built again for each question it is in). A question is the places among `atoms` of
+        its goal and then of its facts; each is asked as `holds` asks it, and where `holds` would
+        raise, its answer is the QuestionError it would raise (the caller raises it where it
+        would have asked: the others are answered all the same)."""
+        data = [atom_data(a) for a in atoms]
+        try:
+            answers = self._janus.apply_once("gaps_engine", "holds_each", rb.module, data, questions)
+        except self._janus.PrologError as exc:
+            raise QuestionError(_prolog_message(exc)) from None
+        return [a == "true" if type(a) is str else QuestionError(_message(a["error"])) for a in answers]
+
     def answers(self, rb: Rulebook, body: list, facts: list, explain: bool = False, *,
                 texts: bool = True) -> QueryResult:
         """Every way the conditions hold (answers rendered as LE, unless `texts` is False: a caller
@@ -272,7 +287,11 @@ def _proved(pairs: list, why) -> QueryResult:
 
 
 def _prolog_message(exc) -> str:
-    text = str(exc)
+    return _message(str(exc))
+
+
+def _message(text: str) -> str:
+    """What a QuestionError says of a Prolog error, from the error's text."""
     if "integer_bits" in text:
         return ("the question computed an integer of more than 4096 bits, the engine's limit "
                 "(a rule may multiply without end)")

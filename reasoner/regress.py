@@ -324,10 +324,12 @@ class Regressor:
         if self.shapes is not None:
             self.shapes.attach(memo)        # each decision's shape kept for the next regression
         if kept is None:
-            judged = [self._decision(d, cb(d), cn(d)) for d in recorded_decisions(self.store, run)]
+            rows = [(d, cb(d), cn(d), None) for d in recorded_decisions(self.store, run)]
         else:
-            judged = [self._decision(k.decision, cb(k.decision), cn(k.decision), (k.rulebook, k.permitted))
-                      for k in kept]
+            rows = [(k.decision, cb(k.decision), cn(k.decision), (k.rulebook, k.permitted)) for k in kept]
+        if self.shapes is not None:     # the kept shapes the decisions ask, all at once: a call a rulebook
+            self.shapes.ask_kept(self.engine, _asked_plainly(rows))
+        judged = [self._decision(*row) for row in rows]
         if keeps and kept is None:
             keep_decisions(memo, [(d, before) for d, _, before in judged])
         shaped = self.shapes.keep() if self.shapes is not None else False
@@ -340,12 +342,11 @@ class Regressor:
         """The decision's case, asked of the two sides' vehicle-stage choices, and the baseline's
         answer (`kept`: the rulebook and answer kept for it, taken where the baseline asks that
         very rulebook)."""
-        if kept is not None and cb is not None and kept[0] == cb.rulebook.sha256:
+        if _takes_kept(cb, kept):
             before = Asked(cb.rulebook, kept[1])
         else:
             before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
-        same = cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
-        after = before if same else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
+        after = before if _same(cb, cn) else ask(self.engine, self.reader, cn, d, shapes=self.shapes)
         if before.permitted == after.permitted:
             return d, _unchanged_case(d, _answer(before.permitted)), before
         case = CaseResult(d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, _answer(before.permitted),
@@ -354,6 +355,30 @@ class Regressor:
         diffs = {"vehicle": self._diff(cb.rulebook, cn.rulebook, "vehicle")} if cb and cn else {}
         change = self._because("decision", case.before, case.after, [p for p in proofs if p is not None], diffs)
         return d, _with(case, [change]), before
+
+
+def _takes_kept(cb: Choice | None, kept: tuple[str | None, bool | None] | None) -> bool:
+    """Whether the baseline's answer is the one kept (it asks the very rulebook that gave it)."""
+    return kept is not None and cb is not None and kept[0] == cb.rulebook.sha256
+
+
+def _same(cb: Choice | None, cn: Choice | None) -> bool:
+    """Whether the new side asks the baseline's vehicle-stage rulebook (and answers as it)."""
+    return cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
+
+
+def _asked_plainly(rows: list[tuple[RecordedDecision, Choice | None, Choice | None, Any]]
+                   ) -> list[tuple[Rulebook, RecordedDecision]]:
+    """The rulebooks `Regressor._decision` asks each decision of without proofs (`ask` asks a goal
+    that is a text)."""
+    out = []
+    for d, cb, cn, kept in rows:
+        if isinstance(d.goal, str):
+            if cb is not None and not _takes_kept(cb, kept):
+                out.append((cb.rulebook, d))
+            if cn is not None and not _same(cb, cn):
+                out.append((cn.rulebook, d))
+    return out
 
 
 def _chooser(rs: RuleSet) -> Callable[[RecordedDecision], Choice | None]:
@@ -386,13 +411,14 @@ def _unchanged_case(d: RecordedDecision, answer: str) -> CaseResult:
     d.vehicle, str(d.goal), d.t, answer, answer), made as its frozen dataclass's __init__ makes
     it, but with its fields set at once rather than by a setattr call each (a run's tens of
     thousands of decisions each make one)."""
-    case = object.__new__(CaseResult)
-    object.__setattr__(case, "__dict__", dict(zip(_CASE_FIELDS, (d.run, "decision", d.id, d.vehicle, str(d.goal),
-                                                                 d.t, answer, answer, ()), strict=True)))
+    case = _new(CaseResult)
+    _set(case, "__dict__", dict(zip(_CASE_FIELDS, (d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, answer,
+                                                   answer, ()), strict=True)))
     return case
 
 
 _CASE_FIELDS = tuple(f.name for f in fields(CaseResult))   # a field added there fails _unchanged_case's zip
+_new, _set = object.__new__, object.__setattr__             # looked up once, not per decision
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:

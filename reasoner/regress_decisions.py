@@ -19,12 +19,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from itertools import chain
 from collections.abc import Sequence
-from typing import Any, Iterator
+from typing import Any, Iterable, Iterator
 
 from store import EventRef, Store, parse_json
 
 from .case_memo import CaseMemo, key_of
-from .engine import Engine, Rulebook
+from .engine import Engine, QuestionError, Rulebook
 from .facts import FactReader
 from .le.terms import Atom
 from .regress_reasons import Trees
@@ -52,10 +52,7 @@ class RecordedDecision:
     proceeds: Any
     rulebook: Any                       # the sha256 it says it decided with
     facts: Sequence[tuple[Any, EventRef]]      # a tuple, or KeptFacts (made when first read)
-
-    @property
-    def id(self) -> str:
-        return f"{self.src}:{self.seq}"
+    id: str                             # src:seq, made once (a regression reads it thrice a decision)
 
 
 @dataclass(slots=True)
@@ -91,7 +88,7 @@ def _decision(run: str, event: dict, spawn: dict | None, perception: dict | None
     body = event["body"]
     return RecordedDecision(run, event["src"], event["seq"], event["t"], vehicle, body.get("goal"),
                             body.get("action"), body.get("permitted"), body.get("proceeds"), body.get("rulebook"),
-                            tuple(scenario.facts))
+                            tuple(scenario.facts), f"{event['src']}:{event['seq']}")
 
 
 def vehicle_choice(rs: RuleSet, decision: RecordedDecision) -> Choice | None:
@@ -178,6 +175,28 @@ class Shapes:
             self._record(shaper, decision, asked)
         return found
 
+    def ask_kept(self, engine: Engine, wanted: Iterable[tuple[Rulebook, RecordedDecision]]) -> None:
+        """Ask at once, one Prolog call per rulebook (Engine.holds_each), every kept shape that
+        `permitted` will ask for these decisions (the decisions a regression is about to ask of
+        each rulebook), so that `permitted` finds its answer (or the QuestionError it raises
+        there). The answers are this object's, as `permitted`'s own are: never kept."""
+        if self._memo is None:
+            return
+        places: dict[str, tuple[Rulebook, KeptForms | None, list[int]]] = {}
+        for rb, decision in wanted:
+            entry = places.get(rb.sha256)
+            if entry is None:
+                shaper = self._shaper(rb)
+                entry = places[rb.sha256] = (rb, self._kept_forms(shaper) if shaper.keeps_proofs else None, [])
+            kept = entry[1]
+            if kept is not None:
+                form = kept.form_of(decision.id)
+                if form is not None:
+                    entry[2].append(form)
+        for rb, kept, forms in places.values():
+            if kept is not None:
+                kept.ask_all(engine, rb, forms)
+
     def _shaper(self, rb: Rulebook) -> Shaper:
         shaper = self._shapers.get(rb.sha256)
         if shaper is None:
@@ -237,11 +256,12 @@ class Shapes:
 class KeptForms:
     """The forms of a run's decisions under one shaper identity, as kept: each distinct atom of
     the shapes once, each distinct shape as the places of its atoms, each decision's form as the
-    place of its shape (or GOALLESS, UNSHAPED). Each shape is asked of a rulebook once."""
+    place of its shape (or GOALLESS, UNSHAPED). Each shape is asked of a rulebook once, those a
+    regression needs all in one call (`ask_all`)."""
 
     def __init__(self, atoms: list[Atom], shapes: list[list[int]], of: dict[str, int]) -> None:
         self._atoms, self._shapes, self._of = atoms, shapes, of
-        self._answers: dict[tuple[str, int], bool] = {}
+        self._answers: dict[tuple[str, int], bool | QuestionError] = {}
 
     @staticmethod
     def data(forms: dict[str, Form]) -> dict:
@@ -288,7 +308,8 @@ class KeptForms:
         return self._of.get(ident)
 
     def permitted(self, engine: Engine, rb: Rulebook, n: int) -> bool | None:
-        """The answer for a kept form (`form_of`, not UNSHAPED): each shape asked once."""
+        """The answer for a kept form (`form_of`, not UNSHAPED): each shape asked once (if
+        `ask_all` did not ask it already)."""
         if n == GOALLESS:
             return None
         key = (rb.sha256, n)
@@ -296,7 +317,25 @@ class KeptForms:
         if found is None:
             atoms = [self._atoms[i] for i in self._shapes[n]]
             found = self._answers[key] = engine.holds(rb, atoms[0], atoms[1:])
+        elif type(found) is not bool:
+            raise QuestionError(*found.args)    # where one by one its question raised it
         return found
+
+    def ask_all(self, engine: Engine, rb: Rulebook, forms: Iterable[int]) -> None:
+        """Ask the rulebook each of these forms' shapes not asked yet, in one call: each
+        distinct atom of them sent once (Engine.holds_each), each answer what `permitted` then
+        gives (a question's error kept to be raised there)."""
+        todo = [n for n in dict.fromkeys(forms) if n >= 0 and (rb.sha256, n) not in self._answers]
+        if not todo:
+            return
+        shapes = [self._shapes[n] for n in todo]
+        used = sorted(set(chain.from_iterable(shapes)))
+        if len(used) < len(self._atoms):     # the atoms of these shapes alone, renumbered
+            place = {i: k for k, i in enumerate(used)}
+            shapes = [[place[i] for i in shape] for shape in shapes]
+        answers = engine.holds_each(rb, [self._atoms[i] for i in used], shapes)
+        for n, answer in zip(todo, answers, strict=True):
+            self._answers[rb.sha256, n] = answer
 
 
 def ask(engine: Engine, reader: FactReader, choice: Choice | None, decision: RecordedDecision,
@@ -348,7 +387,7 @@ def kept_decisions(memo: CaseMemo) -> list[KeptDecision] | None:
             return None
         scenarios = _Scenarios(memo.run, facts, len(chunk))
         out += [KeptDecision(RecordedDecision(memo.run, src, seq, t, vehicle, goal, action, permitted, proceeds,
-                                              rulebook, KeptFacts(scenarios, i, refs)), sha, answer)
+                                              rulebook, KeptFacts(scenarios, i, refs), f"{src}:{seq}"), sha, answer)
                 for i, (src, seq, t, vehicle, goal, action, permitted, proceeds, rulebook, refs, sha, answer)
                 in enumerate(chunk)]
     return out

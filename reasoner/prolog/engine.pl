@@ -30,6 +30,7 @@
             ask_all/4,                  % +Module, +FactsData, +Questions, -Results
             holds/3,                    % +Module, +FactsData, +GoalData
             holds/4,                    % +Module, +FactsData, +GoalData, -Bool
+            holds_each/4,               % +Module, +AtomsData, +Questions, -Answers
             clause_text/3               % +Module, +Id, -Text
           ]).
 :- use_module(library(apply)).
@@ -353,6 +354,46 @@ holds_plainly(M, GoalD, Goal, Names) :-
 
 holds(M, FactsD, GoalD, Bool) :-
     (   holds(M, FactsD, GoalD) -> Bool = true ; Bool = false ).
+
+%!  holds_each(+M, +AtomsData, +Questions, -Answers) is det.
+%   Several sentences, each on its own scenario, each asked as holds/3 asks it (its scenario
+%   set up alone, its own question limit): a regression's thousands of questions in one call,
+%   not one call each.  The questions share their sentences: AtomsData holds each once, and a
+%   question is the 0-based places of its goal and then of its facts among them, each built
+%   once here (a question still gets fresh variables of its own; a sentence is an atom's data,
+%   never a scenario rule).  Answers: true or false per
+%   question, or _{error: Message} where it raised an error (Message: its text, what holds/4
+%   raises); an error or a failure in building a sentence is its questions' own, as in holds/3.
+holds_each(M, AtomsD, Questions, Answers) :-
+    maplist(built_atom, AtomsD, Built),
+    Atoms =.. [atoms|Built],
+    maplist(holds_placed(M, Atoms), Questions, Answers).
+
+built_atom(D, B) :-
+    catch(( build_atom(D, T, [], _) -> ( ground(T) -> B = ground(T) ; B = open(T) ) ; B = fail ), E,
+          B = error(E)).
+
+holds_placed(M, Atoms, [G|Fs], Answer) :-
+    catch(( holds_placed(M, Atoms, G, Fs) -> Answer = true ; Answer = false ), E,
+          ( message_to_string(E, S), Answer = _{error: S} )).
+
+%   As holds/3 with the facts and the goal built: the facts first, then the goal.
+holds_placed(M, Atoms, G, Fs) :-
+    maplist(placed(Atoms), Fs, Facts),
+    placed(Atoms, G, Goal),
+    facts_dict(Facts, Dict),
+    b_setval(le_facts, Dict),
+    atom_goal(M, Goal, Call),
+    limited(once(M:Call)).
+
+placed(Atoms, I, T) :-
+    I1 is I + 1,
+    arg(I1, Atoms, B),
+    placed_(B, T).
+
+placed_(ground(T), T).
+placed_(open(T0), T) :- copy_term(T0, T).
+placed_(error(E), _) :- throw(E).
 
 %!  ask_plain(+M, +FactsData, +CondsData, -Answers) is det.
 %   Every way the conditions hold, each as the conditions' data with the bindings filled in.
