@@ -115,6 +115,27 @@ class CaseMemo:
         except (ValueError, KeyError, TypeError, IndexError):
             return None         # written by this code under this seal, so never expected: measured again
 
+    def field(self, kind: str, key: str, cls: type, name: str) -> Any:
+        """One field of a kept value of one of the codec's types, decoded alone (the rest is
+        parsed, not decoded: a case's summary reads the facts its measurement derived, a third
+        of it), or None as `get` gives it (a field that is None reads so too); counted as `get`
+        counts."""
+        text = self.text(kind, key)
+        value = None
+        if text is not None:
+            try:
+                data = parse_json(text)
+                names = _field_names(cls)
+                if data["@"] == cls.__name__ and _TYPES[cls.__name__] is cls and len(data["f"]) == len(names):
+                    value = decode(data["f"][names.index(name)])
+            except (ValueError, KeyError, TypeError, IndexError):
+                value = None
+        if value is None:
+            self.misses += 1
+        else:
+            self.hits += 1
+        return value
+
     def put(self, kind: str, key: str, value: Any, *, plain: bool = False) -> None:
         if not self.enabled:
             return
@@ -222,6 +243,11 @@ def decode(data: Any) -> Any:
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
     return _TYPES[data["@"]](*_decoded(data["f"]))
+
+
+@lru_cache(maxsize=None)
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(cls))
 
 
 def _pure(value: Any) -> bool:

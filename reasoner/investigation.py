@@ -45,7 +45,7 @@ from .findings import Gaps, decision_fault, missing_evidence
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
-from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
+from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
                     Scenarios, StageProof)
 from .measurement import Measurement, measure
 from .passage import Passage
@@ -113,14 +113,29 @@ class _Validation:
     dispute: Finding | None = None
 
 
+@dataclass(frozen=True)
+class _Judged:
+    """What the stages answered of a case: all a regression compares of it, before its findings."""
+
+    pv_answer: Answer | None
+    rederived: bool
+    judged_on: str
+    validation: _Validation
+    control: Control
+    rule: Any
+    penalty: Penalty | None
+    liability: Liability | None
+
+
 _SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties")
 
 
 class KeptIncident:
-    """A kept incident of the judgement in force, read by its summary (`_SUMMARY`: what tells it
-    from the others and what a regression compares: its verdict, rule, penalty and who is
-    liable); any other part is that of the whole incident, decoded from the cache (or judged
-    again, if its entry no longer opens) when first asked for."""
+    """An incident read by its summary (`_SUMMARY`: what tells it from the others and what a
+    regression compares: its verdict, rule, penalty and who is liable): a kept incident of the
+    judgement in force, or a regression's new side's judged as far as its summary goes; any
+    other part is that of the whole incident, decoded from the cache (or judged again, if its
+    entry no longer opens) or judged whole, when first asked for."""
 
     __slots__ = (*_SUMMARY, "_load", "_whole")
 
@@ -165,11 +180,15 @@ class Investigation:
         `summaries` (with `verdicts`): a kept incident is handed back as a `KeptIncident`, read by
         its summary (kept beside it) and decoded whole only when a part outside the summary is
         asked for (a regression's baseline compares the summaries, and shows the proofs of the
-        changed incidents only: on the hour 214 of 1,758, whose whole entries are 24 MB of JSON)."""
+        changed incidents only: on the hour 214 of 1,758, whose whole entries are 24 MB of JSON).
+        `summaries` with `proofs` False (a regression's new side): each case is judged as far as
+        its summary goes (`_summarised`: no finding, evidence or proof worked out) and handed
+        back as a `KeptIncident`, judged whole, with its proofs, when a part outside the summary
+        is asked for (`proved` gives that whole incident)."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
-        self.summaries = summaries and self.verdicts
+        self.summaries = summaries and (self.verdicts or not proofs)
         self.proofs = proofs or self.verdicts
         self._unproved: dict[tuple, tuple[_Case, Gaps]] = {}     # by _named(incident)
         self._answered: dict[tuple[str, str], Any] = {}     # stage answers of unkept cases (`proved` asks again)
@@ -259,6 +278,8 @@ class Investigation:
         vehicle = str(body.get("vehicle")) if pv else ep.vehicle
         state = self._state(run, t, vehicle, src)
         case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
+        if self.summaries and not self.proofs:
+            return self._summarised(case, gaps)
         incident = self._judge(case, gaps, self.proofs)
         if incident is not None and not self.proofs:
             self._unproved[_named(incident)] = (case, gaps)
@@ -269,6 +290,8 @@ class Investigation:
         them out (`proofs` False); the same incident otherwise."""
         if incident is None or self.proofs:
             return incident
+        if isinstance(incident, KeptIncident):
+            return incident.whole()
         found = self._unproved.get(_named(incident))
         return incident if found is None else self._judge(*found, True)
 
@@ -391,24 +414,14 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        for f in measured.derived:
-            mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
-        pv_answer, rule = self._rederived(case, mscen, unknown)
-        rederived = pv_answer is not None and pv_answer.holds
-        if not case.pv and not rederived:
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs)
+        if judged is None:
             return None
-        judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
-        if case.pv and not rederived:
-            validation = _Validation("dismissed", _unsupported(mscen, bool(measured.derived)))
-        else:
-            validation = self._validate(case, judged_on, vscen, mscen, unknown,
-                                        frozenset(f.sentence for f in measured.derived), proofs or rule is None)
+        validation, control, rule = judged.validation, judged.control, judged.rule
         action = vehicle_action(case.state, case.vehicle)
-        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
         fault = self._decision_fault(case, action, vscen, unknown)
-        rule = rule or validation.rule
-        penalty, liability = self._sanctions(case, validation, control, vscen)
-        findings = (_disagreement(case, mscen, rederived, bool(measured.derived)), *_present(validation.dispute), *_present(fault),
+        findings = (_disagreement(case, mscen, judged.rederived, bool(measured.derived)), *_present(validation.dispute),
+                    *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
@@ -417,25 +430,69 @@ class Investigation:
                     *_dedup_unknown(unknown, {f.sentence for f in measured.derived}))
         findings = tuple(f for f in findings if f is not None)
         return Incident(
-            id=f"{case.anchor['src']}:{case.anchor['seq']}", run=case.run, t=case.t, vehicle=case.vehicle,
-            action=case.action, monitor=case.monitor, recorded=case.pv is not None, rederived=rederived,
+            id=_incident_id(case), run=case.run, t=case.t, vehicle=case.vehicle,
+            action=case.action, monitor=case.monitor, recorded=case.pv is not None, rederived=judged.rederived,
             rule=rule.label if rule else None, law=rule.law if rule else None,
-            verdict=validation.verdict, why=validation.why, penalty=penalty,
-            liable=_liable(liability), liability=liability, control=control, findings=findings,
-            evidence=_evidence(case, mscen, vscen, action, control, findings, measured), judged_on=judged_on,
+            verdict=validation.verdict, why=validation.why, penalty=judged.penalty,
+            liable=_liable(judged.liability), liability=judged.liability, control=control, findings=findings,
+            evidence=_evidence(case, mscen, vscen, action, control, findings, measured), judged_on=judged.judged_on,
             rulebook=validation.rulebook, rulebooks=_choices(case.rs),
             scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
-            proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
+            proofs=Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
+
+    def _summarised(self, case: _Case, gaps: Gaps) -> KeptIncident | None:
+        """The case judged as far as its summary goes (`summaries` with `proofs` False: a
+        regression's new side): the monitor stage, the verdict, its rule, the penalty and who is
+        liable, every one asked as `_judge` asks it, and none of the findings, evidence or
+        proofs; the whole incident, with its proofs, is judged when a part outside the summary
+        is asked for (on the hour a regression shows 214 of 1,758 so)."""
+        mscen = self._monitor_scenario(case)
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], False, summary=True)
+        if judged is None:
+            return None
+        rule, liability = judged.rule, judged.liability
+        summary = {"id": _incident_id(case), "run": case.run, "t": case.t, "vehicle": case.vehicle,
+                   "action": case.action, "verdict": judged.validation.verdict, "rule": rule.label if rule else None,
+                   "liable": _liable(liability), "penalty": judged.penalty,
+                   "parties": liability.parties if liability else ()}
+        return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True))
+
+    def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
+                unknown: list[Finding], proofs: bool, summary: bool = False) -> _Judged | None:
+        """What the stages answer of the case, on its scenarios and what its passage shows
+        beside them (added to the Monitor Scenario here): None where it is no incident."""
+        for f in derived:
+            mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
+        pv_answer, rule = self._rederived(case, mscen, unknown)
+        rederived = pv_answer is not None and pv_answer.holds
+        if not case.pv and not rederived:
+            return None
+        judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
+        if case.pv and not rederived:
+            validation = _Validation("dismissed", _unsupported(mscen, bool(derived)))
+        else:
+            validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
+                                        proofs or rule is None, summary)
+        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
+        penalty, liability = self._sanctions(case, validation, control, vscen)
+        return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
+
+    def _derived(self, case: _Case, mscen: Scenario, vscen: Scenario) -> tuple[DerivedFact, ...]:
+        """What the case's measurement shows beside what was stated (`_measured`'s `derived`),
+        decoded alone from the kept measurement: a third of it, and all a summary reads."""
+        found = self.memo(case.run).field("measurement", _measurement_key(case, mscen), Measurement, "derived")
+        return self._measured(case, mscen, vscen).derived if found is None else found
 
     def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
         of the same chain (reasoner/case_memo.py), since no rulebook changes it."""
-        key = key_of(case.t, case.vehicle, case.monitor, case.action, _stated_by(mscen))
-        return self.memo(case.run).remember("measurement", key, lambda: self._measure(case, mscen, vscen))
+        return self.memo(case.run).remember("measurement", _measurement_key(case, mscen),
+                                            lambda: self._measure(case, mscen, vscen))
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
@@ -539,9 +596,12 @@ class Investigation:
         return answer, rule
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
-                  unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True) -> _Validation:
+                  unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True,
+                  summary: bool = False) -> _Validation:
         """The verdict on the Validator Scenario, with its proof (`proofs` False: asked plainly,
-        the proof left empty and no rule found)."""
+        the proof left empty and no rule found). `summary`: for an incident's summary alone, so
+        neither why nor the perception fault finding (what the verdict would be on the vehicle's
+        own perception) is worked out."""
         choice = case.rs["validator"]
         if choice is None:
             return _Validation("dismissed", "no rulebook defines punishable and mitigated violations")
@@ -556,12 +616,13 @@ class Investigation:
         proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
                                             (answer.proofs[:1] or [answer.why_not] if answer else [])))
         dispute = None
-        if disputes:
+        if disputes and not summary:
             alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
             if alt != verdict:
                 dispute = dispute_finding(disputes, rb, alt, verdict)
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
-        return _Validation(verdict, _why(verdict, rb, me, act), _choice(choice), rendered, proof, rule, dispute)
+        return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
+                           rule, dispute)
 
     def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list,
                          derived: frozenset[str]) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
@@ -836,6 +897,16 @@ def _case_unkept(item: list, recorded: dict[tuple[str, int], dict]) -> tuple | N
     if ref and pv is None:
         return None
     return (t, src, pv, Episode(ep[0], ep[1], ep[2], ep[3]) if ep else None)
+
+
+def _incident_id(case: _Case) -> str:
+    return f"{case.anchor['src']}:{case.anchor['seq']}"
+
+
+def _measurement_key(case: _Case, mscen: Scenario) -> str:
+    """What names a case's measurement: its act and the events its Monitor Scenario's facts
+    came from (before what the measurement shows is added to it)."""
+    return key_of(case.t, case.vehicle, case.monitor, case.action, _stated_by(mscen))
 
 
 def _named(incident: Incident) -> tuple:

@@ -225,7 +225,8 @@ class Regressor:
         self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True,   # in force: kept,
                                     summaries=True)     # read by their summaries, whole where they changed
         self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
-                                   proofs=not kept)     # proofs worked out for the changed incidents only
+                                   proofs=not kept,     # proofs worked out for the changed incidents only,
+                                   summaries=kept)      # and the rest of an incident judged for them alone
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]

@@ -1,0 +1,52 @@
+"""A regression's new side judges each case as far as its summary goes (reasoner/investigation.py
+`_summarised`): the verdict, its rule, the penalty and who is liable, asked afresh every time;
+the findings, evidence and proofs of an incident are worked out only for one whose change shows
+them, and the result is the plain path's, to the byte."""
+from __future__ import annotations
+
+from reasoner import investigation as investigation_module
+from reasoner.case_memo import CaseMemo
+from reasoner.investigation import Investigation, KeptIncident
+from store import Store
+
+from tests.reasoner import regress_runs as R
+from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
+
+
+def _counted(monkeypatch) -> dict[str, int]:
+    """Calls of missing_evidence (a finding) and of CaseMemo._value and .field by kind."""
+    calls: dict[str, int] = {}
+    missing, value = investigation_module.missing_evidence, CaseMemo._value
+
+    def note(name: str) -> None:
+        calls[name] = calls.get(name, 0) + 1
+    monkeypatch.setattr(investigation_module, "missing_evidence", lambda *a: note("findings") or missing(*a))
+    monkeypatch.setattr(CaseMemo, "_value", lambda memo, kind, *a: note(f"whole {kind}") or value(memo, kind, *a))
+    if hasattr(CaseMemo, "field"):
+        field = CaseMemo.field
+        monkeypatch.setattr(CaseMemo, "field", lambda memo, kind, *a: note(f"field {kind}") or field(memo, kind, *a))
+    return calls
+
+
+def test_the_new_side_works_out_findings_only_for_the_changed_incident(db, new_rules, monkeypatch):
+    first = R.regressed(db, new_rules)
+    incidents = first["runs"][0]["incidents"]
+    changed = [i for i in incidents if i["changes"] and i["after"] is not None]
+    assert len(changed) == 1 and len(incidents) == 3
+    assert first == R.plain(db, new_rules)
+    calls = _counted(monkeypatch)
+    assert R.regressed(db, new_rules) == first
+    assert calls["findings"] == len(changed)                # judged whole for its proofs alone
+    assert calls["field measurement"] == len(incidents)    # every case's derived facts, decoded alone
+    assert calls["whole measurement"] == len(changed)
+
+
+def test_a_summarised_incident_is_the_whole_judgement_when_asked(db, new_rules):
+    with Store.open_read_only(db) as store:
+        full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
+        lean = Investigation(store, rules=[str(new_rules)], proofs=False, summaries=True)
+        found = lean.incidents(R.RUN)
+        assert found and all(isinstance(i, KeptIncident) for i in found)
+        assert [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in found] \
+            == [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in full]
+        assert [lean.proved(i) for i in found] == full
