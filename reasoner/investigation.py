@@ -159,12 +159,32 @@ def _summary_of(incident: Incident) -> list:
     return [getattr(incident, name) for name in _SUMMARY]
 
 
+class SharedReading:
+    """What investigations of one store read of a run alike, by what names it (the run, its chain,
+    what it is): read and parsed once. Only the last run's is held."""
+
+    def __init__(self) -> None:
+        self._run: str | None = None
+        self._read: dict[tuple, Any] = {}
+
+    def get(self, key: tuple, read: Callable[[], Any]) -> Any:
+        """The value read under `key` (its run first), else `read()` (kept unless None)."""
+        if key[0] != self._run:
+            self._run, self._read = key[0], {}
+        found = self._read.get(key)
+        if found is None:
+            found = read()
+            if found is not None:
+                self._read[key] = found
+        return found
+
+
 class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
                  kept: bool = True, verdicts: bool = False, reader: FactReader | None = None,
-                 proofs: bool = True, summaries: bool = False) -> None:
+                 proofs: bool = True, summaries: bool = False, shared: SharedReading | None = None) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
         this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
         `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
@@ -184,7 +204,9 @@ class Investigation:
         `summaries` with `proofs` False (a regression's new side): each case is judged as far as
         its summary goes (`_summarised`: no finding, evidence or proof worked out) and handed
         back as a `KeptIncident`, judged whole, with its proofs, when a part outside the summary
-        is asked for (`proved` gives that whole incident)."""
+        is asked for (`proved` gives that whole incident). `shared`: what investigations of the
+        same runs read alike (a regression's two sides, both kept: the runs' recorded potential
+        violations, their cases and those the monitor rulebook does not raise), read once."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
@@ -204,6 +226,7 @@ class Investigation:
         self._entity_since: dict[tuple[str, str], float] = {}
         self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
+        self.shared = shared
 
     # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
@@ -215,15 +238,18 @@ class Investigation:
         rulebook (and the chain and the code), and the next investigation with that rulebook does
         not judge them again: two thirds of the hour's cases, a sixth of a judgement from kept
         measurements."""
-        self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
+        memo = self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
         with JudgementCollector():
-            recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
+            recorded = self._read(run, ("recorded",),
+                                  lambda: list(self.store.events(run, kinds=["monitor.potential_violation"])))
             rs = self.ruleset(run, recorded)
-            todo = self._todo(run, rs, recorded)
-            gaps = Gaps(self.store, run, self.memo(run))
-            unraised_key = key_of("unraised", rs["monitor"].rulebook.sha256 if rs["monitor"] else None)
-            kept_unraised = self.memo(run).get("unraised", unraised_key, plain=True)
-            skip = {tuple(name) for name in kept_unraised or ()}
+            monitor = rs["monitor"].rulebook.sha256 if rs["monitor"] else None
+            todo = self._read(run, ("cases", monitor), lambda: self._todo(run, rs, recorded))
+            gaps = Gaps(self.store, run, memo)
+            unraised_key = key_of("unraised", monitor)
+            skip = self._read(run, ("unraised", monitor), lambda: _names_of(memo.get("unraised", unraised_key, plain=True)))
+            kept_unraised = skip is not None
+            skip = skip or frozenset()
             found: list[Incident] = []
             unraised: list[list] = []
             for done, (t, src, pv, ep) in enumerate(todo, 1):
@@ -240,10 +266,18 @@ class Investigation:
                     gc.collect(1)
                 if progress is not None:
                     progress(len(found), len(todo))
-        if kept_unraised is None:
+        if not kept_unraised:
             self.memo(run).put("unraised", unraised_key, unraised, plain=True)
         self.memo(run).save()
         return found
+
+    def _read(self, run: str, what: tuple, read: Callable[[], Any]) -> Any:
+        """What `read` gives, or what another investigation sharing `shared` read of the same
+        chain of the run (the cases and the potential violations a regression's two sides read
+        alike: read and parsed once). A None read is not shared."""
+        if self.shared is None:
+            return read()
+        return self.shared.get((run, self.memo(run).chain, *what), read)
 
     def _case_judged(self, run: str, rs: RuleSet, gaps: Gaps, t: int, src: str, pv: dict | None,
                      ep: Episode | None) -> Incident | None:
@@ -907,6 +941,11 @@ def _measurement_key(case: _Case, mscen: Scenario) -> str:
     """What names a case's measurement: its act and the events its Monitor Scenario's facts
     came from (before what the measurement shows is added to it)."""
     return key_of(case.t, case.vehicle, case.monitor, case.action, _stated_by(mscen))
+
+
+def _names_of(unraised: list | None) -> frozenset | None:
+    """The kept unraised cases' names as _todo's loop makes them (None: not kept)."""
+    return None if unraised is None else frozenset(tuple(name) for name in unraised)
 
 
 def _named(incident: Incident) -> tuple:

@@ -50,3 +50,17 @@ def test_a_summarised_incident_is_the_whole_judgement_when_asked(db, new_rules):
         assert [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in found] \
             == [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in full]
         assert [lean.proved(i) for i in found] == full
+
+
+def test_both_sides_share_one_reading_of_the_cases(db, new_rules, monkeypatch):
+    """The run's recorded potential violations, its kept cases and those the monitor rulebook does
+    not raise are read once for both sides of a warm regression (the same chain, the same monitor
+    rulebook), to the same result."""
+    first = R.regressed(db, new_rules)
+    calls = _counted(monkeypatch)
+    read: list = []
+    events = Store.events
+    monkeypatch.setattr(Store, "events", lambda store, run, *a, **k: read.append(k.get("kinds")) or events(store, run, *a, **k))
+    assert R.regressed(db, new_rules) == first
+    assert read.count(["monitor.potential_violation"]) == 1
+    assert calls["whole cases"] == calls["whole unraised"] == 1
