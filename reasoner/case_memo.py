@@ -53,9 +53,16 @@ def code_version() -> str:
 
 
 def key_of(*parts: Any) -> str:
-    """A key for what names an entry (times, ids, the stated facts and their refs)."""
-    text = json.dumps(parts, sort_keys=True, separators=(",", ":"), default=_plain)
-    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+    """A key for what names an entry (times, ids, the stated facts and their refs): the digest of
+    the parts' repr, made in C but for an event reference's. Of the values a question is made of
+    (None, bools, numbers, text, lists, tuples and dicts of them, event references) the repr
+    is a literal that reads back as the very value, so no two that differ share it: a tuple
+    and a list, 1, 1.0 and True, NaN or -0.0 and any other number, a big int and its float,
+    an event reference and its fields (the repr names its type) all stay apart (JSON, the
+    key's earlier form, made one array of a tuple and a list). A key is only compared under
+    the code version that made it (code_version), so its form need only be stable within
+    one: a dict is named in its order, which the code that builds a question keeps."""
+    return hashlib.sha256(repr(parts).encode("utf-8", "surrogatepass")).hexdigest()
 
 
 class CaseMemo:
@@ -270,11 +277,3 @@ def _decoded(items: list) -> list:
 
 def _hashable(key: Any) -> Any:
     return tuple(key) if isinstance(key, list) else key
-
-
-def _plain(value: Any) -> Any:
-    """A key's value JSON has no form for. An event reference (a question names one per fact)
-    as a tagged array: its JSON object, keys sorted, cost most of a stage question's key."""
-    if isinstance(value, EventRef):
-        return ("@ref", value.run, value.src, value.seq, value.t, value.kind)
-    return repr(value)

@@ -227,6 +227,7 @@ class Investigation:
         self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
         self.shared = shared
+        self._judgements: dict[str, tuple[RuleSet, str]] = {}
 
     # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
@@ -284,7 +285,7 @@ class Investigation:
         """The case's incident: kept under the rulebooks in force (`verdicts`), else judged."""
         if not self.keeps_verdicts(run, rs):
             return self._case_afresh(run, rs, gaps, t, src, pv, ep)
-        key = key_of("incident", rs.describe(), self.problems.get(run), t, src, _anchor_key(pv, ep),
+        key = key_of("incident", self._judged_by(run, rs), t, src, _anchor_key(pv, ep),
                      [pv["body"].get("vehicle"), pv["body"].get("action")] if pv else [ep.vehicle, ep.action])
         memo = self.memo(run)
 
@@ -299,6 +300,15 @@ class Investigation:
         if incident is not None:
             memo.put("incident summary", key, _summary_of(incident))
         return incident
+
+    def _judged_by(self, run: str, rs: RuleSet) -> str:
+        """What names the run's judgement in force in each of its incidents' keys: the rulebooks
+        of its stages and the problems reading the run's own, digested once per run, not with
+        every case (they were most of an incident's key)."""
+        found = self._judgements.get(run)
+        if found is None or found[0] is not rs:
+            found = self._judgements[run] = (rs, key_of(rs.describe(), self.problems.get(run)))
+        return found[1]
 
     def keeps_verdicts(self, run: str, rs: RuleSet) -> bool:
         """Whether this run's incidents are kept: judged by the rulebooks in force (the run's own,
