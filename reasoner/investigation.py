@@ -137,12 +137,14 @@ class KeptIncident:
     other part is that of the whole incident, decoded from the cache (or judged again, if its
     entry no longer opens) or judged whole, when first asked for."""
 
-    __slots__ = (*_SUMMARY, "_load", "_whole")
+    __slots__ = (*_SUMMARY, "proofs", "_load", "_whole", "_proved")
 
-    def __init__(self, summary: list, load: Callable[[], Incident | None]) -> None:
+    def __init__(self, summary: list, load: Callable[[], Incident | None],
+                 proved: Callable[[], Proofs | None] | None = None) -> None:
+        """`proved`: the incident's proofs worked out alone (None: from the whole incident)."""
         for name, value in zip(_SUMMARY, summary, strict=True):
             setattr(self, name, value)
-        self._load, self._whole = load, None
+        self._load, self._whole, self._proved = load, None, proved
 
     def whole(self) -> Incident:
         if self._whole is None:
@@ -152,6 +154,11 @@ class KeptIncident:
     def __getattr__(self, name: str) -> Any:       # only for what the summary does not hold
         if name.startswith("_"):
             raise AttributeError(name)
+        if name == "proofs" and self._whole is None and self._proved is not None:
+            found = self._proved()
+            if found is not None:
+                self.proofs = found
+                return found
         return getattr(self.whole(), name)
 
 
@@ -331,11 +338,13 @@ class Investigation:
 
     def proved(self, incident: Incident | None) -> Incident | None:
         """The incident with its proofs: judged again with them where this investigation left
-        them out (`proofs` False); the same incident otherwise."""
+        them out (`proofs` False); the same incident otherwise. An incident read by its summary
+        (`summaries`) is handed back as it is: its proofs are worked out alone when asked for,
+        any other part outside the summary by judging it whole."""
         if incident is None or self.proofs:
             return incident
         if isinstance(incident, KeptIncident):
-            return incident.whole()
+            return incident         # its proofs, and any other part outside its summary, judged when asked for
         found = self._unproved.get(_named(incident))
         return incident if found is None else self._judge(*found, True)
 
@@ -503,7 +512,18 @@ class Investigation:
                    "action": case.action, "verdict": judged.validation.verdict, "rule": rule.label if rule else None,
                    "liable": _liable(liability), "penalty": judged.penalty,
                    "parties": liability.parties if liability else ()}
-        return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True))
+        return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True),
+                            lambda: self._proofs_alone(case))
+
+    def _proofs_alone(self, case: _Case) -> Proofs | None:
+        """The proofs of the monitor stage and of the verdict, as `_judge` with proofs finds them,
+        without the rest of the incident (a regression shows a changed verdict's proofs alone)."""
+        mscen = self._monitor_scenario(case)
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True)
+        if judged is None:
+            return None
+        return Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, True), judged.validation.proof)
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
                 unknown: list[Finding], proofs: bool, summary: bool = False) -> _Judged | None:

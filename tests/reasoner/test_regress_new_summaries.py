@@ -28,20 +28,20 @@ def _counted(monkeypatch) -> dict[str, int]:
     return calls
 
 
-def test_the_new_side_works_out_findings_only_for_the_changed_incident(db, new_rules, monkeypatch):
+def test_the_new_side_works_out_no_findings_and_the_changed_incident_s_proofs_alone(db, new_rules, monkeypatch):
     first = R.regressed(db, new_rules)
     incidents = first["runs"][0]["incidents"]
     changed = [i for i in incidents if i["changes"] and i["after"] is not None]
-    assert len(changed) == 1 and len(incidents) == 3
+    assert len(changed) == 1 and len(incidents) == 3 and changed[0]["changes"][0]["rules"]
     assert first == R.plain(db, new_rules)
     calls = _counted(monkeypatch)
     assert R.regressed(db, new_rules) == first
-    assert calls["findings"] == len(changed)                # judged whole for its proofs alone
-    assert calls["field measurement"] == len(incidents)    # every case's derived facts, decoded alone
-    assert calls["whole measurement"] == len(changed)
+    assert "findings" not in calls                         # no incident judged whole: its proofs alone
+    assert calls["field measurement"] == len(incidents) + len(changed)     # derived facts, decoded alone
+    assert "whole measurement" not in calls
 
 
-def test_a_summarised_incident_is_the_whole_judgement_when_asked(db, new_rules):
+def test_a_summarised_incident_is_the_whole_judgement_when_asked(db, new_rules, monkeypatch):
     with Store.open_read_only(db) as store:
         full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
         lean = Investigation(store, rules=[str(new_rules)], proofs=False, summaries=True)
@@ -49,7 +49,12 @@ def test_a_summarised_incident_is_the_whole_judgement_when_asked(db, new_rules):
         assert found and all(isinstance(i, KeptIncident) for i in found)
         assert [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in found] \
             == [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in full]
-        assert [lean.proved(i) for i in found] == full
+        assert [lean.proved(i) for i in found] == found      # read by their summaries still
+        calls = _counted(monkeypatch)
+        assert [i.proofs for i in found] == [i.proofs for i in full]
+        assert "findings" not in calls and "whole measurement" not in calls       # the proofs alone
+        assert [i.whole() for i in found] == full
+        assert calls["findings"] == len(full)
 
 
 def test_both_sides_share_one_reading_of_the_cases(db, new_rules, monkeypatch):
