@@ -33,6 +33,9 @@ _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
 
 
+# The kinds read for a few of their entries: each read by its key when asked for (a regression
+# reads the whole incidents of the changed ones alone, beside every one's summary).
+_BY_KEY = frozenset({"incident"})
 _PIECES = "#pieces "       # an entry kept in pieces holds this, its count and digest: no JSON starts so
 
 
@@ -93,7 +96,8 @@ class CaseMemo:
         if not self.enabled:
             return None
         if kind not in self._kept:
-            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
+            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain,
+                                                  by_key=kind in _BY_KEY)
         text = self._kept[kind].get(key)
         if text is not None and text.startswith(_PIECES):
             return self._joined(kind, key, text)

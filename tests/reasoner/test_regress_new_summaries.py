@@ -69,3 +69,32 @@ def test_both_sides_share_one_reading_of_the_cases(db, new_rules, monkeypatch):
     assert R.regressed(db, new_rules) == first
     assert read.count(["monitor.potential_violation"]) == 1
     assert calls["whole cases"] == calls["whole unraised"] == 1
+
+
+def test_the_baseline_reads_the_changed_incident_s_whole_entry_alone(db, new_rules, monkeypatch):
+    """A kept incident is read whole by its key, where its change shows its proofs: not every
+    incident's entry (on the hour 24 MB) to use 214 of 1,758; a forged one is still dropped."""
+    from store import derived_cache
+    first = R.regressed(db, new_rules)
+    loaded: dict[str, derived_cache.Sealed] = {}
+    load = derived_cache.load
+    monkeypatch.setattr(derived_cache, "load", lambda store, run, kind, *a, **k: loaded.setdefault(
+        kind, load(store, run, kind, *a, **k)))
+    assert R.regressed(db, new_rules) == first
+    changed = [i for i in first["runs"][0]["incidents"] if i["changes"] and i["before"] is not None]
+    assert len(changed) == 1
+    assert len([row for row in loaded["incident"]._rows.values() if row is not None]) == len(changed)
+    assert len(loaded["incident summary"]._rows) == 3
+
+
+def test_an_entry_read_by_its_key_is_sealed_all_the_same(tmp_path):
+    from store import derived_cache
+    db = R.build_store(tmp_path / "g.db")
+    with Store(db) as store:
+        chain = derived_cache.current_chain(store, R.RUN)
+        assert derived_cache.save(store, R.RUN, "k", "v", chain, {"a": "[1]", "b": "[2]"})
+        store.cache.connection.execute("UPDATE derived SET payload = '[3]' WHERE key = 'b'")
+        sealed = derived_cache.load(store, R.RUN, "k", "v", chain, by_key=True)
+        assert sealed.get("a") == "[1]" and sealed.get("b") is None and sealed.get("c") is None
+        assert sealed.get("b") is None and store.cache.sealer.tampered().get("derived") == 1
+        assert derived_cache.load(store, R.RUN, "k", "v", (chain[0] + 1, chain[1]), by_key=True).get("a") is None
