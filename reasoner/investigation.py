@@ -231,6 +231,7 @@ class Investigation:
         self._contexts: dict[str, history.RunContext] = {}
         self._names: dict[str, dict[Any, list[str]]] = {}
         self._entity_since: dict[tuple[str, str], float] = {}
+        self._firsts: dict[tuple[str, Any], float] = {}
         self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
         self.shared = shared
@@ -729,9 +730,18 @@ class Investigation:
         for atom, _ in pairs:
             for arg in atom.args:
                 if isinstance(arg, (str, int)) and arg != case.me and arg in named and arg not in out \
-                        and any(self._since(case.run, src) <= case.t for src in named[arg]):
+                        and self._first_since(case.run, arg) <= case.t:
                     out.add(arg)
         return out
+
+    def _first_since(self, run: str, name: Any) -> float:
+        """When the first of the sources a constant names became an entity of the run (inf:
+        none did), once per run and constant: a case asks it of every constant of its facts."""
+        key = (run, name)
+        found = self._firsts.get(key)
+        if found is None:
+            found = self._firsts[key] = min(self._since(run, src) for src in self._named(run)[name])
+        return found
 
     def _named(self, run: str) -> dict[Any, list[str]]:
         """The run's sources by the constant their id reads as, read once per run (and kept: a
