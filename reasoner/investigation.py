@@ -211,9 +211,10 @@ class Investigation:
         `summaries` with `proofs` False (a regression's new side): each case is judged as far as
         its summary goes (`_summarised`: no finding, evidence or proof worked out) and handed
         back as a `KeptIncident`, judged whole, with its proofs, when a part outside the summary
-        is asked for (`proved` gives that whole incident). `shared`: what investigations of the
-        same runs read alike (a regression's two sides, both kept: the runs' recorded potential
-        violations, their cases and those the monitor rulebook does not raise), read once."""
+        is asked for (`proved` hands it back as it is, its proofs worked out alone when asked
+        for). `shared`: what investigations of the same runs read alike (a regression's two
+        sides, both kept: the runs' recorded potential violations, their cases and those the
+        monitor rulebook does not raise), read once."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
@@ -609,7 +610,7 @@ class Investigation:
             answer, _ = self._rederive(case.rs, mscen, case.me, case.act, mine, why_not=why_not)
             return None if answer is None else [answer.proofs, answer.why_not]
         kept = self._asked_noting(case, "rederived", [monitor.rulebook.sha256, why_not, case.me, case.act,
-                                                      [[text, ref] for text, ref in mscen.facts]], asked, unknown)
+                                                      _as_asked(mscen.facts)], asked, unknown)
         if kept is None:
             return None, None
         answer = Answer(*kept)
@@ -717,7 +718,7 @@ class Investigation:
             return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
 
         return self._asked_noting(case, "fault", [choice.rulebook.sha256, case.vehicle, own.to_json(),
-                                                  [[text, ref] for text, ref in vscen.facts]],
+                                                  _as_asked(vscen.facts)],
                                   lambda mine: decision_fault(self.engine, self.reader, choice, case.vehicle, own,
                                                               vscen.facts, mine), unknown)
 
@@ -799,7 +800,7 @@ class Investigation:
                      liability_facts(case.vehicle, control.to_json())]
             evidence = {s: r for s, r in shown if r}
             liability = self._asked(case, "liability", [lia.rulebook.sha256, case.me, case.act,
-                                                        [s for s, _ in shown], list(evidence.items())],
+                                                        [s for s, _ in shown], _as_asked(evidence.items())],
                                     lambda: self._liability(lia.rulebook, case.me, case.act,
                                                             self.reader.known(lia.rulebook, [s for s, _ in shown])
                                                             + [punish], evidence))
@@ -971,6 +972,13 @@ def _case_unkept(item: list, recorded: dict[tuple[str, int], dict]) -> tuple | N
     if ref and pv is None:
         return None
     return (t, src, pv, Episode(ep[0], ep[1], ep[2], ep[3]) if ep else None)
+
+
+def _as_asked(facts: Iterable[tuple[Any, EventRef | None]]) -> list[tuple]:
+    """Facts as a stage question names them (case_memo.key_of): each with its event reference's
+    fields, or None, in one tuple (a reference's own repr, a Python call each, was half of a
+    question's key)."""
+    return [(text, None) if ref is None else (text, ref.run, ref.src, ref.seq, ref.t, ref.kind) for text, ref in facts]
 
 
 def _incident_id(case: _Case) -> str:

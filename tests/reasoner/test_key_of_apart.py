@@ -33,3 +33,16 @@ def test_equal_values_get_one_key():
         key_of("q", [["7 has red light", EventRef("r", "monitor/m1", 12, 1_000, "monitor.observation")]], (1, 2))
     assert key_of(float("nan")) == key_of(float("nan"))
     assert key_of("q", 1) != key_of("q", [1]) != key_of(["q", 1])
+
+
+def test_a_warm_regression_names_its_questions_without_an_event_reference_s_repr(tmp_path, monkeypatch):
+    """A stage question names each fact's event by the reference's fields (investigation.py
+    `_as_asked`): the reference's own repr, a Python call each, was half of a question's key."""
+    from tests.reasoner import regress_runs as R
+    db = R.build_store(tmp_path / "gaps.db")
+    rules = R.edited(tmp_path / "new", "validators.le", cut=(R.AMBER_TOO_CLOSE,))
+    first = R.regressed(db, rules)
+    shown: list[EventRef] = []
+    monkeypatch.setattr(EventRef, "__repr__", lambda ref: shown.append(ref) or "EventRef(...)")
+    assert R.regressed(db, rules) == first
+    assert not shown
