@@ -33,6 +33,9 @@ _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
 
 
+# The kinds read for a few of their entries: each read by its key when asked for (a regression
+# reads the whole incidents of the changed ones alone, beside every one's summary).
+_BY_KEY = frozenset({"incident"})
 _PIECES = "#pieces "       # an entry kept in pieces holds this, its count and digest: no JSON starts so
 
 
@@ -53,9 +56,16 @@ def code_version() -> str:
 
 
 def key_of(*parts: Any) -> str:
-    """A key for what names an entry (times, ids, the stated facts and their refs)."""
-    text = json.dumps(parts, sort_keys=True, separators=(",", ":"), default=_plain)
-    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+    """A key for what names an entry (times, ids, the stated facts and their refs): the digest of
+    the parts' repr, made in C but for an event reference's. Of the values a question is made of
+    (None, bools, numbers, text, lists, tuples and dicts of them, event references) the repr
+    is a literal that reads back as the very value, so no two that differ share it: a tuple
+    and a list, 1, 1.0 and True, NaN or -0.0 and any other number, a big int and its float,
+    an event reference and its fields (the repr names its type) all stay apart (JSON, the
+    key's earlier form, made one array of a tuple and a list). A key is only compared under
+    the code version that made it (code_version), so its form need only be stable within
+    one: a dict is named in its order, which the code that builds a question keeps."""
+    return hashlib.sha256(repr(parts).encode("utf-8", "surrogatepass")).hexdigest()
 
 
 class CaseMemo:
@@ -86,7 +96,8 @@ class CaseMemo:
         if not self.enabled:
             return None
         if kind not in self._kept:
-            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain)
+            self._kept[kind] = derived_cache.load(self.store, self.run, kind, code_version(), self.chain,
+                                                  by_key=kind in _BY_KEY)
         text = self._kept[kind].get(key)
         if text is not None and text.startswith(_PIECES):
             return self._joined(kind, key, text)
@@ -114,6 +125,27 @@ class CaseMemo:
             return parse_json(text) if plain else decode(parse_json(text))
         except (ValueError, KeyError, TypeError, IndexError):
             return None         # written by this code under this seal, so never expected: measured again
+
+    def field(self, kind: str, key: str, cls: type, name: str) -> Any:
+        """One field of a kept value of one of the codec's types, decoded alone (the rest is
+        parsed, not decoded: a case's summary reads the facts its measurement derived, a third
+        of it), or None as `get` gives it (a field that is None reads so too); counted as `get`
+        counts."""
+        text = self.text(kind, key)
+        value = None
+        if text is not None:
+            try:
+                data = parse_json(text)
+                names = _field_names(cls)
+                if data["@"] == cls.__name__ and _TYPES[cls.__name__] is cls and len(data["f"]) == len(names):
+                    value = decode(data["f"][names.index(name)])
+            except (ValueError, KeyError, TypeError, IndexError):
+                value = None
+        if value is None:
+            self.misses += 1
+        else:
+            self.hits += 1
+        return value
 
     def put(self, kind: str, key: str, value: Any, *, plain: bool = False) -> None:
         if not self.enabled:
@@ -224,6 +256,11 @@ def decode(data: Any) -> Any:
     return _TYPES[data["@"]](*_decoded(data["f"]))
 
 
+@lru_cache(maxsize=None)
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(cls))
+
+
 def _pure(value: Any) -> bool:
     """Whether the value is JSON's own data (objects with text keys, arrays, scalars), which JSON
     gives back exactly as it was: no tuple, no value type, nothing the codec must tag."""
@@ -244,11 +281,3 @@ def _decoded(items: list) -> list:
 
 def _hashable(key: Any) -> Any:
     return tuple(key) if isinstance(key, list) else key
-
-
-def _plain(value: Any) -> Any:
-    """A key's value JSON has no form for. An event reference (a question names one per fact)
-    as a tagged array: its JSON object, keys sorted, cost most of a stage question's key."""
-    if isinstance(value, EventRef):
-        return ("@ref", value.run, value.src, value.seq, value.t, value.kind)
-    return repr(value)

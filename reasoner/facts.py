@@ -100,6 +100,7 @@ class FactReader:
 
 
 _PLACEHOLDER = 7_306_000_000_000_000   # the first placeholder number; a sentence holding one is parsed as it is
+_PLACEHOLDER_TEXT = str(_PLACEHOLDER)[:6]   # a text argument holding it may hold a placeholder
 _MAX_DIGITS = 15
 
 
@@ -131,7 +132,7 @@ def _filled(atom: Atom, numbers: list[int]) -> Atom | None:
         if kind is int and _PLACEHOLDER <= arg < top:
             args.append(numbers[arg - _PLACEHOLDER])
             placed.append(arg)
-        elif kind is int or kind is float or (kind is str and str(_PLACEHOLDER)[:6] not in arg):
+        elif kind is int or kind is float or (kind is str and _PLACEHOLDER_TEXT not in arg):
             args.append(arg)
         else:
             return None

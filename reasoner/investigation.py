@@ -45,7 +45,7 @@ from .findings import Gaps, decision_fault, missing_evidence
 from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
-from .model import (Control, Decision, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
+from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
                     Scenarios, StageProof)
 from .measurement import Measurement, measure
 from .passage import Passage
@@ -113,21 +113,38 @@ class _Validation:
     dispute: Finding | None = None
 
 
+@dataclass(frozen=True)
+class _Judged:
+    """What the stages answered of a case: all a regression compares of it, before its findings."""
+
+    pv_answer: Answer | None
+    rederived: bool
+    judged_on: str
+    validation: _Validation
+    control: Control
+    rule: Any
+    penalty: Penalty | None
+    liability: Liability | None
+
+
 _SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties")
 
 
 class KeptIncident:
-    """A kept incident of the judgement in force, read by its summary (`_SUMMARY`: what tells it
-    from the others and what a regression compares: its verdict, rule, penalty and who is
-    liable); any other part is that of the whole incident, decoded from the cache (or judged
-    again, if its entry no longer opens) when first asked for."""
+    """An incident read by its summary (`_SUMMARY`: what tells it from the others and what a
+    regression compares: its verdict, rule, penalty and who is liable): a kept incident of the
+    judgement in force, or a regression's new side's judged as far as its summary goes; any
+    other part is that of the whole incident, decoded from the cache (or judged again, if its
+    entry no longer opens) or judged whole, when first asked for."""
 
-    __slots__ = (*_SUMMARY, "_load", "_whole")
+    __slots__ = (*_SUMMARY, "proofs", "_load", "_whole", "_proved")
 
-    def __init__(self, summary: list, load: Callable[[], Incident | None]) -> None:
+    def __init__(self, summary: list, load: Callable[[], Incident | None],
+                 proved: Callable[[], Proofs | None] | None = None) -> None:
+        """`proved`: the incident's proofs worked out alone (None: from the whole incident)."""
         for name, value in zip(_SUMMARY, summary, strict=True):
             setattr(self, name, value)
-        self._load, self._whole = load, None
+        self._load, self._whole, self._proved = load, None, proved
 
     def whole(self) -> Incident:
         if self._whole is None:
@@ -137,6 +154,11 @@ class KeptIncident:
     def __getattr__(self, name: str) -> Any:       # only for what the summary does not hold
         if name.startswith("_"):
             raise AttributeError(name)
+        if name == "proofs" and self._whole is None and self._proved is not None:
+            found = self._proved()
+            if found is not None:
+                self.proofs = found
+                return found
         return getattr(self.whole(), name)
 
 
@@ -144,12 +166,32 @@ def _summary_of(incident: Incident) -> list:
     return [getattr(incident, name) for name in _SUMMARY]
 
 
+class SharedReading:
+    """What investigations of one store read of a run alike, by what names it (the run, its chain,
+    what it is): read and parsed once. Only the last run's is held."""
+
+    def __init__(self) -> None:
+        self._run: str | None = None
+        self._read: dict[tuple, Any] = {}
+
+    def get(self, key: tuple, read: Callable[[], Any]) -> Any:
+        """The value read under `key` (its run first), else `read()` (kept unless None)."""
+        if key[0] != self._run:
+            self._run, self._read = key[0], {}
+        found = self._read.get(key)
+        if found is None:
+            found = read()
+            if found is not None:
+                self._read[key] = found
+        return found
+
+
 class Investigation:
     """Verdicts for the runs of one store. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
                  kept: bool = True, verdicts: bool = False, reader: FactReader | None = None,
-                 proofs: bool = True, summaries: bool = False) -> None:
+                 proofs: bool = True, summaries: bool = False, shared: SharedReading | None = None) -> None:
         """`kept`: judge from what earlier investigations of the same chain measured, and keep what
         this one measures (reasoner/case_memo.py); False measures every case afresh and keeps nothing.
         `verdicts` (with `kept`): a run judged by the rulebooks in force (none given) keeps each
@@ -165,11 +207,18 @@ class Investigation:
         `summaries` (with `verdicts`): a kept incident is handed back as a `KeptIncident`, read by
         its summary (kept beside it) and decoded whole only when a part outside the summary is
         asked for (a regression's baseline compares the summaries, and shows the proofs of the
-        changed incidents only: on the hour 214 of 1,758, whose whole entries are 24 MB of JSON)."""
+        changed incidents only: on the hour 214 of 1,758, whose whole entries are 24 MB of JSON).
+        `summaries` with `proofs` False (a regression's new side): each case is judged as far as
+        its summary goes (`_summarised`: no finding, evidence or proof worked out) and handed
+        back as a `KeptIncident`, judged whole, with its proofs, when a part outside the summary
+        is asked for (`proved` hands it back as it is, its proofs worked out alone when asked
+        for). `shared`: what investigations of the same runs read alike (a regression's two
+        sides, both kept: the runs' recorded potential violations, their cases and those the
+        monitor rulebook does not raise), read once."""
         self.store = store
         self.kept = kept
         self.verdicts = verdicts and kept
-        self.summaries = summaries and self.verdicts
+        self.summaries = summaries and (self.verdicts or not proofs)
         self.proofs = proofs or self.verdicts
         self._unproved: dict[tuple, tuple[_Case, Gaps]] = {}     # by _named(incident)
         self._answered: dict[tuple[str, str], Any] = {}     # stage answers of unkept cases (`proved` asks again)
@@ -183,8 +232,11 @@ class Investigation:
         self._contexts: dict[str, history.RunContext] = {}
         self._names: dict[str, dict[Any, list[str]]] = {}
         self._entity_since: dict[tuple[str, str], float] = {}
+        self._firsts: dict[tuple[str, Any], float] = {}
         self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
+        self.shared = shared
+        self._judgements: dict[str, tuple[RuleSet, str]] = {}
 
     # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
@@ -196,15 +248,18 @@ class Investigation:
         rulebook (and the chain and the code), and the next investigation with that rulebook does
         not judge them again: two thirds of the hour's cases, a sixth of a judgement from kept
         measurements."""
-        self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
+        memo = self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
         with JudgementCollector():
-            recorded = list(self.store.events(run, kinds=["monitor.potential_violation"]))
+            recorded = self._read(run, ("recorded",),
+                                  lambda: list(self.store.events(run, kinds=["monitor.potential_violation"])))
             rs = self.ruleset(run, recorded)
-            todo = self._todo(run, rs, recorded)
-            gaps = Gaps(self.store, run, self.memo(run))
-            unraised_key = key_of("unraised", rs["monitor"].rulebook.sha256 if rs["monitor"] else None)
-            kept_unraised = self.memo(run).get("unraised", unraised_key, plain=True)
-            skip = {tuple(name) for name in kept_unraised or ()}
+            monitor = rs["monitor"].rulebook.sha256 if rs["monitor"] else None
+            todo = self._read(run, ("cases", monitor), lambda: self._todo(run, rs, recorded))
+            gaps = Gaps(self.store, run, memo)
+            unraised_key = key_of("unraised", monitor)
+            skip = self._read(run, ("unraised", monitor), lambda: _names_of(memo.get("unraised", unraised_key, plain=True)))
+            kept_unraised = skip is not None
+            skip = skip or frozenset()
             found: list[Incident] = []
             unraised: list[list] = []
             for done, (t, src, pv, ep) in enumerate(todo, 1):
@@ -221,17 +276,25 @@ class Investigation:
                     gc.collect(1)
                 if progress is not None:
                     progress(len(found), len(todo))
-        if kept_unraised is None:
+        if not kept_unraised:
             self.memo(run).put("unraised", unraised_key, unraised, plain=True)
         self.memo(run).save()
         return found
+
+    def _read(self, run: str, what: tuple, read: Callable[[], Any]) -> Any:
+        """What `read` gives, or what another investigation sharing `shared` read of the same
+        chain of the run (the cases and the potential violations a regression's two sides read
+        alike: read and parsed once). A None read is not shared."""
+        if self.shared is None:
+            return read()
+        return self.shared.get((run, self.memo(run).chain, *what), read)
 
     def _case_judged(self, run: str, rs: RuleSet, gaps: Gaps, t: int, src: str, pv: dict | None,
                      ep: Episode | None) -> Incident | None:
         """The case's incident: kept under the rulebooks in force (`verdicts`), else judged."""
         if not self.keeps_verdicts(run, rs):
             return self._case_afresh(run, rs, gaps, t, src, pv, ep)
-        key = key_of("incident", rs.describe(), self.problems.get(run), t, src, _anchor_key(pv, ep),
+        key = key_of("incident", self._judged_by(run, rs), t, src, _anchor_key(pv, ep),
                      [pv["body"].get("vehicle"), pv["body"].get("action")] if pv else [ep.vehicle, ep.action])
         memo = self.memo(run)
 
@@ -247,6 +310,15 @@ class Investigation:
             memo.put("incident summary", key, _summary_of(incident))
         return incident
 
+    def _judged_by(self, run: str, rs: RuleSet) -> str:
+        """What names the run's judgement in force in each of its incidents' keys: the rulebooks
+        of its stages and the problems reading the run's own, digested once per run, not with
+        every case (they were most of an incident's key)."""
+        found = self._judgements.get(run)
+        if found is None or found[0] is not rs:
+            found = self._judgements[run] = (rs, key_of(rs.describe(), self.problems.get(run)))
+        return found[1]
+
     def keeps_verdicts(self, run: str, rs: RuleSet) -> bool:
         """Whether this run's incidents are kept: judged by the rulebooks in force (the run's own,
         else the current ones), which is what `gaps incidents` shows; a judgement with a rulebook
@@ -259,6 +331,8 @@ class Investigation:
         vehicle = str(body.get("vehicle")) if pv else ep.vehicle
         state = self._state(run, t, vehicle, src)
         case = _Case(run, rs, state, t, src, pv, ep, vehicle, str(body.get("action")) if pv else ep.action)
+        if self.summaries and not self.proofs:
+            return self._summarised(case, gaps)
         incident = self._judge(case, gaps, self.proofs)
         if incident is not None and not self.proofs:
             self._unproved[_named(incident)] = (case, gaps)
@@ -266,9 +340,13 @@ class Investigation:
 
     def proved(self, incident: Incident | None) -> Incident | None:
         """The incident with its proofs: judged again with them where this investigation left
-        them out (`proofs` False); the same incident otherwise."""
+        them out (`proofs` False); the same incident otherwise. An incident read by its summary
+        (`summaries`) is handed back as it is: its proofs are worked out alone when asked for,
+        any other part outside the summary by judging it whole."""
         if incident is None or self.proofs:
             return incident
+        if isinstance(incident, KeptIncident):
+            return incident         # its proofs, and any other part outside its summary, judged when asked for
         found = self._unproved.get(_named(incident))
         return incident if found is None else self._judge(*found, True)
 
@@ -391,24 +469,14 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        for f in measured.derived:
-            mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
-        pv_answer, rule = self._rederived(case, mscen, unknown)
-        rederived = pv_answer is not None and pv_answer.holds
-        if not case.pv and not rederived:
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs)
+        if judged is None:
             return None
-        judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
-        if case.pv and not rederived:
-            validation = _Validation("dismissed", _unsupported(mscen, bool(measured.derived)))
-        else:
-            validation = self._validate(case, judged_on, vscen, mscen, unknown,
-                                        frozenset(f.sentence for f in measured.derived), proofs or rule is None)
+        validation, control, rule = judged.validation, judged.control, judged.rule
         action = vehicle_action(case.state, case.vehicle)
-        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
         fault = self._decision_fault(case, action, vscen, unknown)
-        rule = rule or validation.rule
-        penalty, liability = self._sanctions(case, validation, control, vscen)
-        findings = (_disagreement(case, mscen, rederived, bool(measured.derived)), *_present(validation.dispute), *_present(fault),
+        findings = (_disagreement(case, mscen, judged.rederived, bool(measured.derived)), *_present(validation.dispute),
+                    *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
@@ -417,25 +485,80 @@ class Investigation:
                     *_dedup_unknown(unknown, {f.sentence for f in measured.derived}))
         findings = tuple(f for f in findings if f is not None)
         return Incident(
-            id=f"{case.anchor['src']}:{case.anchor['seq']}", run=case.run, t=case.t, vehicle=case.vehicle,
-            action=case.action, monitor=case.monitor, recorded=case.pv is not None, rederived=rederived,
+            id=_incident_id(case), run=case.run, t=case.t, vehicle=case.vehicle,
+            action=case.action, monitor=case.monitor, recorded=case.pv is not None, rederived=judged.rederived,
             rule=rule.label if rule else None, law=rule.law if rule else None,
-            verdict=validation.verdict, why=validation.why, penalty=penalty,
-            liable=_liable(liability), liability=liability, control=control, findings=findings,
-            evidence=_evidence(case, mscen, vscen, action, control, findings, measured), judged_on=judged_on,
+            verdict=validation.verdict, why=validation.why, penalty=judged.penalty,
+            liable=_liable(judged.liability), liability=judged.liability, control=control, findings=findings,
+            evidence=_evidence(case, mscen, vscen, action, control, findings, measured), judged_on=judged.judged_on,
             rulebook=validation.rulebook, rulebooks=_choices(case.rs),
             scenarios=Scenarios(tuple(vscen.facts), tuple(mscen.facts), validation.scenario, action),
-            proofs=Proofs(_proofs(pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
+            proofs=Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
             rulebook_problems=tuple(self.problems.get(case.run) or ()))
+
+    def _summarised(self, case: _Case, gaps: Gaps) -> KeptIncident | None:
+        """The case judged as far as its summary goes (`summaries` with `proofs` False: a
+        regression's new side): the monitor stage, the verdict, its rule, the penalty and who is
+        liable, every one asked as `_judge` asks it, and none of the findings, evidence or
+        proofs; the whole incident, with its proofs, is judged when a part outside the summary
+        is asked for (on the hour a regression shows 214 of 1,758 so)."""
+        mscen = self._monitor_scenario(case)
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], False, summary=True)
+        if judged is None:
+            return None
+        rule, liability = judged.rule, judged.liability
+        summary = {"id": _incident_id(case), "run": case.run, "t": case.t, "vehicle": case.vehicle,
+                   "action": case.action, "verdict": judged.validation.verdict, "rule": rule.label if rule else None,
+                   "liable": _liable(liability), "penalty": judged.penalty,
+                   "parties": liability.parties if liability else ()}
+        return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True),
+                            lambda: self._proofs_alone(case))
+
+    def _proofs_alone(self, case: _Case) -> Proofs | None:
+        """The proofs of the monitor stage and of the verdict, as `_judge` with proofs finds them,
+        without the rest of the incident (a regression shows a changed verdict's proofs alone)."""
+        mscen = self._monitor_scenario(case)
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True)
+        if judged is None:
+            return None
+        return Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, True), judged.validation.proof)
+
+    def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
+                unknown: list[Finding], proofs: bool, summary: bool = False) -> _Judged | None:
+        """What the stages answer of the case, on its scenarios and what its passage shows
+        beside them (added to the Monitor Scenario here): None where it is no incident."""
+        for f in derived:
+            mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
+        pv_answer, rule = self._rederived(case, mscen, unknown)
+        rederived = pv_answer is not None and pv_answer.holds
+        if not case.pv and not rederived:
+            return None
+        judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
+        if case.pv and not rederived:
+            validation = _Validation("dismissed", _unsupported(mscen, bool(derived)))
+        else:
+            validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
+                                        proofs or rule is None, summary)
+        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
+        penalty, liability = self._sanctions(case, validation, control, vscen)
+        return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
+
+    def _derived(self, case: _Case, mscen: Scenario, vscen: Scenario) -> tuple[DerivedFact, ...]:
+        """What the case's measurement shows beside what was stated (`_measured`'s `derived`),
+        decoded alone from the kept measurement: a third of it, and all a summary reads."""
+        found = self.memo(case.run).field("measurement", _measurement_key(case, mscen), Measurement, "derived")
+        return self._measured(case, mscen, vscen).derived if found is None else found
 
     def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
         of the same chain (reasoner/case_memo.py), since no rulebook changes it."""
-        key = key_of(case.t, case.vehicle, case.monitor, case.action, _stated_by(mscen))
-        return self.memo(case.run).remember("measurement", key, lambda: self._measure(case, mscen, vscen))
+        return self.memo(case.run).remember("measurement", _measurement_key(case, mscen),
+                                            lambda: self._measure(case, mscen, vscen))
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
@@ -487,7 +610,7 @@ class Investigation:
             answer, _ = self._rederive(case.rs, mscen, case.me, case.act, mine, why_not=why_not)
             return None if answer is None else [answer.proofs, answer.why_not]
         kept = self._asked_noting(case, "rederived", [monitor.rulebook.sha256, why_not, case.me, case.act,
-                                                      [[text, ref] for text, ref in mscen.facts]], asked, unknown)
+                                                      _as_asked(mscen.facts)], asked, unknown)
         if kept is None:
             return None, None
         answer = Answer(*kept)
@@ -539,9 +662,12 @@ class Investigation:
         return answer, rule
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
-                  unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True) -> _Validation:
+                  unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True,
+                  summary: bool = False) -> _Validation:
         """The verdict on the Validator Scenario, with its proof (`proofs` False: asked plainly,
-        the proof left empty and no rule found)."""
+        the proof left empty and no rule found). `summary`: for an incident's summary alone, so
+        neither why nor the perception fault finding (what the verdict would be on the vehicle's
+        own perception) is worked out."""
         choice = case.rs["validator"]
         if choice is None:
             return _Validation("dismissed", "no rulebook defines punishable and mitigated violations")
@@ -556,12 +682,13 @@ class Investigation:
         proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
                                             (answer.proofs[:1] or [answer.why_not] if answer else [])))
         dispute = None
-        if disputes:
+        if disputes and not summary:
             alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
             if alt != verdict:
                 dispute = dispute_finding(disputes, rb, alt, verdict)
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
-        return _Validation(verdict, _why(verdict, rb, me, act), _choice(choice), rendered, proof, rule, dispute)
+        return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
+                           rule, dispute)
 
     def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list,
                          derived: frozenset[str]) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
@@ -591,7 +718,7 @@ class Investigation:
             return decision_fault(self.engine, self.reader, choice, case.vehicle, own, vscen.facts, unknown)
 
         return self._asked_noting(case, "fault", [choice.rulebook.sha256, case.vehicle, own.to_json(),
-                                                  [[text, ref] for text, ref in vscen.facts]],
+                                                  _as_asked(vscen.facts)],
                                   lambda mine: decision_fault(self.engine, self.reader, choice, case.vehicle, own,
                                                               vscen.facts, mine), unknown)
 
@@ -604,9 +731,18 @@ class Investigation:
         for atom, _ in pairs:
             for arg in atom.args:
                 if isinstance(arg, (str, int)) and arg != case.me and arg in named and arg not in out \
-                        and any(self._since(case.run, src) <= case.t for src in named[arg]):
+                        and self._first_since(case.run, arg) <= case.t:
                     out.add(arg)
         return out
+
+    def _first_since(self, run: str, name: Any) -> float:
+        """When the first of the sources a constant names became an entity of the run (inf:
+        none did), once per run and constant: a case asks it of every constant of its facts."""
+        key = (run, name)
+        found = self._firsts.get(key)
+        if found is None:
+            found = self._firsts[key] = min(self._since(run, src) for src in self._named(run)[name])
+        return found
 
     def _named(self, run: str) -> dict[Any, list[str]]:
         """The run's sources by the constant their id reads as, read once per run (and kept: a
@@ -664,7 +800,7 @@ class Investigation:
                      liability_facts(case.vehicle, control.to_json())]
             evidence = {s: r for s, r in shown if r}
             liability = self._asked(case, "liability", [lia.rulebook.sha256, case.me, case.act,
-                                                        [s for s, _ in shown], list(evidence.items())],
+                                                        [s for s, _ in shown], _as_asked(evidence.items())],
                                     lambda: self._liability(lia.rulebook, case.me, case.act,
                                                             self.reader.known(lia.rulebook, [s for s, _ in shown])
                                                             + [punish], evidence))
@@ -836,6 +972,28 @@ def _case_unkept(item: list, recorded: dict[tuple[str, int], dict]) -> tuple | N
     if ref and pv is None:
         return None
     return (t, src, pv, Episode(ep[0], ep[1], ep[2], ep[3]) if ep else None)
+
+
+def _as_asked(facts: Iterable[tuple[Any, EventRef | None]]) -> list[tuple]:
+    """Facts as a stage question names them (case_memo.key_of): each with its event reference's
+    fields, or None, in one tuple (a reference's own repr, a Python call each, was half of a
+    question's key)."""
+    return [(text, None) if ref is None else (text, ref.run, ref.src, ref.seq, ref.t, ref.kind) for text, ref in facts]
+
+
+def _incident_id(case: _Case) -> str:
+    return f"{case.anchor['src']}:{case.anchor['seq']}"
+
+
+def _measurement_key(case: _Case, mscen: Scenario) -> str:
+    """What names a case's measurement: its act and the events its Monitor Scenario's facts
+    came from (before what the measurement shows is added to it)."""
+    return key_of(case.t, case.vehicle, case.monitor, case.action, _stated_by(mscen))
+
+
+def _names_of(unraised: list | None) -> frozenset | None:
+    """The kept unraised cases' names as _todo's loop makes them (None: not kept)."""
+    return None if unraised is None else frozenset(tuple(name) for name in unraised)
 
 
 def _named(incident: Incident) -> tuple:

@@ -25,7 +25,7 @@ from store import NoSuchRun, Store
 from .collector import JudgementCollector
 from .engine import Engine, Rulebook, get_engine
 from .facts import FactReader
-from .investigation import Investigation
+from .investigation import Investigation, SharedReading
 from .le.sentences import constant
 from .le.terms import Cond, Var
 from .model import Incident
@@ -222,10 +222,14 @@ class Regressor:
         self.reader = FactReader()
         self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
+        shared = SharedReading() if kept else None     # the runs' cases, read by both sides alike
         self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True,   # in force: kept,
-                                    summaries=True)     # read by their summaries, whole where they changed
+                                    summaries=True,     # read by their summaries, whole where they changed
+                                    shared=shared)
         self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
-                                   proofs=not kept)     # proofs worked out for the changed incidents only
+                                   proofs=not kept,     # proofs worked out for the changed incidents only,
+                                   summaries=kept,      # and the rest of an incident judged for them alone
+                                   shared=shared)
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
