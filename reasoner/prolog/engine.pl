@@ -50,8 +50,8 @@ new_rulebook(M, Decls) :-
     thread_local(M:scenario_rule/4),
     dynamic(M:le_rule/4),
     forall(member(F-A, Decls), declare(M, F, A)),
-    assertz(M:(isa_fact(X, Y) :- gaps_engine:le_fact(is_a(X, Y)))),
-    assertz(M:(isa_rule(X, Y) :- gaps_engine:scenario_rule_call(M, is_a(X, Y)))),
+    assertz(M:(isa_fact(X, Y) :- gaps_engine:le_fact(is_a, is_a(X, Y)))),
+    assertz(M:(isa_rule(X, Y) :- M:scenario_rule(_, is_a(X, Y), B, _), gaps_engine:scenario_body(M, B))),
     assertz(M:(is_a(X, Y) :- gaps_engine:isa(M, X, Y))).
 
 declare(_, is_a, 2) :- !.
@@ -61,11 +61,14 @@ declare(_, F, A) :-
     throw(error(le_reserved(F, A), _)).
 declare(M, F, A) :-
     functor(H, F, A),
-    assertz(M:(H :- gaps_engine:le_fact(H))),
-    assertz(M:(H :- gaps_engine:scenario_rule_call(M, H))).
+    assertz(M:(H :- gaps_engine:le_fact(F, H))),
+    assertz(M:(H :- M:scenario_rule(_, H, B, _), gaps_engine:scenario_body(M, B))).
 
-scenario_rule_call(M, H) :-
-    M:scenario_rule(_, H, Body, _),
+%   A scenario rule's body, proved.  The clauses above name their functor and their module's
+%   scenario rules themselves: a question calls a template predicate some 70 times, and a
+%   functor/3 and a meta-call of the (almost always empty) scenario rules each time were a
+%   fifth of asking.
+scenario_body(M, Body) :-
     body_goal(M, Body, G),
     call(M:G).
 
@@ -311,7 +314,11 @@ build_facts([D|Ds], Fs, Rs) :-
     build_facts(Ds, Fs1, Rs1).
 
 facts_dict(Facts, Dict) :-
-    map_list_to_pairs(fact_key, Facts, Pairs0),
+    map_list_to_pairs(fact_key, Facts, Pairs),
+    pairs_dict(Pairs, Dict).
+
+%   The facts' dict from Key-Fact pairs (in the facts' order).
+pairs_dict(Pairs0, Dict) :-
     keysort(Pairs0, Pairs),
     group_pairs_by_key(Pairs, Groups),
     dict_pairs(Dict, facts, Groups).
@@ -321,8 +328,12 @@ fact_key(F, K) :- functor(F, K, _).
 %!  le_fact(?Fact) is nondet.
 %   A fact of the question's scenario (a fresh copy when it has variables).
 le_fact(H) :-
-    nb_current(le_facts, D),
     functor(H, K, _),
+    le_fact(K, H).
+
+%   le_fact/1 with the fact's functor name K given.
+le_fact(K, H) :-
+    nb_current(le_facts, D),
     get_dict(K, D, L),
     member(F, L),
     (   ground(F) -> H = F ; copy_term(F, H) ).
@@ -369,8 +380,11 @@ holds_each(M, AtomsD, Questions, Answers) :-
     Atoms =.. [atoms|Built],
     maplist(holds_placed(M, Atoms), Questions, Answers).
 
+%   An atom's data built once for every question it is in, with its functor name (what its
+%   question's facts are indexed by).
 built_atom(D, B) :-
-    catch(( build_atom(D, T, [], _) -> ( ground(T) -> B = ground(T) ; B = open(T) ) ; B = fail ), E,
+    catch(( build_atom(D, T, [], _) -> functor(T, K, _), ( ground(T) -> B = ground(K-T) ; B = open(K-T) )
+          ; B = fail ), E,
           B = error(E)).
 
 holds_placed(M, Atoms, [G|Fs], Answer) :-
@@ -379,9 +393,9 @@ holds_placed(M, Atoms, [G|Fs], Answer) :-
 
 %   As holds/3 with the facts and the goal built: the facts first, then the goal.
 holds_placed(M, Atoms, G, Fs) :-
-    maplist(placed(Atoms), Fs, Facts),
-    placed(Atoms, G, Goal),
-    facts_dict(Facts, Dict),
+    maplist(placed(Atoms), Fs, Pairs),
+    placed(Atoms, G, _-Goal),
+    pairs_dict(Pairs, Dict),
     b_setval(le_facts, Dict),
     atom_goal(M, Goal, Call),
     limited(once(M:Call)).
