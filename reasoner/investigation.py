@@ -549,16 +549,24 @@ class Investigation:
 
     def _derived(self, case: _Case, mscen: Scenario, vscen: Scenario) -> tuple[DerivedFact, ...]:
         """What the case's measurement shows beside what was stated (`_measured`'s `derived`),
-        decoded alone from the kept measurement: a third of it, and all a summary reads."""
-        found = self.memo(case.run).field("measurement", _measurement_key(case, mscen), Measurement, "derived")
+        read from its own kept entry, kept beside the measurement: a third of it, and all a
+        summary reads (reading and sealing the whole measurement for it cost a summary more
+        than any other kept entry)."""
+        found = self.memo(case.run).get("derived", _measurement_key(case, mscen))
         return self._measured(case, mscen, vscen).derived if found is None else found
 
     def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
-        of the same chain (reasoner/case_memo.py), since no rulebook changes it."""
-        return self.memo(case.run).remember("measurement", _measurement_key(case, mscen),
-                                            lambda: self._measure(case, mscen, vscen))
+        of the same chain (reasoner/case_memo.py), since no rulebook changes it, with its
+        `derived` apart (`_derived`)."""
+        memo, key = self.memo(case.run), _measurement_key(case, mscen)
+
+        def measured() -> Measurement:
+            found = self._measure(case, mscen, vscen)
+            memo.put("derived", key, found.derived)
+            return found
+        return memo.remember("measurement", key, measured)
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
