@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import gc
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, entity_since, state_of
@@ -70,6 +71,7 @@ SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one o
 # Every YOUNG_EVERY cases the young generations alone are collected, so any cycles judging makes
 # never pile up: memory stays what it is with the collector on.
 YOUNG_EVERY = 256
+_RENDERED_LIMIT = 200_000                         # facts an investigation remembers the rendering of
 _VERDICTS = ("punishable", "mitigated")          # the questions of _verdict, in the order asked
 
 
@@ -91,11 +93,12 @@ class _Case:
     def anchor(self) -> dict:
         return self.pv if self.pv else self.episode.first
 
-    @property
+    @cached_property
     def me(self) -> Any:
+        """The vehicle as a constant; read once (a case's facts ask it of every argument)."""
         return constant([self.vehicle])
 
-    @property
+    @cached_property
     def act(self) -> Any:
         return constant(self.action.split())
 
@@ -233,6 +236,7 @@ class Investigation:
         self._names: dict[str, dict[Any, list[str]]] = {}
         self._entity_since: dict[tuple[str, str], float] = {}
         self._firsts: dict[tuple[str, Any], float] = {}
+        self._rendered: dict[tuple[str, Atom], str] = {}
         self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
         self.shared = shared
@@ -685,7 +689,7 @@ class Investigation:
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
         facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=proofs)
-        rendered = tuple((rb.render(a), ev) for a, ev in facts)
+        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
         evidence = dict(rendered)
         proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
                                             (answer.proofs[:1] or [answer.why_not] if answer else [])))
@@ -697,6 +701,21 @@ class Investigation:
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
         return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
                            rule, dispute)
+
+    def _render(self, rb: Rulebook, atom: Atom) -> str:
+        """rb.render(atom), once per rulebook and atom in this investigation: a regression's
+        new side renders the validator facts of every case, and half of them some earlier
+        case rendered already (a vehicle's type, its light). Only an atom of text and whole
+        numbers is remembered: one equal to it renders alike (1.0 and True equal 1, and do not)."""
+        if not all(type(arg) is str or type(arg) is int for arg in atom.args):
+            return rb.render(atom)
+        key = (rb.sha256, atom)
+        found = self._rendered.get(key)
+        if found is None:
+            if len(self._rendered) >= _RENDERED_LIMIT:
+                self._rendered.clear()
+            found = self._rendered[key] = rb.render(atom)
+        return found
 
     def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list,
                          derived: frozenset[str]) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:
