@@ -526,15 +526,18 @@ class Investigation:
         without the rest of the incident (a regression shows a changed verdict's proofs alone)."""
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True,
+                              sanctioned=False)
         if judged is None:
             return None
         return Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, True), judged.validation.proof)
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
-                unknown: list[Finding], proofs: bool, summary: bool = False) -> _Judged | None:
+                unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
-        beside them (added to the Monitor Scenario here): None where it is no incident."""
+        beside them (added to the Monitor Scenario here): None where it is no incident.
+        `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
+        alone."""
         for f in derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         pv_answer, rule = self._rederived(case, mscen, unknown)
@@ -548,7 +551,7 @@ class Investigation:
             validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
                                         proofs or rule is None, summary)
         control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
-        penalty, liability = self._sanctions(case, validation, control, vscen)
+        penalty, liability = self._sanctions(case, validation, control, vscen) if sanctioned else (None, None)
         return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
 
     def _derived(self, case: _Case, mscen: Scenario, vscen: Scenario) -> tuple[DerivedFact, ...]:
