@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import gc
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, entity_since, state_of
@@ -70,6 +71,7 @@ SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one o
 # Every YOUNG_EVERY cases the young generations alone are collected, so any cycles judging makes
 # never pile up: memory stays what it is with the collector on.
 YOUNG_EVERY = 256
+_RENDERED_LIMIT = 200_000                         # facts an investigation remembers the rendering of
 _VERDICTS = ("punishable", "mitigated")          # the questions of _verdict, in the order asked
 
 
@@ -91,11 +93,12 @@ class _Case:
     def anchor(self) -> dict:
         return self.pv if self.pv else self.episode.first
 
-    @property
+    @cached_property
     def me(self) -> Any:
+        """The vehicle as a constant; read once (a case's facts ask it of every argument)."""
         return constant([self.vehicle])
 
-    @property
+    @cached_property
     def act(self) -> Any:
         return constant(self.action.split())
 
@@ -233,6 +236,7 @@ class Investigation:
         self._names: dict[str, dict[Any, list[str]]] = {}
         self._entity_since: dict[tuple[str, str], float] = {}
         self._firsts: dict[tuple[str, Any], float] = {}
+        self._rendered: dict[tuple[str, Atom], str] = {}
         self._memos: dict[str, CaseMemo] = {}
         self.problems: dict[str, list[str]] = {}
         self.shared = shared
@@ -522,15 +526,18 @@ class Investigation:
         without the rest of the incident (a regression shows a changed verdict's proofs alone)."""
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True,
+                              sanctioned=False)
         if judged is None:
             return None
         return Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, True), judged.validation.proof)
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
-                unknown: list[Finding], proofs: bool, summary: bool = False) -> _Judged | None:
+                unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
-        beside them (added to the Monitor Scenario here): None where it is no incident."""
+        beside them (added to the Monitor Scenario here): None where it is no incident.
+        `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
+        alone."""
         for f in derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         pv_answer, rule = self._rederived(case, mscen, unknown)
@@ -544,21 +551,29 @@ class Investigation:
             validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
                                         proofs or rule is None, summary)
         control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
-        penalty, liability = self._sanctions(case, validation, control, vscen)
+        penalty, liability = self._sanctions(case, validation, control, vscen) if sanctioned else (None, None)
         return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
 
     def _derived(self, case: _Case, mscen: Scenario, vscen: Scenario) -> tuple[DerivedFact, ...]:
         """What the case's measurement shows beside what was stated (`_measured`'s `derived`),
-        decoded alone from the kept measurement: a third of it, and all a summary reads."""
-        found = self.memo(case.run).field("measurement", _measurement_key(case, mscen), Measurement, "derived")
+        read from its own kept entry, kept beside the measurement: a third of it, and all a
+        summary reads (reading and sealing the whole measurement for it cost a summary more
+        than any other kept entry)."""
+        found = self.memo(case.run).get("derived", _measurement_key(case, mscen))
         return self._measured(case, mscen, vscen).derived if found is None else found
 
     def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
-        of the same chain (reasoner/case_memo.py), since no rulebook changes it."""
-        return self.memo(case.run).remember("measurement", _measurement_key(case, mscen),
-                                            lambda: self._measure(case, mscen, vscen))
+        of the same chain (reasoner/case_memo.py), since no rulebook changes it, with its
+        `derived` apart (`_derived`)."""
+        memo, key = self.memo(case.run), _measurement_key(case, mscen)
+
+        def measured() -> Measurement:
+            found = self._measure(case, mscen, vscen)
+            memo.put("derived", key, found.derived)
+            return found
+        return memo.remember("measurement", key, measured)
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
@@ -677,7 +692,7 @@ class Investigation:
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
         facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=proofs)
-        rendered = tuple((rb.render(a), ev) for a, ev in facts)
+        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
         evidence = dict(rendered)
         proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
                                             (answer.proofs[:1] or [answer.why_not] if answer else [])))
@@ -689,6 +704,21 @@ class Investigation:
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
         return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
                            rule, dispute)
+
+    def _render(self, rb: Rulebook, atom: Atom) -> str:
+        """rb.render(atom), once per rulebook and atom in this investigation: a regression's
+        new side renders the validator facts of every case, and half of them some earlier
+        case rendered already (a vehicle's type, its light). Only an atom of text and whole
+        numbers is remembered: one equal to it renders alike (1.0 and True equal 1, and do not)."""
+        if not all(type(arg) is str or type(arg) is int for arg in atom.args):
+            return rb.render(atom)
+        key = (rb.sha256, atom)
+        found = self._rendered.get(key)
+        if found is None:
+            if len(self._rendered) >= _RENDERED_LIMIT:
+                self._rendered.clear()
+            found = self._rendered[key] = rb.render(atom)
+        return found
 
     def _validator_facts(self, case: _Case, judged_on: str, rb: Rulebook, mine: list, seen: list,
                          derived: frozenset[str]) -> tuple[list[tuple[Atom, EventRef]], list[dict]]:

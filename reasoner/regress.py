@@ -17,7 +17,7 @@ through (regress_reasons.py), from the rule-by-rule diff of the two rulebooks of
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Sequence
 
 from store import NoSuchRun, Store
@@ -414,14 +414,14 @@ def _unchanged_case(d: RecordedDecision, answer: str) -> CaseResult:
     """The case of a decision answered alike on both sides: CaseResult(d.run, "decision", d.id,
     d.vehicle, str(d.goal), d.t, answer, answer), made as its frozen dataclass's __init__ makes
     it, but with its fields set at once rather than by a setattr call each (a run's tens of
-    thousands of decisions each make one)."""
+    thousands of decisions each make one, its fields written out: tests/reasoner/test_unchanged_case.py
+    checks they are all CaseResult has)."""
     case = _new(CaseResult)
-    _set(case, "__dict__", dict(zip(_CASE_FIELDS, (d.run, "decision", d.id, d.vehicle, str(d.goal), d.t, answer,
-                                                   answer, ()), strict=True)))
+    _set(case, "__dict__", {"run": d.run, "case": "decision", "id": d.id, "vehicle": d.vehicle, "action": str(d.goal),
+                            "t": d.t, "before": answer, "after": answer, "changes": ()})
     return case
 
 
-_CASE_FIELDS = tuple(f.name for f in fields(CaseResult))   # a field added there fails _unchanged_case's zip
 _new, _set = object.__new__, object.__setattr__             # looked up once, not per decision
 
 

@@ -16,6 +16,7 @@ the decisions and each one's perception by its key was a quarter of a warm regre
 """
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from itertools import chain
 from collections.abc import Sequence
@@ -402,16 +403,29 @@ def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) 
         refs, sentences = _kept_facts(d.facts)
         rows.append([d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook, refs,
                      a.rulebook.sha256 if a.rulebook is not None else None, a.permitted])
-        facts.append(sentences)
+        facts.append(_plain_text(sentences))
     chunks = range(0, len(rows), KEPT_CHUNK)
     for n, i in enumerate(chunks):
         memo.put("decisions", key_of("decisions", n), rows[i:i + KEPT_CHUNK], plain=True)
-        memo.put("decisions", key_of("decision facts", n), facts[i:i + KEPT_CHUNK], plain=True)
+        if None not in facts[i:i + KEPT_CHUNK]:     # else not kept: the chunk's decisions are asked afresh
+            memo.put("decisions", key_of("decision facts", n), facts[i:i + KEPT_CHUNK], plain=True)
     memo.put("decisions", key_of("decisions"), len(chunks), plain=True)
 
 
+def _plain_text(value: Any) -> str | None:
+    """The value's JSON text, or None where it does not read back as the very value (as
+    CaseMemo.put(plain=True) keeps a value)."""
+    try:
+        text = json.dumps(value, separators=(",", ":"), allow_nan=True)
+    except (TypeError, ValueError):
+        return None
+    return text if json.loads(text) == value else None
+
+
 class _Scenarios:
-    """One kept chunk's scenario sentences, as sealed text, parsed when one of them is first read."""
+    """One kept chunk's scenario sentences, as sealed text: a JSON array of each decision's own
+    JSON text, so that the one scenario a changed decision asks is parsed alone (parsing a
+    chunk's 2,000 scenarios for it was half of asking it), when first read."""
 
     def __init__(self, run: str, text: str, count: int) -> None:
         self.run, self._text, self._count = run, text, count
@@ -420,10 +434,10 @@ class _Scenarios:
     def row(self, i: int) -> list:
         if self._rows is None:
             rows = parse_json(self._text)
-            if not isinstance(rows, list) or len(rows) != self._count:
+            if not isinstance(rows, list) or len(rows) != self._count or not all(isinstance(r, str) for r in rows):
                 raise ValueError("kept scenarios do not match their decisions")   # sealed by this code: never
             self._rows = rows
-        return self._rows[i]
+        return parse_json(self._rows[i])
 
 
 class KeptFacts(Sequence):

@@ -89,10 +89,11 @@ def memory_key() -> bytes:
 _LENGTH = struct.Struct(">Q").pack
 
 
-def _framed(parts: Iterable[Any]) -> bytes:
-    """Each part typed and length-prefixed, so that different tuples never frame alike. (Joined
-    once at the end: a judgement opens thousands of kept entries, each framed here.)"""
-    out: list[bytes] = []
+def _framed(parts: Iterable[Any], start: bytes = b"") -> bytes:
+    """Each part typed and length-prefixed, so that different tuples never frame alike; after
+    `start` (parts framed already). (Joined once at the end: a judgement opens thousands of
+    kept entries, each framed here.)"""
+    out: list[bytes] = [start]
     for part in parts:
         if type(part) is str:
             tag, data = b"s", part.encode("utf-8", "surrogatepass")
@@ -131,6 +132,22 @@ class Sealer:
         entry as absent (and should delete it)."""
         good = isinstance(seal, bytes) and hmac.compare_digest(self.seal(table, key_parts, payload), seal)
         if not good and count:
+            self.dropped[table] += 1
+        return good
+
+    def prefix(self, table: str, key_parts: tuple[Any, ...]) -> bytes:
+        """The framed start of the seal of every entry of the table named by `key_parts` and
+        one part more (a run's kept entries of one kind share all but their key): framed once
+        for them all, not once an entry (`opens_after`)."""
+        return _framed((table, len(key_parts) + 1, *key_parts))
+
+    def opens_after(self, table: str, prefix: bytes, last: Any, payload: Any, seal: Any) -> bool:
+        """`opens` of the entry named by the parts `prefix` framed and `last`: the very seal
+        `opens` checks, as framing is part by part."""
+        values = payload if isinstance(payload, tuple) else (payload,)
+        good = isinstance(seal, bytes) and hmac.compare_digest(
+            hmac.digest(self.key, _framed((last, *values), prefix), "sha256"), seal)
+        if not good:
             self.dropped[table] += 1
         return good
 

@@ -49,6 +49,7 @@ class Sealed:
                  fetch: Callable[[str], tuple[str, bytes] | None] | None = None) -> None:
         self._rows, self._sealer, self._where = rows, sealer, where     # (run, kind, version, chain)
         self._fetch = fetch
+        self._prefix = sealer.prefix(TABLE, _names(*where, "")[:-1]) if sealer is not None else b""
 
     def get(self, key: str) -> str | None:
         """The entry's payload, or None (never kept, or its seal did not open: then it is
@@ -61,7 +62,7 @@ class Sealed:
             if row is None:
                 return None
         payload, mac = row
-        if not self._sealer.opens(TABLE, _names(*self._where, key), payload, mac):
+        if not self._sealer.opens_after(TABLE, self._prefix, key, payload, mac):
             self._rows[key] = None
             return None
         return payload

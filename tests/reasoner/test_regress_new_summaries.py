@@ -37,7 +37,7 @@ def test_the_new_side_works_out_no_findings_and_the_changed_incident_s_proofs_al
     calls = _counted(monkeypatch)
     assert R.regressed(db, new_rules) == first
     assert "findings" not in calls                         # no incident judged whole: its proofs alone
-    assert calls["field measurement"] == len(incidents) + len(changed)     # derived facts, decoded alone
+    assert calls["whole derived"] == len(incidents) + len(changed)     # derived facts, kept and read alone
     assert "whole measurement" not in calls
 
 
