@@ -1,7 +1,7 @@
 """Regression (two rulebooks, diff) as a speed against real time, from a store and straight from
 MCAP, and its scaling on a local Dask cluster.
 
-    .venv/bin/python bench/regress.py [--dir /tmp/gaps-bench] [--repeats 3] [--copies 4] [--json]
+    .venv/bin/python bench/regress.py [--dir /tmp/gaps-bench] [--repeats 3] [--copies 4] [--recording KEY] [--json]
 
 Issue 16's targets: a one-hour, 200-vehicle run regressed at >= 1,000x real time from a store and
 >= 100x straight from its MCAP file with nothing prepared; >= 0.8x linear per worker on a local Dask
@@ -183,9 +183,14 @@ def main() -> None:
     parser.add_argument("--mcap-repeats", type=int, default=None,
                         help="regressions straight from MCAP (default: --repeats); each imports and measures "
                              "the whole run afresh, the hour's some twenty minutes")
+    parser.add_argument("--recording", metavar="KEY", help="regress the hour recorded under this key in --dir (by an "
+                        "earlier version of the simulation) instead of recording the one this code would record")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     args.dir.mkdir(parents=True, exist_ok=True)
+    sys.path.insert(0, str(Path(__file__).parent))
+    import sim_runs
+    sim_runs.RECORDING = args.recording
     db, mcap, run = inputs(args.dir)
     with tempfile.TemporaryDirectory(prefix="gaps-bench-rules-") as tmp:
         rules = str(new_rules(Path(tmp)))
