@@ -3,20 +3,9 @@ measurement derived and nothing else of it: that is kept in its own entry beside
 measurement, so the summary neither reads nor seals the whole measurement."""
 from __future__ import annotations
 
-import pytest
-
 from reasoner import case_memo
 from tests.reasoner import regress_runs as R
-
-
-@pytest.fixture
-def db(tmp_path):
-    return R.build_store(tmp_path / "gaps.db")
-
-
-@pytest.fixture
-def new_rules(tmp_path):
-    return R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))
+from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 
 
 def test_a_summary_reads_the_derived_facts_alone_and_judges_alike(db, new_rules, monkeypatch):

@@ -5,21 +5,10 @@ from __future__ import annotations
 
 import json
 
-import pytest
-
 from reasoner import case_memo, regress_decisions
 from store import Store
 from tests.reasoner import regress_runs as R
-
-
-@pytest.fixture
-def db(tmp_path):
-    return R.build_store(tmp_path / "gaps.db")
-
-
-@pytest.fixture
-def new_rules(tmp_path):
-    return R.edited(tmp_path, "validators.le", cut=(R.AMBER_TOO_CLOSE,))
+from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 
 
 def test_reading_one_kept_decisions_scenario_parses_it_alone(db, new_rules, monkeypatch):
