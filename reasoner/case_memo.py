@@ -126,36 +126,15 @@ class CaseMemo:
         except (ValueError, KeyError, TypeError, IndexError):
             return None         # written by this code under this seal, so never expected: measured again
 
-    def field(self, kind: str, key: str, cls: type, name: str) -> Any:
-        """One field of a kept value of one of the codec's types, decoded alone (the rest is
-        parsed, not decoded: a case's summary reads the facts its measurement derived, a third
-        of it), or None as `get` gives it (a field that is None reads so too); counted as `get`
-        counts."""
-        text = self.text(kind, key)
-        value = None
-        if text is not None:
-            try:
-                data = parse_json(text)
-                names = _field_names(cls)
-                if data["@"] == cls.__name__ and _TYPES[cls.__name__] is cls and len(data["f"]) == len(names):
-                    value = decode(data["f"][names.index(name)])
-            except (ValueError, KeyError, TypeError, IndexError):
-                value = None
-        if value is None:
-            self.misses += 1
-        else:
-            self.hits += 1
-        return value
-
     def put(self, kind: str, key: str, value: Any, *, plain: bool = False) -> None:
         if not self.enabled:
             return
         try:
-            text = json.dumps(value if plain else encode(value), separators=(",", ":"), allow_nan=True)
-            if plain and json.loads(text) != value:
-                return          # not plain after all (a tuple, a key that is not text): not kept
+            text = plain_text(value) if plain else json.dumps(encode(value), separators=(",", ":"), allow_nan=True)
         except (Uncacheable, TypeError, ValueError):
             return
+        if text is None:
+            return              # not plain after all (a tuple, a key that is not text): not kept
         fresh, size = self._fresh.setdefault(kind, {}), _piece_size()
         if len(text) <= size:
             fresh[key] = text
@@ -180,6 +159,16 @@ class CaseMemo:
             if entries:
                 derived_cache.save(self.store, self.run, kind, code_version(), self.chain, entries)
         self._fresh.clear()
+
+
+def plain_text(value: Any) -> str | None:
+    """The value's JSON text, or None where it is no plain JSON data: it does not read back as
+    the very value (a tuple, a key that is not text), or JSON has no form for it."""
+    try:
+        text = json.dumps(value, separators=(",", ":"), allow_nan=True)
+    except (TypeError, ValueError):
+        return None
+    return text if json.loads(text) == value else None
 
 
 def _piece_size() -> int:
@@ -254,11 +243,6 @@ def decode(data: Any) -> Any:
     if "{}" in data:
         return {_hashable(decode(k)): decode(v) for k, v in data["{}"]}
     return _TYPES[data["@"]](*_decoded(data["f"]))
-
-
-@lru_cache(maxsize=None)
-def _field_names(cls: type) -> tuple[str, ...]:
-    return tuple(f.name for f in dataclasses.fields(cls))
 
 
 def _pure(value: Any) -> bool:

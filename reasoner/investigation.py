@@ -508,9 +508,7 @@ class Investigation:
         liable, every one asked as `_judge` asks it, and none of the findings, evidence or
         proofs; the whole incident, with its proofs, is judged when a part outside the summary
         is asked for (on the hour a regression shows 214 of 1,758 so)."""
-        mscen = self._monitor_scenario(case)
-        vscen = vehicle_scenario(case.state, case.vehicle)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], False, summary=True)
+        judged, _ = self._summary_stages(case, False)
         if judged is None:
             return None
         rule, liability = judged.rule, judged.liability
@@ -524,13 +522,19 @@ class Investigation:
     def _proofs_alone(self, case: _Case) -> Proofs | None:
         """The proofs of the monitor stage and of the verdict, as `_judge` with proofs finds them,
         without the rest of the incident (a regression shows a changed verdict's proofs alone)."""
-        mscen = self._monitor_scenario(case)
-        vscen = vehicle_scenario(case.state, case.vehicle)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], True, summary=True,
-                              sanctioned=False)
+        judged, mscen = self._summary_stages(case, True, sanctioned=False)
         if judged is None:
             return None
         return Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, True), judged.validation.proof)
+
+    def _summary_stages(self, case: _Case, proofs: bool, sanctioned: bool = True) -> tuple[_Judged | None, Scenario]:
+        """`_stages` for a summary (or its proofs alone) on the case's scenarios and its kept derived
+        facts, with the Monitor Scenario they were added to."""
+        mscen = self._monitor_scenario(case)
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], proofs, summary=True,
+                              sanctioned=sanctioned)
+        return judged, mscen
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
                 unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True) -> _Judged | None:

@@ -16,7 +16,6 @@ the decisions and each one's perception by its key was a quarter of a warm regre
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from itertools import chain
 from collections.abc import Sequence
@@ -24,7 +23,7 @@ from typing import Any, Iterable, Iterator
 
 from store import EventRef, Store, parse_json
 
-from .case_memo import CaseMemo, key_of
+from .case_memo import CaseMemo, key_of, plain_text
 from .engine import Engine, QuestionError, Rulebook
 from .facts import FactReader
 from .le.terms import Atom
@@ -403,23 +402,13 @@ def keep_decisions(memo: CaseMemo, asked: list[tuple[RecordedDecision, Asked]]) 
         refs, sentences = _kept_facts(d.facts)
         rows.append([d.src, d.seq, d.t, d.vehicle, d.goal, d.action, d.permitted, d.proceeds, d.rulebook, refs,
                      a.rulebook.sha256 if a.rulebook is not None else None, a.permitted])
-        facts.append(_plain_text(sentences))
+        facts.append(plain_text(sentences))
     chunks = range(0, len(rows), KEPT_CHUNK)
     for n, i in enumerate(chunks):
         memo.put("decisions", key_of("decisions", n), rows[i:i + KEPT_CHUNK], plain=True)
         if None not in facts[i:i + KEPT_CHUNK]:     # else not kept: the chunk's decisions are asked afresh
             memo.put("decisions", key_of("decision facts", n), facts[i:i + KEPT_CHUNK], plain=True)
     memo.put("decisions", key_of("decisions"), len(chunks), plain=True)
-
-
-def _plain_text(value: Any) -> str | None:
-    """The value's JSON text, or None where it does not read back as the very value (as
-    CaseMemo.put(plain=True) keeps a value)."""
-    try:
-        text = json.dumps(value, separators=(",", ":"), allow_nan=True)
-    except (TypeError, ValueError):
-        return None
-    return text if json.loads(text) == value else None
 
 
 class _Scenarios:

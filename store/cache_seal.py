@@ -130,10 +130,7 @@ class Sealer:
         """Does the entry carry its own seal? A failure is counted against the table (unless
         `count` is False: a check that reports rather than reads): the caller must then treat the
         entry as absent (and should delete it)."""
-        good = isinstance(seal, bytes) and hmac.compare_digest(self.seal(table, key_parts, payload), seal)
-        if not good and count:
-            self.dropped[table] += 1
-        return good
+        return self._checked(table, self.seal(table, key_parts, payload), seal, count)
 
     def prefix(self, table: str, key_parts: tuple[Any, ...]) -> bytes:
         """The framed start of the seal of every entry of the table named by `key_parts` and
@@ -145,9 +142,12 @@ class Sealer:
         """`opens` of the entry named by the parts `prefix` framed and `last`: the very seal
         `opens` checks, as framing is part by part."""
         values = payload if isinstance(payload, tuple) else (payload,)
-        good = isinstance(seal, bytes) and hmac.compare_digest(
-            hmac.digest(self.key, _framed((last, *values), prefix), "sha256"), seal)
-        if not good:
+        return self._checked(table, hmac.digest(self.key, _framed((last, *values), prefix), "sha256"), seal)
+
+    def _checked(self, table: str, expected: bytes, seal: Any, count: bool = True) -> bool:
+        """Whether the entry's seal is the one expected; a failure counted against the table."""
+        good = isinstance(seal, bytes) and hmac.compare_digest(expected, seal)
+        if not good and count:
             self.dropped[table] += 1
         return good
 

@@ -14,7 +14,7 @@ from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 
 
 def _counted(monkeypatch) -> dict[str, int]:
-    """Calls of missing_evidence (a finding) and of CaseMemo._value and .field by kind."""
+    """Calls of missing_evidence (a finding) and of CaseMemo._value by kind."""
     calls: dict[str, int] = {}
     missing, value = investigation_module.missing_evidence, CaseMemo._value
 
@@ -22,9 +22,6 @@ def _counted(monkeypatch) -> dict[str, int]:
         calls[name] = calls.get(name, 0) + 1
     monkeypatch.setattr(investigation_module, "missing_evidence", lambda *a: note("findings") or missing(*a))
     monkeypatch.setattr(CaseMemo, "_value", lambda memo, kind, *a: note(f"whole {kind}") or value(memo, kind, *a))
-    if hasattr(CaseMemo, "field"):
-        field = CaseMemo.field
-        monkeypatch.setattr(CaseMemo, "field", lambda memo, kind, *a: note(f"field {kind}") or field(memo, kind, *a))
     return calls
 
 
