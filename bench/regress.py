@@ -14,7 +14,12 @@ its amber exception (verdicts and decisions flip, so the diff and the reasons ar
 baseline is the rulebooks in force.
 
     store    regress.regress on the store, a fresh Store and Regressor each repeat (median)
-    mcap     regress_cluster.regress_recordings on the file: import into a temporary store, judge
+    mcap     regress_cluster.regress_recordings on the file, nothing prepared: each in a cache home of
+             its own (nothing kept of the file: store/kept_recording.py), so it imports the file
+             into a temporary store and judges it
+    again    the same file regressed again, `--repeats` times, in the last one's cache home: judged
+             from what that one kept of it under its digest (a fleet's logs regressed under
+             another rulebook)
     scaling  `--copies` copies of the run in one store (renamed runs), judged in this process, then
              on a LocalCluster of 1 and of 2 worker processes (started and warmed on another copy
              of the file first: the figure is the judging, not the cluster's start)
@@ -105,8 +110,9 @@ def timed_cpu(fn: Callable[[], Any]) -> tuple[Any, float, float]:
 
 def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int, mcap_repeats: int) -> dict[str, Any]:
     """`repeats` regressions from the store (the first may measure and keep what the run's chain
-    had not kept yet), then `mcap_repeats` straight from the file, each with the machine's
-    calibration (bench/machine.py) taken just before it."""
+    had not kept yet), then `mcap_repeats` straight from the file with nothing kept of it, then
+    `repeats` of it again from what the last of those kept, each with the machine's calibration
+    (bench/machine.py) taken just before it."""
     from reasoner.regress import regress
     from reasoner.regress_cluster import regress_recordings
     from store import Store
@@ -119,20 +125,39 @@ def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int, mcap_repea
         span = next(r for r in store.runs() if r.run == run)
     seconds = (span.last_t - span.first_t) / 1e9
     out: dict[str, Any] = {"run": run, "events": span.events, "run_seconds": seconds, "store_s": [], "mcap_s": [],
-                           "store_cpu_s": [], "mcap_cpu_s": [], "calibration_ms": [], "load": [os.getloadavg()[0]]}
-    for what, fn, n in (("store", from_store, repeats), ("mcap", lambda: regress_recordings([mcap], [rules]),
-                                                          mcap_repeats)):
-        for i in range(n):
-            out["calibration_ms"].append(calibration_elsewhere())
-            result, wall, cpu = timed_cpu(fn)
-            out[f"{what}_s"].append(wall)
-            out[f"{what}_cpu_s"].append(cpu)
-            out.setdefault("counts", result.counts())
-            assert result.counts() == out["counts"], "every regression gives the same counts"
-            out["load"].append(os.getloadavg()[0])
-            print(f"{what} {i + 1}: {wall:.2f} s wall ({seconds / wall:,.0f}x real time), {cpu:.2f} s CPU "
-                  f"({seconds / cpu:,.0f}x); calibration {out['calibration_ms'][-1]:.2f} ms ({QUIET_MS})", flush=True)
+                           "again_s": [], "store_cpu_s": [], "mcap_cpu_s": [], "again_cpu_s": [], "calibration_ms": [],
+                           "load": [os.getloadavg()[0]]}
+    with tempfile.TemporaryDirectory(prefix="gaps-bench-kept-") as homes:
+        def from_mcap(i: int) -> Callable[[], Any]:
+            def regressed():
+                os.environ["XDG_CACHE_HOME"] = os.path.join(homes, str(i))     # nothing kept of the file there
+                return regress_recordings([mcap], [rules])
+            return regressed
+
+        steps = [("store", from_store)] * repeats + [("mcap", from_mcap(i)) for i in range(mcap_repeats)]
+        steps += [("again", from_mcap(mcap_repeats - 1))] * (repeats if mcap_repeats else 0)
+        home = os.environ.get("XDG_CACHE_HOME")
+        try:
+            for what, fn in steps:
+                _step(out, what, fn, seconds)
+        finally:
+            os.environ.pop("XDG_CACHE_HOME", None)
+            if home is not None:
+                os.environ["XDG_CACHE_HOME"] = home
     return out
+
+
+def _step(out: dict[str, Any], what: str, fn: Callable[[], Any], seconds: float) -> None:
+    """One timed regression, its calibration taken just before it."""
+    out["calibration_ms"].append(calibration_elsewhere())
+    result, wall, cpu = timed_cpu(fn)
+    out[f"{what}_s"].append(wall)
+    out[f"{what}_cpu_s"].append(cpu)
+    out.setdefault("counts", result.counts())
+    assert result.counts() == out["counts"], "every regression gives the same counts"
+    out["load"].append(os.getloadavg()[0])
+    print(f"{what} {len(out[f'{what}_s'])}: {wall:.2f} s wall ({seconds / wall:,.0f}x real time), {cpu:.2f} s CPU "
+          f"({seconds / cpu:,.0f}x); calibration {out['calibration_ms'][-1]:.2f} ms ({QUIET_MS})", flush=True)
 
 
 def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str, Any]:
@@ -209,8 +234,9 @@ def figures(r: dict[str, Any], mcap: Path) -> None:
     lines = [f"run {r['run']}: {r['events']:,} events over {seconds:,.0f} s; judged: {r['counts']}"]
     found: list[Figure] = []
     for what, label, target in (("store", "regression from a store (two rulebooks, diff)", "store"),
-                                ("mcap", "regression straight from MCAP, nothing prepared", "mcap")):
-        if r[f"{what}_s"]:
+                                ("mcap", "regression straight from MCAP, nothing prepared", "mcap"),
+                                ("again", "the same MCAP file regressed again (kept by its digest)", None)):
+        if r.get(f"{what}_s"):
             lines.append(_speed_line(r, what, seconds, target) + (
                 f" ({mcap.stat().st_size / 1e6:.1f} MB)" if what == "mcap" else ""))
             found += _speed_figures(r, what, label, seconds, target)
@@ -225,12 +251,14 @@ def figures(r: dict[str, Any], mcap: Path) -> None:
            notes=f"run {r['run']}, {r['events']:,} events over {seconds:,.0f} s; new rulebook: validators.le without "
                  f"its amber exception, baseline in force; medians of {len(r['store_s'])} from the store (the first "
                  f"{r['store_s'][0]:.2f} s: it keeps the baseline and any measurement not kept yet) and "
-                 + (f"{len(r['mcap_s'])} from MCAP" if r["mcap_s"] else "none from MCAP (not measured in this run)")
+                 + (f"{len(r['mcap_s'])} from MCAP with nothing kept of it and {len(r['again_s'])} of it again, "
+                    "from what was kept" if r["mcap_s"] else "none from MCAP (not measured in this run)")
                  + f"; calibration {_spread(r['calibration_ms'])} ms ({QUIET_MS})"
                  + ("" if s else "; scaling not measured in this run"),
            machine_extra=f"load average during the bench {', '.join(f'{x:.2f}' for x in load)}",
            details={"counts": r["counts"], "scaling": s, "store_cpu_s": r["store_cpu_s"],
-                    "mcap_cpu_s": r["mcap_cpu_s"], "calibration_ms": r["calibration_ms"]})
+                    "mcap_cpu_s": r["mcap_cpu_s"], "again_cpu_s": r.get("again_cpu_s", []),
+                    "calibration_ms": r["calibration_ms"]})
 
 
 def _scaling_lines(s: dict[str, Any], temper: str, found: list[Figure]) -> list[str]:
@@ -250,19 +278,22 @@ def _scaling_lines(s: dict[str, Any], temper: str, found: list[Figure]) -> list[
             f"(target {TARGETS['linear']}x)"]
 
 
-def _speed_line(r: dict[str, Any], what: str, seconds: float, target: str) -> str:
+_SAID = {"store": "from the store", "mcap": "straight from MCAP", "again": "the same MCAP again, kept"}
+
+
+def _speed_line(r: dict[str, Any], what: str, seconds: float, target: str | None) -> str:
     wall, cpu = statistics.median(r[f"{what}_s"]), statistics.median(r[f"{what}_cpu_s"])
-    return (f"{'from the store' if what == 'store' else 'straight from MCAP'}: median {wall:.2f} s = "
-            f"{seconds / wall:,.0f}x real time, CPU {cpu:.2f} s = {seconds / cpu:,.0f}x "
-            f"(target {TARGETS[target]:,.0f}x)")
+    return (f"{_SAID[what]}: median {wall:.2f} s = {seconds / wall:,.0f}x real time, CPU {cpu:.2f} s = "
+            f"{seconds / cpu:,.0f}x" + (f" (target {TARGETS[target]:,.0f}x)" if target else " (no target)"))
 
 
-def _speed_figures(r: dict[str, Any], what: str, label: str, seconds: float, target: str) -> list[Figure]:
+def _speed_figures(r: dict[str, Any], what: str, label: str, seconds: float, target: str | None) -> list[Figure]:
     walls, cpus = r[f"{what}_s"], r[f"{what}_cpu_s"]
     wall, cpu = statistics.median(walls), statistics.median(cpus)
+    aim = f"≥ {TARGETS[target]:,.0f}× real time" if target else ""
     return [Figure(label, wall, "s", tuple(walls), note=f"CPU {cpu:.2f} s"),
             Figure("the same as a speed", seconds / wall, "× real time", tuple(seconds / x for x in walls),
-                   target=f"≥ {TARGETS[target]:,.0f}× real time", note=f"{seconds / cpu:,.0f}× by CPU")]
+                   target=aim, note=f"{seconds / cpu:,.0f}× by CPU")]
 
 
 def _spread(values: list[float]) -> str:

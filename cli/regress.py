@@ -42,6 +42,10 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
     --baseline OLD the rule change report comes first. Exit 0 when nothing changed, 1 when
     something did, 2 on a mistake (a file no stage uses, an unknown run, LE that does not parse).
     Runs are judged one after another, or in parallel on Dask with --workers N or --scheduler.
+
+    A recording judged once is kept by the digest of its bytes in the user's cache home
+    ($XDG_CACHE_HOME/mind-the-gaps/recordings, at most $GAPS_RECORDINGS_CACHE_MB, 4096 by
+    default; 0 keeps none): regressing the same file again reads none of its events.
     """
     from reasoner.regress import regress as run_regression
     from reasoner.regress_cluster import Cluster, regress_recordings, regress_store

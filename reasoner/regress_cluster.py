@@ -36,7 +36,7 @@ from store import Store
 from .engine import get_engine
 from .regress import Progress, Regression, Regressor, RunPart, assemble, chosen_runs
 from .regress_books import BookText, GivenBooks, RegressError, load_texts, read_given
-from .regress_recording import check_recording, recording_store
+from .regress_recording import check_recording, judged_recording
 
 
 @dataclass(frozen=True)
@@ -92,9 +92,10 @@ def judge(task: Task, job: Job) -> list[RunPart]:
     """A task's runs judged under both sides: what a worker runs."""
     new, old = job.books()
     if task.recording:
-        with recording_store(task.source) as (store, problems):
+        def parts(store: Store, problems: tuple[str, ...]) -> list[RunPart]:
             regressor = Regressor(store, get_engine(), new, old)
             return [_noting(regressor.part(run), problems) for run in store.run_names()]
+        return judged_recording(task.source, parts)
     return [_store_regressor(task.source, job, new, old).part(str(task.run))]
 
 

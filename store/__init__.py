@@ -41,7 +41,7 @@ from .cache_wire import (CACHE_PREFIX, CacheQuery, CacheQueryError, SourceSpan, 
                          cache_token, index_selector, parse_cache_query, read_index, want_payload, want_selector,
                          write_index)
 from .partial_state import entity_since, state_of
-from . import derived_cache
+from . import derived_cache, kept_recording
 from .received_chain import ReceivedChains
 from .cache_check import CacheTampering, cache_tampering
 from .presence import check_presence, sources_near
@@ -63,6 +63,7 @@ from .transfer import (
 
 __all__ = [
     "derived_cache",
+    "kept_recording",
     "parse_json",
     "parse_json_all",
     "CheckpointKey",

@@ -118,8 +118,10 @@ class Cache:
     """The cache of one store, opened on first use (a command that derives nothing creates no
     file). Falls back to memory when the file cannot be made or read."""
 
-    def __init__(self, store_path: str) -> None:
-        self.path = cache_path(store_path)
+    def __init__(self, store_path: str, *, at: str | None = None) -> None:
+        """`at`: the cache file to use in place of the one beside the store (a recording's
+        temporary store keeps its cache under the recording's digest: store/kept_recording.py)."""
+        self.path = at or cache_path(store_path)
         self._conn: sqlite3.Connection | None = None
         self._sealer: Sealer | None = None
         self.memo: dict[tuple, Any] = {}

@@ -82,6 +82,7 @@ class Store:
         read_only: bool = False,
         quarantine_cap: quarantine.QuarantineCap = quarantine.QuarantineCap(),
         checkpoint_key: CheckpointKey | None = None,
+        cache_at: str | None = None,
     ) -> None:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
             raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
@@ -101,7 +102,7 @@ class Store:
         self._append_hooks: list[AppendHook] = []
         self._checkpoint_hooks: list[CheckpointHook] = []
         self._integrity: tuple[tuple[int, int], list[str]] | None = None  # (file state, problems)
-        self.cache = Cache(self.path)
+        self.cache = Cache(self.path, at=cache_at)
 
     @classmethod
     def open_read_only(cls, path: str | os.PathLike, *, check_same_thread: bool = True) -> Store:
@@ -307,6 +308,15 @@ class Store:
     def chain_head(self, run: str) -> tuple[int, str]:
         """(events in the run's chain, stored hash of its last event); (0, "") for no events."""
         return verify_cache.chain_key(self._conn, run)
+
+    def chain_tip(self, run: str) -> tuple[int, str]:
+        """The run's chain as stored now, by its last chain position: (that position + 1, the
+        stored hash there), (0, "") for no events. Two index probes, where chain_head counts
+        the rows (seconds on a long run); what the derived cache is keyed by
+        (store/derived_cache.py). An append changes both; a row taken out of the middle is no
+        append and is for `gaps verify` to find, as the chain then no longer holds."""
+        with self._reading():
+            return queries.chain_tip(self._conn, run)
 
     def runs(self) -> list[RunSummary]:
         """Every run with events, by run name."""

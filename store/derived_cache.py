@@ -26,17 +26,8 @@ MAX_PAYLOAD = 4 << 20           # an entry larger than this is not kept (recompu
 
 
 def current_chain(store: Store, run: str) -> ChainKey:
-    """The run's chain as stored now: its length by its last chain position, and the stored hash
-    there (two index probes; counting a long run's rows takes seconds). An append changes both;
-    a row taken out of the middle is no append and is for `gaps verify` to find, as the chain
-    then no longer holds."""
-    with store._reading():
-        conn = store.connection
-        last = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()[0]
-        if last is None:
-            return (0, "")
-        row = conn.execute("SELECT hash FROM events WHERE run = ? AND chain_pos = ?", (run, last)).fetchone()
-        return (int(last) + 1, "" if row is None else str(row[0]))
+    """The run's chain as stored now (Store.chain_tip): what every entry is kept under."""
+    return store.chain_tip(run)
 
 
 class Sealed:

@@ -69,6 +69,15 @@ def run_names(conn: sqlite3.Connection) -> list[str]:
     return list(_distinct(conn, "run", "1", ()))
 
 
+def chain_tip(conn: sqlite3.Connection, run: str) -> tuple[int, str]:
+    """(last chain position + 1, the stored hash there) of a run; (0, "") for none."""
+    last = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()[0]
+    if last is None:
+        return (0, "")
+    row = conn.execute("SELECT hash FROM events WHERE run = ? AND chain_pos = ?", (run, last)).fetchone()
+    return (int(last) + 1, "" if row is None else str(row[0]))
+
+
 def run_summary(conn: sqlite3.Connection, run: str) -> RunSummary:
     """The summary of one run that has events."""
     (count,) = conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()

@@ -22,9 +22,11 @@ def paper_db(tmp_path_factory):
 
 @pytest.fixture(autouse=True, scope="session")
 def _cache_key_home(tmp_path_factory):
-    """The cache key (store/cache_seal.py) is kept in the user's config home: tests keep theirs in a
-    folder of their own (subprocesses inherit it), never in the real home."""
+    """The cache key (store/cache_seal.py) is kept in the user's config home, and caches (a
+    read-only store's, the kept recordings of store/kept_recording.py) in the cache home: tests keep
+    theirs in folders of their own (subprocesses inherit them), never in the real home."""
     import os
     if "XDG_CONFIG_HOME" not in os.environ or not os.environ.get("GAPS_TEST_REAL_CONFIG"):
         os.environ["XDG_CONFIG_HOME"] = str(tmp_path_factory.mktemp("config"))
+        os.environ["XDG_CACHE_HOME"] = str(tmp_path_factory.mktemp("cache"))
     yield
