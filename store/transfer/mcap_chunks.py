@@ -3,9 +3,9 @@
 A chunk declares its uncompressed size, but the declaration is the writer's word: a 138 KB file
 of zstd or lz4 chunks can decompress to gigabytes (honestly declared, or declared small and lying),
 and the mcap package's own decoder allocates what a frame claims and decompresses all of it before
-looking. Here the decompression is a stream read in slices, and stops as soon as the chunk has
-produced more than it may: its declared size, the per-chunk cap, or what is left of the file's
-budget (a multiple of the file's size). The bytes are then parsed one record at a time, never all
+looking. Here the decompression is a stream read that never asks for more than the chunk may
+produce, and stops as soon as the chunk has produced more than it may: its declared size, the
+per-chunk cap, or what is left of the file's budget (a multiple of the file's size). The bytes are then parsed one record at a time, never all
 at once, so memory stays within one chunk's cap. A zero-filled chunk (opcode 0x00, which MCAP
 reserves as invalid) is refused at its first record instead of being read as millions of empty
 records. Every refusal is a `ChunkRefused` with the reason; the reader records it as damage at the
@@ -28,7 +28,7 @@ MAX_CHUNK_BYTES = 64 << 20  # writers use chunks of about a MiB (ours: 1 MiB); 6
 FILE_RATIO = 200  # a file's chunks may produce this many times the file's size in all (ours: about 15)
 FILE_FLOOR = 256 << 20  # ... and at least this much, so that a small honest file is never short
 MAX_WINDOW = 1 << 26  # a zstd frame asking for a larger history window is refused, not allocated
-_SLICE = 1 << 20  # decompressed bytes asked for at a time
+_SLICE = 1 << 20  # decompressed bytes an lz4 read asks for at a time
 _FRAME = struct.Struct("<BQ")
 _MESSAGE_HEAD = struct.Struct("<HIQQ")  # a Message's channel id, sequence, log time, publish time
 _INNER = {Opcode.SCHEMA: lambda s, n: Schema.read(s), Opcode.CHANNEL: lambda s, n: Channel.read(s),
@@ -84,20 +84,25 @@ def _decompress(chunk: Chunk, limit: int) -> bytes:
 
 
 def _zstd(data: bytes, limit: int) -> bytes:
+    """Asks for all `limit` bytes at once (a bound the caps have already checked): read in 1 MiB
+    slices into a growing buffer, then copied out of it, a chunk of ours cost 2.3 ms more, 0.57 s
+    against 0.09 s for town-4m's 244 chunks; the read still returns no more than it is asked for."""
     import zstandard
 
-    out = bytearray()
+    pieces: list[bytes] = []
+    got = 0
     try:
         reader = zstandard.ZstdDecompressor(max_window_size=MAX_WINDOW).stream_reader(BytesIO(data),
                                                                                       read_across_frames=True)
-        while len(out) < limit:
-            piece = reader.read(min(_SLICE, limit - len(out)))
+        while got < limit:
+            piece = reader.read(limit - got)
             if not piece:
                 break
-            out += piece
+            pieces.append(piece)
+            got += len(piece)
     except zstandard.ZstdError as exc:
         raise ChunkRefused(f"corrupt zstd data: {exc}") from None
-    return bytes(out)
+    return pieces[0] if len(pieces) == 1 else b"".join(pieces)
 
 
 def _lz4(data: bytes, limit: int) -> bytes:
