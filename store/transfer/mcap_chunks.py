@@ -5,11 +5,12 @@ of zstd or lz4 chunks can decompress to gigabytes (honestly declared, or declare
 and the mcap package's own decoder allocates what a frame claims and decompresses all of it before
 looking. Here the decompression is a stream read that never asks for more than the chunk may
 produce, and stops as soon as the chunk has produced more than it may: its declared size, the
-per-chunk cap, or what is left of the file's budget (a multiple of the file's size). The bytes are then parsed one record at a time, never all
-at once, so memory stays within one chunk's cap. A zero-filled chunk (opcode 0x00, which MCAP
-reserves as invalid) is refused at its first record instead of being read as millions of empty
-records. Every refusal is a `ChunkRefused` with the reason; the reader records it as damage at the
-chunk's offset and goes on with the next record (the chunk's length framed it).
+per-chunk cap, or what is left of the file's budget (a multiple of the file's size). The bytes
+are then parsed one record at a time, never all at once, so memory stays within one chunk's cap.
+A zero-filled chunk (opcode 0x00, which MCAP reserves as invalid) is refused at its first record
+instead of being read as millions of empty records. Every refusal is a `ChunkRefused` with the
+reason; the reader records it as damage at the chunk's offset and goes on with the next record
+(the chunk's length framed it).
 """
 
 from __future__ import annotations
@@ -142,7 +143,7 @@ def chunk_records(data: bytes) -> Iterator[McapRecord]:
     while at < end:
         opcode, length = unpack_frame(data, at)
         body, at = at + _FRAME.size, at + _FRAME.size + length
-        if opcode == _MESSAGE and length >= head_size:
+        if opcode == _MESSAGE and length >= head_size:  # a shorter one: Message.read refuses it
             channel_id, sequence, log_time, publish_time = unpack_head(data, body)
             yield message(channel_id, log_time, data[body + head_size:at], publish_time, sequence)
             continue
