@@ -6,6 +6,7 @@ refused together with the bytes to keep in quarantine, so that nothing offered i
 
 from __future__ import annotations
 
+from functools import partial
 from typing import Any, NamedTuple
 
 from .canonical import canonical_json
@@ -28,6 +29,9 @@ class Candidate(NamedTuple):
     reason: str | None = None
 
 
+_candidate = partial(tuple.__new__, Candidate)
+
+
 def from_dict(ev: Any, origin: str) -> Candidate:
     """A candidate from a decoded event; a valid one's raw form is its canonical form."""
     try:
@@ -38,12 +42,13 @@ def from_dict(ev: Any, origin: str) -> Candidate:
 
 
 def from_raw(raw: bytes, origin: str) -> Candidate:
-    """A candidate from bytes as received; quarantine keeps those exact bytes."""
+    """A candidate from bytes as received; quarantine keeps those exact bytes. An accepted one
+    is built in C, all five fields given (an import makes one for every message it reads)."""
     try:
         ev, canonical = decode_event(raw)
     except EventError as exc:
         return Candidate(origin, bytes(raw), reason=str(exc))
-    return Candidate(origin, bytes(raw), ev, canonical)
+    return _candidate((origin, bytes(raw), ev, canonical, None))
 
 
 def raw_bytes(obj: Any) -> bytes:

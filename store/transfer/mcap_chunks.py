@@ -3,13 +3,14 @@
 A chunk declares its uncompressed size, but the declaration is the writer's word: a 138 KB file
 of zstd or lz4 chunks can decompress to gigabytes (honestly declared, or declared small and lying),
 and the mcap package's own decoder allocates what a frame claims and decompresses all of it before
-looking. Here the decompression is a stream read in slices, and stops as soon as the chunk has
-produced more than it may: its declared size, the per-chunk cap, or what is left of the file's
-budget (a multiple of the file's size). The bytes are then parsed one record at a time, never all
-at once, so memory stays within one chunk's cap. A zero-filled chunk (opcode 0x00, which MCAP
-reserves as invalid) is refused at its first record instead of being read as millions of empty
-records. Every refusal is a `ChunkRefused` with the reason; the reader records it as damage at the
-chunk's offset and goes on with the next record (the chunk's length framed it).
+looking. Here the decompression is a stream read that never asks for more than the chunk may
+produce, and stops as soon as the chunk has produced more than it may: its declared size, the
+per-chunk cap, or what is left of the file's budget (a multiple of the file's size). The bytes
+are then parsed one record at a time, never all at once, so memory stays within one chunk's cap.
+A zero-filled chunk (opcode 0x00, which MCAP reserves as invalid) is refused at its first record
+instead of being read as millions of empty records. Every refusal is a `ChunkRefused` with the
+reason; the reader records it as damage at the chunk's offset and goes on with the next record
+(the chunk's length framed it).
 """
 
 from __future__ import annotations
@@ -28,9 +29,10 @@ MAX_CHUNK_BYTES = 64 << 20  # writers use chunks of about a MiB (ours: 1 MiB); 6
 FILE_RATIO = 200  # a file's chunks may produce this many times the file's size in all (ours: about 15)
 FILE_FLOOR = 256 << 20  # ... and at least this much, so that a small honest file is never short
 MAX_WINDOW = 1 << 26  # a zstd frame asking for a larger history window is refused, not allocated
-_SLICE = 1 << 20  # decompressed bytes asked for at a time
+_SLICE = 1 << 20  # decompressed bytes an lz4 read asks for at a time
 _FRAME = struct.Struct("<BQ")
 _MESSAGE_HEAD = struct.Struct("<HIQQ")  # a Message's channel id, sequence, log time, publish time
+_MESSAGE = int(Opcode.MESSAGE)  # a plain int: comparing one with an IntEnum member costs a method call
 _INNER = {Opcode.SCHEMA: lambda s, n: Schema.read(s), Opcode.CHANNEL: lambda s, n: Channel.read(s),
           Opcode.MESSAGE: lambda s, n: Message.read(s, n)}
 
@@ -84,20 +86,25 @@ def _decompress(chunk: Chunk, limit: int) -> bytes:
 
 
 def _zstd(data: bytes, limit: int) -> bytes:
+    """Asks for all `limit` bytes at once (a bound the caps have already checked): read in 1 MiB
+    slices into a growing buffer, then copied out of it, a chunk of ours cost 2.3 ms more, 0.57 s
+    against 0.09 s for town-4m's 244 chunks; the read still returns no more than it is asked for."""
     import zstandard
 
-    out = bytearray()
+    pieces: list[bytes] = []
+    got = 0
     try:
         reader = zstandard.ZstdDecompressor(max_window_size=MAX_WINDOW).stream_reader(BytesIO(data),
                                                                                       read_across_frames=True)
-        while len(out) < limit:
-            piece = reader.read(min(_SLICE, limit - len(out)))
+        while got < limit:
+            piece = reader.read(limit - got)
             if not piece:
                 break
-            out += piece
+            pieces.append(piece)
+            got += len(piece)
     except zstandard.ZstdError as exc:
         raise ChunkRefused(f"corrupt zstd data: {exc}") from None
-    return bytes(out)
+    return pieces[0] if len(pieces) == 1 else b"".join(pieces)
 
 
 def _lz4(data: bytes, limit: int) -> bytes:
@@ -122,45 +129,45 @@ def chunk_records(data: bytes) -> Iterator[McapRecord]:
     """The schemas, channels and messages of a chunk's uncompressed bytes, one at a time; other
     records are passed over. The framing of every record is checked before the first is given
     out (a chunk whose records do not fit gives none: ChunkRefused); a record that then cannot be
-    parsed ends the chunk there."""
-    for _ in _frames(data):
-        pass
+    parsed ends the chunk there.
+
+    The walk is one loop, not a generator of frames read twice: a chunk holds thousands of
+    messages, and each step of a generator, each keyword argument and each enum comparison was
+    paid per message (town-4m: 263,503 records read in 0.6 s instead of 1.1 s, with the Located
+    tuples of RecordReader._unchunk)."""
+    _check_frames(data)
     view = memoryview(data)
-    for opcode, at, length in _frames(data):
-        if opcode == Opcode.MESSAGE and length >= _MESSAGE_HEAD.size:
-            yield _message(data, at + _FRAME.size, length)
+    unpack_frame, unpack_head, message, head_size = _FRAME.unpack_from, _MESSAGE_HEAD.unpack_from, Message, \
+        _MESSAGE_HEAD.size
+    at, end = 0, len(data)
+    while at < end:
+        opcode, length = unpack_frame(data, at)
+        body, at = at + _FRAME.size, at + _FRAME.size + length
+        if opcode == _MESSAGE and length >= head_size:  # a shorter one: Message.read refuses it
+            channel_id, sequence, log_time, publish_time = unpack_head(data, body)
+            yield message(channel_id, log_time, data[body + head_size:at], publish_time, sequence)
             continue
         parser = _INNER.get(opcode)
         if parser is None:
             continue
         try:
-            yield parser(ReadDataStream(BytesIO(view[at + _FRAME.size:at + _FRAME.size + length])), length)
+            yield parser(ReadDataStream(BytesIO(view[body:at])), length)
         except Exception as exc:  # hostile bytes reach the mcap package's parsing
-            raise ChunkRefused(f"the record at byte {at} of the uncompressed records cannot be parsed: "
-                               f"{type(exc).__name__}: {str(exc)[:200]}") from None
+            raise ChunkRefused(f"the record at byte {body - _FRAME.size} of the uncompressed records cannot be "
+                               f"parsed: {type(exc).__name__}: {str(exc)[:200]}") from None
 
 
-def _message(data: bytes, at: int, length: int) -> Message:
-    """A Message record read with one unpack, as Message.read reads it field by field through a
-    stream: a chunk holds thousands of them, and the stream's calls were most of an import's
-    reading (a message shorter than its fixed fields goes through Message.read, which refuses it)."""
-    channel_id, sequence, log_time, publish_time = _MESSAGE_HEAD.unpack_from(data, at)
-    return Message(channel_id=channel_id, log_time=log_time, data=data[at + _MESSAGE_HEAD.size:at + length],
-                   publish_time=publish_time, sequence=sequence)
-
-
-def _frames(data: bytes) -> Iterator[tuple[int, int, int]]:
-    """(opcode, offset, body length) of each record, or ChunkRefused where one does not fit."""
-    at = 0
-    while at < len(data):
-        if len(data) - at < _FRAME.size:
-            raise ChunkRefused(f"{len(data) - at} stray bytes at byte {at} of the uncompressed records")
-        opcode, length = _FRAME.unpack_from(data, at)
+def _check_frames(data: bytes) -> None:
+    """ChunkRefused where a record's frame does not fit in the chunk, or is opcode 0x00."""
+    at, end, unpack_frame = 0, len(data), _FRAME.unpack_from
+    while at < end:
+        if end - at < _FRAME.size:
+            raise ChunkRefused(f"{end - at} stray bytes at byte {at} of the uncompressed records")
+        opcode, length = unpack_frame(data, at)
         if opcode == 0:
             raise ChunkRefused(f"a record with opcode 0x00 (invalid in MCAP) at byte {at} of the "
                                "uncompressed records")
-        if length > len(data) - at - _FRAME.size:
+        if length > end - at - _FRAME.size:
             raise ChunkRefused(f"a record of {length} bytes at byte {at} runs past the chunk's "
-                               f"{len(data)} uncompressed bytes")
-        yield opcode, at, length
+                               f"{end} uncompressed bytes")
         at += _FRAME.size + length

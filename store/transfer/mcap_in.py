@@ -19,7 +19,7 @@ carry the exact schemas, newer ones viewer-safe copies).
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterator
 
@@ -48,6 +48,10 @@ class _Route:
     topic: str
     skip_reason: str | None
     count: int = 0
+    keyed: bool = field(init=False)  # a gaps key expression: each event must be the one it names
+
+    def __post_init__(self) -> None:
+        self.keyed = self.topic.startswith(_EVENT_TOPIC_PREFIX)
 
 
 def route(channel: Channel, schema: Schema | None) -> _Route:
@@ -72,12 +76,13 @@ class _Messages:
         self.reorder = chain_order.Reorder()
 
     def candidates(self) -> Iterator[Candidate]:
+        push, in_chain_order = self.reorder.push, self._in_chain_order
         for located in self.reader.records():
             record = located.record
             if isinstance(record, Message):
                 candidate = self._message(located, record)
                 if candidate is not None:
-                    yield from self._in_chain_order(self.reorder.push(candidate))
+                    yield from in_chain_order(push(candidate))
             elif isinstance(record, Schema):
                 self.schemas.setdefault(record.id, record)
             elif isinstance(record, Channel):
@@ -88,12 +93,14 @@ class _Messages:
                 self._chain_order(located, record)
         yield from self._in_chain_order(self.reorder.finish())
 
-    def _in_chain_order(self, released: list[Candidate]) -> Iterator[Candidate]:
-        """The candidates the reordering lets go, each extending the file's chain as it goes."""
+    def _in_chain_order(self, released: list[Candidate]) -> list[Candidate]:
+        """The candidates the reordering lets go, each extending the file's chain (a list, not a
+        generator: one is made for every message read, and the chain check reads no store)."""
+        observe = self.chains.observe
         for candidate in released:
             if candidate.event is not None and candidate.reason is None:
-                self.chains.observe(candidate.event, candidate.canonical)
-            yield candidate
+                observe(candidate.event, candidate.canonical)
+        return released
 
     def _chain_order(self, located: Located, record: Attachment) -> None:
         try:
@@ -103,10 +110,11 @@ class _Messages:
                                         "reason": f"{exc}; the events are imported in file order"})
 
     def _message(self, located: Located, message: Message) -> Candidate | None:
-        where = f"{'chunk at' if located.in_chunk else 'record at'} byte {located.offset}"
+        offset, in_chunk, _ = located
         channel = self.routes.get(message.channel_id)
         if channel is None:
             self.messages += 1
+            where = f"{'chunk at' if in_chunk else 'record at'} byte {offset}"
             origin = f"{self.reader.name}:channel id {message.channel_id}:message (log_time {message.log_time}, {where})"
             reason = f"message on channel id {message.channel_id}, which no Channel record before it defines"
             return Candidate(origin, message.data, reason=reason)
@@ -115,11 +123,12 @@ class _Messages:
             self.report.skip(f"channel {channel.topic}", channel.skip_reason)
             return None
         self.messages += 1
-        origin = f"{self.reader.name}:channel {channel.topic}:message {channel.count} (log_time {message.log_time}, {where})"
+        origin = (f"{self.reader.name}:channel {channel.topic}:message {channel.count} (log_time {message.log_time}, "
+                  f"{'chunk at' if in_chunk else 'record at'} byte {offset})")
         candidate = from_raw(message.data, origin)
         if candidate.event is None:
             return candidate
-        if channel.topic.startswith(_EVENT_TOPIC_PREFIX) and key_for(candidate.event) != channel.topic:
+        if channel.keyed and key_for(candidate.event) != channel.topic:
             reason = f"channel topic {channel.topic} does not match the event's own key {key_for(candidate.event)}"
             return Candidate(origin, message.data, reason=reason)
         return candidate
