@@ -112,10 +112,10 @@ def entity_at(store: Store, run: str, src: str, t: int) -> dict[str, Any] | None
 # in the store's memo (store.cache.memo[_KIND_MEMO], a _Kept). Such a kind has no index by kind, and a
 # vehicle that perceives only when it decides has a few dozen among thousands of states: _LATEST_ROWS
 # then walks back through every one of them, one table row each, to its spawn, for every act judged.
-# Read once per source and chain instead, and answered from memory. Once the sources' reads have
-# walked a WHOLE_RUN_SHARE of the run's chain, the rest of the run's rows of these kinds are read in
-# one walk of its chain (a tenth of the cost a row: the hour's judgement walked its 9.3 million
-# states one source at a time, 34 s of CPU, against 3 s for the one walk).
+# Read once per source and chain instead, and answered from memory. And once the sources' reads
+# would have walked 1/WHOLE_RUN_SHARE of the run's chain, all the run's rows of these kinds are read
+# in one walk of its chain instead, a tenth of the cost a row: one source at a time, the hour's cold
+# judgement walked its 9.3 million states (some 34 s of CPU, against 3 s for the one walk).
 _KIND_MEMO = ("dense kind rows",)
 _MAX_KIND_ROWS = 1_000_000     # rows kept per store; past it, all are let go
 WHOLE_RUN_SHARE = 8            # the whole run is read once the sources' reads walked 1/8 of its chain
