@@ -217,6 +217,7 @@ def _whole_run(store: Store, kept: _Kept, run: str, chain: tuple[int, str],
         state = kept.runs[run] = _RunRows(chain)
     state.walked += walking
     if state.whole is None and not state.refused and state.walked * WHOLE_RUN_SHARE > chain[0]:
+        kept.runs = {run: state}        # one run's rows kept at a time: a run judged after another lets it go
         rows = store.connection.execute(_WHOLE_RUN, (run, chain[0], _MAX_KIND_ROWS + 1)).fetchall()
         if len(rows) > _MAX_KIND_ROWS:
             state.refused = True

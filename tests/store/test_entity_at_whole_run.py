@@ -16,7 +16,7 @@ MS = 1_000_000
 VEHICLES = 12
 
 
-def _run(n: int, first_seq: int = 0, start_ms: int = 0) -> list[dict]:
+def _run(n: int, first_seq: int = 0, start_ms: int = 0, run: str = "r1") -> list[dict]:
     """VEHICLES vehicles publishing together at 10 Hz, in time order: a spawn, then states, a
     perception every 150 events and a trace every 220 (vehicle 0 neither perceives nor traces)."""
     out = []
@@ -24,8 +24,8 @@ def _run(n: int, first_seq: int = 0, start_ms: int = 0) -> list[dict]:
         for v in range(VEHICLES):
             kind = ("entity.spawn" if step == 0 else "vehicle.perception" if v and step % 150 == 0
                     else "vehicle.trace" if v and step % 220 == 0 else "entity.state")
-            out.append(event(step, src=f"vehicle/{v}", t=T0 + (start_ms + step * 100) * MS + v, kind=kind,
-                             body=dict(BODIES[kind])))
+            out.append(event(step, run=run, src=f"vehicle/{v}", t=T0 + (start_ms + step * 100) * MS + v,
+                             kind=kind, body=dict(BODIES[kind])))
     return out
 
 
@@ -41,13 +41,13 @@ def _per_source_reads(conn: sqlite3.Connection, fn) -> tuple[object, int, int]:
             sum("chain_pos <" in sql and "vehicle.perception" in sql for sql in seen))
 
 
-def _judged(store: Store, times: list[int]) -> tuple[int, int]:
+def _judged(store: Store, times: list[int], run: str = "r1") -> tuple[int, int]:
     """Every vehicle's record at each time, each the fold's; the reads it took."""
     per_source = whole = 0
     for t in times:
-        expected = state_at(store, "r1", t, use_snapshots=False).entities
+        expected = state_at(store, run, t, use_snapshots=False).entities
         for v in range(VEHICLES):
-            found, a, b = _per_source_reads(store.connection, lambda: entity_at(store, "r1", f"vehicle/{v}", t))
+            found, a, b = _per_source_reads(store.connection, lambda: entity_at(store, run, f"vehicle/{v}", t))
             assert found == expected.get(f"vehicle/{v}"), (v, t)
             per_source, whole = per_source + a, whole + b
     return per_source, whole
@@ -78,3 +78,15 @@ def test_too_many_rare_rows_are_read_one_source_at_a_time(db_path, monkeypatch):
         per_source, whole = _judged(store, [T0 + ms * MS for ms in (95_000, 40_000, 99_950)])
     assert whole == 1                                   # read once, found too many, not kept nor read again
     assert per_source >= VEHICLES
+
+
+def test_one_runs_rows_are_kept_at_a_time(db_path):
+    """Judging a second run lets the first run's rows go (memory holds one run's), and judging the
+    first again reads them again, each answer still the fold's."""
+    with Store(db_path) as store:
+        store.append(_run(600))
+        store.append(_run(600, run="r2"))
+        times = [T0 + ms * MS for ms in (59_000, 30_000)]
+        assert _judged(store, times)[1] == 1
+        assert _judged(store, times, run="r2")[1] == 1
+        assert _judged(store, times)[1] == 1
