@@ -166,6 +166,7 @@ def _catch_up(store: Store, run: str, length: int, head: str) -> None:
     else:       # none yet, of another chain, or not as sealed
         cache.execute("DELETE FROM presence WHERE run = ?", (run,))
         covered, number, digest = 0, 0, NO_ENTRIES
+    put = []        # written together: _boxes gives each (bucket, src) once, so no box read below is one put
     for src, b, x0, x1, y0, y1 in (_boxes(store, run, covered, length) if covered < length else ()):
         old = cache.execute(_HELD, (run, b, src)).fetchone() if covered else None
         if old is None:
@@ -176,7 +177,8 @@ def _catch_up(store: Store, run: str, length: int, head: str) -> None:
         x0, x1, y0, y1 = _stored(x0), _stored(x1), _stored(y0), _stored(y1)
         mac = sealer.seal(BOXES, (run, b, src), (x0, x1, y0, y1))
         digest = xor(digest, mac)
-        cache.execute(_PUT, (run, b, src, x0, x1, y0, y1, mac))
+        put.append((run, b, src, x0, x1, y0, y1, mac))
+    cache.executemany(_PUT, put)
     marks = (length, head, number, digest)
     cache.execute("INSERT OR REPLACE INTO presence_marks (run, chain_len, head, boxes, digest, mac) "
                   "VALUES (?, ?, ?, ?, ?, ?)", (run, *marks, sealer.seal(MARKS, (run,), marks)))
