@@ -11,6 +11,7 @@ run.start) holds four crossings of junction j1:
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -94,6 +95,18 @@ def plain(db: Path, rules: Path) -> dict:
     with Store.open_read_only(db) as store:
         part = regress_module.Regressor(store, engine, new, None, kept=False).part(RUN)
         return regress_module.assemble(new, None, [part]).to_json()
+
+
+def summarised(store: Store, rules: Path) -> tuple[list, list, Any]:
+    """The run's incidents judged whole; as a regression's new side judges them (each by its
+    summary, every one checked to be a KeptIncident); and the investigation that judged them so
+    (proofs=False, summaries=True)."""
+    from reasoner.investigation import Investigation, KeptIncident
+    full = Investigation(store, rules=[str(rules)]).incidents(RUN)
+    lean = Investigation(store, rules=[str(rules)], proofs=False, summaries=True)
+    found = lean.incidents(RUN)
+    assert found and all(isinstance(i, KeptIncident) for i in found)
+    return full, found, lean
 
 
 def shaping(monkeypatch) -> list:

@@ -2,7 +2,7 @@
 the penalty and who is liable are no part of them, so working them out asks neither."""
 from __future__ import annotations
 
-from reasoner.investigation import Investigation, KeptIncident
+from reasoner.investigation import Investigation
 from store import Store
 
 from tests.reasoner import regress_runs as R
@@ -11,10 +11,7 @@ from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 
 def test_proving_a_summarised_incident_asks_no_sanctions(db, new_rules, monkeypatch):
     with Store.open_read_only(db) as store:
-        full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
-        lean = Investigation(store, rules=[str(new_rules)], proofs=False, summaries=True)
-        found = lean.incidents(R.RUN)
-        assert found and all(isinstance(i, KeptIncident) for i in found)
+        full, found, _ = R.summarised(store, new_rules)
         assert any(i.penalty is not None for i in found)
         asked: list = []
         sanctions = Investigation._sanctions

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from reasoner import investigation as investigation_module
 from reasoner.case_memo import CaseMemo
-from reasoner.investigation import Investigation, KeptIncident
 from store import Store
 
 from tests.reasoner import regress_runs as R
@@ -40,10 +39,7 @@ def test_the_new_side_works_out_no_findings_and_the_changed_incident_s_proofs_al
 
 def test_a_summarised_incident_is_the_whole_judgement_when_asked(db, new_rules, monkeypatch):
     with Store.open_read_only(db) as store:
-        full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
-        lean = Investigation(store, rules=[str(new_rules)], proofs=False, summaries=True)
-        found = lean.incidents(R.RUN)
-        assert found and all(isinstance(i, KeptIncident) for i in found)
+        full, found, lean = R.summarised(store, new_rules)
         assert [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in found] \
             == [(i.id, i.t, i.vehicle, i.action, i.verdict, i.rule, i.penalty, i.liable, i.parties) for i in full]
         assert [lean.proved(i) for i in found] == found      # read by their summaries still
