@@ -26,6 +26,8 @@ class GapsGroup(TyperGroup):
     """The command group that reports a GapsError as `gaps: <message>` with its exit code."""
 
     def invoke(self, ctx: typer.Context) -> Any:
+        from store import unwritten_caches
+        already = len(unwritten_caches())
         try:
             return super().invoke(ctx)
         except GapsError as exc:
@@ -34,6 +36,10 @@ class GapsGroup(TyperGroup):
         except sqlite3.DatabaseError as exc:  # a damaged or hostile file, read past the store's own checks
             typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
             raise typer.Exit(1) from None
+        finally:
+            for why in unwritten_caches()[already:]:
+                typer.echo(f"gaps: warning: the cache could not be written ({why}); the results were computed "
+                           "from the store without it (the evidence is not in question)", err=True)
 
 
 _DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what and where"
@@ -66,6 +72,15 @@ def open_existing(db: Optional[Path]) -> Store:
         return Store.open_read_only(path)
     except StoreError as exc:  # not an event store, an older or newer schema, unreadable
         fail(str(exc), exc.exit_code)
+
+
+def writable_output(path: Optional[Path], db: Optional[Path] = None) -> None:
+    """Refuse, before any work, an output file that is or resolves to the store (`db`), one of its
+    companions or any SQLite file, or that is not a regular file (store/output_files.py: OutputRefused,
+    exit 2). `-` and None pass: standard output, or no file asked for."""
+    from store import check_output
+    if path is not None and str(path) != "-":
+        check_output(path, [db_path(db)])
 
 
 def require_run(store: Store, run: Optional[str]) -> None:

@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import db_path, fail
+from cli.app import db_path, fail, writable_output
 from cli.options import JsonOption
 
 _UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
@@ -103,6 +103,8 @@ def sim(
     pace = parse_speed(speed)
     store_file = None if listen or connect else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
+    for output in (record, truth_file):     # before the simulation: evidence is never an output
+        writable_output(output, store_file)
     try:
         signer = _signer(sign_keys)
         summary, sent, stored = _run(config, pace, record, listen, connect, store_file, truth_file, signer)
@@ -143,7 +145,7 @@ def _run(config, pace, record, listen, connect, store_file, truth_file, signer=N
                 for batch in simulation.batches():
                     outlets.put_all(batch)
             sent = outlets.summary()
-    simulation.truth.write(truth_file)
+    simulation.truth.write(truth_file, [store_file] if store_file is not None else [])
     return simulation.summary, sent, stored
 
 

@@ -19,6 +19,7 @@ from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 from . import (anchors, history, wire_ends, index_guard, liveliness, opening, queries, quarantine, rulebook_chain,
                rulebooks, verify_cache)
 from .cache import Cache
+from .output_files import note_evidence
 from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
@@ -87,6 +88,7 @@ class Store:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
             raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
         self.path = os.fspath(path)
+        note_evidence(self.path)            # no output of this process may be it (store/output_files.py)
         self.checkpoint_every = checkpoint_every
         self.read_only = read_only
         if read_only:
