@@ -395,6 +395,19 @@ class Store:
         """Every run with events, by name (one index probe per run)."""
         return queries.run_names(self._conn)
 
+    def first_conflict(self, candidates: Iterable[Candidate]) -> tuple[str, str, int] | None:
+        """(run, src, seq) of the first accepted candidate that the store already holds under its
+        identity with other content (what an append would quarantine as a conflicting duplicate),
+        or None: how an import tells another producer's run from its own (store/transfer/feed.py)."""
+        for candidate in candidates:
+            ev = candidate.event
+            if ev is None or candidate.canonical is None:
+                continue
+            stored = self._heads.stored_event(ev["run"], ev["src"], ev["seq"])
+            if stored is not None and stored != candidate.canonical:
+                return (ev["run"], ev["src"], ev["seq"])
+        return None
+
     def sources(self, run: str) -> list[str]:
         """The run's sources, by name (one index probe per source)."""
         return queries.sources(self._conn, run)
