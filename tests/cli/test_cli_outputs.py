@@ -175,3 +175,16 @@ def test_a_simulation_never_writes_its_truth_or_recording_over_the_store(tmp_pat
     result = gaps("sim", "--duration", "5s", "--vehicles", "1", option, db, db=db)
     refused(result, db)
     assert digest(db) == before
+
+
+@pytest.mark.parametrize("kind", ["store", "symlink", "wal", "fifo"])
+def test_a_witness_file_is_never_the_store_or_a_special_file(db, tmp_path, kind):
+    before = side_files(db)
+    target = hostile(db, kind)
+    assert gaps("keys", "checkpoint", tmp_path / "ck").exit_code == 0
+    source = tmp_path / "in.jsonl"
+    assert gaps("export", "--run", RUN, "-o", source, db=db).exit_code == 0
+    result = gaps("import", source, "--checkpoint-key", tmp_path / "ck", "--witness", target,
+                  db=tmp_path / "new.db")
+    refused(result, target)
+    untouched(target, kind, before)
