@@ -116,9 +116,10 @@ def replacing(path: str | os.PathLike[str], stores: Protected = ()) -> Iterator[
 
 def write_bytes(path: str | os.PathLike[str], data: bytes, stores: Protected = ()) -> Path:
     """`data` as the file at `path`, replaced atomically (see replacing); its real path."""
+    target = check_output(path, stores)
     with replacing(path, stores) as out:
         out.write(data)
-    return check_output(path, stores)
+    return target
 
 
 def write_text(path: str | os.PathLike[str], text: str, stores: Protected = ()) -> Path:
