@@ -22,8 +22,9 @@ from typing import TextIO
 
 import zenoh
 
-from store import CheckpointKey, QuarantineCap, TrustedKeys
+from store import CheckpointKey, QuarantineCap, TrustedKeys, session_config
 
+from . import exposure
 from .errors import IngestConfigError, zenoh_message
 from .sd_notify import notify
 from .serve_lock import ServeLock
@@ -55,6 +56,7 @@ class ServeOptions:
     checkpoint_key: Path | None = None      # sign every checkpoint with this key (store/tree_heads.py)
     witness: Path | None = None             # append each signed tree head to this file
     publish_heads: bool = False             # put each signed tree head on gaps/@heads/<run>
+    insecure: bool = False                  # --insecure-beyond-loopback: run open beyond loopback (logged)
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -73,11 +75,14 @@ class Server:
         self.options = options
         self._lock = ServeLock(options.db)
         self.service: IngestService | None = None
+        self.exposure = exposure.Exposure((), ())
+        self.insecure_because: list[str] = []   # what a serve open beyond loopback lacks (logged)
 
     def __enter__(self) -> Server:
         check_key(self.options.key)
         keys = TrustedKeys.load(self.options.require_signatures) if self.options.require_signatures else None
         checkpoint_key = _checkpoint_key(self.options)
+        self._check_exposure()
         self._lock.acquire()
         try:
             self.service = _open_service(self.options, keys, checkpoint_key)
@@ -97,6 +102,16 @@ class Server:
     @property
     def lock_path(self) -> Path:
         return self._lock.path
+
+    def _check_exposure(self) -> None:
+        """Refuse to open a serve reachable beyond loopback without signatures and Zenoh's
+        authentication, unless the operator opted out (ingest/exposure.py)."""
+        listen, connect = self.options.endpoints()
+        config = session_config(listen=listen, connect=connect, mode=self.options.mode,
+                                config_file=self.options.config_file)
+        self.exposure = exposure.exposure(config)
+        self.insecure_because = exposure.check(self.exposure, signatures_required=bool(self.options.require_signatures),
+                                               insecure=self.options.insecure)
 
 
 def check_key(key: str) -> None:
@@ -241,7 +256,12 @@ def _announce(options: ServeOptions, server: Server, reporter: Reporter) -> None
                    config=str(options.config_file) if options.config_file else None, key=options.key,
                    require_signatures=_keys_file(options), pid=os.getpid(),
                    checkpoint_key=str(options.checkpoint_key) if options.checkpoint_key else None,
-                   witness=str(options.witness) if options.witness else None, publish_heads=options.publish_heads)
+                   witness=str(options.witness) if options.witness else None, publish_heads=options.publish_heads,
+                   **server.exposure.to_json())
+    if server.insecure_because:
+        reporter.event("serve.insecure", f"{exposure.INSECURE_FLAG}: this serve can be reached beyond loopback "
+                       f"({'; '.join(server.exposure.reachable)}), and {'; and '.join(server.insecure_because)}",
+                       "warning", beyond_loopback=list(server.exposure.reachable), lacks=server.insecure_because)
     notify(f"READY=1\nMAINPID={os.getpid()}")
 
 

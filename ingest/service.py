@@ -43,7 +43,8 @@ class IngestService:
     at ``db_path``.
 
     With ``trusted_keys`` (the public keys file, loaded), an event not signed by a key trusted for its
-    source is quarantined with the reason; ``quarantine_cap`` bounds what the quarantine keeps
+    source is quarantined with the reason, and the liveliness tokens of sources no key is trusted for
+    are not recorded; ``quarantine_cap`` bounds what the quarantine keeps
     (store/quarantine.py). With ``checkpoint_key`` every checkpoint is signed, and each
     signed tree head is appended to the ``witness`` file and, with ``publish_heads``, put on
     ``gaps/@heads/<run>`` (ingest/head_sinks.py). Use as a context manager, or call ``stop()``: it stops
@@ -85,7 +86,7 @@ class IngestService:
             sinks = tuple(s for s in (self._witness.append if self._witness else None,
                                       ZenohHeads(self._session) if publish_heads else None) if s is not None)
             inbox = Inbox(self._session, key_expr, max_pending)
-            watch = WireWatch(self._session, inbox, key_expr)
+            watch = WireWatch(self._session, inbox, key_expr, trusted_keys.covers if trusted_keys else None)
             self._writer = BatchWriter(
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
                 flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys, watch=watch,
