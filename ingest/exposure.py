@@ -54,9 +54,11 @@ def is_loopback(endpoint: str) -> bool:
     if host.lower() == "localhost":
         return True
     try:
-        return ipaddress.ip_address(host).is_loopback
+        ip = ipaddress.ip_address(host.partition("%")[0])
     except ValueError:   # a host name: it may resolve anywhere
         return False
+    mapped = getattr(ip, "ipv4_mapped", None)   # ::ffff:127.0.0.1 is 127.0.0.1
+    return (mapped or ip).is_loopback
 
 
 def exposure(config: zenoh.Config) -> Exposure:

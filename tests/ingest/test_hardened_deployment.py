@@ -1,0 +1,90 @@
+"""docs/serve.md's hardened deployment on loopback, from the docs' own files: a Zenoh router with
+mutual TLS and an access control list, `gaps serve` as its client requiring signatures, a
+permitted producer and reader, and two strangers: one with a certificate of the same authority
+that the list does not name, one with none. The producer's events are stored (those published
+before the serve started recovered from its cache through the router), the reader gets them; the
+stranger's puts, pre-published next seqs, liveliness token and history query get nothing, and
+the one without a certificate is not let in at all (issue 37)."""
+from __future__ import annotations
+
+import json
+import signal
+import time
+from pathlib import Path
+
+import pytest
+import zenoh
+
+from sim_replay.publisher import EventPublisher
+from store import KeyFolder, Signer, Store, canonical_json, session_config
+from tests.helpers.hardened import deployment, openssl
+from tests.helpers.ingest_testkit import RUN, make_event
+from tests.helpers.serve_testkit import ServeProcess
+
+pytestmark = pytest.mark.skipif(openssl() is None, reason="needs the openssl command to make certificates")
+WAIT_S = 20.0
+
+
+def _stored(db: Path) -> list[tuple[str, int]]:
+    with Store.open_read_only(db) as store:
+        return [(e["src"], e["seq"]) for e in store.events(RUN)]
+
+
+def _history(session: zenoh.Session) -> list[bytes]:
+    return [r.ok.payload.to_bytes() for r in session.get("gaps/**", target=zenoh.QueryTarget.ALL,
+                                                          consolidation=zenoh.ConsolidationMode.NONE, timeout=3)
+            if r.ok is not None]
+
+
+def test_only_the_permitted_publish_read_and_appear(tmp_path: Path) -> None:
+    made = deployment(tmp_path / "deploy")
+    keys = KeyFolder(tmp_path / "keys")
+    for src in ("vehicle/173", "vehicle/174"):
+        keys.create(src)
+    public = keys.write_public_keys()
+    signer = Signer(keys)
+    db = tmp_path / "gaps.db"
+    router = zenoh.open(session_config(config_file=made.config("router")))
+    try:
+        producer = EventPublisher(config=session_config(config_file=made.config("producer")), signer=signer)
+        producer.publish_all([make_event("vehicle/173", seq) for seq in range(5)])    # before any serve: cached
+        serve = ServeProcess(db, None, "--config", str(made.config("ingest")), "--require-signatures", str(public),
+                             "--json")
+        try:
+            ready = serve.wait_for_log("serve.ready")
+            assert ready["beyond_loopback"] == [] and ready["authenticated_by"] == ["mutual TLS"], ready
+            stranger = zenoh.open(session_config(config_file=made.config("stranger")))
+            try:
+                for seq in range(5, 10):     # as vehicle/173, its next seqs, before it publishes them
+                    stranger.put(f"gaps/{RUN}/vehicle/173/vehicle.perception",
+                                 canonical_json(make_event("vehicle/173", seq, facts=["173 has green light"])))
+                token = stranger.liveliness().declare_token(f"gaps/@live/{RUN}/vehicle/174")
+                assert _history(stranger) == []
+                with pytest.raises(zenoh.ZError):      # no certificate: not let in
+                    zenoh.open(session_config(config_file=made.config("outsider"))).close()
+                producer.publish_all([make_event("vehicle/173", seq) for seq in range(5, 10)])
+                producer.close()
+                assert producer.confirmed_by == 1
+                reader = zenoh.open(session_config(config_file=made.config("reader")))
+                try:
+                    answered = _history(reader)
+                finally:
+                    reader.close()
+                time.sleep(0.3)
+                token.undeclare()
+            finally:
+                stranger.close()
+            code, out = serve.stop(signal.SIGTERM)
+        finally:
+            serve.kill()
+    finally:
+        router.close()
+    assert code == 0, serve.lines[-5:]
+    metrics = json.loads(out)
+    assert _stored(db) == [("vehicle/173", seq) for seq in range(10)]
+    assert len(answered) == 10 and all(b'"src":"vehicle/173"' in raw for raw in answered)
+    assert metrics["quarantined"] == 0 and metrics["received"] - metrics["recovered"] <= 10, metrics  # nothing of the stranger's
+    assert metrics["recovered"] >= 5, metrics
+    with Store.open_read_only(db) as store:
+        assert store.liveliness_changes(RUN, "vehicle/174") == []
+        assert [c.alive for c in store.liveliness_changes(RUN, "vehicle/173")][:1] == [True]
