@@ -55,8 +55,8 @@ def audit_qos() -> dict[str, Any]:
 RECONNECT = {"period_init_ms": 100, "period_max_ms": 1000, "period_increase_factor": 2}
 """How a session that lost a link to an endpoint it connects to tries again: after 0.1 s, doubling
 to once a second. Zenoh's default waits up to 4 s between tries (1, 2, 4, 4 ...), so a producer
-connected to a `gaps serve` that was killed and restarted reached it up to 4 s late, and with the
-8 s it was down, what it published in the first seconds had left its CACHE_S cache by then:
+connected to a `gaps serve` that was killed and restarted reached it up to 4 s late, and after a
+serve down 3-8 s, what it published in the first seconds had left its CACHE_S cache by then:
 kill -9 trials with the serve listening lost events to gaps, or (the producer closing before it
 reconnected) everything after the kill, where the serve connecting (it dials at once on start)
 lost none (docs/serve.md "Restarts"). A try to a closed port costs a refused SYN."""
