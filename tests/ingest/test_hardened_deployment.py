@@ -19,6 +19,7 @@ import zenoh
 
 from sim_replay.publisher import EventPublisher
 from store import KeyFolder, Signer, Store, canonical_json, session_config
+from tests.helpers.cli import gaps
 from tests.helpers.hardened import deployment, openssl
 from tests.helpers.ingest_testkit import RUN, make_event
 from tests.helpers.serve_testkit import ServeProcess
@@ -84,6 +85,7 @@ def test_only_the_permitted_publish_read_and_appear(tmp_path: Path) -> None:
                     answered = _history(reader)
                 finally:
                     reader.close()
+                fetched = gaps("fetch", "gaps/**", "--config", made.config("reader"), "--json", db=tmp_path / "copy.db")
                 producer_history.undeclare()
                 producer.close()
                 time.sleep(0.3)
@@ -103,6 +105,8 @@ def test_only_the_permitted_publish_read_and_appear(tmp_path: Path) -> None:
     assert _stored(db) == [("vehicle/173", seq) for seq in range(10)]
     assert sorted(answered) == sorted(canonical_json(signed) for signed in
                                       (Signer(keys).sign(make_event("vehicle/173", seq)) for seq in range(10)))
+    assert fetched.exit_code == 0, fetched.output
+    assert json.loads(fetched.stdout)["stored"] == 10 and _stored(tmp_path / "copy.db") == _stored(db)
     assert metrics["quarantined"] == 0 and metrics["received"] - metrics["recovered"] <= 10, metrics  # nothing of the stranger's
     assert metrics["recovered"] >= 5, metrics
     with Store.open_read_only(db) as store:
