@@ -22,7 +22,7 @@ from typing import TextIO
 
 import zenoh
 
-from store import CheckpointKey, QuarantineCap, TrustedKeys, session_config
+from store import CheckpointKey, QuarantineCap, TrustedKeys
 
 from . import exposure
 from .errors import IngestConfigError, zenoh_message
@@ -75,14 +75,11 @@ class Server:
         self.options = options
         self._lock = ServeLock(options.db)
         self.service: IngestService | None = None
-        self.exposure = exposure.Exposure((), ())
-        self.insecure_because: list[str] = []   # what a serve open beyond loopback lacks (logged)
 
     def __enter__(self) -> Server:
         check_key(self.options.key)
         keys = TrustedKeys.load(self.options.require_signatures) if self.options.require_signatures else None
         checkpoint_key = _checkpoint_key(self.options)
-        self._check_exposure()
         self._lock.acquire()
         try:
             self.service = _open_service(self.options, keys, checkpoint_key)
@@ -102,16 +99,6 @@ class Server:
     @property
     def lock_path(self) -> Path:
         return self._lock.path
-
-    def _check_exposure(self) -> None:
-        """Refuse to open a serve reachable beyond loopback without signatures and Zenoh's
-        authentication, unless the operator opted out (ingest/exposure.py)."""
-        listen, connect = self.options.endpoints()
-        config = session_config(listen=listen, connect=connect, mode=self.options.mode,
-                                config_file=self.options.config_file)
-        self.exposure = exposure.exposure(config)
-        self.insecure_because = exposure.check(self.exposure, signatures_required=bool(self.options.require_signatures),
-                                               insecure=self.options.insecure)
 
 
 def check_key(key: str) -> None:
@@ -144,7 +131,7 @@ def _open_service(options: ServeOptions, keys: TrustedKeys | None,
                              config_file=options.config_file, key_expr=options.key,
                              durable=options.durable, trusted_keys=keys, quarantine_cap=options.quarantine_cap,
                              checkpoint_key=checkpoint_key, witness=options.witness,
-                             publish_heads=options.publish_heads)
+                             publish_heads=options.publish_heads, insecure=options.insecure)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -257,11 +244,12 @@ def _announce(options: ServeOptions, server: Server, reporter: Reporter) -> None
                    require_signatures=_keys_file(options), pid=os.getpid(),
                    checkpoint_key=str(options.checkpoint_key) if options.checkpoint_key else None,
                    witness=str(options.witness) if options.witness else None, publish_heads=options.publish_heads,
-                   **server.exposure.to_json())
-    if server.insecure_because:
+                   **server.service.exposure.to_json())
+    lacks, found = server.service.insecure_because, server.service.exposure
+    if lacks:
         reporter.event("serve.insecure", f"{exposure.INSECURE_FLAG}: this serve can be reached beyond loopback "
-                       f"({'; '.join(server.exposure.reachable)}), and {'; and '.join(server.insecure_because)}",
-                       "warning", beyond_loopback=list(server.exposure.reachable), lacks=server.insecure_because)
+                       f"({'; '.join(found.reachable)}), and {'; and '.join(lacks)}",
+                       "warning", beyond_loopback=list(found.reachable), lacks=lacks)
     notify(f"READY=1\nMAINPID={os.getpid()}")
 
 

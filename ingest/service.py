@@ -17,6 +17,7 @@ import zenoh
 
 from store import SYNC_KEY, CheckpointKey, QuarantineCap, TrustedKeys, session_config, zenoh_message
 
+from . import exposure
 from .gap_tracker import GapTracker
 from .head_sinks import ZenohHeads, witness_sink
 from .history_queryable import HistoryQueryable
@@ -47,7 +48,10 @@ class IngestService:
     are not recorded; ``quarantine_cap`` bounds what the quarantine keeps
     (store/quarantine.py). With ``checkpoint_key`` every checkpoint is signed, and each
     signed tree head is appended to the ``witness`` file and, with ``publish_heads``, put on
-    ``gaps/@heads/<run>`` (ingest/head_sinks.py). Use as a context manager, or call ``stop()``: it stops
+    ``gaps/@heads/<run>`` (ingest/head_sinks.py). Reachable beyond loopback, it needs
+    ``trusted_keys`` and Zenoh's authentication in its config, or ``insecure`` (an
+    IngestConfigError otherwise, before anything is opened; ingest/exposure.py).
+    Use as a context manager, or call ``stop()``: it stops
     receiving, flushes every sample already
     received into the store and closes the store and the session.
     """
@@ -70,6 +74,7 @@ class IngestService:
         checkpoint_key: CheckpointKey | None = None,
         witness: str | os.PathLike | None = None,
         publish_heads: bool = False,
+        insecure: bool = False,
     ) -> None:
         if (witness is not None or publish_heads) and checkpoint_key is None:
             raise ValueError("a witness file or published heads need a checkpoint key to sign them")
@@ -79,6 +84,9 @@ class IngestService:
         self._tracker = GapTracker()
         self._stopped = False
         config = session_config(listen=listen, connect=connect, mode=mode, config_file=config_file)
+        self.exposure = exposure.exposure(config)
+        self.insecure_because = exposure.check(self.exposure, signatures_required=trusted_keys is not None,
+                                               insecure=insecure)
         self._session = zenoh.open(config)
         self._witness = None
         try:

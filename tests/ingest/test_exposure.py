@@ -90,6 +90,13 @@ def test_gaps_serve_on_every_interface_without_signatures_refuses_to_start(tmp_p
     assert not db.exists()    # refused before the store was opened
 
 
+def test_the_ingest_itself_refuses_too_before_it_opens_anything(tmp_path: Path) -> None:
+    """The library's IngestService, not only the command: the check is the ingest's."""
+    with pytest.raises(IngestConfigError, match=r"listens on tcp/0\.0\.0\.0:"):
+        IngestService(tmp_path / "gaps.db", listen=[free_endpoint().replace("127.0.0.1", "0.0.0.0")])
+    assert not (tmp_path / "gaps.db").exists()
+
+
 def test_the_opt_out_starts_it_and_says_so_in_the_log(tmp_path: Path, monkeypatch) -> None:
     """The serve listens on loopback here; the exposure read is made to say what a 0.0.0.0 listener's
     would (tests listen on loopback only), so that the flag's path runs whole."""
