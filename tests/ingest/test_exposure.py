@@ -7,6 +7,8 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
+import shlex
 import signal
 import subprocess
 import time
@@ -21,6 +23,7 @@ from ingest import exposure as exposure_module
 from ingest.errors import IngestConfigError
 from ingest.exposure import Exposure, check, exposure, is_loopback
 from ingest.serve import ServeOptions, serve
+from ingest.serve_args import parser
 from sim_replay.publisher import EventPublisher, zenoh_config
 from store import KeyFolder, Signer, Store, TrustedKeys, session_config
 from tests.helpers.hardened import DOC_ROUTER_DIALED, doc_block
@@ -74,6 +77,21 @@ def test_beyond_loopback_both_signatures_and_authentication_are_needed() -> None
     with pytest.raises(IngestConfigError, match=r"\), and signatures are not required"):
         check(hardened, signatures_required=False, insecure=False)
     assert len(check(open_, signatures_required=False, insecure=True)) == 2
+
+
+def test_the_documented_systemd_unit_would_start_and_not_open(tmp_path: Path) -> None:
+    """docs/serve.md's unit, its ExecStart read by `python -m ingest`'s parser, with the docs' own
+    serve.json5 for its --config: reachable beyond loopback, authenticated, signatures required."""
+    doc = (ROOT / "docs" / "serve.md").read_text("utf-8")
+    exec_start = re.search(r"^ExecStart=\S+ serve (.*)$", doc, re.M).group(1)
+    args = parser().parse_args(shlex.split(exec_start))
+    assert args.config == Path("/etc/gaps/serve.json5") and args.require_signatures is not None
+    assert not args.insecure_beyond_loopback and not args.listen
+    served = tmp_path / "serve.json5"
+    served.write_text(doc_block("serve.json5"))
+    found = exposure(session_config(listen=args.listen, connect=args.connect, mode=args.mode, config_file=served))
+    assert found.reachable and found.authenticated_by
+    assert check(found, signatures_required=True, insecure=False) == []
 
 
 def test_gaps_serve_on_every_interface_without_signatures_refuses_to_start(tmp_path: Path) -> None:
