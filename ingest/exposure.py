@@ -8,8 +8,8 @@ so that nobody reads its history or declares a source's liveliness token uncheck
 refuses to start, unless the operator says `--insecure-beyond-loopback`, which is logged.
 
 Reachable means: an endpoint it listens on or connects to that is not on 127.0.0.0/8, ::1 or
-`localhost` (a Unix socket is local), or multicast or gossip scouting on in peer or router mode
-(either finds and links peers nobody named). Read from the Zenoh config the session is opened
+`localhost` (a Unix socket is local), or multicast scouting on (a peer's or router's finds and links
+peers nobody named, a client's finds routers), or gossip scouting on in peer or router mode. Read from the Zenoh config the session is opened
 with (store.session_config: the command line's endpoints, or an operator's file with them written
 over it), so a file that opens Zenoh's default any-address listener counts as it should.
 """
@@ -66,10 +66,9 @@ def exposure(config: zenoh.Config) -> Exposure:
     mode = _get(config, "mode") or "peer"
     reachable = [f"listens on {e}" for e in _endpoints(config, "listen", mode) if not is_loopback(e)]
     reachable += [f"connects to {e}" for e in _endpoints(config, "connect", mode) if not is_loopback(e)]
-    if mode != "client":
-        for kind in ("multicast", "gossip"):
-            if _get(config, f"scouting/{kind}/enabled") is not False:   # Zenoh's default is on
-                reachable.append(f"{kind} scouting is on ({mode} mode)")
+    for kind in ("multicast", "gossip"):   # a client scouts for routers by multicast; gossip is peers'
+        if (kind == "multicast" or mode != "client") and _get(config, f"scouting/{kind}/enabled") is not False:
+            reachable.append(f"{kind} scouting is on ({mode} mode)")   # Zenoh's default is on
     authenticated = []
     if _get(config, "access_control/enabled") is True:
         authenticated.append("access control (ACL)")

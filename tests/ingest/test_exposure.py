@@ -53,6 +53,9 @@ def test_what_a_config_opens_is_read_from_the_config_itself(tmp_path: Path) -> N
     loop_file.write_text('{ listen: { endpoints: ["tcp/127.0.0.1:7447"] } }')
     assert exposure(session_config(config_file=loop_file)).reachable == (
         "multicast scouting is on (peer mode)", "gossip scouting is on (peer mode)")
+    client = tmp_path / "client.json5"     # a client scouts for a router unless told not to
+    client.write_text('{ mode: "client", connect: { endpoints: ["tcp/127.0.0.1:7447"] } }')
+    assert exposure(session_config(config_file=client)).reachable == ("multicast scouting is on (client mode)",)
     served = tmp_path / "serve.json5"      # the docs' serve config as it stands there
     served.write_text(doc_block("serve.json5"))
     assert exposure(session_config(config_file=served)) == Exposure((f"connects to {DOC_ROUTER_DIALED}",),
