@@ -9,9 +9,10 @@ refuses to start, unless the operator says `--insecure-beyond-loopback`, which i
 
 Reachable means: an endpoint it listens on or connects to that is not on 127.0.0.0/8, ::1 or
 `localhost` (a Unix socket is local), or multicast scouting on (a peer's or router's finds and links
-peers nobody named, a client's finds routers), or gossip scouting on in peer or router mode. Read from the Zenoh config the session is opened
-with (store.session_config: the command line's endpoints, or an operator's file with them written
-over it), so a file that opens Zenoh's default any-address listener counts as it should.
+peers nobody named, a client's finds routers), or gossip scouting on in peer or router mode. Read
+from the Zenoh config the session is opened with (store.session_config: the command line's
+endpoints, or an operator's file with them written over it), so a file that opens Zenoh's default
+any-address listener counts as it should.
 """
 from __future__ import annotations
 
