@@ -4,9 +4,11 @@ reliability, not a test; tests/ingest/test_kill9.py runs two trials of the same 
     .venv/bin/python bench/kill9.py [--trials 20] [--sources 10] [--rate 500] [--seed 1] [--down 0 2]
                                     [--topology serve-connects|serve-listens]
 
-Both documented topologies, the same kill moments in each: `serve-connects` (the producer listens,
-`gaps serve --connect` dials it) and `serve-listens` (docs/serve.md's: `gaps serve --listen`, the
-producer connects to it and must find the restarted serve again by itself).
+Every documented topology, the same kill moments in each: `serve-connects` (the producer listens,
+`gaps serve --connect` dials it), `serve-listens` (docs/serve.md's first: `gaps serve --listen`, the
+producer connects to it and must find the restarted serve again by itself) and `via-router` (a Zenoh
+router, here an eclipse-zenoh session in router mode in this process, the producer and
+`gaps serve --mode client` its clients, as in docs/serve.md's slices and hardened deployment).
 
 Each trial: a producer (EventPublisher, its cache of store.CACHE_S) publishes `--rate`
 events/s over `--sources` sources; `gaps serve` is linked to it; at a random moment the serve is
@@ -34,6 +36,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import zenoh  # noqa: E402
+
 from results import Figure, quick, record  # noqa: E402  (bench/results.py, beside this file)
 from sim_replay.publisher import EventPublisher, zenoh_config  # noqa: E402
 from store import Store  # noqa: E402
@@ -43,7 +47,8 @@ from tests.helpers.serve_testkit import ServeProcess, child_env  # noqa: E402
 RUN = "test-run"   # make_event's run
 SERVE_CONNECTS = "serve-connects"   # the producer listens, the serve connects to it
 SERVE_LISTENS = "serve-listens"     # docs/serve.md's: the serve listens, the producer connects
-TOPOLOGIES = (SERVE_CONNECTS, SERVE_LISTENS)
+VIA_ROUTER = "via-router"           # both clients of a Zenoh router (docs/serve.md "Slices", "A hardened deployment")
+TOPOLOGIES = (SERVE_CONNECTS, SERVE_LISTENS, VIA_ROUTER)
 
 
 @dataclass(frozen=True)
@@ -69,7 +74,8 @@ class Producer(threading.Thread):
     def __init__(self, endpoint: str, sources: int, rate: float, topology: str = SERVE_CONNECTS) -> None:
         super().__init__(daemon=True)
         self.sources, self.rate = sources, rate
-        where = {"listen": [endpoint]} if topology == SERVE_CONNECTS else {"connect": [endpoint]}
+        where = ({"listen": [endpoint]} if topology == SERVE_CONNECTS else
+                 {"connect": [endpoint], "mode": "client"} if topology == VIA_ROUTER else {"connect": [endpoint]})
         self.publisher = EventPublisher(config=zenoh_config(**where))
         self.put_at: list[float] = []
         self._halt = threading.Event()
@@ -105,19 +111,23 @@ def trial(workdir: Path, rng: random.Random, *, sources: int = 10, rate: float =
     """One kill -9 and restart of `gaps serve` under a running producer (see the module's doc)."""
     db = workdir / "gaps.db"
     endpoint = free_endpoint()
+    router = zenoh.open(zenoh_config(listen=[endpoint], mode="router")) if topology == VIA_ROUTER else None
 
     def serve() -> ServeProcess:
-        args = ("--connect", endpoint) if topology == SERVE_CONNECTS else ()
-        proc = ServeProcess(db, free_endpoint() if topology == SERVE_CONNECTS else endpoint, *args, env=child_env())
+        if topology == SERVE_LISTENS:
+            proc = ServeProcess(db, endpoint, env=child_env())
+        else:
+            client = ("--mode", "client") if topology == VIA_ROUTER else ()
+            proc = ServeProcess(db, None, "--connect", endpoint, *client, env=child_env())
         proc.wait_for_log("serve.ready")
         return proc
 
-    if topology == SERVE_CONNECTS:   # the listener opens first
-        producer = Producer(endpoint, sources, rate, topology)
+    if topology == SERVE_LISTENS:   # the listener opens first
         first = serve()
+        producer = Producer(endpoint, sources, rate, topology)
     else:
-        first = serve()
         producer = Producer(endpoint, sources, rate, topology)
+        first = serve()
     producer.start()
     killed_after = rng.uniform(*before_kill_s)
     time.sleep(killed_after)
@@ -132,6 +142,8 @@ def trial(workdir: Path, rng: random.Random, *, sources: int = 10, rate: float =
     time.sleep(after_s)
     producer.finish()
     second.stop()
+    if router is not None:
+        router.close()
     sent = {(f"vehicle/{i % sources}", i // sources): at for i, at in enumerate(producer.put_at)}
     stored = _identities(db)
     with Store.open_read_only(db) as store:
@@ -154,7 +166,7 @@ def main() -> None:
     parser.add_argument("--down", type=float, nargs=2, default=(0.0, 2.0), metavar=("MIN", "MAX"),
                         help="seconds the serve stays down, drawn between MIN and MAX (default 0 2)")
     parser.add_argument("--topology", choices=TOPOLOGIES, action="append",
-                        help="run only this topology (repeatable; default both)")
+                        help="run only this topology (repeatable; default all three)")
     args = parser.parse_args()
     by_topology = {}
     print("topology        trial  sent  stored  before-kill  recovered  live-after  gap  unaccounted  verified  "
@@ -186,7 +198,7 @@ def main() -> None:
                     Figure(f"{topology}: recovered from the publishers' caches", total["recovered"], "events"),
                     Figure(f"{topology}: listed as gaps", total["gap"], "events"),
                     Figure(f"{topology}: unaccounted (silently lost)", total["unaccounted"], "events")]
-    record("kill9", "kill -9 of gaps serve during a stream, then a restart, in both topologies", figures,
+    record("kill9", "kill -9 of gaps serve during a stream, then a restart, in every topology", figures,
            notes=f"{args.trials} trials a topology, {args.sources} sources at {args.rate:g} events/s in all, "
                  f"down {args.down[0]:g}-{args.down[1]:g} s, seed {args.seed}",
            details={topology: [asdict(t) for t in trials] for topology, trials in by_topology.items()})
