@@ -26,14 +26,21 @@ class GapsGroup(TyperGroup):
     """The command group that reports a GapsError as `gaps: <message>` with its exit code."""
 
     def invoke(self, ctx: typer.Context) -> Any:
-        from store import unwritten_caches
-        already = len(unwritten_caches())
+        from store import caches_opened, unwritten_caches
+        already, opened = len(unwritten_caches()), caches_opened()
         try:
             return super().invoke(ctx)
         except GapsError as exc:
             typer.echo(f"gaps: {_what(exc)}{exc}", err=True)
             raise typer.Exit(exc.exit_code) from None
         except sqlite3.DatabaseError as exc:  # a damaged or hostile file, read past the store's own checks
+            from store import damaged_caches
+            damaged = damaged_caches(since=opened)
+            if damaged:     # derived data never accuses the evidence
+                typer.echo(f"gaps: SQLite could not read the cache file {damaged[0]}: {exc}; it holds only what "
+                           "reads derived from the store, never evidence: delete it and run again (it is rebuilt "
+                           "from the events)", err=True)
+                raise typer.Exit(2) from None
             typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
             raise typer.Exit(1) from None
         finally:

@@ -24,6 +24,7 @@ from collections import Counter
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
+from urllib.parse import quote
 
 from .cache_seal import Sealer, load_or_create_key, memory_key
 from .opening import read_only_place
@@ -140,6 +141,8 @@ class Cache:
             if key is not None:
                 note_evidence(self.path, "cache file")
                 self._conn = _open(self.path, key)
+                if self._conn is not None:
+                    _files_opened.append(self.path)
             if self._conn is None:  # no key to keep, or no file to keep it in: memory only
                 if self.path != MEMORY:
                     self.failed_to_write(f"{self.path} could not be opened or made")
@@ -182,6 +185,35 @@ class Cache:
 _CANNOT_WRITE = (sqlite3.SQLITE_FULL, sqlite3.SQLITE_IOERR, sqlite3.SQLITE_READONLY, sqlite3.SQLITE_CANTOPEN,
                  sqlite3.SQLITE_PERM)
 _unwritten: list[str] = []
+
+
+_files_opened: list[str] = []
+
+
+def caches_opened() -> int:
+    """How many times this process has opened a cache file (damaged_caches(since=) counts from it)."""
+    return len(_files_opened)
+
+
+def damaged_caches(since: int = 0) -> list[str]:
+    """The cache files this process opened (after its first `since` openings) that SQLite's quick
+    check finds damaged: asked only after an SQLite error, to tell a damaged cache (derived data:
+    delete it) from a damaged store."""
+    found: list[str] = []
+    for path in dict.fromkeys(_files_opened[since:]):
+        try:
+            conn = sqlite3.connect(f"file:{quote(os.path.abspath(path))}?mode=ro", uri=True)
+        except sqlite3.Error:
+            continue
+        try:
+            sound = conn.execute("PRAGMA quick_check(1)").fetchall() == [("ok",)]
+        except sqlite3.DatabaseError:
+            sound = False
+        finally:
+            conn.close()
+        if not sound:
+            found.append(path)
+    return found
 
 
 def unwritten_caches() -> list[str]:

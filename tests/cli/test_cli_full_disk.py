@@ -151,3 +151,24 @@ def test_a_read_only_disk_with_the_cache_beside_the_store_reads_cleanly(small_tm
     for args, first in free.items():
         assert after[args].exit_code == 0 and "damaged" not in after[args].output, (args, after[args].output)
         assert after[args].stdout == first.stdout or args[0] == "verify"
+
+
+def test_a_damaged_cache_file_is_named_as_such_never_the_evidence(tmp_path):
+    """A cache file whose pages are damaged (not written by gaps: a bad disk, someone holding the
+    folder) made verify and incidents say the store "may be damaged or altered", exit 1."""
+    db = _paper_store(tmp_path / "gaps.db")
+    cache = tmp_path / "gaps.db.cache"
+    assert gaps("incidents", db=db).exit_code == 0 and cache.stat().st_size > 8192
+    data = bytearray(cache.read_bytes())
+    for at in range(4096, len(data), 97):
+        data[at] ^= 0x55
+    cache.write_bytes(bytes(data))
+    before = hashlib.sha256(db.read_bytes()).hexdigest()
+    for command in ("verify", "incidents"):
+        result = gaps(command, db=db)
+        assert result.exit_code == 2, (command, result.output)
+        assert f"could not read the cache file {cache}" in result.stderr and "delete it" in result.stderr
+        assert "damaged or altered" not in result.output
+    assert hashlib.sha256(db.read_bytes()).hexdigest() == before
+    cache.unlink()
+    assert gaps("verify", db=db).exit_code == 0 and gaps("incidents", db=db).exit_code == 0
