@@ -42,7 +42,7 @@ from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_C
                          HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
                          HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
                          IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED, IS_STOPPED_IN_THE_BOX_JUNCTION,
-                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, WOULD_FORCE, Sentence)
+                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, WOULD_ENDANGER, WOULD_FORCE, Sentence)
 from .when import format_time
 
 SECOND = 1_000_000_000
@@ -764,8 +764,65 @@ def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
                           tuple(s.ref for s in amber.used) + (amber.light.ref,))
 
 
+def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
+    """A stated "V would force U to change speed or course" or "V would endanger U" is a prediction
+    (a vehicle's own, a camera's reading): evidence of what its maker believed, not of the act.
+    Where U's movement about V's act is in the record (`measured`), the act is judged from it: a
+    statement the measurements do not bear out is contradicted, with what they show."""
+    args = _match(WOULD_FORCE, text)
+    endanger = args is None
+    if endanger:
+        args = _match(WOULD_ENDANGER, text)
+    if not args or args[0] != p.vehicle:
+        return None
+    other = next((o for o in reacting(p) if o.user == args[1]), None)
+    if other is None or not measured(p, other):
+        return None
+    shown = {f.sentence for f in derived}
+    if WOULD_FORCE.text(p.vehicle, other.user) in shown:
+        return None
+    if endanger and IS_APPROACHING.text(other.user, p.vehicle) in shown:
+        return None
+    return _contradiction(text, ref, _unforced(p, other), [], "", _conflict_refs(conflict_of(p, other)))
+
+
+def measured(p: Passage, other: Other) -> bool:
+    """Whether the road user's movement about V's act is in the record: its path, and samples from
+    before V's act to after V left the junction (or its record's end)."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if act is None or not has_path(other.way):
+        return False
+    end = p.left.t if p.left else p.end
+    times = [s.t for s in other.samples if s.placed]
+    return bool(times) and times[0] <= act and times[-1] >= min(end, act + SECOND)
+
+
+def _unforced(p: Passage, other: Other) -> str:
+    """What the record shows of a road user V is not shown to have forced or endangered."""
+    b = other.braking
+    if other.stopped is None and (b is None or b.decel_mps2 < FORCE_DECEL_MPS2):
+        hardest = f"its hardest braking was {b.decel_mps2:.2f} m/s²" if b else "it did not slow"
+        how = (f"{other.user}'s own record shows no change of speed V caused: {hardest} (a change of speed counts "
+               f"from {FORCE_DECEL_MPS2:g} m/s², Hupfer 1997)")
+    elif explained(p, other):
+        how = f"{other.user}'s own record shows it slowed for something else ({_cause(p, other)})"
+    else:
+        how = f"{other.user}'s own record does not show it endangered"
+    return how.replace("V caused", f"{p.vehicle} caused") + conflict_words(p, other.user, conflict_of(p, other))
+
+
+def _cause(p: Passage, other: Other) -> str:
+    if other.light is not None and other.light.colour != "green":
+        return f"its own {other.light.colour} light"
+    if other.own_stop_line:
+        return "its own Stop or Give Way line"
+    if other.followed:
+        return f"{other.followed} ahead of it"
+    return "its own way: no conflict with the vehicle's path in time or place"
+
+
 _CHECKS = (_check_stopped, _check_speed, _check_light, _check_crossed_on, _check_crossed, _check_in_junction,
-           _check_stopped_at_line, _check_emergency, _check_limit, _check_too_close)
+           _check_stopped_at_line, _check_emergency, _check_limit, _check_too_close, _check_forced)
 
 
 # --- derived facts beside stated ones ---------------------------------------------------------------

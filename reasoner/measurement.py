@@ -15,10 +15,11 @@ from typing import Any, Iterable
 from store import EventRef
 
 from . import acts
-from .derived import Contradiction, beside, checked, facts
+from .derived import Contradiction, _match, beside, checked, facts
 from .margins import BY_RULE, margin
 from .model import DerivedFact, Margin
 from .passage import Passage
+from .vocabulary import WOULD_ENDANGER, WOULD_FORCE
 
 Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
 
@@ -38,6 +39,14 @@ class Measurement:
         """The margin of the act under this rule (margins.margin(passage, action, rule))."""
         wanted = _rule_key(rule)
         return next((m for r, m in self.margins if r == wanted), None)
+
+    @property
+    def overruled(self) -> frozenset[str]:
+        """The stated predictions ("V would force U", "V would endanger U") that the measurements
+        of U contradict: a claim of what its maker believed, weighed against what U did and left
+        out of the scenarios the act is judged on (its contradiction is a finding)."""
+        found = [*self.contradictions, *(c for *_, cs in self.beliefs for c in cs)]
+        return frozenset(c.stated for c in found if _predicts(c.stated))
 
     def contradicted(self, own: Iterable[tuple[str, EventRef]]) -> tuple[Contradiction, ...] | None:
         """What contradicts these perceived facts (derived.checked(passage, at, own)[1]); None
@@ -73,6 +82,10 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
 def _rule_key(rule: str | None) -> str | None:
     key = rule.strip().upper() if isinstance(rule, str) else None
     return key if key in BY_RULE else None
+
+
+def _predicts(text: str) -> bool:
+    return any(_match(kind, text) is not None for kind in (WOULD_FORCE, WOULD_ENDANGER))
 
 
 def _said(text: str) -> str:

@@ -612,18 +612,17 @@ def test_a_car_stopping_at_its_own_stop_line_across_the_junction_is_not_forced_b
     no_incident(found, "c3")
 
 
-def test_a_vehicle_that_went_on_though_it_judged_it_would_force_main_road_traffic_is_punishable(tmp_path):
-    """An automated 7 perceives c2 on the main road coming and states its own prediction, "7 would
-    force c2 to change speed or course"; its rulebook answers that it cannot enter (HC 172), and it
-    goes on anyway. c2 keeps its speed (UNHINDERED): no measurement shows a forcing. The camera
-    states c2 approaching on the main road, which raises the potential violation. DESIGN: the
-    Validator Scenario is the vehicle's own, with what the monitor witnessed in place of its view;
-    a camera witnesses no prediction, so its silence on "would force" (a sentence monitors.le now
-    also reads, for HC 171) does not overrule the vehicle's own: on it, 7 must not have entered.
-    Punishable, HC 172, with the decision fault found."""
+def predicting_run(measured_c2: bool) -> Foreign:
+    """7 emerges from its Give Way line (give_way_run); an automated 7 perceives c2 on the main road
+    and states its own prediction, "7 would force c2 to change speed or course"; its rulebook
+    answers that it cannot enter (HC 172), and it goes on anyway; the camera states c2 approaching
+    on the main road. `measured_c2`: c2's own record (UNHINDERED: it keeps its speed) is in the
+    run; else nothing of c2 was measured."""
     from tests.helpers.foreign import ns
 
     run = give_way_run(UNHINDERED, "5 Hz", "measured")
+    if not measured_c2:
+        run.events = [e for e in run.events if e["src"] != "vehicle/c2" and e["body"].get("vehicle") != "c2"]
     seen = ["7 is of type car", "7 is driving itself", "7 has a give way sign", "c2 is of type car",
             "c2 is approaching 7", "c2 is on the main road", "7 would force c2 to change speed or course"]
     at = START + 3.0
@@ -632,7 +631,29 @@ def test_a_vehicle_that_went_on_though_it_judged_it_would_force_main_road_traffi
                                                         "permitted": False, "proceeds": True})
     run.watch("7", Motion(-40.0, 6.0), "west", rate(5, START, START + 16.0), t_start=START, monitor="m2",
               facts=camera("7", sign="give way", also=("c2 is approaching 7", "c2 is on the main road")))
-    inc = one(judge(tmp_path, run), "7")
+    return run
+
+
+def test_a_vehicles_own_prediction_that_it_would_force_traffic_the_record_shows_unforced_is_no_offence(tmp_path):
+    """HC 172 / TSRGD 2016 Sch 9 Pt 7 para 1 ask what happened: whether the main road's traffic was
+    caused to change speed or course. 7 predicted it would force c2 and went on against its own
+    rulebook's answer, but c2's own record shows it keeping its 13.4 m/s, 87 m off when 7 crossed:
+    nobody was forced (issue 35, "predictions are claims"). The prediction is evidence of what 7
+    believed: a decision fault, and a contradiction with c2's record; the act is lawful (at most
+    mitigated, HC 172)."""
+    inc = one(judge(tmp_path, predicting_run(True)), "7")
+    assert inc.verdict != "punishable", (inc.verdict, inc.why)
+    assert any(f.kind == "decision fault" for f in inc.findings)
+    said = [f for f in inc.findings if f.kind == "contradiction" and "would force c2" in f.detail]
+    assert said and "c2's own record" in said[0].detail
+
+
+def test_a_vehicles_own_prediction_stands_alone_where_nothing_of_the_other_was_measured(tmp_path):
+    """The same prediction with nothing of c2 in the record (no entity.state, no camera frame of
+    it): the stated sentence is the only evidence of the second limb and stands (DESIGN: the
+    Validator Scenario is the vehicle's own, corrected by what was witnessed or measured):
+    punishable, HC 172, with the decision fault."""
+    inc = one(judge(tmp_path, predicting_run(False)), "7")
     verdict(inc, "punishable", "HC 172")
     assert any(f.kind == "decision fault" for f in inc.findings)
 
