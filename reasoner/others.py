@@ -100,8 +100,8 @@ def _followed(other: Other, everyone: list[Other], junction: Junction) -> Other:
         return other
     mine = junction.distance(*here)
     for ahead in everyone:
-        if ahead.user == other.user:
-            continue
+        if ahead.user == other.user or ahead.type == "pedestrian" or ahead.src.startswith("pedestrian/"):
+            continue            # a pedestrian on the footway leads nobody in the lane
         there, _ = position_at(ahead.samples, moment)
         its, _ = speed_at(ahead.samples, moment)
         if there is None or its is None or sector(there[0] - junction.x, there[1] - junction.y) != other.arm:
