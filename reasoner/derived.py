@@ -242,6 +242,9 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
         forced = _forced(p, other) if went and p.start <= at <= p.end + 5 * SECOND else None
         if approaching is not None:
             out.append(approaching)
+            if _walking(other) or other.type == "cyclist":      # in or entering V's path: likely endangered
+                out.append(DerivedFact(WOULD_ENDANGER.text(p.vehicle, other.user), approaching.method,
+                                       approaching.evidence))
         if forced is not None:
             out.append(forced)
         if other.type and other.spawn is not None and (approaching is not None or forced is not None):
