@@ -776,7 +776,9 @@ def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
     endanger = args is None
     if endanger:
         args = _match(WOULD_ENDANGER, text)
-    if not args or args[0] != p.vehicle:
+    if not args:
+        return _check_walker_approaching(p, text, ref)
+    if args[0] != p.vehicle:
         return None
     other = next((o for o in reacting(p) if o.user == args[1]), None)
     if other is None or not measured(p, other):
@@ -787,6 +789,25 @@ def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
     if endanger and IS_APPROACHING.text(other.user, p.vehicle) in shown:
         return None
     return _contradiction(text, ref, _unforced(p, other), [], "", _conflict_refs(conflict_of(p, other)))
+
+
+def _check_walker_approaching(p: Passage, text: str, ref: EventRef):
+    """A stated "P is approaching V" of a pedestrian or cyclist is read by the rules as P likely to
+    be endangered (para 5(5)); where P's path about V's act is in the record and P was never in or
+    entering V's path within ENDANGER_S of V (`_entering`), the measurements contradict it: a
+    pedestrian walking towards the junction on the far footway is not coming at V."""
+    args = _match(IS_APPROACHING, text)
+    if not args or args[1] != p.vehicle:
+        return None
+    other = next((o for o in reacting(p) if o.user == args[0]), None)
+    if other is None or not (_walking(other) or other.type == "cyclist") or not measured(p, other) \
+            or _entering(p, other) is not None:
+        return None
+    c = conflict_of(p, other)
+    how = (f"{other.user}'s own record shows it never in or entering {p.vehicle}'s path within {ENDANGER_S:g} s of "
+           f"{p.vehicle} being there (closest {other.closest_m:.0f} m from the centre)"
+           + (conflict_words(p, other.user, c) if c else f"; their paths never meet"))
+    return _contradiction(text, ref, how, [], "", _conflict_refs(c))
 
 
 def measured(p: Passage, other: Other) -> bool:

@@ -19,7 +19,7 @@ from .derived import Contradiction, _match, beside, checked, facts
 from .margins import BY_RULE, margin
 from .model import DerivedFact, Margin
 from .passage import Passage
-from .vocabulary import WOULD_ENDANGER, WOULD_FORCE
+from .vocabulary import IS_APPROACHING, WOULD_ENDANGER, WOULD_FORCE
 
 Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
 
@@ -42,7 +42,8 @@ class Measurement:
 
     @property
     def overruled(self) -> frozenset[str]:
-        """The stated predictions ("V would force U", "V would endanger U") that the measurements
+        """The stated predictions ("V would force U", "V would endanger U", and a pedestrian's or
+        cyclist's "P is approaching V", which the rules read as endangering) that the measurements
         of U contradict: a claim of what its maker believed, weighed against what U did and left
         out of the scenarios the act is judged on (its contradiction is a finding)."""
         found = [*self.contradictions, *(c for *_, cs in self.beliefs for c in cs)]
@@ -85,7 +86,7 @@ def _rule_key(rule: str | None) -> str | None:
 
 
 def _predicts(text: str) -> bool:
-    return any(_match(kind, text) is not None for kind in (WOULD_FORCE, WOULD_ENDANGER))
+    return any(_match(kind, text) is not None for kind in (WOULD_FORCE, WOULD_ENDANGER, IS_APPROACHING))
 
 
 def _said(text: str) -> str:

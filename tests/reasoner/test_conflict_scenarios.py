@@ -19,12 +19,14 @@ from __future__ import annotations
 import math
 
 from tests.helpers.foreign import Foreign, Motion, ns, rate
-from tests.reasoner.test_foreign_scenarios import (START, _OUT_OF_C2S_WAY, _SET_OFF, judge, no_violation, of, one,
-                                                   stop_then_go_run, verdict)
+from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, _OUT_OF_C2S_WAY, _SET_OFF, judge, mps,
+                                                   no_violation, of, one, runner_run, stop_then_go_run, verdict)
 
 
-def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[float, float], until: float) -> None:
-    """A pedestrian's own positions at 2 Hz, walking straight at a constant velocity from START."""
+def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[float, float], until: float,
+         *, watched: bool = False) -> None:
+    """A pedestrian's own positions at 2 Hz, walking straight at a constant velocity from START;
+    `watched`: the camera m1 measures it too (its x, y and speed at 5 Hz), as it measures vehicles."""
     run.spawn(who, "pedestrian", role="pedestrian")
     speed = math.hypot(*velocity)
     heading = math.degrees(math.atan2(velocity[1], velocity[0])) % 360.0
@@ -33,6 +35,11 @@ def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[flo
         run.emit(f"pedestrian/{who}", ns(at), "entity.state",
                  {"x": round(start[0] + velocity[0] * dt, 3), "y": round(start[1] + velocity[1] * dt, 3),
                   "heading_deg": heading, "speed_mps": round(speed, 3)})
+    for at in rate(5, START, until) if watched else ():
+        dt = at - START
+        run.emit("monitor/m1", ns(at), "monitor.observation",
+                 {"vehicle": who, "facts": [], "speed_mps": round(speed, 3),
+                  "x": round(start[0] + velocity[0] * dt, 3), "y": round(start[1] + velocity[1] * dt, 3)})
 
 
 # 7 is at x = 8 (its exit, beyond the junction) 4.5 s after setting off (s = t² - 12.5 from its line); s from START
@@ -96,3 +103,22 @@ def test_main_road_braking_for_a_later_emerger_is_not_blamed_on_the_first(tmp_pa
     assert not any("7 would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
     no_violation(found, "7")
     assert any(i.verdict == "punishable" and i.rule == "HC 171" for i in of(found, "8"))
+
+
+def test_a_camera_saying_a_pedestrian_on_the_far_footway_approaches_an_ambulance_is_weighed_against_its_path(tmp_path):
+    """TSRGD 2016 Sch 14 Pt 1 para 5(5): an ambulance on a call may cross red, but not "in such a
+    manner or at such a time as to be likely to endanger any person". 253 crosses 2 s after red at
+    28 mph; the camera states "p1 is approaching 253" and "p1 is of type pedestrian" of p1, whose
+    own record and the camera's measurements show it walking along the far (south) footway, 6.5 m
+    from 253's lane, never in or entering its path. The camera's sentence is a reading of p1 near the junction; p1's record
+    shows no danger: mitigated, HC 176, with the contradiction found. (Where nothing of p1 is
+    measured, the same sentence stands alone and is punishable: test_foreign_scenarios'
+    test_emergency_vehicle_with_a_pedestrian_stated_approaching_by_the_camera.)"""
+    v = "253"
+    run, _, crossing, _ = runner_run(v, mps(28), AMBULANCE_LAG, "5 Hz", "camera", type="ambulance", emergency=True,
+                                     also=(f"p1 is approaching {v}", "p1 is of type pedestrian"))
+    walk(run, "p1", (-25.0, -6.5), (1.4, 0.0), crossing + 8.0, watched=True)
+    inc = one(judge(tmp_path, run), v)
+    verdict(inc, "mitigated", "HC 176")
+    said = [f for f in inc.findings if f.kind == "contradiction" and "p1 is approaching 253" in f.detail]
+    assert said and "never in or entering 253's path" in said[0].detail
