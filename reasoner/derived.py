@@ -353,15 +353,18 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
 
 def _entering(p: Passage, other: Other) -> DerivedFact | None:
     """A pedestrian or cyclist `is approaching V` when it was in or entering V's path within
-    ENDANGER_S of V being there: their paths meet (reasoner/conflicts.py) and the measured
-    post-encroachment time, or the time to collision at V's act, is under ENDANGER_S. One on the
+    ENDANGER_S of V being there: their paths meet (reasoner/conflicts.py) and both were in the
+    conflict zone at once, or it entered the zone less than ENDANGER_S after V left it (V passing
+    just in front of it), or at V's act the two were on course to be in it together within
+    ENDANGER_S (TTC). One that had crossed V's path and left it before V got there is out of
+    its way: V following it across is not likely to endanger it. One on the
     far footway, or crossing well before or after V, is near the junction, not coming at V: para
     5(5) and Sch 9 Pt 7 para 1 ask whether V was likely to endanger them, and walking towards a
     junction V leaves does not make it so."""
     c = conflict_of(p, other)
     if c is None:
         return None
-    pet = c.pet_s is not None and c.pet_s < ENDANGER_S
+    pet = c.pet_s is not None and (c.pet_s == 0 or (c.first == "mine" and c.pet_s < ENDANGER_S))
     ttc = c.ttc_s is not None and c.ttc_s < ENDANGER_S
     if not (pet or ttc):
         return None
