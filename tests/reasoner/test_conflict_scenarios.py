@@ -122,3 +122,32 @@ def test_a_camera_saying_a_pedestrian_on_the_far_footway_approaches_an_ambulance
     verdict(inc, "mitigated", "HC 176")
     said = [f for f in inc.findings if f.kind == "contradiction" and "p1 is approaching 253" in f.detail]
     assert said and "never in or entering 253's path" in said[0].detail
+
+
+def test_the_headline_names_the_ground_the_verdict_rests_on(tmp_path):
+    """7 stops and pulls out; c2 on the main road brakes at 5 m/s² from 0.9 s after 7 crossed its
+    line (forced, para 1), and p9 steps into 7's exit as 7 gets there (endangered, para 1). The
+    Stop is raised by the monitor rules on one limb and punished by the validator's prohibition on
+    whichever it proves; the explanation's first sentence names that one, with its measured figures
+    in the derived facts (issue 35: "the headline ground is the deciding ground")."""
+    from explain.explanation_doc import document
+    from explain.explanation_formats import render
+    from reasoner.investigation import Investigation
+    from store import Store
+
+    c2 = Motion(-164.0, 13.4, [(_SET_OFF + 0.9 + 0.71, 0.0), (13.4 / 5.0, -5.0), (4.0, 0.0), (8.0, 2.0)])
+    run = stop_then_go_run(("c2", c2, "north"))
+    walk(run, "p9", (8.0, 1.75 - 1.4 * _AT_X8), (0.0, 1.4), START + 25.0, watched=True)
+    run.end(START + 26.0)
+    with Store(tmp_path / "s.db") as store:
+        store.append(run.events)
+        inv = Investigation(store)
+        (inc,) = [i for i in inv.incidents(run.run) if i.vehicle == "7"]
+        verdict(inc, "punishable", "HC 171")
+        text = render(document(inc, inv.explanation(inc), store), "text", "standard")
+    headline = text.split("\n\n")[0].replace("\n", " ")
+    prohibition = next(line for line in text.splitlines() if "must not enter the junction [HC 171" in line)
+    grounds = text[text.index(prohibition):].splitlines()[1:4]
+    deciding = next(g for g in grounds if "would force" in g or "would endanger" in g).strip()
+    deciding = deciding.removeprefix("and ").split(" [")[0]
+    assert deciding in headline, (headline, deciding)
