@@ -19,8 +19,9 @@ from __future__ import annotations
 import math
 
 from tests.helpers.foreign import Foreign, Motion, ns, rate
-from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, _OUT_OF_C2S_WAY, _SET_OFF, judge, mps,
-                                                   no_violation, of, one, runner_run, stop_then_go_run, verdict)
+from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _OUT_OF_C2S_WAY, _SET_OFF,
+                                                   judge, mps, no_violation, of, one, runner_run, stated_stop_camera,
+                                                   stop_then_go_run, unseen_main_road_run, verdict)
 
 
 def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[float, float], until: float,
@@ -47,15 +48,28 @@ _AT_X8 = _SET_OFF + math.sqrt(12.5 + 8.0)
 
 
 def test_a_lawful_stop_with_traffic_far_away_and_a_pedestrian_on_the_far_footway_is_no_offence(tmp_path):
-    """7 stops, waits and pulls out; the main road's c2 is 250 m off and keeps its speed; p9 walks
-    along the far (south) footway towards the junction, 8 m from 7's lane, and never closer to its
-    path. Nobody changed speed, nobody was in or entering 7's path: para 1's second limb does not
-    apply; a lawful Stop, no violation (on main p9 "approaching" within 50 m made it one)."""
-    run = stop_then_go_run(("c2", Motion(-251.0, 13.4), "north"))
-    walk(run, "p9", (-40.0, -6.5), (1.4, 0.0), START + 25.0)
+    """7 stops at its Stop line, waits and pulls out, watched by a camera down its own (west) arm
+    that states its sign and its stop (the main road is in no camera's view, so the act is looked
+    at from the road users' own records); the main road's c2 is 250 m off and keeps its speed; p9
+    walks west along the far (south) footway of the east arm, 8 m from the lane 7 leaves by, towards
+    the junction, and never comes near 7's path. Nobody changed speed and nobody was in or entering
+    7's path: para 1's second limb does not apply, and the Stop is lawful (the demo's vehicle 134;
+    on main p9 "approaching" within 50 m made it a £100 offence). The camera flags 7 on line with
+    "p9 is approaching 7": weighed against p9's own record, that reading shows no danger."""
+    run = unseen_main_road_run("stop", STOPS_THEN_GOES, stated_stop_camera())
+    run.drive("c2", Motion(-251.0, 13.4), "north", rate(5, START, START + 25.0), t_start=START)
+    walk(run, "p9", (40.0, -6.5), (-1.4, 0.0), START + 25.0)
+    # the camera flags 7 on line, on what it saw: its sign, over the line, a pedestrian coming
+    run.violation("7", START + _SET_OFF + 1.0, "enter the junction",
+                  ["7 has a stop sign", "7 has crossed the stop line", "p9 is approaching 7", "p9 is of type pedestrian"])
     found = judge(tmp_path, run)
+    assert of(found, "7"), "the camera's flag is judged"
     no_violation(found, "7")
-    assert not any("p9 is approaching 7" in f.sentence for i in of(found, "7") for f in i.derived)
+    assert not any("p9 is approaching 7" in f.sentence or "endanger" in f.sentence
+                   for i in of(found, "7") for f in i.derived)
+    stop = next((i for i in of(found, "7")), None)
+    if stop is not None and stop.margin is not None:       # the Stop's margin says why no second limb applies
+        assert "no road user changed speed" in stop.margin.method
 
 
 def test_a_pedestrian_stepping_into_the_path_as_the_vehicle_pulls_out_is_endangered():
