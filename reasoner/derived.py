@@ -813,6 +813,18 @@ def _check_walker_approaching(p: Passage, text: str, ref: EventRef):
     return _contradiction(text, ref, how, [], "", _conflict_refs(c))
 
 
+def unmeasured(p: Passage, text: str) -> str | None:
+    """For a stated "V would force U ..." or "V would endanger U" about this passage's vehicle, the
+    road user U when nothing of U about V's act is in the record (not near V's passage, or no path
+    from before the act until V left): the statement then stands alone, and the explanation says
+    so. None for any other sentence, or where U was measured."""
+    args = _match(WOULD_FORCE, text) or _match(WOULD_ENDANGER, text)
+    if not args or args[0] != p.vehicle:
+        return None
+    other = next((o for o in reacting(p) if o.user == args[1]), None)
+    return args[1] if other is None or not measured(p, other) else None
+
+
 def measured(p: Passage, other: Other) -> bool:
     """Whether the road user's movement about V's act is in the record: its path, and samples from
     before V's act to after V left the junction (or its record's end)."""

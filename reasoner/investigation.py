@@ -484,6 +484,7 @@ class Investigation:
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
                     *(c.to_finding() for c in _beliefs_overruled(measured)),
+                    *_unmeasured_claims(measured, validation),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -1038,6 +1039,15 @@ def _beliefs_overruled(measured: Measurement) -> tuple[Contradiction, ...]:
     over = measured.overruled
     found = {(c.stated, c.stated_by.key): c for *_, cs in measured.beliefs for c in cs if c.stated in over}
     return tuple(found.values())
+
+
+def _unmeasured_claims(measured: Measurement, validation: _Validation) -> tuple[Finding, ...]:
+    """The stated predictions the verdict was taken on with nothing of the road user measured:
+    the sentence stands alone, and the explanation says so."""
+    used = {text for text, _ in validation.scenario}
+    return tuple(Finding("unmeasured claim", f"\"{text}\" was stated ({ref.src} #{ref.seq}) and nothing of {user} "
+                         "about the act is in the record: it stands on the statement alone", (ref,), fact=text)
+                 for text, ref, user in measured.unmeasured if text in used)
 
 
 def _measurement_key(case: _Case, mscen: Scenario) -> str:

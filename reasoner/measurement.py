@@ -15,7 +15,7 @@ from typing import Any, Iterable
 from store import EventRef
 
 from . import acts
-from .derived import Contradiction, _match, beside, checked, facts
+from .derived import Contradiction, _match, beside, checked, facts, unmeasured
 from .margins import BY_RULE, margin
 from .model import DerivedFact, Margin
 from .passage import Passage
@@ -34,6 +34,8 @@ class Measurement:
     signals: tuple[str, ...] = ()                    # the signals whose reports it read
     margins: tuple[tuple[str | None, Margin | None], ...] = ()   # by rule (None: no rule that picks one)
     beliefs: tuple[Belief, ...] = ()                 # each perceived fact, and what contradicts it
+    unmeasured: tuple[tuple[str, EventRef, str], ...] = ()   # stated predictions about a road user nothing of
+                                                             # which was measured: (sentence, by, road user)
 
     def margin(self, rule: str | None) -> Margin | None:
         """The margin of the act under this rule (margins.margin(passage, action, rule))."""
@@ -75,9 +77,13 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
     beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)], derived)[1])
                     for text, ref in perceived
                     if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
+    claims = [(text, ref) for text, ref in [*stated, *perceived]
+              if isinstance(text, str) and ref is not None and _predicts(text)]
+    alone = tuple(dict.fromkeys((_said(text), ref, user) for text, ref in claims
+                                if (user := unmeasured(found, _said(text))) is not None))
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs)
+                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs, alone)
 
 
 def _rule_key(rule: str | None) -> str | None:

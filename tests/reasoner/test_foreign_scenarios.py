@@ -652,10 +652,12 @@ def test_a_vehicles_own_prediction_stands_alone_where_nothing_of_the_other_was_m
     """The same prediction with nothing of c2 in the record (no entity.state, no camera frame of
     it): the stated sentence is the only evidence of the second limb and stands (DESIGN: the
     Validator Scenario is the vehicle's own, corrected by what was witnessed or measured):
-    punishable, HC 172, with the decision fault."""
+    punishable, HC 172, with the decision fault, and a finding that the claim stands alone."""
     inc = one(judge(tmp_path, predicting_run(False)), "7")
     verdict(inc, "punishable", "HC 172")
     assert any(f.kind == "decision fault" for f in inc.findings)
+    alone = [f for f in inc.findings if f.kind == "unmeasured claim"]      # and the explanation says so
+    assert alone and alone[0].fact == "7 would force c2 to change speed or course" and "alone" in alone[0].detail
 
 
 @pytest.mark.parametrize("sampling", ["2 Hz", "irregular 2-10 Hz"])
