@@ -466,6 +466,9 @@ def conflict_words(p: Passage, user: str, c: Conflict | None) -> str:
     """The conflict's measures in words, for a method: where the paths meet, the gaps in time and
     the deceleration needed, each with the threshold it is held against and its source."""
     if c is None:
+        other = next((o for o in p.others if o.user == user), None)
+        if other is not None and has_path(p.samples) and has_path(other.way):
+            return f"; {user}'s path and {p.vehicle}'s never meet: no conflict zone"
         return f"; {user}'s path and {p.vehicle}'s are not both in the record: no conflict measured"
     j = p.junction
     out = [f"; their paths meet {j.distance(c.x, c.y):.1f} m from the centre of {j.id} ({c.x:.1f}, {c.y:.1f})"]
@@ -857,7 +860,13 @@ def _cause(p: Passage, other: Other) -> str:
         return "its own Stop or Give Way line"
     if other.followed:
         return f"{other.followed} ahead of it"
-    return "its own way: no conflict with the vehicle's path in time or place"
+    if paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False:
+        return f"its own way: its path through the junction never came within {VEHICLE_WIDTH_M:g} m of {p.vehicle}'s"
+    if reacted_after_clearing(p.samples, other):
+        return f"it began to slow more than a reaction time after {p.vehicle} was out of its way"
+    if well_ahead(p.samples, other):
+        return f"{p.vehicle} was well ahead of it on its way, going its way"
+    return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 
 _CHECKS = (_check_stopped, _check_speed, _check_light, _check_crossed_on, _check_crossed, _check_in_junction,
