@@ -798,17 +798,17 @@ def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
 
 
 def _check_walker_approaching(p: Passage, text: str, ref: EventRef):
-    """A stated "P is approaching V" of a pedestrian or cyclist is read by the rules as P likely to
-    be endangered (para 5(5)); where P's path about V's act is in the record and P was never in or
+    """A stated "P is approaching V" of a pedestrian is read by the rules as P likely to be
+    endangered (para 5(5)); a pedestrian is no main-road traffic (HC 172), so that is all it is
+    read for. Where P's path about V's act is in the record and P was never in or
     entering V's path within ENDANGER_S of V (`_entering`), the measurements contradict it: a
     pedestrian walking towards the junction on the far footway is not coming at V."""
     args = _match(IS_APPROACHING, text)
     if not args or args[1] != p.vehicle:
         return None
     other = next((o for o in reacting(p) if o.user == args[0]), None)
-    if other is None or not (_walking(other) or other.type == "cyclist") or not measured(p, other) \
-            or _entering(p, other) is not None:
-        return None
+    if other is None or not _walking(other) or not measured(p, other) or _entering(p, other) is not None:
+        return None             # (a cyclist is traffic too: its approach on the main road is HC 172's)
     c = conflict_of(p, other)
     how = (f"{other.user}'s own record shows it never in or entering {p.vehicle}'s path within {ENDANGER_S:g} s of "
            f"{p.vehicle} being there (closest {other.closest_m:.0f} m from the centre)"
