@@ -7,13 +7,12 @@ Zenoh's own authentication or access control (mutual TLS, user/password, or an A
 so that nobody reads its history or declares a source's liveliness token unchecked. Without both it
 refuses to start, unless the operator says `--insecure-beyond-loopback`, which is logged.
 
-What is reachable, and what authenticates, is read from the Zenoh config by store/exposure.py
+What is reachable, and what authenticates, is read from the Zenoh config by store/reachability.py
 (a producer is held to its own rule there); the rule for an ingest is this module's.
 """
 from __future__ import annotations
 
-from store.exposure import (INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, exposure,  # noqa: F401 (the ingest's names)
-                            is_loopback)
+from store import INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, exposure, is_loopback  # noqa: F401 (the ingest's names)
 
 from .errors import IngestConfigError
 

@@ -22,8 +22,8 @@ import zenoh
 from zenoh import ext
 
 from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, canonical_json, key_for, live_key,
-                   WireConfigError, matched_within, session_config, zenoh_message)
-from store.exposure import INSECURE_FLAG, check_producer, exposure
+                   INSECURE_FLAG, WireConfigError, check_producer, exposure, matched_within, session_config,
+                   zenoh_message)
 
 from .cache_queryable import CacheQueryable
 from .recent_events import MAX_BYTES, MAX_EVENTS, RecentEvents
@@ -86,7 +86,7 @@ class EventPublisher:
     ) -> None:
         """Use ``session`` if given (the caller keeps ownership), else open one from ``config``.
         A config that reaches beyond loopback with no Zenoh authentication is refused (a
-        WireConfigError, store/exposure.py's check_producer) unless ``insecure``, which is logged
+        WireConfigError, store/reachability.py's check_producer) unless ``insecure``, which is logged
         (``gaps.producer``, a warning); ``events_signed`` says the caller signs the events it
         puts, as a ``signer`` does.
         The cache holds what was published in the last ``cache_s`` seconds, at most ``cache_events``
