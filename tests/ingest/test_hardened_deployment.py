@@ -138,7 +138,7 @@ def test_gaps_sim_and_gaps_replay_join_with_the_producers_certificate(tmp_path: 
         try:
             serve.wait_for_log("serve.ready")
             simulated = gaps("sim", *short, "--run", "r-sim", "--sign-keys", keys, "--config",
-                             made.config("producer"), "--json")
+                             made.config("producer"), "--truth", tmp_path / "r-sim.truth.json", "--json")
             replayed = gaps("replay", "--db", local, "--run", "r-local", "--speed", "max", "--config",
                             made.config("producer"), "--json")
             monkeypatch.setitem(replay_runs.__kwdefaults__, "wait_s", 2.0)   # not 30 s for the refusals
