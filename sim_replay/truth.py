@@ -18,7 +18,9 @@ from __future__ import annotations
 import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable
+
+from store import write_text
 
 __all__ = ["Act", "EXIT_M", "InjectedFault", "REACTION_S", "Truth"]
 
@@ -99,7 +101,8 @@ class Truth:
         return {"run": self.run, "seed": self.seed, "config": self.config, "road_users": self.road_users,
                 "acts": [a.to_json() for a in acts], "faults": [f.to_json() for f in self.faults]}
 
-    def write(self, path: str | Path) -> Path:
-        path = Path(path)
-        path.write_text(json.dumps(self.to_json(), indent=1, sort_keys=True) + "\n", encoding="utf-8")
-        return path
+    def write(self, path: str | Path, stores: Iterable[str | Path] = ()) -> Path:
+        """The truth as JSON at `path`, never over evidence (store.write_text: not `stores`, nor
+        any store this process opened, nor anything but a regular file)."""
+        write_text(path, json.dumps(self.to_json(), indent=1, sort_keys=True) + "\n", stores)
+        return Path(path)
