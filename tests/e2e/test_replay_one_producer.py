@@ -60,3 +60,26 @@ def test_the_same_run_replayed_again_goes_out(tmp_path):
     assert hashlib.sha256(db.read_bytes()).hexdigest() != before
     with Store.open_read_only(db) as store:
         assert store.count("r1") == 8 and store.quarantine_count() == 0 and store.verify().ok
+
+
+def test_a_simulation_of_another_seed_into_a_serve_holding_its_run_is_refused(tmp_path):
+    """`gaps sim --connect` to a serve whose store holds run sim-001 from another seed: before,
+    mixed in as `gaps sim --db` was; now refused (exit 2), nothing published, the truth file kept."""
+    db, endpoint = tmp_path / "serve.db", free_endpoint()
+    serve = ServeProcess(db, endpoint, "--json")
+    try:
+        serve.wait_for_log("serve.ready")
+        sim = ("sim", "--duration", "5s", "--vehicles", "2", "--speed", "max", "--connect", endpoint)
+        first = gaps(*sim, "--seed", "0", "--truth", tmp_path / "first.truth.json", "--json")
+        assert first.exit_code == 0, first.output
+        held = json.loads(first.stdout)["published"]["published"]
+        second = gaps(*sim, "--seed", "1", "--truth", tmp_path / "second.truth.json")
+        code, _ = serve.stop()
+    finally:
+        serve.kill()
+    assert code == 0 and held > 0
+    assert second.exit_code == 2, second.output
+    assert "run sim-001 is held by the ingest with other events than this simulation's" in second.output
+    assert not (tmp_path / "second.truth.json").exists()
+    with Store.open_read_only(db) as store:
+        assert store.count("sim-001") == held and store.quarantine_count() == 0
