@@ -6,17 +6,22 @@ see the store of) sends events under identities (run, src, seq) the store holds 
 content. Before, the store quarantined those as conflicting duplicates one by one, and chained the
 rest (later seqs, new sources) onto the held run: two producers' events in one chain.
 
-Here, the first event of a batch that the store holds under its identity with other content
-(Store.first_conflict, the check `gaps import` makes: cheap, as a live event's seq is above its
-source's highest) marks its run as held by another producer, for as long as this serve runs; from
-then on every event of that run the writer is given, the rest of that batch included, is
-quarantined with that reason and its raw bytes, never stored. The same events again (a replay
-published twice, a producer's cache answering a hole) and a resumed run (new seqs only) conflict
-with nothing and are stored or counted as duplicates as before. Limits: events of the other
-producer that arrived in an earlier batch than its first conflicting one (a new source's events
-published before any event the store holds) are stored; a serve restarted meets the contest again
-only at the next conflicting event; and without --require-signatures anyone who can publish can
-mark a run as contested, as they can already quarantine its events (docs/serve.md).
+Here, a `run.start` that the store holds under its identity with other content (Store.first_conflict,
+the check `gaps import` makes) is another producer declaring the run: it marks its run as held by
+another producer, for as long as this serve runs; from then on every event of that run the writer
+is given, the rest of that batch included, is quarantined with that reason and its raw bytes, never
+stored. Only a run's start decides: a single conflicting duplicate of an ordinary event (a
+producer's glitch, or a stranger's on an unsigned serve) is quarantined alone, as before, and the
+run goes on. The same events again (a replay published twice, a producer's cache answering a
+hole) and a resumed run (new seqs only) conflict with nothing and are stored or counted as
+duplicates as before.
+
+Limits: the other producer's events that reached the writer in an earlier batch than its
+run.start are stored, and so are those of a producer that sends no run.start (`gaps replay` and
+`gaps sim` ask the ingest first: sim_replay/held_runs.py); a restarted serve meets the contest
+again only at the next conflicting run.start; and without --require-signatures anyone who can
+publish can mark a run as contested with a forged run.start, as they can already quarantine its
+events (docs/serve.md).
 """
 from __future__ import annotations
 
@@ -44,17 +49,18 @@ class RunClaims:
 
     def _find_contests(self, store: Store, candidates: list) -> None:
         while True:
-            fresh = [c for c in candidates if c.event is not None and c.event["run"] not in self.contested]
+            fresh = [c for c in candidates if c.event is not None and c.event["kind"] == "run.start"
+                     and c.event["run"] not in self.contested]
             conflict = store.first_conflict(fresh) if fresh else None
             if conflict is None:
                 return
             run, src, seq = conflict
             self.contested[run] = (
-                f"run {run} held by another producer: its event {src} seq {seq} arrived with other content "
-                f"than the stored one, so this run's events are not stored by this serve (a run holds one "
+                f"run {run} held by another producer: its run.start ({src} seq {seq}) arrived with other "
+                f"content than the stored one, so this run's events are not stored by this serve (a run holds one "
                 "producer's events: publish it as another run, or into another store)")
-            log.warning("ingest: run %s held by another producer (%s seq %d differs from the stored event): "
-                        "its events are quarantined, never mixed into the run", run, src, seq)
+            log.warning("ingest: run %s held by another producer (its run.start, %s seq %d, differs from the "
+                        "stored one): its events are quarantined, never mixed into the run", run, src, seq)
 
     def _of_contested(self, item: Screened) -> bool:
         event = item.candidate.event
