@@ -22,7 +22,8 @@ def incident_line(inc: Incident, number: int | None = None) -> str:
               inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
     if inc.margin is not None:
         fields.append(_margin(inc.margin))
-    fields.append(_found(inc))
+    if (found := _found(inc)) is not None:
+        fields.append(found)
     fields.append(_findings(inc.findings))
     line = "  ".join(fields)
     return f"{number:>3}  {line}" if number is not None else line
@@ -36,14 +37,15 @@ def explanations(case: Case, incidents: Iterable[tuple[int, Incident]]) -> Itera
         yield f"── incident {n}: {inc.run} {inc.id} ──\n" + explain_incident(case.investigation, inc) + "\n"
 
 
-def _found(inc: Incident) -> str:
-    """Where the act was found: the one record, the records of one act, or the vehicle's own only."""
+def _found(inc: Incident) -> str | None:
+    """Where the act was found, where that is news: only in the vehicle's own record, or in
+    several records of the one act (one incident, one penalty); nothing for one monitor's."""
     sources = inc.sources
-    if found_in(sources) == OWN_RECORD:
+    if sources and found_in(sources) == OWN_RECORD:
         return "found in the vehicle's own record only"
-    srcs = list(dict.fromkeys(s.src for s in sources))
-    return f"one act, {len(sources)} records ({', '.join(srcs)})" if len(sources) > 1 else f"found by {srcs[0]}" \
-        if srcs else "found by its record"
+    if len(sources) > 1:
+        return f"one act, {len(sources)} records ({', '.join(dict.fromkeys(s.src for s in sources))})"
+    return None
 
 
 def _penalty(p: Penalty | None) -> str:

@@ -472,6 +472,7 @@ class Investigation:
         the monitor's proof names none, the validator's proof is worked out for its rule)."""
         unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
+        sources = _sources(case, mscen)         # before the measured facts join the scenario
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
         judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs)
@@ -502,8 +503,7 @@ class Investigation:
             proofs=Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
-            rulebook_problems=tuple(self.problems.get(case.run) or ()), act=measured.act,
-            sources=_sources(case, mscen))
+            rulebook_problems=tuple(self.problems.get(case.run) or ()), act=measured.act, sources=sources)
 
     def _summarised(self, case: _Case, gaps: Gaps) -> KeptIncident | None:
         """The case judged as far as its summary goes (`summaries` with `proofs` False: a
@@ -516,12 +516,13 @@ class Investigation:
             return None
         rule, liability = judged.rule, judged.liability
         mscen = self._monitor_scenario(case)
-        act = self._measured(case, mscen, vehicle_scenario(case.state, case.vehicle)).act
+        sources = _sources(case, mscen)         # before the measured facts join the scenario
+        act = self._act(case, mscen, vehicle_scenario(case.state, case.vehicle))
         summary = {"id": _incident_id(case), "run": case.run, "t": case.t, "vehicle": case.vehicle,
                    "action": case.action, "verdict": judged.validation.verdict, "rule": rule.label if rule else None,
                    "liable": _liable(liability), "penalty": judged.penalty,
                    "parties": liability.parties if liability else (), "act": act,
-                   "sources": _sources(case, mscen)}
+                   "sources": sources}
         return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True),
                             lambda: self._proofs_alone(case))
 
@@ -572,6 +573,12 @@ class Investigation:
         found = self.memo(case.run).get("derived", _measurement_key(case, mscen))
         return self._measured(case, mscen, vscen).derived if found is None else found
 
+    def _act(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Any:
+        """The case's act as its measurement delimits it (`_measured`'s `act`), read from its own
+        kept entry beside the measurement, as `_derived` reads what a summary needs."""
+        found = self.memo(case.run).get("act", _measurement_key(case, mscen))
+        return self._measured(case, mscen, vscen).act if found is None else found[0]
+
     def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
@@ -582,6 +589,7 @@ class Investigation:
         def measured() -> Measurement:
             found = self._measure(case, mscen, vscen)
             memo.put("derived", key, found.derived)
+            memo.put("act", key, [found.act])
             return found
         return memo.remember("measurement", key, measured)
 
@@ -875,6 +883,7 @@ class Investigation:
                                       texts=False)
             found.append(Penalty(arg_text(offence), arg_text(law.bindings[0][0][2]) if law.bindings else None,
                                  amount, points))
+        found = list(dict.fromkeys(found))     # one answer per proof: a fact stated twice proves it twice
         if not found:
             return None
         found.sort(key=lambda p: (-_num(p.fine_gbp), -_num(p.points), p.offence))
