@@ -972,6 +972,8 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool)
     not record."""
     if case.pv and rederived:
         return None
+    if not case.pv and not case.anchor["src"].startswith("monitor/"):
+        return None             # an act found in a road user's own record: no monitor raised or missed it
     if case.pv:
         detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
                   "its own observation of the vehicle" + (" with what the measurements show at the act"
