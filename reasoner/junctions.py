@@ -214,6 +214,7 @@ class Map:
     problems: tuple[str, ...]
     _grid: dict[tuple[int, int], tuple[int, ...]] = field(default_factory=dict, compare=False, repr=False)
     _around: dict[tuple[int, int], tuple[Junction, ...]] = field(default_factory=dict, compare=False, repr=False)
+    _roads_by_id: dict[str, Road] = field(default_factory=dict, compare=False, repr=False)
 
     def junction(self, ident: str) -> Junction | None:
         return next((j for j in self.junctions if j.id == ident), None)
@@ -233,7 +234,9 @@ class Map:
     def road(self, road_id: Any, x: float | None, y: float | None) -> Road | None:
         """The road a position is on: the one its producer named, else the nearest within
         ROAD_SNAP_M."""
-        named = next((r for r in self.roads if isinstance(road_id, str) and r.id == road_id), None)
+        if not self._roads_by_id and self.roads:
+            self._roads_by_id.update((r.id, r) for r in reversed(self.roads))    # the first of an id, as before
+        named = self._roads_by_id.get(road_id) if isinstance(road_id, str) else None
         if named is not None or x is None or y is None:
             return named
         best = min(self.roads, key=lambda r: r.distance(x, y), default=None)
