@@ -382,7 +382,8 @@ class Investigation:
             with CollectorPaused():    # hundreds of thousands of parsed observations, no cycles
                 eps = list(episodes(_fed(self.store.events(run, kinds=["monitor.observation"]), sweeper), rederiver))
                 for state in self.store.events(run, kinds=["entity.state"]):
-                    own.add(state)
+                    if _well_formed(state):         # a damaged row's event is no measurement
+                        own.add(state)
             swept = sorted(sweeper.candidates() + own.candidates(), key=lambda c: (c.t, c.event["src"], c.event["seq"]))
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
@@ -424,7 +425,7 @@ class Investigation:
                 continue
             times.append(c.t)
             junction = self.context(run).map.junction(c.junction)
-            src = c.event["src"] if c.event["kind"] == "monitor.observation" or not junction or not junction.monitors \
+            src = c.event["src"] if c.event.get("kind") == "monitor.observation" or not junction or not junction.monitors \
                 else junction.monitors[0]
             out.append((c.t, src, None, Episode(src, c.user, c.action, [c.event])))
         return out
@@ -972,7 +973,7 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool)
     not record."""
     if case.pv and rederived:
         return None
-    if not case.pv and not case.anchor["src"].startswith("monitor/"):
+    if not case.pv and not str(case.anchor.get("src", "")).startswith("monitor/"):
         return None             # an act found in a road user's own record: no monitor raised or missed it
     if case.pv:
         detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
@@ -1004,6 +1005,11 @@ def _last_seen(state: State, vehicle: str) -> int | None:
     record = entity(state, vehicle) or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
     return max(times) if times and not record.get("despawned") else None
+
+
+def _well_formed(event: Any) -> bool:
+    return type(event) is dict and type(event.get("body")) is dict and type(event.get("t")) is int \
+        and type(event.get("src")) is str and type(event.get("seq")) is int
 
 
 def _fed(events: Iterable[dict], sweeper: Sweep) -> Iterable[dict]:

@@ -111,7 +111,7 @@ def measured(events: Iterable[dict], map_: Map, vehicle: str) -> list[Measured]:
         body = e.get("body")
         if type(body) is not dict:
             continue
-        if e["kind"] == "monitor.observation" and str(body.get("vehicle")) != vehicle:
+        if e.get("kind") == "monitor.observation" and str(body.get("vehicle")) != vehicle:
             continue
         v, x, y = body.get("speed_mps"), body.get("x"), body.get("y")
         if type(v) not in (int, float) or v != v:

@@ -118,10 +118,10 @@ class Sweep:
         body = event["body"]
         if type(body) is not dict or not (self._wanted or self._slowest_limit_mps < math.inf):
             return
-        if event["kind"] == "monitor.observation":
+        if event.get("kind") == "monitor.observation":
             user, route = body.get("vehicle"), self._by_src.get(event["src"])
         else:
-            user, route = event["src"].split("/", 1)[-1], None
+            user, route = str(event.get("src", "")).split("/", 1)[-1], None
         x, y, v = body.get("x"), body.get("y"), body.get("speed_mps")
         if type(user) is not str or type(x) not in _NUMBER or type(y) not in _NUMBER or x - x or y - y:
             return      # (x - x is 0 for a finite number, NaN otherwise)
