@@ -284,7 +284,8 @@ class Investigation:
         if not kept_unraised:
             self.memo(run).put("unraised", unraised_key, unraised, plain=True)
         self.memo(run).save()
-        return [group[0] if len(group) == 1 else _merged(group) for group in oneact.groups(found)]
+        merged = [group[0] if len(group) == 1 else _merged(group) for group in oneact.groups(found)]
+        return sorted(merged, key=lambda inc: inc.t) if len(merged) < len(found) else merged
 
     def _read(self, run: str, what: tuple, read: Callable[[], Any]) -> Any:
         """What `read` gives, or what another investigation sharing `shared` read of the same
@@ -411,8 +412,12 @@ class Investigation:
 
     def _unrecorded(self, run: str, swept: list[Candidate], todo: list) -> list:
         """The swept candidates no recorded or re-derived potential violation of the same act
-        already covers, as one-observation episodes."""
+        already covers, as one-observation episodes. A speeding candidate is the start of a
+        stretch over the limit, and is passed over only within the stretch's own gap tolerance
+        of another: a second stretch soon after a first is another act (the cases of one act
+        are one incident after judging, reasoner/oneact.py)."""
         near = int(SWEPT_NEAR_S * SECOND)
+        near_speeding = int(stretches.STRETCH_GAP_S * SECOND)
         taken: dict[tuple[str, str], list[int]] = {}
         for t, _, pv, ep in todo:
             vehicle, action = (str(pv["body"].get("vehicle")), str(pv["body"].get("action"))) if pv else \
@@ -421,7 +426,7 @@ class Investigation:
         out = []
         for c in swept:
             times = taken.setdefault((c.user, c.action), [])
-            if any(abs(c.t - t) <= near for t in times):
+            if any(abs(c.t - t) <= (near_speeding if c.action == acts.SPEEDING else near) for t in times):
                 continue
             times.append(c.t)
             junction = self.context(run).map.junction(c.junction)
@@ -1126,10 +1131,9 @@ def _merged(group: list) -> Any:
     incidents read by their summaries merged by their summaries, and whole when asked for."""
     if all(isinstance(i, Incident) for i in group):
         return oneact.merge(group)
-    rep = oneact.representative(group)
-    first = group[0]
+    rep, first = oneact.representative(group), oneact.named(group)
     summary = {name: getattr(rep, name) for name in _SUMMARY}
-    summary.update(id=first.id, t=first.t, sources=oneact.sources_of(group))
+    summary.update(id=first.id, t=first.t, sources=oneact.sources_of([first, *(i for i in group if i is not first)]))
     return KeptIncident([summary[name] for name in _SUMMARY],
                         lambda: oneact.merge([i.whole() if isinstance(i, KeptIncident) else i for i in group]),
                         lambda: rep.proofs)

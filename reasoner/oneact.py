@@ -16,8 +16,10 @@ as a case (investigation.py), and then the cases of one act become one incident 
   speed measured) is an act of its own: nothing the record shows joins it to another.
 
 The merged incident keeps every record: its `sources` (each with its id, source and how it was
-raised), the evidence and findings of all of them; it is named by the earliest record (its `id`
-and `t`), so its id does not move when a rulebook changes a verdict. Its verdict, rule, penalty,
+raised, the one it is named by first), the evidence and findings of all of them; it is named (its
+`id` and `t`) by the earliest record a monitor made, else by the earliest of the road user's own
+record, so its id does not move when a rulebook changes a verdict, and an act a monitor recorded
+keeps the id it had before its other records were found. Its verdict, rule, penalty,
 liability, scenarios and margin are those of one record, the representative: a record that proves
 the act (punishable or mitigated) before one that is dismissed, and among those, the verdict most
 favourable to the road user (mitigated before punishable), since a defence one record shows is not
@@ -31,7 +33,7 @@ from typing import Any, Iterable
 
 from store import EventRef
 
-from .model import Act, Finding, Incident, Source
+from .model import MONITORS, Act, Finding, Incident, Source
 
 PREFERENCE = {"mitigated": 0, "punishable": 1, "dismissed": 2}
 
@@ -59,6 +61,13 @@ def groups(incidents: Iterable[Any]) -> list[list[Any]]:
     return out
 
 
+def named(group: list[Any]) -> Any:
+    """The record the merged incident is named by: the earliest a monitor made (recorded,
+    re-derived or swept from its measurements), else the earliest of the road user's own record;
+    so an act a monitor recorded keeps the id it has always had, whatever else recorded it."""
+    return min(group, key=lambda inc: (not inc.sources or inc.sources[0].found_in != MONITORS, inc.t, inc.id))
+
+
 def representative(group: list[Any]) -> Any:
     """The record whose judgement the merged incident takes (module docstring)."""
     return min(group, key=lambda inc: (PREFERENCE.get(inc.verdict, 3), inc.t, inc.id))
@@ -75,7 +84,7 @@ def sources_of(group: list[Any]) -> tuple[Source, ...]:
 
 def merge(group: list[Incident]) -> Incident:
     """The one incident of a group's act (module docstring)."""
-    first, rep = group[0], representative(group)
+    first, rep = named(group), representative(group)
     findings = list(rep.findings)
     have = {_key(f) for f in findings}
     for inc in group:
@@ -87,10 +96,10 @@ def merge(group: list[Incident]) -> Incident:
     if len(verdicts) > 1:
         findings.append(_disagree(group, rep))
     evidence = _once(ref for inc in [first, rep, *group] for ref in inc.evidence)
+    sources = sources_of([first, *(inc for inc in group if inc is not first)])
     return replace(rep, id=first.id, t=first.t, monitor=first.monitor,
                    recorded=any(inc.recorded for inc in group), rederived=any(inc.rederived for inc in group),
-                   findings=tuple(findings), evidence=evidence, act=_span(group),
-                   sources=sources_of(group))
+                   findings=tuple(findings), evidence=evidence, act=_span(group), sources=sources)
 
 
 def _disagree(group: list[Incident], rep: Incident) -> Finding:

@@ -275,3 +275,21 @@ def test_a_stop_line_written_stop_at_a_stop_junction_is_the_stop_signs_line(tmp_
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 171")
     assert any(f.kind == "map reading" and "read as 'stop_sign'" in f.detail for f in inc.findings), inc.findings
+
+
+def test_the_one_incident_is_found_by_any_of_its_records_ids(tmp_path):
+    """The merged incident is named by its earliest record; `gaps explain`/`case.incident` find
+    it by the id of any record of the act, and its explanation says it is one act of several
+    records."""
+    import reasoner
+    from explain import explanation
+    run, _, crossing, _ = runner("7", mps(30), 2.0, monitors=THREE[:2], cameras=("m1", "m2"))
+    run.violation("7", crossing + 1.0, ENTER, ["7 has red light", "7 has crossed the stop line"], monitor="m1")
+    second = run.violation("7", crossing + 1.5, ENTER, ["7 has red light", "7 has crossed the stop line"],
+                           monitor="m2")
+    inc = one(judge(tmp_path, run), "7")
+    with reasoner.open(tmp_path / "foreign.db") as case:
+        found = case.incident(run.run, f"monitor/m2:{second['seq']}")
+        assert found.id == inc.id and found.id != f"monitor/m2:{second['seq']}"
+        text = " ".join(explanation(case, found, level="full").split())
+    assert "one act, 2 records of it, judged as one" in text, text[:2000]
