@@ -293,3 +293,25 @@ def test_the_one_incident_is_found_by_any_of_its_records_ids(tmp_path):
         assert found.id == inc.id and found.id != f"monitor/m2:{second['seq']}"
         text = " ".join(explanation(case, found, level="full").split())
     assert "one act, 2 records of it, judged as one" in text, text[:2000]
+
+
+def test_records_of_one_act_judged_differently_give_the_proved_verdict_and_say_so(tmp_path, monkeypatch):
+    """reasoner/oneact.py's rule, on the two cameras' records of one red-light passage: where one
+    record is dismissed and another proves the act, the incident takes the proof (a camera whose
+    own record does not support its flag does not undo another's), names the disagreement as a
+    finding, and keeps the earliest monitor record's id."""
+    from dataclasses import replace
+
+    from reasoner import oneact
+    run, _, crossing, _ = runner("7", mps(30), 2.0, monitors=THREE[:2], cameras=("m1", "m2"))
+    for m in ("m1", "m2"):
+        run.violation("7", crossing + 1.0, ENTER, ["7 has red light", "7 has crossed the stop line"], monitor=m)
+    monkeypatch.setattr(oneact, "groups", lambda found: [[i] for i in found])
+    apart = of(judge(tmp_path, run), "7")
+    assert len(apart) >= 2 and all(i.verdict == "punishable" for i in apart), [(i.id, i.verdict) for i in apart]
+    first, second = apart[0], apart[1]
+    merged = oneact.merge([replace(first, verdict="dismissed", penalty=None, why="unsupported"), second])
+    assert (merged.verdict, merged.penalty) == ("punishable", second.penalty)
+    assert merged.id == first.id and [s.id for s in merged.sources][:2] == [first.id, second.id]
+    said = [f.detail for f in merged.findings if f.kind == "sources disagree"]
+    assert said and f"{first.id}" in said[0] and "dismissed" in said[0] and "punishable" in said[0], merged.findings
