@@ -218,6 +218,20 @@ def test_a_cyclist_on_red_gets_the_non_endorsable_penalty(tmp_path):
     assert (inc.penalty.fine_gbp, inc.penalty.points) == (50, 0), inc.penalty
 
 
+def test_a_cyclist_rolling_over_a_stop_line_gets_the_non_endorsable_penalty(tmp_path):
+    """A pedal cyclist rides over a Stop sign's line at 15 mph without stopping: HC 171 (RTA 1988
+    s.36, TSRGD 2016 Sch 9 Pt 7), punishable; RTOA 1988 Sch 2 Pt I endorses the s.36 offence only
+    in respect of a motor vehicle: £50, no points."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop")])
+    motion = Motion(-95.0, mps(15))
+    run.spawn("c2", "cyclist")
+    run.drive("c2", motion, "west", rate(5, START, START + 16.0), t_start=START)
+    run.watch("c2", motion, "west", rate(5, START, START + 16.0), t_start=START)
+    inc = one(judge(tmp_path, run), "c2")
+    verdict(inc, "punishable", "HC 171")
+    assert (inc.penalty.fine_gbp, inc.penalty.points) == (50, 0), inc.penalty
+
+
 def test_a_box_junction_contravention_is_non_endorsable(tmp_path):
     """HC 174 (TSRGD 2016 Sch 9 Pts 7 and 8): 7 enters the yellow box on green and stands in it for
     6 s with its exit queued, and the light turns red while it stands there (it crossed its line
