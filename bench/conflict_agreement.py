@@ -1,0 +1,309 @@
+"""The reasoner's "forced / endangered / gave way" held against SUMO's own account (issue 35).
+
+    nice -n 10 .venv/bin/python bench/conflict_agreement.py [--minutes 10] [--seeds 11,12] [--maps paper,town]
+                                                           [--keep DIR] [--json] [--cost]
+
+Each run is the simulation's (sim_replay.simulation, faults on at the rates `gaps sim --faults`
+takes) with SUMO's own account kept in its ground truth (sim_replay/sumo_account.py: its SSM
+device, and for every braking vehicle the constraint SUMO's car-following model says it braked
+for). The events are appended to a store in a temporary directory and judged by the reasoner
+through its public API (`reasoner.open(db).incidents(run)`, what `gaps incidents --json` prints).
+Each Stop, Give Way and emergency-red incident (its act found in the truth by the tests' own
+matching, tests/helpers/sim_truth_table.compare) is compared:
+
+    reasoner    the road users its proofs name: "V would force U to change speed or course",
+                "V would endanger U" (a sentence of that shape standing as a fact or proved in the
+                potential violation's tree or the verdict's, or among the facts the history
+                derived for the incident: a proof shows one road user where several are named)
+    SUMO        the road users SUMO says braked for V about its crossing (the truth's
+                act.sumo.yielded: cause a junction foe V, or V as a leader that had joined their
+                road from another arm) at HARD_BRAKING or harder or down to a standstill, and the
+                pedestrians on a crossing SUMO makes a foe of V's junction lane while V passed
+
+    agreeing          the two name the same road users
+    false accusation  the reasoner names U, SUMO does not: U braked for something else (its
+                      stated cause is listed), or not hard, or not at all
+    miss              SUMO names U, the reasoner does not
+
+The reasoner's output is read only to be compared; nothing of it goes into the account.
+`--cost` also times the demo's simulation with and without SUMO's account (three each).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from sim_replay.sim_config import FaultRates, SimConfig  # noqa: E402
+from sim_replay.sim_events import T0  # noqa: E402
+from store import Store  # noqa: E402
+
+HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), the tests' table's yardstick
+STANDSTILL_MPS = 0.5    # braking down to this is yielding however gently
+FAULTS = FaultRates(misperceived_light=0.15, missed_road_user=0.05, speed_error=0.02, lost_event=0.001,
+                    recorder_stops=0.1)
+VEHICLES_PER_MIN = {"paper": 20, "town": 48}     # the paper's map backs up beyond ~20 a minute (docs/simulation.md)
+BATCH = 10_000
+_GROUND = re.compile(r"^(?P<v>\S+) (?:would )?(?P<how>force|forces|forced|endanger|endangers|endangered) (?P<u>\S+)")
+
+
+def config(map_name: str, seed: int, minutes: float) -> SimConfig:
+    return SimConfig(run=f"agree-{map_name}-{seed}", seed=seed, map=map_name,
+                     vehicles=round(VEHICLES_PER_MIN[map_name] * minutes), duration_s=minutes * 60.0,
+                     depart_within=1.0 if map_name == "town" else 0.7, faults=FAULTS)
+
+
+# --- one run ------------------------------------------------------------------------------------
+
+def simulate(cfg: SimConfig, db: Path) -> tuple[dict[str, Any], dict[str, float]]:
+    """Simulate with SUMO's account into a store; the truth and what each step took."""
+    from sim_replay.simulation import Simulation
+
+    took: dict[str, float] = {"append_s": 0.0}
+    started = time.perf_counter()
+    sim = Simulation(cfg, account=True)
+    with Store(db, durable=False) as store:
+        batch: list[dict[str, Any]] = []
+        for event in sim.events():
+            batch.append(event)
+            if len(batch) == BATCH:
+                took["append_s"] += _append(store, batch)
+        took["append_s"] += _append(store, batch)
+    took["simulate_s"] = time.perf_counter() - started - took["append_s"]
+    took["events"] = sim.summary.events
+    return sim.truth.to_json(), took
+
+
+def _append(store: Store, batch: list[dict[str, Any]]) -> float:
+    started = time.perf_counter()
+    report = store.append(list(batch))
+    batch.clear()
+    if report.rejected:
+        raise SystemExit(f"the store refused simulated events: {report.rejected[:3]}")
+    return time.perf_counter() - started
+
+
+def judged(db: Path, run: str) -> tuple[list[Any], float]:
+    """The run's incidents as `gaps incidents --json` gets them (reasoner.api)."""
+    import reasoner
+
+    started = time.perf_counter()
+    with reasoner.open(db) as case:
+        found = case.incidents(run)
+    return found, time.perf_counter() - started
+
+
+# --- the comparison -----------------------------------------------------------------------------
+
+def reasoner_grounds(incident: Any) -> set[str]:
+    """The road users the incident's verdict names as forced or endangered by its vehicle."""
+    named: set[str] = set()
+
+    def walk(node: Any) -> None:
+        if isinstance(node, dict):
+            text = node.get("text")
+            if isinstance(text, str) and node.get("status") in ("proved", "fact"):
+                m = _GROUND.match(text.strip().rstrip("."))
+                if m and m["v"] == incident.vehicle:
+                    named.add(m["u"])
+            for child in node.get("children", ()):
+                walk(child)
+        elif isinstance(node, list):
+            for item in node:
+                walk(item)
+
+    for stage in incident.proofs.to_json().values():
+        walk(stage.get("trees", []))
+    walk([{"text": d.sentence, "status": "fact"} for d in incident.derived])
+    return named
+
+
+def sumo_account(act: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """Who SUMO says gave way to the act's vehicle (hard braking or a standstill) or was in its path."""
+    out: dict[str, dict[str, Any]] = {}
+    for y in act.get("sumo", {}).get("yielded", []):
+        if y["decel_mps2"] >= HARD_BRAKING or y["min_speed_mps"] <= STANDSTILL_MPS:
+            seen = out.get(y["vehicle"])
+            if seen is None or y["decel_mps2"] > seen["decel_mps2"]:
+                out[y["vehicle"]] = y
+    for who, crossing, away in act.get("sumo", {}).get("in_path", []):
+        out.setdefault(who, {"vehicle": who, "cause": "pedestrian in its path", "crossing": crossing,
+                             "nearest_m": away})
+    return out
+
+
+def stated_cause(truth: dict[str, Any], who: str, act: dict[str, Any]) -> str:
+    """SUMO's account of what `who` braked for about the act (from the truth's yields only)."""
+    t = act["t_s"]
+    mine = [y for y in truth.get("yields", []) if y["vehicle"] == who and t - 3.0 <= y["t_s"] <= t + 8.0]
+    if not mine:
+        if truth["road_users"].get(who, {}).get("type") == "pedestrian":
+            return "a pedestrian not on a crossing of its path while it passed"
+        return "did not brake about then"
+    parts = []
+    for y in mine:
+        causes = ", ".join(f"{k} {c['decel_mps2']:.1f} m/s²" for k, c in sorted(y["causes"].items(),
+                                                                               key=lambda kv: -kv[1]["decel_mps2"]))
+        parts.append(f"{y['t_s']:.1f}-{y['until_s']:.1f}s: {causes}")
+    return "; ".join(parts)
+
+
+@dataclass
+class Row:
+    incident: Any
+    act: dict[str, Any]
+    reasoner: set[str]
+    sumo: dict[str, dict[str, Any]]
+    false: list[str] = field(default_factory=list)
+    missed: list[str] = field(default_factory=list)
+
+    @property
+    def agrees(self) -> bool:
+        return not self.false and not self.missed
+
+
+def in_scope(act: dict[str, Any] | None) -> bool:
+    """Stop, Give Way and emergency-red crossings."""
+    return act is not None and act["kind"] == "crossed the stop line" and (
+        act["line"] in ("stop", "give_way") or (act["light"] in ("red", "red_amber") and act["on_call"]))
+
+
+def compare(truth: dict[str, Any], incidents: list[Any]) -> list[Row]:
+    from tests.helpers.sim_truth_table import compare as lines_of
+
+    rows = []
+    for line in lines_of(truth, incidents, T0):
+        if not in_scope(line.act):
+            continue
+        for inc in line.incidents:
+            row = Row(inc, line.act, reasoner_grounds(inc), sumo_account(line.act))
+            row.false = sorted(row.reasoner - set(row.sumo))
+            row.missed = sorted(set(row.sumo) - row.reasoner)
+            rows.append(row)
+    return rows
+
+
+# --- printing -----------------------------------------------------------------------------------
+
+def describe(row: Row, truth: dict[str, Any]) -> list[str]:
+    a, i = row.act, row.incident
+    where = f"{a['junction']}/{a['approach']} {a['line']}" + (f" {a['light']}" if a["light"] not in (None, "none") else "")
+    out = [f"  {i.id} vehicle {i.vehicle} at {a['t_s']:.1f}s {where} ({'stood at the line' if a['stopped_at_line'] else 'did not stand'}"
+           f"{', on a call' if a['on_call'] else ''}): {i.verdict} {i.rule or ''}"]
+    for u in row.false:
+        out.append(f"    false accusation: reasoner says {i.vehicle} forced/endangered {u}; SUMO: {u} "
+                   f"{stated_cause(truth, u, a)}")
+    for u in row.missed:
+        s = row.sumo[u]
+        if "decel_mps2" in s:
+            ssm = ", ".join(f"{k} {v['value']:g} ({v['type']})" for k, v in s.get("ssm", {}).items()) or "no SSM conflict"
+            out.append(f"    miss: SUMO says {u} braked for {i.vehicle} ({s['cause']}) at {s['decel_mps2']:.1f} m/s² "
+                       f"from {s['t_s']:.1f}s, {s['speed_mps']:.1f} -> {s['min_speed_mps']:.1f} m/s; {ssm}")
+        else:
+            out.append(f"    miss: SUMO has pedestrian {u} on {s['crossing']}, a crossing of its path, "
+                       f"{s['nearest_m']:.1f} m from it as it passed")
+    return out
+
+
+def table(name: str, rows: list[Row]) -> dict[str, int]:
+    counts = {"incidents": len(rows), "agreeing": sum(r.agrees for r in rows),
+              "false_accusations": sum(len(r.false) for r in rows), "misses": sum(len(r.missed) for r in rows),
+              "incidents_with_false": sum(bool(r.false) for r in rows),
+              "incidents_with_miss": sum(bool(r.missed) for r in rows)}
+    print(f"{name:<22} {counts['incidents']:>9} {counts['agreeing']:>9} {counts['false_accusations']:>7} "
+          f"({counts['incidents_with_false']:>3} inc) {counts['misses']:>6} ({counts['incidents_with_miss']:>3} inc)")
+    return counts
+
+
+HEADER = f"{'run':<22} {'incidents':>9} {'agreeing':>9} {'false accusations':>17} {'misses':>12}"
+
+
+def cost(repeats: int = 3) -> dict[str, list[float]]:
+    """The demo's simulation with and without SUMO's account, wall seconds."""
+    from sim_replay.demo import DEMO
+    from sim_replay.simulation import Simulation
+
+    out: dict[str, list[float]] = {"without": [], "with": []}
+    for _ in range(repeats):
+        for label, on in (("without", False), ("with", True)):
+            started = time.perf_counter()
+            for _event in Simulation(DEMO, account=on).events():
+                pass
+            out[label].append(round(time.perf_counter() - started, 2))
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--minutes", type=float, default=10.0, help="world minutes per run (default 10)")
+    ap.add_argument("--seeds", default="11,12")
+    ap.add_argument("--maps", default="paper,town")
+    ap.add_argument("--keep", type=Path, help="keep each run's store and truth in this directory")
+    ap.add_argument("--json", action="store_true", help="print the figures as JSON at the end")
+    ap.add_argument("--cost", action="store_true", help="also time the demo with and without SUMO's account")
+    args = ap.parse_args(argv)
+    started = time.perf_counter()
+    results: dict[str, Any] = {"runs": {}}
+    if args.cost:
+        results["demo_cost_s"] = cost()
+        c = results["demo_cost_s"]
+        print(f"demo simulation (180 s world): without SUMO's account {c['without']} s, with {c['with']} s", flush=True)
+    all_rows: list[tuple[str, Row, dict[str, Any]]] = []
+    per_run: list[tuple[str, list[Row]]] = []
+    with tempfile.TemporaryDirectory(prefix="gaps-agree-") as tmp:
+        where = args.keep or Path(tmp)
+        where.mkdir(parents=True, exist_ok=True)
+        for map_name in args.maps.split(","):
+            for seed in (int(s) for s in args.seeds.split(",")):
+                cfg = config(map_name, seed, args.minutes)
+                db = where / f"{cfg.run}.db"
+                for old in where.glob(db.name + "*"):
+                    old.unlink()
+                truth, took = simulate(cfg, db)
+                (where / f"{cfg.run}.truth.json").write_text(json.dumps(truth) + "\n", encoding="utf-8")
+                incidents, took["judge_s"] = judged(db, cfg.run)
+                rows = compare(truth, incidents)
+                per_run.append((cfg.run, rows))
+                all_rows.extend((cfg.run, r, truth) for r in rows)
+                results["runs"][cfg.run] = {"config": {"map": map_name, "seed": seed, "vehicles": cfg.vehicles,
+                                                       "world_s": cfg.duration_s},
+                                            "took": {k: round(v, 1) for k, v in took.items()},
+                                            "incidents_all": len(incidents), "yields": len(truth.get("yields", [])),
+                                            "conflicts": len(truth.get("conflicts", []))}
+                print(f"{cfg.run}: {cfg.vehicles} vehicles, {cfg.duration_s:.0f} s world; simulated in "
+                      f"{took['simulate_s']:.0f} s ({took['events']:,} events, {len(truth.get('yields', []))} SUMO yields, "
+                      f"{len(truth.get('conflicts', []))} SSM conflicts), stored in {took['append_s']:.0f} s, judged in "
+                      f"{took['judge_s']:.0f} s: {len(incidents)} incidents, {len(rows)} Stop/Give Way/emergency-red",
+                      flush=True)
+    print()
+    print(HEADER)
+    for run, rows in per_run:
+        results["runs"][run]["table"] = table(run, rows)
+    results["total"] = table("total", [r for _, rows in per_run for r in rows])
+    print()
+    print("disagreements:")
+    for run, rows in per_run:
+        bad = [r for r in rows if not r.agrees]
+        if bad:
+            truth = next(t for n, r, t in all_rows if n == run)
+            print(f" {run}")
+            for r in bad:
+                print("\n".join(describe(r, truth)))
+    results["wall_s"] = round(time.perf_counter() - started, 1)
+    print(f"\nwall time {results['wall_s']:.0f} s")
+    if args.json:
+        print(json.dumps(results, indent=1, default=str))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
