@@ -46,6 +46,7 @@ NEAR_M = 80.0            # a vehicle this close to its next junction (or in one)
 LOOK_M = 80.0            # how far ahead SUMO is asked for the leader and junction foes
 SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for conflicts
 _BINDS_MPS = 0.05        # the constraint allowing the lowest speed binds if that is below the speed by this
+_CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
 _OBEYS_FOES = 8
@@ -200,6 +201,13 @@ class Account:
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id,
                                 {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
                                  "must_yield": bool(must_yield), "foe_in_junction": entered}))
+        if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own
+            foes = set(libsumo.lane.getInternalFoes(v.lane))
+            for other in snap.vehicles:
+                if other.lane in foes:
+                    away = math.hypot(other.x - v.x, other.y - v.y)
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
+                                    {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
         if mode & _OBEYS_FOES and via and ahead_m is not None:
             for who, crossing, p in _foe_crossers(via, snap.pedestrians):
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
