@@ -23,8 +23,10 @@ SSM_RANGE_M whose time to collision, deceleration to avoid a crash or post-encro
 crosses SUMO's default thresholds (TTC 3 s, DRAC 3 m/s², PET 2 s), classified with the junctions'
 right-of-way foe matrix (crossing, merging, following); `read_ssm` reads its file after the run.
 
-Pedestrians are not in SUMO's vehicle calls: `in_path` lists those on a crossing that SUMO's
-junction model makes a foe of the lane a vehicle is on (`lane.getInternalFoes`).
+Pedestrians are not in SUMO's vehicle calls: a braking vehicle is asked about those on a crossing
+that SUMO's junction model makes a foe of its junction lane (`lane.getInternalFoes`), or on the
+corner about to step onto one (`person.getNextEdge`); `in_path` lists those on such a crossing
+while a vehicle passed.
 """
 from __future__ import annotations
 
@@ -46,6 +48,7 @@ NEAR_M = 80.0            # a vehicle this close to its next junction (or in one)
 LOOK_M = 80.0            # how far ahead SUMO is asked for the leader and junction foes
 SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for conflicts
 _BINDS_MPS = 0.05        # the constraint allowing the lowest speed binds if that is below the speed by this
+_COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
 _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
@@ -201,15 +204,23 @@ class Account:
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id,
                                 {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
                                  "must_yield": bool(must_yield), "foe_in_junction": entered}))
-        if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own
-            foes = set(libsumo.lane.getInternalFoes(v.lane))
+        if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own,
+            foes = set(libsumo.lane.getInternalFoes(v.lane))      # or about to drive onto one
+            junction = v.lane[1:].rsplit("_", 2)[0]
             for other in snap.vehicles:
                 if other.lane in foes:
                     away = math.hypot(other.x - v.x, other.y - v.y)
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
+                elif other.next_junction == junction and not other.lane.startswith(":") \
+                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * _COMING_S:
+                    link = vehicle.getNextLinks(other.id)[:1]
+                    if link and link[0][4] in foes:
+                        allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,
+                                        {"foe_lane": link[0][4], "foe_to_junction_m": round(other.to_junction_m, 1),
+                                         "foe_in_junction": False}))
         if mode & _OBEYS_FOES and via and ahead_m is not None:
-            for who, crossing, p in _foe_crossers(via, snap.pedestrians):
+            for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
                                 {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
         low = min(allowed, key=lambda a: a[0])
@@ -248,10 +259,19 @@ def in_path(v: VehicleState, pedestrians: tuple[PedestrianState, ...]) -> list[t
             for who, crossing, p in _foe_crossers(v.lane, pedestrians)]
 
 
-def _foe_crossers(lane: str, pedestrians: tuple[PedestrianState, ...]) -> list[tuple[str, str, PedestrianState]]:
-    """(pedestrian, crossing, state) of those on a crossing that is a foe of a junction lane."""
-    on = [p for p in pedestrians if p.crossing]
+def _foe_crossers(lane: str, pedestrians: tuple[PedestrianState, ...],
+                  waiting: bool = False) -> list[tuple[str, str, PedestrianState]]:
+    """(pedestrian, crossing, state) of those on a crossing that is a foe of a junction lane (and,
+    `waiting`, of those on a junction's corner whose next edge, SUMO says, is such a crossing)."""
+    junction = lane[1:].rsplit("_", 2)[0] if lane.startswith(":") else None
+    on = [p for p in pedestrians if p.crossing or (waiting and p.junction is not None
+                                                   and p.edge.startswith(f":{junction}_w"))]
     if not lane or not on:
         return []
     foes = set(libsumo.lane.getInternalFoes(lane))
-    return [(p.id, p.crossing, p) for p in on if f"{p.crossing}_0" in foes]
+    out = []
+    for p in on:
+        crossing = p.crossing or libsumo.person.getNextEdge(p.id)
+        if crossing and f"{crossing}_0" in foes:
+            out.append((p.id, crossing, p))
+    return out
