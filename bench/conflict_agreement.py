@@ -15,6 +15,9 @@ matching, tests/helpers/sim_truth_table.compare) is compared:
                 "V would endanger U" (a sentence of that shape standing as a fact or proved in the
                 potential violation's tree or the verdict's, or among the facts the history
                 derived for the incident: a proof shows one road user where several are named)
+    unraised          (per run) an act a monitor saw with no incident at all, to which SUMO says
+                      someone gave way
+
     SUMO        the road users SUMO says braked for V about its crossing (the truth's
                 act.sumo.yielded: cause a junction foe V, or V as a leader that had joined their
                 road from another arm) at HARD_BRAKING or harder or down to a standstill, and the
@@ -26,7 +29,8 @@ matching, tests/helpers/sim_truth_table.compare) is compared:
     miss              SUMO names U, the reasoner does not
 
 The reasoner's output is read only to be compared; nothing of it goes into the account.
-`--cost` also times the demo's simulation with and without SUMO's account (three each).
+`--cost` also times the simulation with and without SUMO's account: the demo's (three each, in
+turn) and the first paper run's (once each).
 """
 from __future__ import annotations
 
@@ -163,6 +167,7 @@ class Row:
     act: dict[str, Any]
     reasoner: set[str]
     sumo: dict[str, dict[str, Any]]
+    truth: dict[str, Any] = field(default_factory=dict, repr=False)
     false: list[str] = field(default_factory=list)
     missed: list[str] = field(default_factory=list)
 
@@ -177,19 +182,23 @@ def in_scope(act: dict[str, Any] | None) -> bool:
         act["line"] in ("stop", "give_way") or (act["light"] in ("red", "red_amber") and act["on_call"]))
 
 
-def compare(truth: dict[str, Any], incidents: list[Any]) -> list[Row]:
+def compare(truth: dict[str, Any], incidents: list[Any]) -> tuple[list[Row], list[dict[str, Any]]]:
+    """Each in-scope incident beside SUMO's account; and the in-scope acts a monitor saw that have
+    no incident although SUMO says someone gave way to them (unraised)."""
     from tests.helpers.sim_truth_table import compare as lines_of
 
-    rows = []
+    rows, unraised = [], []
     for line in lines_of(truth, incidents, T0):
         if not in_scope(line.act):
             continue
+        if not line.incidents and line.act["seen_by"] and sumo_account(line.act):
+            unraised.append(line.act)
         for inc in line.incidents:
-            row = Row(inc, line.act, reasoner_grounds(inc), sumo_account(line.act))
+            row = Row(inc, line.act, reasoner_grounds(inc), sumo_account(line.act), truth)
             row.false = sorted(row.reasoner - set(row.sumo))
             row.missed = sorted(set(row.sumo) - row.reasoner)
             rows.append(row)
-    return rows
+    return rows, unraised
 
 
 # --- printing -----------------------------------------------------------------------------------
@@ -214,31 +223,32 @@ def describe(row: Row, truth: dict[str, Any]) -> list[str]:
     return out
 
 
-def table(name: str, rows: list[Row]) -> dict[str, int]:
-    counts = {"incidents": len(rows), "agreeing": sum(r.agrees for r in rows),
+def table(name: str, rows: list[Row], unraised: int) -> dict[str, int]:
+    counts = {"incidents": len(rows), "agreeing": sum(r.agrees for r in rows), "unraised": unraised,
               "false_accusations": sum(len(r.false) for r in rows), "misses": sum(len(r.missed) for r in rows),
               "incidents_with_false": sum(bool(r.false) for r in rows),
               "incidents_with_miss": sum(bool(r.missed) for r in rows)}
     print(f"{name:<22} {counts['incidents']:>9} {counts['agreeing']:>9} {counts['false_accusations']:>7} "
-          f"({counts['incidents_with_false']:>3} inc) {counts['misses']:>6} ({counts['incidents_with_miss']:>3} inc)")
+          f"({counts['incidents_with_false']:>3} inc) {counts['misses']:>6} ({counts['incidents_with_miss']:>3} inc) "
+          f"{unraised:>8}")
     return counts
 
 
-HEADER = f"{'run':<22} {'incidents':>9} {'agreeing':>9} {'false accusations':>17} {'misses':>12}"
+HEADER = f"{'run':<22} {'incidents':>9} {'agreeing':>9} {'false accusations':>17} {'misses':>12} {'unraised':>8}"
 
 
-def cost(repeats: int = 3) -> dict[str, list[float]]:
-    """The demo's simulation with and without SUMO's account, wall seconds."""
-    from sim_replay.demo import DEMO
+def cost(cfg: SimConfig, repeats: int) -> dict[str, list[float]]:
+    """A run's simulation with and without SUMO's account, alternately: wall and CPU seconds."""
     from sim_replay.simulation import Simulation
 
-    out: dict[str, list[float]] = {"without": [], "with": []}
+    out: dict[str, list[float]] = {"without": [], "with": [], "without_cpu": [], "with_cpu": []}
     for _ in range(repeats):
         for label, on in (("without", False), ("with", True)):
-            started = time.perf_counter()
-            for _event in Simulation(DEMO, account=on).events():
+            started, cpu = time.perf_counter(), time.process_time()
+            for _event in Simulation(cfg, account=on).events():
                 pass
             out[label].append(round(time.perf_counter() - started, 2))
+            out[label + "_cpu"].append(round(time.process_time() - cpu, 2))
     return out
 
 
@@ -254,11 +264,13 @@ def main(argv: list[str] | None = None) -> int:
     started = time.perf_counter()
     results: dict[str, Any] = {"runs": {}}
     if args.cost:
-        results["demo_cost_s"] = cost()
-        c = results["demo_cost_s"]
-        print(f"demo simulation (180 s world): without SUMO's account {c['without']} s, with {c['with']} s", flush=True)
-    all_rows: list[tuple[str, Row, dict[str, Any]]] = []
-    per_run: list[tuple[str, list[Row]]] = []
+        from sim_replay.demo import DEMO
+
+        for name, cfg, repeats in (("demo", DEMO, 3), (f"paper {args.minutes:g} min", config("paper", 11, args.minutes), 1)):
+            c = results.setdefault("cost_s", {})[name] = cost(cfg, repeats)
+            print(f"{name} simulation ({cfg.duration_s:.0f} s world, {cfg.vehicles} vehicles): without SUMO's account "
+                  f"{c['without']} s (CPU {c['without_cpu']}), with {c['with']} s (CPU {c['with_cpu']})", flush=True)
+    per_run: list[tuple[str, list[Row], list[dict[str, Any]]]] = []
     with tempfile.TemporaryDirectory(prefix="gaps-agree-") as tmp:
         where = args.keep or Path(tmp)
         where.mkdir(parents=True, exist_ok=True)
@@ -271,9 +283,8 @@ def main(argv: list[str] | None = None) -> int:
                 truth, took = simulate(cfg, db)
                 (where / f"{cfg.run}.truth.json").write_text(json.dumps(truth) + "\n", encoding="utf-8")
                 incidents, took["judge_s"] = judged(db, cfg.run)
-                rows = compare(truth, incidents)
-                per_run.append((cfg.run, rows))
-                all_rows.extend((cfg.run, r, truth) for r in rows)
+                rows, unraised = compare(truth, incidents)
+                per_run.append((cfg.run, rows, unraised))
                 results["runs"][cfg.run] = {"config": {"map": map_name, "seed": seed, "vehicles": cfg.vehicles,
                                                        "world_s": cfg.duration_s},
                                             "took": {k: round(v, 1) for k, v in took.items()},
@@ -286,18 +297,23 @@ def main(argv: list[str] | None = None) -> int:
                       flush=True)
     print()
     print(HEADER)
-    for run, rows in per_run:
-        results["runs"][run]["table"] = table(run, rows)
-    results["total"] = table("total", [r for _, rows in per_run for r in rows])
+    for run, rows, unraised in per_run:
+        results["runs"][run]["table"] = table(run, rows, len(unraised))
+    results["total"] = table("total", [r for _, rows, _ in per_run for r in rows],
+                             sum(len(u) for _, _, u in per_run))
     print()
     print("disagreements:")
-    for run, rows in per_run:
+    for run, rows, unraised in per_run:
         bad = [r for r in rows if not r.agrees]
-        if bad:
-            truth = next(t for n, r, t in all_rows if n == run)
+        if bad or unraised:
             print(f" {run}")
             for r in bad:
-                print("\n".join(describe(r, truth)))
+                print("\n".join(describe(r, r.truth)))
+            for a in unraised:
+                who = ", ".join(f"{u} ({s['cause']}{', %.1f m/s²' % s['decel_mps2'] if 'decel_mps2' in s else ''})"
+                                for u, s in sorted(sumo_account(a).items()))
+                print(f"  unraised: vehicle {a['vehicle']} at {a['t_s']:.1f}s {a['junction']}/{a['approach']} {a['line']}"
+                      f" seen by {','.join(a['seen_by'])}, no incident; SUMO: {who} gave way to it or was in its path")
     results["wall_s"] = round(time.perf_counter() - started, 1)
     print(f"\nwall time {results['wall_s']:.0f} s")
     if args.json:
