@@ -100,8 +100,8 @@ class Yield:
     (SUMO's right of way) or it is already in its path), "leader" (the vehicle ahead in its lane;
     `merged`: the leader joined its road at the junction from another arm), "signal" (its own light
     red or amber), "line" (held at its own Stop or Give Way line), "turn" (slowing to the speed of
-    the junction lane it turns by), "speed" (its own speed: factor, limit), or "none" (none of
-    these binds)."""
+    the junction lane it turns by), "pedestrian" (on or stepping onto a crossing of its path),
+    "speed" (its own speed: factor, limit), or "none" (none of these binds)."""
 
     vehicle: str
     t_s: float
