@@ -47,6 +47,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from results import Figure, quick, record  # noqa: E402  bench/results.py, beside this file
 from sim_replay.sim_config import FaultRates, SimConfig  # noqa: E402
 from sim_replay.sim_events import T0  # noqa: E402
 from store import Store  # noqa: E402
@@ -252,9 +253,30 @@ def cost(cfg: SimConfig, repeats: int) -> dict[str, list[float]]:
     return out
 
 
+def _record(args: argparse.Namespace, results: dict[str, Any]) -> None:
+    total = results["total"]
+    figures = [Figure("Stop, Give Way and emergency-red incidents compared", total["incidents"], "incidents"),
+               Figure("agreeing with SUMO's account", total["agreeing"], "incidents", peer=(
+                   "Stop, Give Way and emergency-red incidents compared" if total["incidents"] else "")),
+               Figure("false accusations (reasoner: forced or endangered; SUMO: not for it)",
+                      total["false_accusations"], "road users"),
+               Figure("misses (SUMO: gave way to it or in its path; reasoner: not named)", total["misses"], "road users"),
+               Figure("unraised (seen, no incident, SUMO: someone gave way to it)", total["unraised"], "acts"),
+               Figure("wall time, all runs", results["wall_s"], "s")]
+    for name, c in results.get("cost_s", {}).items():
+        without, with_ = sorted(c["without"])[len(c["without"]) // 2], sorted(c["with"])[len(c["with"]) // 2]
+        figures += [Figure(f"{name} simulation without SUMO's account", without, "s", tuple(c["without"])),
+                    Figure(f"{name} simulation with SUMO's account", with_, "s", tuple(c["with"]),
+                           peer=f"{name} simulation without SUMO's account")]
+    runs = ", ".join(f"{r} ({v['config']['vehicles']} vehicles)" for r, v in results["runs"].items())
+    record("conflict_agreement", "The reasoner's forced / endangered grounds against SUMO's own account", figures,
+           notes=f"{args.minutes:g} world minutes per run, faults on: {runs}", details=results)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--minutes", type=float, default=10.0, help="world minutes per run (default 10)")
+    ap.add_argument("--minutes", type=float, default=3.0 if quick() else 10.0,
+                    help="world minutes per run (default 10; BENCH_QUICK=1: 3)")
     ap.add_argument("--seeds", default="11,12")
     ap.add_argument("--maps", default="paper,town")
     ap.add_argument("--keep", type=Path, help="keep each run's store and truth in this directory")
@@ -316,6 +338,7 @@ def main(argv: list[str] | None = None) -> int:
                       f" seen by {','.join(a['seen_by'])}, no incident; SUMO: {who} gave way to it or was in its path")
     results["wall_s"] = round(time.perf_counter() - started, 1)
     print(f"\nwall time {results['wall_s']:.0f} s")
+    _record(args, results)
     if args.json:
         print(json.dumps(results, indent=1, default=str))
     return 0
