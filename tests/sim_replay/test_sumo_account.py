@@ -14,7 +14,7 @@ from __future__ import annotations
 from sim_replay.maps import map_files
 from sim_replay.sim_config import Behaviour, SimConfig
 from sim_replay.simulation import Simulation
-from sim_replay.sumo_account import Account, read_ssm, ssm_options
+from sim_replay.sumo_account import Account, in_path, read_ssm, ssm_options
 from sim_replay.sumo_world import World
 from sim_replay.truth import yielded_to
 
@@ -104,3 +104,23 @@ def test_keeping_the_account_changes_no_event_and_only_adds_to_the_truth():
     assert with_["acts"] == without["acts"]
     assert {y["cause"] for y in with_["yields"]} <= {"foe", "leader", "signal", "line", "turn", "speed",
                                                       "pedestrian", "none"}
+
+
+def test_a_pedestrian_on_a_crossing_of_a_vehicles_way_is_in_its_path():
+    """p1 walks along r1's north side from the west and steps onto the crossing of j2's north arm
+    (":j2_c2") as "side" comes down that arm and through the junction: SUMO's junction model makes
+    that crossing a foe of side's junction lane, so p1 is in its path, about 5 m from it."""
+    seen: dict = {}
+    with World(NET, seed=3) as world:
+        world.add_person("p1", "j1_j2", "j2_e", depart_pos=170.0)
+        for step in range(200):
+            if step == 104:
+                world.add_vehicle("side", "car", world.route("n2_j2", "j2_s2"), depart_pos=158.0, depart_speed=5.0)
+            snap = world.step()
+            if step == 105:
+                world.take_control("side")
+            side = snap.vehicle("side")
+            if side is not None:
+                for who, crossing, away in in_path(side, snap.pedestrians):
+                    seen[who] = (crossing, min(away, seen.get(who, (None, away))[1]))
+    assert set(seen) == {"p1"} and seen["p1"][0] == ":j2_c2" and seen["p1"][1] < 6.0
