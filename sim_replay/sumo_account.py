@@ -113,7 +113,7 @@ class Yield:
     peak_decel_mps2: float
     cause: str                       # the cause it braked hardest under ("none" only if it had no other)
     by: str | None
-    causes: dict[str, dict[str, Any]] = field(default_factory=dict)   # "foe 134" -> {decel, t_s, ...}
+    causes: dict[str, dict[str, Any]] = field(default_factory=dict)   # "foe 134" -> {t_s, decel, min speed, ...}
 
     def to_json(self) -> dict[str, Any]:
         return {"vehicle": self.vehicle, "t_s": self.t_s, "until_s": self.until_s, "junction": self.junction,
@@ -146,8 +146,9 @@ class Account:
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
             decel = round(-v.accel_mps2, 2)
             key = f"{cause} {by}" if by else cause
-            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, **detail})
+            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps, **detail})
             seen["decel_mps2"] = max(seen["decel_mps2"], decel)
+            seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
             if decel > y.peak_decel_mps2:
                 y.peak_decel_mps2 = decel
             if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by else y.cause]

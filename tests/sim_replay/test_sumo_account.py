@@ -71,8 +71,9 @@ def test_the_account_names_a_junction_foe_a_red_light_and_a_leader_as_sumo_gives
 def test_a_crossing_is_given_the_road_users_sumo_says_braked_for_it():
     act = {"vehicle": "side", "t_s": 3.5}
     yields = [
-        {"vehicle": "main", "t_s": 3.6, "until_s": 4.1, "speed_mps": 13.4, "min_speed_mps": 10.5,
-         "causes": {"foe side": {"t_s": 3.6, "decel_mps2": 4.9}}},
+        {"vehicle": "main", "t_s": 3.6, "until_s": 9.1, "speed_mps": 13.4, "min_speed_mps": 0.0,    # then its own red
+         "causes": {"foe side": {"t_s": 3.6, "decel_mps2": 4.9, "min_speed_mps": 10.5},
+                    "signal": {"t_s": 5.0, "decel_mps2": 3.0, "min_speed_mps": 0.0}}},
         {"vehicle": "behind", "t_s": 4.0, "until_s": 5.0, "speed_mps": 9.0, "min_speed_mps": 4.0,       # queued behind it
          "causes": {"leader side": {"t_s": 4.0, "decel_mps2": 3.0, "merged": False}}},
         {"vehicle": "joined", "t_s": 6.0, "until_s": 7.0, "speed_mps": 13.0, "min_speed_mps": 9.0,      # it pulled out ahead
@@ -85,7 +86,8 @@ def test_a_crossing_is_given_the_road_users_sumo_says_braked_for_it():
     conflicts = [{"ego": "main", "foe": "side", "begin_s": 0.0, "end_s": 9.0,
                   "minTTC": {"t_s": 4.0, "value": 0.9, "x_y": [0, 0], "type": "crossing (ego first)"}}]
     got = yielded_to(act, yields, conflicts)
-    assert [(y["vehicle"], y["cause"], y["decel_mps2"]) for y in got] == [("main", "foe", 4.9), ("joined", "leader", 2.5)]
+    assert [(y["vehicle"], y["cause"], y["decel_mps2"], y["min_speed_mps"]) for y in got] == \
+        [("main", "foe", 4.9, 10.5), ("joined", "leader", 2.5, 9.0)]
     assert got[0]["ssm"]["minTTC"]["value"] == 0.9 and got[1]["ssm"] == {}
 
 
