@@ -9,24 +9,15 @@ device, and for every braking vehicle the constraint SUMO's car-following model 
 for). The events are appended to a store in a temporary directory and judged by the reasoner
 through its public API (`reasoner.open(db).incidents(run)`, what `gaps incidents --json` prints).
 Each Stop, Give Way and emergency-red incident (its act found in the truth by the tests' own
-matching, tests/helpers/sim_truth_table.compare) is compared:
+matching, tests/helpers/sim_truth_table.compare) is compared by tests/helpers/conflict_agreement.py:
 
-    reasoner    the road users its proofs name: "V would force U to change speed or course",
-                "V would endanger U" (a sentence of that shape standing as a fact or proved in the
-                potential violation's tree or the verdict's, or among the facts the history
-                derived for the incident: a proof shows one road user where several are named)
-    unraised          (per run) an act a monitor saw with no incident at all, to which SUMO says
-                      someone gave way
-
-    SUMO        the road users SUMO says braked for V about its crossing (the truth's
-                act.sumo.yielded: cause a junction foe V, or V as a leader that had joined their
-                road from another arm) at HARD_BRAKING or harder or down to a standstill, and the
-                pedestrians on a crossing SUMO makes a foe of V's junction lane while V passed
-
-    agreeing          the two name the same road users
+    agreeing          the reasoner's forced or endangered road users are the ones SUMO says
+                      gave way to the vehicle or were in its path
     false accusation  the reasoner names U, SUMO does not: U braked for something else (its
                       stated cause is listed), or not hard, or not at all
     miss              SUMO names U, the reasoner does not
+    unraised          (per run) an act a monitor saw with no incident at all, to which SUMO says
+                      someone gave way
 
 The reasoner's output is read only to be compared; nothing of it goes into the account.
 `--cost` also times the simulation with and without SUMO's account: the demo's (three each, in
@@ -36,11 +27,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -49,16 +38,13 @@ sys.path.insert(0, str(ROOT))
 
 from results import Figure, quick, record  # noqa: E402  bench/results.py, beside this file
 from sim_replay.sim_config import FaultRates, SimConfig  # noqa: E402
-from sim_replay.sim_events import T0  # noqa: E402
 from store import Store  # noqa: E402
+from tests.helpers.conflict_agreement import Row, compare, stated_cause, sumo_gave_way  # noqa: E402
 
-HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), the tests' table's yardstick
-STANDSTILL_MPS = 0.5    # braking down to this is yielding however gently
 FAULTS = FaultRates(misperceived_light=0.15, missed_road_user=0.05, speed_error=0.02, lost_event=0.001,
                     recorder_stops=0.1)
 VEHICLES_PER_MIN = {"paper": 20, "town": 48}     # the paper's map backs up beyond ~20 a minute (docs/simulation.md)
 BATCH = 10_000
-_GROUND = re.compile(r"^(?P<v>\S+) (?:would )?(?P<how>force|forces|forced|endanger|endangers|endangered) (?P<u>\S+)")
 
 
 def config(map_name: str, seed: int, minutes: float) -> SimConfig:
@@ -107,111 +93,16 @@ def judged(db: Path, run: str) -> tuple[list[Any], float]:
     return found, time.perf_counter() - started
 
 
-# --- the comparison -----------------------------------------------------------------------------
-
-def reasoner_grounds(incident: Any) -> set[str]:
-    """The road users the incident's verdict names as forced or endangered by its vehicle."""
-    named: set[str] = set()
-
-    def walk(node: Any) -> None:
-        if isinstance(node, dict):
-            text = node.get("text")
-            if isinstance(text, str) and node.get("status") in ("proved", "fact"):
-                m = _GROUND.match(text.strip().rstrip("."))
-                if m and m["v"] == incident.vehicle:
-                    named.add(m["u"])
-            for child in node.get("children", ()):
-                walk(child)
-        elif isinstance(node, list):
-            for item in node:
-                walk(item)
-
-    for stage in incident.proofs.to_json().values():
-        walk(stage.get("trees", []))
-    walk([{"text": d.sentence, "status": "fact"} for d in incident.derived])
-    return named
-
-
-def sumo_account(act: dict[str, Any]) -> dict[str, dict[str, Any]]:
-    """Who SUMO says gave way to the act's vehicle (hard braking or a standstill) or was in its path."""
-    out: dict[str, dict[str, Any]] = {}
-    for y in act.get("sumo", {}).get("yielded", []):
-        if y["decel_mps2"] >= HARD_BRAKING or y["min_speed_mps"] <= STANDSTILL_MPS:
-            seen = out.get(y["vehicle"])
-            if seen is None or y["decel_mps2"] > seen["decel_mps2"]:
-                out[y["vehicle"]] = y
-    for who, crossing, away in act.get("sumo", {}).get("in_path", []):
-        out.setdefault(who, {"vehicle": who, "cause": "pedestrian in its path", "crossing": crossing,
-                             "nearest_m": away})
-    return out
-
-
-def stated_cause(truth: dict[str, Any], who: str, act: dict[str, Any]) -> str:
-    """SUMO's account of what `who` braked for about the act (from the truth's yields only)."""
-    t = act["t_s"]
-    mine = [y for y in truth.get("yields", []) if y["vehicle"] == who and t - 3.0 <= y["t_s"] <= t + 8.0]
-    if not mine:
-        if truth["road_users"].get(who, {}).get("type") == "pedestrian":
-            return "a pedestrian not on a crossing of its path while it passed"
-        return "did not brake about then"
-    parts = []
-    for y in mine:
-        causes = ", ".join(f"{k} {c['decel_mps2']:.1f} m/s²" for k, c in sorted(y["causes"].items(),
-                                                                               key=lambda kv: -kv[1]["decel_mps2"]))
-        parts.append(f"{y['t_s']:.1f}-{y['until_s']:.1f}s: {causes}")
-    return "; ".join(parts)
-
-
-@dataclass
-class Row:
-    incident: Any
-    act: dict[str, Any]
-    reasoner: set[str]
-    sumo: dict[str, dict[str, Any]]
-    truth: dict[str, Any] = field(default_factory=dict, repr=False)
-    false: list[str] = field(default_factory=list)
-    missed: list[str] = field(default_factory=list)
-
-    @property
-    def agrees(self) -> bool:
-        return not self.false and not self.missed
-
-
-def in_scope(act: dict[str, Any] | None) -> bool:
-    """Stop, Give Way and emergency-red crossings."""
-    return act is not None and act["kind"] == "crossed the stop line" and (
-        act["line"] in ("stop", "give_way") or (act["light"] in ("red", "red_amber") and act["on_call"]))
-
-
-def compare(truth: dict[str, Any], incidents: list[Any]) -> tuple[list[Row], list[dict[str, Any]]]:
-    """Each in-scope incident beside SUMO's account; and the in-scope acts a monitor saw that have
-    no incident although SUMO says someone gave way to them (unraised)."""
-    from tests.helpers.sim_truth_table import compare as lines_of
-
-    rows, unraised = [], []
-    for line in lines_of(truth, incidents, T0):
-        if not in_scope(line.act):
-            continue
-        if not line.incidents and line.act["seen_by"] and sumo_account(line.act):
-            unraised.append(line.act)
-        for inc in line.incidents:
-            row = Row(inc, line.act, reasoner_grounds(inc), sumo_account(line.act), truth)
-            row.false = sorted(row.reasoner - set(row.sumo))
-            row.missed = sorted(set(row.sumo) - row.reasoner)
-            rows.append(row)
-    return rows, unraised
-
-
 # --- printing -----------------------------------------------------------------------------------
 
-def describe(row: Row, truth: dict[str, Any]) -> list[str]:
+def describe(row: Row) -> list[str]:
     a, i = row.act, row.incident
     where = f"{a['junction']}/{a['approach']} {a['line']}" + (f" {a['light']}" if a["light"] not in (None, "none") else "")
     out = [f"  {i.id} vehicle {i.vehicle} at {a['t_s']:.1f}s {where} ({'stood at the line' if a['stopped_at_line'] else 'did not stand'}"
            f"{', on a call' if a['on_call'] else ''}): {i.verdict} {i.rule or ''}"]
     for u in row.false:
         out.append(f"    false accusation: reasoner says {i.vehicle} forced/endangered {u}; SUMO: {u} "
-                   f"{stated_cause(truth, u, a)}")
+                   f"{stated_cause(row.truth, u, a)}")
     for u in row.missed:
         s = row.sumo[u]
         if "decel_mps2" in s:
@@ -330,10 +221,10 @@ def main(argv: list[str] | None = None) -> int:
         if bad or unraised:
             print(f" {run}")
             for r in bad:
-                print("\n".join(describe(r, r.truth)))
+                print("\n".join(describe(r)))
             for a in unraised:
                 who = ", ".join(f"{u} ({s['cause']}{', %.1f m/s²' % s['decel_mps2'] if 'decel_mps2' in s else ''})"
-                                for u, s in sorted(sumo_account(a).items()))
+                                for u, s in sorted(sumo_gave_way(a).items()))
                 print(f"  unraised: vehicle {a['vehicle']} at {a['t_s']:.1f}s {a['junction']}/{a['approach']} {a['line']}"
                       f" seen by {','.join(a['seen_by'])}, no incident; SUMO: {who} gave way to it or was in its path")
     results["wall_s"] = round(time.perf_counter() - started, 1)
