@@ -47,8 +47,11 @@ BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: co
 NEAR_M = 80.0            # a vehicle this close to its next junction (or in one) is asked why it brakes
 LOOK_M = 80.0            # how far ahead SUMO is asked for the leader and junction foes
 SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for conflicts
-_BINDS_MPS = 0.05        # the constraint allowing the lowest speed binds if that is below the speed by this
+_BINDS_MPS = 0.5         # the constraint allowing the lowest speed binds if that is at most this above its speed:
+                         # braking as hard as it can, a vehicle tracks the speed its constraint allows (within a
+                         # tick of hard braking, 0.1 s at 4.5-5 m/s²)
 _COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
+_OVER_MPS = 0.05         # a vehicle this much over the speed it may drive is slowing down to it
 _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
@@ -172,15 +175,25 @@ class Account:
         vehicle = libsumo.vehicle
         allowed: list[tuple[float, str, str | None, dict[str, Any]]] = []
         limit = vehicle.getAllowedSpeed(ident)
-        allowed.append((limit, "speed", None, {"allowed_mps": round(limit, 2)}))
+        if limit < speed - _OVER_MPS:            # only over its own speed does that speed make it slow down
+            allowed.append((limit, "speed", None, {"allowed_mps": round(limit, 2)}))
+        inside = v.lane.startswith(":")
+        ahead_m = libsumo.lane.getLength(v.lane) - v.lane_pos_m if inside else v.to_junction_m
+        via = v.lane if inside else next((link[4] for link in vehicle.getNextLinks(ident)[:1]), "")
         leader = vehicle.getLeader(ident, LOOK_M)
         if leader and leader[0]:
             other = snap.vehicle(leader[0])
-            lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
-            allowed.append((vehicle.getFollowSpeed(ident, speed, max(leader[1], 0.0), lv,
-                                                   vehicle.getDecel(leader[0]), leader[0]),
-                            "leader", leader[0], {"gap_m": round(leader[1], 1), "leader_speed_mps": round(lv, 2),
-                                                  "merged": self._merged(ident, leader[0])}))
+            gap = max(leader[1], 0.0)
+            if other is not None and other.lane.startswith(":") and via and other.lane != via \
+                    and other.lane in libsumo.lane.getInternalFoes(via):
+                # SUMO's leader across its path in the junction (a link leader): it must not reach it
+                allowed.append((vehicle.getStopSpeed(ident, speed, gap), "foe", leader[0],
+                                {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
+            else:
+                lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
+                allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
+                                "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
+                                                      "merged": self._merged(ident, leader[0])}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
@@ -189,9 +202,6 @@ class Account:
                 if state in _RED and dist <= LOOK_M:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(dist, 0.0)), "signal", None,
                                     {"tls": tls, "state": state, "to_line_m": round(dist, 1)}))
-        inside = v.lane.startswith(":")
-        ahead_m = libsumo.lane.getLength(v.lane) - v.lane_pos_m if inside else v.to_junction_m
-        via = v.lane if inside else next((link[4] for link in vehicle.getNextLinks(ident)[:1]), "")
         if via and ahead_m is not None and not inside:
             turn = libsumo.lane.getMaxSpeed(via)
             allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
@@ -224,8 +234,8 @@ class Account:
             for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
                                 {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
-        low = min(allowed, key=lambda a: a[0])
-        if low[0] >= speed - _BINDS_MPS:
+        low = min(allowed, key=lambda a: a[0], default=(math.inf, "none", None, {}))
+        if low[0] > speed + _BINDS_MPS:
             return "none", None, {}
         return low[1], low[2], {**low[3], "allowed_mps": round(low[0], 2)}
 
