@@ -48,12 +48,12 @@ from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
 from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
                     Scenarios, StageProof)
-from .measurement import Measurement, measure
+from .measurement import Measurement, measure, rule_key
 from .passage import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
 from .sweep import Candidate, Sweep
 from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks, recorded_rulebooks
-from .scenarios import (Scenario, entity, has_perception, monitor_scenario, spawn_facts, vehicle_action,
+from .scenarios import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
                          IS_AN_OFFENCE_UNDER, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
@@ -473,7 +473,8 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs)
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs,
+                              weighing=_weighing_of(measured))
         if judged is None:
             return None
         validation, control, rule = judged.validation, judged.control, judged.rule
@@ -533,15 +534,17 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], proofs, summary=True,
-                              sanctioned=sanctioned)
+                              sanctioned=sanctioned, weighing=self._weighing(case, mscen, vscen))
         return judged, mscen
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
-                unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True) -> _Judged | None:
+                unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True,
+                weighing: Weighing = ((), ())) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
         beside them (added to the Monitor Scenario here): None where it is no incident.
         `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
-        alone."""
+        alone. `weighing`: the claims the measurements contradict and the margins that prove
+        nothing (`_weighing`): a verdict that turns on either is not proven."""
         for f in derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         pv_answer, rule = self._rederived(case, mscen, unknown)
@@ -553,7 +556,9 @@ class Investigation:
             validation = _Validation("dismissed", _unsupported(mscen, bool(derived)))
         else:
             validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
-                                        proofs or rule is None, summary)
+                                        proofs or rule is None, summary, weighing[0])
+            validation = self._raised_on(case, mscen, validation, weighing[0], summary)
+            validation = _proved(validation, rule or validation.rule, weighing[1], summary)
         control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
         penalty, liability = self._sanctions(case, validation, control, vscen) if sanctioned else (None, None)
         return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
@@ -576,8 +581,15 @@ class Investigation:
         def measured() -> Measurement:
             found = self._measure(case, mscen, vscen)
             memo.put("derived", key, found.derived)
+            memo.put("weighing", key, _weighing_of(found))
             return found
         return memo.remember("measurement", key, measured)
+
+    def _weighing(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Weighing:
+        """What the case's measurement contradicts and what its margins leave unproven
+        (`_weighing_of`), read from its own kept entry beside the measurement, as `_derived`."""
+        found = self.memo(case.run).get("weighing", _measurement_key(case, mscen))
+        return _weighing_of(self._measured(case, mscen, vscen)) if found is None else found
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
@@ -682,7 +694,7 @@ class Investigation:
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
                   unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True,
-                  summary: bool = False) -> _Validation:
+                  summary: bool = False, contested: tuple[tuple[str, str, tuple[str, ...]], ...] = ()) -> _Validation:
         """The verdict on the Validator Scenario, with its proof (`proofs` False: asked plainly,
         the proof left empty and no rule found). `summary`: for an incident's summary alone, so
         neither why nor the perception fault finding (what the verdict would be on the vehicle's
@@ -706,8 +718,55 @@ class Investigation:
             if alt != verdict:
                 dispute = dispute_finding(disputes, rb, alt, verdict)
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
-        return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
-                           rule, dispute)
+        why = "" if summary else _why(verdict, rb, me, act)
+        turns = self._turns_on(rb, me, act, facts, pv_atom, verdict, contested)
+        if turns is not None:
+            sentence, shown, alt = turns
+            verdict, why = "dismissed", "" if summary else (
+                f"not proven: the verdict is {verdict} with “{sentence}” and {alt} without it, and the measurements "
+                f"contradict it beyond their tolerance: {shown}")
+        return _Validation(verdict, why, _choice(choice), rendered, proof, rule, dispute)
+
+    def _raised_on(self, case: _Case, mscen: Scenario, validation: _Validation,
+                   contested: tuple[tuple[str, str, tuple[str, ...]], ...], summary: bool) -> _Validation:
+        """Not proven where the potential violation itself rests on a claim the measurements
+        contradict: the monitor rules no longer find it without the claim (a camera's "28 has
+        speed of 38" where the car's own record has 30.0 mph; DESIGN "Weighing")."""
+        monitor = case.rs["monitor"]
+        said = {text: words for text, words, _ in contested}
+        held = [text for text in mscen.sentences if isinstance(text, str) and text in said]
+        if validation.verdict == "dismissed" or monitor is None or not held:
+            return validation
+        rb = monitor.rulebook
+        measured = [(m, None) for text, _, shown in contested if text in held for m in shown]
+        rest = [(text, ref) for text, ref in mscen.facts if text not in said] + measured
+        if self.engine.holds(rb, POTENTIALLY_VIOLATES.atom(case.me, case.act), self.reader.atoms(rb, rest)):
+            return validation
+        why = "" if summary else (f"not proven: the potential violation rests on “{held[0]}”, and the measurements "
+                                  f"contradict it beyond their tolerance: {said[held[0]]}")
+        return replace(validation, verdict="dismissed", why=why)
+
+    def _turns_on(self, rb: Rulebook, me: Any, act: Any, facts: list[tuple[Atom, EventRef]], pv_atom: Atom,
+                  verdict: str, contested: tuple[tuple[str, str, tuple[str, ...]], ...]) -> tuple[str, str, str] | None:
+        """The contested claim the verdict turns on, what the measurements show, and the verdict
+        on them, or None: asked again with what the measurements derive in the claims' place
+        (DESIGN "Weighing": where a claim and the measurements disagree beyond tolerance neither
+        one's say-so decides, so a verdict that changes with them is not proven, whichever side
+        the claim helps; one that does not change stands)."""
+        if verdict == "dismissed" or not contested:
+            return None
+        atoms = {a: text for text, _, _ in contested for a, _ in self.reader.pairs(rb, [(text, None)], [])}
+        held = [a for a, _ in facts if a in atoms]
+        if not held:
+            return None
+        texts = {atoms[a] for a in held}
+        measured = self.reader.atoms(rb, [(m, None) for text, _, shown in contested if text in texts for m in shown])
+        alt, _ = self._verdict(rb, me, act, [a for a, _ in facts if a not in atoms] + measured + [pv_atom],
+                               proofs=False)
+        if alt == verdict:
+            return None
+        text = atoms[held[0]]
+        return text, next(words for said, words, _ in contested if said == text), alt
 
     def _render(self, rb: Rulebook, atom: Atom) -> str:
         """rb.render(atom), once per rulebook and atom in this investigation: a regression's
@@ -739,9 +798,10 @@ class Investigation:
             have = {a for a, _ in out}
             out += [(a, ev) for a, ev in seen if a in measured and a not in have]
             return out, [d for d in disputes if d["vehicle"] or any(a not in measured for a, _ in d["monitor"])]
-        spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
+        record = entity(case.state, case.vehicle) or {}
+        spawn = record.get("spawn")
         own = [(a, EventRef.of(spawn, case.state.run, "entity.spawn"))
-               for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
+               for a in self.reader.known(rb, status_facts(case.vehicle, record))] if spawn else []
         return own + seen, []
 
     def _decision_fault(self, case: _Case, action: Decision | None, vscen: Scenario,
@@ -895,6 +955,30 @@ def _unsupported(mscen: Scenario, measured: bool) -> str:
                 "measured), does not show the potential violation it recorded")
     return ("the monitor's own observation does not show the potential violation it recorded" if mscen.facts
             else "no observation of the vehicle by the monitor supports the potential violation it recorded")
+
+
+Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...]]
+
+
+def _weighing_of(measured: Measurement) -> Weighing:
+    """The claims the measurement contradicts (sentence, what it shows) and, by rule, why a
+    margin proves nothing (reasoner/margins.py `unproven`)."""
+    if not measured.present:
+        return (), ()
+    return measured.contested, measured.unproven()
+
+
+def _proved(validation: _Validation, rule: Any, unproven: tuple[tuple[str | None, str], ...],
+            summary: bool) -> _Validation:
+    """A conviction needs the act's margin beyond its uncertainty (DESIGN "Margins"): a
+    punishable verdict whose rule's margin does not exceed it is not proven, and dismissed so."""
+    if validation.verdict != "punishable" or not unproven:
+        return validation
+    key = rule_key(rule.label if rule is not None else None)
+    why = next((w for r, w in unproven if r == key), None)
+    if why is None:
+        return validation
+    return replace(validation, verdict="dismissed", why="" if summary else f"not proven: {why}")
 
 
 def _liable(liability: Liability | None) -> str:

@@ -34,9 +34,22 @@ class Measurement:
     margins: tuple[tuple[str | None, Margin | None], ...] = ()   # by rule (None: no rule that picks one)
     beliefs: tuple[Belief, ...] = ()                 # each perceived fact, and what contradicts it
 
+    @property
+    def contested(self) -> tuple[tuple[str, str, tuple[str, ...]], ...]:
+        """Every stated or perceived sentence the measurements contradict beyond tolerance, with
+        what they show instead, in words and as the sentences they derive: a claim that cannot
+        decide a verdict alone (investigation: weighing)."""
+        found = [(c.stated, c.detail, c.shown) for c in self.contradictions]
+        found += [(c.stated, c.detail, c.shown) for _, _, _, cs in self.beliefs for c in cs]
+        return tuple(dict.fromkeys(found))
+
+    def unproven(self) -> tuple[tuple[str | None, str], ...]:
+        """By rule, why the act's margin does not prove it (within its uncertainty)."""
+        return tuple((r, m.unproven) for r, m in self.margins if m is not None and m.unproven)
+
     def margin(self, rule: str | None) -> Margin | None:
         """The margin of the act under this rule (margins.margin(passage, action, rule))."""
-        wanted = _rule_key(rule)
+        wanted = rule_key(rule)
         return next((m for r, m in self.margins if r == wanted), None)
 
     def contradicted(self, own: Iterable[tuple[str, EventRef]]) -> tuple[Contradiction, ...] | None:
@@ -67,10 +80,10 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                     if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs)
+                       tuple((rule, margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs)
 
 
-def _rule_key(rule: str | None) -> str | None:
+def rule_key(rule: str | None) -> str | None:
     key = rule.strip().upper() if isinstance(rule, str) else None
     return key if key in BY_RULE else None
 

@@ -167,6 +167,9 @@ class Passage:
     others: tuple[Other, ...]
     uncertain: tuple[str, ...]
     map_ref: EventRef | None
+    first_report: EventRef | None = None   # its signal's first report in the run: a colour showing
+                                           # then began at or before it (only a bound is recorded)
+    roads: tuple[tuple[int, str, float | None], ...] = ()   # (from t, road, limit mph) along its samples
 
     def evidence(self) -> frozenset[EventRef]:
         """Every event the passage rests on: no derived fact may cite another."""
@@ -196,6 +199,8 @@ class Passage:
             "vehicle_type": self.vehicle_type, "spawn": self.spawn.to_json() if self.spawn else None,
             "others": [o.to_json() for o in self.others], "uncertain": list(self.uncertain),
             "map": self.map_ref.to_json() if self.map_ref else None,
+            "first_signal_report": self.first_report.to_json() if self.first_report else None,
+            "roads": [{"from": t, "road": road, "limit_mph": limit} for t, road, limit in self.roads],
         }
 
 

@@ -154,7 +154,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
         standstills=standstills, entered=entered, left=left, exit=exit_arm, limit_mph=limit_mph,
         limit_road=road, emergency=_emergency(record), vehicle_type=_type(spawn),
         spawn=EventRef.of(spawn) if spawn else None, others=others, uncertain=tuple(dict.fromkeys(notes)),
-        map_ref=record.map.ref)
+        map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None, roads=_roads(record, placed))
 
 
 # --- the pieces -------------------------------------------------------------------------------
@@ -362,6 +362,22 @@ def _limit(record: Record, placed: list[Sample], entered: Moment | None) -> tupl
         if road is not None:
             return road.limit_mph, road.id
     return None, None
+
+
+def _roads(record: Record, placed: list[Sample]) -> tuple[tuple[int, str, float | None], ...]:
+    """The roads the samples are on, each from the first sample on it (a speed limit is the
+    road's: a speeding act is measured on its own road, not the passage's approach)."""
+    out: list[tuple[int, str, float | None]] = []
+    known: dict[str, object] = {}
+    for s in placed:
+        road = known.get(s.road) if isinstance(s.road, str) else None
+        if road is None:
+            road = record.map.road(s.road, s.x, s.y)
+            if isinstance(s.road, str) and road is not None and road.id == s.road:
+                known[s.road] = road
+        if road is not None and (not out or out[-1][1] != road.id):
+            out.append((s.t, road.id, road.limit_mph))
+    return tuple(out)
 
 
 def _emergency(record: Record) -> tuple[tuple[int, bool, EventRef], ...]:
