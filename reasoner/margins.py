@@ -194,7 +194,7 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     """The fastest sample of the act's own stretch: the samples on the road the vehicle was on at
     the act, around it, over that road's limit (the nearest such run of samples to the act where
     it was not over at that very moment); the limit is that road's."""
-    timed = [s for s in p.samples if s.speed_mps is not None]
+    timed = sorted((s for s in p.lead + p.samples + p.trail if s.speed_mps is not None), key=lambda s: s.t)
     if not timed:
         return None
     at = at if at is not None else max(timed, key=lambda s: s.speed_mps).t
@@ -221,12 +221,14 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
 def _road_at(p: Passage, at: int) -> tuple[str | None, float | None, int, int]:
     """The road the vehicle was on at `at`, its limit, and the span of time it was on it (the
     passage's approach road where the samples name none)."""
+    first = p.lead[0].t if p.lead else p.start
+    last = p.trail[-1].t if p.trail else p.end
     if not p.roads:
-        return p.limit_road, p.limit_mph, p.start - SECOND, p.end + SECOND
+        return p.limit_road, p.limit_mph, first - SECOND, last + SECOND
     i = max((n for n, (t, _, _) in enumerate(p.roads) if t <= at), default=0)
     _, road, limit = p.roads[i]
-    t_from = p.roads[i][0] if i > 0 else p.start - SECOND
-    t_to = p.roads[i + 1][0] if i + 1 < len(p.roads) else p.end + SECOND
+    t_from = p.roads[i][0] if i > 0 else first - SECOND
+    t_to = p.roads[i + 1][0] if i + 1 < len(p.roads) else last + SECOND
     return road, limit, t_from, t_to
 
 

@@ -147,6 +147,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
     others = _ways(record, junction, tuple(_typed(o, record.spawns(o.user)) for o in others),
                    max(t0, key - int(OTHERS_BEFORE_S * SECOND)), out + int(REACTION_S * SECOND))
     spawn = record.spawn
+    lead, trail = _beside(record, t0, t1)
     return Passage(
         run=record.run, vehicle=record.vehicle, junction=junction, approach=approach, approach_method=method,
         line=line, start=t0, end=t1, series=name, samples=series, lights=lights, changes=changes,
@@ -154,7 +155,8 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
         standstills=standstills, entered=entered, left=left, exit=exit_arm, limit_mph=limit_mph,
         limit_road=road, emergency=_emergency(record), vehicle_type=_type(spawn),
         spawn=EventRef.of(spawn) if spawn else None, others=others, uncertain=tuple(dict.fromkeys(notes)),
-        map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None, roads=_roads(record, placed))
+        map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None,
+        roads=_roads(record, [s for s in lead if s.placed] + placed + [s for s in trail if s.placed]), lead=lead, trail=trail)
 
 
 # --- the pieces -------------------------------------------------------------------------------
@@ -362,6 +364,16 @@ def _limit(record: Record, placed: list[Sample], entered: Moment | None) -> tupl
         if road is not None:
             return road.limit_mph, road.id
     return None, None
+
+
+LEAD_S = 30.0          # the vehicle's own samples kept from either side of a passage: a speeding stretch
+
+
+def _beside(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], tuple[Sample, ...]]:
+    """The vehicle's own samples read in the LEAD_S before the passage began and after it ended."""
+    span = int(LEAD_S * SECOND)
+    return (tuple(s for s in record.own if t0 - span <= s.t < t0),
+            tuple(s for s in record.own if t1 < s.t <= t1 + span))
 
 
 def _roads(record: Record, placed: list[Sample]) -> tuple[tuple[int, str, float | None], ...]:
