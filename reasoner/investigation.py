@@ -114,6 +114,7 @@ class _Validation:
     proof: StageProof | None = None
     rule: Any = None                          # the rule of the verdict's proof, where it holds
     dispute: Finding | None = None
+    set_aside: tuple[tuple[Any, EventRef], ...] = ()   # contested claims the verdict was taken without
 
 
 @dataclass(frozen=True)
@@ -609,7 +610,7 @@ class Investigation:
         if not measured.present:
             return ()
         stated = {text for text, _ in mscen.facts}
-        own = [(text, ref) for text, ref in validation.scenario
+        own = [(text, ref) for text, ref in validation.scenario + validation.set_aside
                if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
         if not own:
             return ()
@@ -708,24 +709,34 @@ class Investigation:
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
         facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=proofs)
-        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
-        evidence = dict(rendered)
-        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
-                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
         dispute = None
         if disputes and not summary:
             alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
             if alt != verdict:
                 dispute = dispute_finding(disputes, rb, alt, verdict)
-        rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
         why = "" if summary else _why(verdict, rb, me, act)
         turns = self._turns_on(rb, me, act, facts, pv_atom, verdict, contested)
+        extra: list[Atom] = []
+        set_aside: tuple[tuple[Any, EventRef], ...] = ()
         if turns is not None:
-            sentence, shown, alt = turns
-            verdict, why = "dismissed", "" if summary else (
-                f"not proven: the verdict is {verdict} with “{sentence}” and {alt} without it, and the measurements "
-                f"contradict it beyond their tolerance: {shown}")
-        return _Validation(verdict, why, _choice(choice), rendered, proof, rule, dispute)
+            sentence, words, alt, extra, kept = turns
+            set_aside = tuple((self._render(rb, a), ev) for a, ev in facts if (a, ev) not in kept)
+            facts = kept
+            if alt == "dismissed":
+                verdict, why = "dismissed", "" if summary else (
+                    f"not proven: the verdict is {verdict} only on “{sentence}”, which the measurements contradict "
+                    f"beyond their tolerance: {words}")
+            else:
+                verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + extra + [pv_atom], proofs=proofs)
+                why = "" if summary else (
+                    f"{_why(verdict, rb, me, act)}, on what the measurements show: “{sentence}” was stated, but the "
+                    f"measurements contradict it beyond their tolerance ({words}), so it decides nothing")
+        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
+        evidence = dict(rendered)
+        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
+                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
+        rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
+        return _Validation(verdict, why, _choice(choice), rendered, proof, rule, dispute, set_aside)
 
     def _raised_on(self, case: _Case, mscen: Scenario, validation: _Validation,
                    contested: tuple[tuple[str, str, tuple[str, ...]], ...], summary: bool) -> _Validation:
@@ -747,12 +758,13 @@ class Investigation:
         return replace(validation, verdict="dismissed", why=why)
 
     def _turns_on(self, rb: Rulebook, me: Any, act: Any, facts: list[tuple[Atom, EventRef]], pv_atom: Atom,
-                  verdict: str, contested: tuple[tuple[str, str, tuple[str, ...]], ...]) -> tuple[str, str, str] | None:
-        """The contested claim the verdict turns on, what the measurements show, and the verdict
-        on them, or None: asked again with what the measurements derive in the claims' place
-        (DESIGN "Weighing": where a claim and the measurements disagree beyond tolerance neither
-        one's say-so decides, so a verdict that changes with them is not proven, whichever side
-        the claim helps; one that does not change stands)."""
+                  verdict: str, contested: tuple[tuple[str, str, tuple[str, ...]], ...]
+                  ) -> tuple[str, str, str, list[Atom], list[tuple[Atom, EventRef]]] | None:
+        """Where the verdict turns on a claim the measurements contradict beyond tolerance: the
+        claim, what the measurements show, the verdict on them (asked with what they derive in the
+        claims' place), the atoms they derive and the facts without the claims; None where no
+        contested claim is in the scenario or the verdict is the same without it (DESIGN
+        "Weighing": the verdict rests on what is proved, whichever side a claim helps)."""
         if verdict == "dismissed" or not contested:
             return None
         atoms = {a: text for text, _, _ in contested for a, _ in self.reader.pairs(rb, [(text, None)], [])}
@@ -760,13 +772,15 @@ class Investigation:
         if not held:
             return None
         texts = {atoms[a] for a in held}
-        measured = self.reader.atoms(rb, [(m, None) for text, _, shown in contested if text in texts for m in shown])
-        alt, _ = self._verdict(rb, me, act, [a for a, _ in facts if a not in atoms] + measured + [pv_atom],
-                               proofs=False)
+        kept = [(a, ev) for a, ev in facts if a not in atoms]
+        have = {a for a, _ in kept}
+        measured = [a for a in self.reader.atoms(rb, [(m, None) for text, _, shown in contested if text in texts
+                                                      for m in shown]) if a not in have]
+        alt, _ = self._verdict(rb, me, act, [a for a, _ in kept] + measured + [pv_atom], proofs=False)
         if alt == verdict:
             return None
         text = atoms[held[0]]
-        return text, next(words for said, words, _ in contested if said == text), alt
+        return text, next(words for said, words, _ in contested if said == text), alt, measured, kept
 
     def _render(self, rb: Rulebook, atom: Atom) -> str:
         """rb.render(atom), once per rulebook and atom in this investigation: a regression's

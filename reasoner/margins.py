@@ -142,7 +142,7 @@ def _amber(p: Passage) -> Margin | None:
                    ("stopping distance at that speed (rule 126)", round(needed, 1), "m"),
                    ("distance beyond what stopping takes", round(beyond, 1), "m"),
                    ("uncertainty of that distance", u_beyond, "m"))
-        if abs(beyond) <= u_beyond:
+        if abs(beyond) <= u_beyond and a.speed_mps > STOPPED_MPS:     # one standing still could stop: it had
             unproven = (f"{a.to_line_m:.2f} m from the line against {needed:.2f} m needed to stop: {beyond:+.2f} m, "
                         f"within its uncertainty of ± {u_beyond:g} m")
     method = (f"amber from {format_time(a.light.t)} ({a.light.ref.src} #{a.light.ref.seq}); {a.method}; {RULE_126}; "

@@ -91,26 +91,29 @@ def test_an_automated_cars_too_close_27_7_m_out_at_30_mph_is_not_mitigated(tmp_p
     close to it that to stop might cause a collision"; rule 126's stopping distance at 30 mph is
     23 m. The automated car states it is too close when its record has it 27.7 m from the line at
     a steady 30 mph: 4.7 m to spare, beyond what 5 Hz sampling leaves open (2.7 m of travel
-    between samples). Its own claim is checked like any other (DESIGN "Weighing"): it cannot
-    mitigate, and the verdict, which turns on it, is not proven. On main: mitigated."""
+    between samples). Its own claim is checked like any other (DESIGN "Weighing"): contradicted
+    beyond tolerance, it decides nothing, and the verdict rests on what the measurements prove: it
+    could have stopped, punishable (HC 175). On main: mitigated."""
     speed, distance = mps(30), 27.7
     motion = Motion(-100.0, speed)
     amber_at = START + motion.when(-LINE_M - distance)
     inc = one(judge(tmp_path, automated_amber("7", motion, amber_at, amber_at + 6.0)), "7")
-    not_proven(inc, "HC 175")
-    assert "too close to the stop line" in inc.why, inc.why
+    verdict(inc, "punishable", "HC 175")
+    assert "too close to the stop line" in inc.why and "decides nothing" in inc.why, inc.why
+    assert any(f.kind == "contradiction" for f in inc.findings)
 
 
 def test_an_automated_car_standing_0_1_m_behind_the_line_when_amber_came_is_not_mitigated(tmp_path):
     """HC 175 as above. The automated car stands 0.1 m behind the line (waiting in a queue that has
     just cleared) when amber comes, then pulls away over it on amber, stating it was too close to
     stop safely. A vehicle standing still needs no distance to stop: the claim is contradicted by
-    its own standstill, so it cannot mitigate, and the verdict is not proven. On main: mitigated."""
+    its own standstill, so it decides nothing, and on what the measurements prove (it stood behind
+    the line when amber came, and went on) it is punishable (HC 175). On main: mitigated."""
     wait = 4.0
     motion = Motion(-LINE_M - 0.1, 0.0, [(wait + 0.6, 0.0), (6.0, 2.0)])
     amber_at = START + wait
     inc = one(judge(tmp_path, automated_amber("7", motion, amber_at, amber_at + 6.0)), "7")
-    not_proven(inc, "HC 175")
+    verdict(inc, "punishable", "HC 175")
     assert "stood still" in inc.why, inc.why
 
 
