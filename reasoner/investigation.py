@@ -56,7 +56,7 @@ from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks
 from .scenarios import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
-                         IS_AN_OFFENCE_UNDER, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
+                         IS_AN_OFFENCE_UNDER, IS_DRIVING_ITSELF, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
                          POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
 
 if TYPE_CHECKING:
@@ -485,6 +485,7 @@ class Investigation:
                     *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
+                    _driving_contradicted(case.vehicle, vscen, control),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -969,6 +970,21 @@ def _unsupported(mscen: Scenario, measured: bool) -> str:
                 "measured), does not show the potential violation it recorded")
     return ("the monitor's own observation does not show the potential violation it recorded" if mscen.facts
             else "no observation of the vehicle by the monitor supports the potential violation it recorded")
+
+
+def _driving_contradicted(vehicle: str, vscen: Scenario, control: Control) -> Finding | None:
+    """A contradiction finding where the vehicle states it is driving itself while its ads.event
+    record, as it stood at the act, has the feature not engaged (DESIGN "Weighing": status at the
+    act is the latest record before it; who drove follows that record, control.py)."""
+    said = IS_DRIVING_ITSELF.text(vehicle)
+    ref = next((ref for text, ref in vscen.facts if text == said and ref is not None), None)
+    last = control.last_ads_event
+    if ref is None or control.engaged or not last:
+        return None
+    event = EventRef(ref.run, last["src"], last["seq"], last["t"], "ads.event")
+    return Finding("contradiction", f"\"{said}\" was stated ({ref.src} #{ref.seq}), but its ads.event record has the "
+                   f"feature not engaged at the act (last: {last.get('event')}, {last['src']} #{last['seq']})",
+                   (ref, event), fact=said)
 
 
 Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...]]

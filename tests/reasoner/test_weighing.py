@@ -290,3 +290,32 @@ def test_an_ambulance_whose_call_was_stood_down_is_not_exempt(tmp_path):
     for inc in speeding:
         verdict(inc, "punishable", "HC 124")
         assert abs(inc.margin.value - 15.0) <= inc.margin.uncertainty + 0.05, inc.margin
+
+
+def test_a_car_stating_it_drives_itself_after_its_feature_was_deactivated_is_a_contradiction(tmp_path):
+    """Automated Vehicles Act 2024 s.46-47 (liability.le): the driver answers for what the car
+    does while the self-driving feature is not engaged. The car's DSSAD record (ads.event)
+    activates the feature, then deactivates it 5 s before the car crosses 2 s after red; its
+    perception at the act still says "7 is driving itself". Who drove is the record's as it stood
+    at the act (DESIGN "Weighing"): the driver is liable for the red-light offence (HC 176,
+    punishable), and the stated status the record contradicts is a finding. On main: no finding."""
+    run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=40))
+    motion = Motion(-95.0, mps(28))
+    crossing = START + motion.when(-LINE_M)
+    west = cycle(crossing - 2.0)
+    run.spawn("7")
+    run.lights("J1", "west", west)
+    run.emit("vehicle/7", ns(0.5), "ads.event", {"event": "activated"})
+    run.emit("vehicle/7", ns(crossing - 5.0), "ads.event", {"event": "deactivated", "reason": "driver request"})
+    run.drive("7", motion, "west", SAMPLING["5 Hz"](START, crossing + 6.0), t_start=START)
+    run.watch("7", motion, "west", rate(5, START, crossing + 6.0), t_start=START, facts=camera("7", west))
+    run.emit("vehicle/7", ns(crossing - 0.5), "vehicle.perception",
+             {"facts": ["7 is of type car", "7 is driving itself", "7 has red light"]})
+    run.emit("vehicle/7", ns(crossing - 0.5), "vehicle.decision",
+             {"goal": "7 can enter the junction", "action": ENTER, "permitted": False, "proceeds": True})
+    run.violation("7", crossing + 1.0, ENTER, ["7 has red light", "7 has crossed the stop line"])
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 176")
+    assert inc.liable == "driver", inc.liable
+    found = [f for f in inc.findings if f.kind == "contradiction" and f.fact == "7 is driving itself"]
+    assert found and "deactivated" in found[0].detail, [(f.kind, f.detail) for f in inc.findings]
