@@ -211,11 +211,14 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     unproven = None if over > u else (
         f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty of "
         f"± {u:g} mph" if over > -u else f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
+    cut = over > 0 and (stretch[0] is timed[0] or stretch[-1] is timed[-1])
     method = (f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} samples "
               f"from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, against its "
-              f"{limit:g} mph; ± the speed tolerance (reasoner/tolerance.py)")
+              f"{limit:g} mph; ± the speed tolerance (reasoner/tolerance.py)"
+              + ("; the stretch reaches the first or last sample read, so it may have been faster beyond: at least"
+                 if cut else ""))
     return Margin("mph over the speed limit", over, "mph", (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
-                  method, uncertainty=u, unproven=unproven)
+                  method, uncertainty=u, bound="at least" if cut else None, unproven=unproven)
 
 
 def _road_at(p: Passage, at: int) -> tuple[str | None, float | None, int, int]:
