@@ -56,8 +56,8 @@ from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks
 from .scenarios import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
-                         IS_AN_OFFENCE_UNDER, IS_DRIVING_ITSELF, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
-                         POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
+                         IS_AN_OFFENCE_UNDER, IS_DRIVING_ITSELF, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY,
+                         MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
 
 if TYPE_CHECKING:
     from .explanation import Explanation
@@ -730,8 +730,8 @@ class Investigation:
             else:
                 verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + extra + [pv_atom], proofs=proofs)
                 why = "" if summary else (
-                    f"{_why(verdict, rb, me, act)}, on what the measurements show: “{sentence}” was stated, but the "
-                    f"measurements contradict it beyond their tolerance ({words}), so it decides nothing")
+                    f"{_why(verdict, rb, me, act)}, on what the measurements show: “{sentence}” was stated, "
+                    f"but the measurements contradict it beyond their tolerance ({words}), so it decides nothing")
         rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
         evidence = dict(rendered)
         proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in

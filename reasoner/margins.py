@@ -77,7 +77,7 @@ def _red(p: Passage) -> Margin | None:
         onset = light
     lag = (c.t - onset.t) / SECOND
     bound = "at least" if p.first_report is not None and onset.ref == p.first_report else None
-    u = round(moment_between(*_pair(c.moment.used), c.t, c.speed_mps), 3)
+    u = round(moment_between(c.moment.used[0], c.moment.used[-1], c.t, c.speed_mps), 3)
     since = (f"red from {'at least as early as ' if bound else ''}{format_time(onset.t)} ({onset.ref.src} "
              f"#{onset.ref.seq}{', its first report: red began at or before it' if bound else ''})")
     method = f"crossed at {format_time(c.t)} ({c.moment.method}); {since}; ± {u:g} s ({_HOW_MOMENT})"
@@ -117,10 +117,6 @@ def _could_stop_at_amber(p: Passage) -> bool:
 
 
 _HOW_MOMENT = "the crossing lies between its two samples, and each position is known to within its tolerance"
-
-
-def _pair(used: tuple) -> tuple:
-    return (used[0], used[-1]) if used else (None, None)
 
 
 def _amber(p: Passage) -> Margin | None:
@@ -210,7 +206,8 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     u = round(SPEED_TOLERANCE_MPS * MPH_PER_MPS, 2)
     unproven = None if over > u else (
         f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty of "
-        f"± {u:g} mph" if over > -u else f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
+        f"± {u:g} mph" if over > -u else
+        f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
     cut = over > 0 and (stretch[0] is timed[0] or stretch[-1] is timed[-1])
     method = (f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} samples "
               f"from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, against its "

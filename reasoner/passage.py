@@ -175,7 +175,7 @@ class Passage:
 
     def evidence(self) -> frozenset[EventRef]:
         """Every event the passage rests on: no derived fact may cite another."""
-        refs = {s.ref for s in self.samples} | {s.ref for s in self.lead + self.trail} | {light.ref for light in self.lights}
+        refs = {s.ref for s in self.samples + self.lead + self.trail} | {light.ref for light in self.lights}
         refs |= {s.ref for other in self.others for s in other.samples}
         refs |= {o.light.ref for o in self.others if o.light} | {ref for _, _, ref in self.emergency}
         refs |= {o.spawn for o in self.others if o.spawn is not None}

@@ -156,7 +156,8 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
         limit_road=road, emergency=_emergency(record), vehicle_type=_type(spawn),
         spawn=EventRef.of(spawn) if spawn else None, others=others, uncertain=tuple(dict.fromkeys(notes)),
         map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None,
-        roads=_roads(record, [s for s in lead if s.placed] + placed + [s for s in trail if s.placed]), lead=lead, trail=trail)
+        roads=_roads(record, [s for s in lead if s.placed] + placed + [s for s in trail if s.placed]),
+        lead=lead, trail=trail)
 
 
 # --- the pieces -------------------------------------------------------------------------------

@@ -229,8 +229,8 @@ def test_each_margin_lies_within_its_uncertainty_of_the_raw_events(tmp_path):
     with Store(tmp_path / "foreign.db") as store:
         p = history.passage(store, run.run, "7", inc.t)
     amber_margin = margin_of(p, ENTER, "HC 175")
-    assert amber_margin.value - amber_margin.uncertainty <= near and far <= amber_margin.value + amber_margin.uncertainty, \
-        (near, far, amber_margin)
+    low_m, high_m = amber_margin.value - amber_margin.uncertainty, amber_margin.value + amber_margin.uncertainty
+    assert low_m <= near and far <= high_m, (near, far, amber_margin)
 
 
 def test_a_speeding_margin_is_the_acts_own_stretch_on_its_own_road(tmp_path):
