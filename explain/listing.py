@@ -56,9 +56,9 @@ SHORT = {   # a margin's quantity as a listing line says it, value and unit fill
 
 def _margin(m: Margin) -> str:
     amount = f"{m.bound + ' ' if m.bound else ''}{m.value:g} {m.unit}"
-    if m.uncertainty is not None:
-        amount += f" ± {m.uncertainty:g}"
     text = SHORT[m.quantity].format(amount) if m.quantity in SHORT else f"{m.quantity} {amount}"
+    if m.uncertainty is not None:
+        text += f" (± {m.uncertainty:g} {m.unit})"
     return text + (" (uncertain)" if m.uncertain else "") + (" (within its uncertainty)" if m.unproven else "")
 
 
