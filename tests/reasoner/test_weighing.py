@@ -319,3 +319,38 @@ def test_a_car_stating_it_drives_itself_after_its_feature_was_deactivated_is_a_c
     assert inc.liable == "driver", inc.liable
     found = [f for f in inc.findings if f.kind == "contradiction" and f.fact == "7 is driving itself"]
     assert found and "deactivated" in found[0].detail, [(f.kind, f.detail) for f in inc.findings]
+
+
+def test_a_summary_reaches_the_same_weighed_verdicts_as_the_whole_judgement(tmp_path):
+    """A regression's new side judges each case by its summary alone (no whole measurement read):
+    the weighed verdicts must be the same there, for a fresh investigation and for one reading what
+    an earlier one kept. Three cases in one run: the camera's contested speed (not proven), the
+    automated car's disproved "too close" from the west (punishable), and a car from the east
+    0.07 m beyond rule 126's distance when the same amber came, sampled at 10 Hz (not proven)."""
+    from reasoner.investigation import Investigation
+    from store import Store
+
+    run = speed_camera("28", 38, 30.0)
+    speed = mps(30)
+    west = Motion(-100.0, speed)
+    amber_at = START + west.when(-LINE_M - 27.7)
+    east = Motion(-LINE_M - stopping_distance_m(30) - 0.07 - speed * (amber_at - START), speed)
+    for v, approach, motion, hz in (("7", "west", west, 5), ("8", "east", east, 10)):
+        run.spawn(v)
+        run.lights("J1", approach, cycle(amber_at + 3.0))
+        run.drive(v, motion, approach, rate(hz, START, amber_at + 6.0), t_start=START)
+        run.watch(v, motion, approach, rate(5, START, amber_at + 6.0), t_start=START)
+    run.emit("vehicle/7", ns(amber_at + 0.5), "vehicle.perception",
+             {"facts": ["7 is of type car", "7 is driving itself", "7 has amber light",
+                        "7 is too close to the stop line to stop safely"]})
+    run.emit("vehicle/7", ns(amber_at + 0.5), "vehicle.decision",
+             {"goal": "7 can enter the junction", "action": ENTER, "permitted": True, "proceeds": True})
+    whole = judge(tmp_path, run)
+    verdicts = {(i.vehicle, i.action): (i.verdict, i.rule, i.why.split(":")[0]) for i in whole}
+    assert verdicts[("28", SPEEDING)] == ("dismissed", "HC 124", "not proven"), verdicts
+    assert verdicts[("7", ENTER)][:2] == ("punishable", "HC 175"), verdicts
+    assert verdicts[("8", ENTER)] == ("dismissed", "HC 175", "not proven"), verdicts
+    with Store(tmp_path / "foreign.db") as store:
+        for _ in range(2):                          # afresh, then from what the first kept
+            lean = Investigation(store, proofs=False, summaries=True).incidents(run.run)
+            assert sorted((i.id, i.verdict, i.rule) for i in lean) == sorted((i.id, i.verdict, i.rule) for i in whole)
