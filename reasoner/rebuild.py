@@ -377,17 +377,27 @@ def _beside(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], tuple
             tuple(s for s in record.own if t1 < s.t <= t1 + span))
 
 
+ROAD_EVERY_S = 0.5     # a position on no named road is snapped to the nearest road at most this often
+
+
 def _roads(record: Record, placed: list[Sample]) -> tuple[tuple[int, str, float | None], ...]:
     """The roads the samples are on, each from the first sample on it (a speed limit is the
-    road's: a speeding act is measured on its own road, not the passage's approach)."""
+    road's: a speeding act is measured on its own road, not the passage's approach). A sample
+    naming a road of the map is on it; one naming none is snapped to the nearest road, at most
+    once every ROAD_EVERY_S (a map of many roads costs a search of them all per snap)."""
     out: list[tuple[int, str, float | None]] = []
-    known: dict[str, object] = {}
+    named: dict[str, object] = {}
+    snapped_at, snapped = None, None
     for s in placed:
-        road = known.get(s.road) if isinstance(s.road, str) else None
+        road = named.get(s.road) if isinstance(s.road, str) else None
+        if road is None and isinstance(s.road, str) and s.road not in named:
+            found = record.map.road(s.road, None, None)
+            named[s.road] = found
+            road = found
         if road is None:
-            road = record.map.road(s.road, s.x, s.y)
-            if isinstance(s.road, str) and road is not None and road.id == s.road:
-                known[s.road] = road
+            if snapped_at is None or s.t - snapped_at >= ROAD_EVERY_S * SECOND:
+                snapped_at, snapped = s.t, record.map.road(None, s.x, s.y)
+            road = snapped
         if road is not None and (not out or out[-1][1] != road.id):
             out.append((s.t, road.id, road.limit_mph))
     return tuple(out)
