@@ -474,8 +474,10 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs,
-                              weighing=_weighing_of(measured))
+        weighing = _weighing_of(measured, case.action)
+        case = self._at_act(case, weighing[2])
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, weighing=weighing)
         if judged is None:
             return None
         validation, control, rule = judged.validation, judged.control, judged.rule
@@ -535,13 +537,16 @@ class Investigation:
         facts, with the Monitor Scenario they were added to."""
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], proofs, summary=True,
-                              sanctioned=sanctioned, weighing=self._weighing(case, mscen, vscen))
+        derived, weighing = self._derived(case, mscen, vscen), self._weighing(case, mscen, vscen)
+        case = self._at_act(case, weighing[2])
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, derived, [], proofs, summary=True, sanctioned=sanctioned,
+                              weighing=weighing)
         return judged, mscen
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
                 unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True,
-                weighing: Weighing = ((), ())) -> _Judged | None:
+                weighing: Weighing = ((), (), None)) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
         beside them (added to the Monitor Scenario here): None where it is no incident.
         `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
@@ -561,7 +566,8 @@ class Investigation:
                                         proofs or rule is None, summary, weighing[0])
             validation = self._raised_on(case, mscen, validation, weighing[0], summary)
             validation = _proved(validation, rule or validation.rule, weighing[1], summary)
-        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
+        control = Control.from_json(control_at(entity(case.state, case.vehicle),
+                                               weighing[2] if weighing[2] is not None else case.t))
         penalty, liability = self._sanctions(case, validation, control, vscen) if sanctioned else (None, None)
         return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
 
@@ -583,15 +589,31 @@ class Investigation:
         def measured() -> Measurement:
             found = self._measure(case, mscen, vscen)
             memo.put("derived", key, found.derived)
-            memo.put("weighing", key, _weighing_of(found))
+            memo.put("weighing", key, _weighing_of(found, case.action))
             return found
         return memo.remember("measurement", key, measured)
+
+    def _at_act(self, case: _Case, at: int | None) -> _Case:
+        """The case with the vehicle's status as recorded at the act's moment (DESIGN "Weighing":
+        the latest record before it; the spawn only a default): its spawn, latest entity.state and
+        ADS status read at `at` where the record changed them between the act and the case's time
+        (an ADS overridden, a call stood down, just after the act). Its perception and decision
+        stay those at the case's time (DESIGN "Reasoning": the Vehicle Scenario at t)."""
+        src = f"vehicle/{case.vehicle}"
+        record = case.state.entities.get(src)
+        if at is None or at >= case.t or record is None or not _changed_after(record, at):
+            return case
+        then = self._state(case.run, at, case.vehicle, case.monitor).entities.get(src)
+        if then is None:
+            return case
+        merged = {**record, **{kind: then.get(kind) for kind in ("spawn", "state", "ads", "despawned")}}
+        return replace(case, state=replace(case.state, entities={**case.state.entities, src: merged}))
 
     def _weighing(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Weighing:
         """What the case's measurement contradicts and what its margins leave unproven
         (`_weighing_of`), read from its own kept entry beside the measurement, as `_derived`."""
         found = self.memo(case.run).get("weighing", _measurement_key(case, mscen))
-        return _weighing_of(self._measured(case, mscen, vscen)) if found is None else found
+        return _weighing_of(self._measured(case, mscen, vscen), case.action) if found is None else found
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
@@ -987,15 +1009,39 @@ def _driving_contradicted(vehicle: str, vscen: Scenario, control: Control) -> Fi
                    (ref, event), fact=said)
 
 
-Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...]]
+Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...], int | None]
 
 
-def _weighing_of(measured: Measurement) -> Weighing:
-    """The claims the measurement contradicts (sentence, what it shows) and, by rule, why a
-    margin proves nothing (reasoner/margins.py `unproven`)."""
+def _weighing_of(measured: Measurement, action: str) -> Weighing:
+    """The claims the measurement contradicts (sentence, what it shows, what it derives), by rule
+    why a margin proves nothing (reasoner/margins.py `unproven`), and the act's moment: for a
+    junction act, when the vehicle crossed its line (else entered the junction) by the moment it
+    was judged at, the act itself; a speeding or box act is judged when recorded."""
     if not measured.present:
-        return (), ()
-    return measured.contested, measured.unproven()
+        return (), (), None
+    return measured.contested, measured.unproven(), _act_moment(measured, action)
+
+
+def _act_moment(measured: Measurement, action: str) -> int | None:
+    at = measured.at
+    if at is None or action in (acts.SPEEDING, acts.BOX):
+        return at
+    for what in ("crossed the stop line", "entered the junction"):
+        found = [t for said, t in measured.moments if said == what and t <= at]
+        if found:
+            return found[-1]
+    return at
+
+
+def _changed_after(record: dict, at: int) -> bool:
+    """Whether the vehicle's status may have changed between the act and the record's time: an
+    ads.event after it, or, for a vehicle that is or was on an emergency call, a state after it."""
+    ads = (record.get("ads") or {}).get("last")
+    if ads and ads.get("t", 0) > at:
+        return True
+    spawn = ((record.get("spawn") or {}).get("body") or {}).get("emergency")
+    state = record.get("state") or {}
+    return (spawn is True or (state.get("body") or {}).get("emergency") is True) and state.get("t", 0) > at
 
 
 def _proved(validation: _Validation, rule: Any, unproven: tuple[tuple[str | None, str], ...],

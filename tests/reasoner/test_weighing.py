@@ -354,3 +354,56 @@ def test_a_summary_reaches_the_same_weighed_verdicts_as_the_whole_judgement(tmp_
         for _ in range(2):                          # afresh, then from what the first kept
             lean = Investigation(store, proofs=False, summaries=True).incidents(run.run)
             assert sorted((i.id, i.verdict, i.rule) for i in lean) == sorted((i.id, i.verdict, i.rule) for i in whole)
+
+
+def automated_red_runner(run: Foreign, v: str, *, override_after: float) -> float:
+    """An automated v (SAE level 3: a user-in-charge in the seat) whose feature is engaged when it
+    crosses J1's west line 2 s after red; the human takes over `override_after` s after the
+    crossing; a camera flags it 1 s after the crossing."""
+    motion = Motion(-95.0, mps(28))
+    crossing = START + motion.when(-LINE_M)
+    west = cycle(crossing - 2.0)
+    run.emit(f"vehicle/{v}", ns(0.0), "entity.spawn", {"type": "car", "driver": "autonomous", "automation_level": 3})
+    run.lights("J1", "west", west)
+    run.emit(f"vehicle/{v}", ns(0.5), "ads.event", {"event": "activated"})
+    run.emit(f"vehicle/{v}", ns(crossing + override_after), "ads.event", {"event": "driver_override"})
+    run.drive(v, motion, "west", SAMPLING["5 Hz"](START, crossing + 6.0), t_start=START)
+    run.watch(v, motion, "west", rate(5, START, crossing + 6.0), t_start=START, facts=camera(v, west))
+    run.violation(v, crossing + 1.0, ENTER, [f"{v} has red light", f"{v} has crossed the stop line"])
+    return crossing
+
+
+def test_who_drove_is_read_at_the_act_not_when_the_camera_flagged_it(tmp_path):
+    """Automated Vehicles Act 2024 (liability.le): while the self-driving feature is engaged the
+    user-in-charge is not liable for how the car is driven, and the authorised self-driving entity
+    answers (regulatory sanctions). The car crosses 2 s after red with its feature engaged (HC 176,
+    punishable); its human overrides it 0.5 s later, before the camera's flag 1 s after the
+    crossing. Who drove is the record's as it stood at the act (DESIGN "Weighing"): the ASDE is
+    liable, not the driver. On main: the status at the camera's flag, so the driver."""
+    run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=40))
+    automated_red_runner(run, "7", override_after=0.5)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 176")
+    assert inc.liable == "authorised self-driving entity", (inc.liable, inc.control)
+    assert inc.control.engaged
+
+
+def test_an_ambulance_stood_down_just_after_it_crossed_was_on_a_call_at_the_act(tmp_path):
+    """TSRGD 2016 Sch 14 Pt 1 para 5(4)-(6): the exemption follows the use at the time. An ambulance
+    on a call (spawn and states) crosses 2 s after red with nobody about, and is stood down 0.5 s
+    later, before the camera flags it: at the act it was being used for ambulance purposes, so
+    mitigated (HC 176). A guard on reading the status at the act rather than at the flag (on main
+    it is mitigated too, from the spawn alone)."""
+    v = "253"
+    run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=40))
+    motion = Motion(-95.0, mps(28))
+    crossing = START + motion.when(-LINE_M)
+    west = cycle(crossing - 2.0)
+    run.spawn(v, "ambulance", emergency=True)
+    run.lights("J1", "west", west)
+    for part, on_call in ((rate(5, START, crossing + 0.4), True), (rate(5, crossing + 0.6, crossing + 6.0), False)):
+        run.drive(v, motion, "west", part, t_start=START, extra={"emergency": on_call})
+    run.watch(v, motion, "west", rate(5, START, crossing + 6.0), t_start=START, facts=camera(v, west))
+    run.violation(v, crossing + 1.0, ENTER, [f"{v} has red light", f"{v} has crossed the stop line"])
+    inc = one(judge(tmp_path, run), v)
+    verdict(inc, "mitigated", "HC 176")
