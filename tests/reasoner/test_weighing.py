@@ -15,7 +15,7 @@ from __future__ import annotations
 from reasoner.motion import MPH_PER_MPS
 from reasoner.stopping import stopping_distance_m
 
-from tests.helpers.foreign import LINE_M, Foreign, Motion, ns, rate, roads_through
+from tests.helpers.foreign import LANE, LINE_M, Foreign, Motion, ns, rate, roads_through
 from tests.reasoner.test_foreign_scenarios import (ENTER, SAMPLING, SPEEDING, START, camera, cross_cycle, cycle, judge,
                                                    mps, of, one, verdict)
 
@@ -254,6 +254,9 @@ def test_a_speeding_margin_is_the_acts_own_stretch_on_its_own_road(tmp_path):
     assert abs(inc.margin.value - 6.4) <= 0.3, inc.margin          # the speed tolerance, 0.22 mph, and rounding
     assert abs(inc.margin.value - 6.4) <= inc.margin.uncertainty + 0.05, inc.margin
     assert "road EW" in inc.margin.method, inc.margin.method
+    on_ew = [e["body"]["speed_mps"] for e in run.events if e["src"] == "vehicle/7" and e["kind"] == "entity.state"
+             and abs(e["body"]["y"]) <= 2 * LANE and e["body"]["x"] < -LINE_M]      # raw: its samples on EW
+    assert abs(inc.margin.value - (max(on_ew) * MPH_PER_MPS - 30)) <= inc.margin.uncertainty, (max(on_ew), inc.margin)
 
 
 # ==================================================================================================
