@@ -159,7 +159,8 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
     from sim_replay.simulation import Simulation
 
     with stderr_progress(f"simulating {config.run}") as bar:
-        simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None)
+        simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None,
+                                account=True)      # its truth is written: with SUMO's own account of who yielded
         stored = None
         if store_file is not None:
             stored, sent = publish_through_zenoh(store_file, simulation.batches(), record=record, speed=pace,
