@@ -129,7 +129,6 @@ class Outlets:
             if not self._matched:
                 raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
                                    "is `gaps serve` running there?")
-            self._wall0 = time.monotonic()
 
     @property
     def session(self):
@@ -140,13 +139,17 @@ class Outlets:
         """Count an event going out: its source, the world time covered; before the first, wait
         for an ingest to subscribe."""
         t = event["t"]
-        if self._first_t is None:
+        first = self._first_t is None
+        if first:
             self._first_t = t
         self._last_t = t if self._last_t is None else max(self._last_t, t)
         self._sources.add(event["src"])
-        # The clock starts when the first event can go out (the first is matched): paced from
-        # before an ingest came, the events due while waiting for it would go out in one burst.
         self.await_ingest(event)
+        # The clock starts when the first event can go out (matched, and the ingests asked what
+        # they hold: sim_replay/held_runs.py): paced from before, the events due while waiting
+        # would go out in one burst.
+        if first and self._publisher is not None:
+            self._wall0 = time.monotonic()
 
     def summary(self) -> OutletSummary:
         if self._result is not None:
