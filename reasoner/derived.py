@@ -240,14 +240,14 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
     for other in reacting(p):
         approaching = _approaching(p, other, at)
         forced = _forced(p, other) if went and p.start <= at <= p.end + 5 * SECOND else None
+        endangered = _endangered(p, other)
         if approaching is not None:
             out.append(approaching)
-            if _walking(other) or other.type == "cyclist":      # in or entering V's path: likely endangered
-                out.append(DerivedFact(WOULD_ENDANGER.text(p.vehicle, other.user), approaching.method,
-                                       approaching.evidence))
+        if endangered is not None:
+            out.append(endangered)
         if forced is not None:
             out.append(forced)
-        if other.type and other.spawn is not None and (approaching is not None or forced is not None):
+        if other.type and other.spawn is not None and any(f is not None for f in (approaching, forced, endangered)):
             out.append(DerivedFact(IS_OF_TYPE.text(other.user, other.type),
                                    f"{other.spawn.src} #{other.spawn.seq} (entity.spawn) gives type {other.type}",
                                    (other.spawn,)))
@@ -337,8 +337,11 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     approaching V then, whether or not it was yet in view, or near enough, at the moment asked
     about. Gentler braking is no sign of V: a main-road car easing off as it went through the
     junction ahead of V is not one V emerged in front of; nor is braking something else explains
-    (its own light, its own Stop line, the road user it followed: `explained`)."""
-    if _walking(other) or other.type == "cyclist":
+    (its own light, its own Stop line, the road user it followed: `explained`). A pedestrian is
+    no traffic: it `is approaching V` only in or entering V's path (`_entering`). A cyclist is the
+    driver of a vehicle (HC 172's traffic on the major road): it approaches as a car does, and
+    whether V endangered it is `_endangered`'s, measured, never its approach."""
+    if _walking(other):
         return _entering(p, other)
     found = _approaching_at(p, other, at)
     if explained(p, other):
@@ -349,6 +352,18 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     if found is None and reacted is not None and reacted != at:
         found = _approaching_at(p, other, reacted, within=math.inf)
     return found
+
+
+def _endangered(p: Passage, other: Other) -> DerivedFact | None:
+    """`V would endanger P` of a pedestrian or cyclist, from the measured conflict alone: P was in
+    or entering V's path within ENDANGER_S of V being there (`_entering`). Approaching the junction,
+    or riding on the main road towards it, is not being endangered."""
+    if not (_walking(other) or other.type == "cyclist"):
+        return None
+    entering = _entering(p, other)
+    if entering is None:
+        return None
+    return DerivedFact(WOULD_ENDANGER.text(p.vehicle, other.user), entering.method, entering.evidence)
 
 
 def _entering(p: Passage, other: Other) -> DerivedFact | None:
@@ -792,7 +807,7 @@ def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
     shown = {f.sentence for f in derived}
     if WOULD_FORCE.text(p.vehicle, other.user) in shown:
         return None
-    if endanger and IS_APPROACHING.text(other.user, p.vehicle) in shown:
+    if endanger and WOULD_ENDANGER.text(p.vehicle, other.user) in shown:
         return None
     return _contradiction(text, ref, _unforced(p, other), [], "", _conflict_refs(conflict_of(p, other)))
 
