@@ -31,7 +31,7 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .conflicts import PET_MAX_S, TTC_MAX_S, Conflict, conflict, has_path
+from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
 from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
 from .rebuild import ANTICIPATION_S
@@ -469,12 +469,38 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
                "a change of speed is a considerable reaction (Hupfer 1997)")
         refs = (b.first.ref, b.last.ref)
     else:
-        return None
+        swerved = _course_changed(p, other, after)
+        if swerved is None:
+            return None
+        how, refs = swerved
     own = f"; its own light was {other.light.colour}" if other.light else ""
     c = conflict_of(p, other)
     return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user),
                        f"{how}, {other.closest_m:.0f} m from the centre{own}{conflict_words(p, other.user, c)}",
                        refs + ((other.light.ref,) if other.light else ()) + _conflict_refs(c))
+
+
+def _course_changed(p: Passage, other: Other, after: str = "") -> tuple[str, tuple[EventRef, ...]] | None:
+    """A change of course V caused (para 1 and 5(5): "change its speed or course"): U, a vehicle
+    going on its way, moved SWERVE_M or more to the side of the line it was on at V's act while V
+    passed, and had it kept to that line it would have met V in their conflict zone within
+    PET_MAX_S (conflicts.swerve). A pedestrian's steps are judged as danger, not as this."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if act is None or _walking(other):
+        return None
+    until = (p.left.t if p.left else p.end) + int(PET_MAX_S * SECOND)
+    sw = swerve(p.samples, other.samples, act, until)
+    if sw is None or sw.kept_pet_s is None or sw.kept_pet_s >= PET_MAX_S:
+        return None
+    a, b = sw.before
+    kept = f"{p.vehicle} first" if sw.kept_first == "mine" else f"{other.user} first"
+    how = (f"{other.user} changed course while {p.vehicle} passed{after}: {sw.offset_m:.1f} m to the side of the line it "
+           f"was on at {p.vehicle}'s act ({a.label} to {b.label}), widest at {sw.widest.label} "
+           f"({format_time(sw.widest.t)}), going on its way, at {sw.widest.speed_mps or 0:.1f} m/s; a sideways "
+           f"departure counts from {SWERVE_M:g} m (a car centred in a 3.65 m lane has 0.9 m either side); had it "
+           f"kept to its line, post-encroachment time {sw.kept_pet_s:.2f} s with {p.vehicle} ({kept}; under "
+           f"{PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
+    return how, (a.ref, b.ref, sw.widest.ref)
 
 
 def conflict_words(p: Passage, user: str, c: Conflict | None) -> str:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 import math
 
-from tests.helpers.foreign import Motion, rate
+from tests.helpers.foreign import Motion, ns, rate
 from tests.reasoner.test_conflict_scenarios import walk
 from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _SET_OFF, judge, mps,
                                                    no_violation, of, one, runner_run, stated_stop_camera,
@@ -129,3 +129,57 @@ def test_a_camera_saying_a_cyclist_approaches_an_ambulance_is_not_danger_by_itse
     inc = one(judge(tmp_path, run), v)
     verdict(inc, "mitigated", "HC 176")
     assert not any("endanger b1" in f.sentence for f in inc.derived)
+
+
+def _swerving(run, who: str, motion: Motion, arm: str, bump: tuple[float, float, float], times) -> None:
+    """`who`'s own entity.state on `motion` (seconds from START), moved sideways by a smooth bump
+    (start, end, metres east: a raised cosine), its heading following its way; speed kept."""
+    start, end, width = bump
+    for at in times:
+        def east(t: float) -> float:
+            if not start <= t <= end:
+                return 0.0
+            return width * (1 - math.cos(2 * math.pi * (t - start) / (end - start))) / 2
+        x, y, _, v = run._where(motion, arm, "J1", at - START)
+        x2, y2, _, _ = run._where(motion, arm, "J1", at - START + 0.05)
+        dx, dy = (x2 + east(at - START + 0.05)) - (x + east(at - START)), y2 - y
+        run.emit(f"vehicle/{who}", ns(at), "entity.state",
+                 {"x": round(x + east(at - START), 3), "y": round(y, 3),
+                  "heading_deg": round(math.degrees(math.atan2(dy, dx)) % 360.0, 2), "speed_mps": round(v, 3)})
+
+
+# c2 keeps 13.4 m/s down the main road from the north along x = +1.75 (Motion(-164, 13.4) from START):
+# at 7's lane (y = +1.75) 12.11 s after START, where 7 (STOPS_THEN_GOES) is 0.5 s later
+_C2_AT_7S_LANE = (164.0 - 1.75) / 13.4
+
+
+def test_a_main_road_car_that_swerves_round_the_pulling_out_vehicle_without_braking_was_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 forbids crossing the Stop line "so as to ... cause the driver
+    of another vehicle to change its speed or course in order to avoid an accident". 7 stops and
+    pulls out; c2, on the main road at 30 mph and on course to meet 7 where their paths cross
+    (about 0.5 s apart), keeps its speed and swerves 3 m to its left round 7's front, then goes on
+    down the main road. A change of course, not of speed, made to avoid an accident with 7:
+    punishable, HC 171, the swerve named with its measured offset, its threshold (1 m) and the
+    post-encroachment time c2 would have had on its line. (On main only braking counted: no
+    violation.) In c2's own record only, as the town cameras see a main road."""
+    run = unseen_main_road_run("stop", STOPS_THEN_GOES, stated_stop_camera())
+    _swerving(run, "c2", Motion(-164.0, 13.4), "north",
+              (_C2_AT_7S_LANE - 1.6, _C2_AT_7S_LANE + 1.6, 3.0), rate(5, START, START + 25.0))
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 171")
+    forced = next((f for f in inc.derived if f.sentence == "7 would force c2 to change speed or course"), None)
+    assert forced is not None, [f.sentence for f in inc.derived]
+    assert "changed course" in forced.method and "from 1 m" in forced.method, forced.method
+    assert "braked" not in forced.method
+
+
+def test_a_main_road_car_keeping_its_line_well_clear_is_not_forced_by_a_lane_drift(tmp_path):
+    """The control: the same 3 m sideways move by c2, but 87 m further back (Motion(-251, 13.4)),
+    so that on its line it would have reached 7's path long after 7 left it: no accident to avoid,
+    so no change of course caused by 7. A lawful Stop: no violation, no "would force c2"."""
+    run = unseen_main_road_run("stop", STOPS_THEN_GOES, stated_stop_camera())
+    late = (251.0 - 1.75) / 13.4
+    _swerving(run, "c2", Motion(-251.0, 13.4), "north", (late - 1.6, late + 1.6, 3.0), rate(5, START, START + 25.0))
+    found = judge(tmp_path, run)
+    no_violation(found, "7")
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
