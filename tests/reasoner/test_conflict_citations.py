@@ -14,9 +14,9 @@ from __future__ import annotations
 import json
 import math
 
-from tests.helpers.foreign import Motion, ns, rate
+from tests.helpers.foreign import Foreign, Motion, crossroads, ns, rate
 from tests.reasoner.test_conflict_scenarios import walk
-from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _SET_OFF, judge, mps,
+from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, camera, STOPS_THEN_GOES, _SET_OFF, judge, mps,
                                                    no_violation, of, one, runner_run, stated_stop_camera,
                                                    unseen_main_road_run, verdict)
 
@@ -183,3 +183,31 @@ def test_a_main_road_car_keeping_its_line_well_clear_is_not_forced_by_a_lane_dri
     found = judge(tmp_path, run)
     no_violation(found, "7")
     assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+
+
+def test_a_cyclist_on_the_main_road_made_to_brake_by_a_give_way_emergence_is_traffic_given_way_to(tmp_path):
+    """HC 172: "You MUST give way to traffic on the main road" (RTA 1988 s.36, TSRGD 2016 Sch 9
+    Pts 7 and 8: not to cause "the driver of a vehicle on the major road" to change its speed or
+    course). b1, a cyclist on the main road, the driver of a vehicle, rides at 6 m/s towards 7's
+    path, where unslowed it would have met 7, and brakes at 3 m/s² from 1.5 s before 7 crosses its
+    Give Way line to a stop 9 m short of the centre, going on once 7 has gone. It never entered 7's path (not endangered) but it
+    was traffic 7 had to give way to and was made to change speed: punishable, HC 172 (on main a
+    cyclist was read as approaching only when in or entering V's path, so 7 owed it nothing).
+    Both in the road users' own records and a camera's measurements."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
+    run.spawn("7")
+    mine = Motion(-40.0, 6.0)                   # over its line (s = -12) 4.67 s after START
+    brakes = 4.67 - 1.5                         # from 15 m short of the centre, to a stop 9 m short of it
+    ride = Motion(-15.0 - 6.0 * brakes, 6.0, [(brakes, 0.0), (2.0, -3.0), (4.0, 0.0), (6.0, 1.0)])
+    times = rate(5, START, START + 16.0)
+    run.drive("7", mine, "west", times, t_start=START)
+    run.watch("7", mine, "west", times, t_start=START, facts=camera("7", sign="give way"))
+    run.spawn("b1", "cyclist")
+    run.drive("b1", ride, "north", times, t_start=START)
+    run.watch("b1", ride, "north", times, t_start=START)
+    found = judge(tmp_path, run)
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 172")
+    shown = {f.sentence for f in inc.derived}
+    assert {"b1 is approaching 7", "b1 is on the main road", "7 would force b1 to change speed or course"} <= shown
+    assert "7 would endanger b1" not in shown
