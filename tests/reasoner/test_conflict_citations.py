@@ -51,11 +51,22 @@ def test_a_stop_sign_case_cites_the_stop_law_not_the_signals_exemption(tmp_path)
     stop = stated_stop_camera()
     run = unseen_main_road_run("stop", STOPS_THEN_GOES, lambda at, s_, v: stop(at, s_, v) + (said if s_ > -12 else []))
     run.drive("c2", Motion(-251.0, 13.4), "north", rate(5, START, START + 25.0), t_start=START)
-    inc = one(judge(tmp_path, run), "7")
-    verdict(inc, "punishable", "HC 171")
+    from explain.explanation_doc import document
+    from explain.explanation_formats import render
+    from reasoner.investigation import Investigation
+    from store import Store
+
+    run.end(START + 26.0)
+    with Store(tmp_path / "s.db") as store:
+        store.append(run.events)
+        inv = Investigation(store)
+        (inc,) = [i for i in inv.incidents(run.run) if i.vehicle == "7"]
+        verdict(inc, "punishable", "HC 171")
+        text = render(document(inc, inv.explanation(inc), store), "text", "full")
     doc = inc.to_json()
-    assert _labels_of(doc, "would endanger p9") <= {"HC 171"}, _labels_of(doc, "would endanger p9")
-    assert "HC 176" not in json.dumps(doc)
+    assert _labels_of(doc, "would endanger p9") == {"HC 171"}, _labels_of(doc, "would endanger p9")
+    assert "HC 176" not in json.dumps(doc) and "HC 176" not in text
+    assert "would endanger p9 [HC 171" in text
 
 
 def test_a_signals_case_cites_the_exemptions_endangering(tmp_path):
