@@ -270,7 +270,7 @@ class _Builder:
         if inc.verdict == "punishable":
             lia = doc["liability"]
             out.append(f"The {lia['liable']} is liable: {lia['in_control_text']}.")
-        if inc.margin is not None and inc.verdict != "dismissed":
+        if inc.margin is not None and (inc.verdict != "dismissed" or inc.why.startswith("not proven")):
             out.append(f"Measured margin: {ph.margin_text(inc.margin)}.")
         out += self._doubts()
         if inc.findings:
@@ -294,10 +294,11 @@ class _Builder:
         return out
 
     def _doubts(self) -> list[str]:
-        """The contradictions the verdict itself rests on, said in the summary rather than left
-        among the findings: a stated fact the measurements contradict stays in the scenario (DESIGN
-        "Reasoning": a finding, not a silent override), so the verdict stands on it, and whoever
-        acts on the verdict must weigh it first."""
+        """The contradictions the verdict's proof uses, said in the summary rather than left among
+        the findings: a stated fact the measurements contradict stays in the scenario (DESIGN
+        "Reasoning": a finding, not a silent override). A verdict that turned on one is not proven
+        (dismissed, DESIGN "Weighing"), so one said here is a claim the verdict would reach on the
+        measurements too."""
         if self.inc.verdict == "dismissed":
             return []
         used = trees.facts_used(self.pv_tree) | trees.facts_used(self.verdict_tree)
@@ -305,8 +306,8 @@ class _Builder:
             for node in trees.exceptions(self.verdict_tree, MUST_NOT.functor):
                 used |= trees.facts_used(node)
         return [f"In doubt: the verdict rests on “{f.fact}”, and the record's measurements contradict it: "
-                f"{f.detail.split(', but ', 1)[-1]}. The verdict is taken on what was stated, as the rules read it; "
-                "the contradiction is for whoever weighs the evidence (see Findings)."
+                f"{f.detail.split(', but ', 1)[-1]}. The verdict is the same on what the measurements show, so it "
+                "stands; the contradiction is for whoever weighs the evidence (see Findings)."
                 for f in self.inc.findings if f.kind == "contradiction" and f.fact in used]
 
     # -- helpers --------------------------------------------------------------------------------------

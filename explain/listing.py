@@ -58,6 +58,7 @@ def _penalty(p: Penalty | None) -> str:
 
 SHORT = {   # a margin's quantity as a listing line says it, value and unit filled in
     "seconds after red the stop line was crossed": "crossed {} after red",
+    "seconds into red-and-amber the stop line was crossed": "crossed {} into red-and-amber",
     "metres from the stop line when amber came": "{} from the line at amber",
     "seconds stationary at the Stop line": "stood {} at the Stop line",
     "deceleration of the other road user": "made another brake at {}",
@@ -67,9 +68,11 @@ SHORT = {   # a margin's quantity as a listing line says it, value and unit fill
 
 
 def _margin(m: Margin) -> str:
-    amount = f"{m.value:g} {m.unit}"
+    amount = f"{m.bound + ' ' if m.bound else ''}{m.value:g} {m.unit}"
     text = SHORT[m.quantity].format(amount) if m.quantity in SHORT else f"{m.quantity} {amount}"
-    return text + (" (uncertain)" if m.uncertain else "")
+    if m.uncertainty is not None:
+        text += f" (± {m.uncertainty:g} {m.unit})"
+    return text + (" (uncertain)" if m.uncertain else "") + (" (within its uncertainty)" if m.unproven else "")
 
 
 def _findings(findings: tuple[Finding, ...]) -> str:

@@ -48,16 +48,16 @@ from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
 from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
                     Scenarios, Source, StageProof)
-from .measurement import Measurement, measure
+from .measurement import Measurement, measure, rule_key
 from .passage import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
 from .sweep import Candidate, Sweep
 from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks, recorded_rulebooks
-from .scenarios import (Scenario, entity, has_perception, monitor_scenario, spawn_facts, vehicle_action,
+from .scenarios import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
-                         IS_AN_OFFENCE_UNDER, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
-                         POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
+                         IS_AN_OFFENCE_UNDER, IS_DRIVING_ITSELF, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY,
+                         MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
 
 if TYPE_CHECKING:
     from .explanation import Explanation
@@ -115,6 +115,7 @@ class _Validation:
     proof: StageProof | None = None
     rule: Any = None                          # the rule of the verdict's proof, where it holds
     dispute: Finding | None = None
+    set_aside: tuple[tuple[Any, EventRef], ...] = ()   # contested claims the verdict was taken without
 
 
 @dataclass(frozen=True)
@@ -481,7 +482,11 @@ class Investigation:
         sources = _sources(case, mscen)         # before the measured facts join the scenario
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, overruled=measured.overruled)
+        weighing = _weighing_of(measured, case.action)
+        case = self._at_act(case, weighing[2])
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, overruled=measured.overruled,
+                              weighing=weighing)
         if judged is None:
             return None
         validation, control, rule = judged.validation, judged.control, judged.rule
@@ -491,6 +496,7 @@ class Investigation:
                     *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
+                    _driving_contradicted(case.vehicle, vscen, control),
                     *(c.to_finding() for c in _beliefs_overruled(measured)),
                     *_unmeasured_claims(measured, validation),
                     *(Finding("map reading", text, (ref,)) for text, ref in measured.readings),
@@ -548,17 +554,21 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         overruled = self._overruled(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], proofs, summary=True,
-                              sanctioned=sanctioned, overruled=overruled)
+        derived, weighing = self._derived(case, mscen, vscen), self._weighing(case, mscen, vscen)
+        case = self._at_act(case, weighing[2])
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, derived, [], proofs, summary=True, sanctioned=sanctioned,
+                              overruled=overruled, weighing=weighing)
         return judged, mscen
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
                 unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True,
-                overruled: frozenset[str] = frozenset()) -> _Judged | None:
+                overruled: frozenset[str] = frozenset(), weighing: Weighing = ((), (), None)) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
         beside them (added to the Monitor Scenario here): None where it is no incident.
         `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
-        alone."""
+        alone. `weighing`: the claims the measurements contradict and the margins that prove
+        nothing (`_weighing`): a verdict that turns on either is not proven."""
         for f in derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         if overruled:       # stated predictions the measurements contradict: findings, not the act (issue 35)
@@ -573,8 +583,11 @@ class Investigation:
             validation = _Validation("dismissed", _unsupported(mscen, bool(derived)))
         else:
             validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
-                                        proofs or rule is None, summary)
-        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
+                                        proofs or rule is None, summary, weighing[0])
+            validation = self._raised_on(case, mscen, validation, weighing[0], summary)
+            validation = _proved(validation, rule or validation.rule, weighing[1], summary)
+        control = Control.from_json(control_at(entity(case.state, case.vehicle),
+                                               weighing[2] if weighing[2] is not None else case.t))
         penalty, liability = self._sanctions(case, validation, control, vscen) if sanctioned else (None, None)
         return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
 
@@ -610,8 +623,31 @@ class Investigation:
             memo.put("derived", key, found.derived)
             memo.put("act", key, [found.act])
             memo.put("overruled", key, tuple(sorted(found.overruled)))
+            memo.put("weighing", key, _weighing_of(found, case.action))
             return found
         return memo.remember("measurement", key, measured)
+
+    def _at_act(self, case: _Case, at: int | None) -> _Case:
+        """The case with the vehicle's status as recorded at the act's moment (DESIGN "Weighing":
+        the latest record before it; the spawn only a default): its spawn, latest entity.state and
+        ADS status read at `at` where the record changed them between the act and the case's time
+        (an ADS overridden, a call stood down, just after the act). Its perception and decision
+        stay those at the case's time (DESIGN "Reasoning": the Vehicle Scenario at t)."""
+        src = f"vehicle/{case.vehicle}"
+        record = case.state.entities.get(src)
+        if at is None or at >= case.t or record is None or not _changed_after(record, at):
+            return case
+        then = self._state(case.run, at, case.vehicle, case.monitor).entities.get(src)
+        if then is None:
+            return case
+        merged = {**record, **{kind: then.get(kind) for kind in ("spawn", "state", "ads", "despawned")}}
+        return replace(case, state=replace(case.state, entities={**case.state.entities, src: merged}))
+
+    def _weighing(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Weighing:
+        """What the case's measurement contradicts and what its margins leave unproven
+        (`_weighing_of`), read from its own kept entry beside the measurement, as `_derived`."""
+        found = self.memo(case.run).get("weighing", _measurement_key(case, mscen))
+        return _weighing_of(self._measured(case, mscen, vscen), case.action) if found is None else found
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         stretch = stretches.stretch_at(self.store, case.run, case.vehicle, case.t, self.context(case.run).map) \
@@ -633,7 +669,7 @@ class Investigation:
         if not measured.present:
             return ()
         stated = {text for text, _ in mscen.facts}
-        own = [(text, ref) for text, ref in validation.scenario
+        own = [(text, ref) for text, ref in validation.scenario + validation.set_aside
                if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
         if not own:
             return ()
@@ -730,7 +766,7 @@ class Investigation:
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
                   unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True,
-                  summary: bool = False) -> _Validation:
+                  summary: bool = False, contested: tuple[tuple[str, str, tuple[str, ...]], ...] = ()) -> _Validation:
         """The verdict on the Validator Scenario, with its proof (`proofs` False: asked plainly,
         the proof left empty and no rule found). `summary`: for an incident's summary alone, so
         neither why nor the perception fault finding (what the verdict would be on the vehicle's
@@ -744,18 +780,78 @@ class Investigation:
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
         facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=proofs)
-        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
-        evidence = dict(rendered)
-        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
-                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
         dispute = None
         if disputes and not summary:
             alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
             if alt != verdict:
                 dispute = dispute_finding(disputes, rb, alt, verdict)
+        why = "" if summary else _why(verdict, rb, me, act)
+        turns = self._turns_on(rb, me, act, facts, pv_atom, verdict, contested)
+        extra: list[Atom] = []
+        set_aside: tuple[tuple[Any, EventRef], ...] = ()
+        if turns is not None:
+            sentence, words, alt, extra, kept = turns
+            set_aside = tuple((self._render(rb, a), ev) for a, ev in facts if (a, ev) not in kept)
+            facts = kept
+            if alt == "dismissed":
+                verdict, why = "dismissed", "" if summary else (
+                    f"not proven: the verdict is {verdict} only on “{sentence}”, which the measurements contradict "
+                    f"beyond their tolerance: {words}")
+            else:
+                verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + extra + [pv_atom], proofs=proofs)
+                why = "" if summary else (
+                    f"{_why(verdict, rb, me, act)}, on what the measurements show: “{sentence}” was stated, "
+                    f"but the measurements contradict it beyond their tolerance ({words}), so it decides nothing")
+        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
+        evidence = dict(rendered)
+        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
+                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
-        return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
-                           rule, dispute)
+        return _Validation(verdict, why, _choice(choice), rendered, proof, rule, dispute, set_aside)
+
+    def _raised_on(self, case: _Case, mscen: Scenario, validation: _Validation,
+                   contested: tuple[tuple[str, str, tuple[str, ...]], ...], summary: bool) -> _Validation:
+        """Not proven where the potential violation itself rests on a claim the measurements
+        contradict: the monitor rules no longer find it without the claim (a camera's "28 has
+        speed of 38" where the car's own record has 30.0 mph; DESIGN "Weighing")."""
+        monitor = case.rs["monitor"]
+        said = {text: words for text, words, _ in contested}
+        held = [text for text in mscen.sentences if isinstance(text, str) and text in said]
+        if validation.verdict == "dismissed" or monitor is None or not held:
+            return validation
+        rb = monitor.rulebook
+        measured = [(m, None) for text, _, shown in contested if text in held for m in shown]
+        rest = [(text, ref) for text, ref in mscen.facts if text not in said] + measured
+        if self.engine.holds(rb, POTENTIALLY_VIOLATES.atom(case.me, case.act), self.reader.atoms(rb, rest)):
+            return validation
+        why = "" if summary else (f"not proven: the potential violation rests on “{held[0]}”, and the measurements "
+                                  f"contradict it beyond their tolerance: {said[held[0]]}")
+        return replace(validation, verdict="dismissed", why=why)
+
+    def _turns_on(self, rb: Rulebook, me: Any, act: Any, facts: list[tuple[Atom, EventRef]], pv_atom: Atom,
+                  verdict: str, contested: tuple[tuple[str, str, tuple[str, ...]], ...]
+                  ) -> tuple[str, str, str, list[Atom], list[tuple[Atom, EventRef]]] | None:
+        """Where the verdict turns on a claim the measurements contradict beyond tolerance: the
+        claim, what the measurements show, the verdict on them (asked with what they derive in the
+        claims' place), the atoms they derive and the facts without the claims; None where no
+        contested claim is in the scenario or the verdict is the same without it (DESIGN
+        "Weighing": the verdict rests on what is proved, whichever side a claim helps)."""
+        if verdict == "dismissed" or not contested:
+            return None
+        atoms = {a: text for text, _, _ in contested for a, _ in self.reader.pairs(rb, [(text, None)], [])}
+        held = [a for a, _ in facts if a in atoms]
+        if not held:
+            return None
+        texts = {atoms[a] for a in held}
+        kept = [(a, ev) for a, ev in facts if a not in atoms]
+        have = {a for a, _ in kept}
+        measured = [a for a in self.reader.atoms(rb, [(m, None) for text, _, shown in contested if text in texts
+                                                      for m in shown]) if a not in have]
+        alt, _ = self._verdict(rb, me, act, [a for a, _ in kept] + measured + [pv_atom], proofs=False)
+        if alt == verdict:
+            return None
+        text = atoms[held[0]]
+        return text, next(words for said, words, _ in contested if said == text), alt, measured, kept
 
     def _render(self, rb: Rulebook, atom: Atom) -> str:
         """rb.render(atom), once per rulebook and atom in this investigation: a regression's
@@ -787,9 +883,10 @@ class Investigation:
             have = {a for a, _ in out}
             out += [(a, ev) for a, ev in seen if a in measured and a not in have]
             return out, [d for d in disputes if d["vehicle"] or any(a not in measured for a, _ in d["monitor"])]
-        spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
+        record = entity(case.state, case.vehicle) or {}
+        spawn = record.get("spawn")
         own = [(a, EventRef.of(spawn, case.state.run, "entity.spawn"))
-               for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
+               for a in self.reader.known(rb, status_facts(case.vehicle, record))] if spawn else []
         return own + seen, []
 
     def _decision_fault(self, case: _Case, action: Decision | None, vscen: Scenario,
@@ -944,6 +1041,69 @@ def _unsupported(mscen: Scenario, measured: bool) -> str:
                 "measured), does not show the potential violation it recorded")
     return ("the monitor's own observation does not show the potential violation it recorded" if mscen.facts
             else "no observation of the vehicle by the monitor supports the potential violation it recorded")
+
+
+def _driving_contradicted(vehicle: str, vscen: Scenario, control: Control) -> Finding | None:
+    """A contradiction finding where the vehicle states it is driving itself while its ads.event
+    record, as it stood at the act, has the feature not engaged (DESIGN "Weighing": status at the
+    act is the latest record before it; who drove follows that record, control.py)."""
+    said = IS_DRIVING_ITSELF.text(vehicle)
+    ref = next((ref for text, ref in vscen.facts if text == said and ref is not None), None)
+    last = control.last_ads_event
+    if ref is None or control.engaged or not last:
+        return None
+    event = EventRef(ref.run, last["src"], last["seq"], last["t"], "ads.event")
+    return Finding("contradiction", f"\"{said}\" was stated ({ref.src} #{ref.seq}), but its ads.event record has the "
+                   f"feature not engaged at the act (last: {last.get('event')}, {last['src']} #{last['seq']})",
+                   (ref, event), fact=said)
+
+
+Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...], int | None]
+
+
+def _weighing_of(measured: Measurement, action: str) -> Weighing:
+    """The claims the measurement contradicts (sentence, what it shows, what it derives), by rule
+    why a margin proves nothing (reasoner/margins.py `unproven`), and the act's moment: for a
+    junction act, when the vehicle crossed its line (else entered the junction) by the moment it
+    was judged at, the act itself; a speeding or box act is judged when recorded."""
+    if not measured.present:
+        return (), (), None
+    return measured.contested, measured.unproven(), _act_moment(measured, action)
+
+
+def _act_moment(measured: Measurement, action: str) -> int | None:
+    at = measured.at
+    if at is None or action in (acts.SPEEDING, acts.BOX):
+        return at
+    for what in ("crossed the stop line", "entered the junction"):
+        found = [t for said, t in measured.moments if said == what and t <= at]
+        if found:
+            return found[-1]
+    return at
+
+
+def _changed_after(record: dict, at: int) -> bool:
+    """Whether the vehicle's status may have changed between the act and the record's time: an
+    ads.event after it, or, for a vehicle that is or was on an emergency call, a state after it."""
+    ads = (record.get("ads") or {}).get("last")
+    if ads and ads.get("t", 0) > at:
+        return True
+    spawn = ((record.get("spawn") or {}).get("body") or {}).get("emergency")
+    state = record.get("state") or {}
+    return (spawn is True or (state.get("body") or {}).get("emergency") is True) and state.get("t", 0) > at
+
+
+def _proved(validation: _Validation, rule: Any, unproven: tuple[tuple[str | None, str], ...],
+            summary: bool) -> _Validation:
+    """A conviction needs the act's margin beyond its uncertainty (DESIGN "Margins"): a
+    punishable verdict whose rule's margin does not exceed it is not proven, and dismissed so."""
+    if validation.verdict != "punishable" or not unproven:
+        return validation
+    key = rule_key(rule.label if rule is not None else None)
+    why = next((w for r, w in unproven if r == key), None)
+    if why is None:
+        return validation
+    return replace(validation, verdict="dismissed", why="" if summary else f"not proven: {why}")
 
 
 def _liable(liability: Liability | None) -> str:

@@ -40,9 +40,22 @@ class Measurement:
     act: Act | None = None                           # the act as the record delimits it (reasoner/oneact.py)
     readings: tuple[tuple[str, EventRef], ...] = ()  # how the map's words were read for it (junctions.py)
 
+    @property
+    def contested(self) -> tuple[tuple[str, str, tuple[str, ...]], ...]:
+        """Every stated or perceived sentence the measurements contradict beyond tolerance, with
+        what they show instead, in words and as the sentences they derive: a claim that cannot
+        decide a verdict alone (investigation: weighing)."""
+        found = [(c.stated, c.detail, c.shown) for c in self.contradictions]
+        found += [(c.stated, c.detail, c.shown) for _, _, _, cs in self.beliefs for c in cs]
+        return tuple(dict.fromkeys(found))
+
+    def unproven(self) -> tuple[tuple[str | None, str], ...]:
+        """By rule, why the act's margin does not prove it (within its uncertainty)."""
+        return tuple((r, m.unproven) for r, m in self.margins if m is not None and m.unproven)
+
     def margin(self, rule: str | None) -> Margin | None:
         """The margin of the act under this rule (margins.margin(passage, action, rule))."""
-        wanted = _rule_key(rule)
+        wanted = rule_key(rule)
         return next((m for r, m in self.margins if r == wanted), None)
 
     @property
@@ -92,7 +105,7 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                                 if (user := unmeasured(found, _said(text))) is not None))
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs, alone,
+                       tuple((rule, margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
                        act=stretch.act() if speeding else _passage_act(found),
                        readings=((found.line.reading, found.map_ref),) if found.line and found.line.reading
                        and found.map_ref else ())
@@ -108,7 +121,7 @@ def _passage_act(p: Passage) -> Act:
                "ends with the last sample read" in read)
 
 
-def _rule_key(rule: str | None) -> str | None:
+def rule_key(rule: str | None) -> str | None:
     key = rule.strip().upper() if isinstance(rule, str) else None
     return key if key in BY_RULE else None
 

@@ -242,9 +242,12 @@ def found_in(sources: Iterable[Source]) -> str:
 class Margin:
     """How far from the line a verdict was (DESIGN "Margins"): e.g. 1.2 s after red, 8 mph over.
     reasoner/margins.py measures them from a history; `method` says how, `figures` gives the
-    other measured values of the same moment (speed when amber came, the stopping distance), and
-    `uncertain` what the record leaves open. The last three are written only when present, so
-    a margin without them reads as it always has."""
+    other measured values of the same moment (speed when amber came, the stopping distance),
+    `uncertain` what the record leaves open, `uncertainty` how far the value may be from the
+    truth (reasoner/tolerance.py), `bound` "at least" where the record gives only a bound, and
+    `unproven` why the margin does not prove the act (a conviction needs the margin beyond its
+    uncertainty). Those after `figures` are written only when present, so a margin without
+    them reads as it always has."""
 
     quantity: str
     value: float
@@ -253,6 +256,9 @@ class Margin:
     method: str = ""
     figures: tuple[tuple[str, float, str], ...] = ()     # (quantity, value, unit)
     uncertain: str | None = None
+    uncertainty: float | None = None    # ± in `unit`: sampling interval, sensor tolerance, interpolation
+    bound: str | None = None            # "at least": the record gives a bound only (red began before it)
+    unproven: str | None = None         # why the margin does not prove the act: within its uncertainty
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {"quantity": self.quantity, "value": self.value, "unit": self.unit,
@@ -263,6 +269,12 @@ class Margin:
             out["figures"] = [{"quantity": q, "value": v, "unit": u} for q, v, u in self.figures]
         if self.uncertain:
             out["uncertain"] = self.uncertain
+        if self.uncertainty is not None:
+            out["uncertainty"] = self.uncertainty
+        if self.bound:
+            out["bound"] = self.bound
+        if self.unproven:
+            out["unproven"] = self.unproven
         return out
 
 

@@ -25,6 +25,7 @@ from store import EventRef, Store
 from .junctions import Map
 from .model import Act, DerivedFact, Margin
 from .motion import MPH_PER_MPS, mph
+from .tolerance import SPEED_TOLERANCE_MPS
 from .vocabulary import HAS_SPEED_OF, SPEED_LIMIT_IS
 
 SECOND = 1_000_000_000
@@ -98,9 +99,18 @@ class Stretch:
         if p.limit_mph is None:
             return None
         over = round(p.speed_mps * MPH_PER_MPS - p.limit_mph, 1) or 0.0       # never "-0"
+        u = round(SPEED_TOLERANCE_MPS * MPH_PER_MPS, 2)
+        unproven = None if over > u else (
+            f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty "
+            f"of ± {u:g} mph" if over > -u else
+            f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
+        cut = over > 0 and (self.open_start or self.open_end)
         return Margin("mph over the speed limit", over, "mph", (p.ref,),
                       f"fastest {p.speed_mps:.2f} m/s ({p.ref.src} #{p.ref.seq}) of the stretch over the limit "
-                      f"against road {p.road}'s {p.limit_mph:g} mph")
+                      f"against road {p.road}'s {p.limit_mph:g} mph; ± the speed tolerance (reasoner/tolerance.py)"
+                      + ("; the stretch reaches the first or last measurement read, so it may have been faster "
+                         "beyond: at least" if cut else ""),
+                      uncertainty=u, bound="at least" if cut else None, unproven=unproven)
 
 
 def measured(events: Iterable[dict], map_: Map, vehicle: str) -> list[Measured]:
