@@ -88,7 +88,7 @@ def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anch
         path, fmt = check_source(file, fmt)
         with _progress(f"importing {path.name}", path.stat().st_size,
                        path.stat().st_size >= PROGRESS_BYTES) as progress:
-            with Store(db_path(db), durable=not fast, checkpoint_key=key) as store:
+            with Store(db_path(db), durable=not fast, checkpoint_key=key, witness=witness_path) as store:
                 witness = WitnessFile(witness_path) if witness_path else None
                 if witness is not None:
                     store.add_checkpoint_hook(witness.append)

@@ -52,9 +52,11 @@ class BatchWriter(threading.Thread):
         quarantine_cap: QuarantineCap = QuarantineCap(),
         checkpoint_key: CheckpointKey | None = None,
         head_sinks: tuple[HeadSink, ...] = (),
+        witness: str | os.PathLike | None = None,
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
         self._checkpoint_key = checkpoint_key
+        self._witness = witness  # its last head of each run is the head a run's tail must extend
         self._head_sinks = head_sinks
         self._keys = trusted_keys
         self._watch = watch
@@ -98,7 +100,7 @@ class BatchWriter(threading.Thread):
         instead of costing every reader a scan of everything appended since its last snapshot."""
         try:
             store = Store(self._db_path, durable=self._durable, quarantine_cap=self._quarantine_cap,
-                          checkpoint_key=self._checkpoint_key)
+                          checkpoint_key=self._checkpoint_key, witness=self._witness)
             try:
                 enable_snapshots(store)
                 if self._head_sinks:
