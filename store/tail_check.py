@@ -61,6 +61,10 @@ def anchored_chain(conn: sqlite3.Connection, run: str, key: CheckpointKey | None
                          "the run was deleted")
         return RunChain()
     _check_latest(run, count, last[1], latest)
+    (odd,) = conn.execute("SELECT count(*) FROM checkpoints WHERE run = ? AND NOT (id >= 1)", (run,)).fetchone()
+    if odd:
+        _refuse(run, f"has {odd} checkpoint(s) under an id no append writes (ids start at 1): put into the file "
+                     "behind the store's back")
     if key is not None:
         _check_signed(conn, run, key, latest, expected)
     frontier = _frontier(run, latest)
