@@ -243,19 +243,20 @@ def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | Non
     signed = unsigned_before = 0
     wired: list[TreeHead] = []
     runs = []
-    for name in names:
+    problem = None
+    for name in names:  # every run, so that the report says what the key proves of each
         found = _key_run(conn, name, public, first.get(name))
         signed += found.signed
         unsigned_before += found.unsigned_before
         runs.append(found.summary())
-        if found.problem is not None:
-            return KeyCheck(kid, signed, unsigned_before, False, found.problem, tuple(runs))
-        wired += [head for head in found.heads if head.wire]
+        problem = problem or found.problem
+        if found.problem is None:
+            wired += [head for head in found.heads if head.wire]
     if not names:
         what = f"no checkpoint is signed by key {kid}: the store holds no run"
         return KeyCheck(kid, 0, 0, False, {"run": None, "count": None, "what": what}, ())
-    wrong = _wire_problem(conn, wired, kid)
-    return KeyCheck(kid, signed, unsigned_before, wrong is None, wrong, tuple(runs))
+    problem = problem or _wire_problem(conn, wired, kid)
+    return KeyCheck(kid, signed, unsigned_before, problem is None, problem, tuple(runs))
 
 
 def _runs(conn: sqlite3.Connection, recorded: dict[str, TreeHead]) -> list[Any]:
@@ -418,7 +419,8 @@ def _unproven(proven: int, events: int, witness: bool, keyed: KeyCheck | None) -
     by = " nor ".join(by for by, given in (("no witnessed head", witness), ("no signed checkpoint", keyed)) if given)
     if keyed is None:
         by += " (give --key to prove what the ingest signed since the witness's last head)"
-    return f"events {proven} to {events - 1} of {events} are covered by {by}: nothing outside the file vouches for them"
+    which = f"event {proven} of {events} is" if proven == events - 1 else f"events {proven} to {events - 1} of {events} are"
+    return f"{which} covered by {by}: nothing outside the file vouches for them"
 
 
 @dataclass(frozen=True)

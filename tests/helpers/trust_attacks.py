@@ -312,11 +312,23 @@ def forged_tail_id100(honest: Honest, copy: Path, rng: random.Random) -> Attacke
 
 
 def forged_tail_sealed(honest: Honest, copy: Path, rng: random.Random) -> Attacked:
-    """The forged tail at id 0, then sealed as the ingest did before issue 37: signed by the real
-    key (held without its public file, no witness read) and witnessed."""
-    forge_tail(copy, rng, 0)
-    bare = CheckpointKey(_seed(honest.key_path))
-    return Attacked(copy, honest.witness, "r2 holds events no source sent", honest_append(honest, copy, bare, witness=False))
+    """The forged tail under an unsigned checkpoint at id 0 or 100, then sealed as the ingest did
+    before issue 37: one honest event stored on top, its checkpoint signed by the real key over the
+    forgery and its head appended to the witness (written here by hand, as that ingest wrote them)."""
+    count = forge_tail(copy, rng, rng.choice([0, 100]))
+    events = stored_events(copy, "r2") + [perception("r2", count, ["173 stopped"])]
+    new_rows, marks = chain_rows("r2", events, [count + 1])
+    mark = Checkpoint(count + 1, marks[0].head, marks[0].root, marks[0].frontier, count)
+    top = rows(copy, "SELECT max(id) FROM checkpoints")[0][0]
+    key = honest.key()
+    insert = checkpoint_row(copy, "r2", mark, top + 1, key=key)
+    tamper(copy, [("INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)", new_rows[-1]), insert])
+    sig, kid, wire = insert[1][8], insert[1][9], insert[1][10]
+    head = TreeHead.of_checkpoint("r2", mark.count, mark.root, mark.head, mark.prev, T0, kid, sig, wire)
+    sink = WitnessFile(honest.witness)
+    sink.append([head])
+    sink.close()
+    return Attacked(copy, honest.witness, "r2 holds events no source sent, sealed by the key", True)
 
 
 def _seed(key_path: Path) -> bytes:
@@ -324,7 +336,24 @@ def _seed(key_path: Path) -> bytes:
     return seed_of(key_path.read_text("ascii"), str(key_path))
 
 
+def untouched(honest: Honest, copy: Path, rng: random.Random) -> Attacked:
+    """No attack: every check must pass."""
+    return Attacked(copy, honest.witness, "nothing")
+
+
+def honest_after_witness_copy(honest: Honest, copy: Path, rng: random.Random) -> Attacked:
+    """No attack either: the ingest goes on storing r2 after the investigator copied the witness
+    (the copy's last head of r2 is older than the store's tail, which the key signed)."""
+    stale = copy.with_suffix(".stale.jsonl")
+    shutil.copy(honest.witness, stale)
+    for _ in range(rng.randint(1, 3)):
+        honest_append(honest, copy)
+    return Attacked(copy, stale, "nothing (r2 grew after the witness was copied)", None)
+
+
 ATTACKS: dict[str, Callable[[Honest, Path, random.Random], Attacked]] = {
+    "none (untouched)": untouched,
+    "none (witness copied before the last appends)": honest_after_witness_copy,
     "rewrite, ids kept": rewrite_keep_ids,
     "rewrite, id <= 0": rewrite_zero_id,
     "rewrite tail, key_id nulled": rewrite_tail_null_key_id,
