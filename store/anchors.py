@@ -419,7 +419,8 @@ def _unproven(proven: int, events: int, witness: bool, keyed: KeyCheck | None) -
     by = " nor ".join(by for by, given in (("no witnessed head", witness), ("no signed checkpoint", keyed)) if given)
     if keyed is None:
         by += " (give --key to prove what the ingest signed since the witness's last head)"
-    which = f"event {proven} of {events} is" if proven == events - 1 else f"events {proven} to {events - 1} of {events} are"
+    which = (f"event {proven} of {events} is" if proven == events - 1
+             else f"events {proven} to {events - 1} of {events} are")
     return f"{which} covered by {by}: nothing outside the file vouches for them"
 
 
