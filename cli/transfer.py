@@ -54,8 +54,9 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
     """Import events from JSONL or MCAP into the store, creating it if missing.
 
     Bad events are quarantined with their bytes and the reason; the rest is still imported (exit 0).
-    With --checkpoint-key the checkpoints are signed (and a run whose stored tail its last
-    checkpoint does not vouch for is refused, exit 1); --witness keeps their heads outside the store.
+    With --checkpoint-key the checkpoints are signed, each run's first signed head is recorded in
+    KEY.pub, and a run whose stored tail does not extend its last signed head (from --witness, else
+    KEY.pub) is refused, exit 1; --witness keeps their heads outside the store.
     """
     anchoring = _anchoring(checkpoint_key, witness)
     if is_stdio(file):

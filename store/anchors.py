@@ -16,11 +16,17 @@ its outcome says so (`wire`: "not covered"). A part that also records the stored
 (store/rulebook_chain.py) has that checked the same way, which catches a rulebook removed or its
 name, version or text changed (`rulebooks`: "checked"; "not covered" for a part without it).
 
-With the checkpoint key's public half, every checkpoint of a run from the first one that key
-signed on must be signed by it, and its signature must hold over what the checkpoint records
-(which verify checks against the events), and the wire tables' and rulebooks' ends it records
-must hold in the store: a checkpoint added, a run rewritten, or a wire table or the rulebooks cut
-back or rewritten, by someone without the key fails.
+With the checkpoint key's public file (store/trust_root.py), nothing in the store decides what
+must be signed: every run checked must end on a checkpoint signed by the key, every checkpoint
+from the run's first signed head on (the one the key file records, else its first checkpoint the
+key signed, in the order of counts, never of ids) must be signed by it, its signature must hold
+over what the checkpoint records (which verify checks against the events), and the wire tables'
+and rulebooks' ends it records must hold in the store: a checkpoint added, a run rewritten under
+any ids, signatures stripped, a run the key file records deleted, or a wire table or the rulebooks
+cut back or rewritten, by someone without the key fails. The heads of a witness must follow one
+another (prev_size), so a head signed over a tail the witness never saw shows. Then, per run, what
+the witness and the key prove of its stored events (RunProof): a run is proven only when every
+stored event is (docs/guarantees.md).
 """
 
 from __future__ import annotations

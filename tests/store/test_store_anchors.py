@@ -172,15 +172,17 @@ def test_a_consistent_rewrite_of_a_whole_run_is_caught(tmp_path, key):
     assert not keyed.ok  # the run's signed checkpoints are gone: "no checkpoint is signed by key …"
 
 
-def test_a_deleted_run_is_caught_by_the_witness_only(tmp_path, key):
+def test_a_deleted_run_is_caught_by_the_witness_and_the_key_file(tmp_path, key):
     db = tmp_path / "s.db"
     heads = witnessed_store(db, key, tmp_path / "w.jsonl")
     tamper(db, ("DELETE FROM events WHERE run = 'r2'", ()), ("DELETE FROM checkpoints WHERE run = 'r2'", ()))
     with Store.open_read_only(db) as store:
         assert store.verify().ok
         outcomes, keyed = store.check_anchors(heads, key.public)
-    assert keyed.ok
+        assert keyed.ok  # the key alone knows no run: what is left is signed
+        _, recorded = store.check_anchors((), key.public, recorded=recorded_heads(key.public_file(), key.public))
     assert {o.outcome for o in outcomes if o.run == "r2"} == {"run missing"}
+    assert not recorded.ok and "run r2: the key file records its first signed head" in recorded.problem["what"]
 
 
 def test_a_head_not_signed_by_the_key_fails(tmp_path, key):
