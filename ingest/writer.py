@@ -234,6 +234,9 @@ class BatchWriter(threading.Thread):
                 stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
                 quarantine_full=report.quarantine_full,
             )
+            if store.trust_problem is not None:  # the key file could not record a run's first signed head
+                self._stats.record_error(f"key file: {store.trust_problem}")
+                log.error("ingest: %s", store.trust_problem)
             if report.quarantine_full and not self._quarantine_full:
                 self._quarantine_full = True
                 cap = store.quarantine_cap

@@ -176,6 +176,12 @@ class Store:
                 hook(batch.signed)
         return batch.report
 
+    @property
+    def trust_problem(self) -> str | None:
+        """Why the key's public file could not record a run's first signed head at the last append
+        that signed one (store/trust_root.py), or None; the append itself was committed."""
+        return None if self._signed_runs is None else self._signed_runs.problem
+
     def add_checkpoint_hook(self, hook: CheckpointHook) -> None:
         """Call `hook(heads)` with the signed tree heads of each append's checkpoints, once they are
         committed (with a checkpoint key only): to publish them outside the store (store/witness.py)."""

@@ -46,7 +46,7 @@ class SignedRuns:
         if ledger is not None:
             for head in recorded_heads(ledger, public):
                 self.first.setdefault(head.run, head)
-        if witness is not None and Path(witness).exists() and Path(witness).read_text("utf-8", "replace").strip():
+        if witness is not None and Path(witness).exists() and Path(witness).stat().st_size > 0:
             self._read_witness(Path(witness))
 
     def expected(self, run: str) -> tuple[TreeHead, str] | None:
@@ -63,6 +63,7 @@ class SignedRuns:
         append: `problem` says why, the run's next head is tried again, and a later writer still
         demands the run's tail be signed (its checkpoints carry signatures)."""
         new = []
+        self.problem = None
         for head in heads:
             self.last[head.run] = (head, "this writer's last signed head")
             if head.run not in self.first:
@@ -71,7 +72,6 @@ class SignedRuns:
         if new and self.ledger is not None:
             try:
                 append_heads(self.ledger, new)
-                self.problem = None
             except KeysError as exc:
                 self.problem = str(exc)
                 for head in new:

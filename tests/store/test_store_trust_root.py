@@ -200,3 +200,22 @@ def test_key_fails_for_a_run_no_checkpoint_of_which_is_signed(tmp_path):
     result = gaps("verify", "--no-snapshots", "--key", tmp_path / "k.pub", db=db)
     assert result.exit_code == 1 and "run old: no checkpoint is signed by key" in result.output
     assert gaps("verify", "--no-snapshots", "--key", tmp_path / "k.pub", "--run", "new", db=db).exit_code == 0
+
+
+def test_a_key_file_that_cannot_be_written_does_not_fail_the_append_and_says_why(tmp_path):
+    """The commit is done when the key file is written: the append stands, `trust_problem` says
+    why the run's first head is not recorded, and the next signed append tries again."""
+    key_path = tmp_path / "k"
+    CheckpointKey.create(key_path)
+    public = tmp_path / "k.pub"
+    text = public.read_text()
+    public.unlink()
+    public.symlink_to(tmp_path / "gone")  # a file that cannot be opened to append to (even by root)
+    with Store(tmp_path / "s.db", checkpoint_key=CheckpointKey.load(key_path)) as store:
+        assert store.append([perception("r1", 0)]).stored == 1
+        assert "cannot record the first signed heads" in store.trust_problem
+        public.unlink()
+        public.write_text(text)
+        assert store.append([perception("r1", 1)]).stored == 1
+        assert store.trust_problem is None
+    assert [h.size for h in recorded_heads(public, load_public(public))] == [2]
