@@ -136,6 +136,11 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
                        "before those unsigned)")
         else:
             typer.echo(f"CHECKPOINT KEY {keyed.key} FAILED: {printable(keyed.problem['what'])}")
+        if keyed.absent:
+            shown = ", ".join(printable(name) for name in keyed.absent[:10]) + (" ..." if len(keyed.absent) > 10
+                                                                                  else "")
+            typer.echo(f"the key file records {len(keyed.absent)} run(s) this store does not hold: {shown} (deleted, "
+                       "or signed into another store with this key: the witness of this store's ingest tells)")
 
 
 def _print_proven(proofs: list) -> None:

@@ -214,7 +214,8 @@ class KeyCheck:
     `runs` says, per run, what the key proves: `events` stored, `signed_through` (the events its
     latest signed checkpoint covers: all of them when ok), `since` (the size from which every
     checkpoint must be signed) and whether that came from the key file (`recorded`) or from the
-    run's first checkpoint the key signed."""
+    run's first checkpoint the key signed. `absent`: runs the key file records that the store does
+    not hold (deleted, or signed into another store: the key file does not say which)."""
 
     key: str
     signed: int
@@ -222,9 +223,10 @@ class KeyCheck:
     ok: bool
     problem: dict[str, Any] | None
     runs: tuple[dict[str, Any], ...] = ()
+    absent: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return {**asdict(self), "runs": list(self.runs)}
+        return {**asdict(self), "runs": list(self.runs), "absent": list(self.absent)}
 
 
 _KEY_ROWS = ("SELECT count, head, merkle_root, prev_count, created_at, signature, key_id, wire FROM checkpoints "
@@ -233,25 +235,28 @@ _KEY_ROWS = ("SELECT count, head, merkle_root, prev_count, created_at, signature
 
 def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | None,
                          recorded: Sequence[TreeHead] = ()) -> KeyCheck:
-    """Every run checked (the one asked, else every run of the store and of the key file) must be
-    signed by `public` through its end, and, once signed, at every later checkpoint (in the order
-    of their counts, which verify checks against the events, never of their ids, which the file's
-    holder chooses). Where a run's signing began is read from the key file (`recorded`: the runs'
-    first signed heads, store/trust_root.py); for a run it does not record, from its first checkpoint
-    the key signed, which decides nothing the latest signed one does not prove. A checkpoint that
-    carries a signature or key id must verify, wherever it is. The wire tables' (and rulebooks')
-    ends the signed checkpoints record must then hold in the store."""
+    """Every run checked (the one asked, else every run of the store) must be signed by `public`
+    through its end, and, once signed, at every later checkpoint (in the order of their counts,
+    which verify checks against the events, never of their ids, which the file's holder chooses).
+    Where a run's signing began is read from the key file (`recorded`: the runs' first signed heads,
+    store/trust_root.py): the run must hold one of the heads it records of it, signed; for a run it
+    does not record, from its first checkpoint the key signed, which decides nothing the latest
+    signed one does not prove. A checkpoint that carries a signature or key id must verify,
+    wherever it is. The wire tables' (and rulebooks') ends the signed checkpoints record must then
+    hold in the store."""
     kid = key_id(public)
-    first = {}
+    first: dict[str, list[TreeHead]] = {}
     for head in recorded:
-        first.setdefault(head.run, head)
-    names = [run] if run is not None else _runs(conn, first)
+        first.setdefault(head.run, []).append(head)
+    stored = _runs(conn)
+    names = [run] if run is not None else stored
+    absent = tuple(sorted(name for name in first if name not in set(stored) and (run is None or name == run)))
     signed = unsigned_before = 0
     wired: list[TreeHead] = []
     runs = []
     problem = None
     for name in names:  # every run, so that the report says what the key proves of each
-        found = _key_run(conn, name, public, first.get(name))
+        found = _key_run(conn, name, public, first.get(name, []))
         signed += found.signed
         unsigned_before += found.unsigned_before
         runs.append(found.summary())
@@ -260,15 +265,14 @@ def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | Non
             wired += [head for head in found.heads if head.wire]
     if not names:
         what = f"no checkpoint is signed by key {kid}: the store holds no run"
-        return KeyCheck(kid, 0, 0, False, {"run": None, "count": None, "what": what}, ())
+        return KeyCheck(kid, 0, 0, False, {"run": None, "count": None, "what": what}, (), absent)
     problem = problem or _wire_problem(conn, wired, kid)
-    return KeyCheck(kid, signed, unsigned_before, problem is None, problem, tuple(runs))
+    return KeyCheck(kid, signed, unsigned_before, problem is None, problem, tuple(runs), absent)
 
 
-def _runs(conn: sqlite3.Connection, recorded: dict[str, TreeHead]) -> list[Any]:
+def _runs(conn: sqlite3.Connection) -> list[Any]:
     rows = conn.execute("SELECT run FROM events UNION SELECT run FROM checkpoints")
-    found = {name for (name,) in rows}
-    return sorted(found | set(recorded), key=repr)
+    return sorted({name for (name,) in rows}, key=repr)
 
 
 @dataclass
@@ -296,16 +300,25 @@ class _KeyRun:
                 "signed": self.signed, "unsigned_before": self.unsigned_before, "ok": self.problem is None}
 
 
-def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: TreeHead | None) -> _KeyRun:
+def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: list[TreeHead]) -> _KeyRun:
     kid = key_id(public)
     (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
     found = _KeyRun(run, last + 1 if isinstance(last, int) else 0)
-    if recorded is not None:
-        found.since, found.recorded = recorded.size, True
-    latest = None
-    for row in conn.execute(_KEY_ROWS, (run,)):
+    rows = conn.execute(_KEY_ROWS, (run,)).fetchall()
+    if recorded:
+        found.since = _recorded_size(run, rows, public, recorded)
+        if found.since is None:
+            sizes = ", ".join(str(head.size) for head in recorded)
+            at = [row for row in rows if row[0] in {head.size for head in recorded}]
+            problem = next((p for p in (_signed_head((run, *row), public)[1] for row in at) if p), None)
+            if problem is not None:
+                return found.fail(at[0][0], f"{problem}; the key file records the run's first signed head there")
+            return found.fail(None, f"the key file records its first signed head (of {sizes} events), and no "
+                                    f"checkpoint signed by key {kid} in the store records it: the run was rewritten "
+                                    "or its signatures stripped (or it is another store's run of that name)")
+        found.recorded = True
+    for row in rows:
         count, sig, row_kid = row[0], row[5], row[6]
-        latest = row
         must = found.since is not None and isinstance(count, int) and count >= found.since
         if sig is None and row_kid is None and not must:
             found.unsigned_before += 1
@@ -317,28 +330,29 @@ def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: TreeHe
             return found.fail(count, f"{problem}{after}")
         if found.since is None:
             found.since = count
-        if recorded is not None and count == recorded.size and (head.root, head.head) != (recorded.root,
-                                                                                           recorded.head):
-            return found.fail(count, f"the checkpoint of {count} events, signed by key {kid}, is not the run's "
-                                     "first signed head the key file records: the run was rewritten")
         found.signed += 1
         found.heads.append(head)
-    if latest is None:
-        what = (f"the key file records its first signed head of {recorded.size} events, but the store holds no "
-                "checkpoint of it: the run was deleted") if recorded is not None else "it has no checkpoint"
-        return found.fail(None, what)
+    if not rows:
+        return found.fail(None, "it has no checkpoint")
     if not found.signed:
-        return found.fail(latest[0], f"no checkpoint is signed by key {kid}: nothing outside the file vouches for "
-                                     f"its {found.events} events")
-    if recorded is not None and not any(h.size == recorded.size for h in found.heads):
-        return found.fail(recorded.size, f"the key file records its first signed head of {recorded.size} events, "
-                                         "and the store holds no checkpoint signed at that size")
+        return found.fail(rows[-1][0], f"no checkpoint is signed by key {kid}: nothing outside the file vouches "
+                                       f"for its {found.events} events")
     found.signed_through = found.heads[-1].size
     if found.signed_through < found.events:
         return found.fail(found.signed_through, f"its latest signed checkpoint covers {found.signed_through} events "
                                                 f"of {found.events}: events {found.signed_through} to "
                                                 f"{found.events - 1} are vouched for by no signature")
     return found
+
+
+def _recorded_size(run: Any, rows: list[tuple], public: bytes, recorded: list[TreeHead]) -> int | None:
+    """The size of the first of the key file's heads of the run that a checkpoint signed by the
+    key records (same size, root and chain head), or None."""
+    wanted = {(head.size, head.root, head.head) for head in recorded}
+    for row in rows:
+        if (row[0], row[2], row[1]) in wanted and _signed_head((run, *row), public)[1] is None:
+            return row[0]
+    return None
 
 
 def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> dict[str, Any] | None:

@@ -54,10 +54,10 @@ def anchored_chain(conn: sqlite3.Connection, run: str, key: CheckpointKey | None
                         (run,)).fetchone()
     latest = conn.execute(f"{_CHECKPOINTS} ORDER BY count DESC, id DESC LIMIT 1", (run,)).fetchone()
     count = 0 if last is None else last[0] + 1
-    expected = None if key is None or trust is None else trust.expected(run)
+    known = None if key is None or trust is None else trust.last.get(run)
     if last is None:
-        if expected is not None:
-            _refuse(run, f"holds no events, but its last signed head, in {expected[1]}, covers {expected[0].size}: "
+        if known is not None:
+            _refuse(run, f"holds no events, but its last signed head, in {known[1]}, covers {known[0].size}: "
                          "the run was deleted")
         return RunChain()
     _check_latest(run, count, last[1], latest)
@@ -66,7 +66,7 @@ def anchored_chain(conn: sqlite3.Connection, run: str, key: CheckpointKey | None
         _refuse(run, f"has {odd} checkpoint(s) under an id no append writes (ids start at 1): put into the file "
                      "behind the store's back")
     if key is not None:
-        _check_signed(conn, run, key, latest, expected)
+        _check_signed(conn, run, key, latest, trust)
     frontier = _frontier(run, latest)
     if frontier is None:  # a v1 checkpoint (no frontier): the run's hashes, as before v2
         rows = conn.execute("SELECT hash FROM events WHERE run = ? ORDER BY chain_pos", (run,))
@@ -89,21 +89,42 @@ def _check_latest(run: str, count: int, last_hash: Any, latest: tuple | None) ->
 
 
 def _check_signed(conn: sqlite3.Connection, run: str, key: CheckpointKey, latest: tuple,
-                  expected: tuple[TreeHead, str] | None) -> None:
-    """With the key: a run whose last signed head is known outside the file must end on a
-    checkpoint signed by the key that extends that head; a run known nowhere must end on a signed
-    checkpoint once any of its checkpoints carries a signature (only a run never signed may begin)."""
+                  trust: SignedRuns | None) -> None:
+    """With the key: a run whose last signed head is known outside the file (the witness, this
+    writer) must end on a checkpoint signed by the key that extends that head; a run the key file
+    records must hold one of the first heads it records, signed, and end on a signed checkpoint; a
+    run known to neither must end on a signed checkpoint once any of its checkpoints carries a
+    signature (only a run never signed may begin to be)."""
     problem = _signature_problem(run, latest, key)
-    if expected is None:
-        if problem is None:
-            return
+    recorded = [] if trust is None else trust.first.get(run, [])
+    match = next((head for head in recorded if _records(conn, run, key, head)), None)
+    if match is not None:
+        trust.here.add(run)
+    known = None if trust is None else trust.last.get(run)
+    if known is not None:
+        _check_extends(conn, run, key, latest, problem, *known)
+    elif recorded:
+        if match is None:
+            sizes = ", ".join(str(head.size) for head in recorded)
+            _refuse(run, f"holds no checkpoint signed by key {key.id} that records one of the first signed heads "
+                         f"{trust.where()} records of it (of {sizes} events): its signatures were stripped or it was "
+                         "rewritten (or it is a run of the same name in another store, signed before the key file "
+                         "recorded runs)")
+        if problem is not None:
+            _refuse(run, f"has a latest checkpoint (of {latest[0]} events) that does not verify with key {key.id} "
+                         f"({problem}), though the run was signed from {match.size} events on ({trust.where()}): "
+                         "its tail was written behind the ingest's back")
+    elif problem is not None:
         (marked,) = conn.execute("SELECT count(*) FROM checkpoints WHERE run = ? AND (signature IS NOT NULL OR "
                                  "key_id IS NOT NULL)", (run,)).fetchone()
         if marked:
             _refuse(run, f"has {marked} signed checkpoint(s) but its latest (of {latest[0]} events) does not verify "
                          f"with key {key.id}: {problem}; once a run is signed, every later checkpoint is")
-        return  # never signed by anyone: signing begins here, and the key file records it
-    head, where = expected
+        # never signed by anyone: signing begins here, and the key file records it
+
+
+def _check_extends(conn: sqlite3.Connection, run: str, key: CheckpointKey, latest: tuple, problem: str | None,
+                   head: TreeHead, where: str) -> None:
     if latest[0] < head.size:
         _refuse(run, f"holds {latest[0]} events, but its last signed head, in {where}, covers {head.size}: "
                      f"events {latest[0]} to {head.size - 1} were removed")
@@ -111,11 +132,16 @@ def _check_signed(conn: sqlite3.Connection, run: str, key: CheckpointKey, latest
         _refuse(run, f"has a latest checkpoint (of {latest[0]} events) that does not verify with key {key.id} "
                      f"({problem}), though the run was signed up to {head.size} events ({where}): its tail was "
                      "written behind the ingest's back")
-    rows = conn.execute(f"{_CHECKPOINTS} AND count = ?", (run, head.size)).fetchall()
-    if not any(row[2] == head.root and row[1] == head.head and _signature_problem(run, row, key) is None
-               for row in rows):
+    if not _records(conn, run, key, head):
         _refuse(run, f"does not extend its last signed head ({head.size} events, Merkle root {head.root[:12]}…, "
                      f"in {where}): no checkpoint signed by key {key.id} records it; the run was rewritten")
+
+
+def _records(conn: sqlite3.Connection, run: str, key: CheckpointKey, head: TreeHead) -> bool:
+    """Does a checkpoint of the run signed by the key record this head (size, root, chain head)?"""
+    rows = conn.execute(f"{_CHECKPOINTS} AND count = ?", (run, head.size)).fetchall()
+    return any(row[2] == head.root and row[1] == head.head and _signature_problem(run, row, key) is None
+               for row in rows)
 
 
 def _signature_problem(run: str, row: tuple, key: CheckpointKey) -> str | None:

@@ -16,10 +16,12 @@ Two things the holder of the store does not hold decide it instead:
   signed head; the ingest reads it when it opens the store and, from then on, keeps each head it
   signs. A run's tail must extend that head before the ingest extends the run.
 
-A run neither names (no line in the key file, no head in the witness) and whose checkpoints carry
-no signature was never signed by this key: a writer with the key may begin signing it (its first
-signed head then goes into the key file). A run with signed checkpoints that neither names (a key
-file from before its runs were recorded) must end on a checkpoint signed by the key.
+The key file records a run by its name, as heads do; a key that signs runs of one name in two
+stores records a first head for each (a run must extend one of them). A run neither names (no line
+in the key file, no head in the witness) and whose checkpoints carry no signature was never signed
+by this key: a writer with the key may begin signing it (its first signed head then goes into the
+key file). A run with signed checkpoints that neither names (a key file from before its runs were
+recorded) must end on a checkpoint signed by the key.
 """
 
 from __future__ import annotations
@@ -35,47 +37,48 @@ from .tree_heads import TreeHead
 
 
 class SignedRuns:
-    """Each run's first and last signed head known outside the store, for one checkpoint key."""
+    """Each run's first signed heads the key file records and last signed head known outside the
+    store, for one checkpoint key and one store."""
 
     def __init__(self, public: bytes, ledger: Path | None = None, witness: Path | None = None) -> None:
         self.public = public
         self.ledger = ledger
-        self.first: dict[str, TreeHead] = {}
+        self.first: dict[str, list[TreeHead]] = {}  # run -> its first signed heads (one per store it was signed in)
         self.last: dict[str, tuple[TreeHead, str]] = {}  # run -> (head, where it was read)
+        self.here: set[str] = set()  # runs whose first signed head in this store the key file holds
         self.problem: str | None = None  # why the key file could not record a run's first signed head
         if ledger is not None:
             for head in recorded_heads(ledger, public):
-                self.first.setdefault(head.run, head)
+                self.first.setdefault(head.run, []).append(head)
         if witness is not None and Path(witness).exists() and Path(witness).stat().st_size > 0:
             self._read_witness(Path(witness))
 
-    def expected(self, run: str) -> tuple[TreeHead, str] | None:
-        """The run's last signed head known outside the file and where it was read, or None."""
-        found = self.last.get(run)
-        if found is not None:
-            return found
-        first = self.first.get(run)
-        return None if first is None else (first, f"the key file {self.ledger}")
+    def where(self) -> str:
+        return f"the key file {self.ledger}"
 
     def signed(self, heads: Iterable[TreeHead]) -> None:
-        """Heads this writer signed and committed: each is its run's last; a run's first goes into
-        the key file. The commit is done, so a key file that cannot be written does not fail the
-        append: `problem` says why, the run's next head is tried again, and a later writer still
-        demands the run's tail be signed (its checkpoints carry signatures)."""
-        new = []
+        """Heads this writer signed and committed: each is its run's last; the first of a run the key
+        file does not yet hold for this store goes into it. The commit is done, so a key file that
+        cannot be written does not fail the append: `problem` says why, the run's next head is tried
+        again, and a later writer still demands the run's tail be signed (its checkpoints carry
+        signatures)."""
+        new: dict[str, TreeHead] = {}
         self.problem = None
         for head in heads:
             self.last[head.run] = (head, "this writer's last signed head")
-            if head.run not in self.first:
-                self.first[head.run] = head
-                new.append(head)
-        if new and self.ledger is not None:
+            if head.run not in self.here:
+                new.setdefault(head.run, head)
+        if not new:
+            return
+        if self.ledger is not None:
             try:
-                append_heads(self.ledger, new)
+                append_heads(self.ledger, list(new.values()))
             except KeysError as exc:
                 self.problem = str(exc)
-                for head in new:
-                    del self.first[head.run]
+                return
+        for run, head in new.items():
+            self.first.setdefault(run, []).append(head)
+            self.here.add(run)
 
     def _read_witness(self, path: Path) -> None:
         from .witness import read_heads

@@ -70,12 +70,17 @@ def test_a_rewrite_signed_by_another_key_fails_key(honest, tmp_path):
     assert found["plain"] and not found["--key"] and not found["--against"]
 
 
-def test_a_deleted_run_fails_key_through_the_runs_the_key_file_records(honest, tmp_path):
-    """Before issue 37 only a witness showed a deleted run; the key file now records each run's first
-    signed head, so `--key` alone names it."""
+def test_a_deleted_run_fails_against_and_key_names_it_absent(honest, tmp_path):
+    """A limit, stated in docs/guarantees.md: the key file records each run the key signed, in any
+    store, so --key names a recorded run the store lacks without failing; the witness fails."""
     for seed in range(4):  # both runs are drawn
         done, found = attacked(honest, tmp_path, "run deleted", seed)
-        assert found["plain"] and not found["--key"] and not found["--against"]
+        assert found == {"plain": True, "--key": True, "--against": False, "--key --against": False}
+        [gone] = {"r1", "r2"} - {run for (run,) in rows(done.db, "SELECT DISTINCT run FROM events")}
+        result = gaps("verify", "--no-snapshots", "--key", honest.public, "--json", db=done.db)
+        assert json.loads(result.stdout)["checkpoint_key"]["absent"] == [gone]
+        text = gaps("verify", "--no-snapshots", "--key", honest.public, db=done.db)
+        assert f"records 1 run(s) this store does not hold: {gone}" in text.output
 
 
 def test_a_run_cut_back_to_a_signed_checkpoint_passes_key_and_fails_against(honest, tmp_path):
@@ -110,7 +115,7 @@ def test_an_append_refuses_a_forged_tail_under_a_modern_unsigned_checkpoint_with
     forge_tail(copy, random.Random(1), 100)
     for witness in (honest.witness, None):
         with Store(copy, checkpoint_key=honest.key(), witness=witness) as store:
-            with pytest.raises(TamperedTail, match="does not verify with key .* though the run was signed up to 4"):
+            with pytest.raises(TamperedTail, match="though the run was signed up to 4|records one of the first signed heads"):
                 store.append([perception("r2", 99)])
 
 
@@ -183,7 +188,7 @@ def test_a_run_never_signed_may_begin_to_be_and_a_run_stripped_of_its_signatures
     assert json.loads(result.stdout)["checkpoint_key"]["runs"][0]["unsigned_before"] == 1
     tamper(db, [("UPDATE checkpoints SET signature = NULL, key_id = NULL", ())])
     with Store(db, checkpoint_key=CheckpointKey.load(key_path)) as store:
-        with pytest.raises(TamperedTail, match="though the run was signed up to 4 events"):
+        with pytest.raises(TamperedTail, match="its signatures were stripped or it was rewritten"):
             store.append([perception("r1", 4)])
     assert gaps("verify", "--no-snapshots", "--key", tmp_path / "k.pub", db=db).exit_code == 1
 
@@ -219,3 +224,20 @@ def test_a_key_file_that_cannot_be_written_does_not_fail_the_append_and_says_why
         assert store.append([perception("r1", 1)]).stored == 1
         assert store.trust_problem is None
     assert [h.size for h in recorded_heads(public, load_public(public))] == [2]
+
+
+def test_one_key_signing_runs_of_one_name_in_two_stores_records_a_first_head_for_each(tmp_path):
+    """The key file records runs by name, as heads do; a key that signs an r1 in two stores records
+    the first head of each, and each store's r1 must extend one of them: both go on, both verify."""
+    key_path = tmp_path / "k"
+    CheckpointKey.create(key_path)
+    for name, facts in (("a.db", ["173 has red light"]), ("b.db", ["173 has green light"])):
+        for seq in range(3):  # three connections: the second and third read the run from the file
+            with Store(tmp_path / name, checkpoint_key=CheckpointKey.load(key_path)) as store:
+                assert store.append([perception("r1", seq, facts)]).stored == 1
+    heads = recorded_heads(tmp_path / "k.pub", load_public(tmp_path / "k.pub"))
+    assert [(h.run, h.size) for h in heads] == [("r1", 1), ("r1", 1)] and heads[0].root != heads[1].root
+    for name in ("a.db", "b.db"):
+        result = gaps("verify", "--no-snapshots", "--key", tmp_path / "k.pub", "--json", db=tmp_path / name)
+        assert result.exit_code == 0, result.output
+        assert json.loads(result.stdout)["checkpoint_key"]["runs"][0]["recorded"]
