@@ -328,7 +328,7 @@ def forged_tail_sealed(honest: Honest, copy: Path, rng: random.Random) -> Attack
     sink = WitnessFile(honest.witness)
     sink.append([head])
     sink.close()
-    return Attacked(copy, honest.witness, "r2 holds events no source sent, sealed by the key", True)
+    return Attacked(copy, honest.witness, "r2 holds events no source sent, sealed by the key")
 
 
 def _seed(key_path: Path) -> bytes:
