@@ -297,7 +297,8 @@ class _KeyRun:
     def summary(self) -> dict[str, Any]:
         return {"run": self.run if isinstance(self.run, str) else repr(self.run), "events": self.events,
                 "signed_through": self.signed_through, "since": self.since, "recorded": self.recorded,
-                "signed": self.signed, "unsigned_before": self.unsigned_before, "ok": self.problem is None}
+                "signed": self.signed, "unsigned_before": self.unsigned_before, "ok": self.problem is None,
+                "what": None if self.problem is None else self.problem["what"]}
 
 
 def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: list[TreeHead]) -> _KeyRun:
@@ -402,9 +403,10 @@ class RunProof:
 
 def prove_runs(conn: sqlite3.Connection, run: str | None, heads: Sequence[TreeHead], outcomes: Sequence[HeadOutcome],
                keyed: KeyCheck | None, witness: bool = True) -> list[RunProof]:
-    """Per run (the one asked, else every run of the store, the witness and the key file), how
-    many of its stored events the witness and the key prove: a run the witness names that
-    the store lacks fails, and so does a stored run, or a tail, that neither covers."""
+    """Per run (the one asked, else every run of the store and of the witness), how many of its
+    stored events the witness and the key prove: a run the witness names that the store lacks
+    fails, and so does a run the witness or the key failed on, or a run, or a tail, that neither
+    covers."""
     witnessed: dict[str, int] = {}
     failed: dict[str, str] = {}
     for head, outcome in zip(heads, outcomes):
@@ -413,13 +415,14 @@ def prove_runs(conn: sqlite3.Connection, run: str | None, heads: Sequence[TreeHe
         else:
             failed.setdefault(head.run, f"the witness's head of {head.size} events: {outcome.what}")
     by_key = {entry["run"]: entry for entry in (keyed.runs if keyed is not None else ())}
-    if keyed is not None and keyed.problem is not None and keyed.problem.get("run") is not None:
-        failed.setdefault(keyed.problem["run"], keyed.problem["what"])
+    for entry in by_key.values():
+        if not entry["ok"]:
+            failed.setdefault(entry["run"], entry["what"])
     if run is not None:
         names = [run]
     else:
         rows = conn.execute("SELECT run FROM events UNION SELECT run FROM checkpoints")
-        names = sorted({name for (name,) in rows if isinstance(name, str)} | {h.run for h in heads} | set(by_key))
+        names = sorted({name for (name,) in rows if isinstance(name, str)} | {h.run for h in heads})
     proofs = []
     for name in names:
         (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (name,)).fetchone()

@@ -241,3 +241,18 @@ def test_one_key_signing_runs_of_one_name_in_two_stores_records_a_first_head_for
         result = gaps("verify", "--no-snapshots", "--key", tmp_path / "k.pub", "--json", db=tmp_path / name)
         assert result.exit_code == 0, result.output
         assert json.loads(result.stdout)["checkpoint_key"]["runs"][0]["recorded"]
+
+
+def test_the_report_says_per_run_what_the_witness_and_the_key_prove(honest, tmp_path):
+    """r2's checkpoint stripped of its signature, its events untouched: the witness still proves
+    all of r2, the key fails it, and r2 is not reported proven; r1 is, by both."""
+    copy = tmp_path / "s.db"
+    shutil.copy(honest.db, copy)
+    tamper(copy, [("UPDATE checkpoints SET signature = NULL, key_id = NULL WHERE run = 'r2'", ())])
+    result = gaps("verify", "--no-snapshots", "--json", "--key", honest.public, "--against", honest.witness, db=copy)
+    assert result.exit_code == 1
+    proven = {p["run"]: p for p in json.loads(result.stdout)["proven"]}
+    assert proven["r1"] == {"run": "r1", "events": 26, "witnessed": 26, "signed": 26, "proven": 26, "ok": True,
+                            "what": None}
+    assert proven["r2"]["witnessed"] == 4 and proven["r2"]["signed"] == 0 and not proven["r2"]["ok"]
+    assert "the checkpoint of 4 events is unsigned" in proven["r2"]["what"]
