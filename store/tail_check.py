@@ -67,6 +67,10 @@ def anchored_chain(conn: sqlite3.Connection, run: str, key: CheckpointKey | None
                      "behind the store's back")
     if key is not None:
         _check_signed(conn, run, key, latest, trust)
+    elif latest[6] is not None or latest[7] is not None:
+        _refuse(run, f"ends on a checkpoint signed by key {latest[7]}, and an append without the checkpoint key would "
+                     "leave it unsigned from here on (once a run is signed, every later checkpoint is): append with "
+                     "the key (--checkpoint-key)", altered=False)
     frontier = _frontier(run, latest)
     if frontier is None:  # a v1 checkpoint (no frontier): the run's hashes, as before v2
         rows = conn.execute("SELECT hash FROM events WHERE run = ? ORDER BY chain_pos", (run,))
@@ -171,7 +175,9 @@ def _frontier(run: str, anchor: tuple) -> list[bytes] | None:
     return frontier
 
 
-def _refuse(run: str, what: str) -> None:
+def _refuse(run: str, what: str, *, altered: bool = True) -> None:
+    if not altered:
+        raise TamperedTail(f"run {run} {what}; nothing was appended to it")
     raise TamperedTail(f"run {run} {what}; the store was altered: nothing was appended to it "
                        f"(gaps verify names what changed)")
 

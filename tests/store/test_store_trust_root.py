@@ -256,3 +256,16 @@ def test_the_report_says_per_run_what_the_witness_and_the_key_prove(honest, tmp_
                             "what": None}
     assert proven["r2"]["witnessed"] == 4 and proven["r2"]["signed"] == 0 and not proven["r2"]["ok"]
     assert "the checkpoint of 4 events is unsigned" in proven["r2"]["what"]
+
+
+def test_an_append_without_the_key_does_not_extend_a_signed_run(honest, tmp_path):
+    """Once a run is signed, every later checkpoint is: a writer without the key would leave it
+    unsigned from there on (and --key failing on it), so it refuses and writes nothing; a new run
+    it may write."""
+    copy = tmp_path / "s.db"
+    shutil.copy(honest.db, copy)
+    with Store(copy) as store:
+        with pytest.raises(TamperedTail, match="an append without the checkpoint key would leave it unsigned"):
+            store.append([perception("r2", 4)])
+        assert store.append([perception("r3", 0)]).stored == 1
+    assert len(stored_events(copy, "r2")) == 4
