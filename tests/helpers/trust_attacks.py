@@ -6,7 +6,7 @@ SQL (the append-only triggers dropped, as tests/helpers/store_testkit.tamper doe
 changes what a verdict reads: an event's body, or events that no source sent.
 
 Used by tests/store/test_store_trust_root.py, tests/fuzz/test_fuzz_checkpoints.py and the figures
-script bench/trust_root.py; it needs only what every version of the store offers (Store,
+script tests/helpers/trust_figures.py; it needs only what every version of the store offers (Store,
 CheckpointKey, WitnessFile, canonical_json, the chain and Merkle functions), so that the script
 can count what an older checkout catches too.
 """

@@ -6,12 +6,13 @@ catch (exit 1). For the forged tails at id 0 and 100, how often the honest appen
 `gaps serve --checkpoint-key KEY --witness W` makes it) was stored; the sealed one is written by
 hand as the ingest before issue 37 wrote it, so it is sealed every time.
 
-    PYTHONPATH=. .venv/bin/python bench/trust_root.py [N]            # this checkout
-    GAPS_TREE=/path/to/other/checkout ... bench/trust_root.py [N]    # another checkout's store and CLI
+    .venv/bin/python tests/helpers/trust_figures.py [N]                               # this checkout
+    GAPS_TREE=/path/to/other/checkout .venv/bin/python tests/helpers/trust_figures.py [N]  # another one
 
 The second form counts what another version catches with the same attacks (its own store, CLI and
-tests/helpers/cli.py; the attacks use only what every version of the store offers). Nothing is
-recorded in bench/results.json: these are counts, not timings.
+tests/helpers/cli.py; the attacks use only what every version of the store offers). It lives
+beside the attacks, not in bench/: these are counts, not timings, and nothing goes to
+bench/results.json.
 """
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve().parents[2]
 TREE = Path(os.environ.get("GAPS_TREE", HERE)).resolve()
 sys.path.insert(0, str(TREE))
 
