@@ -269,3 +269,17 @@ def test_an_append_without_the_key_does_not_extend_a_signed_run(honest, tmp_path
             store.append([perception("r2", 4)])
         assert store.append([perception("r3", 0)]).stored == 1
     assert len(stored_events(copy, "r2")) == 4
+
+
+def test_a_head_missing_from_the_witness_is_accounted_for_by_the_key_only(honest, tmp_path):
+    """A witness write that failed leaves a gap in the run's heads: the witness alone cannot tell
+    it from a sealed forgery and fails; checkpoints the key signed over the gap account for it."""
+    lines = honest.witness.read_text().splitlines(keepends=True)
+    r1 = [i for i, line in enumerate(lines) if json.loads(line)["run"] == "r1"]
+    gapped = tmp_path / "gapped.jsonl"
+    gapped.write_text("".join(line for i, line in enumerate(lines) if i != r1[2]))
+    alone = gaps("verify", "--no-snapshots", "--json", "--against", gapped, db=honest.db)
+    assert alone.exit_code == 1
+    assert [h["outcome"] for h in json.loads(alone.stdout)["heads"]["checked"] if not h["ok"]] == ["unwitnessed link"]
+    keyed = gaps("verify", "--no-snapshots", "--against", gapped, "--key", honest.public, db=honest.db)
+    assert keyed.exit_code == 0, keyed.output
