@@ -44,6 +44,9 @@ def serve(
     publish_heads: bool = typer.Option(
         False, "--publish-heads", help="Put each signed tree head on the Zenoh key gaps/@heads/<run>; needs "
         "--checkpoint-key."),
+    insecure: bool = typer.Option(
+        False, "--insecure-beyond-loopback", help="Start even though the serve can be reached beyond loopback "
+        "without --require-signatures or without Zenoh authentication in --config (logged as serve.insecure)."),
     json_out: bool = JsonOption,
 ) -> None:
     """Receive audit events over Zenoh and append them to the store until SIGINT or SIGTERM.
@@ -59,5 +62,6 @@ def serve(
                            config_file=config, key=key, status_every_s=status_every,
                            require_signatures=require_signatures,
                            quarantine_cap=QuarantineCap(rows=quarantine_rows, bytes=quarantine_bytes),
-                           checkpoint_key=checkpoint_key, witness=witness, publish_heads=publish_heads)
+                           checkpoint_key=checkpoint_key, witness=witness, publish_heads=publish_heads,
+                           insecure=insecure)
     raise typer.Exit(run(options, json_out=json_out, out=sys.stdout, err=sys.stderr))

@@ -24,6 +24,7 @@ import zenoh
 
 from store import CheckpointKey, QuarantineCap, TrustedKeys
 
+from . import exposure
 from .errors import IngestConfigError, zenoh_message
 from .sd_notify import notify
 from .serve_lock import ServeLock
@@ -55,6 +56,7 @@ class ServeOptions:
     checkpoint_key: Path | None = None      # sign every checkpoint with this key (store/tree_heads.py)
     witness: Path | None = None             # append each signed tree head to this file
     publish_heads: bool = False             # put each signed tree head on gaps/@heads/<run>
+    insecure: bool = False                  # --insecure-beyond-loopback: run open beyond loopback (logged)
 
     def endpoints(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(listen, connect): with nothing said about the network, listen on DEFAULT_LISTEN."""
@@ -129,7 +131,7 @@ def _open_service(options: ServeOptions, keys: TrustedKeys | None,
                              config_file=options.config_file, key_expr=options.key,
                              durable=options.durable, trusted_keys=keys, quarantine_cap=options.quarantine_cap,
                              checkpoint_key=checkpoint_key, witness=options.witness,
-                             publish_heads=options.publish_heads)
+                             publish_heads=options.publish_heads, insecure=options.insecure)
     except zenoh.ZError as exc:
         where = ", ".join([*(f"listen {e}" for e in listen), *(f"connect {e}" for e in connect)]) or "the config file"
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
@@ -241,7 +243,13 @@ def _announce(options: ServeOptions, server: Server, reporter: Reporter) -> None
                    config=str(options.config_file) if options.config_file else None, key=options.key,
                    require_signatures=_keys_file(options), pid=os.getpid(),
                    checkpoint_key=str(options.checkpoint_key) if options.checkpoint_key else None,
-                   witness=str(options.witness) if options.witness else None, publish_heads=options.publish_heads)
+                   witness=str(options.witness) if options.witness else None, publish_heads=options.publish_heads,
+                   **server.service.exposure.to_json())
+    lacks, found = server.service.insecure_because, server.service.exposure
+    if lacks:
+        reporter.event("serve.insecure", f"{exposure.INSECURE_FLAG}: this serve can be reached beyond loopback "
+                       f"({'; '.join(found.reachable)}), and {'; and '.join(lacks)}",
+                       "warning", beyond_loopback=list(found.reachable), lacks=lacks)
     notify(f"READY=1\nMAINPID={os.getpid()}")
 
 

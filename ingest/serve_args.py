@@ -54,6 +54,9 @@ def parser() -> argparse.ArgumentParser:
                          "`gaps verify --against FILE`; needs --checkpoint-key.")
     ap.add_argument("--publish-heads", action="store_true",
                     help="Put each signed tree head on the Zenoh key gaps/@heads/<run>; needs --checkpoint-key.")
+    ap.add_argument("--insecure-beyond-loopback", action="store_true",
+                    help="Start even though the serve can be reached beyond loopback without --require-signatures "
+                         "or without Zenoh authentication in --config (logged as serve.insecure).")
     ap.add_argument("--json", action="store_true", help="Print the final metrics as JSON on exit.")
     return ap
 
@@ -70,7 +73,7 @@ def main(argv: list[str] | None = None) -> None:
                            require_signatures=args.require_signatures,
                            quarantine_cap=QuarantineCap(rows=args.quarantine_rows, bytes=args.quarantine_bytes),
                            checkpoint_key=args.checkpoint_key, witness=args.witness,
-                           publish_heads=args.publish_heads)
+                           publish_heads=args.publish_heads, insecure=args.insecure_beyond_loopback)
     try:
         code = serve(options, json_out=args.json, out=sys.stdout, err=sys.stderr)
     except GapsError as exc:

@@ -17,6 +17,7 @@ import zenoh
 
 from store import SYNC_KEY, CheckpointKey, QuarantineCap, TrustedKeys, session_config, zenoh_message
 
+from . import exposure
 from .gap_tracker import GapTracker
 from .head_sinks import ZenohHeads, witness_sink
 from .history_queryable import HistoryQueryable
@@ -43,10 +44,14 @@ class IngestService:
     at ``db_path``.
 
     With ``trusted_keys`` (the public keys file, loaded), an event not signed by a key trusted for its
-    source is quarantined with the reason; ``quarantine_cap`` bounds what the quarantine keeps
+    source is quarantined with the reason, and the liveliness tokens of sources no key is trusted for
+    are not recorded; ``quarantine_cap`` bounds what the quarantine keeps
     (store/quarantine.py). With ``checkpoint_key`` every checkpoint is signed, and each
     signed tree head is appended to the ``witness`` file and, with ``publish_heads``, put on
-    ``gaps/@heads/<run>`` (ingest/head_sinks.py). Use as a context manager, or call ``stop()``: it stops
+    ``gaps/@heads/<run>`` (ingest/head_sinks.py). Reachable beyond loopback, it needs
+    ``trusted_keys`` and Zenoh's authentication in its config, or ``insecure`` (an
+    IngestConfigError otherwise, before anything is opened; ingest/exposure.py).
+    Use as a context manager, or call ``stop()``: it stops
     receiving, flushes every sample already
     received into the store and closes the store and the session.
     """
@@ -69,6 +74,7 @@ class IngestService:
         checkpoint_key: CheckpointKey | None = None,
         witness: str | os.PathLike | None = None,
         publish_heads: bool = False,
+        insecure: bool = False,
     ) -> None:
         if (witness is not None or publish_heads) and checkpoint_key is None:
             raise ValueError("a witness file or published heads need a checkpoint key to sign them")
@@ -78,6 +84,9 @@ class IngestService:
         self._tracker = GapTracker()
         self._stopped = False
         config = session_config(listen=listen, connect=connect, mode=mode, config_file=config_file)
+        self.exposure = exposure.exposure(config)
+        self.insecure_because = exposure.check(self.exposure, signatures_required=trusted_keys is not None,
+                                               insecure=insecure)
         self._session = zenoh.open(config)
         self._witness = None
         try:
@@ -85,7 +94,7 @@ class IngestService:
             sinks = tuple(s for s in (self._witness.append if self._witness else None,
                                       ZenohHeads(self._session) if publish_heads else None) if s is not None)
             inbox = Inbox(self._session, key_expr, max_pending)
-            watch = WireWatch(self._session, inbox, key_expr)
+            watch = WireWatch(self._session, inbox, key_expr, trusted_keys.covers if trusted_keys else None)
             self._writer = BatchWriter(
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
                 flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys, watch=watch,

@@ -48,8 +48,10 @@ class WireWatch:
     """The liveliness subscriptions of ``key_expr``'s sources and of the caches, and the miss
     listener of the inbox's subscriber. Only one thread (the writer) may drain it."""
 
-    def __init__(self, session: zenoh.Session, inbox: Inbox, key_expr: str) -> None:
+    def __init__(self, session: zenoh.Session, inbox: Inbox, key_expr: str,
+                 recorded: Callable[[str], bool] | None = None) -> None:
         self._inbox = inbox
+        self._recorded = recorded
         self.recovery = CacheRecovery(session, key_expr)
         self.syncs = SyncAnswers(lambda: self.recovery.idle)
         self._live = session.liveliness().declare_subscriber(
@@ -63,16 +65,21 @@ class WireWatch:
         source had got, which ties a change to the events. Asks the caches found meanwhile, and
         answers the syncs that waited for that."""
         now = time.time_ns()
-        changes = [self._change(sample, now, highest_seq) for sample in _taken(self._live)]
+        changes = [self._change(sample, now, highest_seq, self._recorded) for sample in _taken(self._live)]
         self.recovery.step()
         self.syncs.answer_parked()
         misses = [self._miss(miss, now, highest_seq) for miss in _taken(self._misses)]
         return Noticed(tuple(c for c in changes if c is not None), tuple(m for m in misses if m is not None))
 
     @staticmethod
-    def _change(sample: zenoh.Sample, now: int, highest_seq: HighestSeq) -> LivelinessChange | None:
+    def _change(sample: zenoh.Sample, now: int, highest_seq: HighestSeq,
+                recorded: Callable[[str], bool] | None) -> LivelinessChange | None:
+        """A token's change, or None for a key of another shape, or (``recorded``: with signatures
+        required) a source that no trusted key covers: a token carries no signature and Zenoh does
+        not say who declared it, so anyone reaching the ingest could make one up; Zenoh's access
+        control keeps strangers from declaring tokens at all (docs/serve.md "A hardened deployment")."""
         source = source_of_live_key(str(sample.key_expr))
-        if source is None:
+        if source is None or (recorded is not None and not recorded(source[1])):
             return None
         return LivelinessChange(*source, sample.kind == zenoh.SampleKind.PUT, now, highest_seq(*source))
 

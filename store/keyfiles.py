@@ -210,6 +210,11 @@ class TrustedKeys:
     def __len__(self) -> int:
         return len(self.entries)
 
+    def covers(self, src: str) -> bool:
+        """Whether some key is trusted for ``src`` (a source or a pattern naming it): a source with
+        none can sign nothing the ingest accepts, so its liveliness token is not recorded either."""
+        return any(fnmatchcase(src, pattern) for pattern, _ in self.entries)
+
     def reason(self, event: dict) -> str | None:
         """None if the event's signature verifies with a key trusted for its src; else why not,
         prefixed with the event's identity. The event must be valid (its envelope checked)."""

@@ -52,6 +52,15 @@ def audit_qos() -> dict[str, Any]:
             "reliability": zenoh.Reliability.RELIABLE}
 
 
+RECONNECT = {"period_init_ms": 100, "period_max_ms": 1000, "period_increase_factor": 2}
+"""How a session that lost a link to an endpoint it connects to tries again: after 0.1 s, doubling
+to once a second. Zenoh's default waits up to 4 s between tries (1, 2, 4, 4 ...), so a producer
+connected to a `gaps serve` that was killed and restarted reached it up to 4 s late, and after a
+serve down 3-8 s, what it published in the first seconds had left its CACHE_S cache by then:
+kill -9 trials with the serve listening lost events to gaps, or (the producer closing before it
+reconnected) everything after the kill, where the serve connecting (it dials at once on start)
+lost none (docs/serve.md "Restarts"). A try to a closed port costs a refused SYN."""
+
 CACHE_S = 10.0
 """How long every producer keeps what it published, for an ingest that was down to fetch again
 (issue 14: an ingest down for up to 10 s loses nothing). The cache is one per producer process
@@ -131,8 +140,8 @@ def session_config(
     config_file: str | os.PathLike | None = None,
 ) -> zenoh.Config:
     """Build the config. Without a file: ``mode`` (default peer), the endpoints given (``listen`` is
-    always written out, so a peer never opens Zenoh's default any-port), no scouting, and a put that
-    waits BLOCK_FOR_US for room. With a file: the file, and over it only ``mode``, ``listen`` and
+    always written out, so a peer never opens Zenoh's default any-port), no scouting, a put that
+    waits BLOCK_FOR_US for room, and a lost link to a ``connect`` endpoint tried again as RECONNECT says. With a file: the file, and over it only ``mode``, ``listen`` and
     ``connect`` where they were given."""
     if mode is not None and mode not in MODES:
         raise WireConfigError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
@@ -148,6 +157,7 @@ def session_config(
         _insert(config, "scouting/gossip/enabled", False)
         _insert(config, "listen/endpoints", list(listen))
         _insert(config, "transport/link/tx/queue/congestion_control/block/wait_before_close", BLOCK_FOR_US)
+        _insert(config, "connect/retry", RECONNECT)
     else:
         config = _read(config_file)
         if listen:

@@ -28,11 +28,13 @@ def child_env(**extra: str) -> dict[str, str]:
 
 
 class ServeProcess:
-    """One `gaps serve --db DB --listen ENDPOINT ARGS...` (or `python -m ingest ...`) child."""
+    """One `gaps serve --db DB --listen ENDPOINT ARGS...` (or `python -m ingest ...`) child; with
+    ``endpoint`` None, no --listen (the ARGS say where, e.g. --config)."""
 
-    def __init__(self, db: Path, endpoint: str, *args: str, command: list[str] = GAPS,
+    def __init__(self, db: Path, endpoint: str | None, *args: str, command: list[str] = GAPS,
                  env: dict[str, str] | None = None) -> None:
-        self.proc = subprocess.Popen([*command, "--db", str(db), "--listen", endpoint, *args], cwd=ROOT,
+        where = ["--listen", endpoint] if endpoint is not None else []
+        self.proc = subprocess.Popen([*command, "--db", str(db), *where, *args], cwd=ROOT,
                                      env=env or child_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                      text=True)
         self.lines: list[str] = []

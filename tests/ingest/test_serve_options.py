@@ -83,7 +83,7 @@ def test_python_m_ingest_takes_the_options_of_gaps_serve() -> None:
     assert typer_options == argparse_options == {"--db", "--listen", "--connect", "--mode", "--config", "--key",
                                                  "--status-every", "--require-signatures", "--checkpoint-key",
                                                  "--witness", "--publish-heads", "--json",
-                                                 "--quarantine-rows", "--quarantine-bytes"}
+                                                 "--quarantine-rows", "--quarantine-bytes", "--insecure-beyond-loopback"}
 
 
 def busy_endpoint() -> tuple[socket.socket, str]:
