@@ -8,7 +8,7 @@ from typing import Any, Optional
 import typer
 
 from cli.app import db_path, fail, open_existing
-from cli.options import JsonOption
+from cli.options import InsecureOption, JsonOption, ZenohConfigOption
 from cli.sim import parse_speed
 
 
@@ -19,6 +19,8 @@ def replay(
     speed: str = typer.Option("1", "--speed", help="1 (real time), 10 (ten times faster), or max."),
     listen: list[str] = typer.Option([], "--listen", help="Zenoh endpoint to listen on for an ingest (repeatable)."),
     connect: list[str] = typer.Option([], "--connect", help="Zenoh endpoint of a running `gaps serve` (repeatable)."),
+    zenoh_file: Optional[Path] = ZenohConfigOption,
+    insecure: bool = InsecureOption,
     json_out: bool = JsonOption,
 ) -> None:
     """Republish a recording onto Zenoh as if live, in chain order and at its recorded pace.
@@ -27,20 +29,22 @@ def replay(
     did, and an ingest rebuilds the same chains."""
     if (file is None) == (db is None):
         fail("give a recording FILE or --db STORE (one of them)")
-    if not (listen or connect):
-        fail("nowhere to publish: give --connect ENDPOINT (a running `gaps serve`) or --listen ENDPOINT")
+    if not (listen or connect or zenoh_file):
+        fail("nowhere to publish: give --connect ENDPOINT (a running `gaps serve`), --listen ENDPOINT, "
+             "or --config FILE (a Zenoh config with its endpoints)")
     if file is not None and not file.is_file():
         fail(f"no such recording: {file}")
     pace = parse_speed(speed)
+    wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
     from sim_replay.replay import NothingToReplay, recording
     from store import GapsError
     try:
         if file is not None:
             with recording(file) as (store, imported):
-                out = _send(store, run, listen, connect, pace, imported.as_dict())
+                out = _send(store, run, wire, pace, imported.as_dict())
         else:
             with open_existing(db) as store:
-                out = _send(store, run, listen, connect, pace, None)
+                out = _send(store, run, wire, pace, None)
     except (NothingToReplay, GapsError, TimeoutError, OSError) as exc:
         fail(str(exc))
     out["source"] = str(file or db_path(db))
@@ -53,10 +57,9 @@ def replay(
                    f"{s['world_s']:g} s of recorded time in {s['wall_s']:.1f} s")
 
 
-def _send(store: Any, runs: list[str], listen: list[str], connect: list[str], pace: float | None,
-          imported: dict | None) -> dict:
+def _send(store: Any, runs: list[str], wire: dict, pace: float | None, imported: dict | None) -> dict:
     from cli.progress import stderr_progress
     from sim_replay.replay import chosen_runs, replay
     with stderr_progress("replaying") as bar:
-        sent = replay(store, chosen_runs(store, runs), listen=listen, connect=connect, speed=pace, progress=bar)
+        sent = replay(store, chosen_runs(store, runs), **wire, speed=pace, progress=bar)
     return {"imported": imported, "runs": [r.to_json() for r in sent]}

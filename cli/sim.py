@@ -12,7 +12,7 @@ from typing import Optional
 import typer
 
 from cli.app import db_path, fail
-from cli.options import JsonOption
+from cli.options import InsecureOption, JsonOption, ZenohConfigOption
 
 _UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
 
@@ -74,7 +74,9 @@ def sim(
     speed: str = typer.Option("max", "--speed", help="max, or a factor of real time (1: real time)."),
     listen: list[str] = typer.Option([], "--listen", help="Zenoh endpoint to listen on for an ingest (repeatable)."),
     connect: list[str] = typer.Option([], "--connect", help="Zenoh endpoint of a running `gaps serve` (repeatable)."),
-    db: Optional[Path] = typer.Option(None, "--db", help="Without --listen/--connect: store into this file through "
+    zenoh_file: Optional[Path] = ZenohConfigOption,
+    insecure: bool = InsecureOption,
+    db: Optional[Path] = typer.Option(None, "--db", help="Without --listen/--connect/--config: store into this file through "
                                       "an in-process ingest (default: $GAPS_DB or ./gaps.db)."),
     sign_keys: Optional[Path] = typer.Option(None, "--sign-keys", metavar="DIR", help="Sign every event with its "
                                              "source's Ed25519 key from DIR (made for sources that have none), and "
@@ -101,11 +103,12 @@ def sim(
                        duration_s=parse_duration(duration), rate_hz=rate, av_share=av_share,
                        faults=FaultRates(**parse_faults(faults, names)))
     pace = parse_speed(speed)
-    store_file = None if listen or connect else db_path(db)
+    store_file = None if listen or connect or zenoh_file else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
     try:
         signer = _signer(sign_keys)
-        summary, sent, stored = _run(config, pace, record, listen, connect, store_file, truth_file, signer)
+        wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
+        summary, sent, stored = _run(config, pace, record, wire, store_file, truth_file, signer)
         public_keys = str(signer.folder.write_public_keys()) if signer else None
     except (GapsError, TimeoutError, OSError) as exc:
         fail(str(exc))
@@ -125,7 +128,7 @@ def _signer(folder: Path | None):
     return Signer(KeyFolder(folder), create=True)
 
 
-def _run(config, pace, record, listen, connect, store_file, truth_file, signer=None):
+def _run(config, pace, record, wire, store_file, truth_file, signer=None):
     """Simulate and send; composition of the rooms' own calls only."""
     from cli.local_ingest import publish_through_zenoh
     from cli.progress import stderr_progress
@@ -139,7 +142,7 @@ def _run(config, pace, record, listen, connect, store_file, truth_file, signer=N
             stored, sent = publish_through_zenoh(store_file, simulation.batches(), record=record, speed=pace,
                                                  signer=signer)
         else:
-            with Outlets(listen=listen, connect=connect, record=record, speed=pace, signer=signer) as outlets:
+            with Outlets(**wire, record=record, speed=pace, signer=signer) as outlets:
                 for batch in simulation.batches():
                     outlets.put_all(batch)
             sent = outlets.summary()

@@ -7,78 +7,16 @@ Zenoh's own authentication or access control (mutual TLS, user/password, or an A
 so that nobody reads its history or declares a source's liveliness token unchecked. Without both it
 refuses to start, unless the operator says `--insecure-beyond-loopback`, which is logged.
 
-Reachable means: an endpoint it listens on or connects to that is not on 127.0.0.0/8, ::1 or
-`localhost` (a Unix socket is local), or multicast scouting on (a peer's or router's finds and links
-peers nobody named, a client's finds routers), or gossip scouting on in peer or router mode. Read
-from the Zenoh config the session is opened with (store.session_config: the command line's
-endpoints, or an operator's file with them written over it), so a file that opens Zenoh's default
-any-address listener counts as it should.
+What is reachable, and what authenticates, is read from the Zenoh config by store/reachability.py
+(a producer is held to its own rule there); the rule for an ingest is this module's.
 """
 from __future__ import annotations
 
-import ipaddress
-import json
-from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import Any
-
-import zenoh
+from store import INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, exposure, is_loopback  # noqa: F401 (the ingest's names)
 
 from .errors import IngestConfigError
 
-LOCAL_PROTOCOLS = ("unixsock-stream", "unixpipe", "vsock")
-INSECURE_FLAG = "--insecure-beyond-loopback"
-
-
-@dataclass(frozen=True)
-class Exposure:
-    """What a session's config opens to the network: why it is reachable beyond loopback (empty: it
-    is not), and what authenticates who reaches it (empty: nothing does)."""
-
-    reachable: tuple[str, ...]
-    authenticated_by: tuple[str, ...]
-
-    def to_json(self) -> dict[str, Any]:
-        return {"beyond_loopback": list(self.reachable), "authenticated_by": list(self.authenticated_by)}
-
-
-def is_loopback(endpoint: str) -> bool:
-    """Whether a Zenoh endpoint (``proto/address[?metadata][#config]``) stays on this machine."""
-    proto, _, address = endpoint.partition("/")
-    if proto in LOCAL_PROTOCOLS:
-        return True
-    address = address.split("?", 1)[0].split("#", 1)[0]
-    if address.startswith("["):
-        host = address[1:].partition("]")[0]
-    else:
-        host = address.rpartition(":")[0] if ":" in address else address
-    if host.lower() == "localhost":
-        return True
-    try:
-        ip = ipaddress.ip_address(host.partition("%")[0])
-    except ValueError:   # a host name: it may resolve anywhere
-        return False
-    mapped = getattr(ip, "ipv4_mapped", None)   # ::ffff:127.0.0.1 is 127.0.0.1
-    return (mapped or ip).is_loopback
-
-
-def exposure(config: zenoh.Config) -> Exposure:
-    """Read what ``config`` opens (see the module's doc)."""
-    mode = _get(config, "mode") or "peer"
-    reachable = [f"listens on {e}" for e in _endpoints(config, "listen", mode) if not is_loopback(e)]
-    reachable += [f"connects to {e}" for e in _endpoints(config, "connect", mode) if not is_loopback(e)]
-    for kind in ("multicast", "gossip"):   # a client scouts for routers by multicast; gossip is peers'
-        if (kind == "multicast" or mode != "client") and _get(config, f"scouting/{kind}/enabled") is not False:
-            reachable.append(f"{kind} scouting is on ({mode} mode)")   # Zenoh's default is on
-    authenticated = []
-    if _get(config, "access_control/enabled") is True:
-        authenticated.append("access control (ACL)")
-    if _get(config, "transport/link/tls/enable_mtls") is True:
-        authenticated.append("mutual TLS")
-    usrpwd = _get(config, "transport/auth/usrpwd") or {}
-    if usrpwd.get("dictionary_file") or usrpwd.get("user"):
-        authenticated.append("user/password")
-    return Exposure(tuple(reachable), tuple(authenticated))
+__all__ = ["INSECURE_FLAG", "LOCAL_PROTOCOLS", "Exposure", "check", "exposure", "is_loopback"]
 
 
 def check(found: Exposure, *, signatures_required: bool, insecure: bool) -> list[str]:
@@ -100,18 +38,3 @@ def check(found: Exposure, *, signatures_required: bool, insecure: bool) -> list
             f"{'; and '.join(missing)}. Fix that (docs/serve.md \"A hardened deployment\"), listen on 127.0.0.1, "
             f"or say {INSECURE_FLAG} to run it open anyway (logged)")
     return missing
-
-
-def _endpoints(config: zenoh.Config, section: str, mode: str) -> Sequence[str]:
-    """A section's endpoints: a list, or per mode (Zenoh's defaults are written so)."""
-    value = _get(config, f"{section}/endpoints")
-    if isinstance(value, dict):
-        value = value.get(mode) or []
-    return [str(e) for e in value or []]
-
-
-def _get(config: zenoh.Config, key: str) -> Any:
-    try:
-        return json.loads(config.get_json(key))
-    except (zenoh.ZError, ValueError):
-        return None

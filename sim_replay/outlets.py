@@ -46,12 +46,18 @@ class OutletSummary:
 class Outlets:
     """Publishes (when endpoints are given) and records (when a path is given) each event put."""
 
-    def __init__(self, *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer",
+    def __init__(self, *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str | None = None,
                  record: str | Path | None = None, speed: float | None = None, wait_s: float = 30.0,
-                 signer: Signer | None = None) -> None:
+                 signer: Signer | None = None, config_file: str | Path | None = None,
+                 insecure: bool = False) -> None:
+        """Publish to the endpoints given, or as the Zenoh ``config_file`` says (store.session_config;
+        the endpoints given written over it); ``mode`` default peer, or the file's. A producer
+        reachable beyond loopback without Zenoh authentication is refused unless ``insecure``
+        (EventPublisher)."""
         if speed is not None and not speed > 0:
             raise ValueError(f"speed must be positive (1 = real time) or None (as fast as possible), not {speed!r}")
         self.endpoints = (tuple(listen), tuple(connect))
+        self.config_file, self.insecure = config_file, insecure
         self.mode, self.record_path, self.speed, self.wait_s = mode, record, speed, wait_s
         self.signer = signer  # signs each event once, before it is published and recorded alike
         self._publisher: EventPublisher | None = None
@@ -66,8 +72,10 @@ class Outlets:
 
     def __enter__(self) -> Outlets:
         listen, connect = self.endpoints
-        if listen or connect:
-            self._publisher = EventPublisher(config=zenoh_config(listen=listen, connect=connect, mode=self.mode))
+        if listen or connect or self.config_file is not None:
+            config = zenoh_config(listen=listen, connect=connect, mode=self.mode, config_file=self.config_file)
+            self._publisher = EventPublisher(config=config, events_signed=self.signer is not None,
+                                             insecure=self.insecure)
         if self.record_path is not None:
             try:
                 self._recorder = Recorder(self.record_path).__enter__()
@@ -142,7 +150,8 @@ class Outlets:
 
     def _where(self) -> str:
         listen, connect = self.endpoints
-        return ", ".join([*(f"connect {e}" for e in connect), *(f"listen {e}" for e in listen)])
+        named = [*(f"connect {e}" for e in connect), *(f"listen {e}" for e in listen)]
+        return ", ".join(named + ([f"the endpoints of {self.config_file}"] if self.config_file is not None else []))
 
     def _close_publisher(self) -> None:
         if self._publisher is not None:

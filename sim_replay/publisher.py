@@ -13,6 +13,8 @@ stopped publishing (or its process died).
 """
 from __future__ import annotations
 
+import logging
+import os
 from collections.abc import Iterable, Sequence
 from types import TracebackType
 
@@ -20,7 +22,8 @@ import zenoh
 from zenoh import ext
 
 from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, canonical_json, key_for, live_key,
-                   matched_within, session_config)
+                   INSECURE_FLAG, WireConfigError, check_producer, exposure, matched_within, session_config,
+                   zenoh_message)
 
 from .cache_queryable import CacheQueryable
 from .recent_events import MAX_BYTES, MAX_EVENTS, RecentEvents
@@ -31,15 +34,29 @@ DESPAWN = "entity.despawn"  # a source's last event: its publishers are released
 SYNC_TIMEOUT_S = 600.0  # how long close() waits for the ingests to confirm what is on the way
 SYNC_MATCH_S = 1.0      # ... and, before asking, for an ingest's sync queryable to be known here
 PUT_RUN = 1024          # publish_all encodes up to this many events, then puts them back to back
+log = logging.getLogger("gaps.producer")
 _Prepared = tuple[ext.AdvancedPublisher, str, dict, bytes]   # publisher, key, event, canonical bytes
 
 
 def zenoh_config(
-    *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str = "peer"
+    *, listen: Sequence[str] = (), connect: Sequence[str] = (), mode: str | None = "peer",
+    config_file: str | os.PathLike | None = None,
 ) -> zenoh.Config:
     """A producer's session config: the wire contract's (store.session_config), which reaches exactly
-    the endpoints named, so that runs and tests never find strangers."""
-    return session_config(listen=listen, connect=connect, mode=mode)
+    the endpoints named, so that runs and tests never find strangers; with ``config_file`` (an
+    operator's Zenoh config: TLS, a certificate, user/password), that file with the endpoints
+    given written over it, and its mode unless ``mode`` is given."""
+    return session_config(listen=listen, connect=connect, mode=mode, config_file=config_file)
+
+
+def _open(config: zenoh.Config) -> zenoh.Session:
+    """A session, or a WireConfigError saying why Zenoh would not open one (exit 2, as serve's):
+    in client mode no router answered, or a TLS handshake was refused (no certificate, another
+    authority's)."""
+    try:
+        return zenoh.open(config)
+    except zenoh.ZError as exc:
+        raise WireConfigError(f"cannot open Zenoh: {zenoh_message(exc)}") from None
 
 
 def _source_of(key: str) -> str:
@@ -65,18 +82,31 @@ class EventPublisher:
     def __init__(
         self, session: zenoh.Session | None = None, *, config: zenoh.Config | None = None,
         cache_s: float = CACHE_S, cache_events: int = MAX_EVENTS, cache_bytes: int = MAX_BYTES,
-        signer: Signer | None = None,
+        signer: Signer | None = None, events_signed: bool = False, insecure: bool = False,
     ) -> None:
         """Use ``session`` if given (the caller keeps ownership), else open one from ``config``.
+        A config that reaches beyond loopback with no Zenoh authentication is refused (a
+        WireConfigError, store/reachability.py's check_producer) unless ``insecure``, which is logged
+        (``gaps.producer``, a warning); ``events_signed`` says the caller signs the events it
+        puts, as a ``signer`` does.
         The cache holds what was published in the last ``cache_s`` seconds, at most ``cache_events``
         events and ``cache_bytes`` bytes of them (the oldest go first). With ``signer``
         (store.Signer), each event is published with its source's signature."""
         if session is not None and config is not None:
             raise ValueError("give either a session or a config, not both")
+        if session is None and config is None:
+            config = zenoh_config()
+        self.exposure = exposure(config) if config is not None else None
+        self.insecure_because = ([] if self.exposure is None else
+                                 check_producer(self.exposure, signed=signer is not None or events_signed,
+                                                insecure=insecure))
+        if self.insecure_because:
+            log.warning("%s: this producer can be reached beyond loopback (%s), and %s", INSECURE_FLAG,
+                        "; ".join(self.exposure.reachable), "; and ".join(self.insecure_because))
         self._signer = signer
         self._recent = RecentEvents(cache_s, max_events=cache_events, max_bytes=cache_bytes)
         self._owns_session = session is None
-        self._session = session if session is not None else zenoh.open(config or zenoh_config())
+        self._session = session if session is not None else _open(config)
         try:
             self._cache = CacheQueryable(self._session, self._recent)
         except BaseException:

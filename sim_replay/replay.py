@@ -82,12 +82,15 @@ def stored_runs_of(store: Store, run: str, size: int = PUT_RUN) -> Iterator[tupl
 
 
 def replay(store: Store, runs: Sequence[str], *, listen: Sequence[str] = (), connect: Sequence[str] = (),
-           speed: float | None = 1.0, wait_s: float = 30.0, progress: Progress | None = None) -> list[Replayed]:
-    """Publish each run's events, one run after another; what each sent."""
+           speed: float | None = 1.0, wait_s: float = 30.0, progress: Progress | None = None,
+           config_file: str | Path | None = None, insecure: bool = False) -> list[Replayed]:
+    """Publish each run's events, one run after another, to the endpoints given or as the Zenoh
+    ``config_file`` says (Outlets); what each sent."""
     total = sum(store.count(run) for run in runs)
     done, out = 0, []
     for run in runs:
-        with Outlets(listen=listen, connect=connect, speed=speed, wait_s=wait_s) as outlets:
+        with Outlets(listen=listen, connect=connect, speed=speed, wait_s=wait_s, config_file=config_file,
+                     insecure=insecure) as outlets:
             if speed is None:   # as fast as the wire takes it: the stored bytes, puts back to back
                 for events, payloads in stored_runs_of(store, run):
                     outlets.put_all(events, payloads)

@@ -39,6 +39,7 @@ from .anchors import AnchorReport, RunProof
 from .witness import WitnessError, WitnessFile, read_heads
 from .wire import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
                    live_key, live_slice, matched_within, session_config, source_of_live_key, zenoh_message)
+from .reachability import INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, check_producer, exposure, is_loopback
 from .cache_wire import (CACHE_PREFIX, CacheQuery, CacheQueryError, SourceSpan, cache_id_of_token, cache_query_options,
                          cache_token, index_selector, parse_cache_query, read_index, want_payload, want_selector,
                          write_index)
@@ -102,6 +103,7 @@ __all__ = [
     "cache_query_options",
     "source_of_live_key",
     "WireConfigError",
+    "INSECURE_FLAG", "LOCAL_PROTOCOLS", "Exposure", "check_producer", "exposure", "is_loopback",
     "audit_qos",
     "session_config",
     "zenoh_message",

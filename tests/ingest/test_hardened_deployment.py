@@ -18,7 +18,8 @@ import pytest
 import zenoh
 
 from sim_replay.publisher import EventPublisher
-from store import KeyFolder, Signer, Store, canonical_json, session_config
+from sim_replay.replay import replay as replay_runs
+from store import CheckpointKey, KeyFolder, Signer, Store, canonical_json, read_heads, session_config
 from tests.helpers.cli import gaps
 from tests.helpers.hardened import deployment, openssl
 from tests.helpers.ingest_testkit import RUN, make_event
@@ -112,3 +113,102 @@ def test_only_the_permitted_publish_read_and_appear(tmp_path: Path) -> None:
     with Store.open_read_only(db) as store:
         assert store.liveliness_changes(RUN, "vehicle/174") == []
         assert [c.alive for c in store.liveliness_changes(RUN, "vehicle/173")][:1] == [True]
+
+
+def _events(db: Path, run: str) -> list[bytes]:
+    with Store.open_read_only(db) as store:
+        return [canonical_json(e) for e in store.events(run)]
+
+
+def test_gaps_sim_and_gaps_replay_join_with_the_producers_certificate(tmp_path: Path, monkeypatch) -> None:
+    """`gaps sim --config producer.json5` and `gaps replay --config producer.json5` publish through
+    the TLS router into the serve (issue 37: they took endpoints only, so no producer of ours could
+    join the deployment the docs describe); the same replay with the stranger's certificate gets
+    nothing stored, and one with no certificate is not let in."""
+    made = deployment(tmp_path / "deploy")
+    local, keys = tmp_path / "local.db", tmp_path / "keys"
+    short = ("--duration", "3s", "--vehicles", "2", "--seed", "7")
+    first = gaps("sim", *short, "--run", "r-local", "--sign-keys", keys, "--json", db=local)  # makes the keys
+    assert first.exit_code == 0, first.output
+    db = tmp_path / "gaps.db"
+    router = zenoh.open(session_config(config_file=made.config("router")))
+    try:
+        serve = ServeProcess(db, None, "--config", str(made.config("ingest")), "--require-signatures",
+                             str(keys / "public-keys.json"), "--json")
+        try:
+            serve.wait_for_log("serve.ready")
+            simulated = gaps("sim", *short, "--run", "r-sim", "--sign-keys", keys, "--config",
+                             made.config("producer"), "--truth", tmp_path / "r-sim.truth.json", "--json")
+            replayed = gaps("replay", "--db", local, "--run", "r-local", "--speed", "max", "--config",
+                            made.config("producer"), "--json")
+            monkeypatch.setitem(replay_runs.__kwdefaults__, "wait_s", 2.0)   # not 30 s for the refusals
+            stranger = gaps("replay", "--db", local, "--run", "r-local", "--speed", "max", "--config",
+                            made.config("stranger"), "--json")
+            outsider = gaps("replay", "--db", local, "--run", "r-local", "--speed", "max", "--config",
+                            made.config("outsider"), "--json")
+            code, out = serve.stop(signal.SIGTERM)
+        finally:
+            serve.kill()
+    finally:
+        router.close()
+    assert simulated.exit_code == 0, simulated.output
+    assert replayed.exit_code == 0, replayed.output
+    assert code == 0, serve.lines[-5:]
+    published = json.loads(simulated.stdout)["published"]["published"]
+    assert published > 100 and len(_events(db, "r-sim")) == published
+    assert _events(db, "r-local") == _events(local, "r-local")     # the stored bytes, signatures and all
+    assert stranger.exit_code == 2 and "no ingest subscribed within 2 s" in stranger.output, stranger.output
+    assert outsider.exit_code == 2 and "cannot open Zenoh" in outsider.output, outsider.output
+    metrics = json.loads(out)
+    assert metrics["quarantined"] == 0 and metrics["duplicates"] == 0, metrics   # nothing of the stranger's
+
+
+def test_only_the_ingest_publishes_heads_and_readers_hear_them(tmp_path: Path) -> None:
+    """`--publish-heads` through the router: a reader (a witness) subscribed to `gaps/@heads/**`
+    hears the ingest's signed tree heads, exactly the witness file's lines, and never a head that
+    a stranger or a producer puts there (issue 37: the docs' rules did not name the heads at all,
+    so the router passed the ingest's to nobody)."""
+    made = deployment(tmp_path / "deploy")
+    keys = KeyFolder(tmp_path / "keys")
+    keys.create("vehicle/173")
+    public = keys.write_public_keys()
+    key, witness, db = tmp_path / "ckpt.key", tmp_path / "witness.jsonl", tmp_path / "gaps.db"
+    CheckpointKey.create(key)
+    forged = json.dumps({"run": RUN, "size": 10**6, "forged": True}).encode()
+    heard: list[bytes] = []
+    router = zenoh.open(session_config(config_file=made.config("router")))
+    try:
+        serve = ServeProcess(db, None, "--config", str(made.config("ingest")), "--require-signatures", str(public),
+                             "--checkpoint-key", str(key), "--witness", str(witness), "--publish-heads", "--json")
+        try:
+            serve.wait_for_log("serve.ready")
+            reader = zenoh.open(session_config(config_file=made.config("reader")))
+            forgers = [zenoh.open(session_config(config_file=made.config(role))) for role in ("stranger", "producer")]
+            try:
+                reader.declare_subscriber("gaps/@heads/**", lambda s: heard.append(s.payload.to_bytes()))
+                time.sleep(0.5)                     # the subscription reaches the router and the forgers
+                for forger in forgers:
+                    forger.put(f"gaps/@heads/{RUN}", forged)
+                with EventPublisher(config=session_config(config_file=made.config("producer")),
+                                    signer=Signer(keys)) as producer:
+                    producer.publish_all([make_event("vehicle/173", seq) for seq in range(5)])
+                deadline = time.monotonic() + WAIT_S
+                while not heard and time.monotonic() < deadline:
+                    time.sleep(0.05)
+                for forger in forgers:
+                    forger.put(f"gaps/@heads/{RUN}", forged)
+                time.sleep(0.5)
+            finally:
+                for session in (*forgers, reader):
+                    session.close()
+            code, _ = serve.stop(signal.SIGTERM)
+        finally:
+            serve.kill()
+    finally:
+        router.close()
+    assert code == 0, serve.lines[-5:]
+    written = [line.encode() for line in witness.read_text().splitlines()]
+    assert heard, "the reader heard no head of the ingest's"
+    assert forged not in heard
+    assert all(h in written for h in heard), (heard, written)
+    assert all(h.signature_problem(CheckpointKey.load(key).public) is None for h in read_heads(witness))
