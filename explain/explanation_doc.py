@@ -17,7 +17,7 @@ from typing import Any, Iterable
 from reasoner.le.sentences import constant
 from reasoner.explanation import Counterfactual, Explanation
 from reasoner.model import Decision, Incident
-from reasoner.vocabulary import CAN, MUST_NOT, POTENTIALLY_VIOLATES
+from reasoner.vocabulary import CAN, MUST_NOT, POTENTIALLY_VIOLATES, WOULD_ENDANGER, WOULD_FORCE
 from store import EventRef
 
 from . import phrases as ph
@@ -174,9 +174,26 @@ class _Builder:
         """How the action was done, from the conditions the potential violation rests on."""
         if self.pv_tree is None or self.pv_tree["status"] == "failed":
             return ""
-        bits = [ph.manner(data, self.me, negated, text) for data, negated, text in trees.conditions(self.pv_tree)]
+        bits = [ph.manner(data, self.me, negated, text) for data, negated, text in self._deciding(
+            trees.conditions(self.pv_tree))]
         bits = [b for b in bits if b]
         return (" " + " ".join(bits)) if bits else ""
+
+    def _deciding(self, conditions: list[tuple[list, bool, str]]) -> list[tuple[list, bool, str]]:
+        """The potential violation's conditions, with its second limb (who was forced or
+        endangered) the one the verdict's prohibition rests on: the headline's ground is the
+        deciding ground (a Stop raised for forcing one road user and punished for endangering
+        another names the other)."""
+        limb = {WOULD_FORCE.functor, WOULD_ENDANGER.functor}
+        if self.inc.verdict != "punishable" or self.verdict_tree is None \
+                or not any(data[:1] and data[0] in limb for data, _, _ in conditions):
+            return conditions
+        prohibition = trees.first(self.verdict_tree, lambda n: n["sentence"][:1] == [MUST_NOT.functor]
+                                  and n["status"] == "proved")
+        found = [c for c in trees.conditions(prohibition) if c[0][:1] and c[0][0] in limb] if prohibition else []
+        if not found:
+            return conditions
+        return [c for c in conditions if not (c[0][:1] and c[0][0] in limb)] + found
 
     def _exceptions(self) -> list[str]:
         if self.verdict_tree is None:

@@ -10,7 +10,10 @@ docs/history.md. In short: the light a signal shows governs traffic up to its st
 2016 Sch 14 Pt 1 para 5(3): "shall not proceed beyond the stop line"), so `V has C light` is
 stated until V crosses it, and from then on `V crossed the stop line on C light`. Open texture
 is measured against published yardsticks: rule 126's stopping distances for "too close to stop
-safely", a deceleration of FORCE_DECEL_MPS2 for "would force U to change speed or course".
+safely", a deceleration of FORCE_DECEL_MPS2 for "would force U to change speed or course", with the
+paths' conflict and its surrogate safety measures (reasoner/conflicts.py: PET_MAX_S) for whether
+the change was made "in order to avoid an accident" with V, and for whether a pedestrian or
+cyclist was in or entering V's path (ENDANGER_S) rather than merely near the junction.
 
 A derived fact never overrides a stated one: `checked` holds back every derived fact that
 disagrees with what a producer stated and reports the disagreement as a `Contradiction` (a
@@ -28,8 +31,9 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
-from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since
-from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, well_ahead
+from .conflicts import PET_MAX_S, TTC_MAX_S, Conflict, conflict, has_path
+from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
+from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -38,7 +42,7 @@ from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_C
                          HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
                          HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
                          IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED, IS_STOPPED_IN_THE_BOX_JUNCTION,
-                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, WOULD_FORCE, Sentence)
+                         IS_TOO_CLOSE_TO_STOP, SPEED_LIMIT_IS, WOULD_ENDANGER, WOULD_FORCE, Sentence)
 from .when import format_time
 
 SECOND = 1_000_000_000
@@ -52,6 +56,10 @@ MOVING_MPS = 1.0          # "V is stopped" is contradicted from this speed on (2
 SPEED_TOLERANCE_MPH = 3   # a stated speed this far from the measured one is a contradiction
 PLACE_TOLERANCE_M = 2.0   # "has crossed the stop line" / "is in the junction" contradicted this far short of it
 CLOCK_TOLERANCE_S = 0.5   # a light changing this close to the moment is not a contradiction either way
+ENDANGER_S = PET_MAX_S    # a pedestrian or cyclist in or entering V's path within this of V being there (PET or
+                          # TTC at the act) is endangered: SUMO's SSM device counts an encounter under it a conflict
+EXTEND_M = 30.0           # a road user whose record ends short of V's path is taken on straight ahead this far
+                          # (30 mph covers it in about 2 s, the conflict window): the way it was going
 
 
 @dataclass(frozen=True)
@@ -234,6 +242,9 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
         forced = _forced(p, other) if went and p.start <= at <= p.end + 5 * SECOND else None
         if approaching is not None:
             out.append(approaching)
+            if _walking(other) or other.type == "cyclist":      # in or entering V's path: likely endangered
+                out.append(DerivedFact(WOULD_ENDANGER.text(p.vehicle, other.user), approaching.method,
+                                       approaching.evidence))
         if forced is not None:
             out.append(forced)
         if other.type and other.spawn is not None and (approaching is not None or forced is not None):
@@ -327,6 +338,8 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     about. Gentler braking is no sign of V: a main-road car easing off as it went through the
     junction ahead of V is not one V emerged in front of; nor is braking something else explains
     (its own light, its own Stop line, the road user it followed: `explained`)."""
+    if _walking(other) or other.type == "cyclist":
+        return _entering(p, other)
     found = _approaching_at(p, other, at)
     if explained(p, other):
         return found
@@ -336,6 +349,28 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     if found is None and reacted is not None and reacted != at:
         found = _approaching_at(p, other, reacted, within=math.inf)
     return found
+
+
+def _entering(p: Passage, other: Other) -> DerivedFact | None:
+    """A pedestrian or cyclist `is approaching V` when it was in or entering V's path within
+    ENDANGER_S of V being there: their paths meet (reasoner/conflicts.py) and both were in the
+    conflict zone at once, or it entered the zone less than ENDANGER_S after V left it (V passing
+    just in front of it), or at V's act the two were on course to be in it together within
+    ENDANGER_S (TTC). One that had crossed V's path and left it before V got there is out of
+    its way: V following it across is not likely to endanger it. One on the
+    far footway, or crossing well before or after V, is near the junction, not coming at V: para
+    5(5) and Sch 9 Pt 7 para 1 ask whether V was likely to endanger them, and walking towards a
+    junction V leaves does not make it so."""
+    c = conflict_of(p, other)
+    if c is None:
+        return None
+    pet = c.pet_s is not None and (c.pet_s == 0 or (c.first == "mine" and c.pet_s < ENDANGER_S))
+    ttc = c.ttc_s is not None and c.ttc_s < ENDANGER_S
+    if not (pet or ttc):
+        return None
+    how = (f"{other.user} was in or entering {p.vehicle}'s path within {ENDANGER_S:g} s of {p.vehicle} being there "
+           f"(SUMO SSM device's PET threshold){conflict_words(p, other.user, c)}")
+    return DerivedFact(IS_APPROACHING.text(other.user, p.vehicle), how, _conflict_refs(c))
 
 
 def _approaching_at(p: Passage, other: Other, at: int, within: float = APPROACH_M) -> DerivedFact | None:
@@ -421,8 +456,42 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     else:
         return None
     own = f"; its own light was {other.light.colour}" if other.light else ""
-    return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user), f"{how}, {other.closest_m:.0f} m from the centre{own}",
-                       refs + ((other.light.ref,) if other.light else ()))
+    c = conflict_of(p, other)
+    return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user),
+                       f"{how}, {other.closest_m:.0f} m from the centre{own}{conflict_words(p, other.user, c)}",
+                       refs + ((other.light.ref,) if other.light else ()) + _conflict_refs(c))
+
+
+def conflict_words(p: Passage, user: str, c: Conflict | None) -> str:
+    """The conflict's measures in words, for a method: where the paths meet, the gaps in time and
+    the deceleration needed, each with the threshold it is held against and its source."""
+    if c is None:
+        other = next((o for o in p.others if o.user == user), None)
+        if other is not None and has_path(p.samples) and has_path(other.way):
+            return f"; {user}'s path and {p.vehicle}'s never meet: no conflict zone"
+        return f"; {user}'s path and {p.vehicle}'s are not both in the record: no conflict measured"
+    j = p.junction
+    out = [f"; their paths meet {j.distance(c.x, c.y):.1f} m from the centre of {j.id} ({c.x:.1f}, {c.y:.1f})"]
+    if c.pet_s is not None:
+        order = f"{p.vehicle} first" if c.first == "mine" else f"{user} first"
+        out.append(f"post-encroachment time {c.pet_s:.2f} s ({order})")
+    if c.ttc_s is not None:
+        out.append(f"time to collision at the act {c.ttc_s:.2f} s (under {TTC_MAX_S:g} s is a conflict)")
+    if c.projected_gap_s is not None and c.onset_to_zone_m is not None and c.onset_speed_mps is not None:
+        gap = "it would have been in the zone with it" if c.projected_gap_s <= 0 else \
+            f"{c.projected_gap_s:.2f} s from {p.vehicle} there"
+        out.append(f"when {user} began to slow ({format_time(c.onset)}) it was {c.onset_to_zone_m:.1f} m from the "
+                   f"conflict zone at {c.onset_speed_mps:.1f} m/s: unslowed, {gap} (a gap under {PET_MAX_S:g} s "
+                   f"is a conflict: SUMO SSM device's PET threshold)")
+    if c.drac_mps2 is not None:
+        out.append(f"deceleration needed to reach the zone only once {p.vehicle} had left it {c.drac_mps2:.1f} m/s²")
+    return "; ".join(out)
+
+
+def _conflict_refs(c: Conflict | None) -> tuple[EventRef, ...]:
+    if c is None:
+        return ()
+    return tuple(dict.fromkeys(s.ref for o in (c.mine, c.theirs) if o is not None for s in o.samples))
 
 
 def explained(p: Passage, other: Other) -> bool:
@@ -441,10 +510,37 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
     if other.braking is None and other.stopped is None:
         return False
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
-        or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other)
+        or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other)
+
+
+def _clear_of(p: Passage, other: Other) -> bool:
+    """Whether the conflict measures show the road user slowed with no accident to avoid with V:
+    their paths never meet (each path in the record), or, had it kept the speed it had when it
+    began to slow, it would still have passed V's conflict zone PET_MAX_S or more apart from V
+    (the projected gap: reasoner/conflicts.py). A car easing for its own turn 2.9 s clear of the
+    conflict point slowed for its turn; one that would have met V there slowed for V."""
+    c = conflict_of(p, other)
+    if c is None:
+        return has_path(p.samples) and has_path(other.way) and bool(through(other.way, p.junction)) \
+            and not _walking(other)
+    return c.projected_gap_s is not None and c.projected_gap_s >= PET_MAX_S
+
+
+def conflict_of(p: Passage, other: Other) -> Conflict | None:
+    """The conflict of V's path with the road user's (reasoner/conflicts.py), its TTC taken at V's
+    act (its crossing, else its entry) and its projected gap and DRAC at the moment the road user
+    began to slow; a road user whose record ends short of the junction is taken on straight ahead."""
+    return _conflict_of(p, other)
+
+
+def _conflict_afresh(p: Passage, other: Other) -> Conflict | None:
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    extend = 0.0 if through(other.way, p.junction) else EXTEND_M
+    return conflict(p.samples, other.way, act, walker=_walking(other), onset=slowing_began(other), extend_m=extend)
 
 
 _explained = _ByIdentity(_explained_afresh, 128)   # a passage's road users (MAX_OTHERS) and more
+_conflict_of = _ByIdentity(_conflict_afresh, 128)
 
 
 def _set_off(p: Passage) -> Standstill | None:
@@ -677,8 +773,104 @@ def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
                           tuple(s.ref for s in amber.used) + (amber.light.ref,))
 
 
+def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
+    """A stated "V would force U to change speed or course" or "V would endanger U" is a prediction
+    (a vehicle's own, a camera's reading): evidence of what its maker believed, not of the act.
+    Where U's movement about V's act is in the record (`measured`), the act is judged from it: a
+    statement the measurements do not bear out is contradicted, with what they show."""
+    args = _match(WOULD_FORCE, text)
+    endanger = args is None
+    if endanger:
+        args = _match(WOULD_ENDANGER, text)
+    if not args:
+        return _check_walker_approaching(p, text, ref)
+    if args[0] != p.vehicle:
+        return None
+    other = next((o for o in reacting(p) if o.user == args[1]), None)
+    if other is None or not measured(p, other):
+        return None
+    shown = {f.sentence for f in derived}
+    if WOULD_FORCE.text(p.vehicle, other.user) in shown:
+        return None
+    if endanger and IS_APPROACHING.text(other.user, p.vehicle) in shown:
+        return None
+    return _contradiction(text, ref, _unforced(p, other), [], "", _conflict_refs(conflict_of(p, other)))
+
+
+def _check_walker_approaching(p: Passage, text: str, ref: EventRef):
+    """A stated "P is approaching V" of a pedestrian is read by the rules as P likely to be
+    endangered (para 5(5)); a pedestrian is no main-road traffic (HC 172), so that is all it is
+    read for. Where P's path about V's act is in the record and P was never in or
+    entering V's path within ENDANGER_S of V (`_entering`), the measurements contradict it: a
+    pedestrian walking towards the junction on the far footway is not coming at V."""
+    args = _match(IS_APPROACHING, text)
+    if not args or args[1] != p.vehicle:
+        return None
+    other = next((o for o in reacting(p) if o.user == args[0]), None)
+    if other is None or not _walking(other) or not measured(p, other) or _entering(p, other) is not None:
+        return None             # (a cyclist is traffic too: its approach on the main road is HC 172's)
+    c = conflict_of(p, other)
+    how = (f"{other.user}'s own record shows it never in or entering {p.vehicle}'s path within {ENDANGER_S:g} s of "
+           f"{p.vehicle} being there (closest {other.closest_m:.0f} m from the centre)"
+           + (conflict_words(p, other.user, c) if c else f"; their paths never meet"))
+    return _contradiction(text, ref, how, [], "", _conflict_refs(c))
+
+
+def unmeasured(p: Passage, text: str) -> str | None:
+    """For a stated "V would force U ..." or "V would endanger U" about this passage's vehicle, the
+    road user U when nothing of U about V's act is in the record (not near V's passage, or no path
+    from before the act until V left): the statement then stands alone, and the explanation says
+    so. None for any other sentence, or where U was measured."""
+    args = _match(WOULD_FORCE, text) or _match(WOULD_ENDANGER, text)
+    if not args or args[0] != p.vehicle:
+        return None
+    other = next((o for o in reacting(p) if o.user == args[1]), None)
+    return args[1] if other is None or not measured(p, other) else None
+
+
+def measured(p: Passage, other: Other) -> bool:
+    """Whether the road user's movement about V's act is in the record: its path, and samples from
+    before V's act to after V left the junction (or its record's end)."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if act is None or not has_path(other.way):
+        return False
+    end = p.left.t if p.left else p.end
+    times = [s.t for s in other.samples if s.placed]
+    return bool(times) and times[0] <= act and times[-1] >= min(end, act + SECOND)
+
+
+def _unforced(p: Passage, other: Other) -> str:
+    """What the record shows of a road user V is not shown to have forced or endangered."""
+    b = other.braking
+    if other.stopped is None and (b is None or b.decel_mps2 < FORCE_DECEL_MPS2):
+        hardest = f"its hardest braking was {b.decel_mps2:.2f} m/s²" if b else "it did not slow"
+        how = (f"{other.user}'s own record shows no change of speed V caused: {hardest} (a change of speed counts "
+               f"from {FORCE_DECEL_MPS2:g} m/s², Hupfer 1997)")
+    elif explained(p, other):
+        how = f"{other.user}'s own record shows it slowed for something else ({_cause(p, other)})"
+    else:
+        how = f"{other.user}'s own record does not show it endangered"
+    return how.replace("V caused", f"{p.vehicle} caused") + conflict_words(p, other.user, conflict_of(p, other))
+
+
+def _cause(p: Passage, other: Other) -> str:
+    if other.light is not None and other.light.colour != "green":
+        return f"its own {other.light.colour} light"
+    if other.own_stop_line:
+        return "its own Stop or Give Way line"
+    if other.followed:
+        return f"{other.followed} ahead of it"
+    if paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False:
+        return f"its own way: its path through the junction never came within {VEHICLE_WIDTH_M:g} m of {p.vehicle}'s"
+    if reacted_after_clearing(p.samples, other):
+        return f"it began to slow more than a reaction time after {p.vehicle} was out of its way"
+    if well_ahead(p.samples, other):
+        return f"{p.vehicle} was well ahead of it on its way, going its way"
+    return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
+
+
 _CHECKS = (_check_stopped, _check_speed, _check_light, _check_crossed_on, _check_crossed, _check_in_junction,
-           _check_stopped_at_line, _check_emergency, _check_limit, _check_too_close)
+           _check_stopped_at_line, _check_emergency, _check_limit, _check_too_close, _check_forced)
 
 
 # --- derived facts beside stated ones ---------------------------------------------------------------

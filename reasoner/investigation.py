@@ -473,7 +473,7 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs)
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, overruled=measured.overruled)
         if judged is None:
             return None
         validation, control, rule = judged.validation, judged.control, judged.rule
@@ -483,6 +483,8 @@ class Investigation:
                     *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
+                    *(c.to_finding() for c in _beliefs_overruled(measured)),
+                    *_unmeasured_claims(measured, validation),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -532,18 +534,23 @@ class Investigation:
         facts, with the Monitor Scenario they were added to."""
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
+        overruled = self._overruled(case, mscen, vscen)
         judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], proofs, summary=True,
-                              sanctioned=sanctioned)
+                              sanctioned=sanctioned, overruled=overruled)
         return judged, mscen
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
-                unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True) -> _Judged | None:
+                unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True,
+                overruled: frozenset[str] = frozenset()) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
         beside them (added to the Monitor Scenario here): None where it is no incident.
         `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
         alone."""
         for f in derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
+        if overruled:       # stated predictions the measurements contradict: findings, not the act (issue 35)
+            mscen.facts[:] = mscen.without(overruled).facts
+            vscen = vscen.without(overruled)
         pv_answer, rule = self._rederived(case, mscen, unknown)
         rederived = pv_answer is not None and pv_answer.holds
         if not case.pv and not rederived:
@@ -566,6 +573,12 @@ class Investigation:
         found = self.memo(case.run).get("derived", _measurement_key(case, mscen))
         return self._measured(case, mscen, vscen).derived if found is None else found
 
+    def _overruled(self, case: _Case, mscen: Scenario, vscen: Scenario) -> frozenset[str]:
+        """The stated predictions the case's measurement overrules (Measurement.overruled), read
+        from its own kept entry as `_derived` reads the derived facts."""
+        found = self.memo(case.run).get("overruled", _measurement_key(case, mscen))
+        return self._measured(case, mscen, vscen).overruled if found is None else frozenset(found)
+
     def _measured(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
         """What the vehicle's passage through the junction of the act shows at the act beside
         what the monitor stated (DESIGN "Reasoning": histories); kept for the next investigation
@@ -576,6 +589,7 @@ class Investigation:
         def measured() -> Measurement:
             found = self._measure(case, mscen, vscen)
             memo.put("derived", key, found.derived)
+            memo.put("overruled", key, tuple(sorted(found.overruled)))
             return found
         return memo.remember("measurement", key, measured)
 
@@ -1017,6 +1031,23 @@ def _as_asked(facts: Iterable[tuple[Any, EventRef | None]]) -> list[tuple]:
 
 def _incident_id(case: _Case) -> str:
     return f"{case.anchor['src']}:{case.anchor['seq']}"
+
+
+def _beliefs_overruled(measured: Measurement) -> tuple[Contradiction, ...]:
+    """The vehicle's own predictions the measurements overruled (left out of the Validator
+    Scenario, so `_beliefs_contradicted` no longer sees them): each is a finding, once."""
+    over = measured.overruled
+    found = {(c.stated, c.stated_by.key): c for *_, cs in measured.beliefs for c in cs if c.stated in over}
+    return tuple(found.values())
+
+
+def _unmeasured_claims(measured: Measurement, validation: _Validation) -> tuple[Finding, ...]:
+    """The stated predictions the verdict was taken on with nothing of the road user measured:
+    the sentence stands alone, and the explanation says so."""
+    used = {text for text, _ in validation.scenario}
+    return tuple(Finding("unmeasured claim", f"\"{text}\" was stated ({ref.src} #{ref.seq}) and nothing of {user} "
+                         "about the act is in the record: it stands on the statement alone", (ref,), fact=text)
+                 for text, ref, user in measured.unmeasured if text in used)
 
 
 def _measurement_key(case: _Case, mscen: Scenario) -> str:

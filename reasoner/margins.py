@@ -8,7 +8,9 @@
                             distance at it, and the difference)
     Stop line (HC 171)      seconds stationary at the Stop line before crossing it (0 when it never stood)
     give way (HC 172)       the hardest deceleration of another road user while the vehicle passed (from
-                            when it set off; none another cause explains: derived.explained)
+                            when it set off; none another cause explains: derived.explained), with the
+                            threshold it is held against (FORCE_DECEL_MPS2) and the conflict's measures
+                            (PET, TTC, projected gap, DRAC: reasoner/conflicts.py)
     box junction (HC 174)   seconds stopped in the box
     speed limit             mph over the limit (the fastest sample of the passage)
 
@@ -18,7 +20,9 @@ to measure it by.
 """
 from __future__ import annotations
 
-from .derived import explained, reacting
+from .conflicts import PET_MAX_S
+from .derived import _walking, conflict_of, explained, reacting
+from .reaction import FORCE_DECEL_MPS2
 from .model import Margin
 from .motion import MPH_PER_MPS, STOPPED_MPS, between
 from .passage import Passage
@@ -102,19 +106,53 @@ def _stop(p: Passage) -> Margin | None:
     s = max(stops, key=lambda s: s.duration_s)
     return Margin("seconds stationary at the Stop line", round(s.duration_s, 3), "s", (s.first.ref, s.last.ref),
                   f"{s.samples} samples below 0.5 mph from {s.first.label} to {s.last.label}, {s.to_line_m:.1f} m "
-                  "before the line (a lower bound: between the first and the last of them)")
+                  "before the line (a lower bound: between the first and the last of them)" + _second_limb(p))
+
+
+def _second_limb(p: Passage) -> str:
+    """Para 1's second limb, in words: who was forced or endangered, or why nobody was."""
+    from .derived import _entering, _forced
+    if p.crossing is None and p.entered is None:
+        return ""
+    shown = [f for o in reacting(p) for f in (_forced(p, o), _entering(p, o) if _walking(o) or o.type == "cyclist"
+                                               else None) if f is not None]
+    if shown:
+        return "; the second limb: " + "; ".join(f"{f.sentence} ({f.method})" for f in shown)
+    return (f"; the second limb (TSRGD 2016 Sch 9 Pt 7 para 1): in the measured record no road user changed speed at {FORCE_DECEL_MPS2:g} "
+            f"m/s² or more for {p.vehicle}, or came within {PET_MAX_S:g} s of it where their paths meet, and no "
+            f"pedestrian or cyclist was in or entering its path within {PET_MAX_S:g} s of it (FORCE_DECEL_MPS2, "
+            "Hupfer 1997; PET_MAX_S, SUMO SSM device)")
 
 
 def _give_way(p: Passage) -> Margin | None:
-    braked = [o for o in reacting(p) if o.braking is not None and not explained(p, o)]
+    braked = [o for o in reacting(p) if o.braking is not None and not explained(p, o) and not _walking(o)]
     if not braked:
         return None
     o = max(braked, key=lambda o: o.braking.decel_mps2)
     b = o.braking
     return Margin("deceleration of the other road user", round(b.decel_mps2, 2), "m/s²", (b.first.ref, b.last.ref),
                   f"{o.user}: {b.first.speed_mps:.1f} m/s at {b.first.label} to {b.last.speed_mps:.1f} m/s at "
-                  f"{b.last.label}, while {p.vehicle} passed",
-                  (("its closest to the centre", round(o.closest_m, 1), "m"),))
+                  f"{b.last.label}, while {p.vehicle} passed; a change of speed counts as forced from "
+                  f"FORCE_DECEL_MPS2 = {FORCE_DECEL_MPS2:g} m/s² (Hupfer 1997)",
+                  (("its closest to the centre", round(o.closest_m, 1), "m"), *_conflict_figures(p, o)))
+
+
+def _conflict_figures(p: Passage, other) -> tuple[tuple[str, float, str], ...]:
+    """The measures of the road user's conflict with the vehicle, with the threshold of a conflict."""
+    c = conflict_of(p, other)
+    if c is None:
+        return ()
+    out = []
+    if c.pet_s is not None:
+        out.append(("post-encroachment time", round(c.pet_s, 2), "s"))
+    if c.ttc_s is not None:
+        out.append(("time to collision at the act", round(c.ttc_s, 2), "s"))
+    if c.projected_gap_s is not None and c.projected_gap_s != float("inf"):
+        out.append(("gap had it not slowed (a conflict under PET_MAX_S = %g s, SUMO SSM)" % PET_MAX_S,
+                    round(c.projected_gap_s, 2), "s"))
+    if c.drac_mps2 is not None:
+        out.append(("deceleration it needed (DRAC)", round(c.drac_mps2, 2), "m/s²"))
+    return tuple(out)
 
 
 def _box(p: Passage) -> Margin | None:

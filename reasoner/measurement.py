@@ -15,10 +15,11 @@ from typing import Any, Iterable
 from store import EventRef
 
 from . import acts
-from .derived import Contradiction, beside, checked, facts
+from .derived import Contradiction, _match, beside, checked, facts, unmeasured
 from .margins import BY_RULE, margin
 from .model import DerivedFact, Margin
 from .passage import Passage
+from .vocabulary import IS_APPROACHING, WOULD_ENDANGER, WOULD_FORCE
 
 Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
 
@@ -33,11 +34,22 @@ class Measurement:
     signals: tuple[str, ...] = ()                    # the signals whose reports it read
     margins: tuple[tuple[str | None, Margin | None], ...] = ()   # by rule (None: no rule that picks one)
     beliefs: tuple[Belief, ...] = ()                 # each perceived fact, and what contradicts it
+    unmeasured: tuple[tuple[str, EventRef, str], ...] = ()   # stated predictions about a road user nothing of
+                                                             # which was measured: (sentence, by, road user)
 
     def margin(self, rule: str | None) -> Margin | None:
         """The margin of the act under this rule (margins.margin(passage, action, rule))."""
         wanted = _rule_key(rule)
         return next((m for r, m in self.margins if r == wanted), None)
+
+    @property
+    def overruled(self) -> frozenset[str]:
+        """The stated predictions ("V would force U", "V would endanger U", and a pedestrian's or
+        cyclist's "P is approaching V", which the rules read as endangering) that the measurements
+        of U contradict: a claim of what its maker believed, weighed against what U did and left
+        out of the scenarios the act is judged on (its contradiction is a finding)."""
+        found = [*self.contradictions, *(c for *_, cs in self.beliefs for c in cs)]
+        return frozenset(c.stated for c in found if _predicts(c.stated))
 
     def contradicted(self, own: Iterable[tuple[str, EventRef]]) -> tuple[Contradiction, ...] | None:
         """What contradicts these perceived facts (derived.checked(passage, at, own)[1]); None
@@ -65,14 +77,22 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
     beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)], derived)[1])
                     for text, ref in perceived
                     if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
+    claims = [(text, ref) for text, ref in [*stated, *perceived]
+              if isinstance(text, str) and ref is not None and _predicts(text)]
+    alone = tuple(dict.fromkeys((_said(text), ref, user) for text, ref in claims
+                                if (user := unmeasured(found, _said(text))) is not None))
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs)
+                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs, alone)
 
 
 def _rule_key(rule: str | None) -> str | None:
     key = rule.strip().upper() if isinstance(rule, str) else None
     return key if key in BY_RULE else None
+
+
+def _predicts(text: str) -> bool:
+    return any(_match(kind, text) is not None for kind in (WOULD_FORCE, WOULD_ENDANGER, IS_APPROACHING))
 
 
 def _said(text: str) -> str:

@@ -44,7 +44,9 @@ class RulebookChoice:
 class Finding:
     """Something the record itself shows is wrong or missing, with the events it rests on.
 
-    kind: perception fault, decision fault, monitor disagreement, missing evidence, unknown fact.
+    kind: perception fault, decision fault, monitor disagreement, missing evidence, unknown fact,
+    contradiction, unmeasured claim (a stated prediction the verdict rests on, with nothing of the
+    road user it names measured).
     The fields after `evidence` belong to one kind each (None where they do not apply)."""
 
     kind: str

@@ -14,7 +14,7 @@ vehicle within FOLLOW_S of headway is not being forced by the vehicle that passe
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 from .junctions import Junction, heading_sector, sector
 from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration, position_at, speed_at
@@ -30,10 +30,13 @@ FOLLOW_M = 8.0         # ... plus a car's length and the gap of a queue (a stopp
 
 
 def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
-               t_from: int, t_to: int, passing: tuple[int, int], signals: Signals) -> tuple[Other, ...]:
+               t_from: int, t_to: int, passing: tuple[int, int], signals: Signals,
+               walking: Callable[[str], bool] | None = None) -> tuple[Other, ...]:
     """The road users of `tracks` near the junction's centre in [t_from, t_to] (the vehicle
     itself and its own approach left out); braking and stopping are looked for while the
-    vehicle passes (`passing`: from its crossing or entry until it left, and a reaction after)."""
+    vehicle passes (`passing`: from its crossing or entry until it left, and a reaction after).
+    A pedestrian (its src, or `walking(user)`: its entity.spawn) on the vehicle's own approach is
+    kept: it walks beside the road or across it, and may step into the vehicle's path."""
     found = []
     for user, (src, series) in tracks.items():
         if user == vehicle:
@@ -44,8 +47,9 @@ def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, ap
             continue
         closest = min(junction.distance(s.x, s.y) for s in placed)
         arm, closing = _arm(junction, placed)
-        if closest > CONFLICT_M or (arm is not None and arm == approach and closing):
-            continue
+        if closest > CONFLICT_M or (arm is not None and arm == approach and closing
+                                    and not src.startswith("pedestrian/") and not (walking and walking(user))):
+            continue        # following it on its own approach
         found.append(_other(user, src, window, junction, arm, closing, closest, passing, signals))
     found = [_followed(o, found, junction) for o in found]
     found.sort(key=lambda o: (o.closest_m, o.user))
@@ -100,8 +104,8 @@ def _followed(other: Other, everyone: list[Other], junction: Junction) -> Other:
         return other
     mine = junction.distance(*here)
     for ahead in everyone:
-        if ahead.user == other.user:
-            continue
+        if ahead.user == other.user or ahead.type == "pedestrian" or ahead.src.startswith("pedestrian/"):
+            continue            # a pedestrian on the footway leads nobody in the lane
         there, _ = position_at(ahead.samples, moment)
         its, _ = speed_at(ahead.samples, moment)
         if there is None or its is None or sector(there[0] - junction.x, there[1] - junction.y) != other.arm:

@@ -143,7 +143,8 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
                                       out + int(REACTION_S * SECOND)),
                         junction, record.vehicle, approach, max(t0, key - int(OTHERS_BEFORE_S * SECOND)),
                         out + int(REACTION_S * SECOND),
-                        (key - int(ANTICIPATION_S * SECOND), out + int(REACTION_S * SECOND)), record.signals)
+                        (key - int(ANTICIPATION_S * SECOND), out + int(REACTION_S * SECOND)), record.signals,
+                        lambda user: _type(record.spawns(user)) == "pedestrian")
     others = _ways(record, junction, tuple(_typed(o, record.spawns(o.user)) for o in others),
                    max(t0, key - int(OTHERS_BEFORE_S * SECOND)), out + int(REACTION_S * SECOND))
     spawn = record.spawn

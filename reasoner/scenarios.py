@@ -39,6 +39,13 @@ class Scenario:
     def sentences(self) -> list:
         return [s for s, _ in self.facts]
 
+    def without(self, sentences: frozenset[str] | set[str]) -> Scenario:
+        """The scenario less these sentences (stated predictions the measurements overrule:
+        Measurement.overruled); itself when there are none to leave out."""
+        if not sentences or not any(s in sentences for s, _ in self.facts):
+            return self
+        return Scenario([(s, r) for s, r in self.facts if s not in sentences])
+
     @property
     def evidence(self) -> dict[str, EventRef]:
         """sentence -> event ref, for citing facts in proof trees."""

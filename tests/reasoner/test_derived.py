@@ -250,10 +250,12 @@ def test_a_stop_short_of_the_junction_past_a_worn_line_is_a_stop_before_the_majo
 def test_another_road_users_type_comes_with_it_approaching():
     """TSRGD para 5(5) "likely to endanger any person": highway_code.le reads `U is approaching V`
     with `U is of type pedestrian` (or cyclist); the type is in U's entity.spawn, which the
-    history now reads for the other road users, from a list of events and from a store alike."""
-    walker = Motion(-40.0, 1.4)
+    history now reads for the other road users, from a list of events and from a store alike.
+    p1 walks north across 7's lane (y = +1.75) as 7 (9 m/s from 60 m west) gets there, 6.47 s in:
+    in 7's path as it comes, so approaching it (issue 35: not merely walking towards the junction)."""
+    walker = Motion(1.75 - 1.4 * (58.25 / 9.0), 1.4)
     run = _through(crossroads("J1", 0.0, 0.0, "lights"), Motion(-60.0, 9.0), hz=5, end=12.0,
-                   others=[("p1", "pedestrian", walker, "north")])
+                   others=[("p1", "pedestrian", walker, "south")])
     run.lights("J1", "west", [(0, "red")])
     p = history.from_events(run.events, "7")[0]
     facts = {f.sentence: f for f in derived.facts(p, p.crossing.t)}

@@ -612,18 +612,17 @@ def test_a_car_stopping_at_its_own_stop_line_across_the_junction_is_not_forced_b
     no_incident(found, "c3")
 
 
-def test_a_vehicle_that_went_on_though_it_judged_it_would_force_main_road_traffic_is_punishable(tmp_path):
-    """An automated 7 perceives c2 on the main road coming and states its own prediction, "7 would
-    force c2 to change speed or course"; its rulebook answers that it cannot enter (HC 172), and it
-    goes on anyway. c2 keeps its speed (UNHINDERED): no measurement shows a forcing. The camera
-    states c2 approaching on the main road, which raises the potential violation. DESIGN: the
-    Validator Scenario is the vehicle's own, with what the monitor witnessed in place of its view;
-    a camera witnesses no prediction, so its silence on "would force" (a sentence monitors.le now
-    also reads, for HC 171) does not overrule the vehicle's own: on it, 7 must not have entered.
-    Punishable, HC 172, with the decision fault found."""
+def predicting_run(measured_c2: bool) -> Foreign:
+    """7 emerges from its Give Way line (give_way_run); an automated 7 perceives c2 on the main road
+    and states its own prediction, "7 would force c2 to change speed or course"; its rulebook
+    answers that it cannot enter (HC 172), and it goes on anyway; the camera states c2 approaching
+    on the main road. `measured_c2`: c2's own record (UNHINDERED: it keeps its speed) is in the
+    run; else nothing of c2 was measured."""
     from tests.helpers.foreign import ns
 
     run = give_way_run(UNHINDERED, "5 Hz", "measured")
+    if not measured_c2:
+        run.events = [e for e in run.events if e["src"] != "vehicle/c2" and e["body"].get("vehicle") != "c2"]
     seen = ["7 is of type car", "7 is driving itself", "7 has a give way sign", "c2 is of type car",
             "c2 is approaching 7", "c2 is on the main road", "7 would force c2 to change speed or course"]
     at = START + 3.0
@@ -632,9 +631,33 @@ def test_a_vehicle_that_went_on_though_it_judged_it_would_force_main_road_traffi
                                                         "permitted": False, "proceeds": True})
     run.watch("7", Motion(-40.0, 6.0), "west", rate(5, START, START + 16.0), t_start=START, monitor="m2",
               facts=camera("7", sign="give way", also=("c2 is approaching 7", "c2 is on the main road")))
-    inc = one(judge(tmp_path, run), "7")
+    return run
+
+
+def test_a_vehicles_own_prediction_that_it_would_force_traffic_the_record_shows_unforced_is_no_offence(tmp_path):
+    """HC 172 / TSRGD 2016 Sch 9 Pt 7 para 1 ask what happened: whether the main road's traffic was
+    caused to change speed or course. 7 predicted it would force c2 and went on against its own
+    rulebook's answer, but c2's own record shows it keeping its 13.4 m/s, 87 m off when 7 crossed:
+    nobody was forced (issue 35, "predictions are claims"). The prediction is evidence of what 7
+    believed: a decision fault, and a contradiction with c2's record; the act is lawful (at most
+    mitigated, HC 172)."""
+    inc = one(judge(tmp_path, predicting_run(True)), "7")
+    assert inc.verdict != "punishable", (inc.verdict, inc.why)
+    assert any(f.kind == "decision fault" for f in inc.findings)
+    said = [f for f in inc.findings if f.kind == "contradiction" and "would force c2" in f.detail]
+    assert said and "c2's own record" in said[0].detail
+
+
+def test_a_vehicles_own_prediction_stands_alone_where_nothing_of_the_other_was_measured(tmp_path):
+    """The same prediction with nothing of c2 in the record (no entity.state, no camera frame of
+    it): the stated sentence is the only evidence of the second limb and stands (DESIGN: the
+    Validator Scenario is the vehicle's own, corrected by what was witnessed or measured):
+    punishable, HC 172, with the decision fault, and a finding that the claim stands alone."""
+    inc = one(judge(tmp_path, predicting_run(False)), "7")
     verdict(inc, "punishable", "HC 172")
     assert any(f.kind == "decision fault" for f in inc.findings)
+    alone = [f for f in inc.findings if f.kind == "unmeasured claim"]      # and the explanation says so
+    assert alone and alone[0].fact == "7 would force c2 to change speed or course" and "alone" in alone[0].detail
 
 
 @pytest.mark.parametrize("sampling", ["2 Hz", "irregular 2-10 Hz"])
@@ -713,13 +736,28 @@ def test_a_main_road_car_that_begins_to_slow_long_after_the_vehicle_left_its_way
     no_incident(found, "c2")
 
 
-def test_the_same_braking_begun_within_a_reaction_time_of_the_vehicle_leaving_its_way_was_forced(tmp_path):
-    """The control of the test above: c2 begins the same braking 1.5 s after 7 was out of its lane
-    (within a perception-reaction time, 2.5 s), 20 m short of the centre: 7's crossing may well be
-    what it braked for, and the record cannot tell otherwise. Para 1's forcing: punishable, HC 171."""
-    inc = one(judge(tmp_path, stop_then_go_run(("c2", braking_after_7_cleared(1.5), "north"))), "7")
+def test_braking_begun_within_a_reaction_time_but_well_clear_of_the_conflict_zone_was_not_forced(tmp_path):
+    """c2 begins the same braking 1.5 s after 7 was out of its lane (within a perception-reaction
+    time, 2.5 s), 20 m short of the centre. Had it kept its 13.4 m/s it would have reached the
+    zone where the two paths meet about 2.3 s after 7 had left it: a post-encroachment time of
+    2 s or more is no conflict (SUMO's SSM device, DEFAULT_THRESHOLD_PET; Allen et al. 1978), so
+    there was no accident with 7 to avoid (para 1: "in order to avoid an accident"). Issue 35: "a
+    car slowing ... for its own turn, 2.9 s or more clear of the conflict point, read as forced".
+    A lawful Stop: no violation by 7, and no sentence that it forced c2."""
+    found = judge(tmp_path, stop_then_go_run(("c2", braking_after_7_cleared(1.5), "north")))
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+
+
+def test_the_same_braking_begun_as_the_vehicle_left_the_conflict_zone_was_forced(tmp_path):
+    """The control of the test above: c2 begins the same braking 0.3 s after 7 was out of its
+    lane, 20 m short of the centre: unslowed, it would have been at the conflict zone about 1.1 s
+    after 7 left it, under the 2 s of a conflict: it braked to avoid an accident with 7. Para 1's
+    forcing: punishable, HC 171, with the measured gap in the sentence's method."""
+    inc = one(judge(tmp_path, stop_then_go_run(("c2", braking_after_7_cleared(0.3), "north"))), "7")
     verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    forced = next(f for f in inc.derived if f.sentence == "7 would force c2 to change speed or course")
+    assert "unslowed" in forced.method and "SUMO SSM" in forced.method
 
 
 def turning_after_7(ahead_m: float) -> Motion:
@@ -946,14 +984,25 @@ def pedestrian(run: Foreign, who: str, crossing: float, type: str = "pedestrian"
               facts=[f"{who} is of type {type}"])
 
 
-def north_car(run: Foreign, who: str, crossing: float, *, brakes: bool) -> None:
+def stepping_out(run: Foreign, who: str, crossing: float) -> None:
+    """A pedestrian walking north at 1.4 m/s across the west-east road, on the line x = -1.75 (the
+    south arm's lane), reaching the vehicle's lane (y = +1.75) 1 s after the vehicle crossed its
+    line, as the vehicle (12.5 m/s, 12 m from the centre at its line) gets there."""
+    motion = Motion(1.75 - 1.4 * (crossing + 1.0 - START), 1.4)
+    run.spawn(who, "pedestrian", role="pedestrian")
+    run.drive(who, motion, "south", rate(2, START, crossing + 8.0), t_start=START, role="pedestrian")
+    run.watch(who, motion, "south", rate(5, START, crossing + 8.0), t_start=START,
+              facts=[f"{who} is of type pedestrian"])
+
+
+def north_car(run: Foreign, who: str, crossing: float, *, brakes: bool, decel: float = 5.0) -> None:
     """A car on the north arm, its light green: 45 m from the centre at the crossing; it either
-    keeps its 12 m/s (it reaches the junction after the vehicle has left) or brakes at 5 m/s² from
-    0.5 s before the crossing to a stop outside the junction."""
+    keeps its 12 m/s (it reaches the junction after the vehicle has left) or brakes at `decel`
+    from 0.5 s before the crossing to a stop outside the junction."""
     s_then = -45.0
     if brakes:
         lead = crossing - 0.5 - START
-        motion = Motion(-30.0 - 12.0 * lead, 12.0, [(lead, 0.0), (12.0 / 5.0, -5.0), (5.0, 0.0), (8.0, 2.0)])
+        motion = Motion(-30.0 - 12.0 * lead, 12.0, [(lead, 0.0), (12.0 / decel, -decel), (5.0, 0.0), (8.0, 2.0)])
     else:
         motion = Motion(s_then - 12.0 * (crossing - START), 12.0)
     run.spawn(who)
@@ -966,10 +1015,20 @@ EMERGENCY = [  # id, type, how it is on a call (None: not), who else is there, t
     ("ambulance-on-call-core-sentence", "ambulance", "sentence", None, "mitigated"),
     ("unmarked-police-car-on-call", "car", "state", None, "mitigated"),
     ("ambulance-off-call", "ambulance", None, None, "punishable"),
-    ("ambulance-on-call-pedestrian-approaching", "ambulance", "spawn", "pedestrian", "punishable"),
-    ("ambulance-on-call-cyclist-approaching", "ambulance", "spawn", "cyclist", "punishable"),
+    # a pedestrian walking towards the junction who waits at the kerb 13 m out never enters the
+    # ambulance's path: not likely to be endangered by it (para 5(5)); mitigated (issue 35)
+    ("ambulance-on-call-pedestrian-waiting-at-the-kerb", "ambulance", "spawn", "pedestrian", "mitigated"),
+    # a cyclist reaching the junction 3.5 s after the ambulance crossed, 2 s or more after it left
+    # the point where their paths meet (SUMO SSM's PET threshold): not endangered; mitigated
+    ("ambulance-on-call-cyclist-after-it-left", "ambulance", "spawn", "cyclist", "mitigated"),
+    # a pedestrian stepping into the ambulance's path as it comes: likely to endanger; punishable
+    ("ambulance-on-call-pedestrian-stepping-into-its-path", "ambulance", "spawn", "pedestrian in its path",
+     "punishable"),
     ("ambulance-on-call-car-approaching-unhindered", "ambulance", "spawn", "car", "mitigated"),
     ("ambulance-on-call-car-forced-to-brake", "ambulance", "spawn", "car braking", "punishable"),
+    # a car on green braking at 7 m/s² to a stop as the ambulance crosses its path: "to cause the
+    # driver of another vehicle to change its speed ... in order to avoid an accident"; punishable
+    ("ambulance-on-call-car-braking-at-7", "ambulance", "spawn", "car braking at 7", "punishable"),
 ]
 
 
@@ -984,9 +1043,10 @@ def test_emergency_vehicle_on_red(tmp_path, type, call, other, expected):
     (6) the purposes include "(c) ambulance" and "(h) police". The exemption follows the purpose,
     not the vehicle: on a call with nobody about, mitigated (HC 176, the rule it modifies); an
     unmarked police car (type car) on a call likewise; an ambulance off a call is bound by
-    para 5(3): punishable; a pedestrian or cyclist coming towards it is "likely to be endangered":
-    punishable; a car that keeps its speed was not caused to change it: mitigated; a car that
-    had to brake hard to a stop was: punishable.
+    para 5(3): punishable; a pedestrian or cyclist in or entering its path as it comes is "likely
+    to be endangered": punishable, but one walking towards the junction who waits at the kerb, or
+    rides through after it has gone, is not (issue 35); a car that keeps its speed was not caused
+    to change it: mitigated; a car that had to brake hard (5 or 7 m/s²) to a stop was: punishable.
 
     It crosses 2 s after red at 28 mph; margin 2 s after red (± 0.05 s, constant speed)."""
     v = "253"
@@ -997,8 +1057,11 @@ def test_emergency_vehicle_on_red(tmp_path, type, call, other, expected):
         also=(f"{v} is on an emergency call",) if call == "sentence" else ())
     if other in ("pedestrian", "cyclist"):
         pedestrian(run, "p1", crossing, type=other, speed=1.4 if other == "pedestrian" else 4.0)
+    elif other == "pedestrian in its path":
+        stepping_out(run, "p1", crossing)
     elif other is not None:
-        north_car(run, "c2", crossing, brakes=other == "car braking")
+        north_car(run, "c2", crossing, brakes=other.startswith("car braking"),
+                  decel=7.0 if other.endswith("at 7") else 5.0)
     found = judge(tmp_path, run)
     inc = one(found, v)
     verdict(inc, expected, "HC 176")

@@ -24,7 +24,7 @@ VERDICTS = {"punishable", "mitigated", "dismissed"}
 LIABLE = {"driver", "user-in-charge", "authorised self-driving entity", "no-user-in-charge operator", "none"}
 IN_CONTROL = {"driver", "self-driving feature", "user-in-charge"}
 FINDING_KINDS = {"perception fault", "decision fault", "monitor disagreement", "missing evidence", "unknown fact",
-                 "contradiction"}
+                 "contradiction", "unmeasured claim"}
 REF_KEYS = {"run", "src", "seq", "t", "kind"}
 FIELDS = {"id", "run", "t", "vehicle", "action", "monitor", "recorded", "rederived", "rule", "law", "verdict",
           "why", "penalty", "liable", "control", "findings", "evidence"}

@@ -1,0 +1,56 @@
+"""The surrogate safety measures of reasoner/conflicts.py against figures worked by hand from their
+definitions (docs/history.md, "Conflicts"): two road users crossing at right angles at constant
+speeds, sampled at 5 Hz, so that linear interpolation between samples is exact.
+
+V drives east along y = +1.75 at 5 m/s from x = -20 at t = 0; U drives north along x = -1.75. Both
+are 2.55 m wide, so the conflict zone is the 2.55 m square about (-1.75, +1.75); a car occupies
+it while its centre is within 2.5 m (half its 5 m) of the square: V from x = -5.525 to x = +2.025,
+that is from t = 2.895 s to t = 4.405 s."""
+from __future__ import annotations
+
+import pytest
+
+from reasoner.conflicts import conflict
+from reasoner.motion import Sample
+from store import EventRef
+
+S = 1_000_000_000
+
+
+def track(src: str, x0: float, y0: float, vx: float, vy: float, n: int = 60) -> list[Sample]:
+    out = []
+    for i in range(n):
+        t = i * 0.2
+        out.append(Sample(round(t * S), x0 + vx * t, y0 + vy * t, abs(vx) + abs(vy), 0.0,
+                          EventRef("r", src, i, round(t * S), "entity.state")))
+    return out
+
+
+V = track("vehicle/7", -20.0, 1.75, 5.0, 0.0)
+
+
+def test_post_encroachment_time_after_the_vehicle_left():
+    """U at 10 m/s from y = -60 enters the zone (y = -2.025) at 5.7975 s: PET = 5.7975 - 4.405."""
+    c = conflict(V, track("vehicle/u", -1.75, -60.0, 0.0, 10.0), None)
+    assert c.area_m2 == pytest.approx(2.55 * 2.55, abs=1e-6)
+    assert (c.mine.entered / S, c.mine.left / S) == (pytest.approx(2.895, abs=1e-6), pytest.approx(4.405, abs=1e-6))
+    assert c.first == "mine" and c.pet_s == pytest.approx(1.3925, abs=1e-6)
+
+
+def test_time_to_collision_projected_gap_and_drac_on_a_collision_course():
+    """U at 10 m/s from y = -30. At the act (2 s) V would occupy the zone 0.895-2.405 s on and U
+    0.7975-1.5525 s on: TTC 0.895 s. From 1 s (U 17.975 m short of the zone at 10 m/s), unslowed
+    it arrives at 2.7975 s, inside V's time there: gap 2.7975 - 4.405 = -1.6075 s; to arrive as
+    V leaves (3.405 s later) it needs 2 (10 x 3.405 - 17.975) / 3.405² = 2.773 m/s² (DRAC)."""
+    c = conflict(V, track("vehicle/u", -1.75, -30.0, 0.0, 10.0), 2 * S, onset=1 * S)
+    assert c.pet_s == 0.0
+    assert c.ttc_s == pytest.approx(0.895, abs=1e-6)
+    assert c.projected_gap_s == pytest.approx(-1.6075, abs=1e-6)
+    assert c.onset_to_zone_m == pytest.approx(17.975, abs=1e-6)
+    assert c.drac_mps2 == pytest.approx(2 * (10 * 3.405 - 17.975) / 3.405 ** 2, abs=1e-6)
+
+
+def test_paths_that_never_meet_have_no_conflict():
+    """U on the far footway, 8 m south of V's lane, walking east: the paths stay apart."""
+    walker = track("pedestrian/p", -30.0, -6.25, 1.4, 0.0)
+    assert conflict(V, walker, 2 * S, walker=True) is None
