@@ -15,9 +15,9 @@ test: $(READY)
 setup: $(READY)
 
 # The fuzzers (tests/fuzz: envelope decoding, JSONL and MCAP import, the LE parser and engine, the
-# command line's arguments, checkpoint rows edited under a rewritten run) with ten times the examples
-# `make test` gives them, round after round with fresh seeds until FUZZ_SECONDS (default 600) have
-# passed; the round in progress finishes.
+# command line's arguments, hostile output paths that must never touch the evidence, checkpoint rows
+# edited under a rewritten run) with ten times the examples `make test` gives them, round after round
+# with fresh seeds until FUZZ_SECONDS (default 600) have passed; the round in progress finishes.
 # A failure stops at once; Hypothesis keeps the failing example in .hypothesis/ and tries it first.
 FUZZ_SECONDS ?= 600
 
@@ -38,7 +38,7 @@ fuzz: $(READY)
 # in bench/results.json; then docs/performance.md is regenerated from it. The full sizes take an hour
 # or more (the 10-million-event files are generated once under /tmp/gaps-bench); bench-quick runs
 # reduced sizes in a few minutes and records them apart from the full ones.
-BENCHES := rules append transfer ingest_throughput ingest_cost signatures scene_at_t incidents history scene explanations sumo_step sim kill9 injection regress replay
+BENCHES := rules append transfer ingest_throughput ingest_cost signatures scene_at_t incidents history scene explanations sumo_step sim kill9 injection regress replay conflict_agreement
 
 bench: $(READY)
 	@for b in $(BENCHES); do echo "== bench/$$b.py"; PYTHONPATH=$(CURDIR) $(VENV)/bin/python bench/$$b.py || exit 1; done

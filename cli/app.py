@@ -26,14 +26,27 @@ class GapsGroup(TyperGroup):
     """The command group that reports a GapsError as `gaps: <message>` with its exit code."""
 
     def invoke(self, ctx: typer.Context) -> Any:
+        from store import caches_opened, unwritten_caches
+        already, opened = len(unwritten_caches()), caches_opened()
         try:
             return super().invoke(ctx)
         except GapsError as exc:
             typer.echo(f"gaps: {_what(exc)}{exc}", err=True)
             raise typer.Exit(exc.exit_code) from None
         except sqlite3.DatabaseError as exc:  # a damaged or hostile file, read past the store's own checks
+            from store import damaged_caches
+            damaged = damaged_caches(since=opened)
+            if damaged:     # derived data never accuses the evidence
+                typer.echo(f"gaps: SQLite could not read the cache file {damaged[0]}: {exc}; it holds only what "
+                           "reads derived from the store, never evidence: delete it and run again (it is rebuilt "
+                           "from the events)", err=True)
+                raise typer.Exit(2) from None
             typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
             raise typer.Exit(1) from None
+        finally:
+            for why in unwritten_caches()[already:]:
+                typer.echo(f"gaps: warning: the cache could not be written ({why}); the results were computed "
+                           "from the store without it (the evidence is not in question)", err=True)
 
 
 _DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what and where"
@@ -66,6 +79,15 @@ def open_existing(db: Optional[Path]) -> Store:
         return Store.open_read_only(path)
     except StoreError as exc:  # not an event store, an older or newer schema, unreadable
         fail(str(exc), exc.exit_code)
+
+
+def writable_output(path: Optional[Path], db: Optional[Path] = None) -> None:
+    """Refuse, before any work, an output file that is or resolves to the store (`db`), one of its
+    companions or any SQLite file, or that is not a regular file (store/output_files.py: OutputRefused,
+    exit 2). `-` and None pass: standard output, or no file asked for."""
+    from store import check_output
+    if path is not None and str(path) != "-":
+        check_output(path, [db_path(db)])
 
 
 def require_run(store: Store, run: Optional[str]) -> None:

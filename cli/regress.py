@@ -6,7 +6,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import db_path, fail, open_existing, print_json
+from cli.app import db_path, fail, open_existing, print_json, writable_output
 from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
@@ -52,6 +52,9 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
     from reasoner.regress_golden import check_golden
     from reasoner.regress_junit import junit_xml
     from reasoner.regress_text import lines
+    from store import write_bytes
+    writable_output(junit, db)
+    writable_output(golden if update_golden else None, db)
 
     rule_args = [str(p) for p in rules or []]
     on = Cluster(workers, scheduler)
@@ -82,7 +85,7 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
                 result = regress_store(db_path(db), rule_args, base_arg, None if all_runs else run, cluster=on,
                                        progress=progress)
     if junit is not None:
-        junit.write_bytes(junit_xml(result))
+        write_bytes(junit, junit_xml(result), [db_path(db)])
     if json_out:
         print_json(result.to_json())
     else:

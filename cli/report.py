@@ -14,7 +14,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import check_files, fail, open_existing, require_run
+from cli.app import check_files, db_path, fail, open_existing, require_run, writable_output
 from cli.options import DbOption, RulesOption, RunRequired, is_stdio
 from cli.progress import stderr_progress
 from cli.safe_text import printable
@@ -46,6 +46,9 @@ def report(run: str = RunRequired,
         fail("--pdf writes FILE.pdf beside the report: give -o FILE rather than -")
     if not to_stdout and not output.parent.is_dir():
         fail(f"no such folder for the report: {output.parent}")
+    if not to_stdout:
+        writable_output(output, db)
+        writable_output(output.with_suffix(".pdf") if pdf else None, db)
     files = check_files(rules)
     chromium = find_chromium() if pdf else None
     if pdf and chromium is None:
@@ -61,8 +64,9 @@ def report(run: str = RunRequired,
     if to_stdout:
         typer.echo(text, nl=False)
         return
+    from store import write_text
     try:
-        output.write_text(text, encoding="utf-8")
+        write_text(output, text, [db_path(db)])
     except OSError as exc:
         fail(f"cannot write {output}: {exc.strerror or exc}")
     n = len(built["incidents"])
@@ -71,7 +75,7 @@ def report(run: str = RunRequired,
     if pdf:
         target = output.with_suffix(".pdf")
         try:
-            print_report_pdf(built, target, chromium, page=output if fmt == "html" else None)
+            print_report_pdf(built, target, chromium, page=output if fmt == "html" else None, stores=[db_path(db)])
         except (ToolMissing, PdfError) as exc:
             fail(str(exc), code=3)
         typer.echo(f"Printed it to {target} ({target.stat().st_size:,} bytes)")

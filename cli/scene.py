@@ -15,7 +15,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import fail, open_existing, print_json, require_run
+from cli.app import db_path, fail, open_existing, print_json, require_run, writable_output
 from cli.options import DbOption, JsonOption, RunRequired
 from cli.safe_text import printable
 
@@ -66,11 +66,13 @@ def _picture(run: str, at: str, vehicle: Optional[str], junction: Optional[str],
     """`--svg`: the scene picture written to `target`, and one line saying what it shows."""
     from explain.report_data import run_map, run_start_body, scene_picture
     from explain.svg_scene import scene_svg
+    from store import write_text
     from reasoner.scene import SceneError, run_start
     from reasoner.scene import scene as scene_at
     from reasoner.when import TimeError, parse_time
     if not target.parent.is_dir():
         fail(f"no such folder for the picture: {target.parent}")
+    writable_output(target, db)
     with open_existing(db) as store:
         require_run(store, run)
         try:
@@ -86,7 +88,7 @@ def _picture(run: str, at: str, vehicle: Optional[str], junction: Optional[str],
         pic = scene_picture(store, run, t, vehicle, the_map, junction=junction)
     text = scene_svg(pic)
     try:
-        target.write_text('<?xml version="1.0" encoding="UTF-8"?>\n' + text + "\n", encoding="utf-8")
+        write_text(target, '<?xml version="1.0" encoding="UTF-8"?>\n' + text + "\n", [db_path(db)])
     except OSError as exc:
         fail(f"cannot write {target}: {exc.strerror or exc}")
     drawn = sum(1 for u in pic["vehicles"] + pic["road_users"] if u["x"] is not None and u.get("present", True))

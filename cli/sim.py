@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import db_path, fail
+from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
 
 _UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
@@ -105,6 +105,9 @@ def sim(
     pace = parse_speed(speed)
     store_file = None if listen or connect or zenoh_file else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
+    for output in (record, truth_file):     # before the simulation: evidence is never an output
+        writable_output(output, store_file)
+    _one_producer(run, store_file, truth_file)
     try:
         signer = _signer(sign_keys)
         wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
@@ -118,6 +121,25 @@ def sim(
         typer.echo(json.dumps(out, indent=2))
         return
     _print(out, store_file)
+
+
+def _one_producer(run: str, store_file: Path | None, truth_file: Path) -> None:
+    """One run, one producer: a simulation never stores into a run the store already holds (another
+    seed's events would mix with the first's, and its ground truth replace theirs), nor replaces
+    a ground truth file; exit 2 naming what to change instead."""
+    if store_file is not None and store_file.is_file():
+        from store import Store, StoreError
+        try:
+            with Store.open_read_only(store_file) as held:
+                events = held.count(run)
+        except StoreError:
+            events = 0          # not a store we can read: the ingest says why when it opens it
+        if events:
+            fail(f"run {run} already holds {events:,} events in {store_file}: a run holds one producer's events, "
+                 f"so a new simulation is never mixed into it; give another --run or another --db")
+    if truth_file.exists() or truth_file.is_symlink():
+        fail(f"the ground truth {truth_file} already exists (an earlier simulation's?): it is never replaced; "
+             "remove it, or give --truth FILE or another --run")
 
 
 def _signer(folder: Path | None):
@@ -136,7 +158,8 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
     from sim_replay.simulation import Simulation
 
     with stderr_progress(f"simulating {config.run}") as bar:
-        simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None)
+        simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None,
+                                account=True)      # its truth is written: with SUMO's own account of who yielded
         stored = None
         if store_file is not None:
             stored, sent = publish_through_zenoh(store_file, simulation.batches(), record=record, speed=pace,
@@ -146,7 +169,7 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
                 for batch in simulation.batches():
                     outlets.put_all(batch)
             sent = outlets.summary()
-    simulation.truth.write(truth_file)
+    simulation.truth.write(truth_file, [store_file] if store_file is not None else [])
     return simulation.summary, sent, stored
 
 

@@ -13,7 +13,7 @@ from typing import Callable, Iterator, Optional
 
 import typer
 
-from cli.app import db_path, fail, open_existing, print_json, require_run
+from cli.app import db_path, fail, open_existing, print_json, require_run, writable_output
 from cli.options import DbOption, JsonOption, RunRequired, is_stdio
 from cli.streams import stdin_file, stdout_file
 
@@ -177,6 +177,7 @@ def export(run: str = RunRequired,
 
     MCAP also carries Foxglove scene and log channels for watching the run.
     """
+    writable_output(output, db)         # before the store is opened: evidence is never an output
     if is_stdio(output):
         fmt = fmt or "jsonl"
         with stdout_file(f".{fmt.lower()}") as path:

@@ -81,7 +81,7 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     if json_out:
         print_json({**report.as_dict(), "ok": ok, "signatures": {**signatures, "ok": signed_ok},
                     **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {}),
-                    "cache": tampering.to_json(),
+                    "cache": {**tampering.to_json(), "unwritten": store.cache.unwritten},
                     **({"heads": {"file": str(against), "ok": all(o.ok for o in outcomes),
                                   "checked": [o.to_json() for o in outcomes]}} if against else {}),
                     **({"checkpoint_key": keyed.to_json()} if keyed is not None else {}),

@@ -15,6 +15,8 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Iterable
 
+from store import check_output, write_text
+
 from .explanation_doc import document
 from .explanation_formats import render
 from .report import build_report, format_for, render_report
@@ -44,6 +46,7 @@ def write_report(case: Case, run: str, path: str | os.PathLike, *, incident: str
                  progress: Callable[[int, int], None] | None = None) -> Path:
     """The run's report written to `path` in the format its suffix names (.html, .md, .json)."""
     target = Path(path)
+    check_output(target, [case.store.path])     # before the work: evidence is never an output
     text = report_text(case, run, fmt=format_for(target), incident=incident, progress=progress)
-    target.write_text(text, encoding="utf-8")
+    write_text(target, text, [case.store.path])
     return target

@@ -81,8 +81,15 @@ class _Builder:
                    else f"recorded by {ph.who(inc.monitor)}, but not re-derivable from its observation")
         else:
             how = f"re-derived from the observations of {ph.who(inc.monitor)}, which recorded none"
+        sources = inc.sources
+        if sources and inc.found_in == "own-record":
+            how = f"found in the vehicle's own record ({sources[0].id}) only: no monitor recorded it"
+        elif len(sources) > 1:
+            how += (f"; one act, {len(sources)} records of it, judged as one: "
+                    + ", ".join(f"{s.id} ({s.how})" for s in sources))
         return {"monitor": inc.monitor, "recorded": inc.recorded, "rederived": inc.rederived,
-                "how": how, "observed": self._facts(inc.scenarios.monitor),
+                "how": how, "found_in": inc.found_in, "sources": [s.to_json() for s in sources],
+                "observed": self._facts(inc.scenarios.monitor),
                 "rule": inc.rule, "law": inc.law, "tree": self.pv_tree,
                 "rulebook": self.ex.monitor_rulebook}
 
@@ -237,6 +244,9 @@ class _Builder:
         if inc.verdict == "dismissed":
             out.append(f"{ph.who(inc.monitor, True)} recorded that vehicle {v} potentially violated “{inc.action}” at "
                        f"{when}, but {self._dismissal()}, so there is no violation to answer for.")
+        elif inc.sources and inc.found_in == "own-record":
+            out.append(f"Vehicle {v}'s own record shows that it {ph.past(inc.action)}{self._manner()} at {when}; "
+                       "no monitor recorded it.")
         else:
             seen = "recorded" if inc.recorded else "observed"
             unrecorded = "" if inc.recorded else ", but recorded no potential violation"

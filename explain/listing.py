@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Iterable, Iterator
 
-from reasoner.model import Finding, Incident, Margin, Penalty
+from reasoner.model import OWN_RECORD, Finding, Incident, Margin, Penalty, found_in
 from reasoner.when import format_time
 
 if TYPE_CHECKING:
@@ -22,6 +22,8 @@ def incident_line(inc: Incident, number: int | None = None) -> str:
               inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
     if inc.margin is not None:
         fields.append(_margin(inc.margin))
+    if (found := _found(inc)) is not None:
+        fields.append(found)
     fields.append(_findings(inc.findings))
     line = "  ".join(fields)
     return f"{number:>3}  {line}" if number is not None else line
@@ -33,6 +35,17 @@ def explanations(case: Case, incidents: Iterable[tuple[int, Incident]]) -> Itera
     from .text import explain_incident
     for n, inc in incidents:
         yield f"── incident {n}: {inc.run} {inc.id} ──\n" + explain_incident(case.investigation, inc) + "\n"
+
+
+def _found(inc: Incident) -> str | None:
+    """Where the act was found, where that is news: only in the vehicle's own record, or in
+    several records of the one act (one incident, one penalty); nothing for one monitor's."""
+    sources = inc.sources
+    if sources and found_in(sources) == OWN_RECORD:
+        return "found in the vehicle's own record only"
+    if len(sources) > 1:
+        return f"one act, {len(sources)} records ({', '.join(dict.fromkeys(s.src for s in sources))})"
+    return None
 
 
 def _penalty(p: Penalty | None) -> str:

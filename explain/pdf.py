@@ -13,8 +13,9 @@ import shutil
 import subprocess
 import tempfile
 from pathlib import Path
+from typing import Iterable
 
-from store import GapsError
+from store import GapsError, check_output, write_bytes
 
 CANDIDATES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 DEBIAN_PATH = "/usr/bin/chromium"
@@ -48,24 +49,27 @@ def headless_args(chromium: str, profile: str) -> list[str]:
             "--disable-extensions", f"--user-data-dir={profile}"]
 
 
-def print_pdf(html: Path, pdf: Path, chromium: str | None = None, timeout_s: float = 120.0) -> Path:
-    """Print the HTML file to `pdf`; ToolMissing without Chromium, PdfError if it fails."""
+def print_pdf(html: Path, pdf: Path, chromium: str | None = None, timeout_s: float = 120.0,
+              stores: Iterable[str | os.PathLike] = ()) -> Path:
+    """Print the HTML file to `pdf`; ToolMissing without Chromium, PdfError if it fails. Chromium
+    prints into a folder of its own; the PDF then replaces `pdf` only through store.write_bytes,
+    which never writes over a store (`stores`, or any this process opened) or a non-regular file."""
     chromium = chromium or find_chromium()
     if chromium is None:
         raise ToolMissing("--pdf needs a headless Chromium and none was found (on Debian: apt-get install "
                           "chromium; or set GAPS_CHROMIUM)")
-    pdf = Path(pdf).resolve()
-    pdf.unlink(missing_ok=True)
+    check_output(pdf, stores)
     with tempfile.TemporaryDirectory(prefix="gaps-chromium-") as profile:
+        printed = Path(profile) / "printed.pdf"
         try:
             done = subprocess.run(headless_args(chromium, profile) + [
-                "--no-pdf-header-footer", "--print-to-pdf-no-header", f"--print-to-pdf={pdf}",
+                "--no-pdf-header-footer", "--print-to-pdf-no-header", f"--print-to-pdf={printed}",
                 Path(html).resolve().as_uri()], capture_output=True, text=True, timeout=timeout_s)
         except subprocess.TimeoutExpired:
             raise PdfError(f"Chromium did not print the report within {timeout_s:g} s") from None
         except OSError as exc:
             raise PdfError(f"cannot run {chromium}: {exc}") from None
-    if not pdf.is_file() or pdf.read_bytes()[:5] != b"%PDF-":
-        last = (done.stderr.strip().splitlines() or ["no message"])[-1]
-        raise PdfError(f"Chromium (exit {done.returncode}) wrote no PDF: {last}")
-    return pdf
+        if not printed.is_file() or printed.read_bytes()[:5] != b"%PDF-":
+            last = (done.stderr.strip().splitlines() or ["no message"])[-1]
+            raise PdfError(f"Chromium (exit {done.returncode}) wrote no PDF: {last}")
+        return write_bytes(pdf, printed.read_bytes(), stores)

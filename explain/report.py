@@ -14,6 +14,7 @@ renderer that writes it.
 from __future__ import annotations
 
 import json
+import os
 import tempfile
 from datetime import datetime, timezone
 from pathlib import Path
@@ -169,14 +170,15 @@ def _version(store: Store, sha: str) -> str | None:
     return stored.get("version") if stored else None
 
 
-def print_report_pdf(report: dict[str, Any], target: Path, chromium: str, page: Path | None = None) -> Path:
+def print_report_pdf(report: dict[str, Any], target: Path, chromium: str, page: Path | None = None,
+                     stores: Iterable[str | os.PathLike] = ()) -> Path:
     """The report printed to `target` (PDF) by headless Chromium: always its HTML page, `page`
     where that is already written, else a temporary one. ToolMissing or PdfError (explain/pdf.py)
     when Chromium cannot print it."""
     from .pdf import print_pdf
     if page is not None:
-        return print_pdf(page, target, chromium)
+        return print_pdf(page, target, chromium, stores=stores)
     with tempfile.TemporaryDirectory(prefix="gaps-report-") as tmp:
         html = Path(tmp) / "report.html"
         html.write_text(render_report(report, "html"), encoding="utf-8")
-        return print_pdf(html, target, chromium)
+        return print_pdf(html, target, chromium, stores=stores)

@@ -193,7 +193,7 @@ def _sign(p: Passage, at: int) -> list[DerivedFact]:
         return []
     how = (f"the {p.approach} approach of {p.junction.id} has a {sign} line in the run's map "
            f"({'kind ' + repr(p.line.kind) if p.line.kind else 'junction control ' + repr(p.junction.control)}, "
-           f"{p.line.source})")
+           f"{p.line.source}{'; ' + p.line.reading if p.line.reading else ''})")
     return [DerivedFact(HAS_SIGN.text(p.vehicle, sign), how, (p.map_ref,))]
 
 
@@ -302,11 +302,13 @@ def _stop_line(p: Passage) -> bool:
 
 
 def _sign_of(p: Passage) -> str | None:
-    """The sign of V's line: "stop" or "give way" (a Give Way line's kind is give_way)."""
+    """The sign of V's line: "stop" or "give way", by its kind (DESIGN: stop_sign, give_way;
+    junctions.py reads a producer's other words), or without one by the junction's control."""
     if p.line is None:
         return None
-    kind = p.line.kind or p.junction.control
-    return {"stop": "stop", "give_way": "give way", "give way": "give way"}.get(kind)
+    if p.line.kind:
+        return {"stop_sign": "stop", "give_way": "give way"}.get(p.line.kind)
+    return {"stop": "stop", "give_way": "give way"}.get(p.junction.control)
 
 
 def _amber(p: Passage, at: int):

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, entity_since, state_of
 
-from . import acts, history
+from . import acts, history, oneact, stretches
 from .chain_status import ChainStatus, chain_status
 from .collector import JudgementCollector
 from .control import ROLE, control_at, liability_facts, role
@@ -47,7 +47,7 @@ from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
 from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
-                    Scenarios, StageProof)
+                    Scenarios, Source, StageProof)
 from .measurement import Measurement, measure
 from .passage import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
@@ -65,6 +65,7 @@ if TYPE_CHECKING:
 LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
 SECOND = 1_000_000_000
 SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one of the vehicle is that one
+STATED_NEAR_S = 1.0                   # a monitor's statement this old at an act its measurements found is of it
 # The cases are found and judged with the cyclic collector paused (reasoner/collector.py): its
 # full passes traverse every case read, every incident judged so far and every value decoded from
 # the kept measurements, a third of a judgement from kept measurements, to find almost nothing.
@@ -130,7 +131,7 @@ class _Judged:
     liability: Liability | None
 
 
-_SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties")
+_SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties", "act", "sources")
 
 
 class KeptIncident:
@@ -283,7 +284,8 @@ class Investigation:
         if not kept_unraised:
             self.memo(run).put("unraised", unraised_key, unraised, plain=True)
         self.memo(run).save()
-        return found
+        merged = [group[0] if len(group) == 1 else _merged(group) for group in oneact.groups(found)]
+        return sorted(merged, key=lambda inc: inc.t) if len(merged) < len(found) else merged
 
     def _read(self, run: str, what: tuple, read: Callable[[], Any]) -> Any:
         """What `read` gives, or what another investigation sharing `shared` read of the same
@@ -377,12 +379,13 @@ class Investigation:
         if monitor is not None:
             rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
             sweeper = Sweep(self.context(run).map)
+            own = Sweep(self.context(run).map)     # the road users' own record, swept apart (its own time order)
             with CollectorPaused():    # hundreds of thousands of parsed observations, no cycles
                 eps = list(episodes(_fed(self.store.events(run, kinds=["monitor.observation"]), sweeper), rederiver))
-                if not sweeper.fed:
-                    for state in self.store.events(run, kinds=["entity.state"]):
-                        sweeper.add(state)
-            swept = sweeper.candidates()
+                for state in self.store.events(run, kinds=["entity.state"]):
+                    if _well_formed(state):         # a damaged row's event is no measurement
+                        own.add(state)
+            swept = sorted(sweeper.candidates() + own.candidates(), key=lambda c: (c.t, c.event["src"], c.event["seq"]))
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo += self._unrecorded(run, swept, todo)
@@ -409,8 +412,12 @@ class Investigation:
 
     def _unrecorded(self, run: str, swept: list[Candidate], todo: list) -> list:
         """The swept candidates no recorded or re-derived potential violation of the same act
-        already covers, as one-observation episodes."""
+        already covers, as one-observation episodes. A speeding candidate is the start of a
+        stretch over the limit, and is passed over only within the stretch's own gap tolerance
+        of another: a second stretch soon after a first is another act (the cases of one act
+        are one incident after judging, reasoner/oneact.py)."""
         near = int(SWEPT_NEAR_S * SECOND)
+        near_speeding = int(stretches.STRETCH_GAP_S * SECOND)
         taken: dict[tuple[str, str], list[int]] = {}
         for t, _, pv, ep in todo:
             vehicle, action = (str(pv["body"].get("vehicle")), str(pv["body"].get("action"))) if pv else \
@@ -419,11 +426,11 @@ class Investigation:
         out = []
         for c in swept:
             times = taken.setdefault((c.user, c.action), [])
-            if any(abs(c.t - t) <= near for t in times):
+            if any(abs(c.t - t) <= (near_speeding if c.action == acts.SPEEDING else near) for t in times):
                 continue
             times.append(c.t)
             junction = self.context(run).map.junction(c.junction)
-            src = c.event["src"] if c.event["kind"] == "monitor.observation" or not junction or not junction.monitors \
+            src = c.event["src"] if c.event.get("kind") == "monitor.observation" or not junction or not junction.monitors \
                 else junction.monitors[0]
             out.append((c.t, src, None, Episode(src, c.user, c.action, [c.event])))
         return out
@@ -471,6 +478,7 @@ class Investigation:
         the monitor's proof names none, the validator's proof is worked out for its rule)."""
         unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
+        sources = _sources(case, mscen)         # before the measured facts join the scenario
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
         judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, overruled=measured.overruled)
@@ -485,6 +493,7 @@ class Investigation:
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
                     *(c.to_finding() for c in _beliefs_overruled(measured)),
                     *_unmeasured_claims(measured, validation),
+                    *(Finding("map reading", text, (ref,)) for text, ref in measured.readings),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -502,7 +511,7 @@ class Investigation:
             proofs=Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
-            rulebook_problems=tuple(self.problems.get(case.run) or ()))
+            rulebook_problems=tuple(self.problems.get(case.run) or ()), act=measured.act, sources=sources)
 
     def _summarised(self, case: _Case, gaps: Gaps) -> KeptIncident | None:
         """The case judged as far as its summary goes (`summaries` with `proofs` False: a
@@ -514,10 +523,14 @@ class Investigation:
         if judged is None:
             return None
         rule, liability = judged.rule, judged.liability
+        mscen = self._monitor_scenario(case)
+        sources = _sources(case, mscen)         # before the measured facts join the scenario
+        act = self._act(case, mscen, vehicle_scenario(case.state, case.vehicle))
         summary = {"id": _incident_id(case), "run": case.run, "t": case.t, "vehicle": case.vehicle,
                    "action": case.action, "verdict": judged.validation.verdict, "rule": rule.label if rule else None,
                    "liable": _liable(liability), "penalty": judged.penalty,
-                   "parties": liability.parties if liability else ()}
+                   "parties": liability.parties if liability else (), "act": act,
+                   "sources": sources}
         return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True),
                             lambda: self._proofs_alone(case))
 
@@ -573,6 +586,12 @@ class Investigation:
         found = self.memo(case.run).get("derived", _measurement_key(case, mscen))
         return self._measured(case, mscen, vscen).derived if found is None else found
 
+    def _act(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Any:
+        """The case's act as its measurement delimits it (`_measured`'s `act`), read from its own
+        kept entry beside the measurement, as `_derived` reads what a summary needs."""
+        found = self.memo(case.run).get("act", _measurement_key(case, mscen))
+        return self._measured(case, mscen, vscen).act if found is None else found[0]
+
     def _overruled(self, case: _Case, mscen: Scenario, vscen: Scenario) -> frozenset[str]:
         """The stated predictions the case's measurement overrules (Measurement.overruled), read
         from its own kept entry as `_derived` reads the derived facts."""
@@ -589,12 +608,15 @@ class Investigation:
         def measured() -> Measurement:
             found = self._measure(case, mscen, vscen)
             memo.put("derived", key, found.derived)
+            memo.put("act", key, [found.act])
             memo.put("overruled", key, tuple(sorted(found.overruled)))
             return found
         return memo.remember("measurement", key, measured)
 
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
-        return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
+        stretch = stretches.stretch_at(self.store, case.run, case.vehicle, case.t, self.context(case.run).map) \
+            if case.action == acts.SPEEDING else None
+        return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts, stretch)
 
     def _passage(self, case: _Case) -> Passage | None:
         return history.passage(self.store, case.run, case.vehicle, case.t, context=self.context(case.run))
@@ -624,12 +646,24 @@ class Investigation:
     def _monitor_scenario(self, case: _Case) -> Scenario:
         if case.episode is not None:
             obs = case.episode.observation_at(case.t)
+            if obs.get("kind") not in (None, "monitor.observation"):
+                return self._stated_beside(case)
             scenario = Scenario()
             scenario.add(obs["body"].get("facts"), EventRef.of(obs))
             return scenario
         scenario = monitor_scenario(case.state, case.monitor, case.vehicle)
         if not scenario.facts and case.pv is not None and isinstance(case.pv["body"].get("facts"), list):
             scenario.add(case.pv["body"]["facts"], EventRef.of(case.pv))
+        return scenario
+
+    def _stated_beside(self, case: _Case) -> Scenario:
+        """The Monitor Scenario of an act found in a road user's own measurements (an entity.state
+        the sweep named): what the junction's monitor stated of the vehicle at the act, where it
+        observed it within STATED_NEAR_S before (a camera that states the light but not the
+        crossing); else nothing stated, and the measurements alone show the act."""
+        scenario = monitor_scenario(case.state, case.monitor, case.vehicle)
+        if scenario.facts and not all(case.t - ref.t <= STATED_NEAR_S * SECOND for _, ref in scenario.facts):
+            return Scenario()
         return scenario
 
     def _rederived(self, case: _Case, mscen: Scenario, unknown: list[Finding]) -> tuple[Answer | None, Any]:
@@ -869,6 +903,7 @@ class Investigation:
                                       texts=False)
             found.append(Penalty(arg_text(offence), arg_text(law.bindings[0][0][2]) if law.bindings else None,
                                  amount, points))
+        found = list(dict.fromkeys(found))     # one answer per proof: a fact stated twice proves it twice
         if not found:
             return None
         found.sort(key=lambda p: (-_num(p.fine_gbp), -_num(p.points), p.offence))
@@ -957,6 +992,8 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool)
     not record."""
     if case.pv and rederived:
         return None
+    if not case.pv and not str(case.anchor.get("src", "")).startswith("monitor/"):
+        return None             # an act found in a road user's own record: no monitor raised or missed it
     if case.pv:
         detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
                   "its own observation of the vehicle" + (" with what the measurements show at the act"
@@ -987,6 +1024,11 @@ def _last_seen(state: State, vehicle: str) -> int | None:
     record = entity(state, vehicle) or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
     return max(times) if times and not record.get("despawned") else None
+
+
+def _well_formed(event: Any) -> bool:
+    return type(event) is dict and type(event.get("body")) is dict and type(event.get("t")) is int \
+        and type(event.get("src")) is str and type(event.get("seq")) is int
 
 
 def _fed(events: Iterable[dict], sweeper: Sweep) -> Iterable[dict]:
@@ -1098,3 +1140,31 @@ def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision 
             out.append(r)
     return tuple(out)
 
+
+
+def _sources(case: _Case, mscen: Scenario) -> tuple[Source, ...]:
+    """The records the case's act was raised from: its anchor (the recorded potential violation,
+    the monitor's observation it was raised from, or the road user's own measurement the sweep
+    named) and, where another source's statements are its Monitor Scenario (a camera's light
+    beside the vehicle's own positions), that source too."""
+    anchor = case.anchor
+    kind = anchor.get("kind") or ("monitor.potential_violation" if case.pv else "monitor.observation")
+    how = "recorded" if case.pv else ("observed" if kind == "monitor.observation" else "measured")
+    out = [Source(_incident_id(case), anchor["src"], kind, how)]
+    for _, ref in mscen.facts:      # (the measured facts added to it cite entity.state, signals, the map)
+        if ref is not None and ref.kind == "monitor.observation" and ref.src not in {s.src for s in out}:
+            out.append(Source(f"{ref.src}:{ref.seq}", ref.src, ref.kind, "stated"))
+    return tuple(out)
+
+
+def _merged(group: list) -> Any:
+    """One incident for the records of one act (reasoner/oneact.py): whole incidents merged now;
+    incidents read by their summaries merged by their summaries, and whole when asked for."""
+    if all(isinstance(i, Incident) for i in group):
+        return oneact.merge(group)
+    rep, first = oneact.representative(group), oneact.named(group)
+    summary = {name: getattr(rep, name) for name in _SUMMARY}
+    summary.update(id=first.id, t=first.t, sources=oneact.sources_of([first, *(i for i in group if i is not first)]))
+    return KeptIncident([summary[name] for name in _SUMMARY],
+                        lambda: oneact.merge([i.whole() if isinstance(i, KeptIncident) else i for i in group]),
+                        lambda: rep.proofs)

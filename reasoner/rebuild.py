@@ -422,7 +422,7 @@ def _notes(record: Record, junction: Junction, approach: str | None, line: StopL
 
 
 def _stop_line(junction: Junction, line: StopLine | None) -> bool:
-    return line is not None and (line.kind == "stop" or (not line.kind and junction.control == "stop"))
+    return line is not None and (line.kind == "stop_sign" or (not line.kind and junction.control == "stop"))
 
 
 def _hidden_stops(series: tuple[Sample, ...], line: StopLine, crossing: Crossing | None,

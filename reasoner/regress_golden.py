@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterator, Sequence
 
-from store import NoSuchRun, Store, TransferError, import_file
+from store import NoSuchRun, Store, TransferError, import_file, write_text
 
 from .bundled import CURRENT_SET, RULES_DIR
 from .engine import Engine, get_engine
@@ -170,7 +170,7 @@ def write_golden(golden: Golden, judged: dict[str, Judged], books: dict[str, dic
     """Approve the current judgement: the file keeps its recording and gets today's verdicts."""
     data = {"format": FORMAT, **({"recording": golden.recording} if golden.recording else {}),
             "rulebooks": books, "runs": {run: judged[run].to_json() for run in golden.runs}}
-    golden.path.write_text(json.dumps(data, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+    write_text(golden.path, json.dumps(data, indent=1, ensure_ascii=False) + "\n")
 
 
 def _why(approved: dict[str, dict], now: dict[str, dict]) -> tuple[str, ...]:

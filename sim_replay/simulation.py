@@ -21,6 +21,7 @@ same config gives the same events byte for byte.
 """
 from __future__ import annotations
 
+import tempfile
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -42,6 +43,7 @@ from sim_replay.senses import Around
 from sim_replay.rounding import hundredths, tenths
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes
+from sim_replay.sumo_account import Account, read_ssm, ssm_options
 from sim_replay.sumo_world import World, WorldError
 from sim_replay.truth import Truth
 from sim_replay.watchers import Line, Watchers
@@ -88,10 +90,15 @@ class Simulation:
     """One run of the simulation for a config; iterate `events()` once."""
 
     def __init__(self, config: SimConfig, progress: Progress | None = None, *,
-                 departures: list[Departure] | None = None, walks: list[Walk] | None = None) -> None:
+                 departures: list[Departure] | None = None, walks: list[Walk] | None = None,
+                 account: bool = False) -> None:
         """`departures` and `walks` replace the drawn demand (sim_replay.demand.plan): a scenario
-        written by hand, as the tests write the paper's red-light situations."""
+        written by hand, as the tests write the paper's red-light situations. `account` keeps
+        SUMO's own account of who braked for whom in the truth (sim_replay.sumo_account: its
+        SSM device and its answers about each braking vehicle; the events are the same either
+        way, the run a little slower)."""
         self.config = config
+        self.account = account
         self.progress = progress
         self._given = (departures, walks)
         files = map_files(config.map)
@@ -118,8 +125,14 @@ class Simulation:
         puts a tick's events together (Outlets.put_all). Empty ticks are left out."""
         started = time.perf_counter()
         c = self.config
-        with fewer_collections(), World(self.net_path, seed=c.seed) as world:
+        kept = tempfile.TemporaryDirectory(prefix="gaps-ssm-") if self.account else None
+        ssm_file = Path(kept.name) / "ssm.xml" if kept else None
+        routes: dict[str, tuple[str, ...]] = {}
+        self._routes = routes
+        with fewer_collections(), World(self.net_path, seed=c.seed,
+                                         extra=ssm_options(ssm_file) if ssm_file else ()) as world:
             self.world = world
+            account = Account(routes, world.modes) if self.account else None
             network = world.network
             monitors = read_monitors(self.monitors_path, set(network.junctions)) if self.monitors_path.is_file() else ()
             self.watchers = Watchers(monitors, self.books, self.faults)
@@ -131,6 +144,7 @@ class Simulation:
             self.agents: dict[str, Agent] = {}
             self.lines: dict[str, Line] = {}
             self.witness = Witness(self.truth, network, monitors)
+            self.witness.paths = self.account
             out: list[dict[str, Any]] = []
             self._out = out
             self._emit("sim/world", 0.0, "run.start", {
@@ -150,6 +164,8 @@ class Simulation:
                     self._walk(walks[wi])
                     wi += 1
                 snap = world.step()
+                if account is not None:
+                    account.tick(snap)
                 self.faults.t_s = snap.t_s
                 self._tick(snap, step % c.step_every == 0)
                 yield from self._batch()
@@ -159,6 +175,10 @@ class Simulation:
             self._emit("sim/world", world.t_s, "run.end", {"reason": "duration reached"})
             yield from self._batch()
             world_s = world.t_s
+        if account is not None:            # SUMO writes the SSM file as it closes
+            account.close()
+            self.truth.account([y.to_json() for y in account.yields], read_ssm(ssm_file))
+            kept.cleanup()
         self.summary = Summary(len(self.agents), len(walks), self.env.count, self.env.lost, dict(self.by_kind),
                                self.books.queries, self.watchers.potential_violations, len(self.truth.acts),
                                len(self._collisions), world_s, time.perf_counter() - started)
@@ -192,6 +212,7 @@ class Simulation:
             self.world.add_vehicle(d.id, d.kind, route, depart_pos=0.0, depart_speed="max")
         except WorldError:
             return
+        self._routes[d.id] = route
         agent = Agent(d, rng, profile, asks=d.role in ("autonomous", "emergency"), recorder=profile.recorder,
                        route=route)
         if d.role == "autonomous":

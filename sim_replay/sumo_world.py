@@ -111,6 +111,12 @@ class World:
         self._step = 0
         self.last: Snapshot | None = None            # the latest tick's snapshot
 
+    @property
+    def modes(self) -> dict[str, int]:
+        """The speed mode of each vehicle whose decisions are ours (the others have SUMO's
+        default, SPEED_MODE_SUMO): a live view, for SUMO's own account of why one brakes."""
+        return self._controlled
+
     # --- putting road users on the network ------------------------------------------------------
 
     def route(self, from_edge: str, to_edge: str, kind: str = "car") -> tuple[str, ...]:

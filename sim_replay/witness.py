@@ -26,6 +26,7 @@ from reasoner.motion import MPH_PER_MPS
 from sim_replay.agent import Agent
 from sim_replay.monitors import Monitor
 from sim_replay.senses import Around, Other
+from sim_replay.sumo_account import in_path
 from sim_replay.sumo_net import Network
 from sim_replay.truth import EXIT_M, REACTION_S, Act, Truth
 from sim_replay.watchers import Line
@@ -48,6 +49,7 @@ class Witness:
         self._pending: list[dict[str, Any]] = []            # crossings waiting for the reactions about them
         self._over: dict[str, dict[str, Any]] = {}          # stretches over the limit in progress
         self._boxed: dict[str, dict[str, Any]] = {}         # standing in a yellow box
+        self.paths = False           # ask SUMO which pedestrians are on a crossing of a crossing vehicle's path
 
     def _seen_by(self, v: VehicleState) -> tuple[str, ...]:
         return tuple(m.id for m in self.monitors if m.sees(v.x, v.y))
@@ -87,6 +89,10 @@ class Witness:
             if snap is not None:
                 vid, junction, approach = pending["where"]
                 me = snap.vehicle(vid)
+                if me is not None and self.paths and me.lane.startswith(f":{junction}_"):
+                    near = pending.setdefault("in_path", {})
+                    for who, crossing, away in in_path(me, snap.pedestrians):
+                        near[who] = (who, crossing, min(away, near.get(who, (0, 0, away))[2]))
                 if me is not None and me.junction == junction:     # still crossing: who comes up meanwhile
                     for o in around.about(junction, vid, approach):
                         if o.id not in pending["known"]:
@@ -103,7 +109,8 @@ class Witness:
             if snap is not None and t < pending["until"]:
                 still.append(pending)
                 continue
-            self.truth.act(Act(**pending["act"], reactions=tuple(sorted(pending["watch"].items()))))
+            self.truth.act(Act(**pending["act"], reactions=tuple(sorted(pending["watch"].items())),
+                               in_path=tuple(sorted(pending.get("in_path", {}).values()))))
         self._pending = still
 
     def _exit(self, agent: Agent, junction: str, approach: str) -> str | None:

@@ -9,6 +9,8 @@ from .canonical import canonical_json
 from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .db import Store
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
+from .output_files import OutputRefused, check_output, write_bytes, write_text
+from .cache import caches_opened, damaged_caches, unwritten_caches
 from .refs import EventRef
 from .envelope import (
     MAX_EVENT_BYTES,
@@ -65,6 +67,13 @@ from .transfer import (
 )
 
 __all__ = [
+    "OutputRefused",
+    "check_output",
+    "write_bytes",
+    "write_text",
+    "unwritten_caches",
+    "damaged_caches",
+    "caches_opened",
     "derived_cache",
     "kept_recording",
     "parse_json",

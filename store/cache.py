@@ -24,9 +24,11 @@ from collections import Counter
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
+from urllib.parse import quote
 
 from .cache_seal import Sealer, load_or_create_key, memory_key
 from .opening import read_only_place
+from .output_files import note_evidence
 
 CACHE_VERSION = 5  # raise when a table below changes: a file of another version is emptied
 SUFFIX = ".cache"
@@ -124,6 +126,9 @@ class Cache:
         self.path = at or cache_path(store_path)
         self._conn: sqlite3.Connection | None = None
         self._sealer: Sealer | None = None
+        self.unwritten: str | None = None
+        """Why the cache could not be written, if it could not (a full disk, a read-only folder):
+        reads then compute without it, and the command line says so (never as damage)."""
         self.memo: dict[tuple, Any] = {}
         """What this process has found about the cache (a run's whole set of boxes sound at one
         chain head, the earliest event appended after a chain length), so that it is worked out
@@ -134,8 +139,13 @@ class Cache:
         if self._conn is None:
             key = None if self.path == MEMORY else load_or_create_key()
             if key is not None:
+                note_evidence(self.path, "cache file")
                 self._conn = _open(self.path, key)
+                if self._conn is not None:
+                    _files_opened.append(self.path)
             if self._conn is None:  # no key to keep, or no file to keep it in: memory only
+                if self.path != MEMORY:
+                    self.failed_to_write(f"{self.path} could not be opened or made")
                 self.path, key = MEMORY, memory_key()
                 self._conn = _open(MEMORY, key)
             if self._sealer is None or self._sealer.key != key:
@@ -150,6 +160,17 @@ class Cache:
         assert self._sealer is not None
         return self._sealer
 
+    def failed_to_write(self, why: sqlite3.Error | str) -> None:
+        """Note that a write to the cache failed for want of room or permission (SQLITE_FULL,
+        IOERR, READONLY, CANTOPEN) - not when another process held its lock, which is ordinary."""
+        if isinstance(why, sqlite3.Error):
+            if (getattr(why, "sqlite_errorcode", None) or 0) & 0xFF not in _CANNOT_WRITE:
+                return      # locked by another process (ordinary), or not a failure to write
+            why = f"{self.path}: {why}"
+        if self.unwritten is None:
+            self.unwritten = why
+            _unwritten.append(why)
+
     def exists(self) -> bool:
         """Is there a cache yet? (Asked without creating one.)"""
         return self._conn is not None or (self.path != MEMORY and os.path.isfile(self.path))
@@ -161,6 +182,45 @@ class Cache:
             self.memo.clear()
 
 
+_CANNOT_WRITE = (sqlite3.SQLITE_FULL, sqlite3.SQLITE_IOERR, sqlite3.SQLITE_READONLY, sqlite3.SQLITE_CANTOPEN,
+                 sqlite3.SQLITE_PERM)
+_unwritten: list[str] = []
+
+
+_files_opened: list[str] = []
+
+
+def caches_opened() -> int:
+    """How many times this process has opened a cache file (damaged_caches(since=) counts from it)."""
+    return len(_files_opened)
+
+
+def damaged_caches(since: int = 0) -> list[str]:
+    """The cache files this process opened (after its first `since` openings) that SQLite's quick
+    check finds damaged: asked only after an SQLite error, to tell a damaged cache (derived data:
+    delete it) from a damaged store."""
+    found: list[str] = []
+    for path in dict.fromkeys(_files_opened[since:]):
+        try:
+            conn = sqlite3.connect(f"file:{quote(os.path.abspath(path))}?mode=ro", uri=True)
+        except sqlite3.Error:
+            continue
+        try:
+            sound = conn.execute("PRAGMA quick_check(1)").fetchall() == [("ok",)]
+        except sqlite3.DatabaseError:
+            sound = False
+        finally:
+            conn.close()
+        if not sound:
+            found.append(path)
+    return found
+
+
+def unwritten_caches() -> list[str]:
+    """Why each cache this process could not write failed (the command line warns with these)."""
+    return list(_unwritten)
+
+
 @contextmanager
 def writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
     """A write transaction on the cache, the lock taken first (BEGIN IMMEDIATE)."""
@@ -169,8 +229,18 @@ def writing(cache: sqlite3.Connection) -> Iterator[sqlite3.Connection]:
         yield cache
         cache.execute("COMMIT")
     except BaseException:
-        cache.execute("ROLLBACK")
+        rollback(cache)
         raise
+
+
+def rollback(cache: sqlite3.Connection) -> None:
+    """Roll back the cache's transaction if it is still open: SQLite ends one itself on a full
+    disk or an I/O error, and a ROLLBACK then would fail and hide why."""
+    if cache.in_transaction:
+        try:
+            cache.execute("ROLLBACK")
+        except sqlite3.Error:
+            pass
 
 
 def _open(path: str, key: bytes) -> sqlite3.Connection | None:
@@ -224,5 +294,5 @@ def _prepare(conn: sqlite3.Connection, key_id: bytes) -> None:
         conn.execute(f"PRAGMA user_version = {CACHE_VERSION}")
         conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        rollback(conn)
         raise

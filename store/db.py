@@ -20,6 +20,7 @@ from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 from . import (anchors, history, wire_ends, index_guard, liveliness, opening, queries, quarantine, rulebook_chain,
                rulebooks, verify_cache)
 from .cache import Cache
+from .output_files import note_evidence
 from .ddl import DENSE_KINDS
 from .batch import Batch
 from .heads import Heads
@@ -93,6 +94,7 @@ class Store:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
             raise ValueError(f"checkpoint_every must be a positive integer, got {checkpoint_every!r}")
         self.path = os.fspath(path)
+        note_evidence(self.path)            # no output of this process may be it (store/output_files.py)
         self.checkpoint_every = checkpoint_every
         self.read_only = read_only
         if read_only:
@@ -407,6 +409,19 @@ class Store:
     def run_names(self) -> list[str]:
         """Every run with events, by name (one index probe per run)."""
         return queries.run_names(self._conn)
+
+    def first_conflict(self, candidates: Iterable[Candidate]) -> tuple[str, str, int] | None:
+        """(run, src, seq) of the first accepted candidate that the store already holds under its
+        identity with other content (what an append would quarantine as a conflicting duplicate),
+        or None: how an import tells another producer's run from its own (store/transfer/feed.py)."""
+        for candidate in candidates:
+            ev = candidate.event
+            if ev is None or candidate.canonical is None:
+                continue
+            stored = self._heads.stored_event(ev["run"], ev["src"], ev["seq"])
+            if stored is not None and stored != candidate.canonical:
+                return (ev["run"], ev["src"], ev["seq"])
+        return None
 
     def sources(self, run: str) -> list[str]:
         """The run's sources, by name (one index probe per source)."""

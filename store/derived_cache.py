@@ -18,6 +18,7 @@ from __future__ import annotations
 import sqlite3
 from typing import Any, Callable, Mapping
 
+from .cache import rollback
 from .db import Store
 from .verify_cache import ChainKey
 
@@ -92,17 +93,15 @@ def save(store: Store, run: str, kind: str, version: str, chain: ChainKey, entri
             for key, payload in entries.items() if len(payload) <= MAX_PAYLOAD]
     try:
         cache.execute("BEGIN IMMEDIATE")
-    except sqlite3.OperationalError:
-        return False
-    try:
         cache.execute("DELETE FROM derived WHERE run = ? AND kind = ? AND (version <> ? OR chain_len <> ? OR head <> ?)",
                       (run, kind, version, *chain))
         cache.executemany("INSERT OR REPLACE INTO derived (run, kind, version, chain_len, head, key, payload, mac) "
                           "VALUES (?, ?, ?, ?, ?, ?, ?, ?)", rows)
         cache.execute("COMMIT")
         return True
-    except sqlite3.Error:
-        cache.execute("ROLLBACK")
+    except sqlite3.DatabaseError as exc:       # locked, a full disk, a read-only folder: not kept
+        rollback(cache)
+        store.cache.failed_to_write(exc)
         return False
 
 

@@ -128,7 +128,8 @@ def keep(store: Store, digest: str, version: str, rejected: int, cut: bool) -> b
         cache.execute("INSERT OR REPLACE INTO derived (run, kind, version, chain_len, head, key, payload, mac) "
                       "VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
                       ("", _KIND, version, 0, digest, digest, text, store.cache.sealer.seal(_TABLE, names, text)))
-    except sqlite3.Error:
+    except sqlite3.Error as exc:
+        store.cache.failed_to_write(exc)
         return False
     trim(keep_path=store.cache.path)
     return True

@@ -28,6 +28,7 @@ from typing import Any, Iterable
 
 from .envelope import is_source
 from .errors import GapsError
+from .output_files import write_text
 from .signatures import SIG_FIELD, key_id, sign_event, signature_reason
 
 PUBLIC_KEYS_FILE = "public-keys.json"
@@ -132,10 +133,9 @@ class KeyFolder:
         """Write the public keys file (default `<folder>/public-keys.json`); returns where."""
         target = Path(path) if path is not None else self.path / PUBLIC_KEYS_FILE
         try:
-            target.write_text(json.dumps(self.public_keys(), indent=2, sort_keys=True) + "\n", "utf-8")
+            return write_text(target, json.dumps(self.public_keys(), indent=2, sort_keys=True) + "\n")
         except OSError as exc:
             raise KeysError(f"cannot write {target}: {exc.strerror or exc}") from None
-        return target
 
 
 class Signer:

@@ -50,9 +50,10 @@ def migrate_copy(src: str | os.PathLike, dst: str | os.PathLike) -> MigrateRepor
             events = _migrate(temp)
         except sqlite3.Error as exc:
             raise StoreError(f"cannot migrate {src}: {exc}") from None
-        if os.path.lexists(dst):
-            raise StoreError(f"{dst} appeared while the copy was written: it was left as it is")
-        os.rename(temp, dst)
+        try:
+            os.link(temp, dst)      # never replaces: a file that appeared meanwhile is left as it is
+        except FileExistsError:
+            raise StoreError(f"{dst} appeared while the copy was written: it was left as it is") from None
     finally:
         Path(temp).unlink(missing_ok=True)
     return MigrateReport(src, dst, version, ddl.SCHEMA_VERSION, events)

@@ -117,7 +117,8 @@ def _current(store: Store, run: str) -> list[Box] | None:
         with _writing(store.cache.connection):
             _catch_up(store, run, length, head)
         return None
-    except sqlite3.OperationalError:
+    except sqlite3.OperationalError as exc:    # locked, a full disk, a read-only folder: boxes in memory
+        store.cache.failed_to_write(exc)
         kept = _in_memory.setdefault(store, {})
         if (run, length, head) not in kept:
             kept.clear()

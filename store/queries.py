@@ -10,7 +10,7 @@ import sqlite3
 from typing import Any, Collection, Iterator
 
 from .ddl import DENSE_KINDS, SPARSE_ONLY
-from .errors import EvidenceError
+from .errors import EvidenceError, IndexDisagrees
 from .index_guard import AGREES
 from .run_summary import RunSummary
 
@@ -51,13 +51,26 @@ def select_events(
 
 def _distinct(conn: sqlite3.Connection, column: str, where: str, params: tuple[Any, ...]) -> Iterator[str]:
     """Distinct values of an indexed column by hopping along the index (least value, then the
-    least value above it, ...): one probe per value instead of a scan of every row."""
-    first = f"SELECT min({column}) FROM events WHERE {where}"
+    least value above it, ...): one probe per value instead of a scan of every row. Each value is
+    checked against the table row its index entry points at (one lookup by rowid): a value only
+    a damaged index holds (a run "h09" read as "h0;") is IndexDisagrees, never a run or a source."""
+    row_value = f"(SELECT x.{column} FROM events AS x WHERE x.rowid = events.rowid)"
+    first = f"SELECT {column}, {row_value} FROM events WHERE {where}"
     after = f"{first} AND {column} > ?"
-    (value,) = conn.execute(first, params).fetchone()
-    while value is not None:
+    found = conn.execute(f"{first} ORDER BY {column} LIMIT 1", params).fetchone()
+    while found is not None:
+        value, in_row = found
+        if value != in_row:
+            raise _index_disagrees(column, value, in_row)
         yield value
-        (value,) = conn.execute(after, (*params, value)).fetchone()
+        found = conn.execute(f"{after} ORDER BY {column} LIMIT 1", (*params, value)).fetchone()
+
+
+def _index_disagrees(column: str, value: Any, in_row: Any) -> IndexDisagrees:
+    held = "no row" if in_row is None else f"its row holds {in_row!r}"
+    return IndexDisagrees(f"an index of the events table holds {column} {value!r} where {held}: the file was "
+                          "damaged or altered behind the store's back, so nothing is read through that index; "
+                          "`gaps verify` names what SQLite's integrity check finds")
 
 
 def sources(conn: sqlite3.Connection, run: str) -> list[str]:
@@ -81,9 +94,20 @@ def chain_tip(conn: sqlite3.Connection, run: str) -> tuple[int, str]:
 def run_summary(conn: sqlite3.Connection, run: str) -> RunSummary:
     """The summary of one run that has events."""
     (count,) = conn.execute("SELECT count(*) FROM events WHERE run = ?", (run,)).fetchone()
-    (first_t,) = conn.execute("SELECT min(t) FROM events WHERE run = ?", (run,)).fetchone()
-    (last_t,) = conn.execute("SELECT max(t) FROM events WHERE run = ?", (run,)).fetchone()
-    return RunSummary(run, count, first_t, last_t, tuple(sources(conn, run)))
+    return RunSummary(run, count, _end_t(conn, run, "ASC"), _end_t(conn, run, "DESC"), tuple(sources(conn, run)))
+
+
+def _end_t(conn: sqlite3.Connection, run: str, order: str) -> int:
+    """The run's earliest (ASC) or latest (DESC) event time through the index by time, checked
+    against the row its entry points at (IndexDisagrees: the index and the table differ)."""
+    found = conn.execute(
+        "SELECT t, (SELECT x.run = events.run AND x.t = events.t FROM events AS x WHERE x.rowid = events.rowid) "
+        f"FROM events WHERE run = ? ORDER BY t {order} LIMIT 1", (run,)).fetchone()
+    if found is None or found[1] != 1 or type(found[0]) is not int:
+        raise IndexDisagrees(f"run {run}: the index by time (events_by_time) does not hold what the table holds for "
+                             f"its {'first' if order == 'ASC' else 'last'} event: the file was damaged or altered "
+                             "behind the store's back; `gaps verify` names what SQLite's integrity check finds")
+    return found[0]
 
 
 def gaps(conn: sqlite3.Connection, run: str | None) -> list[dict[str, Any]]:

@@ -46,7 +46,7 @@ from typing import Any, Iterable, Iterator
 import orjson
 
 from . import fastjson
-from .cache import writing as _writing
+from .cache import rollback, writing as _writing
 from .db import Store
 
 FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions are ignored
@@ -120,8 +120,8 @@ def _on_append(store: Store, run: str, min_t: int) -> None:
     try:
         with _writing(store.cache.connection):
             catch_up(store, run)
-    except sqlite3.OperationalError:
-        pass
+    except sqlite3.OperationalError as exc:
+        store.cache.failed_to_write(exc)
 
 
 def clear(store: Store, run: str | None = None) -> None:
@@ -286,8 +286,8 @@ def _drop(store: Store, run: str, row: tuple) -> None:
         store.cache.connection.execute(
             "DELETE FROM state_snapshots WHERE run = ? AND fold = ? AND t = ? AND seq = ? AND src = ?",
             (run, FOLD_VERSION, row[0], row[1], row[2]))
-    except sqlite3.OperationalError:
-        pass
+    except sqlite3.DatabaseError as exc:
+        store.cache.failed_to_write(exc)
 
 
 def nearest(store: Store, run: str, t: int, seen: Marks) -> Snapshot | None:
@@ -347,7 +347,8 @@ def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
     cache = store.cache.connection
     try:
         cache.execute("BEGIN IMMEDIATE")
-    except sqlite3.OperationalError:
+    except sqlite3.DatabaseError as exc:
+        store.cache.failed_to_write(exc)
         return False
     try:
         late = _earliest_since(store.connection, run, seen.length)
@@ -362,11 +363,12 @@ def save(store: Store, run: str, fresh: Iterable[Fresh], seen: Marks) -> bool:
             for position, blob in kept])
         cache.execute("DELETE FROM state_snapshots WHERE run = ? AND fold < ?", (run, FOLD_VERSION))
         cache.execute("COMMIT")
-    except sqlite3.OperationalError:
-        cache.execute("ROLLBACK")
+    except sqlite3.OperationalError as exc:    # a full disk, a read-only folder: the snapshots go unkept
+        rollback(cache)
+        store.cache.failed_to_write(exc)
         return False
     except BaseException:
-        cache.execute("ROLLBACK")
+        rollback(cache)
         raise
     return True
 

@@ -32,6 +32,7 @@ from typing import Any
 from .canonical import canonical_json
 from .chain import is_digest_hex
 from .keyfiles import KeysError, pem_of, seed_of
+from .output_files import check_output, create_new, write_text
 from .signatures import key_id
 from .text_file import read_named
 from .wire_ends import WireEnd, from_part, to_part
@@ -161,8 +162,10 @@ class CheckpointKey:
         from nacl.signing import SigningKey
 
         seed = bytes(SigningKey.generate())
+        public_path = public_path_of(path)
+        check_output(public_path)       # both halves checked before either is written
         try:
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            fd = create_new(path, 0o600)
         except FileExistsError:
             raise KeysError(f"{path} exists: a checkpoint key is never overwritten") from None
         except OSError as exc:
@@ -171,9 +174,8 @@ class CheckpointKey:
             out.write(pem_of(seed))
         key = cls(seed)
         key.path = Path(path)
-        public_path = public_path_of(path)
         try:
-            public_path.write_text(base64.b64encode(key.public).decode("ascii") + "\n", "ascii")
+            write_text(public_path, base64.b64encode(key.public).decode("ascii") + "\n")
         except OSError as exc:
             raise KeysError(f"cannot write {public_path}: {exc.strerror or exc}") from None
         return key

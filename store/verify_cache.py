@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 import sqlite3
 
-from .cache import Cache
+from .cache import Cache, rollback
 from .outcomes import VerifyReport
 
 ChainKey = tuple[int, str]  # (events in the run's chain, stored hash of the last one)
@@ -54,15 +54,13 @@ def record(sealed: Cache, run: str, key: ChainKey, report: VerifyReport) -> None
     cache, mac = sealed.connection, sealed.sealer.seal(TABLE, (run, *key), text)
     try:
         cache.execute("BEGIN IMMEDIATE")
-    except sqlite3.OperationalError:
-        return
-    try:
         cache.execute("DELETE FROM verifications WHERE run = ?", (run,))
         cache.execute("INSERT INTO verifications (run, chain_len, head, report, mac) VALUES (?, ?, ?, ?, ?)",
                       (run, *key, text, mac))
         cache.execute("COMMIT")
-    except sqlite3.OperationalError:
-        cache.execute("ROLLBACK")
+    except sqlite3.DatabaseError as exc:       # locked, a full disk, a read-only folder: not kept
+        rollback(cache)
+        sealed.failed_to_write(exc)
 
 
 def unsealed(cache: Cache) -> list[tuple]:

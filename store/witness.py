@@ -16,6 +16,7 @@ from typing import Iterable
 
 from .errors import GapsError
 from .keyfiles import KeysError
+from .output_files import check_output
 from .text_file import read_named
 from .tree_heads import TreeHead
 
@@ -29,6 +30,7 @@ class WitnessFile:
 
     def __init__(self, path: str | os.PathLike) -> None:
         self.path = Path(path)
+        check_output(self.path)     # appended to, never a store, its companions or a special file
         try:
             self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
         except OSError as exc:

@@ -13,6 +13,7 @@ from typing import Callable, Iterable, Iterator
 
 from ..db import Store
 from ..intake import Candidate
+from .errors import TransferError
 from .outcomes import ImportReport
 
 BATCH = 5000
@@ -26,13 +27,34 @@ def feed(
     batch: int = BATCH,
     after_batch: Callable[[], None] | None = None,
 ) -> None:
-    """Append every candidate, `batch` at a time, folding each result into `report`."""
+    """Append every candidate, `batch` at a time, folding each result into `report`. One run, one
+    producer: a run the store held before the import is only appended to if the file's first
+    batch of its events agrees with what the store holds under their identities (a re-import of
+    the same export, or the rest of a run); a run of another producer or seed under the same id
+    stops the import (TransferError) before any of its events is stored, never mixed in."""
     pending = iter(candidates)
+    held, checked = set(store.run_names()), set()
     with cycle_collection_paused():
         while chunk := list(islice(pending, batch)):
+            _one_producer(store, chunk, held - checked, report)
+            checked.update(c.event["run"] for c in chunk if c.event is not None)
             report.add(store.append_candidates(chunk))
             if after_batch is not None:
                 after_batch()
+
+
+def _one_producer(store: Store, chunk: list[Candidate], held: set[str], report: ImportReport) -> None:
+    """TransferError if the chunk's first events of a run the store already holds differ from
+    the stored events of the same (run, src, seq)."""
+    first = [c for c in chunk if c.event is not None and c.event.get("run") in held]
+    conflict = store.first_conflict(first) if first else None
+    if conflict is not None:
+        run, src, seq = conflict
+        raise TransferError(
+            f"run {run!r} of {report.file} is not the run {run!r} the store holds: its event {src} seq {seq} differs "
+            f"from the stored one (another producer, or another seed); a run holds one producer's events, so "
+            f"none of this file's run {run!r} was imported ({report.stored} events of other runs were); import it "
+            "into another store (--db NEW.db)")
 
 
 @contextmanager

@@ -108,7 +108,7 @@ def export_jsonl(
     """Write the run's events, one canonical JSON line each, in time or chain order."""
     run_summary(store, run)  # an unknown run is an error, not an empty file
     report = ExportReport(str(path), "jsonl", run, order)
-    with one_snapshot(store.connection), replacing(path) as out:
+    with one_snapshot(store.connection), replacing(path, [store.path]) as out:
         whole = WholeRun.of(store, run, order)
         for row in stored_rows(store, run, order):
             out.write(row.text.encode("utf-8"))

@@ -213,7 +213,7 @@ def export_mcap(
     rebuild the chain; order="time" appends the events in time order on import."""
     run_summary(store, run)  # an unknown run is an error before any file is created
     report = ExportReport(str(path), "mcap", run, order)
-    with one_snapshot(store.connection), replacing(path) as stream:
+    with one_snapshot(store.connection), replacing(path, [store.path]) as stream:
         whole = WholeRun.of(store, run, "time")  # the events are written in time order
         writer = Writer(stream, chunk_size=chunk_size, compression=COMPRESSIONS[compression])
         writer.start(profile="", library=LIBRARY)

@@ -1,6 +1,12 @@
 """`gaps import` on a full disk: one line, exit 2, and the batches committed before it kept, verified
 (SQLite's own full disk: PRAGMA max_page_count, from the second batch on)."""
+import contextlib
+import hashlib
 import json
+import os
+import subprocess
+
+import pytest
 
 import store
 from store import Store
@@ -26,3 +32,143 @@ def test_import_on_a_full_disk_is_one_line_and_keeps_what_was_committed(tmp_path
     assert result.output.count("\n") == 1
     with Store.open_read_only(tmp_path / "gaps.db") as kept:
         assert kept.count() == 5_000 and kept.verify().ok
+
+
+# Derived data never accuses the evidence (issue 37): with the cache file beside the store and no
+# room left for it, `verify`, `runs` and `incidents` said "the file may be damaged or altered" and
+# exited 1, and Store.verify raised sqlite3.OperationalError. A cache that cannot be written is
+# gone without: the same results, a warning on stderr, `verify --json` saying why.
+
+READS = (["verify"], ["runs"], ["incidents"], ["verify", "--json"], ["runs", "--json"], ["incidents", "--json"])
+
+
+def _paper_store(path):
+    from sim_replay.paper import paper_run
+    with Store(path) as kept:
+        kept.append(paper_run())
+    return path
+
+
+def _answers(db):
+    return {tuple(args): gaps(*args, db=db) for args in READS}
+
+
+def _assert_same_answers(before, after, why, warned=READS):
+    """Every read as on free space (exit 0, the same output; verify's JSON but for saying why), never
+    a word of damage; the reads in `warned` (those that had to write the cache) warn, saying why."""
+    for args, first in before.items():
+        now = after[args]
+        assert now.exit_code == 0 == first.exit_code, (args, now.output)
+        assert "damaged" not in now.output and "altered" not in now.output, (args, now.output)
+        if args in warned:
+            assert "warning: the cache could not be written" in now.stderr and why in now.stderr, (args, now.stderr)
+        if args != ("verify", "--json"):
+            assert now.stdout == first.stdout, args
+    said = json.loads(after[("verify", "--json")].stdout)["cache"]
+    assert json.loads(before[("verify", "--json")].stdout)["cache"] == {**said, "unwritten": None}
+    if ("verify", "--json") in warned:
+        assert why in said["unwritten"]
+
+
+def test_a_cache_that_sqlite_finds_full_is_gone_without_and_never_called_damage(tmp_path, monkeypatch):
+    """SQLite's own full disk for the cache file (max_page_count at its size) on every open."""
+    import store.cache as cache_module
+    db = _paper_store(tmp_path / "gaps.db")
+    free = _answers(tmp_path / "gaps.db")
+    fresh = _paper_store(tmp_path / "full.db")
+    opened = cache_module._open
+
+    def full(path, key):
+        conn = opened(path, key)
+        if conn is not None and path != cache_module.MEMORY:
+            pages = conn.execute("PRAGMA page_count").fetchone()[0]
+            conn.execute(f"PRAGMA max_page_count = {pages}")
+        return conn
+    monkeypatch.setattr(cache_module, "_open", full)
+    # what fits in the pages the new file has (a verification, the runs' list) is kept; an
+    # incident's measurements do not fit
+    _assert_same_answers(free, _answers(fresh), "database or disk is full",
+                         warned=(("incidents",), ("incidents", "--json")))
+    assert db.exists()
+
+
+def test_the_api_verifies_without_the_cache_when_it_cannot_be_written(tmp_path, monkeypatch):
+    import store.cache as cache_module
+    db = _paper_store(tmp_path / "gaps.db")
+    opened = cache_module._open
+
+    def full(path, key):
+        conn = opened(path, key)
+        if conn is not None and path != cache_module.MEMORY:
+            conn.execute(f"PRAGMA max_page_count = {conn.execute('PRAGMA page_count').fetchone()[0]}")
+        return conn
+    monkeypatch.setattr(cache_module, "_open", full)
+    with Store.open_read_only(db) as read:
+        assert read.verify().ok
+    with Store.open_read_only(db) as read:
+        from reasoner import Case
+        assert Case(read).incidents()
+        assert "database or disk is full" in read.cache.unwritten
+
+
+@pytest.fixture
+def small_tmpfs(tmp_path):
+    """A 2 MB tmpfs of our own (root only), unmounted after."""
+    if os.geteuid() != 0:
+        pytest.skip("mounting a tmpfs needs root")
+    where = tmp_path / "disk"
+    where.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(where)], capture_output=True).returncode:
+        pytest.skip("cannot mount a tmpfs here")
+    yield where
+    subprocess.run(["umount", "-l", str(where)], check=False)
+
+
+def test_a_really_full_disk_beside_the_store_is_never_called_damage(small_tmpfs):
+    """The issue's case: the cache file made beside the store, then the disk filled."""
+    db = _paper_store(small_tmpfs / "gaps.db")
+    free = _answers(db)
+    (small_tmpfs / "gaps.db.cache").unlink()
+    assert gaps("runs", db=db).exit_code == 0 and (small_tmpfs / "gaps.db.cache").stat().st_size > 0
+    with contextlib.suppress(OSError), open(small_tmpfs / "filler", "wb") as filler:
+        while True:
+            filler.write(b"\0" * 4096)
+            filler.flush()
+    before = hashlib.sha256(db.read_bytes()).hexdigest()
+    _assert_same_answers(free, _answers(db), "database or disk is full", warned=(("verify",), ("verify", "--json")))
+    assert hashlib.sha256(db.read_bytes()).hexdigest() == before
+    with Store.open_read_only(db) as read:
+        assert read.verify().ok
+
+
+def test_a_read_only_disk_with_the_cache_beside_the_store_reads_cleanly(small_tmpfs):
+    db = _paper_store(small_tmpfs / "gaps.db")
+    free = _answers(db)
+    (small_tmpfs / "gaps.db.cache").unlink()
+    assert gaps("runs", db=db).exit_code == 0
+    assert subprocess.run(["mount", "-o", "remount,ro", str(small_tmpfs)]).returncode == 0
+    after = _answers(db)
+    for args, first in free.items():
+        assert after[args].exit_code == 0 and "damaged" not in after[args].output, (args, after[args].output)
+        assert after[args].stdout == first.stdout or args[0] == "verify"
+
+
+def test_a_damaged_cache_file_is_named_as_such_never_the_evidence(tmp_path):
+    """A cache file whose pages are damaged (not written by gaps: a bad disk, someone holding the
+    folder) made verify and incidents say the store "may be damaged or altered", exit 1."""
+    db = _paper_store(tmp_path / "gaps.db")
+    cache = tmp_path / "gaps.db.cache"
+    assert gaps("incidents", db=db).exit_code == 0 and cache.stat().st_size > 8192
+    data = bytearray(cache.read_bytes())
+    for at in range(4096, len(data), 97):
+        data[at] ^= 0x55
+    cache.write_bytes(bytes(data))
+    before = hashlib.sha256(db.read_bytes()).hexdigest()
+    for command in ("verify", "incidents"):
+        result = gaps(command, db=db)
+        assert result.exit_code == 2, (command, result.output)
+        assert f"could not read the cache file {cache}" in result.stderr and "delete it" in result.stderr
+        assert "damaged or altered" not in result.output
+    assert hashlib.sha256(db.read_bytes()).hexdigest() == before
+    cache.unlink()
+    assert gaps("verify", db=db).exit_code == 0 and gaps("incidents", db=db).exit_code == 0

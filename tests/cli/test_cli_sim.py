@@ -34,6 +34,7 @@ def test_the_run_is_stored_recorded_and_its_truth_written_beside_the_recording(s
     assert stored == recorded and len(stored) == events
     truth = json.loads((where / "try-1.truth.json").read_text())
     assert out["truth"] == str(where / "try-1.truth.json") and truth["seed"] == 5
+    assert isinstance(truth["yields"], list) and isinstance(truth["conflicts"], list)   # SUMO's own account
 
 
 def test_the_same_seed_gives_the_same_events(simulated, tmp_path):

@@ -1,0 +1,288 @@
+"""SUMO's own account of who braked for whom: the ground truth's yields and conflicts.
+
+The witness (sim_replay/witness.py) measures acts from the world; this module asks SUMO itself,
+never the reasoner's code, why a road user slowed down, so that tests can hold the reasoner's
+"forced" and "endangered" against an account it did not write (DESIGN "Simulation", issue 35).
+
+Yields. Each tick, every vehicle decelerating at BRAKING_MPS2 or harder near a junction is asked
+about with SUMO's own calls: its leader (`vehicle.getLeader`), its next traffic light
+(`getNextTLS`), the junction foes on its way with SUMO's right-of-way answer for each pair
+(`getJunctionFoes`: egoResponse, the foe matrix of the junction), the stop it is held at (the
+world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`) and the
+speed it may drive at all (`getAllowedSpeed`: its speed factor on its lane). SUMO's car-following
+model then says what speed each of those constraints allows now (`getFollowSpeed` behind the
+leader, `getStopSpeed` before a red light, a held stop line or a foe it must let pass or that is
+already in its path, braking at its own deceleration down to a turn's speed); the lowest one that
+is below its speed is what it braked for. Constraints SUMO was told to disregard for the vehicle
+(its speed mode: red lights and right of way are off while the vehicle's decisions are the
+agents') are not asked. A run of such ticks is one `Yield`, with each cause it had and how hard
+it braked under each.
+
+Conflicts. With `ssm_options` SUMO's SSM device logs each encounter of two vehicles within
+SSM_RANGE_M whose time to collision, deceleration to avoid a crash or post-encroachment time
+crosses SUMO's default thresholds (TTC 3 s, DRAC 3 m/s², PET 2 s), classified with the junctions'
+right-of-way foe matrix (crossing, merging, following); `read_ssm` reads its file after the run.
+
+Pedestrians are not in SUMO's vehicle calls: a braking vehicle is asked about those on a crossing
+that SUMO's junction model makes a foe of its junction lane (`lane.getInternalFoes`), or on the
+corner about to step onto one (`person.getNextEdge`); `in_path` lists those on such a crossing
+while a vehicle passed.
+"""
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import libsumo
+
+from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
+
+__all__ = ["BRAKING_MPS2", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "in_path", "read_ssm",
+           "ssm_options"]
+
+BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: coasting, SUMO's own dawdle)
+NEAR_M = 80.0            # a vehicle this close to its next junction (or in one) is asked why it brakes
+LOOK_M = 80.0            # how far ahead SUMO is asked for the leader and junction foes
+SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for conflicts
+_BINDS_MPS = 0.5         # the constraint allowing the lowest speed binds if that is at most this above its speed:
+                         # braking as hard as it can, a vehicle tracks the speed its constraint allows (within a
+                         # tick of hard braking, 0.1 s at 4.5-5 m/s²)
+_COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
+_OVER_MPS = 0.05         # a vehicle this much over the speed it may drive is slowing down to it
+_CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
+_RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
+_OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
+_OBEYS_FOES = 8
+
+# SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
+ENCOUNTERS = {0: "no conflict ahead", 1: "following", 2: "following (ego follows)", 3: "following (ego leads)",
+              4: "on adjacent lanes", 5: "merging", 6: "merging (ego first)", 7: "merging (foe first)",
+              8: "merging adjacent", 9: "crossing", 10: "crossing (ego first)", 11: "crossing (foe first)",
+              12: "ego entered the conflict area", 13: "foe entered the conflict area",
+              14: "ego left the conflict area", 15: "foe left the conflict area",
+              16: "both entered the conflict area", 17: "both left the conflict area",
+              18: "following passed", 19: "merging passed", 20: "oncoming", 111: "collision"}
+
+
+def ssm_options(path: str | Path) -> list[str]:
+    """SUMO options equipping every vehicle with an SSM device writing into one file."""
+    return ["--device.ssm.probability", "1", "--device.ssm.deterministic", "true",
+            "--device.ssm.measures", "TTC DRAC PET", "--device.ssm.range", repr(SSM_RANGE_M),
+            "--device.ssm.file", str(path)]
+
+
+def read_ssm(path: str | Path) -> list[dict[str, Any]]:
+    """The SSM device's conflicts: ego, foe, begin, end and each measure's extreme (time, value,
+    where, SUMO's encounter type), NA left out."""
+    path = Path(path)
+    if not path.is_file() or path.stat().st_size == 0:
+        return []
+    out = []
+    for c in ET.parse(path).getroot().iter("conflict"):
+        row: dict[str, Any] = {"ego": c.get("ego"), "foe": c.get("foe"), "begin_s": float(c.get("begin")),
+                               "end_s": float(c.get("end"))}
+        for m in c:
+            if m.get("value") in (None, "NA"):
+                continue
+            code = int(m.get("type")) if m.get("type") not in (None, "NA") else None
+            row[m.tag] = {"t_s": float(m.get("time")), "value": float(m.get("value")),
+                          "x_y": [float(p) for p in m.get("position").split(",")],
+                          "type": ENCOUNTERS.get(code, str(code))}
+        out.append(row)
+    return sorted(out, key=lambda r: (r["begin_s"], r["ego"], r["foe"]))
+
+
+@dataclass
+class Yield:
+    """One stretch of braking by one vehicle, with SUMO's causes for it.
+
+    cause: "foe" (a vehicle crossing or joining its way at the junction: it must let it pass
+    (SUMO's right of way) or it is already in its path), "leader" (the vehicle ahead in its lane;
+    `merged`: the leader joined its road at the junction from another arm), "signal" (its own light
+    red or amber), "line" (held at its own Stop or Give Way line), "turn" (slowing to the speed of
+    the junction lane it turns by), "pedestrian" (on or stepping onto a crossing of its path),
+    "speed" (its own speed: factor, limit), or "none" (none of these binds)."""
+
+    vehicle: str
+    t_s: float
+    until_s: float
+    junction: str | None
+    lane: str
+    speed_mps: float                 # when it began to brake
+    min_speed_mps: float
+    peak_decel_mps2: float
+    cause: str                       # the cause it braked hardest under ("none" only if it had no other)
+    by: str | None
+    causes: dict[str, dict[str, Any]] = field(default_factory=dict)   # "foe 134" -> {t_s, decel, min speed, ...}
+
+    def to_json(self) -> dict[str, Any]:
+        return {"vehicle": self.vehicle, "t_s": self.t_s, "until_s": self.until_s, "junction": self.junction,
+                "lane": self.lane, "speed_mps": round(self.speed_mps, 2), "min_speed_mps": round(self.min_speed_mps, 2),
+                "peak_decel_mps2": round(self.peak_decel_mps2, 2), "cause": self.cause, "by": self.by,
+                "causes": self.causes}
+
+
+class Account:
+    """Asks SUMO, tick by tick, why each braking vehicle brakes; `yields` when closed."""
+
+    def __init__(self, routes: dict[str, tuple[str, ...]], modes: dict[str, int]) -> None:
+        self.routes = routes                       # vehicle -> its route's edges (the agents')
+        self.modes = modes                         # vehicle -> its speed mode where not SUMO's default
+        self.yields: list[Yield] = []
+        self._open: dict[str, Yield] = {}
+
+    def tick(self, snap: Snapshot) -> None:
+        t = snap.t_s
+        braking = set()
+        for v in snap.vehicles:
+            if v.accel_mps2 > -BRAKING_MPS2 or not _near(v):
+                continue
+            braking.add(v.id)
+            cause, by, detail = self._why(v, snap)
+            y = self._open.get(v.id)
+            if y is None:
+                y = self._open[v.id] = Yield(v.id, t, t, v.junction or v.next_junction, v.lane,
+                                             v.speed_mps - v.accel_mps2 * 0.1, v.speed_mps, 0.0, "none", None)
+            y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
+            decel = round(-v.accel_mps2, 2)
+            key = f"{cause} {by}" if by else cause
+            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps, **detail})
+            seen["decel_mps2"] = max(seen["decel_mps2"], decel)
+            seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
+            if decel > y.peak_decel_mps2:
+                y.peak_decel_mps2 = decel
+            if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by else y.cause]
+                                    ["decel_mps2"]):
+                y.cause, y.by = cause, by
+        for ident in [i for i in self._open if i not in braking]:
+            self.yields.append(self._open.pop(ident))
+
+    def close(self) -> None:
+        self.yields.extend(self._open.values())
+        self._open.clear()
+        self.yields.sort(key=lambda y: (y.t_s, y.vehicle))
+
+    # --- SUMO's account of one braking vehicle ------------------------------------------------
+
+    def _why(self, v: VehicleState, snap: Snapshot) -> tuple[str, str | None, dict[str, Any]]:
+        """The constraint SUMO's car-following model lets through at the lowest speed, asked at
+        the end of a tick of braking (the state the next tick's speed is chosen on)."""
+        ident, speed = v.id, v.speed_mps
+        mode = self.modes.get(ident, 31)
+        vehicle = libsumo.vehicle
+        allowed: list[tuple[float, str, str | None, dict[str, Any]]] = []
+        limit = vehicle.getAllowedSpeed(ident)
+        if limit < speed - _OVER_MPS:            # only over its own speed does that speed make it slow down
+            allowed.append((limit, "speed", None, {"allowed_mps": round(limit, 2)}))
+        inside = v.lane.startswith(":")
+        ahead_m = libsumo.lane.getLength(v.lane) - v.lane_pos_m if inside else v.to_junction_m
+        via = v.lane if inside else next((link[4] for link in vehicle.getNextLinks(ident)[:1]), "")
+        leader = vehicle.getLeader(ident, LOOK_M)
+        if leader and leader[0]:
+            other = snap.vehicle(leader[0])
+            gap = max(leader[1], 0.0)
+            if other is not None and other.lane.startswith(":") and via and other.lane != via \
+                    and other.lane in libsumo.lane.getInternalFoes(via):
+                # SUMO's leader across its path in the junction (a link leader): it must not reach it
+                allowed.append((vehicle.getStopSpeed(ident, speed, gap), "foe", leader[0],
+                                {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
+            else:
+                lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
+                allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
+                                "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
+                                                      "merged": self._merged(ident, leader[0])}))
+        if v.held and v.to_line_m is not None:
+            allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
+                            {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
+        if mode & _OBEYS_RED:
+            for tls, _, dist, state in vehicle.getNextTLS(ident)[:1]:
+                if state in _RED and dist <= LOOK_M:
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(dist, 0.0)), "signal", None,
+                                    {"tls": tls, "state": state, "to_line_m": round(dist, 1)}))
+        if via and ahead_m is not None and not inside:
+            turn = libsumo.lane.getMaxSpeed(via)
+            allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
+                            None, {"via": via, "turn_speed_mps": round(turn, 2)}))
+        for foe in vehicle.getJunctionFoes(ident, LOOK_M):
+            other_id, ego_dist, foe_dist, _, _, _, _, must_yield, _ = foe
+            other = snap.vehicle(other_id)
+            entered = other is not None and other.lane.startswith(":") and foe_dist < ego_dist + 5.0
+            if (must_yield and mode & _OBEYS_FOES) or entered:
+                gap = v.to_junction_m if must_yield and not entered and v.to_junction_m is not None else ego_dist
+                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id,
+                                {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
+                                 "must_yield": bool(must_yield), "foe_in_junction": entered}))
+        if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own,
+            foes = set(libsumo.lane.getInternalFoes(v.lane))      # or about to drive onto one
+            junction = v.lane[1:].rsplit("_", 2)[0]
+            for other in snap.vehicles:
+                if other.lane in foes:
+                    away = math.hypot(other.x - v.x, other.y - v.y)
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
+                                    {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
+                elif other.next_junction == junction and not other.lane.startswith(":") \
+                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * _COMING_S:
+                    link = vehicle.getNextLinks(other.id)[:1]
+                    if link and link[0][4] in foes:
+                        allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,
+                                        {"foe_lane": link[0][4], "foe_to_junction_m": round(other.to_junction_m, 1),
+                                         "foe_in_junction": False}))
+        if mode & _OBEYS_FOES and via and ahead_m is not None:
+            for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
+                allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
+                                {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
+        low = min(allowed, key=lambda a: a[0], default=(math.inf, "none", None, {}))
+        if low[0] > speed + _BINDS_MPS:
+            return "none", None, {}
+        return low[1], low[2], {**low[3], "allowed_mps": round(low[0], 2)}
+
+    def _merged(self, ident: str, leader: str) -> bool:
+        """Whether the leader joined the vehicle's road from another arm (their routes meet at a
+        junction they come into by different edges), rather than driving ahead of it all along."""
+        mine, theirs = self.routes.get(ident), self.routes.get(leader)
+        if not mine or not theirs:
+            return False
+        lane = libsumo.vehicle.getRoadID(ident)
+        start = mine.index(lane) if lane in mine else 0
+        for i in range(start, len(mine)):
+            if mine[i] in theirs:
+                j = theirs.index(mine[i])
+                before_mine = mine[i - 1] if i > 0 else None
+                before_theirs = theirs[j - 1] if j > 0 else None
+                return before_mine != before_theirs
+        return False
+
+
+def _near(v: VehicleState) -> bool:
+    return v.junction is not None or v.lane.startswith(":") or \
+        (v.to_junction_m is not None and v.to_junction_m <= NEAR_M)
+
+
+def in_path(v: VehicleState, pedestrians: tuple[PedestrianState, ...]) -> list[tuple[str, str, float]]:
+    """Pedestrians on a crossing SUMO's junction model makes a foe of the junction lane v is on:
+    (pedestrian, crossing, metres from v)."""
+    if not v.lane.startswith(":"):
+        return []
+    return [(who, crossing, round(math.hypot(p.x - v.x, p.y - v.y), 1))
+            for who, crossing, p in _foe_crossers(v.lane, pedestrians)]
+
+
+def _foe_crossers(lane: str, pedestrians: tuple[PedestrianState, ...],
+                  waiting: bool = False) -> list[tuple[str, str, PedestrianState]]:
+    """(pedestrian, crossing, state) of those on a crossing that is a foe of a junction lane (and,
+    `waiting`, of those on a junction's corner whose next edge, SUMO says, is such a crossing)."""
+    junction = lane[1:].rsplit("_", 2)[0] if lane.startswith(":") else None
+    on = [p for p in pedestrians if p.crossing or (waiting and p.junction is not None
+                                                   and p.edge.startswith(f":{junction}_w"))]
+    if not lane or not on:
+        return []
+    foes = set(libsumo.lane.getInternalFoes(lane))
+    out = []
+    for p in on:
+        crossing = p.crossing or libsumo.person.getNextEdge(p.id)
+        if crossing and f"{crossing}_0" in foes:
+            out.append((p.id, crossing, p))
+    return out

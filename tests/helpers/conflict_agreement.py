@@ -1,0 +1,127 @@
+"""The reasoner's "forced / endangered" beside SUMO's own account of a run, incident by incident.
+
+bench/conflict_agreement.py prints the table; this is its comparison, kept with the tests' other
+oracle (tests/helpers/sim_truth_table.py, whose matching of incidents to acts it uses) so that a
+test can hold a run to it too. The truth is the simulation's (sim_replay/truth.py, with SUMO's
+account: sim_replay/sumo_account.py); the reasoner's incidents are read only to be compared.
+
+    reasoner    the road users its proofs name: "V would force U to change speed or course",
+                "V would endanger U" (a sentence of that shape standing as a fact or proved in the
+                potential violation's tree or the verdict's, or among the facts the history
+                derived for the incident: a proof shows one road user where several are named)
+    SUMO        the road users SUMO says braked for V about its crossing (the truth's
+                act.sumo.yielded: cause a junction foe V, or V as a leader that had joined their
+                road from another arm) at HARD_BRAKING or harder or down to STANDSTILL_MPS under
+                that cause, and the pedestrians on a crossing SUMO makes a foe of V's junction lane
+                while V passed (act.sumo.in_path)
+
+A false accusation is a road user the reasoner names and SUMO does not; a miss, one SUMO names and
+the reasoner does not.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+from sim_replay.sim_events import T0
+from sim_replay.truth import ABOUT_S
+from tests.helpers.sim_truth_table import compare as lines_of
+
+__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "in_scope", "reasoner_grounds", "stated_cause",
+           "sumo_gave_way"]
+
+HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), sim_truth_table's yardstick too
+STANDSTILL_MPS = 0.5    # braking down to this for V is giving way to it however gently
+_GROUND = re.compile(r"^(?P<v>\S+) (?:would )?(?:force|forces|forced|endanger|endangers|endangered) (?P<u>\S+)")
+def reasoner_grounds(incident: Any) -> set[str]:
+    """The road users the incident's verdict names as forced or endangered by its vehicle."""
+    named: set[str] = set()
+
+    def walk(node: Any) -> None:
+        if isinstance(node, dict):
+            text = node.get("text")
+            if isinstance(text, str) and node.get("status") in ("proved", "fact"):
+                m = _GROUND.match(text.strip().rstrip("."))
+                if m and m["v"] == incident.vehicle:
+                    named.add(m["u"])
+            for child in node.get("children", ()):
+                walk(child)
+        elif isinstance(node, list):
+            for item in node:
+                walk(item)
+
+    for stage in incident.proofs.to_json().values():
+        walk(stage.get("trees", []))
+    walk([{"text": d.sentence, "status": "fact"} for d in incident.derived])
+    return named
+
+
+def sumo_gave_way(act: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """Who SUMO says gave way to the act's vehicle (hard braking or a standstill) or was in its path."""
+    out: dict[str, dict[str, Any]] = {}
+    for y in act.get("sumo", {}).get("yielded", []):
+        if y["decel_mps2"] >= HARD_BRAKING or y["min_speed_mps"] <= STANDSTILL_MPS:
+            seen = out.get(y["vehicle"])
+            if seen is None or y["decel_mps2"] > seen["decel_mps2"]:
+                out[y["vehicle"]] = y
+    for who, crossing, away in act.get("sumo", {}).get("in_path", []):
+        out.setdefault(who, {"vehicle": who, "cause": "pedestrian in its path", "crossing": crossing,
+                             "nearest_m": away})
+    return out
+
+
+def stated_cause(truth: dict[str, Any], who: str, act: dict[str, Any]) -> str:
+    """SUMO's account of what `who` braked for about the act (from the truth's yields only)."""
+    t = act["t_s"]
+    mine = [y for y in truth.get("yields", []) if y["vehicle"] == who and t - ABOUT_S[0] <= y["t_s"] <= t + ABOUT_S[1]]
+    if not mine:
+        if truth["road_users"].get(who, {}).get("type") == "pedestrian":
+            return "a pedestrian not on a crossing of its path while it passed"
+        return "did not brake about then"
+    parts = []
+    for y in mine:
+        causes = ", ".join(f"{k} {c['decel_mps2']:.1f} m/s²" for k, c in sorted(y["causes"].items(),
+                                                                               key=lambda kv: -kv[1]["decel_mps2"]))
+        parts.append(f"{y['t_s']:.1f}-{y['until_s']:.1f}s: {causes}")
+    return "; ".join(parts)
+
+
+@dataclass
+class Row:
+    """One in-scope incident, the road users each side names, and where they differ."""
+
+    incident: Any
+    act: dict[str, Any]
+    reasoner: set[str]
+    sumo: dict[str, dict[str, Any]]
+    truth: dict[str, Any] = field(default_factory=dict, repr=False)
+    false: list[str] = field(default_factory=list)
+    missed: list[str] = field(default_factory=list)
+
+    @property
+    def agrees(self) -> bool:
+        return not self.false and not self.missed
+
+
+def in_scope(act: dict[str, Any] | None) -> bool:
+    """Stop, Give Way and emergency-red crossings."""
+    return act is not None and act["kind"] == "crossed the stop line" and (
+        act["line"] in ("stop", "give_way") or (act["light"] in ("red", "red_amber") and act["on_call"]))
+
+
+def compare(truth: dict[str, Any], incidents: list[Any]) -> tuple[list[Row], list[dict[str, Any]]]:
+    """Each in-scope incident beside SUMO's account; and the in-scope acts a monitor saw that have
+    no incident although SUMO says someone gave way to them (unraised)."""
+    rows, unraised = [], []
+    for line in lines_of(truth, incidents, T0):
+        if not in_scope(line.act):
+            continue
+        if not line.incidents and line.act["seen_by"] and sumo_gave_way(line.act):
+            unraised.append(line.act)
+        for inc in line.incidents:
+            row = Row(inc, line.act, reasoner_grounds(inc), sumo_gave_way(line.act), truth)
+            row.false = sorted(row.reasoner - set(row.sumo))
+            row.missed = sorted(set(row.sumo) - row.reasoner)
+            rows.append(row)
+    return rows, unraised

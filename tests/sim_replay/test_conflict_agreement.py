@@ -1,0 +1,73 @@
+"""The comparison bench/conflict_agreement.py prints (tests/helpers/conflict_agreement.py): an
+incident's forced and endangered road users beside those SUMO says gave way to the vehicle.
+
+The truth here is written by hand in the simulation's form (sim_replay/truth.py with SUMO's
+account); the incidents are stand-ins carrying only what the comparison reads (vehicle, action,
+time, proofs, derived facts), so that each way of disagreeing is shown on its own.
+"""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+from sim_replay.sim_events import T0
+from tests.helpers.conflict_agreement import compare, reasoner_grounds, sumo_gave_way
+
+SECOND = 1_000_000_000
+
+
+def act(vehicle: str, t: float, line: str, yielded=(), in_path=(), light=None, on_call=False) -> dict:
+    return {"kind": "crossed the stop line", "vehicle": vehicle, "type": "car", "t_s": t, "until_s": None,
+            "junction": "j2", "approach": "north", "line": line, "light": light, "on_call": on_call,
+            "speed_mph": 5, "stopped_at_line": True, "seen_by": ["m2"], "approaching": [], "reactions": {},
+            "exit_queue": [], "at_amber": None, "decision": None, "in_path": [list(p) for p in in_path],
+            "sumo": {"yielded": list(yielded), "in_path": [list(p) for p in in_path]}}
+
+
+def gave_way(who: str, decel: float, min_speed: float, cause: str = "foe") -> dict:
+    return {"vehicle": who, "t_s": 0.0, "cause": cause, "decel_mps2": decel, "speed_mps": 13.4,
+            "min_speed_mps": min_speed, "ssm": {}}
+
+
+def incident(vehicle: str, t: float, facts=(), derived=()) -> SimpleNamespace:
+    """What the comparison reads of an incident: a potential violation's tree with `facts` as its
+    leaves, and the history's derived sentences."""
+    tree = {"text": f"{vehicle} potentially violates enter the junction", "status": "proved",
+            "children": [{"text": f, "status": "fact", "children": []} for f in facts]
+            + [{"text": f"{vehicle} would force nobody-failed to change speed or course", "status": "failed",
+                "children": []}]}
+    proofs = SimpleNamespace(to_json=lambda: {"potential_violation": {"trees": [tree]}})
+    return SimpleNamespace(id=f"monitor/m2:{int(t)}", vehicle=vehicle, action="enter the junction",
+                           t=T0 + round(t * SECOND), proofs=proofs, verdict="punishable", rule="HC 171",
+                           derived=tuple(SimpleNamespace(sentence=d) for d in derived))
+
+
+def test_the_reasoner_names_whom_its_proofs_and_derived_facts_say_were_forced_or_endangered():
+    inc = incident("7", 10.0, facts=["7 would force 12 to change speed or course", "7 has a stop sign"],
+                   derived=["7 would endanger p3", "12 would force 7 to change speed or course"])
+    assert reasoner_grounds(inc) == {"12", "p3"}      # not a failed node, not another vehicle's sentence
+
+
+def test_sumo_names_who_braked_hard_for_the_vehicle_or_stopped_for_it_and_who_was_on_its_crossing():
+    a = act("7", 10.0, "stop", yielded=[gave_way("12", 4.5, 9.0), gave_way("13", 1.2, 11.0),
+                                        gave_way("14", 1.0, 0.0)], in_path=[("p3", ":j2_c2", 4.0)])
+    assert set(sumo_gave_way(a)) == {"12", "14", "p3"}      # 13 only dabbed its brakes
+
+
+def test_agreement_false_accusations_and_misses_are_told_apart():
+    truth = {"road_users": {"p9": {"type": "pedestrian"}}, "acts": [
+        act("7", 10.0, "stop", yielded=[gave_way("12", 4.5, 9.0)]),                      # agrees
+        act("8", 40.0, "give_way"),                                                     # accused of forcing 20
+        act("9", 70.0, "stop", yielded=[gave_way("21", 3.0, 6.0, "leader")]),             # 21 missed
+        act("10", 100.0, "signal", light="red", on_call=True, in_path=[("p9", ":j1_c0", 3.0)]),
+        act("11", 130.0, "signal", light="red"),                                        # not in scope
+    ], "yields": [{"vehicle": "20", "t_s": 41.0, "until_s": 43.0, "causes": {"signal": {"decel_mps2": 3.5}}}]}
+    found = [incident("7", 10.5, facts=["7 would force 12 to change speed or course"]),
+             incident("8", 40.5, facts=["8 would force 20 to change speed or course"]),
+             incident("9", 70.5), incident("10", 100.5, derived=["10 would endanger p9"]),
+             incident("11", 130.5)]
+    rows, unraised = compare(truth, found)
+    assert [(r.incident.vehicle, r.agrees, r.false, r.missed) for r in rows] == [
+        ("7", True, [], []), ("8", False, ["20"], []), ("9", False, [], ["21"]), ("10", True, [], [])]
+    assert unraised == []
+    rows, unraised = compare(truth, found[1:])          # 7's act seen, SUMO says 12 gave way, no incident
+    assert [a["vehicle"] for a in unraised] == ["7"]

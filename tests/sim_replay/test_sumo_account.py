@@ -1,0 +1,128 @@
+"""SUMO's own account in the ground truth (sim_replay/sumo_account.py): who braked for whom, and why,
+as SUMO says it, checked on scenes built by hand in SUMO where the cause is known by construction.
+
+The paper's map: r1 runs west to east through j1 (lights; r1 red from 32 s to 75 s of the 75 s cycle)
+and j2 (r1 has no line; r3's north arm a Stop line). "main" drives east on r1 towards j2 with the
+right of way; "side" comes down r3's north arm and goes straight across, its decisions ours
+(World.take_control: SUMO no longer stops it at its line nor makes it give way), timed so that it
+is in the junction ahead of "main": main must brake for it. "red" arrives at j1's west line while
+r1's light is red, and "queue" follows it: one brakes for its own light, the other for the car
+in front of it.
+"""
+from __future__ import annotations
+
+from sim_replay.maps import map_files
+from sim_replay.sim_config import Behaviour, SimConfig
+from sim_replay.simulation import Simulation
+from sim_replay.sumo_account import Account, in_path, read_ssm, ssm_options
+from sim_replay.sumo_world import World
+from sim_replay.truth import yielded_to
+
+NET = map_files("paper").net
+
+
+def scene(tmp_path) -> tuple[list, list]:
+    """The yields and SSM conflicts of the scene above, 60 s of it."""
+    ssm = tmp_path / "ssm.xml"
+    routes: dict = {}
+    with World(NET, seed=3, extra=ssm_options(ssm)) as world:
+        account = Account(routes, world.modes)
+        for ident, start, end, pos in (("main", "j1_j2", "j2_e", 124.0), ("side", "n2_j2", "j2_s2", 158.0)):
+            routes[ident] = world.route(start, end)
+            world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=5.0 if ident == "side" else "max")
+        for step in range(600):
+            if step == 330:                                       # 33 s: r1's light at j1 is red from 32 s
+                for ident, pos in (("red", 90.0), ("queue", 40.0)):
+                    routes[ident] = world.route("w_j1", "j1_j2")
+                    world.add_vehicle(ident, "car", routes[ident], depart_pos=pos)
+            snap = world.step()
+            if step == 0:
+                world.take_control("side")
+            account.tick(snap)
+        account.close()
+    return [y.to_json() for y in account.yields], read_ssm(ssm)
+
+
+def test_the_account_names_a_junction_foe_a_red_light_and_a_leader_as_sumo_gives_them(tmp_path):
+    yields, conflicts = scene(tmp_path)
+    by = {}
+    for y in yields:
+        by.setdefault(y["vehicle"], []).append(y)
+    # main, with the right of way, braked hard because side was in the junction across its path
+    main = max(by["main"], key=lambda y: y["peak_decel_mps2"])
+    assert (main["cause"], main["by"]) == ("foe", "side") and main["junction"] == "j2"
+    assert main["causes"]["foe side"]["decel_mps2"] >= 2.0 and main["causes"]["foe side"]["foe_in_junction"]
+    # red stopped for its own light, not for anybody
+    red = max(by["red"], key=lambda y: y["peak_decel_mps2"])
+    assert (red["cause"], red["by"]) == ("signal", None) and red["causes"]["signal"]["state"] == "r"
+    assert red["min_speed_mps"] < 0.1 and red["junction"] == "j1"
+    # queue braked for red ahead of it in its own lane: a leader, not one that joined from another arm
+    queue = max(by["queue"], key=lambda y: y["peak_decel_mps2"])
+    assert (queue["cause"], queue["by"]) == ("leader", "red") and queue["causes"]["leader red"]["merged"] is False
+    assert not any(y["by"] in ("main", "red", "queue") for y in by.get("side", ()))
+    # SUMO's SSM device logged the pair's crossing conflict, with its measures
+    pair = next(c for c in conflicts if (c["ego"], c["foe"]) == ("main", "side"))
+    assert pair["minTTC"]["value"] < 3.0 and "crossing" in pair["minTTC"]["type"]
+    assert pair["maxDRAC"]["value"] > 0 and {"begin_s", "end_s"} <= set(pair)
+    assert not any({c["ego"], c["foe"]} & {"red", "queue"} and {c["ego"], c["foe"]} & {"main", "side"}
+                   for c in conflicts)
+
+
+def test_a_crossing_is_given_the_road_users_sumo_says_braked_for_it():
+    act = {"vehicle": "side", "t_s": 3.5}
+    yields = [
+        {"vehicle": "main", "t_s": 3.6, "until_s": 9.1, "speed_mps": 13.4, "min_speed_mps": 0.0,    # then its own red
+         "causes": {"foe side": {"t_s": 3.6, "decel_mps2": 4.9, "min_speed_mps": 10.5},
+                    "signal": {"t_s": 5.0, "decel_mps2": 3.0, "min_speed_mps": 0.0}}},
+        {"vehicle": "behind", "t_s": 4.0, "until_s": 5.0, "speed_mps": 9.0, "min_speed_mps": 4.0,       # queued behind it
+         "causes": {"leader side": {"t_s": 4.0, "decel_mps2": 3.0, "merged": False}}},
+        {"vehicle": "joined", "t_s": 6.0, "until_s": 7.0, "speed_mps": 13.0, "min_speed_mps": 9.0,      # it pulled out ahead
+         "causes": {"leader side": {"t_s": 6.0, "decel_mps2": 2.5, "merged": True}}},
+        {"vehicle": "later", "t_s": 30.0, "until_s": 31.0, "speed_mps": 13.0, "min_speed_mps": 0.0,     # long after
+         "causes": {"foe side": {"t_s": 30.0, "decel_mps2": 4.5}}},
+        {"vehicle": "own", "t_s": 4.0, "until_s": 6.0, "speed_mps": 13.0, "min_speed_mps": 0.0,         # its own light
+         "causes": {"signal": {"t_s": 4.0, "decel_mps2": 4.5}}},
+    ]
+    conflicts = [{"ego": "main", "foe": "side", "begin_s": 0.0, "end_s": 9.0,
+                  "minTTC": {"t_s": 4.0, "value": 0.9, "x_y": [0, 0], "type": "crossing (ego first)"}}]
+    got = yielded_to(act, yields, conflicts)
+    assert [(y["vehicle"], y["cause"], y["decel_mps2"], y["min_speed_mps"]) for y in got] == \
+        [("main", "foe", 4.9, 10.5), ("joined", "leader", 2.5, 9.0)]
+    assert got[0]["ssm"]["minTTC"]["value"] == 0.9 and got[1]["ssm"] == {}
+
+
+def test_keeping_the_account_changes_no_event_and_only_adds_to_the_truth():
+    config = SimConfig(run="account", vehicles=30, duration_s=60.0, seed=5, rate_hz=5.0, pedestrians=6,
+                       behaviour=Behaviour(no_give_way=0.5, stop_roller=0.4, red_runner=0.3))
+    plain, kept = Simulation(config), Simulation(config, account=True)
+    assert list(plain.events()) == list(kept.events())
+    without, with_ = plain.truth.to_json(), kept.truth.to_json()
+    assert "yields" not in without and "conflicts" not in without
+    assert with_["yields"] and with_["conflicts"] is not None
+    crossings = [a for a in with_["acts"] if a["kind"] == "crossed the stop line"]
+    assert crossings and all("yielded" in a["sumo"] and "in_path" in a["sumo"] for a in crossings)
+    for a in with_["acts"] + without["acts"]:        # pedestrians in a path are asked of SUMO only with it
+        a.pop("sumo", None), a.pop("in_path")
+    assert with_["acts"] == without["acts"]
+    assert {y["cause"] for y in with_["yields"]} <= {"foe", "leader", "signal", "line", "turn", "speed",
+                                                      "pedestrian", "none"}
+
+
+def test_a_pedestrian_on_a_crossing_of_a_vehicles_way_is_in_its_path():
+    """p1 walks along r1's north side from the west and steps onto the crossing of j2's north arm
+    (":j2_c2") as "side" comes down that arm and through the junction: SUMO's junction model makes
+    that crossing a foe of side's junction lane, so p1 is in its path, about 5 m from it."""
+    seen: dict = {}
+    with World(NET, seed=3) as world:
+        world.add_person("p1", "j1_j2", "j2_e", depart_pos=170.0)
+        for step in range(200):
+            if step == 104:
+                world.add_vehicle("side", "car", world.route("n2_j2", "j2_s2"), depart_pos=158.0, depart_speed=5.0)
+            snap = world.step()
+            if step == 105:
+                world.take_control("side")
+            side = snap.vehicle("side")
+            if side is not None:
+                for who, crossing, away in in_path(side, snap.pedestrians):
+                    seen[who] = (crossing, min(away, seen.get(who, (None, away))[1]))
+    assert set(seen) == {"p1"} and seen["p1"][0] == ":j2_c2" and seen["p1"][1] < 6.0
