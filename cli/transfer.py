@@ -89,15 +89,15 @@ def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anch
         path, fmt = check_source(file, fmt)
         with _progress(f"importing {path.name}", path.stat().st_size,
                        path.stat().st_size >= PROGRESS_BYTES) as progress:
-            with Store(db_path(db), durable=not fast, checkpoint_key=key, witness=witness_path) as store:
-                witness = WitnessFile(witness_path) if witness_path else None
-                if witness is not None:
-                    store.add_checkpoint_hook(witness.append)
-                try:
-                    return import_file(store, path, fmt, progress).as_dict()
-                finally:
+            witness = WitnessFile(witness_path) if witness_path else None  # checked as an output first
+            try:
+                with Store(db_path(db), durable=not fast, checkpoint_key=key, witness=witness_path) as store:
                     if witness is not None:
-                        witness.close()
+                        store.add_checkpoint_hook(witness.append)
+                    return import_file(store, path, fmt, progress).as_dict()
+            finally:
+                if witness is not None:
+                    witness.close()
     except TransferError as exc:
         fail(str(exc))
     except (OSError, sqlite3.Error) as exc:
