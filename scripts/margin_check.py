@@ -18,8 +18,11 @@ code is used; the reasoner is asked only for its incidents and the margins they 
 - speeding ("mph over the speed limit"): the vehicle's entity.state samples on the road the act
   names (its `road` field where that is a road of the map, else the map road nearest, within
   SNAP_M), over that road's speed_limit_mph, in runs no more than STRETCH_GAP_S
-  apart; the run that meets the act's span (or the incident's moment; none: the samples on that
-  road in the act's span); its fastest speed in mph less the limit.
+  apart; the run that meets the act's span where the act is a speeding stretch (else the
+  incident's moment), within STRETCH_GAP_S; its fastest speed in mph less the limit. Where no such
+  run is near, the raw events show no excess near the act: the margin is then within when it
+  states none either (not over by more than its uncertainty), whatever the exact shortfall (the
+  fastest sample on the road within STRETCH_GAP_S of the act is shown).
 
 A margin is within when |script - reasoner| <= the reasoner's uncertainty + SLACK (the script's
 own rounding and interpolation: the reasoner rounds seconds to 1 ms, metres to 1 cm, mph to 0.1).
@@ -41,6 +44,7 @@ from typing import Any
 MPH_PER_MPS = 2.2369362920544
 SECOND = 1e9
 STRETCH_GAP_S = 3.0
+NEVER_OVER = "never over the limit within STRETCH_GAP_S of the act"
 SNAP_M = 15.0                 # a sample without a road of the map is on the nearest road this close
 LINE_REACH_M = 1.0            # a path meeting a stop line within this of its ends still crosses it
 SLACK = {"s": 0.002, "m": 0.02, "mph": 0.06}
@@ -189,17 +193,18 @@ def speeding(raw: Raw, inc: dict, road: str | None) -> tuple[float | None, str]:
             stretches.append([])
         stretches[-1].append(s)
     act = inc.get("act") or {}
-    lo, hi = act.get("start", inc["t"]), act.get("end", inc["t"])
+    stretch = act.get("kind") == "speeding stretch"
+    lo, hi = (act["start"], act["end"]) if stretch else (inc["t"], inc["t"])
 
     def apart(st: list[tuple]) -> float:
         return max(0, st[0][0] - hi, lo - st[-1][0])
     best = min(stretches, key=apart, default=None)
-    if best is None or apart(best) > STRETCH_GAP_S * SECOND:       # never over: its fastest in the act's span
-        best = [s for s in raw.tracks.get(inc["vehicle"], []) if lo <= s[0] <= hi and on_road(raw, s) == str(road)
-                and isinstance(s[3], (int, float))]
-        if not best:
+    if best is None or apart(best) > STRETCH_GAP_S * SECOND:       # never over: its fastest near the act
+        near = [s for s in raw.tracks.get(inc["vehicle"], []) if on_road(raw, s) == str(road)
+                and lo - STRETCH_GAP_S * SECOND <= s[0] <= hi + STRETCH_GAP_S * SECOND and isinstance(s[3], (int, float))]
+        if not near:
             return None, f"no entity.state on road {road} in or near the act"
-        return max(s[3] for s in best) * MPH_PER_MPS - limit, f"never over; {len(best)} samples on road {road}"
+        return max(s[3] for s in near) * MPH_PER_MPS - limit, NEVER_OVER + f" ({len(near)} samples on road {road})"
     return max(s[3] for s in best) * MPH_PER_MPS - limit, f"{len(best)} samples over on road {road}"
 
 
@@ -260,6 +265,8 @@ def check_one(raw: Raw, inc: dict) -> Result | None:
         return Result(inc["id"], kind, value, u, bound, None, None, note)
     room = (u or 0.0) + SLACK[m["unit"]]
     within = abs(script - value) <= room
+    if note.startswith(NEVER_OVER):             # the raw events show no excess: the margin must not either
+        within = value <= room
     if bound and kind == "red" and not first:
         within, note = False, note + "; 'at least' but the raw events show red's onset"
     elif bound and value > script + room:
