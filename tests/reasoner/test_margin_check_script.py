@@ -29,7 +29,7 @@ def script():
 @pytest.fixture(scope="module")
 def stored(tmp_path_factory, script):
     run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "lights")], roads=roads_through(0.0, 0.0, limit_mph=30))
-    motion = Motion(-150.0, SPEED)
+    motion = Motion(-151.0, SPEED)     # the line crossed between two 10 Hz samples, amber too
     crossing = START + motion.when(-LINE_M)
     red_at = crossing - LAG
     run.spawn("7")
