@@ -105,7 +105,7 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                                 if (user := unmeasured(found, _said(text))) is not None))
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
+                       tuple((rule, stretch.margin() if speeding else margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
                        act=stretch.act() if speeding else _passage_act(found),
                        readings=((found.line.reading, found.map_ref),) if found.line and found.line.reading
                        and found.map_ref else ())

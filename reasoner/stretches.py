@@ -7,9 +7,11 @@ last, where no two consecutive ones over the limit are more than STRETCH_GAP_S a
 the limit shorter than that (a sensor's jitter, a car easing off for a second) does not end the
 act, a longer one does, and the next measurement over the limit starts another.
 
-"Over the limit" here is what `V has speed of N` (whole mph, half up) would make of the
-measurement beside `the speed limit is L`; whether that is an offence (N > L, and the s.87
-exemption) is the rulebooks' question, never this module's. Which measurements: the road user's
+"Over the limit" here is a measurement above the road's limit (RTRA 1984 s.81 and s.89: driving
+"at a speed exceeding" it): a car that never drops to the limit has not ended its act, even where
+`V has speed of N` (whole mph, half up) would round a moment of it down to the limit; whether the
+stretch is an offence (its peak's N > L, and the s.87 exemption) is the rulebooks' question, never
+this module's. Which measurements: the road user's
 own entity.state where it recorded any in the window read; else the monitors' measured speeds of it
 (mixing the two would let one sensor's error cut or join another's stretch).
 
@@ -47,8 +49,8 @@ class Measured:
 
     @property
     def over(self) -> bool:
-        """Over the limit as `V has speed of N` against `the speed limit is L` would read it."""
-        return self.limit_mph is not None and self.speed_mps * MPH_PER_MPS >= self.limit_mph + 0.5
+        """Above the road's limit (module docstring: the act goes on while the speed exceeds it)."""
+        return self.limit_mph is not None and self.speed_mps * MPH_PER_MPS > self.limit_mph
 
 
 @dataclass(frozen=True)
