@@ -15,7 +15,8 @@ test: $(READY)
 setup: $(READY)
 
 # The fuzzers (tests/fuzz: envelope decoding, JSONL and MCAP import, the LE parser and engine, the
-# command line's arguments, hostile output paths that must never touch the evidence) with ten times the examples `make test` gives them, round after round
+# command line's arguments, hostile output paths that must never touch the evidence, checkpoint rows
+# edited under a rewritten run) with ten times the examples `make test` gives them, round after round
 # with fresh seeds until FUZZ_SECONDS (default 600) have passed; the round in progress finishes.
 # A failure stops at once; Hypothesis keeps the failing example in .hypothesis/ and tries it first.
 FUZZ_SECONDS ?= 600

@@ -20,6 +20,9 @@ def incidents(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
                                                     help="Only this verdict: punishable, mitigated or dismissed."),
               vehicle: Optional[str] = typer.Option(None, "--vehicle", help="Only this vehicle's incidents."),
               rule: Optional[str] = typer.Option(None, "--rule", help="Only incidents under this rule (HC 176)."),
+              source: Optional[str] = typer.Option(
+                  None, "--source", help="Where the act was found: monitors (by a monitor), own-record (only in "
+                                         "the vehicle's own record), or all (the default)."),
               explain: bool = typer.Option(False, "--explain", help="Print each incident's full explanation.")
               ) -> None:
     """List every potential violation of a run, validated as punishable, mitigated or dismissed.
@@ -31,21 +34,23 @@ def incidents(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     files = check_files(rules)
     with open_existing(db) as store:
         show_incidents(Case(store, files), run, json_out, explain=explain,
-                       verdict=verdict, vehicle=vehicle, rule=rule)
+                       verdict=verdict, vehicle=vehicle, rule=rule, source=source)
 
 
 def show_incidents(case: Case, run: Optional[str], json_out: bool, *, explain: bool,
-                   verdict: Optional[str] = None, vehicle: Optional[str] = None, rule: Optional[str] = None) -> None:
+                   verdict: Optional[str] = None, vehicle: Optional[str] = None, rule: Optional[str] = None,
+                   source: Optional[str] = None) -> None:
     """Judge the run (every run: None) and print its incidents as JSON, one line each, or
     explained in full."""
     from explain.listing import explanations, incident_line
     with stderr_progress("judging incidents") as progress:      # the bar is gone before printing
         case.incidents(run, progress=progress)
-    found = [(case.number(inc), inc) for inc in case.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule)]
+    found = [(case.number(inc), inc) for inc in case.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule,
+                                                               source=source)]
     if json_out:
         print_json([inc.summary_json() for _, inc in found])
     elif not found:
-        typer.echo("No potential violations recorded" + _filtered(verdict, vehicle, rule) + ".")
+        typer.echo("No potential violations recorded" + _filtered(verdict, vehicle, rule, source) + ".")
     elif explain:
         for text in explanations(case, found):
             typer.echo(text)
@@ -54,8 +59,8 @@ def show_incidents(case: Case, run: Optional[str], json_out: bool, *, explain: b
             typer.echo(printable(incident_line(inc, n)))
 
 
-def _filtered(verdict: Optional[str], vehicle: Optional[str], rule: Optional[str]) -> str:
+def _filtered(verdict: Optional[str], vehicle: Optional[str], rule: Optional[str], source: Optional[str] = None) -> str:
     said = [f"verdict {verdict}" if verdict else "", f"vehicle {vehicle}" if vehicle else "",
-            f"rule {rule}" if rule else ""]
+            f"rule {rule}" if rule else "", f"source {source}" if source and source != "all" else ""]
     shown = ", ".join(s for s in said if s)
     return f" matching {printable(shown)}" if shown else ""

@@ -55,8 +55,11 @@ def checkpoint(path: Path = typer.Argument(..., help="Where to write the private
                json_out: bool = JsonOption) -> None:
     """Make the checkpoint key that the ingest and imports sign checkpoints with, and PATH.pub for `gaps verify --key`.
 
-    `gaps serve --checkpoint-key PATH` and `gaps import --checkpoint-key PATH` use it. An existing key is never overwritten (exit 2). Keep PATH on the ingest's host only: whoever holds
-    it can sign checkpoints over a rewritten store.
+    `gaps serve --checkpoint-key PATH` and `gaps import --checkpoint-key PATH` use it, and append each
+    run's first signed head to PATH.pub: give investigators a copy of PATH.pub from the ingest's host
+    (`gaps verify --key`), never one that travelled with the store. An existing key is never
+    overwritten (exit 2). Keep PATH on the ingest's host only: whoever holds it can sign checkpoints
+    over a rewritten store.
     """
     from store import CheckpointKey, public_path_of
     key = CheckpointKey.create(path)

@@ -54,8 +54,9 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
     """Import events from JSONL or MCAP into the store, creating it if missing.
 
     Bad events are quarantined with their bytes and the reason; the rest is still imported (exit 0).
-    With --checkpoint-key the checkpoints are signed (and a run whose stored tail its last
-    checkpoint does not vouch for is refused, exit 1); --witness keeps their heads outside the store.
+    With --checkpoint-key the checkpoints are signed, each run's first signed head is recorded in
+    KEY.pub, and a run whose stored tail does not extend its last signed head (from --witness, else
+    KEY.pub) is refused, exit 1; --witness keeps their heads outside the store.
     """
     anchoring = _anchoring(checkpoint_key, witness)
     if is_stdio(file):
@@ -88,15 +89,15 @@ def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anch
         path, fmt = check_source(file, fmt)
         with _progress(f"importing {path.name}", path.stat().st_size,
                        path.stat().st_size >= PROGRESS_BYTES) as progress:
-            with Store(db_path(db), durable=not fast, checkpoint_key=key) as store:
-                witness = WitnessFile(witness_path) if witness_path else None
-                if witness is not None:
-                    store.add_checkpoint_hook(witness.append)
-                try:
-                    return import_file(store, path, fmt, progress).as_dict()
-                finally:
+            witness = WitnessFile(witness_path) if witness_path else None  # checked as an output first
+            try:
+                with Store(db_path(db), durable=not fast, checkpoint_key=key, witness=witness_path) as store:
                     if witness is not None:
-                        witness.close()
+                        store.add_checkpoint_hook(witness.append)
+                    return import_file(store, path, fmt, progress).as_dict()
+            finally:
+                if witness is not None:
+                    witness.close()
     except TransferError as exc:
         fail(str(exc))
     except (OSError, sqlite3.Error) as exc:

@@ -33,9 +33,11 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
                                                         "witness file (`gaps serve --witness`): a run cut back, "
                                                         "rewritten or deleted fails."),
            checkpoint_key: Optional[Path] = typer.Option(
-               None, "--key", metavar="PUB", help="The checkpoint key's public file (`gaps keys checkpoint`): "
-                                                  "every checkpoint from its first signature on must be signed "
-                                                  "by it, and so must the heads of --against.")) -> None:
+               None, "--key", metavar="PUB", help="The checkpoint key's public file (`gaps keys checkpoint`; "
+                                                  "your copy, which records each run's first signed head): every "
+                                                  "run must end on a checkpoint signed by it, every checkpoint "
+                                                  "since the run's first signed head too, and so must the heads "
+                                                  "of --against.")) -> None:
     """Check the hash chains, Merkle roots, checkpoints and cached snapshots against the events.
 
     Exit 1 if anything does not match, naming the first event (or snapshot) that does not; 2 for
@@ -53,17 +55,21 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
 
     A store agrees with itself after a consistent rewrite too; --against and --key check it
     against what is kept outside it: the tree heads of a witness file (each run at least as long
-    as each head, its first events giving the head's Merkle root) and the checkpoint key.
+    as each head, its first events giving the head's Merkle root, the heads following one another)
+    and the checkpoint key (with the runs' first signed heads its public file records). Then each
+    run's stored events must all be proven by one of them: the report says, per run, how many
+    events the witness proves and how many the key does (docs/guarantees.md).
     """
     wrong: dict[str, list] = {}
     misplaced: dict[str, list] = {}
     keys = _trusted(keys_file)
-    heads, public = _anchors(against, checkpoint_key)
+    heads, public, recorded = _anchors(against, checkpoint_key)
     with open_existing(db) as store:
         require_run(store, run)
         with stderr_progress("verifying") as progress:
             report = store.verify(run, progress, keys)
-        outcomes, keyed = store.check_anchors(_for_run(heads, run), public, run)
+        anchored = store.anchor_report(_for_run(heads, run), public, run, recorded, witness=against is not None)
+        outcomes, keyed = anchored.heads, anchored.key
         if with_snapshots:  # the runs whose chain holds: a broken one has already failed, and may not be readable
             sound = [r["run"] for r in report.runs if r["ok"]]
             wrong = _wrong_snapshots(store, sound)
@@ -71,21 +77,22 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
         tampering = _tampered_cache(store, report)
     signatures = report.signatures
     signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
-    anchored = all(o.ok for o in outcomes) and (keyed is None or keyed.ok)
-    ok = report.ok and signed_ok and anchored and not any(wrong.values()) and not any(misplaced.values())
+    ok = report.ok and signed_ok and anchored.ok and not any(wrong.values()) and not any(misplaced.values())
     if json_out:
         print_json({**report.as_dict(), "ok": ok, "signatures": {**signatures, "ok": signed_ok},
                     **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {}),
                     "cache": {**tampering.to_json(), "unwritten": store.cache.unwritten},
                     **({"heads": {"file": str(against), "ok": all(o.ok for o in outcomes),
                                   "checked": [o.to_json() for o in outcomes]}} if against else {}),
-                    **({"checkpoint_key": keyed.to_json()} if keyed is not None else {})})
+                    **({"checkpoint_key": keyed.to_json()} if keyed is not None else {}),
+                    **({"proven": [p.to_json() for p in anchored.runs]} if anchored.runs else {})})
     else:
         _print_report(report, wrong, with_snapshots)
         _print_presence(misplaced)
         _print_signatures(signatures, all_signed)
         _print_tampering(tampering)
         _print_anchors(against, outcomes, keyed)
+        _print_proven(anchored.runs)
     raise typer.Exit(0 if ok else 1)
 
 
@@ -98,11 +105,13 @@ def _trusted(keys_file: Optional[Path]):
 
 
 def _anchors(against: Optional[Path], checkpoint_key: Optional[Path]):
-    """The witness file's heads and the checkpoint public key, read (exit 2 naming what is wrong)."""
-    from store import load_public, read_heads
+    """The witness file's heads, the checkpoint public key and the runs' first signed heads its
+    file records, read (exit 2 naming what is wrong)."""
+    from store import load_public, read_heads, recorded_heads
     heads = read_heads(against) if against is not None else []
     public = load_public(checkpoint_key) if checkpoint_key is not None else None
-    return heads, public
+    recorded = recorded_heads(checkpoint_key, public) if public is not None else []
+    return heads, public, recorded
 
 
 def _for_run(heads: list, run: Optional[str]) -> list:
@@ -122,10 +131,28 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
             typer.echo(f"... and {len(bad) - 10:,} more heads failed (--json lists them all)")
     if keyed is not None:
         if keyed.ok:
-            typer.echo(f"checkpoint key {keyed.key}: {keyed.signed:,} checkpoints signed by it, every one since its "
-                       f"first ({keyed.unsigned_before:,} before it unsigned)")
+            typer.echo(f"checkpoint key {keyed.key}: {keyed.signed:,} checkpoints signed by it, every run ends on "
+                       f"one and every checkpoint since a run's first signed head is ({keyed.unsigned_before:,} "
+                       "before those unsigned)")
         else:
             typer.echo(f"CHECKPOINT KEY {keyed.key} FAILED: {printable(keyed.problem['what'])}")
+        if keyed.absent:
+            shown = ", ".join(printable(name) for name in keyed.absent[:10]) + (" ..." if len(keyed.absent) > 10
+                                                                                  else "")
+            typer.echo(f"the key file records {len(keyed.absent)} run(s) this store does not hold: {shown} (deleted, "
+                       "or signed into another store with this key: the witness of this store's ingest tells)")
+
+
+def _print_proven(proofs: list) -> None:
+    """Per run, what the witness and the key prove of its stored events."""
+    for p in proofs:
+        by = [f"{p.witnessed:,} by the witness's heads" if p.witnessed is not None else None,
+              f"{p.signed:,} by checkpoints signed by the key" if p.signed is not None else None]
+        said = f"{p.events:,} events; proven: " + ", ".join(b for b in by if b)
+        if p.ok:
+            typer.echo(f"run {printable(p.run)}: {said}")
+        else:
+            typer.echo(f"RUN NOT PROVEN: {printable(p.run)}: {said}: {printable(p.what)}")
 
 
 def _coverage(outcomes: list) -> str:

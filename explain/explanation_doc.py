@@ -81,8 +81,15 @@ class _Builder:
                    else f"recorded by {ph.who(inc.monitor)}, but not re-derivable from its observation")
         else:
             how = f"re-derived from the observations of {ph.who(inc.monitor)}, which recorded none"
+        sources = inc.sources
+        if sources and inc.found_in == "own-record":
+            how = f"found in the vehicle's own record ({sources[0].id}) only: no monitor recorded it"
+        elif len(sources) > 1:
+            how += (f"; one act, {len(sources)} records of it, judged as one: "
+                    + ", ".join(f"{s.id} ({s.how})" for s in sources))
         return {"monitor": inc.monitor, "recorded": inc.recorded, "rederived": inc.rederived,
-                "how": how, "observed": self._facts(inc.scenarios.monitor),
+                "how": how, "found_in": inc.found_in, "sources": [s.to_json() for s in sources],
+                "observed": self._facts(inc.scenarios.monitor),
                 "rule": inc.rule, "law": inc.law, "tree": self.pv_tree,
                 "rulebook": self.ex.monitor_rulebook}
 
@@ -237,6 +244,9 @@ class _Builder:
         if inc.verdict == "dismissed":
             out.append(f"{ph.who(inc.monitor, True)} recorded that vehicle {v} potentially violated “{inc.action}” at "
                        f"{when}, but {self._dismissal()}, so there is no violation to answer for.")
+        elif inc.sources and inc.found_in == "own-record":
+            out.append(f"Vehicle {v}'s own record shows that it {ph.past(inc.action)}{self._manner()} at {when}; "
+                       "no monitor recorded it.")
         else:
             seen = "recorded" if inc.recorded else "observed"
             unrecorded = "" if inc.recorded else ", but recorded no potential violation"
@@ -260,7 +270,7 @@ class _Builder:
         if inc.verdict == "punishable":
             lia = doc["liability"]
             out.append(f"The {lia['liable']} is liable: {lia['in_control_text']}.")
-        if inc.margin is not None and inc.verdict != "dismissed":
+        if inc.margin is not None and (inc.verdict != "dismissed" or inc.why.startswith("not proven")):
             out.append(f"Measured margin: {ph.margin_text(inc.margin)}.")
         out += self._doubts()
         if inc.findings:
@@ -284,10 +294,11 @@ class _Builder:
         return out
 
     def _doubts(self) -> list[str]:
-        """The contradictions the verdict itself rests on, said in the summary rather than left
-        among the findings: a stated fact the measurements contradict stays in the scenario (DESIGN
-        "Reasoning": a finding, not a silent override), so the verdict stands on it, and whoever
-        acts on the verdict must weigh it first."""
+        """The contradictions the verdict's proof uses, said in the summary rather than left among
+        the findings: a stated fact the measurements contradict stays in the scenario (DESIGN
+        "Reasoning": a finding, not a silent override). A verdict that turned on one is not proven
+        (dismissed, DESIGN "Weighing"), so one said here is a claim the verdict would reach on the
+        measurements too."""
         if self.inc.verdict == "dismissed":
             return []
         used = trees.facts_used(self.pv_tree) | trees.facts_used(self.verdict_tree)
@@ -295,8 +306,8 @@ class _Builder:
             for node in trees.exceptions(self.verdict_tree, MUST_NOT.functor):
                 used |= trees.facts_used(node)
         return [f"In doubt: the verdict rests on “{f.fact}”, and the record's measurements contradict it: "
-                f"{f.detail.split(', but ', 1)[-1]}. The verdict is taken on what was stated, as the rules read it; "
-                "the contradiction is for whoever weighs the evidence (see Findings)."
+                f"{f.detail.split(', but ', 1)[-1]}. The verdict is the same on what the measurements show, so it "
+                "stands; the contradiction is for whoever weighs the evidence (see Findings)."
                 for f in self.inc.findings if f.kind == "contradiction" and f.fact in used]
 
     # -- helpers --------------------------------------------------------------------------------------

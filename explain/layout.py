@@ -84,7 +84,8 @@ def _potential_violation(doc: dict, full: bool) -> list[Block]:
     rule = doc["incident"]["rule"]
     out: list[Block] = [("heading", "1. The potential violation"),
                         ("para", f"The potential violation of “{doc['incident']['action']}” was {pv['how']}. "
-                                 "The monitor observed:")]
+                                 + ("The record shows:" if pv.get("found_in") == "own-record"
+                                    else "The monitor observed:"))]
     out.append(("list", _facts(pv["observed"]) or ["nothing about the vehicle"]))
     out += _measured(doc)
     if pv["tree"] and pv["tree"]["status"] == "failed" and pv["tree"]["text"] in _asked(doc):

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Iterable, Iterator
 
-from reasoner.model import Finding, Incident, Margin, Penalty
+from reasoner.model import OWN_RECORD, Finding, Incident, Margin, Penalty, found_in
 from reasoner.when import format_time
 
 if TYPE_CHECKING:
@@ -22,6 +22,8 @@ def incident_line(inc: Incident, number: int | None = None) -> str:
               inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
     if inc.margin is not None:
         fields.append(_margin(inc.margin))
+    if (found := _found(inc)) is not None:
+        fields.append(found)
     fields.append(_findings(inc.findings))
     line = "  ".join(fields)
     return f"{number:>3}  {line}" if number is not None else line
@@ -35,6 +37,17 @@ def explanations(case: Case, incidents: Iterable[tuple[int, Incident]]) -> Itera
         yield f"── incident {n}: {inc.run} {inc.id} ──\n" + explain_incident(case.investigation, inc) + "\n"
 
 
+def _found(inc: Incident) -> str | None:
+    """Where the act was found, where that is news: only in the vehicle's own record, or in
+    several records of the one act (one incident, one penalty); nothing for one monitor's."""
+    sources = inc.sources
+    if sources and found_in(sources) == OWN_RECORD:
+        return "found in the vehicle's own record only"
+    if len(sources) > 1:
+        return f"one act, {len(sources)} records ({', '.join(dict.fromkeys(s.src for s in sources))})"
+    return None
+
+
 def _penalty(p: Penalty | None) -> str:
     if p is None:
         return "no penalty"
@@ -45,6 +58,7 @@ def _penalty(p: Penalty | None) -> str:
 
 SHORT = {   # a margin's quantity as a listing line says it, value and unit filled in
     "seconds after red the stop line was crossed": "crossed {} after red",
+    "seconds into red-and-amber the stop line was crossed": "crossed {} into red-and-amber",
     "metres from the stop line when amber came": "{} from the line at amber",
     "seconds stationary at the Stop line": "stood {} at the Stop line",
     "deceleration of the other road user": "made another brake at {}",
@@ -54,9 +68,11 @@ SHORT = {   # a margin's quantity as a listing line says it, value and unit fill
 
 
 def _margin(m: Margin) -> str:
-    amount = f"{m.value:g} {m.unit}"
+    amount = f"{m.bound + ' ' if m.bound else ''}{m.value:g} {m.unit}"
     text = SHORT[m.quantity].format(amount) if m.quantity in SHORT else f"{m.quantity} {amount}"
-    return text + (" (uncertain)" if m.uncertain else "")
+    if m.uncertainty is not None:
+        text += f" (± {m.uncertainty:g} {m.unit})"
+    return text + (" (uncertain)" if m.uncertain else "") + (" (within its uncertainty)" if m.unproven else "")
 
 
 def _findings(findings: tuple[Finding, ...]) -> str:

@@ -41,7 +41,10 @@ def margin_text(m: Any) -> str:
     """A reasoner.model.Margin in words: "seconds after red the stop line was crossed: 1.4 s
     (speed at the line 22.5 mph)", with what the record leaves open."""
     figures = "; ".join(f"{q} {v:g} {u}" for q, v, u in m.figures)
-    text = f"{m.quantity}: {m.value:g} {m.unit}" + (f" ({figures})" if figures else "")
+    bound = f"{m.bound} " if m.bound else ""
+    spread = f" ± {m.uncertainty:g} {m.unit}" if m.uncertainty is not None else ""
+    text = f"{m.quantity}: {bound}{m.value:g} {m.unit}{spread}" + (f" ({figures})" if figures else "")
+    text += f" [not proven: {m.unproven}]" if m.unproven else ""
     return text + (f" [uncertain: {m.uncertain}]" if m.uncertain else "")
 
 

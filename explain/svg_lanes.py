@@ -147,7 +147,7 @@ def roads(pic: dict[str, Any], view: View) -> list[str]:
 
 
 def _line_name(kind: str | None) -> str:
-    return {"signal": "signal stop line", "stop": "Stop line", "give_way": "Give Way line"}.get(kind or "",
+    return {"signal": "signal stop line", "stop_sign": "Stop line", "give_way": "Give Way line"}.get(kind or "",
                                                                                                  "stop line")
 
 

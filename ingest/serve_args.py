@@ -46,8 +46,9 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--quarantine-bytes", type=int, default=QuarantineCap.bytes, metavar="BYTES",
                     help="The most bytes of refused samples the quarantine keeps.")
     ap.add_argument("--checkpoint-key", type=Path, default=None, metavar="KEY",
-                    help="Sign every checkpoint with this checkpoint key (`gaps keys checkpoint`), and refuse to "
-                         "extend a run whose stored tail its last signed checkpoint does not vouch for.")
+                    help="Sign every checkpoint with this checkpoint key (`gaps keys checkpoint`), record each run's "
+                         "first signed head in KEY.pub, and refuse to extend a run whose stored tail does not "
+                         "extend its last signed head (from --witness, else KEY.pub).")
     ap.add_argument("--witness", type=Path, default=None, metavar="FILE",
                     help="Append each signed checkpoint's tree head to FILE (JSON lines, fsynced), for "
                          "`gaps verify --against FILE`; needs --checkpoint-key.")

@@ -99,7 +99,7 @@ class IngestService:
                 db_path, inbox, self._stats, self._tracker, batch_size=batch_size,
                 flush_interval_s=flush_interval_s, durable=durable, trusted_keys=trusted_keys, watch=watch,
                 quarantine_cap=quarantine_cap,
-                checkpoint_key=checkpoint_key, head_sinks=sinks,
+                checkpoint_key=checkpoint_key, head_sinks=sinks, witness=witness,
             )
             self._writer.start()
             self._writer.started(OPEN_TIMEOUT_S)

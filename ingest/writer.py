@@ -52,9 +52,11 @@ class BatchWriter(threading.Thread):
         quarantine_cap: QuarantineCap = QuarantineCap(),
         checkpoint_key: CheckpointKey | None = None,
         head_sinks: tuple[HeadSink, ...] = (),
+        witness: str | os.PathLike | None = None,
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
         self._checkpoint_key = checkpoint_key
+        self._witness = witness  # its last head of each run is the head a run's tail must extend
         self._head_sinks = head_sinks
         self._keys = trusted_keys
         self._watch = watch
@@ -98,7 +100,7 @@ class BatchWriter(threading.Thread):
         instead of costing every reader a scan of everything appended since its last snapshot."""
         try:
             store = Store(self._db_path, durable=self._durable, quarantine_cap=self._quarantine_cap,
-                          checkpoint_key=self._checkpoint_key)
+                          checkpoint_key=self._checkpoint_key, witness=self._witness)
             try:
                 enable_snapshots(store)
                 if self._head_sinks:
@@ -232,6 +234,9 @@ class BatchWriter(threading.Thread):
                 stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
                 quarantine_full=report.quarantine_full,
             )
+            if store.trust_problem is not None:  # the key file could not record a run's first signed head
+                self._stats.record_error(f"key file: {store.trust_problem}")
+                log.error("ingest: %s", store.trust_problem)
             if report.quarantine_full and not self._quarantine_full:
                 self._quarantine_full = True
                 cap = store.quarantine_cap

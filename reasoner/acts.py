@@ -16,6 +16,7 @@ SECOND = 1_000_000_000
 NEAR_S = 5.0          # a passage this far (in time) from a moment is still the one of its act
 SPEEDING = "exceed the speed limit"
 BOX = "enter the box junction"
+PASSAGE = "junction passage"     # the act of a junction rule: one passage (model.Act)
 
 
 def of(passage: Passage | None, t: int) -> Passage | None:

@@ -20,12 +20,13 @@ from store import GapsError, NoSuchRun, Store, VerifyReport
 
 from .explanation import Explanation
 from .investigation import Investigation
-from .model import Incident
+from .model import MONITORS, OWN_RECORD, Incident, found_in
 from .scene import Scene, run_start, scene
 from .when import parse_time
 
 Progress = Callable[[int, int], None]
 VERDICTS = ("punishable", "mitigated", "dismissed")
+SOURCES = ("monitors", "own-record", "all")    # where an act was found (model.Source), as `source=` filters
 
 
 class NoSuchIncident(GapsError, LookupError):
@@ -72,24 +73,33 @@ class Case:
 
     # -- what happened -------------------------------------------------------------------
     def incidents(self, run: str | None = None, *, verdict: str | None = None, vehicle: str | None = None,
-                  rule: str | None = None, progress: Progress | None = None) -> list[Incident]:
+                  rule: str | None = None, source: str | None = None,
+                  progress: Progress | None = None) -> list[Incident]:
         """Every potential violation of `run` (default: of every run), judged, in time order;
-        filtered by verdict, vehicle and rule (rules compare without case: "hc 176")."""
+        filtered by verdict, vehicle, rule (rules compare without case: "hc 176") and where the
+        act was found (`source`: "monitors", found by a monitor; "own-record", found in the
+        vehicle's own record only; "all")."""
         if verdict is not None and verdict not in VERDICTS:
             raise GapsError(f"unknown verdict {verdict!r}; verdicts: {', '.join(VERDICTS)}")
+        if source is not None and source not in SOURCES:
+            raise GapsError(f"unknown source {source!r}; sources: {', '.join(SOURCES)}")
         if run is not None:
             self.require(run)
         runs = [run] if run is not None else self.runs()
         found = [inc for r in runs for inc in self._judged(r, progress)]
-        return [inc for inc in found if _matches(inc, verdict, vehicle, rule)]
+        return [inc for inc in found if _matches(inc, verdict, vehicle, rule, source)]
 
     def incident(self, run: str, wanted: str | int) -> Incident:
-        """One incident of the run by id ("monitor/m1:3") or 1-based number in time order."""
+        """One incident of the run by id ("monitor/m1:3"), the id of any record of its act (one
+        act, one incident: reasoner/oneact.py), or 1-based number in time order."""
         self.require(run)
         found = self._judged(run, None)
         text = str(wanted)
         for inc in found:
             if inc.id == text:
+                return inc
+        for inc in found:
+            if any(s.id == text for s in inc.sources):
                 return inc
         if text.isdigit() and 1 <= int(text) <= len(found):
             return found[int(text) - 1]
@@ -128,7 +138,16 @@ def open(path: str | os.PathLike, *, rules: Iterable[str | os.PathLike] = ()) ->
     return Case(Store.open_read_only(path), rules)
 
 
-def _matches(inc: Incident, verdict: str | None, vehicle: str | None, rule: str | None) -> bool:
+def _matches(inc: Incident, verdict: str | None, vehicle: str | None, rule: str | None,
+             source: str | None = None) -> bool:
     return ((verdict is None or inc.verdict == verdict)
             and (vehicle is None or inc.vehicle == vehicle)
-            and (rule is None or str(inc.rule).casefold() == rule.casefold()))
+            and (rule is None or str(inc.rule).casefold() == rule.casefold())
+            and _found(inc, source))
+
+
+def _found(inc: Incident, source: str | None) -> bool:
+    if source in (None, "all"):
+        return True
+    where = found_in(inc.sources)
+    return where == OWN_RECORD if source == OWN_RECORD else MONITORS in where

@@ -26,8 +26,8 @@ from store import EventRef, Store, derived_cache, parse_json
 
 from .derived import Contradiction
 from .measurement import Measurement
-from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Margin, Penalty, Proofs,
-                    RulebookChoice, Scenarios, StageProof)
+from .model import (Act, Control, Decision, DerivedFact, Finding, Incident, Liability, Margin, Penalty, Proofs,
+                    RulebookChoice, Scenarios, Source, StageProof)
 
 _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
@@ -193,7 +193,7 @@ def _digest(text: str) -> str:
 # reasoner/investigation.py).
 _TYPES: dict[str, type] = {cls.__name__: cls for cls in (
     EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
-    Control, Decision, Scenarios, StageProof, Proofs)}
+    Control, Decision, Scenarios, StageProof, Proofs, Act, Source)}
 
 
 def encode(value: Any) -> Any:

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from store import CollectorPaused, EventRef, State, Store, entity_since, state_of
 
-from . import acts, history
+from . import acts, history, oneact, stretches
 from .chain_status import ChainStatus, chain_status
 from .collector import JudgementCollector
 from .control import ROLE, control_at, liability_facts, role
@@ -47,17 +47,17 @@ from .le.render import arg_text
 from .le.sentences import constant
 from .le.terms import Atom, Cond, Var
 from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
-                    Scenarios, StageProof)
-from .measurement import Measurement, measure
+                    Scenarios, Source, StageProof)
+from .measurement import Measurement, measure, rule_key
 from .passage import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
 from .sweep import Candidate, Sweep
 from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks, recorded_rulebooks
-from .scenarios import (Scenario, entity, has_perception, monitor_scenario, spawn_facts, vehicle_action,
+from .scenarios import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
-                         IS_AN_OFFENCE_UNDER, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, MITIGATELY_VIOLATES,
-                         POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
+                         IS_AN_OFFENCE_UNDER, IS_DRIVING_ITSELF, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY,
+                         MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES)
 
 if TYPE_CHECKING:
     from .explanation import Explanation
@@ -65,6 +65,7 @@ if TYPE_CHECKING:
 LIABLE_ORDER = tuple(ROLE.values())   # who is named `liable` when several parties are
 SECOND = 1_000_000_000
 SWEPT_NEAR_S = 15.0                   # a swept act this close to a judged one of the vehicle is that one
+STATED_NEAR_S = 1.0                   # a monitor's statement this old at an act its measurements found is of it
 # The cases are found and judged with the cyclic collector paused (reasoner/collector.py): its
 # full passes traverse every case read, every incident judged so far and every value decoded from
 # the kept measurements, a third of a judgement from kept measurements, to find almost nothing.
@@ -114,6 +115,7 @@ class _Validation:
     proof: StageProof | None = None
     rule: Any = None                          # the rule of the verdict's proof, where it holds
     dispute: Finding | None = None
+    set_aside: tuple[tuple[Any, EventRef], ...] = ()   # contested claims the verdict was taken without
 
 
 @dataclass(frozen=True)
@@ -130,7 +132,7 @@ class _Judged:
     liability: Liability | None
 
 
-_SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties")
+_SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties", "act", "sources")
 
 
 class KeptIncident:
@@ -283,7 +285,8 @@ class Investigation:
         if not kept_unraised:
             self.memo(run).put("unraised", unraised_key, unraised, plain=True)
         self.memo(run).save()
-        return found
+        merged = [group[0] if len(group) == 1 else _merged(group) for group in oneact.groups(found)]
+        return sorted(merged, key=lambda inc: inc.t) if len(merged) < len(found) else merged
 
     def _read(self, run: str, what: tuple, read: Callable[[], Any]) -> Any:
         """What `read` gives, or what another investigation sharing `shared` read of the same
@@ -377,12 +380,13 @@ class Investigation:
         if monitor is not None:
             rederiver = Rederiver(self.engine, monitor.rulebook, self.reader)
             sweeper = Sweep(self.context(run).map)
+            own = Sweep(self.context(run).map)     # the road users' own record, swept apart (its own time order)
             with CollectorPaused():    # hundreds of thousands of parsed observations, no cycles
                 eps = list(episodes(_fed(self.store.events(run, kinds=["monitor.observation"]), sweeper), rederiver))
-                if not sweeper.fed:
-                    for state in self.store.events(run, kinds=["entity.state"]):
-                        sweeper.add(state)
-            swept = sweeper.candidates()
+                for state in self.store.events(run, kinds=["entity.state"]):
+                    if _well_formed(state):         # a damaged row's event is no measurement
+                        own.add(state)
+            swept = sorted(sweeper.candidates() + own.candidates(), key=lambda c: (c.t, c.event["src"], c.event["seq"]))
         todo = [(pv["t"], pv["src"], pv, episode) for pv, episode in match(eps, recorded)]
         todo += [(ep.first["t"], ep.monitor, None, ep) for ep in eps if not ep.recorded]
         todo += self._unrecorded(run, swept, todo)
@@ -409,8 +413,12 @@ class Investigation:
 
     def _unrecorded(self, run: str, swept: list[Candidate], todo: list) -> list:
         """The swept candidates no recorded or re-derived potential violation of the same act
-        already covers, as one-observation episodes."""
+        already covers, as one-observation episodes. A speeding candidate is the start of a
+        stretch over the limit, and is passed over only within the stretch's own gap tolerance
+        of another: a second stretch soon after a first is another act (the cases of one act
+        are one incident after judging, reasoner/oneact.py)."""
         near = int(SWEPT_NEAR_S * SECOND)
+        near_speeding = int(stretches.STRETCH_GAP_S * SECOND)
         taken: dict[tuple[str, str], list[int]] = {}
         for t, _, pv, ep in todo:
             vehicle, action = (str(pv["body"].get("vehicle")), str(pv["body"].get("action"))) if pv else \
@@ -419,11 +427,11 @@ class Investigation:
         out = []
         for c in swept:
             times = taken.setdefault((c.user, c.action), [])
-            if any(abs(c.t - t) <= near for t in times):
+            if any(abs(c.t - t) <= (near_speeding if c.action == acts.SPEEDING else near) for t in times):
                 continue
             times.append(c.t)
             junction = self.context(run).map.junction(c.junction)
-            src = c.event["src"] if c.event["kind"] == "monitor.observation" or not junction or not junction.monitors \
+            src = c.event["src"] if c.event.get("kind") == "monitor.observation" or not junction or not junction.monitors \
                 else junction.monitors[0]
             out.append((c.t, src, None, Episode(src, c.user, c.action, [c.event])))
         return out
@@ -471,9 +479,14 @@ class Investigation:
         the monitor's proof names none, the validator's proof is worked out for its rule)."""
         unknown: list[Finding] = []
         mscen = self._monitor_scenario(case)
+        sources = _sources(case, mscen)         # before the measured facts join the scenario
         vscen = vehicle_scenario(case.state, case.vehicle)
         measured = self._measured(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, overruled=measured.overruled)
+        weighing = _weighing_of(measured, case.action)
+        case = self._at_act(case, weighing[2])
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, measured.derived, unknown, proofs, overruled=measured.overruled,
+                              weighing=weighing)
         if judged is None:
             return None
         validation, control, rule = judged.validation, judged.control, judged.rule
@@ -483,8 +496,10 @@ class Investigation:
                     *_present(fault),
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
+                    _driving_contradicted(case.vehicle, vscen, control),
                     *(c.to_finding() for c in _beliefs_overruled(measured)),
                     *_unmeasured_claims(measured, validation),
+                    *(Finding("map reading", text, (ref,)) for text, ref in measured.readings),
                     *missing_evidence(gaps, [f"vehicle/{case.vehicle}", case.monitor, *_signals(measured)],
                                       measured.at if measured.at is not None else case.t,
                                       {f"vehicle/{case.vehicle}": _last_seen(case.state, case.vehicle)}),
@@ -502,7 +517,7 @@ class Investigation:
             proofs=Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
-            rulebook_problems=tuple(self.problems.get(case.run) or ()))
+            rulebook_problems=tuple(self.problems.get(case.run) or ()), act=measured.act, sources=sources)
 
     def _summarised(self, case: _Case, gaps: Gaps) -> KeptIncident | None:
         """The case judged as far as its summary goes (`summaries` with `proofs` False: a
@@ -514,10 +529,14 @@ class Investigation:
         if judged is None:
             return None
         rule, liability = judged.rule, judged.liability
+        mscen = self._monitor_scenario(case)
+        sources = _sources(case, mscen)         # before the measured facts join the scenario
+        act = self._act(case, mscen, vehicle_scenario(case.state, case.vehicle))
         summary = {"id": _incident_id(case), "run": case.run, "t": case.t, "vehicle": case.vehicle,
                    "action": case.action, "verdict": judged.validation.verdict, "rule": rule.label if rule else None,
                    "liable": _liable(liability), "penalty": judged.penalty,
-                   "parties": liability.parties if liability else ()}
+                   "parties": liability.parties if liability else (), "act": act,
+                   "sources": sources}
         return KeptIncident([summary[name] for name in _SUMMARY], lambda: self._judge(case, gaps, True),
                             lambda: self._proofs_alone(case))
 
@@ -535,17 +554,21 @@ class Investigation:
         mscen = self._monitor_scenario(case)
         vscen = vehicle_scenario(case.state, case.vehicle)
         overruled = self._overruled(case, mscen, vscen)
-        judged = self._stages(case, mscen, vscen, self._derived(case, mscen, vscen), [], proofs, summary=True,
-                              sanctioned=sanctioned, overruled=overruled)
+        derived, weighing = self._derived(case, mscen, vscen), self._weighing(case, mscen, vscen)
+        case = self._at_act(case, weighing[2])
+        vscen = vehicle_scenario(case.state, case.vehicle)
+        judged = self._stages(case, mscen, vscen, derived, [], proofs, summary=True, sanctioned=sanctioned,
+                              overruled=overruled, weighing=weighing)
         return judged, mscen
 
     def _stages(self, case: _Case, mscen: Scenario, vscen: Scenario, derived: tuple[DerivedFact, ...],
                 unknown: list[Finding], proofs: bool, summary: bool = False, sanctioned: bool = True,
-                overruled: frozenset[str] = frozenset()) -> _Judged | None:
+                overruled: frozenset[str] = frozenset(), weighing: Weighing = ((), (), None)) -> _Judged | None:
         """What the stages answer of the case, on its scenarios and what its passage shows
         beside them (added to the Monitor Scenario here): None where it is no incident.
         `sanctioned` False: the penalty and who is liable are not asked (None), for the proofs
-        alone."""
+        alone. `weighing`: the claims the measurements contradict and the margins that prove
+        nothing (`_weighing`): a verdict that turns on either is not proven."""
         for f in derived:
             mscen.add([f.sentence], f.evidence[0] if f.evidence else EventRef.of(case.anchor))
         if overruled:       # stated predictions the measurements contradict: findings, not the act (issue 35)
@@ -560,8 +583,11 @@ class Investigation:
             validation = _Validation("dismissed", _unsupported(mscen, bool(derived)))
         else:
             validation = self._validate(case, judged_on, vscen, mscen, unknown, frozenset(f.sentence for f in derived),
-                                        proofs or rule is None, summary)
-        control = Control.from_json(control_at(entity(case.state, case.vehicle), case.t))
+                                        proofs or rule is None, summary, weighing[0])
+            validation = self._raised_on(case, mscen, validation, weighing[0], summary)
+            validation = _proved(validation, rule or validation.rule, weighing[1], summary)
+        control = Control.from_json(control_at(entity(case.state, case.vehicle),
+                                               weighing[2] if weighing[2] is not None else case.t))
         penalty, liability = self._sanctions(case, validation, control, vscen) if sanctioned else (None, None)
         return _Judged(pv_answer, rederived, judged_on, validation, control, rule or validation.rule, penalty, liability)
 
@@ -572,6 +598,12 @@ class Investigation:
         than any other kept entry)."""
         found = self.memo(case.run).get("derived", _measurement_key(case, mscen))
         return self._measured(case, mscen, vscen).derived if found is None else found
+
+    def _act(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Any:
+        """The case's act as its measurement delimits it (`_measured`'s `act`), read from its own
+        kept entry beside the measurement, as `_derived` reads what a summary needs."""
+        found = self.memo(case.run).get("act", _measurement_key(case, mscen))
+        return self._measured(case, mscen, vscen).act if found is None else found[0]
 
     def _overruled(self, case: _Case, mscen: Scenario, vscen: Scenario) -> frozenset[str]:
         """The stated predictions the case's measurement overrules (Measurement.overruled), read
@@ -589,12 +621,38 @@ class Investigation:
         def measured() -> Measurement:
             found = self._measure(case, mscen, vscen)
             memo.put("derived", key, found.derived)
+            memo.put("act", key, [found.act])
             memo.put("overruled", key, tuple(sorted(found.overruled)))
+            memo.put("weighing", key, _weighing_of(found, case.action))
             return found
         return memo.remember("measurement", key, measured)
 
+    def _at_act(self, case: _Case, at: int | None) -> _Case:
+        """The case with the vehicle's status as recorded at the act's moment (DESIGN "Weighing":
+        the latest record before it; the spawn only a default): its spawn, latest entity.state and
+        ADS status read at `at` where the record changed them between the act and the case's time
+        (an ADS overridden, a call stood down, just after the act). Its perception and decision
+        stay those at the case's time (DESIGN "Reasoning": the Vehicle Scenario at t)."""
+        src = f"vehicle/{case.vehicle}"
+        record = case.state.entities.get(src)
+        if at is None or at >= case.t or record is None or not _changed_after(record, at):
+            return case
+        then = self._state(case.run, at, case.vehicle, case.monitor).entities.get(src)
+        if then is None:
+            return case
+        merged = {**record, **{kind: then.get(kind) for kind in ("spawn", "state", "ads", "despawned")}}
+        return replace(case, state=replace(case.state, entities={**case.state.entities, src: merged}))
+
+    def _weighing(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Weighing:
+        """What the case's measurement contradicts and what its margins leave unproven
+        (`_weighing_of`), read from its own kept entry beside the measurement, as `_derived`."""
+        found = self.memo(case.run).get("weighing", _measurement_key(case, mscen))
+        return _weighing_of(self._measured(case, mscen, vscen), case.action) if found is None else found
+
     def _measure(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Measurement:
-        return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts)
+        stretch = stretches.stretch_at(self.store, case.run, case.vehicle, case.t, self.context(case.run).map) \
+            if case.action == acts.SPEEDING else None
+        return measure(self._passage(case), case.t, case.action, mscen.facts, mscen.sentences, vscen.facts, stretch)
 
     def _passage(self, case: _Case) -> Passage | None:
         return history.passage(self.store, case.run, case.vehicle, case.t, context=self.context(case.run))
@@ -611,7 +669,7 @@ class Investigation:
         if not measured.present:
             return ()
         stated = {text for text, _ in mscen.facts}
-        own = [(text, ref) for text, ref in validation.scenario
+        own = [(text, ref) for text, ref in validation.scenario + validation.set_aside
                if text not in stated and ref is not None and ref.kind == "vehicle.perception"]
         if not own:
             return ()
@@ -624,12 +682,24 @@ class Investigation:
     def _monitor_scenario(self, case: _Case) -> Scenario:
         if case.episode is not None:
             obs = case.episode.observation_at(case.t)
+            if obs.get("kind") not in (None, "monitor.observation"):
+                return self._stated_beside(case)
             scenario = Scenario()
             scenario.add(obs["body"].get("facts"), EventRef.of(obs))
             return scenario
         scenario = monitor_scenario(case.state, case.monitor, case.vehicle)
         if not scenario.facts and case.pv is not None and isinstance(case.pv["body"].get("facts"), list):
             scenario.add(case.pv["body"]["facts"], EventRef.of(case.pv))
+        return scenario
+
+    def _stated_beside(self, case: _Case) -> Scenario:
+        """The Monitor Scenario of an act found in a road user's own measurements (an entity.state
+        the sweep named): what the junction's monitor stated of the vehicle at the act, where it
+        observed it within STATED_NEAR_S before (a camera that states the light but not the
+        crossing); else nothing stated, and the measurements alone show the act."""
+        scenario = monitor_scenario(case.state, case.monitor, case.vehicle)
+        if scenario.facts and not all(case.t - ref.t <= STATED_NEAR_S * SECOND for _, ref in scenario.facts):
+            return Scenario()
         return scenario
 
     def _rederived(self, case: _Case, mscen: Scenario, unknown: list[Finding]) -> tuple[Answer | None, Any]:
@@ -696,7 +766,7 @@ class Investigation:
 
     def _validate(self, case: _Case, judged_on: str, vscen: Scenario, mscen: Scenario,
                   unknown: list[Finding], derived: frozenset[str] = frozenset(), proofs: bool = True,
-                  summary: bool = False) -> _Validation:
+                  summary: bool = False, contested: tuple[tuple[str, str, tuple[str, ...]], ...] = ()) -> _Validation:
         """The verdict on the Validator Scenario, with its proof (`proofs` False: asked plainly,
         the proof left empty and no rule found). `summary`: for an incident's summary alone, so
         neither why nor the perception fault finding (what the verdict would be on the vehicle's
@@ -710,18 +780,78 @@ class Investigation:
         pv_atom = POTENTIALLY_VIOLATES.atom(me, act)
         facts, disputes = self._validator_facts(case, judged_on, rb, mine, seen, derived)
         verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + [pv_atom], proofs=proofs)
-        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
-        evidence = dict(rendered)
-        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
-                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
         dispute = None
         if disputes and not summary:
             alt, _ = self._verdict(rb, me, act, [a for a, _ in mine] + [pv_atom], proofs=False)
             if alt != verdict:
                 dispute = dispute_finding(disputes, rb, alt, verdict)
+        why = "" if summary else _why(verdict, rb, me, act)
+        turns = self._turns_on(rb, me, act, facts, pv_atom, verdict, contested)
+        extra: list[Atom] = []
+        set_aside: tuple[tuple[Any, EventRef], ...] = ()
+        if turns is not None:
+            sentence, words, alt, extra, kept = turns
+            set_aside = tuple((self._render(rb, a), ev) for a, ev in facts if (a, ev) not in kept)
+            facts = kept
+            if alt == "dismissed":
+                verdict, why = "dismissed", "" if summary else (
+                    f"not proven: the verdict is {verdict} only on “{sentence}”, which the measurements contradict "
+                    f"beyond their tolerance: {words}")
+            else:
+                verdict, answer = self._verdict(rb, me, act, [a for a, _ in facts] + extra + [pv_atom], proofs=proofs)
+                why = "" if summary else (
+                    f"{_why(verdict, rb, me, act)}, on what the measurements show: “{sentence}” was stated, "
+                    f"but the measurements contradict it beyond their tolerance ({words}), so it decides nothing")
+        rendered = tuple((self._render(rb, a), ev) for a, ev in facts)
+        evidence = dict(rendered)
+        proof = StageProof(rb.sha256, tuple(enrich(tree, rb, evidence) for tree in
+                                            (answer.proofs[:1] or [answer.why_not] if answer else [])))
         rule = rb.rule(answer.proofs[0]["rule"]) if answer and answer.holds else None
-        return _Validation(verdict, "" if summary else _why(verdict, rb, me, act), _choice(choice), rendered, proof,
-                           rule, dispute)
+        return _Validation(verdict, why, _choice(choice), rendered, proof, rule, dispute, set_aside)
+
+    def _raised_on(self, case: _Case, mscen: Scenario, validation: _Validation,
+                   contested: tuple[tuple[str, str, tuple[str, ...]], ...], summary: bool) -> _Validation:
+        """Not proven where the potential violation itself rests on a claim the measurements
+        contradict: the monitor rules no longer find it without the claim (a camera's "28 has
+        speed of 38" where the car's own record has 30.0 mph; DESIGN "Weighing")."""
+        monitor = case.rs["monitor"]
+        said = {text: words for text, words, _ in contested}
+        held = [text for text in mscen.sentences if isinstance(text, str) and text in said]
+        if validation.verdict == "dismissed" or monitor is None or not held:
+            return validation
+        rb = monitor.rulebook
+        measured = [(m, None) for text, _, shown in contested if text in held for m in shown]
+        rest = [(text, ref) for text, ref in mscen.facts if text not in said] + measured
+        if self.engine.holds(rb, POTENTIALLY_VIOLATES.atom(case.me, case.act), self.reader.atoms(rb, rest)):
+            return validation
+        why = "" if summary else (f"not proven: the potential violation rests on “{held[0]}”, and the measurements "
+                                  f"contradict it beyond their tolerance: {said[held[0]]}")
+        return replace(validation, verdict="dismissed", why=why)
+
+    def _turns_on(self, rb: Rulebook, me: Any, act: Any, facts: list[tuple[Atom, EventRef]], pv_atom: Atom,
+                  verdict: str, contested: tuple[tuple[str, str, tuple[str, ...]], ...]
+                  ) -> tuple[str, str, str, list[Atom], list[tuple[Atom, EventRef]]] | None:
+        """Where the verdict turns on a claim the measurements contradict beyond tolerance: the
+        claim, what the measurements show, the verdict on them (asked with what they derive in the
+        claims' place), the atoms they derive and the facts without the claims; None where no
+        contested claim is in the scenario or the verdict is the same without it (DESIGN
+        "Weighing": the verdict rests on what is proved, whichever side a claim helps)."""
+        if verdict == "dismissed" or not contested:
+            return None
+        atoms = {a: text for text, _, _ in contested for a, _ in self.reader.pairs(rb, [(text, None)], [])}
+        held = [a for a, _ in facts if a in atoms]
+        if not held:
+            return None
+        texts = {atoms[a] for a in held}
+        kept = [(a, ev) for a, ev in facts if a not in atoms]
+        have = {a for a, _ in kept}
+        measured = [a for a in self.reader.atoms(rb, [(m, None) for text, _, shown in contested if text in texts
+                                                      for m in shown]) if a not in have]
+        alt, _ = self._verdict(rb, me, act, [a for a, _ in kept] + measured + [pv_atom], proofs=False)
+        if alt == verdict:
+            return None
+        text = atoms[held[0]]
+        return text, next(words for said, words, _ in contested if said == text), alt, measured, kept
 
     def _render(self, rb: Rulebook, atom: Atom) -> str:
         """rb.render(atom), once per rulebook and atom in this investigation: a regression's
@@ -753,9 +883,10 @@ class Investigation:
             have = {a for a, _ in out}
             out += [(a, ev) for a, ev in seen if a in measured and a not in have]
             return out, [d for d in disputes if d["vehicle"] or any(a not in measured for a, _ in d["monitor"])]
-        spawn = (entity(case.state, case.vehicle) or {}).get("spawn")
+        record = entity(case.state, case.vehicle) or {}
+        spawn = record.get("spawn")
         own = [(a, EventRef.of(spawn, case.state.run, "entity.spawn"))
-               for a in self.reader.known(rb, spawn_facts(case.vehicle, spawn["body"]))] if spawn else []
+               for a in self.reader.known(rb, status_facts(case.vehicle, record))] if spawn else []
         return own + seen, []
 
     def _decision_fault(self, case: _Case, action: Decision | None, vscen: Scenario,
@@ -869,6 +1000,7 @@ class Investigation:
                                       texts=False)
             found.append(Penalty(arg_text(offence), arg_text(law.bindings[0][0][2]) if law.bindings else None,
                                  amount, points))
+        found = list(dict.fromkeys(found))     # one answer per proof: a fact stated twice proves it twice
         if not found:
             return None
         found.sort(key=lambda p: (-_num(p.fine_gbp), -_num(p.points), p.offence))
@@ -909,6 +1041,69 @@ def _unsupported(mscen: Scenario, measured: bool) -> str:
                 "measured), does not show the potential violation it recorded")
     return ("the monitor's own observation does not show the potential violation it recorded" if mscen.facts
             else "no observation of the vehicle by the monitor supports the potential violation it recorded")
+
+
+def _driving_contradicted(vehicle: str, vscen: Scenario, control: Control) -> Finding | None:
+    """A contradiction finding where the vehicle states it is driving itself while its ads.event
+    record, as it stood at the act, has the feature not engaged (DESIGN "Weighing": status at the
+    act is the latest record before it; who drove follows that record, control.py)."""
+    said = IS_DRIVING_ITSELF.text(vehicle)
+    ref = next((ref for text, ref in vscen.facts if text == said and ref is not None), None)
+    last = control.last_ads_event
+    if ref is None or control.engaged or not last:
+        return None
+    event = EventRef(ref.run, last["src"], last["seq"], last["t"], "ads.event")
+    return Finding("contradiction", f"\"{said}\" was stated ({ref.src} #{ref.seq}), but its ads.event record has the "
+                   f"feature not engaged at the act (last: {last.get('event')}, {last['src']} #{last['seq']})",
+                   (ref, event), fact=said)
+
+
+Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...], int | None]
+
+
+def _weighing_of(measured: Measurement, action: str) -> Weighing:
+    """The claims the measurement contradicts (sentence, what it shows, what it derives), by rule
+    why a margin proves nothing (reasoner/margins.py `unproven`), and the act's moment: for a
+    junction act, when the vehicle crossed its line (else entered the junction) by the moment it
+    was judged at, the act itself; a speeding or box act is judged when recorded."""
+    if not measured.present:
+        return (), (), None
+    return measured.contested, measured.unproven(), _act_moment(measured, action)
+
+
+def _act_moment(measured: Measurement, action: str) -> int | None:
+    at = measured.at
+    if at is None or action in (acts.SPEEDING, acts.BOX):
+        return at
+    for what in ("crossed the stop line", "entered the junction"):
+        found = [t for said, t in measured.moments if said == what and t <= at]
+        if found:
+            return found[-1]
+    return at
+
+
+def _changed_after(record: dict, at: int) -> bool:
+    """Whether the vehicle's status may have changed between the act and the record's time: an
+    ads.event after it, or, for a vehicle that is or was on an emergency call, a state after it."""
+    ads = (record.get("ads") or {}).get("last")
+    if ads and ads.get("t", 0) > at:
+        return True
+    spawn = ((record.get("spawn") or {}).get("body") or {}).get("emergency")
+    state = record.get("state") or {}
+    return (spawn is True or (state.get("body") or {}).get("emergency") is True) and state.get("t", 0) > at
+
+
+def _proved(validation: _Validation, rule: Any, unproven: tuple[tuple[str | None, str], ...],
+            summary: bool) -> _Validation:
+    """A conviction needs the act's margin beyond its uncertainty (DESIGN "Margins"): a
+    punishable verdict whose rule's margin does not exceed it is not proven, and dismissed so."""
+    if validation.verdict != "punishable" or not unproven:
+        return validation
+    key = rule_key(rule.label if rule is not None else None)
+    why = next((w for r, w in unproven if r == key), None)
+    if why is None:
+        return validation
+    return replace(validation, verdict="dismissed", why="" if summary else f"not proven: {why}")
 
 
 def _liable(liability: Liability | None) -> str:
@@ -957,6 +1152,8 @@ def _disagreement(case: _Case, mscen: Scenario, rederived: bool, measured: bool)
     not record."""
     if case.pv and rederived:
         return None
+    if not case.pv and not str(case.anchor.get("src", "")).startswith("monitor/"):
+        return None             # an act found in a road user's own record: no monitor raised or missed it
     if case.pv:
         detail = ("the monitor recorded this potential violation, but the monitor rules do not derive it from "
                   "its own observation of the vehicle" + (" with what the measurements show at the act"
@@ -987,6 +1184,11 @@ def _last_seen(state: State, vehicle: str) -> int | None:
     record = entity(state, vehicle) or {}
     times = [record[k]["t"] for k in ("state", "perception", "decision") if record.get(k)]
     return max(times) if times and not record.get("despawned") else None
+
+
+def _well_formed(event: Any) -> bool:
+    return type(event) is dict and type(event.get("body")) is dict and type(event.get("t")) is int \
+        and type(event.get("src")) is str and type(event.get("seq")) is int
 
 
 def _fed(events: Iterable[dict], sweeper: Sweep) -> Iterable[dict]:
@@ -1098,3 +1300,31 @@ def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision 
             out.append(r)
     return tuple(out)
 
+
+
+def _sources(case: _Case, mscen: Scenario) -> tuple[Source, ...]:
+    """The records the case's act was raised from: its anchor (the recorded potential violation,
+    the monitor's observation it was raised from, or the road user's own measurement the sweep
+    named) and, where another source's statements are its Monitor Scenario (a camera's light
+    beside the vehicle's own positions), that source too."""
+    anchor = case.anchor
+    kind = anchor.get("kind") or ("monitor.potential_violation" if case.pv else "monitor.observation")
+    how = "recorded" if case.pv else ("observed" if kind == "monitor.observation" else "measured")
+    out = [Source(_incident_id(case), anchor["src"], kind, how)]
+    for _, ref in mscen.facts:      # (the measured facts added to it cite entity.state, signals, the map)
+        if ref is not None and ref.kind == "monitor.observation" and ref.src not in {s.src for s in out}:
+            out.append(Source(f"{ref.src}:{ref.seq}", ref.src, ref.kind, "stated"))
+    return tuple(out)
+
+
+def _merged(group: list) -> Any:
+    """One incident for the records of one act (reasoner/oneact.py): whole incidents merged now;
+    incidents read by their summaries merged by their summaries, and whole when asked for."""
+    if all(isinstance(i, Incident) for i in group):
+        return oneact.merge(group)
+    rep, first = oneact.representative(group), oneact.named(group)
+    summary = {name: getattr(rep, name) for name in _SUMMARY}
+    summary.update(id=first.id, t=first.t, sources=oneact.sources_of([first, *(i for i in group if i is not first)]))
+    return KeptIncident([summary[name] for name in _SUMMARY],
+                        lambda: oneact.merge([i.whole() if isinstance(i, KeptIncident) else i for i in group]),
+                        lambda: rep.proofs)

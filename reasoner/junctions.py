@@ -31,8 +31,13 @@ Point = tuple[float, float]
 
 COMPASS = ("east", "north", "west", "south")
 UNIT = {"east": (1.0, 0.0), "north": (0.0, 1.0), "west": (-1.0, 0.0), "south": (0.0, -1.0)}
-MINOR_KINDS = ("stop", "give_way", "give way")
-CONTROL_OF_KIND = {"give way": "give_way", "signal": "lights", "signals": "lights", "traffic_light": "lights"}
+KINDS = ("signal", "stop_sign", "give_way")   # DESIGN's stop-line kinds (diagrams 1001, 1002.1, 1003)
+MINOR_KINDS = ("stop_sign", "give_way")
+CONTROL_OF_KIND = {"signal": "lights", "stop_sign": "stop", "give_way": "give_way"}
+# A producer's word for a line, read as DESIGN's kind; "stop" alone is read by the junction's
+# control (below: _kind_read), since "the stop line" is as much the line at signals as a Stop sign's.
+SYNONYMS = {"give way": "give_way", "signals": "signal", "traffic_light": "signal", "stop sign": "stop_sign"}
+STOP_BY_CONTROL = {"lights": "signal", "stop": "stop_sign"}
 MAX_COORD_M = 1e7            # 10,000 km: anything further is not a position on a road map
 DEFAULT_EXTENT_M = 10.0      # "in the junction" within 10 m of the centre, when the map says nothing
 ROAD_SNAP_M = 15.0           # a position this close to a road (two lanes and a verge) is on it
@@ -88,10 +93,11 @@ class StopLine:
     approach: str
     a: Point
     b: Point
-    kind: str
+    kind: str              # DESIGN's kind (KINDS), "" where the map gives none, else the producer's word
     source: str
     outward: Point
     segment: bool          # a segment from the map (lateral extent known), or a whole arm
+    reading: str | None = None   # how the producer's word was read, where it was not DESIGN's own
 
     def to_line(self, x: float, y: float) -> float:
         """Metres still to go to the line (negative: past it)."""
@@ -107,8 +113,11 @@ class StopLine:
         return -slack_m <= along <= length + slack_m
 
     def to_json(self) -> dict[str, Any]:
-        return {"approach": self.approach, "from": list(self.a), "to": list(self.b), "kind": self.kind,
-                "source": self.source}
+        out = {"approach": self.approach, "from": list(self.a), "to": list(self.b), "kind": self.kind,
+               "source": self.source}
+        if self.reading:
+            out["reading"] = self.reading
+        return out
 
 
 @dataclass(frozen=True)
@@ -205,6 +214,7 @@ class Map:
     problems: tuple[str, ...]
     _grid: dict[tuple[int, int], tuple[int, ...]] = field(default_factory=dict, compare=False, repr=False)
     _around: dict[tuple[int, int], tuple[Junction, ...]] = field(default_factory=dict, compare=False, repr=False)
+    _roads_by_id: dict[str, Road] = field(default_factory=dict, compare=False, repr=False)
 
     def junction(self, ident: str) -> Junction | None:
         return next((j for j in self.junctions if j.id == ident), None)
@@ -224,7 +234,9 @@ class Map:
     def road(self, road_id: Any, x: float | None, y: float | None) -> Road | None:
         """The road a position is on: the one its producer named, else the nearest within
         ROAD_SNAP_M."""
-        named = next((r for r in self.roads if isinstance(road_id, str) and r.id == road_id), None)
+        if not self._roads_by_id and self.roads:
+            self._roads_by_id.update((r.id, r) for r in reversed(self.roads))    # the first of an id, as before
+        named = self._roads_by_id.get(road_id) if isinstance(road_id, str) else None
         if named is not None or x is None or y is None:
             return named
         best = min(self.roads, key=lambda r: r.distance(x, y), default=None)
@@ -308,21 +320,21 @@ def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[tup
         if not isinstance(raw.get("id"), str) or x is None or y is None:
             problems.append(f"a junction without an id and a position is left out: {str(raw)[:80]}")
             continue
-        lines = _lines(raw, (x, y), problems)
+        control = raw.get("control") if isinstance(raw.get("control"), str) else "none"
+        lines = _lines(raw, (x, y), control, problems)
         extent, square, extent_source = _extent(raw, (x, y), lines)
         box, boxed = _box(raw.get("box"))
         major, major_source = _major(raw, (x, y), lines, roads)
-        control = raw.get("control") if isinstance(raw.get("control"), str) else "none"
         cones = monitors.get(raw["id"], [])
         yield Junction(raw["id"], x, y, control, lines, extent, square, extent_source, box, boxed, major,
                        major_source, tuple(src for src, _ in cones), ref, _unwatched(x, y, cones))
 
 
-def _lines(raw: dict, centre: Point, problems: list[str]) -> tuple[StopLine, ...]:
+def _lines(raw: dict, centre: Point, control: str, problems: list[str]) -> tuple[StopLine, ...]:
     if isinstance(raw.get("stop_lines"), list):
         lines = []
         for item in _items(raw["stop_lines"], MAX_LINES, f"stop lines at {raw['id']}", problems):
-            line = _segment_line(item, centre)
+            line = _segment_line(item, centre, raw["id"], control)
             if line is None:
                 problems.append(f"a stop line of {raw['id']} is not a line away from its centre: {str(item)[:80]}")
             else:
@@ -331,11 +343,34 @@ def _lines(raw: dict, centre: Point, problems: list[str]) -> tuple[StopLine, ...
     distance = finite(raw.get("stop_line_m"), 1000.0)
     if distance is None or distance <= 0:
         return ()
-    kind = {"stop": "stop", "give_way": "give_way", "lights": "signal"}.get(raw.get("control"), "")
+    kind = {"stop": "stop_sign", "give_way": "give_way", "lights": "signal"}.get(control, "")
     return tuple(_arm_line(approach, centre, distance, kind) for approach in COMPASS)
 
 
-def _segment_line(item: dict, centre: Point) -> StopLine | None:
+def _kind_read(word: Any, junction: str, approach: str, control: str) -> tuple[str, str | None]:
+    """DESIGN's kind for a producer's word, and how it was read where the word was not DESIGN's
+    own (None: it was, or there was none). A bare "stop" is read by the junction's control
+    (lights: the line at signals; stop: the Stop sign's line); where the control does not
+    settle it, the word is read as it says (a Stop sign's line), and the reading says so."""
+    if not isinstance(word, str) or not word.strip():
+        return "", None
+    low = word.strip().lower()
+    if low in KINDS:
+        return low, None
+    line = f"the {approach} stop line of {junction}"
+    if low == "stop":
+        kind = STOP_BY_CONTROL.get(control)
+        if kind is not None:
+            return kind, (f"{line} has kind 'stop', read as '{kind}' by the junction's control '{control}' "
+                          "(DESIGN: a bare 'stop' is read by its junction's control)")
+        return "stop_sign", (f"{line} has kind 'stop' at a junction whose control '{control}' does not say which "
+                             "line it is; read as 'stop_sign', the line of a Stop sign, as the word says")
+    if low in SYNONYMS:
+        return SYNONYMS[low], f"{line} has kind {word!r}, read as {SYNONYMS[low]!r}"
+    return word, None
+
+
+def _segment_line(item: dict, centre: Point, junction: str, control: str) -> StopLine | None:
     a, b = point(item.get("from")), point(item.get("to"))
     if a is None or b is None or not isinstance(item.get("approach"), str):
         return None
@@ -349,8 +384,8 @@ def _segment_line(item: dict, centre: Point) -> StopLine | None:
         return None
     if towards_centre > 0:
         n = (-n[0], -n[1])
-    kind = item.get("kind") if isinstance(item.get("kind"), str) else ""
-    return StopLine(item["approach"], a, b, kind, "map stop_lines", n, True)
+    kind, reading = _kind_read(item.get("kind"), junction, item["approach"], control)
+    return StopLine(item["approach"], a, b, kind, "map stop_lines", n, True, reading)
 
 
 def _arm_line(approach: str, centre: Point, distance: float, kind: str) -> StopLine:

@@ -3,7 +3,9 @@
 
     margin(passage, action, rule=None) -> model.Margin | None
 
-    red light (HC 176)      seconds after red the stop line was crossed
+    red light (HC 176)      seconds after red the stop line was crossed ("at least" where red was
+                            already showing at its signal's first report); on red-and-amber,
+                            seconds into red-and-amber (TSRGD 2016 Sch 14 Pt 1 para 5(7))
     amber (HC 175)          metres from the line when amber came (with the speed, rule 126's stopping
                             distance at it, and the difference)
     Stop line (HC 171)      seconds stationary at the Stop line before crossing it (0 when it never stood)
@@ -12,11 +14,18 @@
                             threshold it is held against (FORCE_DECEL_MPS2) and the conflict's measures
                             (PET, TTC, projected gap, DRAC: reasoner/conflicts.py)
     box junction (HC 174)   seconds stopped in the box
-    speed limit             mph over the limit (the fastest sample of the passage)
+    speed limit             mph over the limit: the fastest sample of the act's own stretch over the
+                            limit of the road it was on then (the stretch around the act's moment)
 
 The rule, where given ("HC 176"), picks the quantity; without one, the action and what the passage
 shows do (the light it crossed on, the junction's control). None where the passage holds nothing
 to measure it by.
+
+Each margin of red, amber and speed carries its uncertainty (reasoner/tolerance.py) and, where
+it does not exceed it, `unproven`: why the act is not proved by it (the investigation then finds
+a conviction not proven). The decisive quantity is the distance to the law's line: for red, the
+seconds from the nearest lawful moment (red's onset before, green's after); for amber, the metres
+beyond or short of rule 126's stopping distance; for speed, the mph over the limit.
 """
 from __future__ import annotations
 
@@ -27,6 +36,7 @@ from .model import Margin
 from .motion import MPH_PER_MPS, STOPPED_MPS, between
 from .passage import Passage
 from .stopping import SOURCE as RULE_126, stopping_distance_m
+from .tolerance import SPEED_TOLERANCE_MPS, beyond_stopping, moment_between, place_between
 from .when import format_time
 
 SECOND = 1_000_000_000
@@ -35,10 +45,13 @@ BOX = "enter the box junction"
 BY_RULE = {"HC 176": "red", "HC 175": "amber", "HC 171": "stop", "HC 172": "give way", "HC 174": "box"}
 
 
-def margin(passage: Passage, action: str, rule: str | None = None) -> Margin | None:
-    """The margin of `action` (e.g. "enter the junction") under `rule` (e.g. "HC 176")."""
+def margin(passage: Passage, action: str, rule: str | None = None, at: int | None = None) -> Margin | None:
+    """The margin of `action` (e.g. "enter the junction") under `rule` (e.g. "HC 176"); `at`: the
+    act's moment (a speeding act is the stretch around it)."""
     kind = _kind(passage, action, rule)
-    return _MEASURES[kind](passage) if kind else None
+    if kind is None:
+        return None
+    return _speed(passage, at) if kind == "speed" else _MEASURES[kind](passage)
 
 
 def _kind(p: Passage, action: str, rule: str | None) -> str | None:
@@ -67,11 +80,47 @@ def _red(p: Passage) -> Margin | None:
             break
         onset = light
     lag = (c.t - onset.t) / SECOND
-    method = (f"crossed at {format_time(c.t)} ({c.moment.method}); red from {format_time(onset.t)} "
-              f"({onset.ref.src} #{onset.ref.seq})")
+    bound = "at least" if p.first_report is not None and onset.ref == p.first_report else None
+    u = round(moment_between(c.moment.used[0], c.moment.used[-1], c.t, c.speed_mps), 3)
+    since = (f"red from {'at least as early as ' if bound else ''}{format_time(onset.t)} ({onset.ref.src} "
+             f"#{onset.ref.seq}{', its first report: red began at or before it' if bound else ''})")
+    method = f"crossed at {format_time(c.t)} ({c.moment.method}); {since}; ± {u:g} s ({_HOW_MOMENT})"
     doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None
-    return Margin("seconds after red the stop line was crossed", round(lag, 3), "s", c.moment.refs + (onset.ref,),
-                  method, (("speed at the line", round((c.speed_mps or 0) * MPH_PER_MPS, 1), "mph"),), doubt)
+    figures: list[tuple[str, float, str]] = [("speed at the line", round((c.speed_mps or 0) * MPH_PER_MPS, 1), "mph")]
+    quantity, value, lawful = "seconds after red the stop line was crossed", lag, lag
+    if c.light.colour == "red_amber":
+        into = (c.t - c.light.t) / SECOND
+        green = next((x for x in p.lights if x.t > c.t and x.colour == "green"), None)
+        quantity, value = "seconds into red-and-amber the stop line was crossed", into
+        figures.append(("seconds after red began" + (" (at least)" if bound else ""), round(lag, 3), "s"))
+        method += (f"; red-and-amber from {format_time(c.light.t)} ({c.light.ref.src} #{c.light.ref.seq}), which "
+                   "conveys the prohibition of red (TSRGD 2016 Sch 14 Pt 1 para 5(7))")
+        if green is not None:
+            lawful = min(lag, (green.t - c.t) / SECOND)
+            figures.append(("seconds before green", round((green.t - c.t) / SECOND, 3), "s"))
+        bound = None if c.light.ref != p.first_report else bound
+    unproven = None if lawful > u else (
+        f"the crossing is {lawful:.2f} s from the nearest lawful moment, within its uncertainty of ± {u:g} s")
+    if unproven and lawful == lag and _could_stop_at_amber(p):
+        unproven = None          # on amber it would have been an offence too: HC 175, it could have stopped
+        method += (f"; {lag:.2f} s is within ± {u:g} s of red's onset, but when amber came it could have stopped "
+                   "(rule 126), so crossing on amber would have been unlawful too (HC 175)")
+    return Margin(quantity, round(value, 3), "s", c.moment.refs + (onset.ref,), method, tuple(figures), doubt,
+                  u, bound, unproven)
+
+
+def _could_stop_at_amber(p: Passage) -> bool:
+    """Whether, when the amber before the crossing came, the vehicle was beyond rule 126's
+    stopping distance by more than that figure's uncertainty."""
+    amber = _amber(p)
+    if amber is None:
+        return False
+    beyond = next((v for q, v, _ in amber.figures if q == "distance beyond what stopping takes"), None)
+    spread = next((v for q, v, _ in amber.figures if q == "uncertainty of that distance"), None)
+    return beyond is not None and spread is not None and beyond > spread
+
+
+_HOW_MOMENT = "the crossing lies between its two samples, and each position is known to within its tolerance"
 
 
 def _amber(p: Passage) -> Margin | None:
@@ -80,18 +129,28 @@ def _amber(p: Passage) -> Margin | None:
     if not ambers:
         return None
     a = ambers[-1]
+    placed = [s for s in a.used if s.placed]
+    u_place = place_between(placed[0], placed[-1], a.light.t) if placed else None
     figures: tuple[tuple[str, float, str], ...] = ()
-    if a.speed_mps is not None:
+    u, unproven = (round(u_place, 2) if u_place is not None else None), None
+    weighed = beyond_stopping(a)
+    if weighed is not None:
         speed = a.speed_mps * MPH_PER_MPS
         needed = stopping_distance_m(speed)
+        beyond, u_beyond = weighed[0], round(weighed[1], 2)
         figures = (("speed when amber came", round(speed, 1), "mph"),
                    ("stopping distance at that speed (rule 126)", round(needed, 1), "m"),
-                   ("distance beyond what stopping takes", round(a.to_line_m - needed, 1), "m"))
-    method = f"amber from {format_time(a.light.t)} ({a.light.ref.src} #{a.light.ref.seq}); {a.method}; {RULE_126}"
+                   ("distance beyond what stopping takes", round(beyond, 1), "m"),
+                   ("uncertainty of that distance", u_beyond, "m"))
+        if abs(beyond) <= u_beyond and a.speed_mps > STOPPED_MPS:     # one standing still could stop: it had
+            unproven = (f"{a.to_line_m:.2f} m from the line against {needed:.2f} m needed to stop: {beyond:+.2f} m, "
+                        f"within its uncertainty of ± {u_beyond:g} m")
+    method = (f"amber from {format_time(a.light.t)} ({a.light.ref.src} #{a.light.ref.seq}); {a.method}; {RULE_126}; "
+              "± the travel to the farther of the two samples and the position tolerance (reasoner/tolerance.py)")
     c = p.crossing           # what the record leaves open about the light it crossed on is open here too
     doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None if c else None
     return Margin("metres from the stop line when amber came", round(a.to_line_m, 2), "m",
-                  tuple(s.ref for s in a.used) + (a.light.ref,), method, figures, doubt)
+                  tuple(s.ref for s in a.used) + (a.light.ref,), method, figures, doubt, u, None, unproven)
 
 
 def _stop(p: Passage) -> Margin | None:
@@ -165,15 +224,67 @@ def _box(p: Passage) -> Margin | None:
                   f"{still[0].label} to {still[-1].label}")
 
 
-def _speed(p: Passage) -> Margin | None:
-    timed = [s for s in p.samples if s.speed_mps is not None]
-    if not timed or p.limit_mph is None:
+def _speed(p: Passage, at: int | None = None) -> Margin | None:
+    """The fastest sample of the act's own stretch: the samples on the road the vehicle was on at
+    the act, around it, over that road's limit (the nearest such run of samples to the act where
+    it was not over at that very moment); the limit is that road's."""
+    timed = sorted((s for s in p.lead + p.samples + p.trail if s.speed_mps is not None), key=lambda s: s.t)
+    if not timed:
         return None
-    fastest = max(timed, key=lambda s: s.speed_mps)
-    over = round(fastest.speed_mps * MPH_PER_MPS - p.limit_mph, 1) or 0.0    # never "-0"
+    at = at if at is not None else max(timed, key=lambda s: s.speed_mps).t
+    road, limit, t_from, t_to = _road_at(p, at)
+    if limit is None:
+        return None
+    on_road = [s for s in timed if t_from <= s.t < t_to]
+    stretch = _stretch(on_road, at, limit) or on_road
+    if not stretch:
+        return None
+    fastest = max(stretch, key=lambda s: s.speed_mps)
+    over = round(fastest.speed_mps * MPH_PER_MPS - limit, 1) or 0.0    # never "-0"
+    u = round(SPEED_TOLERANCE_MPS * MPH_PER_MPS, 2)
+    unproven = None if over > u else (
+        f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty of "
+        f"± {u:g} mph" if over > -u else
+        f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
+    cut = over > 0 and (stretch[0] is timed[0] or stretch[-1] is timed[-1])
+    method = (f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} samples "
+              f"from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, against its "
+              f"{limit:g} mph; ± the speed tolerance (reasoner/tolerance.py)"
+              + ("; the stretch reaches the first or last sample read, so it may have been faster beyond: at least"
+                 if cut else ""))
     return Margin("mph over the speed limit", over, "mph", (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
-                  f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) against road "
-                  f"{p.limit_road}'s {p.limit_mph:g} mph")
+                  method, uncertainty=u, bound="at least" if cut else None, unproven=unproven)
+
+
+def _road_at(p: Passage, at: int) -> tuple[str | None, float | None, int, int]:
+    """The road the vehicle was on at `at`, its limit, and the span of time it was on it (the
+    passage's approach road where the samples name none)."""
+    first = p.lead[0].t if p.lead else p.start
+    last = p.trail[-1].t if p.trail else p.end
+    if not p.roads:
+        return p.limit_road, p.limit_mph, first - SECOND, last + SECOND
+    i = max((n for n, (t, _, _) in enumerate(p.roads) if t <= at), default=0)
+    _, road, limit = p.roads[i]
+    t_from = p.roads[i][0] if i > 0 else first - SECOND
+    t_to = p.roads[i + 1][0] if i + 1 < len(p.roads) else last + SECOND
+    return road, limit, t_from, t_to
+
+
+def _stretch(samples: list, at: int, limit: float) -> list:
+    """The run of consecutive samples over `limit` containing the act's moment, or else the one
+    nearest to it in time."""
+    runs: list[list] = []
+    over_before = False
+    for s in samples:
+        over = s.speed_mps * MPH_PER_MPS > limit
+        if over and over_before:
+            runs[-1].append(s)
+        elif over:
+            runs.append([s])
+        over_before = over
+    if not runs:
+        return []
+    return min(runs, key=lambda r: 0 if r[0].t <= at <= r[-1].t else min(abs(r[0].t - at), abs(r[-1].t - at)))
 
 
 _MEASURES = {"red": _red, "amber": _amber, "stop": _stop, "give way": _give_way, "box": _box, "speed": _speed}

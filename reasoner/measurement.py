@@ -17,8 +17,9 @@ from store import EventRef
 from . import acts
 from .derived import Contradiction, _match, beside, checked, facts, unmeasured
 from .margins import BY_RULE, margin
-from .model import DerivedFact, Margin
+from .model import Act, DerivedFact, Margin
 from .passage import Passage
+from .stretches import Stretch
 from .vocabulary import IS_APPROACHING, WOULD_ENDANGER, WOULD_FORCE
 
 Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
@@ -36,10 +37,25 @@ class Measurement:
     beliefs: tuple[Belief, ...] = ()                 # each perceived fact, and what contradicts it
     unmeasured: tuple[tuple[str, EventRef, str], ...] = ()   # stated predictions about a road user nothing of
                                                              # which was measured: (sentence, by, road user)
+    act: Act | None = None                           # the act as the record delimits it (reasoner/oneact.py)
+    readings: tuple[tuple[str, EventRef], ...] = ()  # how the map's words were read for it (junctions.py)
+
+    @property
+    def contested(self) -> tuple[tuple[str, str, tuple[str, ...]], ...]:
+        """Every stated or perceived sentence the measurements contradict beyond tolerance, with
+        what they show instead, in words and as the sentences they derive: a claim that cannot
+        decide a verdict alone (investigation: weighing)."""
+        found = [(c.stated, c.detail, c.shown) for c in self.contradictions]
+        found += [(c.stated, c.detail, c.shown) for _, _, _, cs in self.beliefs for c in cs]
+        return tuple(dict.fromkeys(found))
+
+    def unproven(self) -> tuple[tuple[str | None, str], ...]:
+        """By rule, why the act's margin does not prove it (within its uncertainty)."""
+        return tuple((r, m.unproven) for r, m in self.margins if m is not None and m.unproven)
 
     def margin(self, rule: str | None) -> Margin | None:
         """The margin of the act under this rule (margins.margin(passage, action, rule))."""
-        wanted = _rule_key(rule)
+        wanted = rule_key(rule)
         return next((m for r, m in self.margins if r == wanted), None)
 
     @property
@@ -65,11 +81,17 @@ class Measurement:
 
 
 def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any, EventRef]],
-            sentences: Iterable[Any], perceived: Iterable[tuple[Any, EventRef | None]]) -> Measurement:
+            sentences: Iterable[Any], perceived: Iterable[tuple[Any, EventRef | None]],
+            stretch: Stretch | None = None) -> Measurement:
     """The measurement of the act of `action` at t: `stated` the Monitor Scenario's facts,
-    `sentences` its sentences, `perceived` the vehicle's own facts (its Vehicle Scenario)."""
+    `sentences` its sentences, `perceived` the vehicle's own facts (its Vehicle Scenario),
+    `stretch` the speeding stretch around t (reasoner/stretches.py) for a speeding act."""
     found = acts.of(passage, t)
+    speeding = action == acts.SPEEDING and stretch is not None
     if found is None:
+        if speeding:          # a stretch away from any junction: what the stretch shows, no passage
+            return Measurement(True, stretch.peak.t, beside(stretch.facts(), sentences),
+                               margins=((None, stretch.margin()),), act=stretch.act())
         return Measurement(False)
     at = acts.moment(found, t, action)
     derived = facts(found, at)
@@ -83,10 +105,23 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                                 if (user := unmeasured(found, _said(text))) is not None))
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, margin(found, action, rule)) for rule in (None, *BY_RULE)), beliefs, alone)
+                       tuple((rule, margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
+                       act=stretch.act() if speeding else _passage_act(found),
+                       readings=((found.line.reading, found.map_ref),) if found.line and found.line.reading
+                       and found.map_ref else ())
 
 
-def _rule_key(rule: str | None) -> str | None:
+def _passage_act(p: Passage) -> Act:
+    """A junction act is the passage it happened in: from the first sample near the junction to
+    the last (reasoner/rebuild.py), the record's own edges said as open."""
+    read = " ".join(p.uncertain)
+    return Act(acts.PASSAGE, p.junction.id, p.start, p.end,
+               f"the passage through {p.junction.id}" + (f" from the {p.approach}" if p.approach else "")
+               + f" ({p.series})", "begins with the first sample read" in read,
+               "ends with the last sample read" in read)
+
+
+def rule_key(rule: str | None) -> str | None:
     key = rule.strip().upper() if isinstance(rule, str) else None
     return key if key in BY_RULE else None
 

@@ -179,12 +179,75 @@ class Control:
 
 
 @dataclass(frozen=True)
+class Act:
+    """The act an incident is about, as the record delimits it (reasoner/oneact.py): a vehicle's
+    passage through a junction (`kind` "junction passage", `where` the junction) or a continuous
+    stretch over a road's speed limit ("speeding stretch", `where` the road). `start` and `end` are
+    ns; `open_start`/`open_end`: the record read begins or ends inside the act (a bound, not the
+    act's own edge). Incidents of one road user, one rule and one act are one incident."""
+
+    kind: str
+    where: str | None
+    start: int
+    end: int
+    method: str = ""
+    open_start: bool = False
+    open_end: bool = False
+
+    def overlaps(self, other: Act) -> bool:
+        return (self.kind, self.where) == (other.kind, other.where) and self.start <= other.end \
+            and other.start <= self.end
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"kind": self.kind, "where": self.where, "start": self.start, "end": self.end,
+                               "method": self.method}
+        if self.open_start or self.open_end:
+            out["open"] = [side for side, yes in (("start", self.open_start), ("end", self.open_end)) if yes]
+        return out
+
+
+OWN_RECORD = "own-record"        # Source.found_in of the vehicle's own record (entity.state, ads.event)
+MONITORS = "monitors"            # ... of a monitor (its potential violation, observations or measurements)
+
+
+@dataclass(frozen=True)
+class Source:
+    """One record of an act: the event an incident was first raised from (`id`, "<src>:<seq>"),
+    its kind, and how it was raised: "recorded" (a monitor.potential_violation), "re-derived" (the
+    monitor rules on its observations), "measured" (a sweep of the measurements: reasoner/sweep.py)."""
+
+    id: str
+    src: str
+    kind: str
+    how: str
+
+    @property
+    def found_in(self) -> str:
+        return OWN_RECORD if self.src.startswith(("vehicle/", "pedestrian/")) else MONITORS
+
+    def to_json(self) -> dict[str, Any]:
+        return {"id": self.id, "src": self.src, "kind": self.kind, "how": self.how, "found_in": self.found_in}
+
+
+def found_in(sources: Iterable[Source]) -> str:
+    """Where an act was found: "monitors", "own-record" (only in the vehicle's own record), or
+    "monitors and own-record"."""
+    places = {s.found_in for s in sources}
+    if places == {OWN_RECORD}:
+        return OWN_RECORD
+    return MONITORS if places <= {MONITORS} else f"{MONITORS} and {OWN_RECORD}"
+
+
+@dataclass(frozen=True)
 class Margin:
     """How far from the line a verdict was (DESIGN "Margins"): e.g. 1.2 s after red, 8 mph over.
     reasoner/margins.py measures them from a history; `method` says how, `figures` gives the
-    other measured values of the same moment (speed when amber came, the stopping distance), and
-    `uncertain` what the record leaves open. The last three are written only when present, so
-    a margin without them reads as it always has."""
+    other measured values of the same moment (speed when amber came, the stopping distance),
+    `uncertain` what the record leaves open, `uncertainty` how far the value may be from the
+    truth (reasoner/tolerance.py), `bound` "at least" where the record gives only a bound, and
+    `unproven` why the margin does not prove the act (a conviction needs the margin beyond its
+    uncertainty). Those after `figures` are written only when present, so a margin without
+    them reads as it always has."""
 
     quantity: str
     value: float
@@ -193,6 +256,9 @@ class Margin:
     method: str = ""
     figures: tuple[tuple[str, float, str], ...] = ()     # (quantity, value, unit)
     uncertain: str | None = None
+    uncertainty: float | None = None    # ± in `unit`: sampling interval, sensor tolerance, interpolation
+    bound: str | None = None            # "at least": the record gives a bound only (red began before it)
+    unproven: str | None = None         # why the margin does not prove the act: within its uncertainty
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {"quantity": self.quantity, "value": self.value, "unit": self.unit,
@@ -203,6 +269,12 @@ class Margin:
             out["figures"] = [{"quantity": q, "value": v, "unit": u} for q, v, u in self.figures]
         if self.uncertain:
             out["uncertain"] = self.uncertain
+        if self.uncertainty is not None:
+            out["uncertainty"] = self.uncertainty
+        if self.bound:
+            out["bound"] = self.bound
+        if self.unproven:
+            out["unproven"] = self.unproven
         return out
 
 
@@ -317,6 +389,13 @@ class Incident:
     rulebook_problems: tuple[str, ...] = field(default=())
     derived: tuple[DerivedFact, ...] = ()           # what the history added to the Monitor Scenario
     moments: tuple[tuple[str, int], ...] = ()       # the passage's moments: ("crossed the stop line", t), ...
+    act: Act | None = None                          # the act, as the record delimits it (None: not delimited)
+    sources: tuple[Source, ...] = ()                # every record of the act (reasoner/oneact.py), the first first
+
+    @property
+    def found_in(self) -> str:
+        """Where the act was found: "monitors", "own-record" or "monitors and own-record"."""
+        return found_in(self.sources)
 
     @property
     def parties(self) -> tuple[str, ...]:
@@ -341,7 +420,9 @@ class Incident:
                "evidence": _refs(self.evidence), "judged_on": self.judged_on,
                "rulebook": self.rulebook.to_json() if self.rulebook else None,
                "rulebooks": {stage: b.to_json() for stage, b in self.rulebooks.items()},
-               "scenarios": self.scenarios.to_json(), "proofs": self.proofs.to_json()}
+               "scenarios": self.scenarios.to_json(), "proofs": self.proofs.to_json(),
+               "found_in": self.found_in, "sources": [s.to_json() for s in self.sources],
+               "act": self.act.to_json() if self.act else None}
         if self.rulebook_problems:
             out["rulebook_problems"] = list(self.rulebook_problems)
         if self.derived:

@@ -167,10 +167,15 @@ class Passage:
     others: tuple[Other, ...]
     uncertain: tuple[str, ...]
     map_ref: EventRef | None
+    first_report: EventRef | None = None   # its signal's first report in the run: a colour showing
+                                           # then began at or before it (only a bound is recorded)
+    roads: tuple[tuple[int, str, float | None], ...] = ()   # (from t, road, limit mph) along lead and samples
+    lead: tuple[Sample, ...] = ()   # its own samples read before the passage began, and after it
+    trail: tuple[Sample, ...] = ()  # ended: a speeding stretch that reaches into or out of it
 
     def evidence(self) -> frozenset[EventRef]:
         """Every event the passage rests on: no derived fact may cite another."""
-        refs = {s.ref for s in self.samples} | {light.ref for light in self.lights}
+        refs = {s.ref for s in self.samples + self.lead + self.trail} | {light.ref for light in self.lights}
         refs |= {s.ref for other in self.others for s in other.samples}
         refs |= {o.light.ref for o in self.others if o.light} | {ref for _, _, ref in self.emergency}
         refs |= {o.spawn for o in self.others if o.spawn is not None}
@@ -196,6 +201,9 @@ class Passage:
             "vehicle_type": self.vehicle_type, "spawn": self.spawn.to_json() if self.spawn else None,
             "others": [o.to_json() for o in self.others], "uncertain": list(self.uncertain),
             "map": self.map_ref.to_json() if self.map_ref else None,
+            "first_signal_report": self.first_report.to_json() if self.first_report else None,
+            "roads": [{"from": t, "road": road, "limit_mph": limit} for t, road, limit in self.roads],
+            "lead": len(self.lead), "trail": len(self.trail),
         }
 
 

@@ -148,6 +148,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
     others = _ways(record, junction, tuple(_typed(o, record.spawns(o.user)) for o in others),
                    max(t0, key - int(OTHERS_BEFORE_S * SECOND)), out + int(REACTION_S * SECOND))
     spawn = record.spawn
+    lead, trail = _beside(record, t0, t1)
     return Passage(
         run=record.run, vehicle=record.vehicle, junction=junction, approach=approach, approach_method=method,
         line=line, start=t0, end=t1, series=name, samples=series, lights=lights, changes=changes,
@@ -155,7 +156,9 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
         standstills=standstills, entered=entered, left=left, exit=exit_arm, limit_mph=limit_mph,
         limit_road=road, emergency=_emergency(record), vehicle_type=_type(spawn),
         spawn=EventRef.of(spawn) if spawn else None, others=others, uncertain=tuple(dict.fromkeys(notes)),
-        map_ref=record.map.ref)
+        map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None,
+        roads=_roads(record, [s for s in lead if s.placed] + placed + [s for s in trail if s.placed]),
+        lead=lead, trail=trail)
 
 
 # --- the pieces -------------------------------------------------------------------------------
@@ -365,6 +368,42 @@ def _limit(record: Record, placed: list[Sample], entered: Moment | None) -> tupl
     return None, None
 
 
+LEAD_S = 30.0          # the vehicle's own samples kept from either side of a passage: a speeding stretch
+
+
+def _beside(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], tuple[Sample, ...]]:
+    """The vehicle's own samples read in the LEAD_S before the passage began and after it ended."""
+    span = int(LEAD_S * SECOND)
+    return (tuple(s for s in record.own if t0 - span <= s.t < t0),
+            tuple(s for s in record.own if t1 < s.t <= t1 + span))
+
+
+ROAD_EVERY_S = 0.5     # a position on no named road is snapped to the nearest road at most this often
+
+
+def _roads(record: Record, placed: list[Sample]) -> tuple[tuple[int, str, float | None], ...]:
+    """The roads the samples are on, each from the first sample on it (a speed limit is the
+    road's: a speeding act is measured on its own road, not the passage's approach). A sample
+    naming a road of the map is on it; one naming none is snapped to the nearest road, at most
+    once every ROAD_EVERY_S (a map of many roads costs a search of them all per snap)."""
+    out: list[tuple[int, str, float | None]] = []
+    named: dict[str, object] = {}
+    snapped_at, snapped = None, None
+    for s in placed:
+        road = named.get(s.road) if isinstance(s.road, str) else None
+        if road is None and isinstance(s.road, str) and s.road not in named:
+            found = record.map.road(s.road, None, None)
+            named[s.road] = found
+            road = found
+        if road is None:
+            if snapped_at is None or s.t - snapped_at >= ROAD_EVERY_S * SECOND:
+                snapped_at, snapped = s.t, record.map.road(None, s.x, s.y)
+            road = snapped
+        if road is not None and (not out or out[-1][1] != road.id):
+            out.append((s.t, road.id, road.limit_mph))
+    return tuple(out)
+
+
 def _emergency(record: Record) -> tuple[tuple[int, bool, EventRef], ...]:
     """When the vehicle went on or off an emergency call: its spawn, then its states."""
     marks = []
@@ -422,7 +461,7 @@ def _notes(record: Record, junction: Junction, approach: str | None, line: StopL
 
 
 def _stop_line(junction: Junction, line: StopLine | None) -> bool:
-    return line is not None and (line.kind == "stop" or (not line.kind and junction.control == "stop"))
+    return line is not None and (line.kind == "stop_sign" or (not line.kind and junction.control == "stop"))
 
 
 def _hidden_stops(series: tuple[Sample, ...], line: StopLine, crossing: Crossing | None,

@@ -4,6 +4,7 @@
 from it what the reasoner asks about (DESIGN "Reasoning"):
 
     Vehicle Scenario   V's latest vehicle.perception at or before t, with what its spawn says
+                       (a default: its latest entity.state's `emergency` overrides the spawn's)
     Vehicle Action     V's latest vehicle.decision (goal, action, permitted, proceeds)
     Monitor Scenario   the facts of a monitor's latest observation of V
 
@@ -66,6 +67,21 @@ def spawn_facts(vehicle: str, body: dict) -> list[str]:
     return facts
 
 
+def status_facts(vehicle: str, record: dict | None) -> list[str]:
+    """What the spawn says of the vehicle, as a default the latest record before the moment
+    overrides (DESIGN "Weighing": status at the act): a call stood down since the spawn
+    (`emergency: false` in its latest entity.state) is no longer "on an emergency call"."""
+    record = record or {}
+    spawn = (record.get("spawn") or {}).get("body")
+    if not isinstance(spawn, dict):
+        return []
+    facts = spawn_facts(vehicle, spawn)
+    latest = (record.get("state") or {}).get("body")
+    if isinstance(latest, dict) and latest.get("emergency") is False:
+        facts = [f for f in facts if f != IS_ON_AN_EMERGENCY_CALL.text(vehicle)]
+    return facts
+
+
 def entity(state: State, vehicle: str) -> dict | None:
     return state.entities.get(f"vehicle/{vehicle}")
 
@@ -76,7 +92,7 @@ def vehicle_scenario(state: State, vehicle: str) -> Scenario:
     record = entity(state, vehicle) or {}
     run = state.run
     if spawn := record.get("spawn"):
-        scenario.add(spawn_facts(vehicle, spawn["body"]), EventRef.of(spawn, run, "entity.spawn"))
+        scenario.add(status_facts(vehicle, record), EventRef.of(spawn, run, "entity.spawn"))
     if perception := record.get("perception"):
         scenario.add(perception["body"].get("facts"), EventRef.of(perception, run, "vehicle.perception"))
     return scenario

@@ -8,8 +8,9 @@ but no light. This module reads the same measurements (x, y, speed_mps of each o
 the run's order) and names the moments worth a history: the reasoner rebuilds the passage there
 and asks the monitor rules on what it shows (investigation.py); most candidates come to nothing.
 
-Which measurements: the monitors' (monitor.observation), already read for the episodes; a run
-whose monitors recorded none is swept on the road users' own entity.state. Candidates, per road
+Which measurements: the monitors' (monitor.observation), already read for the episodes, and the
+road users' own entity.state, swept apart (each in its own time order): an act is found in every
+source that records it, and one only the vehicle's own record shows says so (model.Source). Candidates, per road
 user and junction entry (first position inside the junction's area after EPISODE_GAP_S outside):
 
     stop line      entries at a Stop junction without a measurement below STILL_MPS since
@@ -25,8 +26,9 @@ user and junction entry (first position inside the junction's area after EPISODE
                    (a camera that states lights raises these acts from its sentences; an
                    entity.state states none)
     box            the first measurement standing still inside a yellow box
-    speed limit    the first measurement above the speed limit of the road it is on, near a
-                   junction (a history is a junction passage), per SPEEDING_GAP_S
+    speed limit    the first measurement of each stretch over the speed limit of the road it is
+                   on, anywhere on the map (reasoner/stretches.py delimits the stretch: a
+                   measurement over the limit more than STRETCH_GAP_S after the last starts another)
 
 Every candidate is found in one pass with a few comparisons an observation, so the sweep costs
 little beside reading the observations, and the histories run only where a candidate is.
@@ -40,13 +42,13 @@ from typing import Iterable
 from .derived import FORCE_DECEL_MPS2
 from .junctions import Junction, Map, sector
 from .motion import MPH_PER_MPS, STOPPED_MPS
+from .stretches import STRETCH_GAP_S
 
 SECOND = 1_000_000_000
 EPISODE_GAP_S = 5.0       # inside the junction again after this long outside: a new entry
 APPROACH_S = 15.0         # the approach to a Stop line looked at for a standstill
 STILL_MPS = 1.0           # a measurement this slow may be a stop a 2 Hz camera caught the end of
 FORCE_WINDOW_S = 6.0      # another road user's braking this close to an entry is looked at
-SPEEDING_GAP_S = 15.0     # a road user over the limit again after this long: another candidate
 MAX_CANDIDATES = 10_000   # bounded work for any input
 ENTER = "enter the junction"
 BOX = "enter the box junction"
@@ -114,24 +116,24 @@ class Sweep:
         """One measurement; a few comparisons for most (this runs once per observation)."""
         self.fed += 1
         body = event["body"]
-        if type(body) is not dict or not self._wanted:
+        if type(body) is not dict or not (self._wanted or self._slowest_limit_mps < math.inf):
             return
-        if event["kind"] == "monitor.observation":
+        if event.get("kind") == "monitor.observation":
             user, route = body.get("vehicle"), self._by_src.get(event["src"])
         else:
-            user, route = event["src"].split("/", 1)[-1], None
+            user, route = str(event.get("src", "")).split("/", 1)[-1], None
         x, y, v = body.get("x"), body.get("y"), body.get("speed_mps")
         if type(user) is not str or type(x) not in _NUMBER or type(y) not in _NUMBER or x - x or y - y:
             return      # (x - x is 0 for a finite number, NaN otherwise)
+        if type(v) not in _NUMBER or v - v:
+            v = None
+        elif v > self._slowest_limit_mps:
+            self._over_limit(user, event, x, y, v)      # on any road, near a junction or not
         if route is None:
             near = self.map.near(x, y, 100.0)
             if not near:
                 return
             route = self._route(near[0])
-        if type(v) not in _NUMBER or v - v:
-            v = None
-        elif v > self._slowest_limit_mps:
-            self._over_limit(user, event, x, y, v)
         j, tracked, reach = route
         if tracked:
             self._measure(j, user, event, x, y, v)
@@ -144,7 +146,7 @@ class Sweep:
             return
         last = self._speeding.get(user)
         self._speeding[user] = event["t"]
-        if last is None or event["t"] - last > SPEEDING_GAP_S * SECOND:
+        if last is None or event["t"] - last > STRETCH_GAP_S * SECOND:
             self._keep(Candidate(user, SPEEDING, road.id, event,
                                  f"{v * MPH_PER_MPS:.0f} mph on road {road.id}, limit {road.limit_mph:g} mph"))
 

@@ -52,6 +52,11 @@ def _r(value: float) -> float:
     return round(value, 3) + 0.0    # (+ 0.0 turns -0.0 into 0.0)
 
 
+# DESIGN's stop-line kinds: the line at signals, a Stop sign's line, a Give Way line (the network
+# reader's own "stop" is the Stop sign's; a bare "stop" in a map would be read by the junction's control)
+MAP_KIND = {"signal": "signal", "stop": "stop_sign", "give_way": "give_way"}
+
+
 def _p(point: Point) -> list[float]:
     return [_r(point[0]), _r(point[1])]
 
@@ -60,8 +65,8 @@ def _junction(j: Junction) -> dict[str, Any]:
     lined = [a for a in j.approaches if a.line is not None]
     out: dict[str, Any] = {
         "id": j.id, "x": _r(j.x), "y": _r(j.y), "control": j.control,
-        "stop_lines": [{"approach": a.name, "from": _p(a.line[0]), "to": _p(a.line[1]), "kind": a.kind,
-                        "edge": a.edge, "road": a.road} for a in lined],
+        "stop_lines": [{"approach": a.name, "from": _p(a.line[0]), "to": _p(a.line[1]),
+                        "kind": MAP_KIND.get(a.kind, a.kind), "edge": a.edge, "road": a.road} for a in lined],
     }
     if j.control != "lights" and lined and len(lined) < len(j.approaches):
         out["major"] = sorted({a.name for a in j.approaches if a.line is None})

@@ -36,6 +36,8 @@ from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .snapshots import enable_snapshots
 from .tail_check import TamperedTail
 from .tree_heads import CheckpointKey, TreeHead, load_public, public_path_of
+from .trust_root import recorded_heads
+from .anchors import AnchorReport, RunProof
 from .witness import WitnessError, WitnessFile, read_heads
 from .wire import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigError, audit_publisher_options, audit_qos,
                    live_key, live_slice, matched_within, session_config, source_of_live_key, zenoh_message)
@@ -84,6 +86,9 @@ __all__ = [
     "load_public",
     "public_path_of",
     "read_heads",
+    "recorded_heads",
+    "AnchorReport",
+    "RunProof",
     "BLOCK_FOR_US",
     "CACHE_PREFIX",
     "CACHE_S",

@@ -16,17 +16,23 @@ its outcome says so (`wire`: "not covered"). A part that also records the stored
 (store/rulebook_chain.py) has that checked the same way, which catches a rulebook removed or its
 name, version or text changed (`rulebooks`: "checked"; "not covered" for a part without it).
 
-With the checkpoint key's public half, every checkpoint of a run from the first one that key
-signed on must be signed by it, and its signature must hold over what the checkpoint records
-(which verify checks against the events), and the wire tables' and rulebooks' ends it records
-must hold in the store: a checkpoint added, a run rewritten, or a wire table or the rulebooks cut
-back or rewritten, by someone without the key fails.
+With the checkpoint key's public file (store/trust_root.py), nothing in the store decides what
+must be signed: every run checked must end on a checkpoint signed by the key, every checkpoint
+from the run's first signed head on (the one the key file records, else its first checkpoint the
+key signed, in the order of counts, never of ids) must be signed by it, its signature must hold
+over what the checkpoint records (which verify checks against the events), and the wire tables'
+and rulebooks' ends it records must hold in the store: a checkpoint added, a run rewritten under
+any ids, signatures stripped, a run the key file records deleted, or a wire table or the rulebooks
+cut back or rewritten, by someone without the key fails. The heads of a witness must follow one
+another (prev_size), so a head signed over a tail the witness never saw shows. Then, per run, what
+the witness and the key prove of its stored events (RunProof): a run is proven only when every
+stored event is (docs/guarantees.md).
 """
 
 from __future__ import annotations
 
 import sqlite3
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Sequence
 
 from . import merkle, wire_ends
@@ -96,7 +102,46 @@ def _check_run(conn: sqlite3.Connection, run: str, heads: list[TreeHead], public
     outcomes = []
     for head in heads:
         outcomes.append(_judge(head, roots, stored, proof if head.size == latest else None, public))
-    return outcomes
+    return _linked(conn, heads, outcomes, public)
+
+
+def _linked(conn: sqlite3.Connection, heads: list[TreeHead], outcomes: list[HeadOutcome],
+            public: bytes | None) -> list[HeadOutcome]:
+    """The run's heads, in the witness's order, must follow one another: each signed checkpoint
+    names the size of the one before it (prev_size), and the ingest witnesses every one it signs.
+    A head that follows a checkpoint the witness does not hold was signed over events no witnessed
+    head covered (a tail forged and then sealed by an append); with the key, a run of checkpoints
+    signed by it in the store that leads back to the witnessed head accounts for the gap (a witness
+    write that failed)."""
+    judged = list(outcomes)
+    before: TreeHead | None = None
+    for i, head in enumerate(heads):
+        if before is not None and head.size > before.size and head.prev_size != before.size \
+                and not _signed_between(conn, head, before.size, public):
+            what = (f"the head of {head.size} events follows a checkpoint of {head.prev_size} events, but the "
+                    f"witness's previous head of run {head.run} is of {before.size}: events {before.size} to "
+                    f"{head.prev_size - 1} were sealed without a witnessed head (forged, or a witness write "
+                    "failed: with --key, checkpoints signed by the key over them account for the latter)")
+            judged[i] = replace(judged[i], ok=False, outcome="unwitnessed link", what=what)
+        if before is None or head.size > before.size:
+            before = head
+    return judged
+
+
+def _signed_between(conn: sqlite3.Connection, head: TreeHead, bottom: int, public: bytes | None) -> bool:
+    """Do checkpoints signed by `public` lead from `head`'s previous size back to `bottom`?"""
+    if public is None:
+        return False
+    at = head.prev_size
+    while at > bottom:
+        rows = conn.execute("SELECT count, head, merkle_root, prev_count, created_at, signature, key_id, wire "
+                            "FROM checkpoints WHERE run = ? AND count = ?", (head.run, at)).fetchall()
+        found = next((signed for signed, problem in (_signed_head((head.run, *row), public) for row in rows)
+                      if problem is None), None)
+        if found is None or found.prev_size >= at:
+            return False
+        at = found.prev_size
+    return at == bottom
 
 
 def _walk(conn: sqlite3.Connection, run: str, sizes: list[int], latest: int
@@ -164,48 +209,151 @@ def _judge(head: TreeHead, roots: dict[int, bytes], stored: int,
 
 @dataclass(frozen=True)
 class KeyCheck:
-    """What `--key` found: signed checkpoints, and the first that should have been signed and is not."""
+    """What `--key` found: signed checkpoints, and the first that should have been signed and is not.
+
+    `runs` says, per run, what the key proves: `events` stored, `signed_through` (the events its
+    latest signed checkpoint covers: all of them when ok), `since` (the size from which every
+    checkpoint must be signed) and whether that came from the key file (`recorded`) or from the
+    run's first checkpoint the key signed. `absent`: runs the key file records that the store does
+    not hold (deleted, or signed into another store: the key file does not say which)."""
 
     key: str
     signed: int
-    unsigned_before: int        # checkpoints before the key's first signature (not demanded)
+    unsigned_before: int        # checkpoints before a run's first signed one (not demanded)
     ok: bool
     problem: dict[str, Any] | None
+    runs: tuple[dict[str, Any], ...] = ()
+    absent: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return asdict(self)
+        return {**asdict(self), "runs": list(self.runs), "absent": list(self.absent)}
 
 
-def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | None) -> KeyCheck:
-    """From the first checkpoint `public` signed on (in the order written, any run), every
-    checkpoint must be signed by it: a run rewritten, or a checkpoint added, after signing began
-    shows as unsigned or signed by another key, even under the ids of the checkpoints it replaced.
-    The wire tables' (and rulebooks') ends the signed checkpoints record (v8 on) must then hold in
-    the store."""
+_KEY_ROWS = ("SELECT count, head, merkle_root, prev_count, created_at, signature, key_id, wire FROM checkpoints "
+             "WHERE run = ? ORDER BY count, id")
+
+
+def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | None,
+                         recorded: Sequence[TreeHead] = ()) -> KeyCheck:
+    """Every run checked (the one asked, else every run of the store) must be signed by `public`
+    through its end, and, once signed, at every later checkpoint (in the order of their counts,
+    which verify checks against the events, never of their ids, which the file's holder chooses).
+    Where a run's signing began is read from the key file (`recorded`: the runs' first signed heads,
+    store/trust_root.py): the run must hold one of the heads it records of it, signed; for a run it
+    does not record, from its first checkpoint the key signed, which decides nothing the latest
+    signed one does not prove. A checkpoint that carries a signature or key id must verify,
+    wherever it is. The wire tables' (and rulebooks') ends the signed checkpoints record must then
+    hold in the store."""
     kid = key_id(public)
-    (first,) = conn.execute("SELECT min(id) FROM checkpoints WHERE key_id = ?", (kid,)).fetchone()
-    first = first if isinstance(first, int) else None
-    where = "" if run is None else "WHERE run = ? "
+    first: dict[str, list[TreeHead]] = {}
+    for head in recorded:
+        first.setdefault(head.run, []).append(head)
+    stored = _runs(conn)
+    names = [run] if run is not None else stored
+    absent = tuple(sorted(name for name in first if name not in set(stored) and (run is None or name == run)))
     signed = unsigned_before = 0
     wired: list[TreeHead] = []
-    sql = ("SELECT id, run, count, head, merkle_root, prev_count, created_at, signature, key_id, wire "
-           f"FROM checkpoints {where}ORDER BY id")
-    for row in conn.execute(sql, () if run is None else (run,)):
-        if first is None or row[0] < first:
-            unsigned_before += 1
+    runs = []
+    problem = None
+    for name in names:  # every run, so that the report says what the key proves of each
+        found = _key_run(conn, name, public, first.get(name, []))
+        signed += found.signed
+        unsigned_before += found.unsigned_before
+        runs.append(found.summary())
+        problem = problem or found.problem
+        if found.problem is None:
+            wired += [head for head in found.heads if head.wire]
+    if not names:
+        what = f"no checkpoint is signed by key {kid}: the store holds no run"
+        return KeyCheck(kid, 0, 0, False, {"run": None, "count": None, "what": what}, (), absent)
+    problem = problem or _wire_problem(conn, wired, kid)
+    return KeyCheck(kid, signed, unsigned_before, problem is None, problem, tuple(runs), absent)
+
+
+def _runs(conn: sqlite3.Connection) -> list[Any]:
+    rows = conn.execute("SELECT run FROM events UNION SELECT run FROM checkpoints")
+    return sorted({name for (name,) in rows}, key=repr)
+
+
+@dataclass
+class _KeyRun:
+    """One run under the key: its signed heads, what is proven and the first thing wrong."""
+
+    run: Any
+    events: int
+    since: int | None = None
+    recorded: bool = False
+    signed: int = 0
+    unsigned_before: int = 0
+    signed_through: int = 0
+    heads: list[TreeHead] = field(default_factory=list)
+    problem: dict[str, Any] | None = None
+
+    def fail(self, count: Any, what: str) -> _KeyRun:
+        name = self.run if isinstance(self.run, str) else repr(self.run)
+        self.problem = {"run": name, "count": count, "what": f"run {name}: {what}"}
+        return self
+
+    def summary(self) -> dict[str, Any]:
+        return {"run": self.run if isinstance(self.run, str) else repr(self.run), "events": self.events,
+                "signed_through": self.signed_through, "since": self.since, "recorded": self.recorded,
+                "signed": self.signed, "unsigned_before": self.unsigned_before, "ok": self.problem is None,
+                "what": None if self.problem is None else self.problem["what"]}
+
+
+def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: list[TreeHead]) -> _KeyRun:
+    kid = key_id(public)
+    (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (run,)).fetchone()
+    found = _KeyRun(run, last + 1 if isinstance(last, int) else 0)
+    rows = conn.execute(_KEY_ROWS, (run,)).fetchall()
+    if recorded:
+        found.since = _recorded_size(run, rows, public, recorded)
+        if found.since is None:
+            sizes = ", ".join(str(head.size) for head in recorded)
+            at = [row for row in rows if row[0] in {head.size for head in recorded}]
+            problem = next((p for p in (_signed_head((run, *row), public)[1] for row in at) if p), None)
+            if problem is not None:
+                return found.fail(at[0][0], f"{problem}; the key file records the run's first signed head there")
+            return found.fail(None, f"the key file records its first signed head (of {sizes} events), and no "
+                                    f"checkpoint signed by key {kid} in the store records it: the run was rewritten "
+                                    "or its signatures stripped (or it is another store's run of that name)")
+        found.recorded = True
+    for row in rows:
+        count, sig, row_kid = row[0], row[5], row[6]
+        must = found.since is not None and isinstance(count, int) and count >= found.since
+        if sig is None and row_kid is None and not must:
+            found.unsigned_before += 1
             continue
-        head, problem = _signed_head(row[1:], public)
+        head, problem = _signed_head((run, *row), public)
         if problem is not None:
-            name = row[1] if isinstance(row[1], str) else repr(row[1])
-            return KeyCheck(kid, signed, unsigned_before, False, {"run": name, "count": row[2], "what": problem})
-        if head is not None and head.wire:
-            wired.append(head)
-        signed += 1
-    if not signed:
-        what = f"no checkpoint{'' if run is None else ' of run ' + run} is signed by key {kid}"
-        return KeyCheck(kid, 0, unsigned_before, False, {"run": run, "count": None, "what": what})
-    wrong = _wire_problem(conn, wired, kid)
-    return KeyCheck(kid, signed, unsigned_before, wrong is None, wrong)
+            after = (f"; the run was signed from {found.since} events on, and once a run is signed every later "
+                     "checkpoint is: it was written behind the ingest's back") if must else ""
+            return found.fail(count, f"{problem}{after}")
+        if found.since is None:
+            found.since = count
+        found.signed += 1
+        found.heads.append(head)
+    if not rows:
+        return found.fail(None, "it has no checkpoint")
+    if not found.signed:
+        return found.fail(rows[-1][0], f"no checkpoint is signed by key {kid}: nothing outside the file vouches "
+                                       f"for its {found.events} events")
+    found.signed_through = found.heads[-1].size
+    if found.signed_through < found.events:
+        return found.fail(found.signed_through, f"its latest signed checkpoint covers {found.signed_through} events "
+                                                f"of {found.events}: events {found.signed_through} to "
+                                                f"{found.events - 1} are vouched for by no signature")
+    return found
+
+
+def _recorded_size(run: Any, rows: list[tuple], public: bytes, recorded: list[TreeHead]) -> int | None:
+    """The size of the first of the key file's heads of the run that a checkpoint signed by the
+    key records (same size, root and chain head), or None."""
+    wanted = {(head.size, head.root, head.head) for head in recorded}
+    for row in rows:
+        if (row[0], row[2], row[1]) in wanted and _signed_head((run, *row), public)[1] is None:
+            return row[0]
+    return None
 
 
 def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> dict[str, Any] | None:
@@ -225,11 +373,89 @@ def _signed_head(row: tuple, public: bytes) -> tuple[TreeHead | None, str | None
     """The checkpoint row's tree head and, if its signature by `public` does not hold, why not."""
     name, count, head, root, prev, created_at, sig, kid, wire = row
     if sig is None:
-        return None, (f"the checkpoint of {count} events is unsigned, after the run's checkpoints were signed by "
-                      f"key {key_id(public)}: it was added behind the ingest's back")
+        return None, f"the checkpoint of {count} events is unsigned"
     try:
         statement = TreeHead.of_checkpoint(name, count, root, head, prev, created_at, kid, sig, wire)
         problem = statement.signature_problem(public)
     except (TypeError, ValueError):
         return None, f"the checkpoint of {count} events: its fields are not those of a checkpoint"
     return statement, None if problem is None else f"the checkpoint of {count} events: {problem}"
+
+
+@dataclass(frozen=True)
+class RunProof:
+    """What was proven of one run by what is kept outside the store: of its `events`, the first
+    `witnessed` by the witness's heads that held (None: no witness given), the first `signed` by
+    checkpoints the key signed (None: no key given); `proven` is the larger, and the run is ok only
+    when every stored event is proven and nothing checked failed (`what` says what did)."""
+
+    run: str
+    events: int
+    witnessed: int | None
+    signed: int | None
+    proven: int
+    ok: bool
+    what: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def prove_runs(conn: sqlite3.Connection, run: str | None, heads: Sequence[TreeHead], outcomes: Sequence[HeadOutcome],
+               keyed: KeyCheck | None, witness: bool = True) -> list[RunProof]:
+    """Per run (the one asked, else every run of the store and of the witness), how many of its
+    stored events the witness and the key prove: a run the witness names that the store lacks
+    fails, and so does a run the witness or the key failed on, or a run, or a tail, that neither
+    covers."""
+    witnessed: dict[str, int] = {}
+    failed: dict[str, str] = {}
+    for head, outcome in zip(heads, outcomes):
+        if outcome.ok:
+            witnessed[head.run] = max(witnessed.get(head.run, 0), head.size)
+        else:
+            failed.setdefault(head.run, f"the witness's head of {head.size} events: {outcome.what}")
+    by_key = {entry["run"]: entry for entry in (keyed.runs if keyed is not None else ())}
+    for entry in by_key.values():
+        if not entry["ok"]:
+            failed.setdefault(entry["run"], entry["what"])
+    if run is not None:
+        names = [run]
+    else:
+        rows = conn.execute("SELECT run FROM events UNION SELECT run FROM checkpoints")
+        names = sorted({name for (name,) in rows if isinstance(name, str)} | {h.run for h in heads})
+    proofs = []
+    for name in names:
+        (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (name,)).fetchone()
+        events = last + 1 if isinstance(last, int) else 0
+        seen = witnessed.get(name, 0) if witness else None
+        entry = by_key.get(name)
+        signed = None if keyed is None else (entry["signed_through"] if entry and entry["ok"] else 0)
+        proven = max(seen or 0, signed or 0)
+        what = failed.get(name)
+        if what is None and proven < events:
+            what = _unproven(proven, events, witness, keyed)
+        proofs.append(RunProof(name, events, seen, signed, proven, what is None, what))
+    return proofs
+
+
+def _unproven(proven: int, events: int, witness: bool, keyed: KeyCheck | None) -> str:
+    by = " nor ".join(by for by, given in (("no witnessed head", witness), ("no signed checkpoint", keyed)) if given)
+    if keyed is None:
+        by += " (give --key to prove what the ingest signed since the witness's last head)"
+    which = (f"event {proven} of {events} is" if proven == events - 1
+             else f"events {proven} to {events - 1} of {events} are")
+    return f"{which} covered by {by}: nothing outside the file vouches for them"
+
+
+@dataclass(frozen=True)
+class AnchorReport:
+    """The store against everything kept outside it: each witness head, the key, and per run what
+    they prove together (`runs`); ok only if every part is."""
+
+    heads: list[HeadOutcome]
+    key: KeyCheck | None
+    runs: list[RunProof]
+
+    @property
+    def ok(self) -> bool:
+        return all(o.ok for o in self.heads) and (self.key is None or self.key.ok) and all(r.ok for r in self.runs)

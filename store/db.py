@@ -12,6 +12,7 @@ import os
 import sqlite3
 import time
 from contextlib import contextmanager
+from pathlib import Path
 from itertools import islice
 from operator import itemgetter
 from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
@@ -34,6 +35,7 @@ from .run_summary import RunSummary
 from .signature_tally import SignatureTally
 from .anchors import HeadOutcome, KeyCheck
 from .tree_heads import CheckpointKey, TreeHead
+from .trust_root import SignedRuns
 from .verify import Progress, tolerant_text, verify_store
 
 _INSERT_EVENT = (
@@ -64,7 +66,10 @@ class Store:
     checkpoint_key (store/tree_heads.py) signs every checkpoint written; the signed tree heads
     are handed to the checkpoint hooks once committed (a witness file, a Zenoh key). Before a
     run read from the file is extended, its tail is checked against its last checkpoint signed
-    by that key (store/tail_check.py).
+    by that key and against the run's last signed head known outside the file: the last head of
+    the run in `witness` (the witness file the ingest appends its heads to), else the first signed
+    head the key's public file records (store/trust_root.py, store/tail_check.py); a run's first
+    signed head is appended to that file.
 
     read_only=True (or Store.open_read_only) reads the file without changing it; derived data
     (state snapshots, verification results) goes to `self.cache`, a separate file (store/cache.py).
@@ -83,6 +88,7 @@ class Store:
         read_only: bool = False,
         quarantine_cap: quarantine.QuarantineCap = quarantine.QuarantineCap(),
         checkpoint_key: CheckpointKey | None = None,
+        witness: str | os.PathLike | None = None,
         cache_at: str | None = None,
     ) -> None:
         if type(checkpoint_every) is not int or checkpoint_every < 1:
@@ -96,7 +102,9 @@ class Store:
         else:
             self._conn = opening.connect_writable(self.path, durable=durable, check_same_thread=check_same_thread)
         self.checkpoint_key = checkpoint_key
-        self._heads = Heads(self._conn, checkpoint_key)
+        self._signed_runs = None if checkpoint_key is None else SignedRuns(
+            checkpoint_key.public, checkpoint_key.public_file(), None if witness is None else Path(witness))
+        self._heads = Heads(self._conn, checkpoint_key, self._signed_runs)
         self._rulebook_tip = rulebook_chain.RulebookTip()  # the rulebooks' chain end the checkpoints record
         self.quarantine_cap = quarantine_cap
         self._quarantine_tally = quarantine.QuarantineTally(self._conn)
@@ -165,9 +173,16 @@ class Store:
         self._run_hooks(batch.events)
         batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
         if batch.signed:
+            self._signed_runs.signed(batch.signed)
             for hook in self._checkpoint_hooks:
                 hook(batch.signed)
         return batch.report
+
+    @property
+    def trust_problem(self) -> str | None:
+        """Why the key's public file could not record a run's first signed head at the last append
+        that signed one (store/trust_root.py), or None; the append itself was committed."""
+        return None if self._signed_runs is None else self._signed_runs.problem
 
     def add_checkpoint_hook(self, hook: CheckpointHook) -> None:
         """Call `hook(heads)` with the signed tree heads of each append's checkpoints, once they are
@@ -489,14 +504,28 @@ class Store:
         return report
 
     def check_anchors(self, heads: Sequence[TreeHead] = (), public: bytes | None = None,
-                      run: str | None = None) -> tuple[list[HeadOutcome], KeyCheck | None]:
+                      run: str | None = None, recorded: Sequence[TreeHead] = ()
+                      ) -> tuple[list[HeadOutcome], KeyCheck | None]:
         """The store against what is kept outside it (store/anchors.py): each tree head of a witness
         (its signature too, with `public`), and with `public` the checkpoint key's signatures over
-        every checkpoint from its first on; all read in one snapshot."""
+        every run checked, from where the key file's `recorded` first heads (store/trust_root.py)
+        say its signing began; all read in one snapshot."""
+        report = self.anchor_report(heads, public, run, recorded)
+        return report.heads, report.key
+
+    def anchor_report(self, heads: Sequence[TreeHead] = (), public: bytes | None = None,
+                      run: str | None = None, recorded: Sequence[TreeHead] = (),
+                      witness: bool | None = None) -> anchors.AnchorReport:
+        """check_anchors, and per run what the witness and the key prove of its stored events
+        (anchors.RunProof): what an investigator may rely on, and what nothing outside the file covers.
+        `witness`: whether a witness was given (default: whether `heads` holds any), so that a run
+        the witness has no head of is not proven by it."""
+        witness = bool(heads) if witness is None else witness
         with self._reading(), tolerant_text(self._conn):
             outcomes = anchors.check_heads(self._conn, heads, public)
-            keyed = None if public is None else anchors.check_checkpoint_key(self._conn, public, run)
-        return outcomes, keyed
+            keyed = None if public is None else anchors.check_checkpoint_key(self._conn, public, run, recorded)
+            proofs = anchors.prove_runs(self._conn, run, heads, outcomes, keyed, witness) if witness or public else []
+        return anchors.AnchorReport(outcomes, keyed, proofs)
 
     def _integrity_once(self, conn: sqlite3.Connection) -> list[str]:
         """SQLite's integrity check of the file (store/integrity.py), run once per state of the

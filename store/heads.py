@@ -14,14 +14,17 @@ import sqlite3
 from .chain import RunChain
 from .tail_check import anchored_chain
 from .tree_heads import CheckpointKey
+from .trust_root import SignedRuns
 
 
 class Heads:
     """The cache, for one connection."""
 
-    def __init__(self, conn: sqlite3.Connection, key: CheckpointKey | None = None) -> None:
+    def __init__(self, conn: sqlite3.Connection, key: CheckpointKey | None = None,
+                 trust: SignedRuns | None = None) -> None:
         self._conn = conn
         self.key = key  # the checkpoint key, whose last signed checkpoint a run's tail is checked against
+        self.trust = trust  # each run's signed heads known outside the file (store/trust_root.py)
         self.chains: dict[str, RunChain] = {}
         self.max_seq: dict[tuple[str, str], int] = {}  # (run, src) -> highest stored seq, -1 if none
 
@@ -59,5 +62,5 @@ class Heads:
     def _load_chain(self, run: str) -> RunChain:
         """The run's chain as stored, its tail checked against its last (signed) checkpoint
         first (store/tail_check.py): an append never seals events no append wrote."""
-        return anchored_chain(self._conn, run, self.key)
+        return anchored_chain(self._conn, run, self.key, self.trust)
 

@@ -142,12 +142,19 @@ class CheckpointKey:
         self._signing = SigningKey(seed)
         self.public = bytes(self._signing.verify_key)
         self.id = key_id(self.public)
+        self.path: Path | None = None  # where it was read: its public key file (`<path>.pub`) records signed runs
+
+    def public_file(self) -> Path | None:
+        """The public key file beside the key (store/trust_root.py), if the key was read from a file."""
+        return None if self.path is None else public_path_of(self.path)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> CheckpointKey:
         """Read a checkpoint key; a KeysError names the file and what is wrong with it."""
         text = read_named(path, "checkpoint key", KeysError, "ascii", f" (gaps keys checkpoint {path} makes one)")
-        return cls(seed_of(text, str(path)))
+        key = cls(seed_of(text, str(path)))
+        key.path = Path(path)
+        return key
 
     @classmethod
     def create(cls, path: str | os.PathLike) -> CheckpointKey:
@@ -166,6 +173,7 @@ class CheckpointKey:
         with os.fdopen(fd, "w") as out:
             out.write(pem_of(seed))
         key = cls(seed)
+        key.path = Path(path)
         try:
             write_text(public_path, base64.b64encode(key.public).decode("ascii") + "\n")
         except OSError as exc:
@@ -184,8 +192,10 @@ def public_path_of(path: str | os.PathLike) -> Path:
 
 
 def load_public(path: str | os.PathLike) -> bytes:
-    """A checkpoint public key file (`<key>.pub`: standard base64 of 32 bytes); KeysError if not."""
-    text = read_named(path, "public key file", KeysError, "ascii").strip()
+    """A checkpoint public key file's key (`<key>.pub`: its first line, standard base64 of 32 bytes;
+    the lines after it record signed runs, store/trust_root.py); KeysError if not."""
+    lines = read_named(path, "public key file", KeysError).strip().splitlines()
+    text = lines[0].strip() if lines else ""
     try:
         public = base64.b64decode(text, validate=True)
     except binascii.Error:

@@ -159,6 +159,9 @@ def _checkpoints(conn: sqlite3.Connection, run: str, legacy: int) -> dict[int, l
     )
     for id_, count, head, root, frontier, prev, signature in rows:
         fault = _sequence_fault(id_ > legacy, count, before, root, frontier, prev, signature is not None)
+        if not (isinstance(id_, int) and id_ >= 1):
+            fault = (f"the checkpoint of {_show(count)} events is recorded under id {_show(id_)}, which no append "
+                     "writes (ids start at 1): it was put into the file behind the store's back")
         at = count if isinstance(count, int) and count > 0 else 1
         recorded.setdefault(at, []).append(_Checkpoint(id_, count, head, root, frontier, fault))
         before = count

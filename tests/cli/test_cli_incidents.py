@@ -14,9 +14,10 @@ def test_one_line_per_incident(paper_db):
     first, second = result.stdout.splitlines()
     assert first.split() == ["1", "2024-11-21T08:00:10.000Z", "monitor/m1:1", "vehicle", "173", "enter", "the",
                              "junction", "HC", "176", "punishable", "£100", "+", "3", "points", "liable:",
-                             "driver", "crossed", "2.444", "s", "after", "red", "1", "finding:", "decision", "fault"]
+                             "driver", "crossed", "2.444", "s", "after", "red", "(±", "0.567", "s)", "1", "finding:",
+                             "decision", "fault"]
     assert second.startswith("  2  2024-11-21T08:00:40.000Z  monitor/m1:3  vehicle 253")
-    assert "mitigated  no penalty  liable: none  crossed 2.444 s after red  no findings" in second
+    assert "mitigated  no penalty  liable: none  crossed 2.444 s after red (± 0.567 s)  no findings" in second
 
 
 @pytest.mark.parametrize("filters, ids", [

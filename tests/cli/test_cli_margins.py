@@ -37,8 +37,9 @@ def test_incidents_json_gives_the_margin_and_the_line_shows_it(runner_db):
     assert margin["quantity"] == "seconds after red the stop line was crossed" and margin["unit"] == "s"
     assert margin["value"] == pytest.approx(LAG_S, abs=0.01)
     assert {r["kind"] for r in margin["evidence"]} == {"entity.state", "signal.state"}
+    assert 0 < margin["uncertainty"] < margin["value"], margin          # proved: beyond its uncertainty
     line = gaps("incidents", "--run", "measured-runner", db=runner_db).stdout
-    assert f"crossed {margin['value']:g} s after red" in line
+    assert f"crossed {margin['value']:g} s after red (± {margin['uncertainty']:g} s)" in line
 
 
 def test_the_explanation_marks_measured_facts_and_gives_their_method(runner_db):

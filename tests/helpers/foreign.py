@@ -37,7 +37,7 @@ def crossroads(ident: str, x: float, y: float, control: str, *, kinds: dict[str,
                box: Any = None, line_m: float = LINE_M, major: list | None = None) -> dict:
     """A DESIGN junction with a stop line across each approach's lane (`kinds`: approach -> kind;
     an approach left out has no line, as a major road at a Give Way junction has none)."""
-    kinds = {a: {"lights": "signal", "stop": "stop", "give_way": "give_way"}.get(control, "")
+    kinds = {a: {"lights": "signal", "stop": "stop_sign", "give_way": "give_way"}.get(control, "")
              for a in DIRECTION} if kinds is None else kinds
     lines = []
     for approach, kind in kinds.items():

@@ -166,11 +166,11 @@ KNOWN = {
         "that yardstick",
     ("crossed on amber, could have stopped", "mitigated HC 175"):
         "an automated car judged itself 'too close to the stop line to stop safely' and went on at amber; the "
-        "Validator Scenario is its own view (a camera witnesses no such judgement), so on it the exception of "
-        "HC 175 holds. Its record contradicts the belief (town-4m: 163 was 28.7 m from the line at 30 mph when "
-        "amber came; rule 126: 23 m): the incident carries a contradiction finding on the sentence the "
-        "mitigation rests on, and its explanation says in its summary that the verdict is in doubt. Known only "
-        "with that finding",
+        "Validator Scenario is its own view (a camera witnesses no such judgement). Where its record contradicts "
+        "the belief beyond the measurements' tolerance (town-4m: 163 was 28.7 m from the line at 30 mph when "
+        "amber came; rule 126: 23 m) the claim decides nothing and the verdict is punishable on the measurements "
+        "(DESIGN 'Weighing'), agreeing with the truth; known here only where a contradiction finding remains on "
+        "a mitigated incident",
     ("crossed on amber, too close to stop", "punishable HC 175"):
         "a boundary case of measurement: the act's distance when amber came is short of rule 126's stopping "
         "distance, the reasoner's is beyond it, by less than the vehicle travels in one of the simulation's 0.1 s "
@@ -178,12 +178,21 @@ KNOWN = {
         "the position at the end of the first tick the amber shows; the reasoner interpolates the vehicle's "
         "samples to the signal's event time. Neither is finer than a tick, so which side of the yardstick the act "
         "falls is not decided by the record. Known only when the incident's margin is within one tick's travel",
+    ("crossed on amber, too close to stop", "dismissed HC 175"):
+        "the boundary case above (the act's distance within one tick's travel of rule 126's stopping distance): "
+        "the margin does not exceed its uncertainty, so the reasoner finds the conviction not proven (dismissed, "
+        "DESIGN 'Margins'); the truth, read at the end of a tick, has it too close to stop (mitigated). No penalty "
+        "either way. Known only when the incident's margin is within one tick's travel",
+    (None, "dismissed HC 124"):
+        "the camera's speed reading was high (the injected speed_error fault: 12-30 % over) while the vehicle's "
+        "own entity.state speeds are under the limit: the potential violation rests on the camera's sentence, "
+        "which the measurements contradict beyond tolerance, so it is not proven (dismissed, DESIGN 'Weighing'), "
+        "with a contradiction finding on the speed. The truth has no act. Known only with that finding",
     (None, "punishable HC 124"):
-        "the camera's speed reading was high (the injected speed_error fault: 12-30 % over); RTRA 1984 s.89 makes "
-        "exceeding the limit the offence, and the verdict is taken on the monitor's statement (DESIGN: a derived "
-        "fact never overrides a stated one). The vehicle's own entity.state speeds contradict it: the incident "
-        "carries a contradiction finding on the speed the verdict rests on, and its explanation says in its "
-        "summary that the verdict is in doubt and why (explain/explanation_doc.py). Known only with that finding",
+        "the camera's speed reading was high (the injected speed_error fault: 12-30 % over) and contradicted by "
+        "the vehicle's own record, which is itself over the limit by the reasoner's reading of its stretch: the "
+        "verdict does not turn on the contradiction (DESIGN 'Weighing'), so it stands, with a contradiction "
+        "finding on the speed. Known only with that finding",
 }
 
 

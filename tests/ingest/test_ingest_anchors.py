@@ -13,7 +13,7 @@ import zenoh
 from ingest import IngestService
 from ingest.serve import ServeOptions, Server
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import CheckpointKey, GapsError, Store, canonical_json, read_heads, session_config
+from store import CheckpointKey, GapsError, Store, WitnessFile, canonical_json, read_heads, session_config
 from store.chain import link
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
 from tests.helpers.store_testkit import rows, tamper
@@ -83,3 +83,46 @@ def test_a_witness_without_a_checkpoint_key_is_refused(tmp_path):
     with pytest.raises(GapsError, match="--checkpoint-key"):
         with Server(options):
             pass
+
+
+def test_the_ingest_with_key_and_witness_does_not_seal_a_forged_tail_under_an_unsigned_checkpoint_at_id_0(
+        db_path, tmp_path):
+    """Issue 37: three forged events, the run's signed checkpoint replaced by an unsigned one at id 0
+    (the form of a checkpoint written before signing). `gaps serve --checkpoint-key --witness` stored
+    an honest event on top and signed checkpoint and witness head over the forgery. The witness's
+    last head of the run (and the key file's record of it) now decides: the event is quarantined
+    naming why, no head is signed, and the forgery stays uncovered."""
+    key_path = tmp_path / "ckpt.key"
+    CheckpointKey.create(key_path)
+    witness = tmp_path / "w.jsonl"
+    with IngestService(db_path, listen=[free_endpoint()], checkpoint_key=CheckpointKey.load(key_path),
+                       witness=witness):
+        pass  # opens and closes: the witness file exists, empty
+    sink = WitnessFile(witness)
+    with Store(db_path, checkpoint_key=CheckpointKey.load(key_path)) as store:
+        store.add_checkpoint_hook(sink.append)
+        store.append([make_event("vehicle/173", seq) for seq in range(3)])
+    sink.close()
+    events = [make_event("vehicle/173", seq) for seq in range(6)]
+    statements, head = [("DELETE FROM events", ()), ("DELETE FROM checkpoints", ())], bytes(32)
+    for pos, ev in enumerate(events):
+        text = canonical_json(ev)
+        head = link(head, text)
+        statements.append(("INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                           (RUN, pos, ev["src"], ev["seq"], ev["t"], ev["kind"], text.decode(), head.hex())))
+    statements.append(("INSERT INTO checkpoints (id, run, count, head, created_at) VALUES (0, ?, 6, ?, 0)",
+                       (RUN, head.hex())))
+    tamper(db_path, *statements)
+    witnessed = witness.read_bytes()
+    with linked(db_path, "ingest-listens", checkpoint_key=CheckpointKey.load(key_path), witness=witness) as (
+            publisher, ingest):
+        await_match(publisher, make_event("vehicle/173", 6))
+        publisher.publish_all([make_event("vehicle/173", 6)])
+        assert ingest.wait_until_settled(1, WAIT_S), ingest.stats()
+        stats = ingest.stats()
+    assert stats["stored"] == 0 and stats["rejected"] == 1
+    assert witness.read_bytes() == witnessed  # no head signed over the forgery
+    with Store.open_read_only(db_path) as store:
+        [refused] = store.quarantined()
+        assert "TamperedTail" in refused["reason"]
+        assert [c["count"] for c in store.checkpoints(RUN)] == [6]

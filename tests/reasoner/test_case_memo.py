@@ -71,7 +71,10 @@ def test_the_second_investigation_judges_what_the_first_measured_without_measuri
     monkeypatch.setattr(investigation_module, "episodes", _forbid)
     warm, second = _judged(db, run)
     assert warm == cold
-    assert second.memo(run).misses == 0 and second.memo(run).hits == first.memo(run).misses
+    # nothing measured again; what the first measured of a case that came to nothing (an entry
+    # the sweep of the vehicles' own record named, that no rule raises) is not even read: the
+    # kept list of unraised cases skips it
+    assert second.memo(run).misses == 0 and 0 < second.memo(run).hits <= first.memo(run).misses
 
 
 def test_a_forged_measurement_is_dropped_measured_again_and_reported(tmp_path):

@@ -139,7 +139,7 @@ def test_a_stop_sign_roll_through_never_stood_still():
     run.spawn("7")
     run.drive("7", motion, "west", rate(4, 0, 12))
     p = one(run.events)
-    assert p.line.kind == "stop" and p.crossing is not None and not p.standstills
+    assert p.line.kind == "stop_sign" and p.crossing is not None and not p.standstills
     assert "7 has stopped at the stop line" not in sentences(p, 11)
     m = margins.margin(p, "enter the junction", "HC 171")
     assert (m.quantity, m.value) == ("seconds stationary at the Stop line", 0.0)

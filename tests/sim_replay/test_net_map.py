@@ -64,7 +64,7 @@ def test_the_reasoner_reads_the_stop_lines_the_box_and_the_major_road(the_map):
     assert not j1.in_box(7.5, 7.5)                       # the kerb's corner, not the carriageway
     assert j1.major is None                              # at signals the lights decide
     assert j2.control == "stop" and not j2.boxed
-    assert j2.line_for("north").kind == "stop" and j2.line_for("south").kind == "give_way"
+    assert j2.line_for("north").kind == "stop_sign" and j2.line_for("south").kind == "give_way"
     assert j2.line_for("east") is None and j2.major == frozenset({"east", "west"})
     assert j2.is_major("west") and not j2.is_major("north")
     assert sorted(j1.monitors) == ["monitor/m1"] and sorted(j2.monitors) == ["monitor/m2", "monitor/m3"]
@@ -162,7 +162,7 @@ def test_the_reasoner_finds_a_stop_line_at_j2_on_the_exported_map(the_map):
         world.take_control("41")
         events, crossed = drive(world, "41", 80)
     (p,) = [p for p in history.from_events([start_event(the_map), *events], "41") if p.junction.id == "j2"]
-    assert p.approach == "north" and p.line.kind == "stop" and p.crossing is not None
+    assert p.approach == "north" and p.line.kind == "stop_sign" and p.crossing is not None
     assert crossed - 0.1 <= (p.crossing.t - T0) / SECOND <= crossed
     assert p.exit == "south"
 

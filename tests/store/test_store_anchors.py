@@ -11,7 +11,7 @@ import sqlite3
 import pytest
 from tests.helpers.store_testkit import event, rows, tamper
 
-from store import CheckpointKey, Store, TamperedTail, WitnessFile, canonical_json, read_heads
+from store import CheckpointKey, Store, TamperedTail, WitnessFile, canonical_json, read_heads, recorded_heads
 from store.chain import GENESIS, link
 
 
@@ -119,12 +119,13 @@ def test_a_forged_tail_with_a_checkpoint_over_it_is_refused_with_the_key(tmp_pat
     shutil.copy(db, copy)
     rewrite_run(copy, "r1", [event(i) for i in range(25)] + [event(25, body={"objects": []})], every=8)
     # the attacker's checkpoints are unsigned: an append with the key refuses, --key fails
-    with Store(copy, checkpoint_key=key) as store, pytest.raises(TamperedTail, match="this key did not sign"):
+    with Store(copy, checkpoint_key=key) as store, pytest.raises(TamperedTail, match="its signatures were stripped or it was rewritten"):
         store.append([event(26)])
     with Store.open_read_only(copy) as store:
         assert store.verify().ok
-        _, keyed = store.check_anchors((), key.public)
-    assert not keyed.ok and "unsigned" in keyed.problem["what"]
+        _, keyed = store.check_anchors((), key.public, recorded=recorded_heads(key.public_file(), key.public))
+    assert not keyed.ok and "the checkpoint of 8 events is unsigned; the key file records the run's first signed " \
+        "head there" in keyed.problem["what"]
 
 
 def test_nulled_merkle_roots_under_a_raised_legacy_flag_fail_verify(tmp_path, key):
@@ -179,8 +180,12 @@ def test_a_deleted_run_is_caught_by_the_witness_only(tmp_path, key):
     with Store.open_read_only(db) as store:
         assert store.verify().ok
         outcomes, keyed = store.check_anchors(heads, key.public)
-    assert keyed.ok
+        assert keyed.ok  # what is left is signed
+        _, recorded = store.check_anchors((), key.public, recorded=recorded_heads(key.public_file(), key.public))
     assert {o.outcome for o in outcomes if o.run == "r2"} == {"run missing"}
+    # the key file records r2, and says the store lacks it; it cannot say whether r2 was deleted or
+    # signed into another store with this key, so only the witness fails
+    assert recorded.ok and recorded.absent == ("r2",)
 
 
 def test_a_head_not_signed_by_the_key_fails(tmp_path, key):
