@@ -894,7 +894,8 @@ def _cause(p: Passage, other: Other) -> str:
         return f"{p.vehicle} was well ahead of it on its way, going its way"
     ahead = leader(p, other, _extend(p, other))
     if ahead is not None:
-        return f"{ahead} ahead of it on its way, going its way, within the two-second rule's gap when it began to slow"
+        return (f"{ahead} ahead of it on its way when it began to slow, going its way or standing: keeping the "
+                f"two-second gap behind it (HC 126) took {FORCE_DECEL_MPS2:g} m/s² or more")
     if not _clear_of(p, other):
         nearer = _nearer(p, other)
         if nearer is not None:
