@@ -23,30 +23,61 @@ CONTEXT = {"help_option_names": ["-h", "--help"]}
 
 
 class GapsGroup(TyperGroup):
-    """The command group that reports a GapsError as `gaps: <message>` with its exit code."""
+    """The command group that reports a GapsError as `gaps: <message>` with its exit code, and
+    goes on without a cache file it cannot read (derived data never stops a command)."""
 
     def invoke(self, ctx: typer.Context) -> Any:
-        from store import caches_opened, unwritten_caches
-        already, opened = len(unwritten_caches()), caches_opened()
+        from store import unread_caches, unwritten_caches
+        already, wants_json = len(unwritten_caches()), "--json" in _command_line(ctx)
+        unread_before = len(unread_caches())
         try:
-            return super().invoke(ctx)
+            return self._invoke_without_unreadable_caches(ctx, wants_json)
         except GapsError as exc:
             typer.echo(f"gaps: {_what(exc)}{exc}", err=True)
             raise typer.Exit(exc.exit_code) from None
         except sqlite3.DatabaseError as exc:  # a damaged or hostile file, read past the store's own checks
-            from store import damaged_caches
-            damaged = damaged_caches(since=opened)
-            if damaged:     # derived data never accuses the evidence
-                typer.echo(f"gaps: SQLite could not read the cache file {damaged[0]}: {exc}; it holds only what "
-                           "reads derived from the store, never evidence: delete it and run again (it is rebuilt "
-                           "from the events)", err=True)
-                raise typer.Exit(2) from None
             typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
             raise typer.Exit(1) from None
         finally:
             for why in unwritten_caches()[already:]:
-                typer.echo(f"gaps: warning: the cache could not be written ({why}); the results were computed "
-                           "from the store without it (the evidence is not in question)", err=True)
+                _warn(wants_json, "cache_unwritten", why,
+                      f"the cache could not be written ({why}); the results were computed from the store "
+                      "without it (the evidence is not in question)")
+            for path, why in dict(unread_caches()[unread_before:]).items():
+                _warn(wants_json, "cache_unread", f"{path}: {why}",
+                      f"could not read the cache file {path} ({why}); the command went on without it, "
+                      "computing from the store (it holds only what reads derived from the store, never evidence: delete it "
+                      "and it is rebuilt)")
+
+    def _invoke_without_unreadable_caches(self, ctx: typer.Context, wants_json: bool) -> Any:
+        """Run the command; if SQLite fails while this command had cache files open (damaged pages,
+        an I/O error), run it once more without them (store.go_without_caches): if that answers,
+        the cache was at fault and a warning names it; if it fails again, the store is."""
+        from store import caches_opened, caches_opened_since, go_without_caches
+        opened, args = caches_opened(), [*ctx._protected_args, *ctx.args]
+        try:
+            return super().invoke(ctx)
+        except sqlite3.DatabaseError as exc:
+            caches = caches_opened_since(opened)
+            if not caches:
+                raise
+            why = str(exc)
+        go_without_caches(caches, why)
+        ctx._protected_args, ctx.args = args[:1], args[1:]
+        return super().invoke(ctx)
+
+
+def _command_line(ctx: typer.Context) -> list[str]:
+    return [*ctx._protected_args, *ctx.args]
+
+
+def _warn(wants_json: bool, warning: str, why: str, text: str) -> None:
+    """A warning on stderr: one line of text, or with --json one JSON object on a line of its own
+    ({"warning": ..., "why": ...}), so that stdout keeps the command's documented JSON shape."""
+    if wants_json:
+        typer.echo(json.dumps({"warning": warning, "why": why}, ensure_ascii=False), err=True)
+    else:
+        typer.echo(f"gaps: warning: {text}", err=True)
 
 
 _DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what and where"

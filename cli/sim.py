@@ -154,6 +154,7 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
     """Simulate and send; composition of the rooms' own calls only."""
     from cli.local_ingest import publish_through_zenoh
     from cli.progress import stderr_progress
+    from sim_replay.held_runs import refuse_if_held_otherwise
     from sim_replay.outlets import Outlets
     from sim_replay.simulation import Simulation
 
@@ -166,7 +167,12 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
                                                  signer=signer)
         else:
             with Outlets(**wire, record=record, speed=pace, signer=signer) as outlets:
+                checked = outlets.session is None
                 for batch in simulation.batches():
+                    if not checked and batch:     # one run, one producer: asked before the first put
+                        outlets.await_ingest(batch[0])
+                        refuse_if_held_otherwise(outlets.session, batch)
+                        checked = True
                     outlets.put_all(batch)
             sent = outlets.summary()
     simulation.truth.write(truth_file, [store_file] if store_file is not None else [])

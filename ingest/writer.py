@@ -20,6 +20,7 @@ from .gap_tracker import GapTracker
 from .gc_pacing import collections_between_batches
 from .head_sinks import HeadSink, HeadSinks
 from .inbox import Inbox, Received
+from .run_claims import RunClaims
 from .screen import Screened, refused, require_signature, screen_all
 from .stats import IngestStats
 from .store_faults import Backoff, store_condition
@@ -59,6 +60,7 @@ class BatchWriter(threading.Thread):
         self._witness = witness  # its last head of each run is the head a run's tail must extend
         self._head_sinks = head_sinks
         self._keys = trusted_keys
+        self._claims = RunClaims()
         self._watch = watch
         self._noticed: list = []   # wire_watch.Noticed waiting for the inbox to catch up (_record_wire)
         self._db_path = db_path
@@ -190,7 +192,7 @@ class BatchWriter(threading.Thread):
         only itself (quarantined with the error, see ``_give_up``). Samples are counted failed only
         when the store takes not even their quarantine for a reason of theirs, or when a stop finds
         the store still unable to write after STOP_GRACE_S."""
-        candidates = [item.candidate for item in self._screen(batch, live)]
+        candidates = [item.candidate for item in self._one_producer(store, self._screen(batch, live))]
         error = self._append(store, candidates, retries=RETRIES)
         if error is None:
             return
@@ -292,6 +294,16 @@ class BatchWriter(threading.Thread):
         if late:
             self._stats.add(late=late)
         return screened
+
+    def _one_producer(self, store: Store, screened: list[Screened]) -> list[Screened]:
+        """Each event of a run held by another producer refused (ingest/run_claims.py); a store
+        that cannot be read for it leaves the batch as it is (its append meets the same fault)."""
+        try:
+            return self._claims.refuse_mixed(store, screened)
+        except Exception as exc:
+            log.warning("ingest: checking the batch's runs against the store failed: %r", exc)
+            self._stats.record_error(f"run claims: {exc!r}")
+            return screened
 
     def _unscreenable(self, key: str, payload: bytes, exc: Exception) -> Screened:
         """A screening bug must cost one sample's verdict, not the writer: quarantined with the error."""

@@ -46,6 +46,11 @@ WALKER_LENGTH_M = 0.22   # ... and its length (0.215 m)
 PET_MAX_S = 2.0          # SUMO SSM device, DEFAULT_THRESHOLD_PET: an encounter with a PET below 2 s is a conflict
 TTC_MAX_S = 3.0          # SUMO SSM device, DEFAULT_THRESHOLD_TTC
 DRAC_MAX_MPS2 = 3.0      # SUMO SSM device, DEFAULT_THRESHOLD_DRAC
+SWERVE_M = 1.0           # a sideways departure from the line it was on beyond this is a change of course: a car
+                         # centred in a 3.65 m lane (DMRB CD 127) has (3.65 - 1.8) / 2 = 0.9 m to either side
+                         # (SUMO's default passenger vType is 1.8 m wide); more takes it out of its lane
+TURNED_DEG = 45.0        # a road user whose way afterwards is more than this off its way before turned (its own
+                         # manoeuvre, reaction.SAME_WAY_DEG), which is no swerve
 
 SOURCES = {
     "PET_MAX_S": "SUMO SSM device default PET threshold (MSDevice_SSM.cpp DEFAULT_THRESHOLD_PET); PET as defined "
@@ -53,6 +58,8 @@ SOURCES = {
     "TTC_MAX_S": "SUMO SSM device default TTC threshold (DEFAULT_THRESHOLD_TTC); TTC as defined by Hayward (1972)",
     "DRAC_MAX_MPS2": "SUMO SSM device default DRAC threshold (DEFAULT_THRESHOLD_DRAC); DRAC as defined by Cooper & "
                      "Ferguson (1976)",
+    "SWERVE_M": "stated here: the room a car centred in its lane has to either side, (3.65 m lane, DMRB CD 127, "
+                "less a 1.8 m car, SUMO's default passenger vType) / 2 = 0.9 m, rounded up",
 }
 
 
@@ -129,6 +136,62 @@ def conflict(mine: Sequence[Sample], theirs: Sequence[Sample], act: int | None, 
     gap, drac, to_zone, speed = _projected(theirs, b, zone.buffer(their_length / 2), my_time, onset)
     return Conflict(point.x, point.y, zone.area, my_time, their_time, pet, first, ttc, gap, drac,
                     onset if gap is not None else None, to_zone, speed)
+
+
+@dataclass(frozen=True)
+class Swerve:
+    """A change of course: how far a road user moved sideways off the line it was on at V's act,
+    going on the same way (no turn of its own), and the post-encroachment time with V it would
+    have had on that line (`kept_pet_s`: under PET_MAX_S, the swerve avoided an accident)."""
+
+    offset_m: float                         # its largest sideways departure from the line
+    widest: Sample                          # the sample where it was widest of the line
+    before: tuple[Sample, Sample]           # the two samples its line at the act is read from
+    kept_pet_s: float | None                # PET with V, had it kept to that line
+    kept_first: str | None                  # who would have been in the zone first then
+
+    def to_json(self) -> dict[str, Any]:
+        return {"offset_m": round(self.offset_m, 3), "widest": self.widest.ref.to_json(),
+                "before": [s.ref.to_json() for s in self.before],
+                "kept_pet_s": None if self.kept_pet_s is None else round(self.kept_pet_s, 3),
+                "kept_first": self.kept_first}
+
+
+def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: int) -> Swerve | None:
+    """A change of course by the other road user between V's act and `until`: its line is the way
+    it went over the second before the act (two placed samples a metre or more apart); a sample
+    in the window SWERVE_M or more to the side of that line, with its way at the window's end
+    within TURNED_DEG of the line's, is a swerve. Its measure is the conflict V would have had
+    with it had it kept to the line: its samples taken at the same times, laid on the line.
+    None where the record shows no such line, no such departure, or a turn."""
+    placed = [s for s in theirs if s.placed]
+    before = [s for s in placed if act - SECOND <= s.t <= act]
+    if len(before) < 2:
+        return None
+    a, b = before[0], before[-1]
+    length = math.hypot(b.x - a.x, b.y - a.y)
+    if length < 1.0:
+        return None                         # standing or creeping: no line to leave
+    ux, uy = (b.x - a.x) / length, (b.y - a.y) / length
+    window = [s for s in placed if act < s.t <= until]
+    if len(window) < 2:
+        return None
+    side = [((s.x - b.x) * -uy + (s.y - b.y) * ux, s) for s in window]
+    offset, widest = max(side, key=lambda o: abs(o[0]))
+    if abs(offset) < SWERVE_M:
+        return None
+    last = placed[-1] if placed[-1].t <= until + 2 * SECOND else window[-1]
+    tail = [s for s in placed if last.t - SECOND <= s.t <= last.t]
+    if len(tail) >= 2:
+        dx, dy = tail[-1].x - tail[0].x, tail[-1].y - tail[0].y
+        if math.hypot(dx, dy) >= 1.0:
+            turn = abs(math.degrees(math.atan2(ux * dy - uy * dx, ux * dx + uy * dy)))
+            if turn > TURNED_DEG:
+                return None                 # it turned: its own manoeuvre
+    kept = [s._replace(x=b.x + ux * ((s.x - b.x) * ux + (s.y - b.y) * uy),
+                       y=b.y + uy * ((s.x - b.x) * ux + (s.y - b.y) * uy)) if s.t > act else s for s in placed]
+    c = conflict(mine, kept, act)
+    return Swerve(abs(offset), widest, (a, b), c.pet_s if c else None, c.first if c else None)
 
 
 def has_path(samples: Sequence[Sample]) -> bool:

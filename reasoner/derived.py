@@ -32,7 +32,7 @@ from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
 from .attribution import leader, nearer_conflict
-from .conflicts import PET_MAX_S, TTC_MAX_S, Conflict, conflict, has_path
+from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
 from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
 from .rebuild import ANTICIPATION_S
@@ -244,14 +244,14 @@ def _others(p: Passage, at: int) -> list[DerivedFact]:
     for other in reacting(p):
         approaching = _approaching(p, other, at)
         forced = _forced(p, other) if went and p.start <= at <= p.end + 5 * SECOND else None
+        endangered = _endangered(p, other)
         if approaching is not None:
             out.append(approaching)
-            if _walking(other) or other.type == "cyclist":      # in or entering V's path: likely endangered
-                out.append(DerivedFact(WOULD_ENDANGER.text(p.vehicle, other.user), approaching.method,
-                                       approaching.evidence))
+        if endangered is not None:
+            out.append(endangered)
         if forced is not None:
             out.append(forced)
-        if other.type and other.spawn is not None and (approaching is not None or forced is not None):
+        if other.type and other.spawn is not None and any(f is not None for f in (approaching, forced, endangered)):
             out.append(DerivedFact(IS_OF_TYPE.text(other.user, other.type),
                                    f"{other.spawn.src} #{other.spawn.seq} (entity.spawn) gives type {other.type}",
                                    (other.spawn,)))
@@ -343,8 +343,11 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     approaching V then, whether or not it was yet in view, or near enough, at the moment asked
     about. Gentler braking is no sign of V: a main-road car easing off as it went through the
     junction ahead of V is not one V emerged in front of; nor is braking something else explains
-    (its own light, its own Stop line, the road user it followed: `explained`)."""
-    if _walking(other) or other.type == "cyclist":
+    (its own light, its own Stop line, the road user it followed: `explained`). A pedestrian is
+    no traffic: it `is approaching V` only in or entering V's path (`_entering`). A cyclist is the
+    driver of a vehicle (HC 172's traffic on the major road): it approaches as a car does, and
+    whether V endangered it is `_endangered`'s, measured, never its approach."""
+    if _walking(other):
         return _entering(p, other)
     found = _approaching_at(p, other, at)
     if explained(p, other):
@@ -355,6 +358,18 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     if found is None and reacted is not None and reacted != at:
         found = _approaching_at(p, other, reacted, within=math.inf)
     return found
+
+
+def _endangered(p: Passage, other: Other) -> DerivedFact | None:
+    """`V would endanger P` of a pedestrian or cyclist, from the measured conflict alone: P was in
+    or entering V's path within ENDANGER_S of V being there (`_entering`). Approaching the junction,
+    or riding on the main road towards it, is not being endangered."""
+    if not (_walking(other) or other.type == "cyclist"):
+        return None
+    entering = _entering(p, other)
+    if entering is None:
+        return None
+    return DerivedFact(WOULD_ENDANGER.text(p.vehicle, other.user), entering.method, entering.evidence)
 
 
 def _entering(p: Passage, other: Other) -> DerivedFact | None:
@@ -460,12 +475,38 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
                "a change of speed is a considerable reaction (Hupfer 1997)")
         refs = (b.first.ref, b.last.ref)
     else:
-        return None
+        swerved = _course_changed(p, other, after)
+        if swerved is None:
+            return None
+        how, refs = swerved
     own = f"; its own light was {other.light.colour}" if other.light else ""
     c = conflict_of(p, other)
     return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user),
                        f"{how}, {other.closest_m:.0f} m from the centre{own}{conflict_words(p, other.user, c)}",
                        refs + ((other.light.ref,) if other.light else ()) + _conflict_refs(c))
+
+
+def _course_changed(p: Passage, other: Other, after: str = "") -> tuple[str, tuple[EventRef, ...]] | None:
+    """A change of course V caused (para 1 and 5(5): "change its speed or course"): U, a vehicle
+    going on its way, moved SWERVE_M or more to the side of the line it was on at V's act while V
+    passed, and had it kept to that line it would have met V in their conflict zone within
+    PET_MAX_S (conflicts.swerve). A pedestrian's steps are judged as danger, not as this."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if act is None or _walking(other):
+        return None
+    until = (p.left.t if p.left else p.end) + int(PET_MAX_S * SECOND)
+    sw = swerve(p.samples, other.samples, act, until)
+    if sw is None or sw.kept_pet_s is None or sw.kept_pet_s >= PET_MAX_S:
+        return None
+    a, b = sw.before
+    kept = f"{p.vehicle} first" if sw.kept_first == "mine" else f"{other.user} first"
+    how = (f"{other.user} changed course while {p.vehicle} passed{after}: {sw.offset_m:.1f} m to the side of the line it "
+           f"was on at {p.vehicle}'s act ({a.label} to {b.label}), widest at {sw.widest.label} "
+           f"({format_time(sw.widest.t)}), going on its way, at {sw.widest.speed_mps or 0:.1f} m/s; a sideways "
+           f"departure counts from {SWERVE_M:g} m (a car centred in a 3.65 m lane has 0.9 m either side); had it "
+           f"kept to its line, post-encroachment time {sw.kept_pet_s:.2f} s with {p.vehicle} ({kept}; under "
+           f"{PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
+    return how, (a.ref, b.ref, sw.widest.ref)
 
 
 def conflict_words(p: Passage, user: str, c: Conflict | None) -> str:
@@ -818,7 +859,7 @@ def _check_forced(p: Passage, at: int, text: str, ref: EventRef, derived):
     shown = {f.sentence for f in derived}
     if WOULD_FORCE.text(p.vehicle, other.user) in shown:
         return None
-    if endanger and IS_APPROACHING.text(other.user, p.vehicle) in shown:
+    if endanger and WOULD_ENDANGER.text(p.vehicle, other.user) in shown:
         return None
     return _contradiction(text, ref, _unforced(p, other), [], "", _conflict_refs(conflict_of(p, other)))
 

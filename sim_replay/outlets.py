@@ -121,21 +121,34 @@ class Outlets:
             for event in events:
                 self._recorder.add(event)
 
-    def _note(self, event: dict) -> None:
-        """Count an event going out: its source, the world time covered; before the first, wait
-        for an ingest to subscribe."""
-        t = event["t"]
-        if self._first_t is None:
-            self._first_t = t
-        self._last_t = t if self._last_t is None else max(self._last_t, t)
-        self._sources.add(event["src"])
+    def await_ingest(self, event: dict) -> None:
+        """Wait, as before the first put, for an ingest to subscribe to this event's key (a no-op
+        when not publishing): what a producer asks of the ingests before it publishes."""
         if self._publisher is not None and not self._matched:
             self._matched = self._publisher.wait_until_matched(event, self.wait_s)
             if not self._matched:
                 raise TimeoutError(f"no ingest subscribed within {self.wait_s:g} s on {self._where()}: "
                                    "is `gaps serve` running there?")
-            # The clock starts when the first event can go out (the first is matched): paced from
-            # before an ingest came, the events due while waiting for it would go out in one burst.
+
+    @property
+    def session(self):
+        """The publishing Zenoh session, or None when only recording."""
+        return None if self._publisher is None else self._publisher.session
+
+    def _note(self, event: dict) -> None:
+        """Count an event going out: its source, the world time covered; before the first, wait
+        for an ingest to subscribe."""
+        t = event["t"]
+        first = self._first_t is None
+        if first:
+            self._first_t = t
+        self._last_t = t if self._last_t is None else max(self._last_t, t)
+        self._sources.add(event["src"])
+        self.await_ingest(event)
+        # The clock starts when the first event can go out (matched, and the ingests asked what
+        # they hold: sim_replay/held_runs.py): paced from before, the events due while waiting
+        # would go out in one burst.
+        if first and self._publisher is not None:
             self._wall0 = time.monotonic()
 
     def summary(self) -> OutletSummary:

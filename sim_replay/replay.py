@@ -21,6 +21,7 @@ from typing import Callable, Iterator, Sequence
 
 from store import ImportReport, Store, import_file, parse_json, parse_json_all
 
+from .held_runs import refuse_if_held
 from .outlets import OutletSummary, Outlets
 from .publisher import PUT_RUN
 
@@ -91,6 +92,10 @@ def replay(store: Store, runs: Sequence[str], *, listen: Sequence[str] = (), con
     for run in runs:
         with Outlets(listen=listen, connect=connect, speed=speed, wait_s=wait_s, config_file=config_file,
                      insecure=insecure) as outlets:
+            first = next(run_events(store, run), None)
+            if first is not None and outlets.session is not None:   # one run, one producer
+                outlets.await_ingest(first)
+                refuse_if_held(outlets.session, store, run)
             if speed is None:   # as fast as the wire takes it: the stored bytes, puts back to back
                 for events, payloads in stored_runs_of(store, run):
                     outlets.put_all(events, payloads)

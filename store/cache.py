@@ -137,6 +137,9 @@ class Cache:
     @property
     def connection(self) -> sqlite3.Connection:
         if self._conn is None:
+            if self.path in _unread:    # it could not be read earlier in this process: go without it
+                _went_without.append((self.path, _unread[self.path]))
+                self.path = MEMORY
             key = None if self.path == MEMORY else load_or_create_key()
             if key is not None:
                 note_evidence(self.path, "cache file")
@@ -144,7 +147,9 @@ class Cache:
                 if self._conn is not None:
                     _files_opened.append(self.path)
             if self._conn is None:  # no key to keep, or no file to keep it in: memory only
-                if self.path != MEMORY:
+                if self.path != MEMORY and os.path.lexists(self.path):     # there, but not a cache SQLite can use
+                    _went_without.append((self.path, "SQLite could not open it as a cache"))
+                elif self.path != MEMORY:
                     self.failed_to_write(f"{self.path} could not be opened or made")
                 self.path, key = MEMORY, memory_key()
                 self._conn = _open(MEMORY, key)
@@ -193,6 +198,31 @@ _files_opened: list[str] = []
 def caches_opened() -> int:
     """How many times this process has opened a cache file (damaged_caches(since=) counts from it)."""
     return len(_files_opened)
+
+
+def caches_opened_since(since: int) -> list[str]:
+    """The cache files this process opened after its first `since` openings, each once."""
+    return list(dict.fromkeys(_files_opened[since:]))
+
+
+_unread: dict[str, str] = {}
+
+
+def go_without_caches(paths: list[str], why: str) -> None:
+    """Never open these cache files again in this process (an SQLite error while reading one:
+    damaged pages, an I/O error): every Cache made for them from now on lives in memory, so that
+    a read run again computes from the events alone (cli/app.py)."""
+    for path in paths:
+        _unread.setdefault(path, why)
+
+
+_went_without: list[tuple[str, str]] = []
+
+
+def unread_caches() -> list[tuple[str, str]]:
+    """(cache file, why) each time this process went without a cache file it had failed to read
+    (the command line warns with these, as with unwritten_caches)."""
+    return list(_went_without)
 
 
 def damaged_caches(since: int = 0) -> list[str]:

@@ -54,3 +54,40 @@ def test_paths_that_never_meet_have_no_conflict():
     """U on the far footway, 8 m south of V's lane, walking east: the paths stay apart."""
     walker = track("pedestrian/p", -30.0, -6.25, 1.4, 0.0)
     assert conflict(V, walker, 2 * S, walker=True) is None
+
+
+def _bent(src: str, points) -> list[Sample]:
+    """A path through (t, x, y) points at 5 Hz, linear between them."""
+    out = []
+    for i in range(len(points) - 1):
+        (t0, x0, y0), (t1, x1, y1) = points[i], points[i + 1]
+        steps = round((t1 - t0) / 0.2)
+        for k in range(steps + (i == len(points) - 2)):
+            f = k / steps
+            t = t0 + (t1 - t0) * f
+            out.append(Sample(round(t * S), x0 + (x1 - x0) * f, y0 + (y1 - y0) * f, 10.0, None,
+                              EventRef("r", src, len(out), round(t * S), "entity.state")))
+    return out
+
+
+def test_a_swerve_off_the_line_and_back_measures_its_offset_and_the_gap_kept_to_the_line():
+    """U goes north along x = -1.75 at 10 m/s from y = -40 at t = 0: kept to that line it enters
+    V's zone (y = -2.025) at 3.7975 s, while V is in it (2.895-4.405 s): PET 0, both in at once. It moves 2 m west between t = 2 and 3 s
+    (y = -20 to -10), holds to t = 5, and comes back by t = 6: offset 2 m; it goes on north."""
+    from reasoner.conflicts import SWERVE_M, swerve
+    u = _bent("vehicle/u", [(0, -1.75, -40), (2, -1.75, -20), (3, -3.75, -10), (5, -3.75, 10), (6, -1.75, 20),
+                            (8, -1.75, 40)])
+    sw = swerve(V, u, round(2.0 * S), round(7.0 * S))
+    assert sw is not None and sw.offset_m == pytest.approx(2.0, abs=1e-6) and sw.offset_m >= SWERVE_M
+    assert sw.kept_pet_s == 0.0
+
+
+def test_a_turn_is_no_swerve_and_a_drift_under_a_metre_is_none():
+    """U turns right (east) off x = -1.75 at y = 0: its way afterwards is 90 degrees off its line,
+    its own manoeuvre. W drifts 0.8 m sideways and back: under SWERVE_M (1 m)."""
+    from reasoner.conflicts import swerve
+    turn = _bent("vehicle/u", [(0, -1.75, -40), (4, -1.75, 0), (8, 38.25, 0)])
+    assert swerve(V, turn, round(2.0 * S), round(7.0 * S)) is None
+    drift = _bent("vehicle/w", [(0, -1.75, -40), (2, -1.75, -20), (3, -2.55, -10), (5, -2.55, 10), (6, -1.75, 20),
+                                (8, -1.75, 40)])
+    assert swerve(V, drift, round(2.0 * S), round(7.0 * S)) is None

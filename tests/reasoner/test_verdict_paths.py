@@ -616,12 +616,14 @@ def test_a_red_light_runner_seen_by_a_camera_in_core_sentences_is_punishable(tmp
     assert inc.judged_on == "monitor scenario"
 
 
-@pytest.mark.parametrize("road_user, verdict", [("pedestrian", "punishable"), ("cyclist", "punishable"),
+@pytest.mark.parametrize("road_user, verdict", [("pedestrian", "punishable"), ("cyclist", "mitigated"),
                                                 ("car", "mitigated")])
 def test_an_ambulance_on_call_with_a_road_user_approaching(tmp_path, road_user, verdict):
-    """TSRGD para 5(5): a pedestrian or cyclist approaching an ambulance that proceeds on red is
-    likely to be endangered (punishable); a car approaching is not, by that alone, made to change
-    speed or course (mitigated: nothing shows it braked)."""
+    """TSRGD para 5(5): a pedestrian approaching an ambulance that proceeds on red is likely to be
+    endangered (punishable); a car approaching is not, by that alone, made to change speed or
+    course (mitigated: nothing shows it braked), nor is a cyclist, the driver of a vehicle whose
+    approach is traffic's (HC 172): it is endangered only in or entering the ambulance's path, which
+    nothing here measures (issue 35; this expected punishable before)."""
     observed = ["4 is of type ambulance", "4 is on an emergency call", "4 crossed the stop line on red light",
                 f"u1 is of type {road_user}", "u1 is approaching 4"]
     (inc,) = judge(tmp_path, camera_run("4", "ambulance", observed, emergency=True))

@@ -1,0 +1,328 @@
+"""Every margin within its stated uncertainty of a check computed from the raw events (issue 36).
+
+Each incident's margin (red light, amber, speeding) is measured again here from the run's own
+events, read through the store's public API alone: the vehicle's entity.state samples, the
+signal.state events and the run.start map. None of the reasoner's passages, stretches or margin
+code is used; the reasoner is asked only for its incidents and the margins they state.
+
+- red light ("seconds after red the stop line was crossed"): the moment the vehicle's path
+  crosses a stop line of the junction the act names (the segment between two consecutive
+  samples that meets the line, moving towards the junction's centre), linearly interpolated
+  between those two samples; red's onset is the first of the unbroken red / red-and-amber reports
+  of that approach's signal before it. On red-and-amber ("seconds into red-and-amber") the onset
+  is the first red-and-amber report of that run. The signal's first report of the approach being
+  red means red began at or before it: the margin is then "at least".
+- amber ("metres from the stop line when amber came"): the last change of that approach's signal
+  to amber before the crossing; the vehicle's position then, linearly interpolated between its
+  two samples around it, and its perpendicular distance to the stop line (positive before it).
+- speeding ("mph over the speed limit"): the vehicle's entity.state samples on the road the act
+  names (its `road` field where that is a road of the map, else the map road nearest, within
+  SNAP_M), over that road's speed_limit_mph, in runs no more than STRETCH_GAP_S
+  apart; the run that meets the act's span where the act is a speeding stretch (else the
+  incident's moment), within STRETCH_GAP_S; its fastest speed in mph less the limit. Where no such
+  run is near, the raw events show no excess near the act: the margin is then within when it
+  states none either (not over by more than its uncertainty), whatever the exact shortfall (the
+  fastest sample on the road within STRETCH_GAP_S of the act is shown).
+
+A margin is within when |script - reasoner| <= the reasoner's uncertainty + SLACK (the script's
+own rounding and interpolation: the reasoner rounds seconds to 1 ms, metres to 1 cm, mph to 0.1).
+An "at least" bound is contradicted where the raw events show red's onset (a report of another
+colour before it) or give less than the bound by more than the uncertainty.
+
+    .venv/bin/python scripts/margin_check.py gaps.db demo-sumo      # exit 1 on a margin outside
+    .venv/bin/python scripts/margin_check.py gaps.db RUN judged.json  # the incidents as `gaps incidents
+                                                                      # --run RUN --json` gave them
+"""
+from __future__ import annotations
+
+import math
+import sys
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Any
+
+MPH_PER_MPS = 2.2369362920544
+SECOND = 1e9
+STRETCH_GAP_S = 3.0
+NEVER_OVER = "never over the limit within STRETCH_GAP_S of the act"
+SNAP_M = 15.0                 # a sample without a road of the map is on the nearest road this close
+LINE_REACH_M = 1.0            # a path meeting a stop line within this of its ends still crosses it
+SLACK = {"s": 0.002, "m": 0.02, "mph": 0.06}
+RED = ("red", "red_amber")
+
+
+@dataclass
+class Raw:
+    """What the check reads of a run: its map, each vehicle's samples (t, x, y, speed, road), and
+    each approach's signal reports (t, colour) in order."""
+    the_map: dict
+    tracks: dict[str, list[tuple]] = field(default_factory=lambda: defaultdict(list))
+    signals: dict[tuple[str, str], list[tuple[int, str]]] = field(default_factory=lambda: defaultdict(list))
+
+
+@dataclass(frozen=True)
+class Result:
+    incident: str
+    kind: str
+    reasoner: float
+    uncertainty: float | None
+    bound: str | None
+    script: float | None
+    within: bool | None           # None: the raw events hold nothing to check it by
+    note: str = ""
+
+    def line(self) -> str:
+        got = "-" if self.script is None else f"{self.script:.3f}"
+        u = "-" if self.uncertainty is None else f"{self.uncertainty:g}"
+        return (f"  {self.incident:<28} {self.kind:<10} reasoner {self.reasoner:>9.3f}{' (at least)' if self.bound else ''}"
+                f" ± {u:<6} script {got:>9}  {self.note}")
+
+
+def read(store: Any, run: str) -> Raw:
+    """The run's map, samples and signal reports, through the store's public API."""
+    start = next(store.events(run, kinds=["run.start"]), None)
+    raw = Raw((start or {}).get("body", {}).get("map") or {})
+    for e in store.events(run, kinds=["entity.state", "signal.state"]):
+        b = e["body"]
+        if e["kind"] == "signal.state":
+            raw.signals[(str(b.get("junction")), str(b.get("approach")))].append((e["t"], b.get("colour")))
+        elif isinstance(b.get("x"), (int, float)) and isinstance(b.get("y"), (int, float)):
+            raw.tracks[e["src"].split("/", 1)[1]].append((e["t"], b["x"], b["y"], b.get("speed_mps"), b.get("road")))
+    for samples in list(raw.tracks.values()) + list(raw.signals.values()):
+        samples.sort(key=lambda s: s[0])
+    return raw
+
+
+# --- geometry --------------------------------------------------------------------------------------
+
+def _meet(p: tuple, q: tuple, a: list, b: list) -> float | None:
+    """The fraction along p->q where it meets the line a-b (reached LINE_REACH_M past its ends)."""
+    rx, ry = q[0] - p[0], q[1] - p[1]
+    sx, sy = b[0] - a[0], b[1] - a[1]
+    den = rx * sy - ry * sx
+    if den == 0:
+        return None
+    f = ((a[0] - p[0]) * sy - (a[1] - p[1]) * sx) / den
+    g = ((a[0] - p[0]) * ry - (a[1] - p[1]) * rx) / den
+    reach = LINE_REACH_M / max(math.hypot(sx, sy), 1e-9)
+    return f if 0.0 <= f <= 1.0 and -reach <= g <= 1.0 + reach else None
+
+
+def _to_line(x: float, y: float, line: dict, centre: tuple[float, float]) -> float:
+    """Perpendicular metres from (x, y) to the stop line, positive on the side away from the centre."""
+    (ax, ay), (bx, by) = line["from"], line["to"]
+    nx, ny = -(by - ay), bx - ax
+    n = math.hypot(nx, ny)
+    d = ((x - ax) * nx + (y - ay) * ny) / n
+    side = ((centre[0] - ax) * nx + (centre[1] - ay) * ny) / n
+    return -d if side > 0 else d
+
+
+def _junctions(raw: Raw, name: str | None) -> list[dict]:
+    js = raw.the_map.get("junctions", [])
+    return [j for j in js if str(j.get("id")) == name] or js
+
+
+def crossing(raw: Raw, vehicle: str, junction: str | None, near_t: int) -> tuple[int, dict, dict] | None:
+    """(moment, stop line, junction) of the vehicle's crossing of a stop line towards the
+    junction's centre nearest `near_t`."""
+    track, found = raw.tracks.get(vehicle, []), []
+    for j in _junctions(raw, junction):
+        centre = (j["x"], j["y"])
+        for line in j.get("stop_lines", []):
+            for p, q in zip(track, track[1:]):
+                f = _meet((p[1], p[2]), (q[1], q[2]), line["from"], line["to"])
+                if f is None or math.dist((q[1], q[2]), centre) >= math.dist((p[1], p[2]), centre):
+                    continue
+                found.append((round(p[0] + f * (q[0] - p[0])), line, j))
+    return min(found, key=lambda c: abs(c[0] - near_t), default=None)
+
+
+def position_at(track: list[tuple], t: int) -> tuple[float, float] | None:
+    for p, q in zip(track, track[1:]):
+        if p[0] <= t <= q[0]:
+            f = 0.0 if q[0] == p[0] else (t - p[0]) / (q[0] - p[0])
+            return p[1] + f * (q[1] - p[1]), p[2] + f * (q[2] - p[2])
+    return None
+
+
+# --- the three margins -----------------------------------------------------------------------------
+
+def red(raw: Raw, inc: dict, into_red_amber: bool) -> tuple[float | None, bool, str]:
+    """(seconds, red showing at the signal's first report, note)."""
+    c = crossing(raw, inc["vehicle"], _where(inc), inc["t"])
+    if c is None:
+        return None, False, "no stop-line crossing in the vehicle's entity.state"
+    t, line, j = c
+    reports = raw.signals.get((str(j["id"]), str(line.get("approach"))), [])
+    before = [r for r in reports if r[0] <= t]
+    if not before or before[-1][1] not in RED:
+        return None, False, f"light at the crossing: {before[-1][1] if before else 'none reported'}"
+    colours = RED if not into_red_amber else ("red_amber",)
+    i = len(before) - 1
+    while i > 0 and before[i - 1][1] in colours:
+        i -= 1
+    return (t - before[i][0]) / SECOND, i == 0, f"crossed {j['id']}/{line.get('approach')}"
+
+
+def amber(raw: Raw, inc: dict) -> tuple[float | None, str]:
+    c = crossing(raw, inc["vehicle"], _where(inc), inc["t"])
+    if c is None:
+        return None, "no stop-line crossing in the vehicle's entity.state"
+    t, line, j = c
+    reports = [r for r in raw.signals.get((str(j["id"]), str(line.get("approach"))), []) if r[0] <= t]
+    changes = [r for k, r in enumerate(reports) if r[1] == "amber" and (k == 0 or reports[k - 1][1] != "amber")]
+    if not changes:
+        return None, "no change to amber before the crossing"
+    at = position_at(raw.tracks[inc["vehicle"]], changes[-1][0])
+    if at is None:
+        return None, "no samples around amber's onset"
+    return _to_line(at[0], at[1], line, (j["x"], j["y"])), f"amber on {j['id']}/{line.get('approach')}"
+
+
+def speeding(raw: Raw, inc: dict, road: str | None) -> tuple[float | None, str]:
+    limits = {str(r["id"]): r.get("speed_limit_mph") for r in raw.the_map.get("roads", [])}
+    limit = limits.get(str(road))
+    if limit is None:
+        return None, f"road {road} has no limit in the map"
+    over = [s for s in raw.tracks.get(inc["vehicle"], [])
+            if on_road(raw, s) == str(road) and isinstance(s[3], (int, float)) and s[3] * MPH_PER_MPS > limit]
+    stretches: list[list[tuple]] = []
+    for s in over:
+        if not stretches or s[0] - stretches[-1][-1][0] > STRETCH_GAP_S * SECOND:
+            stretches.append([])
+        stretches[-1].append(s)
+    act = inc.get("act") or {}
+    stretch = act.get("kind") == "speeding stretch"
+    lo, hi = (act["start"], act["end"]) if stretch else (inc["t"], inc["t"])
+
+    def apart(st: list[tuple]) -> float:
+        return max(0, st[0][0] - hi, lo - st[-1][0])
+    best = min(stretches, key=apart, default=None)
+    if best is None or apart(best) > STRETCH_GAP_S * SECOND:       # never over: its fastest near the act
+        near = [s for s in raw.tracks.get(inc["vehicle"], []) if on_road(raw, s) == str(road)
+                and lo - STRETCH_GAP_S * SECOND <= s[0] <= hi + STRETCH_GAP_S * SECOND and isinstance(s[3], (int, float))]
+        if not near:
+            return None, f"no entity.state on road {road} in or near the act"
+        return max(s[3] for s in near) * MPH_PER_MPS - limit, NEVER_OVER + f" ({len(near)} samples on road {road})"
+    return max(s[3] for s in best) * MPH_PER_MPS - limit, f"{len(best)} samples over on road {road}"
+
+
+def on_road(raw: Raw, sample: tuple) -> str | None:
+    """The road a sample is on: its own `road` field where that names a road of the map, else the
+    map's road nearest its position (within SNAP_M)."""
+    roads = raw.the_map.get("roads", [])
+    if any(str(r["id"]) == str(sample[4]) for r in roads):
+        return str(sample[4])
+    nearest = min(roads, key=lambda r: _off_road(r, sample[1], sample[2]), default=None)
+    return str(nearest["id"]) if nearest is not None and _off_road(nearest, sample[1], sample[2]) <= SNAP_M else None
+
+
+def _off_road(road: dict, x: float, y: float) -> float:
+    (ax, ay), (bx, by) = road["from"], road["to"]
+    dx, dy = bx - ax, by - ay
+    length2 = dx * dx + dy * dy
+    f = 0.0 if length2 == 0 else max(0.0, min(1.0, ((x - ax) * dx + (y - ay) * dy) / length2))
+    return math.hypot(x - ax - f * dx, y - ay - f * dy)
+
+
+def _where(inc: dict) -> str | None:
+    act = inc.get("act") or {}
+    return act.get("where") if act.get("kind") == "junction passage" else None
+
+
+def _road(inc: dict) -> str | None:
+    act = inc.get("act") or {}
+    if act.get("kind") == "speeding stretch" and act.get("where") is not None:
+        return str(act["where"])
+    method = inc["margin"].get("method", "")
+    for marker in (" on road ", "against road "):
+        if marker in method:
+            return method.split(marker, 1)[1].split(",")[0].split("'")[0].strip()
+    return None
+
+
+# --- judging one margin ----------------------------------------------------------------------------
+
+def check_one(raw: Raw, inc: dict) -> Result | None:
+    """The margin of one incident (its to_json) checked against the raw events; None for a
+    margin kind this script does not measure."""
+    m = inc.get("margin")
+    if not m:
+        return None
+    q, value, u, bound = m["quantity"], m["value"], m.get("uncertainty"), m.get("bound")
+    first = False
+    if q.startswith("seconds after red") or q.startswith("seconds into red-and-amber"):
+        kind = "red"
+        script, first, note = red(raw, inc, q.startswith("seconds into"))
+    elif q.startswith("metres from the stop line when amber"):
+        kind, (script, note) = "amber", amber(raw, inc)
+    elif q.startswith("mph over the speed limit"):
+        kind, (script, note) = "speeding", speeding(raw, inc, _road(inc))
+    else:
+        return None
+    if script is None:
+        return Result(inc["id"], kind, value, u, bound, None, None, note)
+    room = (u or 0.0) + SLACK[m["unit"]]
+    within = abs(script - value) <= room
+    if note.startswith(NEVER_OVER):             # the raw events show no excess: the margin must not either
+        within = value <= room
+    if bound and kind == "red" and not first:
+        within, note = False, note + "; 'at least' but the raw events show red's onset"
+    elif bound and value > script + room:
+        within, note = False, note + "; 'at least' more than the raw events give"
+    elif bound and kind != "red":
+        within = script >= value - room         # "at least": the raw stretch may be the act's whole
+    if not bound and kind == "red" and first:
+        note += "; red at the signal's first report, yet no 'at least'"
+    return Result(inc["id"], kind, value, u, bound, script, within, note)
+
+
+def check_all(raw: Raw, incidents: list[dict]) -> list[Result]:
+    return [r for r in (check_one(raw, i) for i in incidents) if r is not None]
+
+
+def table(run: str, total: int, results: list[Result]) -> str:
+    rows = [f"{run}: {total} incidents, {len(results)} with a red, amber or speeding margin",
+            f"  {'kind':<10} {'margins':>7} {'checked':>7} {'within':>6} {'outside':>7} {'unchecked':>9} "
+            f"{'max |diff|':>10} {'max u':>6}"]
+    for kind in ("red", "amber", "speeding"):
+        mine = [r for r in results if r.kind == kind]
+        checked = [r for r in mine if r.within is not None]
+        inside = sum(1 for r in checked if r.within)
+        diff = max((abs(r.script - r.reasoner) for r in checked), default=0.0)
+        u = max((r.uncertainty or 0.0 for r in checked), default=0.0)
+        rows.append(f"  {kind:<10} {len(mine):>7} {len(checked):>7} {inside:>6} {len(checked) - inside:>7} "
+                    f"{len(mine) - len(checked):>9} {diff:>10.3f} {u:>6g}")
+    outside = [r for r in results if r.within is False]
+    if outside:
+        rows.append("  outside:")
+        rows += [r.line() for r in outside]
+    unchecked = [r for r in results if r.within is None]
+    if unchecked:
+        rows.append("  unchecked (nothing in the raw events to check by):")
+        rows += [r.line() for r in unchecked]
+    return "\n".join(rows)
+
+
+def main(db: str, run: str, judged: str | None = None) -> int:
+    import json
+    from store import Store
+    with Store.open_read_only(db) as store:
+        raw = read(store, run)
+    if judged is not None:                      # `gaps incidents --run RUN --json` output, judged once
+        with open(judged, encoding="utf-8") as f:
+            incidents = json.load(f)
+    else:
+        import reasoner
+        with reasoner.open(db) as case:
+            incidents = [i.to_json() for i in case.incidents(run)]
+    results = check_all(raw, incidents)
+    print(table(run, len(incidents), results))
+    return 1 if any(r.within is False for r in results) else 0
+
+
+if __name__ == "__main__":
+    if len(sys.argv) not in (3, 4):
+        sys.exit(__doc__)
+    sys.exit(main(*sys.argv[1:]))
