@@ -105,31 +105,34 @@ class Conflict:
 
 
 def conflict(mine: Sequence[Sample], theirs: Sequence[Sample], act: int | None, *, walker: bool = False,
-             onset: int | None = None, extend_m: float = 0.0) -> Conflict | None:
+             onset: int | None = None, extend_m: float = 0.0, mine_walker: bool = False) -> Conflict | None:
     """The conflict between the vehicle's path (`mine`) and another road user's (`theirs`), with
     its measures: TTC taken at `act`, the projected gap and DRAC at `onset` (when the other began
     to slow). `extend_m`: the other's path goes on this far straight ahead of its last position
     (one whose record ends standing short of the junction: the way it was going). None when the
     two paths never come within their half widths of each other, or either path is not in the
-    record (fewer than two positions)."""
+    record (fewer than two positions). `mine_walker`: the first path is a pedestrian's (a road
+    user other than the vehicle, whose conflict with the other's path is asked about:
+    reasoner/attribution.py)."""
     a, b = _line(mine), _line(theirs, extend_m)
     if a is None or b is None:
         return None
     their_width, their_length = (WALKER_WIDTH_M, WALKER_LENGTH_M) if walker else (VEHICLE_WIDTH_M, CAR_LENGTH_M)
-    reach = (VEHICLE_WIDTH_M + their_width) / 2
-    overlap = a.buffer(VEHICLE_WIDTH_M / 2, cap_style="flat").intersection(b.buffer(their_width / 2, cap_style="flat"))
+    my_width, my_length = (WALKER_WIDTH_M, WALKER_LENGTH_M) if mine_walker else (VEHICLE_WIDTH_M, CAR_LENGTH_M)
+    reach = (my_width + their_width) / 2
+    overlap = a.buffer(my_width / 2, cap_style="flat").intersection(b.buffer(their_width / 2, cap_style="flat"))
     if overlap.is_empty or overlap.area <= 0:
         return None
     point = _meeting(a, b)
     zone = overlap.intersection(point.buffer(2 * reach))
     if zone.is_empty or zone.area <= 0:
         return None
-    my_time = _occupancy(mine, zone.buffer(CAR_LENGTH_M / 2))
+    my_time = _occupancy(mine, zone.buffer(my_length / 2))
     if my_time is None:
         return None
     their_time = _occupancy(theirs, zone.buffer(their_length / 2))
     pet, first = _pet(my_time, their_time)
-    ttc = _ttc(mine, theirs, a, b, zone, act, their_length) if act is not None else None
+    ttc = _ttc(mine, theirs, a, b, zone, act, their_length, my_length) if act is not None else None
     gap, drac, to_zone, speed = _projected(theirs, b, zone.buffer(their_length / 2), my_time, onset)
     return Conflict(point.x, point.y, zone.area, my_time, their_time, pet, first, ttc, gap, drac,
                     onset if gap is not None else None, to_zone, speed)
@@ -279,11 +282,11 @@ def _along(line: LineString, region: BaseGeometry) -> tuple[float, float] | None
 
 
 def _ttc(mine: Sequence[Sample], theirs: Sequence[Sample], a: LineString, b: LineString, zone: BaseGeometry,
-         act: int, their_length: float) -> float | None:
+         act: int, their_length: float, my_length: float = CAR_LENGTH_M) -> float | None:
     """Hayward's time to collision at the act: both keep the speeds they had then along their
     own paths; the time until both would be in the zone, or None."""
     spans = []
-    for samples, line, length in ((mine, a, CAR_LENGTH_M), (theirs, b, their_length)):
+    for samples, line, length in ((mine, a, my_length), (theirs, b, their_length)):
         where, _ = position_at(samples, act)
         speed, _ = speed_at(samples, act)
         reach = _along(line, zone.buffer(length / 2))

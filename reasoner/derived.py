@@ -31,6 +31,7 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, position_at, speed_at
+from .attribution import leader, nearer_conflict
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
 from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
@@ -546,7 +547,9 @@ def explained(p: Passage, other: Other) -> bool:
     a path through the junction that never came within a vehicle's width of V's (others.paths_within:
     no conflict point, so it slowed for its own manoeuvre), slowing that began more than a
     perception-reaction time after V was out of its way, or V well ahead of it on its way, going
-    its way (reasoner/reaction.py)."""
+    its way (reasoner/reaction.py), or another road user it was resolving: its leader on its way,
+    or one whose conflict zone with it came before V's on its way within PET_MAX_S
+    (reasoner/attribution.py)."""
     return _explained(p, other)
 
 
@@ -556,7 +559,14 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
     if other.braking is None and other.stopped is None:
         return False
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
-        or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other)
+        or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
+        or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None
+
+
+def _nearer_afresh(p: Passage, other: Other) -> tuple[Other, Conflict] | None:
+    """The road user whose conflict with `other`'s path it would have met first, within PET_MAX_S
+    (reasoner/attribution.py): its braking was for that one, not for V."""
+    return nearer_conflict(p, other, conflict_of(p, other), _extend(p, other))
 
 
 def _clear_of(p: Passage, other: Other) -> bool:
@@ -581,11 +591,18 @@ def conflict_of(p: Passage, other: Other) -> Conflict | None:
 
 def _conflict_afresh(p: Passage, other: Other) -> Conflict | None:
     act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
-    extend = 0.0 if through(other.way, p.junction) else EXTEND_M
-    return conflict(p.samples, other.way, act, walker=_walking(other), onset=slowing_began(other), extend_m=extend)
+    return conflict(p.samples, other.way, act, walker=_walking(other), onset=slowing_began(other),
+                    extend_m=_extend(p, other))
+
+
+def _extend(p: Passage, other: Other) -> float:
+    """How far the road user's way is taken on straight ahead: EXTEND_M where its record ends
+    short of its way through the junction, else not at all."""
+    return 0.0 if through(other.way, p.junction) else EXTEND_M
 
 
 _explained = _ByIdentity(_explained_afresh, 128)   # a passage's road users (MAX_OTHERS) and more
+_nearer = _ByIdentity(_nearer_afresh, 128)
 _conflict_of = _ByIdentity(_conflict_afresh, 128)
 
 
@@ -916,6 +933,20 @@ def _cause(p: Passage, other: Other) -> str:
         return f"it began to slow more than a reaction time after {p.vehicle} was out of its way"
     if well_ahead(p.samples, other):
         return f"{p.vehicle} was well ahead of it on its way, going its way"
+    ahead = leader(p, other, _extend(p, other))
+    if ahead is not None:
+        return (f"{ahead} ahead of it on its way when it began to slow, going its way or standing: keeping the "
+                f"two-second gap behind it (HC 126) took {FORCE_DECEL_MPS2:g} m/s² or more")
+    if not _clear_of(p, other):
+        nearer = _nearer(p, other)
+        if nearer is not None:
+            w, c = nearer
+            mine = conflict_of(p, other)
+            gap = f"in it with {w.user}" if c.projected_gap_s <= 0 else f"{c.projected_gap_s:.2f} s from {w.user} there"
+            return (f"{w.user}, whose path it would have met first: when it began to slow ({format_time(c.onset)}) "
+                    f"it was {c.onset_to_zone_m:.1f} m from their conflict zone and {mine.onset_to_zone_m:.1f} m from "
+                    f"{p.vehicle}'s at {c.onset_speed_mps:.1f} m/s; unslowed, {gap} (a gap under {PET_MAX_S:g} s is "
+                    "a conflict: SUMO SSM device's PET threshold)")
     return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 

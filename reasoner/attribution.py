@@ -1,0 +1,154 @@
+"""Which road user a braking was for, when more than the vehicle V was about (issue 35).
+
+Para 1 of TSRGD 2016 Sch 9 Pt 7 (and HC 170-172, Sch 14 Pt 1 para 5(5)) asks whether V caused
+another driver "to change its speed or course in order to avoid an accident". A road user U that
+braked while V passed may have been resolving another conflict than V's. Traffic-conflict
+analysis attributes an evasive action to the conflict it resolved (Hydén 1987, the Swedish
+Traffic Conflict Technique: the time to accident is measured to the road user the action was
+taken for); this module finds, from the measured paths alone, a road user other than V that
+explains U's braking:
+
+- `leader`: a road user ahead of U on U's own way when U began to slow, going U's way (or
+  standing), no faster than U, so close that U could keep the two-second rule's gap behind it
+  (HC 126: FOLLOW_S, plus FOLLOW_M of a car's length) only by braking at FORCE_DECEL_MPS2 or
+  harder (reaction.needed_deceleration: within that gap already, or closing fast on it). U was
+  slowing behind its leader (a queue, one standing in its way, or one that had joined its lane
+  ahead of it), whatever lane that leader came from; others.py's `followed` looks on U's own arm
+  only, at its hardest braking. This is reaction.well_ahead's yardstick turned round: V ahead of
+  U with room to spare is not what U braked hard for; a leader with none is.
+- `nearer_conflict`: a road user W whose path crosses U's where, had U kept the speed it had
+  when it began to slow, U would have come within PET_MAX_S of W (W's projected gap: the
+  post-encroachment time U would have had with W), and whose conflict zone U would have
+  reached no later than V's. The driver resolves the first conflict on its way: slowing for W
+  there, it was slowing for W, and V's zone beyond it is not what it braked for.
+
+Neither answers on missing measurements: where the record cannot tell (no onset, no path, V's
+zone's distance unknown), the braking stays V's to explain, as before. V itself is never among
+`p.others` (others.near_users leaves it out), so V joining U's lane ahead of it is judged as V's
+act (reaction.well_ahead), never as a leader of U's own.
+"""
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+from .conflicts import PET_MAX_S, Conflict, conflict
+from .motion import STOPPED_MPS, Sample, position_at, speed_at
+from .others import VEHICLE_WIDTH_M
+from .passage import Other, Passage
+from .reaction import FORCE_DECEL_MPS2, SAME_WAY_DEG, _Way, needed_deceleration, slowing_began
+
+SECOND = 1_000_000_000
+_SAME_WAY = math.cos(math.radians(SAME_WAY_DEG))
+
+
+def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
+    """The road user ahead of `other` on its own way when it began to slow (`slowing_began`),
+    heading its way (within SAME_WAY_DEG of the way's direction there) or standing, no faster
+    than it, and so close that keeping the two-second gap behind it needed FORCE_DECEL_MPS2 or
+    more: the one it followed. `extend_m`: its way goes on this far straight ahead of its last
+    position (one whose record ends standing behind its leader). None where none was, or the
+    record cannot tell (no onset, no way, no speed)."""
+    onset = slowing_began(other)
+    if onset is None:
+        return None
+    way = _Way(_extended(other.way, extend_m), VEHICLE_WIDTH_M)
+    here, _ = position_at(other.way, onset)
+    speed, _ = speed_at(other.way, onset)
+    if len(way.points) < 2 or here is None or speed is None:
+        return None
+    own = way.hit(here)
+    if own is None:
+        return None
+    for ahead in p.others:
+        if ahead.user == other.user or _walking(ahead):
+            continue                    # a pedestrian on the footway leads nobody in the lane
+        there, _ = position_at(ahead.samples, onset)
+        its, _ = speed_at(ahead.samples, onset)
+        if there is None or its is None:
+            continue
+        hit = way.hit(there)
+        if hit is None:
+            continue
+        gap = hit.along_m - own.along_m
+        heading = _heading_at(ahead.samples, onset)
+        along = 1.0 if heading is None else heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
+        going = its <= STOPPED_MPS or (heading is not None and along >= _SAME_WAY)
+        if gap > 0 and its <= speed and going and \
+                needed_deceleration(speed, its * max(along, 0.0), gap) >= FORCE_DECEL_MPS2:
+            return ahead.user
+    return None
+
+
+def _extended(samples: Sequence[Sample], extend_m: float) -> list[tuple[float, float]]:
+    """The placed positions, the last segment taken on `extend_m` further straight ahead."""
+    points: list[tuple[float, float]] = []
+    for s in samples:
+        if s.placed and (not points or (s.x, s.y) != points[-1]):
+            points.append((s.x, s.y))
+    if extend_m > 0 and len(points) >= 2:
+        (x0, y0), (x1, y1) = points[-2], points[-1]
+        length = math.hypot(x1 - x0, y1 - y0)
+        points.append((x1 + (x1 - x0) / length * extend_m, y1 + (y1 - y0) / length * extend_m))
+    return points
+
+
+def nearer_conflict(p: Passage, other: Other, mine: Conflict | None,
+                    extend_m: float = 0.0) -> tuple[Other, Conflict] | None:
+    """The road user (not V, not `other`) whose conflict with `other`'s path explains its braking
+    rather than V's conflict `mine` (derived.conflict_of): `other` would have reached that zone,
+    at the speed it had when it began to slow, no later than V's zone, and come within PET_MAX_S
+    of that road user there (projected gap under PET_MAX_S; negative: in it together). One behind
+    `other` on its own way is its follower, never what it braked for. None where V's zone's
+    distance is not measured, or no such road user is in the record. `extend_m`: `other`'s way is
+    taken on straight ahead as V's conflict with it was (derived.conflict_of)."""
+    onset = slowing_began(other)
+    if onset is None or mine is None or mine.onset_to_zone_m is None:
+        return None
+    way = _Way.of(other.way, VEHICLE_WIDTH_M)
+    here, _ = position_at(other.way, onset)
+    own = way.hit(here) if here is not None and len(way.points) >= 2 else None
+    best: tuple[Other, Conflict] | None = None
+    for w in p.others:
+        if w.user == other.user or _behind(w, onset, way, own):
+            continue
+        c = conflict(w.way, other.way, None, walker=_walking(other), onset=onset, extend_m=extend_m,
+                     mine_walker=_walking(w))
+        if c is None or c.projected_gap_s is None or c.onset_to_zone_m is None or c.projected_gap_s >= PET_MAX_S:
+            continue
+        if c.onset_to_zone_m > mine.onset_to_zone_m:
+            continue                    # V's zone came first on its way
+        if best is None or c.onset_to_zone_m < best[1].onset_to_zone_m:
+            best = (w, c)
+    return best
+
+
+def _behind(w: Other, t: int, way: _Way, own) -> bool:
+    """Whether `w` was behind the road user on its way at t, going its way: following it."""
+    if own is None:
+        return False
+    there, _ = position_at(w.samples, t)
+    hit = way.hit(there) if there is not None else None
+    if hit is None or hit.along_m >= own.along_m:
+        return False
+    heading = _heading_at(w.samples, t)
+    return heading is not None and heading[0] * hit.direction[0] + heading[1] * hit.direction[1] >= _SAME_WAY
+
+
+def _heading_at(samples: Sequence[Sample], t: int) -> tuple[float, float] | None:
+    """The road user's direction of travel at t (a unit vector): its stated heading nearest t,
+    else from its positions half a second either side."""
+    stated = [s for s in samples if s.heading_deg is not None and abs(s.t - t) <= SECOND // 2]
+    if stated:
+        a = math.radians(min(stated, key=lambda s: abs(s.t - t)).heading_deg)
+        return math.cos(a), math.sin(a)
+    a, _ = position_at(samples, t - SECOND // 2)
+    b, _ = position_at(samples, t + SECOND // 2)
+    if a is None or b is None:
+        return None
+    length = math.dist(a, b)
+    return None if length < 0.1 else ((b[0] - a[0]) / length, (b[1] - a[1]) / length)
+
+
+def _walking(other: Other) -> bool:
+    return other.type == "pedestrian" or other.src.startswith("pedestrian/")
