@@ -49,6 +49,8 @@ DRAC_MAX_MPS2 = 3.0      # SUMO SSM device, DEFAULT_THRESHOLD_DRAC
 SWERVE_M = 1.0           # a sideways departure from the line it was on beyond this is a change of course: a car
                          # centred in a 3.65 m lane (DMRB CD 127) has (3.65 - 1.8) / 2 = 0.9 m to either side
                          # (SUMO's default passenger vType is 1.8 m wide); more takes it out of its lane
+SWERVE_MAX_M = 5.5       # ... and up to a lane's width and a car's (DMRB CD 127's 3.65 m + 1.8 m): a road user
+                         # further than that from its line is on another way (a turn, a fork), not swerving on its own
 TURNED_DEG = 45.0        # a road user whose way afterwards is more than this off its way before turned (its own
                          # manoeuvre, reaction.SAME_WAY_DEG), which is no swerve
 
@@ -160,7 +162,7 @@ class Swerve:
 def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: int) -> Swerve | None:
     """A change of course by the other road user between V's act and `until`: its line is the way
     it went over the second before the act (two placed samples a metre or more apart); a sample
-    in the window SWERVE_M or more to the side of that line, with its way at the window's end
+    in the window SWERVE_M to SWERVE_MAX_M to the side of that line, with its way at the window's end
     within TURNED_DEG of the line's, is a swerve. Its measure is the conflict V would have had
     with it had it kept to the line: its samples taken at the same times, laid on the line.
     None where the record shows no such line, no such departure, or a turn."""
@@ -178,8 +180,8 @@ def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: in
         return None
     side = [((s.x - b.x) * -uy + (s.y - b.y) * ux, s) for s in window]
     offset, widest = max(side, key=lambda o: abs(o[0]))
-    if abs(offset) < SWERVE_M:
-        return None
+    if abs(offset) < SWERVE_M or abs(offset) > SWERVE_MAX_M:
+        return None                         # kept its line, or left it for another way
     last = placed[-1] if placed[-1].t <= until + 2 * SECOND else window[-1]
     tail = [s for s in placed if last.t - SECOND <= s.t <= last.t]
     if len(tail) >= 2:

@@ -459,6 +459,8 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     """U (counted from when V set off: `reacting`) braked at FORCE_DECEL_MPS2 or harder, or came
     to a stop, while V passed, and not for a red or amber light of its own, nor at a Stop line of
     its own, nor behind a road user it followed (others.py)."""
+    if other.user == p.vehicle:
+        return None                          # nobody forces itself (a record under two sources' names)
     off = _set_off(p)
     after = ""
     if off is not None:

@@ -91,3 +91,14 @@ def test_a_turn_is_no_swerve_and_a_drift_under_a_metre_is_none():
     drift = _bent("vehicle/w", [(0, -1.75, -40), (2, -1.75, -20), (3, -2.55, -10), (5, -2.55, 10), (6, -1.75, 20),
                                 (8, -1.75, 40)])
     assert swerve(V, drift, round(2.0 * S), round(7.0 * S)) is None
+
+
+def test_a_departure_wider_than_a_lane_and_a_car_is_another_way_not_a_swerve():
+    """U leaves x = -1.75 for a way 20 m to the west and goes on north along it (a fork, or a turn
+    the record shows only in part): its way afterwards is parallel to its line, so the turn test
+    does not see it, but 20 m is no swerve within the road (SWERVE_MAX_M: a lane's width and a
+    car's). The same path bent only 2 m (the swerve test above) is one."""
+    from reasoner.conflicts import SWERVE_MAX_M, swerve
+    fork = _bent("vehicle/u", [(0, -1.75, -40), (2, -1.75, -20), (3, -21.75, -10), (5, -21.75, 10), (8, -21.75, 40)])
+    assert 20.0 > SWERVE_MAX_M
+    assert swerve(V, fork, round(2.0 * S), round(7.0 * S)) is None
