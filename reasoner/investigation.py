@@ -1293,12 +1293,7 @@ def _evidence(case: _Case, mscen: Scenario, vscen: Scenario, decision: Decision 
         refs.append(EventRef.of(control.last_ads_event, case.run, "ads.event"))
     for f in findings:
         refs += f.evidence
-    seen, out = set(), []
-    for r in refs:
-        if r.key not in seen:
-            seen.add(r.key)
-            out.append(r)
-    return tuple(out)
+    return oneact.once(refs)
 
 
 

@@ -95,7 +95,7 @@ def merge(group: list[Incident]) -> Incident:
     verdicts = {inc.verdict for inc in group}
     if len(verdicts) > 1:
         findings.append(_disagree(group, rep))
-    evidence = _once(ref for inc in [first, rep, *group] for ref in inc.evidence)
+    evidence = once(ref for inc in [first, rep, *group] for ref in inc.evidence)
     sources = sources_of([first, *(inc for inc in group if inc is not first)])
     return replace(rep, id=first.id, t=first.t, monitor=first.monitor,
                    recorded=any(inc.recorded for inc in group), rederived=any(inc.rederived for inc in group),
@@ -126,7 +126,8 @@ def _key(f: Finding) -> tuple:
     return (f.kind, f.detail, f.fact, f.src)
 
 
-def _once(refs: Iterable[EventRef]) -> tuple[EventRef, ...]:
+def once(refs: Iterable[EventRef]) -> tuple[EventRef, ...]:
+    """The refs in their order, each once (by its key)."""
     seen, out = set(), []
     for r in refs:
         if r.key not in seen:

@@ -15,7 +15,6 @@ from __future__ import annotations
 import json
 import random
 import shutil
-import sqlite3
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
@@ -23,7 +22,8 @@ from typing import Any, Callable
 from store import CheckpointKey, Store, TreeHead, WitnessFile, canonical_json, public_path_of
 from store import merkle
 from store.chain import GENESIS, link
-from store.ddl import APPEND_ONLY_TABLES
+from tests.helpers import store_testkit
+from tests.helpers.store_testkit import rows  # noqa: F401  (the attacks' readers import it from here)
 
 T0 = 1_732_184_100_000_000_000
 SPAWN_SRC = "vehicle/253"
@@ -86,25 +86,8 @@ def honest_store(folder: Path) -> Honest:
 
 
 def tamper(db: Path, statements: list[tuple[str, tuple]]) -> None:
-    conn = sqlite3.connect(db)
-    try:
-        conn.execute("PRAGMA synchronous=OFF")
-        for table in APPEND_ONLY_TABLES:
-            conn.execute(f"DROP TRIGGER IF EXISTS {table}_no_update")
-            conn.execute(f"DROP TRIGGER IF EXISTS {table}_no_delete")
-        for sql, params in statements:
-            conn.execute(sql, params)
-        conn.commit()
-    finally:
-        conn.close()
-
-
-def rows(db: Path, sql: str, params: tuple = ()) -> list[tuple]:
-    conn = sqlite3.connect(db)
-    try:
-        return conn.execute(sql, params).fetchall()
-    finally:
-        conn.close()
+    """The statements run behind the store's back (store_testkit.tamper)."""
+    store_testkit.tamper(db, *statements)
 
 
 def stored_events(db: Path, run: str) -> list[dict]:
