@@ -23,7 +23,7 @@ from store import CheckpointKey, Store, TreeHead, WitnessFile, canonical_json, p
 from store import merkle
 from store.chain import GENESIS, link
 from tests.helpers import store_testkit
-from tests.helpers.store_testkit import rows  # noqa: F401  (the attacks' readers import it from here)
+from tests.helpers.store_testkit import rows
 
 T0 = 1_732_184_100_000_000_000
 SPAWN_SRC = "vehicle/253"
