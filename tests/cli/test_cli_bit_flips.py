@@ -90,8 +90,9 @@ def test_a_flip_verify_passes_changes_nothing_that_is_read(outcomes):
 
 # Every index and every page class (issue 37: one flipped bit in sqlite_autoindex_events_1, run "h09"
 # read as "h0;", gave `gaps runs` a TypeError in format_time). A bit of a value of an entry of each
-# index (every value of its first and last entry; under GAPS_FUZZ=long every entry, two bits
-# each), and a data byte of pages of each b-tree page type and of the other pages (overflow, free),
+# index (every value of its first entry; under GAPS_FUZZ=long every entry, two bits each), and a
+# data byte of the first and last page of each b-tree page type and of the other pages (overflow,
+# free; under GAPS_FUZZ=long every page),
 # then every read command: no traceback, an exit code that means something, and a message when not 0.
 
 LONG = os.environ.get("GAPS_FUZZ") == "long"
@@ -113,7 +114,7 @@ def index_flips(path: Path, data: bytes) -> list[tuple[str, bytes]]:
     found = []
     for index in names:
         entries = index_pages.cells(path, index)
-        chosen = sorted({0, len(entries) - 1} & set(range(len(entries))))
+        chosen = [0] if entries else []      # make test: each index's first entry; GAPS_FUZZ=long: every one
         for at in (range(len(entries)) if LONG else chosen):
             entry = entries[at]
             for position, (serial, _, body) in enumerate(index_pages._fields(data, entry.record_at)):
@@ -135,7 +136,7 @@ def page_flips(data: bytes) -> list[tuple[str, bytes]]:
                             13: "table leaf"}.get(kind, "other"), []).append(page)
     found = [("file header", bytes(data[:28]) + bytes([data[28] ^ 1]) + data[29:])]
     for kind, pages in sorted(classes.items()):
-        for page in pages[:2] + pages[-1:] if not LONG else pages:
+        for page in pages[:1] + pages[-1:] if not LONG else pages:
             start = (page - 1) * size
             middle = [i for i in range(start + size // 2, start + size) if data[i]][:1] or \
                      [i for i in range(start + (100 if page == 1 else 0), start + size) if data[i]][:1]
