@@ -1,7 +1,7 @@
 """The reasoner's "forced / endangered / gave way" held against SUMO's own account (issue 35).
 
     nice -n 10 .venv/bin/python bench/conflict_agreement.py [--minutes 10] [--seeds 11,12] [--maps paper,town]
-                                                           [--keep DIR] [--json] [--cost]
+                                                           [--keep DIR | --judge DIR] [--json] [--cost]
 
 Each run is the simulation's (sim_replay.simulation, faults on at the rates `gaps sim --faults`
 takes) with SUMO's own account kept in its ground truth (sim_replay/sumo_account.py: its SSM
@@ -81,6 +81,14 @@ def _append(store: Store, batch: list[dict[str, Any]]) -> float:
     if report.rejected:
         raise SystemExit(f"the store refused simulated events: {report.rejected[:3]}")
     return time.perf_counter() - started
+
+
+def kept(where: Path, run: str) -> tuple[dict[str, Any], dict[str, float], Path]:
+    """A run an earlier `--keep DIR` kept: its truth and store, judged again as they are (read only)."""
+    db, truth = where / f"{run}.db", where / f"{run}.truth.json"
+    if not db.exists() or not truth.exists():
+        raise SystemExit(f"{where}: no kept store and truth for {run} (run the bench with --keep {where} first)")
+    return json.loads(truth.read_text(encoding="utf-8")), {"simulate_s": 0.0, "append_s": 0.0, "events": 0}, db
 
 
 def judged(db: Path, run: str) -> tuple[list[Any], float]:
@@ -171,6 +179,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", default="11,12")
     ap.add_argument("--maps", default="paper,town")
     ap.add_argument("--keep", type=Path, help="keep each run's store and truth in this directory")
+    ap.add_argument("--judge", type=Path, metavar="DIR",
+                    help="judge the stores and truths an earlier --keep DIR kept, without simulating again")
     ap.add_argument("--json", action="store_true", help="print the figures as JSON at the end")
     ap.add_argument("--cost", action="store_true", help="also time the demo with and without SUMO's account")
     args = ap.parse_args(argv)
@@ -190,11 +200,14 @@ def main(argv: list[str] | None = None) -> int:
         for map_name in args.maps.split(","):
             for seed in (int(s) for s in args.seeds.split(",")):
                 cfg = config(map_name, seed, args.minutes)
-                db = where / f"{cfg.run}.db"
-                for old in where.glob(db.name + "*"):
-                    old.unlink()
-                truth, took = simulate(cfg, db)
-                (where / f"{cfg.run}.truth.json").write_text(json.dumps(truth) + "\n", encoding="utf-8")
+                if args.judge:
+                    truth, took, db = kept(args.judge, cfg.run)
+                else:
+                    db = where / f"{cfg.run}.db"
+                    for old in where.glob(db.name + "*"):
+                        old.unlink()
+                    truth, took = simulate(cfg, db)
+                    (where / f"{cfg.run}.truth.json").write_text(json.dumps(truth) + "\n", encoding="utf-8")
                 incidents, took["judge_s"] = judged(db, cfg.run)
                 rows, unraised = compare(truth, incidents)
                 per_run.append((cfg.run, rows, unraised))
