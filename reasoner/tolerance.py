@@ -73,3 +73,16 @@ def beyond_stopping(change: AtChange) -> tuple[float, float] | None:
     spread = max(abs(stopping_distance_m(max(0.0, change.speed_mps + d) * MPH_PER_MPS) - needed)
                  for d in (-u_speed, u_speed))
     return change.to_line_m - needed, u_place + spread
+
+
+def deceleration_between(a: Sample, b: Sample) -> float:
+    """± m/s² of a deceleration read as the drop in speed between two samples over the time
+    between them (motion.peak_deceleration): each speed is known to ± SPEED_TOLERANCE_MPS, so the
+    drop to twice that, spread over the span. The samples' times are the record's own (no
+    interpolation), and the span is what the sampling gives: a whole number of sampling intervals
+    of at least motion.MIN_DECEL_SPAN_S (at 2 Hz, 1 s or 1.5 s; at 10 Hz, 1 s or 1.1 s), so a
+    braking read from sparse or irregular samples carries the uncertainty of its own span. The
+    average over the span is itself a lower bound of the hardest second within it (a mean never
+    exceeds the largest of the parts), so no more is owed to the motion between the samples."""
+    span = (b.t - a.t) / SECOND
+    return 2 * SPEED_TOLERANCE_MPS / span if span > 0 else float("inf")
