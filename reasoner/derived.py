@@ -31,7 +31,7 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, position_at, speed_at
-from .attribution import leader, nearer_conflict, why
+from .attribution import SAME_ZONE_M, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
 from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
@@ -991,23 +991,24 @@ def _cause(p: Passage, other: Other) -> str:
             w, c = nearer
             mine = conflict_of(p, other)
             gap = f"in it with {w.user}" if c.projected_gap_s <= 0 else f"{c.projected_gap_s:.2f} s from {w.user} there"
-            if why(c, mine) == "first":
-                return (f"{w.user}, whose path it would have met first: when it began to slow ({format_time(c.onset)}) "
-                        f"it was {c.onset_to_zone_m:.1f} m from their conflict zone and {mine.onset_to_zone_m:.1f} m from "
-                        f"{p.vehicle}'s at {c.onset_speed_mps:.1f} m/s; unslowed, {gap} (a gap under {PET_MAX_S:g} s is "
-                        "a conflict: SUMO SSM device's PET threshold)")
-            if mine is None:
+            ground = why(c, mine)
+            if ground == "apart":
                 return (f"{w.user}, whose path it would have met where it never met {p.vehicle}'s: when it began to "
                         f"slow ({format_time(c.onset)}) it was {c.onset_to_zone_m:.1f} m from their conflict zone at "
                         f"{c.onset_speed_mps:.1f} m/s; unslowed, {gap} (a gap under {PET_MAX_S:g} s is a conflict: "
                         "SUMO SSM device's PET threshold)")
-            return (f"{w.user}, whose conflict with it was nearer an accident than {p.vehicle}'s: when it began to "
-                    f"slow ({format_time(c.onset)}) it was {c.onset_to_zone_m:.1f} m from their conflict zone at "
-                    f"{c.onset_speed_mps:.1f} m/s and, unslowed, {gap}; it would have passed {p.vehicle}'s zone "
-                    f"({mine.onset_to_zone_m:.1f} m off) {mine.projected_gap_s:.2f} s apart from {p.vehicle}, no "
-                    f"collision course (the smaller "
-                    f"post-encroachment time is the more severe conflict, Allen, Shin & Cooper 1978; a gap under "
-                    f"{PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
+            theirs = (f"in {p.vehicle}'s with {p.vehicle}" if mine.projected_gap_s < 0 else
+                      f"{mine.projected_gap_s:.2f} s from {p.vehicle} at its zone")
+            reason = {"collision": f"a collision course with {w.user}, only a near miss with {p.vehicle}: the conflict "
+                                   f"nearer an accident asks the lower speed",
+                      "first": f"{w.user}'s zone the first on its way: the driver resolves the first conflict on its "
+                               f"way",
+                      "closer": f"the two zones one place (within {SAME_ZONE_M:g} m), and the smaller post-encroachment "
+                                "time the more severe conflict (Allen, Shin & Cooper 1978)"}[ground]
+            return (f"{w.user}, whose conflict it braked for: when it began to slow ({format_time(c.onset)}) at "
+                    f"{c.onset_speed_mps:.1f} m/s it was {c.onset_to_zone_m:.1f} m from their conflict zone and "
+                    f"{mine.onset_to_zone_m:.1f} m from {p.vehicle}'s; unslowed, {gap}, and {theirs} ({reason}; a "
+                    f"gap under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
     return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 

@@ -37,16 +37,17 @@ def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, ap
     vehicle passes (`passing`: from its crossing or entry until it left, and a reaction after).
     A pedestrian (its src, or `walking(user)`: its entity.spawn) on the vehicle's own approach is
     kept: it walks beside the road or across it, and may step into the vehicle's path."""
-    return near_and_following(tracks, junction, vehicle, approach, t_from, t_to, passing, signals, walking)[0]
+    return near_and_same_approach(tracks, junction, vehicle, approach, t_from, t_to, passing, signals, walking)[0]
 
 
-def near_and_following(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
+def near_and_same_approach(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
                        t_from: int, t_to: int, passing: tuple[int, int], signals: Signals,
                        walking: Callable[[str], bool] | None = None) -> tuple[tuple[Other, ...], tuple[Other, ...]]:
-    """`near_users`, and those it leaves out as following the vehicle on its own approach: they
-    do not cross the vehicle's path, but may cross a main-road car's after it (another emerger
-    out of the same line a few seconds later), and that car's braking may have been for them
-    (reasoner/attribution.py weighs them; nothing else reads them)."""
+    """`near_users`, and those it leaves out as on the vehicle's own approach, going its way
+    (behind it, or ahead of it in the same queue): they do not cross the vehicle's path, but may
+    cross a main-road car's just before or after it (another emerger out of the same line), and
+    that car's braking may have been for them (reasoner/attribution.py weighs them; nothing else
+    reads them)."""
     found, following = [], []
     for user, (src, series) in tracks.items():
         if user == vehicle:

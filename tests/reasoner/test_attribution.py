@@ -103,8 +103,9 @@ def test_the_attribution_is_said_with_its_measures():
     c2 = next(o for o in derived.reacting(p) if o.user == "c2")
     assert derived.explained(p, c2)
     cause = derived._cause(p, c2)
-    assert cause.startswith("8, whose path it would have met first") and "from their conflict zone" in cause, cause
-    assert "from 7's" in cause and "under 2 s is a conflict" in cause, cause
+    assert cause.startswith("8, whose conflict it braked for") and "from their conflict zone" in cause, cause
+    assert "from 7's" in cause and "in it with 8" in cause and "a collision course with 8" in cause, cause
+    assert "under 2 s is a conflict" in cause, cause
 
 
 def test_a_main_road_car_stopping_for_a_pedestrian_on_a_crossing_before_the_vehicle_s_path_was_not_forced(tmp_path):

@@ -82,9 +82,9 @@ def test_the_attribution_to_the_closer_conflict_is_said_with_its_measures():
     c2 = next(o for o in derived.reacting(p) if o.user == "c2")
     assert derived.explained(p, c2)
     cause = derived._cause(p, c2)
-    assert cause.startswith("8, whose conflict with it was nearer an accident than 7's"), cause
-    assert "in it with 8" in cause and "0.48 s apart from 7, no collision course" in cause, cause
-    assert "Allen, Shin & Cooper 1978" in cause and "under 2 s is a conflict" in cause, cause
+    assert cause.startswith("8, whose conflict it braked for"), cause
+    assert "in it with 8" in cause and "0.48 s from 7 at its zone" in cause, cause
+    assert "a collision course with 8, only a near miss with 7" in cause and "under 2 s is a conflict" in cause, cause
 
 
 def _braking_run(hz: float, decel: float):
