@@ -14,6 +14,8 @@ from reasoner.when import format_offset, format_time
 from .units import speed_text
 
 JUDGED_ON = {"vehicle scenario": "the Vehicle Scenario",
+             "corrected vehicle scenario": "the Vehicle Scenario with what the monitors witnessed in place of the "
+                                           "vehicle's own view,",
              "monitor scenario": "what its spawn and the monitors recorded",
              "spawn only": "its spawn only"}
 LAWFUL = {True: "yes", False: "NO", None: "not decided"}
