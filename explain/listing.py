@@ -6,6 +6,7 @@ glance and then asks `gaps explain` about the one that matters. Lines are drawn 
 """
 from __future__ import annotations
 
+from collections import Counter
 from typing import TYPE_CHECKING, Iterable, Iterator
 
 from reasoner.model import OWN_RECORD, Finding, Incident, Margin, Penalty, found_in
@@ -76,7 +77,10 @@ def _margin(m: Margin) -> str:
 
 
 def _findings(findings: tuple[Finding, ...]) -> str:
+    """Each kind once, in the order first found, with how many where more than one: a run with
+    lost events has nine "missing evidence" findings, which a line cannot list one by one."""
     if not findings:
         return "no findings"
-    names = ", ".join(f.kind for f in findings)
+    counts = Counter(f.kind for f in findings)
+    names = ", ".join(kind if n == 1 else f"{kind} ({n})" for kind, n in counts.items())
     return f"{len(findings)} finding{'s' if len(findings) != 1 else ''}: {names}"

@@ -114,7 +114,8 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
     for src in srcs:
         for first, last, before, after in gaps.spans(src):
             if (before is None or before <= hi) and (after is None or after >= lo):
-                out.append(Finding("missing evidence", f"{src} events {first} to {last} are missing "
+                which = f"event {first} is" if first == last else f"events {first} to {last} are"
+                out.append(Finding("missing evidence", f"{src} {which} missing "
                                    f"from the record, between {_when(before, 'its first event')} and "
                                    f"{_when(after, 'its last event')}, within {WINDOW_S} s of the incident",
                                    src=src, missing_seq=(first, last)))

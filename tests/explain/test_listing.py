@@ -55,3 +55,9 @@ def test_two_findings_are_counted_and_named():
 def test_an_incident_without_a_field_cannot_be_made():
     with pytest.raises(TypeError):
         Incident(id="x", run="r")       # no silent blanks: every field is given
+
+
+def test_many_findings_of_one_kind_are_counted_not_repeated():
+    """Issue 39: "8 findings: contradiction, missing evidence, missing evidence, …" is unreadable."""
+    many = (Finding(kind="contradiction", detail=""),) + (Finding(kind="missing evidence", detail=""),) * 7
+    assert incident_line(incident(findings=many)).endswith("8 findings: contradiction, missing evidence (7)")
