@@ -584,7 +584,7 @@ def explained(p: Passage, other: Other) -> bool:
 
 
 def _explained_afresh(p: Passage, other: Other) -> bool:
-    if own_cause(other):
+    if own_cause(other) and not _line_no_excuse(p, other):
         return True
     if other.braking is None and other.stopped is None:
         return False
@@ -598,6 +598,24 @@ def _nearer_afresh(p: Passage, other: Other) -> tuple[Other, Conflict] | None:
     """The road user whose conflict with `other`'s path it would have met first, within PET_MAX_S
     (reasoner/attribution.py): its braking was for that one, not for V."""
     return nearer_conflict(p, other, conflict_of(p, other), _extend(p, other))
+
+
+def _own_give_way(p: Passage, other: Other) -> bool:
+    return p.junction.control_from(other.arm) == "give_way"
+
+
+def _line_no_excuse(p: Passage, other: Other) -> bool:
+    """Whether the road user's own line, the only cause of its own, leaves its braking V's to
+    explain: a Give Way line (not a Stop line, which it must stop at whoever passes) where,
+    unslowed, it would have been in V's conflict zone with V (a collision course: projected gap
+    below 0). A Give Way line asks it to give way to the major road's traffic, not to stop: had
+    it gone on, it would have run into V beyond its line, so its braking was V's to answer for
+    (the paper run's 152 for 102, 207 for 196, which SUMO's account says braked for V)."""
+    if not other.own_stop_line or other.followed is not None or \
+            (other.light is not None and other.light.colour != "green") or not _own_give_way(p, other):
+        return False
+    c = conflict_of(p, other)
+    return c is not None and c.projected_gap_s is not None and c.projected_gap_s < 0
 
 
 def _clear_of(p: Passage, other: Other) -> bool:
@@ -964,8 +982,8 @@ def _unforced(p: Passage, other: Other) -> str:
 def _cause(p: Passage, other: Other) -> str:
     if other.light is not None and other.light.colour != "green":
         return f"its own {other.light.colour} light"
-    if other.own_stop_line:
-        return "its own Stop or Give Way line"
+    if other.own_stop_line and not _line_no_excuse(p, other):
+        return f"its own {'Give Way' if _own_give_way(p, other) else 'Stop'} line"
     if other.followed:
         return f"{other.followed} ahead of it"
     if paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False:
