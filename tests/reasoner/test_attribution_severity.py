@@ -123,3 +123,48 @@ def test_a_braking_beyond_its_uncertainty_is_proved_and_said_so(tmp_path):
     verdict(inc[0], "punishable", "HC 171")
     method = next(f.method for i in inc for f in i.derived if FORCES_C2 in f.sentence)
     assert "braked at 3.5 ± 0.2 m/s² against 2 m/s²" in method, method
+
+
+def _give_way_run(begins: float):
+    """7 at its west Stop line as in stop_then_go_run; the east arm has a Give Way line (12 m from
+    the centre). c3 comes in from the east at 13.4 m/s, 30 m short of the centre `begins` s after
+    7 set off, brakes at 4 m/s² for 2 s (to 5.4 m/s, at its line) and turns right across 7's lane
+    into the north arm."""
+    from tests.helpers.foreign import Foreign, crossroads
+    from tests.reasoner.test_foreign_scenarios import SAMPLING, STOPS_THEN_GOES, camera
+
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "give_way"})])
+    times = SAMPLING["5 Hz"](START, START + 25.0)
+    run.spawn("7")
+    run.drive("7", STOPS_THEN_GOES, "west", times, t_start=START)
+    run.watch("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START,
+              facts=camera("7", sign="stop"))
+    c3 = Motion(-30.0 - 13.4 * (_SET_OFF + begins), 13.4, [(_SET_OFF + begins, 0.0), (2.0, -4.0)])
+    run.spawn("c3", "car")
+    run.drive("c3", c3, "east>north", times, t_start=START)
+    run.watch("c3", c3, "east>north", rate(5, START, START + 25.0), t_start=START)
+    return run
+
+
+def test_braking_to_its_own_give_way_line_is_its_own_control(tmp_path):
+    """c3 brakes 2 s after 7 set off; unslowed, it would have crossed 7's path 0.37 s after 7 had
+    left it (a near miss, no collision course). It was slowing to its own Give Way line, where it
+    must give way to the major road's traffic whoever else passes (HC 172; TSRGD 2016 Sch 9 Pt 8),
+    and 7 crosses the junction beyond that line (SUMO's account calls such a braking's cause
+    "line"). On main 7 was convicted of forcing c3 (only a Stop line of its own counted). Law (para
+    1): that 7 caused c3 to change speed is not shown: a lawful Stop."""
+    found = judge(tmp_path, _give_way_run(2.0))
+    assert not [f.sentence for i in of(found, "7") for f in i.derived if "would force c3" in f.sentence]
+    no_violation(found, "7")
+
+
+def test_a_give_way_line_does_not_excuse_a_collision_course(tmp_path):
+    """The same c3 braking 1 s sooner (1 s after 7 set off): unslowed, it would have been in 7's
+    conflict zone together with 7 (-0.63 s). A Give Way line does not make it stop; had it gone
+    on, it would have run into 7 beyond its line, so its braking was 7's to answer for. Law (para
+    1): 7 caused c3 to change speed to avoid an accident: punishable, HC 171."""
+    found = judge(tmp_path, _give_way_run(1.0))
+    inc = [i for i in of(found, "7") if i.verdict == "punishable"]
+    assert inc and any("7 would force c3" in f.sentence for i in inc for f in i.derived), \
+        [(i.verdict, i.rule) for i in of(found, "7")]
+    verdict(inc[0], "punishable", "HC 171")
