@@ -147,3 +147,65 @@ class Placer:
         left = x + dist * diagonal if dx > 0 else x - dist * diagonal - w if dx < 0 else x - w / 2
         top = y + dist * diagonal if dy > 0 else y - dist * diagonal - h if dy < 0 else y - h / 2
         return Box(left, top, w, h)
+
+
+# --- labels of moments on a time axis ---------------------------------------------------------------
+
+ROW_GAP_PX = 6.0           # the least room between two labels of one row
+LINE_CLEAR_PX = 2.0        # the least room between a label and another moment's line
+
+
+@dataclass(frozen=True)
+class Flag:
+    """A moment's label on a time axis: written in `row` (0 nearest the plot, each further row
+    above it) from `left`, `width` wide, beside its line at `at`, which runs from the top of its
+    row down through every row below."""
+
+    text: str
+    at: float
+    row: int
+    left: float
+    width: float
+
+
+def in_rows(items: list[tuple[str, float]], lo: float, hi: float, size: float = 10.0,
+            gap: float = 3.0) -> list[Flag]:
+    """Each (text, x) written beside its line at x, to the right where it fits before `hi`, else
+    to the left (never cut at the frame's edges lo..hi), in the lowest row where it overlaps no
+    label of that row, no other line crosses it, and its own line crosses no label of a row
+    below. Placed from the right: a label written to the right of its line can then always go
+    above those already placed, whose lines end below it; those written to the left go last, so
+    above the lines that would cross them. The same items always get the same rows; the flags
+    come back in the order given."""
+    def goes_left(i: int) -> bool:
+        text, x = items[i]
+        return x + gap + text_size(text, size)[0] > hi
+    # right to left, those that must be written to the left of their line last: above the lines
+    # that run under them
+    order = sorted(range(len(items)), key=lambda i: (goes_left(i), -items[i][1], i))
+    placed: dict[int, Flag] = {}
+    for i in order:
+        text, x = items[i]
+        width = text_size(text, size)[0]
+        fits = [s for s in (x + gap, x - gap - width) if lo <= s and s + width <= hi]
+        sides = fits[:1] or [min(max(x + gap, lo), hi - width)]   # wider than either side: as near as fits
+        done = list(placed.values())
+        spots = [(row, s) for row in range(len(done) + 1) for s in sides if _free(done, x, row, s, width)]
+        if not spots:       # only where a label had to go left near the edge: its line may cross one below
+            spots = [(row, s) for row in range(len(done) + 2) for s in sides
+                     if _free(done, x, row, s, width, own_line=False)]
+        row, left = spots[0]
+        placed[i] = Flag(text, x, row, left, width)
+    return [placed[i] for i in range(len(items))]
+
+
+def _free(placed: list[Flag], x: float, row: int, left: float, width: float, own_line: bool = True) -> bool:
+    for other in placed:
+        if other.row == row and left < other.left + other.width + ROW_GAP_PX and other.left < left + width + ROW_GAP_PX:
+            return False                                  # two labels of one row meet
+        if other.row >= row and left - LINE_CLEAR_PX <= other.at <= left + width + LINE_CLEAR_PX:
+            return False                                  # the other's line runs down through this label
+        if own_line and other.row <= row and \
+                other.left - LINE_CLEAR_PX <= x <= other.left + other.width + LINE_CLEAR_PX:
+            return False                                  # this line runs down through the other's label
+    return True
