@@ -170,32 +170,36 @@ class Flag:
 
 def in_rows(items: list[tuple[str, float]], lo: float, hi: float, size: float = 10.0,
             gap: float = 3.0) -> list[Flag]:
-    """Each (text, x) written beside its line at x, to the right where it fits before `hi`, else
-    to the left (never cut at the frame's edges lo..hi), in the lowest row where it overlaps no
-    label of that row, no other line crosses it, and its own line crosses no label of a row
-    below. Placed from the right: a label written to the right of its line can then always go
-    above those already placed, whose lines end below it; those written to the left go last, so
-    above the lines that would cross them. The same items always get the same rows; the flags
-    come back in the order given."""
-    def goes_left(i: int) -> bool:
-        text, x = items[i]
-        return x + gap + text_size(text, size)[0] > hi
-    # right to left, those that must be written to the left of their line last: above the lines
-    # that run under them
-    order = sorted(range(len(items)), key=lambda i: (goes_left(i), -items[i][1], i))
+    """Each (text, x) written beside its line at x, never cut at the frame's edges lo..hi, in
+    the lowest row where it overlaps no label of that row, no other line crosses it, and its own
+    line crosses no label of a row below. A label goes to the right of its line where it fits
+    and its box holds no line of a label that must go left; else to the left. Those to the right
+    are placed from the right, those to the left after them from the left: each then can always
+    go above the ones before it, whose lines end below it. The same items always get the same
+    rows; the flags come back in the order given."""
+    widths = [text_size(text, size)[0] for text, _ in items]
+    right = [x + gap + w <= hi for (_, x), w in zip(items, widths)]
+    left_fits = [x - gap - w >= lo for (_, x), w in zip(items, widths)]
+    changed = True
+    while changed:          # a right-hand label over the line of a left-hand one goes left too
+        changed = False
+        for i, (_, x) in enumerate(items):
+            if right[i] and left_fits[i] and any(
+                    not right[j] and x + gap - LINE_CLEAR_PX <= items[j][1] <= x + gap + widths[i] + LINE_CLEAR_PX
+                    for j in range(len(items)) if j != i):
+                right[i], changed = False, True
+    order = sorted((i for i in range(len(items)) if right[i]), key=lambda i: (-items[i][1], i))
+    order += sorted((i for i in range(len(items)) if not right[i]), key=lambda i: (items[i][1], i))
     placed: dict[int, Flag] = {}
     for i in order:
         text, x = items[i]
-        width = text_size(text, size)[0]
-        fits = [s for s in (x + gap, x - gap - width) if lo <= s and s + width <= hi]
-        sides = fits[:1] or [min(max(x + gap, lo), hi - width)]   # wider than either side: as near as fits
+        width = widths[i]
+        spot = x + gap if right[i] else x - gap - width if left_fits[i] else min(max(x + gap, lo), hi - width)
         done = list(placed.values())
-        spots = [(row, s) for row in range(len(done) + 1) for s in sides if _free(done, x, row, s, width)]
-        if not spots:       # only where a label had to go left near the edge: its line may cross one below
-            spots = [(row, s) for row in range(len(done) + 2) for s in sides
-                     if _free(done, x, row, s, width, own_line=False)]
-        row, left = spots[0]
-        placed[i] = Flag(text, x, row, left, width)
+        rows = [row for row in range(len(done) + 1) if _free(done, x, row, spot, width)]
+        if not rows:        # a label wider than either side of its line: as near as fits, on top
+            rows = [row for row in range(len(done) + 2) if _free(done, x, row, spot, width, own_line=False)]
+        placed[i] = Flag(text, x, rows[0], spot, width)
     return [placed[i] for i in range(len(items))]
 
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from typing import Any, Callable
 
-from .labels import Box, Placer, in_rows, text_size
+from .labels import Box, in_rows, text_size
 from .report_data import SECOND, facing_approach
 from .svg import colour_word, esc, f, fill
 from .units import mph, mph_text
@@ -198,17 +198,21 @@ def _other_speed(tl: dict[str, Any], x: Callable, y: Callable) -> list[str]:
 
 def _speed_at_incident(tl: dict[str, Any], flags: list, x: Callable, y: Callable, plot_top: float) -> list[str]:
     """The speed last reported at or before the incident, written beside its point (a printed
-    page has no tooltip), clear of the moments' lines where there is room."""
+    page has no tooltip): above it, to whichever side and as near as no moment's line runs
+    through it (the lines cross the whole panel, so only their x matters)."""
     last = next((p for p in reversed(tl["speed"]) if p["t"] <= tl["t"]), None)
     if last is None:
         return []
-    placer = Placer(Box(LEFT + 2, plot_top, W - RIGHT - LEFT - 2, PLOT_H),
-                    [Box(fl.at - 4, plot_top, 8, PLOT_H) for fl in flags])
     text = mph_text(last["speed_mps"])
-    placed = placer.place(text, x(last["t"]), y(last["speed_mps"]), clear=5.0, size=11.0)
-    box = placed.box
-    bx, by = placed.baseline
-    return [f'<text class="speed-value" x="{f(bx)}" y="{f(by)}" fill="{OWN}" '
+    w, h = text_size(text, 11.0)
+    px, py = x(last["t"]), y(last["speed_mps"])
+    lines = [fl.at for fl in flags]
+    frame = Box(LEFT + 2, plot_top, W - RIGHT - LEFT - 2, PLOT_H)
+    spots = [Box(left, top, w, h) for shift in range(0, 400, 4)
+             for left in (px + 6 + shift, px - 6 - w - shift) for top in (py - 6 - h, py + 6)]
+    box = next((b for b in spots if b.within(frame) and not any(b.x - 2 <= a <= b.x + b.w + 2 for a in lines)),
+               next((b for b in spots if b.within(frame)), spots[0]))
+    return [f'<text class="speed-value" x="{f(box.x)}" y="{f(box.y + 11.0 * 0.95)}" fill="{OWN}" '
             f'data-box="{f(box.x)} {f(box.y)} {f(box.w)} {f(box.h)}">{esc(text)}</text>']
 
 
