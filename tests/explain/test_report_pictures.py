@@ -27,32 +27,12 @@ from explain.svg_scene import out_of_view, scene_svg, view_of
 from explain.svg_timeline import timeline_svg
 from store import Store
 from tests.helpers.foreign import Motion
-from tests.helpers.scene_pictures import lanes_picture
+from tests.helpers.scene_pictures import FIRE_ENGINE, QUICK, STOP_AND_GO, a_timeline, lanes_picture
 from tests.reasoner.test_foreign_scenarios import _SET_OFF, stop_then_go_run
 
 SECOND = 1_000_000_000
 NOW = datetime(2026, 1, 2, tzinfo=timezone.utc)
 FRAME = Box(0, 0, W, H - LEGEND_H)
-
-# demo-sumo's incident 10 (a fire engine standing at a red light, then going through it) and
-# incident 26: the moments its passage had, seconds from the incident
-FIRE_ENGINE = [("stood still before the line", -8.5), ("moved off", -0.5), ("crossed the stop line", -0.07),
-               ("entered the junction", 0.04), ("left the junction", 3.72)]
-STOP_AND_GO = [("stood still before the line", -15.7), ("moved off", -12.4), ("stood still before the line", -9.3),
-               ("moved off", -5.7), ("crossed the stop line", -5.25), ("entered the junction", -5.15),
-               ("left the junction", -1.26)]
-
-
-def a_timeline(moments: list[tuple[str, float]], **extra) -> dict:
-    t = 100 * SECOND
-    speed = [{"t": t + round(s * SECOND), "speed_mps": v, "seq": i} for i, (s, v) in
-             enumerate([(-20, 13.4), (-9, 0.0), (-0.5, 0.0), (0, 1.1), (4, 6.0)])]
-    return {"t": t, "t_from": t - 20 * SECOND, "t_to": t + 5 * SECOND, "vehicle": "109", "junction": "j1",
-            "speed": speed, "observed_speed": [], "heading_deg": 90.0,
-            "signals": {"south": [{"t": t - 30 * SECOND, "colour": "red"}],
-                        "west": [{"t": t - 30 * SECOND, "colour": "green"}, {"t": t + 3 * SECOND, "colour": "amber"}]},
-            "moments": [{"what": what, "t": t + round(s * SECOND)} for what, s in moments], **extra}
-
 
 def drawn_labels(svg: str) -> list[tuple[str, Box]]:
     """Every text the timeline writes as a label (the moments', the incident's, the speed at it),
@@ -98,7 +78,7 @@ def assert_readable(svg: str, count: int) -> None:
 
 # --- timeline labels --------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("moments", [FIRE_ENGINE, STOP_AND_GO], ids=["fire-engine", "stop-and-go"])
+@pytest.mark.parametrize("moments", [FIRE_ENGINE, STOP_AND_GO, QUICK], ids=["fire-engine", "stop-and-go", "quick"])
 def test_timeline_labels_never_overlap_are_never_cut_and_no_line_strikes_one(moments):
     svg = timeline_svg(a_timeline(moments), 90.0)
     assert_readable(svg, len(moments) + 2)          # the moments, "incident" and the speed at it
