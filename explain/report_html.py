@@ -11,6 +11,7 @@ explain/explanation_formats.py's `html_fragment` at the standard level, the same
 """
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from .explanation_formats import esc, html_fragment
@@ -44,10 +45,10 @@ ul.proof,ul.proof ul{list-style:none;padding-left:1.2rem}
 @media print{body{max-width:none;margin:0;font-size:10pt}
 article.incident{break-before:page;border-top:none;margin-top:0}
 figure,svg,tr,li,p{break-inside:avoid}h1,h2,h3{break-after:avoid}thead{display:table-header-group}
-figure svg{width:100%;max-width:170mm}a{color:inherit;text-decoration:none}}
+figure svg{width:100%;max-width:150mm}a{color:inherit;text-decoration:none}}
 """
 SHA_CLASS = ' class="sha"'
-SHA_CLASS = ' class="sha"'
+OUTSIDE_NAMED = 10       # a caption names at most this many road users outside the picture
 # the margins of every printed page; {run}, {version}, {store} and {sha} are CSS strings
 PAGE = """
 @page{{size:A4;margin:17mm 15mm 19mm 15mm;
@@ -206,9 +207,7 @@ def _scene_caption(pic: dict[str, Any]) -> str:
             f"{surface}vehicle {pic['vehicle']} highlighted, arrows point where each vehicle was heading, labels "
             f"give speeds in mph, each lamp stands at its approach's stop line, wedges are the monitors' fields "
             f"of view. {_signals_caption(pic)}")
-    outside = out_of_view(pic)
-    if outside:
-        text += f" Present but outside the picture: {', '.join(outside)}."
+    text += _outside(pic)
     if unplaced:
         text += f" Not drawn (no position recorded): {', '.join(map(str, unplaced))}."
     if stale:
@@ -217,6 +216,24 @@ def _scene_caption(pic: dict[str, Any]) -> str:
     if pic.get("note"):
         text += f" Note: {pic['note']}."
     return text
+
+
+def _outside(pic: dict[str, Any], most: int = OUTSIDE_NAMED) -> str:
+    """The road users present but outside the zoomed picture, nearest the incident's vehicle first;
+    on a busy map only the nearest `most` by name, the rest counted (the JSON report and `gaps
+    scene` list every one)."""
+    outside = set(out_of_view(pic))
+    if not outside:
+        return ""
+    me = next((v for v in pic["vehicles"] if v["incident"] and v["x"] is not None), None)
+    users = [u for u in pic["vehicles"] + pic["road_users"] if str(u["id"]) in outside]
+    if me is not None:
+        users.sort(key=lambda u: (math.hypot(u["x"] - me["x"], u["y"] - me["y"]), str(u["id"])))
+    names = [str(u["id"]) for u in users]
+    if len(names) <= most:
+        return f" Present but outside the picture: {', '.join(names)}."
+    return (f" Present but outside the picture, nearest first: {', '.join(names[:most])} and "
+            f"{len(names) - most} more elsewhere on the map.")
 
 
 def _signals_caption(pic: dict[str, Any]) -> str:

@@ -29,10 +29,10 @@ from .units import mph, mph_text
 
 W = 640
 LEFT, RIGHT, TOP = 92, 16, 8
-PLOT_H = 120              # the speed panel
-LINE_H = 64               # the distance-to-the-line panel
-PANEL_GAP = 12
-BAND_H, BAND_GAP = 14, 5
+PLOT_H = 100              # the speed panel
+LINE_H = 56               # the distance-to-the-line panel
+PANEL_GAP = 10
+BAND_H, BAND_GAP = 12, 4
 AXIS_H = 34
 LEGEND_ROW = 16
 LABEL_SIZE, ROW_H = 10.0, 13.0

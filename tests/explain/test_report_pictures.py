@@ -176,6 +176,9 @@ def test_the_forcing_timeline_carries_the_other_speed_and_the_distance_to_the_li
     assert any(abs(m) < 1.0 for m in stood)                 # it stopped at the line (12.5 m out, 0.5 m short)
     svg = timeline_svg(tl, tl["heading_deg"])
     assert "whom 7 would force to change speed or course" in svg and "distance to the Stop line" in svg
+    text = render_report(forcing, "md")             # the Markdown report's table carries the same rows
+    assert re.search(r"\| speed of c2 30\.0 mph .*whom 7 would force to change speed or course", text)
+    assert re.search(r"\| [0-9.]+ m before the line \|", text) and re.search(r"\| [0-9.]+ m past the line \|", text)
 
 
 # --- captions -------------------------------------------------------------------------------------------
@@ -197,3 +200,12 @@ def test_the_caption_names_the_signals_of_the_junction_in_view_in_the_legends_wo
 def test_the_report_caption_of_a_stop_junction_lists_no_other_junctions_signals(forcing):
     html = render_report(forcing, "html")
     assert "No signal reported at junction J1." in html and "Signals:" not in html
+
+
+def test_a_busy_maps_caption_names_the_nearest_outside_the_picture_and_counts_the_rest():
+    pic = lanes_picture()
+    base = pic["vehicles"][1]
+    pic["vehicles"] += [{**base, "id": f"far{i}", "x": 200.0 + 10 * i, "y": 1.75} for i in range(14)]
+    caption = _scene_caption(pic)
+    assert ("Present but outside the picture, nearest first: far0, far1, far2, far3, far4, far5, far6, far7, "
+            "far8, far9 and 4 more elsewhere on the map.") in caption
