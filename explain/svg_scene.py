@@ -154,8 +154,8 @@ def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
 
     Why not the whole map: at 600 m across, a lane is 2 px and a car a dot; at about 70 m a lane
     is some 17 px wide, a car sits visibly before or beyond its stop line, and the labels have
-    room. A road user outside the view is clipped and named nowhere in the picture; the caption
-    and `gaps scene` text list every one."""
+    room. A road user the incident does not name and that is outside the view is clipped; the
+    report's caption names the nearest of them and counts the rest, `gaps scene` lists every one."""
     me = next((v for v in pic["vehicles"] if v["incident"] and drawn(v)), None)
     junction = _junction(pic)
     pts: list[tuple[float, float]] = []
