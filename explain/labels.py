@@ -166,6 +166,8 @@ class Flag:
     row: int
     left: float
     width: float
+    crowded: bool = False
+    """Placed where nothing fits: a line may strike it (the caller writes a key instead)."""
 
 
 def in_rows(items: list[tuple[str, float]], lo: float, hi: float, size: float = 10.0,
@@ -197,10 +199,31 @@ def in_rows(items: list[tuple[str, float]], lo: float, hi: float, size: float = 
         spot = x + gap if right[i] else x - gap - width if left_fits[i] else min(max(x + gap, lo), hi - width)
         done = list(placed.values())
         rows = [row for row in range(len(done) + 1) if _free(done, x, row, spot, width)]
-        if not rows:        # a label wider than either side of its line: as near as fits, on top
+        if not rows:        # no row beside its line: the nearest spot where nothing strikes anything
+            spot, rows = _elsewhere(done, x, width, lo, hi) or (spot, rows)
+        crowded = not rows
+        if crowded:         # none at all: as near as fits, on top
             rows = [row for row in range(len(done) + 2) if _free(done, x, row, spot, width, own_line=False)]
-        placed[i] = Flag(text, x, rows[0], spot, width)
+        placed[i] = Flag(text, x, rows[0], spot, width, crowded)
     return [placed[i] for i in range(len(items))]
+
+
+def _elsewhere(done: list[Flag], x: float, width: float, lo: float, hi: float) -> tuple[float, list[int]] | None:
+    """A spot for a label that fits beside its line in no row: just clear of another label's
+    line or box, or at an edge, the nearest to its own line first, in the lowest row where no
+    label is struck and none overlaps (four "stood still before the line" 6 s apart: the line of
+    one runs through the box of the next, whichever side each takes)."""
+    edges = [lo, hi - width, x - width / 2]
+    for f in done:
+        edges += [f.at - LINE_CLEAR_PX - 0.5 - width, f.at + LINE_CLEAR_PX + 0.5,
+                  f.left - ROW_GAP_PX - 0.5 - width, f.left + f.width + ROW_GAP_PX + 0.5]
+    spots = sorted({min(max(e, lo), hi - width) for e in edges},
+                   key=lambda left: (max(left - x, x - left - width, 0.0), left))
+    for left in spots:
+        rows = [row for row in range(len(done) + 1) if _free(done, x, row, left, width)]
+        if rows:
+            return left, rows
+    return None
 
 
 def _free(placed: list[Flag], x: float, row: int, left: float, width: float, own_line: bool = True) -> bool:

@@ -58,7 +58,8 @@ def timeline_svg(tl: dict[str, Any], heading_deg: float | None = None) -> str:
     bands = list(tl["signals"].items())
     band_top = line_top + (LINE_H if to_line else 14) + PANEL_GAP
     axis_y = band_top + len(bands) * (BAND_H + BAND_GAP) + (12 if not bands else 0)
-    height = axis_y + AXIS_H + 4
+    key, key_h = _key(tl, flags, axis_y)
+    height = axis_y + AXIS_H + 4 + key_h
 
     label = (f"Vehicle {tl['vehicle']} from {(t0 - tl['t']) / SECOND:g} s to +{(t1 - tl['t']) / SECOND:g} s around "
              f"the incident on one time axis: its speed{_other_words(tl)}, its distance to the stop line and the "
@@ -84,6 +85,7 @@ def timeline_svg(tl: dict[str, Any], heading_deg: float | None = None) -> str:
                    "window</text>")
     out += _time_axis(tl, x, axis_y)
     out += _lines(tl, flags, x, plot_top, axis_y)
+    out += key
     out += _speed_at_incident(tl, flags, x, y, plot_top)
     out.append("</svg>")
     return "".join(out)
@@ -286,9 +288,36 @@ def _band(tl: dict[str, Any], approach: str, changes: list[dict], top: float, x:
 # --- moments ------------------------------------------------------------------------------------------
 
 def _flags(tl: dict[str, Any], x: Callable) -> list:
-    """The incident's and each moment's label, in rows above the plot (labels.in_rows)."""
-    items = [("incident", x(tl["t"]))] + [(m["what"], x(m["t"])) for m in tl.get("moments") or []]
-    return in_rows(items, 2.0, W - 2.0, LABEL_SIZE)
+    """The incident's and each moment's label, in rows above the plot (labels.in_rows). Where
+    moments crowd so that no row holds their words clear of each other's lines (four "stood
+    still before the line" 6 s apart), each moment is labelled by its number and _key writes
+    the words under the time axis."""
+    moments = tl.get("moments") or []
+    items = [("incident", x(tl["t"]))] + [(m["what"], x(m["t"])) for m in moments]
+    flags = in_rows(items, 2.0, W - 2.0, LABEL_SIZE)
+    if any(fl.crowded for fl in flags):
+        numbered = [items[0]] + [(str(n), x(m["t"])) for n, m in enumerate(moments, 1)]
+        flags = in_rows(numbered, 2.0, W - 2.0, LABEL_SIZE)
+    return flags
+
+
+def _key(tl: dict[str, Any], flags: list, axis_y: float) -> tuple[list[str], float]:
+    """The words of numbered moments, under the time axis, as many to a line as fit; and the
+    height they take."""
+    moments = tl.get("moments") or []
+    if not moments or flags[1].text != "1":
+        return [], 0.0
+    entries = [f"{n} {m['what']} ({_rel(tl, m['t'])})" for n, m in enumerate(moments, 1)]
+    lines: list[str] = []
+    for entry in entries:
+        if lines and text_size(lines[-1] + " · " + entry, LABEL_SIZE)[0] <= W - LEFT - RIGHT:
+            lines[-1] += " · " + entry
+        else:
+            lines.append(entry)
+    top = axis_y + AXIS_H
+    out = [f'<text class="moment-key" x="{LEFT}" y="{f(top + i * ROW_H)}" font-size="{LABEL_SIZE:g}" '
+           f'fill="#222">{esc(line)}</text>' for i, line in enumerate(lines)]
+    return out, len(lines) * ROW_H
 
 
 def _lines(tl: dict[str, Any], flags: list, x: Callable, plot_top: float, axis_y: float) -> list[str]:
@@ -311,7 +340,7 @@ def _lines(tl: dict[str, Any], flags: list, x: Callable, plot_top: float, axis_y
         out.append(f'<line class="moment" x1="{f(fl.at)}" y1="{f(box_top)}" x2="{f(fl.at)}" y2="{f(axis_y)}" '
                    f'stroke="#222" stroke-width="1"><title>{esc(title)}</title></line>')
         out.append(f'<text class="moment-label" x="{f(box.x)}" y="{baseline}" fill="#222" font-size="{LABEL_SIZE:g}" '
-                   f'{data}>{esc(m["what"])}</text>')
+                   f'{data}>{esc(fl.text)}</text>')
     return out + ["</g>"]
 
 

@@ -209,3 +209,15 @@ def test_a_busy_maps_caption_names_the_nearest_outside_the_picture_and_counts_th
     caption = _scene_caption(pic)
     assert ("Present but outside the picture, nearest first: far0, far1, far2, far3, far4, far5, far6, far7, "
             "far8, far9 and 4 more elsewhere on the map.") in caption
+
+
+def test_moments_too_crowded_for_their_words_are_numbered_with_a_key():
+    """Four stops 6 s apart (a queue): no row holds "stood still before the line" four times clear
+    of each other's lines, whichever side each takes. Each moment is numbered beside its line and
+    its words written under the time axis, none struck (hypothesis found it)."""
+    moments = [("stood still before the line", float(t)) for t in (-18, -12, -6, 0)]
+    svg = timeline_svg(a_timeline(moments))
+    assert_readable(svg, len(moments) + 2)
+    key = " · ".join(re.findall(r'<text class="moment-key"[^>]*>([^<]*)<', svg))
+    assert key.startswith("1 stood still before the line (") and key.count("stood still before the line") == 4
+    assert sorted(t for t, _ in drawn_labels(svg) if t.isdigit()) == ["1", "2", "3", "4"]
