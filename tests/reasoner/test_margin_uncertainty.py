@@ -253,6 +253,18 @@ def test_an_absurd_stated_tolerance_is_refused_with_its_field(tmp_path, toleranc
     assert "body.tolerance" in said and problem in said, said
 
 
+def test_an_absurd_tolerance_stated_for_a_monitor_in_the_map_is_refused_with_its_field(tmp_path):
+    """The same for a monitor's entry in the run.start map: the field is named, with where."""
+    cam = {"id": "m1", "junction": "J1", "x": 8.0, "y": 8.0, "heading_deg": 225.0, "range_m": 80.0,
+           "fov_deg": 360.0, "tolerance": {"position_m": -2}}
+    run = Foreign(monitors=[cam])
+    run.spawn("7")
+    with Store(tmp_path / "t.db") as store:
+        report = store.append(run.events)
+    said = str(report.rejected)
+    assert len(report.rejected) == 1 and "monitors[0].tolerance.position_m" in said, said
+
+
 # ==================================================================================================
 # The DSSAD record (ads.event) at the act
 # ==================================================================================================
