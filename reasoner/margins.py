@@ -9,8 +9,9 @@
     amber (HC 175)          metres from the line when amber came (with the speed, rule 126's stopping
                             distance at it, and the difference)
     Stop line (HC 171)      seconds stationary at the Stop line before crossing it, ± the sampling
-                            intervals either side; where it never stood, the slowest measured speed
-                            before the line, ± down to the slowest it can have been between two samples
+                            intervals either side; where it never stood there, the slowest measured
+                            speed around the line (each interval reaching from 1 m past it to 5 m
+                            before it), ± down to the slowest it can have been between two samples
                             (tolerance.lowest_between): in doubt where that is a stop
     give way (HC 172)       the hardest deceleration of another road user while the vehicle passed (from
                             when it set off; none another cause explains: derived.explained), ± 2 x the
@@ -189,8 +190,7 @@ def _rolled(p: Passage, end: int) -> Margin:
     speed tolerance its source states). Para 1 asks it to stop; the prosecution must prove it did
     not, so a stop the samples cannot exclude leaves the act unproven."""
     timed = [s for s in p.samples if s.speed_mps is not None and s.placed and s.t <= end]
-    pairs = [(a, b) for a, b in zip(timed, timed[1:])
-             if -PAST_TOLERANCE_M <= p.line.to_line(b.x, b.y) <= STOP_ZONE_M + 10.0]
+    pairs = [(a, b) for a, b in zip(timed, timed[1:]) if _at_line(p, a, b)]
     refs = p.crossing.moment.refs if p.crossing else ()
     if not pairs:
         doubt = next((n for n in p.uncertain if "could have stopped unseen" in n), None)
@@ -209,12 +209,20 @@ def _rolled(p: Passage, end: int) -> Margin:
         f"m/s), {(b.t - a.t) / SECOND:g} s apart, it could have stood still unseen")
     figures = (("speed at the line", round((p.crossing.speed_mps or 0) * MPH_PER_MPS, 1), "mph"),) if p.crossing else ()
     return Margin("slowest measured speed before the Stop line", value, "mph", (slowest.ref, a.ref, b.ref) + refs,
-                  f"{slowest.label}, the slowest of {len({s for pair in pairs for s in pair})} samples within "
-                  f"{STOP_ZONE_M + 10.0:g} m of the line before it crossed, never below 0.5 mph; ± down to the slowest it "
+                  f"{slowest.label}, the slowest of the {len({s for pair in pairs for s in pair})} samples around the "
+                  f"line before it crossed (each interval that reaches from {PAST_TOLERANCE_M:g} m past it to "
+                  f"{STOP_ZONE_M:g} m before it, where a stop is at the line), none below 0.5 mph there; ± down to the slowest it "
                   f"can have been between two of them, braking and pulling away at {MAX_DECEL_MPS2:g} m/s², each speed "
                   f"less its tolerance ({sensor.said}): {lowest * MPH_PER_MPS:.2f} mph between {a.label} and "
                   f"{b.label}" + _second_limb(p),
                   figures, None, u, None, unproven)
+
+
+def _at_line(p: Passage, a: Sample, b: Sample) -> bool:
+    """Whether the way between two samples reaches the stretch where a stop is a stop at the line
+    (from PAST_TOLERANCE_M past it to STOP_ZONE_M before it: rebuild's standstill "at the line")."""
+    da, db = p.line.to_line(a.x, a.y), p.line.to_line(b.x, b.y)
+    return min(da, db) <= STOP_ZONE_M and max(da, db) >= -PAST_TOLERANCE_M
 
 
 def _second_limb(p: Passage) -> str:

@@ -25,9 +25,9 @@ code is used; the reasoner is asked only for its incidents and the margins they 
   fastest sample on the road within STRETCH_GAP_S of the act is shown).
 
 - Stop line, never stood ("slowest measured speed before the Stop line"): the vehicle's crossing
-  of a stop line of the act's junction as for red; its entity.state samples before it from
-  STOP_ZONE_M before that line to LINE_REACH_M past it, with the sample just before the first of
-  them; their slowest speed in mph.
+  of a stop line of the act's junction as for red; its entity.state samples before it, two
+  consecutive ones whose way meets the stretch from LINE_REACH_M past that line to AT_LINE_M before
+  it; their slowest speed in mph.
 - Stop line, stood ("seconds stationary at the Stop line"): the longest run of consecutive
   samples under 0.5 mph before the crossing whose last is from LINE_REACH_M past the line to
   AT_LINE_M before it; its first to its last sample.
@@ -63,7 +63,6 @@ SNAP_M = 15.0                 # a sample without a road of the map is on the nea
 LINE_REACH_M = 1.0            # a path meeting a stop line within this of its ends still crosses it
 SLACK = {"s": 0.002, "m": 0.02, "mph": 0.06, "m/s²": 0.01}
 STILL_MPS = 0.5 / MPH_PER_MPS  # a speed that rounds to 0 mph
-STOP_ZONE_M = 15.0            # how far before a Stop line its approach is read for the slowest speed
 AT_LINE_M = 5.0               # a standstill whose last sample is this close before the line is at it
 BOX_NEAR_S = 30.0             # a box standstill this close to the incident's moment is its act
 RED = ("red", "red_amber")
@@ -278,12 +277,15 @@ def stop_slowest(raw: Raw, inc: dict) -> tuple[float | None, str]:
         return None, found
     before, line, j, _ = found
     centre = (j["x"], j["y"])
-    zone = [k for k, s in enumerate(before) if -LINE_REACH_M <= _to_line(s[1], s[2], line, centre) <= STOP_ZONE_M
-            and isinstance(s[3], (int, float))]
-    if not zone:
-        return None, "no sample within the zone before the line"
-    speeds = [before[k][3] for k in zone] + ([before[zone[0] - 1][3]] if zone[0] > 0 else [])
-    return min(v for v in speeds if isinstance(v, (int, float))) * MPH_PER_MPS, f"{len(zone)} samples before {j['id']}"
+    timed = [s for s in before if isinstance(s[3], (int, float))]
+    near = set()
+    for p, q in zip(timed, timed[1:]):
+        dp, dq = _to_line(p[1], p[2], line, centre), _to_line(q[1], q[2], line, centre)
+        if min(dp, dq) <= AT_LINE_M and max(dp, dq) >= -LINE_REACH_M:
+            near |= {p, q}
+    if not near:
+        return None, "no interval between samples reaches the line's stretch"
+    return min(s[3] for s in near) * MPH_PER_MPS, f"{len(near)} samples around {j['id']}'s line"
 
 
 def stop_stood(raw: Raw, inc: dict) -> tuple[float | None, str]:
