@@ -189,14 +189,19 @@ def _rolled(p: Passage, end: int) -> Margin:
     and whether the record rules out a stop between two samples (tolerance.lowest_between, with the
     speed tolerance its source states). Para 1 asks it to stop; the prosecution must prove it did
     not, so a stop the samples cannot exclude leaves the act unproven."""
-    timed = [s for s in p.samples if s.speed_mps is not None and s.placed and s.t <= end]
+    placed = [s for s in p.samples if s.speed_mps is not None and s.placed]
+    sensor = sensor_of(p, placed[0] if placed else None)
+    timed = [s for s in placed if s.t <= end]
+    for s in placed[len(timed):]:       # past the line by no more than its position tolerance: may be on it
+        if p.line.to_line(s.x, s.y) < -sensor.position_m:
+            break
+        timed.append(s)
     pairs = [(a, b) for a, b in zip(timed, timed[1:]) if _at_line(p, a, b)]
     refs = p.crossing.moment.refs if p.crossing else ()
     if not pairs:
         doubt = next((n for n in p.uncertain if "could have stopped unseen" in n), None)
         return Margin("seconds stationary at the Stop line", 0.0, "s", refs,
                       "no sample at the line below 0.5 mph before the crossing", (), doubt)
-    sensor = sensor_of(p, pairs[0][1])
     slowest = min((s for pair in pairs for s in pair), key=lambda s: s.speed_mps)
     a, b = min(pairs, key=lambda ab: lowest_between(ab[0], ab[1], sensor))
     lowest = lowest_between(a, b, sensor)
@@ -211,7 +216,8 @@ def _rolled(p: Passage, end: int) -> Margin:
     return Margin("slowest measured speed before the Stop line", value, "mph", (slowest.ref, a.ref, b.ref) + refs,
                   f"{slowest.label}, the slowest of the {len({s for pair in pairs for s in pair})} samples around the "
                   f"line before it crossed (each interval that reaches from {PAST_TOLERANCE_M:g} m past it to "
-                  f"{STOP_ZONE_M:g} m before it, where a stop is at the line), none below 0.5 mph there; ± down to the slowest it "
+                  f"{STOP_ZONE_M:g} m before it, where a stop is at the line; a sample past it by no more than the "
+                  "position tolerance may be on it), none below 0.5 mph there; ± down to the slowest it "
                   f"can have been between two of them, braking and pulling away at {MAX_DECEL_MPS2:g} m/s², each speed "
                   f"less its tolerance ({sensor.said}): {lowest * MPH_PER_MPS:.2f} mph between {a.label} and "
                   f"{b.label}" + _second_limb(p),

@@ -25,7 +25,8 @@ code is used; the reasoner is asked only for its incidents and the margins they 
   fastest sample on the road within STRETCH_GAP_S of the act is shown).
 
 - Stop line, never stood ("slowest measured speed before the Stop line"): the vehicle's crossing
-  of a stop line of the act's junction as for red; its entity.state samples before it, two
+  of a stop line of the act's junction as for red; its entity.state samples before it (and those
+  after it still within ON_LINE_M of the line, the position tolerance: they may be on it), two
   consecutive ones whose way meets the stretch from LINE_REACH_M past that line to AT_LINE_M before
   it; their slowest speed in mph.
 - Stop line, stood ("seconds stationary at the Stop line"): the longest run of consecutive
@@ -64,6 +65,7 @@ LINE_REACH_M = 1.0            # a path meeting a stop line within this of its en
 SLACK = {"s": 0.002, "m": 0.02, "mph": 0.06, "m/s²": 0.01}
 STILL_MPS = 0.5 / MPH_PER_MPS  # a speed that rounds to 0 mph
 AT_LINE_M = 5.0               # a standstill whose last sample is this close before the line is at it
+ON_LINE_M = 0.1               # a sample this close past a line (the default position tolerance) may be on it
 BOX_NEAR_S = 30.0             # a box standstill this close to the incident's moment is its act
 RED = ("red", "red_amber")
 
@@ -275,8 +277,11 @@ def stop_slowest(raw: Raw, inc: dict) -> tuple[float | None, str]:
     found = _approach(raw, inc)
     if isinstance(found, str):
         return None, found
-    before, line, j, _ = found
+    before, line, j, t = found
     centre = (j["x"], j["y"])
+    after = [s for s in raw.tracks[inc["vehicle"]] if s[0] > t]
+    while after and _to_line(after[0][1], after[0][2], line, centre) >= -ON_LINE_M:
+        before.append(after.pop(0))          # within the position tolerance of the line: not yet past it
     timed = [s for s in before if isinstance(s[3], (int, float))]
     near = set()
     for p, q in zip(timed, timed[1:]):
