@@ -33,8 +33,8 @@ code is used; the reasoner is asked only for its incidents and the margins they 
   samples under 0.5 mph before the crossing whose last is from LINE_REACH_M past the line to
   AT_LINE_M before it; its first to its last sample.
 - give way ("deceleration of the other road user"): the two samples of the other road user the
-  margin cites, read again from that road user's own entity.state at those moments: the drop in
-  speed over the time between them (unchecked where the margin cites a camera's measurements).
+  margin cites, read again from the raw events (its own entity.state at those moments, or the
+  camera's observation by its source and seq): the drop in speed over the time between them.
 - box junction ("seconds stopped in the box junction"): the vehicle's samples under 0.5 mph inside
   the act's junction's yellow box polygon (the map's `box`; a box given as `true` is unchecked),
   near the incident's moment: the unbroken run of them around it, its first to its last sample.
@@ -77,6 +77,7 @@ class Raw:
     the_map: dict
     tracks: dict[str, list[tuple]] = field(default_factory=lambda: defaultdict(list))
     signals: dict[tuple[str, str], list[tuple[int, str]]] = field(default_factory=lambda: defaultdict(list))
+    measured: dict[tuple[str, int], tuple[int, float]] = field(default_factory=dict)   # a camera's (src, seq): t, speed
 
 
 @dataclass(frozen=True)
@@ -101,9 +102,12 @@ def read(store: Any, run: str) -> Raw:
     """The run's map, samples and signal reports, through the store's public API."""
     start = next(store.events(run, kinds=["run.start"]), None)
     raw = Raw((start or {}).get("body", {}).get("map") or {})
-    for e in store.events(run, kinds=["entity.state", "signal.state"]):
+    for e in store.events(run, kinds=["entity.state", "signal.state", "monitor.observation"]):
         b = e["body"]
-        if e["kind"] == "signal.state":
+        if e["kind"] == "monitor.observation":
+            if isinstance(b.get("speed_mps"), (int, float)):
+                raw.measured[(e["src"], e["seq"])] = (e["t"], b["speed_mps"])
+        elif e["kind"] == "signal.state":
             raw.signals[(str(b.get("junction")), str(b.get("approach")))].append((e["t"], b.get("colour")))
         elif isinstance(b.get("x"), (int, float)) and isinstance(b.get("y"), (int, float)):
             raw.tracks[e["src"].split("/", 1)[1]].append((e["t"], b["x"], b["y"], b.get("speed_mps"), b.get("road")))
@@ -316,13 +320,20 @@ def stop_stood(raw: Raw, inc: dict) -> tuple[float | None, str]:
 
 def give_way(raw: Raw, inc: dict) -> tuple[float | None, str]:
     cited = inc["margin"].get("evidence") or []
-    if len(cited) != 2 or any(not str(e.get("src", "")).startswith(("vehicle/", "pedestrian/")) for e in cited):
-        return None, "the margin cites no two samples of a road user's own record"
-    track = {s[0]: s for s in raw.tracks.get(cited[0]["src"].split("/", 1)[1], [])}
-    a, b = track.get(cited[0]["t"]), track.get(cited[1]["t"])
-    if a is None or b is None or b[0] <= a[0] or not all(isinstance(s[3], (int, float)) for s in (a, b)):
-        return None, "the cited samples are not in the road user's entity.state"
-    return (a[3] - b[3]) / ((b[0] - a[0]) / SECOND), f"{cited[0]['src']} over {(b[0] - a[0]) / SECOND:g} s"
+    if len(cited) != 2:
+        return None, "the margin cites no two samples"
+    speeds = []
+    for e in cited:
+        src = str(e.get("src", ""))
+        if src.startswith("monitor/"):
+            speeds.append(raw.measured.get((src, e.get("seq"))))
+        else:
+            found = next((s for s in raw.tracks.get(src.split("/", 1)[-1], []) if s[0] == e.get("t")), None)
+            speeds.append((found[0], found[3]) if found and isinstance(found[3], (int, float)) else None)
+    a, b = speeds
+    if a is None or b is None or b[0] <= a[0]:
+        return None, "the cited samples are not in the run's entity.state or observations"
+    return (a[1] - b[1]) / ((b[0] - a[0]) / SECOND), f"{cited[0]['src']} over {(b[0] - a[0]) / SECOND:g} s"
 
 
 def box(raw: Raw, inc: dict) -> tuple[float | None, str]:
