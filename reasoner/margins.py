@@ -97,7 +97,7 @@ def _red(p: Passage) -> Margin | None:
     since = (f"red from {'at least as early as ' if bound else ''}{format_time(onset.t)} ({onset.ref.src} "
              f"#{onset.ref.seq}{', its first report: red began at or before it' if bound else ''})")
     method = (f"crossed at {format_time(c.t)} ({c.moment.method}); {since}; ± {u:g} s ({_HOW_MOMENT}; "
-              f"position tolerance {sensor.said})")
+              f"sensor tolerance {sensor.said})")
     doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None
     figures: list[tuple[str, float, str]] = [("speed at the line", round((c.speed_mps or 0) * MPH_PER_MPS, 1), "mph")]
     quantity, value, lawful = "seconds after red the stop line was crossed", lag, lag
@@ -208,7 +208,11 @@ def _rolled(p: Passage, end: int) -> Margin:
     value = round(slowest.speed_mps * MPH_PER_MPS, 2)
     u = round(value - lowest * MPH_PER_MPS, 2)
     stopped = round(STOPPED_MPS * MPH_PER_MPS, 2)
+    past = -p.line.to_line(slowest.x, slowest.y)
     unproven = None if lowest > STOPPED_MPS else (
+        f"it was measured standing still at {slowest.label}, {past:.2f} m past the Stop line: within the position "
+        f"tolerance of {sensor.position_m:g} m of it, so it may have stopped at the line"
+        if slowest.speed_mps <= STOPPED_MPS else
         f"its slowest measured speed before the line, {value:g} mph, is within its uncertainty of ± {u:g} mph of a "
         f"stop (under {stopped:g} mph): between {a.label} ({a.speed_mps:.2f} m/s) and {b.label} ({b.speed_mps:.2f} "
         f"m/s), {(b.t - a.t) / SECOND:g} s apart, it could have stood still unseen")
@@ -217,7 +221,7 @@ def _rolled(p: Passage, end: int) -> Margin:
                   f"{slowest.label}, the slowest of the {len({s for pair in pairs for s in pair})} samples around the "
                   f"line before it crossed (each interval that reaches from {PAST_TOLERANCE_M:g} m past it to "
                   f"{STOP_ZONE_M:g} m before it, where a stop is at the line; a sample past it by no more than the "
-                  "position tolerance may be on it), none below 0.5 mph there; ± down to the slowest it "
+                  "position tolerance may be on it), none below 0.5 mph before the line; ± down to the slowest it "
                   f"can have been between two of them, braking and pulling away at {MAX_DECEL_MPS2:g} m/s², each speed "
                   f"less its tolerance ({sensor.said}): {lowest * MPH_PER_MPS:.2f} mph between {a.label} and "
                   f"{b.label}" + _second_limb(p),
