@@ -268,7 +268,9 @@ def _give_way(p: Passage) -> Margin | None:
                   f"{o.user}: {b.first.speed_mps:.1f} m/s at {b.first.label} to {b.last.speed_mps:.1f} m/s at "
                   f"{b.last.label}, while {p.vehicle} passed; a change of speed counts as forced from "
                   f"FORCE_DECEL_MPS2 = {FORCE_DECEL_MPS2:g} m/s² (Hupfer 1997); ± {u:g} m/s²: each speed to within its "
-                  f"tolerance ({sensor.said}), so the drop to within twice that over the {span:g} s between them",
+                  f"tolerance ({sensor.said}), so the drop to within twice that over the {span:g} s between them (the "
+                  "moments are the producer's clock; a harder peak between the samples is not recorded and not "
+                  "assumed: the sampling can hide a harder braking, never make a softer one look harder)",
                   (("its closest to the centre", round(o.closest_m, 1), "m"), *_conflict_figures(p, o)),
                   uncertainty=u, unproven=unproven)
 
