@@ -62,6 +62,7 @@ SHORT = {   # a margin's quantity as a listing line says it, value and unit fill
     "seconds into red-and-amber the stop line was crossed": "crossed {} into red-and-amber",
     "metres from the stop line when amber came": "{} from the line at amber",
     "seconds stationary at the Stop line": "stood {} at the Stop line",
+    "slowest measured speed before the Stop line": "slowed to {} before the Stop line",
     "deceleration of the other road user": "made another brake at {}",
     "seconds stopped in the box junction": "stood {} in the box",
     "mph over the speed limit": "{} over the limit",
