@@ -1,8 +1,10 @@
 """Who takes part in a run, and when and where each sets off: drawn once, from the seed, before the run.
 
 Vehicles enter at the network's edges that come in from outside (a road end that is not a
-junction) and leave by one that goes out, never back the way they came; the mix of kinds and
-drivers follows the config's shares. Pedestrians walk between two arms of a junction, which takes
+junction) and leave by one that goes out, never back the way they came; a network with no road
+ends (a closed grid) lets them set off on any edge and leave by any other. The mix of kinds and
+drivers follows the config's shares. A routes file of the user's replaces the drawing
+(sim_replay.routes_file), with the same kinds of Departure and Walk. Pedestrians walk between two arms of a junction, which takes
 them over its crossings. Each road user gets a random stream of its own, so adding one does not
 change the others' behaviour.
 """
@@ -28,6 +30,7 @@ class Departure:
     unmarked: bool
     entry: str             # edge ids
     exit: str
+    route: tuple[str, ...] = ()   # the whole route where it is given (a routes file); else SUMO finds one
 
 
 @dataclass(frozen=True)
@@ -47,6 +50,10 @@ def _ends(network: Network) -> tuple[list[str], list[str]]:
             entries.append(edge.getID())
         if edge.getToNode().getID() not in network.junctions:
             exits.append(edge.getID())
+    if not entries or not exits:           # a closed network: anywhere to anywhere else
+        every = [e.getID() for e in sorted(network.net.getEdges(withInternal=False), key=lambda e: e.getID())
+                 if any(lane.allows("passenger") for lane in e.getLanes())]
+        return every, every
     return entries, exits
 
 
@@ -70,7 +77,8 @@ def plan(config: SimConfig, network: Network, rng: random.Random) -> tuple[list[
             kind, role = "car", "autonomous" if rng.random() < config.av_share else "human"
         entry = rng.choice(entries)
         back = network.net.getEdge(entry).getFromNode().getID()
-        exit_ = rng.choice([e for e in exits if network.net.getEdge(e).getToNode().getID() != back])
+        exit_ = rng.choice([e for e in exits if network.net.getEdge(e).getToNode().getID() != back and e != entry]
+                           or exits)
         departures.append(Departure(str(101 + n), round(rng.uniform(0.0, window), 1), kind, role, unmarked,
                                     entry, exit_))
     departures.sort(key=lambda d: (d.depart_s, d.id))

@@ -175,7 +175,7 @@ def test_a_sumocfg_brings_its_net_and_routes_relative_to_itself(nets, tmp_path):
 
 
 @pytest.mark.parametrize("make,words", [
-    (lambda p, net: ("--map", p / "nowhere.sumocfg"), ("no such file", "nowhere.sumocfg")),
+    (lambda p, net: ("--map", p / "nowhere.sumocfg"), ("no such configuration file", "nowhere.sumocfg")),
     (lambda p, net: ("--map", "suburb"), ("no bundled map 'suburb'", ".net.xml", ".sumocfg")),
     (lambda p, net: ("--map", net, "--routes", _write(p / "bad.rou.xml", '<routes><vehicle id="v" depart="0">'
                                                       '<route edges="left0A0 nowhere"/></vehicle></routes>')),
