@@ -118,6 +118,10 @@ def _read(path: Path, network: Network, config: SimConfig, rng: random.Random, v
         elif tag == "route":
             named[ident] = _edges(element.get("edges", ""), where)
         elif tag in ("vehicle", "trip", "flow"):
+            other = sorted({e.tag for e in element} - {"route", "param"})
+            if other:
+                raise OwnFilesError(f"{where}: <{other[0]}> in a {tag} is not read by gaps sim (its agents decide "
+                                    "where it stops)")
             vclass = _vclass(element, types, where)
             route = _route(element, named, network, vclass, where)
             for n, depart in enumerate(_departs(element, config, rng, where)):

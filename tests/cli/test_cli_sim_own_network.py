@@ -76,6 +76,23 @@ def test_a_closed_grid_without_road_ends_still_gets_its_vehicles(nets, tmp_path)
     assert len(spawned) == 8
 
 
+def test_a_random_network_with_bends_runs(tmp_path):
+    # netgenerate --rand puts two-road nodes (bends) with lanes inside them: a vehicle there was taken to be
+    # in a junction the map does not have (KeyError in the witness)
+    net = netgenerate(tmp_path / "rand.net.xml", "--rand", "--rand.iterations", "15", "--rand.min-angle", "80",
+                      "--rand.grid", "--tls.guess", "--tls.guess.threshold", "40", "--lefthand")
+    result = _sim(tmp_path, "--map", net, vehicles="10")
+    assert result.exit_code == 0, result.output
+    with Store(tmp_path / "s.db", read_only=True) as store:
+        states = [e["body"] for e in store.events("own-1") if e["kind"] == "entity.state"
+                  and e["src"].startswith("vehicle/")]
+    assert states and all(s["road"] is not None or s["junction"] is not None for s in states)
+    bends = [s for s in states if s["lane"].startswith(":") and s["junction"] is None]
+    assert bends and all(s["road"] for s in bends)       # through a bend: on its road, not in a junction
+    junctions = _run_start(tmp_path / "s.db", "own-1")["body"]["map"]["junctions"]
+    assert "traffic_light" in {j["sumo_type"] for j in junctions}
+
+
 def test_a_priority_grid_has_give_way_lines_on_its_minor_arms_only(nets, tmp_path):
     result = _sim(tmp_path, "--map", nets["priority"])
     assert result.exit_code == 0, result.output
@@ -184,6 +201,13 @@ def test_a_sumocfg_brings_its_net_and_routes_relative_to_itself(nets, tmp_path):
      ("broken.rou.xml", "not")),
     (lambda p, net: ("--map", _write(p / "x.sumocfg", "<configuration><input/></configuration>")),
      ("x.sumocfg", "net-file")),
+    (lambda p, net: ("--map", net, "--routes", _write(p / "stops.rou.xml", '<routes><vehicle id="v" depart="0">'
+                                                      '<route edges="left0A0 A0B0"/><stop lane="A0B0_0" duration="5"/>'
+                                                      '</vehicle></routes>')),
+     ("stops.rou.xml", "<stop>")),
+    (lambda p, net: ("--map", net, "--routes", _write(p / "truck.rou.xml", '<routes><vType id="t" vClass="truck"/>'
+                                                      '</routes>')),
+     ("truck.rou.xml", "'truck'")),
 ])
 def test_mistakes_in_the_users_files_are_one_line_errors(nets, tmp_path, make, words):
     result = _sim(tmp_path, *make(tmp_path, nets["signals"]))
