@@ -124,31 +124,24 @@ def sim(
 
 
 def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | None):
-    """The config with the map a --map value names (a bundled name, a .net.xml, a .sumocfg) and
-    the routes to drive on it, checked before anything is written: a network the audit cannot
-    judge, or routes it cannot carry, is refused with the reason (exit 2)."""
+    """The config with the files --map, --routes and --monitors name, checked before anything is
+    written (sim_replay.own_network: a network the audit cannot judge, or routes it cannot carry,
+    is refused with the reason, exit 2)."""
     from sim_replay.maps import map_files
     from sim_replay.own_network import OwnFilesError, check, own_files
 
     try:
-        own = own_files(map_, routes)
+        own = own_files(map_, routes, monitors)
         for path in (*routes, *((monitors,) if monitors else ())):
             if not path.is_file():
                 fail(f"no such file: {path}")
-        if own is None:
-            net, name = map_files(map_).net, map_
-        else:
-            net, name = own.net, "paper"
-            routes = own.routes
-            beside = net.with_name(net.name.removesuffix(".xml").removesuffix(".net") + ".monitors.json")
-            monitors = monitors or (beside if beside.is_file() else None)
-        counts = check(net, routes, config) if own is not None or routes else None
-    except FileNotFoundError as e:
-        fail(str(e).strip("'\""))
-    except OwnFilesError as e:
+        net = own.net if own else map_files(map_).net
+        counts = check(net, own.routes if own else routes, config) if own or routes else None
+    except (FileNotFoundError, OwnFilesError) as e:
         fail(str(e))
-    changes = {"map": name, "net": str(own.net) if own else None, "monitors": str(monitors) if monitors else None,
-               "routes": tuple(str(r) for r in routes)}
+    changes = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
+               "monitors": str(own.monitors) if own.monitors else None} if own else \
+        {"map": map_, "routes": tuple(map(str, routes)), "monitors": str(monitors) if monitors else None}
     if counts is not None:
         changes.update(vehicles=counts[0], pedestrians=counts[1])
     return dataclasses.replace(config, **changes)

@@ -47,15 +47,18 @@ class OwnFilesError(GapsError, ValueError):
 
 @dataclass(frozen=True)
 class OwnFiles:
-    """The files a `--map` path names: a network and the routes to drive on it (none: drawn)."""
+    """The files a `--map` path names: a network, the routes to drive on it (none: drawn) and its
+    monitors file (None: no cameras)."""
 
     net: Path
     routes: tuple[Path, ...]
+    monitors: Path | None
 
 
-def own_files(map_arg: str, routes: tuple[Path, ...] = ()) -> OwnFiles | None:
+def own_files(map_arg: str, routes: tuple[Path, ...] = (), monitors: Path | None = None) -> OwnFiles | None:
     """The files of a `--map` value that is a path (None: a bundled map's name). `routes` given
-    (`--routes`) replace a configuration's own."""
+    (`--routes`) replace a configuration's own; without `monitors`, NAME.monitors.json beside
+    NAME.net.xml is the network's, as a bundled map's is."""
     path = Path(map_arg)
     if not (map_arg.endswith((".xml", ".sumocfg", ".cfg")) or "/" in map_arg):
         return None
@@ -63,10 +66,11 @@ def own_files(map_arg: str, routes: tuple[Path, ...] = ()) -> OwnFiles | None:
     if not path.is_file():
         raise OwnFilesError(f"no such {'configuration' if config else 'network'} file: {path} (--map takes a "
                             "bundled map, a FILE.net.xml or a FILE.sumocfg)")
-    if config:
-        net, cfg_routes = read_sumocfg(path)
-        return OwnFiles(net, routes or cfg_routes)
-    return OwnFiles(path, routes)
+    net, cfg_routes = read_sumocfg(path) if config else (path, ())
+    if monitors is None:
+        beside = net.with_name(net.name.removesuffix(".xml").removesuffix(".net") + ".monitors.json")
+        monitors = beside if beside.is_file() else None
+    return OwnFiles(net, routes or cfg_routes, monitors)
 
 
 def read_sumocfg(path: Path) -> tuple[Path, tuple[Path, ...]]:

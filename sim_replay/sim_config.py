@@ -47,7 +47,8 @@ LOSSY_KINDS = ("entity.state", "monitor.observation", "vehicle.perception")
 @dataclass(frozen=True)
 class SimConfig:
     """One simulation run. `map` names a bundled map (sim_replay.maps); `net` and `monitors`
-    (paths) replace it with any SUMO network and monitors file (none: no cameras); `routes`
+    (paths) replace it with any SUMO network and monitors file (none: no cameras; `gaps sim`
+    then writes the network's file name in `map`, for a reader of the config); `routes`
     (paths of .rou.xml files) replace the drawn vehicles and pedestrians with the files'."""
 
     run: str = "sim-001"

@@ -68,6 +68,16 @@ def test_a_generated_left_hand_signal_grid_runs_with_signal_lines_at_its_four_ju
         assert {line["kind"] for line in j["stop_lines"]} == {"signal"}
 
 
+def test_a_monitors_file_beside_the_network_is_its_cameras(nets, tmp_path):
+    (tmp_path / "grid.net.xml").write_bytes(nets["signals"].read_bytes())
+    camera = {"id": "cam1", "junction": "A0", "x": 90.0, "y": 90.0, "heading_deg": 225.0, "range_m": 60.0,
+              "fov_deg": 90.0}
+    (tmp_path / "grid.monitors.json").write_text(json.dumps({"monitors": [camera]}))
+    result = _sim(tmp_path, "--map", tmp_path / "grid.net.xml")
+    assert result.exit_code == 0, result.output
+    assert _run_start(tmp_path / "s.db", "own-1")["body"]["map"]["monitors"] == [camera]
+
+
 def test_a_closed_grid_without_road_ends_still_gets_its_vehicles(nets, tmp_path):
     result = _sim(tmp_path, "--map", nets["closed"])
     assert result.exit_code == 0, result.output
