@@ -57,7 +57,7 @@ def parse_faults(text: str | None, names: tuple[str, ...]) -> dict[str, float]:
 
 
 def sim(
-    map_: str = typer.Option("paper", "--map", metavar="NAME|FILE.net.xml|FILE.sumocfg",
+    map_: str = typer.Option("paper", "--map", metavar="NAME|FILE",
                              help="A bundled map (paper, town), a SUMO network FILE.net.xml (left-hand traffic), "
                              "or a SUMO configuration FILE.sumocfg (its net-file and route-files)."),
     routes: list[Path] = typer.Option([], "--routes", metavar="FILE.rou.xml", help="SUMO routes: its vehicles, "
