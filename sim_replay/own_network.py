@@ -11,9 +11,10 @@ what the UK's rules are about; `refusal` says, in one line, the first reason one
   traffic, HC 170-183), and a right-hand network is not judged as if it were left-hand;
 - a junction of a SUMO type with no UK counterpart: priority to the right or left
   (`right_before_left`, `left_before_right`), an all-way Stop, a turn on red, a level crossing, a
-  zipper merge. The types judged are the signal types (their stop lines are TSRGD diagram 1001's),
-  `priority` (the minor arms' Give Way lines, diagram 1003), `priority_stop` (Stop lines, 1002.1)
-  and `unregulated` (no line, no priority: an unmarked crossroads);
+  zipper merge, a junction where SUMO lets everyone through (`unregulated`, and signals without
+  conflict protection, `traffic_light_unregulated`). The types judged are `traffic_light` (its
+  stop lines are TSRGD diagram 1001's), `priority` (the minor arms' Give Way lines, diagram 1003)
+  and `priority_stop` (Stop lines, 1002.1);
 - two approaches of one junction that come from the same compass sector: the events and the
   reasoner name an approach by where its traffic comes from (north, east, south, west), one each.
 """
@@ -23,14 +24,18 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
-from sim_replay.sumo_net import SIGNAL_TYPES, Network
+from sim_replay.sumo_net import Network
 from store import GapsError
 
 __all__ = ["OwnFiles", "OwnFilesError", "JUDGED_TYPES", "own_files", "read_sumocfg", "refusal"]
 
-JUDGED_TYPES = (*(t for t in SIGNAL_TYPES if t != "traffic_light_right_on_red"), "priority", "priority_stop",
-                "unregulated")
+JUDGED_TYPES = ("traffic_light", "priority", "priority_stop")
 NOT_UK = {
+    "unregulated": "where SUMO lets every vehicle through without braking for another, which no UK junction "
+                   "is (an unmarked crossroads still asks drivers to give way, HC 146), and where libsumo 1.28 "
+                   "crashes when asked who yields to whom",
+    "traffic_light_unregulated": "signals where SUMO lets a vehicle through on green without minding the "
+                                 "vehicles it crosses, and where libsumo 1.28 crashes when asked who yields to whom",
     "right_before_left": "priority to traffic from the right, which no UK junction gives",
     "left_before_right": "priority to traffic from the left, which no UK junction gives",
     "allway_stop": "an all-way Stop, which the UK has not (a Stop line gives way to a major road, HC 171)",

@@ -7,8 +7,9 @@ approach of the same junction the same way:
 
     road       an edge's `name` (the plain files name edges after the road they belong to); an
                unnamed edge is its own road
-    junction   a node where at least three arms meet, or one with signals between two or more (a
-               dead end or a bend is not a junction, nor a road end that a generator gave a signal)
+    junction   a node where at least three arms meet, or one with signals that two or more roads
+               (or directions) come into (a dead end or a bend is not a junction, nor a road end
+               that a generator gave a signal)
     approach   an incoming edge of a junction, named as signal.state and the reasoner name it: by
                where its traffic comes from, the compass sector of its stop line seen from the
                junction's centre (reasoner.junctions.sector)
@@ -176,8 +177,9 @@ def _is_junction(node) -> bool:
         return False
     neighbours = {e.getFromNode().getID() for e in node.getIncoming() if not e.isSpecial()} | \
                  {e.getToNode().getID() for e in node.getOutgoing() if not e.isSpecial()}
-    arms = len(neighbours - {node.getID()})
-    return arms >= 2 if node.getType() in SIGNAL_TYPES else arms >= 3
+    if node.getType() in SIGNAL_TYPES:      # signals where two ways in meet, or on a road (not at its end)
+        return len(_incoming(node)) >= 2
+    return len(neighbours - {node.getID()}) >= 3
 
 
 def _incoming(node) -> list:
