@@ -42,6 +42,7 @@ VCLASS_KINDS = {"passenger": "car", "private": "car", "taxi": "car", "delivery":
                 "bicycle": "cyclist", "emergency": "ambulance", "authority": "police_car"}
 DEFAULT_TYPES = {"DEFAULT_VEHTYPE": "passenger", "DEFAULT_BIKETYPE": "bicycle", "DEFAULT_TAXITYPE": "taxi"}
 IGNORED = ("param",)
+MAX_VEHICLES = 100_000     # as gaps sim --vehicles
 
 
 @dataclass(frozen=True)
@@ -69,6 +70,8 @@ def read_routes(paths: tuple[Path, ...] | list[Path], network: Network, config: 
     persons: list[tuple[str, float, str, str]] = []
     for path in paths:
         _read(Path(path), network, config, rng, vehicles, persons)
+    if len(vehicles) > MAX_VEHICLES:
+        raise OwnFilesError(f"{len(vehicles):,} vehicles in the routes files; gaps sim takes up to {MAX_VEHICLES:,}")
     vehicles.sort(key=lambda v: v.depart_s)
     persons.sort(key=lambda p: p[1])
     departures, file_ids = [], {}
@@ -197,11 +200,30 @@ def _depart(value: str | None, where: str) -> float:
 
 
 def _departs(element: ET.Element, config: SimConfig, rng: random.Random, where: str) -> list[float]:
-    """When each vehicle of a vehicle, trip or flow sets off (a flow's as SUMO spaces them)."""
+    """When each vehicle of a vehicle, trip or flow sets off: a flow's as SUMO spaces them, from
+    `begin` to `end` (default: the run's end), those after the run's end left out."""
     if element.tag != "flow":
         return [_depart(element.get("depart"), where)]
     begin = _depart(element.get("begin", "0"), where)
     end = _depart(element.get("end"), where) if element.get("end") is not None else config.duration_s
+    if end <= begin:
+        raise OwnFilesError(f"{where}: its end {end:g} s is not after its begin {begin:g} s")
+    key, x = _rate(element, where)
+    stop = min(end, config.duration_s)
+    if key == "probability":
+        return [float(t) for t in range(math.ceil(begin), math.ceil(stop)) if rng.random() < x]
+    period = {"number": (end - begin) / x, "period": x, "vehsPerHour": 3600.0 / x}[key]
+    count = max(0, math.ceil((stop - begin) / period))
+    if key == "number":
+        count = min(count, int(x))
+    if count > MAX_VEHICLES:
+        raise OwnFilesError(f"{where}: more than {MAX_VEHICLES:,} vehicles within the run, which gaps sim takes "
+                            "at most")
+    return [begin + n * period for n in range(count)]
+
+
+def _rate(element: ET.Element, where: str) -> tuple[str, float]:
+    """A flow's one way of saying how many: number, period, vehsPerHour or probability."""
     for key in ("number", "period", "vehsPerHour", "probability"):
         value = element.get(key)
         if value is None:
@@ -210,15 +232,10 @@ def _departs(element: ET.Element, config: SimConfig, rng: random.Random, where: 
             x = float(value)
         except ValueError:
             x = -1.0
-        if not x > 0 or (key == "probability" and x > 1):
+        if not 0 < x < math.inf or (key == "probability" and x > 1):
             raise OwnFilesError(f"{where}: {key} {value!r} is not a positive number" +
                                 (" up to 1" if key == "probability" else ""))
-        if key == "probability":
-            return [float(t) for t in range(math.ceil(begin), math.ceil(end)) if rng.random() < x]
-        if key == "number":
-            return [begin + n * (end - begin) / x for n in range(int(x))]
-        period = x if key == "period" else 3600.0 / x
-        return [begin + n * period for n in range(math.ceil((end - begin) / period))]
+        return key, x
     raise OwnFilesError(f"{where}: a flow needs number, period, vehsPerHour or probability")
 
 

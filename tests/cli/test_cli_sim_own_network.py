@@ -252,6 +252,9 @@ def test_a_sumocfg_brings_its_net_and_routes_relative_to_itself(nets, tmp_path):
     (lambda p, net: ("--map", net, "--routes", _write(p / "truck.rou.xml", '<routes><vType id="t" vClass="truck"/>'
                                                       '</routes>')),
      ("truck.rou.xml", "'truck'")),
+    (lambda p, net: ("--map", net, "--routes", _write(p / "flood.rou.xml", '<routes><flow id="f" period="1e-9" '
+                                                      'from="left0A0" to="A0B0"/></routes>')),
+     ("flood.rou.xml", "flow 'f'", "more than 100,000 vehicles")),
 ])
 def test_mistakes_in_the_users_files_are_one_line_errors(nets, tmp_path, make, words):
     result = _sim(tmp_path, *make(tmp_path, nets["signals"]))
