@@ -127,7 +127,7 @@ def refusal(network: Network) -> str | None:
             if a.name in seen:
                 return (f"{name}: junction {j.id}: the approaches on edges {seen[a.name]} and {a.edge} both come "
                         f"from the {a.name}; the events name a junction's approaches by compass sector (north, "
-                        "east, south, west), one each, so arms meeting at about 45 degrees cannot be told apart")
+                        "east, south, west), one each, so two arms less than 90 degrees apart can fall in one")
             seen[a.name] = a.edge
     return None
 
@@ -139,9 +139,13 @@ def load_network(path: Path) -> Network:
 
     from sim_replay.sumo_net import read_network
     try:
-        return read_network(path)
+        network = read_network(path)
     except (SAXException, OSError, ValueError, KeyError, IndexError, AttributeError, TypeError) as e:
         raise OwnFilesError(f"{path}: not a SUMO network ({type(e).__name__}: {e})") from e
+    if not network.net.getEdges(withInternal=False):
+        raise OwnFilesError(f"{path}: not a SUMO network (it has no edges; --map takes a FILE.net.xml that "
+                            "netconvert or netgenerate made, or a FILE.sumocfg)")
+    return network
 
 
 def check(net: Path, routes: tuple[Path, ...], config) -> tuple[int, int] | None:

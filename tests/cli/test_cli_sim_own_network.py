@@ -252,6 +252,8 @@ def test_a_sumocfg_brings_its_net_and_routes_relative_to_itself(nets, tmp_path):
     (lambda p, net: ("--map", net, "--routes", _write(p / "truck.rou.xml", '<routes><vType id="t" vClass="truck"/>'
                                                       '</routes>')),
      ("truck.rou.xml", "'truck'")),
+    (lambda p, net: ("--map", _write(p / "demand.rou.xml", ROUTES)), ("demand.rou.xml", "not a SUMO network")),
+    (lambda p, net: ("--map", _write(p / "junk.net.xml", "hello")), ("junk.net.xml", "not a SUMO network")),
     (lambda p, net: ("--map", net, "--routes", _write(p / "flood.rou.xml", '<routes><flow id="f" period="1e-9" '
                                                       'from="left0A0" to="A0B0"/></routes>')),
      ("flood.rou.xml", "flow 'f'", "more than 100,000 vehicles")),
