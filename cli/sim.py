@@ -57,9 +57,15 @@ def parse_faults(text: str | None, names: tuple[str, ...]) -> dict[str, float]:
 
 
 def sim(
-    map_: str = typer.Option("paper", "--map", help="A bundled map (paper, town) or a SUMO network FILE.net.xml."),
+    map_: str = typer.Option("paper", "--map", metavar="NAME|FILE",
+                             help="A bundled map (paper, town), a SUMO network FILE.net.xml (left-hand traffic), "
+                             "or a SUMO configuration FILE.sumocfg (its net-file and route-files)."),
+    routes: list[Path] = typer.Option([], "--routes", metavar="FILE.rou.xml", help="SUMO routes: its vehicles, "
+                                      "trips, flows and persons replace the drawn ones (repeatable; replaces "
+                                      "a .sumocfg's route-files)."),
     monitors: Optional[Path] = typer.Option(None, "--monitors", help="Monitors file for a --map FILE "
-                                            "(JSON: id, junction, x, y, heading_deg, range_m, fov_deg)."),
+                                            "(JSON: id, junction, x, y, heading_deg, range_m, fov_deg; default "
+                                            "NAME.monitors.json beside NAME.net.xml, else no cameras)."),
     vehicles: int = typer.Option(40, "--vehicles", min=1, max=100_000, help="Vehicles that set off in the run."),
     duration: str = typer.Option("3m", "--duration", help="World time to simulate: 90s, 10m, 1h."),
     seed: int = typer.Option(0, "--seed", help="Same seed, same events."),
@@ -93,15 +99,9 @@ def sim(
     from store import GapsError
 
     names = tuple(f.name for f in dataclasses.fields(FaultRates))
-    net = Path(map_) if map_.endswith(".xml") or "/" in map_ else None
-    if net is not None and not net.is_file():
-        fail(f"no such network file: {net}")
-    if net is not None and monitors is None:
-        fail("a --map FILE needs --monitors FILE (where the cameras are)")
-    config = SimConfig(run=run, seed=seed, map="paper" if net else map_, net=str(net) if net else None,
-                       monitors=str(monitors) if monitors else None, vehicles=vehicles,
-                       duration_s=parse_duration(duration), rate_hz=rate, av_share=av_share,
-                       faults=FaultRates(**parse_faults(faults, names)))
+    config = SimConfig(run=run, seed=seed, vehicles=vehicles, duration_s=parse_duration(duration), rate_hz=rate,
+                       av_share=av_share, faults=FaultRates(**parse_faults(faults, names)))
+    config = _own_files(config, map_, tuple(routes), monitors)
     pace = parse_speed(speed)
     store_file = None if listen or connect or zenoh_file else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
@@ -121,6 +121,30 @@ def sim(
         typer.echo(json.dumps(out, indent=2))
         return
     _print(out, store_file)
+
+
+def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | None):
+    """The config with the files --map, --routes and --monitors name, checked before anything is
+    written (sim_replay.own_network: a network the audit cannot judge, or routes it cannot carry,
+    is refused with the reason, exit 2)."""
+    from sim_replay.maps import map_files
+    from sim_replay.own_network import OwnFilesError, check, own_files
+
+    try:
+        own = own_files(map_, routes, monitors)
+        for path in (*routes, *((monitors,) if monitors else ())):
+            if not path.is_file():
+                fail(f"no such file: {path}")
+        net = own.net if own else map_files(map_).net
+        counts = check(net, own.routes if own else routes, config) if own or routes else None
+    except (FileNotFoundError, OwnFilesError) as e:
+        fail(str(e))
+    changes = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
+               "monitors": str(own.monitors) if own.monitors else None} if own else \
+        {"map": map_, "routes": tuple(map(str, routes)), "monitors": str(monitors) if monitors else None}
+    if counts is not None:
+        changes.update(vehicles=counts[0], pedestrians=counts[1])
+    return dataclasses.replace(config, **changes)
 
 
 def _one_producer(run: str, store_file: Path | None, truth_file: Path) -> None:
