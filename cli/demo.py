@@ -39,8 +39,8 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
         run = events[0]["run"]
         totals, _ = publish_through_zenoh(path, events)
         if not json_out:
-            typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
-                       f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
+            typer.echo(f"Published {len(events):,} events of run {run} over Zenoh; stored {totals['stored']:,}, "
+                       f"duplicates {totals['duplicates']:,}, rejected {totals['rejected']:,} → {path}\n")
     else:
         run = _simulate(path, json_out)
     target = report or path.parent / "gaps-report.html"

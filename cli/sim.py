@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import re
 from pathlib import Path
 from typing import Optional
 
@@ -14,15 +13,14 @@ import typer
 from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
 
-_UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
-
-
 def parse_duration(text: str) -> float:
-    """"10m", "90s", "1.5h" or plain seconds, as world seconds."""
-    found = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*(s|m|min|h)?\s*", text or "")
-    if not found or float(found.group(1)) <= 0:
-        raise typer.BadParameter(f"{text!r} is not a duration: write e.g. 90s, 10m or 1h")
-    return float(found.group(1)) * _UNITS[found.group(2) or ""]
+    """`--duration` in world seconds, read by the one duration parser (reasoner.when)."""
+    from reasoner.when import DurationError
+    from reasoner.when import parse_duration as duration_ns
+    try:
+        return duration_ns(text) / 1e9
+    except DurationError as exc:
+        raise typer.BadParameter(str(exc)) from None
 
 
 def parse_speed(text: str) -> float | None:
