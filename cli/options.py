@@ -7,7 +7,7 @@ DbOption = typer.Option(None, "--db", help="SQLite event store (default: $GAPS_D
 JsonOption = typer.Option(False, "--json", help="Print JSON instead of text.")
 RunOption = typer.Option(None, "--run", help="Run id (default: every run).")
 RunRequired = typer.Option(..., "--run", help="Run id.")
-RulesOption = typer.Option(None, "--rules", help="Judge with this LE rulebook first (repeatable).")
+RulesOption = typer.Option(None, "--rules", metavar="FILE.le…", help="Judge with this LE rulebook first (repeatable).")
 ZenohConfigOption = typer.Option(None, "--config", metavar="FILE", help="A Zenoh config file (JSON5: TLS with the "
                                  "producer's certificate, user/password; docs/serve.md \"A hardened deployment\"); "
                                  "--listen/--connect given here are written over it.")

@@ -13,12 +13,12 @@ from cli.safe_text import printable
 
 
 def regress(recordings: Optional[list[Path]] = typer.Argument(
-                None, metavar="[FILES.mcap]...", help="Recordings (MCAP or JSONL) to regress straight from, "
+                None, metavar="FILES.mcap", help="Recordings (MCAP or JSONL) to regress straight from, "
                                                       "nothing prepared: every run in each."),
             rules: Optional[list[Path]] = typer.Option(
-                None, "--rules", help="The new rulebook: a .le file or a directory of them (repeatable)."),
+                None, "--rules", metavar="FILE.le…", help="The new rulebook: a .le file or a directory of them (repeatable)."),
             baseline: Optional[list[Path]] = typer.Option(
-                None, "--baseline", help="What to compare with: `in-force` (default: each run's own rulebooks, "
+                None, "--baseline", metavar="in-force|OLD.le…", help="What to compare with: `in-force` (default: each run's own rulebooks, "
                                          "else the project's) or OLD .le files or directories (repeatable)."),
             run: Optional[list[str]] = typer.Option(None, "--run", help="A run to regress (repeatable)."),
             all_runs: bool = typer.Option(False, "--all", help="Regress every run of the store."),

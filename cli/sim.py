@@ -63,8 +63,10 @@ def sim(
     seed: int = typer.Option(0, "--seed", help="Same seed, same events."),
     rate: float = typer.Option(10.0, "--rate", min=0.5, max=10.0, help="entity.state and observations per second."),
     av_share: float = typer.Option(0.3, "--av-share", min=0.0, max=1.0, help="Share of cars driving themselves."),
-    faults: Optional[str] = typer.Option(None, "--faults", help="Injected faults with rates, e.g. "
-                                         "misperceived_light=0.2,lost_event=0.01."),
+    faults: Optional[str] = typer.Option(None, "--faults", metavar="NAME=RATE,…", help="Injected faults, each "
+                                         "with a rate from 0 to 1: misperceived_light, missed_road_user, "
+                                         "speed_error, lost_event, recorder_stops; several "
+                                         "joined by commas (e.g. lost_event=0.01)."),
     run: str = typer.Option("sim-001", "--run", help="Run id."),
     record: Optional[Path] = typer.Option(None, "--record", help="Also record the events as MCAP."),
     truth: Optional[Path] = typer.Option(None, "--truth", help="Write the ground truth here (default: beside "
