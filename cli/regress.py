@@ -6,6 +6,7 @@ from typing import Optional
 
 import typer
 
+from cli import completion
 from cli.app import db_path, fail, open_existing, print_json, writable_output
 from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
@@ -20,7 +21,8 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
             baseline: Optional[list[Path]] = typer.Option(
                 None, "--baseline", metavar="in-force|OLD.le…", help="What to compare with: `in-force` (default: each run's own rulebooks, "
                                          "else the project's) or OLD .le files or directories (repeatable)."),
-            run: Optional[list[str]] = typer.Option(None, "--run", help="A run to regress (repeatable)."),
+            run: Optional[list[str]] = typer.Option(None, "--run", help="A run to regress (repeatable).",
+                                                  autocompletion=completion.runs),
             all_runs: bool = typer.Option(False, "--all", help="Regress every run of the store."),
             db: Optional[Path] = DbOption, json_out: bool = JsonOption,
             junit: Optional[Path] = typer.Option(None, "--junit", help="Also write JUnit XML here, a testcase per "
