@@ -109,6 +109,11 @@ def test_the_golden_runs_are_judged_as_approved():
     result = gaps("regress", "--golden", GOLDEN)
     assert result.exit_code == 0, result.output
     assert "Nothing changed" in result.output
+    # and it prints what docs/regress.md shows (run here once, not again by tests/docs: 20 s)
+    from tests.docs.test_doc_commands import ROOT, fences, matches, steps
+    (shown,) = [lines for fence in fences(ROOT / "docs" / "regress.md") for command, lines in steps(fence)
+                if command == "gaps regress --golden tests/golden/golden-sim.json"]
+    assert matches(shown, result.output.splitlines()), result.output
 
 
 
