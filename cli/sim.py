@@ -114,7 +114,7 @@ def sim(
         summary, sent, stored = _run(config, pace, record, wire, store_file, truth_file, signer)
         public_keys = str(signer.folder.write_public_keys()) if signer else None
     except (GapsError, TimeoutError, OSError) as exc:
-        fail(str(exc))
+        fail(str(exc), getattr(exc, "exit_code", 2))     # 4 for a store a serve is writing, as README says
     out = {"run": run, "simulation": summary.to_json(), "published": sent.to_json(), "stored": stored,
            "truth": str(truth_file), "public_keys": public_keys}
     if json_out:
