@@ -17,6 +17,7 @@ from cli.safe_text import printable
 from cli.options import DbOption, JsonOption
 from explain import write_report
 from reasoner.api import Case
+from reasoner.when import format_seconds
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
@@ -86,7 +87,7 @@ def _simulate(path: Path, json_out: bool) -> str:
         simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
         totals, _ = publish_through_zenoh(path, simulation.batches())
     s = simulation.summary
-    typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {s.world_s:g} s of "
+    typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {format_seconds(s.world_s, 3)} of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
                f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations.\n"
                f"Published over Zenoh; stored {totals['stored']:,}, duplicates {totals['duplicates']:,}, "

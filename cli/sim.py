@@ -12,6 +12,7 @@ import typer
 
 from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
+from reasoner.when import format_seconds
 
 def parse_duration(text: str) -> float:
     """`--duration` in world seconds, read by the one duration parser (reasoner.when)."""
@@ -181,7 +182,8 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
 
 def _print(out: dict, store_file: Path | None) -> None:
     s, sent = out["simulation"], out["published"]
-    typer.echo(f"Simulated run {out['run']}: {s['world_s']:g} s of world time in {s['wall_s']:g} s; "
+    typer.echo(f"Simulated run {out['run']}: {format_seconds(s['world_s'], 3)} of world time in "
+               f"{format_seconds(s['wall_s'])}; "
                f"{s['vehicles']} vehicles, {s['pedestrians']} pedestrians")
     typer.echo(f"  events {s['events']:,} ({s['lost_events']:,} lost on purpose), rulebook queries "
                f"{s['rulebook_queries']:,}, potential violations {s['potential_violations']:,}, "

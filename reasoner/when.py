@@ -142,6 +142,12 @@ def format_duration(ns: int) -> str:
     return f"{f'{hours}h' if hours else ''}{f'{minutes}m' if minutes else ''}{seconds}"
 
 
+def format_seconds(seconds: float, places: int = 1) -> str:
+    """A measured length in seconds (a wall-clock time), rounded to `places` decimals and written
+    as format_duration writes every duration: 12.3s, 1m4.5s."""
+    return format_duration(round(seconds * 10**places) * 10**(9 - places))
+
+
 class DurationError(GapsError, ValueError):
     """A length of time that cannot be read; the message shows the forms that can."""
 

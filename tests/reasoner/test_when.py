@@ -133,3 +133,10 @@ def test_not_a_duration(text):
 @given(st.integers(min_value=0, max_value=T_MAX))
 def test_format_time_short_reads_back_exactly(t):
     assert parse_time(format_time_short(t), None) == t
+
+
+@pytest.mark.parametrize("seconds, places, text", [(12.34, 1, "12.3s"), (64.5, 1, "1m4.5s"), (180.0, 3, "3m"),
+                                                   (0.04, 1, "0s"), (3600.25, 3, "1h0.25s")])
+def test_a_measured_time_is_written_as_every_duration(seconds, places, text):
+    from reasoner.when import format_seconds
+    assert format_seconds(seconds, places) == text
