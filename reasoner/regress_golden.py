@@ -174,12 +174,19 @@ def write_golden(golden: Golden, judged: dict[str, Judged], books: dict[str, dic
 
 
 def _why(approved: dict[str, dict], now: dict[str, dict]) -> tuple[str, ...]:
-    changed = [f"{stage}: {now[stage]['name']} {approved[stage]['sha256'][:12]} -> {now[stage]['sha256'][:12]}"
+    changed = [_changed(stage, approved[stage], now[stage])
                for stage in now if stage in approved and approved[stage].get("sha256") != now[stage]["sha256"]]
     said = ("the rulebooks changed since approval (" + "; ".join(changed) + ")") if changed else \
         "the judgement differs from the approved one with the same rulebooks (the reasoner changed)"
     return (said, "it is not approved: `gaps regress --rules NEW --baseline OLD --run R` names the rules that "
                   "changed; " + APPROVE)
+
+
+def _changed(stage: str, approved: dict, now: dict) -> str:
+    """A stage's rulebook then and now, each hash beside its own file's name."""
+    before = f"{approved.get('name')} {str(approved.get('sha256'))[:12]}"
+    after = now["sha256"][:12] if approved.get("name") == now["name"] else f"{now['name']} {now['sha256'][:12]}"
+    return f"{stage}: {before} -> {after}"
 
 
 def _incident(run: str, a: Verdict | None, b: Verdict | None, why: tuple[str, ...]) -> CaseResult:

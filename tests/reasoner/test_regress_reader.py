@@ -49,3 +49,15 @@ def test_every_junit_case_and_suite_carries_a_time(db, tmp_path):
         assert float(element.get("time")) >= 0, ET.tostring(element)[:200]
     assert float(root.get("time")) > 0
     assert abs(sum(float(s.get("time")) for s in suites) - float(root.get("time"))) < 0.01
+
+
+def test_a_golden_run_names_each_hash_with_its_own_rulebook():
+    """A golden-run message labelled highway_code.le's approved hash as validators.le (the name the
+    stage has now), when validators.le came to answer the vehicle stage."""
+    from reasoner.regress_golden import _why
+    approved = {"vehicle": {"name": "highway_code.le", "sha256": "a" * 64}}
+    now = {"vehicle": {"name": "validators.le", "sha256": "b" * 64}}
+    said = _why(approved, now)[0]
+    assert "vehicle: highway_code.le aaaaaaaaaaaa -> validators.le bbbbbbbbbbbb" in said, said
+    same_book = _why({"vehicle": {"name": "validators.le", "sha256": "a" * 64}}, now)[0]
+    assert "vehicle: validators.le aaaaaaaaaaaa -> bbbbbbbbbbbb" in same_book, same_book
