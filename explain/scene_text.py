@@ -43,7 +43,8 @@ def vehicle_lines(sc: Scene, v: dict[str, Any]) -> list[str]:
     if (now := v["state"]) is not None:
         junction = f", in junction {now['junction']}" if now.get("junction") else ""
         lines.append(f"  at ({_num(now.get('x'))}, {_num(now.get('y'))}) m, speed {speed_text(now.get('speed_mps'))}, "
-                     f"road {now.get('road')}{junction} ({_cite(now['evidence'], sc)})")
+                     f"road {now.get('road') if now.get('road') is not None else 'not recorded'}{junction} "
+                     f"({_cite(now['evidence'], sc)})")
     lines.append(f"  in control: {_control(sc, v['control'])}")
     lines += _facts("Vehicle Scenario", v["vehicle_scenario"], sc)
     lines.append(_action(sc, v["vehicle_action"]))

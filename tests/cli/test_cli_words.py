@@ -32,3 +32,15 @@ def test_runs_write_the_duration_as_the_options_take_it(thousand_db):
     from reasoner.when import format_duration, parse_duration
     assert format_duration(span) in shown and parse_duration(format_duration(span)) == span
     assert " s " not in shown and "0:0" not in shown
+
+
+def test_a_scene_without_a_recorded_road_does_not_say_road_none(tmp_path):
+    """`gaps scene` printed "road None" for a vehicle whose entity.state names no road (a foreign
+    producer's, which may leave it out: DESIGN's kinds make it optional)."""
+    path = tmp_path / "gaps.db"
+    with Store(path) as store:
+        store.append([event(0, kind="entity.spawn", body={"type": "car"}),
+                      event(1, kind="entity.state", body={"x": 1.0, "y": 2.0, "speed_mps": 3.0})])
+    shown = gaps("scene", "--run", "r1", "--at", "0.1s", "--vehicle", "173", db=path)
+    assert shown.exit_code == 0, shown.output
+    assert "road None" not in shown.stdout and "road not recorded" in shown.stdout, shown.stdout
