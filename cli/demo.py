@@ -89,7 +89,8 @@ def _simulate(path: Path, json_out: bool) -> str:
     s = simulation.summary
     typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {format_seconds(s.world_s, 3)} of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
-               f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations.\n"
+               f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations recorded by "
+               f"the monitors (the incidents below also count acts measured from the record).\n"
                f"Published over Zenoh; stored {totals['stored']:,}, duplicates {totals['duplicates']:,}, "
                f"rejected {totals['rejected']:,} → {path}\n", err=json_out)
     return DEMO.run

@@ -186,7 +186,7 @@ def _print(out: dict, store_file: Path | None) -> None:
                f"{format_seconds(s['wall_s'])}; "
                f"{s['vehicles']} vehicles, {s['pedestrians']} pedestrians")
     typer.echo(f"  events {s['events']:,} ({s['lost_events']:,} lost on purpose), rulebook queries "
-               f"{s['rulebook_queries']:,}, potential violations {s['potential_violations']:,}, "
+               f"{s['rulebook_queries']:,}, potential violations recorded by monitors {s['potential_violations']:,}, "
                f"acts in the ground truth {s['acts']:,}")
     if store_file is not None:
         st = out["stored"]
