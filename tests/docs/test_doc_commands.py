@@ -15,7 +15,8 @@ shows, where no earlier step made it. A ```sh block without `$ ` is a list of co
 line must run and exit 0.
 
 A block that cannot run here says why on its fence: ```text no-run: <reason> (a long-running
-service, a 10-minute simulation, a machine's /etc); the reason is the skip's message.
+service, a 10-minute simulation, a machine's /etc). A document's blocks run in one test, in order,
+so that pytest-xdist never splits a session between workers.
 """
 from __future__ import annotations
 
@@ -128,26 +129,18 @@ def _line(expected: str, actual: str) -> bool:
     return re.fullmatch(pattern, actual) is not None
 
 
-@pytest.fixture(scope="module")
-def folders(tmp_path_factory) -> dict[Path, Path]:
-    return {}
-
-
-def folder_for(doc: Path, folders: dict[Path, Path], tmp_path_factory) -> Path:
-    if doc not in folders:
-        from sim_replay.paper import paper_run
-        from store import Store
-        here = tmp_path_factory.mktemp(doc.stem)
-        if doc.name != "README.md":         # the README's tour starts in an empty folder
-            with Store(here / "gaps.db") as store:
-                store.append(paper_run())
-        for name in ("reasoner", "tests"):
-            (here / name).symlink_to(ROOT / name, target_is_directory=True)
-        for fence in fences(doc):
-            if fence.file:
-                (here / fence.file).write_text("\n".join(fence.lines) + "\n", encoding="utf-8")
-        folders[doc] = here
-    return folders[doc]
+def make_folder(doc: Path, here: Path) -> Path:
+    from sim_replay.paper import paper_run
+    from store import Store
+    if doc.name != "README.md":         # the README's tour starts in an empty folder
+        with Store(here / "gaps.db") as store:
+            store.append(paper_run())
+    for name in ("reasoner", "tests"):
+        (here / name).symlink_to(ROOT / name, target_is_directory=True)
+    for fence in fences(doc):
+        if fence.file:
+            (here / fence.file).write_text("\n".join(fence.lines) + "\n", encoding="utf-8")
+    return here
 
 
 def run_gaps(line: str) -> tuple[int, list[str]]:
@@ -159,17 +152,14 @@ def run_gaps(line: str) -> tuple[int, list[str]]:
     return result.exit_code, result.output.splitlines()
 
 
-@pytest.mark.parametrize("fence", examples(), ids=lambda f: f.where)
-def test_doc_example(fence: Fence, folders, tmp_path_factory, monkeypatch) -> None:
-    if fence.no_run:
-        pytest.skip(f"{fence.where}: {fence.no_run}")
-    here = folder_for(fence.path, folders, tmp_path_factory)
-    monkeypatch.chdir(here)
+def run_fence(fence: Fence, here: Path) -> list[str]:
+    """What differs from the docs in this block (nothing: it runs as shown)."""
     if not fence.is_session:
         for line in fence.commands:
             code, printed = run_gaps(line)
-            assert code == 0, f"{fence.where}: `{line}` exited {code}:\n" + "\n".join(printed)
-        return
+            if code != 0:
+                return [f"{fence.where}: `{line}` exited {code}:\n" + "\n".join(printed)]
+        return []
     last = 0
     for command, shown in steps(fence):
         if command.strip() == "echo $?":
@@ -183,8 +173,29 @@ def test_doc_example(fence: Fence, folders, tmp_path_factory, monkeypatch) -> No
             done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, cwd=here, timeout=60,
                                   env={**os.environ, "COLUMNS": str(COLUMNS)})
             last, printed = done.returncode, (done.stdout + done.stderr).splitlines()
-        assert matches(shown, printed), (f"{fence.where}: `$ {command}` printed\n" + "\n".join(printed)
-                                          + "\n--- the docs show ---\n" + "\n".join(shown))
+        if not matches(shown, printed):
+            return [f"{fence.where}: `$ {command}` printed\n" + "\n".join(printed)
+                    + "\n--- the docs show ---\n" + "\n".join(shown)]
+    return []
+
+
+DOCS = sorted({f.path for f in examples()}, key=documents().index)
+
+
+@pytest.mark.parametrize("doc", DOCS, ids=lambda d: str(d.relative_to(ROOT)))
+def test_the_examples_of_a_document_run_as_shown(doc: Path, tmp_path, monkeypatch) -> None:
+    """One test per document, its blocks in order in one folder (a later block uses what an
+    earlier one made; pytest-xdist must not split them), every difference reported."""
+    here = make_folder(doc, tmp_path)
+    monkeypatch.chdir(here)
+    wrong = [said for fence in examples() if fence.path == doc and not fence.no_run for said in run_fence(fence, here)]
+    assert not wrong, "\n\n".join(wrong)
+
+
+def test_a_block_that_does_not_run_says_why_and_is_rare():
+    skipped = [f for f in examples() if f.no_run is not None]
+    assert all(len(f.no_run) > 20 for f in skipped), [f.where for f in skipped]
+    assert len(skipped) <= 14, [f.where for f in skipped]     # raise only with a reason on each fence
 
 
 def test_the_matcher():
