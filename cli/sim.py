@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import re
 from pathlib import Path
 from typing import Optional
 
@@ -13,16 +12,16 @@ import typer
 
 from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
-
-_UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
-
+from reasoner.when import format_seconds
 
 def parse_duration(text: str) -> float:
-    """"10m", "90s", "1.5h" or plain seconds, as world seconds."""
-    found = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*(s|m|min|h)?\s*", text or "")
-    if not found or float(found.group(1)) <= 0:
-        raise typer.BadParameter(f"{text!r} is not a duration: write e.g. 90s, 10m or 1h")
-    return float(found.group(1)) * _UNITS[found.group(2) or ""]
+    """`--duration` in world seconds, read by the one duration parser (reasoner.when)."""
+    from reasoner.when import DurationError
+    from reasoner.when import parse_duration as duration_ns
+    try:
+        return duration_ns(text) / 1e9
+    except DurationError as exc:
+        raise typer.BadParameter(str(exc)) from None
 
 
 def parse_speed(text: str) -> float | None:
@@ -71,8 +70,10 @@ def sim(
     seed: int = typer.Option(0, "--seed", help="Same seed, same events."),
     rate: float = typer.Option(10.0, "--rate", min=0.5, max=10.0, help="entity.state and observations per second."),
     av_share: float = typer.Option(0.3, "--av-share", min=0.0, max=1.0, help="Share of cars driving themselves."),
-    faults: Optional[str] = typer.Option(None, "--faults", help="Injected faults with rates, e.g. "
-                                         "misperceived_light=0.2,lost_event=0.01."),
+    faults: Optional[str] = typer.Option(None, "--faults", metavar="NAME=RATE,…", help="Injected faults, each "
+                                         "with a rate from 0 to 1: misperceived_light, missed_road_user, "
+                                         "speed_error, lost_event, recorder_stops; several "
+                                         "joined by commas (e.g. lost_event=0.01)."),
     run: str = typer.Option("sim-001", "--run", help="Run id."),
     record: Optional[Path] = typer.Option(None, "--record", help="Also record the events as MCAP."),
     truth: Optional[Path] = typer.Option(None, "--truth", help="Write the ground truth here (default: beside "
@@ -114,7 +115,7 @@ def sim(
         summary, sent, stored = _run(config, pace, record, wire, store_file, truth_file, signer)
         public_keys = str(signer.folder.write_public_keys()) if signer else None
     except (GapsError, TimeoutError, OSError) as exc:
-        fail(str(exc))
+        fail(str(exc), getattr(exc, "exit_code", 2))     # 4 for a store a serve is writing, as README says
     out = {"run": run, "simulation": summary.to_json(), "published": sent.to_json(), "stored": stored,
            "truth": str(truth_file), "public_keys": public_keys}
     if json_out:
@@ -205,10 +206,11 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
 
 def _print(out: dict, store_file: Path | None) -> None:
     s, sent = out["simulation"], out["published"]
-    typer.echo(f"Simulated run {out['run']}: {s['world_s']:g} s of world time in {s['wall_s']:g} s; "
+    typer.echo(f"Simulated run {out['run']}: {format_seconds(s['world_s'], 3)} of world time in "
+               f"{format_seconds(s['wall_s'])}; "
                f"{s['vehicles']} vehicles, {s['pedestrians']} pedestrians")
     typer.echo(f"  events {s['events']:,} ({s['lost_events']:,} lost on purpose), rulebook queries "
-               f"{s['rulebook_queries']:,}, potential violations {s['potential_violations']:,}, "
+               f"{s['rulebook_queries']:,}, potential violations recorded by monitors {s['potential_violations']:,}, "
                f"acts in the ground truth {s['acts']:,}")
     if store_file is not None:
         st = out["stored"]

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 def incident_line(inc: Incident, number: int | None = None) -> str:
     """One incident in one line: number, time, id, vehicle, action, rule, verdict, penalty,
     who is liable, the margin where the incident has one, and its findings."""
-    fields = [format_time(inc.t), inc.id, f"vehicle {inc.vehicle}", inc.action, str(inc.rule),
+    fields = [format_time(inc.t), inc.id, f"vehicle {inc.vehicle}", inc.action, inc.rule or "no rule",
               inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
     if inc.margin is not None:
         fields.append(_margin(inc.margin))
