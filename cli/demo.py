@@ -35,14 +35,16 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
     camera misread the light (its ASDE liable) and a Stop line run; each is explained in full,
     every other incident listed in a line.
 
-    An earlier demo's report is never replaced silently: on a terminal the demo asks first;
-    otherwise it refuses (exit 2) unless --overwrite, or --report names another file.
+    An earlier demo's report is never replaced silently: on a terminal the demo asks first, and
+    writes beside it if told no; elsewhere it writes beside it (gaps-report-2.html, ...) and says
+    so, so that `make demo` runs again as it ran first. --overwrite replaces it.
     """
     path = db_path(db)
     target = report or path.parent / "gaps-report.html"
+    earlier = None
+    if target.exists() and report is None and not overwrite and not _may_replace(target):
+        earlier, target = target, _beside(target)
     replacing = target.exists()
-    if replacing and report is None and not overwrite:
-        _ask_to_replace(target)
     if paper:
         from sim_replay.paper import paper_run
         events = paper_run()
@@ -63,20 +65,27 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
             written = write_report(case, run, target)
         except OSError as exc:
             fail(f"cannot write the report to {target}: {exc.strerror or exc}")
-    again = " (replaced the earlier report)" if replacing else ""
+    again = " (replaced the earlier report)" if replacing else f" (beside the earlier {earlier.name})" if earlier else ""
     typer.echo(f"Report of run {run}: {written.resolve()}{again} (open it in a browser; `gaps report --run {run} -o FILE "
                "--pdf` prints a PDF)", err=json_out)
 
 
-def _ask_to_replace(target: Path) -> None:
-    """Ask on a terminal whether to replace an earlier report; refuse (exit 2) where nobody can answer."""
+def _may_replace(target: Path) -> bool:
+    """Whether the user, asked on a terminal, lets this demo replace an earlier report; where
+    nobody can answer, no."""
     import sys
-    said = (f"{target} exists (an earlier report); pass --overwrite to replace it, or --report FILE to write "
-            "this one elsewhere")
     if not (sys.stdin.isatty() and sys.stdout.isatty()):
-        fail(said)
-    if not typer.confirm(f"{target} exists (an earlier report): replace it?", default=False, err=True):
-        fail(f"left {target} as it was; pass --report FILE to write this one elsewhere")
+        return False
+    return typer.confirm(f"{target} exists (an earlier report): replace it? (no: this one is written beside it)",
+                         default=False, err=True)
+
+
+def _beside(target: Path) -> Path:
+    """The first free name beside an earlier report: gaps-report-2.html, gaps-report-3.html, ..."""
+    n = 2
+    while (found := target.with_name(f"{target.stem}-{n}{target.suffix}")).exists():
+        n += 1
+    return found
 
 
 def _simulate(path: Path, json_out: bool) -> str:

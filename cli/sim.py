@@ -208,7 +208,8 @@ def _print(out: dict, store_file: Path | None) -> None:
     s, sent = out["simulation"], out["published"]
     typer.echo(f"Simulated run {out['run']}: {format_seconds(s['world_s'], 3)} of world time in "
                f"{format_seconds(s['wall_s'])}; "
-               f"{s['vehicles']} vehicles, {s['pedestrians']} pedestrians")
+               f"{s['vehicles']} vehicle{'s' if s['vehicles'] != 1 else ''}, "
+               f"{s['pedestrians']} pedestrian{'s' if s['pedestrians'] != 1 else ''}")
     typer.echo(f"  events {s['events']:,} ({s['lost_events']:,} lost on purpose), rulebook queries "
                f"{s['rulebook_queries']:,}, potential violations recorded by monitors {s['potential_violations']:,}, "
                f"acts in the ground truth {s['acts']:,}")

@@ -24,7 +24,7 @@ SECTION = "## Your own network"
 def session(text: str) -> list[tuple[str, list[str]]]:
     """The (command, expected output lines) of the section's first ```text block."""
     body = text.split(SECTION, 1)[1].split("\n## ", 1)[0]
-    block = body.split("```text\n", 1)[1].split("\n```", 1)[0]
+    block = re.split(r"```text[^\n]*\n", body, maxsplit=1)[1].split("\n```", 1)[0]
     steps: list[tuple[str, list[str]]] = []
     for line in block.splitlines():
         if line.startswith("$ "):
