@@ -39,7 +39,7 @@ from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
-from .tolerance import beyond_stopping, deceleration_between
+from .tolerance import beyond_stopping, deceleration, sensor_of
 from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,
                          HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
                          HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
@@ -472,11 +472,11 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     if stop is not None:
         how = f"{other.user} came to a stop ({stop.label}, {format_time(stop.t)}) while {p.vehicle} passed{after}"
         refs: tuple[EventRef, ...] = (stop.ref,)
-    elif b is not None and braked_hard(b):
-        how = (f"{other.user} braked at {braking_words(b)} ({b.first.speed_mps:.1f} m/s at {b.first.label} to "
+    elif b is not None and braked_hard(p, b):
+        how = (f"{other.user} braked at {braking_words(p, b)} ({b.first.speed_mps:.1f} m/s at {b.first.label} to "
                f"{b.last.speed_mps:.1f} m/s at {b.last.label}) while {p.vehicle} passed{after}; from {FORCE_DECEL_MPS2:g} m/s² "
                "a change of speed is a considerable reaction (Hupfer 1997), and this braking exceeds it by more than "
-               "its uncertainty (reasoner/tolerance.py: the two speeds' tolerance over the span)")
+               f"its uncertainty (reasoner/tolerance.py: the two speeds' tolerance over the span, {sensor_of(p, b.first).said})")
         refs = (b.first.ref, b.last.ref)
     else:
         swerved = _course_changed(p, other, after)
@@ -490,16 +490,17 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
                        refs + ((other.light.ref,) if other.light else ()) + _conflict_refs(c))
 
 
-def braked_hard(b: Braking) -> bool:
+def braked_hard(p: Passage, b: Braking) -> bool:
     """Whether a braking proves a change of speed: its measured deceleration less its uncertainty
-    (tolerance.deceleration_between) exceeds FORCE_DECEL_MPS2. One within its uncertainty of the
-    threshold is in doubt, and a ground in doubt is not proven (issue 36)."""
-    return b.decel_mps2 - deceleration_between(b.first, b.last) > FORCE_DECEL_MPS2
+    (tolerance.deceleration: the two speeds' tolerance, its source's stated one or the default,
+    over the span) exceeds FORCE_DECEL_MPS2. One within its uncertainty of the threshold is in
+    doubt, and a ground in doubt is not proven (issue 36; margins._give_way says so of the margin)."""
+    return b.decel_mps2 - deceleration(b, sensor_of(p, b.first)) > FORCE_DECEL_MPS2
 
 
-def braking_words(b: Braking) -> str:
+def braking_words(p: Passage, b: Braking) -> str:
     """"3.5 ± 0.2 m/s² against 2 m/s²": the figure, its uncertainty and the threshold."""
-    return f"{b.decel_mps2:.1f} ± {deceleration_between(b.first, b.last):.1f} m/s² against {FORCE_DECEL_MPS2:g} m/s²"
+    return f"{b.decel_mps2:.1f} ± {deceleration(b, sensor_of(p, b.first)):.1f} m/s² against {FORCE_DECEL_MPS2:g} m/s²"
 
 
 def _out_first(p: Passage, other: Other, t: int | None) -> Conflict | None:
@@ -888,7 +889,7 @@ def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
         return _contradiction(text, ref, f"it stood still {stop.to_line_m or 0:.1f} m before the line after amber came "
                               f"({stop.first.label})", [], amber.method, (stop.first.ref, amber.light.ref))
     needed = stopping_distance_m(amber.speed_mps * MPH_PER_MPS)
-    beyond, u = beyond_stopping(amber)
+    beyond, u = beyond_stopping(amber, sensor_of(p, amber.used[0] if amber.used else None))
     if beyond <= u:         # within the measurements' tolerance: they do not contradict it
         return None
     return _contradiction(text, ref, f"when amber came it was {amber.to_line_m:.1f} m before the line, and stopping "
@@ -966,8 +967,8 @@ def measured(p: Passage, other: Other) -> bool:
 def _unforced(p: Passage, other: Other) -> str:
     """What the record shows of a road user V is not shown to have forced or endangered."""
     b = other.braking
-    if other.stopped is None and (b is None or not braked_hard(b)):
-        hardest = "it did not slow" if b is None else f"its hardest braking was {braking_words(b)}" + (
+    if other.stopped is None and (b is None or not braked_hard(p, b)):
+        hardest = "it did not slow" if b is None else f"its hardest braking was {braking_words(p, b)}" + (
             ": within its uncertainty of the threshold, in doubt, so not proven" if b.decel_mps2 >= FORCE_DECEL_MPS2
             else "")
         how = (f"{other.user}'s own record shows no change of speed V caused: {hardest} (a change of speed counts "

@@ -10,7 +10,7 @@ zone apart from it (no collision course) and come nearer an accident with anothe
 smaller projected post-encroachment time, Allen, Shin & Cooper 1978; under 2 s is a conflict,
 conflicts.PET_MAX_S, SUMO's SSM device default), the braking was for that other one. And a change
 of speed is forced only where the braking exceeds 2 m/s² (reaction.FORCE_DECEL_MPS2, Hupfer 1997)
-by more than its measurement's uncertainty (tolerance.deceleration_between: the two speeds'
+by more than its measurement's uncertainty (tolerance.deceleration: the two speeds'
 ± 0.1 m/s each over the span): a braking within it is in doubt, and a ground in doubt is not
 proven.
 
