@@ -47,9 +47,9 @@ BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: co
 NEAR_M = 80.0            # a vehicle this close to its next junction (or in one) is asked why it brakes
 LOOK_M = 80.0            # how far ahead SUMO is asked for the leader and junction foes
 SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for conflicts
-_BINDS_MPS = 0.5         # the constraint allowing the lowest speed binds if that is at most this above its speed:
-                         # braking as hard as it can, a vehicle tracks the speed its constraint allows (within a
-                         # tick of hard braking, 0.1 s at 4.5-5 m/s²)
+HELD_S = 1.0             # a braking's strength is the speed shed under one cause over a second (2 m/s² held
+                         # over a second, as the threshold of a considerable change of speed is stated: Hupfer
+                         # 1997; the reasoner averages over the same span, reasoner.motion.MIN_DECEL_SPAN_S)
 _COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
 _OVER_MPS = 0.05         # a vehicle this much over the speed it may drive is slowing down to it
 _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
@@ -117,6 +117,16 @@ class Yield:
     cause: str                       # the cause it braked hardest under ("none" only if it had no other)
     by: str | None
     causes: dict[str, dict[str, Any]] = field(default_factory=dict)   # "foe 134" -> {t_s, decel, min speed, ...}
+    _shed: list[tuple[float, float, str]] = field(default_factory=list, repr=False)   # (t, m/s shed, cause) a tick
+
+    def held(self, t: float, drop: float, key: str) -> float:
+        """The speed shed under `key` over the HELD_S up to t (this tick's `drop` with it), per
+        second: how hard it braked for that cause held over a second. A one-tick peak of 4.5 m/s²
+        sheds 0.45 m/s, which is 0.45 m/s² held; a stretch shorter than HELD_S counts over HELD_S."""
+        self._shed.append((t, drop, key))
+        while self._shed and self._shed[0][0] <= t - HELD_S + 1e-6:
+            self._shed.pop(0)
+        return round(sum(d for _, d, k in self._shed if k == key) / HELD_S, 2)
 
     def to_json(self) -> dict[str, Any]:
         return {"vehicle": self.vehicle, "t_s": self.t_s, "until_s": self.until_s, "junction": self.junction,
@@ -133,25 +143,32 @@ class Account:
         self.modes = modes                         # vehicle -> its speed mode where not SUMO's default
         self.yields: list[Yield] = []
         self._open: dict[str, Yield] = {}
+        self._last_t: float | None = None
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
+        self.step_s = t - self._last_t if self._last_t is not None and t > self._last_t else 0.1
+        self._last_t = t
         braking = set()
         for v in snap.vehicles:
             if v.accel_mps2 > -BRAKING_MPS2 or not _near(v):
                 continue
             braking.add(v.id)
-            cause, by, detail = self._why(v, snap)
+            drop = -v.accel_mps2 * self.step_s           # the speed it shed in this tick
+            cause, by, detail = self._why(v, snap, v.speed_mps + drop)
             y = self._open.get(v.id)
             if y is None:
                 y = self._open[v.id] = Yield(v.id, t, t, v.junction or v.next_junction, v.lane,
-                                             v.speed_mps - v.accel_mps2 * 0.1, v.speed_mps, 0.0, "none", None)
+                                             v.speed_mps + drop, v.speed_mps, 0.0, "none", None)
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
             decel = round(-v.accel_mps2, 2)
             key = f"{cause} {by}" if by else cause
-            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps, **detail})
+            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps,
+                                             "from_mps": round(v.speed_mps + drop, 2), "held_mps2": 0.0, **detail})
             seen["decel_mps2"] = max(seen["decel_mps2"], decel)
             seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
+            seen["until_s"] = t
+            seen["held_mps2"] = max(seen["held_mps2"], y.held(t, drop, key))
             if decel > y.peak_decel_mps2:
                 y.peak_decel_mps2 = decel
             if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by else y.cause]
@@ -167,9 +184,12 @@ class Account:
 
     # --- SUMO's account of one braking vehicle ------------------------------------------------
 
-    def _why(self, v: VehicleState, snap: Snapshot) -> tuple[str, str | None, dict[str, Any]]:
+    def _why(self, v: VehicleState, snap: Snapshot, before: float) -> tuple[str, str | None, dict[str, Any]]:
         """The constraint SUMO's car-following model lets through at the lowest speed, asked at
-        the end of a tick of braking (the state the next tick's speed is chosen on)."""
+        the end of a tick of braking (the state the next tick's speed is chosen on), if it allows
+        less than `before`, the speed the vehicle braked from in this tick: one allowing as much
+        (a leader far ahead at its own speed: SUMO's follow speed above the vehicle's) is no
+        constraint it braked for."""
         ident, speed = v.id, v.speed_mps
         mode = self.modes.get(ident, 31)
         vehicle = libsumo.vehicle
@@ -235,7 +255,7 @@ class Account:
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
                                 {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
         low = min(allowed, key=lambda a: a[0], default=(math.inf, "none", None, {}))
-        if low[0] > speed + _BINDS_MPS:
+        if low[0] >= before:
             return "none", None, {}
         return low[1], low[2], {**low[3], "allowed_mps": round(low[0], 2)}
 

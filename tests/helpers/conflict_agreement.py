@@ -11,8 +11,8 @@ account: sim_replay/sumo_account.py); the reasoner's incidents are read only to 
                 derived for the incident: a proof shows one road user where several are named)
     SUMO        the road users SUMO says braked for V about its crossing (the truth's
                 act.sumo.yielded: cause a junction foe V, or V as a leader that had joined their
-                road from another arm) at HARD_BRAKING or harder or down to STANDSTILL_MPS under
-                that cause, and the pedestrians on a crossing SUMO makes a foe of V's junction lane
+                road from another arm) at HARD_BRAKING or harder held over a second, or to a
+                stop from moving, under that cause (`gave_way`), and the pedestrians on a crossing SUMO makes a foe of V's junction lane
                 while V passed (act.sumo.in_path)
 
 A false accusation is a road user the reasoner names and SUMO does not; a miss, one SUMO names and
@@ -28,8 +28,8 @@ from sim_replay.sim_events import T0
 from sim_replay.truth import ABOUT_S
 from tests.helpers.sim_truth_table import compare as lines_of
 
-__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "in_scope", "reasoner_grounds", "stated_cause",
-           "sumo_gave_way"]
+__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "gave_way", "in_scope", "reasoner_grounds",
+           "stated_cause", "sumo_gave_way"]
 
 HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), sim_truth_table's yardstick too
 STANDSTILL_MPS = 0.5    # braking down to this for V is giving way to it however gently
@@ -57,11 +57,25 @@ def reasoner_grounds(incident: Any) -> set[str]:
     return named
 
 
+def gave_way(y: dict[str, Any]) -> bool:
+    """Whether a braking SUMO puts down to V (truth.yielded_to) was giving way to V, measured as the
+    threshold is stated: HARD_BRAKING held over a second (the speed SUMO says it shed under V's
+    cause within one second, sumo_account.HELD_S), or a stop for V from moving: down to
+    STANDSTILL_MPS, having shed at least what a second of HARD_BRAKING sheds under that cause. A
+    one-tick peak (7.3 to 6.5 m/s at 4.5 m/s² for a tick) is no considerable change of speed, nor
+    a creep from 0.5 m/s to standing. A truth kept before SUMO's account measured the held braking
+    (no held_mps2) is read by its peak in a tick, as it then was."""
+    if y.get("held_mps2") is None:
+        return y["decel_mps2"] >= HARD_BRAKING or y["min_speed_mps"] <= STANDSTILL_MPS
+    stopped = y["min_speed_mps"] <= STANDSTILL_MPS and (y.get("from_mps") or 0.0) - y["min_speed_mps"] >= HARD_BRAKING
+    return y["held_mps2"] >= HARD_BRAKING or stopped
+
+
 def sumo_gave_way(act: dict[str, Any]) -> dict[str, dict[str, Any]]:
-    """Who SUMO says gave way to the act's vehicle (hard braking or a standstill) or was in its path."""
+    """Who SUMO says gave way to the act's vehicle (`gave_way`) or was in its path."""
     out: dict[str, dict[str, Any]] = {}
     for y in act.get("sumo", {}).get("yielded", []):
-        if y["decel_mps2"] >= HARD_BRAKING or y["min_speed_mps"] <= STANDSTILL_MPS:
+        if gave_way(y):
             seen = out.get(y["vehicle"])
             if seen is None or y["decel_mps2"] > seen["decel_mps2"]:
                 out[y["vehicle"]] = y
