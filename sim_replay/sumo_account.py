@@ -144,6 +144,7 @@ class Account:
         self.yields: list[Yield] = []
         self._open: dict[str, Yield] = {}
         self._last_t: float | None = None
+        self._source: dict[str, str] | None = None     # junction lane -> the incoming lane it leaves from
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
@@ -205,7 +206,7 @@ class Account:
             other = snap.vehicle(leader[0])
             gap = max(leader[1], 0.0)
             if other is not None and other.lane.startswith(":") and via and other.lane != via \
-                    and other.lane in libsumo.lane.getInternalFoes(via):
+                    and other.lane in libsumo.lane.getInternalFoes(via) and not self._same_source(via, other.lane):
                 # SUMO's leader across its path in the junction (a link leader): it must not reach it
                 allowed.append((vehicle.getStopSpeed(ident, speed, gap), "foe", leader[0],
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
@@ -227,26 +228,34 @@ class Account:
             allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
                             None, {"via": via, "turn_speed_mps": round(turn, 2)}))
         for foe in vehicle.getJunctionFoes(ident, LOOK_M):
-            other_id, ego_dist, foe_dist, _, _, _, _, must_yield, _ = foe
+            other_id, ego_dist, foe_dist, _, foe_exit, ego_lane, foe_lane, must_yield, _ = foe
             other = snap.vehicle(other_id)
+            if foe_exit + vehicle.getLength(other_id) < 0:
+                continue                     # its back has left the conflict area: no longer in the way
             entered = other is not None and other.lane.startswith(":") and foe_dist < ego_dist + 5.0
             if (must_yield and mode & _OBEYS_FOES) or entered:
                 gap = v.to_junction_m if must_yield and not entered and v.to_junction_m is not None else ego_dist
-                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id,
-                                {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
-                                 "must_yield": bool(must_yield), "foe_in_junction": entered}))
+                detail = {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
+                          "must_yield": bool(must_yield), "foe_in_junction": entered}
+                if self._same_source(ego_lane, foe_lane):
+                    # from the lane it comes by, ahead of it and turning off another way: SUMO's
+                    # junction model follows such a foe as a leader (its SSM device: "following")
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "leader", other_id,
+                                    {**detail, "merged": False, "diverging": True}))
+                    continue
+                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id, detail))
         if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own,
             foes = set(libsumo.lane.getInternalFoes(v.lane))      # or about to drive onto one
             junction = v.lane[1:].rsplit("_", 2)[0]
             for other in snap.vehicles:
-                if other.lane in foes:
+                if other.lane in foes and not self._same_source(v.lane, other.lane):
                     away = math.hypot(other.x - v.x, other.y - v.y)
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
                 elif other.next_junction == junction and not other.lane.startswith(":") \
                         and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * _COMING_S:
                     link = vehicle.getNextLinks(other.id)[:1]
-                    if link and link[0][4] in foes:
+                    if link and link[0][4] in foes and not self._same_source(v.lane, link[0][4]):
                         allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,
                                         {"foe_lane": link[0][4], "foe_to_junction_m": round(other.to_junction_m, 1),
                                          "foe_in_junction": False}))
@@ -258,6 +267,22 @@ class Account:
         if low[0] >= before:
             return "none", None, {}
         return low[1], low[2], {**low[3], "allowed_mps": round(low[0], 2)}
+
+    def _same_source(self, lane: str, other: str) -> bool:
+        """Whether two junction lanes leave from one incoming lane (SUMO's links: `lane.getLinks`)."""
+        if self._source is None:
+            self._source = {}
+            for incoming in libsumo.lane.getIDList():
+                if incoming.startswith(":"):
+                    continue
+                todo = [link[4] for link in libsumo.lane.getLinks(incoming) if link[4]]
+                while todo:                 # the junction lane and the internal lanes it goes on by
+                    inner = todo.pop()
+                    if inner.startswith(":") and inner not in self._source:
+                        self._source[inner] = incoming
+                        todo.extend(link[4] or link[0] for link in libsumo.lane.getLinks(inner))
+        mine = self._source.get(lane)
+        return mine is not None and mine == self._source.get(other)
 
     def _merged(self, ident: str, leader: str) -> bool:
         """Whether the leader joined the vehicle's road from another arm (their routes meet at a
