@@ -29,7 +29,7 @@ from sim_replay.truth import ABOUT_S
 from tests.helpers.sim_truth_table import compare as lines_of
 
 __all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "gave_way", "in_scope", "reasoner_grounds",
-           "stated_cause", "sumo_gave_way"]
+           "split_verdicts", "stated_cause", "sumo_gave_way"]
 
 HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), sim_truth_table's yardstick too
 STANDSTILL_MPS = 0.5    # braking down to this for V is giving way to it however gently
@@ -139,3 +139,26 @@ def compare(truth: dict[str, Any], incidents: list[Any]) -> tuple[list[Row], lis
             row.missed = sorted(set(row.sumo) - row.reasoner)
             rows.append(row)
     return rows, unraised
+
+
+def split_verdicts(truth: dict[str, Any], incidents: list[Any]) -> list[tuple[dict[str, Any], list[Any]]]:
+    """Acts (the truth's, matched as sim_truth_table matches them) judged by more than one
+    incident with different verdicts or rules: one act, opposite verdicts (issue 35: one crossing,
+    the same margin, £50 in one incident and lawful in the next). Empty when every act has one
+    verdict, whichever monitor's incident carries it."""
+    out = []
+    for line in lines_of(truth, incidents, T0):
+        if line.act is None:
+            continue
+        same = [i for i in line.incidents if _at(i, line.act)]
+        if len({(i.verdict, i.rule) for i in same}) > 1:
+            out.append((line.act, same))
+    return out
+
+
+def _at(incident: Any, act: dict[str, Any]) -> bool:
+    """Whether the incident's passage crossed its line at the act's crossing (within a second or
+    two: the record's moment against SUMO's tick), where it says when; a vehicle's next crossing
+    at another junction within the matching window is another act."""
+    crossed = dict(getattr(incident, "moments", ()) or ()).get("crossed the stop line")
+    return act["kind"] != "crossed the stop line" or crossed is None or abs((crossed - T0) / 1e9 - act["t_s"]) <= 2.0
