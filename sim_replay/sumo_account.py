@@ -12,11 +12,17 @@ world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNe
 speed it may drive at all (`getAllowedSpeed`: its speed factor on its lane). SUMO's car-following
 model then says what speed each of those constraints allows now (`getFollowSpeed` behind the
 leader, `getStopSpeed` before a red light, a held stop line or a foe it must let pass or that is
-already in its path, braking at its own deceleration down to a turn's speed); the lowest one that
-is below its speed is what it braked for. Constraints SUMO was told to disregard for the vehicle
-(its speed mode: red lights and right of way are off while the vehicle's decisions are the
-agents') are not asked. A run of such ticks is one `Yield`, with each cause it had and how hard
-it braked under each.
+already in its path, braking at its own deceleration down to a turn's speed); each one allowing
+less than the speed the vehicle braked from in the tick is one it braked for, and the slowing it
+asked for in the tick (the speed braked from less the speed it allows, no more than the vehicle
+shed) is counted to it. Two at once (its own turn and a foe crossing) each count: either alone
+would have made it brake. Constraints SUMO was told to disregard for the vehicle (its speed mode:
+red lights and right of way are off while the vehicle's decisions are the agents') are not
+asked. A foe coming from the lane the vehicle comes by (turning off another way at the junction)
+is followed as a leader, as SUMO's junction model does, not let pass as a foe. A run of such
+ticks is one `Yield`, with each cause it had: its hardest tick under it, and the speed shed under
+it held over a second (HELD_S: the way the 2 m/s² threshold of a considerable change of speed is
+stated; a one-tick peak of 4.5 m/s² sheds 0.45 m/s).
 
 Conflicts. With `ssm_options` SUMO's SSM device logs each encounter of two vehicles within
 SSM_RANGE_M whose time to collision, deceleration to avoid a crash or post-encroachment time
@@ -156,25 +162,27 @@ class Account:
                 continue
             braking.add(v.id)
             drop = -v.accel_mps2 * self.step_s           # the speed it shed in this tick
-            cause, by, detail = self._why(v, snap, v.speed_mps + drop)
+            before = v.speed_mps + drop
             y = self._open.get(v.id)
             if y is None:
                 y = self._open[v.id] = Yield(v.id, t, t, v.junction or v.next_junction, v.lane,
-                                             v.speed_mps + drop, v.speed_mps, 0.0, "none", None)
+                                             before, v.speed_mps, 0.0, "none", None)
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
-            decel = round(-v.accel_mps2, 2)
-            key = f"{cause} {by}" if by else cause
-            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps,
-                                             "from_mps": round(v.speed_mps + drop, 2), "held_mps2": 0.0, **detail})
-            seen["decel_mps2"] = max(seen["decel_mps2"], decel)
-            seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
-            seen["until_s"] = t
-            seen["held_mps2"] = max(seen["held_mps2"], y.held(t, drop, key))
-            if decel > y.peak_decel_mps2:
-                y.peak_decel_mps2 = decel
-            if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by else y.cause]
-                                    ["decel_mps2"]):
-                y.cause, y.by = cause, by
+            y.peak_decel_mps2 = max(y.peak_decel_mps2, round(-v.accel_mps2, 2))
+            for allowed, cause, by, detail in self._why(v, snap, before):
+                # the slowing this constraint alone asked for in the tick, no more than it shed
+                shed = drop if cause == "none" else min(drop, before - allowed)
+                decel = round(shed / self.step_s, 2)
+                key = f"{cause} {by}" if by else cause
+                seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps,
+                                                 "from_mps": round(before, 2), "held_mps2": 0.0, **detail})
+                seen["decel_mps2"] = max(seen["decel_mps2"], decel)
+                seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
+                seen["until_s"] = t
+                seen["held_mps2"] = max(seen["held_mps2"], y.held(t, shed, key))
+                if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by
+                                                                             else y.cause]["decel_mps2"]):
+                    y.cause, y.by = cause, by
         for ident in [i for i in self._open if i not in braking]:
             self.yields.append(self._open.pop(ident))
 
@@ -185,12 +193,13 @@ class Account:
 
     # --- SUMO's account of one braking vehicle ------------------------------------------------
 
-    def _why(self, v: VehicleState, snap: Snapshot, before: float) -> tuple[str, str | None, dict[str, Any]]:
-        """The constraint SUMO's car-following model lets through at the lowest speed, asked at
-        the end of a tick of braking (the state the next tick's speed is chosen on), if it allows
-        less than `before`, the speed the vehicle braked from in this tick: one allowing as much
-        (a leader far ahead at its own speed: SUMO's follow speed above the vehicle's) is no
-        constraint it braked for."""
+    def _why(self, v: VehicleState, snap: Snapshot,
+             before: float) -> list[tuple[float, str, str | None, dict[str, Any]]]:
+        """The constraints SUMO's car-following model says the vehicle braked for, asked at the end
+        of a tick of braking (the state the next tick's speed is chosen on): each allowing less than
+        `before`, the speed it braked from in this tick, with the speed it allows, lowest first; one
+        allowing as much (a leader far ahead at its own speed: SUMO's follow speed above the
+        vehicle's) is no constraint it braked for. None binding: "none"."""
         ident, speed = v.id, v.speed_mps
         mode = self.modes.get(ident, 31)
         vehicle = libsumo.vehicle
@@ -263,10 +272,12 @@ class Account:
             for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
                                 {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
-        low = min(allowed, key=lambda a: a[0], default=(math.inf, "none", None, {}))
-        if low[0] >= before:
-            return "none", None, {}
-        return low[1], low[2], {**low[3], "allowed_mps": round(low[0], 2)}
+        binding: dict[str, tuple[float, str, str | None, dict[str, Any]]] = {}
+        for speed_allowed, cause, by, detail in sorted(allowed, key=lambda a: a[0]):
+            if speed_allowed < before:
+                binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
+                                                     {**detail, "allowed_mps": round(speed_allowed, 2)}))
+        return list(binding.values()) or [(before, "none", None, {})]
 
     def _same_source(self, lane: str, other: str) -> bool:
         """Whether two junction lanes leave from one incoming lane (SUMO's links: `lane.getLinks`)."""
