@@ -62,6 +62,10 @@ _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) i
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
 _OBEYS_FOES = 8
+_OWN = {"signal", "line", "turn", "speed"}      # a vehicle's own control: its light, its line, its turn, its speed
+_STOOD_MPS = 0.1         # SUMO's halting speed: slower is standing
+_AT_LINE_M = 3.0          # ... this close to the end of its lane: at its line
+_STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying it stands at the line before it goes
 
 # SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
 ENCOUNTERS = {0: "no conflict ahead", 1: "following", 2: "following (ego follows)", 3: "following (ego leads)",
@@ -151,6 +155,7 @@ class Account:
         self._open: dict[str, Yield] = {}
         self._last_t: float | None = None
         self._source: dict[str, str] | None = None     # junction lane -> the incoming lane it leaves from
+        self._stood: set[tuple[str, str | None]] = set()   # (vehicle, junction) it has stood at the Stop line of
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
@@ -158,6 +163,9 @@ class Account:
         self._last_t = t
         braking = set()
         for v in snap.vehicles:
+            if v.speed_mps < _STOOD_MPS and v.to_junction_m is not None and v.to_junction_m < _AT_LINE_M \
+                    and not v.lane.startswith(":"):
+                self._stood.add((v.id, v.next_junction))       # it has stood at its line: SUMO lets it go
             if v.accel_mps2 > -BRAKING_MPS2 or not _near(v):
                 continue
             braking.add(v.id)
@@ -169,15 +177,24 @@ class Account:
                                              before, v.speed_mps, 0.0, "none", None)
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
             y.peak_decel_mps2 = max(y.peak_decel_mps2, round(-v.accel_mps2, 2))
-            for allowed, cause, by, detail in self._why(v, snap, before):
-                # the slowing this constraint alone asked for in the tick, no more than it shed
-                shed = drop if cause == "none" else min(drop, before - allowed)
+            binding = self._why(v, snap, before)
+            own = min((a for a, cause, _, _ in binding if cause in _OWN), default=before)
+            for allowed, cause, by, detail in binding:
+                # the slowing this constraint asked for in the tick, no more than it shed: for a road
+                # user in its way, only what it asked beyond its own control (its light, line, turn,
+                # speed) and any leader of another name (issue 35: not for its own control)
+                floor = before if cause in _OWN else min([own] + [a for a, c, b, _ in binding
+                                                                  if c == "leader" and b != by])
+                shed = drop if cause == "none" else min(drop, max(0.0, min(floor, before) - allowed))
                 decel = round(shed / self.step_s, 2)
                 key = f"{cause} {by}" if by else cause
-                seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps,
+                seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": round(before, 2),
                                                  "from_mps": round(before, 2), "held_mps2": 0.0, **detail})
+                if shed > 0:                    # speeds under it: only where it asked for slowing
+                    if seen["decel_mps2"] == 0.0:
+                        seen["from_mps"] = round(before, 2)
+                    seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
                 seen["decel_mps2"] = max(seen["decel_mps2"], decel)
-                seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
                 seen["until_s"] = t
                 seen["held_mps2"] = max(seen["held_mps2"], y.held(t, shed, key))
                 if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by
@@ -209,7 +226,9 @@ class Account:
             allowed.append((limit, "speed", None, {"allowed_mps": round(limit, 2)}))
         inside = v.lane.startswith(":")
         ahead_m = libsumo.lane.getLength(v.lane) - v.lane_pos_m if inside else v.to_junction_m
-        via = v.lane if inside else next((link[4] for link in vehicle.getNextLinks(ident)[:1]), "")
+        link = vehicle.getNextLinks(ident)[:1] if not inside else ()
+        via = v.lane if inside else next((lk[4] for lk in link), "")
+        link_state = next((lk[5] for lk in link), "")
         leader = vehicle.getLeader(ident, LOOK_M)
         if leader and leader[0]:
             other = snap.vehicle(leader[0])
@@ -227,6 +246,10 @@ class Account:
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
+        elif mode & _OBEYS_FOES and not inside and v.to_junction_m is not None and link_state == _STOP_LINK \
+                and (ident, v.next_junction) not in self._stood:
+            allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_junction_m, 0.0)), "line", None,
+                            {"to_line_m": round(v.to_junction_m, 1), "line": "stop (SUMO's link)"}))
         if mode & _OBEYS_RED:
             for tls, _, dist, state in vehicle.getNextTLS(ident)[:1]:
                 if state in _RED and dist <= LOOK_M:
