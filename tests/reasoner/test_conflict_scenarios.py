@@ -209,3 +209,21 @@ def test_a_kept_stop_that_pulls_out_as_a_pedestrian_steps_into_its_path_is_judge
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would endanger p9" for f in inc.derived)
+
+
+def test_a_cyclist_braking_behind_the_vehicle_on_its_own_approach_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 asks whether 7, proceeding past its Stop line, caused the
+    driver of another vehicle to change speed or course "in order to avoid an accident" with it;
+    HC 126 leaves the gap to the vehicle in front to the one behind. cy rides up 7's own (west)
+    arm at 6 m/s behind it and brakes at 3 m/s² to a stand 6.5 m behind 7 while 7 waits at its
+    line, then waits there: a change of speed behind its leader on its own way, not one 7's
+    crossing caused (SUMO's account of such a pair: a leader that did not join its road, its SSM
+    device "following"). A lawful Stop: no violation, and cy is not said to be forced."""
+    run = stop_then_go_run()
+    run.spawn("cy", "cyclist")
+    cy = Motion(-60.0, 6.0, [(5.83, 0.0), (2.0, -3.0)])
+    run.drive("cy", cy, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("cy", cy, "west", rate(5, START, START + 25.0), t_start=START)
+    found = judge(tmp_path, run)
+    assert not any("force cy" in f.sentence or "endanger cy" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
