@@ -118,8 +118,10 @@ def describe(row: Row) -> list[str]:
         s = row.sumo[u]
         if "decel_mps2" in s:
             ssm = ", ".join(f"{k} {v['value']:g} ({v['type']})" for k, v in s.get("ssm", {}).items()) or "no SSM conflict"
-            out.append(f"    miss: SUMO says {u} braked for {i.vehicle} ({s['cause']}) at {s['decel_mps2']:.1f} m/s² "
-                       f"from {s['t_s']:.1f}s, {s['speed_mps']:.1f} -> {s['min_speed_mps']:.1f} m/s; {ssm}")
+            held = f" (held over a second {s['held_mps2']:.1f})" if s.get("held_mps2") is not None else ""
+            out.append(f"    miss: SUMO says {u} braked for {i.vehicle} ({s['cause']}) at {s['decel_mps2']:.1f} m/s²{held} "
+                       f"from {s['t_s']:.1f}s, {s.get('from_mps') or s['speed_mps']:.1f} -> {s['min_speed_mps']:.1f} m/s; "
+                       f"{ssm}")
         else:
             out.append(f"    miss: SUMO has pedestrian {u} on {s['crossing']}, a crossing of its path, "
                        f"{s['nearest_m']:.1f} m from it as it passed")

@@ -242,7 +242,7 @@ class Account:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
                 allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
                                 "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
-                                                      "merged": self._merged(ident, leader[0])}))
+                                                      **_joined(self._merged(ident, leader[0]))}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
@@ -318,12 +318,13 @@ class Account:
         mine = self._source.get(lane)
         return mine is not None and mine == self._source.get(other)
 
-    def _merged(self, ident: str, leader: str) -> bool:
-        """Whether the leader joined the vehicle's road from another arm (their routes meet at a
-        junction they come into by different edges), rather than driving ahead of it all along."""
+    def _merged(self, ident: str, leader: str) -> str | None:
+        """The junction where the leader joined the vehicle's road from another arm (their routes
+        meet at a junction they come into by different edges), or None where it drove ahead of it
+        all along."""
         mine, theirs = self.routes.get(ident), self.routes.get(leader)
         if not mine or not theirs:
-            return False
+            return None
         lane = libsumo.vehicle.getRoadID(ident)
         start = mine.index(lane) if lane in mine else 0
         for i in range(start, len(mine)):
@@ -331,8 +332,13 @@ class Account:
                 j = theirs.index(mine[i])
                 before_mine = mine[i - 1] if i > 0 else None
                 before_theirs = theirs[j - 1] if j > 0 else None
-                return before_mine != before_theirs
-        return False
+                return libsumo.edge.getFromJunction(mine[i]) if before_mine != before_theirs else None
+        return None
+
+
+def _joined(junction: str | None) -> dict[str, Any]:
+    """A leader's `merged` (it joined the vehicle's road from another arm) and where (`merged_at`)."""
+    return {"merged": junction is not None, "merged_at": junction}
 
 
 def _near(v: VehicleState) -> bool:

@@ -95,8 +95,9 @@ def stated_cause(truth: dict[str, Any], who: str, act: dict[str, Any]) -> str:
         return "did not brake about then"
     parts = []
     for y in mine:
-        causes = ", ".join(f"{k} {c['decel_mps2']:.1f} m/s²" for k, c in sorted(y["causes"].items(),
-                                                                               key=lambda kv: -kv[1]["decel_mps2"]))
+        causes = ", ".join(f"{k} {c['decel_mps2']:.1f} m/s²" + (f" (held {c['held_mps2']:.1f})" if "held_mps2" in c else "")
+                           for k, c in sorted(y["causes"].items(), key=lambda kv: -kv[1].get("held_mps2",
+                                                                                            kv[1]["decel_mps2"])))
         parts.append(f"{y['t_s']:.1f}-{y['until_s']:.1f}s: {causes}")
     return "; ".join(parts)
 

@@ -171,3 +171,19 @@ def test_braking_is_measured_held_over_a_second_under_each_cause():
     for k in range(5):
         z.held(20.0 + 0.1 * k, 0.45, "turn")                     # its own turn first
     assert z.held(20.5, 0.45, "foe v") == 0.45                   # then a tick for v
+
+
+def test_a_leader_counts_only_where_it_joined_the_road_at_the_acts_junction():
+    """"side" crossed j1's line; "behind" braked behind it on the road to j1, which side had joined
+    at j2 earlier on: a queue on its own approach to j1, not a braking side's crossing of j1 caused.
+    "cut" braked behind side on j1's exit, which side joined at j1 as it crossed: side's crossing."""
+    act = {"vehicle": "side", "t_s": 10.0, "junction": "j1"}
+    yields = [
+        {"vehicle": "behind", "t_s": 10.5, "until_s": 12.0, "speed_mps": 13.4, "min_speed_mps": 9.0,
+         "causes": {"leader side": {"t_s": 10.5, "decel_mps2": 4.5, "held_mps2": 3.0, "merged": True,
+                                    "merged_at": "j2"}}},
+        {"vehicle": "cut", "t_s": 11.0, "until_s": 12.0, "speed_mps": 13.4, "min_speed_mps": 8.0,
+         "causes": {"leader side": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.0, "merged": True,
+                                    "merged_at": "j1"}}},
+    ]
+    assert [y["vehicle"] for y in yielded_to(act, yields, [])] == ["cut"]
