@@ -259,6 +259,7 @@ class Account:
             turn = libsumo.lane.getMaxSpeed(via)
             allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
                             None, {"via": via, "turn_speed_mps": round(turn, 2)}))
+        waiting: list[tuple[float, float, str, dict[str, Any]]] = []
         for foe in vehicle.getJunctionFoes(ident, LOOK_M):
             other_id, ego_dist, foe_dist, _, foe_exit, ego_lane, foe_lane, must_yield, _ = foe
             other = snap.vehicle(other_id)
@@ -275,7 +276,15 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "leader", other_id,
                                     {**detail, "merged": False, "diverging": True}))
                     continue
+                if must_yield and not entered:      # one it must let pass, still coming
+                    arrives = foe_dist / max(other.speed_mps if other is not None else 0.0, 0.1)
+                    waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), other_id,
+                                    {**detail, "foe_arrives_s": round(arrives, 1)}))
+                    continue
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id, detail))
+        if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
+            arrives, stop, other_id, detail = min(waiting, key=lambda w: w[0])
+            allowed.append((stop, "foe", other_id, detail))
         if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own,
             foes = set(libsumo.lane.getInternalFoes(v.lane))      # or about to drive onto one
             junction = v.lane[1:].rsplit("_", 2)[0]
