@@ -158,8 +158,15 @@ def split_verdicts(truth: dict[str, Any], incidents: list[Any]) -> list[tuple[di
 
 
 def _at(incident: Any, act: dict[str, Any]) -> bool:
-    """Whether the incident's passage crossed its line at the act's crossing (within a second or
-    two: the record's moment against SUMO's tick), where it says when; a vehicle's next crossing
-    at another junction within the matching window is another act."""
-    crossed = dict(getattr(incident, "moments", ()) or ()).get("crossed the stop line")
-    return act["kind"] != "crossed the stop line" or crossed is None or abs((crossed - T0) / 1e9 - act["t_s"]) <= 2.0
+    """Whether the incident is of the act itself, where its record says when: its passage crossed
+    its line at the act's crossing (within a second or two: the record's moment against SUMO's
+    tick), or the stretch it delimits began within the act's stretch over the limit. A vehicle's
+    next crossing at another junction, or its next stretch, within the matching window is another act."""
+    if act["kind"] == "crossed the stop line":
+        crossed = dict(getattr(incident, "moments", ()) or ()).get("crossed the stop line")
+        return crossed is None or abs((crossed - T0) / 1e9 - act["t_s"]) <= 2.0
+    delimited = getattr(incident, "act", None)
+    start = getattr(delimited, "start", None)
+    if start is None or act.get("until_s") is None:
+        return True
+    return act["t_s"] - 2.0 <= (start - T0) / 1e9 <= act["until_s"]
