@@ -46,7 +46,7 @@ import libsumo
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
-__all__ = ["BRAKING_MPS2", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "in_path", "read_ssm",
+__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "in_path", "read_ssm",
            "ssm_options"]
 
 BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: coasting, SUMO's own dawdle)
@@ -56,7 +56,7 @@ SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for confli
 HELD_S = 1.0             # a braking's strength is the speed shed under one cause over a second (2 m/s² held
                          # over a second, as the threshold of a considerable change of speed is stated: Hupfer
                          # 1997; the reasoner averages over the same span, reasoner.motion.MIN_DECEL_SPAN_S)
-_COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
+COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
 _OVER_MPS = 0.05         # a vehicle this much over the speed it may drive is slowing down to it
 _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
@@ -276,10 +276,11 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "leader", other_id,
                                     {**detail, "merged": False, "diverging": True}))
                     continue
-                if must_yield and not entered:      # one it must let pass, still coming
+                if must_yield and not entered:      # one it must let pass, still coming: within COMING_S
                     arrives = foe_dist / max(other.speed_mps if other is not None else 0.0, 0.1)
-                    waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), other_id,
-                                    {**detail, "foe_arrives_s": round(arrives, 1)}))
+                    if arrives <= COMING_S:         # (SUMO lists all that cross its link, one 480 m off too)
+                        waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)),
+                                        other_id, {**detail, "foe_arrives_s": round(arrives, 1)}))
                     continue
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id, detail))
         if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
@@ -294,7 +295,7 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
                 elif other.next_junction == junction and not other.lane.startswith(":") \
-                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * _COMING_S:
+                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * COMING_S:
                     link = vehicle.getNextLinks(other.id)[:1]
                     if link and link[0][4] in foes and not self._same_source(v.lane, link[0][4]):
                         allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,

@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Iterable
 
+from sim_replay.sumo_account import COMING_S
 from store import write_text
 
 __all__ = ["ABOUT_S", "Act", "EXIT_M", "InjectedFault", "REACTION_S", "Truth", "yielded_to"]
@@ -150,6 +151,8 @@ def yielded_to(act: dict[str, Any], yields: list[dict[str, Any]],
             if by != v or (cause == "leader" and not (how.get("merged")
                                                        and how.get("merged_at", act.get("junction")) == act.get("junction"))):
                 continue                # a leader counts where it joined the road at this act's junction
+            if cause == "foe" and how.get("foe_arrives_s", 0.0) > COMING_S:
+                continue                # a foe it must let pass, still far off (SUMO lists one 480 m away)
             ssm = [c for c in conflicts if c["ego"] == y["vehicle"] and c["foe"] == v
                    and c["begin_s"] <= y["until_s"] + 1.0 and c["end_s"] >= y["t_s"] - 1.0]
             out.append({"vehicle": y["vehicle"], "t_s": how["t_s"], "cause": cause, "decel_mps2": how["decel_mps2"],

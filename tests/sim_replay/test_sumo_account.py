@@ -187,3 +187,15 @@ def test_a_leader_counts_only_where_it_joined_the_road_at_the_acts_junction():
                                     "merged_at": "j1"}}},
     ]
     assert [y["vehicle"] for y in yielded_to(act, yields, [])] == ["cut"]
+
+
+def test_a_foe_still_far_off_is_not_one_the_vehicle_waited_for():
+    """SUMO lists among a vehicle's junction foes every vehicle whose route crosses its link, one
+    480 m and 38 s away with one about to arrive; the vehicle waits for one arriving within
+    COMING_S, not for one that will come in half a minute."""
+    act = {"vehicle": "far", "t_s": 10.0, "junction": "j6"}
+    yields = [{"vehicle": "u", "t_s": 11.0, "until_s": 11.6, "speed_mps": 9.6, "min_speed_mps": 6.5,
+               "causes": {"foe far": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.1, "foe_arrives_s": 37.7}}},
+              {"vehicle": "w", "t_s": 11.0, "until_s": 11.6, "speed_mps": 9.6, "min_speed_mps": 6.5,
+               "causes": {"foe far": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.1, "foe_arrives_s": 1.5}}}]
+    assert [y["vehicle"] for y in yielded_to(act, yields, [])] == ["w"]
