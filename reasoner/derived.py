@@ -357,7 +357,30 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     reacted = hard.first.t if hard else other.stopped.t if other.stopped else None
     if found is None and reacted is not None and reacted != at:
         found = _approaching_at(p, other, reacted, within=math.inf)
+    if found is None and reacted is not None:
+        found = _in_the_way(p, other, reacted)
     return found
+
+
+def _in_the_way(p: Passage, other: Other, reacted: int) -> DerivedFact | None:
+    """U, braking hard or stopping inside the junction (`_toward_zone`), was approaching V when it
+    did if it was then on its way through the conflict zone it shared with V and left it only
+    after V came into it: traffic going through the junction that V came out in front of, as much
+    as traffic still on the arm (HC 172's "traffic on the major road")."""
+    c = conflict_of(p, other)
+    if c is None or c.theirs is None or c.mine.entered is None:
+        return None
+    left = c.theirs.left
+    if (left is not None and left <= c.mine.entered) or (left is not None and left <= reacted):
+        return None
+    where, used = position_at(other.samples, reacted)
+    if where is None:
+        return None
+    j = p.junction
+    how = (f"{other.user} was in {j.id}, {j.distance(*where):.0f} m from its centre, on its way through the zone where "
+           f"its path meets {p.vehicle}'s when it braked ({format_time(reacted)}, {between(used, reacted)}), and left "
+           f"that zone only after {p.vehicle} came into it{conflict_words(p, other.user, c)}")
+    return DerivedFact(IS_APPROACHING.text(other.user, p.vehicle), how, tuple(s.ref for s in used) + _conflict_refs(c))
 
 
 def _endangered(p: Passage, other: Other) -> DerivedFact | None:

@@ -227,3 +227,25 @@ def test_a_cyclist_braking_behind_the_vehicle_on_its_own_approach_was_not_forced
     found = judge(tmp_path, run)
     assert not any("force cy" in f.sentence or "endanger cy" in f.sentence for i in of(found, "7") for f in i.derived)
     no_violation(found, "7")
+
+
+def test_a_give_way_pull_out_making_a_main_road_car_stop_inside_the_junction_is_punishable(tmp_path):
+    """HC 172 (RTA 1988 s.36, TSRGD 2016 Sch 9 Pts 7 and 8): at a Give Way line, give way to traffic
+    on the major road. 7 waits at its Give Way line (west arm) and pulls out while c2, on the main
+    road, is already inside the junction (11 m from the centre at 4 m/s as 7 crosses its line);
+    c2 brakes at 4 m/s² to a stand short of 7's path and waits while 7 crosses in front of it.
+    c2 was traffic on the major road coming through the junction 7 came out into: punishable,
+    HC 172 (the town's 265 and 386, 543 and 124: "V would force U" shown, but U, inside the
+    junction, was never read as approaching V, which the Give Way rule asks: no incident)."""
+    c2 = Motion(-11.0 - 4.0 * (_SET_OFF + 0.7), 4.0, [(_SET_OFF + 1.5, 0.0), (1.0, -4.0), (2.0, 0.0), (6.0, 2.0)])
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
+    run.spawn("7")
+    run.drive("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START,
+              facts=["7 has a give way sign"])
+    run.spawn("c2")
+    run.drive("c2", c2, "north", rate(5, START, START + 25.0), t_start=START)
+    run.watch("c2", c2, "north", rate(5, START, START + 25.0), t_start=START)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 172")
+    assert any(f.sentence == "c2 is approaching 7" for f in inc.derived)
