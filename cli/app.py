@@ -11,7 +11,7 @@ import json
 import os
 import sqlite3
 from pathlib import Path
-from typing import Any, NoReturn, Optional
+from typing import Any, NoReturn, Optional, get_args
 
 import typer
 from typer.core import TyperGroup
@@ -24,7 +24,22 @@ CONTEXT = {"help_option_names": ["-h", "--help"]}
 
 class GapsGroup(TyperGroup):
     """The command group that reports a GapsError as `gaps: <message>` with its exit code, and
-    goes on without a cache file it cannot read (derived data never stops a command)."""
+    goes on without a cache file it cannot read (derived data never stops a command). Its help
+    shows placeholders a person reads (FILE, N, RUN), never Python's types."""
+
+    def __init__(self, **attrs: Any) -> None:
+        super().__init__(**attrs)
+        for command in (self, *self.commands.values()):
+            for param in command.params:
+                name_placeholder(param)
+            _flag_help_option(command)
+
+    def get_params(self, ctx: typer.Context) -> list:
+        """Its own options, with those typer adds after it is made (--install-completion) named too."""
+        params = super().get_params(ctx)
+        for param in params:
+            name_placeholder(param)
+        return params
 
     def invoke(self, ctx: typer.Context) -> Any:
         from store import unread_caches, unwritten_caches
@@ -65,6 +80,44 @@ class GapsGroup(TyperGroup):
         go_without_caches(caches, why)
         ctx._protected_args, ctx.args = args[:1], args[1:]
         return super().invoke(ctx)
+
+
+def name_placeholder(param: Any) -> None:
+    """Give a parameter the placeholder its help shows, where its declaration gave none: nothing
+    for a flag, FILE for a path, N for a whole number, else the option's name in capitals; `…`
+    after an option that may be repeated (typer would show `<bool>`, `<path>`, `<list[str]>`)."""
+    if getattr(param, "is_flag", False) or getattr(param, "count", False):
+        param.metavar = ""
+        return
+    desc = getattr(param, "type_descriptor", None)
+    if param.param_type_name == "argument":     # its name column shows the placeholder: no type beside it
+        param.display_type_rich = lambda ctx: None
+        param.metavar = param.metavar or (param.name or "VALUE").upper()
+        return
+    if param.metavar is not None or desc is None or desc.is_choice:
+        return
+    element = get_args(desc.annotation)[0] if desc.is_list else desc.annotation
+    if desc.is_path:
+        name = "FILE"
+    elif element is int:
+        name = "N"
+    else:
+        longest = max(param.opts, key=len).lstrip("-") if param.param_type_name == "option" else param.name
+        name = longest.upper().replace("_", "-")
+    repeated = param.param_type_name == "option" and (getattr(param, "multiple", False) or desc.is_list)
+    param.metavar = name + ("…" if repeated else "")
+
+
+def _flag_help_option(command: Any) -> None:
+    """--help, made per call, is a flag too: no placeholder beside it."""
+    made = command.get_help_option
+
+    def get_help_option(ctx: Any) -> Any:
+        option = made(ctx)
+        if option is not None:
+            option.metavar = ""
+        return option
+    command.get_help_option = get_help_option
 
 
 def _command_line(ctx: typer.Context) -> list[str]:

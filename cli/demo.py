@@ -17,6 +17,7 @@ from cli.safe_text import printable
 from cli.options import DbOption, JsonOption
 from explain import write_report
 from reasoner.api import Case
+from reasoner.when import format_seconds
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
@@ -24,26 +25,36 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
              None, "--report", help="Where to write the HTML report (default: gaps-report.html beside the store; "
                                     ".md or .json by suffix)."),
          paper: bool = typer.Option(False, "--paper", help="Replay the paper's two hand-written scenarios "
-                                    "(section 7.2) instead of simulating.")) -> None:
+                                    "(section 7.2) instead of simulating."),
+         overwrite: bool = typer.Option(False, "--overwrite", help="Replace the report of an earlier demo without "
+                                        "asking.")) -> None:
     """Simulate the paper's junctions on SUMO, store, judge and explain the incidents, write a report.
 
     A seeded mix of road users, published over Zenoh into the store. The run holds a car running
     the red (punishable), an ambulance on a call crossing it (mitigated), an automated car whose
     camera misread the light (its ASDE liable) and a Stop line run; each is explained in full,
     every other incident listed in a line.
+
+    An earlier demo's report is never replaced silently: on a terminal the demo asks first, and
+    writes beside it if told no; elsewhere it writes beside it (gaps-report-2.html, ...) and says
+    so, so that `make demo` runs again as it ran first. --overwrite replaces it.
     """
     path = db_path(db)
+    target = report or path.parent / "gaps-report.html"
+    earlier = None
+    if target.exists() and report is None and not overwrite and not _may_replace(target):
+        earlier, target = target, _beside(target)
+    replacing = target.exists()
     if paper:
         from sim_replay.paper import paper_run
         events = paper_run()
         run = events[0]["run"]
         totals, _ = publish_through_zenoh(path, events)
         if not json_out:
-            typer.echo(f"Published {len(events)} events of run {run} over Zenoh; stored {totals['stored']}, "
-                       f"duplicates {totals['duplicates']}, rejected {totals['rejected']} → {path}\n")
+            typer.echo(f"Published {len(events):,} events of run {run} over Zenoh; stored {totals['stored']:,}, "
+                       f"duplicates {totals['duplicates']:,}, rejected {totals['rejected']:,} → {path}\n")
     else:
         run = _simulate(path, json_out)
-    target = report or path.parent / "gaps-report.html"
     with open_existing(path) as store:
         case = Case(store)              # judged once, for the listing and the report
         if paper or json_out:
@@ -54,8 +65,27 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
             written = write_report(case, run, target)
         except OSError as exc:
             fail(f"cannot write the report to {target}: {exc.strerror or exc}")
-    typer.echo(f"Report of run {run}: {written.resolve()} (open it in a browser; `gaps report --run {run} -o FILE --pdf` "
-               "prints a PDF)", err=json_out)
+    again = " (replaced the earlier report)" if replacing else f" (beside the earlier {earlier.name})" if earlier else ""
+    typer.echo(f"Report of run {run}: {written.resolve()}{again} (open it in a browser; `gaps report --run {run} -o FILE "
+               "--pdf` prints a PDF)", err=json_out)
+
+
+def _may_replace(target: Path) -> bool:
+    """Whether the user, asked on a terminal, lets this demo replace an earlier report; where
+    nobody can answer, no."""
+    import sys
+    if not (sys.stdin.isatty() and sys.stdout.isatty()):
+        return False
+    return typer.confirm(f"{target} exists (an earlier report): replace it? (no: this one is written beside it)",
+                         default=False, err=True)
+
+
+def _beside(target: Path) -> Path:
+    """The first free name beside an earlier report: gaps-report-2.html, gaps-report-3.html, ..."""
+    n = 2
+    while (found := target.with_name(f"{target.stem}-{n}{target.suffix}")).exists():
+        n += 1
+    return found
 
 
 def _simulate(path: Path, json_out: bool) -> str:
@@ -66,7 +96,7 @@ def _simulate(path: Path, json_out: bool) -> str:
         simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
         totals, _ = publish_through_zenoh(path, simulation.batches())
     s = simulation.summary
-    typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {s.world_s:g} s of "
+    typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {format_seconds(s.world_s, 3)} of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
                f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations "
                f"recorded by the monitors on line.\n"

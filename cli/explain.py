@@ -12,11 +12,12 @@ from typing import Optional
 
 import typer
 
+from cli import completion
 from cli.app import check_files, fail, open_existing, require_run
 from cli.options import DbOption, IncidentHelp, JsonOption, RulesOption, RunRequired
 
 
-def explain(incident: str = typer.Argument(..., help=IncidentHelp),
+def explain(incident: str = typer.Argument(..., help=IncidentHelp, autocompletion=completion.incidents),
             run: str = RunRequired,
             fmt: str = typer.Option("text", "--format", help="text, md, html (a full page) or json."),
             level: str = typer.Option("standard", "--level", help="summary, standard or full (every proof step)."),

@@ -12,6 +12,7 @@ from cli.app import db_path, fail, print_json
 from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
+from reasoner.when import format_seconds
 
 SHOWN = 10
 
@@ -75,7 +76,7 @@ def _time(option: str, text: Optional[str]) -> Optional[int]:
 
 def _print(r: dict) -> None:
     typer.echo(f"fetched {r['received']:,} events on {printable(r['key'])} from {r['responders']} ingest(s) in "
-               f"{r['pages']} page(s), {r['elapsed_s']:.1f} s → {r['db']}: stored {r['stored']:,}, duplicates "
+               f"{r['pages']} page(s), {format_seconds(r['elapsed_s'])} → {r['db']}: stored {r['stored']:,}, duplicates "
                f"{r['duplicates']:,}, rejected {r['rejected']:,}")
     for item in r["details"][:SHOWN]:
         typer.echo(f"  rejected {printable(item['origin'])}: {printable(item['reason'])}")

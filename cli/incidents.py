@@ -48,14 +48,19 @@ def show_incidents(case: Case, run: Optional[str], json_out: bool, *, explain: b
     found = [(case.number(inc), inc) for inc in case.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule,
                                                                source=source)]
     if json_out:
-        print_json([inc.summary_json() for _, inc in found])
+        print_json([{**inc.summary_json(), "number": n} for n, inc in found])
     elif not found:
         typer.echo("No potential violations recorded" + _filtered(verdict, vehicle, rule, source) + ".")
     elif explain:
         for text in explanations(case, found):
             typer.echo(text)
     else:
+        several = len({inc.run for _, inc in found}) > 1     # numbers count within a run: say whose
+        shown = None
         for n, inc in found:
+            if several and inc.run != shown:
+                shown = inc.run
+                typer.echo(printable(f"run {inc.run} (`gaps explain --run {inc.run} N`):"))
             typer.echo(printable(incident_line(inc, n)))
 
 

@@ -15,7 +15,7 @@ HELP = ("Make Ed25519 keys for sources to sign their events with, the public key
         "ingest's checkpoint key.")
 
 
-def new(folder: Path = typer.Argument(..., help="The key folder (created if missing): FOLDER/<role>/<id>.key."),
+def new(folder: Path = typer.Argument(..., help="The key folder (created if missing): FOLDER/ROLE/ID.key."),
         sources: list[str] = typer.Argument(..., help="Sources to make a key for, e.g. vehicle/173 monitor/m1."),
         json_out: bool = JsonOption) -> None:
     """Make a private key for each source in FOLDER and write FOLDER/public-keys.json for all its keys.

@@ -12,7 +12,7 @@ from typing import Optional
 
 import typer
 
-from cli import (demo, explain, fetch, incidents, keys, migrate, quarantine, regress, replay, report, rules, runs,
+from cli import (demo, explain, fetch, help, incidents, keys, migrate, quarantine, regress, replay, report, rules, runs,
                  scene, serve, sim, transfer, verify)
 from cli.app import new_app
 
@@ -39,6 +39,7 @@ def build() -> typer.Typer:
     app.command()(migrate.migrate)
     app.add_typer(_rules_group(), name="rules")
     app.add_typer(_keys_group(), name="keys")
+    app.command("help")(help.help_)
     return app
 
 

@@ -22,4 +22,4 @@ def migrate(src: Path = typer.Argument(..., help="The store to migrate; it is re
         print_json(report.to_json())
         return
     typer.echo(f"migrated {report.src} (schema version {report.from_version}) → {report.dst} "
-               f"(version {report.to_version}): {report.events} events; {report.src} is unchanged")
+               f"(version {report.to_version}): {report.events:,} events; {report.src} is unchanged")

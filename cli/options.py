@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import typer
 
+from cli import completion
+
 DbOption = typer.Option(None, "--db", help="SQLite event store (default: $GAPS_DB or ./gaps.db).")
 JsonOption = typer.Option(False, "--json", help="Print JSON instead of text.")
-RunOption = typer.Option(None, "--run", help="Run id (default: every run).")
-RunRequired = typer.Option(..., "--run", help="Run id.")
-RulesOption = typer.Option(None, "--rules", help="Judge with this LE rulebook first (repeatable).")
+RunOption = typer.Option(None, "--run", help="Run id (default: every run).", autocompletion=completion.runs)
+RunRequired = typer.Option(..., "--run", help="Run id.", autocompletion=completion.runs)
+RulesOption = typer.Option(None, "--rules", metavar="FILE.le…", help="Judge with this LE rulebook first (repeatable).")
 ZenohConfigOption = typer.Option(None, "--config", metavar="FILE", help="A Zenoh config file (JSON5: TLS with the "
                                  "producer's certificate, user/password; docs/serve.md \"A hardened deployment\"); "
                                  "--listen/--connect given here are written over it.")

@@ -6,6 +6,7 @@ from typing import Optional
 
 import typer
 
+from cli import completion
 from cli.app import db_path, fail, open_existing, print_json, writable_output
 from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
@@ -13,14 +14,15 @@ from cli.safe_text import printable
 
 
 def regress(recordings: Optional[list[Path]] = typer.Argument(
-                None, metavar="[FILES.mcap]...", help="Recordings (MCAP or JSONL) to regress straight from, "
+                None, metavar="FILES.mcap", help="Recordings (MCAP or JSONL) to regress straight from, "
                                                       "nothing prepared: every run in each."),
             rules: Optional[list[Path]] = typer.Option(
-                None, "--rules", help="The new rulebook: a .le file or a directory of them (repeatable)."),
+                None, "--rules", metavar="FILE.le…", help="The new rulebook: a .le file or a directory of them (repeatable)."),
             baseline: Optional[list[Path]] = typer.Option(
-                None, "--baseline", help="What to compare with: `in-force` (default: each run's own rulebooks, "
+                None, "--baseline", metavar="in-force|OLD.le…", help="What to compare with: `in-force` (default: each run's own rulebooks, "
                                          "else the project's) or OLD .le files or directories (repeatable)."),
-            run: Optional[list[str]] = typer.Option(None, "--run", help="A run to regress (repeatable)."),
+            run: Optional[list[str]] = typer.Option(None, "--run", help="A run to regress (repeatable).",
+                                                  autocompletion=completion.runs),
             all_runs: bool = typer.Option(False, "--all", help="Regress every run of the store."),
             db: Optional[Path] = DbOption, json_out: bool = JsonOption,
             junit: Optional[Path] = typer.Option(None, "--junit", help="Also write JUnit XML here, a testcase per "

@@ -10,6 +10,7 @@ import typer
 from cli.app import db_path, fail, open_existing
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
 from cli.sim import parse_speed
+from reasoner.when import format_seconds
 
 
 def replay(
@@ -54,7 +55,7 @@ def replay(
     for r in out["runs"]:
         s = r["sent"]
         typer.echo(f"Replayed run {r['run']}: {r['events']:,} events from {s['sources']} sources, "
-                   f"{s['world_s']:g} s of recorded time in {s['wall_s']:.1f} s")
+                   f"{format_seconds(s['world_s'], 3)} of recorded time in {format_seconds(s['wall_s'])}")
 
 
 def _send(store: Any, runs: list[str], wire: dict, pace: float | None, imported: dict | None) -> dict:

@@ -63,7 +63,7 @@ def _print_runs(rows: list[dict[str, Any]]) -> None:
         return
     drawn = table("run", "events", "sources", "start (UTC)", "end (UTC)", "duration", "chain")
     for r in rows:
-        drawn.add_row(*cells(r["run"], r["events"], len(r["sources"]), r["start"], r["end"],
+        drawn.add_row(*cells(r["run"], f"{r['events']:,}", len(r["sources"]), r["start"], r["end"],
                              format_duration(r["duration_ns"]), r["chain"]))
     show(drawn)
 

@@ -93,5 +93,5 @@ def _picture(run: str, at: str, vehicle: Optional[str], junction: Optional[str],
         fail(f"cannot write {target}: {exc.strerror or exc}")
     drawn = sum(1 for u in pic["vehicles"] + pic["road_users"] if u["x"] is not None and u.get("present", True))
     where = f"junction {pic['junction']}" if pic["junction"] is not None else "the whole map"
-    typer.echo(printable(f"Scene of run {run} at {pic['offset']} from the run start ({where}; {drawn} road users "
-                         f"present on the map) written to {target}"))
+    typer.echo(printable(f"Scene of run {run} at {pic['offset']} from the run start ({where}; {drawn} road "
+                         f"user{'' if drawn == 1 else 's'} present on the map) written to {target}"))

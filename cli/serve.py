@@ -42,7 +42,7 @@ def serve(
         None, "--witness", metavar="FILE", help="Append each signed checkpoint's tree head to FILE (JSON lines, "
         "fsynced), for `gaps verify --against FILE`; needs --checkpoint-key."),
     publish_heads: bool = typer.Option(
-        False, "--publish-heads", help="Put each signed tree head on the Zenoh key gaps/@heads/<run>; needs "
+        False, "--publish-heads", help="Put each signed tree head on the Zenoh key gaps/@heads/RUN; needs "
         "--checkpoint-key."),
     insecure: bool = typer.Option(
         False, "--insecure-beyond-loopback", help="Start even though the serve can be reached beyond loopback "

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import re
 from pathlib import Path
 from typing import Optional
 
@@ -13,16 +12,16 @@ import typer
 
 from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
-
-_UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "min": 60.0, "h": 3600.0}
-
+from reasoner.when import format_seconds
 
 def parse_duration(text: str) -> float:
-    """"10m", "90s", "1.5h" or plain seconds, as world seconds."""
-    found = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*(s|m|min|h)?\s*", text or "")
-    if not found or float(found.group(1)) <= 0:
-        raise typer.BadParameter(f"{text!r} is not a duration: write e.g. 90s, 10m or 1h")
-    return float(found.group(1)) * _UNITS[found.group(2) or ""]
+    """`--duration` in world seconds, read by the one duration parser (reasoner.when)."""
+    from reasoner.when import DurationError
+    from reasoner.when import parse_duration as duration_ns
+    try:
+        return duration_ns(text) / 1e9
+    except DurationError as exc:
+        raise typer.BadParameter(str(exc)) from None
 
 
 def parse_speed(text: str) -> float | None:
@@ -57,16 +56,24 @@ def parse_faults(text: str | None, names: tuple[str, ...]) -> dict[str, float]:
 
 
 def sim(
-    map_: str = typer.Option("paper", "--map", help="A bundled map (paper, town) or a SUMO network FILE.net.xml."),
+    map_: str = typer.Option("paper", "--map", metavar="NAME|FILE",
+                             help="A bundled map (paper, town), a SUMO network FILE.net.xml (left-hand traffic), "
+                             "or a SUMO configuration FILE.sumocfg (its net-file and route-files)."),
+    routes: list[Path] = typer.Option([], "--routes", metavar="FILE.rou.xml", help="SUMO routes: its vehicles, "
+                                      "trips, flows and persons replace the drawn ones (repeatable; replaces "
+                                      "a .sumocfg's route-files)."),
     monitors: Optional[Path] = typer.Option(None, "--monitors", help="Monitors file for a --map FILE "
-                                            "(JSON: id, junction, x, y, heading_deg, range_m, fov_deg)."),
+                                            "(JSON: id, junction, x, y, heading_deg, range_m, fov_deg; default "
+                                            "NAME.monitors.json beside NAME.net.xml, else no cameras)."),
     vehicles: int = typer.Option(40, "--vehicles", min=1, max=100_000, help="Vehicles that set off in the run."),
     duration: str = typer.Option("3m", "--duration", help="World time to simulate: 90s, 10m, 1h."),
     seed: int = typer.Option(0, "--seed", help="Same seed, same events."),
     rate: float = typer.Option(10.0, "--rate", min=0.5, max=10.0, help="entity.state and observations per second."),
     av_share: float = typer.Option(0.3, "--av-share", min=0.0, max=1.0, help="Share of cars driving themselves."),
-    faults: Optional[str] = typer.Option(None, "--faults", help="Injected faults with rates, e.g. "
-                                         "misperceived_light=0.2,lost_event=0.01."),
+    faults: Optional[str] = typer.Option(None, "--faults", metavar="NAME=RATE,…", help="Injected faults, each "
+                                         "with a rate from 0 to 1: misperceived_light, missed_road_user, "
+                                         "speed_error, lost_event, recorder_stops; several "
+                                         "joined by commas (e.g. lost_event=0.01)."),
     run: str = typer.Option("sim-001", "--run", help="Run id."),
     record: Optional[Path] = typer.Option(None, "--record", help="Also record the events as MCAP."),
     truth: Optional[Path] = typer.Option(None, "--truth", help="Write the ground truth here (default: beside "
@@ -93,15 +100,9 @@ def sim(
     from store import GapsError
 
     names = tuple(f.name for f in dataclasses.fields(FaultRates))
-    net = Path(map_) if map_.endswith(".xml") or "/" in map_ else None
-    if net is not None and not net.is_file():
-        fail(f"no such network file: {net}")
-    if net is not None and monitors is None:
-        fail("a --map FILE needs --monitors FILE (where the cameras are)")
-    config = SimConfig(run=run, seed=seed, map="paper" if net else map_, net=str(net) if net else None,
-                       monitors=str(monitors) if monitors else None, vehicles=vehicles,
-                       duration_s=parse_duration(duration), rate_hz=rate, av_share=av_share,
-                       faults=FaultRates(**parse_faults(faults, names)))
+    config = SimConfig(run=run, seed=seed, vehicles=vehicles, duration_s=parse_duration(duration), rate_hz=rate,
+                       av_share=av_share, faults=FaultRates(**parse_faults(faults, names)))
+    config = _own_files(config, map_, tuple(routes), monitors)
     pace = parse_speed(speed)
     store_file = None if listen or connect or zenoh_file else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
@@ -114,13 +115,37 @@ def sim(
         summary, sent, stored = _run(config, pace, record, wire, store_file, truth_file, signer)
         public_keys = str(signer.folder.write_public_keys()) if signer else None
     except (GapsError, TimeoutError, OSError) as exc:
-        fail(str(exc))
+        fail(str(exc), getattr(exc, "exit_code", 2))     # 4 for a store a serve is writing, as README says
     out = {"run": run, "simulation": summary.to_json(), "published": sent.to_json(), "stored": stored,
            "truth": str(truth_file), "public_keys": public_keys}
     if json_out:
         typer.echo(json.dumps(out, indent=2))
         return
     _print(out, store_file)
+
+
+def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | None):
+    """The config with the files --map, --routes and --monitors name, checked before anything is
+    written (sim_replay.own_network: a network the audit cannot judge, or routes it cannot carry,
+    is refused with the reason, exit 2)."""
+    from sim_replay.maps import map_files
+    from sim_replay.own_network import OwnFilesError, check, own_files
+
+    try:
+        own = own_files(map_, routes, monitors)
+        for path in (*routes, *((monitors,) if monitors else ())):
+            if not path.is_file():
+                fail(f"no such file: {path}")
+        net = own.net if own else map_files(map_).net
+        counts = check(net, own.routes if own else routes, config) if own or routes else None
+    except (FileNotFoundError, OwnFilesError) as e:
+        fail(str(e))
+    changes = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
+               "monitors": str(own.monitors) if own.monitors else None} if own else \
+        {"map": map_, "routes": tuple(map(str, routes)), "monitors": str(monitors) if monitors else None}
+    if counts is not None:
+        changes.update(vehicles=counts[0], pedestrians=counts[1])
+    return dataclasses.replace(config, **changes)
 
 
 def _one_producer(run: str, store_file: Path | None, truth_file: Path) -> None:
@@ -181,10 +206,12 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
 
 def _print(out: dict, store_file: Path | None) -> None:
     s, sent = out["simulation"], out["published"]
-    typer.echo(f"Simulated run {out['run']}: {s['world_s']:g} s of world time in {s['wall_s']:g} s; "
-               f"{s['vehicles']} vehicles, {s['pedestrians']} pedestrians")
+    typer.echo(f"Simulated run {out['run']}: {format_seconds(s['world_s'], 3)} of world time in "
+               f"{format_seconds(s['wall_s'])}; "
+               f"{s['vehicles']} vehicle{'s' if s['vehicles'] != 1 else ''}, "
+               f"{s['pedestrians']} pedestrian{'s' if s['pedestrians'] != 1 else ''}")
     typer.echo(f"  events {s['events']:,} ({s['lost_events']:,} lost on purpose), rulebook queries "
-               f"{s['rulebook_queries']:,}, potential violations {s['potential_violations']:,}, "
+               f"{s['rulebook_queries']:,}, potential violations recorded by monitors {s['potential_violations']:,}, "
                f"acts in the ground truth {s['acts']:,}")
     if store_file is not None:
         st = out["stored"]

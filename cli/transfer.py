@@ -142,7 +142,7 @@ def _print_chain(c: dict) -> None:
         typer.echo(f"  run {c['run']}: exported in {c['order']} order; its chain head ({head}…) is "
                    f"not rebuilt by an import, the events are")
     elif c["match"]:
-        typer.echo(f"  run {c['run']}: the chain matches the export ({c['file_events']} events, "
+        typer.echo(f"  run {c['run']}: the chain matches the export ({c['file_events']:,} events, "
                    f"{c['checkpoints_matched']} of {c['checkpoints']} checkpoints, head {head}…)")
     else:
         typer.echo(f"  run {c['run']}: the chain does NOT match the export: {_chain_difference(c)}")
@@ -154,7 +154,7 @@ def _chain_difference(c: dict) -> str:
         return (f"after event {m['count']} of the file the exported head is {m['exported_head'][:16]}…, "
                 f"the file's events give {m['file_head'][:16]}…")
     if c["file_events"] != c["exported_events"]:
-        return (f"the file holds {c['file_events']} of the {c['exported_events']} events exported "
+        return (f"the file holds {c['file_events']:,} of the {c['exported_events']:,} events exported "
                 f"({c['checkpoints_matched']} of {c['checkpoints']} checkpoints reached and matched)")
     if c["file_head"] != c["exported_head"]:
         return "the file's events do not hash to the exported head"
@@ -190,7 +190,7 @@ def export(run: str = RunRequired,
         typer.echo(json.dumps(report, indent=2, ensure_ascii=False, default=str), err=say)
         return
     drawn = f" and {report['derived']} Foxglove scene/log messages" if report["format"] == "mcap" else ""
-    typer.echo(f"exported run {report['run']}: {report['events']} events{drawn} in {report['order']} order "
+    typer.echo(f"exported run {report['run']}: {report['events']:,} events{drawn} in {report['order']} order "
                f"→ {report['file']} ({report['bytes']:,} bytes)", err=say)
 
 

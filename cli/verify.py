@@ -126,7 +126,7 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
             typer.echo(f"heads: {len(outcomes):,} tree heads of {runs} run(s) in {printable(str(against))} match "
                        f"the store ({_coverage(outcomes)})")
         for o in bad[:10]:
-            typer.echo(f"HEAD FAILED: run {text_or_null(o.run)} at {o.size} events ({o.outcome}): {printable(o.what)}")
+            typer.echo(f"HEAD FAILED: run {text_or_null(o.run)} at {o.size:,} events ({o.outcome}): {printable(o.what)}")
         if len(bad) > 10:
             typer.echo(f"... and {len(bad) - 10:,} more heads failed (--json lists them all)")
     if keyed is not None:
@@ -186,7 +186,7 @@ def _print_signatures(s: dict, all_signed: bool) -> None:
 
 def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
     for r in report.runs:
-        typer.echo(f"{printable(r['run'])}: {r['events']} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
+        typer.echo(f"{printable(r['run'])}: {r['events']:,} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
                    f"head {r['head']}")
     if report.problem and report.problem["run"] is None:  # the file or a rulebook, not an event
         typer.echo(f"FAILED: {printable(report.problem['what'])}")

@@ -147,3 +147,92 @@ class Placer:
         left = x + dist * diagonal if dx > 0 else x - dist * diagonal - w if dx < 0 else x - w / 2
         top = y + dist * diagonal if dy > 0 else y - dist * diagonal - h if dy < 0 else y - h / 2
         return Box(left, top, w, h)
+
+
+# --- labels of moments on a time axis ---------------------------------------------------------------
+
+ROW_GAP_PX = 6.0           # the least room between two labels of one row
+LINE_CLEAR_PX = 2.0        # the least room between a label and another moment's line
+
+
+@dataclass(frozen=True)
+class Flag:
+    """A moment's label on a time axis: written in `row` (0 nearest the plot, each further row
+    above it) from `left`, `width` wide, beside its line at `at`, which runs from the top of its
+    row down through every row below."""
+
+    text: str
+    at: float
+    row: int
+    left: float
+    width: float
+    crowded: bool = False
+    """Placed where nothing fits: a line may strike it (the caller writes a key instead)."""
+
+
+def in_rows(items: list[tuple[str, float]], lo: float, hi: float, size: float = 10.0,
+            gap: float = 3.0) -> list[Flag]:
+    """Each (text, x) written beside its line at x, never cut at the frame's edges lo..hi, in
+    the lowest row where it overlaps no label of that row, no other line crosses it, and its own
+    line crosses no label of a row below. A label goes to the right of its line where it fits
+    and its box holds no line of a label that must go left; else to the left. Those to the right
+    are placed from the right, those to the left after them from the left: each then can always
+    go above the ones before it, whose lines end below it. The same items always get the same
+    rows; the flags come back in the order given."""
+    widths = [text_size(text, size)[0] for text, _ in items]
+    right = [x + gap + w <= hi for (_, x), w in zip(items, widths)]
+    left_fits = [x - gap - w >= lo for (_, x), w in zip(items, widths)]
+    changed = True
+    while changed:          # a right-hand label over the line of a left-hand one goes left too
+        changed = False
+        for i, (_, x) in enumerate(items):
+            if right[i] and left_fits[i] and any(
+                    not right[j] and x + gap - LINE_CLEAR_PX <= items[j][1] <= x + gap + widths[i] + LINE_CLEAR_PX
+                    for j in range(len(items)) if j != i):
+                right[i], changed = False, True
+    order = sorted((i for i in range(len(items)) if right[i]), key=lambda i: (-items[i][1], i))
+    order += sorted((i for i in range(len(items)) if not right[i]), key=lambda i: (items[i][1], i))
+    placed: dict[int, Flag] = {}
+    for i in order:
+        text, x = items[i]
+        width = widths[i]
+        spot = x + gap if right[i] else x - gap - width if left_fits[i] else min(max(x + gap, lo), hi - width)
+        done = list(placed.values())
+        rows = [row for row in range(len(done) + 1) if _free(done, x, row, spot, width)]
+        if not rows:        # no row beside its line: the nearest spot where nothing strikes anything
+            spot, rows = _elsewhere(done, x, width, lo, hi) or (spot, rows)
+        crowded = not rows
+        if crowded:         # none at all: as near as fits, on top
+            rows = [row for row in range(len(done) + 2) if _free(done, x, row, spot, width, own_line=False)]
+        placed[i] = Flag(text, x, rows[0], spot, width, crowded)
+    return [placed[i] for i in range(len(items))]
+
+
+def _elsewhere(done: list[Flag], x: float, width: float, lo: float, hi: float) -> tuple[float, list[int]] | None:
+    """A spot for a label that fits beside its line in no row: just clear of another label's
+    line or box, or at an edge, the nearest to its own line first, in the lowest row where no
+    label is struck and none overlaps (four "stood still before the line" 6 s apart: the line of
+    one runs through the box of the next, whichever side each takes)."""
+    edges = [lo, hi - width, x - width / 2]
+    for f in done:
+        edges += [f.at - LINE_CLEAR_PX - 0.5 - width, f.at + LINE_CLEAR_PX + 0.5,
+                  f.left - ROW_GAP_PX - 0.5 - width, f.left + f.width + ROW_GAP_PX + 0.5]
+    spots = sorted({min(max(e, lo), hi - width) for e in edges},
+                   key=lambda left: (max(left - x, x - left - width, 0.0), left))
+    for left in spots:
+        rows = [row for row in range(len(done) + 1) if _free(done, x, row, left, width)]
+        if rows:
+            return left, rows
+    return None
+
+
+def _free(placed: list[Flag], x: float, row: int, left: float, width: float, own_line: bool = True) -> bool:
+    for other in placed:
+        if other.row == row and left < other.left + other.width + ROW_GAP_PX and other.left < left + width + ROW_GAP_PX:
+            return False                                  # two labels of one row meet
+        if other.row >= row and left - LINE_CLEAR_PX <= other.at <= left + width + LINE_CLEAR_PX:
+            return False                                  # the other's line runs down through this label
+        if own_line and other.row <= row and \
+                other.left - LINE_CLEAR_PX <= x <= other.left + other.width + LINE_CLEAR_PX:
+            return False                                  # this line runs down through the other's label
+    return True

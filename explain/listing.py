@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 def incident_line(inc: Incident, number: int | None = None) -> str:
     """One incident in one line: number, time, id, vehicle, action, rule, verdict, penalty,
     who is liable, the margin where the incident has one, and its findings."""
-    fields = [format_time(inc.t), inc.id, f"vehicle {inc.vehicle}", inc.action, str(inc.rule),
+    fields = [format_time(inc.t), inc.id, f"vehicle {inc.vehicle}", inc.action, inc.rule or "no rule",
               inc.verdict, _penalty(inc.penalty), f"liable: {inc.liable}"]
     if inc.margin is not None:
         fields.append(_margin(inc.margin))
@@ -62,6 +62,7 @@ SHORT = {   # a margin's quantity as a listing line says it, value and unit fill
     "seconds into red-and-amber the stop line was crossed": "crossed {} into red-and-amber",
     "metres from the stop line when amber came": "{} from the line at amber",
     "seconds stationary at the Stop line": "stood {} at the Stop line",
+    "slowest measured speed before the Stop line": "slowed to {} before the Stop line",
     "deceleration of the other road user": "made another brake at {}",
     "seconds stopped in the box junction": "stood {} in the box",
     "mph over the speed limit": "{} over the limit",

@@ -24,10 +24,12 @@ from reasoner.model import Incident
 from store import GapsError, Store
 
 from . import phrases as ph
+from .act_data import act_track, named_users
 from .evidence import chain_json
 from .explanation_doc import document
 from .provenance import provenance
-from .report_data import recorded_rulebooks, run_map, run_start_body, scene_picture, timeline, vehicle_junction
+from .report_data import (name_users, recorded_rulebooks, run_map, run_start_body, scene_picture, timeline,
+                          vehicle_junction)
 
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".json": "json"}
 Progress = Callable[[int, int], None]      # (incidents done, total)
@@ -124,6 +126,9 @@ def _entry(store: Store, inv: Any, inc: Incident, number: int, the_map: dict) ->
     tl = timeline(store, inc.run, inc.t, inc.vehicle, vehicle_junction(picture))
     tl["heading_deg"] = me["heading_deg"] if me else None
     tl["moments"] = [{"what": what, "t": t} for what, t in inc.moments if tl["t_from"] <= t <= tl["t_to"]]
+    context = inv.context(inc.run) if hasattr(inv, "context") else None
+    tl.update(act_track(store, inc, picture, tl["t_from"], tl["t_to"], context))
+    name_users(picture, named_users(inc, picture), the_map)
     return {"number": number, "row": summary_row(inc), "explanation": doc, "scene": picture, "timeline": tl,
             "rulebooks": [{"stage": stage, **b.to_json()} for stage, b in inc.rulebooks.items()]}
 

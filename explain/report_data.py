@@ -133,25 +133,34 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
                "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
                "vehicles": vehicles, "road_users": users, "note": sc.note}
     picture["junction"] = junction if junction is not None else focus_junction(picture)
-    picture["lanes"] = _lanes_near(picture)
+    picture["lanes"] = lanes_near(picture, picture["lanes"])
     return picture
 
 
-def _lanes_near(picture: dict[str, Any]) -> list[dict]:
-    """The lanes within LANES_NEAR_M of the focus junction and the incident's vehicle: the most a
-    picture zoomed to them can show. A whole city's network (netconvert from OpenStreetMap) is
-    thousands of lanes, and the JSON report carries each incident's picture as it is."""
+def name_users(picture: dict[str, Any], named: list[str], the_map: dict[str, Any]) -> None:
+    """Mark the road users the incident names (explain/act_data.named_users): the picture holds
+    them in view (svg_scene._focus), so it carries the lanes around them too."""
+    picture["named"] = list(named)
+    picture["lanes"] = lanes_near(picture, the_map.get("lanes", []))
+
+
+def lanes_near(picture: dict[str, Any], lanes: list[dict]) -> list[dict]:
+    """The lanes within LANES_NEAR_M of the focus junction, the incident's vehicle and the road
+    users the incident names: the most a picture zoomed to them can show. A whole city's network
+    (netconvert from OpenStreetMap) is thousands of lanes, and the JSON report carries each
+    incident's picture as it is."""
+    named = set(picture.get("named") or ())
     centres = [(j["x"], j["y"]) for j in picture["junctions"] if j["id"] == picture["junction"]]
-    centres += [(v["x"], v["y"]) for v in picture["vehicles"] if v["incident"] and v["x"] is not None
-                and v["y"] is not None]
+    centres += [(v["x"], v["y"]) for v in picture["vehicles"] + picture["road_users"]
+                if (v.get("incident") or str(v["id"]) in named) and v["x"] is not None and v["y"] is not None]
     if not centres:
-        return picture["lanes"]
+        return lanes
 
     def near(lane: dict) -> bool:
         xs, ys = [p[0] for p in lane["shape"]], [p[1] for p in lane["shape"]]
         return any(min(xs) - LANES_NEAR_M <= x <= max(xs) + LANES_NEAR_M and
                    min(ys) - LANES_NEAR_M <= y <= max(ys) + LANES_NEAR_M for x, y in centres)
-    return [lane for lane in picture["lanes"] if near(lane)]
+    return [lane for lane in lanes if near(lane)]
 
 
 def focus_junction(picture: dict[str, Any]) -> str | None:

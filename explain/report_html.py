@@ -11,12 +11,15 @@ explain/explanation_formats.py's `html_fragment` at the standard level, the same
 """
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from .explanation_formats import esc, html_fragment
 from .presence import FRESH_NS
 from .report_data import SECOND
-from .svg_scene import out_of_view, scene_svg
+from .phrases import join
+from .svg import colour_word
+from .svg_scene import junctions_in_view, out_of_view, scene_svg
 from .svg_timeline import timeline_svg
 
 STYLE = """
@@ -42,10 +45,10 @@ ul.proof,ul.proof ul{list-style:none;padding-left:1.2rem}
 @media print{body{max-width:none;margin:0;font-size:10pt}
 article.incident{break-before:page;border-top:none;margin-top:0}
 figure,svg,tr,li,p{break-inside:avoid}h1,h2,h3{break-after:avoid}thead{display:table-header-group}
-figure svg{width:100%;max-width:170mm}a{color:inherit;text-decoration:none}}
+figure svg{width:100%;max-width:150mm}a{color:inherit;text-decoration:none}}
 """
 SHA_CLASS = ' class="sha"'
-SHA_CLASS = ' class="sha"'
+OUTSIDE_NAMED = 10       # a caption names at most this many road users outside the picture
 # the margins of every printed page; {run}, {version}, {store} and {sha} are CSS strings
 PAGE = """
 @page{{size:A4;margin:17mm 15mm 19mm 15mm;
@@ -194,7 +197,6 @@ def _incident(e: dict[str, Any]) -> list[str]:
 
 
 def _scene_caption(pic: dict[str, Any]) -> str:
-    signals = "; ".join(f"{s['junction']} {s['approach']} {s['colour']}" for s in pic["signals"]) or "none reported"
     unplaced = [v["id"] for v in pic["vehicles"] if v["x"] is None]
     stale = [f"{v['id']} ({v['age_s']:g} s before)" for v in pic["vehicles"] + pic["road_users"]
              if v["x"] is not None and not v.get("present", True) and v.get("age_s") is not None]
@@ -204,10 +206,8 @@ def _scene_caption(pic: dict[str, Any]) -> str:
     text = (f"The scene at the incident, {pic['offset']} from the run start, as the record holds it{where}: "
             f"{surface}vehicle {pic['vehicle']} highlighted, arrows point where each vehicle was heading, labels "
             f"give speeds in mph, each lamp stands at its approach's stop line, wedges are the monitors' fields "
-            f"of view. Signals: {signals}.")
-    outside = out_of_view(pic)
-    if outside:
-        text += f" Present but outside the picture: {', '.join(outside)}."
+            f"of view. {_signals_caption(pic)}")
+    text += _outside(pic)
     if unplaced:
         text += f" Not drawn (no position recorded): {', '.join(map(str, unplaced))}."
     if stale:
@@ -218,9 +218,51 @@ def _scene_caption(pic: dict[str, Any]) -> str:
     return text
 
 
+def _outside(pic: dict[str, Any], most: int = OUTSIDE_NAMED) -> str:
+    """The road users present but outside the zoomed picture, nearest the incident's vehicle first;
+    on a busy map only the nearest `most` by name, the rest counted (the JSON report and `gaps
+    scene` list every one)."""
+    outside = set(out_of_view(pic))
+    if not outside:
+        return ""
+    me = next((v for v in pic["vehicles"] if v["incident"] and v["x"] is not None), None)
+    users = [u for u in pic["vehicles"] + pic["road_users"] if str(u["id"]) in outside]
+    if me is not None:
+        users.sort(key=lambda u: (math.hypot(u["x"] - me["x"], u["y"] - me["y"]), str(u["id"])))
+    names = [str(u["id"]) for u in users]
+    if len(names) <= most:
+        return f" Present but outside the picture: {', '.join(names)}."
+    return (f" Present but outside the picture, nearest first: {', '.join(names[:most])} and "
+            f"{len(names) - most} more elsewhere on the map.")
+
+
+def _signals_caption(pic: dict[str, Any]) -> str:
+    """The lamps of the junctions in view, in the legend's words, approaches of one colour
+    together: "Signals at junction j1: west and east red and amber; north and south red."."""
+    parts = []
+    for junction in junctions_in_view(pic):
+        by_colour: dict[str, list[str]] = {}
+        for s in pic["signals"]:
+            if str(s["junction"]) == junction:
+                by_colour.setdefault(colour_word(s["colour"]), []).append(str(s["approach"]))
+        if by_colour:
+            shown = "; ".join(f"{join(approaches)} {word}" for word, approaches in by_colour.items())
+            parts.append(f"Signals at junction {junction}: {shown}.")
+        elif junction == pic.get("junction"):
+            parts.append(f"No signal reported at junction {junction}.")
+    return " ".join(parts) or "No junction in view."
+
+
 def _timeline_caption(tl: dict[str, Any]) -> str:
     before, after = (tl["t"] - tl["t_from"]) / SECOND, (tl["t_to"] - tl["t"]) / SECOND
-    return (f"Vehicle {tl['vehicle']}'s speed from {before:g} s before the incident to {after:g} s after, and the "
-            "colour each "
-            f"signal approach of junction {tl['junction'] or '(none found)'} showed; between reports the "
-            "record says nothing, so the line joins the reported points.")
+    other = tl.get("other")
+    line = tl.get("to_line")
+    parts = [f"Vehicle {tl['vehicle']} from {before:g} s before the incident to {after:g} s after, on one time "
+             f"axis: its speed" + (f", the speed of {other['user']} (whom {tl['vehicle']} {other['how']})"
+                                   if other else "")]
+    parts.append(f"its distance to the {line['approach']} approach's line of junction {line['junction']} (above "
+                 "zero before the line, below it past the line)" if line else
+                 "no distance to a stop line (the record shows no passage over one in this window)")
+    parts.append(f"the colour each signal approach of junction {tl['junction'] or '(none found)'} showed")
+    return ("; ".join(parts) + ". Between reports the record says nothing, so the lines join the reported points; "
+            "the labelled lines are the incident and the moments of the passage.")

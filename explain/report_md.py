@@ -12,6 +12,8 @@ from typing import Any
 from .explanation_formats import md
 from .explanation_formats import to_markdown as explanation_md
 from .report_data import SECOND
+from .svg import colour_word
+from .svg_scene import junctions_in_view
 from .units import speed_text
 
 
@@ -65,7 +67,9 @@ def _incident(e: dict[str, Any]) -> list[str]:
     r, pic, tl = e["row"], e["scene"], e["timeline"]
     out = ["", "---", "", f"## Incident {e['number']}: vehicle {md(r['vehicle'])}, {md(r['action'])}, "
            f"{md(r['verdict'])}", "", f"### The scene at {md(pic['offset'])} from the run start", ""]
-    out += [f"- signal {md(s['junction'])} {md(s['approach'])}: {md(s['colour'])}" for s in pic["signals"]]
+    shown = junctions_in_view(pic)        # as the HTML picture's caption: the junctions the picture shows
+    out += [f"- signal {md(s['junction'])} {md(s['approach'])}: {md(colour_word(s['colour']))}" for s in pic["signals"]
+            if str(s["junction"]) in shown]
     for v in pic["vehicles"]:
         where = ("position not recorded" if v["x"] is None else
                  f"at ({v['x']:g}, {v['y']:g}) m, heading {_n(v['heading_deg'])}°, speed {speed_text(v['speed_mps'])}")
@@ -78,8 +82,14 @@ def _incident(e: dict[str, Any]) -> list[str]:
                 f"+{(tl['t_to'] - tl['t']) / SECOND:g} s", ""]
     rows = [[_rel(tl, p["t"]), f"vehicle/{tl['vehicle']}", f"speed {speed_text(p['speed_mps'])}"] for p in tl["speed"]]
     rows += [[_rel(tl, p["t"]), p["monitor"], f"observed speed {speed_text(p['speed_mps'])}"] for p in tl["observed_speed"]]
-    rows += [[_rel(tl, c["t"]), f"signal {tl['junction']} {approach}", str(c["colour"])]
+    rows += [[_rel(tl, c["t"]), f"signal {tl['junction']} {approach}", colour_word(c["colour"])]
              for approach, changes in tl["signals"].items() for c in changes]
+    line = tl.get("to_line")
+    rows += [[_rel(tl, p["t"]), f"{p['src']} #{p['seq']}", f"{p['m']:g} m before the line" if p["m"] >= 0 else
+              f"{-p['m']:g} m past the line"] for p in (line or {}).get("points", [])]
+    other = tl.get("other")
+    rows += [[_rel(tl, p["t"]), f"{p['src']} #{p['seq']}", f"speed of {other['user']} {speed_text(p['speed_mps'])} "
+              f"(whom {tl['vehicle']} {other['how']})"] for p in (other or {}).get("speed", [])]
     rows.sort(key=lambda row: _sort_key(row[0]))
     out += _table(["time", "source", "what"], rows) if rows else ["Nothing recorded in this window.", ""]
     out += [_demoted(explanation_md(e["explanation"], "standard")), "### Rulebooks of this verdict", ""]

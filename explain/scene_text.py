@@ -11,6 +11,7 @@ from typing import Any
 from reasoner.scene import Scene
 from reasoner.when import format_offset, format_time
 
+from .svg import SIGNAL_WORDS
 from .units import speed_text
 
 JUDGED_ON = {"vehicle scenario": "the Vehicle Scenario",
@@ -60,7 +61,7 @@ def vehicle_lines(sc: Scene, v: dict[str, Any]) -> list[str]:
 def _signals(sc: Scene) -> list[str]:
     lines = ["Signals" + ("" if sc.signals else ": none reported yet")]
     for s in sc.signals:
-        lines.append(f"  {s['junction']} {s['approach']}: {s['colour']} since {format_time(s['since']['t'])} "
+        lines.append(f"  {s['junction']} {s['approach']}: {SIGNAL_WORDS.get(s['colour'], s['colour'])} since {format_time(s['since']['t'])} "
                      f"({_offset(sc, s['since']['t'])}, {_cite(s['since'])})")
     return lines
 

@@ -21,7 +21,7 @@ from typing import Any, NamedTuple
 from .labels import Box, Label, Placer
 from .report_data import APPROACH_DIRECTIONS, vehicle_junction
 from .scene_view import H, LEGEND_H, PAD, W, View
-from .svg import esc, f, fill, legend_swatches
+from .svg import colour_word, esc, f, fill, legend_colours, legend_swatches
 from .svg_lanes import has_lanes, surface
 from .units import mph, mph_text
 
@@ -96,6 +96,15 @@ def out_of_view(pic: dict[str, Any]) -> list[str]:
             if drawn(u) and not frame.holds(*view(u["x"], u["y"]))]
 
 
+def junctions_in_view(pic: dict[str, Any]) -> list[str]:
+    """The junctions whose centre the zoomed picture shows, the one it is about first: the
+    caption speaks of their signals only."""
+    view, frame = view_of(pic), Box(0, 0, W, H - LEGEND_H)
+    shown = [str(j["id"]) for j in pic["junctions"] if frame.holds(*view(j["x"], j["y"]))]
+    focus = _junction(pic)
+    return sorted(shown, key=lambda j: j != focus)
+
+
 def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
     """Why the incident's own vehicle is not in the picture, if it is not."""
     if me is None or me["x"] is None:
@@ -139,12 +148,14 @@ def _junction(pic: dict[str, Any]) -> str | None:
 def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
     """The points the view must hold: the incident's vehicle, its junction with JUNCTION_REACH_M
     of every arm (the stop lines and the queue at them), the monitors there (their cones reach
-    80 m and are clipped: holding them would shrink the junction), and road users near the vehicle.
+    80 m and are clipped: holding them would shrink the junction), every road user the incident
+    names (pic["named"]: the one it would force or endanger, the one approaching, however far),
+    and road users near the vehicle.
 
     Why not the whole map: at 600 m across, a lane is 2 px and a car a dot; at about 70 m a lane
     is some 17 px wide, a car sits visibly before or beyond its stop line, and the labels have
-    room. A road user outside the view is clipped and named nowhere in the picture; the caption
-    and `gaps scene` text list every one."""
+    room. A road user the incident does not name and that is outside the view is clipped; the
+    report's caption names the nearest of them and counts the rest, `gaps scene` lists every one."""
     me = next((v for v in pic["vehicles"] if v["incident"] and drawn(v)), None)
     junction = _junction(pic)
     pts: list[tuple[float, float]] = []
@@ -156,10 +167,13 @@ def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
     for m in pic["monitors"]:
         if m["x"] is not None and m["y"] is not None and (m["watching"] or (junction and m["junction"] == junction)):
             pts.append((m["x"], m["y"]))
-    if me is not None:
-        for other in pic["vehicles"] + pic["road_users"]:
-            if drawn(other) and math.hypot(other["x"] - me["x"], other["y"] - me["y"]) <= NEAR_M:
-                pts.append((other["x"], other["y"]))
+    named = set(pic.get("named") or ())
+    for other in pic["vehicles"] + pic["road_users"]:
+        if not drawn(other):
+            continue
+        if str(other["id"]) in named or (me is not None and
+                                         math.hypot(other["x"] - me["x"], other["y"] - me["y"]) <= NEAR_M):
+            pts.append((other["x"], other["y"]))
     if not pts:        # nothing to centre on: the whole map
         pts = [(j["x"], j["y"]) for j in pic["junctions"]]
         pts += [(m["x"], m["y"]) for m in pic["monitors"] if m["x"] is not None and m["y"] is not None]
@@ -206,7 +220,7 @@ def _signals(pic: dict[str, Any], view: View, placer: Placer) -> list[str]:
         for i, s in enumerate(shown):
             line = lines.get(s["approach"]) if isinstance(s["approach"], str) else None
             x, y = view(*(_at_line(line) if line else _by_compass(j, s["approach"], i, view.scale)))
-            title = f"signal {junction} {s['approach']}: {s['colour']}"
+            title = f"signal {junction} {s['approach']}: {colour_word(s['colour'])}"
             placer.block(Box(x - 7, y - 11, 14, 22))
             out.append(f'<g class="signal"><title>{esc(title)}</title>'
                        f'<rect x="{f(x - 7)}" y="{f(y - 11)}" width="14" height="22" rx="3" fill="#222"/>'
@@ -330,8 +344,7 @@ def _legend(view: View, lanes: bool) -> list[str]:
            f'<line x1="460" y1="-4" x2="{f(460 + bar_px)}" y2="-4" stroke="#111" stroke-width="2"/>'
            f'<text x="{f(466 + bar_px)}" y="0">{bar_m:g} m</text>',
            '<text x="0" y="20">signal lamps:</text>',
-           legend_swatches(80, 20, [("red", fill("red")), ("red+amber", fill("red_amber")), ("amber", fill("amber")),
-                                   ("green", fill("green")), ("off", fill("off")), ("other", fill(None))]),
+           legend_swatches(80, 20, legend_colours()),
            ('<rect x="530" y="11" width="12" height="10" fill="none" stroke="#f2c200" stroke-width="2"/>'
             '<text x="546" y="20">yellow box</text>' if lanes else ""),
            "</g>"]

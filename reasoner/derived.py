@@ -39,7 +39,7 @@ from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
-from .tolerance import beyond_stopping
+from .tolerance import beyond_stopping, sensor_of
 from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,
                          HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
                          HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
@@ -878,7 +878,7 @@ def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
         return _contradiction(text, ref, f"it stood still {stop.to_line_m or 0:.1f} m before the line after amber came "
                               f"({stop.first.label})", [], amber.method, (stop.first.ref, amber.light.ref))
     needed = stopping_distance_m(amber.speed_mps * MPH_PER_MPS)
-    beyond, u = beyond_stopping(amber)
+    beyond, u = beyond_stopping(amber, sensor_of(p, amber.used[0] if amber.used else None))
     if beyond <= u:         # within the measurements' tolerance: they do not contradict it
         return None
     return _contradiction(text, ref, f"when amber came it was {amber.to_line_m:.1f} m before the line, and stopping "

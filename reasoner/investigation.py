@@ -497,6 +497,7 @@ class Investigation:
                     *(c.to_finding() for c in measured.contradictions),
                     *(c.to_finding() for c in self._beliefs_contradicted(case, measured, validation, mscen)),
                     _driving_contradicted(case.vehicle, vscen, control),
+                    *_dssad_contradicted(case, mscen, control),
                     *(c.to_finding() for c in _beliefs_overruled(measured)),
                     *_unmeasured_claims(measured, validation),
                     *(Finding("map reading", text, (ref,)) for text, ref in measured.readings),
@@ -635,13 +636,30 @@ class Investigation:
         stay those at the case's time (DESIGN "Reasoning": the Vehicle Scenario at t)."""
         src = f"vehicle/{case.vehicle}"
         record = case.state.entities.get(src)
-        if at is None or at >= case.t or record is None or not _changed_after(record, at):
+        if at is None or at == case.t or record is None:
+            return case
+        if at > case.t and not self._changed_before(case, record, at):
+            return case
+        if at < case.t and not _changed_after(record, at):
             return case
         then = self._state(case.run, at, case.vehicle, case.monitor).entities.get(src)
         if then is None:
             return case
         merged = {**record, **{kind: then.get(kind) for kind in ("spawn", "state", "ads", "despawned")}}
         return replace(case, state=replace(case.state, entities={**case.state.entities, src: merged}))
+
+    def _changed_before(self, case: _Case, record: dict, at: int) -> bool:
+        """Whether the vehicle's status may have changed between the case's time and its act, later
+        (a camera that flagged the car on its way to the line): an ads.event or a spawn of it in
+        between (its DSSAD record: a driver override just before it crossed), or, for a vehicle on
+        or once on an emergency call, any state in between."""
+        src = f"vehicle/{case.vehicle}"
+        if self.store.source_events(case.run, src, kinds=["ads.event", "entity.spawn"], t_from=case.t + 1, t_to=at):
+            return True
+        spawn = ((record.get("spawn") or {}).get("body") or {}).get("emergency")
+        state = (record.get("state") or {}).get("body") or {}
+        return (spawn is True or state.get("emergency") is True) and bool(
+            self.store.source_events(case.run, src, kinds=["entity.state"], t_from=case.t + 1, t_to=at))
 
     def _weighing(self, case: _Case, mscen: Scenario, vscen: Scenario) -> Weighing:
         """What the case's measurement contradicts and what its margins leave unproven
@@ -1056,6 +1074,37 @@ def _driving_contradicted(vehicle: str, vscen: Scenario, control: Control) -> Fi
     return Finding("contradiction", f"\"{said}\" was stated ({ref.src} #{ref.seq}), but its ads.event record has the "
                    f"feature not engaged at the act (last: {last.get('event')}, {last['src']} #{last['seq']})",
                    (ref, event), fact=said)
+
+
+def _dssad_contradicted(case: _Case, mscen: Scenario, control: Control) -> tuple[Finding, ...]:
+    """Contradictions between the DSSAD record (ads.event, UN R157 8.2.1) as it stood at the act
+    and the other records of who drove: a monitor stating "V is driving itself" while the feature
+    was not engaged, and a spawn that says the vehicle has no automated driving system (a human
+    driver, SAE level under 3) while its DSSAD has the feature engaged. Who drove follows the
+    DSSAD (control.py); the other record is a finding, never silently overruled."""
+    out = []
+    said = IS_DRIVING_ITSELF.text(case.vehicle)
+    last = control.last_ads_event
+    ads_ref = EventRef(case.run, last["src"], last["seq"], last["t"], "ads.event") if last else None
+    ref = next((ref for text, ref in mscen.facts if text == said and ref is not None
+                and ref.kind == "monitor.observation"), None)
+    if ref is not None and not control.engaged:
+        where = (f"its ads.event record has the feature not engaged at the act (last: {last.get('event')}, "
+                 f"{last['src']} #{last['seq']})" if last else "its record has no ads.event: no feature was engaged")
+        out.append(Finding("contradiction", f"\"{said}\" was stated by {ref.src} (#{ref.seq}), but {where}",
+                           (ref,) + ((ads_ref,) if ads_ref else ()), fact=said))
+    spawn = (entity(case.state, case.vehicle) or {}).get("spawn") or {}
+    body = spawn.get("body") or {}
+    level = body.get("automation_level")
+    denies = body.get("driver") == "human" and (level is None or (type(level) is int and level < 3))
+    if control.engaged and denies and ads_ref is not None and spawn.get("src"):
+        spawned = EventRef(case.run, spawn["src"], spawn["seq"], spawn["t"], "entity.spawn")
+        out.append(Finding("contradiction", f"its entity.spawn ({spawned.src} #{spawned.seq}) says a human drives it "
+                           f"with no automated driving system (automation level {level if level is not None else 'not stated'}), "
+                           f"but its ads.event record has the feature engaged at the act ({last.get('event')}, "
+                           f"{last['src']} #{last['seq']}): who drove is read from the DSSAD record",
+                           (spawned, ads_ref), fact=said))
+    return tuple(out)
 
 
 Weighing = tuple[tuple[tuple[str, str, tuple[str, ...]], ...], tuple[tuple[str | None, str], ...], int | None]

@@ -27,6 +27,8 @@ from typing import Any, Iterable
 
 from store import EventRef
 
+from .sensors import Sensor, stated
+
 Point = tuple[float, float]
 
 COMPASS = ("east", "north", "west", "south")
@@ -215,6 +217,7 @@ class Map:
     _grid: dict[tuple[int, int], tuple[int, ...]] = field(default_factory=dict, compare=False, repr=False)
     _around: dict[tuple[int, int], tuple[Junction, ...]] = field(default_factory=dict, compare=False, repr=False)
     _roads_by_id: dict[str, Road] = field(default_factory=dict, compare=False, repr=False)
+    sensors: dict[str, Sensor] = field(default_factory=dict, compare=False)   # monitor src -> stated tolerance
 
     def junction(self, ident: str) -> Junction | None:
         return next((j for j in self.junctions if j.id == ident), None)
@@ -257,7 +260,8 @@ def read_map(start: dict | None) -> Map:
     grid: dict[tuple[int, int], list[int]] = {}
     for n, j in enumerate(junctions):
         grid.setdefault((int(j.x // CELL_M), int(j.y // CELL_M)), []).append(n)
-    return Map(junctions, roads, ref, tuple(problems[:50]), {k: tuple(v) for k, v in grid.items()})
+    return Map(junctions, roads, ref, tuple(problems[:50]), {k: tuple(v) for k, v in grid.items()},
+               sensors=_sensors(raw.get("monitors"), ref))
 
 
 def _items(value: Any, limit: int, what: str, problems: list[str]) -> list[dict]:
@@ -288,6 +292,16 @@ def _monitors(value: Any) -> dict[str, list[tuple[str, Cone | None]]]:
             values = [finite(raw.get(k)) for k in ("x", "y", "heading_deg", "range_m", "fov_deg")]
             cone: Cone | None = None if None in values else tuple(values)     # type: ignore[assignment]
             found.setdefault(raw["junction"], []).append((f"monitor/{raw['id']}", cone))
+    return found
+
+
+def _sensors(value: Any, ref: EventRef | None) -> dict[str, Sensor]:
+    """Each monitor's stated tolerance (its entry's `tolerance`, reasoner/sensors.py), by src."""
+    found: dict[str, Sensor] = {}
+    for raw in value if isinstance(value, list) else []:
+        sensor = stated(raw.get("tolerance"), ref) if isinstance(raw, dict) and isinstance(raw.get("id"), str) else None
+        if sensor is not None:
+            found[f"monitor/{raw['id']}"] = sensor
     return found
 
 

@@ -8,12 +8,20 @@
                             seconds into red-and-amber (TSRGD 2016 Sch 14 Pt 1 para 5(7))
     amber (HC 175)          metres from the line when amber came (with the speed, rule 126's stopping
                             distance at it, and the difference)
-    Stop line (HC 171)      seconds stationary at the Stop line before crossing it (0 when it never stood)
+    Stop line (HC 171)      seconds stationary at the Stop line before crossing it, ± the sampling
+                            intervals either side; where it never stood there, the slowest measured
+                            speed around the line (each interval reaching from 1 m past it to 5 m
+                            before it), ± down to the slowest it can have been between two samples
+                            (tolerance.lowest_between): in doubt where that is a stop
     give way (HC 172)       the hardest deceleration of another road user while the vehicle passed (from
-                            when it set off; none another cause explains: derived.explained), with the
-                            threshold it is held against (FORCE_DECEL_MPS2) and the conflict's measures
-                            (PET, TTC, projected gap, DRAC: reasoner/conflicts.py)
-    box junction (HC 174)   seconds stopped in the box
+                            when it set off; none another cause explains: derived.explained), ± 2 x the
+                            speed tolerance over its interval, with the threshold it is held against
+                            (FORCE_DECEL_MPS2) and the conflict's measures (PET, TTC, projected gap,
+                            DRAC: reasoner/conflicts.py); in doubt where the forcing rests on that
+                            deceleration alone and it is within its ± of the threshold
+    box junction (HC 174)   seconds stopped in the box, ± the sampling intervals either side; in doubt
+                            where no still sample is still beyond the speed tolerance and inside the
+                            box beyond the position tolerance
     speed limit             mph over the limit: the fastest sample of the act's own stretch over the
                             limit of the road it was on then (the stretch around the act's moment)
 
@@ -21,8 +29,9 @@ The rule, where given ("HC 176"), picks the quantity; without one, the action an
 shows do (the light it crossed on, the junction's control). None where the passage holds nothing
 to measure it by.
 
-Each margin of red, amber and speed carries its uncertainty (reasoner/tolerance.py) and, where
-it does not exceed it, `unproven`: why the act is not proved by it (the investigation then finds
+Every margin carries its uncertainty (reasoner/tolerance.py), from the sampling interval and the
+tolerance its source states (or the defaults, which the method then says) and, where it does not
+exceed it, `unproven`: why the act is not proved by it (the investigation then finds
 a conviction not proven). The decisive quantity is the distance to the law's line: for red, the
 seconds from the nearest lawful moment (red's onset before, green's after); for amber, the metres
 beyond or short of rule 126's stopping distance; for speed, the mph over the limit.
@@ -30,13 +39,15 @@ beyond or short of rule 126's stopping distance; for speed, the mph over the lim
 from __future__ import annotations
 
 from .conflicts import PET_MAX_S
-from .derived import _walking, conflict_of, explained, reacting
+from .derived import _course_changed, _walking, conflict_of, explained, reacting
 from .reaction import FORCE_DECEL_MPS2
 from .model import Margin
-from .motion import MPH_PER_MPS, STOPPED_MPS, between
+from .motion import MAX_DECEL_MPS2, MPH_PER_MPS, STOPPED_MPS, Sample, between
 from .passage import Passage
+from .rebuild import PAST_TOLERANCE_M, STOP_ZONE_M
 from .stopping import SOURCE as RULE_126, stopping_distance_m
-from .tolerance import SPEED_TOLERANCE_MPS, beyond_stopping, moment_between, place_between
+from .tolerance import (beyond_stopping, deceleration, lowest_between, moment_between, place_between, sensor_of,
+                        still_between)
 from .when import format_time
 
 SECOND = 1_000_000_000
@@ -81,10 +92,12 @@ def _red(p: Passage) -> Margin | None:
         onset = light
     lag = (c.t - onset.t) / SECOND
     bound = "at least" if p.first_report is not None and onset.ref == p.first_report else None
-    u = round(moment_between(c.moment.used[0], c.moment.used[-1], c.t, c.speed_mps), 3)
+    sensor = sensor_of(p, c.moment.used[0] if c.moment.used else None)
+    u = round(moment_between(c.moment.used[0], c.moment.used[-1], c.t, c.speed_mps, sensor), 3)
     since = (f"red from {'at least as early as ' if bound else ''}{format_time(onset.t)} ({onset.ref.src} "
              f"#{onset.ref.seq}{', its first report: red began at or before it' if bound else ''})")
-    method = f"crossed at {format_time(c.t)} ({c.moment.method}); {since}; ± {u:g} s ({_HOW_MOMENT})"
+    method = (f"crossed at {format_time(c.t)} ({c.moment.method}); {since}; ± {u:g} s ({_HOW_MOMENT}; "
+              f"sensor tolerance {sensor.said})")
     doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None
     figures: list[tuple[str, float, str]] = [("speed at the line", round((c.speed_mps or 0) * MPH_PER_MPS, 1), "mph")]
     quantity, value, lawful = "seconds after red the stop line was crossed", lag, lag
@@ -130,10 +143,11 @@ def _amber(p: Passage) -> Margin | None:
         return None
     a = ambers[-1]
     placed = [s for s in a.used if s.placed]
-    u_place = place_between(placed[0], placed[-1], a.light.t) if placed else None
+    sensor = sensor_of(p, a.used[0] if a.used else None)
+    u_place = place_between(placed[0], placed[-1], a.light.t, sensor) if placed else None
     figures: tuple[tuple[str, float, str], ...] = ()
     u, unproven = (round(u_place, 2) if u_place is not None else None), None
-    weighed = beyond_stopping(a)
+    weighed = beyond_stopping(a, sensor)
     if weighed is not None:
         speed = a.speed_mps * MPH_PER_MPS
         needed = stopping_distance_m(speed)
@@ -146,7 +160,8 @@ def _amber(p: Passage) -> Margin | None:
             unproven = (f"{a.to_line_m:.2f} m from the line against {needed:.2f} m needed to stop: {beyond:+.2f} m, "
                         f"within its uncertainty of ± {u_beyond:g} m")
     method = (f"amber from {format_time(a.light.t)} ({a.light.ref.src} #{a.light.ref.seq}); {a.method}; {RULE_126}; "
-              "± the travel to the farther of the two samples and the position tolerance (reasoner/tolerance.py)")
+              f"± the travel to the farther of the two samples and the sensors' tolerance ({sensor.said}; "
+              "reasoner/tolerance.py)")
     c = p.crossing           # what the record leaves open about the light it crossed on is open here too
     doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None if c else None
     return Margin("metres from the stop line when amber came", round(a.to_line_m, 2), "m",
@@ -159,13 +174,65 @@ def _stop(p: Passage) -> Margin | None:
     end = p.crossing.t if p.crossing else p.end
     stops = [s for s in p.standstills if s.at_line and s.first.t <= end]
     if not stops:
-        doubt = next((n for n in p.uncertain if "could have stopped unseen" in n), None)
-        return Margin("seconds stationary at the Stop line", 0.0, "s", p.crossing.moment.refs if p.crossing else (),
-                      "no sample at the line below 0.5 mph before the crossing", (), doubt)
+        return _rolled(p, end)
     s = max(stops, key=lambda s: s.duration_s)
+    u = round(still_between(s, p.samples), 3)
     return Margin("seconds stationary at the Stop line", round(s.duration_s, 3), "s", (s.first.ref, s.last.ref),
                   f"{s.samples} samples below 0.5 mph from {s.first.label} to {s.last.label}, {s.to_line_m:.1f} m "
-                  "before the line (a lower bound: between the first and the last of them)" + _second_limb(p))
+                  f"before the line (a lower bound: between the first and the last of them; ± {u:g} s: it may have "
+                  "stood from the sample before the first to the one after the last)" + _second_limb(p),
+                  uncertainty=u, bound="at least")
+
+
+def _rolled(p: Passage, end: int) -> Margin:
+    """A vehicle that never stood at its Stop line: the slowest it was measured before the line,
+    and whether the record rules out a stop between two samples (tolerance.lowest_between, with the
+    speed tolerance its source states). Para 1 asks it to stop; the prosecution must prove it did
+    not, so a stop the samples cannot exclude leaves the act unproven."""
+    placed = [s for s in p.samples if s.speed_mps is not None and s.placed]
+    sensor = sensor_of(p, placed[0] if placed else None)
+    timed = [s for s in placed if s.t <= end]
+    for s in placed[len(timed):]:       # past the line by no more than its position tolerance: may be on it
+        if p.line.to_line(s.x, s.y) < -sensor.position_m:
+            break
+        timed.append(s)
+    pairs = [(a, b) for a, b in zip(timed, timed[1:]) if _at_line(p, a, b)]
+    refs = p.crossing.moment.refs if p.crossing else ()
+    if not pairs:
+        doubt = next((n for n in p.uncertain if "could have stopped unseen" in n), None)
+        return Margin("seconds stationary at the Stop line", 0.0, "s", refs,
+                      "no sample at the line below 0.5 mph before the crossing", (), doubt)
+    slowest = min((s for pair in pairs for s in pair), key=lambda s: s.speed_mps)
+    a, b = min(pairs, key=lambda ab: lowest_between(ab[0], ab[1], sensor))
+    lowest = lowest_between(a, b, sensor)
+    value = round(slowest.speed_mps * MPH_PER_MPS, 2)
+    u = round(value - lowest * MPH_PER_MPS, 2)
+    stopped = round(STOPPED_MPS * MPH_PER_MPS, 2)
+    past = -p.line.to_line(slowest.x, slowest.y)
+    unproven = None if lowest > STOPPED_MPS else (
+        f"it was measured standing still at {slowest.label}, {past:.2f} m past the Stop line: within the position "
+        f"tolerance of {sensor.position_m:g} m of it, so it may have stopped at the line"
+        if slowest.speed_mps <= STOPPED_MPS else
+        f"its slowest measured speed before the line, {value:g} mph, is within its uncertainty of ± {u:g} mph of a "
+        f"stop (under {stopped:g} mph): between {a.label} ({a.speed_mps:.2f} m/s) and {b.label} ({b.speed_mps:.2f} "
+        f"m/s), {(b.t - a.t) / SECOND:g} s apart, it could have stood still unseen")
+    figures = (("speed at the line", round((p.crossing.speed_mps or 0) * MPH_PER_MPS, 1), "mph"),) if p.crossing else ()
+    return Margin("slowest measured speed before the Stop line", value, "mph", (slowest.ref, a.ref, b.ref) + refs,
+                  f"{slowest.label}, the slowest of the {len({s for pair in pairs for s in pair})} samples around the "
+                  f"line before it crossed (each interval that reaches from {PAST_TOLERANCE_M:g} m past it to "
+                  f"{STOP_ZONE_M:g} m before it, where a stop is at the line; a sample past it by no more than the "
+                  "position tolerance may be on it), none below 0.5 mph before the line; ± down to the slowest it "
+                  f"can have been between two of them, braking and pulling away at {MAX_DECEL_MPS2:g} m/s², each speed "
+                  f"less its tolerance ({sensor.said}): {lowest * MPH_PER_MPS:.2f} mph between {a.label} and "
+                  f"{b.label}" + _second_limb(p),
+                  figures, None, u, None, unproven)
+
+
+def _at_line(p: Passage, a: Sample, b: Sample) -> bool:
+    """Whether the way between two samples reaches the stretch where a stop is a stop at the line
+    (from PAST_TOLERANCE_M past it to STOP_ZONE_M before it: rebuild's standstill "at the line")."""
+    da, db = p.line.to_line(a.x, a.y), p.line.to_line(b.x, b.y)
+    return min(da, db) <= STOP_ZONE_M and max(da, db) >= -PAST_TOLERANCE_M
 
 
 def _second_limb(p: Passage) -> str:
@@ -189,11 +256,49 @@ def _give_way(p: Passage) -> Margin | None:
         return None
     o = max(braked, key=lambda o: o.braking.decel_mps2)
     b = o.braking
+    sensor = sensor_of(p, b.first)
+    u = round(deceleration(b, sensor), 2)
+    span = (b.last.t - b.first.t) / SECOND
+    unproven = None
+    if _forced_only_within(p, o, u):
+        unproven = (f"{o.user}'s deceleration, {b.decel_mps2:.2f} m/s², is within its uncertainty of ± {u:g} m/s² of "
+                    f"the {FORCE_DECEL_MPS2:g} m/s² from which a change of speed counts as forced, and nothing else "
+                    "measured shows a road user forced or endangered")
     return Margin("deceleration of the other road user", round(b.decel_mps2, 2), "m/s²", (b.first.ref, b.last.ref),
                   f"{o.user}: {b.first.speed_mps:.1f} m/s at {b.first.label} to {b.last.speed_mps:.1f} m/s at "
                   f"{b.last.label}, while {p.vehicle} passed; a change of speed counts as forced from "
-                  f"FORCE_DECEL_MPS2 = {FORCE_DECEL_MPS2:g} m/s² (Hupfer 1997)",
-                  (("its closest to the centre", round(o.closest_m, 1), "m"), *_conflict_figures(p, o)))
+                  f"FORCE_DECEL_MPS2 = {FORCE_DECEL_MPS2:g} m/s² (Hupfer 1997); ± {u:g} m/s²: each speed to within its "
+                  f"tolerance ({sensor.said}), so the drop to within twice that over the {span:g} s between them (the "
+                  "moments are the producer's clock; a harder peak between the samples is not recorded and not "
+                  "assumed: the sampling can hide a harder braking, never make a softer one look harder)",
+                  (("its closest to the centre", round(o.closest_m, 1), "m"), *_conflict_figures(p, o)),
+                  uncertainty=u, unproven=unproven)
+
+
+def _forced_only_within(p: Passage, hardest, u: float) -> bool:
+    """Whether the only measured ground for "would force" or "would endanger" is a braking at
+    FORCE_DECEL_MPS2 or more that lies within its uncertainty of it: then the deciding fact is in
+    doubt. Another road user that came to a stop, changed course, braked beyond doubt, or a
+    pedestrian or cyclist in or entering the path, proves the act whatever this braking shows."""
+    from .derived import _entering
+    doubtful = False
+    for o in reacting(p):
+        if explained(p, o):
+            continue
+        if (_walking(o) or o.type == "cyclist") and _entering(p, o) is not None:
+            return False
+        if _walking(o):
+            continue
+        if o.stopped is not None or _course_changed(p, o) is not None:
+            return False
+        b = o.braking
+        if b is None or b.decel_mps2 < FORCE_DECEL_MPS2:
+            continue
+        spread = u if o is hardest else deceleration(b, sensor_of(p, b.first))
+        if b.decel_mps2 - spread > FORCE_DECEL_MPS2:
+            return False
+        doubtful = True
+    return doubtful
 
 
 def _conflict_figures(p: Passage, other) -> tuple[tuple[str, float, str], ...]:
@@ -219,9 +324,45 @@ def _box(p: Passage) -> Margin | None:
     still = [s for s in inside if s.speed_mps <= STOPPED_MPS]
     if not still:
         return None
+    sensor = sensor_of(p, still[0])
+    timed = [s.t for s in p.samples if s.speed_mps is not None]
+    before = max((t for t in timed if t < still[0].t), default=still[0].t)
+    after = min((t for t in timed if t > still[-1].t), default=still[-1].t)
+    u = round((still[0].t - before + after - still[-1].t) / SECOND, 3)
+    best = max(still, key=lambda s: (s.speed_mps + sensor.speed_mps <= STOPPED_MPS and _depth(p, s) > sensor.position_m,
+                                     -s.speed_mps, _depth(p, s)))
+    depth = _depth(p, best)
+    unproven = None
+    if best.speed_mps + sensor.speed_mps > STOPPED_MPS or depth <= sensor.position_m:
+        unproven = (f"no sample shows it still in the box beyond the sensors' tolerance: the best, {best.label}, "
+                    f"{best.speed_mps:.2f} m/s (± {sensor.speed_mps:g}; still is under {STOPPED_MPS:.2f} m/s) "
+                    f"{depth:.2f} m inside the box's edge (± {sensor.position_m:g} m)")
     return Margin("seconds stopped in the box junction", round((still[-1].t - still[0].t) / SECOND, 3), "s",
                   (still[0].ref, still[-1].ref), f"{len(still)} samples in the box below 0.5 mph, from "
-                  f"{still[0].label} to {still[-1].label}")
+                  f"{still[0].label} to {still[-1].label} (a lower bound; ± {u:g} s: it may have stood from the sample "
+                  f"before the first to the one after the last); sensor tolerance {sensor.said}",
+                  (("slowest speed in the box", round(best.speed_mps * MPH_PER_MPS, 2), "mph"),
+                   ("distance inside the box's edge then", round(depth, 2), "m")),
+                  uncertainty=u, bound="at least", unproven=unproven)
+
+
+def _depth(p: Passage, s: Sample) -> float:
+    """Metres a position lies inside the yellow box's edge (the junction's area where the box is
+    the whole of it; 0 outside)."""
+    j = p.junction
+    if not j.in_box(s.x, s.y):
+        return 0.0
+    if j.box is None:
+        return max(0.0, -j.edge(s.x, s.y))
+    pts = list(j.box) + [j.box[0]]
+    return min(_to_segment(s.x, s.y, a, b) for a, b in zip(pts, pts[1:]))
+
+
+def _to_segment(x: float, y: float, a, b) -> float:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length2 = dx * dx + dy * dy
+    f = 0.0 if length2 == 0 else max(0.0, min(1.0, ((x - a[0]) * dx + (y - a[1]) * dy) / length2))
+    return ((x - a[0] - f * dx) ** 2 + (y - a[1] - f * dy) ** 2) ** 0.5
 
 
 def _speed(p: Passage, at: int | None = None) -> Margin | None:
@@ -241,7 +382,8 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
         return None
     fastest = max(stretch, key=lambda s: s.speed_mps)
     over = round(fastest.speed_mps * MPH_PER_MPS - limit, 1) or 0.0    # never "-0"
-    u = round(SPEED_TOLERANCE_MPS * MPH_PER_MPS, 2)
+    sensor = sensor_of(p, fastest)
+    u = round(sensor.speed_mps * MPH_PER_MPS, 2)
     unproven = None if over > u else (
         f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty of "
         f"± {u:g} mph" if over > -u else
@@ -249,7 +391,7 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     cut = over > 0 and (stretch[0] is timed[0] or stretch[-1] is timed[-1])
     method = (f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} samples "
               f"from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, against its "
-              f"{limit:g} mph; ± the speed tolerance (reasoner/tolerance.py)"
+              f"{limit:g} mph; ± the speed tolerance ({sensor.said}; reasoner/tolerance.py)"
               + ("; the stretch reaches the first or last sample read, so it may have been faster beyond: at least"
                  if cut else ""))
     return Margin("mph over the speed limit", over, "mph", (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),

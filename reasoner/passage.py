@@ -14,6 +14,7 @@ from store import EventRef
 
 from .junctions import Junction, StopLine
 from .motion import Braking, Sample
+from .sensors import Sensor
 from .signals import Light
 
 SECOND = 1_000_000_000
@@ -172,6 +173,8 @@ class Passage:
     roads: tuple[tuple[int, str, float | None], ...] = ()   # (from t, road, limit mph) along lead and samples
     lead: tuple[Sample, ...] = ()   # its own samples read before the passage began, and after it
     trail: tuple[Sample, ...] = ()  # ended: a speeding stretch that reaches into or out of it
+    sensors: tuple[tuple[str, Sensor], ...] = ()   # (src, its stated tolerance) of each source that states
+                                                   # one (reasoner/sensors.py); the others are held to the defaults
 
     def evidence(self) -> frozenset[EventRef]:
         """Every event the passage rests on: no derived fact may cite another."""
@@ -204,6 +207,7 @@ class Passage:
             "first_signal_report": self.first_report.to_json() if self.first_report else None,
             "roads": [{"from": t, "road": road, "limit_mph": limit} for t, road, limit in self.roads],
             "lead": len(self.lead), "trail": len(self.trail),
+            **({"sensors": {src: sensor.to_json() for src, sensor in self.sensors}} if self.sensors else {}),
         }
 
 

@@ -30,6 +30,7 @@ from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, s
 from .others import near_users, own_cause, through
 from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record, Track
+from .sensors import Sensor, stated
 from .signals import Light, changed_between, shown
 from .when import format_time
 
@@ -158,10 +159,22 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
         spawn=EventRef.of(spawn) if spawn else None, others=others, uncertain=tuple(dict.fromkeys(notes)),
         map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None,
         roads=_roads(record, [s for s in lead if s.placed] + placed + [s for s in trail if s.placed]),
-        lead=lead, trail=trail)
+        lead=lead, trail=trail, sensors=_sensors(record, others))
 
 
 # --- the pieces -------------------------------------------------------------------------------
+
+def _sensors(record: Record, others: tuple[Other, ...]) -> tuple[tuple[str, Sensor], ...]:
+    """The stated tolerance of each source the passage reads (DESIGN "Kinds": an entity.spawn's
+    `tolerance` for the road user's own states, a map monitor's for its observations)."""
+    found = dict(record.map.sensors)
+    for spawn in (record.spawn, *(record.spawns(o.user) for o in others)):
+        body = spawn.get("body") if isinstance(spawn, dict) else None
+        sensor = stated(body.get("tolerance"), EventRef.of(spawn)) if isinstance(body, dict) else None
+        if sensor is not None and isinstance(spawn.get("src"), str):
+            found[spawn["src"]] = sensor
+    return tuple(sorted(found.items()))
+
 
 def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from: int, t_to: int) -> tuple[Other, ...]:
     """The others, each that braked or stopped while its record in the window ends before its way

@@ -17,7 +17,8 @@ through (regress_reasons.py), from the rule-by-rule diff of the two rulebooks of
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Sequence
 
 from store import NoSuchRun, Store
@@ -96,6 +97,9 @@ class RunResult:
     baseline: dict[str, dict]            # stage -> {name, sha256, source}
     new: dict[str, dict]
     problems: tuple[str, ...] = ()
+    seconds: dict[str, float] = field(default_factory=dict, compare=False)
+    """Wall time judging its incidents and its decisions ({"incidents": s, "decisions": s}), for
+    JUnit's `time`; not a result, so no part of equality or of the JSON."""
 
     def changed(self) -> list[CaseResult]:
         return [c for c in (*self.incidents, *self.decisions) if c.changed]
@@ -244,13 +248,16 @@ class Regressor:
         return RunPart(result, tuple(_with_stages(self._diffs[k], stages) for k, stages in self._touched.items()))
 
     def run(self, run: str) -> RunResult:
+        started = time.perf_counter()
         base, new = self.before.incidents(run), self.after.incidents(run)
         rs_b, rs_n = self.before.ruleset(run), self.after.ruleset(run)
         diffs = self._stage_diffs(rs_b, rs_n)
         incidents = tuple(self._incident(run, b, n, diffs) for b, n in match(base, new))
+        judged = time.perf_counter()
         decisions = self._decisions(run, rs_b, rs_n)
+        seconds = {"incidents": judged - started, "decisions": time.perf_counter() - judged}
         problems = tuple(dict.fromkeys([*self.before.problems.get(run, []), *self.after.problems.get(run, [])]))
-        return RunResult(run, incidents, decisions, rs_b.describe(), rs_n.describe(), problems)
+        return RunResult(run, incidents, decisions, rs_b.describe(), rs_n.describe(), problems, seconds)
 
     # -- the rulebooks ---------------------------------------------------------------------
     def _diff(self, old: Rulebook, new: Rulebook, stage: str) -> RulebookDiff:
@@ -426,8 +433,10 @@ _new, _set = object.__new__, object.__setattr__             # looked up once, no
 
 
 def _with(case: CaseResult, changes: list[Change]) -> CaseResult:
-    return CaseResult(case.run, case.case, case.id, case.vehicle, case.action, case.t, case.before, case.after,
-                      tuple(changes))
+    """The case with its changes, but only those a reader can see: one whose before and after read
+    alike (a self-driving entity's "no fixed penalty" under a raised fine) is not a change."""
+    seen = tuple(c for c in changes if c.before != c.after)
+    return CaseResult(case.run, case.case, case.id, case.vehicle, case.action, case.t, case.before, case.after, seen)
 
 
 def _answer(permitted: bool | None) -> str:

@@ -19,8 +19,9 @@ from __future__ import annotations
 
 import json
 import tempfile
+import time
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator, Sequence
 
@@ -72,6 +73,7 @@ class Judged:
 
     incidents: tuple[Verdict, ...]
     decisions: dict[str, tuple[str, str]]          # decision id -> (goal, answer)
+    seconds: dict[str, float] = field(default_factory=dict, compare=False)   # judging time, for JUnit only
 
     def to_json(self) -> dict[str, Any]:
         return {"incidents": [v.to_json() for v in self.incidents],
@@ -143,12 +145,16 @@ def judge(store: Store, runs: Sequence[str], rules: Sequence[str] = (), engine: 
     reader = FactReader()
     out, books = {}, {}
     for run in runs:
+        started = time.perf_counter()
         rs = inv.ruleset(run)
         decisions = {}
         for d in recorded_decisions(store, run):
             answer = ask(engine, reader, vehicle_choice(rs, d), d).permitted
             decisions[d.id] = (str(d.goal), {True: "permitted", False: "forbidden"}.get(answer, "not answerable"))
-        out[run] = Judged(tuple(Verdict.of(inc) for inc in inv.incidents(run)), decisions)
+        asked = time.perf_counter()
+        verdicts = tuple(Verdict.of(inc) for inc in inv.incidents(run))
+        out[run] = Judged(verdicts, decisions, {"decisions": asked - started,
+                                                "incidents": time.perf_counter() - asked})
         books = {stage: {"name": Path(c["name"]).name, "sha256": c["sha256"]} for stage, c in rs.describe().items()}
     return out, books
 
@@ -162,7 +168,7 @@ def compare(golden: Golden, judged: dict[str, Judged], books: dict[str, dict]) -
         incidents = tuple(_incident(run, a, b, why) for a, b in match(approved.incidents, now.incidents))
         decisions = tuple(_decision(run, key, approved.decisions.get(key), now.decisions.get(key), why)
                           for key in dict.fromkeys([*approved.decisions, *now.decisions]))
-        results.append(RunResult(run, incidents, decisions, golden.rulebooks, books))
+        results.append(RunResult(run, incidents, decisions, golden.rulebooks, books, seconds=now.seconds))
     return Regression((), IN_FORCE, tuple(results), ())
 
 
@@ -174,12 +180,19 @@ def write_golden(golden: Golden, judged: dict[str, Judged], books: dict[str, dic
 
 
 def _why(approved: dict[str, dict], now: dict[str, dict]) -> tuple[str, ...]:
-    changed = [f"{stage}: {now[stage]['name']} {approved[stage]['sha256'][:12]} -> {now[stage]['sha256'][:12]}"
+    changed = [_changed(stage, approved[stage], now[stage])
                for stage in now if stage in approved and approved[stage].get("sha256") != now[stage]["sha256"]]
     said = ("the rulebooks changed since approval (" + "; ".join(changed) + ")") if changed else \
         "the judgement differs from the approved one with the same rulebooks (the reasoner changed)"
     return (said, "it is not approved: `gaps regress --rules NEW --baseline OLD --run R` names the rules that "
                   "changed; " + APPROVE)
+
+
+def _changed(stage: str, approved: dict, now: dict) -> str:
+    """A stage's rulebook then and now, each hash beside its own file's name."""
+    before = f"{approved.get('name')} {str(approved.get('sha256'))[:12]}"
+    after = now["sha256"][:12] if approved.get("name") == now["name"] else f"{now['name']} {now['sha256'][:12]}"
+    return f"{stage}: {before} -> {after}"
 
 
 def _incident(run: str, a: Verdict | None, b: Verdict | None, why: tuple[str, ...]) -> CaseResult:

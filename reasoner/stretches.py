@@ -19,7 +19,7 @@ This module measures and delimits; it decides nothing.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Iterable
 
 from store import EventRef, Store
@@ -27,7 +27,7 @@ from store import EventRef, Store
 from .junctions import Map
 from .model import Act, DerivedFact, Margin
 from .motion import MPH_PER_MPS, mph
-from .tolerance import SPEED_TOLERANCE_MPS
+from .sensors import DEFAULT, Sensor, stated
 from .vocabulary import HAS_SPEED_OF, SPEED_LIMIT_IS
 
 SECOND = 1_000_000_000
@@ -60,6 +60,7 @@ class Stretch:
     series: str                         # which measurements: "own entity.state" or "monitors' measurements"
     open_start: bool
     open_end: bool
+    sensors: tuple[tuple[str, Sensor], ...] = ()    # (src, its stated tolerance): reasoner/sensors.py
 
     @property
     def start(self) -> int:
@@ -101,7 +102,8 @@ class Stretch:
         if p.limit_mph is None:
             return None
         over = round(p.speed_mps * MPH_PER_MPS - p.limit_mph, 1) or 0.0       # never "-0"
-        u = round(SPEED_TOLERANCE_MPS * MPH_PER_MPS, 2)
+        sensor = next((sensor for src, sensor in self.sensors if src == p.ref.src), DEFAULT)
+        u = round(sensor.speed_mps * MPH_PER_MPS, 2)
         unproven = None if over > u else (
             f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty "
             f"of ± {u:g} mph" if over > -u else
@@ -109,7 +111,8 @@ class Stretch:
         cut = over > 0 and (self.open_start or self.open_end)
         return Margin("mph over the speed limit", over, "mph", (p.ref,),
                       f"fastest {p.speed_mps:.2f} m/s ({p.ref.src} #{p.ref.seq}) of the stretch over the limit "
-                      f"against road {p.road}'s {p.limit_mph:g} mph; ± the speed tolerance (reasoner/tolerance.py)"
+                      f"against road {p.road}'s {p.limit_mph:g} mph; ± the speed tolerance ({sensor.said}; "
+                      "reasoner/tolerance.py)"
                       + ("; the stretch reaches the first or last measurement read, so it may have been faster "
                          "beyond: at least" if cut else ""),
                       uncertainty=u, bound="at least" if cut else None, unproven=unproven)
@@ -169,9 +172,25 @@ def stretch_at(store: Store, run: str, vehicle: str, t: int, map_: Map) -> Stret
     own = measured(store.source_events(run, f"vehicle/{vehicle}", kinds=["entity.state"], t_from=lo, t_to=hi),
                    map_, vehicle)
     if own:
-        return stretch_around(own, t, vehicle, "own entity.state", (lo, hi))
+        found = stretch_around(own, t, vehicle, "own entity.state", (lo, hi))
+        spawns = list(store.source_events(run, f"vehicle/{vehicle}", kinds=["entity.spawn"], t_to=t))
+        return with_sensors(found, map_, spawns[-1] if spawns else None)
     seen = measured(store.observations_of(run, vehicle, t_from=lo, t_to=hi), map_, vehicle)
-    return stretch_around(seen, t, vehicle, "monitors' measurements", (lo, hi)) if seen else None
+    return with_sensors(stretch_around(seen, t, vehicle, "monitors' measurements", (lo, hi)), map_, None) \
+        if seen else None
+
+
+def with_sensors(stretch: Stretch | None, map_: Map, spawn: dict | None) -> Stretch | None:
+    """The stretch with the tolerance its sources state: the monitors' in the map, the road
+    user's own in its entity.spawn (DESIGN "Kinds": `tolerance`)."""
+    if stretch is None:
+        return None
+    found = dict(map_.sensors)
+    body = spawn.get("body") if isinstance(spawn, dict) else None
+    sensor = stated(body.get("tolerance"), EventRef.of(spawn)) if isinstance(body, dict) else None
+    if sensor is not None and isinstance(spawn.get("src"), str):
+        found[spawn["src"]] = sensor
+    return replace(stretch, sensors=tuple(sorted(found.items()))) if found else stretch
 
 
 def act_of(stretch: Stretch | None) -> Act | None:

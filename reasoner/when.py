@@ -23,6 +23,7 @@ Decisions:
 from __future__ import annotations
 
 import re
+from decimal import Decimal
 from datetime import datetime, timedelta, timezone
 
 from store import GapsError
@@ -133,13 +134,46 @@ def format_time_short(t_ns: int) -> str:
 
 
 def format_duration(ns: int) -> str:
-    """12.35 s, or 1:02:03.5 (hours:minutes:seconds) from a minute on; to the millisecond."""
-    ms = ns // 1_000_000
-    if ms < 60_000:
-        return _trim(f"{ms // 1000}.{ms % 1000:03d}") + " s"
-    minutes, ms = divmod(ms, 60_000)
-    hours, minutes = divmod(minutes, 60)
-    return _trim(f"{hours}:{minutes:02d}:{ms // 1000:02d}.{ms % 1000:03d}")
+    """A length of time written one way everywhere, the way `--at` and `--duration` read it back
+    exactly: 12.35s, 1m, 1h2m3.5s (issue 39: "5 s" and "0:01:00" stood in one table)."""
+    hours, rest = divmod(ns, 3600 * SECOND)
+    minutes, rest = divmod(rest, 60 * SECOND)
+    seconds = format_offset(rest)[1:] if rest or not (hours or minutes) else ""
+    return f"{f'{hours}h' if hours else ''}{f'{minutes}m' if minutes else ''}{seconds}"
+
+
+def format_seconds(seconds: float, places: int = 1) -> str:
+    """A measured length in seconds (a wall-clock time), rounded to `places` decimals and written
+    as format_duration writes every duration: 12.3s, 1m4.5s."""
+    return format_duration(round(seconds * 10**places) * 10**(9 - places))
+
+
+class DurationError(GapsError, ValueError):
+    """A length of time that cannot be read; the message shows the forms that can."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(f"{text!r} is not a duration: write e.g. 90s, 10m, 1h30m, 1.5h or plain seconds")
+
+
+_DURATION = re.compile(r"(\d+(?:\.\d+)?)(s|m|min|h)?", re.ASCII)
+_DURATION_UNITS = {"": SECOND, "s": SECOND, "m": 60 * SECOND, "min": 60 * SECOND, "h": 3600 * SECOND}
+
+
+def parse_duration(text: str) -> int:
+    """The one parser of a length of time (`gaps sim --duration`, and what format_duration
+    writes), in ns, above zero: a number with a unit (90s, 10m, 10min, 1.5h), plain seconds, or
+    hours, minutes and seconds as `--at` takes them (1h30m, 1m2.5s). Zenoh's `_time` selectors
+    keep their own grammar (ingest/time_range.py): it is Zenoh's, with units of its own."""
+    given = (text or "").strip()
+    ns = 0
+    if len(given) <= _LONGEST:
+        if single := _DURATION.fullmatch(given):
+            ns = int(Decimal(single[1]) * _DURATION_UNITS[single[2] or ""])
+        elif (parts := _RELATIVE.fullmatch(given)) and not parts[1]:
+            ns = _relative_ns(given, parts)
+    if ns <= 0:
+        raise DurationError(text)
+    return ns
 
 
 def _relative_ns(text: str, match: re.Match) -> int:

@@ -1,6 +1,6 @@
 """Every margin within its stated uncertainty of a check computed from the raw events (issue 36).
 
-Each incident's margin (red light, amber, speeding) is measured again here from the run's own
+Each incident's margin (red light, amber, speeding, the Stop line, give way, box junction) is measured again here from the run's own
 events, read through the store's public API alone: the vehicle's entity.state samples, the
 signal.state events and the run.start map. None of the reasoner's passages, stretches or margin
 code is used; the reasoner is asked only for its incidents and the margins they state.
@@ -23,6 +23,21 @@ code is used; the reasoner is asked only for its incidents and the margins they 
   run is near, the raw events show no excess near the act: the margin is then within when it
   states none either (not over by more than its uncertainty), whatever the exact shortfall (the
   fastest sample on the road within STRETCH_GAP_S of the act is shown).
+
+- Stop line, never stood ("slowest measured speed before the Stop line"): the vehicle's crossing
+  of a stop line of the act's junction as for red; its entity.state samples before it (and those
+  after it still within ON_LINE_M of the line, the position tolerance: they may be on it), two
+  consecutive ones whose way meets the stretch from LINE_REACH_M past that line to AT_LINE_M before
+  it; their slowest speed in mph.
+- Stop line, stood ("seconds stationary at the Stop line"): the longest run of consecutive
+  samples under 0.5 mph before the crossing whose last is from LINE_REACH_M past the line to
+  AT_LINE_M before it; its first to its last sample.
+- give way ("deceleration of the other road user"): the two samples of the other road user the
+  margin cites, read again from the raw events (its own entity.state at those moments, or the
+  camera's observation by its source and seq): the drop in speed over the time between them.
+- box junction ("seconds stopped in the box junction"): the vehicle's samples under 0.5 mph inside
+  the act's junction's yellow box polygon (the map's `box`; a box given as `true` is unchecked),
+  near the incident's moment: the unbroken run of them around it, its first to its last sample.
 
 A margin is within when |script - reasoner| <= the reasoner's uncertainty + SLACK (the script's
 own rounding and interpolation: the reasoner rounds seconds to 1 ms, metres to 1 cm, mph to 0.1).
@@ -47,7 +62,11 @@ STRETCH_GAP_S = 3.0
 NEVER_OVER = "never over the limit within STRETCH_GAP_S of the act"
 SNAP_M = 15.0                 # a sample without a road of the map is on the nearest road this close
 LINE_REACH_M = 1.0            # a path meeting a stop line within this of its ends still crosses it
-SLACK = {"s": 0.002, "m": 0.02, "mph": 0.06}
+SLACK = {"s": 0.002, "m": 0.02, "mph": 0.06, "m/s²": 0.01}
+STILL_MPS = 0.5 / MPH_PER_MPS  # a speed that rounds to 0 mph
+AT_LINE_M = 5.0               # a standstill whose last sample is this close before the line is at it
+ON_LINE_M = 0.1               # a sample this close past a line (the default position tolerance) may be on it
+BOX_NEAR_S = 30.0             # a box standstill this close to the incident's moment is its act
 RED = ("red", "red_amber")
 
 
@@ -58,6 +77,7 @@ class Raw:
     the_map: dict
     tracks: dict[str, list[tuple]] = field(default_factory=lambda: defaultdict(list))
     signals: dict[tuple[str, str], list[tuple[int, str]]] = field(default_factory=lambda: defaultdict(list))
+    measured: dict[tuple[str, int], tuple[int, float]] = field(default_factory=dict)   # a camera's (src, seq): t, speed
 
 
 @dataclass(frozen=True)
@@ -82,9 +102,12 @@ def read(store: Any, run: str) -> Raw:
     """The run's map, samples and signal reports, through the store's public API."""
     start = next(store.events(run, kinds=["run.start"]), None)
     raw = Raw((start or {}).get("body", {}).get("map") or {})
-    for e in store.events(run, kinds=["entity.state", "signal.state"]):
+    for e in store.events(run, kinds=["entity.state", "signal.state", "monitor.observation"]):
         b = e["body"]
-        if e["kind"] == "signal.state":
+        if e["kind"] == "monitor.observation":
+            if isinstance(b.get("speed_mps"), (int, float)):
+                raw.measured[(e["src"], e["seq"])] = (e["t"], b["speed_mps"])
+        elif e["kind"] == "signal.state":
             raw.signals[(str(b.get("junction")), str(b.get("approach")))].append((e["t"], b.get("colour")))
         elif isinstance(b.get("x"), (int, float)) and isinstance(b.get("y"), (int, float)):
             raw.tracks[e["src"].split("/", 1)[1]].append((e["t"], b["x"], b["y"], b.get("speed_mps"), b.get("road")))
@@ -242,6 +265,108 @@ def _road(inc: dict) -> str | None:
     return None
 
 
+# --- the Stop line, Give Way and box margins ---------------------------------------------------------
+
+def _approach(raw: Raw, inc: dict) -> tuple[list[tuple], dict, dict, int] | str:
+    """The vehicle's samples before its crossing of a stop line of the act's junction, with the
+    line, the junction and the moment; else why there are none."""
+    c = crossing(raw, inc["vehicle"], _where(inc), inc["t"])
+    if c is None:
+        return "no stop-line crossing in the vehicle's entity.state"
+    t, line, j = c
+    return [s for s in raw.tracks[inc["vehicle"]] if s[0] <= t], line, j, t
+
+
+def stop_slowest(raw: Raw, inc: dict) -> tuple[float | None, str]:
+    found = _approach(raw, inc)
+    if isinstance(found, str):
+        return None, found
+    before, line, j, t = found
+    centre = (j["x"], j["y"])
+    after = [s for s in raw.tracks[inc["vehicle"]] if s[0] > t]
+    while after and _to_line(after[0][1], after[0][2], line, centre) >= -ON_LINE_M:
+        before.append(after.pop(0))          # within the position tolerance of the line: not yet past it
+    timed = [s for s in before if isinstance(s[3], (int, float))]
+    near = set()
+    for p, q in zip(timed, timed[1:]):
+        dp, dq = _to_line(p[1], p[2], line, centre), _to_line(q[1], q[2], line, centre)
+        if min(dp, dq) <= AT_LINE_M and max(dp, dq) >= -LINE_REACH_M:
+            near |= {p, q}
+    if not near:
+        return None, "no interval between samples reaches the line's stretch"
+    return min(s[3] for s in near) * MPH_PER_MPS, f"{len(near)} samples around {j['id']}'s line"
+
+
+def stop_stood(raw: Raw, inc: dict) -> tuple[float | None, str]:
+    found = _approach(raw, inc)
+    if isinstance(found, str):
+        return None, found
+    before, line, j, _ = found
+    runs: list[list[tuple]] = []
+    still = False
+    for s in before:
+        now = isinstance(s[3], (int, float)) and s[3] <= STILL_MPS
+        if now and still:
+            runs[-1].append(s)
+        elif now:
+            runs.append([s])
+        still = now
+    centre = (j["x"], j["y"])
+    at = [r for r in runs if -LINE_REACH_M <= _to_line(r[-1][1], r[-1][2], line, centre) <= AT_LINE_M]
+    if not at:
+        return None, "no standstill at the line in the raw events"
+    return max((r[-1][0] - r[0][0]) / SECOND for r in at), f"{len(at)} standstill(s) at {j['id']}"
+
+
+def give_way(raw: Raw, inc: dict) -> tuple[float | None, str]:
+    cited = inc["margin"].get("evidence") or []
+    if len(cited) != 2:
+        return None, "the margin cites no two samples"
+    speeds = []
+    for e in cited:
+        src = str(e.get("src", ""))
+        if src.startswith("monitor/"):
+            speeds.append(raw.measured.get((src, e.get("seq"))))
+        else:
+            found = next((s for s in raw.tracks.get(src.split("/", 1)[-1], []) if s[0] == e.get("t")), None)
+            speeds.append((found[0], found[3]) if found and isinstance(found[3], (int, float)) else None)
+    a, b = speeds
+    if a is None or b is None or b[0] <= a[0]:
+        return None, "the cited samples are not in the run's entity.state or observations"
+    return (a[1] - b[1]) / ((b[0] - a[0]) / SECOND), f"{cited[0]['src']} over {(b[0] - a[0]) / SECOND:g} s"
+
+
+def box(raw: Raw, inc: dict) -> tuple[float | None, str]:
+    js = _junctions(raw, _where(inc))
+    polygons = [j["box"] for j in js if isinstance(j.get("box"), list)]
+    if not polygons:
+        return None, "no box polygon in the map"
+    runs: list[list[tuple]] = []
+    still = False
+    for s in raw.tracks.get(inc["vehicle"], []):
+        now = (isinstance(s[3], (int, float)) and s[3] <= STILL_MPS
+               and any(_in_polygon(s[1], s[2], poly) for poly in polygons))
+        if now and still:
+            runs[-1].append(s)
+        elif now:
+            runs.append([s])
+        still = now
+    near = [r for r in runs if r[0][0] - BOX_NEAR_S * SECOND <= inc["t"] <= r[-1][0] + BOX_NEAR_S * SECOND]
+    if not near:
+        return None, "no standstill in the box near the act"
+    best = min(near, key=lambda r: 0 if r[0][0] <= inc["t"] <= r[-1][0] else min(abs(inc["t"] - r[0][0]),
+                                                                                 abs(inc["t"] - r[-1][0])))
+    return (best[-1][0] - best[0][0]) / SECOND, f"{len(best)} still samples in the box"
+
+
+def _in_polygon(x: float, y: float, poly: list) -> bool:
+    inside = False
+    for (ax, ay), (bx, by) in zip(poly, poly[1:] + poly[:1]):
+        if (ay > y) != (by > y) and x < ax + (y - ay) * (bx - ax) / (by - ay):
+            inside = not inside
+    return inside
+
+
 # --- judging one margin ----------------------------------------------------------------------------
 
 def check_one(raw: Raw, inc: dict) -> Result | None:
@@ -259,6 +384,14 @@ def check_one(raw: Raw, inc: dict) -> Result | None:
         kind, (script, note) = "amber", amber(raw, inc)
     elif q.startswith("mph over the speed limit"):
         kind, (script, note) = "speeding", speeding(raw, inc, _road(inc))
+    elif q == "slowest measured speed before the Stop line":
+        kind, (script, note) = "stop", stop_slowest(raw, inc)
+    elif q == "seconds stationary at the Stop line":
+        kind, (script, note) = "stood", stop_stood(raw, inc)
+    elif q == "deceleration of the other road user":
+        kind, (script, note) = "give way", give_way(raw, inc)
+    elif q == "seconds stopped in the box junction":
+        kind, (script, note) = "box", box(raw, inc)
     else:
         return None
     if script is None:
@@ -278,15 +411,18 @@ def check_one(raw: Raw, inc: dict) -> Result | None:
     return Result(inc["id"], kind, value, u, bound, script, within, note)
 
 
+KINDS = ("red", "amber", "speeding", "stop", "stood", "give way", "box")
+
+
 def check_all(raw: Raw, incidents: list[dict]) -> list[Result]:
     return [r for r in (check_one(raw, i) for i in incidents) if r is not None]
 
 
 def table(run: str, total: int, results: list[Result]) -> str:
-    rows = [f"{run}: {total} incidents, {len(results)} with a red, amber or speeding margin",
+    rows = [f"{run}: {total} incidents, {len(results)} with a margin this script checks",
             f"  {'kind':<10} {'margins':>7} {'checked':>7} {'within':>6} {'outside':>7} {'unchecked':>9} "
             f"{'max |diff|':>10} {'max u':>6}"]
-    for kind in ("red", "amber", "speeding"):
+    for kind in KINDS:
         mine = [r for r in results if r.kind == kind]
         checked = [r for r in mine if r.within is not None]
         inside = sum(1 for r in checked if r.within)

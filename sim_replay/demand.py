@@ -1,8 +1,10 @@
 """Who takes part in a run, and when and where each sets off: drawn once, from the seed, before the run.
 
 Vehicles enter at the network's edges that come in from outside (a road end that is not a
-junction) and leave by one that goes out, never back the way they came; the mix of kinds and
-drivers follows the config's shares. Pedestrians walk between two arms of a junction, which takes
+junction) and leave by one that goes out, never back the way they came; a network with no road
+ends (a closed grid) lets them set off on any edge and leave by any other. The mix of kinds and
+drivers follows the config's shares. A routes file of the user's replaces the drawing
+(sim_replay.routes_file), with the same kinds of Departure and Walk. Pedestrians walk between two arms of a junction, which takes
 them over its crossings. Each road user gets a random stream of its own, so adding one does not
 change the others' behaviour.
 """
@@ -28,6 +30,7 @@ class Departure:
     unmarked: bool
     entry: str             # edge ids
     exit: str
+    route: tuple[str, ...] = ()   # the whole route where it is given (a routes file); else SUMO finds one
 
 
 @dataclass(frozen=True)
@@ -38,7 +41,8 @@ class Walk:
     to_edge: str
 
 
-def _ends(network: Network) -> tuple[list[str], list[str]]:
+def _ends(network: Network) -> tuple[list[str], list[str], bool]:
+    """Where vehicles enter and leave, and whether the network is closed (has no road ends)."""
     entries, exits = [], []
     for edge in sorted(network.net.getEdges(withInternal=False), key=lambda e: e.getID()):
         if not any(lane.allows("passenger") for lane in edge.getLanes()):
@@ -47,12 +51,29 @@ def _ends(network: Network) -> tuple[list[str], list[str]]:
             entries.append(edge.getID())
         if edge.getToNode().getID() not in network.junctions:
             exits.append(edge.getID())
-    return entries, exits
+    if not entries or not exits:           # a closed network: anywhere to anywhere else it leads to
+        every = [e.getID() for e in sorted(network.net.getEdges(withInternal=False), key=lambda e: e.getID())
+                 if any(lane.allows("passenger") for lane in e.getLanes())]
+        return [e for e in every if len(_reachable(network, e)) > 1], every, True
+    return entries, exits, False
+
+
+def _reachable(network: Network, start: str) -> set[str]:
+    """The edges a car can drive to from an edge (itself included), by the network's connections."""
+    seen, todo = {start}, [network.net.getEdge(start)]
+    while todo:
+        edge = todo.pop()
+        for nxt, connections in edge.getOutgoing().items():
+            if nxt.getID() not in seen and any(c.getFromLane().allows("passenger") and c.getToLane().allows("passenger")
+                                               for c in connections):
+                seen.add(nxt.getID())
+                todo.append(nxt)
+    return seen
 
 
 def plan(config: SimConfig, network: Network, rng: random.Random) -> tuple[list[Departure], list[Walk]]:
     """Every departure and walk of the run, in time order."""
-    entries, exits = _ends(network)
+    entries, exits, closed = _ends(network)
     window = max(1.0, config.duration_s * config.depart_within)
     departures = []
     for n in range(config.vehicles):
@@ -70,7 +91,12 @@ def plan(config: SimConfig, network: Network, rng: random.Random) -> tuple[list[
             kind, role = "car", "autonomous" if rng.random() < config.av_share else "human"
         entry = rng.choice(entries)
         back = network.net.getEdge(entry).getFromNode().getID()
-        exit_ = rng.choice([e for e in exits if network.net.getEdge(e).getToNode().getID() != back])
+        if closed:
+            reach = _reachable(network, entry) - {entry}
+            exit_ = rng.choice([e for e in exits if e in reach and network.net.getEdge(e).getToNode().getID() != back]
+                               or sorted(reach))
+        else:
+            exit_ = rng.choice([e for e in exits if network.net.getEdge(e).getToNode().getID() != back])
         departures.append(Departure(str(101 + n), round(rng.uniform(0.0, window), 1), kind, role, unmarked,
                                     entry, exit_))
     departures.sort(key=lambda d: (d.depart_s, d.id))
@@ -78,8 +104,8 @@ def plan(config: SimConfig, network: Network, rng: random.Random) -> tuple[list[
     for j in network.junctions.values():
         arms[j.id] = sorted({a.edge for a in j.approaches})
     walks = []
-    junctions = sorted(arms)
-    for n in range(config.pedestrians):
+    junctions = sorted(j for j, its in arms.items() if len(its) >= 2)
+    for n in range(config.pedestrians if junctions else 0):
         j = rng.choice(junctions)
         a, b = rng.sample(arms[j], 2)
         walks.append(Walk(f"p{n + 1}", round(rng.uniform(0.0, window), 1), a, _out_edge(network, b)))

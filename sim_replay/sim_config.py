@@ -47,13 +47,16 @@ LOSSY_KINDS = ("entity.state", "monitor.observation", "vehicle.perception")
 @dataclass(frozen=True)
 class SimConfig:
     """One simulation run. `map` names a bundled map (sim_replay.maps); `net` and `monitors`
-    (paths) replace it with any SUMO network and monitors file."""
+    (paths) replace it with any SUMO network and monitors file (none: no cameras; `gaps sim`
+    then writes the network's file name in `map`, for a reader of the config); `routes`
+    (paths of .rou.xml files) replace the drawn vehicles and pedestrians with the files'."""
 
     run: str = "sim-001"
     seed: int = 0
     map: str = "paper"
     net: str | None = None
     monitors: str | None = None
+    routes: tuple[str, ...] = ()
     vehicles: int = 40
     duration_s: float = 180.0
     rate_hz: float = 10.0              # entity.state and monitor.observation per road user per second
@@ -77,6 +80,7 @@ class SimConfig:
 
     def to_json(self) -> dict[str, Any]:
         out = asdict(self)
+        out["routes"] = list(self.routes)
         out["behaviour"]["speeding_factor"] = list(self.behaviour.speeding_factor)
         out["behaviour"]["reaction_s"] = list(self.behaviour.reaction_s)
         return out

@@ -39,6 +39,8 @@ from sim_replay.faults import Faults, stream
 from sim_replay.maps import map_files
 from sim_replay.monitors import read_monitors
 from sim_replay.net_map import world_map
+from sim_replay.own_network import refusal
+from sim_replay.routes_file import read_routes
 from sim_replay.senses import Around
 from sim_replay.rounding import hundredths, tenths
 from sim_replay.sim_config import SimConfig
@@ -101,9 +103,10 @@ class Simulation:
         self.account = account
         self.progress = progress
         self._given = (departures, walks)
-        files = map_files(config.map)
+        files = None if config.net else map_files(config.map)
         self.net_path = Path(config.net) if config.net else files.net
-        self.monitors_path = Path(config.monitors) if config.monitors else files.monitors
+        # a network of the user's has the cameras its monitors file says, none without one
+        self.monitors_path = Path(config.monitors) if config.monitors else files.monitors if files else None
         self.truth = Truth(config.run, config.seed, config.to_json())
         self.faults = Faults(config.faults, config.seed, self.truth)
         self.books = Rulebooks()
@@ -134,9 +137,13 @@ class Simulation:
             self.world = world
             account = Account(routes, world.modes) if self.account else None
             network = world.network
-            monitors = read_monitors(self.monitors_path, set(network.junctions)) if self.monitors_path.is_file() else ()
+            why_not = refusal(network)
+            if why_not is not None:
+                raise WorldError(why_not)
+            monitors = read_monitors(self.monitors_path, set(network.junctions)) \
+                if self.monitors_path is not None and self.monitors_path.is_file() else ()
             self.watchers = Watchers(monitors, self.books, self.faults)
-            departures, walks = plan(c, network, stream(c.seed, "demand"))
+            departures, walks = self._demand(network)
             if self._given[0] is not None:
                 departures = sorted(self._given[0], key=lambda d: (d.depart_s, d.id))
             if self._given[1] is not None:
@@ -201,6 +208,17 @@ class Simulation:
 
     # --- putting road users on the network ----------------------------------------------------
 
+    def _demand(self, network) -> tuple[list[Departure], list[Walk]]:
+        """Who sets off when: drawn from the seed, or the routes files' (the truth keeps each road
+        user's id in its file)."""
+        c = self.config
+        self._file_ids: dict[str, str] = {}
+        if not c.routes:
+            return plan(c, network, stream(c.seed, "demand"))
+        demand = read_routes([Path(r) for r in c.routes], network, c, stream(c.seed, "demand"))
+        self._file_ids = demand.file_ids
+        return demand.departures, demand.walks
+
     def _add(self, d: Departure) -> None:
         c = self.config
         rng = stream(c.seed, f"vehicle:{d.id}")
@@ -208,7 +226,7 @@ class Simulation:
         if d.role != "human":
             profile = drivers.Profile("careful", profile.reaction_s, recorder=True)
         try:
-            route = self.world.route(d.entry, d.exit, d.kind)
+            route = d.route or self.world.route(d.entry, d.exit, d.kind)
             self.world.add_vehicle(d.id, d.kind, route, depart_pos=0.0, depart_speed="max")
         except WorldError:
             return
@@ -225,6 +243,8 @@ class Simulation:
         self.truth.road_user(d.id, type=d.kind, driver=agent.driver, role=d.role, unmarked=d.unmarked,
                              profile=profile.name, recorder=agent.recorder, entry=d.entry, exit=d.exit,
                              automation_level=agent.ads.level if agent.ads else 0, on_call_at_start=agent.on_call)
+        if d.id in self._file_ids:
+            self.truth.road_user(d.id, routes_file_id=self._file_ids[d.id], route=list(route))
 
     def _walk(self, w: Walk) -> None:
         edge = self.world.network.net.getEdge(w.from_edge)
@@ -234,6 +254,8 @@ class Simulation:
         except WorldError:
             return
         self.truth.road_user(w.id, type="pedestrian", driver="none", walk=[w.from_edge, w.to_edge])
+        if w.id in self._file_ids:
+            self.truth.road_user(w.id, routes_file_id=self._file_ids[w.id])
 
     # --- one tick -----------------------------------------------------------------------------
 

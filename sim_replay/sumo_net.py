@@ -7,8 +7,9 @@ approach of the same junction the same way:
 
     road       an edge's `name` (the plain files name edges after the road they belong to); an
                unnamed edge is its own road
-    junction   a node where at least three arms meet, or one with signals (a dead end or a bend is
-               not a junction)
+    junction   a node where at least three arms meet, or one with signals that two or more roads
+               (or directions) come into (a dead end or a bend is not a junction, nor a road end
+               that a generator gave a signal)
     approach   an incoming edge of a junction, named as signal.state and the reasoner name it: by
                where its traffic comes from, the compass sector of its stop line seen from the
                junction's centre (reasoner.junctions.sector)
@@ -172,12 +173,12 @@ def _xy(p) -> Point:
 
 
 def _is_junction(node) -> bool:
-    if node.getType() in SIGNAL_TYPES:
-        return True
     if node.getType() in ("dead_end", "internal"):
         return False
     neighbours = {e.getFromNode().getID() for e in node.getIncoming() if not e.isSpecial()} | \
                  {e.getToNode().getID() for e in node.getOutgoing() if not e.isSpecial()}
+    if node.getType() in SIGNAL_TYPES:      # signals where two ways in meet, or on a road (not at its end)
+        return len(_incoming(node)) >= 2
     return len(neighbours - {node.getID()}) >= 3
 
 
@@ -194,6 +195,11 @@ def _lane_kind(lane) -> str:
     function = lane.getEdge().getFunction()
     if function in ("crossing", "walkingarea", "internal"):
         return function
+    return _permitted_kind(lane)
+
+
+def _permitted_kind(lane) -> str:
+    """road, sidewalk or cycle, by who may use the lane."""
     allowed = lane.getPermissions()
     if allowed == {"pedestrian"}:
         return "sidewalk"
@@ -291,6 +297,8 @@ def _lane(lane, junction_ids: set[str], approaches: dict[str, Approach]) -> Lane
     kind = _lane_kind(lane)
     if edge.getFunction():
         junction = edge.getID()[1:].rsplit("_", 1)[0]   # SUMO's ":<junction>_<n>"
+        if edge.getFunction() == "internal" and junction not in junction_ids:
+            return _bend_lane(lane)
         return Lane(lane.getID(), edge.getID(), None, lane.getIndex(), lane.getWidth(), lane.getLength(),
                     tuple(_xy(p) for p in lane.getShape()), kind, junction, None, None, None)
     to = edge.getToNode().getID()
@@ -298,6 +306,15 @@ def _lane(lane, junction_ids: set[str], approaches: dict[str, Approach]) -> Lane
     return Lane(lane.getID(), edge.getID(), _road(edge), lane.getIndex(), lane.getWidth(), lane.getLength(),
                 tuple(_xy(p) for p in lane.getShape()), kind, None, to if to in junction_ids else None,
                 approach.name if approach else None, approach.kind if approach else None)
+
+
+def _bend_lane(lane) -> Lane:
+    """A lane through a node that is no junction (a bend, or where a road changes its lanes): part of
+    the road it comes from, as a driver reads it."""
+    before = lane.getIncoming()
+    edge = before[0].getEdge() if before else lane.getEdge()
+    return Lane(lane.getID(), lane.getEdge().getID(), _road(edge), lane.getIndex(), lane.getWidth(), lane.getLength(),
+                tuple(_xy(p) for p in lane.getShape()), _permitted_kind(lane), None, None, None, None)
 
 
 def _links(tls, approaches: dict[str, Approach]) -> tuple[SignalLink, ...]:

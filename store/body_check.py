@@ -3,8 +3,8 @@
 The schemas are compiled by fastjsonschema into plain Python functions, once per kind and only
 when a kind is first seen, so that commands which never append start fast. fastjsonschema reads
 our 2020-12 schemas with its draft 2019-09 rules; the keywords the schemas use (type, enum,
-required, properties, items as one schema, min/max, minLength, pattern, oneOf, $ref to $defs)
-mean the same in both drafts.
+required, properties, items as one schema, min/max, exclusiveMinimum (a number in both), minLength,
+pattern, oneOf, $ref to $defs) mean the same in both drafts.
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ _TYPE_TESTS = {
 }
 _KEYWORDS_BY_TYPE = {  # keywords the quick check understands, by the JSON type they constrain
     "string": {"minLength": "len({v}) >= {n}", "maxLength": "len({v}) <= {n}"},
-    "number": {"minimum": "{v} >= {n}", "maximum": "{v} <= {n}"},
+    "number": {"minimum": "{v} >= {n}", "maximum": "{v} <= {n}", "exclusiveMinimum": "{v} > {n}"},
     "integer": {"minimum": "{v} >= {n}", "maximum": "{v} <= {n}"},
     "array": {"minItems": "len({v}) >= {n}", "maxItems": "len({v}) <= {n}"},
 }

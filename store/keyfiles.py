@@ -3,6 +3,8 @@
 A key folder holds one private key per source, `<folder>/<role>/<id>.key` (`vehicle/173` in
 `keys/vehicle/173.key`): an Ed25519 private key in PKCS#8 PEM (RFC 8410), the form
 `openssl genpkey -algorithm ed25519` writes and `openssl pkey` reads, readable by its owner only.
+`cryptography` reads and writes it (a hand-built DER prefix refused valid keys, such as RFC 8410's
+own example carrying its public key); signing stays with PyNaCl, as it was measured (bench/signatures.py).
 
 The public keys file is what an ingest (`gaps serve --require-signatures FILE`) and an
 investigator (`gaps verify --keys FILE`) trust: a JSON object from a source, or a pattern of
@@ -33,10 +35,6 @@ from .signatures import SIG_FIELD, key_id, sign_event, signature_reason
 
 PUBLIC_KEYS_FILE = "public-keys.json"
 KEY_SUFFIX = ".key"
-# PKCS#8 PrivateKeyInfo for Ed25519 (RFC 8410 section 7): version 0, algorithm 1.3.101.112, then
-# the 32-byte private key as an OCTET STRING inside the OCTET STRING; the key follows these bytes.
-_PKCS8_PREFIX = bytes.fromhex("302e020100300506032b657004220420")
-_PEM_BEGIN, _PEM_END = "-----BEGIN PRIVATE KEY-----", "-----END PRIVATE KEY-----"
 _PATTERN = re.compile(r"[A-Za-z0-9._*?\[\]!-]+/[A-Za-z0-9._*?\[\]!-]+")
 _CACHE_LIMIT = 1 << 16
 
@@ -51,23 +49,32 @@ class KeysError(GapsError):
 
 
 def pem_of(seed: bytes) -> str:
-    """The PKCS#8 PEM text of an Ed25519 private key (its 32-byte seed)."""
-    der = base64.b64encode(_PKCS8_PREFIX + seed).decode("ascii")
-    return f"{_PEM_BEGIN}\n{der}\n{_PEM_END}\n"
+    """The PKCS#8 PEM text of an Ed25519 private key (its 32-byte seed), as `cryptography`
+    serialises it (RFC 8410, what `openssl genpkey -algorithm ed25519` writes)."""
+    from cryptography.hazmat.primitives import serialization
+    from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
+    key = Ed25519PrivateKey.from_private_bytes(seed)
+    return key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
+                             serialization.NoEncryption()).decode("ascii")
 
 
 def seed_of(pem: str, where: str) -> bytes:
     """The 32-byte seed of an Ed25519 private key in PKCS#8 PEM, or a KeysError naming `where`."""
-    lines = [line.strip() for line in pem.strip().splitlines()]
-    if len(lines) < 3 or lines[0] != _PEM_BEGIN or lines[-1] != _PEM_END:
-        raise KeysError(f"{where}: not a private key in PEM ({_PEM_BEGIN} ... {_PEM_END})")
+    from cryptography.hazmat.primitives import serialization
+    from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
     try:
-        der = base64.b64decode("".join(lines[1:-1]), validate=True)
-    except binascii.Error:
-        raise KeysError(f"{where}: the PEM body is not base64") from None
-    if len(der) != len(_PKCS8_PREFIX) + 32 or not der.startswith(_PKCS8_PREFIX):
-        raise KeysError(f"{where}: not an Ed25519 private key (PKCS#8, RFC 8410)")
-    return der[len(_PKCS8_PREFIX):]
+        key = serialization.load_pem_private_key(pem.encode("utf-8", "surrogateescape"), password=None)
+    except TypeError:
+        raise KeysError(f"{where}: the private key is encrypted; give it unencrypted (the source's own "
+                        "file, readable by its owner only)") from None
+    except (ValueError, UnicodeError) as exc:
+        raise KeysError(f"{where}: not a private key in PEM (-----BEGIN PRIVATE KEY----- ...): {exc}") from None
+    except Exception as exc:    # an algorithm this cryptography does not support
+        raise KeysError(f"{where}: not a key this can read: {exc}") from None
+    if not isinstance(key, Ed25519PrivateKey):
+        raise KeysError(f"{where}: not an Ed25519 private key (it is an {type(key).__name__.lstrip('_')})")
+    return key.private_bytes(serialization.Encoding.Raw, serialization.PrivateFormat.Raw,
+                             serialization.NoEncryption())
 
 
 class KeyFolder:

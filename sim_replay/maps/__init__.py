@@ -28,5 +28,6 @@ def map_files(name: str = "paper") -> MapFiles:
     net, monitors = folder / f"{name}.net.xml", folder / f"{name}.monitors.json"
     if not net.is_file():
         known = sorted(p.name for p in MAPS.iterdir() if (p / f"{p.name}.net.xml").is_file())
-        raise FileNotFoundError(f"no bundled map {name!r}; there are: {', '.join(known)}")
+        raise FileNotFoundError(f"no bundled map {name!r}; there are: {', '.join(known)} (or give a SUMO network "
+                                "FILE.net.xml or configuration FILE.sumocfg)")
     return MapFiles(name, net, monitors)

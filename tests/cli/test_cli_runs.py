@@ -24,7 +24,7 @@ def test_runs_table(db):
     for column in ("events", "sources", "start (UTC)", "end (UTC)", "duration"):
         assert column in header
     r1 = next(line for line in lines if "│ r1 " in line)
-    for cell in ("8", "2024-11-21T10:15:00Z", "2024-11-21T11:17:03.5Z", "1:02:03.5", "verified"):
+    for cell in ("8", "2024-11-21T10:15:00Z", "2024-11-21T11:17:03.5Z", "1h2m3.5s", "verified"):
         assert cell in r1
 
 

@@ -147,3 +147,16 @@ def test_a_vehicle_inside_a_junction_has_no_road_and_none_is_printed():
                vehicles=[v], road_users=[])
     line = vehicle_lines(sc, v)[1]
     assert "None" not in line and line.endswith(", in junction j1 (vehicle/124 #149, +0s)")
+
+
+def test_a_signal_in_red_and_amber_is_said_in_words():
+    """Issue 39: the raw token `red_amber` on the screen; TSRGD para 5(7) calls it red-and-amber."""
+    from explain.scene_text import scene_lines
+    from reasoner.scene import Scene
+    ref = {"run": "r", "src": "signal/j1-west", "seq": 3, "t": 0, "kind": "signal.state"}
+    sc = Scene(run="r", t=0, t_iso="", run_start=0, run_start_iso="", offset_ns=0, offset="+0s", events=1,
+               last=None, note=None, rulebooks=[], started=None, ended=None,
+               signals=[{"junction": "j1", "approach": "west", "colour": "red_amber", "since": ref, "evidence": ref}],
+               monitors=[], vehicles=[], road_users=[])
+    text = "\n".join(scene_lines(sc))
+    assert "red_amber" not in text and "j1 west: red and amber since" in text

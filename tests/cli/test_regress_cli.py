@@ -109,6 +109,11 @@ def test_the_golden_runs_are_judged_as_approved():
     result = gaps("regress", "--golden", GOLDEN)
     assert result.exit_code == 0, result.output
     assert "Nothing changed" in result.output
+    # and it prints what docs/regress.md shows (run here once, not again by tests/docs: 20 s)
+    from tests.docs.test_doc_commands import ROOT, fences, matches, steps
+    (shown,) = [lines for fence in fences(ROOT / "docs" / "regress.md") for command, lines in steps(fence)
+                if command == "gaps regress --golden tests/golden/golden-sim.json"]
+    assert matches(shown, result.output.splitlines()), result.output
 
 
 
@@ -150,3 +155,15 @@ def test_two_local_workers_print_what_one_process_prints(db, tmp_path):
 def test_recording_and_cluster_mistakes_exit_2_with_a_message(db, args, says):
     result = gaps("regress", *args, db=db)
     assert result.exit_code == 2 and says in result.output, result.output
+
+
+def test_golden_junit_cases_carry_times(db, tmp_path):
+    """`gaps regress --junit` had no `time` attributes (issue 39); a golden run's cases too."""
+    import xml.etree.ElementTree as ET
+    golden, junit = tmp_path / "golden.json", tmp_path / "golden.xml"
+    assert gaps("regress", "--golden", golden, "--update-golden", "--run", R.RUN, db=db).exit_code == 0
+    assert gaps("regress", "--golden", golden, "--junit", junit, db=db).exit_code == 0
+    root = ET.fromstring(junit.read_bytes())
+    cases = root.findall(".//testcase")
+    assert cases and all(float(c.get("time")) >= 0 for c in cases)
+    assert float(root.get("time")) > 0

@@ -3,7 +3,7 @@ docs cannot quietly stop working (issue 11: docs/reasoner.md's example used an u
 
 Each block runs alone, in a fresh namespace, in its own directory holding `gaps.db`: a store of the
 demo's run `paper-junctions` (the events `gaps demo` publishes, appended directly, without Zenoh;
-the same again as `demo-001`, the run docs/store.md's examples name), also named by $GAPS_DB. A block that cannot run here (it needs a browser, a network, a file of the
+as a reader who ran `gaps demo --paper` has it), also named by $GAPS_DB. A block that cannot run here (it needs a browser, a network, a file of the
 reader's) is fenced as ```python no-run and skipped; keep that rare.
 """
 from __future__ import annotations
@@ -59,17 +59,16 @@ def all_blocks() -> list[Block]:
 
 @pytest.fixture(scope="module")
 def demo_store(tmp_path_factory) -> Path:
-    """The demo's run in a store file, built once for every block; the same events also under
-    "demo-001", the run docs/store.md's examples name."""
+    """The run `gaps demo --paper` makes, alone in a store file (as a reader following the docs has
+    it), built once for every block; docs/store.md's examples named a run, demo-001, that no command
+    makes (issue 39)."""
     from sim_replay.paper import RUN, paper_run
     from store import Store
 
     path = tmp_path_factory.mktemp("demo") / "gaps.db"
     with Store(path) as store:
-        for run in (RUN, "demo-001"):
-            report = store.append(paper_run(run))
-            assert report.stored == 20 and not report.rejected, report
-            assert store.count(run) == 20
+        report = store.append(paper_run(RUN))
+        assert report.stored == 20 and not report.rejected, report
     return path
 
 
@@ -100,3 +99,17 @@ def test_python_blocks_are_found_and_others_left_alone():
 def test_an_unclosed_python_fence_is_an_error():
     with pytest.raises(AssertionError, match="never closed"):
         python_blocks(Path("doc.md"), "```python\nx = 1\n")
+
+
+def test_the_chain_check_says_so_when_the_run_has_no_events(demo_store, tmp_path, monkeypatch):
+    """docs/store.md's check printed a head of 64 zeros, without error, for a run the store lacks."""
+    (check,) = [b for b in all_blocks() if "hashlib.sha256(head + canonical)" in b.code]
+    shutil.copyfile(demo_store, tmp_path / "gaps.db")
+    monkeypatch.chdir(tmp_path)
+    code = check.code.replace('run = "paper-junctions"', 'run = "no-such-run"')
+    assert code != check.code
+    with pytest.raises(AssertionError, match="no events of run 'no-such-run'"):
+        exec(compile(code, check.where, "exec"), {"__name__": "__doc_example__"})  # noqa: S102
+    before = sorted(p.name for p in tmp_path.iterdir())
+    exec(compile(check.code, check.where, "exec"), {"__name__": "__doc_example__"})  # noqa: S102
+    assert sorted(p.name for p in tmp_path.iterdir()) == before      # read-only: no -wal, no -shm

@@ -21,7 +21,7 @@ def test_demo_incidents_verify_and_tamper(tmp_path):
     assert "Vehicle 173 committed a punishable violation of Highway Code rule 176" in demo.stdout
     assert "Vehicle 253 committed a mitigated violation of Highway Code rule 176" in demo.stdout
 
-    again = gaps("demo", "--paper", db=db)          # idempotent: the same events are duplicates
+    again = gaps("demo", "--paper", "--overwrite", db=db)   # idempotent: the same events are duplicates
     assert again.returncode == 0 and "duplicates 20" in again.stdout
 
     listed = gaps("incidents", "--json", db=db)

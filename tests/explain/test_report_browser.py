@@ -15,6 +15,7 @@ import re
 import shutil
 import subprocess
 from datetime import datetime, timezone
+from html import unescape
 from importlib.metadata import version
 from pathlib import Path
 
@@ -24,7 +25,8 @@ from explain.labels import Box
 from explain.pdf import find_chromium, headless_args, print_pdf
 from explain.report import build_report, render_report
 from explain.svg_scene import scene_svg
-from tests.helpers.scene_pictures import crowded_picture
+from explain.svg_timeline import timeline_svg
+from tests.helpers.scene_pictures import FIRE_ENGINE, QUICK, STOP_AND_GO, a_timeline, crowded_picture
 from sim_replay.paper import RUN, paper_run
 from store import Store
 
@@ -180,29 +182,97 @@ def test_each_incident_starts_a_pdf_page(printed):
 
 
 LABELS_HARNESS = """<!DOCTYPE html><html><body>{svgs}<pre id="result">not run</pre><script>
-var out = [];
+function box(el) {{ var b = el.getBBox(); return [b.x, b.y, b.width, b.height]; }}
+function boxes(svg, sel) {{
+  return Array.prototype.map.call(svg.querySelectorAll(sel), function (t) {{
+    var est = t.getAttribute("data-box");
+    return [t.textContent, box(t), est && est.split(" ").map(Number)]; }});
+}}
+var out = {{scenes: [], timelines: []}};
 document.querySelectorAll("svg.gaps-scene").forEach(function (svg) {{
-  out.push(Array.prototype.map.call(svg.querySelectorAll("text.label"), function (t) {{
-    var b = t.getBBox(); return [t.textContent, [b.x, b.y, b.width, b.height],
-                                 t.getAttribute("data-box").split(" ").map(Number)]; }}));
+  out.scenes.push(boxes(svg, "text.label"));
+}});
+document.querySelectorAll("svg.gaps-timeline").forEach(function (svg) {{
+  out.timelines.push({{view: svg.getAttribute("viewBox").split(" ").map(Number),
+    labels: boxes(svg, "text.moment-label, text.incident-label, text.speed-value"),
+    lines: Array.prototype.map.call(svg.querySelectorAll("line.moment, line.incident-time"), box)}});
 }});
 document.getElementById("result").textContent = JSON.stringify(out);
 </script></body></html>
 """
+@pytest.fixture(scope="module")
+def pictures_page(tmp_path_factory) -> Path:
+    """The crowded scene and timelines of demo-like moments, each an SVG as the report draws it."""
+    timelines = [timeline_svg(a_timeline(moments), 90.0) for moments in (FIRE_ENGINE, STOP_AND_GO, QUICK)]
+    page = tmp_path_factory.mktemp("pictures") / "labels.html"
+    page.write_text(LABELS_HARNESS.format(svgs=scene_svg(crowded_picture(), 1) + "".join(timelines)),
+                    encoding="utf-8")
+    return page
 
 
-def test_labels_as_drawn_do_not_overlap_and_fit_their_boxes(tmp_path):
-    page = tmp_path / "labels.html"
-    page.write_text(LABELS_HARNESS.format(svgs=scene_svg(crowded_picture(), 1)), encoding="utf-8")
-    done = chromium(tmp_path, "--dump-dom", page.as_uri())
+def test_labels_as_drawn_do_not_overlap_and_fit_their_boxes(pictures_page, tmp_path):
+    done = chromium(tmp_path, "--dump-dom", pictures_page.as_uri())
     result = re.search(r'<pre id="result">(.*?)</pre>', done.stdout, re.S)
     assert result and result.group(1) != "not run", done.stderr[-2000:]
-    (scene,) = json.loads(result.group(1))
+    found = json.loads(result.group(1))
+    (scene,) = found["scenes"]
     assert len(scene) == 10
-    drawn = [(text, Box(*real)) for text, real, _ in scene]
+    _assert_apart_and_boxed(scene)
+    assert len(found["timelines"]) == 3
+    for timeline, moments in zip(found["timelines"], (FIRE_ENGINE, STOP_AND_GO, QUICK)):
+        labels = timeline["labels"]
+        frame = Box(*timeline["view"])
+        for text, real, _ in labels:                # as drawn: inside the picture, no line through it
+            r = Box(*real)
+            assert r.within(frame), (text, r, frame)
+            for x, top, _, height in timeline["lines"]:
+                assert not (r.x < x < r.x + r.w and top < r.y + r.h and r.y < top + height), (text, r, x)
+        _assert_apart_and_boxed(labels)
+        assert len(labels) == len(moments) + 2 and len(timeline["lines"]) == len(moments) + 1
+
+
+def _assert_apart_and_boxed(found: list) -> None:
+    """No two labels the browser drew meet, and each box the layout estimated holds its text."""
+    drawn = [(text, Box(*real)) for text, real, _ in found]
     for (a, box_a), (b, box_b) in itertools.combinations(drawn, 2):
         assert not box_a.intersects(box_b), (a, box_a, b, box_b)
-    for text, real, estimated in scene:       # the estimate holds the text the browser drew
+    for text, real, estimated in found:
+        assert estimated, f"{text!r} has no box of the layout's (data-box)"
         r, e = Box(*real), Box(*estimated)
         assert r.x >= e.x - 1.5 and r.x + r.w <= e.x + e.w + 1.5, (text, r, e)     # a j's hook: 1 px
         assert r.y >= e.y - 2 and r.y + r.h <= e.y + e.h + 2, (text, r, e)
+
+
+PDFTOPPM = shutil.which("pdftoppm")
+
+
+@pytest.mark.skipif(PDFTOTEXT is None or PDFTOPPM is None, reason="poppler-utils not installed")
+def test_the_printed_pictures_read_as_pages(pictures_page, tmp_path, capsys):
+    """The same pictures printed to PDF, as a court's bundle holds them: on the pages no word
+    of one label runs into another's, and each page is kept as an image for a person to look at
+    ($GAPS_ARTIFACTS/pictures-page-N.png)."""
+    pdf = print_pdf(pictures_page, tmp_path / "pictures.pdf")
+    html = subprocess.run([PDFTOTEXT, "-bbox", str(pdf), "-"], capture_output=True, text=True, timeout=60,
+                          check=True).stdout
+    pages = re.findall(r"<page [^>]*>(.*?)</page>", html, re.S)
+    assert pages
+    for number, page in enumerate(pages, 1):
+        words = [(unescape(text), Box(float(x0), float(y0), float(x1) - float(x0), float(y1) - float(y0)))
+                 for x0, y0, x1, y1, text in re.findall(r'<word xMin="([0-9.]+)" yMin="([0-9.]+)" xMax="([0-9.]+)" '
+                                                         r'yMax="([0-9.]+)">([^<]*)</word>', page)]
+        for (a, box_a), (b, box_b) in itertools.combinations(words, 2):
+            if a == b and abs(box_a.x - box_b.x) < 0.5 and abs(box_a.w - box_b.w) < 0.5:
+                continue        # one label's halo (its stroke, paint-order) and its fill: one text
+            shrunk_a = Box(box_a.x + 0.5, box_a.y + 1.5, box_a.w - 1, box_a.h - 3)   # poppler's boxes touch
+            assert not shrunk_a.intersects(box_b), f"page {number}: {a!r} {box_a} runs into {b!r} {box_b}"
+    text = "".join(pages)
+    for what in ("stood still before the line", "left the junction"):
+        assert all(word in text for word in what.split())
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    for old in ARTIFACTS.glob("pictures-page-*.png"):
+        old.unlink()
+    subprocess.run([PDFTOPPM, "-r", "80", "-png", str(pdf), str(ARTIFACTS / "pictures-page")], check=True, timeout=60)
+    shots = sorted(ARTIFACTS.glob("pictures-page-*.png"))
+    assert shots and all(shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for shot in shots)
+    with capsys.disabled():
+        print(f"\nprinted pictures: {', '.join(map(str, shots))}")

@@ -170,8 +170,10 @@ class Foreign:
         return j["x"], j["y"]
 
     def spawn(self, vehicle: str, type: str = "car", *, emergency: bool | None = None, at: float = 0.0,
-              role: str = "vehicle") -> dict:
-        body: dict[str, Any] = {"type": type}
+              role: str = "vehicle", **fields: Any) -> dict:
+        """`fields`: more of DESIGN's spawn fields (driver, automation_level, tolerance: the
+        sensors' stated tolerance {"position_m", "speed_mps"})."""
+        body: dict[str, Any] = {"type": type, **fields}
         if emergency is not None:
             body["emergency"] = emergency
         return self.emit(f"{role}/{vehicle}", ns(at), "entity.spawn", body)

@@ -1,5 +1,5 @@
-"""Scene pictures (report_data.scene_picture's shape) built by hand, for the label tests of
-test_report_print.py and of the browser test."""
+"""Scene pictures (report_data.scene_picture's shape) and timelines (report_data.timeline's) built
+by hand, for the label tests of test_report_print.py, test_report_pictures.py and the browser test."""
 from __future__ import annotations
 
 
@@ -86,3 +86,31 @@ def lanes_picture() -> dict:
                           "speed_mps": 13.41, "incident": False}],
             "road_users": [{"id": "pedestrian/p1", "type": "pedestrian", "x": 10.0, "y": 0.0, "heading_deg": 90.0,
                             "speed_mps": 1.3, "evidence": None, "present": True, "age_s": 0.0}]}
+
+
+# --- timelines ------------------------------------------------------------------------------------
+
+SECOND = 1_000_000_000
+# demo-sumo's incident 10 (a fire engine standing at a red light, then going through it) and
+# incident 26: the moments its passage had, seconds from the incident
+FIRE_ENGINE = [("stood still before the line", -8.5), ("moved off", -0.5), ("crossed the stop line", -0.07),
+               ("entered the junction", 0.04), ("left the junction", 3.72)]
+STOP_AND_GO = [("stood still before the line", -15.7), ("moved off", -12.4), ("stood still before the line", -9.3),
+               ("moved off", -5.7), ("crossed the stop line", -5.25), ("entered the junction", -5.15),
+               ("left the junction", -1.26)]
+# a quick passage: it stood still a moment at the line, then went through (labels that once piled up)
+QUICK = [("stood still before the line", -1.6), ("moved off", -1.2), ("crossed the stop line", -1.0),
+         ("entered the junction", -0.9), ("left the junction", 0.4)]
+
+
+def a_timeline(moments: list[tuple[str, float]], **extra) -> dict:
+    """A fire engine's 25 s at j1 (it stands at red from -9 s, goes at the incident), with
+    `moments` (what, seconds from the incident) and any `extra` keys (to_line, other)."""
+    t = 100 * SECOND
+    speed = [{"t": t + round(s * SECOND), "speed_mps": v, "seq": i} for i, (s, v) in
+             enumerate([(-20, 13.4), (-9, 0.0), (-0.5, 0.0), (0, 1.1), (4, 6.0)])]
+    return {"t": t, "t_from": t - 20 * SECOND, "t_to": t + 5 * SECOND, "vehicle": "109", "junction": "j1",
+            "speed": speed, "observed_speed": [], "heading_deg": 90.0,
+            "signals": {"south": [{"t": t - 30 * SECOND, "colour": "red"}],
+                        "west": [{"t": t - 30 * SECOND, "colour": "green"}, {"t": t + 3 * SECOND, "colour": "amber"}]},
+            "moments": [{"what": what, "t": t + round(s * SECOND)} for what, s in moments], **extra}

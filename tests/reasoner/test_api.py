@@ -33,7 +33,7 @@ def test_the_law_s_answers_through_the_api(case):
 
 def test_the_api_and_the_command_line_agree(case, paper_db):
     printed = json.loads(gaps("incidents", "--run", RUN, "--json", db=paper_db).stdout)
-    assert [i.summary_json() for i in case.incidents(RUN)] == printed
+    assert [{**i.summary_json(), "number": case.number(i)} for i in case.incidents(RUN)] == printed
 
 
 def test_filters_and_numbers(case):

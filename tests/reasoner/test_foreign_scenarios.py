@@ -415,8 +415,8 @@ def test_a_stop_sign_run_with_a_clearly_visible_line_is_punishable(tmp_path, sam
     """HC 171: "You MUST stop behind the line at a junction with a 'Stop' sign and a solid white
     line across the road"; Sch 9 Pt 7 para 1: "every vehicle must stop before crossing the
     transverse line". The map gives the junction control "stop" and the line kind "stop"; the car
-    rolls over at 4 m/s: punishable, HC 171, margin 0 s stationary at the line (exact: it never
-    went below 4 m/s)."""
+    rolls over at 4 m/s: punishable, HC 171, margin its slowest speed before the line, 4 m/s (8.95
+    mph: exact, it never went below 4 m/s), which its uncertainty does not bring to a stop."""
     facts = camera("7", sign="stop") if producer == "camera" else None
     run = stop_run(ROLLING, sampling, camera_facts=facts)
     if producer == "camera":
@@ -424,7 +424,17 @@ def test_a_stop_sign_run_with_a_clearly_visible_line_is_punishable(tmp_path, sam
         run.violation("7", crossing + 0.5, ENTER, ["7 has a stop sign", "7 has crossed the stop line"])
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 171")
-    margin(inc, "stationary", "s", 0.0, 0.0)
+    margin(inc, "slowest measured speed before the Stop line", "mph", 4.0 * MPH_PER_MPS, 0.01)
+    never_stopped(inc)
+
+
+def never_stopped(inc) -> None:
+    """The Stop-line margin of a vehicle that never stood at its line: its slowest measured speed
+    before it, which even less its uncertainty (the slowest it can have been between two samples)
+    is no stop (0.5 mph)."""
+    m = inc.margin
+    assert m.quantity == "slowest measured speed before the Stop line" and m.uncertainty is not None, m
+    assert m.value - m.uncertainty > 0.5 and m.unproven is None, m
 
 
 WORN = "the stop line is not clearly visible for 7"
@@ -434,7 +444,7 @@ WORN_AT = 16.0       # the worn west line, 4 m before the junction's edge
 def test_a_stop_sign_run_over_a_worn_line_is_punishable(tmp_path):
     """Sch 9 Pt 7 para 1: "every vehicle must stop before crossing the transverse line ..., or if
     that line is not clearly visible, before entering the major road". The car never stops at
-    all, so it breaks either limb: punishable, HC 171, margin 0 s stationary at the line.
+    all, so it breaks either limb: punishable, HC 171, no stop at the line (its slowest speed before it the margin).
 
     The worn line is the one private sentence here: `the stop line is not clearly visible for 7`
     (docs/vocabulary.md: "stated by the map or an investigator (wear is not measured)"); DESIGN's
@@ -444,7 +454,7 @@ def test_a_stop_sign_run_over_a_worn_line_is_punishable(tmp_path):
     run = stop_run(ROLLING, "5 Hz", worn_line_m=WORN_AT, camera_facts=facts)
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 171")
-    margin(inc, "stationary", "s", 0.0, 0.0)
+    never_stopped(inc)
 
 
 # 7 stands 1.5 m past the (west) Stop line, 2.6 m short of the junction's edge, for 3 s
@@ -464,12 +474,13 @@ def test_stopping_past_a_worn_line_but_before_the_major_road_is_lawful(tmp_path)
 def test_the_same_stop_past_a_clearly_visible_line_is_punishable(tmp_path):
     """The control of the worn-line test: with the line clearly visible, para 1 asks for the stop
     "before crossing the transverse line"; standing 1.5 m past it is too late: punishable,
-    HC 171, with no time stationary at the line (the standstill was past it)."""
+    HC 171, with no stop at the line (the standstill was past it): the margin is its slowest speed
+    before the line."""
     facts = camera("7", sign="stop", line_m=WORN_AT)
     run = stop_run(PAST_THE_LINE, "5 Hz", worn_line_m=WORN_AT, camera_facts=facts)
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 171")
-    margin(inc, "stationary", "s", 0.0, 0.0)
+    never_stopped(inc)
 
 
 LAWFUL_STOP = Motion.stopping_at(-60.0, 10.0, -LINE_M - 0.5, wait=3.0, then=10.0)   # 0.5 m before the line

@@ -93,3 +93,46 @@ def test_speeding_margin_is_the_known_excess_on_the_named_road(script, stored):
     early = script.check_one(raw, incident("mph over the speed limit", 5.0, "mph", ns(0.0), u=0.22,
                                            act={**act, "start": ns(0.0), "end": ns(1.0)}))
     assert early.within is None and "no entity.state" in early.note, early
+
+
+def test_stop_give_way_and_box_margins_are_the_known_figures(script, tmp_path):
+    """A Stop junction where 7 creeps over its west line at 1.2 m/s (never below), c2 on the
+    north arm brakes at 5 m/s² between two samples 1 s apart, and a box junction J2 where 8 stands
+    4 s: the script measures each known figure, and an off one is outside."""
+    j2 = {**crossroads("J2", 500.0, 0.0, "lights"), "box": [[490.0, -10.0], [510.0, -10.0], [510.0, 10.0],
+                                                             [490.0, 10.0]]}
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop_sign"}), j2],
+                  roads=roads_through(0.0, 0.0), monitors=[])
+    creep = Motion(-60.0, 10.0, [(1.936, 0.0), (4.4, -2.0), (3.5, 0.0), (6.0, 2.0)])
+    braking = Motion(-95.0, 13.4, [(4.0, 0.0), (2.0, -5.0), (6.0, 0.0)])
+    stands = Motion(-35.0, 8.0, [(2.5, 0.0), (2.5, -3.2), (4.0, 0.0), (6.0, 2.0)])       # stands at s = -5, in the box
+    for v in ("7", "c2", "8"):
+        run.spawn(v)
+    run.drive("7", creep, "west", rate(10, START, START + 20.0), t_start=START)
+    states = run.drive("c2", braking, "north", rate(10, START, START + 12.0), t_start=START)
+    run.drive("8", stands, "west", rate(10, START, START + 15.0), junction="J2", t_start=START)
+    db = tmp_path / "foreign.db"
+    with Store(db) as store:
+        assert not store.append(run.events).rejected
+    with Store.open_read_only(db) as store:
+        raw = script.read(store, run.run)
+    crossing = ns(START + creep.when(-LINE_M))
+    passage = {"kind": "junction passage", "where": "J1"}
+    got = script.check_one(raw, incident("slowest measured speed before the Stop line", 1.2 * MPH_PER_MPS, "mph",
+                                         crossing, u=0.5, act=passage))
+    assert got.script == pytest.approx(1.2 * MPH_PER_MPS, abs=0.01) and got.within is True, got
+    off = script.check_one(raw, incident("slowest measured speed before the Stop line", 4.0, "mph", crossing, u=0.5,
+                                         act=passage))
+    assert off.within is False, off
+    a, b = (next(e for e in states if e["t"] == ns(START + at)) for at in (4.5, 5.5))
+    cited = [{"src": "vehicle/c2", "seq": e["seq"], "t": e["t"], "kind": "entity.state"} for e in (a, b)]
+    gw = incident("deceleration of the other road user", 5.0, "m/s²", crossing, u=0.2, act=passage)
+    gw["margin"]["evidence"] = cited
+    assert script.check_one(raw, gw).script == pytest.approx(5.0, abs=0.01)
+    gw["margin"]["value"] = 4.0
+    assert script.check_one(raw, gw).within is False
+    boxed = incident("seconds stopped in the box junction", 4.0, "s", ns(START + 7.0), u=0.2, bound="at least",
+                     act={"kind": "junction passage", "where": "J2"})
+    boxed["vehicle"] = "8"
+    got = script.check_one(raw, boxed)
+    assert got.script == pytest.approx(4.0, abs=0.11) and got.within is True, got

@@ -359,10 +359,10 @@ def test_a_summary_reaches_the_same_weighed_verdicts_as_the_whole_judgement(tmp_
             assert sorted((i.id, i.verdict, i.rule) for i in lean) == sorted((i.id, i.verdict, i.rule) for i in whole)
 
 
-def automated_red_runner(run: Foreign, v: str, *, override_after: float) -> float:
+def automated_red_runner(run: Foreign, v: str, *, override_after: float, flag_after: float = 1.0) -> float:
     """An automated v (SAE level 3: a user-in-charge in the seat) whose feature is engaged when it
     crosses J1's west line 2 s after red; the human takes over `override_after` s after the
-    crossing; a camera flags it 1 s after the crossing."""
+    crossing; a camera flags it `flag_after` s after the crossing."""
     motion = Motion(-95.0, mps(28))
     crossing = START + motion.when(-LINE_M)
     west = cycle(crossing - 2.0)
@@ -372,7 +372,7 @@ def automated_red_runner(run: Foreign, v: str, *, override_after: float) -> floa
     run.emit(f"vehicle/{v}", ns(crossing + override_after), "ads.event", {"event": "driver_override"})
     run.drive(v, motion, "west", SAMPLING["5 Hz"](START, crossing + 6.0), t_start=START)
     run.watch(v, motion, "west", rate(5, START, crossing + 6.0), t_start=START, facts=camera(v, west))
-    run.violation(v, crossing + 1.0, ENTER, [f"{v} has red light", f"{v} has crossed the stop line"])
+    run.violation(v, crossing + flag_after, ENTER, [f"{v} has red light", f"{v} has crossed the stop line"])
     return crossing
 
 

@@ -83,7 +83,8 @@ def test_relative_time_needs_a_run_start():
 
 
 # -- the explanations' and the command line's formats, in this one module ---------------------------
-from reasoner.when import clock, date_clock, day, format_duration, format_time_short  # noqa: E402
+from reasoner.when import (SECOND, DurationError, clock, date_clock, day, format_duration, format_time_short,  # noqa: E402
+                           parse_duration)
 
 
 def test_explanation_times():
@@ -104,12 +105,38 @@ def test_format_time_short_keeps_only_the_digits_needed(t, text):
     assert parse_time(text, None) == t
 
 
-@pytest.mark.parametrize("ns, text", [(12_350_000_000, "12.35 s"), (0, "0 s"), (59_999_000_000, "59.999 s"),
-                                      (3_723_500_000_000, "1:02:03.5"), (60_000_000_000, "0:01:00")])
-def test_duration(ns, text):
+@pytest.mark.parametrize("ns, text", [(12_350_000_000, "12.35s"), (0, "0s"), (59_999_000_000, "59.999s"),
+                                      (3_723_500_000_000, "1h2m3.5s"), (60_000_000_000, "1m"),
+                                      (5_000_000_000, "5s"), (7_200_000_000_000, "2h"), (100_000_000, "0.1s")])
+def test_duration_is_written_one_way_the_options_read_back(ns, text):
+    """One way to write a duration (issue 39: "5 s" and "0:01:00" in one table): the form `--at`
+    and `--duration` take, so that what a table shows can be typed back."""
     assert format_duration(ns) == text
+    assert parse_time(text, 0) == ns
+    if ns:                                  # a simulation's --duration is above zero
+        assert parse_duration(text) == ns
+
+
+@pytest.mark.parametrize("text, ns", [("90s", 90 * SECOND), ("10m", 600 * SECOND), ("1.5h", 5400 * SECOND),
+                                      ("90", 90 * SECOND), ("10min", 600 * SECOND), ("1h30m", 5400 * SECOND),
+                                      (" 2.5s ", 2_500_000_000)])
+def test_one_duration_parser(text, ns):
+    assert parse_duration(text) == ns
+
+
+@pytest.mark.parametrize("text", ["", "ten minutes", "-5s", "0", "1x", "s", "1.5h30m", "1e3s"])
+def test_not_a_duration(text):
+    with pytest.raises(DurationError, match="is not a duration: write"):
+        parse_duration(text)
 
 
 @given(st.integers(min_value=0, max_value=T_MAX))
 def test_format_time_short_reads_back_exactly(t):
     assert parse_time(format_time_short(t), None) == t
+
+
+@pytest.mark.parametrize("seconds, places, text", [(12.34, 1, "12.3s"), (64.5, 1, "1m4.5s"), (180.0, 3, "3m"),
+                                                   (0.04, 1, "0s"), (3600.25, 3, "1h0.25s")])
+def test_a_measured_time_is_written_as_every_duration(seconds, places, text):
+    from reasoner.when import format_seconds
+    assert format_seconds(seconds, places) == text

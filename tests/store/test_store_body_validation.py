@@ -156,7 +156,8 @@ def test_the_schemas_use_only_keywords_with_the_same_meaning_in_draft_2019_and_2
     one schema, not the tuple form whose meaning changed)."""
     keywords = {"$schema", "$id", "$ref", "$defs", "title", "description", "x-src-roles", "type", "required",
                 "additionalProperties", "properties", "items", "enum", "minimum", "maximum", "minItems",
-                "maxItems", "minLength", "pattern", "oneOf"}
+                "maxItems", "minLength", "pattern", "oneOf",
+                "exclusiveMinimum"}     # a number in both drafts (the boolean form was draft 4's)
 
     def walk(schema):
         for key, value in schema.items():

@@ -18,11 +18,11 @@ def recipe() -> str:
 
 
 def test_the_independent_check_agrees_with_the_store(store, db_path, monkeypatch, capsys):
-    store.append([event(i, run="demo-001", body={"facts": [f"173 fährt {i}"]}) for i in range(5)])
-    [checkpoint] = store.checkpoints("demo-001")
+    store.append([event(i, run="paper-junctions", body={"facts": [f"173 fährt {i}"]}) for i in range(5)])
+    [checkpoint] = store.checkpoints("paper-junctions")
     monkeypatch.chdir(db_path.parent)
     exec(recipe(), {})
-    assert capsys.readouterr().out.strip() == f"head {checkpoint['head']}"
+    assert capsys.readouterr().out.strip() == f"head {checkpoint['head']} over 5 events"
 
 
 def test_the_example_event_in_the_doc_is_its_canonical_form():
