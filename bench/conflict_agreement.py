@@ -19,6 +19,9 @@ matching, tests/helpers/sim_truth_table.compare) is compared by tests/helpers/co
     unraised          (per run) an act a monitor saw with no incident at all, to which SUMO says
                       someone gave way
 
+and every act of the truth (of any class) that more than one incident judged with different
+verdicts or rules: one act, one verdict (issue 35's "same act, opposite verdicts").
+
 The reasoner's output is read only to be compared; nothing of it goes into the account.
 `--cost` also times the simulation with and without SUMO's account: the demo's (three each, in
 turn) and the first paper run's (once each).
@@ -39,7 +42,7 @@ sys.path.insert(0, str(ROOT))
 from results import Figure, quick, record  # noqa: E402  bench/results.py, beside this file
 from sim_replay.sim_config import FaultRates, SimConfig  # noqa: E402
 from store import Store  # noqa: E402
-from tests.helpers.conflict_agreement import Row, compare, stated_cause, sumo_gave_way  # noqa: E402
+from tests.helpers.conflict_agreement import Row, compare, split_verdicts, stated_cause, sumo_gave_way  # noqa: E402
 
 FAULTS = FaultRates(misperceived_light=0.15, missed_road_user=0.05, speed_error=0.02, lost_event=0.001,
                     recorder_stops=0.1)
@@ -115,8 +118,10 @@ def describe(row: Row) -> list[str]:
         s = row.sumo[u]
         if "decel_mps2" in s:
             ssm = ", ".join(f"{k} {v['value']:g} ({v['type']})" for k, v in s.get("ssm", {}).items()) or "no SSM conflict"
-            out.append(f"    miss: SUMO says {u} braked for {i.vehicle} ({s['cause']}) at {s['decel_mps2']:.1f} m/s² "
-                       f"from {s['t_s']:.1f}s, {s['speed_mps']:.1f} -> {s['min_speed_mps']:.1f} m/s; {ssm}")
+            held = f" (held over a second {s['held_mps2']:.1f})" if s.get("held_mps2") is not None else ""
+            out.append(f"    miss: SUMO says {u} braked for {i.vehicle} ({s['cause']}) at {s['decel_mps2']:.1f} m/s²{held} "
+                       f"from {s['t_s']:.1f}s, {s.get('from_mps') or s['speed_mps']:.1f} -> {s['min_speed_mps']:.1f} m/s; "
+                       f"{ssm}")
         else:
             out.append(f"    miss: SUMO has pedestrian {u} on {s['crossing']}, a crossing of its path, "
                        f"{s['nearest_m']:.1f} m from it as it passed")
@@ -194,6 +199,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{name} simulation ({cfg.duration_s:.0f} s world, {cfg.vehicles} vehicles): without SUMO's account "
                   f"{c['without']} s (CPU {c['without_cpu']}), with {c['with']} s (CPU {c['with_cpu']})", flush=True)
     per_run: list[tuple[str, list[Row], list[dict[str, Any]]]] = []
+    split: dict[str, list[tuple[dict[str, Any], list[Any]]]] = {}
     with tempfile.TemporaryDirectory(prefix="gaps-agree-") as tmp:
         where = args.keep or Path(tmp)
         where.mkdir(parents=True, exist_ok=True)
@@ -211,6 +217,7 @@ def main(argv: list[str] | None = None) -> int:
                 incidents, took["judge_s"] = judged(db, cfg.run)
                 rows, unraised = compare(truth, incidents)
                 per_run.append((cfg.run, rows, unraised))
+                split[cfg.run] = split_verdicts(truth, incidents)
                 results["runs"][cfg.run] = {"config": {"map": map_name, "seed": seed, "vehicles": cfg.vehicles,
                                                        "world_s": cfg.duration_s},
                                             "took": {k: round(v, 1) for k, v in took.items()},
@@ -240,6 +247,14 @@ def main(argv: list[str] | None = None) -> int:
                                 for u, s in sorted(sumo_gave_way(a).items()))
                 print(f"  unraised: vehicle {a['vehicle']} at {a['t_s']:.1f}s {a['junction']}/{a['approach']} {a['line']}"
                       f" seen by {','.join(a['seen_by'])}, no incident; SUMO: {who} gave way to it or was in its path")
+    print()
+    print("one act, different verdicts (every act of the truth judged by more than one incident):")
+    for run, found in split.items():
+        results["runs"][run]["split_verdicts"] = len(found)
+        for a, incs in found:
+            print(f"  {run} vehicle {a['vehicle']} {a['kind']} at {a['t_s']:.1f}s {a['junction'] or ''}: "
+                  + "; ".join(f"{i.id} {i.verdict} {i.rule or ''}" for i in incs))
+    print(f" {sum(len(f) for f in split.values())} acts")
     results["wall_s"] = round(time.perf_counter() - started, 1)
     print(f"\nwall time {results['wall_s']:.0f} s")
     if not args.judge:          # a re-judgement of kept runs is a check, not the bench's figures

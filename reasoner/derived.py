@@ -23,14 +23,14 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Iterable
 
 from store import EventRef
 
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
-from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, position_at, speed_at
+from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
@@ -357,7 +357,30 @@ def _approaching(p: Passage, other: Other, at: int) -> DerivedFact | None:
     reacted = hard.first.t if hard else other.stopped.t if other.stopped else None
     if found is None and reacted is not None and reacted != at:
         found = _approaching_at(p, other, reacted, within=math.inf)
+    if found is None and reacted is not None:
+        found = _in_the_way(p, other, reacted)
     return found
+
+
+def _in_the_way(p: Passage, other: Other, reacted: int) -> DerivedFact | None:
+    """U, braking hard or stopping inside the junction (`_toward_zone`), was approaching V when it
+    did if it was then on its way through the conflict zone it shared with V and left it only
+    after V came into it: traffic going through the junction that V came out in front of, as much
+    as traffic still on the arm (HC 172's "traffic on the major road")."""
+    c = conflict_of(p, other)
+    if c is None or c.theirs is None or c.mine.entered is None:
+        return None
+    left = c.theirs.left
+    if (left is not None and left <= c.mine.entered) or (left is not None and left <= reacted):
+        return None
+    where, used = position_at(other.samples, reacted)
+    if where is None:
+        return None
+    j = p.junction
+    how = (f"{other.user} was in {j.id}, {j.distance(*where):.0f} m from its centre, on its way through the zone where "
+           f"its path meets {p.vehicle}'s when it braked ({format_time(reacted)}, {between(used, reacted)}), and left "
+           f"that zone only after {p.vehicle} came into it{conflict_words(p, other.user, c)}")
+    return DerivedFact(IS_APPROACHING.text(other.user, p.vehicle), how, tuple(s.ref for s in used) + _conflict_refs(c))
 
 
 def _endangered(p: Passage, other: Other) -> DerivedFact | None:
@@ -447,9 +470,31 @@ def reacting(p: Passage) -> tuple[Other, ...]:
 
 def _reacting_afresh(p: Passage) -> tuple[Other, ...]:
     off = _set_off(p)
-    if off is None:
-        return p.others
-    return tuple(since(o, p.others, p.junction, off.last.t) for o in p.others)
+    found = p.others if off is None else tuple(since(o, p.others, p.junction, off.last.t) for o in p.others)
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if act is None:
+        return found
+    start = off.last.t if off is not None else act - int(ANTICIPATION_S * SECOND)
+    return tuple(_toward_zone(p, o, start) for o in found)
+
+
+def _toward_zone(p: Passage, other: Other, start: int) -> Other:
+    """The road user with its braking on its way into, or in, the conflict zone it shared with V
+    (reasoner/conflicts.py), once V set off (or from ANTICIPATION_S before V's act), where that
+    was harder than the braking counted outside the junction (others.py counts braking only
+    there, heading in): a main-road car turning across the arm V emerges from, braking at 4.5
+    m/s² inside the junction as V pulls into its way, changed speed for V as much as one braking
+    before it. Attribution (`explained`) then asks what the braking was for, as for any other."""
+    if _walking(other) or not has_path(other.way):
+        return other
+    c = conflict(p.samples, other.way, None)
+    if c is None or c.theirs is None or (c.theirs.left is not None and c.theirs.left <= start):
+        return other
+    until = c.theirs.left if c.theirs.left is not None else max(s.t for s in other.way)
+    b = peak_deceleration(other.way, start, until)
+    if b is None or b.decel_mps2 <= 0 or (other.braking is not None and b.decel_mps2 <= other.braking.decel_mps2):
+        return other
+    return replace(other, braking=b)
 
 
 _reacting = _ByIdentity(_reacting_afresh, 8)

@@ -247,7 +247,9 @@ class Investigation:
     # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
         """Every potential violation of the run, judged; ordered by time. `progress(done, total)`
-        is called as the incidents are judged (after the pass over the observations).
+        is called as the cases are judged (after the pass over the observations): `done` of the
+        `total` cases (recorded potential violations and acts the sweep found), which end as fewer
+        incidents (one per act; a case the rules do not raise is none).
 
         A case nobody recorded that the monitor rulebook does not raise is no incident whatever
         the other rulebooks say; which ones those were is kept, like the cases, under the monitor
@@ -281,7 +283,7 @@ class Investigation:
                 if done % YOUNG_EVERY == 0:
                     gc.collect(1)
                 if progress is not None:
-                    progress(len(found), len(todo))
+                    progress(done, len(todo))
         if not kept_unraised:
             self.memo(run).put("unraised", unraised_key, unraised, plain=True)
         self.memo(run).save()

@@ -17,8 +17,11 @@ user and junction entry (first position inside the junction's area after EPISODE
                    APPROACH_S before (a stop at the line shows as one)
     give way       entries at a Give Way junction, or one the map gives a major road, within
                    FORCE_WINDOW_S of braking at FORCE_DECEL_MPS2 or harder by a road user on an
-                   arm the map makes the major road (where it does not say, "on the main road"
-                   cannot be derived, and no candidate could come to anything); and every such
+                   arm the map makes the major road or in the junction's area (where the map
+                   does not say, "on the main road" cannot be derived, and no candidate could
+                   come to anything); within WALKER_WINDOW_S of a pedestrian's own position in
+                   the junction's area (a Stop kept at the line may still endanger one stepping
+                   into the vehicle's path: para 1's "endanger any person"); and every such
                    entry where an arm of the major road is in no monitor's view: the traffic
                    there, braking or approaching, is only in its own record, which the history
                    reads and a sweep of the cameras' measurements cannot
@@ -49,6 +52,8 @@ EPISODE_GAP_S = 5.0       # inside the junction again after this long outside: a
 APPROACH_S = 15.0         # the approach to a Stop line looked at for a standstill
 STILL_MPS = 1.0           # a measurement this slow may be a stop a 2 Hz camera caught the end of
 FORCE_WINDOW_S = 6.0      # another road user's braking this close to an entry is looked at
+WALKER_WINDOW_S = 2.0     # a pedestrian in the junction's area this close to an entry: derived.ENDANGER_S, the
+                          # time window within which one in or entering the vehicle's path is endangered
 MAX_CANDIDATES = 10_000   # bounded work for any input
 ENTER = "enter the junction"
 BOX = "enter the box junction"
@@ -87,8 +92,9 @@ class Sweep:
     map: Map
     by_monitor: dict[str, Junction] = field(default_factory=dict)
     _tracks: dict[tuple[str, str], _Track] = field(default_factory=dict)
-    _entries: list[tuple[Junction, str, dict, bool]] = field(default_factory=list)   # (j, user, event, lights stated)
+    _entries: list[tuple[Junction, str, dict, bool]] = field(default_factory=list)   # (j, user, event, forcing)
     _braking: dict[str, list[tuple[int, str]]] = field(default_factory=dict)           # junction -> (t, user)
+    _walking: dict[str, list[tuple[int, str]]] = field(default_factory=dict)           # junction -> (t, pedestrian)
     _found: list[Candidate] = field(default_factory=list)
     fed: int = 0                                                                        # events seen
 
@@ -155,13 +161,16 @@ class Sweep:
         track = self._tracks.get((j.id, user))
         if track is None:
             track = self._tracks[j.id, user] = _Track()
+        inside = j.inside(x, y)
         if v is not None and track.last is not None and 0 < t - track.last[0] <= 2 * SECOND \
                 and (track.last[1] - v) / ((t - track.last[0]) / SECOND) >= FORCE_DECEL_MPS2 \
-                and j.is_major(sector(x - j.x, y - j.y)):
-            self._braking.setdefault(j.id, []).append((t, user))
+                and (inside or j.is_major(sector(x - j.x, y - j.y))):
+            self._braking.setdefault(j.id, []).append((t, user))      # on the major road, or in the junction
+        if inside and str(event.get("src", "")).startswith("pedestrian/"):
+            self._walking.setdefault(j.id, []).append((t, user))       # a pedestrian in the junction's area
         if v is not None:
             track.last = (t, v)
-        if not j.inside(x, y):
+        if not inside:
             track.approach = sector(x - j.x, y - j.y)
             if track.since is None or t - track.since > APPROACH_S * SECOND:
                 track.slowest, track.since = math.inf, t
@@ -192,8 +201,9 @@ class Sweep:
         if control == "stop" and track.slowest > STILL_MPS:
             slowest = "none measured" if track.slowest == math.inf else f"slowest {track.slowest:.1f} m/s"
             self._keep(Candidate(user, ENTER, j.id, event, f"entered a Stop junction ({slowest} on its approach)"))
-        if (control == "give_way" or j.major) and not j.is_major(track.approach):
-            self._entries.append((j, user, event, False))
+        forcing = (control == "give_way" or bool(j.major)) and not j.is_major(track.approach)
+        if forcing or control in ("stop", "give_way"):
+            self._entries.append((j, user, event, forcing))     # forcing: main-road braking is looked at
         if control == "lights" and not _states_light(event, user):
             self._keep(Candidate(user, ENTER, j.id, event, "entered a signal junction; no light stated with it"))
         track.slowest, track.since = math.inf, None
@@ -205,12 +215,16 @@ class Sweep:
     def candidates(self) -> list[Candidate]:
         """Every candidate, the give-way ones matched against the braking seen near them."""
         window = int(FORCE_WINDOW_S * SECOND)
-        for j, user, event, _ in self._entries:
+        for j, user, event, forcing in self._entries:
             braked = [(t, u) for t, u in self._braking.get(j.id, ()) if u != user and abs(t - event["t"]) <= window]
-            if braked:
+            walked = [(t, u) for t, u in self._walking.get(j.id, ()) if abs(t - event["t"]) <= WALKER_WINDOW_S * SECOND]
+            if forcing and braked:
                 self._keep(Candidate(user, ENTER, j.id, event,
                                      f"entered {j.id} while {braked[0][1]} braked at {FORCE_DECEL_MPS2:g} m/s² or harder"))
-            elif j.major and j.major & j.unwatched:
+            elif walked:
+                self._keep(Candidate(user, ENTER, j.id, event,
+                                     f"entered {j.id} while pedestrian {walked[0][1]} was in the junction"))
+            elif forcing and j.major and j.major & j.unwatched:
                 arms = " and ".join(sorted(j.major & j.unwatched))
                 self._keep(Candidate(user, ENTER, j.id, event,
                                      f"entered {j.id} from a minor arm; its major road's {arms} arm is in no "

@@ -12,11 +12,17 @@ world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNe
 speed it may drive at all (`getAllowedSpeed`: its speed factor on its lane). SUMO's car-following
 model then says what speed each of those constraints allows now (`getFollowSpeed` behind the
 leader, `getStopSpeed` before a red light, a held stop line or a foe it must let pass or that is
-already in its path, braking at its own deceleration down to a turn's speed); the lowest one that
-is below its speed is what it braked for. Constraints SUMO was told to disregard for the vehicle
-(its speed mode: red lights and right of way are off while the vehicle's decisions are the
-agents') are not asked. A run of such ticks is one `Yield`, with each cause it had and how hard
-it braked under each.
+already in its path, braking at its own deceleration down to a turn's speed); each one allowing
+less than the speed the vehicle braked from in the tick is one it braked for, and the slowing it
+asked for in the tick (the speed braked from less the speed it allows, no more than the vehicle
+shed) is counted to it. Two at once (its own turn and a foe crossing) each count: either alone
+would have made it brake. Constraints SUMO was told to disregard for the vehicle (its speed mode:
+red lights and right of way are off while the vehicle's decisions are the agents') are not
+asked. A foe coming from the lane the vehicle comes by (turning off another way at the junction)
+is followed as a leader, as SUMO's junction model does, not let pass as a foe. A run of such
+ticks is one `Yield`, with each cause it had: its hardest tick under it, and the speed shed under
+it held over a second (HELD_S: the way the 2 m/s² threshold of a considerable change of speed is
+stated; a one-tick peak of 4.5 m/s² sheds 0.45 m/s).
 
 Conflicts. With `ssm_options` SUMO's SSM device logs each encounter of two vehicles within
 SSM_RANGE_M whose time to collision, deceleration to avoid a crash or post-encroachment time
@@ -40,22 +46,26 @@ import libsumo
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
-__all__ = ["BRAKING_MPS2", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "in_path", "read_ssm",
+__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "in_path", "read_ssm",
            "ssm_options"]
 
 BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: coasting, SUMO's own dawdle)
 NEAR_M = 80.0            # a vehicle this close to its next junction (or in one) is asked why it brakes
 LOOK_M = 80.0            # how far ahead SUMO is asked for the leader and junction foes
 SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for conflicts
-_BINDS_MPS = 0.5         # the constraint allowing the lowest speed binds if that is at most this above its speed:
-                         # braking as hard as it can, a vehicle tracks the speed its constraint allows (within a
-                         # tick of hard braking, 0.1 s at 4.5-5 m/s²)
-_COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
+HELD_S = 1.0             # a braking's strength is the speed shed under one cause over a second (2 m/s² held
+                         # over a second, as the threshold of a considerable change of speed is stated: Hupfer
+                         # 1997; the reasoner averages over the same span, reasoner.motion.MIN_DECEL_SPAN_S)
+COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
 _OVER_MPS = 0.05         # a vehicle this much over the speed it may drive is slowing down to it
 _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
 _OBEYS_FOES = 8
+_OWN = {"signal", "line", "turn", "speed"}      # a vehicle's own control: its light, its line, its turn, its speed
+_STOOD_MPS = 0.1         # SUMO's halting speed: slower is standing
+_AT_LINE_M = 3.0          # ... this close to the end of its lane: at its line
+_STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying it stands at the line before it goes
 
 # SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
 ENCOUNTERS = {0: "no conflict ahead", 1: "following", 2: "following (ego follows)", 3: "following (ego leads)",
@@ -117,6 +127,16 @@ class Yield:
     cause: str                       # the cause it braked hardest under ("none" only if it had no other)
     by: str | None
     causes: dict[str, dict[str, Any]] = field(default_factory=dict)   # "foe 134" -> {t_s, decel, min speed, ...}
+    _shed: list[tuple[float, float, str]] = field(default_factory=list, repr=False)   # (t, m/s shed, cause) a tick
+
+    def held(self, t: float, drop: float, key: str) -> float:
+        """The speed shed under `key` over the HELD_S up to t (this tick's `drop` with it), per
+        second: how hard it braked for that cause held over a second. A one-tick peak of 4.5 m/s²
+        sheds 0.45 m/s, which is 0.45 m/s² held; a stretch shorter than HELD_S counts over HELD_S."""
+        self._shed.append((t, drop, key))
+        while self._shed and self._shed[0][0] <= t - HELD_S + 1e-6:
+            self._shed.pop(0)
+        return round(sum(d for _, d, k in self._shed if k == key) / HELD_S, 2)
 
     def to_json(self) -> dict[str, Any]:
         return {"vehicle": self.vehicle, "t_s": self.t_s, "until_s": self.until_s, "junction": self.junction,
@@ -133,30 +153,53 @@ class Account:
         self.modes = modes                         # vehicle -> its speed mode where not SUMO's default
         self.yields: list[Yield] = []
         self._open: dict[str, Yield] = {}
+        self._last_t: float | None = None
+        self._source: dict[str, str] | None = None     # junction lane -> the incoming lane it leaves from
+        self._stood: set[tuple[str, str | None]] = set()   # (vehicle, junction) it has stood at the Stop line of
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
+        self.step_s = t - self._last_t if self._last_t is not None and t > self._last_t else 0.1
+        self._last_t = t
         braking = set()
         for v in snap.vehicles:
+            if v.speed_mps < _STOOD_MPS and v.to_junction_m is not None and v.to_junction_m < _AT_LINE_M \
+                    and not v.lane.startswith(":"):
+                self._stood.add((v.id, v.next_junction))       # it has stood at its line: SUMO lets it go
             if v.accel_mps2 > -BRAKING_MPS2 or not _near(v):
                 continue
             braking.add(v.id)
-            cause, by, detail = self._why(v, snap)
+            drop = -v.accel_mps2 * self.step_s           # the speed it shed in this tick
+            before = v.speed_mps + drop
             y = self._open.get(v.id)
             if y is None:
                 y = self._open[v.id] = Yield(v.id, t, t, v.junction or v.next_junction, v.lane,
-                                             v.speed_mps - v.accel_mps2 * 0.1, v.speed_mps, 0.0, "none", None)
+                                             before, v.speed_mps, 0.0, "none", None)
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
-            decel = round(-v.accel_mps2, 2)
-            key = f"{cause} {by}" if by else cause
-            seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": v.speed_mps, **detail})
-            seen["decel_mps2"] = max(seen["decel_mps2"], decel)
-            seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
-            if decel > y.peak_decel_mps2:
-                y.peak_decel_mps2 = decel
-            if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by else y.cause]
-                                    ["decel_mps2"]):
-                y.cause, y.by = cause, by
+            y.peak_decel_mps2 = max(y.peak_decel_mps2, round(-v.accel_mps2, 2))
+            binding = self._why(v, snap, before)
+            own = min((a for a, cause, _, _ in binding if cause in _OWN), default=before)
+            for allowed, cause, by, detail in binding:
+                # the slowing this constraint asked for in the tick, no more than it shed: for a road
+                # user in its way, only what it asked beyond its own control (its light, line, turn,
+                # speed) and any leader of another name (issue 35: not for its own control)
+                floor = before if cause in _OWN else min([own] + [a for a, c, b, _ in binding
+                                                                  if c == "leader" and b != by])
+                shed = drop if cause == "none" else min(drop, max(0.0, min(floor, before) - allowed))
+                decel = round(shed / self.step_s, 2)
+                key = f"{cause} {by}" if by else cause
+                seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": round(before, 2),
+                                                 "from_mps": round(before, 2), "held_mps2": 0.0, **detail})
+                if shed > 0:                    # speeds under it: only where it asked for slowing
+                    if seen["decel_mps2"] == 0.0:
+                        seen["from_mps"] = round(before, 2)
+                    seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
+                seen["decel_mps2"] = max(seen["decel_mps2"], decel)
+                seen["until_s"] = t
+                seen["held_mps2"] = max(seen["held_mps2"], y.held(t, shed, key))
+                if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by
+                                                                             else y.cause]["decel_mps2"]):
+                    y.cause, y.by = cause, by
         for ident in [i for i in self._open if i not in braking]:
             self.yields.append(self._open.pop(ident))
 
@@ -167,9 +210,13 @@ class Account:
 
     # --- SUMO's account of one braking vehicle ------------------------------------------------
 
-    def _why(self, v: VehicleState, snap: Snapshot) -> tuple[str, str | None, dict[str, Any]]:
-        """The constraint SUMO's car-following model lets through at the lowest speed, asked at
-        the end of a tick of braking (the state the next tick's speed is chosen on)."""
+    def _why(self, v: VehicleState, snap: Snapshot,
+             before: float) -> list[tuple[float, str, str | None, dict[str, Any]]]:
+        """The constraints SUMO's car-following model says the vehicle braked for, asked at the end
+        of a tick of braking (the state the next tick's speed is chosen on): each allowing less than
+        `before`, the speed it braked from in this tick, with the speed it allows, lowest first; one
+        allowing as much (a leader far ahead at its own speed: SUMO's follow speed above the
+        vehicle's) is no constraint it braked for. None binding: "none"."""
         ident, speed = v.id, v.speed_mps
         mode = self.modes.get(ident, 31)
         vehicle = libsumo.vehicle
@@ -179,13 +226,15 @@ class Account:
             allowed.append((limit, "speed", None, {"allowed_mps": round(limit, 2)}))
         inside = v.lane.startswith(":")
         ahead_m = libsumo.lane.getLength(v.lane) - v.lane_pos_m if inside else v.to_junction_m
-        via = v.lane if inside else next((link[4] for link in vehicle.getNextLinks(ident)[:1]), "")
+        link = vehicle.getNextLinks(ident)[:1] if not inside else ()
+        via = v.lane if inside else next((lk[4] for lk in link), "")
+        link_state = next((lk[5] for lk in link), "")
         leader = vehicle.getLeader(ident, LOOK_M)
         if leader and leader[0]:
             other = snap.vehicle(leader[0])
             gap = max(leader[1], 0.0)
             if other is not None and other.lane.startswith(":") and via and other.lane != via \
-                    and other.lane in libsumo.lane.getInternalFoes(via):
+                    and other.lane in libsumo.lane.getInternalFoes(via) and not self._same_source(via, other.lane):
                 # SUMO's leader across its path in the junction (a link leader): it must not reach it
                 allowed.append((vehicle.getStopSpeed(ident, speed, gap), "foe", leader[0],
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
@@ -193,10 +242,14 @@ class Account:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
                 allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
                                 "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
-                                                      "merged": self._merged(ident, leader[0])}))
+                                                      **_joined(self._merged(ident, leader[0]))}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
+        elif mode & _OBEYS_FOES and not inside and v.to_junction_m is not None and link_state == _STOP_LINK \
+                and (ident, v.next_junction) not in self._stood:
+            allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_junction_m, 0.0)), "line", None,
+                            {"to_line_m": round(v.to_junction_m, 1), "line": "stop (SUMO's link)"}))
         if mode & _OBEYS_RED:
             for tls, _, dist, state in vehicle.getNextTLS(ident)[:1]:
                 if state in _RED and dist <= LOOK_M:
@@ -206,27 +259,45 @@ class Account:
             turn = libsumo.lane.getMaxSpeed(via)
             allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
                             None, {"via": via, "turn_speed_mps": round(turn, 2)}))
+        waiting: list[tuple[float, float, str, dict[str, Any]]] = []
         for foe in vehicle.getJunctionFoes(ident, LOOK_M):
-            other_id, ego_dist, foe_dist, _, _, _, _, must_yield, _ = foe
+            other_id, ego_dist, foe_dist, _, foe_exit, ego_lane, foe_lane, must_yield, _ = foe
             other = snap.vehicle(other_id)
+            if foe_exit + vehicle.getLength(other_id) < 0:
+                continue                     # its back has left the conflict area: no longer in the way
             entered = other is not None and other.lane.startswith(":") and foe_dist < ego_dist + 5.0
             if (must_yield and mode & _OBEYS_FOES) or entered:
                 gap = v.to_junction_m if must_yield and not entered and v.to_junction_m is not None else ego_dist
-                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id,
-                                {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
-                                 "must_yield": bool(must_yield), "foe_in_junction": entered}))
+                detail = {"ego_to_conflict_m": round(ego_dist, 1), "foe_to_conflict_m": round(foe_dist, 1),
+                          "must_yield": bool(must_yield), "foe_in_junction": entered}
+                if self._same_source(ego_lane, foe_lane):
+                    # from the lane it comes by, ahead of it and turning off another way: SUMO's
+                    # junction model follows such a foe as a leader (its SSM device: "following")
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "leader", other_id,
+                                    {**detail, "merged": False, "diverging": True}))
+                    continue
+                if must_yield and not entered:      # one it must let pass, still coming: within COMING_S
+                    arrives = foe_dist / max(other.speed_mps if other is not None else 0.0, 0.1)
+                    if arrives <= COMING_S:         # (SUMO lists all that cross its link, one 480 m off too)
+                        waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)),
+                                        other_id, {**detail, "foe_arrives_s": round(arrives, 1)}))
+                    continue
+                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id, detail))
+        if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
+            arrives, stop, other_id, detail = min(waiting, key=lambda w: w[0])
+            allowed.append((stop, "foe", other_id, detail))
         if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own,
             foes = set(libsumo.lane.getInternalFoes(v.lane))      # or about to drive onto one
             junction = v.lane[1:].rsplit("_", 2)[0]
             for other in snap.vehicles:
-                if other.lane in foes:
+                if other.lane in foes and not self._same_source(v.lane, other.lane):
                     away = math.hypot(other.x - v.x, other.y - v.y)
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
                 elif other.next_junction == junction and not other.lane.startswith(":") \
-                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * _COMING_S:
+                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * COMING_S:
                     link = vehicle.getNextLinks(other.id)[:1]
-                    if link and link[0][4] in foes:
+                    if link and link[0][4] in foes and not self._same_source(v.lane, link[0][4]):
                         allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,
                                         {"foe_lane": link[0][4], "foe_to_junction_m": round(other.to_junction_m, 1),
                                          "foe_in_junction": False}))
@@ -234,17 +305,36 @@ class Account:
             for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
                                 {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
-        low = min(allowed, key=lambda a: a[0], default=(math.inf, "none", None, {}))
-        if low[0] > speed + _BINDS_MPS:
-            return "none", None, {}
-        return low[1], low[2], {**low[3], "allowed_mps": round(low[0], 2)}
+        binding: dict[str, tuple[float, str, str | None, dict[str, Any]]] = {}
+        for speed_allowed, cause, by, detail in sorted(allowed, key=lambda a: a[0]):
+            if speed_allowed < before:
+                binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
+                                                     {**detail, "allowed_mps": round(speed_allowed, 2)}))
+        return list(binding.values()) or [(before, "none", None, {})]
 
-    def _merged(self, ident: str, leader: str) -> bool:
-        """Whether the leader joined the vehicle's road from another arm (their routes meet at a
-        junction they come into by different edges), rather than driving ahead of it all along."""
+    def _same_source(self, lane: str, other: str) -> bool:
+        """Whether two junction lanes leave from one incoming lane (SUMO's links: `lane.getLinks`)."""
+        if self._source is None:
+            self._source = {}
+            for incoming in libsumo.lane.getIDList():
+                if incoming.startswith(":"):
+                    continue
+                todo = [link[4] for link in libsumo.lane.getLinks(incoming) if link[4]]
+                while todo:                 # the junction lane and the internal lanes it goes on by
+                    inner = todo.pop()
+                    if inner.startswith(":") and inner not in self._source:
+                        self._source[inner] = incoming
+                        todo.extend(link[4] or link[0] for link in libsumo.lane.getLinks(inner))
+        mine = self._source.get(lane)
+        return mine is not None and mine == self._source.get(other)
+
+    def _merged(self, ident: str, leader: str) -> str | None:
+        """The junction where the leader joined the vehicle's road from another arm (their routes
+        meet at a junction they come into by different edges), or None where it drove ahead of it
+        all along."""
         mine, theirs = self.routes.get(ident), self.routes.get(leader)
         if not mine or not theirs:
-            return False
+            return None
         lane = libsumo.vehicle.getRoadID(ident)
         start = mine.index(lane) if lane in mine else 0
         for i in range(start, len(mine)):
@@ -252,8 +342,13 @@ class Account:
                 j = theirs.index(mine[i])
                 before_mine = mine[i - 1] if i > 0 else None
                 before_theirs = theirs[j - 1] if j > 0 else None
-                return before_mine != before_theirs
-        return False
+                return libsumo.edge.getFromJunction(mine[i]) if before_mine != before_theirs else None
+        return None
+
+
+def _joined(junction: str | None) -> dict[str, Any]:
+    """A leader's `merged` (it joined the vehicle's road from another arm) and where (`merged_at`)."""
+    return {"merged": junction is not None, "merged_at": junction}
 
 
 def _near(v: VehicleState) -> bool:

@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Iterable
 
+from sim_replay.sumo_account import COMING_S
 from store import write_text
 
 __all__ = ["ABOUT_S", "Act", "EXIT_M", "InjectedFault", "REACTION_S", "Truth", "yielded_to"]
@@ -137,9 +138,9 @@ def yielded_to(act: dict[str, Any], yields: list[dict[str, Any]],
                conflicts: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Who SUMO says braked for the act's vehicle V about its crossing: a stretch of braking begun
     within ABOUT_S of it with a cause naming V (V a junction foe it let pass or found in its path,
-    or a leader that had joined its road ahead of it from another arm), how hard and down to what
-    speed under that cause, and the SSM device's measures of the pair (ego the one braking, foe V)
-    about then."""
+    or a leader that had joined its road ahead of it from another arm at the act's junction), how hard (its peak in a
+    tick, and held over a second: sumo_account.HELD_S), from and down to what speed under that
+    cause, and the SSM device's measures of the pair (ego the one braking, foe V) about then."""
     v, t = act["vehicle"], act["t_s"]
     out = []
     for y in yields:
@@ -147,11 +148,15 @@ def yielded_to(act: dict[str, Any], yields: list[dict[str, Any]],
             continue
         for key, how in y["causes"].items():
             cause, _, by = key.partition(" ")
-            if by != v or (cause == "leader" and not how.get("merged")):
-                continue
+            if by != v or (cause == "leader" and not (how.get("merged")
+                                                       and how.get("merged_at", act.get("junction")) == act.get("junction"))):
+                continue                # a leader counts where it joined the road at this act's junction
+            if cause == "foe" and how.get("foe_arrives_s", 0.0) > COMING_S:
+                continue                # a foe it must let pass, still far off (SUMO lists one 480 m away)
             ssm = [c for c in conflicts if c["ego"] == y["vehicle"] and c["foe"] == v
                    and c["begin_s"] <= y["until_s"] + 1.0 and c["end_s"] >= y["t_s"] - 1.0]
             out.append({"vehicle": y["vehicle"], "t_s": how["t_s"], "cause": cause, "decel_mps2": how["decel_mps2"],
+                        "held_mps2": how.get("held_mps2"), "from_mps": how.get("from_mps"),
                         "speed_mps": y["speed_mps"], "min_speed_mps": how.get("min_speed_mps", y["min_speed_mps"]),
                         "ssm": {m: ssm[0][m] for m in ("minTTC", "maxDRAC", "PET") if ssm and m in ssm[0]}})
     return out

@@ -103,3 +103,21 @@ def test_opening_reads_and_never_writes(paper_db):
         with pytest.raises(GapsError):
             case.store.append(paper_run("another"))
     assert (hashlib.sha256(paper_db.read_bytes()).hexdigest(), paper_db.stat().st_mtime_ns) == before
+
+
+def test_the_progress_of_judging_ends_with_every_case_done(tmp_path):
+    """Issue 39: the demo's bar stopped at 30/53: it counted incidents found against cases to judge."""
+    from reasoner.investigation import Investigation
+    from sim_replay.paper import paper_run
+    from store import Store
+    seen = []
+    judge = Investigation._case_judged
+
+    def none_first(self, run, rs, gaps, t, *rest):         # the first case raises no incident (as most of
+        return None if not seen else judge(self, run, rs, gaps, t, *rest)   # the demo's sweep cases)
+    with Store(tmp_path / "p.db") as store:
+        store.append(paper_run())
+        inv = Investigation(store)
+        inv._case_judged = none_first.__get__(inv)
+        found = inv.incidents("paper-junctions", progress=lambda done, total: seen.append((done, total)))
+    assert len(found) == 1 and seen == [(1, 2), (2, 2)]

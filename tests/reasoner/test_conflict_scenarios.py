@@ -17,8 +17,9 @@ pulls away at 2 m/s², going straight on east along y = +1.75 (test_foreign_scen
 from __future__ import annotations
 
 import math
+import re
 
-from tests.helpers.foreign import Foreign, Motion, ns, rate
+from tests.helpers.foreign import Foreign, Motion, crossroads, ns, rate
 from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _OUT_OF_C2S_WAY, _SET_OFF,
                                                    judge, mps, no_violation, of, one, runner_run, stated_stop_camera,
                                                    stop_then_go_run, unseen_main_road_run, verdict)
@@ -165,3 +166,86 @@ def test_the_headline_names_the_ground_the_verdict_rests_on(tmp_path):
     deciding = next(g for g in grounds if "would force" in g or "would endanger" in g).strip()
     deciding = deciding.removeprefix("and ").split(" [")[0]
     assert deciding in headline, (headline, deciding)
+
+
+def test_a_main_road_car_braking_hard_inside_the_junction_as_the_vehicle_pulls_out_was_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171): no vehicle may proceed past a Stop line "so as to ...
+    cause the driver of another vehicle to change its speed or course in order to avoid an
+    accident". 7 stops at its Stop line and pulls out; c2 comes down the main road from the north at
+    9 m/s, and only once it is inside the junction (11.5 m from the centre, the junction's area
+    reaching to the stop lines at 12 m) does it brake, at 6.5 m/s² for 1.1 s, to a crawl
+    (1.85 m/s) short of 7's path while 7 crosses in front of it, then goes on; unslowed, c2 would
+    have been where their paths meet while 7 was (the simulation's 241 braking at 4.5 m/s² in j2
+    as 237 came out of its Give Way line, a braking SUMO's account puts down to 237). A change of
+    speed to avoid an accident, wherever it began: punishable, HC 171, naming c2. (Counting
+    braking only outside the junction, c2's record showed none, no stop either, and the Stop was
+    lawful.)"""
+    begins = _SET_OFF + 2.2                                  # c2 at s = -11.5 (y = +11.5), inside the junction
+    c2 = Motion(-11.5 - 9.0 * begins, 9.0, [(begins, 0.0), (1.1, -6.5), (1.5, 0.0), (6.0, 2.0)])
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "north")))
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 171")
+    forced = [f for f in inc.derived if f.sentence == "7 would force c2 to change speed or course"]
+    braked = re.search(r"c2 braked at (\d+\.\d) m/s²", forced[0].method) if forced else None
+    assert braked and float(braked[1]) >= 5.0, [f.method for f in forced]
+
+
+def test_a_kept_stop_that_pulls_out_as_a_pedestrian_steps_into_its_path_is_judged_and_punishable(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely to
+    endanger any person"; having stopped does not excuse it. 7 stops at its line, waits and pulls
+    out, watched by a camera that sees the whole junction and writes 7's sign, its measurements and,
+    once it has stood, "7 has stopped at the stop line" (no sentence about anyone else); nobody brakes; p9 walks north across 7's exit and is in 7's lane
+    as 7 gets there (post-encroachment time 0: both where their paths meet at once), measured by
+    the camera and in its own record. No sentence raises the act, nor braking on the main road: the sweep of the
+    measurements must (a pedestrian in the junction's area as 7 entered it), and the history shows
+    "7 would endanger p9": punishable, HC 171 (the simulation's kept Stops with a pedestrian on a
+    crossing of their path that raised no incident at all). The far-footway pedestrian of
+    test_a_lawful_stop_with_traffic_far_away... raises the same candidate and is no offence."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    run.spawn("7")
+    run.drive("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START, facts=stated_stop_camera())
+    walk(run, "p9", (8.0, 1.75 - 1.4 * _AT_X8), (0.0, 1.4), START + 25.0, watched=True)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would endanger p9" for f in inc.derived)
+
+
+def test_a_cyclist_braking_behind_the_vehicle_on_its_own_approach_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 asks whether 7, proceeding past its Stop line, caused the
+    driver of another vehicle to change speed or course "in order to avoid an accident" with it;
+    HC 126 leaves the gap to the vehicle in front to the one behind. cy rides up 7's own (west)
+    arm at 6 m/s behind it and brakes at 3 m/s² to a stand 6.5 m behind 7 while 7 waits at its
+    line, then waits there: a change of speed behind its leader on its own way, not one 7's
+    crossing caused (SUMO's account of such a pair: a leader that did not join its road, its SSM
+    device "following"). A lawful Stop: no violation, and cy is not said to be forced."""
+    run = stop_then_go_run()
+    run.spawn("cy", "cyclist")
+    cy = Motion(-60.0, 6.0, [(5.83, 0.0), (2.0, -3.0)])
+    run.drive("cy", cy, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("cy", cy, "west", rate(5, START, START + 25.0), t_start=START)
+    found = judge(tmp_path, run)
+    assert not any("force cy" in f.sentence or "endanger cy" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+
+
+def test_a_give_way_pull_out_making_a_main_road_car_stop_inside_the_junction_is_punishable(tmp_path):
+    """HC 172 (RTA 1988 s.36, TSRGD 2016 Sch 9 Pts 7 and 8): at a Give Way line, give way to traffic
+    on the major road. 7 waits at its Give Way line (west arm) and pulls out while c2, on the main
+    road, is already inside the junction (11 m from the centre at 4 m/s as 7 crosses its line);
+    c2 brakes at 4 m/s² to a stand short of 7's path and waits while 7 crosses in front of it.
+    c2 was traffic on the major road coming through the junction 7 came out into: punishable,
+    HC 172 (the town's 265 and 386, 543 and 124: "V would force U" shown, but U, inside the
+    junction, was never read as approaching V, which the Give Way rule asks: no incident)."""
+    c2 = Motion(-11.0 - 4.0 * (_SET_OFF + 0.7), 4.0, [(_SET_OFF + 1.5, 0.0), (1.0, -4.0), (2.0, 0.0), (6.0, 2.0)])
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
+    run.spawn("7")
+    run.drive("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("7", STOPS_THEN_GOES, "west", rate(5, START, START + 25.0), t_start=START,
+              facts=["7 has a give way sign"])
+    run.spawn("c2")
+    run.drive("c2", c2, "north", rate(5, START, START + 25.0), t_start=START)
+    run.watch("c2", c2, "north", rate(5, START, START + 25.0), t_start=START)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 172")
+    assert any(f.sentence == "c2 is approaching 7" for f in inc.derived)

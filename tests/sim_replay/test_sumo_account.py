@@ -14,7 +14,7 @@ from __future__ import annotations
 from sim_replay.maps import map_files
 from sim_replay.sim_config import Behaviour, SimConfig
 from sim_replay.simulation import Simulation
-from sim_replay.sumo_account import Account, in_path, read_ssm, ssm_options
+from sim_replay.sumo_account import Account, Yield, in_path, read_ssm, ssm_options
 from sim_replay.sumo_world import World
 from sim_replay.truth import yielded_to
 
@@ -126,3 +126,76 @@ def test_a_pedestrian_on_a_crossing_of_a_vehicles_way_is_in_its_path():
                 for who, crossing, away in in_path(side, snap.pedestrians):
                     seen[who] = (crossing, min(away, seen.get(who, (None, away))[1]))
     assert set(seen) == {"p1"} and seen["p1"][0] == ":j2_c2" and seen["p1"][1] < 6.0
+
+
+def test_a_car_following_the_vehicle_on_its_own_approach_follows_it_and_is_no_foe_of_it(tmp_path):
+    """"side" comes up r3's south arm to j2 and turns right (east); "behind" follows it up the same
+    lane and goes straight on (north). Their junction lanes leave j2's south arm from one lane,
+    so SUMO lists side among behind's junction foes (getJunctionFoes); but its junction model
+    follows a vehicle ahead from the same lane as a leader until it has turned off, and its SSM
+    device calls such pairs "following". behind brakes behind side (a leader that did not join its
+    road from another arm), never for side as a junction foe, so no crossing of side's is said to
+    have made behind give way (issue 35's "a cyclist following on its own approach")."""
+    routes: dict = {}
+    with World(NET, seed=3) as world:
+        account = Account(routes, world.modes)
+        for ident, start, end, pos, speed in (("side", "s2_j2", "j2_e", 150.0, 8.0),
+                                              ("behind", "s2_j2", "j2_j1", 120.0, "max")):
+            routes[ident] = world.route(start, end)
+            world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=speed)
+        for step in range(120):
+            snap = world.step()
+            if step == 0:
+                world.take_control("side")
+            account.tick(snap)
+        account.close()
+    behind = [y.to_json() for y in account.yields if y.vehicle == "behind"]
+    named = {key for y in behind for key in y["causes"]}
+    assert "leader side" in named and "foe side" not in named
+    assert all(not c.get("merged") for y in behind for k, c in y["causes"].items() if k == "leader side")
+    assert yielded_to({"vehicle": "side", "t_s": 3.4}, behind, []) == []
+
+
+def test_braking_is_measured_held_over_a_second_under_each_cause():
+    """A braking's strength is the speed shed under one cause within a second (HELD_S), as the
+    2 m/s² threshold of a considerable change of speed is stated: a one-tick peak of 4.5 m/s² sheds
+    0.45 m/s (0.45 m/s² held); ten ticks at 2.5 m/s² shed 2.5 m/s; what was shed under another
+    cause in the same second is not counted for this one."""
+    y = Yield("u", 0.0, 0.0, "j2", "e_j2_1", 13.4, 13.4, 0.0, "none", None)
+    assert y.held(10.0, 0.45, "foe v") == 0.45                     # one tick of 4.5 m/s²
+    assert y.held(12.0, 0.05, "foe v") == 0.05                     # ... forgotten a second later
+    steady = Yield("u", 0.0, 0.0, "j2", "e_j2_1", 13.4, 13.4, 0.0, "none", None)
+    ticks = [steady.held(10.0 + 0.1 * k, 0.25, "foe v") for k in range(12)]
+    assert ticks[9] == 2.5 and max(ticks) == 2.5                 # ten ticks at 2.5 m/s² within the second
+    z = Yield("u", 0.0, 0.0, "j2", "e_j2_1", 13.4, 13.4, 0.0, "none", None)
+    for k in range(5):
+        z.held(20.0 + 0.1 * k, 0.45, "turn")                     # its own turn first
+    assert z.held(20.5, 0.45, "foe v") == 0.45                   # then a tick for v
+
+
+def test_a_leader_counts_only_where_it_joined_the_road_at_the_acts_junction():
+    """"side" crossed j1's line; "behind" braked behind it on the road to j1, which side had joined
+    at j2 earlier on: a queue on its own approach to j1, not a braking side's crossing of j1 caused.
+    "cut" braked behind side on j1's exit, which side joined at j1 as it crossed: side's crossing."""
+    act = {"vehicle": "side", "t_s": 10.0, "junction": "j1"}
+    yields = [
+        {"vehicle": "behind", "t_s": 10.5, "until_s": 12.0, "speed_mps": 13.4, "min_speed_mps": 9.0,
+         "causes": {"leader side": {"t_s": 10.5, "decel_mps2": 4.5, "held_mps2": 3.0, "merged": True,
+                                    "merged_at": "j2"}}},
+        {"vehicle": "cut", "t_s": 11.0, "until_s": 12.0, "speed_mps": 13.4, "min_speed_mps": 8.0,
+         "causes": {"leader side": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.0, "merged": True,
+                                    "merged_at": "j1"}}},
+    ]
+    assert [y["vehicle"] for y in yielded_to(act, yields, [])] == ["cut"]
+
+
+def test_a_foe_still_far_off_is_not_one_the_vehicle_waited_for():
+    """SUMO lists among a vehicle's junction foes every vehicle whose route crosses its link, one
+    480 m and 38 s away with one about to arrive; the vehicle waits for one arriving within
+    COMING_S, not for one that will come in half a minute."""
+    act = {"vehicle": "far", "t_s": 10.0, "junction": "j6"}
+    yields = [{"vehicle": "u", "t_s": 11.0, "until_s": 11.6, "speed_mps": 9.6, "min_speed_mps": 6.5,
+               "causes": {"foe far": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.1, "foe_arrives_s": 37.7}}},
+              {"vehicle": "w", "t_s": 11.0, "until_s": 11.6, "speed_mps": 9.6, "min_speed_mps": 6.5,
+               "causes": {"foe far": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.1, "foe_arrives_s": 1.5}}}]
+    assert [y["vehicle"] for y in yielded_to(act, yields, [])] == ["w"]
