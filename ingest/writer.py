@@ -231,6 +231,8 @@ class BatchWriter(threading.Thread):
                     return exc
                 continue
             self._resumed()
+            if report.ended:
+                self._release(report.ended)
             self._stats.record_rejected(report.rejected)
             self._stats.add(
                 stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
@@ -245,6 +247,14 @@ class BatchWriter(threading.Thread):
                 log.error("ingest: the quarantine is full (%d rows or %d bytes): later refusals are counted per "
                           "origin, their bytes not kept; `gaps quarantine --prune` makes room", cap.rows, cap.bytes)
             return None
+
+    def _release(self, runs: tuple[str, ...]) -> None:
+        """What the writer kept of runs that ended (each source's seqs) let go: a fleet's short
+        runs come and go, and a source gone for good must cost nothing (the store let go of its
+        chain already)."""
+        self._tracker.release(runs)
+        if self._watch is not None:
+            self._watch.recovery.release(runs)
 
     def _stalled(self, condition: str, held: int, exc: Exception) -> bool:
         """Note that the store cannot write (once in the log, as it begins); returns whether to

@@ -170,6 +170,8 @@ class Store:
             conn.executemany(_INSERT_EVENT, batch.events)
             kept = quarantine.keep(conn, batch.refused, self.quarantine_cap, self._quarantine_tally)
             conn.executemany(_INSERT_CHECKPOINT, batch.checkpoints)
+        for run in batch.ended:                  # committed: an ended run costs nothing kept for ever
+            self._heads.release(run)
         self._run_hooks(batch.events)
         batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
         if batch.signed:

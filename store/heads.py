@@ -40,10 +40,10 @@ class Heads:
         """Forget what is kept of a run that ended (its run.end stored and committed): a fleet's
         ended runs must cost nothing for ever. A later event of it loads its chain again from its
         last checkpoint, as a reopened store does."""
-        if self.chains.pop(run, None) is not None:
-            self.empty.discard(run)
-            for key in [key for key in self.max_seq if key[0] == run]:
-                del self.max_seq[key]
+        self.chains.pop(run, None)
+        self.empty.discard(run)
+        for key in [key for key in self.max_seq if key[0] == run]:
+            del self.max_seq[key]
 
     def chain(self, run: str) -> RunChain:
         found = self.chains.get(run)
@@ -58,7 +58,7 @@ class Heads:
         key = (run, src)
         highest = self.max_seq.get(key)
         if highest is None:
-            if run in self.empty or (run not in self.chains and self._loads_empty(run)):
+            if run in self.empty or (run not in self.chains and self._holds_nothing(run)):
                 return -1
             (found,) = self._conn.execute(
                 "SELECT max(seq) FROM events WHERE run = ? AND src = ?", key
@@ -66,14 +66,12 @@ class Heads:
             highest = self.max_seq[key] = -1 if found is None else found
         return highest
 
-    def _loads_empty(self, run: str) -> bool:
-        """Is the run's chain empty? (Loaded now; a tail that fails its check is the append's to
-        refuse, so here it only means asking the index.)"""
-        try:
-            return self.chain(run).count == 0
-        except Exception:
-            self.chains.pop(run, None)
-            return False
+    def _holds_nothing(self, run: str) -> bool:
+        """Does the store hold no event of the run? (One probe a run, not one a source.)"""
+        if self._conn.execute("SELECT 1 FROM events WHERE run = ? LIMIT 1", (run,)).fetchone() is None:
+            self.empty.add(run)
+            return True
+        return False
 
     def stored_event(self, run: str, src: str, seq: int) -> bytes | None:
         """Canonical bytes of the stored event with this identity, if any. Sources send seq in
