@@ -122,6 +122,12 @@ class Store:
 
     # --- lifecycle -----------------------------------------------------------------------------
 
+    def shrink_memory(self) -> None:
+        """Give back the connections' page caches (SQLite keeps up to CACHE_KIB each): what an
+        ingest that went quiet calls, so that a fleet's burst is not resident for ever."""
+        self._conn.execute("PRAGMA shrink_memory")
+        self.cache.shrink_memory()
+
     def close(self) -> None:
         self.cache.close()
         if not self.read_only:
