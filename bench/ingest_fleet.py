@@ -121,10 +121,19 @@ def stored_at(serve: ServeProcess, total: int, timeout: float, tenths: list | No
     raise TimeoutError(f"gaps serve did not store {total} events within {timeout} s: {serve.lines[-5:]}")
 
 
-def one_pass(shape: str, runs: int, per_run: int, folder: Path, tenths: list | None = None) -> dict:
+def serve_command(code: Path | None) -> list[str]:
+    """`gaps serve` of this checkout, or of another one (`--baseline CHECKOUT`: main, to compare)."""
+    if code is None:
+        return [sys.executable, "-m", "cli.main", "serve"]
+    return [sys.executable, "-c", f"import sys; sys.path.insert(0, {str(code)!r}); sys.argv[0] = 'gaps'; "
+            "from cli.main import main; main()", "serve"]
+
+
+def one_pass(shape: str, runs: int, per_run: int, folder: Path, tenths: list | None = None,
+             code: Path | None = None) -> dict:
     endpoint = free_endpoint()
     db = folder / f"{shape}-{time.monotonic_ns()}.db"
-    serve = ServeProcess(db, endpoint, "--status-every", "0.1")
+    serve = ServeProcess(db, endpoint, "--status-every", "0.1", command=serve_command(code))
     try:
         serve.wait_for_log("serve.ready", timeout=60)
         ctx = mp.get_context("spawn")
@@ -163,18 +172,21 @@ def main() -> None:
     parser.add_argument("--events-per-run", type=int, default=76)
     parser.add_argument("--repeat", type=int, default=1 if quick() else 3)
     parser.add_argument("--more-runs", type=int, default=0 if quick() else 10_000)
+    parser.add_argument("--baseline", type=Path, default=None,
+                        help="another checkout (e.g. main's) whose serve is measured alternately, as `before`")
     args = parser.parse_args()
-    rows: dict[str, list[dict]] = {"one": [], "fleet": []}
+    rows: dict[str, list[dict]] = {"one": [], "fleet": [], "one before": [], "fleet before": []}
     with tempfile.TemporaryDirectory(prefix="gaps-ingest-fleet-") as tmp:
         folder = Path(tmp)
         for n in range(args.repeat):
             for shape in ("one", "fleet") if n % 2 == 0 else ("fleet", "one"):
-                row = one_pass(shape, args.runs, args.events_per_run, folder)
-                rows[shape].append(row)
-                print(f"repeat {n + 1} {shape:5}: {row['events']} events in {row['seconds']:.2f} s = "
+                for code, label in [(None, shape)] + ([(args.baseline, f"{shape} before")] if args.baseline else []):
+                    row = one_pass(shape, args.runs, args.events_per_run, folder, code=code)
+                    rows[label].append(row)
+                    print(f"repeat {n + 1} {label:12}: {row['events']} events in {row['seconds']:.2f} s = "
                       f"{row['rate']:,.0f}/s; serve RSS idle {row['rss_idle_mb']:.0f} MB, peak "
-                      f"{row['rss_peak_mb']:.0f} MB, after {row['rss_after_mb']:.0f} MB; load {os.getloadavg()[0]:.1f}",
-                      flush=True)
+                          f"{row['rss_peak_mb']:.0f} MB, after {row['rss_after_mb']:.0f} MB; load "
+                          f"{os.getloadavg()[0]:.1f}", flush=True)
         one = statistics.median(r["rate"] for r in rows["one"])
         fleet = statistics.median(r["rate"] for r in rows["fleet"])
         ratios = [f["rate"] / o["rate"] for f, o in zip(rows["fleet"], rows["one"])]
@@ -183,7 +195,15 @@ def main() -> None:
         figures = [Figure("one run", one, "events/s", tuple(r["rate"] for r in rows["one"])),
                    Figure(f"{args.runs} runs x {args.events_per_run}", fleet, "events/s",
                           tuple(r["rate"] for r in rows["fleet"]), target=">= 0.8 x one run", peer="one run")]
-        details = {"one": rows["one"], "fleet": rows["fleet"]}
+        if args.baseline:
+            one_b = statistics.median(r["rate"] for r in rows["one before"])
+            fleet_b = statistics.median(r["rate"] for r in rows["fleet before"])
+            print(f"before ({args.baseline}), alternating with the above: one run {one_b:,.0f}/s, {args.runs} runs "
+                  f"{fleet_b:,.0f}/s = {fleet_b / one_b:.2f} x", flush=True)
+            figures += [Figure("one run, before", one_b, "events/s", tuple(r["rate"] for r in rows["one before"])),
+                        Figure(f"{args.runs} runs x {args.events_per_run}, before", fleet_b, "events/s",
+                               tuple(r["rate"] for r in rows["fleet before"]), peer="one run, before")]
+        details = rows
         if args.more_runs:
             tenths: list[float] = []
             big = one_pass("fleet", args.more_runs, args.events_per_run, folder, tenths)
