@@ -2,6 +2,8 @@
 SHELL := /bin/bash
 VENV := .venv
 READY := $(VENV)/.ready
+# pytest-xdist workers for `make test`: CI has two cores; TEST_WORKERS=0 runs the suite in one process
+TEST_WORKERS ?= 2
 
 .PHONY: demo test setup clean bench bench-quick fuzz
 
@@ -10,7 +12,7 @@ demo: $(READY)
 
 test: $(READY)
 	@bash scripts/ensure-chromium.sh
-	$(VENV)/bin/python -m pytest
+	$(VENV)/bin/python -m pytest -n $(TEST_WORKERS)
 
 setup: $(READY)
 

@@ -68,7 +68,8 @@ def _simulate(path: Path, json_out: bool) -> str:
     s = simulation.summary
     typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {s.world_s:g} s of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
-               f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations.\n"
+               f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations "
+               f"recorded by the monitors on line.\n"
                f"Published over Zenoh; stored {totals['stored']:,}, duplicates {totals['duplicates']:,}, "
                f"rejected {totals['rejected']:,} → {path}\n", err=json_out)
     return DEMO.run
@@ -78,10 +79,11 @@ def _tour(case: Case, run: str) -> None:
     """Every incident in a line, then the featured ones explained in full."""
     from explain.featured import featured
     from explain.listing import explanations, incident_line
-    with stderr_progress("judging incidents") as progress:
+    from explain.listing import acts_summary
+    with stderr_progress("judging the recorded potential violations and the measured acts") as progress:
         found = [(case.number(inc), inc) for inc in case.incidents(run, progress=progress)]
-    typer.echo(f"{len(found)} incidents in run {run} (`gaps incidents --run {run}`; `gaps explain --run {run} N` "
-               "explains one):")
+    typer.echo(f"{len(found)} incidents in run {run}, {acts_summary([inc for _, inc in found])} "
+               f"(`gaps incidents --run {run}`; `gaps explain --run {run} N` explains one):")
     for n, inc in found:
         typer.echo(printable(incident_line(inc, n)))
     for feature, hit in featured(found):

@@ -288,7 +288,7 @@ class _Builder:
                 out.append(f"Within {v}'s own control: {own[0]['text']}, {then}.")
         chain = doc["evidence"]["chain"]
         if chain["verified"]:
-            out.append(f"The record is intact: the run's hash chain verified over all {chain['events']} events.")
+            out.append(f"The record is intact: the run's hash chain verified over all {chain['events']:,} events.")
         else:
             out.append(("WARNING: " if chain["checked"] else "Note: ") + chain["text"] + ".")
         return out

@@ -10,6 +10,7 @@ A block is a tuple: ("title", text), ("heading", text), ("para", text), ("list",
 """
 from __future__ import annotations
 
+import re
 
 from . import phrases as ph
 from .trees import outline
@@ -45,7 +46,37 @@ def blocks(doc: dict, level: str = "standard") -> list[Block]:
     out += _evidence(doc)
     if full:
         out += _rulebooks(doc)
-    return out
+    return _renumbered(out)
+
+
+_NUMBERED = re.compile(r"(\d+)\. ")
+_SEE = re.compile(r"\bsee (\d+)\. ")
+
+
+def _renumbered(out: list[Block]) -> list[Block]:
+    """The sections numbered in the order shown: a section left out (no "Why not" for a verdict
+    that needs none) leaves no hole (issue 39: sections 1-4, 6-8), and a "see 5. Why not" follows
+    its section's number."""
+    numbers: dict[str, str] = {}
+    for block in out:
+        if block[0] == "heading" and (m := _NUMBERED.match(block[1])):
+            numbers[m.group(1)] = str(len(numbers) + 1)
+
+    def fix(value: object) -> object:
+        if isinstance(value, str):
+            return _SEE.sub(lambda m: f"see {numbers.get(m.group(1), m.group(1))}. ", value)
+        if isinstance(value, list):
+            return [fix(v) for v in value]
+        if isinstance(value, tuple):
+            return tuple(fix(v) for v in value)
+        return value
+
+    renumbered: list[Block] = []
+    for block in out:
+        if block[0] == "heading" and (m := _NUMBERED.match(block[1])):
+            block = ("heading", f"{numbers[m.group(1)]}. {block[1][m.end():]}")
+        renumbered.append(fix(block))      # type: ignore[arg-type]
+    return renumbered
 
 
 def _tree(tree: dict | None, full: bool, refer: dict | None = None) -> list[Block]:

@@ -6,6 +6,7 @@ glance and then asks `gaps explain` about the one that matters. Lines are drawn 
 """
 from __future__ import annotations
 
+from collections import Counter
 from typing import TYPE_CHECKING, Iterable, Iterator
 
 from reasoner.model import OWN_RECORD, Finding, Incident, Margin, Penalty, found_in
@@ -76,7 +77,25 @@ def _margin(m: Margin) -> str:
 
 
 def _findings(findings: tuple[Finding, ...]) -> str:
+    """Each kind once, in the order first found, with how many where more than one: a run with
+    lost events has nine "missing evidence" findings, which a line cannot list one by one."""
     if not findings:
         return "no findings"
-    names = ", ".join(f.kind for f in findings)
+    counts = Counter(f.kind for f in findings)
+    names = ", ".join(kind if n == 1 else f"{kind} ({n})" for kind, n in counts.items())
     return f"{len(findings)} finding{'s' if len(findings) != 1 else ''}: {names}"
+
+
+def acts_summary(incidents: list[Incident], recorded_pvs: int | None = None) -> str:
+    """Where a run's incidents came from, so that the counts a user meets agree: one incident per
+    act (DESIGN "One act, one offence"), those the monitors saw (with the potential violations
+    they recorded among them: two cameras on one passage are one incident), and those found only
+    in the vehicles' own records. `recorded_pvs`: what the producer said it recorded (the
+    simulation's summary), said beside it where it differs from what the incidents cite."""
+    own = sum(1 for inc in incidents if found_in(inc.sources) == OWN_RECORD)
+    cited = sum(1 for inc in incidents for src in inc.sources if src.how == "recorded")
+    seen = len(incidents) - own
+    text = f"one per act: {seen} the monitors saw, citing the {cited} potential violations they recorded"
+    if recorded_pvs is not None and recorded_pvs != cited:
+        text += f" (of {recorded_pvs} recorded in all)"
+    return text + f"; {own} found only in the vehicles' own records"

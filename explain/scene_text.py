@@ -14,6 +14,8 @@ from reasoner.when import format_offset, format_time
 from .units import speed_text
 
 JUDGED_ON = {"vehicle scenario": "the Vehicle Scenario",
+             "corrected vehicle scenario": "the Vehicle Scenario with what the monitors witnessed in place of the "
+                                           "vehicle's own view,",
              "monitor scenario": "what its spawn and the monitors recorded",
              "spawn only": "its spawn only"}
 LAWFUL = {True: "yes", False: "NO", None: "not decided"}
@@ -42,8 +44,9 @@ def vehicle_lines(sc: Scene, v: dict[str, Any]) -> list[str]:
              + ("" if v["recorded"] else ": known only from monitors' observations")]
     if (now := v["state"]) is not None:
         junction = f", in junction {now['junction']}" if now.get("junction") else ""
-        lines.append(f"  at ({_num(now.get('x'))}, {_num(now.get('y'))}) m, speed {speed_text(now.get('speed_mps'))}, "
-                     f"road {now.get('road')}{junction} ({_cite(now['evidence'], sc)})")
+        road = f", road {now['road']}" if now.get("road") is not None else ""       # inside a junction: none
+        lines.append(f"  at ({_num(now.get('x'))}, {_num(now.get('y'))}) m, speed {speed_text(now.get('speed_mps'))}"
+                     f"{road}{junction} ({_cite(now['evidence'], sc)})")
     lines.append(f"  in control: {_control(sc, v['control'])}")
     lines += _facts("Vehicle Scenario", v["vehicle_scenario"], sc)
     lines.append(_action(sc, v["vehicle_action"]))

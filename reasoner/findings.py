@@ -114,7 +114,8 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
     for src in srcs:
         for first, last, before, after in gaps.spans(src):
             if (before is None or before <= hi) and (after is None or after >= lo):
-                out.append(Finding("missing evidence", f"{src} events {first} to {last} are missing "
+                which = f"event {first} is" if first == last else f"events {first} to {last} are"
+                out.append(Finding("missing evidence", f"{src} {which} missing "
                                    f"from the record, between {_when(before, 'its first event')} and "
                                    f"{_when(after, 'its last event')}, within {WINDOW_S} s of the incident",
                                    src=src, missing_seq=(first, last)))
@@ -140,17 +141,20 @@ def missing_evidence(gaps: Gaps, srcs: list[str], t: int, last_seen: dict[str, i
 def _stopped(gaps: Gaps, src: str, seen: int, t: int) -> Finding | None:
     """The source stopped publishing before the incident: its liveliness token disappeared after
     its last event before t (a process that died, a link that broke, a publisher closed), which is
-    not the same as a source that was there and said nothing."""
+    not the same as a source that was there and said nothing. A source whose last event is at the
+    incident's moment reported it: a publisher closed after that (the demo's, when its scenario is
+    over) takes nothing from the incident. The ingest's wall clock when it noticed stays out of
+    the sentence: the run's clock is the source's world time, and two clocks in one sentence
+    mislead (the change, with its wall-clock time, is in `gaps verify`'s wire records)."""
     for change in reversed(gaps.liveliness(src)):
         if change.alive or change.last_seq is None:
             continue
         last_t = gaps.store.t_of(gaps.run, src, change.last_seq)
-        if last_t is not None and seen <= last_t <= t:
+        if last_t is not None and seen <= last_t < t:
             return Finding("missing evidence", f"{src} stopped publishing at {format_time(last_t)}, "
                                                f"{(t - last_t) / SECOND:.1f} s before the incident: its liveliness "
-                                               f"token disappeared after its event {change.last_seq} (noticed by "
-                                               f"the ingest at {format_time(change.at)}), so nothing it would have "
-                                               "reported since is on record", src=src)
+                                               f"token disappeared after its event {change.last_seq}, so nothing "
+                                               "it would have reported since is on record", src=src)
     return None
 
 

@@ -24,7 +24,7 @@ present at t is an UnknownVehicle error naming the vehicles that are.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
@@ -93,7 +93,8 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
     if vehicle is not None and vehicle not in present:
         raise UnknownVehicle(_not_present(state, vehicle, present, t))
     shown = [vehicle] if vehicle is not None else sorted(present, key=_natural)
-    vehicles = [_vehicle(state, v, t) for v in shown]
+    named = present | {src.split("/", 1)[1] for src in state.entities if "/" in src}
+    vehicles = [_vehicle(state, v, t, named) for v in shown]
     if judge if judge is not None else vehicle is not None:
         _judge(investigation, store, run, vehicles)
     start_piece = state.start
@@ -156,9 +157,13 @@ class _Shown:
 
     json: dict[str, Any]
     validator: Scenario
+    monitors: list = field(default_factory=list)
+    """What the monitors stated of it, each fact with its event (their Monitor Scenarios')."""
+    present: frozenset[str] = frozenset()
+    """The other road users present: a fact naming one of them is not about the vehicle."""
 
 
-def _vehicle(state: State, vehicle: str, t: int) -> _Shown:
+def _vehicle(state: State, vehicle: str, t: int, present: set[str] = frozenset()) -> _Shown:
     run = state.run
     record = entity(state, vehicle) or {}
     spawn, now = record.get("spawn"), record.get("state")
@@ -182,7 +187,7 @@ def _vehicle(state: State, vehicle: str, t: int) -> _Shown:
                                "goal_evidence": action.evidence.to_json() if action else None,
                                "judged_on": judged_on},
         "collision": _ref_json(collision, run, "collision") if collision else None,
-    }, validator)
+    }, validator, [pair for _, sc in mscens for pair in sc.facts], frozenset(present - {vehicle}))
 
 
 def _validator_scenario(record: dict, vscen: Scenario, monitors: list[Scenario]) -> tuple[Scenario, str]:
@@ -222,7 +227,7 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
             scenario["why"] = f"no template of {rb.name} fits the goal {scenario['goal']!r}"
             continue
         unknown: list[Finding] = []
-        atoms = inv.reader.atoms(rb, v.validator.facts, unknown)
+        atoms = _validator_atoms(inv, run, rb, v, unknown)
         scenario["unknown_facts"] = [f.to_json() for f in unknown]
         try:
             scenario["lawful"] = inv.engine.holds(rb, goal, atoms)
@@ -231,6 +236,33 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
             continue
         among = "among" if scenario["lawful"] else "not among"
         scenario["why"] = f"\"{scenario['goal']}\" is {among} the lawful actions of the Validator Scenario"
+
+
+def _validator_atoms(inv: Investigation, run: str, rb: Any, v: _Shown, unknown: list[Finding]) -> list:
+    """The Validator Scenario's facts as the incidents judge them (DESIGN "Reasoning"): the
+    vehicle's own view with what the monitors witnessed in its place (reasoner/perception.py's
+    `corrected`, as the investigation asks it), so that the scene's "lawful" is the verdict's
+    ground and not the vehicle's belief (issue 39: a misread light judged lawful here and
+    punishable in the incident). A vehicle with no perception is judged on its spawn and the
+    monitors' facts already (_validator_scenario)."""
+    from .le.sentences import constant
+    from .perception import corrected, witnessed_functors
+
+    mine = inv.reader.pairs(rb, v.validator.facts, unknown)
+    monitor = inv.ruleset(run)["monitor"]
+    if v.json["validator_scenario"]["judged_on"] != "vehicle scenario" or monitor is None or not v.monitors:
+        return [a for a, _ in mine]
+    seen = inv.reader.pairs(rb, v.monitors, unknown)
+    me = constant([v.json["vehicle"]])
+    others = {a for atom, _ in mine + seen for a in atom.args if isinstance(a, (str, int)) and a != me
+              and str(a) in v.present}
+    out, disputes = corrected(mine, seen, witnessed_functors(monitor.rulebook), me, others)
+    if not disputes:                # the monitors saw what the vehicle did: its own view, as shown
+        return [a for a, _ in out]
+    v.json["validator_scenario"]["facts"] = [{"fact": rb.render(a), "evidence": ev.to_json() if ev else None}
+                                             for a, ev in out]
+    v.json["validator_scenario"]["judged_on"] = "corrected vehicle scenario"
+    return [a for a, _ in out]
 
 
 # --- the rest of the scene --------------------------------------------------------------------

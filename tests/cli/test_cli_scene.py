@@ -129,3 +129,21 @@ def test_scene_json_is_what_it_was_before_the_scene_became_a_dataclass(tmp_path,
         store.append(paper_run())
     result = gaps("scene", "--run", RUN, *args, "--json", db=path)
     assert result.stdout == (Path(__file__).parent / "golden" / golden).read_text(encoding="utf-8")
+
+
+def test_a_vehicle_inside_a_junction_has_no_road_and_none_is_printed():
+    """Issue 39: `road None` on the screen for a car inside the junction (its state has no road)."""
+    from explain.scene_text import vehicle_lines
+    from reasoner.scene import Scene
+    state = {"x": 1.75, "y": 10.92, "speed_mps": 13.41, "road": None, "junction": "j1",
+             "evidence": {"run": "r", "src": "vehicle/124", "seq": 149, "t": 0, "kind": "entity.state"}}
+    v = {"vehicle": "124", "type": "car", "recorded": True, "state": state,
+         "control": {"in_control": "driver", "engaged": False, "since": None, "automated": False,
+                     "transition_demand": None, "minimal_risk_manoeuvre": None}, "vehicle_scenario": [],
+         "vehicle_action": None, "monitor_scenarios": [],
+         "validator_scenario": {"goal": None, "judged_on": "spawn only", "facts": []}}
+    sc = Scene(run="r", t=0, t_iso="", run_start=0, run_start_iso="", offset_ns=0, offset="+0s", events=1,
+               last=None, note=None, rulebooks=[], started=None, ended=None, signals=[], monitors=[],
+               vehicles=[v], road_users=[])
+    line = vehicle_lines(sc, v)[1]
+    assert "None" not in line and line.endswith(", in junction j1 (vehicle/124 #149, +0s)")

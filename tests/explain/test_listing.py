@@ -55,3 +55,23 @@ def test_two_findings_are_counted_and_named():
 def test_an_incident_without_a_field_cannot_be_made():
     with pytest.raises(TypeError):
         Incident(id="x", run="r")       # no silent blanks: every field is given
+
+
+def test_many_findings_of_one_kind_are_counted_not_repeated():
+    """Issue 39: "8 findings: contradiction, missing evidence, missing evidence, …" is unreadable."""
+    many = (Finding(kind="contradiction", detail=""),) + (Finding(kind="missing evidence", detail=""),) * 7
+    assert incident_line(incident(findings=many)).endswith("8 findings: contradiction, missing evidence (7)")
+
+
+def test_the_counts_a_user_meets_are_explained_one_per_act():
+    """Issue 39: "23 potential violations" and "25 incidents" in one demo, never explained. Two
+    cameras' potential violations of one passage are one incident; an act only the car's own
+    telemetry shows is another."""
+    from explain.listing import acts_summary
+    from reasoner.model import Source
+    two_cameras = incident(sources=(Source("monitor/m1:1", "monitor/m1", "monitor.potential_violation", "recorded"),
+                                    Source("monitor/m2:4", "monitor/m2", "monitor.potential_violation", "recorded")))
+    own = incident(sources=(Source("vehicle/173:9", "vehicle/173", "entity.state", "measured"),))
+    assert acts_summary([two_cameras, own], recorded_pvs=3) == (
+        "one per act: 1 the monitors saw, citing the 2 potential violations they recorded (of 3 recorded in all); "
+        "1 found only in the vehicles' own records")

@@ -185,7 +185,7 @@ def test_markdown_has_the_same_sections(demo_report):
     assert "- vehicle 173 (car) (this incident): at (-2, 0) m, heading 0°, speed 20.1 mph (9 m/s)" in text
     assert "| -3 s | signal j1 west | red |" in text
     # the explanation's headings sit under the incident's
-    assert "\n### Vehicle 173 committed a punishable violation" in text and "\n#### 8. Evidence" in text
+    assert "\n### Vehicle 173 committed a punishable violation" in text and "\n#### 7. Evidence" in text
     for b in demo_report["rulebooks"]:
         assert b["sha256"] in text
 

@@ -41,3 +41,18 @@ def test_without_liveliness_records_the_finding_is_as_before(tmp_path: Path) -> 
     with _store(tmp_path) as store:
         [detail] = _details(store, T0 + 20 * SECOND)
     assert detail.startswith(f"{SRC} went silent: its last report before the incident was 16.0 s earlier")
+
+
+def test_a_source_that_reported_at_the_incident_then_closed_took_nothing_from_it(tmp_path: Path) -> None:
+    """The demo's publisher closes when its scenario is over: the vehicle's last event is the one
+    at the incident's moment, so nothing before or at the incident is missing (issue 39)."""
+    with _store(tmp_path, LivelinessChange("r1", SRC, True, T0, None),
+                LivelinessChange("r1", SRC, False, T0 + 60 * SECOND, 4)) as store:
+        assert _details(store, T0 + 4 * SECOND) == []
+
+
+def test_the_ingests_wall_clock_is_not_mixed_into_the_runs_time(tmp_path: Path) -> None:
+    with _store(tmp_path, LivelinessChange("r1", SRC, True, T0, None),
+                LivelinessChange("r1", SRC, False, 1_796_000_000 * SECOND, 4)) as store:
+        [detail] = _details(store, T0 + 6 * SECOND)
+    assert "2026-" not in detail and "noticed" not in detail

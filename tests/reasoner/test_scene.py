@@ -154,3 +154,21 @@ def test_run_start_is_the_run_start_event_not_an_earlier_one(tmp_path):
         assert run_start(s, RUN) == T0
         s.append([{**e, "run": "bare"} for e in paper_run() if e["kind"] != "run.start"])
         assert run_start(s, "bare") == T0                     # no run.start: the first event
+
+
+def test_a_misread_light_is_judged_as_the_monitor_saw_it_as_the_incident_is(tmp_path):
+    """Car 173 misreads the red as green (its perception says green, the camera saw red). The
+    Validator Scenario puts what the monitor witnessed in place of the vehicle's own view (DESIGN
+    "Reasoning"; the paper's Figure 1), so `scene --judge` must not call its entering lawful while
+    the incident convicts it (issue 39: the demo's incident 6 "lawful: yes" on the screen)."""
+    events = [dict(e, body={**e["body"], "facts": ["173 is of type car", "173 has green light"]})
+              if e["src"] == "vehicle/173" and e["kind"] == "vehicle.perception" else e for e in paper_run()]
+    with Store(tmp_path / "misread.db") as s:
+        s.append(events)
+        inv = Investigation(s)
+        car = scene(s, RUN, at(10), vehicle="173", investigation=inv).vehicles[0]["validator_scenario"]
+        verdicts = {i.vehicle: i.verdict for i in inv.incidents(RUN)}
+    assert car["judged_on"] == "corrected vehicle scenario"
+    assert "173 has red light" in [f["fact"] for f in car["facts"]]
+    assert "173 has green light" not in [f["fact"] for f in car["facts"]]
+    assert car["lawful"] is False and verdicts["173"] == "punishable"
