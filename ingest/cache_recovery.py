@@ -96,6 +96,14 @@ class CacheRecovery:
             elif source not in known_of:
                 known_of[source] = known
 
+    def release(self, runs: Iterable[str]) -> None:
+        """Forget the sources of runs that ended (their run.end stored): a later event of one goes
+        on from its highest seq stored, as a source first heard does."""
+        ended = set(runs)
+        for source in [source for source in self._known if source[0] in ended]:
+            del self._known[source]
+            self._heard.discard(source)
+
     def step(self) -> None:
         """Ask every cache for the holes seen since the last look, the caches found meanwhile for
         their index, and each index's sources."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 import bisect
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 
 Range = list[int]  # [first, last], inclusive
 
@@ -54,6 +54,7 @@ class GapTracker:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._sources: dict[tuple[str, str], _Source] = {}
+        self._let_go = 0   # sources of ended runs released with nothing missing (still counted as seen)
         self._now = time.monotonic()
         self._look = 0   # how many times the writer looked at the wire (new_look)
         self.stored_highest: Callable[[str, str], int | None] = lambda run, src: None
@@ -95,6 +96,16 @@ class GapTracker:
             source.highest = stored
         return source
 
+    def release(self, runs: Iterable[str]) -> None:
+        """Forget the sources of runs that ended (their run.end stored), keeping those with seqs
+        missing (what `gaps()` lists): a fleet's ended runs must cost nothing for ever. A later
+        event of such a source goes on from its highest seq stored, as after a restart."""
+        ended = set(runs)
+        with self._lock:
+            for key in [key for key, source in self._sources.items() if key[0] in ended and not source.missing]:
+                del self._sources[key]
+                self._let_go += 1
+
     def highest(self, run: str, src: str) -> int | None:
         """The source's highest seq seen (or stored, if nothing of it arrived since the start), or
         None if there is none: the upper bound of where a liveliness change sits in its
@@ -126,7 +137,7 @@ class GapTracker:
         tokens would tell that), and an event whose key disagreed with its body names no source."""
         cutoff = time.monotonic() - active_within_s
         with self._lock:
-            return len(self._sources), sum(s.last_seen >= cutoff for s in self._sources.values())
+            return len(self._sources) + self._let_go, sum(s.last_seen >= cutoff for s in self._sources.values())
 
     def missing(self) -> tuple[int, int]:
         """(sequence numbers missing in all, sources missing any)."""

@@ -15,6 +15,7 @@ Closing the session closes the channel; samples already in it can still be taken
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 
 import zenoh
 from zenoh import ext
@@ -83,6 +84,13 @@ class Inbox:
                 append(item)
         except zenoh.ZError:  # "channel is empty and closed": the session was closed
             self._closed = True
+
+    def release(self, runs: Iterable[str]) -> None:
+        """Forget the keys (and their publishers) of runs that ended: a fleet's keys come and go.
+        A key of one seen again is noted again as a first sample."""
+        prefixes = tuple(f"gaps/{run}/" for run in runs)
+        self._keys_seen = {key for key in self._keys_seen if not key.startswith(prefixes)}
+        self.publisher_keys = {pub: key for pub, key in self.publisher_keys.items() if not key.startswith(prefixes)}
 
     def _first(self, idle_s: float) -> Received | None:
         """The next sample within ``idle_s``, looking every POLL_S (Zenoh's channel has no

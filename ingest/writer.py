@@ -19,6 +19,7 @@ from store import Candidate, CheckpointKey, QuarantineCap, Store, TrustedKeys, e
 from .gap_tracker import GapTracker
 from .gc_pacing import collections_between_batches
 from .head_sinks import HeadSink, HeadSinks
+from .idle_memory import QUIET_S, give_back
 from .inbox import Inbox, Received
 from .run_claims import RunClaims
 from .screen import Screened, refused, require_signature, screen_all
@@ -121,7 +122,9 @@ class BatchWriter(threading.Thread):
 
     def _drain(self, store: Store, between_batches: Callable[[], None]) -> None:
         """Write batches until the inbox is closed and empty; nothing here may end the thread early.
-        The collector runs between batches (ingest/gc_pacing.py), once the last one is let go."""
+        The collector runs between batches (ingest/gc_pacing.py), once the last one is let go;
+        once the link has been quiet for QUIET_S, memory is given back (ingest/idle_memory.py)."""
+        last_batch, kept = time.monotonic(), False
         while True:
             try:
                 batch = self._inbox.take(self._batch_size, self._flush_interval_s)
@@ -136,6 +139,10 @@ class BatchWriter(threading.Thread):
                 self._stats.add(received=len(batch))
                 self._write(store, batch)
                 self._stats.record_lag(time.monotonic() - self._inbox.first_at)
+                last_batch, kept = time.monotonic(), True
+            elif kept and time.monotonic() - last_batch >= QUIET_S:
+                give_back(store)
+                kept = False
             self._record_wire(store, caught_up=batch is None or len(batch) < self._batch_size, last=batch is None)
             self._write_recovered(store)
             if batch is None:
@@ -231,6 +238,8 @@ class BatchWriter(threading.Thread):
                     return exc
                 continue
             self._resumed()
+            if report.ended:
+                self._release(report.ended)
             self._stats.record_rejected(report.rejected)
             self._stats.add(
                 stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
@@ -245,6 +254,15 @@ class BatchWriter(threading.Thread):
                 log.error("ingest: the quarantine is full (%d rows or %d bytes): later refusals are counted per "
                           "origin, their bytes not kept; `gaps quarantine --prune` makes room", cap.rows, cap.bytes)
             return None
+
+    def _release(self, runs: tuple[str, ...]) -> None:
+        """What the writer kept of runs that ended (each source's seqs) let go: a fleet's short
+        runs come and go, and a source gone for good must cost nothing (the store let go of its
+        chain already)."""
+        self._tracker.release(runs)
+        self._inbox.release(runs)
+        if self._watch is not None:
+            self._watch.recovery.release(runs)
 
     def _stalled(self, condition: str, held: int, exc: Exception) -> bool:
         """Note that the store cannot write (once in the log, as it begins); returns whether to

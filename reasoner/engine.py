@@ -1,6 +1,9 @@
 """The Prolog side of the reasoner: rulebooks loaded into SWI-Prolog through janus_swi.
 
-One engine per process (janus embeds a single Prolog).  Rulebooks are compiled to data in
+One engine per process (janus embeds a single Prolog), safe to ask from several threads at once
+(a Dask worker's executor threads, by default as many as its CPUs): each thread that asks gets a
+Prolog engine of its own, attached on its first question and kept for the thread's life
+(`_Threads`), and a rulebook is loaded once under a lock.  Rulebooks are compiled to data in
 Python and built into clauses by `prolog/engine.pl`; each lives in a module named by the
 sha256 of its LE text, so a run can be judged by exactly the rules it recorded while other
 versions stay loaded beside it.  A scenario is data too: asserted for one question into a
@@ -9,6 +12,7 @@ thread-local context and retracted after it.
 from __future__ import annotations
 
 import hashlib
+import threading
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -130,11 +134,28 @@ def sha256_text(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
+class _Threads(threading.local):
+    """Which of this process's threads have a Prolog engine attached for good.
+
+    janus_swi attaches a Prolog engine to the calling thread for the length of one `query_once`
+    (created and destroyed every call), and `apply_once` attaches none: asked from any thread
+    but the one that started Prolog, `holds` dereferenced a thread without an engine and the
+    process died of SIGSEGV (janus_swi 1.5.3; a plain `dask worker` runs tasks on two executor
+    threads here). `janus.attach_engine()` once per thread gives it an engine until it exits:
+    every call works, and a thread's calls stop paying an engine's creation each. Each engine has
+    its own thread-local scenario (prolog/engine.pl), so threads asking at once do not mix facts."""
+
+    attached: bool = False
+
+
 class Engine:
     """Loads rulebooks once each and answers questions against a scenario of facts."""
 
     def __init__(self) -> None:
         self._janus = import_janus()
+        self._threads = _Threads()
+        self._loading = threading.RLock()
+        self._on_thread()
         self._call("load_files(F, [if(not_loaded)]), gaps_engine:new_rulebook(gaps_probe, [])",
                    F=str(ENGINE_PL))
         self._loaded: dict[str, Rulebook] = {}
@@ -145,6 +166,10 @@ class Engine:
         """Parse, check and load a rulebook (once per text); an LEError loads nothing. The same text
         loaded under another name is the same module, named as this caller names it: what a report
         or a citation (`validators.le:12`) shows must not depend on what the process loaded first."""
+        with self._loading:                  # two threads loading one text would build one module twice
+            return self._load(text, name)
+
+    def _load(self, text: str, name: str) -> Rulebook:
         sha = sha256_text(text)
         if sha in self._loaded:
             first = self._loaded[sha]
@@ -191,6 +216,7 @@ class Engine:
 
     def holds(self, rb: Rulebook, goal: Atom, facts: list) -> bool:
         """Plain yes/no for one sentence: the fastest question."""
+        self._on_thread()
         try:
             return self._janus.apply_once("gaps_engine", "holds", rb.module, self._facts(facts),
                                           atom_data(goal)) == "true"
@@ -206,6 +232,7 @@ class Engine:
         raise, its answer is the QuestionError it would raise (the caller raises it where it
         would have asked: the others are answered all the same)."""
         data = [atom_data(a) for a in atoms]
+        self._on_thread()
         try:
             answers = self._janus.apply_once("gaps_engine", "holds_each", rb.module, data, questions)
         except self._janus.PrologError as exc:
@@ -274,7 +301,14 @@ class Engine:
         except self._janus.PrologError as exc:
             raise QuestionError(_prolog_message(exc)) from None
 
+    def _on_thread(self) -> None:
+        """This thread's own Prolog engine, attached on its first question (see _Threads)."""
+        if not self._threads.attached:
+            self._janus.attach_engine()
+            self._threads.attached = True
+
     def _call(self, query: str, **inputs):
+        self._on_thread()
         result = self._janus.query_once(query, inputs)
         if not result.get("truth"):
             raise RuntimeError(f"Prolog query failed: {query}")
@@ -303,11 +337,15 @@ def _message(text: str) -> str:
 
 
 _engine: Engine | None = None
+_starting = threading.Lock()
 
 
 def get_engine() -> Engine:
-    """The process's engine, started on first use so that commands without rules stay fast."""
+    """The process's engine, started on first use so that commands without rules stay fast (and
+    once, when two threads ask for it first at the same moment)."""
     global _engine
     if _engine is None:
-        _engine = Engine()
+        with _starting:
+            if _engine is None:
+                _engine = Engine()
     return _engine

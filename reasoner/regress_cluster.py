@@ -12,10 +12,10 @@ else. A run is never split across tasks: its incidents are matched, and its deci
 whole, and the investigation keeps per-run state (the rulesets, the chain's status) that a split
 would compute again in every part.
 
-A worker must be a process with one thread for another reason too: the engine must be called
-from the thread that started it (calling it from a second thread crashed the process here, a
-segmentation fault in SWI-Prolog), and a Dask worker's executor thread lives as long as the worker,
-so the first task starts the engine on it and every later task finds it there.
+A worker may run tasks on several threads at once (a plain `dask worker` has one a CPU): each
+thread asks its own Prolog engine (engine.py attaches one to every thread that asks) and opens
+its own store and investigations (`_open` is per thread), so two tasks in one process share only
+the rulebooks loaded once into the process's Prolog.
 
 The cluster is Dask's own: a LocalCluster of `workers` processes by default, a running scheduler
 with `scheduler`. A worker that dies has its task given to another by the scheduler (it tolerates
@@ -26,6 +26,7 @@ put together in task order (regress.assemble), so the result is the one a single
 from __future__ import annotations
 
 import logging
+import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -85,7 +86,26 @@ class Task:
 CONNECT_TIMEOUT_S = 10                                # a scheduler that does not answer is a mistake said
 WORKERS_UP_S = 120                                    # a local cluster's workers must be up by then
 Judge = Callable[[Task, Job], list[RunPart]]
-_open: dict[tuple[str, Job], Regressor] = {}        # this process's store, kept open across its tasks
+
+
+class ClusterLost(RegressError):
+    """The cluster could not finish the job: a task every worker that took it died on, or the
+    scheduler gone or forgetting the job. No judgement, so neither "nothing changed" (0) nor
+    "changed" (1), nor a mistake of the user's (2)."""
+
+    exit_code = 5
+
+
+class _Open(threading.local):
+    """This thread's store and its two investigations, kept open across the thread's tasks."""
+
+    regressors: dict[tuple[str, Job], Regressor]
+
+    def __init__(self) -> None:
+        self.regressors = {}
+
+
+_open = _Open()
 
 
 def judge(task: Task, job: Job) -> list[RunPart]:
@@ -102,14 +122,13 @@ def judge(task: Task, job: Job) -> list[RunPart]:
 def _store_regressor(path: str, job: Job, new: GivenBooks, old: GivenBooks | None) -> Regressor:
     """One read-only store and its two investigations per process, reused by the tasks of the
     same job (its runs' rulesets and chain checks are kept per run, so nothing is judged twice)."""
-    key = (path, job)
-    if key not in _open:
-        for regressor in _open.values():
+    key, mine = (path, job), _open.regressors
+    if key not in mine:
+        for regressor in mine.values():
             regressor.store.close()
-        _open.clear()
-        # The worker's one thread runs every task, but not always the thread that opened it.
-        _open[key] = Regressor(Store.open_read_only(path, check_same_thread=False), get_engine(), new, old)
-    return _open[key]
+        mine.clear()
+        mine[key] = Regressor(Store.open_read_only(path), get_engine(), new, old)
+    return mine[key]
 
 
 def _noting(part: RunPart, problems: tuple[str, ...]) -> RunPart:
@@ -152,20 +171,31 @@ def run_tasks(tasks: Sequence[Task], job: Job, cluster: Cluster, progress: Progr
                 progress(task.label, n + 1, len(tasks))
         return out
     with _client(cluster) as client:
-        shared = client.scatter(job, broadcast=True, hash=False)
+        # The job is a task of its own, not scattered data: data scattered to workers that all
+        # die is lost for good and every task needing it cancelled ("already forgotten"); a
+        # task's result is computed again on a live worker.
+        shared = client.submit(_the_job, job, key=f"regress-job-{id(job):x}", pure=False)
         futures = [client.submit(judge_task, task, shared, key=f"regress-{n}-{task.label}", pure=False)
                    for n, task in enumerate(tasks)]
         labels = {f.key: t.label for f, t in zip(futures, tasks)}
         from distributed import KilledWorker, as_completed
+        from distributed.client import FutureCancelledError
         try:
             for n, future in enumerate(as_completed(futures)):
                 future.result()                  # a task's mistake is said now, the rest cancelled
                 if progress is not None:
                     progress(labels[future.key], n + 1, len(tasks))
+            return [part for future in futures for part in future.result()]
         except KilledWorker as exc:
-            raise RegressError(f"{_lost(exc, labels)}: every worker that took it died (the scheduler's "
-                               "allowed-failures); the run may be too big for a worker's memory") from None
-        return [part for future in futures for part in future.result()]
+            raise ClusterLost(f"{_lost(exc, labels)}: every worker that took it died (the scheduler's "
+                              "allowed-failures); the run may be too big for a worker's memory") from None
+        except (FutureCancelledError, OSError, TimeoutError) as exc:
+            raise ClusterLost(f"the Dask cluster could not finish the regression ({type(exc).__name__}: "
+                              f"{exc}); the scheduler or its workers were lost") from None
+
+
+def _the_job(job: Job) -> Job:
+    return job
 
 
 def _lost(exc: Exception, labels: dict) -> str:

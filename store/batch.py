@@ -46,6 +46,7 @@ class Batch:
         self.report = AppendReport()
         self._grown: dict[str, RunChain] = {}  # runs this call extended
         self._placed: dict[tuple[str, str, int], str] | None = None  # built only if a seq repeats
+        self.ended: dict[str, None] = {}  # runs whose run.end this call stored, in order
 
     # --- feeding ---------------------------------------------------------------------------------
 
@@ -77,6 +78,7 @@ class Batch:
             if chain.checkpointed != chain.count:
                 self._checkpoint(run, chain)
         self.report.stored = len(self.events)
+        self.report.ended = tuple(self.ended)
 
     # --- placing ---------------------------------------------------------------------------------
 
@@ -108,6 +110,8 @@ class Batch:
             self._placed[(run, src, seq)] = text
         if chain.count % self.every == 0 or kind == "run.end":
             self._checkpoint(run, chain)
+        if kind == "run.end":
+            self.ended[run] = None
         return None
 
     def _earlier(self, run: str, src: str, seq: int) -> bytes | None:

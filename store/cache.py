@@ -134,6 +134,11 @@ class Cache:
         chain head, the earliest event appended after a chain length), so that it is worked out
         once, not on every read."""
 
+    def shrink_memory(self) -> None:
+        """Give back the page cache of the open connection, if one is open (an idle ingest)."""
+        if self._conn is not None:
+            self._conn.execute("PRAGMA shrink_memory")
+
     @property
     def connection(self) -> sqlite3.Connection:
         if self._conn is None:

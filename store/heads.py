@@ -27,15 +27,30 @@ class Heads:
         self.trust = trust  # each run's signed heads known outside the file (store/trust_root.py)
         self.chains: dict[str, RunChain] = {}
         self.max_seq: dict[tuple[str, str], int] = {}  # (run, src) -> highest stored seq, -1 if none
+        self.empty: set[str] = set()  # runs whose chain was empty when loaded: every source they
+        # stored since is in max_seq, so a source not there has stored nothing (no query: a
+        # fleet's new run brings dozens of new sources, and each was a look-up in the index)
 
     def forget(self) -> None:
         self.chains.clear()
         self.max_seq.clear()
+        self.empty.clear()
+
+    def release(self, run: str) -> None:
+        """Forget what is kept of a run that ended (its run.end stored and committed): a fleet's
+        ended runs must cost nothing for ever. A later event of it loads its chain again from its
+        last checkpoint, as a reopened store does."""
+        self.chains.pop(run, None)
+        self.empty.discard(run)
+        for key in [key for key in self.max_seq if key[0] == run]:
+            del self.max_seq[key]
 
     def chain(self, run: str) -> RunChain:
         found = self.chains.get(run)
         if found is None:
             found = self.chains[run] = self._load_chain(run)
+            if found.count == 0:
+                self.empty.add(run)
         return found
 
     def highest_seq(self, run: str, src: str) -> int:
@@ -43,11 +58,20 @@ class Heads:
         key = (run, src)
         highest = self.max_seq.get(key)
         if highest is None:
+            if run in self.empty or (run not in self.chains and self._holds_nothing(run)):
+                return -1
             (found,) = self._conn.execute(
                 "SELECT max(seq) FROM events WHERE run = ? AND src = ?", key
             ).fetchone()
             highest = self.max_seq[key] = -1 if found is None else found
         return highest
+
+    def _holds_nothing(self, run: str) -> bool:
+        """Does the store hold no event of the run? (One probe a run, not one a source.)"""
+        if self._conn.execute("SELECT 1 FROM events WHERE run = ? LIMIT 1", (run,)).fetchone() is None:
+            self.empty.add(run)
+            return True
+        return False
 
     def stored_event(self, run: str, src: str, seq: int) -> bytes | None:
         """Canonical bytes of the stored event with this identity, if any. Sources send seq in

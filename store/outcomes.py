@@ -18,9 +18,12 @@ class AppendReport:
     rejected: list[dict[str, str]] = field(default_factory=list)  # {origin, reason}
     quarantine_repeats: int = 0
     quarantine_full: int = 0
+    ended: tuple[str, ...] = ()  # runs whose run.end this call stored: what is kept of them is let go
 
     def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        out = asdict(self)
+        del out["ended"]                     # bookkeeping for the caller, not an outcome to print
+        return out
 
 
 @dataclass

@@ -112,14 +112,16 @@ def enable_snapshots(store: Store) -> None:
         _hooked.add(store)
 
 
-def _on_append(store: Store, run: str, min_t: int) -> None:
-    """Append hook. min_t covers only this batch, while writers without the hook may have left
-    earlier events unchecked, so the check starts from the watermark instead. A failure here
-    (the cache is locked or gone) must not cost the append: the watermark then stays behind
-    and the next reader does the check."""
+def _on_append(store: Store, earliest: dict[str, int]) -> None:
+    """Append hook: every run the append stored events of caught up, in one cache transaction (a
+    commit of the cache per run was most of a fleet's ingest). The batch's min_t covers only this
+    batch, while writers without the hook may have left earlier events unchecked, so each check
+    starts from its run's watermark instead. A failure here (the cache is locked or gone) must not
+    cost the append: the watermarks then stay behind and the next reader does the check."""
     try:
         with _writing(store.cache.connection):
-            catch_up(store, run)
+            for run in earliest:
+                catch_up(store, run)
     except sqlite3.OperationalError as exc:
         store.cache.failed_to_write(exc)
 

@@ -1,0 +1,59 @@
+"""A fleet's many short runs: what the store keeps of a run is let go once its run.end is stored,
+without changing what a later event of it, or a repeat, becomes; a new run's sources cost no
+look-up each; the append hook is called once per append, with every run it extended."""
+from __future__ import annotations
+
+from store import Store
+from tests.helpers.store_testkit import event
+
+SOURCES = [f"vehicle/{n}" for n in range(30)]
+
+
+def short_run(run: str, end: bool = True) -> list[dict]:
+    events = [event(0, run=run, kind="run.start")]
+    events += [event(seq, run=run, src=src, kind="entity.state") for seq in range(2) for src in SOURCES]
+    if end:
+        events.append(event(1, run=run, kind="run.end"))
+    return events
+
+
+def test_an_ended_run_is_let_go_and_a_late_event_or_a_repeat_of_it_is_still_judged_by_the_store(store):
+    store.append([e for n in range(5) for e in short_run(f"r{n}")] + short_run("live", end=False))
+    kept = store._heads
+    assert set(kept.chains) == {"live"}
+    assert {run for run, _ in kept.max_seq} == {"live"}
+    late = event(2, run="r3", src="vehicle/7", kind="entity.state")
+    again = event(1, run="r3", src="vehicle/7", kind="entity.state")
+    report = store.append([late, again])
+    assert (report.stored, report.duplicates) == (1, 1)         # the chain loaded again, the repeat known
+    forged = {**event(0, run="r2", src="vehicle/3", kind="entity.state"), "body": {"x": 9.0, "y": 0.0, "speed_mps": 1.0}}
+    assert store.append([forged]).rejected                         # other content under a stored identity
+    assert store.verify().ok
+
+
+def test_a_new_runs_sources_are_not_looked_up_one_by_one(store):
+    store.append(short_run("first"))
+    asked: list[str] = []
+    store.connection.set_trace_callback(asked.append)
+    try:
+        for src in SOURCES:
+            assert store.highest_seq("second", src) is None
+    finally:
+        store.connection.set_trace_callback(None)
+    assert len(asked) == 1                                         # one probe for the run, none a source
+
+
+def test_the_append_hook_is_called_once_per_append_with_every_run(store):
+    calls: list[dict] = []
+    store.add_append_hook(lambda _store, earliest: calls.append(dict(earliest)))
+    store.append([e for n in range(3) for e in short_run(f"r{n}")])
+    assert len(calls) == 1 and sorted(calls[0]) == ["r0", "r1", "r2"]
+
+
+def test_snapshot_watermarks_of_every_run_of_an_append_are_raised(db_path):
+    from store import enable_snapshots
+    from store.snapshots import marks
+    with Store(db_path) as store:
+        enable_snapshots(store)
+        store.append([e for n in range(4) for e in short_run(f"r{n}")])
+        assert all(not marks(store, f"r{n}").unchecked for n in range(4))
