@@ -62,7 +62,7 @@ def chain_json(status: ChainStatus) -> dict:
     if not status.checked:
         return {**out, "text": "the hash chain was not checked (no store given)"}
     if status.verified:
-        return {**out, "text": f"the run's hash chain verified: its {status.events} events are as recorded"}
+        return {**out, "text": f"the run's hash chain verified: its {status.events:,} events are as recorded"}
     p = out["problem"] or {}
     at = f" at chain position {p['chain_pos']}" if p.get("chain_pos") is not None else ""
     who = f" ({p['src']} #{p['seq']})" if p.get("src") is not None else ""
