@@ -252,7 +252,7 @@ def _print_tampering(tampering) -> None:
         return
     dropped = ", ".join(f"{n} {table}" for table, n in sorted(tampering.dropped_by_reads.items()))
     typer.echo(f"WARNING: the cache file beside the store holds {tampering.count()} entries that do not carry "
-               "their seal (written by something other than gaps"
+               "their seal (altered since gaps wrote them, or written by something else"
                + (f"; dropped by reads: {dropped}" if dropped else "")
                + "); they are never used, and are rebuilt from the events")
     for run, positions in tampering.snapshots.items():

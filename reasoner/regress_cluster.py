@@ -175,6 +175,8 @@ def run_tasks(tasks: Sequence[Task], job: Job, cluster: Cluster, progress: Progr
         # die is lost for good and every task needing it cancelled ("already forgotten"); a
         # task's result is computed again on a live worker.
         shared = client.submit(_the_job, job, key=f"regress-job-{id(job):x}", pure=False)
+        client.replicate([shared])      # on every worker: the runs' tasks then go where there is room,
+        #                                 not all to the worker that made it (Dask places by locality)
         futures = [client.submit(judge_task, task, shared, key=f"regress-{n}-{task.label}", pure=False)
                    for n, task in enumerate(tasks)]
         labels = {f.key: t.label for f, t in zip(futures, tasks)}
