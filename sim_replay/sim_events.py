@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["Envelopes", "T0", "SECOND", "t_ns"]
+__all__ = ["Envelopes", "T0", "SECOND", "Tick", "t_ns"]
 
 T0 = 1_732_262_400_000_000_000     # 2024-11-22T08:00:00Z: fixed, so a seed reproduces the run's times
 SECOND = 1_000_000_000
@@ -20,6 +20,19 @@ def t_ns(t_s: float) -> int:
     """World seconds as the envelope's t (ns since the epoch), rounded to the microsecond so that
     float noise in the step count never shows."""
     return T0 + round(t_s * 1_000_000) * 1_000
+
+
+class Tick(list):
+    """One tick's events (a list, as before), with `payloads`: each event's canonical bytes
+    (store.canonical_json), written by the simulation as it made them, for Outlets.put_all to
+    put as they are instead of encoding every event again (the encoding's check of the values is
+    half its cost, and the simulation already knows what it rounded). None: not written."""
+
+    __slots__ = ("payloads",)
+
+    def __init__(self, events=(), payloads: list[bytes] | None = None) -> None:
+        super().__init__(events)
+        self.payloads = payloads
 
 
 class Envelopes:
