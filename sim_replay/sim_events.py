@@ -55,11 +55,20 @@ class Envelopes:
             self.lost += 1
             return None
         self.count += 1
+        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": self.stamp(t_s), "kind": kind, "body": body}
+
+    @property
+    def lossy(self) -> bool:
+        """Whether the fault model may lose events (then each is made by `make`)."""
+        return self._lose is not None
+
+    def stamp(self, t_s: float) -> int:
+        """The envelope's t for world seconds t_s (t_ns, worked out once per tick)."""
         t_s_was, t = self._t
         if t_s != t_s_was:
             t = t_ns(t_s)
             self._t = (t_s, t)
-        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": t, "kind": kind, "body": body}
+        return t
 
     def make_all(self, t_s: float, kind: str, bodies: list[tuple[str, dict[str, Any]]]) -> list[dict[str, Any]]:
         """The events of one kind and time, one per (src, body), in order: `make` for each, without
@@ -67,11 +76,7 @@ class Envelopes:
         if self._lose is not None or not bodies:
             made = (self.make(src, t_s, kind, body) for src, body in bodies)
             return [ev for ev in made if ev is not None]
-        seqs, run = self.seqs, self.run
-        t_s_was, t = self._t
-        if t_s != t_s_was:
-            t = t_ns(t_s)
-            self._t = (t_s, t)
+        seqs, run, t = self.seqs, self.run, self.stamp(t_s)
         out = []
         for src, body in bodies:
             seq = seqs.get(src, 0)

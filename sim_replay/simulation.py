@@ -21,7 +21,6 @@ same config gives the same events byte for byte.
 """
 from __future__ import annotations
 
-import math
 import tempfile
 import time
 from collections.abc import Callable, Iterator
@@ -335,41 +334,58 @@ class Simulation:
         store/canonical.py); the rest of a state is the envelope's ints and strs, a str or None per
         place and a bool. Anything orjson refuses (a str that is not valid Unicode) is left to
         canonical_json, as is every state with a measurement that is not plain."""
-        agents, rounded = self.agents, self._rounded
-        bodies = []
-        plain = []
-        add, add_plain = bodies.append, plain.append
+        env, agents, rounded = self.env, self.agents, self._rounded
+        if env.lossy or not self._writing:
+            self._states_made(snap, t)
+            return
+        seqs, run, stamp = env.seqs, env.run, env.stamp(t)      # Envelopes.make_all's envelope, made in the one pass
+        out, written = self._out, self._written
+        add, add_written, dumps = out.append, written.append, orjson.dumps
         for v in snap.vehicles:
             ident = v[0]
             raw = v[2:7]                           # x, y, heading_deg, speed_mps, accel_mps2 (VehicleState's order)
             kept = rounded.get(ident)
             if kept is None or kept[0] != raw:
-                x, y, heading, speed, accel = raw
-                kept = rounded[ident] = (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading),
-                                         hundredths(speed), hundredths(accel), _plain(raw))
+                kept = rounded[ident] = _rounding(ident, raw)
             agent = agents.get(ident)
-            add((kept[1], {"x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5],
-                           "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
-                           "emergency": agent is not None and agent.on_call}))
-            add_plain(kept[7])
-        made = self.env.make_all(t, "entity.state", bodies)
-        self._out.extend(made)
-        if not made:
-            return
-        self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(made)
-        written = self._written
-        if len(made) != len(bodies) or not self._writing:              # some were lost: which is which is not worth finding out
-            written.extend([None] * len(made))
-            return
-        dumps = orjson.dumps
-        for ev, is_plain in zip(made, plain):
+            src = kept[1]
+            seq = seqs.get(src, 0)
+            seqs[src] = seq + 1
+            ev = {"v": 1, "run": run, "src": src, "seq": seq, "t": stamp, "kind": "entity.state", "body": {
+                "x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5], "accel_mps2": kept[6],
+                "road": v.road, "lane": v.lane, "junction": v.junction, "emergency": agent is not None and agent.on_call}}
+            add(ev)
             payload = None
-            if is_plain:
+            if kept[7]:
                 try:
                     payload = dumps(ev, option=_SORT_KEYS)
                 except orjson.JSONEncodeError:
                     pass
-            written.append(payload)
+            add_written(payload)
+        if snap.vehicles:
+            env.count += len(snap.vehicles)
+            self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(snap.vehicles)
+
+    def _states_made(self, snap: Snapshot, t: float) -> None:
+        """_states where events may be lost (Envelopes.make_all decides which) or none is written."""
+        agents, rounded = self.agents, self._rounded
+        bodies = []
+        add = bodies.append
+        for v in snap.vehicles:
+            ident = v[0]
+            raw = v[2:7]
+            kept = rounded.get(ident)
+            if kept is None or kept[0] != raw:
+                kept = rounded[ident] = _rounding(ident, raw)
+            agent = agents.get(ident)
+            add((kept[1], {"x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5],
+                           "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
+                           "emergency": agent is not None and agent.on_call}))
+        made = self.env.make_all(t, "entity.state", bodies)
+        self._out.extend(made)
+        self._written.extend([None] * len(made))
+        if made:
+            self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(made)
 
     def _spawn(self, ident: str, t: float) -> None:
         agent = self.agents.get(ident)
@@ -544,9 +560,14 @@ class Simulation:
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else agent.profile.speed_factor)
 
 
-def _plain(raw: tuple[float, ...]) -> bool:
-    """Whether every measurement is a finite float below PLAIN_BELOW (see Simulation._states)."""
-    return all(type(x) is float and math.isfinite(x) and -PLAIN_BELOW < x < PLAIN_BELOW for x in raw)
+def _rounding(ident: str, raw: tuple[float, ...]) -> tuple:
+    """What _states keeps of a vehicle's measurements: them, its source, their rounding, and whether
+    they are plain (each below PLAIN_BELOW in size: a NaN or an infinity is not)."""
+    x, y, heading, speed, accel = raw
+    return (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading), hundredths(speed),
+            hundredths(accel), -PLAIN_BELOW < x < PLAIN_BELOW and -PLAIN_BELOW < y < PLAIN_BELOW
+            and -PLAIN_BELOW < heading < PLAIN_BELOW and -PLAIN_BELOW < speed < PLAIN_BELOW
+            and -PLAIN_BELOW < accel < PLAIN_BELOW)
 
 
 def simulate(config: SimConfig, progress: Progress | None = None) -> Iterator[dict[str, Any]]:

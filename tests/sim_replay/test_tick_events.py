@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import random
 
+import pytest
+
 from sim_replay.asking import Rulebooks
 from sim_replay.faults import Faults
 from sim_replay.monitors import Monitor
@@ -91,8 +93,6 @@ def test_each_tick_carries_its_events_canonical_bytes_and_a_measurement_not_plai
     and a NaN, which the canonical form refuses rather than writing null)."""
     import math
 
-    import pytest
-
     from sim_replay.sim_config import SimConfig
     from sim_replay.simulation import Simulation
     from store.canonical import reference_canonical_json
@@ -108,14 +108,15 @@ def test_each_tick_carries_its_events_canonical_bytes_and_a_measurement_not_plai
         next(sim._batch())
 
 
-def test_a_simulations_ticks_carry_the_canonical_bytes_of_every_event() -> None:
-    """A short run of the bundled map with faults (lost events among them): every payload is the
-    reference's bytes of its event; events() (which publishes nothing) writes none."""
+@pytest.mark.parametrize("faults", [FaultRates(), FaultRates(lost_event=0.01, speed_error=0.01)])
+def test_a_simulations_ticks_carry_the_canonical_bytes_of_every_event(faults: FaultRates) -> None:
+    """A short run of the bundled map, without faults and with them (lost events among them: the
+    states are then made one by one): every payload is the reference's bytes of its event, and the
+    events are those events() gives."""
     from sim_replay.sim_config import SimConfig
     from sim_replay.simulation import Simulation
     from store.canonical import reference_canonical_json
-    config = SimConfig(run="w", vehicles=8, duration_s=12.0, seed=4, pedestrians=1,
-                       faults=FaultRates(lost_event=0.01, speed_error=0.01))
+    config = SimConfig(run="w", vehicles=8, duration_s=12.0, seed=4, pedestrians=1, faults=faults)
     ticks = list(Simulation(config).batches())
     assert sum(len(t) for t in ticks) > 500 and all(len(t.payloads) == len(t) for t in ticks)
     assert all(payload == reference_canonical_json(ev) for t in ticks for ev, payload in zip(t, t.payloads))
