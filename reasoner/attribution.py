@@ -18,9 +18,13 @@ explains U's braking:
   U with room to spare is not what U braked hard for; a leader with none is.
 - `nearer_conflict`: a road user W whose path crosses U's where, had U kept the speed it had
   when it began to slow, U would have come within PET_MAX_S of W (W's projected gap: the
-  post-encroachment time U would have had with W), and whose conflict zone U would have
-  reached no later than V's. The driver resolves the first conflict on its way: slowing for W
-  there, it was slowing for W, and V's zone beyond it is not what it braked for.
+  post-encroachment time U would have had with W), and whose conflict comes before V's in one
+  order (`ahead_of`): a collision course (unslowed, in the zone together) before a near miss;
+  then the zone U would have reached first on its way (the driver resolves the first conflict on
+  its way); at one place, the smaller gap (the more severe conflict, as SUMO names the constraint
+  allowing the lowest speed). Or any such W where V's path never meets U's. W may be one of the
+  road users on V's own approach (`Passage.same_approach`): a main-road car braking for a second
+  emerger out of the same line.
 
 Neither answers on missing measurements: where the record cannot tell (no onset, no path, V's
 zone's distance unknown), the braking stays V's to explain, as before. V itself is never among
@@ -32,13 +36,15 @@ from __future__ import annotations
 import math
 from typing import Sequence
 
-from .conflicts import PET_MAX_S, Conflict, conflict
+from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .motion import STOPPED_MPS, Sample, position_at, speed_at
 from .others import VEHICLE_WIDTH_M
 from .passage import Other, Passage
 from .reaction import FORCE_DECEL_MPS2, SAME_WAY_DEG, _Way, needed_deceleration, slowing_began
 
 SECOND = 1_000_000_000
+SAME_ZONE_M = CAR_LENGTH_M / 2  # two conflict zones this close along a road user's way are one place: a road user
+                                # is in a zone while within half a car's length of it (conflicts._occupancy)
 _SAME_WAY = math.cos(math.radians(SAME_WAY_DEG))
 
 
@@ -95,32 +101,71 @@ def _extended(samples: Sequence[Sample], extend_m: float) -> list[tuple[float, f
 
 def nearer_conflict(p: Passage, other: Other, mine: Conflict | None,
                     extend_m: float = 0.0) -> tuple[Other, Conflict] | None:
-    """The road user (not V, not `other`) whose conflict with `other`'s path explains its braking
-    rather than V's conflict `mine` (derived.conflict_of): `other` would have reached that zone,
-    at the speed it had when it began to slow, no later than V's zone, and come within PET_MAX_S
-    of that road user there (projected gap under PET_MAX_S; negative: in it together). One behind
-    `other` on its own way is its follower, never what it braked for. None where V's zone's
-    distance is not measured, or no such road user is in the record. `extend_m`: `other`'s way is
-    taken on straight ahead as V's conflict with it was (derived.conflict_of)."""
+    """The road user W (not V, not `other`) whose conflict with `other`'s path explains its braking
+    rather than V's conflict `mine` (derived.conflict_of): `other` would have come within
+    PET_MAX_S of W at the speed it had when it began to slow (W's projected gap under PET_MAX_S),
+    and W's conflict comes before V's in `ahead_of`'s order, or V's path never meets `other`'s
+    (no conflict zone, `other` taken on straight ahead where its record ends short). The first
+    in that order is named. W may be among V's own approach's road users (another emerger out of
+    the same line after V). One behind `other` on its own way is its follower, never what it
+    braked for. None where no such road user is in the record, or where V's conflict or `other`'s
+    slowing is not measured (no onset; V's zone's distance or gap unknown)."""
     onset = slowing_began(other)
-    if onset is None or mine is None or mine.onset_to_zone_m is None:
+    if onset is None:
         return None
+    if mine is not None and (mine.onset_to_zone_m is None or mine.projected_gap_s is None):
+        return None                     # V's conflict is in the record but not measurable at the onset
     way = _Way.of(other.way, VEHICLE_WIDTH_M)
     here, _ = position_at(other.way, onset)
     own = way.hit(here) if here is not None and len(way.points) >= 2 else None
     best: tuple[Other, Conflict] | None = None
-    for w in p.others:
-        if w.user == other.user or _behind(w, onset, way, own):
+    for w in p.others + p.same_approach:
+        if w.user == other.user or w.user == p.vehicle or _behind(w, onset, way, own):
             continue
         c = conflict(w.way, other.way, None, walker=_walking(other), onset=onset, extend_m=extend_m,
                      mine_walker=_walking(w))
         if c is None or c.projected_gap_s is None or c.onset_to_zone_m is None or c.projected_gap_s >= PET_MAX_S:
             continue
-        if c.onset_to_zone_m > mine.onset_to_zone_m:
-            continue                    # V's zone came first on its way
-        if best is None or c.onset_to_zone_m < best[1].onset_to_zone_m:
+        if (mine is None or ahead_of(c, mine)) and (best is None or ahead_of(c, best[1])):
             best = (w, c)
     return best
+
+
+def ahead_of(c: Conflict, d: Conflict) -> bool:
+    """Whether the braking is put down to conflict `c` rather than `d` (both measured at the same
+    onset of the same road user's slowing):
+
+    1. a collision course (projected gap below 0: unslowed, in the zone together) before a near
+       miss (0 to PET_MAX_S: it would have passed apart): the conflict nearer an accident asks
+       the lower speed, which is how SUMO's car-following model names a braking's cause (the
+       constraint allowing the lowest speed), and with W's conflict a collision course and V's
+       not, the road user had to brake whatever V did;
+    2. then the zone it would have reached first on its way, by more than SAME_ZONE_M: the
+       driver resolves the first conflict on its way, and reaches the next later and slower;
+    3. zones at one place (within SAME_ZONE_M: two road users crossing its lane one after the
+       other, out of the same line), the smaller projected gap: post-encroachment time is the
+       severity of a conflict (Allen, Shin & Cooper 1978: the smaller, the nearer a collision).
+
+    One order for every pair, so that two vehicles are never each excused by the other's conflict
+    with the same braking."""
+    if (c.projected_gap_s < 0) != (d.projected_gap_s < 0):
+        return c.projected_gap_s < 0
+    if abs(c.onset_to_zone_m - d.onset_to_zone_m) > SAME_ZONE_M:
+        return c.onset_to_zone_m < d.onset_to_zone_m
+    return c.projected_gap_s < d.projected_gap_s
+
+
+def why(c: Conflict, mine: Conflict | None) -> str:
+    """Which of `ahead_of`'s grounds puts the braking down to W's conflict `c` rather than V's
+    (`mine`): "apart" (V's path never meets it), "collision" (W's a collision course, V's not),
+    "first" (W's zone first on its way), "closer" (one place, W's gap the smaller)."""
+    if mine is None:
+        return "apart"
+    if (c.projected_gap_s < 0) != (mine.projected_gap_s < 0):
+        return "collision"
+    if abs(c.onset_to_zone_m - mine.onset_to_zone_m) > SAME_ZONE_M:
+        return "first"
+    return "closer"
 
 
 def _behind(w: Other, t: int, way: _Way, own) -> bool:

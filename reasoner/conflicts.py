@@ -151,6 +151,7 @@ class Swerve:
     before: tuple[Sample, Sample]           # the two samples its line at the act is read from
     kept_pet_s: float | None                # PET with V, had it kept to that line
     kept_first: str | None                  # who would have been in the zone first then
+    departed: Sample | None = None          # its first sample SWERVE_M or more off the line
 
     def to_json(self) -> dict[str, Any]:
         return {"offset_m": round(self.offset_m, 3), "widest": self.widest.ref.to_json(),
@@ -193,7 +194,8 @@ def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: in
     kept = [s._replace(x=b.x + ux * ((s.x - b.x) * ux + (s.y - b.y) * uy),
                        y=b.y + uy * ((s.x - b.x) * ux + (s.y - b.y) * uy)) if s.t > act else s for s in placed]
     c = conflict(mine, kept, act)
-    return Swerve(abs(offset), widest, (a, b), c.pet_s if c else None, c.first if c else None)
+    departed = next(s for o, s in side if abs(o) >= SWERVE_M)
+    return Swerve(abs(offset), widest, (a, b), c.pet_s if c else None, c.first if c else None, departed)
 
 
 def has_path(samples: Sequence[Sample]) -> bool:

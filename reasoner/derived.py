@@ -30,8 +30,8 @@ from store import EventRef
 
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
-from .motion import MPH_PER_MPS, STOPPED_MPS, between, mph, peak_deceleration, position_at, speed_at
-from .attribution import leader, nearer_conflict
+from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
+from .attribution import SAME_ZONE_M, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
 from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
@@ -39,7 +39,7 @@ from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
-from .tolerance import beyond_stopping, sensor_of
+from .tolerance import beyond_stopping, deceleration, sensor_of
 from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,
                          HAS_SIGN, HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE,
                          HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD, IS_APPROACHING, IS_AT_A_BOX_JUNCTION, IS_IN_THE_JUNCTION,
@@ -501,9 +501,10 @@ _reacting = _ByIdentity(_reacting_afresh, 8)
 
 
 def _forced(p: Passage, other: Other) -> DerivedFact | None:
-    """U (counted from when V set off: `reacting`) braked at FORCE_DECEL_MPS2 or harder, or came
-    to a stop, while V passed, and not for a red or amber light of its own, nor at a Stop line of
-    its own, nor behind a road user it followed (others.py)."""
+    """U (counted from when V set off: `reacting`) braked harder than FORCE_DECEL_MPS2 beyond the
+    braking's uncertainty (`braked_hard`: a braking within it is in doubt, not proven), or came to
+    a stop, or changed course, while V passed, and not for something else (`explained`: a light,
+    Stop or Give Way line of its own, a road user it followed or whose conflict it resolved)."""
     if other.user == p.vehicle:
         return None                          # nobody forces itself (a record under two sources' names)
     off = _set_off(p)
@@ -516,10 +517,11 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     if stop is not None:
         how = f"{other.user} came to a stop ({stop.label}, {format_time(stop.t)}) while {p.vehicle} passed{after}"
         refs: tuple[EventRef, ...] = (stop.ref,)
-    elif b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:
-        how = (f"{other.user} braked at {b.decel_mps2:.1f} m/s² ({b.first.speed_mps:.1f} m/s at {b.first.label} to "
+    elif b is not None and braked_hard(p, b):
+        how = (f"{other.user} braked at {braking_words(p, b)} ({b.first.speed_mps:.1f} m/s at {b.first.label} to "
                f"{b.last.speed_mps:.1f} m/s at {b.last.label}) while {p.vehicle} passed{after}; from {FORCE_DECEL_MPS2:g} m/s² "
-               "a change of speed is a considerable reaction (Hupfer 1997)")
+               "a change of speed is a considerable reaction (Hupfer 1997), and this braking exceeds it by more than "
+               f"its uncertainty (reasoner/tolerance.py: the two speeds' tolerance over the span, {sensor_of(p, b.first).said})")
         refs = (b.first.ref, b.last.ref)
     else:
         swerved = _course_changed(p, other, after)
@@ -531,6 +533,31 @@ def _forced(p: Passage, other: Other) -> DerivedFact | None:
     return DerivedFact(WOULD_FORCE.text(p.vehicle, other.user),
                        f"{how}, {other.closest_m:.0f} m from the centre{own}{conflict_words(p, other.user, c)}",
                        refs + ((other.light.ref,) if other.light else ()) + _conflict_refs(c))
+
+
+def braked_hard(p: Passage, b: Braking) -> bool:
+    """Whether a braking proves a change of speed: its measured deceleration less its uncertainty
+    (tolerance.deceleration: the two speeds' tolerance, its source's stated one or the default,
+    over the span) exceeds FORCE_DECEL_MPS2. One within its uncertainty of the threshold is in
+    doubt, and a ground in doubt is not proven (issue 36; margins._give_way says so of the margin)."""
+    return b.decel_mps2 - deceleration(b, sensor_of(p, b.first)) > FORCE_DECEL_MPS2
+
+
+def braking_words(p: Passage, b: Braking) -> str:
+    """"3.5 ± 0.2 m/s² against 2 m/s²": the figure, its uncertainty and the threshold."""
+    return f"{b.decel_mps2:.1f} ± {deceleration(b, sensor_of(p, b.first)):.1f} m/s² against {FORCE_DECEL_MPS2:g} m/s²"
+
+
+def _out_first(p: Passage, other: Other, t: int | None) -> Conflict | None:
+    """V's conflict with the road user where the road user was in their conflict zone first and
+    out of it before V came in (post-encroachment time above 0, the road user first), and its
+    change of speed or course began at `t`, after it had left the zone: nothing it did then
+    avoided an accident with V there, which it had already passed (a lane change down the road
+    after it went through ahead of V). None otherwise, or where the record cannot tell."""
+    c = conflict_of(p, other)
+    if t is None or c is None or c.first != "theirs" or not c.pet_s or c.theirs is None or c.theirs.left is None:
+        return None
+    return c if t >= c.theirs.left else None
 
 
 def _course_changed(p: Passage, other: Other, after: str = "") -> tuple[str, tuple[EventRef, ...]] | None:
@@ -545,6 +572,8 @@ def _course_changed(p: Passage, other: Other, after: str = "") -> tuple[str, tup
     sw = swerve(p.samples, other.samples, act, until)
     if sw is None or sw.kept_pet_s is None or sw.kept_pet_s >= PET_MAX_S:
         return None
+    if _out_first(p, other, sw.departed.t if sw.departed else None) is not None:
+        return None                         # it had gone through the zone ahead of V before it moved over
     a, b = sw.before
     kept = f"{p.vehicle} first" if sw.kept_first == "mine" else f"{other.user} first"
     how = (f"{other.user} changed course while {p.vehicle} passed{after}: {sw.offset_m:.1f} m to the side of the line it "
@@ -601,12 +630,13 @@ def explained(p: Passage, other: Other) -> bool:
 
 
 def _explained_afresh(p: Passage, other: Other) -> bool:
-    if own_cause(other):
+    if own_cause(other) and not _line_no_excuse(p, other):
         return True
     if other.braking is None and other.stopped is None:
         return False
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
+        or _out_first(p, other, slowing_began(other)) is not None \
         or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None
 
 
@@ -614,6 +644,24 @@ def _nearer_afresh(p: Passage, other: Other) -> tuple[Other, Conflict] | None:
     """The road user whose conflict with `other`'s path it would have met first, within PET_MAX_S
     (reasoner/attribution.py): its braking was for that one, not for V."""
     return nearer_conflict(p, other, conflict_of(p, other), _extend(p, other))
+
+
+def _own_give_way(p: Passage, other: Other) -> bool:
+    return p.junction.control_from(other.arm) == "give_way"
+
+
+def _line_no_excuse(p: Passage, other: Other) -> bool:
+    """Whether the road user's own line, the only cause of its own, leaves its braking V's to
+    explain: a Give Way line (not a Stop line, which it must stop at whoever passes) where,
+    unslowed, it would have been in V's conflict zone with V (a collision course: projected gap
+    below 0). A Give Way line asks it to give way to the major road's traffic, not to stop: had
+    it gone on, it would have run into V beyond its line, so its braking was V's to answer for
+    (the paper run's 152 for 102, 207 for 196, which SUMO's account says braked for V)."""
+    if not other.own_stop_line or other.followed is not None or \
+            (other.light is not None and other.light.colour != "green") or not _own_give_way(p, other):
+        return False
+    c = conflict_of(p, other)
+    return c is not None and c.projected_gap_s is not None and c.projected_gap_s < 0
 
 
 def _clear_of(p: Passage, other: Other) -> bool:
@@ -624,9 +672,17 @@ def _clear_of(p: Passage, other: Other) -> bool:
     conflict point slowed for its turn; one that would have met V there slowed for V."""
     c = conflict_of(p, other)
     if c is None:
-        return has_path(p.samples) and has_path(other.way) and bool(through(other.way, p.junction)) \
-            and not _walking(other)
+        return has_path(p.samples) and has_path(other.way) and not _walking(other) \
+            and (bool(through(other.way, p.junction)) or _came_in(other, p.junction))
     return c.projected_gap_s is not None and c.projected_gap_s >= PET_MAX_S
+
+
+def _came_in(other: Other, j: Junction) -> bool:
+    """Whether the road user's record shows it in the junction's area: one that stopped there
+    (waiting to turn across oncoming traffic) and whose way, so far and taken on straight ahead
+    (EXTEND_M), never meets V's path is not shown in V's way; a way cut short before the junction
+    may yet have been heading for V's path, and stays V's to explain."""
+    return any(j.edge(s.x, s.y) <= 0 for s in other.way if s.placed)
 
 
 def conflict_of(p: Passage, other: Other) -> Conflict | None:
@@ -956,10 +1012,12 @@ def measured(p: Passage, other: Other) -> bool:
 def _unforced(p: Passage, other: Other) -> str:
     """What the record shows of a road user V is not shown to have forced or endangered."""
     b = other.braking
-    if other.stopped is None and (b is None or b.decel_mps2 < FORCE_DECEL_MPS2):
-        hardest = f"its hardest braking was {b.decel_mps2:.2f} m/s²" if b else "it did not slow"
+    if other.stopped is None and (b is None or not braked_hard(p, b)):
+        hardest = "it did not slow" if b is None else f"its hardest braking was {braking_words(p, b)}" + (
+            ": within its uncertainty of the threshold, in doubt, so not proven" if b.decel_mps2 >= FORCE_DECEL_MPS2
+            else "")
         how = (f"{other.user}'s own record shows no change of speed V caused: {hardest} (a change of speed counts "
-               f"from {FORCE_DECEL_MPS2:g} m/s², Hupfer 1997)")
+               f"from {FORCE_DECEL_MPS2:g} m/s², Hupfer 1997, beyond the measurement's uncertainty)")
     elif explained(p, other):
         how = f"{other.user}'s own record shows it slowed for something else ({_cause(p, other)})"
     else:
@@ -970,8 +1028,8 @@ def _unforced(p: Passage, other: Other) -> str:
 def _cause(p: Passage, other: Other) -> str:
     if other.light is not None and other.light.colour != "green":
         return f"its own {other.light.colour} light"
-    if other.own_stop_line:
-        return "its own Stop or Give Way line"
+    if other.own_stop_line and not _line_no_excuse(p, other):
+        return f"its own {'Give Way' if _own_give_way(p, other) else 'Stop'} line"
     if other.followed:
         return f"{other.followed} ahead of it"
     if paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False:
@@ -980,20 +1038,41 @@ def _cause(p: Passage, other: Other) -> str:
         return f"it began to slow more than a reaction time after {p.vehicle} was out of its way"
     if well_ahead(p.samples, other):
         return f"{p.vehicle} was well ahead of it on its way, going its way"
+    through = _out_first(p, other, slowing_began(other))
+    if through is not None:
+        return (f"it began to slow after it had gone through its conflict zone with {p.vehicle} ahead of it (out "
+                f"{through.pet_s:.2f} s before {p.vehicle} came in)")
     ahead = leader(p, other, _extend(p, other))
     if ahead is not None:
         return (f"{ahead} ahead of it on its way when it began to slow, going its way or standing: keeping the "
                 f"two-second gap behind it (HC 126) took {FORCE_DECEL_MPS2:g} m/s² or more")
+    if conflict_of(p, other) is None and _clear_of(p, other):
+        return (f"its own way: its path, as far as the record shows it into {p.junction.id} and taken on "
+                f"{EXTEND_M:g} m straight ahead, never meets {p.vehicle}'s: no conflict zone with {p.vehicle}")
     if not _clear_of(p, other):
         nearer = _nearer(p, other)
         if nearer is not None:
             w, c = nearer
             mine = conflict_of(p, other)
             gap = f"in it with {w.user}" if c.projected_gap_s <= 0 else f"{c.projected_gap_s:.2f} s from {w.user} there"
-            return (f"{w.user}, whose path it would have met first: when it began to slow ({format_time(c.onset)}) "
-                    f"it was {c.onset_to_zone_m:.1f} m from their conflict zone and {mine.onset_to_zone_m:.1f} m from "
-                    f"{p.vehicle}'s at {c.onset_speed_mps:.1f} m/s; unslowed, {gap} (a gap under {PET_MAX_S:g} s is "
-                    "a conflict: SUMO SSM device's PET threshold)")
+            ground = why(c, mine)
+            if ground == "apart":
+                return (f"{w.user}, whose path it would have met where it never met {p.vehicle}'s: when it began to "
+                        f"slow ({format_time(c.onset)}) it was {c.onset_to_zone_m:.1f} m from their conflict zone at "
+                        f"{c.onset_speed_mps:.1f} m/s; unslowed, {gap} (a gap under {PET_MAX_S:g} s is a conflict: "
+                        "SUMO SSM device's PET threshold)")
+            theirs = (f"in {p.vehicle}'s with {p.vehicle}" if mine.projected_gap_s < 0 else
+                      f"{mine.projected_gap_s:.2f} s from {p.vehicle} at its zone")
+            reason = {"collision": f"a collision course with {w.user}, only a near miss with {p.vehicle}: the conflict "
+                                   f"nearer an accident asks the lower speed",
+                      "first": f"{w.user}'s zone the first on its way: the driver resolves the first conflict on its "
+                               f"way",
+                      "closer": f"the two zones one place (within {SAME_ZONE_M:g} m), and the smaller post-encroachment "
+                                "time the more severe conflict (Allen, Shin & Cooper 1978)"}[ground]
+            return (f"{w.user}, whose conflict it braked for: when it began to slow ({format_time(c.onset)}) at "
+                    f"{c.onset_speed_mps:.1f} m/s it was {c.onset_to_zone_m:.1f} m from their conflict zone and "
+                    f"{mine.onset_to_zone_m:.1f} m from {p.vehicle}'s; unslowed, {gap}, and {theirs} ({reason}; a "
+                    f"gap under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
     return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 

@@ -37,7 +37,18 @@ def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, ap
     vehicle passes (`passing`: from its crossing or entry until it left, and a reaction after).
     A pedestrian (its src, or `walking(user)`: its entity.spawn) on the vehicle's own approach is
     kept: it walks beside the road or across it, and may step into the vehicle's path."""
-    found = []
+    return near_and_same_approach(tracks, junction, vehicle, approach, t_from, t_to, passing, signals, walking)[0]
+
+
+def near_and_same_approach(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
+                       t_from: int, t_to: int, passing: tuple[int, int], signals: Signals,
+                       walking: Callable[[str], bool] | None = None) -> tuple[tuple[Other, ...], tuple[Other, ...]]:
+    """`near_users`, and those it leaves out as on the vehicle's own approach, going its way
+    (behind it, or ahead of it in the same queue): they do not cross the vehicle's path, but may
+    cross a main-road car's just before or after it (another emerger out of the same line), and
+    that car's braking may have been for them (reasoner/attribution.py weighs them; nothing else
+    reads them)."""
+    found, following = [], []
     for user, (src, series) in tracks.items():
         if user == vehicle:
             continue
@@ -46,14 +57,17 @@ def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, ap
         if not placed:
             continue
         closest = min(junction.distance(s.x, s.y) for s in placed)
+        if closest > CONFLICT_M:
+            continue
         arm, closing = _arm(junction, placed)
-        if closest > CONFLICT_M or (arm is not None and arm == approach and closing
-                                    and not src.startswith("pedestrian/") and not (walking and walking(user))):
-            continue        # following it on its own approach
-        found.append(_other(user, src, window, junction, arm, closing, closest, passing, signals))
+        behind = arm is not None and arm == approach and closing and not src.startswith("pedestrian/") \
+            and not (walking and walking(user))
+        (following if behind else found).append(_other(user, src, window, junction, arm, closing, closest, passing,
+                                                       signals))
     found = [_followed(o, found, junction) for o in found]
     found.sort(key=lambda o: (o.closest_m, o.user))
-    return tuple(found[:MAX_OTHERS])
+    following.sort(key=lambda o: (o.closest_m, o.user))
+    return tuple(found[:MAX_OTHERS]), tuple(following[:MAX_OTHERS])
 
 
 def _arm(junction: Junction, placed: list[Sample]) -> tuple[str | None, bool]:
@@ -81,11 +95,18 @@ def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, 
                  own_stop_line=_before_own_stop_line(junction, arm, window, moment))
 
 
+OWN_LINES = ("stop", "give_way")     # controls whose line on its own arm explains a road user's braking to it
+
+
 def _before_own_stop_line(junction: Junction, arm: str | None, window: tuple[Sample, ...], moment: int | None) -> bool:
-    """Whether the road user braked or stopped before a Stop line on its own arm: that line
-    makes it stop whoever passes (HC 171), so its stop is not forced by the vehicle passing."""
+    """Whether the road user braked or stopped before a Stop or Give Way line on its own arm: a
+    Stop line makes it stop whoever passes (HC 171), a Give Way line makes it slow to give way to
+    the major road's traffic whoever else passes (HC 172); braking to its own line is its own
+    control (issue 35's "Attribution": its own signal, Stop or Give Way line), not a change of
+    speed the vehicle passing caused: the vehicle crosses the junction beyond that line, never
+    the road user's arm before it. SUMO's account names such a braking's cause "line"."""
     line = junction.line_for(arm) if arm is not None else None
-    if line is None or moment is None or junction.control_from(arm) != "stop":
+    if line is None or moment is None or junction.control_from(arm) not in OWN_LINES:
         return False
     here, _ = position_at(window, moment)
     return here is not None and line.to_line(*here) >= -1.0
@@ -178,7 +199,7 @@ def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: i
 
 def own_cause(other: Other) -> bool:
     """Whether a cause of the road user's own explains its braking or stop: a red or amber light of
-    its own, a Stop line of its own, a road user it followed."""
+    its own, a Stop or Give Way line of its own, a road user it followed."""
     return (other.light is not None and other.light.colour != "green") or other.followed is not None \
         or other.own_stop_line
 

@@ -175,11 +175,13 @@ class Passage:
     trail: tuple[Sample, ...] = ()  # ended: a speeding stretch that reaches into or out of it
     sensors: tuple[tuple[str, Sensor], ...] = ()   # (src, its stated tolerance) of each source that states
                                                    # one (reasoner/sensors.py); the others are held to the defaults
+    same_approach: tuple[Other, ...] = ()   # road users on its own approach, going its way (not among
+                                            # `others`): weighed only as what another braked for (attribution.py)
 
     def evidence(self) -> frozenset[EventRef]:
         """Every event the passage rests on: no derived fact may cite another."""
         refs = {s.ref for s in self.samples + self.lead + self.trail} | {light.ref for light in self.lights}
-        refs |= {s.ref for other in self.others for s in other.samples}
+        refs |= {s.ref for other in self.others + self.same_approach for s in other.way}
         refs |= {o.light.ref for o in self.others if o.light} | {ref for _, _, ref in self.emergency}
         refs |= {o.spawn for o in self.others if o.spawn is not None}
         refs |= {r for r in (self.map_ref, self.spawn) if r is not None}

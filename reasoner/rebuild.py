@@ -27,7 +27,7 @@ from store import EventRef
 
 from .junctions import Junction, Map, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, stop_could_hide
-from .others import near_users, own_cause, through
+from .others import near_and_same_approach, own_cause, through
 from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record, Track
 from .sensors import Sensor, stated
@@ -140,7 +140,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
     _notes(record, junction, approach, line, lights, pairs, crossing, standstills, series, t0, t1, through, notes)
     key = crossing.t if crossing else entered.t if entered else t1
     out = left.t if left else t1
-    others = near_users(record.others(junction, max(t0, key - int(OTHERS_BEFORE_S * SECOND)),
+    others, same = near_and_same_approach(record.others(junction, max(t0, key - int(OTHERS_BEFORE_S * SECOND)),
                                       out + int(REACTION_S * SECOND)),
                         junction, record.vehicle, approach, max(t0, key - int(OTHERS_BEFORE_S * SECOND)),
                         out + int(REACTION_S * SECOND),
@@ -148,6 +148,8 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
                         lambda user: _type(record.spawns(user)) == "pedestrian")
     others = _ways(record, junction, tuple(_typed(o, record.spawns(o.user)) for o in others),
                    max(t0, key - int(OTHERS_BEFORE_S * SECOND)), out + int(REACTION_S * SECOND))
+    same = _ways(record, junction, tuple(_typed(o, record.spawns(o.user)) for o in same),
+                      max(t0, key - int(OTHERS_BEFORE_S * SECOND)), out + int(REACTION_S * SECOND), every=True)
     spawn = record.spawn
     lead, trail = _beside(record, t0, t1)
     return Passage(
@@ -159,7 +161,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
         spawn=EventRef.of(spawn) if spawn else None, others=others, uncertain=tuple(dict.fromkeys(notes)),
         map_ref=record.map.ref, first_report=timeline[0].ref if timeline else None,
         roads=_roads(record, [s for s in lead if s.placed] + placed + [s for s in trail if s.placed]),
-        lead=lead, trail=trail, sensors=_sensors(record, others))
+        lead=lead, trail=trail, sensors=_sensors(record, others), same_approach=same)
 
 
 # --- the pieces -------------------------------------------------------------------------------
@@ -176,12 +178,15 @@ def _sensors(record: Record, others: tuple[Other, ...]) -> tuple[tuple[str, Sens
     return tuple(sorted(found.items()))
 
 
-def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from: int, t_to: int) -> tuple[Other, ...]:
+def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from: int, t_to: int,
+          every: bool = False) -> tuple[Other, ...]:
     """The others, each that braked or stopped while its record in the window ends before its way
     through the junction did given that way, read on for PATH_AFTER_S: whether that way meets the
     vehicle's is what tells braking for it from braking for a turn of its own (derived.explained),
     and a main-road car still slowing on its arm when the window closes shows no way at all. Where a
-    cause of its own explains the braking (others.own_cause), derived.explained looks no further."""
+    cause of its own explains the braking (others.own_cause), derived.explained looks no further.
+    `every`: each, read on for PATH_AFTER_S whatever it did (the road users on the vehicle's own approach: one that
+    emerges after it crosses a main-road car's way as the window closes, attribution.py)."""
     until = t_to + int(PATH_AFTER_S * SECOND)
     longer: list[Mapping[str, Track]] = []      # without a store: the others of the longer window, read once
 
@@ -195,7 +200,11 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
 
     out = []
     for o in others:
-        if (o.braking or o.stopped) and not own_cause(o) and not through(o.samples, junction):
+        if every:
+            path = way_on(o)
+            if len([s for s in path if s.placed]) > len([s for s in o.samples if s.placed]):
+                o = replace(o, path=path)
+        elif (o.braking or o.stopped) and not own_cause(o) and not through(o.samples, junction):
             path = way_on(o)
             if through(path, junction):
                 o = replace(o, path=path)

@@ -1,7 +1,7 @@
 """Highway Code rule 126's typical stopping distances, and the distance at any speed.
 
 The figures are the Highway Code's ("Typical Stopping Distances", rule 126; transcribed in
-../shared/highway-code/road-junctions-170-183.md, section "Stopping distances"): thinking
+docs/legal/road-junctions-170-183.md, section "Stopping distances"): thinking
 distance + braking distance = overall stopping distance, for a car in good conditions. They are
 the published yardstick for "so close to it that to pull up might cause an accident" (HC 175);
 typical figures, not a legal threshold, so a fact derived from them names them.

@@ -118,3 +118,4 @@ def beyond_stopping(change: AtChange, sensor: Sensor = DEFAULT) -> tuple[float, 
     spread = max(abs(stopping_distance_m(max(0.0, change.speed_mps + d) * MPH_PER_MPS) - needed)
                  for d in (-u_speed, u_speed))
     return change.to_line_m - needed, u_place + spread
+

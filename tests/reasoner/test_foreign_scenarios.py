@@ -19,7 +19,7 @@ one exception the law needs and the record cannot measure: a worn Stop line (bel
 Sample rates are 2 Hz, 5 Hz or irregular (2-10 Hz), never the project's own 10 Hz.
 
 Every expected verdict and margin is the law's answer for the motion the test builds, worked out
-from the legal texts (../shared/highway-code/road-junctions-170-183.md), quoted in each test; none
+from the legal texts (docs/legal/road-junctions-170-183.md), quoted in each test; none
 is copied from what the code says. Motions are mostly at constant speed near the moment that is
 measured, so that linear interpolation between samples (reasoner/rebuild.py) is exact there and
 the tolerances only absorb the producer's rounding (positions to 1 mm, speeds to 1 mm/s); where a

@@ -121,13 +121,16 @@ def test_a_braking_within_its_uncertainty_of_the_forcing_threshold_convicts_nobo
     """HC 172 / TSRGD Sch 9 Pt 7 para 1(b): the emerging vehicle must not cause main-road traffic
     to change speed. Whether c2's 2.1 m/s² is a forced change of speed (FORCE_DECEL_MPS2 = 2 m/s²)
     is the deciding fact; measured to ± 0.2 m/s² (2 × 0.1 m/s over 1 s), it may have been under
-    2: the fact is in doubt, so no conviction (not proven where raised; before: punishable)."""
+    2: the fact is in doubt, so no conviction (before: punishable). The ground in doubt is not
+    derived (derived.braked_hard), so no rule finds 7 forced c2 and the Give Way act is lawful as
+    raised (mitigated, no penalty); its margin still says the braking and why it is not proven."""
     run = give_way_run(NEAR_THRESHOLD, "5 Hz", "measured")
     found = [i for i in judge(tmp_path, run) if i.vehicle == "7"]
     assert not [i for i in found if i.verdict == "punishable"], [(i.rule, i.why) for i in found]
     for inc in found:
         if inc.rule == "HC 172":
-            not_proven(inc, "HC 172")
+            assert inc.penalty is None and inc.liable == "none", (inc.verdict, inc.penalty, inc.liable)
+            assert not [f for f in inc.derived if "would force c2" in f.sentence], inc.derived
             m = inc.margin
             assert m.unproven and 2.0 <= m.value <= 2.0 + m.uncertainty, m
 

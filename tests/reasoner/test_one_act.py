@@ -3,7 +3,7 @@
 events, its core sentences and measured fields, nothing of ours.
 
 The law's answer and its source stand beside each test. The shared notes
-(../shared/highway-code/road-junctions-170-183.md, "Notes on the table"): "One act, one offence.
+(docs/legal/road-junctions-170-183.md, "Notes on the table"): "One act, one offence.
 A single passage through a junction or a single continuous stretch over a limit is one offence,
 however many cameras recorded it; a court would not convict twice on the same act."
 """
