@@ -24,7 +24,9 @@ or side by side:
 Vehicles on the network are counted from the entity.state events of the window (per step, on
 average), so the two loops are compared at the vehicle counts they really had. Where the machine is
 shared, the wall figure carries the neighbours' load; the CPU figure (world seconds per CPU second
-of the simulation's process) is what a core of its own would give. Fails if any published event was
+of the simulation's process) is what a core of its own would give, and the ratio by CPU time
+(steps per CPU second of the simulation's process over those of SUMO alone's) is issue 40's ratio
+without that load. Fails if any published event was
 not stored.
 
 Where the window's time goes is printed per phase, so that a slow run says why: the wall clock split
@@ -82,8 +84,8 @@ def sumo_alone(net: Path, vehicles: int, steps: int, seed: int) -> dict:
             traffic.replace([a for a in snap.arrived if a.startswith("b")])
             if len(snap.vehicles) >= vehicles * 0.98:
                 break
-        rate, _, mean = sumo_loop(traffic, steps)
-    return {"steps_per_s": rate, "vehicles_mean": mean}
+        rate, cpu_rate, mean = sumo_loop(traffic, steps)
+    return {"steps_per_s": rate, "steps_per_cpu_s": cpu_rate, "vehicles_mean": mean}
 
 
 def serve(db: Path, endpoint: str) -> dict:
@@ -250,8 +252,9 @@ def main() -> None:
     sizes = ["--vehicles", str(args.vehicles), "--seconds", str(args.seconds), "--seed", str(args.seed)]
     alone_got = last_json(child("sumo-alone", *sizes))
     alone, alone_vehicles = alone_got["steps_per_s"], alone_got["vehicles_mean"]
-    print(f"SUMO alone: {alone:,.1f} steps/s with {alone_vehicles:,.0f} vehicles ({alone * STEP_S:.2f} x real time)",
-          flush=True)
+    alone_cpu = alone_got["steps_per_cpu_s"]
+    print(f"SUMO alone: {alone:,.1f} steps/s with {alone_vehicles:,.0f} vehicles ({alone * STEP_S:.2f} x real time; "
+          f"{alone_cpu:,.1f} steps per CPU second)", flush=True)
     speeds, loads = [calibration_elsewhere()], [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
         got = simulation(net, monitors, args, Path(folder))
@@ -269,7 +272,9 @@ def main() -> None:
     print(phases(got))
     print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "
           f"all settled {got['settled_after_s']:.1f} s after the simulation ended; CPU {got['ingest_cpu_s']:.1f} s")
-    print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s)")
+    print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s); by CPU time "
+          f"{steps / got['cpu_s'] / alone_cpu:.2f} (steps per CPU second of each process: what the neighbours' load "
+          f"leaves out)")
     print(f"machine: {machine()}; load average {loads[0]:.2f} before the simulation, {loads[1]:.2f} after; "
           f"calibration {speeds[0]:.2f} ms before, {speeds[1]:.2f} ms after ({QUIET_MS})")
     if got["stored"] != got["published"]:
@@ -283,6 +288,9 @@ def main() -> None:
                target=">= 1 at 1,000 vehicles, one core"),
         Figure("real-time factor by the simulation's CPU time", args.seconds / got["cpu_s"], "x real time",
                note="world seconds per CPU second of its process: what a core of its own would give"),
+        Figure("the simulation by CPU time, to SUMO alone by CPU time", steps / got["cpu_s"] / alone_cpu, "x",
+               note=f"steps per CPU second of each process (SUMO alone {alone_cpu:,.1f}): the ratio without the "
+                    f"neighbours' load"),
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
         Figure("rulebook queries", got["queries"] / got["wall_s"], "queries/s"),
         Figure("SUMO's share of the simulation's time", 100 * got["sumo_s"] / got["wall_s"], "%"),

@@ -88,19 +88,20 @@ class Rulebooks:
         rb = self.books[name]
         goal, atoms = self._atoms(rb, question, facts)
         self.queries += 1
-        answer = self._answer(name, rb, goal, atoms)
+        answer, back = self._answer(name, rb, goal, atoms)
         tree = answer.proofs[0] if answer.proofs else answer.why_not
-        return Asked(question, answer.holds, design_tree(enrich(tree, rb)) if isinstance(tree, dict) else None)
+        return Asked(question, answer.holds, _design(tree, rb, back) if isinstance(tree, dict) else None)
 
-    def _answer(self, name: str, rb: Rulebook, goal: Any, atoms: list) -> Answer:
+    def _answer(self, name: str, rb: Rulebook, goal: Any, atoms: list) -> tuple[Answer, dict[str, Any]]:
         """The engine's answer with its trees as data, worked out once per shape of the question
-        and facts where the rulebook keeps proofs under renaming (module docstring), and given
-        back with these facts' own names in place of the stand-ins."""
+        and facts where the rulebook keeps proofs under renaming (module docstring), with what
+        puts these facts' own names back in place of the stand-ins (`_design` does, as it writes
+        the tree; {}: the answer is the facts' own)."""
         shaper = self._shapers[name]
         shaped = shaper.shape([goal, *atoms]) if shaper.keeps_proofs else None
         if shaped is None:
             self.engine_asks += 1
-            return self.engine.ask(rb, goal, atoms)
+            return self.engine.ask(rb, goal, atoms), {}
         (shaped_goal, *shaped_atoms), names = shaped
         key = (name, shaped_goal, *shaped_atoms)
         found = self._answers.get(key)
@@ -110,9 +111,7 @@ class Rulebooks:
             if len(self._answers) >= KEPT_ANSWERS:
                 del self._answers[next(iter(self._answers))]
             self._answers[key] = found
-        back = {stand_in: value for value, stand_in in names.items()}
-        return Answer([_renamed(t, back) for t in found.proofs],
-                      None if found.why_not is None else _renamed(found.why_not, back))
+        return found, {stand_in: value for value, stand_in in names.items()}
 
     def holds(self, name: str, question: str, facts: list[str], vehicle: str) -> bool:
         """Yes or no, remembered by the shape of the question and facts."""
@@ -129,6 +128,21 @@ class Rulebooks:
             if key is not None:
                 self._cache[key] = found
         return found
+
+
+def _design(node: dict[str, Any], rb: Rulebook, back: dict[str, Any]) -> dict[str, Any]:
+    """design_tree(enrich(_renamed(node, back), rb)) in one walk: only what the event's tree keeps
+    is renamed (each node's sentence, status, rule, evidence and truncated), not the whole of the
+    engine's tree, whose copy was a fifth of the cost of a vehicle's question; the same tree."""
+    rule_id = _renamed(node.get("rule"), back)
+    rule = rb.rule(rule_id)
+    out = {"sentence": rb.render(_renamed(node["sentence"], back)), "status": _renamed(node["status"], back),
+           "rule": rule.label if rule else None, "source": rb.source(rule_id),
+           "evidence": [_renamed(e, back) for e in node.get("evidence", [])],
+           "children": [_design(k, rb, back) for k in node["children"]]}
+    if _renamed(node.get("truncated"), back):
+        out["truncated"] = True
+    return out
 
 
 def _renamed(data: Any, back: dict[str, Any]) -> Any:

@@ -105,16 +105,18 @@ class Outlets:
         """Send events on in order, as `put` each, but with their Zenoh puts back to back
         (EventPublisher.publish_all: a third of the cost of a put each at a thousand events a tick).
         Paced (a speed), each goes at its own time, one by one. ``payloads``: the events' canonical
-        bytes as already written, published as they are (EventPublisher.publish_all); ignored
-        with a signer, which signs and encodes each event."""
+        bytes as already written, published as they are (EventPublisher.publish_all); by default
+        a simulation's tick's own (sim_events.Tick.payloads), where it wrote them; ignored with a
+        signer, which signs and encodes each event."""
         if self.speed is not None:
             for event in events:
                 self.put(event)
             return
+        if payloads is None:
+            payloads = getattr(events, "payloads", None)
         if self.signer is not None:
             events, payloads = [self.signer.sign(event) for event in events], None
-        for event in events:
-            self._note(event)
+        self._note_all(events)
         if self._publisher is not None:
             self._published += self._publisher.publish_all(events, payloads)
         if self._recorder is not None:
@@ -150,6 +152,18 @@ class Outlets:
         # would go out in one burst.
         if first and self._publisher is not None:
             self._wall0 = time.monotonic()
+
+    def _note_all(self, events: list[dict]) -> None:
+        """`_note` each, the first alone (it may wait for an ingest) and the rest together."""
+        if not events:
+            return
+        self._note(events[0])
+        if len(events) > 1:
+            rest = events[1:]
+            self._sources.update([event["src"] for event in rest])
+            last = max([event["t"] for event in rest])
+            if last > self._last_t:
+                self._last_t = last
 
     def summary(self) -> OutletSummary:
         if self._result is not None:

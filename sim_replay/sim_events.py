@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["Envelopes", "T0", "SECOND", "t_ns"]
+__all__ = ["Envelopes", "T0", "SECOND", "Tick", "t_ns"]
 
 T0 = 1_732_262_400_000_000_000     # 2024-11-22T08:00:00Z: fixed, so a seed reproduces the run's times
 SECOND = 1_000_000_000
@@ -20,6 +20,19 @@ def t_ns(t_s: float) -> int:
     """World seconds as the envelope's t (ns since the epoch), rounded to the microsecond so that
     float noise in the step count never shows."""
     return T0 + round(t_s * 1_000_000) * 1_000
+
+
+class Tick(list):
+    """One tick's events (a list, as before), with `payloads`: each event's canonical bytes
+    (store.canonical_json), written by the simulation as it made them, for Outlets.put_all to
+    put as they are instead of encoding every event again (the encoding's check of the values is
+    half its cost, and the simulation already knows what it rounded). None: not written."""
+
+    __slots__ = ("payloads",)
+
+    def __init__(self, events=(), payloads: list[bytes] | None = None) -> None:
+        super().__init__(events)
+        self.payloads = payloads
 
 
 class Envelopes:
@@ -42,11 +55,20 @@ class Envelopes:
             self.lost += 1
             return None
         self.count += 1
+        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": self.stamp(t_s), "kind": kind, "body": body}
+
+    @property
+    def lossy(self) -> bool:
+        """Whether the fault model may lose events (then each is made by `make`)."""
+        return self._lose is not None
+
+    def stamp(self, t_s: float) -> int:
+        """The envelope's t for world seconds t_s (t_ns, worked out once per tick)."""
         t_s_was, t = self._t
         if t_s != t_s_was:
             t = t_ns(t_s)
             self._t = (t_s, t)
-        return {"v": 1, "run": self.run, "src": src, "seq": seq, "t": t, "kind": kind, "body": body}
+        return t
 
     def make_all(self, t_s: float, kind: str, bodies: list[tuple[str, dict[str, Any]]]) -> list[dict[str, Any]]:
         """The events of one kind and time, one per (src, body), in order: `make` for each, without
@@ -54,11 +76,7 @@ class Envelopes:
         if self._lose is not None or not bodies:
             made = (self.make(src, t_s, kind, body) for src, body in bodies)
             return [ev for ev in made if ev is not None]
-        seqs, run = self.seqs, self.run
-        t_s_was, t = self._t
-        if t_s != t_s_was:
-            t = t_ns(t_s)
-            self._t = (t_s, t)
+        seqs, run, t = self.seqs, self.run, self.stamp(t_s)
         out = []
         for src, body in bodies:
             seq = seqs.get(src, 0)

@@ -28,6 +28,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import orjson
+
 from reasoner.vocabulary import CAN, IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 from sim_replay import av, drivers
 from sim_replay.agent import Agent
@@ -44,17 +46,21 @@ from sim_replay.routes_file import read_routes
 from sim_replay.senses import Around
 from sim_replay.rounding import hundredths, tenths
 from sim_replay.sim_config import SimConfig
-from sim_replay.sim_events import Envelopes
+from sim_replay.sim_events import Envelopes, Tick
 from sim_replay.sumo_account import Account, read_ssm, ssm_options
 from sim_replay.sumo_world import World, WorldError
 from sim_replay.truth import Truth
 from sim_replay.watchers import Line, Watchers
 from sim_replay.witness import Witness
 from sim_replay.world_state import Snapshot, VehicleState
+from store import canonical_json
 
 __all__ = ["Progress", "Simulation", "Summary", "simulate"]
 
 Progress = Callable[[float, float], None]      # (world seconds done, world seconds in all)
+PLAIN_BELOW = 1e14           # a finite measurement smaller than this, rounded to tenths or hundredths, is a float
+                             # orjson writes as the canonical form does (store/canonical.py: zero or 1e-4 <= |x| < 1e16)
+_SORT_KEYS = orjson.OPT_SORT_KEYS
 ON_CALL_SPEED_FACTOR = 1.25
 MRM_SPEED_FACTOR = 0.3
 CRAWL_FACTOR = 0.3           # an emergency vehicle on a call approaches a red light at this share of the limit,
@@ -115,17 +121,23 @@ class Simulation:
         self.summary: Summary | None = None
         self._collisions: set[tuple[str, str]] = set()
         self._rounded: dict[str, tuple] = {}    # per vehicle: its latest raw measurements and their rounding
+        self._out: list[dict[str, Any]] = []     # the tick's events so far
+        self._written: list[bytes | None] = []   # per event of _out: its canonical bytes, where _states wrote them
+        self._writing = True                     # whether _states writes them (batches' `written`)
 
     # --- the run ------------------------------------------------------------------------------
 
     def events(self) -> Iterator[dict[str, Any]]:
         """The run's events one by one, in publication order."""
-        for batch in self.batches():
+        for batch in self.batches(written=False):
             yield from batch
 
-    def batches(self) -> Iterator[list[dict[str, Any]]]:
+    def batches(self, written: bool = True) -> Iterator[Tick]:
         """The run's events a tick at a time (run.start, each tick's, run.end), for an outlet that
-        puts a tick's events together (Outlets.put_all). Empty ticks are left out."""
+        puts a tick's events together (Outlets.put_all). Empty ticks are left out. `written`: each
+        with its events' canonical bytes (Tick.payloads), which Outlets.put_all publishes as they
+        are; without, payloads is None (for a reader of the events that publishes nothing)."""
+        self._writing = written
         started = time.perf_counter()
         c = self.config
         kept = tempfile.TemporaryDirectory(prefix="gaps-ssm-") if self.account else None
@@ -154,6 +166,7 @@ class Simulation:
             self.witness.paths = self.account
             out: list[dict[str, Any]] = []
             self._out = out
+            self._written = []
             self._emit("sim/world", 0.0, "run.start", {
                 "map": world_map(network, monitors), "rulebooks": self.books.records(), "seed": c.seed,
                 "config": c.to_json()})
@@ -196,14 +209,18 @@ class Simulation:
         ev = self.env.make(src, t_s, kind, body)
         if ev is not None:
             self._out.append(ev)
+            self._written.append(None)
             self.by_kind[kind] = self.by_kind.get(kind, 0) + 1
         return ev
 
-    def _batch(self) -> Iterator[list[dict[str, Any]]]:
-        """What the latest tick made, as one batch (none if it made nothing)."""
+    def _batch(self) -> Iterator[Tick]:
+        """What the latest tick made, as one batch (none if it made nothing), with each event's
+        canonical bytes (Tick.payloads): those _states wrote, the others encoded here."""
         if self._out:
-            events = list(self._out)
+            events = Tick(self._out, [canonical_json(ev) if payload is None else payload
+                                      for ev, payload in zip(self._out, self._written)] if self._writing else None)
             self._out.clear()
+            self._written.clear()
             yield events
 
     # --- putting road users on the network ----------------------------------------------------
@@ -309,24 +326,64 @@ class Simulation:
         its decimal text), and a third of the vehicles at a thousand stand still in queues,
         reporting the same measurements tick after tick: their rounded values are kept
         (`_rounded`, with the source's name) and used again while SUMO reports exactly the same
-        numbers."""
-        agents, rounded = self.agents, self._rounded
-        bodies = []
-        add = bodies.append
+        numbers.
+
+        Each state's canonical bytes are written here too, by orjson straight away, where its
+        measurements were found plain as they were rounded (finite and below PLAIN_BELOW: their
+        rounded floats are zero or at least 0.01, which orjson writes as the canonical form does,
+        store/canonical.py); the rest of a state is the envelope's ints and strs, a str or None per
+        place and a bool. Anything orjson refuses (a str that is not valid Unicode) is left to
+        canonical_json, as is every state with a measurement that is not plain."""
+        env, agents, rounded = self.env, self.agents, self._rounded
+        if env.lossy or not self._writing:
+            self._states_made(snap, t)
+            return
+        seqs, run, stamp = env.seqs, env.run, env.stamp(t)      # Envelopes.make_all's envelope, made in the one pass
+        out, written = self._out, self._written
+        add, add_written, dumps = out.append, written.append, orjson.dumps
         for v in snap.vehicles:
             ident = v[0]
             raw = v[2:7]                           # x, y, heading_deg, speed_mps, accel_mps2 (VehicleState's order)
             kept = rounded.get(ident)
             if kept is None or kept[0] != raw:
-                x, y, heading, speed, accel = raw
-                kept = rounded[ident] = (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading),
-                                         hundredths(speed), hundredths(accel))
+                kept = rounded[ident] = _rounding(ident, raw)
+            agent = agents.get(ident)
+            src = kept[1]
+            seq = seqs.get(src, 0)
+            seqs[src] = seq + 1
+            ev = {"v": 1, "run": run, "src": src, "seq": seq, "t": stamp, "kind": "entity.state", "body": {
+                "x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5], "accel_mps2": kept[6],
+                "road": v.road, "lane": v.lane, "junction": v.junction, "emergency": agent is not None and agent.on_call}}
+            add(ev)
+            payload = None
+            if kept[7]:
+                try:
+                    payload = dumps(ev, option=_SORT_KEYS)
+                except orjson.JSONEncodeError:
+                    pass
+            add_written(payload)
+        if snap.vehicles:
+            env.count += len(snap.vehicles)
+            self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(snap.vehicles)
+
+    def _states_made(self, snap: Snapshot, t: float) -> None:
+        """_states where events may be lost (Envelopes.make_all decides which) or none is written."""
+        agents, rounded = self.agents, self._rounded
+        bodies = []
+        add = bodies.append
+        for v in snap.vehicles:
+            ident = v[0]
+            raw = v[2:7]
+            kept = rounded.get(ident)
+            if kept is None or kept[0] != raw:
+                kept = rounded[ident] = _rounding(ident, raw)
             agent = agents.get(ident)
             add((kept[1], {"x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5],
                            "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
                            "emergency": agent is not None and agent.on_call}))
         made = self.env.make_all(t, "entity.state", bodies)
         self._out.extend(made)
+        self._written.extend([None] * len(made))
         if made:
             self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(made)
 
@@ -501,6 +558,16 @@ class Simulation:
         agent.asked_facts = ()
         if p is not None and (p.draws.get("rolls_stop") or p.draws.get("crawl")):
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else agent.profile.speed_factor)
+
+
+def _rounding(ident: str, raw: tuple[float, ...]) -> tuple:
+    """What _states keeps of a vehicle's measurements: them, its source, their rounding, and whether
+    they are plain (each below PLAIN_BELOW in size: a NaN or an infinity is not)."""
+    x, y, heading, speed, accel = raw
+    return (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading), hundredths(speed),
+            hundredths(accel), -PLAIN_BELOW < x < PLAIN_BELOW and -PLAIN_BELOW < y < PLAIN_BELOW
+            and -PLAIN_BELOW < heading < PLAIN_BELOW and -PLAIN_BELOW < speed < PLAIN_BELOW
+            and -PLAIN_BELOW < accel < PLAIN_BELOW)
 
 
 def simulate(config: SimConfig, progress: Progress | None = None) -> Iterator[dict[str, Any]]:

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import random
 
+import pytest
+
 from sim_replay.asking import Rulebooks
 from sim_replay.faults import Faults
 from sim_replay.monitors import Monitor
@@ -82,3 +84,40 @@ def test_entity_states_round_afresh_whenever_sumo_reports_other_numbers() -> Non
         [(round(x, 2), round(y, 2), round(x * 9.87, 1), round(x / 7, 2), round(-y / 3, 2)) for x, y in positions]
     assert [e["seq"] for e in sim._out] == [0, 1, 2, 3, 4] and sim.by_kind == {"entity.state": 5}
     assert bodies[0] is not bodies[1]           # each event its own body
+
+
+def test_each_tick_carries_its_events_canonical_bytes_and_a_measurement_not_plain_is_encoded_by_the_reference() -> None:
+    """Tick.payloads are what Outlets.put_all publishes as they are: each must be canonical_json's
+    bytes of its event, whether _states wrote it with orjson straight away (plain measurements) or
+    left it to canonical_json (here an acceleration of 1e300, which orjson would write otherwise,
+    and a NaN, which the canonical form refuses rather than writing null)."""
+    import math
+
+    from sim_replay.sim_config import SimConfig
+    from sim_replay.simulation import Simulation
+    from store.canonical import reference_canonical_json
+    sim = Simulation(SimConfig(run="r"))
+    sim.agents = {}
+    vehicles = (_vehicle(7, 10.004, 5.126), _vehicle(8, 3.0, -0.000004)._replace(accel_mps2=1e300))
+    sim._states(Snapshot(1, 0.1, vehicles, (), (), (), (), (), ()), 0.1)
+    assert sim._written[0] is not None and sim._written[1] is None    # the second is left to canonical_json
+    tick = next(sim._batch())
+    assert tick.payloads == [reference_canonical_json(ev) for ev in tick] and b"1e+300" in tick.payloads[1]
+    sim._states(Snapshot(2, 0.2, (_vehicle(9, math.nan, 1.0),), (), (), (), (), (), ()), 0.2)
+    with pytest.raises(ValueError):
+        next(sim._batch())
+
+
+@pytest.mark.parametrize("faults", [FaultRates(), FaultRates(lost_event=0.01, speed_error=0.01)])
+def test_a_simulations_ticks_carry_the_canonical_bytes_of_every_event(faults: FaultRates) -> None:
+    """A short run of the bundled map, without faults and with them (lost events among them: the
+    states are then made one by one): every payload is the reference's bytes of its event, and the
+    events are those events() gives."""
+    from sim_replay.sim_config import SimConfig
+    from sim_replay.simulation import Simulation
+    from store.canonical import reference_canonical_json
+    config = SimConfig(run="w", vehicles=8, duration_s=12.0, seed=4, pedestrians=1, faults=faults)
+    ticks = list(Simulation(config).batches())
+    assert sum(len(t) for t in ticks) > 500 and all(len(t.payloads) == len(t) for t in ticks)
+    assert all(payload == reference_canonical_json(ev) for t in ticks for ev, payload in zip(t, t.payloads))
+    assert [ev for t in ticks for ev in t] == list(Simulation(config).events())
