@@ -10,7 +10,7 @@ single spaces, multi-word constants as written, integers plain, floats as Python
 from __future__ import annotations
 
 from .dates import format_date
-from .templates import Slot, article, render
+from .templates import Slot, Template, article, render
 from .terms import Atom, Expr, ListTerm, Var
 
 DATE_TYPES = {"date", "day", "instant"}
@@ -92,7 +92,23 @@ def sentence_text(data, document=None) -> str:
     texts = [arg_text(a, slots[i] if i < len(slots) else None, document) for i, a in enumerate(args)]
     if head == "is_a" and len(args) == 2:
         return f"{texts[0]} is {article(texts[1])} {texts[1]}"
-    return render(template, texts)
+    return render(template, _any_before_its_plural(template, args, texts))
+
+
+def _any_before_its_plural(template: Template, args: list, texts: list[str]) -> list[str]:
+    """An unknown named by a slot the template follows with the slot's own noun in the plural
+    reads "any": "126 is being used for any purposes", not "for a purpose purposes" (issue 39),
+    the template being "*a vehicle* is being used for *a purpose* purposes"."""
+    out = list(texts)
+    parts = template.parts
+    slot_at = [i for i, p in enumerate(parts) if not isinstance(p, str)]
+    for n, i in enumerate(slot_at[:len(args)]):
+        arg = args[n]
+        name = str(arg["var"]) if isinstance(arg, dict) and "var" in arg else arg.name if isinstance(arg, Var) else None
+        following = parts[i + 1] if i + 1 < len(parts) and isinstance(parts[i + 1], str) else ""
+        if name and name != "_" and following.split(" ", 1)[0] in (name + "s", name + "es"):
+            out[n] = "any"
+    return out
 
 
 def _bare(text: str) -> str:

@@ -62,3 +62,15 @@ def test_a_number_in_a_date_slot_is_rendered_afresh():
     for day in (1_700_000_000, 1_800_000_000):
         data = ["was_seen_on", 7, day]
         assert memo.text(data, render) == render(data) and "1700000000" not in memo.text(data, render)
+
+
+def test_an_unknown_before_its_own_noun_in_the_plural_reads_any():
+    """Issue 39: "126 is being used for a purpose purposes: not recorded" in the why-not; the
+    template is "*a vehicle* is being used for *a purpose* purposes"."""
+    from reasoner.bundled import RULES_DIR
+    from reasoner.engine import get_engine
+    from reasoner.le.render import sentence_text
+    doc = get_engine().load((RULES_DIR / "validators.le").read_text(encoding="utf-8"), "validators.le").document
+    assert sentence_text(["is_being_used_for_purposes", "126", {"var": "purpose"}], doc) == \
+        "126 is being used for any purposes"
+    assert sentence_text(["is_being_used_for_purposes", "126", "police"], doc) == "126 is being used for police purposes"
