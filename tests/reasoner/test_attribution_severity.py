@@ -38,6 +38,14 @@ def _forced(found: list, vehicle: str) -> list[str]:
     return [f.sentence for i in of(found, vehicle) for f in i.derived if FORCES_C2 in f.sentence]
 
 
+def _eight_forced_c2_and_seven_nobody(found) -> None:
+    """7's Stop was lawful (no second limb); 8 forced c2 and did not stop: punishable, HC 171."""
+    assert not _forced(found, "7"), _forced(found, "7")
+    no_violation(found, "7")
+    assert any(i.verdict == "punishable" and i.rule == "HC 171" for i in of(found, "8"))
+    assert "8 would force c2 to change speed or course" in _forced(found, "8")
+
+
 def test_a_main_road_car_braking_for_a_later_emerger_out_of_the_same_line_was_not_forced_by_the_first(tmp_path):
     """8 rolls over the same west Stop line 3 s after 7 set off, at 6 m/s without stopping, and
     follows 7 across c2's lane. c2, 34 m short of the centre, brakes at 5 m/s² to a stop 16 m
@@ -49,10 +57,7 @@ def test_a_main_road_car_braking_for_a_later_emerger_out_of_the_same_line_was_no
     and did not stop at its line: punishable, HC 171; 7 stopped and forced nobody: a lawful Stop."""
     eight = Motion(-12.0 - 6.0 * (_SET_OFF + 3.0), 6.0)
     found = judge(tmp_path, stop_then_go_run(("c2", _c2(), "north"), ("8", eight, "west")))
-    assert not _forced(found, "7"), _forced(found, "7")
-    no_violation(found, "7")
-    assert any(i.verdict == "punishable" and i.rule == "HC 171" for i in of(found, "8"))
-    assert "8 would force c2 to change speed or course" in _forced(found, "8")
+    _eight_forced_c2_and_seven_nobody(found)
 
 
 def test_two_emergers_at_once_the_car_braking_for_the_second(tmp_path):
@@ -65,10 +70,7 @@ def test_two_emergers_at_once_the_car_braking_for_the_second(tmp_path):
     avoid an accident: punishable, HC 171; 7 forced nobody: a lawful Stop."""
     eight = Motion(-1.75 - 6.0 * (_SET_OFF + 5.0), 6.0)
     found = judge(tmp_path, stop_then_go_run(("c2", _c2(), "north"), ("8", eight, "east")))
-    assert not _forced(found, "7"), _forced(found, "7")
-    no_violation(found, "7")
-    assert any(i.verdict == "punishable" and i.rule == "HC 171" for i in of(found, "8"))
-    assert "8 would force c2 to change speed or course" in _forced(found, "8")
+    _eight_forced_c2_and_seven_nobody(found)
 
 
 def test_the_attribution_to_the_closer_conflict_is_said_with_its_measures():
