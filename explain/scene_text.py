@@ -96,6 +96,9 @@ def _validator(sc: Scene, val: dict[str, Any]) -> list[str]:
         book = val["rulebook"]
         by = f" ({book['name']}, {book['source']}, {str(book['sha256'])[:12]}…)" if book else ""
         lines.append(f"  lawful: {LAWFUL[val['lawful']]}{by}: {val['why']}")
+        if "lawful_on_its_own_view" in val:
+            lines.append(f"    on the vehicle's own view alone it would be {LAWFUL[val['lawful_on_its_own_view']]}; "
+                         "what the monitors witnessed decides, as in the incident")
         lines += [f"    unknown fact, not used: {u['fact']}" for u in val["unknown_facts"]]
     return lines
 

@@ -236,6 +236,12 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
             continue
         among = "among" if scenario["lawful"] else "not among"
         scenario["why"] = f"\"{scenario['goal']}\" is {among} the lawful actions of the Validator Scenario"
+        if scenario["judged_on"] == "corrected vehicle scenario":     # both views, and which decides
+            own = inv.reader.atoms(rb, v.validator.facts, [])
+            try:
+                scenario["lawful_on_its_own_view"] = inv.engine.holds(rb, goal, own)
+            except QuestionError:
+                scenario["lawful_on_its_own_view"] = None
 
 
 def _validator_atoms(inv: Investigation, run: str, rb: Any, v: _Shown, unknown: list[Finding]) -> list:

@@ -172,3 +172,4 @@ def test_a_misread_light_is_judged_as_the_monitor_saw_it_as_the_incident_is(tmp_
     assert "173 has red light" in [f["fact"] for f in car["facts"]]
     assert "173 has green light" not in [f["fact"] for f in car["facts"]]
     assert car["lawful"] is False and verdicts["173"] == "punishable"
+    assert car["lawful_on_its_own_view"] is True          # both views shown, the monitor's deciding
