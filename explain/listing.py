@@ -83,8 +83,32 @@ def _findings(findings: tuple[Finding, ...]) -> str:
     if not findings:
         return "no findings"
     counts = Counter(f.kind for f in findings)
-    names = ", ".join(kind if n == 1 else f"{kind} ({n})" for kind, n in counts.items())
+    names = ", ".join(_kind(kind, n, [f for f in findings if f.kind == kind]) for kind, n in counts.items())
     return f"{len(findings)} finding{'s' if len(findings) != 1 else ''}: {names}"
+
+
+def _kind(kind: str, n: int, found: list[Finding]) -> str:
+    """One kind: its name, how many where more than one, and for missing events which ones, each
+    source's missing seqs joined into ranges ("missing evidence ×9: vehicle/173 seq 12-20")."""
+    text = kind if n == 1 else f"{kind} ×{n}"
+    spans: dict[str, list[tuple[int, int]]] = {}
+    for f in found:
+        if f.src is not None and f.missing_seq is not None:
+            spans.setdefault(f.src, []).append(f.missing_seq)
+    if not spans:
+        return text
+    return text + ": " + "; ".join(f"{src} seq {', '.join(_ranges(seqs))}" for src, seqs in spans.items())
+
+
+def _ranges(seqs: list[tuple[int, int]]) -> list[str]:
+    """Spans of seqs with those that touch joined: (12, 14), (15, 20) -> 12-20."""
+    joined: list[list[int]] = []
+    for first, last in sorted(seqs):
+        if joined and first <= joined[-1][1] + 1:
+            joined[-1][1] = max(joined[-1][1], last)
+        else:
+            joined.append([first, last])
+    return [f"{a}" if a == b else f"{a}-{b}" for a, b in joined]
 
 
 def acts_summary(incidents: list[Incident], recorded_pvs: int | None = None) -> str:

@@ -60,7 +60,15 @@ def test_an_incident_without_a_field_cannot_be_made():
 def test_many_findings_of_one_kind_are_counted_not_repeated():
     """Issue 39: "8 findings: contradiction, missing evidence, missing evidence, …" is unreadable."""
     many = (Finding(kind="contradiction", detail=""),) + (Finding(kind="missing evidence", detail=""),) * 7
-    assert incident_line(incident(findings=many)).endswith("8 findings: contradiction, missing evidence (7)")
+    assert incident_line(incident(findings=many)).endswith("8 findings: contradiction, missing evidence ×7")
+
+
+def test_missing_events_are_named_by_source_and_seq_ranges():
+    """Issue 39: "missing evidence ×9: vehicle/173 seq 12-20, …" rather than the kind nine times."""
+    gaps = tuple(Finding(kind="missing evidence", detail="", src="vehicle/173", missing_seq=(s, s)) for s in range(12, 21))
+    gaps += (Finding(kind="missing evidence", detail="", src="monitor/m3", missing_seq=(732, 732)),)
+    assert incident_line(incident(findings=gaps)).endswith(
+        "10 findings: missing evidence ×10: vehicle/173 seq 12-20; monitor/m3 seq 732")
 
 
 def test_the_counts_a_user_meets_are_explained_one_per_act():
