@@ -9,7 +9,7 @@ the margins for every rule that picks one, the beliefs for every perceived fact.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Iterable
 
 from store import EventRef
@@ -20,7 +20,7 @@ from .margins import BY_RULE, margin
 from .model import Act, DerivedFact, Margin
 from .passage import Passage
 from .stretches import Stretch
-from .vocabulary import IS_APPROACHING, WOULD_ENDANGER, WOULD_FORCE
+from .vocabulary import HAS_SPEED_OF, IS_APPROACHING, WOULD_ENDANGER, WOULD_FORCE
 
 Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
 
@@ -96,6 +96,8 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
     at = acts.moment(found, t, action)
     derived = facts(found, at)
     agreed, contradictions = checked(found, at, stated, derived)
+    if speeding:
+        agreed, contradictions = _over_the_stretch(stretch, agreed, contradictions)
     beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)], derived)[1])
                     for text, ref in perceived
                     if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
@@ -109,6 +111,19 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                        act=stretch.act() if speeding else _passage_act(found),
                        readings=((found.line.reading, found.map_ref),) if found.line and found.line.reading
                        and found.map_ref else ())
+
+
+def _over_the_stretch(stretch: Stretch, agreed: tuple[DerivedFact, ...], contradictions: tuple[Contradiction, ...]
+                      ) -> tuple[tuple[DerivedFact, ...], tuple[Contradiction, ...]]:
+    """A speeding act is its stretch (one act, one offence): what the measurements show of the
+    speed is the stretch's peak, not the speed at the moment a camera flagged it. A camera's
+    "489 has speed of 31" where the car's own record had 24.0 mph then is still contradicted (its
+    finding stays), but in its place the rules are asked on the stretch's "489 has speed of 39":
+    the verdict rests on what is proved, and a stretch proved over the limit is not dismissed
+    for the camera's wrong reading (DESIGN "Weighing"). Only a contested speed moves: what the
+    measurements agree with is as the passage shows it at the act's moment."""
+    shown = tuple(f.sentence for f in stretch.facts())
+    return agreed, tuple(replace(c, shown=shown) if _match(HAS_SPEED_OF, c.stated) else c for c in contradictions)
 
 
 def _passage_act(p: Passage) -> Act:
