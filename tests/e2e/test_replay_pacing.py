@@ -111,4 +111,6 @@ def test_replay_at_max_speed_is_not_paced(tmp_path):
     finally:
         arrivals.close()
     recorded = offsets[-1][1]
-    assert recorded > 20 and offsets[-1][0] < 1.0 and took < recorded / 10, (offsets[-1], took)
+    # paced, it would take the recorded 23.9 s; unpaced it takes the sessions' start and the puts (0.5-2.5 s on
+    # a loaded two-core machine running the suite in two workers): half the recorded time tells the two apart
+    assert recorded > 20 and offsets[-1][0] < 1.0 and took < recorded / 2, (offsets[-1], took)
