@@ -56,6 +56,8 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any
 
+from shapely.geometry import LineString, Point
+
 MPH_PER_MPS = 2.2369362920544
 SECOND = 1e9
 STRETCH_GAP_S = 3.0
@@ -242,11 +244,8 @@ def on_road(raw: Raw, sample: tuple) -> str | None:
 
 
 def _off_road(road: dict, x: float, y: float) -> float:
-    (ax, ay), (bx, by) = road["from"], road["to"]
-    dx, dy = bx - ax, by - ay
-    length2 = dx * dx + dy * dy
-    f = 0.0 if length2 == 0 else max(0.0, min(1.0, ((x - ax) * dx + (y - ay) * dy) / length2))
-    return math.hypot(x - ax - f * dx, y - ay - f * dy)
+    """How far (x, y) is from the road's centre line (shapely: a library's geometry, not the reasoner's)."""
+    return LineString([road["from"], road["to"]]).distance(Point(x, y))
 
 
 def _where(inc: dict) -> str | None:

@@ -19,6 +19,8 @@ import math
 import sys
 from collections import defaultdict
 
+from shapely.geometry import LineString, Point
+
 MPH_PER_MPS = 2.2369362920544
 VISIT_M = 40.0
 VISIT_GAP_S = 5.0
@@ -28,11 +30,8 @@ SECOND = 1e9
 
 
 def _distance_to_road(road: dict, x: float, y: float) -> float:
-    (ax, ay), (bx, by) = road["from"], road["to"]
-    dx, dy = bx - ax, by - ay
-    length2 = dx * dx + dy * dy
-    f = 0.0 if length2 == 0 else max(0.0, min(1.0, ((x - ax) * dx + (y - ay) * dy) / length2))
-    return math.hypot(x - ax - f * dx, y - ay - f * dy)
+    """How far (x, y) is from the road's centre line (shapely: a library's geometry, not the reasoner's)."""
+    return LineString([road["from"], road["to"]]).distance(Point(x, y))
 
 
 def _limit(the_map: dict, x: float, y: float, road: object) -> float | None:
