@@ -227,7 +227,7 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
             scenario["why"] = f"no template of {rb.name} fits the goal {scenario['goal']!r}"
             continue
         unknown: list[Finding] = []
-        atoms = _validator_atoms(inv, run, rb, v, unknown)
+        own, atoms = _validator_atoms(inv, run, rb, v, unknown)
         scenario["unknown_facts"] = [f.to_json() for f in unknown]
         try:
             scenario["lawful"] = inv.engine.holds(rb, goal, atoms)
@@ -237,38 +237,38 @@ def _judge(investigation: Investigation | None, store: Store, run: str, vehicles
         among = "among" if scenario["lawful"] else "not among"
         scenario["why"] = f"\"{scenario['goal']}\" is {among} the lawful actions of the Validator Scenario"
         if scenario["judged_on"] == "corrected vehicle scenario":     # both views, and which decides
-            own = inv.reader.atoms(rb, v.validator.facts, [])
             try:
                 scenario["lawful_on_its_own_view"] = inv.engine.holds(rb, goal, own)
             except QuestionError:
                 scenario["lawful_on_its_own_view"] = None
 
 
-def _validator_atoms(inv: Investigation, run: str, rb: Any, v: _Shown, unknown: list[Finding]) -> list:
+def _validator_atoms(inv: Investigation, run: str, rb: Any, v: _Shown, unknown: list[Finding]) -> tuple[list, list]:
     """The Validator Scenario's facts as the incidents judge them (DESIGN "Reasoning"): the
     vehicle's own view with what the monitors witnessed in its place (reasoner/perception.py's
     `corrected`, as the investigation asks it), so that the scene's "lawful" is the verdict's
     ground and not the vehicle's belief (issue 39: a misread light judged lawful here and
     punishable in the incident). A vehicle with no perception is judged on its spawn and the
-    monitors' facts already (_validator_scenario)."""
+    monitors' facts already (_validator_scenario). Returned: the vehicle's own view's atoms, and
+    those the scene is judged on."""
     from .le.sentences import constant
     from .perception import corrected, witnessed_functors
 
     mine = inv.reader.pairs(rb, v.validator.facts, unknown)
     monitor = inv.ruleset(run)["monitor"]
     if v.json["validator_scenario"]["judged_on"] != "vehicle scenario" or monitor is None or not v.monitors:
-        return [a for a, _ in mine]
+        return [a for a, _ in mine], [a for a, _ in mine]
     seen = inv.reader.pairs(rb, v.monitors, unknown)
     me = constant([v.json["vehicle"]])
     others = {a for atom, _ in mine + seen for a in atom.args if isinstance(a, (str, int)) and a != me
               and str(a) in v.present}
     out, disputes = corrected(mine, seen, witnessed_functors(monitor.rulebook), me, others)
     if not disputes:                # the monitors saw what the vehicle did: its own view, as shown
-        return [a for a, _ in out]
+        return [a for a, _ in mine], [a for a, _ in out]
     v.json["validator_scenario"]["facts"] = [{"fact": rb.render(a), "evidence": ev.to_json() if ev else None}
                                              for a, ev in out]
     v.json["validator_scenario"]["judged_on"] = "corrected vehicle scenario"
-    return [a for a, _ in out]
+    return [a for a, _ in mine], [a for a, _ in out]
 
 
 # --- the rest of the scene --------------------------------------------------------------------
