@@ -17,7 +17,8 @@ from typing import Any, Iterable
 from reasoner.le.sentences import constant
 from reasoner.explanation import Counterfactual, Explanation
 from reasoner.model import Decision, Incident
-from reasoner.vocabulary import CAN, MUST_NOT, POTENTIALLY_VIOLATES, WOULD_ENDANGER, WOULD_FORCE
+from reasoner.stretches import FASTEST_MEASURED
+from reasoner.vocabulary import CAN, HAS_SPEED_OF, MUST_NOT, POTENTIALLY_VIOLATES, WOULD_ENDANGER, WOULD_FORCE
 from store import EventRef
 
 from . import phrases as ph
@@ -181,10 +182,24 @@ class _Builder:
         """How the action was done, from the conditions the potential violation rests on."""
         if self.pv_tree is None or self.pv_tree["status"] == "failed":
             return ""
-        bits = [ph.manner(data, self.me, negated, text) for data, negated, text in self._deciding(
-            trees.conditions(self.pv_tree))]
+        bits = [self._measured_speed(data, negated) or ph.manner(data, self.me, negated, text)
+                for data, negated, text in self._deciding(trees.conditions(self.pv_tree))]
         bits = [b for b in bits if b]
         return (" " + " ".join(bits)) if bits else ""
+
+    def _measured_speed(self, data: list, negated: bool) -> str | None:
+        """A stated speed in the headline gives way to the one that decided: the fastest measured
+        speed of the act's stretch (the margin's figure), the stated one beside it where the two
+        differ ("at up to 39.3 mph measured (stated: 31 mph)")."""
+        m = self.inc.margin
+        if negated or data[:1] != [HAS_SPEED_OF.functor] or m is None:
+            return None
+        fastest = next((v for q, v, _ in m.figures if q == FASTEST_MEASURED), None)
+        if fastest is None:
+            return None
+        stated = ph.value(data[2]) if len(data) > 2 else None
+        said = "" if stated in (None, f"{round(fastest):g}") else f" (stated: {stated} mph)"
+        return f"at up to {fastest:g} mph measured{said}"
 
     def _deciding(self, conditions: list[tuple[list, bool, str]]) -> list[tuple[list, bool, str]]:
         """The potential violation's conditions, with its second limb (who was forced or

@@ -127,7 +127,7 @@ class Search:
             for i, slot_type in enumerate(_slot_types(self.rb, fact)):
                 if slot_type in ENTITY_SLOTS or slot_type is None:
                     continue
-                for value in pool.get(slot_type, ()):
+                for value in _nearest_first(pool.get(slot_type, ()), fact.args[i]):
                     if value != fact.args[i] and value not in self.exclude.get(slot_type, ()):
                         new = Atom(fact.functor, fact.args[:i] + (value,) + fact.args[i + 1:])
                         if new not in scenario:
@@ -265,6 +265,18 @@ def _prefer_concrete(found: list[tuple[Change, ...]]) -> list[Counterfactual]:
         return False
 
     return [Counterfactual(combo) for combo in found if not superseded(combo)]
+
+
+def _nearest_first(values: Iterable, old: Any) -> list:
+    """A number's alternatives nearest it first, so that the answer kept is the smallest edit
+    ("had 28 been doing 30 mph instead of 38", not the first number a rulebook happens to use);
+    other values in the rulebook's order."""
+    def number(v: Any) -> bool:
+        return isinstance(v, (int, float)) and not isinstance(v, bool)
+    values = list(values)
+    if not number(old):
+        return values
+    return sorted(values, key=lambda v: abs(v - old) if number(v) else float("inf"))
 
 
 def _derived_functors(rb: Rulebook) -> set[str]:

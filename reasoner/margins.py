@@ -46,6 +46,7 @@ from .motion import MAX_DECEL_MPS2, MPH_PER_MPS, STOPPED_MPS, Sample, between
 from .passage import Passage
 from .rebuild import PAST_TOLERANCE_M, STOP_ZONE_M
 from .stopping import SOURCE as RULE_126, stopping_distance_m
+from .stretches import speeding_margin
 from .tolerance import (beyond_stopping, deceleration, lowest_between, moment_between, place_between, sensor_of,
                         still_between)
 from .when import format_time
@@ -381,21 +382,11 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     if not stretch:
         return None
     fastest = max(stretch, key=lambda s: s.speed_mps)
-    over = round(fastest.speed_mps * MPH_PER_MPS - limit, 1) or 0.0    # never "-0"
-    sensor = sensor_of(p, fastest)
-    u = round(sensor.speed_mps * MPH_PER_MPS, 2)
-    unproven = None if over > u else (
-        f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty of "
-        f"± {u:g} mph" if over > -u else
-        f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
-    cut = over > 0 and (stretch[0] is timed[0] or stretch[-1] is timed[-1])
-    method = (f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} samples "
-              f"from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, against its "
-              f"{limit:g} mph; ± the speed tolerance ({sensor.said}; reasoner/tolerance.py)"
-              + ("; the stretch reaches the first or last sample read, so it may have been faster beyond: at least"
-                 if cut else ""))
-    return Margin("mph over the speed limit", over, "mph", (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
-                  method, uncertainty=u, bound="at least" if cut else None, unproven=unproven)
+    return speeding_margin(fastest.speed_mps, limit, (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
+                           sensor_of(p, fastest), stretch[0] is timed[0] or stretch[-1] is timed[-1],
+                           f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} "
+                           f"samples from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, "
+                           f"against its {limit:g} mph")
 
 
 def _road_at(p: Passage, at: int) -> tuple[str | None, float | None, int, int]:

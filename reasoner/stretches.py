@@ -101,21 +101,33 @@ class Stretch:
         p = self.peak
         if p.limit_mph is None:
             return None
-        over = round(p.speed_mps * MPH_PER_MPS - p.limit_mph, 1) or 0.0       # never "-0"
         sensor = next((sensor for src, sensor in self.sensors if src == p.ref.src), DEFAULT)
-        u = round(sensor.speed_mps * MPH_PER_MPS, 2)
-        unproven = None if over > u else (
-            f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty "
-            f"of ± {u:g} mph" if over > -u else
-            f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
-        cut = over > 0 and (self.open_start or self.open_end)
-        return Margin("mph over the speed limit", over, "mph", (p.ref,),
-                      f"fastest {p.speed_mps:.2f} m/s ({p.ref.src} #{p.ref.seq}) of the stretch over the limit "
-                      f"against road {p.road}'s {p.limit_mph:g} mph; ± the speed tolerance ({sensor.said}; "
-                      "reasoner/tolerance.py)"
-                      + ("; the stretch reaches the first or last measurement read, so it may have been faster "
-                         "beyond: at least" if cut else ""),
-                      uncertainty=u, bound="at least" if cut else None, unproven=unproven)
+        return speeding_margin(p.speed_mps, p.limit_mph, (p.ref,), sensor, self.open_start or self.open_end,
+                               f"fastest {p.speed_mps:.2f} m/s ({p.ref.src} #{p.ref.seq}) of the stretch over the "
+                               f"limit against road {p.road}'s {p.limit_mph:g} mph")
+
+
+FASTEST_MEASURED = "fastest measured speed"     # a speeding margin's figure: the speed that decided
+
+
+def speeding_margin(speed_mps: float, limit_mph: float, refs: tuple[EventRef, ...], sensor: Sensor,
+                    open_ended: bool, method: str) -> Margin:
+    """mph over the limit at the act's fastest measurement, ± the speed tolerance of the sensor that
+    measured it; not proven within that; "at least" where the stretch runs past what was read. The
+    fastest speed itself is a figure, for the explanation's headline to cite what decided."""
+    over = round(speed_mps * MPH_PER_MPS - limit_mph, 1) or 0.0       # never "-0"
+    u = round(sensor.speed_mps * MPH_PER_MPS, 2)
+    unproven = None if over > u else (
+        f"the fastest measured speed of the act is {over:+.1f} mph against the limit, within its uncertainty "
+        f"of ± {u:g} mph" if over > -u else
+        f"the fastest measured speed of the act is not over the limit ({over:+.1f} mph)")
+    cut = over > 0 and open_ended
+    return Margin("mph over the speed limit", over, "mph", refs,
+                  f"{method}; ± the speed tolerance ({sensor.said}; reasoner/tolerance.py)"
+                  + ("; the stretch reaches the first or last measurement read, so it may have been faster "
+                     "beyond: at least" if cut else ""),
+                  ((FASTEST_MEASURED, round(speed_mps * MPH_PER_MPS, 1), "mph"),),
+                  uncertainty=u, bound="at least" if cut else None, unproven=unproven)
 
 
 def measured(events: Iterable[dict], map_: Map, vehicle: str) -> list[Measured]:
