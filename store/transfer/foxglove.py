@@ -19,13 +19,11 @@ that each publish at their own instant (a microsecond apart, or staggered over a
 still share one scene per step, and the number of scenes follows the run's duration, not its
 number of sources. The map is drawn once, on its own topic; log lines at their event's time.
 
-Each road user's entity is encoded once per change, as a SceneUpdate holding it alone, and reused
-by every scene until it changes again: protobuf defines two encoded messages one after the other
-as their merge, with repeated fields appended, so a scene is the encoded deletion followed by the
-live entities' bytes, a join rather than an encoding of the whole scene. The bytes are the same
-as the SDK's encoding of the whole scene (checked on bench/transfer.py's generated run of 20,000
-events), and the drawing of its 50,030-event run takes 0.87 s instead of 1.27 s; the tests decode
-every scene with protobuf's own decoder.
+Each road user's entity is built once per change and kept (the SDK's messages are immutable) until
+it changes again; a scene is the SDK's encoding of the deletion and the live entities. Encoding
+each entity once and joining the bytes (protobuf reads concatenated messages as one) gave the same
+bytes in the same CPU time on bench/transfer.py's generated run (0.40 s to draw 50,030 events), so
+the SDK encodes whole scenes.
 """
 
 from __future__ import annotations
@@ -80,8 +78,13 @@ def _vec(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> fm.Vector3:
     return fm.Vector3(x=x, y=y, z=z)
 
 
+_HEADING_0 = fm.Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)  # labels and lights: one object for all of them
+
+
 def _pose(x: float, y: float, z: float = 0.0, heading_deg: float = 0.0) -> fm.Pose:
     """Heading 0 points along +x, counter-clockwise, as entity.state and the map use it."""
+    if heading_deg == 0.0:
+        return fm.Pose(position=fm.Vector3(x=x, y=y, z=z), orientation=_HEADING_0)
     half = math.radians(heading_deg) / 2
     return fm.Pose(position=fm.Vector3(x=x, y=y, z=z),
                    orientation=fm.Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half)))
@@ -91,10 +94,14 @@ def _rgba(rgb: tuple[float, float, float], a: float = 1.0) -> fm.Color:
     return fm.Color(r=rgb[0], g=rgb[1], b=rgb[2], a=a)
 
 
-def _entity(entity_id: str, t: int, metadata: dict[str, Any] | None = None, **primitives: list) -> fm.SceneEntity:
+def _pairs(metadata: dict[str, Any]) -> list[fm.KeyValuePair]:
+    """Metadata a viewer shows beside an entity: the fields that are there, as text."""
+    return [fm.KeyValuePair(key=k, value=str(v)) for k, v in metadata.items() if v is not None]
+
+
+def _entity(entity_id: str, t: int, pairs: list[fm.KeyValuePair], **primitives: list) -> fm.SceneEntity:
     """A SceneEntity in the map frame that lives until it is replaced or deleted (lifetime 0)."""
-    pairs = [fm.KeyValuePair(key=k, value=str(v)) for k, v in (metadata or {}).items() if v is not None]
-    return fm.SceneEntity(timestamp=stamp(t), frame_id=FRAME, id=entity_id, lifetime=fm.Duration(0, 0),
+    return fm.SceneEntity(timestamp=stamp(t), frame_id=FRAME, id=entity_id, lifetime=_FOREVER,
                           frame_locked=False, metadata=pairs, **primitives)
 
 
@@ -131,23 +138,24 @@ class _Look(NamedTuple):
     height: float
     beacon: bool  # on an emergency call: a blue light on the roof
     ident: str
-    metadata: dict[str, Any]
+    pairs: list[fm.KeyValuePair]  # the metadata that stays while the road user lives
 
 
 _BEACON, _BEACON_SIZE = _rgba((0.1, 0.3, 1.0)), _vec(0.6, 0.6, 0.6)
 _WHITE = _rgba((1.0, 1.0, 1.0))
+_FOREVER = fm.Duration(0, 0)
 
 
 class _Layer:
-    """One scene topic's live entities, each kept as the bytes of a SceneUpdate holding it alone."""
+    """One scene topic's live entities, each as its latest drawing."""
 
     def __init__(self, topic: str) -> None:
         self.topic = topic
-        self.live: dict[str, bytes] = {}
+        self.live: dict[str, fm.SceneEntity] = {}
         self.changed = False
 
     def put(self, entity_id: str, entity: fm.SceneEntity) -> None:
-        self.live[entity_id] = fm.SceneUpdate(entities=[entity]).encode()
+        self.live[entity_id] = entity
         self.changed = True
 
     def remove(self, entity_id: str) -> None:
@@ -155,12 +163,10 @@ class _Layer:
             self.changed = True
 
     def scene(self, t: int) -> Derived:
-        """The whole layer at t: clear the topic's previous drawing, then every live entity (the
-        encoded updates one after the other are one update: see the module docstring)."""
+        """The whole layer at t: clear the topic's previous drawing, then every live entity."""
         self.changed = False
         deletion = fm.SceneEntityDeletion(timestamp=stamp(t), type=fm.SceneEntityDeletionType.All, id="")
-        data = fm.SceneUpdate(deletions=[deletion]).encode() + b"".join(self.live.values())
-        return Derived(self.topic, t, data)
+        return Derived(self.topic, t, fm.SceneUpdate(deletions=[deletion], entities=list(self.live.values())).encode())
 
 
 @dataclass
@@ -226,9 +232,9 @@ class SceneBuilder:
         cubes = [fm.CubePrimitive(pose=_pose(x, y, look.height / 2, heading), size=look.size, color=look.color)]
         spheres = ([fm.SpherePrimitive(pose=_pose(x, y, look.height + 0.3), size=_BEACON_SIZE, color=_BEACON)]
                    if look.beacon else [])
-        metadata = {**look.metadata, "speed_mps": body.get("speed_mps"), "road": body.get("road"),
-                    "junction": body.get("junction")}
-        return _entity(src, event["t"], metadata, cubes=cubes, spheres=spheres,
+        pairs = look.pairs + _pairs({"speed_mps": body.get("speed_mps"), "road": body.get("road"),
+                                     "junction": body.get("junction")})
+        return _entity(src, event["t"], pairs, cubes=cubes, spheres=spheres,
                        texts=[_label(look.ident, x, y, look.height + 1.5)])
 
     def _look(self, src: str) -> _Look:
@@ -237,9 +243,9 @@ class SceneBuilder:
         spawn = self.spawned.get(src, {})
         kind = _text(spawn.get("type")) if _text(spawn.get("type")) in _BODIES else src.partition("/")[0]
         (length, width, height), rgb = _BODIES.get(kind, _BODIES["car"])
-        metadata = {"src": src, "type": spawn.get("type"), "plate": spawn.get("plate")}
+        pairs = _pairs({"src": src, "type": spawn.get("type"), "plate": spawn.get("plate")})
         look = _Look(_vec(length, width, height), _rgba(rgb), height, spawn.get("emergency") is True,
-                     src.partition("/")[2], metadata)
+                     src.partition("/")[2], pairs)
         self._looks[src] = look
         return look
 
@@ -273,7 +279,7 @@ class SceneBuilder:
         pole = fm.CylinderPrimitive(pose=_pose(x, y, 1.6), size=_vec(0.2, 0.2, 3.2), color=_rgba((0.2, 0.2, 0.2)),
                                     bottom_scale=1.0, top_scale=1.0)
         metadata = {"junction": body.get("junction"), "approach": body.get("approach"), "colour": colour}
-        return _entity(event["src"], event["t"], metadata, spheres=[sphere], cylinders=[pole])
+        return _entity(event["src"], event["t"], _pairs(metadata), spheres=[sphere], cylinders=[pole])
 
     def _map(self, event: dict[str, Any]) -> list[Derived]:
         world = event["body"].get("map")
@@ -298,7 +304,7 @@ class SceneBuilder:
             texts.append(_label(f"monitor {monitor.get('id')}", x, y, 5.0))
         roads = fm.LinePrimitive(type=fm.LinePrimitiveLineType.LineList, pose=_pose(0.0, 0.0), thickness=7.0,
                                  scale_invariant=False, points=points, color=_rgba((0.5, 0.5, 0.5)))
-        entity = _entity("map", event["t"], None, lines=[roads] if points else [], cylinders=cylinders,
+        entity = _entity("map", event["t"], [], lines=[roads] if points else [], cylinders=cylinders,
                          texts=texts, arrows=arrows)
         if self._signal_events:  # signals drawn before the map (at the same t) move beside their junction
             for src, signal in self._signal_events.items():

@@ -109,8 +109,8 @@ def test_log_lines_decode_to_their_events_level_key_and_seq(exported):
 
 
 def test_a_scene_of_many_road_users_is_one_update(tmp_path):
-    """A scene is written as the deletion's bytes followed by each road user's: protobuf's decoder
-    must read it as one SceneUpdate holding every one of them, in order, after the deletion."""
+    """Forty road users moving at one instant are one scene: protobuf's decoder reads one
+    SceneUpdate with one deletion and every one of them, in the order they moved."""
     from tests.helpers.store_testkit import event
     events = [event(0, run="many", src=f"vehicle/{i}", t=S, kind="entity.state",
                     body={"x": float(i), "y": -float(i), "speed_mps": 1.0, "junction": None}) for i in range(40)]
