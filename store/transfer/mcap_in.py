@@ -32,7 +32,7 @@ from . import chain_order
 from .chain_check import ChainCheck
 from .errors import TransferError
 from .feed import feed
-from .foxglove import DERIVED_MARK
+from .foxglove_channels import DERIVED_MARK
 from .mcap_records import Located, RecordReader
 from .outcomes import ImportReport
 
@@ -56,11 +56,11 @@ class _Route:
 
 def route(channel: Channel, schema: Schema | None) -> _Route:
     """Decide once per channel whether its messages can be events."""
-    if channel.message_encoding.lower() != "json":
-        return _Route(channel.topic, f"message encoding {channel.message_encoding or '(none)'!r} is not json")
     if DERIVED_MARK in channel.metadata or (schema is not None and schema.name.startswith("foxglove.")):
         name = schema.name if schema is not None else "visualisation"
         return _Route(channel.topic, f"derived {name} channel: rebuilt from the events on export")
+    if channel.message_encoding.lower() != "json":
+        return _Route(channel.topic, f"message encoding {channel.message_encoding or '(none)'!r} is not json")
     return _Route(channel.topic, None)
 
 

@@ -8,7 +8,8 @@ message_schema.py); log_time = publish_time = t, sequence = seq. Metadata record
 that even a file cut short still says what it should have held: `gaps.run` (run, events, span,
 sources, chain head, order) and one `gaps.checkpoint` per chain checkpoint, every column as a
 string. Beside the events, foxglove.SceneUpdate and foxglove.Log channels draw the run (see
-foxglove.py).
+foxglove.py), in protobuf with the schemas foxglove-sdk publishes, as the SDK's own MCAP writer
+writes them: Foxglove's schemas are protobuf, and the events stay the JSON they are stored as.
 
 Every message, events and drawing alike, is written in log-time order (events by (t, seq, src)),
 in chunks with their message indexes, so that viewers play the file and the official reader's
@@ -35,7 +36,7 @@ from ..reading import one_snapshot
 from . import chain_order
 from .atomic import replacing
 from .chain_check import CHECKPOINT_METADATA, RUN_METADATA
-from .foxglove import DERIVED_MARK, DRAWN_KINDS, TOPICS, Derived, SceneBuilder
+from .foxglove_channels import DERIVED_MARK, ENCODING, TOPICS
 from .message_schema import schema_bytes as event_schema_bytes
 from .outcomes import ExportReport
 from .rows import Row, chain_head, chain_keys, run_summary, stored_rows
@@ -57,15 +58,15 @@ class _Channels:
         self.schemas: dict[str, int] = {}
         self.channels: dict[str, int] = {}
 
-    def _schema(self, name: str, data: Callable[[], bytes]) -> int:
+    def _schema(self, name: str, encoding: str, data: Callable[[], bytes]) -> int:
         if name not in self.schemas:
-            self.schemas[name] = self.writer.register_schema(name=name, encoding="jsonschema", data=data())
+            self.schemas[name] = self.writer.register_schema(name=name, encoding=encoding, data=data())
         return self.schemas[name]
 
     def for_event(self, row: Row) -> int:
         topic = f"gaps/{self.run}/{row.src}/{row.kind}"
         if topic not in self.channels:
-            schema_id = self._schema(row.kind, lambda: event_schema_bytes(row.kind))
+            schema_id = self._schema(row.kind, "jsonschema", lambda: event_schema_bytes(row.kind))
             self.channels[topic] = self.writer.register_channel(
                 topic=topic, message_encoding="json", schema_id=schema_id,
                 metadata={"run": self.run, "src": row.src, "kind": row.kind})
@@ -73,12 +74,12 @@ class _Channels:
 
     def for_derived(self, topic: str) -> int:
         if topic not in self.channels:
-            from .foxglove_schemas import schema_bytes as foxglove_bytes  # loads foxglove-sdk: only when drawing
+            from .foxglove import schema_data  # loads foxglove-sdk: only when drawing
 
             name = TOPICS[topic]
-            schema_id = self._schema(name, lambda: foxglove_bytes(name))
+            schema_id = self._schema(name, ENCODING, lambda: schema_data(name))
             self.channels[topic] = self.writer.register_channel(
-                topic=topic, message_encoding="json", schema_id=schema_id,
+                topic=topic, message_encoding=ENCODING, schema_id=schema_id,
                 metadata={DERIVED_MARK: "drawn from the events on export; not evidence"})
         return self.channels[topic]
 
@@ -145,7 +146,8 @@ def _chain_order(store: Store, run: str) -> bytes | None:
     return None if in_time_order else data
 
 
-def _draw(out: _InLogTimeOrder, channels: _Channels, drawn: list[Derived], horizon: int | None) -> int:
+def _draw(out: _InLogTimeOrder, channels: _Channels, drawn: list, horizon: int | None) -> int:
+    """Write the drawn messages (foxglove.Derived), returning how many."""
     for item in drawn:
         out.put(channels.for_derived(item.topic), item.t, item.data, horizon=horizon)
     return len(drawn)
@@ -160,7 +162,11 @@ class RowWriter:
                  scene: bool = True) -> None:
         self.report, self.progress = report, progress
         self.channels, self.out = _Channels(writer, run), _InLogTimeOrder(writer)
-        self.drawing = SceneBuilder() if scene else None
+        self.drawing, self.drawn_kinds = None, frozenset()
+        if scene:
+            from .foxglove import DRAWN_KINDS, SceneBuilder  # loads foxglove-sdk: only when drawing
+
+            self.drawing, self.drawn_kinds = SceneBuilder(), DRAWN_KINDS
 
     def put(self, row: Row) -> None:
         out, drawing, report = self.out, self.drawing, self.report
@@ -168,7 +174,7 @@ class RowWriter:
             out.put(self.channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq)
         else:
             out.put(self.channels.for_event(row), row.t, row.text.encode("utf-8"), row.seq, drawing.horizon())
-            drawn = drawing.add(json.loads(row.text)) if row.kind in DRAWN_KINDS else drawing.advance(row.t)
+            drawn = drawing.add(json.loads(row.text)) if row.kind in self.drawn_kinds else drawing.advance(row.t)
             report.derived += _draw(out, self.channels, drawn, drawing.horizon())
             out.release(drawing.horizon())
         report.events += 1

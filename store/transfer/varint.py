@@ -1,5 +1,5 @@
-"""Reading a protobuf-style varint (7 bits a byte, low first): the chain-order attachment and
-foxglove-sdk's descriptors both use them."""
+"""Reading a protobuf-style varint (7 bits a byte, low first), as the chain-order attachment
+(chain_order.py) writes them."""
 from __future__ import annotations
 
 

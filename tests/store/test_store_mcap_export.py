@@ -1,19 +1,24 @@
 """MCAP export as other tools see it: the official `mcap` reader finds the channels, schemas,
 messages, statistics and metadata DESIGN promises, and the Foxglove channels hold scene updates
-and log lines that match their own schemas."""
+and log lines that protobuf's own decoder reads with the schemas the file carries."""
 
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import fastjsonschema
+import foxglove.messages as fm
 import pytest
+from google.protobuf.unknown_fields import UnknownFieldSet
 from mcap.reader import make_reader
 
 from store import Store, canonical_json, key_for
 from store.transfer import TransferError, export_run
-from store.transfer.foxglove import ENTITIES_TOPIC, LOG_TOPIC, MAP_TOPIC, SIGNALS_TOPIC, SceneBuilder
+from store.transfer.foxglove import SceneBuilder
+from store.transfer.foxglove_channels import ENTITIES_TOPIC, LOG_TOPIC, MAP_TOPIC, SIGNALS_TOPIC
+from tests.helpers.foxglove_decoded import decoded, decoder
 from tests.helpers.store_testkit import event
 
 RUN = "junction-7"
@@ -109,9 +114,12 @@ def test_summary_has_statistics_chunk_indexes_and_metadata_index(exported):
     assert stats.message_end_time == max(ev["t"] for ev in events)
     assert summary.chunk_indexes and all(c.compression == "zstd" for c in summary.chunk_indexes)
     assert {m.name for m in summary.metadata_indexes} == {"gaps.run", "gaps.checkpoint"}
-    assert all(c.message_encoding == "json" for c in summary.channels.values())
-    assert {s.encoding for s in summary.schemas.values()} == {"jsonschema"}
-    assert {"foxglove.SceneUpdate", "foxglove.Log"} <= {s.name for s in summary.schemas.values()}
+    events_channels = [c for c in summary.channels.values() if c.topic.startswith("gaps/")]
+    drawn = [c for c in summary.channels.values() if not c.topic.startswith("gaps/")]
+    assert all(c.message_encoding == "json" for c in events_channels)
+    assert {summary.schemas[c.schema_id].encoding for c in events_channels} == {"jsonschema"}
+    assert {(c.message_encoding, summary.schemas[c.schema_id].encoding, summary.schemas[c.schema_id].name)
+            for c in drawn} == {("protobuf", "protobuf", "foxglove.SceneUpdate"), ("protobuf", "protobuf", "foxglove.Log")}
 
 
 def test_run_and_checkpoint_metadata_as_strings(exported):
@@ -132,19 +140,30 @@ def test_run_and_checkpoint_metadata_as_strings(exported):
 
 def test_every_message_matches_its_channel_schema(exported):
     """The schemas in the file describe the messages: the event envelopes (with the kind's body
-    schema) and the Foxglove SceneUpdate and Log messages we draw."""
+    schema) validate, and the Foxglove SceneUpdate and Log messages we draw decode, each with
+    nothing left over that its schema does not define."""
     path, _, _ = exported
     _, messages, _ = read_all(path)
-    validators = {}
+    check, decoded_count = {}, 0
     for schema, _, message in messages:
-        if schema.id not in validators:
-            validators[schema.id] = fastjsonschema.compile(json.loads(schema.data))
-        validators[schema.id](json.loads(message.data))
+        if schema.id not in check:
+            check[schema.id] = (fastjsonschema.compile(json.loads(schema.data)) if schema.encoding == "jsonschema"
+                                else decoder(schema.name, schema.encoding, schema.data))
+        if schema.encoding == "jsonschema":
+            check[schema.id](json.loads(message.data))
+        else:
+            proto = check[schema.id](message.data)
+            assert not _unknown(proto) and proto.SerializeToString() == message.data
+            decoded_count += 1
+    assert decoded_count > 0
 
 
-def derived(path: Path, topic: str) -> list[tuple[int, dict]]:
-    _, messages, _ = read_all(path)
-    return [(m.log_time, json.loads(m.data)) for _, c, m in messages if c.topic == topic]
+def derived(path: Path, topic: str) -> list:
+    return decoded(path, topic)
+
+
+def nanoseconds(stamp) -> int:
+    return stamp.seconds * S + stamp.nanos
 
 
 def test_scene_draws_every_live_road_user_at_its_position_once_per_tick(exported):
@@ -154,49 +173,53 @@ def test_scene_draws_every_live_road_user_at_its_position_once_per_tick(exported
     updates = derived(path, ENTITIES_TOPIC)
     assert [t for t, _ in updates] == [T0 + tick * S for tick in range(5)]
     for t, update in updates:
-        assert update["deletions"] == [{"timestamp": {"sec": t // S, "nsec": 0}, "type": 1, "id": ""}]
+        (deletion,) = update.deletions
+        assert (nanoseconds(deletion.timestamp), deletion.type, deletion.id) == (t, fm.SceneEntityDeletionType.All.value, "")
     t, first = updates[0]
-    by_id = {e["id"]: e for e in first["entities"]}
+    by_id = {e.id: e for e in first.entities}
     assert set(by_id) == {"vehicle/173", "vehicle/253", "pedestrian/p1"}
     car = by_id["vehicle/173"]
-    cube = car["cubes"][0]
-    assert (cube["pose"]["position"]["x"], cube["pose"]["position"]["y"]) == (-30.0, 1.0)
-    q = cube["pose"]["orientation"]
-    assert q["z"] == pytest.approx(2 ** -0.5) and q["w"] == pytest.approx(2 ** -0.5)  # heading 90°
-    assert car["frame_id"] == "map" and car["timestamp"] == {"sec": T0 // S, "nsec": 0}
-    assert by_id["vehicle/253"]["spheres"], "an ambulance on an emergency call shows a blue light"
-    assert by_id["pedestrian/p1"]["cubes"][0]["size"]["x"] < 1.0
-    assert [{e["id"] for e in u["entities"]} for _, u in updates[1:]] == [set(by_id)] * 3 + [{"vehicle/173", "vehicle/253"}]
+    cube = car.cubes[0]
+    assert (cube.pose.position.x, cube.pose.position.y) == (-30.0, 1.0)
+    q = cube.pose.orientation
+    assert q.z == pytest.approx(2 ** -0.5) and q.w == pytest.approx(2 ** -0.5)  # heading 90°
+    assert car.frame_id == "map" and nanoseconds(car.timestamp) == T0
+    assert by_id["vehicle/253"].spheres, "an ambulance on an emergency call shows a blue light"
+    assert by_id["pedestrian/p1"].cubes[0].size.x < 1.0
+    assert [{e.id for e in u.entities} for _, u in updates[1:]] == [set(by_id)] * 3 + [{"vehicle/173", "vehicle/253"}]
 
 
 def test_signals_are_coloured_spheres_beside_their_junction(exported):
     path, _, _ = exported
     signals = derived(path, SIGNALS_TOPIC)
-    colours = [u["entities"][0]["spheres"][0]["color"] for _, u in signals]
-    assert (colours[0]["r"], colours[0]["g"]) == (1.0, 0.65)  # amber
-    assert (colours[1]["r"], colours[1]["g"]) == (1.0, 0.0)  # red
-    position = signals[0][1]["entities"][0]["spheres"][0]["pose"]["position"]
-    assert (position["x"], position["y"]) == (5.0 - 10.0, 2.0)  # west of j1
+    colours = [u.entities[0].spheres[0].color for _, u in signals]
+    assert (colours[0].r, colours[0].g) == (1.0, 0.65)  # amber
+    assert (colours[1].r, colours[1].g) == (1.0, 0.0)  # red
+    position = signals[0][1].entities[0].spheres[0].pose.position
+    assert (position.x, position.y) == (5.0 - 10.0, 2.0)  # west of j1
 
 
 def test_map_draws_roads_junctions_and_monitors(exported):
     path, _, _ = exported
     ((t, update),) = derived(path, MAP_TOPIC)
-    (entity,) = update["entities"]
-    (roads,) = entity["lines"]
-    assert t == T0 and roads["type"] == 2 and len(roads["points"]) == 4
-    assert entity["cylinders"][0]["pose"]["position"]["x"] == 5.0
-    assert len(entity["arrows"]) == 1
+    (entity,) = update.entities
+    (roads,) = entity.lines
+    assert t == T0 and roads.type == fm.LinePrimitiveLineType.LineList.value == 2 and len(roads.points) == 4
+    assert [(p.x, p.y) for p in roads.points] == [(-100.0, 0.0), (100.0, 0.0), (0.0, -100.0), (0.0, 100.0)]
+    assert entity.cylinders[0].pose.position.x == 5.0
+    assert len(entity.arrows) == 1
 
 
 def test_log_lines_for_decisions_violations_and_collisions(exported):
     path, _, _ = exported
     logs = [m for _, m in derived(path, LOG_TOPIC)]
-    assert [(m["level"], m["name"]) for m in logs] == [(3, "vehicle/173"), (3, "monitor/m1"), (4, "sim/world")]
-    assert "173 proceeds to enter the junction (not permitted" in logs[0]["message"]
-    assert "potential violation by vehicle 173" in logs[1]["message"]
-    assert logs[2]["message"] == "collision between 173, p1"
-    assert logs[0]["file"] == f"gaps/{RUN}/vehicle/173/vehicle.decision" and logs[0]["line"] == 7
+    assert [(m.level, m.name) for m in logs] == [(3, "vehicle/173"), (3, "monitor/m1"), (4, "sim/world")]
+    assert (fm.LogLevel.Warning.value, fm.LogLevel.Error.value) == (3, 4)
+    assert "173 proceeds to enter the junction (not permitted" in logs[0].message
+    assert "potential violation by vehicle 173" in logs[1].message
+    assert logs[2].message == "collision between 173, p1"
+    assert logs[0].file == f"gaps/{RUN}/vehicle/173/vehicle.decision" and logs[0].line == 7
+    assert nanoseconds(logs[0].timestamp) == T0 + 2 * S
 
 
 def test_hostile_bodies_do_not_break_the_drawing():
@@ -216,8 +239,31 @@ def test_hostile_bodies_do_not_break_the_drawing():
     scene = SceneBuilder()
     drawn = [item for ev in weird for item in scene.add(ev)] + scene.finish()
     assert {item.topic for item in drawn} == {MAP_TOPIC, SIGNALS_TOPIC, ENTITIES_TOPIC, LOG_TOPIC}
+    schemas = {"/log": fm.Log.get_schema()}
     for item in drawn:
-        json.dumps(item.message, allow_nan=False)
+        sdk = schemas.get(item.topic, fm.SceneUpdate.get_schema())
+        message = decoder(sdk.name, sdk.encoding, bytes(sdk.data))(item.data)
+        numbers = [v for _, v in _fields(message) if isinstance(v, float)]
+        assert all(math.isfinite(v) for v in numbers)
+
+
+def _unknown(message) -> int:
+    """How many fields a decoded message and those within it hold that their schema does not define."""
+    count = len(UnknownFieldSet(message))
+    for field, value in message.ListFields():
+        if field.message_type is not None:
+            count += sum(_unknown(item) for item in (value if field.is_repeated else [value]))
+    return count
+
+
+def _fields(message):
+    """Every (field, value) of a decoded protobuf message, nested ones included."""
+    for field, value in message.ListFields():
+        for item in value if field.is_repeated else [value]:
+            if hasattr(item, "ListFields"):
+                yield from _fields(item)
+            else:
+                yield field.name, item
 
 
 def test_times_before_1970_and_huge_seqs_fit_mcap_fields(tmp_path):

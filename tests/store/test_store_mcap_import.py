@@ -71,6 +71,10 @@ def test_round_trip_rebuilds_identical_events_and_chain(source, tmp_path):
         assert chain["checkpoints_matched"] == chain["checkpoints"] == len(source.checkpoints("busy")) > 1
         assert chain["store_head"] == chain["exported_head"] == heads(source)["busy"]
         assert report.skipped > 0 and all(s["what"].startswith("channel /") for s in report.as_dict()["skips"])
+        reasons = {s["reason"] for s in report.as_dict()["skips"]}  # said as what they are, not as an encoding
+        assert "derived foxglove.SceneUpdate channel: rebuilt from the events on export" in reasons
+        assert reasons <= {f"derived foxglove.{name} channel: rebuilt from the events on export"
+                           for name in ("SceneUpdate", "Log")}
         again = import_file(copy, path)
         assert (again.stored, again.duplicates) == (0, 3000)
 

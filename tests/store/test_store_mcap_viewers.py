@@ -1,7 +1,8 @@
 """An MCAP export as Foxglove and Lichtblick read it (issue 13, "Seen, not just stored").
 
 Lichtblick's JSON Schema parser (packages/mcap-support/src/parseJsonSchema.ts) refuses a channel
-whose schema it cannot type, and every message on it with it; the MCAP doctor warns at every
+whose schema it cannot type, and every message on it with it (the event channels are JSON; the
+drawing is foxglove-sdk's protobuf, read here by protobuf's own decoder); the MCAP doctor warns at every
 message whose log time goes back; a viewer that jumps to a time shows the latest message of each
 topic. So: every channel schema passes a checker that refuses what that parser refuses, every
 message validates against its channel's schema, log times never go back, each scene message holds
@@ -16,6 +17,7 @@ import json
 from pathlib import Path
 
 import fastjsonschema
+import foxglove.messages as fm
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
@@ -26,7 +28,9 @@ from mcap.stream_reader import StreamReader
 from store import Store, import_file
 from store.kinds import KINDS
 from store.transfer import export_run
-from store.transfer.foxglove import ENTITIES_TOPIC, SCENE_PERIOD_NS, SIGNALS_TOPIC
+from store.transfer.foxglove import SCENE_PERIOD_NS
+from store.transfer.foxglove_channels import ENTITIES_TOPIC, SIGNALS_TOPIC
+from tests.helpers.foxglove_decoded import decoder
 from store.transfer.message_schema import envelope_schema, viewer_envelope_schema
 from tests.helpers.store_testkit import heads
 from tests.helpers.viewer_run import RUN, viewer_events
@@ -141,6 +145,9 @@ def test_every_channel_schema_passes_the_checker(exported):
     assert {s.name for s in summary.schemas.values()} >= {"foxglove.SceneUpdate", "foxglove.Log", "entity.state",
                                                           "run.start", "vehicle.trace", "signal.state"}
     for schema in summary.schemas.values():
+        if schema.name.startswith("foxglove."):  # foxglove-sdk's own, in protobuf
+            assert schema.encoding == "protobuf"
+            continue
         assert schema.encoding == "jsonschema"
         assert lichtblick_problems(json.loads(schema.data)) == [], schema.name
 
@@ -151,8 +158,10 @@ def test_every_message_validates_against_its_channel_schema(exported):
     with open(path, "rb") as f:
         for schema, channel, message in make_reader(f).iter_messages():
             if schema.id not in validators:
-                validators[schema.id] = fastjsonschema.compile(json.loads(schema.data))
-            validators[schema.id](json.loads(message.data))
+                validators[schema.id] = (decoder(schema.name, schema.encoding, schema.data)
+                                         if schema.encoding == "protobuf"
+                                         else fastjsonschema.compile(json.loads(schema.data)))
+            validators[schema.id](message.data if schema.encoding == "protobuf" else json.loads(message.data))
             checked += 1
     assert checked > len(events)
 
@@ -181,6 +190,12 @@ def test_log_times_never_go_back_in_the_file(exported):
         assert times == sorted(times), topic
 
 
+def scene_update(data: bytes):
+    """A foxglove.SceneUpdate as protobuf's decoder reads it with foxglove-sdk's schema."""
+    sdk = fm.SceneUpdate.get_schema()
+    return decoder(sdk.name, sdk.encoding, bytes(sdk.data))(data)
+
+
 def alive_at(events: list[dict], t: int) -> dict[str, dict]:
     """The road users alive at t, each with its latest state: worked out from the events alone."""
     alive: dict[str, dict] = {}
@@ -196,22 +211,22 @@ def alive_at(events: list[dict], t: int) -> dict[str, dict]:
 
 def test_each_scene_holds_every_road_user_alive_then(exported):
     path, events, _ = exported
-    scenes = [(m.log_time, json.loads(m.data)) for m, topic in in_file_order(path) if topic == ENTITIES_TOPIC]
+    scenes = [(m.log_time, scene_update(m.data)) for m, topic in in_file_order(path) if topic == ENTITIES_TOPIC]
     duration = max(ev["t"] for ev in events if ev["kind"] == "entity.state") - T0
     assert len(scenes) <= duration // SCENE_PERIOD_NS + 2  # per tick, not per source and instant
     for t, scene in scenes:
-        assert [d["type"] for d in scene["deletions"]] == [1]  # ALL: the previous scene goes
-        drawn = {e["id"]: e["cubes"][0]["pose"]["position"]["x"] for e in scene["entities"]}
+        assert [d.type for d in scene.deletions] == [fm.SceneEntityDeletionType.All.value]  # the previous scene goes
+        drawn = {e.id: e.cubes[0].pose.position.x for e in scene.entities}
         assert drawn == {src: body["x"] for src, body in alive_at(events, t).items()}, t
-    assert {e["id"] for e in scenes[0][1]["entities"]} == {"vehicle/1", "vehicle/2", "pedestrian/p"}
-    assert "pedestrian/p" not in {e["id"] for e in scenes[-1][1]["entities"]}
+    assert {e.id for e in scenes[0][1].entities} == {"vehicle/1", "vehicle/2", "pedestrian/p"}
+    assert "pedestrian/p" not in {e.id for e in scenes[-1][1].entities}
 
 
 def test_each_signal_scene_holds_every_signal(exported):
     path, _, _ = exported
-    scenes = [json.loads(m.data) for m, topic in in_file_order(path) if topic == SIGNALS_TOPIC]
+    scenes = [scene_update(m.data) for m, topic in in_file_order(path) if topic == SIGNALS_TOPIC]
     assert len(scenes) == 3  # one per change of the lights, both signals in each
-    assert all({e["id"] for e in s["entities"]} == {"signal/j1-west", "signal/j1-north"} for s in scenes)
+    assert all({e.id for e in s.entities} == {"signal/j1-west", "signal/j1-north"} for s in scenes)
 
 
 def test_the_official_reader_reads_it_and_its_summary_matches(exported):
@@ -290,7 +305,7 @@ def test_any_run_is_written_in_log_time_order_with_whole_scenes(tmp_path, drawn_
     assert times == sorted(times)
     for m, topic in messages:
         if topic == ENTITIES_TOPIC:
-            drawn = {e["id"] for e in json.loads(m.data)["entities"]}
+            drawn = {e.id for e in scene_update(m.data).entities}
             assert drawn == set(alive_at(events, m.log_time))
     with Store(path / "copy.db") as copy:
         import_file(copy, path / "any.mcap")
