@@ -636,8 +636,31 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
         return False
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
-        or _out_first(p, other, slowing_began(other)) is not None \
+        or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
         or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None
+
+
+def _went_first(p: Passage, other: Other) -> str | None:
+    """Why the road user's slowing cannot have been to avoid an accident with V in their conflict
+    zone (reasoner/conflicts.py), where it went into that zone ahead of V: "inside" where it was
+    already in the zone when it began to slow, before V came in (a road user standing or braking
+    in V's way avoids nothing there: it is V that must wait for it, HC 172 and Sch 9 Pt 7 para
+    1's "traffic on the major road"); "stood" where it came to a stop and afterwards went into
+    the zone before V did (it did not wait for V to pass, so what it stopped for is not shown to
+    be V: a ground in doubt is not proven). A road user that slowed and went on through ahead of
+    V without stopping is not answered here: it may have braked to let V clear its way in time
+    (the town's 386 braking at 4.5 m/s² inside j2 as 265 came out of its Give Way line). None
+    where the record cannot tell (who was in the zone first, or when, unmeasured)."""
+    c = conflict_of(p, other)
+    onset = slowing_began(other)
+    if onset is None or c is None or c.first != "theirs" or c.theirs is None or c.theirs.entered is None \
+            or c.mine.entered is None or c.theirs.entered >= c.mine.entered:
+        return None
+    if c.theirs.entered <= onset < c.mine.entered:
+        return "inside"
+    if other.stopped is not None and other.stopped.t < c.theirs.entered:
+        return "stood"
+    return None
 
 
 def _nearer_afresh(p: Passage, other: Other) -> tuple[Other, Conflict] | None:
@@ -1042,6 +1065,17 @@ def _cause(p: Passage, other: Other) -> str:
     if through is not None:
         return (f"it began to slow after it had gone through its conflict zone with {p.vehicle} ahead of it (out "
                 f"{through.pet_s:.2f} s before {p.vehicle} came in)")
+    first = _went_first(p, other)
+    if first is not None:
+        c = conflict_of(p, other)
+        came = f"{p.vehicle} came in {(c.mine.entered - c.theirs.entered) / SECOND:.2f} s after it"
+        if first == "inside":
+            return (f"it began to slow ({format_time(slowing_began(other))}) already in its conflict zone with "
+                    f"{p.vehicle}, before {p.vehicle} came in ({came}): slowing in {p.vehicle}'s way avoids no "
+                    f"accident with {p.vehicle} there")
+        return (f"it stopped ({other.stopped.label}, {format_time(other.stopped.t)}) and then went into its conflict "
+                f"zone with {p.vehicle} ahead of {p.vehicle} ({came}): it did not wait for {p.vehicle} to pass, so "
+                f"its stop is not shown to be for {p.vehicle}")
     ahead = leader(p, other, _extend(p, other))
     if ahead is not None:
         return (f"{ahead} ahead of it on its way when it began to slow, going its way or standing: keeping the "
