@@ -34,9 +34,9 @@ def _c2():
 def test_a_main_road_car_braking_with_its_leader_within_the_two_second_gap_was_not_forced(tmp_path):
     """c0 stands on the far side of the junction in the southbound lane (14 m south of the centre,
     a queue on the exit); c1, at 13.41 m/s, brakes at 5 m/s² to a stop 12 m short of the centre
-    for it (its leader: keeping the two-second gap behind a standing car from 44 m takes 2.2 m/s²),
-    and c2, 20 m behind c1 at 13.33 m/s (1.5 s: inside the two-second gap), brakes with it from
-    the same moment. c2 braked because the car in front of it did (HC 126), not to avoid an
+    for it (its leader: keeping the two-second gap behind a standing car from 44 m at 13.41 m/s
+    takes 13.41² / (2 × (44 - 8)) = 2.5 m/s²), and c2, 20 m behind c1 at 13.33 m/s (1.5 s: inside
+    the two-second gap), brakes with it from the same moment. c2 braked because the car in front of it did (HC 126), not to avoid an
     accident with 7. Law (para 1): 7 caused no change of speed: a lawful Stop (on main, "7 would
     force c2" and punishable, HC 171: c1 was 0.08 m/s the faster when c2 began to slow, so it was
     not counted as its leader)."""
