@@ -11,7 +11,8 @@ explains U's braking:
 - `leader`: a road user ahead of U on U's own way when U began to slow, going U's way (or
   standing), no faster than U, so close that U could keep the two-second rule's gap behind it
   (HC 126: FOLLOW_S, plus FOLLOW_M of a car's length) only by braking at FORCE_DECEL_MPS2 or
-  harder (reaction.needed_deceleration: within that gap already, or closing fast on it). U was
+  harder (reaction.needed_deceleration: within that gap already, or closing fast on it); or one
+  at its speed (within SPEED_NOISE_MPS) within that gap that was slowing with it. U was
   slowing behind its leader (a queue, one standing in its way, or one that had joined its lane
   ahead of it), whatever lane that leader came from; others.py's `followed` looks on U's own arm
   only, at its hardest braking. This is reaction.well_ahead's yardstick turned round: V ahead of
@@ -40,7 +41,7 @@ from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .motion import STOPPED_MPS, Sample, position_at, speed_at
 from .others import VEHICLE_WIDTH_M
 from .passage import Other, Passage
-from .reaction import FORCE_DECEL_MPS2, SAME_WAY_DEG, _Way, needed_deceleration, slowing_began
+from .reaction import FORCE_DECEL_MPS2, SAME_WAY_DEG, SPEED_NOISE_MPS, _Way, needed_deceleration, slowing_began
 
 SECOND = 1_000_000_000
 SAME_ZONE_M = CAR_LENGTH_M / 2  # two conflict zones this close along a road user's way are one place: a road user
@@ -80,10 +81,21 @@ def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
         heading = _heading_at(ahead.samples, onset)
         along = 1.0 if heading is None else heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
         going = its <= STOPPED_MPS or (heading is not None and along >= _SAME_WAY)
-        if gap > 0 and its <= speed and going and \
+        if gap > 0 and going and (its <= speed or _slowing_too(ahead, onset, its, speed)) and \
                 needed_deceleration(speed, its * max(along, 0.0), gap) >= FORCE_DECEL_MPS2:
             return ahead.user
     return None
+
+
+def _slowing_too(ahead: Other, t: int, its: float, speed: float) -> bool:
+    """Whether the road user ahead, going at the follower's speed at t (faster by no more than
+    SPEED_NOISE_MPS, the margin within which a road user has not yet begun to slow), was itself
+    slowing then: a second later it went SPEED_NOISE_MPS or more slower. Two cars 20 m apart at
+    13.3 and 13.4 m/s that begin to brake at the same sample are a leader and its follower (the
+    paper run's 164 behind 221, the town's 241 behind 292, which SUMO's account says braked for
+    those leaders); a leader pulling away from the follower is not what it braked for."""
+    later, _ = speed_at(ahead.samples, t + SECOND)
+    return its - speed <= SPEED_NOISE_MPS and later is not None and later <= its - SPEED_NOISE_MPS
 
 
 def _extended(samples: Sequence[Sample], extend_m: float) -> list[tuple[float, float]]:

@@ -121,14 +121,10 @@ def conflict(mine: Sequence[Sample], theirs: Sequence[Sample], act: int | None, 
         return None
     their_width, their_length = (WALKER_WIDTH_M, WALKER_LENGTH_M) if walker else (VEHICLE_WIDTH_M, CAR_LENGTH_M)
     my_width, my_length = (WALKER_WIDTH_M, WALKER_LENGTH_M) if mine_walker else (VEHICLE_WIDTH_M, CAR_LENGTH_M)
-    reach = (my_width + their_width) / 2
-    overlap = a.buffer(my_width / 2, cap_style="flat").intersection(b.buffer(their_width / 2, cap_style="flat"))
-    if overlap.is_empty or overlap.area <= 0:
+    met = _zone(a, b, my_width, their_width)
+    if met is None:
         return None
-    point = _meeting(a, b)
-    zone = overlap.intersection(point.buffer(2 * reach))
-    if zone.is_empty or zone.area <= 0:
-        return None
+    point, zone = met
     my_time = _occupancy(mine, zone.buffer(my_length / 2))
     if my_time is None:
         return None
@@ -336,6 +332,46 @@ def _projected(theirs: Sequence[Sample], b: LineString, region: BaseGeometry, mi
     else:
         gap = (arrive - mine.left) / SECOND
     return gap, _drac(to_zone, speed, (mine.left - onset) / SECOND), to_zone, speed
+
+
+def _zone(a: LineString, b: LineString, my_width: float, their_width: float) -> tuple[Point, BaseGeometry] | None:
+    """Where the two paths meet and their conflict zone: the overlap of the areas they sweep, within
+    twice their half widths of that point. None where they never overlap."""
+    reach = (my_width + their_width) / 2
+    overlap = a.buffer(my_width / 2, cap_style="flat").intersection(b.buffer(their_width / 2, cap_style="flat"))
+    if overlap.is_empty or overlap.area <= 0:
+        return None
+    point = _meeting(a, b)
+    zone = overlap.intersection(point.buffer(2 * reach))
+    if zone.is_empty or zone.area <= 0:
+        return None
+    return point, zone
+
+
+def exit_gap(mine: Sequence[Sample], theirs: Sequence[Sample], onset: int, extend_m: float = 0.0) -> float | None:
+    """For a vehicle (`theirs`) already in its conflict zone with the vehicle of `mine` when it began
+    to slow (at `onset`), where the projected gap is not defined (it was not on its way to the
+    zone): had it kept the speed it had then along its path, the time from its leaving the zone to
+    the other's coming in (0 or less: the other would have come in while it was still there; a
+    road user standing then never leaves). None where it was not in the zone then, or the record
+    cannot tell (a path, its position or speed then, the other's entry)."""
+    a, b = _line(mine), _line(theirs, extend_m)
+    met = None if a is None or b is None else _zone(a, b, VEHICLE_WIDTH_M, VEHICLE_WIDTH_M)
+    if met is None:
+        return None
+    zone = met[1]
+    my_time = _occupancy(mine, zone.buffer(CAR_LENGTH_M / 2))
+    reach = _along(b, zone.buffer(CAR_LENGTH_M / 2))
+    where, _ = position_at(theirs, onset)
+    speed, _ = speed_at(theirs, onset)
+    if my_time is None or my_time.entered is None or reach is None or where is None or speed is None:
+        return None
+    here = b.project(Point(where))
+    if not reach[0] <= here <= reach[1]:
+        return None                         # short of the zone (the projected gap's), or past it
+    if speed <= 0.1:
+        return -math.inf
+    return (my_time.entered - onset) / SECOND - (reach[1] - here) / speed
 
 
 def _drac(distance: float, speed: float, within_s: float) -> float:

@@ -32,7 +32,7 @@ from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, leader, nearer_conflict, why
-from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, has_path, swerve
+from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
 from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
 from .rebuild import ANTICIPATION_S
@@ -636,8 +636,24 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
         return False
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
-        or _out_first(p, other, slowing_began(other)) is not None \
+        or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
         or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None
+
+
+def _went_first(p: Passage, other: Other) -> Conflict | None:
+    """V's conflict with the road user where it came to a stop and afterwards went into their
+    conflict zone (reasoner/conflicts.py) ahead of V: it did not wait for V to pass, so what it
+    stopped for is not shown to be V (a ground in doubt is not proven; SUMO's account names the
+    leaders of the paper run's 224 and the town's 424, which did so). A road user that slowed and
+    went on through ahead of V without a stop is not answered here: it may have braked so as to
+    clear V's way in time (the town's 386 braking at 4.5 m/s² as 265 came out of its Give Way
+    line, which SUMO says was for 265). None otherwise, or where the record cannot tell (who was
+    in the zone first, or when)."""
+    c = conflict_of(p, other)
+    if other.stopped is None or c is None or c.first != "theirs" or c.theirs is None or c.theirs.entered is None \
+            or c.mine.entered is None or not other.stopped.t < c.theirs.entered < c.mine.entered:
+        return None
+    return c
 
 
 def _nearer_afresh(p: Passage, other: Other) -> tuple[Other, Conflict] | None:
@@ -674,7 +690,23 @@ def _clear_of(p: Passage, other: Other) -> bool:
     if c is None:
         return has_path(p.samples) and has_path(other.way) and not _walking(other) \
             and (bool(through(other.way, p.junction)) or _came_in(other, p.junction))
-    return c.projected_gap_s is not None and c.projected_gap_s >= PET_MAX_S
+    if c.projected_gap_s is None:
+        gap = _inside_gap(p, other)
+        return gap is not None and gap >= PET_MAX_S
+    return c.projected_gap_s >= PET_MAX_S
+
+
+def _inside_gap(p: Passage, other: Other) -> float | None:
+    """For a vehicle already in its conflict zone with V when it began to slow (the projected gap
+    is for one on its way to the zone): had it kept its speed, the time from its leaving the zone
+    to V's coming in (conflicts.exit_gap). PET_MAX_S or more: it would have been gone, and slowed
+    for something else (the paper run's 238, turning behind 268 in j2 5 s before 265 came in,
+    which SUMO says braked for 268); under it, V was about to come in while it was there (the
+    golden run's 143, stopping as 145 crossed in front of it)."""
+    onset = slowing_began(other)
+    if onset is None or _walking(other):
+        return None
+    return exit_gap(p.samples, other.way, onset, _extend(p, other))
 
 
 def _came_in(other: Other, j: Junction) -> bool:
@@ -1042,6 +1074,12 @@ def _cause(p: Passage, other: Other) -> str:
     if through is not None:
         return (f"it began to slow after it had gone through its conflict zone with {p.vehicle} ahead of it (out "
                 f"{through.pet_s:.2f} s before {p.vehicle} came in)")
+    first = _went_first(p, other)
+    if first is not None:
+        return (f"it stopped ({other.stopped.label}, {format_time(other.stopped.t)}) and then went into its conflict "
+                f"zone with {p.vehicle} ahead of {p.vehicle} ({p.vehicle} came in "
+                f"{(first.mine.entered - first.theirs.entered) / SECOND:.2f} s after it): it did not wait for "
+                f"{p.vehicle} to pass, so its stop is not shown to be for {p.vehicle}")
     ahead = leader(p, other, _extend(p, other))
     if ahead is not None:
         return (f"{ahead} ahead of it on its way when it began to slow, going its way or standing: keeping the "
@@ -1073,6 +1111,12 @@ def _cause(p: Passage, other: Other) -> str:
                     f"{c.onset_speed_mps:.1f} m/s it was {c.onset_to_zone_m:.1f} m from their conflict zone and "
                     f"{mine.onset_to_zone_m:.1f} m from {p.vehicle}'s; unslowed, {gap}, and {theirs} ({reason}; a "
                     f"gap under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
+    inside = _inside_gap(p, other) if conflict_of(p, other) is not None and \
+        conflict_of(p, other).projected_gap_s is None else None
+    if inside is not None:
+        return (f"it began to slow ({format_time(slowing_began(other))}) already in its conflict zone with "
+                f"{p.vehicle}, and unslowed it would have left it {inside:.2f} s before {p.vehicle} came in (a gap "
+                f"under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
     return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 
