@@ -18,12 +18,15 @@ crossing for it (MSLink::getLeaderInfo, MSPModel_Interacting::blockedAtDist):
   does: its position, with half its width about it;
 - the post-encroachment time (PET: from one road user leaving the conflict area to the other
   reaching it, 0 when both were in it at once; Allen, Shin and Cooper 1978) is measured tick by
-  tick from those occupancies, both ways round. A pedestrian is in the vehicle's path when its PET
-  is WINDOW_S or less. That is the window SUMO's SSM device uses for a conflict by PET (its
-  default threshold, 2 s).
+  tick from those occupancies. A pedestrian is in the vehicle's path when both were in the area at
+  once, or when it entered the area WINDOW_S or less after the vehicle left it (the vehicle passed
+  just in front of it). WINDOW_S is the window SUMO's SSM device uses for a conflict by PET (its
+  default threshold, 2 s). A pedestrian that had left the area before the vehicle came is past its
+  path, however soon after: SUMO's junction model no longer counts a pedestrian completely past the
+  vehicle's crossing point as blocking it (MSPModel_Interacting::blockedAtDist).
 
-The pedestrians on a crossing in the HISTORY_S before the act are kept, so one who left the
-vehicle's path a second before the vehicle came is measured too. A watch stays open until the
+The pedestrians on a crossing in the HISTORY_S before the act are kept, so that one who was in the
+vehicle's path before the act is measured as having been there first. A watch stays open until the
 vehicle has left its way and WINDOW_S more have passed, or until LONGEST_S after the act. A right
 turner waiting in the junction may reach the far crossing long after the act.
 """
@@ -54,20 +57,24 @@ _CROSSING = re.compile(r"^:.+_c\d+_0$")     # SUMO's crossing lanes: ":<junction
 Found = tuple[str, str, float | None, float]   # (pedestrian, crossing, nearest m from the vehicle on its way, PET s)
 
 
-def pet(mine: Iterable[float], theirs: Iterable[float]) -> float | None:
+def pet(mine: Iterable[float], theirs: Iterable[float]) -> tuple[float, str | None] | None:
     """The post-encroachment time between two road users' occupancies of one area, each given as
-    the ticks (seconds) it was in it: 0 where they share a tick, else the least time between a
-    tick of one and a tick of the other (to the tick). None where either never was in it."""
+    the ticks (seconds) it was in it, and who was in it first: (0, None) where they share a tick,
+    else the time from the first one's last tick there to the other's first (to the tick), with
+    "mine" or "theirs". None where either never was in it. (Each occupies the area once in the
+    watched stretch; a second visit is measured from the nearest ticks.)"""
     a, b = sorted(set(mine)), sorted(set(theirs))
     if not a or not b:
         return None
-    best = math.inf
+    best, first = math.inf, None
     for t in a:                  # the ticks of the other either side of this one
         i = bisect.bisect_left(b, t)
+        if i < len(b) and b[i] == t:
+            return 0.0, None
         for k in (i - 1, i):
-            if 0 <= k < len(b):
-                best = min(best, abs(b[k] - t))
-    return round(best, 2)
+            if 0 <= k < len(b) and abs(b[k] - t) < best:
+                best, first = abs(b[k] - t), "mine" if t < b[k] else "theirs"
+    return round(best, 2), first
 
 
 class Geometry:
@@ -184,10 +191,16 @@ class PathWatch:
 
     def found(self) -> list[Found]:
         """The pedestrians in the vehicle's path within WINDOW_S: (who, crossing, nearest m from
-        the vehicle while it was on its way, PET s), by name."""
+        the vehicle while it was on its way, PET s), by name. In its path: in the conflict area
+        with the vehicle at once, or entering it within WINDOW_S after the vehicle left (it passed
+        just in front of the pedestrian). One that had left the area before the vehicle came is
+        past its path, as SUMO's junction model has it: a pedestrian completely past the vehicle's
+        crossing point no longer blocks it (MSPModel_Interacting::blockedAtDist)."""
         out: dict[str, Found] = {}
         for (who, crossing), ticks in self.theirs.items():
-            gap = pet(self.mine.get(crossing, ()), ticks)
-            if gap is not None and gap <= WINDOW_S and (who not in out or gap < out[who][3]):
-                out[who] = (who, crossing, self.nearest.get(who), gap)
+            measured = pet(self.mine.get(crossing, ()), ticks)
+            if measured is None or measured[1] == "theirs" or measured[0] > WINDOW_S:
+                continue
+            if who not in out or measured[0] < out[who][3]:
+                out[who] = (who, crossing, self.nearest.get(who), measured[0])
         return sorted(out.values())

@@ -111,22 +111,27 @@ def test_keeping_the_account_changes_no_event_and_only_adds_to_the_truth():
                                                       "pedestrian", "none"}
 
 
-def crossing_scene(walker: tuple[str, str, float]) -> tuple[list, dict]:
+def crossing_scene(walker: tuple[str, str, float], through_mps: float | None = None) -> tuple[list, dict]:
     """"side" comes down r3's north arm at j2 and goes straight across, its decisions ours; one
     pedestrian walks (from, to, depart position) by the crossing of j2's north arm (":j2_c2",
     196.5-203.5 m east at y 10, 4 m wide). The crossing is a foe of side's junction lane. Side's
     path over it is 201.8 m east, ± 1.4 m: the car's width and SUMO's 1 m pedestrian safety gap.
-    Returns the pedestrians crossing_paths finds in side's path, and the nearest each pedestrian
-    on that crossing came to side."""
+    `through_mps`: side drives through at that speed whatever is in its way (speed mode 0), as a
+    driver who does not give way would; else SUMO drives it. Returns the pedestrians
+    crossing_paths finds in side's path, and the nearest each pedestrian on that crossing came to
+    side."""
     with World(NET, seed=3) as world:
         geometry, recent, watch = Geometry(), Recent(), None
         world.add_person("p", *walker[:2], depart_pos=walker[2])
-        for step in range(260):
+        for step in range(300):
             if step == 104:
                 world.add_vehicle("side", "car", world.route("n2_j2", "j2_s2"), depart_pos=158.0, depart_speed=5.0)
             snap = world.step()
             if step == 105:
                 world.take_control("side")
+                if through_mps is not None:
+                    libsumo.vehicle.setSpeedMode("side", 0)
+                    libsumo.vehicle.setSpeed("side", through_mps)
             side = snap.vehicle("side")
             if watch is None and side is not None and side.junction == "j2":      # its front is over its line
                 watch = PathWatch(geometry, side, snap.t_s, recent)
@@ -138,31 +143,37 @@ def crossing_scene(walker: tuple[str, str, float]) -> tuple[list, dict]:
 
 
 def test_a_pedestrian_on_a_crossing_of_the_vehicles_way_but_not_in_its_path_is_not_in_its_path():
-    """p steps onto the north arm's crossing from the west kerb (196.7 m east) as side comes
-    through, 5 m to side's side. It walks at about 1 m/s and reaches side's path (from 200.4 m
-    east) about 3.4 s after side's back has left the crossing. SUMO makes the crossing a foe of
-    side's lane, but p was never in side's path within WINDOW_S (2 s), so it is not in the path.
-    The account used to list it: issue 35's unraised paper acts had pedestrians 3.5-19.5 m off."""
-    found, nearest = crossing_scene(("j1_j2", "j2_e", 170.0))
-    assert "p" in nearest and nearest["p"] < 6.0          # on a crossing of side's way, 5 m off
-    assert found == []
+    """SUMO drives side. p steps onto the north arm's crossing from the west kerb (196.7 m east)
+    as side comes through, 5 m to side's side. It walks at about 1 m/s and reaches side's path
+    (from 200.4 m east) 2.5 s after side's back has left the crossing: more than WINDOW_S (2 s).
+    Coming the other way (from the east kerb, westwards), p is on the crossing first; side waits for
+    it and drives over the place it left a second before, while p walks on over the rest of the
+    crossing: it is past side's path (SUMO's blockedAtDist: a pedestrian completely past the
+    vehicle's crossing point no longer blocks it). SUMO makes the crossing a foe of side's lane
+    both times, and p is on it while side passes, but neither time is p in side's path. The
+    account used to list both (issue 35's unraised paper acts: pedestrians 3.5-19.5 m off, one
+    0.29 s past the path)."""
+    for walker in (("j1_j2", "j2_e", 170.0), ("j2_e", "j1_j2", 5.0)):
+        found, nearest = crossing_scene(walker)
+        assert "p" in nearest and nearest["p"] < 8.0          # on a crossing of side's way as it passed
+        assert found == [], walker
 
 
-def test_a_pedestrian_in_the_vehicles_path_over_a_crossing_within_the_window_is_in_its_path():
-    """p comes from the east along r1's north side and crosses the north arm's crossing westwards,
-    through side's path (201.8 m ± 1.4) before side reaches the crossing. SUMO's side waits for it
-    and then drives over the place p has just left, about a second later: a PET within WINDOW_S,
-    so p is in side's path."""
-    found, _ = crossing_scene(("j2_e", "j1_j2", 5.0))
+def test_a_pedestrian_stepping_into_the_vehicles_path_just_after_it_is_in_its_path():
+    """side drives through at 8 m/s, giving way to nobody; p steps onto the north arm's crossing
+    from the west kerb as side comes, and reaches side's path about a second after side has left
+    the crossing: side passed just in front of it, within WINDOW_S (2 s). It is in side's path,
+    with the post-encroachment time measured."""
+    found, nearest = crossing_scene(("j1_j2", "j2_e", 171.0), through_mps=8.0)
     assert [(who, crossing) for who, crossing, _, _ in found] == [("p", ":j2_c2")]
-    assert 0.0 < found[0][3] <= WINDOW_S
+    assert 0.0 < found[0][3] <= WINDOW_S and found[0][2] == nearest["p"]
 
 
-def test_the_post_encroachment_time_is_the_least_gap_between_the_two_occupancies():
-    assert pet([10.0, 10.1, 10.2], [12.0, 12.1]) == 1.8            # the pedestrian came 1.8 s after
-    assert pet([10.0, 10.1], [8.0, 8.1, 9.5]) == 0.5               # it left 0.5 s before
-    assert pet([10.0, 10.1], [10.1, 10.2]) == 0.0                  # both in it at once
-    assert pet([], [1.0]) is None and pet([1.0], []) is None       # one was never in it
+def test_the_post_encroachment_time_is_the_least_gap_between_the_two_occupancies_and_says_who_was_first():
+    assert pet([10.0, 10.1, 10.2], [12.0, 12.1]) == (1.8, "mine")       # the pedestrian came 1.8 s after
+    assert pet([10.0, 10.1], [8.0, 8.1, 9.5]) == (0.5, "theirs")        # it left 0.5 s before
+    assert pet([10.0, 10.1], [10.1, 10.2]) == (0.0, None)               # both in it at once
+    assert pet([], [1.0]) is None and pet([1.0], []) is None            # one was never in it
 
 
 def test_a_car_following_the_vehicle_on_its_own_approach_follows_it_and_is_no_foe_of_it(tmp_path):
