@@ -109,12 +109,23 @@ def _measured(doc: dict) -> list[Block]:
         out.append(("para", f"Margin of the act: {mg['text']}" + (f"; {mg['method']}" if mg.get("method") else "") +
                             (f" [{', '.join(mg['evidence'])}]." if mg.get("evidence") else ".")))
     if m.get("second_limb"):
+        near = [u for u in m["second_limb"] if _in_question(u)]
+        rest = [u["user"] for u in m["second_limb"] if not _in_question(u)]
         out.append(("para", "The second limb (TSRGD 2016 Sch 9 Pt 7 para 1; Sch 14 Pt 1 para 5(5)), by the "
                             "measurements: the road users about the act that it neither forced to change speed or "
                             "course nor endangered, with their figures and why:"))
         out.append(("list", [f"{u['words']}" + (f" [{', '.join(u['evidence'])}]" if u.get("evidence") else "")
-                             for u in m["second_limb"]]))
+                             for u in near] + ([f"and {', '.join(rest)}: paths that never met its, or no braking at 2 "
+                                                "m/s² and no stop (each in the full JSON, reasoner/second_limb.py)"]
+                                               if rest else [])))
     return out
+
+
+def _in_question(u: dict) -> bool:
+    """A road user the second limb could have been about: its path met the vehicle's (a PET), or
+    it braked at 2 m/s² or more, or something of its own or another road user explains what it did."""
+    return u.get("pet_s") is not None or (u.get("decel_mps2") or 0.0) >= 2.0 or \
+        u["reason"] not in ("no change", "paths apart", "walking clear")
 
 
 def _answered(doc: dict) -> dict[str, str]:
