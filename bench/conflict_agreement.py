@@ -123,8 +123,10 @@ def describe(row: Row) -> list[str]:
                        f"from {s['t_s']:.1f}s, {s.get('from_mps') or s['speed_mps']:.1f} -> {s['min_speed_mps']:.1f} m/s; "
                        f"{ssm}")
         else:
-            out.append(f"    miss: SUMO has pedestrian {u} on {s['crossing']}, a crossing of its path, "
-                       f"{s['nearest_m']:.1f} m from it as it passed")
+            near = f"{s['nearest_m']:.1f} m from it at the nearest" if s.get("nearest_m") is not None \
+                else "stepping in after it had passed"
+            gap = f", PET {s['pet_s']:.1f} s" if s.get("pet_s") is not None else ""
+            out.append(f"    miss: SUMO has pedestrian {u} in its path on {s['crossing']}, {near}{gap}")
     return out
 
 

@@ -98,10 +98,17 @@ class _Builder:
         """What the vehicle's history showed (derived facts, each with its method and the
         measurements it rests on) and the margin of the act."""
         m = self.inc.margin
-        return {"facts": [{"fact": f.sentence, "method": f.method, "uncertain": f.uncertain,
-                           "evidence": self._ids(r.to_json() for r in f.evidence)} for f in self.inc.derived],
-                "margin": None if m is None else {**m.to_json(), "text": ph.margin_text(m),
-                                                  "evidence": self._ids(r.to_json() for r in m.evidence)}}
+        out: dict[str, Any] = {
+            "facts": [{"fact": f.sentence, "method": f.method, "uncertain": f.uncertain,
+                       "evidence": self._ids(r.to_json() for r in f.evidence)} for f in self.inc.derived],
+            "margin": None if m is None else {**m.to_json(), "text": ph.margin_text(m),
+                                              "evidence": self._ids(r.to_json() for r in m.evidence)}}
+        if self.inc.second_limb:        # why the act forced or endangered none of them (reasoner/second_limb.py)
+            out["second_limb"] = [{**{k: v for k, v in u.to_json().items() if k != "evidence"},
+                                   "sentences": list(u.sentences),
+                                   "evidence": self._ids(r.to_json() for r in u.evidence)}
+                                  for u in self.inc.second_limb]
+        return out
 
     def _validation(self) -> dict | None:
         inc = self.inc
@@ -345,6 +352,8 @@ class _Builder:
             refs += [r.to_json() for r in inc.liability.evidence.values()]
         for f in inc.findings:
             refs += [r.to_json() for r in f.evidence]
+        for u in inc.second_limb:
+            refs += [r.to_json() for r in u.evidence]
         return refs
 
     def _uses(self, anchor: dict | None) -> dict[tuple[str, int], list[str]]:
@@ -370,6 +379,9 @@ class _Builder:
         if inc.margin is not None:
             for ev in inc.margin.evidence:
                 note(ev, "the margin")
+        for u in inc.second_limb:
+            for ev in u.evidence:
+                note(ev, f"the second limb: {u.user}")
         decision = inc.scenarios.action
         if decision:
             note(decision.evidence, f"the decision “{decision.goal}”")

@@ -79,8 +79,9 @@ def _renumbered(out: list[Block]) -> list[Block]:
     return renumbered
 
 
-def _tree(tree: dict | None, full: bool, refer: dict | None = None) -> list[Block]:
-    return [("tree", outline(tree, cite, full, refer=refer))] if tree else []
+def _tree(tree: dict | None, full: bool, refer: dict | None = None,
+          answered: dict[str, str] | None = None) -> list[Block]:
+    return [("tree", outline(tree, cite, full, refer=refer, answered=answered))] if tree else []
 
 
 def _asked(doc: dict) -> dict[str, str]:
@@ -107,6 +108,40 @@ def _measured(doc: dict) -> list[Block]:
         mg = m["margin"]
         out.append(("para", f"Margin of the act: {mg['text']}" + (f"; {mg['method']}" if mg.get("method") else "") +
                             (f" [{', '.join(mg['evidence'])}]." if mg.get("evidence") else ".")))
+    if m.get("second_limb"):
+        near = [u for u in m["second_limb"] if _in_question(u)]
+        rest = [u["user"] for u in m["second_limb"] if not _in_question(u)]
+        out.append(("para", "The second limb (TSRGD 2016 Sch 9 Pt 7 para 1; Sch 14 Pt 1 para 5(5)), by the "
+                            "measurements: the road users about the act that it neither forced to change speed or "
+                            "course nor endangered, with their figures and why:"))
+        out.append(("list", [f"{u['words']}" + (f" [{', '.join(u['evidence'])}]" if u.get("evidence") else "")
+                             for u in near] + ([f"and {', '.join(rest)}: paths that never met its, or no braking at 2 "
+                                                "m/s² and no stop (each in the full JSON, reasoner/second_limb.py)"]
+                                               if rest else [])))
+    return out
+
+
+def _in_question(u: dict) -> bool:
+    """A road user the second limb could have been about: its path met the vehicle's (a PET), or
+    it braked at 2 m/s² or more, or something of its own or another road user explains what it did."""
+    return u.get("pet_s") is not None or (u.get("decel_mps2") or 0.0) >= 2.0 or \
+        u["reason"] not in ("no change", "paths apart", "walking clear")
+
+
+def _answered(doc: dict) -> dict[str, str]:
+    """The second limb's sentences the measurements answer "no" to (reasoner/second_limb.py), each
+    with the road user's figures and the reason: a proof's "V would force U ...: not recorded" says
+    instead why U was not forced. A sentence that names no one ("a road user") is answered by
+    them all."""
+    limb = (doc.get("measured") or {}).get("second_limb") or []
+    out = {text: u["words"] for u in limb for text in u.get("sentences", ())}
+    if limb:
+        v = doc["incident"]["vehicle"]
+        every = "none of the road users about the act was (see 1., the second limb): " + \
+            "; ".join(f"{u['user']} ({u['reason']})" for u in limb)
+        for who in ("a road user", "a person", "a vehicle"):
+            out.setdefault(f"{v} would force {who} to change speed or course", every)
+            out.setdefault(f"{v} would endanger {who}", every)
     return out
 
 
@@ -209,7 +244,7 @@ def _why_not(doc: dict, full: bool) -> list[Block]:
         holds = "holds" if w["holds"] else "does not hold"
         out.append(("para", f"“{w['question']}” {holds} on the {w.get('on', 'scenario')} ({w.get('rulebook')}):"))
         for t in w["trees"]:
-            out += _tree(t, full)
+            out += _tree(t, full, answered=_answered(doc))
     return out
 
 

@@ -28,49 +28,54 @@ def where(node: dict) -> str:
 
 
 def outline(node: dict, cite: Cite, full: bool = False, depth: int = 0, lead: str = "",
-            refer: dict[str, str] | None = None) -> list[Line]:
+            refer: dict[str, str] | None = None, answered: dict[str, str] | None = None) -> list[Line]:
     """The lines of one tree. `lead` is the connective the parent gives this step; `refer` maps
-    the text of a negated sentence explained elsewhere to where ("see 5. Why not")."""
+    the text of a negated sentence explained elsewhere to where ("see 5. Why not"); `answered`
+    maps a sentence no fact states that the measurements answer "no" to (the second limb's "V
+    would force U ...") to the measured answer, said in its place of "not recorded"."""
     status, kids, text = node["status"], node["children"], node["text"]
     head = node["sentence"][0] if node["sentence"] else ""
     if status in ("fact", "builtin") and not kids:
         return [(depth, f"{lead}{text}{cite(node)}")]
     if status == "failed":
-        return _failed(node, cite, full, depth, lead)
+        return _failed(node, cite, full, depth, lead, answered)
     if head == "$not" and len(kids) == 1 and kids[0]["status"] == "failed":
         inner = kids[0]
         if refer and inner["text"] in refer:
             return [(depth, f"{lead}{text} ({refer[inner['text']]})")]
         if _simple_failure(inner):
             return [(depth, f"{lead}{text}{_short_reason(inner)}")]
-        return [(depth, f"{lead}{text}, because:")] + _failed(inner, cite, full, depth + 1, "")
+        return [(depth, f"{lead}{text}, because:")] + _failed(inner, cite, full, depth + 1, "", answered)
     lines = [(depth, f"{lead}{text}{where(node)}{cite(node)}")]
     for i, kid in enumerate(kids):
-        lines += outline(kid, cite, full, depth + 1, "because " if i == 0 else "and ", refer)
+        lines += outline(kid, cite, full, depth + 1, "because " if i == 0 else "and ", refer, answered)
     return lines
 
 
-def _failed(node: dict, cite: Cite, full: bool, depth: int, lead: str) -> list[Line]:
+def _failed(node: dict, cite: Cite, full: bool, depth: int, lead: str,
+            answered: dict[str, str] | None = None) -> list[Line]:
     kids, text = node["children"], node["text"]
     head = node["sentence"][0] if node["sentence"] else ""
     if node.get("truncated"):
         return [(depth, f"{lead}{text}: not explored further")]
     if head == "$not" and len(kids) == 1 and kids[0]["status"] != "failed":
         # the exception held: the negation fails because its sentence is true
-        return outline(kids[0], cite, full, depth, f"{lead}but ")
+        return outline(kids[0], cite, full, depth, f"{lead}but ", answered=answered)
     if node.get("rule") is not None:            # one rule's attempt
         lines = [(depth, f"{lead}the rule{where(node)} does not apply:")]
         for i, kid in enumerate(kids):
             # a broken negation says "but" itself ("but 173 must not enter the junction")
             connective = "but " if i and kid["status"] == "failed" and not _is_broken_negation(kid) else ""
-            lines += outline(kid, cite, full, depth + 1, connective)
+            lines += outline(kid, cite, full, depth + 1, connective, answered=answered)
         return lines
     if not kids:
+        if answered and text in answered:
+            return [(depth, f"{lead}{text}: not so, by the measurements: {answered[text]}")]
         return [(depth, f"{lead}{text}: not recorded")]
     if head in ("$or", "$and"):
         lines = [(depth, f"{lead}{text} does not hold:")]
         for kid in kids:
-            lines += outline(kid, cite, full, depth + 1)
+            lines += outline(kid, cite, full, depth + 1, answered=answered)
         return lines
     if _simple_failure(node):
         return [(depth, f"{lead}{text} does not hold{_short_reason(node)}")]
@@ -78,7 +83,7 @@ def _failed(node: dict, cite: Cite, full: bool, depth: int, lead: str) -> list[L
     early = [k for k in kids if _fails_first(k)] if not full else []
     for kid in kids:
         if kid not in early:
-            lines += outline(kid, cite, full, depth + 1)
+            lines += outline(kid, cite, full, depth + 1, answered=answered)
     if early:
         lines.append((depth + 1, f"{_count(len(early), len(early) < len(kids))} on its first "
                                  f"condition: {_first_conditions(early)}"))

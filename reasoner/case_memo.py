@@ -28,6 +28,7 @@ from .derived import Contradiction
 from .measurement import Measurement
 from .model import (Act, Control, Decision, DerivedFact, Finding, Incident, Liability, Margin, Penalty, Proofs,
                     RulebookChoice, Scenarios, Source, StageProof)
+from .unforced import Unforced
 
 _ROOT = Path(__file__).resolve().parent.parent
 _CODE = ("reasoner", "store")           # the packages whose code measures
@@ -193,7 +194,7 @@ def _digest(text: str) -> str:
 # reasoner/investigation.py).
 _TYPES: dict[str, type] = {cls.__name__: cls for cls in (
     EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
-    Control, Decision, Scenarios, StageProof, Proofs, Act, Source)}
+    Control, Decision, Scenarios, StageProof, Proofs, Act, Source, Unforced)}
 
 
 def encode(value: Any) -> Any:

@@ -520,7 +520,8 @@ class Investigation:
             proofs=Proofs(_proofs(judged.pv_answer, case.rs["monitor"], mscen, proofs), validation.proof),
             margin=measured.margin(rule.label if rule else None) if measured.present else None,
             derived=measured.derived, moments=measured.moments,
-            rulebook_problems=tuple(self.problems.get(case.run) or ()), act=measured.act, sources=sources)
+            rulebook_problems=tuple(self.problems.get(case.run) or ()), act=measured.act, sources=sources,
+            second_limb=measured.unforced)
 
     def _summarised(self, case: _Case, gaps: Gaps) -> KeptIncident | None:
         """The case judged as far as its summary goes (`summaries` with `proofs` False: a

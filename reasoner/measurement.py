@@ -19,7 +19,9 @@ from .derived import Contradiction, _match, beside, checked, facts, unmeasured
 from .margins import BY_RULE, margin
 from .model import Act, DerivedFact, Margin
 from .passage import Passage
+from .second_limb import second_limb
 from .stretches import Stretch
+from .unforced import Unforced
 from .vocabulary import HAS_SPEED_OF, IS_APPROACHING, WOULD_ENDANGER, WOULD_FORCE
 
 Belief = tuple[str, str, int, tuple[Contradiction, ...]]        # (sentence, src, seq, what contradicts it)
@@ -39,6 +41,8 @@ class Measurement:
                                                              # which was measured: (sentence, by, road user)
     act: Act | None = None                           # the act as the record delimits it (reasoner/oneact.py)
     readings: tuple[tuple[str, EventRef], ...] = ()  # how the map's words were read for it (junctions.py)
+    unforced: tuple[Unforced, ...] = ()              # road users the second limb does not reach, and why
+                                                     # (reasoner/second_limb.py)
 
     @property
     def contested(self) -> tuple[tuple[str, str, tuple[str, ...]], ...]:
@@ -110,7 +114,8 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                        tuple((rule, stretch.margin() if speeding else margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
                        act=stretch.act() if speeding else _passage_act(found),
                        readings=((found.line.reading, found.map_ref),) if found.line and found.line.reading
-                       and found.map_ref else ())
+                       and found.map_ref else (),
+                       unforced=() if speeding else second_limb(found))
 
 
 def _over_the_stretch(stretch: Stretch, agreed: tuple[DerivedFact, ...], contradictions: tuple[Contradiction, ...]

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping
 
 from store import EventRef
+from .unforced import Unforced
 
 Tree = Mapping[str, Any]          # a proof tree as DESIGN's JSON
 Fact = tuple[Any, EventRef]       # a recorded sentence (a str, unless a producer wrote nonsense) and its event
@@ -391,6 +392,8 @@ class Incident:
     moments: tuple[tuple[str, int], ...] = ()       # the passage's moments: ("crossed the stop line", t), ...
     act: Act | None = None                          # the act, as the record delimits it (None: not delimited)
     sources: tuple[Source, ...] = ()                # every record of the act (reasoner/oneact.py), the first first
+    second_limb: tuple[Unforced, ...] = ()          # road users the act neither forced nor endangered, with the
+                                                    # figures and the reason (reasoner/second_limb.py)
 
     @property
     def found_in(self) -> str:
@@ -429,8 +432,11 @@ class Incident:
             out["derived"] = [f.to_json() for f in self.derived]
         if self.moments:
             out["moments"] = [{"what": what, "t": t} for what, t in self.moments]
+        if self.second_limb:
+            out["second_limb"] = [u.to_json() for u in self.second_limb]
         return out
 
     def summary_json(self) -> dict[str, Any]:
         """What `gaps incidents --json` prints: all but the scenarios and the proofs."""
-        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios", "derived", "moments")}
+        return {k: v for k, v in self.to_json().items() if k not in ("proofs", "scenarios", "derived", "moments",
+                                                                  "second_limb")}

@@ -31,8 +31,8 @@ right-of-way foe matrix (crossing, merging, following); `read_ssm` reads its fil
 
 Pedestrians are not in SUMO's vehicle calls: a braking vehicle is asked about those on a crossing
 that SUMO's junction model makes a foe of its junction lane (`lane.getInternalFoes`), or on the
-corner about to step onto one (`person.getNextEdge`); `in_path` lists those on such a crossing
-while a vehicle passed.
+corner about to step onto one (`person.getNextEdge`). Which pedestrians were in a crossing
+vehicle's path (not merely on a crossing of its lane) is sim_replay/crossing_paths.py's.
 """
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ import libsumo
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
-__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "in_path", "read_ssm",
+__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "read_ssm",
            "ssm_options"]
 
 BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: coasting, SUMO's own dawdle)
@@ -56,7 +56,8 @@ SSM_RANGE_M = 50.0       # SSM device: vehicles this close are traced for confli
 HELD_S = 1.0             # a braking's strength is the speed shed under one cause over a second (2 m/s² held
                          # over a second, as the threshold of a considerable change of speed is stated: Hupfer
                          # 1997; the reasoner averages over the same span, reasoner.motion.MIN_DECEL_SPAN_S)
-COMING_S = 4.0          # in a junction, a foe this many seconds from entering it is one to wait for
+COMING_S = 4.0          # in a junction, a foe this many seconds from entering it at its speed is one to wait for
+                         # (not one standing, held at its line, or bound to stop at its Stop sign first: _coming)
 _OVER_MPS = 0.05         # a vehicle this much over the speed it may drive is slowing down to it
 _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) is where its path is blocked
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
@@ -295,11 +296,10 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
                 elif other.next_junction == junction and not other.lane.startswith(":") \
-                        and other.to_junction_m is not None and other.to_junction_m <= other.speed_mps * COMING_S:
-                    link = vehicle.getNextLinks(other.id)[:1]
-                    if link and link[0][4] in foes and not self._same_source(v.lane, link[0][4]):
+                        and (theirs := self._coming(other)) is not None:
+                    if theirs[4] in foes and not self._same_source(v.lane, theirs[4]):
                         allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,
-                                        {"foe_lane": link[0][4], "foe_to_junction_m": round(other.to_junction_m, 1),
+                                        {"foe_lane": theirs[4], "foe_to_junction_m": round(other.to_junction_m, 1),
                                          "foe_in_junction": False}))
         if mode & _OBEYS_FOES and via and ahead_m is not None:
             for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
@@ -311,6 +311,25 @@ class Account:
                 binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
                                                      {**detail, "allowed_mps": round(speed_allowed, 2)}))
         return list(binding.values()) or [(before, "none", None, {})]
+
+    def _coming(self, other: VehicleState) -> tuple | None:
+        """SUMO's next link of a vehicle outside the junction that is coming into it within
+        COMING_S at its speed (None where it is not). A vehicle is not coming while it stands
+        (under SUMO's halting speed: 0 m to go at 0 m/s is no arrival), while the world holds it at
+        its line (a SUMO stop there), or while its link is a Stop sign (SUMO's `s`) it obeys and it
+        has not yet stood at the line: SUMO brings it to a stop there first, however close and fast
+        it comes. A vehicle braking to stand at its own line is not coming; once it moves off the
+        line it is."""
+        if other.to_junction_m is None or other.speed_mps < _STOOD_MPS or other.held \
+                or other.to_junction_m > other.speed_mps * COMING_S:
+            return None
+        link = libsumo.vehicle.getNextLinks(other.id)[:1]
+        if not link:
+            return None
+        if link[0][5] == _STOP_LINK and self.modes.get(other.id, 31) & _OBEYS_FOES \
+                and (other.id, other.next_junction) not in self._stood:
+            return None
+        return link[0]
 
     def _same_source(self, lane: str, other: str) -> bool:
         """Whether two junction lanes leave from one incoming lane (SUMO's links: `lane.getLinks`)."""
@@ -354,15 +373,6 @@ def _joined(junction: str | None) -> dict[str, Any]:
 def _near(v: VehicleState) -> bool:
     return v.junction is not None or v.lane.startswith(":") or \
         (v.to_junction_m is not None and v.to_junction_m <= NEAR_M)
-
-
-def in_path(v: VehicleState, pedestrians: tuple[PedestrianState, ...]) -> list[tuple[str, str, float]]:
-    """Pedestrians on a crossing SUMO's junction model makes a foe of the junction lane v is on:
-    (pedestrian, crossing, metres from v)."""
-    if not v.lane.startswith(":"):
-        return []
-    return [(who, crossing, round(math.hypot(p.x - v.x, p.y - v.y), 1))
-            for who, crossing, p in _foe_crossers(v.lane, pedestrians)]
 
 
 def _foe_crossers(lane: str, pedestrians: tuple[PedestrianState, ...],

@@ -67,8 +67,8 @@ class Act:
     why: str = ""                     # profile, decision or fault that made it happen
     decision: dict[str, Any] | None = None   # the vehicle's last decision before the act, if it asked
     fault: str | None = None          # an injected fault at the root of it
-    in_path: tuple[tuple[str, str, float], ...] = ()  # pedestrians on a crossing SUMO makes a foe of its
-                                                      # junction lane while it passed: (who, crossing, nearest m)
+    in_path: tuple[tuple[str, str, float | None, float], ...] = ()   # pedestrians in its path over a crossing
+                                     # within crossing_paths.WINDOW_S of it: (who, crossing, nearest m, PET s)
 
     def to_json(self) -> dict[str, Any]:
         out = asdict(self)

@@ -26,7 +26,7 @@ from reasoner.motion import MPH_PER_MPS
 from sim_replay.agent import Agent
 from sim_replay.monitors import Monitor
 from sim_replay.senses import Around, Other
-from sim_replay.sumo_account import in_path
+from sim_replay.crossing_paths import Geometry, PathWatch, Recent
 from sim_replay.sumo_net import Network
 from sim_replay.truth import EXIT_M, REACTION_S, Act, Truth
 from sim_replay.watchers import Line
@@ -49,7 +49,10 @@ class Witness:
         self._pending: list[dict[str, Any]] = []            # crossings waiting for the reactions about them
         self._over: dict[str, dict[str, Any]] = {}          # stretches over the limit in progress
         self._boxed: dict[str, dict[str, Any]] = {}         # standing in a yellow box
-        self.paths = False           # ask SUMO which pedestrians are on a crossing of a crossing vehicle's path
+        self.paths = False           # ask SUMO which pedestrians were in a crossing vehicle's path (crossing_paths)
+        self._geometry = Geometry()
+        self._recent = Recent()                             # pedestrians on crossings just before an act
+        self._closing: list[tuple[dict[str, Any], PathWatch]] = []   # acts written when their path watch closes
 
     def _seen_by(self, v: VehicleState) -> tuple[str, ...]:
         return tuple(m.id for m in self.monitors if m.sees(v.x, v.y))
@@ -67,7 +70,8 @@ class Witness:
         elif p is not None and p.missed:
             fault = "missed_road_user: " + ", ".join(sorted(p.missed))
         watch = {o.id: 0.0 for o in others if not o.pedestrian}
-        self._pending.append({"until": t + REACTION_S, "watch": watch, "known": {o.id for o in others},
+        path = PathWatch(self._geometry, v, t, self._recent) if self.paths else None
+        self._pending.append({"path": path, "until": t + REACTION_S, "watch": watch, "known": {o.id for o in others},
                               "where": (v.id, line.junction, line.approach),
                               "way": self._way(agent, line.junction), "act": dict(
             kind="crossed the stop line", vehicle=v.id, type=agent.d.kind, driver=agent.driving(), t_s=t,
@@ -84,15 +88,22 @@ class Witness:
                agents: dict[str, Agent] | None = None) -> None:
         """The braking of the road users about each recent crossing, until REACTION_S after it (None:
         the run has ended, every pending act is written)."""
+        closing = []
+        for act, path in self._closing:     # acts whose reactions are settled, their path watch still open
+            if snap is not None:
+                path.tick(t, snap.vehicle(act["vehicle"]), snap.pedestrians)
+                if path.open(t):
+                    closing.append((act, path))
+                    continue
+            self._write(act, path)
+        self._closing = closing
         still = []
         for pending in self._pending:
             if snap is not None:
                 vid, junction, approach = pending["where"]
                 me = snap.vehicle(vid)
-                if me is not None and self.paths and me.lane.startswith(f":{junction}_"):
-                    near = pending.setdefault("in_path", {})
-                    for who, crossing, away in in_path(me, snap.pedestrians):
-                        near[who] = (who, crossing, min(away, near.get(who, (0, 0, away))[2]))
+                if pending["path"] is not None:
+                    pending["path"].tick(t, me, snap.pedestrians)
                 if me is not None and me.junction == junction:     # still crossing: who comes up meanwhile
                     for o in around.about(junction, vid, approach):
                         if o.id not in pending["known"]:
@@ -109,9 +120,15 @@ class Witness:
             if snap is not None and t < pending["until"]:
                 still.append(pending)
                 continue
-            self.truth.act(Act(**pending["act"], reactions=tuple(sorted(pending["watch"].items())),
-                               in_path=tuple(sorted(pending.get("in_path", {}).values()))))
+            act = dict(pending["act"], reactions=tuple(sorted(pending["watch"].items())))
+            if pending["path"] is not None and snap is not None and pending["path"].open(t):
+                self._closing.append((act, pending["path"]))     # its reactions are settled; its path not yet
+            else:
+                self._write(act, pending["path"])
         self._pending = still
+
+    def _write(self, act: dict[str, Any], path: PathWatch | None) -> None:
+        self.truth.act(Act(**act, in_path=tuple(path.found()) if path is not None else ()))
 
     def _exit(self, agent: Agent, junction: str, approach: str) -> str | None:
         """The edge its route leaves a junction by, after the approach it came in on."""
@@ -173,6 +190,8 @@ class Witness:
                 if v.junction is not None or v.id in boxed:     # outside a junction, only a box stand can end
                     self._box(agent, v, t, snap, lines.get(v.id))
         self._react(snap, around, t, agents)
+        if self.paths:
+            self._recent.tick(t, snap.pedestrians)
 
     def seen(self, pairs: set[tuple[str, str]]) -> None:
         """The (monitor, vehicle) pairs the monitors observed this round."""

@@ -12,8 +12,10 @@ account: sim_replay/sumo_account.py); the reasoner's incidents are read only to 
     SUMO        the road users SUMO says braked for V about its crossing (the truth's
                 act.sumo.yielded: cause a junction foe V, or V as a leader that had joined their
                 road from another arm) at HARD_BRAKING or harder held over a second, or to a
-                stop from moving, under that cause (`gave_way`), and the pedestrians on a crossing SUMO makes a foe of V's junction lane
-                while V passed (act.sumo.in_path)
+                stop from moving, under that cause (`gave_way`), and the pedestrians in V's path over a
+                crossing within crossing_paths.WINDOW_S of V (act.sumo.in_path, with the PET; a truth
+                kept before that lists every pedestrian on a crossing SUMO makes a foe of V's junction
+                lane while V passed, and is read so)
 
 A false accusation is a road user the reasoner names and SUMO does not; a miss, one SUMO names and
 the reasoner does not.
@@ -79,9 +81,9 @@ def sumo_gave_way(act: dict[str, Any]) -> dict[str, dict[str, Any]]:
             seen = out.get(y["vehicle"])
             if seen is None or y["decel_mps2"] > seen["decel_mps2"]:
                 out[y["vehicle"]] = y
-    for who, crossing, away in act.get("sumo", {}).get("in_path", []):
+    for who, crossing, away, *gap in act.get("sumo", {}).get("in_path", []):
         out.setdefault(who, {"vehicle": who, "cause": "pedestrian in its path", "crossing": crossing,
-                             "nearest_m": away})
+                             "nearest_m": away, "pet_s": gap[0] if gap else None})
     return out
 
 
@@ -91,7 +93,7 @@ def stated_cause(truth: dict[str, Any], who: str, act: dict[str, Any]) -> str:
     mine = [y for y in truth.get("yields", []) if y["vehicle"] == who and t - ABOUT_S[0] <= y["t_s"] <= t + ABOUT_S[1]]
     if not mine:
         if truth["road_users"].get(who, {}).get("type") == "pedestrian":
-            return "a pedestrian not on a crossing of its path while it passed"
+            return "a pedestrian not in its path over a crossing within the window"
         return "did not brake about then"
     parts = []
     for y in mine:

@@ -11,10 +11,13 @@ in front of it.
 """
 from __future__ import annotations
 
+import libsumo
+
 from sim_replay.maps import map_files
 from sim_replay.sim_config import Behaviour, SimConfig
 from sim_replay.simulation import Simulation
-from sim_replay.sumo_account import Account, Yield, in_path, read_ssm, ssm_options
+from sim_replay.crossing_paths import WINDOW_S, Geometry, PathWatch, Recent, pet
+from sim_replay.sumo_account import COMING_S, Account, Yield, read_ssm, ssm_options
 from sim_replay.sumo_world import World
 from sim_replay.truth import yielded_to
 
@@ -108,24 +111,69 @@ def test_keeping_the_account_changes_no_event_and_only_adds_to_the_truth():
                                                       "pedestrian", "none"}
 
 
-def test_a_pedestrian_on_a_crossing_of_a_vehicles_way_is_in_its_path():
-    """p1 walks along r1's north side from the west and steps onto the crossing of j2's north arm
-    (":j2_c2") as "side" comes down that arm and through the junction: SUMO's junction model makes
-    that crossing a foe of side's junction lane, so p1 is in its path, about 5 m from it."""
-    seen: dict = {}
+def crossing_scene(walker: tuple[str, str, float], through_mps: float | None = None) -> tuple[list, dict]:
+    """"side" comes down r3's north arm at j2 and goes straight across, its decisions ours; one
+    pedestrian walks (from, to, depart position) by the crossing of j2's north arm (":j2_c2",
+    196.5-203.5 m east at y 10, 4 m wide). The crossing is a foe of side's junction lane. Side's
+    path over it is 201.8 m east, ± 1.4 m: the car's width and SUMO's 1 m pedestrian safety gap.
+    `through_mps`: side drives through at that speed whatever is in its way (speed mode 0), as a
+    driver who does not give way would; else SUMO drives it. Returns the pedestrians
+    crossing_paths finds in side's path, and the nearest each pedestrian on that crossing came to
+    side."""
     with World(NET, seed=3) as world:
-        world.add_person("p1", "j1_j2", "j2_e", depart_pos=170.0)
-        for step in range(200):
+        geometry, recent, watch = Geometry(), Recent(), None
+        world.add_person("p", *walker[:2], depart_pos=walker[2])
+        for step in range(300):
             if step == 104:
                 world.add_vehicle("side", "car", world.route("n2_j2", "j2_s2"), depart_pos=158.0, depart_speed=5.0)
             snap = world.step()
             if step == 105:
                 world.take_control("side")
+                if through_mps is not None:
+                    libsumo.vehicle.setSpeedMode("side", 0)
+                    libsumo.vehicle.setSpeed("side", through_mps)
             side = snap.vehicle("side")
-            if side is not None:
-                for who, crossing, away in in_path(side, snap.pedestrians):
-                    seen[who] = (crossing, min(away, seen.get(who, (None, away))[1]))
-    assert set(seen) == {"p1"} and seen["p1"][0] == ":j2_c2" and seen["p1"][1] < 6.0
+            if watch is None and side is not None and side.junction == "j2":      # its front is over its line
+                watch = PathWatch(geometry, side, snap.t_s, recent)
+            if watch is not None:
+                watch.tick(snap.t_s, side, snap.pedestrians)
+            recent.tick(snap.t_s, snap.pedestrians)
+        assert watch is not None and not watch.open(snap.t_s)
+        return watch.found(), watch.nearest
+
+
+def test_a_pedestrian_on_a_crossing_of_the_vehicles_way_but_not_in_its_path_is_not_in_its_path():
+    """SUMO drives side. p steps onto the north arm's crossing from the west kerb (196.7 m east)
+    as side comes through, 5 m to side's side. It walks at about 1 m/s and reaches side's path
+    (from 200.4 m east) 2.5 s after side's back has left the crossing: more than WINDOW_S (2 s).
+    Coming the other way (from the east kerb, westwards), p is on the crossing first; side waits for
+    it and drives over the place it left a second before, while p walks on over the rest of the
+    crossing: it is past side's path (SUMO's blockedAtDist: a pedestrian completely past the
+    vehicle's crossing point no longer blocks it). SUMO makes the crossing a foe of side's lane
+    both times, and p is on it while side passes, but neither time is p in side's path. The
+    account used to list both (issue 35's unraised paper acts: pedestrians 3.5-19.5 m off, one
+    0.29 s past the path)."""
+    for walker in (("j1_j2", "j2_e", 170.0), ("j2_e", "j1_j2", 5.0)):
+        found, nearest = crossing_scene(walker)
+        assert "p" in nearest and nearest["p"] < 8.0          # on a crossing of side's way as it passed
+        assert found == [], walker
+
+
+def test_a_pedestrian_stepping_into_the_vehicles_path_just_after_it_is_in_its_path():
+    """side drives through at 8 m/s, giving way to nobody; p steps onto the north arm's crossing
+    from the west kerb as side comes, and reaches side's path about a second after side has left
+    the crossing: side passed just in front of it, within WINDOW_S (2 s). It is in side's path,
+    with the post-encroachment time measured."""
+    found, nearest = crossing_scene(("j1_j2", "j2_e", 171.0), through_mps=8.0)
+    assert [(who, crossing) for who, crossing, _, _ in found] == [("p", ":j2_c2")]
+    assert 0.0 < found[0][3] <= WINDOW_S and found[0][2] == nearest["p"]
+
+
+def test_the_post_encroachment_time_is_the_least_gap_between_the_two_occupancies_and_says_who_was_first():
+    assert pet([10.0, 10.1, 10.2], [12.0, 12.1]) == (1.8, "mine")       # the pedestrian came 1.8 s after
+    assert pet([10.0, 10.1], [8.0, 8.1, 9.5]) == (0.5, "theirs")        # it left 0.5 s before
+    assert pet([10.0, 10.1], [10.1, 10.2]) == (0.0, None)               # both in it at once
+    assert pet([], [1.0]) is None and pet([1.0], []) is None            # one was never in it
 
 
 def test_a_car_following_the_vehicle_on_its_own_approach_follows_it_and_is_no_foe_of_it(tmp_path):
@@ -199,3 +247,38 @@ def test_a_foe_still_far_off_is_not_one_the_vehicle_waited_for():
               {"vehicle": "w", "t_s": 11.0, "until_s": 11.6, "speed_mps": 9.6, "min_speed_mps": 6.5,
                "causes": {"foe far": {"t_s": 11.0, "decel_mps2": 4.5, "held_mps2": 3.1, "foe_arrives_s": 1.5}}}]
     assert [y["vehicle"] for y in yielded_to(act, yields, [])] == ["w"]
+
+
+def test_a_vehicle_braking_to_stand_at_its_own_stop_line_is_not_coming_into_the_junction():
+    """"waiting" (SUMO's driving) comes down r3's north arm to j2's Stop line, braking to stand
+    there as SUMO's Stop sign (link state `s`) makes it. Meanwhile "inside", on r1 with the right
+    of way, brakes in j2 (a slowDown, a cause SUMO's calls cannot see). waiting has not yet stood at
+    its line, so it is not coming into the junction: SUMO brings it to a stop first. inside did
+    not brake for it then; once waiting has stood and moves off its line, it is coming. The account used to read its distance over its speed (a few metres at
+    6-10 m/s) as coming within COMING_S, as it read a vehicle standing at its line: the paper's 107
+    "braked for foe 282" 11.8 m and 1.3 m from 282's line while 282 braked to stand there."""
+    routes: dict = {}
+    with World(NET, seed=3) as world:
+        account = Account(routes, world.modes)
+        for ident, start, end, pos, speed in (("waiting", "n2_j2", "j2_s2", 150.0, 5.0),
+                                              ("inside", "j1_j2", "j2_e", 129.0, "max")):
+            routes[ident] = world.route(start, end)
+            world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=speed)
+        slowed, standing_from = None, None
+        for step in range(120):
+            snap = world.step()
+            inside, waiting = snap.vehicle("inside"), snap.vehicle("waiting")
+            if slowed is None and inside is not None and inside.lane.startswith(":j2"):
+                libsumo.vehicle.slowDown("inside", 3.0, 2.0)
+                slowed = (snap.t_s, waiting.speed_mps, waiting.to_junction_m)
+            if standing_from is None and waiting is not None and waiting.speed_mps < 0.1:
+                standing_from = snap.t_s
+            account.tick(snap)
+        account.close()
+    assert slowed is not None and slowed[1] > 2.0 and slowed[2] < slowed[1] * COMING_S   # braking to its line
+    assert standing_from is not None and standing_from > slowed[0]
+    braked = [y for y in account.yields if y.vehicle == "inside" and y.t_s >= slowed[0]]
+    assert braked and max(y.peak_decel_mps2 for y in braked) >= 2.0
+    named = [y.causes["foe waiting"]["t_s"] for y in braked if "foe waiting" in y.causes]
+    assert not [t for t in named if t < standing_from]     # not while it braked to stand at its line
+    assert named                     # once it had stood and moved off its line, into inside's way, it was coming
