@@ -289,13 +289,15 @@ class Simulation:
             self._spawn(ident, t)
         around = Around(snap, self.world.network)
         second = round(t * 10) % 10 == 0
+        agents, lines = self.agents, self.lines
         for v in snap.vehicles:
-            agent = self.agents.get(v.id)
+            agent = agents.get(v.id)
             if agent is None:
                 continue
             if second:
                 self._each_second(agent, v, t)
-            self._lines(agent, v, t, lights, around)
+            if v.to_line_m is not None or v.id in lines:     # else no line ahead nor behind: _lines has nothing to do
+                self._lines(agent, v, t, lights, around)
         self.witness.tick(snap, around, t, self.agents, self.lines)
         if publish:
             self._states(snap, t)
