@@ -234,6 +234,7 @@ def main() -> None:
                     help="world seconds, not timed, in which the vehicles enter the network")
     ap.add_argument("--depart-within", type=float, default=None,
                     help="share of the run over which vehicles set off (default: the warm-up)")
+    ap.add_argument("--note", default="", help="said in the recorded notes (e.g. another commit's figures beside it)")
     ap.add_argument("--part", choices=["sumo-alone", "serve"], help=argparse.SUPPRESS)
     ap.add_argument("part_args", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -275,6 +276,13 @@ def main() -> None:
     print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s); by CPU time "
           f"{steps / got['cpu_s'] / alone_cpu:.2f} (steps per CPU second of each process: what the neighbours' load "
           f"leaves out)")
+    ingest_rate = got["stored"] / got["ingest_cpu_s"]
+    per_step = got["events"] / steps
+    ingest_cap = ingest_rate / per_step / alone_cpu
+    print(f"the ingest's cost: {ingest_rate:,.0f} events per CPU second of its process over the whole run; at "
+          f"{per_step:,.0f} events a step it could take {ingest_rate / per_step:,.1f} steps per CPU second, "
+          f"{ingest_cap:.2f} of SUMO alone's: the most the ratio by CPU time can reach with the ingest on a core "
+          f"of its own")
     print(f"machine: {machine()}; load average {loads[0]:.2f} before the simulation, {loads[1]:.2f} after; "
           f"calibration {speeds[0]:.2f} ms before, {speeds[1]:.2f} ms after ({QUIET_MS})")
     if got["stored"] != got["published"]:
@@ -292,6 +300,9 @@ def main() -> None:
                note=f"steps per CPU second of each process (SUMO alone {alone_cpu:,.1f}): the ratio without the "
                     f"neighbours' load"),
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
+        Figure("the ingest's events per CPU second", ingest_rate, "events/CPU-s",
+               note=f"stored over its process's CPU, the whole run; at {per_step:,.0f} events a step, "
+                    f"{ingest_cap:.2f} x SUMO alone's steps per CPU second: the ingest's cap on the ratio by CPU"),
         Figure("rulebook queries", got["queries"] / got["wall_s"], "queries/s"),
         Figure("SUMO's share of the simulation's time", 100 * got["sumo_s"] / got["wall_s"], "%"),
         Figure("the simulation's own work (agents, monitors, events)",
@@ -307,7 +318,7 @@ def main() -> None:
                  f"{args.seconds:g} s, seed {args.seed}, two monitors; the simulation on one core, the ingest "
                  f"in another process on the other (store not durable); SUMO alone in a child process; "
                  f"calibration {speeds[0]:.2f} / {speeds[1]:.2f} ms before / after the simulation ({QUIET_MS}), "
-                 f"load average {loads[0]:.2f} / {loads[1]:.2f}",
+                 f"load average {loads[0]:.2f} / {loads[1]:.2f}" + (f"; {args.note}" if args.note else ""),
            details={k: v for k, v in got.items()})
 
 
