@@ -17,7 +17,7 @@ facts is its answer to the facts, renamed. Thousands of vehicles ask a few hundr
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any
 
 from reasoner.bundled import CURRENT_SET, bundled
 from reasoner.engine import Answer, Rulebook, enrich, get_engine
@@ -28,17 +28,6 @@ from reasoner.shapes import Shaper
 __all__ = ["Asked", "Rulebooks", "design_tree"]
 
 KEPT_ANSWERS = 20_000     # answers kept by shape (the oldest go first): a long run's shapes stay few
-KEPT_TEXTS = 1 << 16      # sentences kept rendered with their road users' names (then it starts again)
-STAND_IN = "\x00"         # how a shape's stand-in for a road user begins (reasoner.shapes)
-
-
-class _Plan(NamedTuple):
-    """A node of a shape's tree, read once: its sentence as a key, the stand-ins in it in order."""
-
-    node: dict[str, Any]
-    sentence: Any
-    stand_ins: tuple[str, ...]
-    children: tuple[_Plan, ...]
 
 
 @dataclass(frozen=True)
@@ -74,8 +63,6 @@ class Rulebooks:
         self._cache: dict[tuple, bool] = {}
         self._answers: dict[tuple, Answer] = {}
         self._shapers = {name: Shaper(rb) for name, rb in self.books.items()}
-        self._plans: dict[int, tuple[dict, _Plan]] = {}     # id of a kept tree -> it and its plan
-        self._texts: dict[str, dict] = {name: {} for name in self.books}    # rendered sentences (_designed)
 
     def records(self) -> list[dict[str, str]]:
         """run.start's `rulebooks`: name, sha256 and full text of each."""
@@ -103,41 +90,7 @@ class Rulebooks:
         self.queries += 1
         answer, back = self._answer(name, rb, goal, atoms)
         tree = answer.proofs[0] if answer.proofs else answer.why_not
-        if not isinstance(tree, dict):
-            return Asked(question, answer.holds, None)
-        if not back:
-            return Asked(question, answer.holds, _design(tree, rb, back))
-        return Asked(question, answer.holds, self._designed(self._plan(tree), rb, back, self._texts[name]))
-
-    def _plan(self, tree: dict[str, Any]) -> _Plan:
-        """The shape's tree as _Plans, made once per tree kept (`_answers`)."""
-        kept = self._plans.get(id(tree))
-        if kept is None or kept[0] is not tree:
-            if len(self._plans) >= 2 * KEPT_ANSWERS:
-                self._plans.clear()
-            kept = self._plans[id(tree)] = (tree, _planned(tree))
-        return kept[1]
-
-    def _designed(self, plan: _Plan, rb: Rulebook, back: dict[str, Any], texts: dict) -> dict[str, Any]:
-        """_design(node, rb, back) where the node's sentence, with these road users' names, may have
-        been rendered before (`texts`: by the sentence's shape and the names it holds): a vehicle's
-        proof says "V must not enter the junction" a dozen times, and the vehicle asks again as its
-        facts change. The same tree (tests/sim_replay/test_asking_shapes.py)."""
-        node = plan.node
-        key = (plan.sentence, tuple([_typed(back.get(s, s)) for s in plan.stand_ins]))
-        text = texts.get(key)
-        if text is None:
-            if len(texts) >= KEPT_TEXTS:
-                texts.clear()
-            text = texts[key] = rb.render(_renamed(node["sentence"], back))
-        rule_id = _renamed(node.get("rule"), back)
-        rule = rb.rule(rule_id)
-        out = {"sentence": text, "status": _renamed(node["status"], back), "rule": rule.label if rule else None,
-               "source": rb.source(rule_id), "evidence": [_renamed(e, back) for e in node.get("evidence", [])],
-               "children": [self._designed(k, rb, back, texts) for k in plan.children]}
-        if _renamed(node.get("truncated"), back):
-            out["truncated"] = True
-        return out
+        return Asked(question, answer.holds, _design(tree, rb, back) if isinstance(tree, dict) else None)
 
     def _answer(self, name: str, rb: Rulebook, goal: Any, atoms: list) -> tuple[Answer, dict[str, Any]]:
         """The engine's answer with its trees as data, worked out once per shape of the question
@@ -203,27 +156,3 @@ def _renamed(data: Any, back: dict[str, Any]) -> Any:
     if kind is str:
         return back.get(data, data)
     return data
-
-
-def _planned(node: dict[str, Any]) -> _Plan:
-    stand_ins: list[str] = []
-    return _Plan(node, _frozen(node["sentence"], stand_ins), tuple(stand_ins),
-                 tuple(_planned(k) for k in node["children"]))
-
-
-def _frozen(data: Any, stand_ins: list[str]) -> Any:
-    """Prolog's data as a key (lists, dicts and their values told apart by type), noting every
-    text that may be a stand-in."""
-    kind = type(data)
-    if kind is list:
-        return (list, *[_frozen(value, stand_ins) for value in data])
-    if kind is dict:
-        return (dict, *[(key, _frozen(value, stand_ins)) for key, value in data.items()])
-    if kind is str and data.startswith(STAND_IN):
-        stand_ins.append(data)
-    return (kind, data)
-
-
-def _typed(value: Any) -> tuple[type, Any]:
-    """A name as a key: 1 and True (and 1.0) are one key to a dict, but not one name."""
-    return type(value), value
