@@ -44,7 +44,7 @@ from sim_replay.net_map import world_map
 from sim_replay.own_network import refusal
 from sim_replay.routes_file import read_routes
 from sim_replay.senses import Around
-from sim_replay.rounding import hundredths, rounded_rows, tenths
+from sim_replay.rounding import hundredths, tenths
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes, Tick
 from sim_replay.sumo_account import Account, read_ssm, ssm_options
@@ -61,7 +61,6 @@ Progress = Callable[[float, float], None]      # (world seconds done, world seco
 PLAIN_BELOW = 1e14           # a finite measurement smaller than this, rounded to tenths or hundredths, is a float
                              # orjson writes as the canonical form does (store/canonical.py: zero or 1e-4 <= |x| < 1e16)
 _SORT_KEYS = orjson.OPT_SORT_KEYS
-_DIGITS = (2, 2, 1, 2, 2)   # x, y, heading_deg, speed_mps, accel_mps2: hundredths, the heading in tenths
 ON_CALL_SPEED_FACTOR = 1.25
 MRM_SPEED_FACTOR = 0.3
 CRAWL_FACTOR = 0.3           # an emergency vehicle on a call approaches a red light at this share of the limit,
@@ -121,7 +120,7 @@ class Simulation:
         self.by_kind: dict[str, int] = {}
         self.summary: Summary | None = None
         self._collisions: set[tuple[str, str]] = set()
-        self._srcs: dict[str, str] = {}         # per vehicle on the network: its source's name
+        self._rounded: dict[str, tuple] = {}    # per vehicle: its latest raw measurements and their rounding
         self._out: list[dict[str, Any]] = []     # the tick's events so far
         self._written: list[bytes | None] = []   # per event of _out: its canonical bytes, where _states wrote them
         self._writing = True                     # whether _states writes them (batches' `written`)
@@ -320,13 +319,16 @@ class Simulation:
             if agent is not None:
                 self.witness.gone(agent, t)
             self.lines.pop(ident, None)
-            self._srcs.pop(ident, None)
+            self._rounded.pop(ident, None)
             self._emit(f"{role}/{ident}", t, "entity.despawn", {"reason": "left the map"})
 
     def _states(self, snap: Snapshot, t: float) -> None:
         """Every vehicle's entity.state of this tick (the bulk of the events: one per vehicle per
-        tick). Rounding is the dearest part of a body: the tick's measurements are rounded together
-        (sim_replay.rounding.rounded_rows: round()'s floats, a table at a time).
+        tick). Rounding is the dearest part of a body (sim_replay.rounding: round()'s floats without
+        its decimal text), and a third of the vehicles at a thousand stand still in queues,
+        reporting the same measurements tick after tick: their rounded values are kept
+        (`_rounded`, with the source's name) and used again while SUMO reports exactly the same
+        numbers.
 
         Each state's canonical bytes are written here too, by orjson straight away, where its
         measurements were found plain as they were rounded (finite and below PLAIN_BELOW: their
@@ -334,55 +336,53 @@ class Simulation:
         store/canonical.py); the rest of a state is the envelope's ints and strs, a str or None per
         place and a bool. Anything orjson refuses (a str that is not valid Unicode) is left to
         canonical_json, as is every state with a measurement that is not plain."""
-        env, agents = self.env, self.agents
+        env, agents, rounded = self.env, self.agents, self._rounded
         if env.lossy or not self._writing:
             self._states_made(snap, t)
             return
-        vehicles = snap.vehicles
-        if not vehicles:
-            return
-        table, plain = _measured(vehicles)
-        srcs = self._srcs
         seqs, run, stamp = env.seqs, env.run, env.stamp(t)      # Envelopes.make_all's envelope, made in the one pass
         out, written = self._out, self._written
         add, add_written, dumps = out.append, written.append, orjson.dumps
-        for v, (x, y, heading, speed, accel), is_plain in zip(vehicles, table, plain):
+        for v in snap.vehicles:
             ident = v[0]
-            src = srcs.get(ident)
-            if src is None:
-                src = srcs[ident] = f"vehicle/{ident}"
+            raw = v[2:7]                           # x, y, heading_deg, speed_mps, accel_mps2 (VehicleState's order)
+            kept = rounded.get(ident)
+            if kept is None or kept[0] != raw:
+                kept = rounded[ident] = _rounding(ident, raw)
             agent = agents.get(ident)
+            src = kept[1]
             seq = seqs.get(src, 0)
             seqs[src] = seq + 1
             ev = {"v": 1, "run": run, "src": src, "seq": seq, "t": stamp, "kind": "entity.state", "body": {
-                "x": x, "y": y, "heading_deg": heading, "speed_mps": speed, "accel_mps2": accel,
+                "x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5], "accel_mps2": kept[6],
                 "road": v.road, "lane": v.lane, "junction": v.junction, "emergency": agent is not None and agent.on_call}}
             add(ev)
             payload = None
-            if is_plain:
+            if kept[7]:
                 try:
                     payload = dumps(ev, option=_SORT_KEYS)
                 except orjson.JSONEncodeError:
                     pass
             add_written(payload)
-        env.count += len(vehicles)
-        self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(vehicles)
+        if snap.vehicles:
+            env.count += len(snap.vehicles)
+            self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(snap.vehicles)
 
     def _states_made(self, snap: Snapshot, t: float) -> None:
         """_states where events may be lost (Envelopes.make_all decides which) or none is written."""
-        agents, srcs = self.agents, self._srcs
+        agents, rounded = self.agents, self._rounded
         bodies = []
         add = bodies.append
-        table, _ = _measured(snap.vehicles)
-        for v, (x, y, heading, speed, accel) in zip(snap.vehicles, table):
+        for v in snap.vehicles:
             ident = v[0]
-            src = srcs.get(ident)
-            if src is None:
-                src = srcs[ident] = f"vehicle/{ident}"
+            raw = v[2:7]
+            kept = rounded.get(ident)
+            if kept is None or kept[0] != raw:
+                kept = rounded[ident] = _rounding(ident, raw)
             agent = agents.get(ident)
-            add((src, {"x": x, "y": y, "heading_deg": heading, "speed_mps": speed, "accel_mps2": accel,
-                       "road": v.road, "lane": v.lane, "junction": v.junction,
-                       "emergency": agent is not None and agent.on_call}))
+            add((kept[1], {"x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5],
+                           "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
+                           "emergency": agent is not None and agent.on_call}))
         made = self.env.make_all(t, "entity.state", bodies)
         self._out.extend(made)
         self._written.extend([None] * len(made))
@@ -562,11 +562,14 @@ class Simulation:
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else agent.profile.speed_factor)
 
 
-def _measured(vehicles: tuple[VehicleState, ...]) -> tuple[list[list[float]], list[bool]]:
-    """The vehicles' x, y, heading_deg, speed_mps and accel_mps2 as their entity.states state them
-    (hundredths, tenths for the heading), and whether each vehicle's are all plain (each below
-    PLAIN_BELOW in size: a NaN or an infinity is not)."""
-    return rounded_rows([v[2:7] for v in vehicles], _DIGITS, PLAIN_BELOW)
+def _rounding(ident: str, raw: tuple[float, ...]) -> tuple:
+    """What _states keeps of a vehicle's measurements: them, its source, their rounding, and whether
+    they are plain (each below PLAIN_BELOW in size: a NaN or an infinity is not)."""
+    x, y, heading, speed, accel = raw
+    return (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading), hundredths(speed),
+            hundredths(accel), -PLAIN_BELOW < x < PLAIN_BELOW and -PLAIN_BELOW < y < PLAIN_BELOW
+            and -PLAIN_BELOW < heading < PLAIN_BELOW and -PLAIN_BELOW < speed < PLAIN_BELOW
+            and -PLAIN_BELOW < accel < PLAIN_BELOW)
 
 
 def simulate(config: SimConfig, progress: Progress | None = None) -> Iterator[dict[str, Any]]:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import random
 
-from sim_replay.rounding import hundredths, rounded_rows, tenths
+from sim_replay.rounding import hundredths, tenths
 
 
 def _same(a: float, b: float) -> bool:
@@ -35,17 +35,3 @@ def test_hundredths_and_tenths_are_round_to_the_bit() -> None:
         assert _same(tenths(x), round(x, 1)) or (math.isnan(x) and math.isnan(tenths(x))), x
     short = sum(1 for x in values if type(x) is float and abs(x) < 1e3 and abs(x * 100.0 - round(x * 100.0)) < 0.49)
     assert short > len(values) // 2, "the values hardly try the short way"
-
-
-def test_rounded_rows_are_round_to_the_bit_and_say_which_rows_are_plain() -> None:
-    floats = [x for x in _values() if type(x) is float]
-    rows = [tuple(floats[i:i + 5]) for i in range(0, len(floats) - 4, 5)]
-    digits = (2, 2, 1, 2, 2)
-    values, plain = rounded_rows(rows, digits, 1e14)
-    assert len(values) == len(plain) == len(rows)
-    for row, got, is_plain in zip(rows, values, plain):
-        for x, d, y in zip(row, digits, got):
-            assert _same(y, round(x, d)) or (math.isnan(x) and math.isnan(y)), (x, d, y)
-        assert is_plain == all(-1e14 < x < 1e14 for x in row), row
-    assert not all(plain) and any(plain), "the rows try both plain and not"
-    assert rounded_rows([], digits, 1e14) == ([], [])
