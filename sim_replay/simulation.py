@@ -288,15 +288,13 @@ class Simulation:
             self._spawn(ident, t)
         around = Around(snap, self.world.network)
         second = round(t * 10) % 10 == 0
-        agents, lines = self.agents, self.lines
         for v in snap.vehicles:
-            agent = agents.get(v.id)
+            agent = self.agents.get(v.id)
             if agent is None:
                 continue
             if second:
                 self._each_second(agent, v, t)
-            if v.to_line_m is not None or v.id in lines:     # else no line ahead nor behind: _lines has nothing to do
-                self._lines(agent, v, t, lights, around)
+            self._lines(agent, v, t, lights, around)
         self.witness.tick(snap, around, t, self.agents, self.lines)
         if publish:
             self._states(snap, t)

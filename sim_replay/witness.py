@@ -165,21 +165,13 @@ class Witness:
 
     def tick(self, snap: Snapshot, around: Around, t: float, agents: dict[str, Agent],
              lines: dict[str, Line]) -> None:
-        boxed, limits, limit_mph, over = self._boxed, self._limits, self.limit_mph, self._over
+        boxed = self._boxed
         for v in snap.vehicles:
-            ident = v.id
-            agent = agents.get(ident)
-            if agent is None:
-                continue
-            if v.junction is None:                           # _speeding's look at the limit, inline: a thousand a tick
-                limit = limits.get(v.edge)
-                if limit is not None:
-                    limit_mph[ident] = limit
-            limit = limit_mph.get(ident)
-            if limit is not None and (ident in over or round(v.speed_mps * MPH_PER_MPS) > limit):
-                self._speeding(agent, v, t)                  # over the limit, or a stretch over it to end
-            if v.junction is not None or ident in boxed:     # outside a junction, only a box stand can end
-                self._box(agent, v, t, snap, lines.get(ident))
+            agent = agents.get(v.id)
+            if agent is not None:
+                self._speeding(agent, v, t)
+                if v.junction is not None or v.id in boxed:     # outside a junction, only a box stand can end
+                    self._box(agent, v, t, snap, lines.get(v.id))
         self._react(snap, around, t, agents)
 
     def seen(self, pairs: set[tuple[str, str]]) -> None:
