@@ -132,6 +132,44 @@ def phases(got: dict) -> str:
             f"{got['cpu_s'] - got['thread_cpu_s']:.1f} s")
 
 
+PARTS = (("libsumo.simulationStep", "libsumo", "simulationStep"),
+         ("vehicles' subscription results", "libsumo.vehicle", "getAllSubscriptionResults"),
+         ("World._vehicles (the snapshot's VehicleStates)", "sumo_world.World", "_vehicles"),
+         ("Simulation._decide (agents' looks and questions)", "simulation.Simulation", "_decide"),
+         ("Simulation._states (entity.states and their bytes)", "simulation.Simulation", "_states"),
+         ("Witness.tick (the truth's per-tick look)", "witness.Witness", "tick"),
+         ("Watchers.observe (the monitors)", "watchers.Watchers", "observe"),
+         ("EventPublisher.publish_all (keys, Zenoh puts, the cache)", "publisher.EventPublisher", "publish_all"))
+"""Parts of a tick whose CPU (of the simulation's thread) is summed in the timed window: measured
+by the thread's clock around each call, as cProfile cannot without overstating code made of many
+small calls (its cost per call is larger than theirs)."""
+
+
+def time_parts(spent: dict[str, float], on: list[bool]) -> list[tuple[object, str, object]]:
+    """Wrap each of PARTS to add its thread CPU to `spent` while on[0]; returns what to put back."""
+    import libsumo
+    from sim_replay import publisher, simulation, sumo_world, watchers, witness
+    where = {"libsumo": libsumo, "libsumo.vehicle": libsumo.vehicle, "sumo_world.World": sumo_world.World,
+             "simulation.Simulation": simulation.Simulation, "witness.Witness": witness.Witness,
+             "watchers.Watchers": watchers.Watchers, "publisher.EventPublisher": publisher.EventPublisher}
+    undo = []
+    for label, owner_name, name in PARTS:
+        owner = where[owner_name]
+        real = getattr(owner, name)
+
+        def timed(*args, _real=real, _label=label, **kwargs):
+            if not on[0]:
+                return _real(*args, **kwargs)
+            began = time.thread_time()
+            try:
+                return _real(*args, **kwargs)
+            finally:
+                spent[_label] = spent.get(_label, 0.0) + time.thread_time() - began
+        setattr(owner, name, timed)
+        undo.append((owner, name, real))
+    return undo
+
+
 def child(part: str, *args: str, stdin: int | None = None) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, __file__, "--part", part, *args], stdin=stdin,
                             stdout=subprocess.PIPE, text=True)
@@ -170,6 +208,9 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
     config = SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
                        duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
     sumo_world.World.step = timed_step
+    spent: dict[str, float] = {}
+    timing = [False]
+    undo = time_parts(spent, timing)
     window_from: int | None = None  # the first event's t (the run's start) + the warm-up
     mark: dict | None = None
     events = states = 0
@@ -191,6 +232,7 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
                     mark = {"wall": time.perf_counter(), "cpu": time.process_time(), "sumo": stepping[0],
                             "sumo_cpu": stepping[1], "thread_cpu": time.thread_time(), "scheduled": scheduled(),
                             "queries": sim.books.queries, "engine_asks": sim.books.engine_asks}
+                    timing[0] = True
                     began = clock()
                 if mark is None:
                     out.put_all(batch)
@@ -206,7 +248,10 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
         thread_cpu = time.thread_time() - mark["thread_cpu"]
         ran, waited = (now - before for now, before in zip(scheduled(), mark["scheduled"]))
     finally:
+        timing[0] = False
         sumo_world.World.step = real_step
+        for owner, name, real in undo:
+            setattr(owner, name, real)
         if cpus is not None:
             os.sched_setaffinity(0, cpus)  # the machine line counts this machine's CPUs, not the pin
     ingest.stdin.write(f"{out.summary().published}\n")
@@ -221,6 +266,7 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
             "generator_s": generating, "put_s": putting, "put_cpu_s": put_cpu, "thread_cpu_s": thread_cpu, "ran_s": ran,
             "waited_s": waited, "steps": steps, "vehicles_mean": states / steps,
             "potential_violations": sim.summary.potential_violations,
+            "parts_cpu_ms_per_step": {k: round(1e3 * v / steps, 2) for k, v in spent.items()},
             "ingest": {k: v for k, v in stats.items() if k not in ("cpu_s", "settle_wait_s")}}
 
 
@@ -234,6 +280,7 @@ def main() -> None:
                     help="world seconds, not timed, in which the vehicles enter the network")
     ap.add_argument("--depart-within", type=float, default=None,
                     help="share of the run over which vehicles set off (default: the warm-up)")
+    ap.add_argument("--note", default="", help="said in the recorded notes (e.g. another commit's figures beside it)")
     ap.add_argument("--part", choices=["sumo-alone", "serve"], help=argparse.SUPPRESS)
     ap.add_argument("part_args", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -270,11 +317,20 @@ def main() -> None:
           f"worked out by the engine, the other questions with proofs answered by their shape); SUMO's step "
           f"{got['sumo_s']:.1f} s = {got['sumo_s'] / got['wall_s']:.0%} of the time")
     print(phases(got))
+    print(f"thread CPU a step in parts of it (of {1e3 * got['thread_cpu_s'] / steps:.1f} ms): "
+          + "; ".join(f"{k} {v:.2f} ms" for k, v in got["parts_cpu_ms_per_step"].items()))
     print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "
           f"all settled {got['settled_after_s']:.1f} s after the simulation ended; CPU {got['ingest_cpu_s']:.1f} s")
     print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s); by CPU time "
           f"{steps / got['cpu_s'] / alone_cpu:.2f} (steps per CPU second of each process: what the neighbours' load "
           f"leaves out)")
+    ingest_rate = got["stored"] / got["ingest_cpu_s"]
+    per_step = got["events"] / steps
+    ingest_cap = ingest_rate / per_step / alone_cpu
+    print(f"the ingest's cost: {ingest_rate:,.0f} events per CPU second of its process over the whole run; at "
+          f"{per_step:,.0f} events a step it could take {ingest_rate / per_step:,.1f} steps per CPU second, "
+          f"{ingest_cap:.2f} of SUMO alone's: the most the ratio by CPU time can reach with the ingest on a core "
+          f"of its own")
     print(f"machine: {machine()}; load average {loads[0]:.2f} before the simulation, {loads[1]:.2f} after; "
           f"calibration {speeds[0]:.2f} ms before, {speeds[1]:.2f} ms after ({QUIET_MS})")
     if got["stored"] != got["published"]:
@@ -292,6 +348,9 @@ def main() -> None:
                note=f"steps per CPU second of each process (SUMO alone {alone_cpu:,.1f}): the ratio without the "
                     f"neighbours' load"),
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
+        Figure("the ingest's events per CPU second", ingest_rate, "events/CPU-s",
+               note=f"stored over its process's CPU, the whole run; at {per_step:,.0f} events a step, "
+                    f"{ingest_cap:.2f} x SUMO alone's steps per CPU second: the ingest's cap on the ratio by CPU"),
         Figure("rulebook queries", got["queries"] / got["wall_s"], "queries/s"),
         Figure("SUMO's share of the simulation's time", 100 * got["sumo_s"] / got["wall_s"], "%"),
         Figure("the simulation's own work (agents, monitors, events)",
@@ -307,7 +366,7 @@ def main() -> None:
                  f"{args.seconds:g} s, seed {args.seed}, two monitors; the simulation on one core, the ingest "
                  f"in another process on the other (store not durable); SUMO alone in a child process; "
                  f"calibration {speeds[0]:.2f} / {speeds[1]:.2f} ms before / after the simulation ({QUIET_MS}), "
-                 f"load average {loads[0]:.2f} / {loads[1]:.2f}",
+                 f"load average {loads[0]:.2f} / {loads[1]:.2f}" + (f"; {args.note}" if args.note else ""),
            details={k: v for k, v in got.items()})
 
 

@@ -47,6 +47,23 @@ def test_the_ring_keeps_at_most_its_bytes() -> None:
     assert ring.index()[0].first == 3
 
 
+def test_a_run_of_puts_is_dropped_from_its_oldest_event_by_count_and_bytes_and_whole_by_age() -> None:
+    clock = Clock()
+    ring = RecentEvents(10, max_events=7, max_bytes=1_000, clock=clock)
+    key = f"gaps/{RUN}/vehicle/1/entity.state"
+    ring.add_all([(RUN, "vehicle/1", seq, key, b"x" * 10) for seq in range(5)])
+    clock.now += 6
+    ring.add_all([(RUN, "vehicle/1", seq, key, b"x" * 10) for seq in range(5, 9)])   # 9 held: two too many
+    assert len(ring) == 7 and ring.nbytes == 70 and ring.index()[0].first == 2
+    ring.add_all([(RUN, "vehicle/1", 9, key, b"x" * 900)])       # 970 bytes: within; the count drops seq 2
+    assert ring.nbytes == 960 and ring.index()[0].first == 3
+    ring.add_all([(RUN, "vehicle/1", 10, key, b"x" * 30)])       # 990 bytes, 8 events: seq 3 goes
+    assert (len(ring), ring.nbytes, ring.index()[0].first) == (7, 980, 4)
+    clock.now += 5                      # the first run of puts is 11 s old, the rest 5 s
+    ring.add_all([(RUN, "vehicle/1", 11, key, b"x")])
+    assert [(s.first, s.last) for s in ring.index()] == [(5, 11)] and ring.nbytes == 40 + 900 + 30 + 1
+
+
 def test_the_ring_forgets_what_is_older_than_its_age() -> None:
     clock = Clock()
     ring = RecentEvents(10, clock=clock)
