@@ -186,6 +186,14 @@ class Store:
                 hook(batch.signed)
         return batch.report
 
+    def release_runs(self, runs: Iterable[str]) -> None:
+        """Let go of what the append path keeps of these runs (their chains' ends, their sources'
+        highest seqs): for runs that went quiet without a run.end (an ended run is let go as its
+        run.end commits). Nothing is lost: a later event of one reloads its chain from its last
+        checkpoint, its tail checked as on a reopened store (store/tail_check.py), and goes on."""
+        for run in runs:
+            self._heads.release(run)
+
     @property
     def trust_problem(self) -> str | None:
         """Why the key's public file could not record a run's first signed head at the last append
