@@ -35,12 +35,15 @@ every page its inserts touched: with a thousand sources the (run, src, seq) inde
 over, so a batch of 1,000 cost as much disk as one of 10,000 (measured on 588,655 events of a
 1,000-vehicle simulation: 62.7 s against 36.0 s). A quiet ingest commits after flush_interval_s
 whatever it has, so this bounds work per commit, not latency."""
-MAX_PENDING = 16_384
+MAX_PENDING = 100_000
 """Samples Zenoh may hold for the writer before it pushes back on publishers. Zenoh's channel is a
-queue that grows to hold what waits and never shrinks, about 512 bytes a sample: at 100,000 a
-fleet's burst left 32 MB resident in the serve for ever (bench/ingest_fleet.py: 10,000 runs, RSS
-after 137 MB against 80 MB idle; 114 MB with this). 2^14 is a size the queue's doubling lands on,
-and more than a full batch (BATCH_SIZE), so a busy writer still finds one waiting."""
+queue that grows to hold what waits and never shrinks, about 512 bytes a sample: a fleet's burst
+leaves up to 32-64 MB resident in the serve for ever (bench/ingest_fleet.py, 10,000 runs: RSS after
+137 MB against 80 MB idle; 114 MB with 16,384). It stays this large all the same: what it holds is
+what a burst may put before its producer is held back, and a producer that closes its session soon
+after its last put (as foreign ones do) loses what is still on its side of the link: a 60,000-event
+burst into a writer taking 2,000 a second, the producer closing 1 s after its last put, arrived
+whole with 100,000 and lost 4,939 events with 16,384 (measured 2026-12-07)."""
 OPEN_TIMEOUT_S = 30.0
 
 
