@@ -40,7 +40,7 @@ fuzz: $(READY)
 # in bench/results.json; then docs/performance.md is regenerated from it. The full sizes take an hour
 # or more (the 10-million-event files are generated once under /tmp/gaps-bench); bench-quick runs
 # reduced sizes in a few minutes and records them apart from the full ones.
-BENCHES := rules append transfer ingest_throughput ingest_cost signatures scene_at_t incidents history scene explanations sumo_step sim kill9 injection regress replay conflict_agreement ingest_fleet dask_kill
+BENCHES := rules append transfer ingest_throughput ingest_cost signatures scene_at_t incidents history scene explanations sumo_step sim kill9 injection regress replay conflict_agreement ingest_fleet run_release dask_kill
 
 bench: $(READY)
 	@for b in $(BENCHES); do echo "== bench/$$b.py"; PYTHONPATH=$(CURDIR) $(VENV)/bin/python bench/$$b.py || exit 1; done

@@ -2,7 +2,7 @@
 one run (a benchmark, not a test).
 
     .venv/bin/python bench/ingest_fleet.py [--runs 1000] [--events-per-run 76] [--repeat 3]
-                                           [--more-runs 10000] [--profile FILE]
+                                           [--more-runs 10000] [--baseline CHECKOUT]
 
 A foreign producer (a plain Zenoh session in a child process, putting each event's canonical JSON
 on its key, as a vendor's code would) publishes `--runs` runs of `--events-per-run` events each:
@@ -14,7 +14,8 @@ each time; the rate is the events over the seconds from the first put to the ser
 counting them all stored. Printed: both rates and their ratio (target >= 0.8), per repeat and the
 medians; then, with `--more-runs`, `--more-runs` runs in one stream, the rate of each tenth of it
 (none may fall below 0.8 x the one run's); and the serve's resident memory idle before the
-producer, at its peak, and 5 s after the last run ended (target: within 10% of idle).
+producer, at its peak, and 5 s after the last run ended (target: within 10% of idle). With
+`--baseline`, the many runs are measured with the other checkout's serve too, after this one's.
 """
 from __future__ import annotations
 
@@ -166,6 +167,15 @@ def one_pass(shape: str, runs: int, per_run: int, folder: Path, tenths: list | N
         serve.stop()
 
 
+def many_runs(runs: int, per_run: int, folder: Path, code: Path | None) -> tuple[dict, list[float]]:
+    """One pass of `runs` runs in one stream, and the rate of each tenth of it."""
+    tenths: list[float] = []
+    big = one_pass("fleet", runs, per_run, folder, tenths, code=code)
+    per_tenth = big["events"] / 10
+    starts = [big["first_put"], *tenths[:-1]]
+    return big, [per_tenth / (end - start) for start, end in zip(starts, tenths)]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=100 if quick() else 1000)
@@ -205,21 +215,20 @@ def main() -> None:
                                tuple(r["rate"] for r in rows["fleet before"]), peer="one run, before")]
         details = rows
         if args.more_runs:
-            tenths: list[float] = []
-            big = one_pass("fleet", args.more_runs, args.events_per_run, folder, tenths)
-            per_tenth = big["events"] / 10
-            starts = [big["first_put"], *tenths[:-1]]
-            rates = [per_tenth / (end - start) for start, end in zip(starts, tenths)]
-            print(f"{args.more_runs} runs: {big['rate']:,.0f}/s overall; each tenth "
-                  f"{', '.join(f'{r:,.0f}' for r in rates)}/s; lowest {min(rates) / one:.2f} x one run; serve RSS "
-                  f"idle {big['rss_idle_mb']:.0f} MB, peak {big['rss_peak_mb']:.0f} MB, 5 s after "
-                  f"{big['rss_after_mb']:.0f} MB ({big['rss_after_mb'] / big['rss_idle_mb']:.2f} x idle)", flush=True)
-            figures += [Figure(f"{args.more_runs} runs, overall", big["rate"], "events/s", peer="one run"),
-                        Figure(f"{args.more_runs} runs, slowest tenth", min(rates), "events/s", tuple(rates),
-                               target=">= 0.8 x one run", peer="one run"),
-                        Figure("serve RSS after the runs / idle", big["rss_after_mb"] / big["rss_idle_mb"], "x",
-                               target="<= 1.1")]
-            details["more"] = big | {"tenths": rates}
+            for code, label in [(None, "")] + ([(args.baseline, ", before")] if args.baseline else []):
+                big, rates = many_runs(args.more_runs, args.events_per_run, folder, code)
+                one = statistics.median(r["rate"] for r in rows["one" + (" before" if label else "")])
+                print(f"{args.more_runs} runs{label}: {big['rate']:,.0f}/s overall; each tenth "
+                      f"{', '.join(f'{r:,.0f}' for r in rates)}/s; lowest {min(rates) / one:.2f} x one run; serve "
+                      f"RSS idle {big['rss_idle_mb']:.0f} MB, peak {big['rss_peak_mb']:.0f} MB, 5 s after "
+                      f"{big['rss_after_mb']:.0f} MB ({big['rss_after_mb'] / big['rss_idle_mb']:.2f} x idle)", flush=True)
+                peer = f"one run{label}"
+                figures += [Figure(f"{args.more_runs} runs, overall{label}", big["rate"], "events/s", peer=peer),
+                            Figure(f"{args.more_runs} runs, slowest tenth{label}", min(rates), "events/s", tuple(rates),
+                                   target="" if label else ">= 0.8 x one run", peer=peer),
+                            Figure(f"serve RSS after the runs / idle{label}", big["rss_after_mb"] / big["rss_idle_mb"],
+                                   "x", target="" if label else "<= 1.1")]
+                details["more" + label.replace(", ", " ")] = big | {"tenths": rates}
         record("ingest_fleet", f"{args.runs} runs x {args.events_per_run} events into gaps serve against one run",
                figures, details=details)
 

@@ -50,6 +50,7 @@ class CacheRecovery:
         self._holes_asked = key_expr.rsplit("/", 1)[-1] in ("*", "**")
         self._known: dict[Source, int] = {}
         self._heard: set[Source] = set()          # heard live since start
+        self._srcs: dict[str, list[str]] = {}     # run -> its srcs in _known: a release costs its own
         self._holes: list[tuple[str, str, int, int]] = []   # seen in the live stream, not yet asked
         self._lock = threading.Lock()
         self._found: list[str] = []               # caches whose token came, not yet asked
@@ -86,23 +87,22 @@ class CacheRecovery:
             known = known_of.get(source)
             if known is None:
                 highest = self.stored_highest(run, src)
-                known = -1 if highest is None else highest
+                known = known_of[source] = -1 if highest is None else highest
+                self._srcs.setdefault(run, []).append(src)
             if live:
                 heard.add(source)
                 if asking and seq > known + 1:
                     holes.append((run, src, known + 1, seq - 1))
             if seq > known:
                 known_of[source] = seq
-            elif source not in known_of:
-                known_of[source] = known
 
     def release(self, runs: Iterable[str]) -> None:
         """Forget the sources of runs that ended (their run.end stored): a later event of one goes
         on from its highest seq stored, as a source first heard does."""
-        ended = set(runs)
-        for source in [source for source in self._known if source[0] in ended]:
-            del self._known[source]
-            self._heard.discard(source)
+        for run in set(runs):
+            for src in self._srcs.pop(run, ()):
+                self._known.pop((run, src), None)
+                self._heard.discard((run, src))
 
     def step(self) -> None:
         """Ask every cache for the holes seen since the last look, the caches found meanwhile for
@@ -172,6 +172,8 @@ class CacheRecovery:
                 known = -1 if highest is None else highest
             if span.last > known:
                 want.append((span.run, span.src, known + 1, span.last))
+                if source not in self._known:
+                    self._srcs.setdefault(span.run, []).append(span.src)
                 self._known[source] = span.last
         if want:
             cache_id = cache_id_of_token(str(reply.ok.key_expr))

@@ -54,6 +54,7 @@ class GapTracker:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._sources: dict[tuple[str, str], _Source] = {}
+        self._srcs: dict[str, list[str]] = {}   # run -> its srcs in _sources: releasing a run costs its own
         self._let_go = 0   # sources of ended runs released with nothing missing (still counted as seen)
         self._now = time.monotonic()
         self._look = 0   # how many times the writer looked at the wire (new_look)
@@ -91,20 +92,39 @@ class GapTracker:
     def _new_source(self, run: str, src: str) -> _Source:
         """A source first heard, going on from its highest seq stored (under the lock)."""
         source = self._sources[(run, src)] = _Source()
+        self._srcs.setdefault(run, []).append(src)
         stored = self.stored_highest(run, src)
         if stored is not None:
             source.highest = stored
         return source
 
     def release(self, runs: Iterable[str]) -> None:
-        """Forget the sources of runs that ended (their run.end stored), keeping those with seqs
-        missing (what `gaps()` lists): a fleet's ended runs must cost nothing for ever. A later
-        event of such a source goes on from its highest seq stored, as after a restart."""
-        ended = set(runs)
+        """Forget the sources of runs that ended (their run.end stored) or went quiet, keeping those
+        with seqs missing (what `gaps()` lists): a fleet's ended runs must cost nothing for ever. A
+        later event of such a source goes on from its highest seq stored, as after a restart. Costs
+        the released runs' own sources, however many other runs are held."""
+        sources = self._sources
         with self._lock:
-            for key in [key for key, source in self._sources.items() if key[0] in ended and not source.missing]:
-                del self._sources[key]
-                self._let_go += 1
+            for run in set(runs):
+                kept = []
+                for src in self._srcs.pop(run, ()):
+                    if sources[(run, src)].missing:
+                        kept.append(src)
+                    else:
+                        del sources[(run, src)]
+                        self._let_go += 1
+                if kept:
+                    self._srcs[run] = kept
+
+    def quiet_runs(self, quiet_s: float) -> list[str]:
+        """Runs none of whose sources has sent anything for ``quiet_s`` seconds (by the clock of
+        the batches observed): a run that never sends its run.end is released once it is this
+        quiet. A walk over the sources held, made once in a while (BatchWriter), not per event."""
+        cutoff = time.monotonic() - quiet_s
+        sources = self._sources
+        with self._lock:
+            return [run for run, srcs in self._srcs.items()
+                    if all(sources[(run, src)].last_seen < cutoff for src in srcs)]
 
     def highest(self, run: str, src: str) -> int | None:
         """The source's highest seq seen (or stored, if nothing of it arrived since the start), or

@@ -36,6 +36,9 @@ class Inbox:
         """Per publisher ("<zid>/<eid>") whose samples carry sequence numbers, the key it publishes
         on, noted from its first sample taken: a miss names only the publisher."""
         self._keys_seen: set[str] = set()
+        self._of_run: dict[str, list[tuple[str, str | None]]] = {}
+        """Per run, its keys seen and the publisher each was noted for: letting a run go costs its
+        own keys, not a walk over every key held."""
         self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
 
     @property
@@ -86,11 +89,13 @@ class Inbox:
             self._closed = True
 
     def release(self, runs: Iterable[str]) -> None:
-        """Forget the keys (and their publishers) of runs that ended: a fleet's keys come and go.
-        A key of one seen again is noted again as a first sample."""
-        prefixes = tuple(f"gaps/{run}/" for run in runs)
-        self._keys_seen = {key for key in self._keys_seen if not key.startswith(prefixes)}
-        self.publisher_keys = {pub: key for pub, key in self.publisher_keys.items() if not key.startswith(prefixes)}
+        """Forget the keys (and their publishers) of runs that ended or went quiet: a fleet's keys
+        come and go. A key of one seen again is noted again as a first sample."""
+        for run in runs:
+            for key, publisher in self._of_run.pop(run, ()):
+                self._keys_seen.discard(key)
+                if publisher is not None and self.publisher_keys.get(publisher) == key:
+                    del self.publisher_keys[publisher]
 
     def _first(self, idle_s: float) -> Received | None:
         """The next sample within ``idle_s``, looking every POLL_S (Zenoh's channel has no
@@ -113,8 +118,17 @@ class Inbox:
         unnamed (logged); that is rare, and its envelope seqs still show any hole."""
         self._keys_seen.add(key)
         info = sample.source_info
+        publisher = None
         if info is not None and info.source_id is not None:
-            self.publisher_keys[f"{info.source_id.zid}/{info.source_id.eid}"] = key
+            publisher = f"{info.source_id.zid}/{info.source_id.eid}"
+            self.publisher_keys[publisher] = key
+        self._of_run.setdefault(run_of_key(key), []).append((key, publisher))
+
+
+def run_of_key(key: str) -> str:
+    """The run a key names (gaps/<run>/...), or "" for a key of another shape."""
+    parts = key.split("/", 2)
+    return parts[1] if len(parts) == 3 else ""
 
 
 def received(sample: zenoh.Sample) -> Received:

@@ -31,6 +31,12 @@ log = logging.getLogger(__name__)
 
 RETRIES = 3
 RETRY_PAUSE_S = 0.2  # times the attempt number, between tries of a batch that fails for its own reasons
+RUN_QUIET_S = 300.0
+"""How long a run may send nothing before the writer lets go of what it keeps of it, as of a run
+whose run.end came (its sources' seqs here, its chain's end in the store): a source that goes
+quiet for good costs nothing for ever. If it speaks again it goes on from the store: its chain
+from its last checkpoint (the tail checked, store/tail_check.py), each source from its highest
+seq stored, as after a restart of the serve (tests/ingest/test_quiet_runs.py)."""
 STOP_GRACE_S = 10.0
 """How long a stopping writer keeps trying a store that cannot write before it counts what it holds
 as failed (the publishers' caches still hold it for the next ingest, which asks for it)."""
@@ -55,8 +61,11 @@ class BatchWriter(threading.Thread):
         checkpoint_key: CheckpointKey | None = None,
         head_sinks: tuple[HeadSink, ...] = (),
         witness: str | os.PathLike | None = None,
+        run_quiet_s: float = RUN_QUIET_S,
     ) -> None:
         super().__init__(name="ingest-writer", daemon=True)
+        self._run_quiet_s = run_quiet_s
+        self._swept_at = time.monotonic()   # when quiet runs were last looked for (_let_go_of_quiet)
         self._checkpoint_key = checkpoint_key
         self._witness = witness  # its last head of each run is the head a run's tail must extend
         self._head_sinks = head_sinks
@@ -147,8 +156,22 @@ class BatchWriter(threading.Thread):
             self._write_recovered(store)
             if batch is None:
                 return
+            self._let_go_of_quiet(store)
             batch = None
             between_batches()
+
+    def _let_go_of_quiet(self, store: Store) -> None:
+        """Release the runs quiet for run_quiet_s (RUN_QUIET_S), looking a few times in that span:
+        the look walks the sources held, so it is made every quarter of it (at most every 30 s),
+        not per batch."""
+        now = time.monotonic()
+        if now - self._swept_at < min(self._run_quiet_s / 4, 30.0):
+            return
+        self._swept_at = now
+        quiet = self._tracker.quiet_runs(self._run_quiet_s)
+        if quiet:
+            store.release_runs(quiet)
+            self._release(quiet)
 
     def _write_recovered(self, store: Store) -> None:
         """Store what the publishers' caches replied (ingest/wire_watch.py), as received samples."""
@@ -255,10 +278,10 @@ class BatchWriter(threading.Thread):
                           "origin, their bytes not kept; `gaps quarantine --prune` makes room", cap.rows, cap.bytes)
             return None
 
-    def _release(self, runs: tuple[str, ...]) -> None:
-        """What the writer kept of runs that ended (each source's seqs) let go: a fleet's short
-        runs come and go, and a source gone for good must cost nothing (the store let go of its
-        chain already)."""
+    def _release(self, runs: tuple[str, ...] | list[str]) -> None:
+        """What the writer kept of runs that ended or went quiet (each source's seqs) let go: a
+        fleet's short runs come and go, and a source gone for good must cost nothing (the store
+        let go of its chain already)."""
         self._tracker.release(runs)
         self._inbox.release(runs)
         if self._watch is not None:

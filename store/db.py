@@ -17,8 +17,8 @@ from itertools import islice
 from operator import itemgetter
 from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 
-from . import (anchors, history, wire_ends, index_guard, liveliness, opening, queries, quarantine, rulebook_chain,
-               rulebooks, verify_cache)
+from . import (anchors, envelope, history, wire_ends, index_guard, liveliness, opening, queries, quarantine,
+               rulebook_chain, rulebooks, verify_cache)
 from .cache import Cache
 from .output_files import note_evidence
 from .ddl import DENSE_KINDS
@@ -123,10 +123,12 @@ class Store:
     # --- lifecycle -----------------------------------------------------------------------------
 
     def shrink_memory(self) -> None:
-        """Give back the connections' page caches (SQLite keeps up to CACHE_KIB each): what an
-        ingest that went quiet calls, so that a fleet's burst is not resident for ever."""
+        """Give back the connections' page caches (SQLite keeps up to CACHE_KIB each) and the
+        run names the envelope check remembers (envelope.forget_admitted): what an ingest that went
+        quiet calls, so that a fleet's burst is not resident for ever."""
         self._conn.execute("PRAGMA shrink_memory")
         self.cache.shrink_memory()
+        envelope.forget_admitted()
 
     def close(self) -> None:
         self.cache.close()
@@ -185,6 +187,14 @@ class Store:
             for hook in self._checkpoint_hooks:
                 hook(batch.signed)
         return batch.report
+
+    def release_runs(self, runs: Iterable[str]) -> None:
+        """Let go of what the append path keeps of these runs (their chains' ends, their sources'
+        highest seqs): for runs that went quiet without a run.end (an ended run is let go as its
+        run.end commits). Nothing is lost: a later event of one reloads its chain from its last
+        checkpoint, its tail checked as on a reopened store (store/tail_check.py), and goes on."""
+        for run in runs:
+            self._heads.release(run)
 
     @property
     def trust_problem(self) -> str | None:

@@ -277,6 +277,16 @@ def _admit_source(kind: str, src: str) -> bool:
     return True
 
 
+def forget_admitted() -> None:
+    """Drop the runs and sources found valid (rebuilt by the next events). Called when the
+    ingest goes quiet (Store.shrink_memory): a fleet's run names, up to _SEEN_LIMIT of them, would
+    otherwise stay for ever, and being made in the middle of batches, scattered over the
+    interpreter's memory arenas, keep those from ever being given back (4 of 34 MiB arenas after
+    10,000 runs, measured with sys._debugmallocstats)."""
+    _SEEN_RUNS.clear()
+    _SEEN_SOURCES.clear()
+
+
 def _remember(seen: set, item: Any) -> None:
     if len(seen) >= _SEEN_LIMIT:
         seen.clear()

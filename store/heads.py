@@ -27,6 +27,8 @@ class Heads:
         self.trust = trust  # each run's signed heads known outside the file (store/trust_root.py)
         self.chains: dict[str, RunChain] = {}
         self.max_seq: dict[tuple[str, str], int] = {}  # (run, src) -> highest stored seq, -1 if none
+        self.sources: dict[str, list[str]] = {}  # run -> the srcs it has in max_seq, so that letting a
+        # run go costs its own sources, not a walk over every source of every run held
         self.empty: set[str] = set()  # runs whose chain was empty when loaded: every source they
         # stored since is in max_seq, so a source not there has stored nothing (no query: a
         # fleet's new run brings dozens of new sources, and each was a look-up in the index)
@@ -34,16 +36,19 @@ class Heads:
     def forget(self) -> None:
         self.chains.clear()
         self.max_seq.clear()
+        self.sources.clear()
         self.empty.clear()
 
     def release(self, run: str) -> None:
-        """Forget what is kept of a run that ended (its run.end stored and committed): a fleet's
-        ended runs must cost nothing for ever. A later event of it loads its chain again from its
-        last checkpoint, as a reopened store does."""
+        """Forget what is kept of a run that ended (its run.end stored and committed) or went
+        quiet: a fleet's ended runs must cost nothing for ever. A later event of it loads its
+        chain again from its last checkpoint (its tail checked), and each source's highest seq
+        from the file, as a reopened store does."""
         self.chains.pop(run, None)
         self.empty.discard(run)
-        for key in [key for key in self.max_seq if key[0] == run]:
-            del self.max_seq[key]
+        max_seq = self.max_seq
+        for src in self.sources.pop(run, ()):
+            max_seq.pop((run, src), None)
 
     def chain(self, run: str) -> RunChain:
         found = self.chains.get(run)
@@ -59,11 +64,14 @@ class Heads:
         highest = self.max_seq.get(key)
         if highest is None:
             if run in self.empty or (run not in self.chains and self._holds_nothing(run)):
-                return -1
-            (found,) = self._conn.execute(
-                "SELECT max(seq) FROM events WHERE run = ? AND src = ?", key
-            ).fetchone()
-            highest = self.max_seq[key] = -1 if found is None else found
+                highest = -1
+            else:
+                (found,) = self._conn.execute(
+                    "SELECT max(seq) FROM events WHERE run = ? AND src = ?", key
+                ).fetchone()
+                highest = -1 if found is None else found
+            self.max_seq[key] = highest   # every key enters max_seq here (Batch._place asks first)
+            self.sources.setdefault(run, []).append(src)
         return highest
 
     def _holds_nothing(self, run: str) -> bool:

@@ -57,3 +57,13 @@ def test_snapshot_watermarks_of_every_run_of_an_append_are_raised(db_path):
         enable_snapshots(store)
         store.append([e for n in range(4) for e in short_run(f"r{n}")])
         assert all(not marks(store, f"r{n}").unchecked for n in range(4))
+
+
+def test_shrinking_memory_forgets_the_run_names_the_envelope_check_remembers(store):
+    from store import envelope
+    store.append([e for n in range(3) for e in short_run(f"r{n}")])
+    assert {"r0", "r1", "r2"} <= envelope._SEEN_RUNS
+    store.shrink_memory()                                          # what a quiet ingest calls
+    assert not envelope._SEEN_RUNS and not envelope._SEEN_SOURCES
+    assert store.append(short_run("r3")).stored == len(short_run("r3"))   # remembered again as checked
+    assert "r3" in envelope._SEEN_RUNS
