@@ -42,9 +42,9 @@ class GapsGroup(TyperGroup):
         return params
 
     def invoke(self, ctx: typer.Context) -> Any:
-        from store import unread_caches, unwritten_caches
+        from store import altered_caches, unread_caches, unwritten_caches
         already, wants_json = len(unwritten_caches()), "--json" in _command_line(ctx)
-        unread_before = len(unread_caches())
+        unread_before, altered_before = len(unread_caches()), altered_caches()
         try:
             return self._invoke_without_unreadable_caches(ctx, wants_json)
         except GapsError as exc:
@@ -63,6 +63,13 @@ class GapsGroup(TyperGroup):
                       f"could not read the cache file {path} ({why}); the command went on without it, "
                       "computing from the store (it holds only what reads derived from the store, never evidence: delete it "
                       "and it is rebuilt)")
+            for path, n in altered_caches().items():
+                if n > altered_before.get(path, 0):
+                    _warn(wants_json, "cache_altered", f"{path}: {n - altered_before.get(path, 0)} entries",
+                          f"the cache file {path} held {n - altered_before.get(path, 0)} entries whose seals did not "
+                          "open (altered since gaps wrote them, or damaged); they were not used: the command computed "
+                          "them from the store (the cache holds only what reads derived from it, never evidence: "
+                          "delete it and it is rebuilt)")
 
     def _invoke_without_unreadable_caches(self, ctx: typer.Context, wants_json: bool) -> Any:
         """Run the command; if SQLite fails while this command had cache files open (damaged pages,

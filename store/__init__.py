@@ -10,7 +10,7 @@ from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .db import Store
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
 from .output_files import OutputRefused, check_output, write_bytes, write_text
-from .cache import caches_opened, caches_opened_since, damaged_caches, go_without_caches, unread_caches, unwritten_caches
+from .cache import altered_caches, caches_opened, caches_opened_since, damaged_caches, go_without_caches, unread_caches, unwritten_caches
 from .refs import EventRef
 from .envelope import (
     MAX_EVENT_BYTES,
@@ -72,6 +72,7 @@ __all__ = [
     "write_bytes",
     "write_text",
     "unwritten_caches",
+    "altered_caches",
     "damaged_caches",
     "caches_opened",
     "caches_opened_since",
