@@ -9,19 +9,12 @@ from explain import explain_incident
 from reasoner.investigation import Investigation
 from reasoner.motion import MPH_PER_MPS
 from store import Store
-from tests.helpers.foreign import Foreign, Motion, rate, roads_through
-from tests.reasoner.test_foreign_scenarios import SAMPLING, SPEEDING, START, mps
+from tests.reasoner.test_foreign_scenarios import SPEEDING
+from tests.reasoner.test_weighing import stated_31_then_37
 
 
 def stated_31_driven_37(tmp_path) -> tuple[str, float]:
-    run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=30))
-    motion = Motion(-95.0, mps(24.0), [(3.0, 0.0), (2.0, 3.0), (3.0, 0.0)])
-    facts = ["28 has speed of 31", "the speed limit is 30"]
-    run.spawn("28")
-    run.lights("J1", "west", [(0.0, "green")])
-    run.drive("28", motion, "west", SAMPLING["5 Hz"](START, START + 8.0), t_start=START)
-    run.watch("28", motion, "west", rate(5, START, START + 3.0), t_start=START, facts=facts)
-    run.violation("28", START + 3.0, SPEEDING, facts)
+    run = stated_31_then_37()
     run.end(9.0)
     with Store(tmp_path / "s.db") as store:
         store.append(run.events)

@@ -69,13 +69,9 @@ def test_a_camera_reading_low_against_a_record_over_the_limit_too_stands(tmp_pat
     assert any(f.kind == "contradiction" for f in inc.findings)
 
 
-def test_a_camera_reading_wrong_at_its_moment_inside_a_stretch_the_record_proves_stands(tmp_path):
-    """RTRA 1984 s.89 (HC 124). The camera flags "28 has speed of 31" when the car's own record has
-    24 mph; the car then speeds up to 37 mph within the next two seconds and holds it. The act is
-    the stretch over the limit (one act, one offence), which the car's own measurements prove by
-    7 mph against a 0.22 mph uncertainty: the camera's wrong reading is a finding, and the verdict
-    rests on what is proved, punishable (DESIGN "Weighing"). On main it was dismissed, "not
-    proven", for the camera's reading at its moment (the town run's vehicle 489, 9.3 mph over)."""
+def stated_31_then_37() -> Foreign:
+    """A camera flags "28 has speed of 31" while the car's own 5 Hz record has 24 mph; the car then
+    speeds up to 37 mph within two seconds and holds it (the town run's 489, in small)."""
     run = Foreign(roads=roads_through(0.0, 0.0, limit_mph=30))
     motion = Motion(-95.0, mps(24.0), [(3.0, 0.0), (2.0, 3.0), (3.0, 0.0)])
     facts = ["28 has speed of 31", "the speed limit is 30"]
@@ -84,7 +80,17 @@ def test_a_camera_reading_wrong_at_its_moment_inside_a_stretch_the_record_proves
     run.drive("28", motion, "west", SAMPLING["5 Hz"](START, START + 8.0), t_start=START)
     run.watch("28", motion, "west", rate(5, START, START + 3.0), t_start=START, facts=facts)
     run.violation("28", START + 3.0, SPEEDING, facts)
-    inc = one(judge(tmp_path, run), "28", SPEEDING)
+    return run
+
+
+def test_a_camera_reading_wrong_at_its_moment_inside_a_stretch_the_record_proves_stands(tmp_path):
+    """RTRA 1984 s.89 (HC 124). The camera flags "28 has speed of 31" when the car's own record has
+    24 mph; the car then speeds up to 37 mph within the next two seconds and holds it. The act is
+    the stretch over the limit (one act, one offence), which the car's own measurements prove by
+    7 mph against a 0.22 mph uncertainty: the camera's wrong reading is a finding, and the verdict
+    rests on what is proved, punishable (DESIGN "Weighing"). On main it was dismissed, "not
+    proven", for the camera's reading at its moment (the town run's vehicle 489, 9.3 mph over)."""
+    inc = one(judge(tmp_path, stated_31_then_37()), "28", SPEEDING)
     verdict(inc, "punishable", "HC 124")
     assert inc.margin is not None and inc.margin.value - inc.margin.uncertainty > 5.0, inc.margin
     assert any(f.kind == "contradiction" and "28 has speed of 31" in f.detail for f in inc.findings), inc.findings
