@@ -26,3 +26,16 @@ def decoder(name: str, encoding: str, data: bytes):
     decode = DecoderFactory().decoder_for("protobuf", Schema(id=1, name=name, encoding=encoding, data=data))
     assert decode is not None, f"no protobuf decoder for schema {name} in {encoding}"
     return decode
+
+
+def alive_at(events: list[dict], t: int) -> dict[str, dict]:
+    """The road users alive at t, each with its latest state: worked out from the events alone."""
+    alive: dict[str, dict] = {}
+    for ev in sorted(events, key=lambda e: (e["t"], e["seq"], e["src"])):
+        if ev["t"] > t:
+            break
+        if ev["kind"] == "entity.state":
+            alive[ev["src"]] = ev["body"]
+        elif ev["kind"] == "entity.despawn":
+            alive.pop(ev["src"], None)
+    return alive

@@ -15,7 +15,7 @@ from store import Store
 from store.transfer import export_run
 from store.transfer.foxglove import SceneBuilder
 from store.transfer.foxglove_channels import ENTITIES_TOPIC, LOG_TOPIC, MAP_TOPIC, SIGNALS_TOPIC
-from tests.helpers.foxglove_decoded import decoded, decoder
+from tests.helpers.foxglove_decoded import alive_at, decoded, decoder
 from tests.helpers.viewer_run import RUN, viewer_events
 
 S = 1_000_000_000
@@ -46,19 +46,6 @@ def test_the_channels_carry_the_sdks_schemas_in_protobuf(exported):
     assert summary.schemas[drawn[LOG_TOPIC].schema_id].name == "foxglove.Log"
 
 
-def latest_states(events: list[dict], t: int) -> dict[str, dict]:
-    """Each road user alive at t with its latest entity.state body, from the events alone."""
-    alive: dict[str, dict] = {}
-    for ev in events:
-        if ev["t"] > t:
-            break
-        if ev["kind"] == "entity.state":
-            alive[ev["src"]] = ev["body"]
-        elif ev["kind"] == "entity.despawn":
-            alive.pop(ev["src"], None)
-    return alive
-
-
 def test_every_scene_decodes_to_the_road_users_positions_and_times(exported):
     path, events = exported
     scenes = decoded(path, ENTITIES_TOPIC)
@@ -67,7 +54,7 @@ def test_every_scene_decodes_to_the_road_users_positions_and_times(exported):
         (deletion,) = scene.deletions
         assert deletion.type == fm.SceneEntityDeletionType.All.value
         assert deletion.timestamp.seconds * S + deletion.timestamp.nanos == log_time
-        states = latest_states(events, log_time)
+        states = alive_at(events, log_time)
         assert {e.id for e in scene.entities} == set(states)
         for entity in scene.entities:
             body = states[entity.id]

@@ -30,7 +30,7 @@ from store.kinds import KINDS
 from store.transfer import export_run
 from store.transfer.foxglove import SCENE_PERIOD_NS
 from store.transfer.foxglove_channels import ENTITIES_TOPIC, SIGNALS_TOPIC
-from tests.helpers.foxglove_decoded import decoder
+from tests.helpers.foxglove_decoded import alive_at, decoder
 from store.transfer.message_schema import envelope_schema, viewer_envelope_schema
 from tests.helpers.store_testkit import heads
 from tests.helpers.viewer_run import RUN, viewer_events
@@ -194,19 +194,6 @@ def scene_update(data: bytes):
     """A foxglove.SceneUpdate as protobuf's decoder reads it with foxglove-sdk's schema."""
     sdk = fm.SceneUpdate.get_schema()
     return decoder(sdk.name, sdk.encoding, bytes(sdk.data))(data)
-
-
-def alive_at(events: list[dict], t: int) -> dict[str, dict]:
-    """The road users alive at t, each with its latest state: worked out from the events alone."""
-    alive: dict[str, dict] = {}
-    for ev in sorted(events, key=lambda e: (e["t"], e["seq"], e["src"])):
-        if ev["t"] > t:
-            break
-        if ev["kind"] == "entity.state":
-            alive[ev["src"]] = ev["body"]
-        elif ev["kind"] == "entity.despawn":
-            alive.pop(ev["src"], None)
-    return alive
 
 
 def test_each_scene_holds_every_road_user_alive_then(exported):
