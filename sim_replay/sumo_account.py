@@ -64,6 +64,7 @@ _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
 _OBEYS_FOES = 8
 _OWN = {"signal", "line", "turn", "speed"}      # a vehicle's own control: its light, its line, its turn, its speed
+_REACH_EPS_MPS = 1e-3    # a constraint allowing what the vehicle can reach in a tick, less this, allows it all
 _STOOD_MPS = 0.1         # SUMO's halting speed: slower is standing
 _AT_LINE_M = 3.0          # ... this close to the end of its lane: at its line
 _STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying it stands at the line before it goes
@@ -179,14 +180,8 @@ class Account:
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
             y.peak_decel_mps2 = max(y.peak_decel_mps2, round(-v.accel_mps2, 2))
             binding = self._why(v, snap, before)
-            own = min((a for a, cause, _, _ in binding if cause in _OWN), default=before)
-            for allowed, cause, by, detail in binding:
-                # the slowing this constraint asked for in the tick, no more than it shed: for a road
-                # user in its way, only what it asked beyond its own control (its light, line, turn,
-                # speed) and any leader of another name (issue 35: not for its own control)
-                floor = before if cause in _OWN else min([own] + [a for a, c, b, _ in binding
-                                                                  if c == "leader" and b != by])
-                shed = drop if cause == "none" else min(drop, max(0.0, min(floor, before) - allowed))
+            sheds = shares(binding, before, drop)
+            for (allowed, cause, by, detail), shed in zip(binding, sheds):
                 decel = round(shed / self.step_s, 2)
                 key = f"{cause} {by}" if by else cause
                 seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": round(before, 2),
@@ -201,6 +196,14 @@ class Account:
                 if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by
                                                                              else y.cause]["decel_mps2"]):
                     y.cause, y.by = cause, by
+            for by, shed in by_road_user(binding, sheds).items():
+                # one road user under several causes in one braking (a foe crossing its way, then the
+                # leader it became on its road): one cause, held as one (issue 35, paper-11's 228)
+                held = y.held(t, shed, f"road user {by}")
+                for allowed, cause, who, detail in binding:
+                    if who == by and f"{cause} {who}" in y.causes:
+                        seen = y.causes[f"{cause} {who}"]
+                        seen["road_user_held_mps2"] = max(seen.get("road_user_held_mps2", 0.0), held)
         for ident in [i for i in self._open if i not in braking]:
             self.yields.append(self._open.pop(ident))
 
@@ -241,9 +244,10 @@ class Account:
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
             else:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
-                allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
-                                "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
-                                                      **_joined(self._merged(ident, leader[0]))}))
+                follow = vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0])
+                if follow < self._reach(ident, speed) - _REACH_EPS_MPS:
+                    allowed.append((follow, "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
+                                                                  **_joined(self._merged(ident, leader[0]))}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
@@ -283,7 +287,11 @@ class Account:
                         waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)),
                                         other_id, {**detail, "foe_arrives_s": round(arrives, 1)}))
                     continue
-                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)), "foe", other_id, detail))
+                # a foe already in its path: SUMO's junction model stops the vehicle its minGap short
+                # of the crossing point (MSVehicle::adaptToJunctionLeader: stopSpeed(distToCrossing -
+                # minGap))
+                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - vehicle.getMinGap(ident), 0.0)), "foe",
+                                other_id, detail))
         if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
             arrives, stop, other_id, detail = min(waiting, key=lambda w: w[0])
             allowed.append((stop, "foe", other_id, detail))
@@ -311,6 +319,15 @@ class Account:
                 binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
                                                      {**detail, "allowed_mps": round(speed_allowed, 2)}))
         return list(binding.values()) or [(before, "none", None, {})]
+
+    def _reach(self, ident: str, speed: float) -> float:
+        """The speed the vehicle can reach from `speed` in a tick (SUMO's maxNextSpeed: speed + its
+        acceleration over the step, at most its top speed). SUMO's follow speed is never above it
+        (`getFollowSpeed` behind a leader 1000 m off gives exactly it): a leader whose follow
+        speed is this much asks for nothing. Asked while the vehicle brakes harder than it can
+        accelerate (4.5 against 2.6 m/s²), such a leader would otherwise seem to ask for the
+        difference, 1.9 m/s² (the town's 269 "braked for leader 146", 370 m ahead)."""
+        return min(speed + libsumo.vehicle.getAccel(ident) * self.step_s, libsumo.vehicle.getMaxSpeed(ident))
 
     def _coming(self, other: VehicleState) -> tuple | None:
         """SUMO's next link of a vehicle outside the junction that is coming into it within
@@ -363,6 +380,34 @@ class Account:
                 before_theirs = theirs[j - 1] if j > 0 else None
                 return libsumo.edge.getFromJunction(mine[i]) if before_mine != before_theirs else None
         return None
+
+
+def shares(binding: list[tuple[float, str, str | None, dict[str, Any]]], before: float,
+           drop: float) -> list[float]:
+    """The speed each binding constraint made the vehicle shed in a tick (`binding` as Account._why
+    gives it; `before`, the speed it braked from; `drop`, what it shed): the slowing the constraint
+    asked for, no more than the vehicle shed. For a road user in its way, only what it asked beyond
+    the vehicle's own control (its light, line, turn, speed) and any leader of another name (issue
+    35: not for its own control). Two at once each count: either alone would have made it brake."""
+    own = min((a for a, cause, _, _ in binding if cause in _OWN), default=before)
+    out = []
+    for allowed, cause, by, _ in binding:
+        floor = before if cause in _OWN else min([own] + [a for a, c, b, _ in binding if c == "leader" and b != by])
+        out.append(drop if cause == "none" else min(drop, max(0.0, min(floor, before) - allowed)))
+    return out
+
+
+def by_road_user(binding: list[tuple[float, str, str | None, dict[str, Any]]],
+                 sheds: list[float]) -> dict[str, float]:
+    """The speed shed in a tick for each road user that is a foe or a merged leader of the vehicle,
+    under whichever of its causes asked for more: SUMO's model keeps one speed for a vehicle, the
+    lowest its constraints allow, so a road user that is both (a foe in the junction, then the
+    leader it became on the vehicle's road) made it shed what the harder of the two asked, once."""
+    out: dict[str, float] = {}
+    for (_, cause, by, detail), shed in zip(binding, sheds):
+        if by and (cause == "foe" or (cause == "leader" and detail.get("merged"))):
+            out[by] = max(out.get(by, 0.0), shed)
+    return out
 
 
 def _joined(junction: str | None) -> dict[str, Any]:
