@@ -140,6 +140,39 @@ class Yield:
             self._shed.pop(0)
         return round(sum(d for _, d, k in self._shed if k == key) / HELD_S, 2)
 
+    def record(self, t: float, before: float, speed: float, step_s: float,
+               binding: list[tuple[float, str, str | None, dict[str, Any]]]) -> None:
+        """One tick of this braking, from `before` to `speed` over `step_s`, under the constraints
+        SUMO's model says bind (Account._why): each cause's share (`shares`), its hardest tick and
+        its share held over a second; and, for a road user that is a foe or a merged leader of
+        the vehicle, what it made the vehicle shed under any of its causes held over a second
+        (`road_user_held_mps2` on each of those causes)."""
+        drop = before - speed
+        sheds = shares(binding, before, drop)
+        for (_, cause, by, detail), shed in zip(binding, sheds):
+            decel = round(shed / step_s, 2)
+            key = f"{cause} {by}" if by else cause
+            seen = self.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": round(before, 2),
+                                                "from_mps": round(before, 2), "held_mps2": 0.0, **detail})
+            if shed > 0:                    # speeds under it: only where it asked for slowing
+                if seen["decel_mps2"] == 0.0:
+                    seen["from_mps"] = round(before, 2)
+                seen["min_speed_mps"] = round(min(seen["min_speed_mps"], speed), 2)
+            seen["decel_mps2"] = max(seen["decel_mps2"], decel)
+            seen["until_s"] = t
+            seen["held_mps2"] = max(seen["held_mps2"], self.held(t, shed, key))
+            if cause != "none" and (self.cause == "none" or decel >= self.causes[f"{self.cause} {self.by}" if self.by
+                                                                                 else self.cause]["decel_mps2"]):
+                self.cause, self.by = cause, by
+        for by, shed in by_road_user(binding, sheds).items():
+            # one road user under several causes in one braking (a foe crossing its way, then the
+            # leader it became on its road): SUMO's model keeps one speed, so one cause, held as one
+            held = self.held(t, shed, f"road user {by}")
+            for key, seen in self.causes.items():
+                cause, _, who = key.partition(" ")
+                if who == by and (cause == "foe" or (cause == "leader" and seen.get("merged"))):
+                    seen["road_user_held_mps2"] = max(seen.get("road_user_held_mps2", 0.0), held)
+
     def to_json(self) -> dict[str, Any]:
         return {"vehicle": self.vehicle, "t_s": self.t_s, "until_s": self.until_s, "junction": self.junction,
                 "lane": self.lane, "speed_mps": round(self.speed_mps, 2), "min_speed_mps": round(self.min_speed_mps, 2),
@@ -171,39 +204,14 @@ class Account:
             if v.accel_mps2 > -BRAKING_MPS2 or not _near(v):
                 continue
             braking.add(v.id)
-            drop = -v.accel_mps2 * self.step_s           # the speed it shed in this tick
-            before = v.speed_mps + drop
+            before = v.speed_mps - v.accel_mps2 * self.step_s     # the speed it braked from in this tick
             y = self._open.get(v.id)
             if y is None:
                 y = self._open[v.id] = Yield(v.id, t, t, v.junction or v.next_junction, v.lane,
                                              before, v.speed_mps, 0.0, "none", None)
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
             y.peak_decel_mps2 = max(y.peak_decel_mps2, round(-v.accel_mps2, 2))
-            binding = self._why(v, snap, before)
-            sheds = shares(binding, before, drop)
-            for (allowed, cause, by, detail), shed in zip(binding, sheds):
-                decel = round(shed / self.step_s, 2)
-                key = f"{cause} {by}" if by else cause
-                seen = y.causes.setdefault(key, {"t_s": t, "decel_mps2": 0.0, "min_speed_mps": round(before, 2),
-                                                 "from_mps": round(before, 2), "held_mps2": 0.0, **detail})
-                if shed > 0:                    # speeds under it: only where it asked for slowing
-                    if seen["decel_mps2"] == 0.0:
-                        seen["from_mps"] = round(before, 2)
-                    seen["min_speed_mps"] = round(min(seen["min_speed_mps"], v.speed_mps), 2)
-                seen["decel_mps2"] = max(seen["decel_mps2"], decel)
-                seen["until_s"] = t
-                seen["held_mps2"] = max(seen["held_mps2"], y.held(t, shed, key))
-                if cause != "none" and (y.cause == "none" or decel >= y.causes[f"{y.cause} {y.by}" if y.by
-                                                                             else y.cause]["decel_mps2"]):
-                    y.cause, y.by = cause, by
-            for by, shed in by_road_user(binding, sheds).items():
-                # one road user under several causes in one braking (a foe crossing its way, then the
-                # leader it became on its road): one cause, held as one (issue 35, paper-11's 228)
-                held = y.held(t, shed, f"road user {by}")
-                for allowed, cause, who, detail in binding:
-                    if who == by and f"{cause} {who}" in y.causes:
-                        seen = y.causes[f"{cause} {who}"]
-                        seen["road_user_held_mps2"] = max(seen.get("road_user_held_mps2", 0.0), held)
+            y.record(t, before, v.speed_mps, self.step_s, self._why(v, snap, before))
         for ident in [i for i in self._open if i not in braking]:
             self.yields.append(self._open.pop(ident))
 
