@@ -252,10 +252,9 @@ class Account:
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
             else:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
-                follow = vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0])
-                if follow < self._reach(ident, speed) - _REACH_EPS_MPS:
-                    allowed.append((follow, "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
-                                                                  **_joined(self._merged(ident, leader[0]))}))
+                allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
+                                "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
+                                                      **_joined(self._merged(ident, leader[0]))}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
@@ -321,20 +320,22 @@ class Account:
             for who, crossing, p in _foe_crossers(via, snap.pedestrians, waiting=True):
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "pedestrian", who,
                                 {"crossing": crossing, "away_m": round(math.hypot(p.x - v.x, p.y - v.y), 1)}))
+        reach = self._reach(ident, speed) - _REACH_EPS_MPS
         binding: dict[str, tuple[float, str, str | None, dict[str, Any]]] = {}
         for speed_allowed, cause, by, detail in sorted(allowed, key=lambda a: a[0]):
-            if speed_allowed < before:
+            if speed_allowed < before and speed_allowed < reach:
                 binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
                                                      {**detail, "allowed_mps": round(speed_allowed, 2)}))
         return list(binding.values()) or [(before, "none", None, {})]
 
     def _reach(self, ident: str, speed: float) -> float:
         """The speed the vehicle can reach from `speed` in a tick (SUMO's maxNextSpeed: speed + its
-        acceleration over the step, at most its top speed). SUMO's follow speed is never above it
-        (`getFollowSpeed` behind a leader 1000 m off gives exactly it): a leader whose follow
-        speed is this much asks for nothing. Asked while the vehicle brakes harder than it can
-        accelerate (4.5 against 2.6 m/s²), such a leader would otherwise seem to ask for the
-        difference, 1.9 m/s² (the town's 269 "braked for leader 146", 370 m ahead)."""
+        acceleration over the step, at most its top speed). SUMO's follow and stop speeds are never
+        above it (`getFollowSpeed` behind a leader 1000 m off, `getStopSpeed` 1000 m short of a
+        stop, give exactly it): a constraint that allows this much asks for nothing. Asked while
+        the vehicle brakes harder than it can accelerate (4.5 against 2.6 m/s²), every such
+        constraint would otherwise seem to ask for the difference, 1.9 m/s² (the town's 269
+        "braked for leader 146", 370 m ahead; the paper's 238 for foe 265 still coming)."""
         return min(speed + libsumo.vehicle.getAccel(ident) * self.step_s, libsumo.vehicle.getMaxSpeed(ident))
 
     def _coming(self, other: VehicleState) -> tuple | None:
