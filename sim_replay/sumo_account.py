@@ -191,12 +191,14 @@ class Account:
         self._last_t: float | None = None
         self._source: dict[str, str] | None = None     # junction lane -> the incoming lane it leaves from
         self._stood: set[tuple[str, str | None]] = set()   # (vehicle, junction) it has stood at the Stop line of
+        self._asked: dict[str, list] = {}     # vehicle -> what binds its next tick, asked at the end of this one
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
         self.step_s = t - self._last_t if self._last_t is not None and t > self._last_t else 0.1
         self._last_t = t
         braking = set()
+        asked, self._asked = self._asked, {}
         for v in snap.vehicles:
             if v.speed_mps < _STOOD_MPS and v.to_junction_m is not None and v.to_junction_m < _AT_LINE_M \
                     and not v.lane.startswith(":"):
@@ -211,7 +213,14 @@ class Account:
                                              before, v.speed_mps, 0.0, "none", None)
             y.until_s, y.min_speed_mps = t, min(y.min_speed_mps, v.speed_mps)
             y.peak_decel_mps2 = max(y.peak_decel_mps2, round(-v.accel_mps2, 2))
-            y.record(t, before, v.speed_mps, self.step_s, self._why(v, snap, before))
+            # SUMO chose this tick's speed on the state at the end of the last (its planMove): what
+            # bound it then is what this tick's braking was for; the first tick of a braking, when
+            # it was not asked, is read from the state at its end
+            binding = asked.get(v.id)
+            if binding is not None:
+                binding = [b for b in binding if b[0] < before] or [(before, "none", None, {})]
+            y.record(t, before, v.speed_mps, self.step_s, binding or self._why(v, snap, before))
+            self._asked[v.id] = self._why(v, snap, v.speed_mps)
         for ident in [i for i in self._open if i not in braking]:
             self.yields.append(self._open.pop(ident))
 
@@ -224,11 +233,12 @@ class Account:
 
     def _why(self, v: VehicleState, snap: Snapshot,
              before: float) -> list[tuple[float, str, str | None, dict[str, Any]]]:
-        """The constraints SUMO's car-following model says the vehicle braked for, asked at the end
-        of a tick of braking (the state the next tick's speed is chosen on): each allowing less than
-        `before`, the speed it braked from in this tick, with the speed it allows, lowest first; one
-        allowing as much (a leader far ahead at its own speed: SUMO's follow speed above the
-        vehicle's) is no constraint it braked for. None binding: "none"."""
+        """The constraints SUMO's car-following model gives the vehicle on the state at the end of a
+        tick (the state its next tick's speed is chosen on): each allowing less than `before` (its
+        speed now, for the next tick's braking; the speed it braked from, for a first tick read
+        from its own end) and less than it can reach in a tick (`_reach`), with the speed it allows,
+        lowest first; one allowing as much (a leader far ahead at its own speed) is no constraint
+        it braked for. None binding: "none"."""
         ident, speed = v.id, v.speed_mps
         mode = self.modes.get(ident, 31)
         vehicle = libsumo.vehicle
@@ -397,12 +407,21 @@ def shares(binding: list[tuple[float, str, str | None, dict[str, Any]]], before:
     gives it; `before`, the speed it braked from; `drop`, what it shed): the slowing the constraint
     asked for, no more than the vehicle shed. For a road user in its way, only what it asked beyond
     the vehicle's own control (its light, line, turn, speed) and any leader of another name (issue
-    35: not for its own control). Two at once each count: either alone would have made it brake."""
+    35: not for its own control). Two at once each count: either alone would have made it brake.
+    The lowest is the one SUMO's model takes (its next speed is the lowest its constraints allow,
+    braking no harder than it can): where nothing of the vehicle's own control or another leader
+    binds beside it, the whole tick's braking is its, also the part its stop point as asked here
+    would have spared (SUMO stops short of where `getStopSpeed` is asked to: the red light scene's
+    car stood 1.0 m before getNextTLS's distance, braking at 4.5 m/s² throughout)."""
     own = min((a for a, cause, _, _ in binding if cause in _OWN), default=before)
+    lowest = min(range(len(binding)), key=lambda i: binding[i][0], default=None)
     out = []
-    for allowed, cause, by, _ in binding:
+    for i, (allowed, cause, by, _) in enumerate(binding):
         floor = before if cause in _OWN else min([own] + [a for a, c, b, _ in binding if c == "leader" and b != by])
-        out.append(drop if cause == "none" else min(drop, max(0.0, min(floor, before) - allowed)))
+        if cause == "none" or (i == lowest and floor >= before):
+            out.append(drop)          # the one SUMO's model takes (the lowest), nothing of its own beside it
+        else:
+            out.append(min(drop, max(0.0, min(floor, before) - allowed)))
     return out
 
 
