@@ -17,7 +17,7 @@ from sim_replay.maps import map_files
 from sim_replay.sim_config import Behaviour, SimConfig
 from sim_replay.simulation import Simulation
 from sim_replay.crossing_paths import WINDOW_S, Geometry, PathWatch, Recent, pet
-from sim_replay.sumo_account import COMING_S, Account, Yield, read_ssm, ssm_options
+from sim_replay.sumo_account import COMING_S, Account, Yield, read_ssm, shares, ssm_options
 from sim_replay.sumo_world import World
 from sim_replay.truth import yielded_to
 
@@ -362,3 +362,19 @@ def test_a_leader_far_ahead_is_no_cause_of_a_braking_for_something_else(tmp_path
     assert main and max(y["peak_decel_mps2"] for y in main) >= 4.0
     assert not [k for y in main for k in y["causes"] if k == "leader ahead"]
     assert {y["cause"] for y in main} == {"none"}
+
+
+def test_the_constraint_sumo_takes_explains_the_whole_tick_and_one_beside_it_what_it_alone_asked():
+    """SUMO's next speed is the lowest its constraints allow, braking no harder than the vehicle
+    can. Recorded in the red-light scene above: "red" at 12.93 m/s, 18.9 m from j1's red light,
+    whose stop speed SUMO gives as 12.83 m/s; the next tick it braked to 12.48 m/s at 4.5 m/s²
+    and stood 1.0 m short of that distance. The light is what SUMO's model took: the whole tick's
+    braking is its (the account used to count it the 0.10 m/s the stop speed asked). A road user
+    beside the vehicle's own control is counted only what it asked beyond it (issue 35: not for
+    its own control), and a second road user what it alone asked."""
+    signal = (12.83, "signal", None, {})
+    assert shares([signal], 12.93, 0.45) == [0.45]
+    turn, foe = (12.6, "turn", None, {}), (12.55, "foe", "v", {})
+    assert [round(x, 2) for x in shares([foe, turn], 12.93, 0.45)] == [0.05, 0.33]
+    near, far = (12.1, "foe", "v", {}), (12.7, "foe", "w", {})
+    assert [round(x, 2) for x in shares([near, far], 12.93, 0.45)] == [0.45, 0.23]
