@@ -216,11 +216,9 @@ class Account:
             # SUMO chose this tick's speed on the state at the end of the last (its planMove): what
             # bound it then is what this tick's braking was for; the first tick of a braking, when
             # it was not asked, is read from the state at its end
-            binding = asked.get(v.id)
-            if binding is not None:
-                binding = [b for b in binding if b[0] < before] or [(before, "none", None, {})]
-            y.record(t, before, v.speed_mps, self.step_s, binding or self._why(v, snap, before))
-            self._asked[v.id] = self._why(v, snap, v.speed_mps)
+            binding = asked.get(v.id) or self._why(v, snap, before)
+            y.record(t, before, v.speed_mps, self.step_s, binding)
+            self._asked[v.id] = self._why(v, snap, math.inf)
         for ident in [i for i in self._open if i not in braking]:
             self.yields.append(self._open.pop(ident))
 
@@ -234,11 +232,13 @@ class Account:
     def _why(self, v: VehicleState, snap: Snapshot,
              before: float) -> list[tuple[float, str, str | None, dict[str, Any]]]:
         """The constraints SUMO's car-following model gives the vehicle on the state at the end of a
-        tick (the state its next tick's speed is chosen on): each allowing less than `before` (its
-        speed now, for the next tick's braking; the speed it braked from, for a first tick read
-        from its own end) and less than it can reach in a tick (`_reach`), with the speed it allows,
-        lowest first; one allowing as much (a leader far ahead at its own speed) is no constraint
-        it braked for. None binding: "none"."""
+        tick (the state its next tick's speed is chosen on): each holding it under what it can
+        reach in a tick (`_reach`), and, for a first tick read from its own end, under `before`,
+        the speed it braked from; with the speed it allows, lowest first. One allowing as much (a
+        leader far ahead at its own speed) is no constraint it braked for. None binding: "none".
+        SUMO stops a vehicle somewhat short of the points asked here (a red light's 1.0 m, below),
+        so a stop it brakes to at its full deceleration allows about its speed: holding it under
+        its reach is binding, as SUMO's model takes it."""
         ident, speed = v.id, v.speed_mps
         mode = self.modes.get(ident, 31)
         vehicle = libsumo.vehicle
