@@ -156,7 +156,8 @@ def yielded_to(act: dict[str, Any], yields: list[dict[str, Any]],
             ssm = [c for c in conflicts if c["ego"] == y["vehicle"] and c["foe"] == v
                    and c["begin_s"] <= y["until_s"] + 1.0 and c["end_s"] >= y["t_s"] - 1.0]
             out.append({"vehicle": y["vehicle"], "t_s": how["t_s"], "cause": cause, "decel_mps2": how["decel_mps2"],
-                        "held_mps2": how.get("held_mps2"), "from_mps": how.get("from_mps"),
+                        "held_mps2": how.get("held_mps2"), "road_user_held_mps2": how.get("road_user_held_mps2"),
+                        "from_mps": how.get("from_mps"),
                         "speed_mps": y["speed_mps"], "min_speed_mps": how.get("min_speed_mps", y["min_speed_mps"]),
                         "ssm": {m: ssm[0][m] for m in ("minTTC", "maxDRAC", "PET") if ssm and m in ssm[0]}})
     return out

@@ -70,7 +70,8 @@ def gave_way(y: dict[str, Any]) -> bool:
     if y.get("held_mps2") is None:
         return y["decel_mps2"] >= HARD_BRAKING or y["min_speed_mps"] <= STANDSTILL_MPS
     stopped = y["min_speed_mps"] <= STANDSTILL_MPS and (y.get("from_mps") or 0.0) - y["min_speed_mps"] >= HARD_BRAKING
-    return y["held_mps2"] >= HARD_BRAKING or stopped
+    held = max(y["held_mps2"], y.get("road_user_held_mps2") or 0.0)    # V under all its causes, as one
+    return held >= HARD_BRAKING or stopped
 
 
 def sumo_gave_way(act: dict[str, Any]) -> dict[str, dict[str, Any]]:
