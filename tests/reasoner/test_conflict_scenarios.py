@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import re
 
-from tests.helpers.foreign import Foreign, Motion, crossroads, ns, rate
+from tests.helpers.foreign import LINE_M, Foreign, Motion, crossroads, ns, rate
 from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _OUT_OF_C2S_WAY, _SET_OFF,
                                                    judge, mps, no_violation, of, one, runner_run, stated_stop_camera,
                                                    stop_then_go_run, unseen_main_road_run, verdict)
@@ -249,3 +249,29 @@ def test_a_give_way_pull_out_making_a_main_road_car_stop_inside_the_junction_is_
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 172")
     assert any(f.sentence == "c2 is approaching 7" for f in inc.derived)
+
+
+def test_a_pedestrian_who_crossed_in_front_of_a_car_waiting_at_its_line_and_left_its_path_was_not_endangered():
+    """HC 170 and 172, TSRGD 2016 Sch 9 Pt 7 para 1: a vehicle endangers a pedestrian only where
+    the pedestrian is in or entering its path within 2 s of it being there (derived.ENDANGER_S),
+    and positions are the road user's front (DESIGN: entity.state). 7 waits 6 s at its Give Way
+    line (west arm), its front 12.5 m from the centre; p9 walks north at 1.8 m/s across 7's arm 1.7 m ahead of
+    7's front and is out of 7's lane 0.3 s before 7 moves off: 7 waited for it and followed it
+    over, its front reaching p9's way about 1.5 s after p9 had left 7's. p9 was never in 7's path
+    with 7 there, nor entering it after 7 had passed: not endangered (the paper run's 249 and p9,
+    where a car standing at its line, its front short of the pedestrian's way, was read as in
+    the zone with it: post-encroachment time 0, "249 would endanger p9")."""
+    from reasoner import derived, history
+
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
+    run.spawn("7")
+    waits = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=6.0, then=10.0)   # stands 6.87 to 12.87 s
+    run.drive("7", waits, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("7", waits, "west", rate(5, START, START + 25.0), t_start=START, facts=["7 has a give way sign"])
+    # p9's centre leaves 7's swept lane (y 0.475 to 3.025, a 2.55 m vehicle on y = 1.75) with its
+    # half width and half its length (0.24 + 0.11 m) at y = 3.135, 0.3 s before 7 sets off
+    leaves = 6.87 + 6.0 - 0.3
+    walk(run, "p9", (-10.8, 3.135 - 1.8 * leaves), (0.0, 1.8), START + 25.0, watched=True)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
+    assert "7 would endanger p9" not in shown and "p9 is approaching 7" not in shown, shown
