@@ -275,3 +275,26 @@ def test_a_pedestrian_who_crossed_in_front_of_a_car_waiting_at_its_line_and_left
     p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
     shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
     assert "7 would endanger p9" not in shown and "p9 is approaching 7" not in shown, shown
+
+
+def test_two_emergers_each_on_a_collision_course_with_the_main_road_car_both_forced_it(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely ...
+    to cause the driver of another vehicle to change its speed or course in order to avoid an
+    accident"; another driver doing the same at the same moment does not excuse it. 7 stops and
+    pulls out east (y = +1.75); 8 rolls west out of the opposite Stop line at 6 m/s without
+    stopping (y = -1.75). c2 comes north up the main road (x = -1.75) at 13.4 m/s and brakes at
+    5 m/s² to a stop 1.7 s after 7 set off: unslowed, it would have been in 8's zone (first on its
+    way, 3.5 m before 7's) with 8 and in 7's zone with 7 (both its projected gaps below 0). Each
+    pull-out on its own made c2 brake to avoid an accident: 7 and 8 are each punishable, HC 171,
+    each with "would force c2" (the paper run's 236, which stopped as 298 and 182 came out of their
+    lines together; SUMO's account says it braked for 182, which the first conflict on its way,
+    298's, had excused)."""
+    meets_8 = _SET_OFF + 3.19              # unslowed, c2's front on 8's path (y = -1.75) then, on 7's 0.26 s later,
+    begins = _SET_OFF + 1.68               # while 7 is in their zone (3.08 to 3.81 s after it set off)
+    c2 = Motion(-1.75 - 13.4 * meets_8, 13.4, [(begins, 0.0), (13.4 / 5.0, -5.0), (6.0, 0.0)])
+    eight = Motion(1.75 - 6.0 * meets_8, 6.0)   # its front on c2's lane (x = -1.75) as c2 would have been
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "south"), ("8", eight, "east")))
+    for v in ("7", "8"):
+        inc = one(found, v)
+        verdict(inc, "punishable", "HC 171")
+        assert any(f.sentence == f"{v} would force c2 to change speed or course" for f in inc.derived), v
