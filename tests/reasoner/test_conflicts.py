@@ -3,10 +3,9 @@ definitions (docs/history.md, "Conflicts"): two road users crossing at right ang
 speeds, sampled at 5 Hz, so that linear interpolation between samples is exact.
 
 V drives east along y = +1.75 at 5 m/s from x = -20 at t = 0; U drives north along x = -1.75. Both
-are 2.55 m wide, so the conflict zone is the 2.55 m square about (-1.75, +1.75); a position is a
-road user's front, so a car is in the zone from its front reaching the square until its front is
-half its 5 m past it (no longer than the record shows): V from x = -3.025 to x = +2.025, that is
-from t = 3.395 s to t = 4.405 s."""
+are 2.55 m wide, so the conflict zone is the 2.55 m square about (-1.75, +1.75); a car occupies
+it while its centre is within 2.5 m (half its 5 m) of the square: V from x = -5.525 to x = +2.025,
+that is from t = 2.895 s to t = 4.405 s."""
 from __future__ import annotations
 
 import pytest
@@ -31,11 +30,11 @@ V = track("vehicle/7", -20.0, 1.75, 5.0, 0.0)
 
 
 def test_post_encroachment_time_after_the_vehicle_left():
-    """U at 10 m/s from y = -60: its front reaches the zone (y = +0.475) at 6.0475 s: PET = 6.0475 - 4.405."""
+    """U at 10 m/s from y = -60 enters the zone (y = -2.025) at 5.7975 s: PET = 5.7975 - 4.405."""
     c = conflict(V, track("vehicle/u", -1.75, -60.0, 0.0, 10.0), None)
     assert c.area_m2 == pytest.approx(2.55 * 2.55, abs=1e-6)
-    assert (c.mine.entered / S, c.mine.left / S) == (pytest.approx(3.395, abs=1e-6), pytest.approx(4.405, abs=1e-6))
-    assert c.first == "mine" and c.pet_s == pytest.approx(1.6425, abs=1e-6)
+    assert (c.mine.entered / S, c.mine.left / S) == (pytest.approx(2.895, abs=1e-6), pytest.approx(4.405, abs=1e-6))
+    assert c.first == "mine" and c.pet_s == pytest.approx(1.3925, abs=1e-6)
 
 
 def test_time_to_collision_projected_gap_and_drac_on_a_collision_course():
