@@ -23,7 +23,10 @@ explains U's braking:
   order (`ahead_of`): a collision course (unslowed, in the zone together) before a near miss;
   then the zone U would have reached first on its way (the driver resolves the first conflict on
   its way); at one place, the smaller gap (the more severe conflict, as SUMO names the constraint
-  allowing the lowest speed). Or any such W where V's path never meets U's. W may be one of the
+  allowing the lowest speed). Or any such W where V's path never meets U's. Where both are
+  collision courses (`both_collisions`: unslowed, U would have been in each zone with its road
+  user) and V had proceeded when U began to slow, or did within a perception-reaction time
+  after (`proceeding`), each on its own asked the braking, and neither excuses the other. W may be one of the
   road users on V's own approach (`Passage.same_approach`): a main-road car braking for a second
   emerger out of the same line.
 
@@ -41,7 +44,8 @@ from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .motion import STOPPED_MPS, Sample, position_at, speed_at
 from .others import VEHICLE_WIDTH_M
 from .passage import Other, Passage
-from .reaction import FORCE_DECEL_MPS2, SAME_WAY_DEG, SPEED_NOISE_MPS, _Way, needed_deceleration, slowing_began
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, SPEED_NOISE_MPS, _Way, needed_deceleration,
+                       slowing_began)
 
 SECOND = 1_000_000_000
 SAME_ZONE_M = CAR_LENGTH_M / 2  # two conflict zones this close along a road user's way are one place: a road user
@@ -138,6 +142,8 @@ def nearer_conflict(p: Passage, other: Other, mine: Conflict | None,
                      mine_walker=_walking(w))
         if c is None or c.projected_gap_s is None or c.onset_to_zone_m is None or c.projected_gap_s >= PET_MAX_S:
             continue
+        if mine is not None and both_collisions(c, mine) and proceeding(p, onset):
+            continue                    # V's own collision course asked the braking whatever W did
         if (mine is None or ahead_of(c, mine)) and (best is None or ahead_of(c, best[1])):
             best = (w, c)
     return best
@@ -165,6 +171,29 @@ def ahead_of(c: Conflict, d: Conflict) -> bool:
     if abs(c.onset_to_zone_m - d.onset_to_zone_m) > SAME_ZONE_M:
         return c.onset_to_zone_m < d.onset_to_zone_m
     return c.projected_gap_s < d.projected_gap_s
+
+
+def both_collisions(c: Conflict, mine: Conflict) -> bool:
+    """Whether, unslowed, the road user would have been in W's zone with W and in V's zone with V
+    (both projected gaps below 0): each emerger on its own made it brake "in order to avoid an
+    accident" (TSRGD 2016 Sch 9 Pt 7 para 1; HC 172), and W's presence does not excuse V's
+    proceeding, nor V's W's. The braking is then V's and W's alike, and neither is put down to
+    the other: the paper run's 236 stopped as 298 (unslowed, in its zone with it: -3.36 s, 6.3 m
+    on) and 182 (-1.15 s, 19.2 m on) came out of their lines together, and SUMO's account says it
+    braked for 182 (9.0 m/s², held 2.1), which the first-on-its-way order had put down to 298."""
+    return c.projected_gap_s < 0 and mine.projected_gap_s < 0
+
+
+def proceeding(p: Passage, onset: int) -> bool:
+    """Whether V had proceeded (crossed its line, else entered the junction) when the road user
+    began to slow, or did so within REACTION_TIME_S after: only then was the braking a reaction
+    to V's proceeding as much as to W. One begun earlier than a perception-reaction time before
+    V moved off its line was the conflict already before it (W's), V's only anticipated: the
+    paper run's 164 began to slow 2.8 s before 199 crossed its Stop line, with 293 standing in
+    its way 18 m on (SUMO's account: leader 293), and 161 3.0 s before 125 crossed (SUMO: it did
+    not brake for 125). None of the record (no act): not proceeding."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    return act is not None and act - onset <= REACTION_TIME_S * SECOND
 
 
 def why(c: Conflict, mine: Conflict | None) -> str:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import re
 
-from tests.helpers.foreign import Foreign, Motion, crossroads, ns, rate
+from tests.helpers.foreign import LINE_M, Foreign, Motion, crossroads, ns, rate
 from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _OUT_OF_C2S_WAY, _SET_OFF,
                                                    judge, mps, no_violation, of, one, runner_run, stated_stop_camera,
                                                    stop_then_go_run, unseen_main_road_run, verdict)
@@ -249,3 +249,52 @@ def test_a_give_way_pull_out_making_a_main_road_car_stop_inside_the_junction_is_
     inc = one(judge(tmp_path, run), "7")
     verdict(inc, "punishable", "HC 172")
     assert any(f.sentence == "c2 is approaching 7" for f in inc.derived)
+
+
+def test_a_pedestrian_who_crossed_in_front_of_a_car_waiting_at_its_line_and_left_its_path_was_not_endangered():
+    """HC 170 and 172, TSRGD 2016 Sch 9 Pt 7 para 1: a vehicle endangers a pedestrian only where
+    the pedestrian is in or entering its path within 2 s of it being there (derived.ENDANGER_S),
+    and positions are the road user's front (DESIGN: entity.state). 7 waits 6 s at its Give Way
+    line (west arm), its front 12.5 m from the centre; p9 walks north at 1.8 m/s across 7's arm 1.7 m ahead of
+    7's front and is out of 7's lane 0.3 s before 7 moves off: 7 waited for it and followed it
+    over, its front reaching p9's way about 1.5 s after p9 had left 7's. p9 was never in 7's path
+    with 7 there, nor entering it after 7 had passed: not endangered (the paper run's 249 and p9,
+    where a car standing at its line, its front short of the pedestrian's way, was read as in
+    the zone with it: post-encroachment time 0, "249 would endanger p9")."""
+    from reasoner import derived, history
+
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
+    run.spawn("7")
+    waits = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=6.0, then=10.0)   # stands 6.87 to 12.87 s
+    run.drive("7", waits, "west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("7", waits, "west", rate(5, START, START + 25.0), t_start=START, facts=["7 has a give way sign"])
+    # p9's centre leaves 7's swept lane (y 0.475 to 3.025, a 2.55 m vehicle on y = 1.75) with its
+    # half width and half its length (0.24 + 0.11 m) at y = 3.135, 0.3 s before 7 sets off
+    leaves = 6.87 + 6.0 - 0.3
+    walk(run, "p9", (-10.8, 3.135 - 1.8 * leaves), (0.0, 1.8), START + 25.0, watched=True)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
+    assert "7 would endanger p9" not in shown and "p9 is approaching 7" not in shown, shown
+
+
+def test_two_emergers_each_on_a_collision_course_with_the_main_road_car_both_forced_it(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely ...
+    to cause the driver of another vehicle to change its speed or course in order to avoid an
+    accident"; another driver doing the same at the same moment does not excuse it. 7 stops and
+    pulls out east (y = +1.75); 8 rolls west out of the opposite Stop line at 6 m/s without
+    stopping (y = -1.75). c2 comes north up the main road (x = -1.75) at 13.4 m/s and brakes at
+    5 m/s² to a stop 1.7 s after 7 set off: unslowed, it would have been in 8's zone (first on its
+    way, 3.5 m before 7's) with 8 and in 7's zone with 7 (both its projected gaps below 0). Each
+    pull-out on its own made c2 brake to avoid an accident: 7 and 8 are each punishable, HC 171,
+    each with "would force c2" (the paper run's 236, which stopped as 298 and 182 came out of their
+    lines together; SUMO's account says it braked for 182, which the first conflict on its way,
+    298's, had excused)."""
+    meets_8 = _SET_OFF + 3.19              # unslowed, c2's front on 8's path (y = -1.75) then, on 7's 0.26 s later,
+    begins = _SET_OFF + 1.68               # while 7 is in their zone (3.08 to 3.81 s after it set off)
+    c2 = Motion(-1.75 - 13.4 * meets_8, 13.4, [(begins, 0.0), (13.4 / 5.0, -5.0), (6.0, 0.0)])
+    eight = Motion(1.75 - 6.0 * meets_8, 6.0)   # its front on c2's lane (x = -1.75) as c2 would have been
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "south"), ("8", eight, "east")))
+    for v in ("7", "8"):
+        inc = one(found, v)
+        verdict(inc, "punishable", "HC 171")
+        assert any(f.sentence == f"{v} would force c2 to change speed or course" for f in inc.derived), v
