@@ -30,9 +30,7 @@ def scene(tmp_path) -> tuple[list, list]:
     routes: dict = {}
     with World(NET, seed=3, extra=ssm_options(ssm)) as world:
         account = Account(routes, world.modes)
-        for ident, start, end, pos in (("main", "j1_j2", "j2_e", 124.0), ("side", "n2_j2", "j2_s2", 158.0)):
-            routes[ident] = world.route(start, end)
-            world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=5.0 if ident == "side" else "max")
+        add_cars(world, routes, (("main", "j1_j2", "j2_e", 124.0, "max"), ("side", "n2_j2", "j2_s2", 158.0, 5.0)))
         for step in range(600):
             if step == 330:                                       # 33 s: r1's light at j1 is red from 32 s
                 for ident, pos in (("red", 90.0), ("queue", 40.0)):
@@ -45,6 +43,14 @@ def scene(tmp_path) -> tuple[list, list]:
         account.close()
     return [y.to_json() for y in account.yields], read_ssm(ssm)
 
+
+
+def add_cars(world, routes: dict, cars) -> None:
+    """Cars into a scene: (id, from edge, to edge, depart position m, depart speed), each route kept
+    in `routes` as the account reads it."""
+    for ident, start, end, pos, speed in cars:
+        routes[ident] = world.route(start, end)
+        world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=speed)
 
 def test_the_account_names_a_junction_foe_a_red_light_and_a_leader_as_sumo_gives_them(tmp_path):
     yields, conflicts = scene(tmp_path)
@@ -187,10 +193,7 @@ def test_a_car_following_the_vehicle_on_its_own_approach_follows_it_and_is_no_fo
     routes: dict = {}
     with World(NET, seed=3) as world:
         account = Account(routes, world.modes)
-        for ident, start, end, pos, speed in (("side", "s2_j2", "j2_e", 150.0, 8.0),
-                                              ("behind", "s2_j2", "j2_j1", 120.0, "max")):
-            routes[ident] = world.route(start, end)
-            world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=speed)
+        add_cars(world, routes, (("side", "s2_j2", "j2_e", 150.0, 8.0), ("behind", "s2_j2", "j2_j1", 120.0, "max")))
         for step in range(120):
             snap = world.step()
             if step == 0:
@@ -262,10 +265,7 @@ def test_a_vehicle_braking_to_stand_at_its_own_stop_line_is_not_coming_into_the_
     routes: dict = {}
     with World(NET, seed=3) as world:
         account = Account(routes, world.modes)
-        for ident, start, end, pos, speed in (("waiting", "n2_j2", "j2_s2", 150.0, 5.0),
-                                              ("inside", "j1_j2", "j2_e", 129.0, "max")):
-            routes[ident] = world.route(start, end)
-            world.add_vehicle(ident, "car", routes[ident], depart_pos=pos, depart_speed=speed)
+        add_cars(world, routes, (("waiting", "n2_j2", "j2_s2", 150.0, 5.0), ("inside", "j1_j2", "j2_e", 129.0, "max")))
         slowed, standing_from, coming = None, None, []
         for step in range(120):
             snap = world.step()
