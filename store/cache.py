@@ -159,9 +159,9 @@ class Cache:
                 self.path, key = MEMORY, memory_key()
                 self._conn = _open(MEMORY, key)
             if self._sealer is None or self._sealer.key != key:
-                self._sealer = Sealer(key, self._sealer.dropped if self._sealer else Counter())
-                if self.path != MEMORY:
-                    _sealers.append((self.path, self._sealer))
+                path = self.path
+                self._sealer = Sealer(key, self._sealer.dropped if self._sealer else Counter(),
+                                      None if path == MEMORY else lambda: _altered.update((path,)))
         assert self._conn is not None
         return self._conn
 
@@ -226,20 +226,16 @@ def go_without_caches(paths: list[str], why: str) -> None:
 _went_without: list[tuple[str, str]] = []
 
 
-_sealers: list[tuple[str, Sealer]] = []
+_altered: Counter[str] = Counter()
 
 
 def altered_caches() -> dict[str, int]:
     """Per cache file this process opened, how many entries it found whose seal did not open
     (altered since gaps wrote them, or damaged where SQLite could not tell): they were dropped and
     computed again from the store, and the command line names the file, as it does a cache it could
-    not read, so that damage to derived data is said whichever check caught it."""
-    found: dict[str, int] = {}
-    for path, sealer in _sealers:
-        dropped = sum(sealer.dropped.values())
-        if dropped:
-            found[path] = found.get(path, 0) + dropped
-    return found
+    not read, so that damage to derived data is said whichever check caught it. One count per file,
+    however many times a long-running process opens it."""
+    return dict(_altered)
 
 
 def unread_caches() -> list[tuple[str, str]]:

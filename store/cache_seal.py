@@ -24,7 +24,7 @@ import struct
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 KEY_BYTES = 32
 SEAL_BYTES = 32
@@ -118,6 +118,8 @@ class Sealer:
     key: bytes
     dropped: Counter[str] = field(default_factory=Counter)
     """Entries whose seal did not open, per table, since this cache was opened."""
+    on_drop: Callable[[], None] | None = None
+    """Told of each entry dropped (store/cache.py counts them per cache file for the warning)."""
 
     def seal(self, table: str, key_parts: tuple[Any, ...], payload: Any) -> bytes:
         """The seal of one entry: its table, what names it (run, chain length, head, ...) and its
@@ -149,6 +151,8 @@ class Sealer:
         good = isinstance(seal, bytes) and hmac.compare_digest(expected, seal)
         if not good and count:
             self.dropped[table] += 1
+            if self.on_drop is not None:
+                self.on_drop()
         return good
 
     def tampered(self) -> dict[str, int]:
