@@ -186,16 +186,13 @@ def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: i
     asks it to wait, so a road user slowing before then was slowing for something else; a stop
     counts only if it was still moving at MOVING_MPS or more once the vehicle set off. What
     explains the reaction (a Stop line of its own, one it followed) is looked for again at its
-    new moment; its own light stays as found (the signals are not at hand here). The slowing that
-    braking ended is taken from `t_from` too (`counted_from`, reaction.slowing_began): slowing
-    already under way while the vehicle stood was for something else, and where the road user
-    was and how fast it went when the vehicle set off is what the vehicle's act met."""
+    new moment; its own light stays as found (the signals are not at hand here)."""
     end = max((s.t for s in other.samples), default=t_from)
     passing = (t_from, end)
     braking = _braking(other.samples, junction, passing)
     stopped = _stopped(other.samples, junction, passing, moving_from=t_from)
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
-    recounted = replace(other, braking=braking, stopped=stopped, followed=None, counted_from=t_from,
+    recounted = replace(other, braking=braking, stopped=stopped, followed=None,
                         own_stop_line=_before_own_stop_line(junction, other.arm, other.samples, moment))
     return _followed(recounted, list(everyone), junction)
 

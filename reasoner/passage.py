@@ -124,8 +124,6 @@ class Other:
     own_stop_line: bool = False      # it braked or stopped before a Stop line of its own arm
     path: tuple[Sample, ...] = ()    # its way through the junction, read on past `samples` where
                                      # they end before it left (rebuild.PATH_AFTER_S); else empty
-    counted_from: int | None = None  # its braking and stop are counted from here (others.since: the moment the
-                                     # vehicle set off), and so is the slowing they ended (reaction.slowing_began)
 
     @property
     def way(self) -> tuple[Sample, ...]:

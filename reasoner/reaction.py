@@ -41,19 +41,12 @@ def slowing_began(other: Other) -> int | None:
     """When the road user began the slowing that ended in its hardest braking or its stop: the last
     of its samples up to that moment still within SPEED_NOISE_MPS of the fastest it went before it.
     Braking is measured over its hardest second or more (motion.peak_deceleration); the driver's
-    reaction began where the slowing did, which may be earlier, but no earlier than its braking is
-    counted from (`counted_from`: when the vehicle set off from its standstill before its line,
-    others.since). Slowing under way while the vehicle stood was for something else; what the
-    vehicle's act can have caused began with it (the paper run's 205, slowing from 13.4 m/s for
-    279 crawling out of j2 as 253 stood at its Give Way line, then braking at 5.5 m/s² as 253 came
-    out: the onset 0.5 s before 253 set off put it down to 279's collision course, where SUMO's
-    account names 253, held 4.32 m/s²)."""
+    reaction began where the slowing did, which may be earlier."""
     marks = [m.t for m in (other.braking.first if other.braking else None, other.stopped) if m is not None]
     if not marks:
         return None
     until = min(marks)
-    since = other.counted_from
-    speeds = [s for s in other.samples if s.speed_mps is not None and s.t <= until and (since is None or s.t >= since)]
+    speeds = [s for s in other.samples if s.speed_mps is not None and s.t <= until]
     if not speeds:
         return until
     top = max(s.speed_mps for s in speeds)
