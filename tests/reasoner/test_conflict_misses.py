@@ -99,3 +99,32 @@ def test_a_main_road_car_braking_in_the_junction_behind_a_vehicle_that_pulled_in
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
         [(f.sentence, f.method) for f in inc.derived]
+
+
+def test_a_stop_after_creeping_on_behind_a_leader_that_had_gone_is_a_change_of_speed_of_its_own(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171) asks of a change of speed whether the vehicle caused
+    it "in order to avoid an accident"; a road user can change speed twice, for two causes. l
+    stands in the junction 8 m north of the centre and pulls away at 3 m/s², turning off east;
+    c2, behind it on the major road from the north at 13.4 m/s, brakes at 4.5 m/s² to 2.5 m/s for
+    it (a leader in its lane, HC 126), creeps on at 2.5 m/s for 2 s once l has turned off, and
+    then stops 7.5 m north of the centre as 7, running its Stop line at 3 m/s (west arm), comes
+    across its way: had c2 crept on, it would have been in 7's zone with 7. The braking was for l;
+    the stop, a second change of speed from a steady 2.5 m/s, was to avoid 7: "7 would force c2"
+    (punishable HC 171 in any case: 7 did not stop). The town run's 225, which braked behind 424
+    waiting to turn in j11, crept on at 2.5 m/s and stopped as 125 (over its Stop line without
+    standing) came across; SUMO's account: foe 125, held 2.5 m/s². On main, the stop was read
+    with the braking as one slowing, explained by the leader at its onset.)"""
+    seven = Motion(-40.0, 3.0)
+    c2 = Motion(-32.5 - 13.4 * 7.52, 13.4, [(7.52, 0.0), (2.42, -4.5), (2.0, 0.0), (0.56, -4.5), (3.0, 0.0), (10.0, 2.0)])
+    lead = Motion(-8.0, 0.0, [(7.5, 0.0), (3.0, 3.0)])
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    times = rate(5, START, START + 25.0)
+    for who, motion, arm in (("7", seven, "west"), ("c2", c2, "north"), ("l", lead, "north>east")):
+        run.spawn(who)
+        run.drive(who, motion, arm, times, t_start=START)
+        run.watch(who, motion, arm, times, t_start=START, facts=camera("7", sign="stop") if who == "7" else None)
+    inc = one(judge(tmp_path, run), "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+    assert not any(f.sentence == "7 would force l to change speed or course" for f in inc.derived)
