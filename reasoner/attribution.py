@@ -41,9 +41,11 @@ import math
 from typing import Sequence
 
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
+from .junctions import Junction
 from .motion import STOPPED_MPS, Sample, position_at, speed_at
 from .others import VEHICLE_WIDTH_M
 from .passage import Other, Passage
+from .rebuild import PAST_TOLERANCE_M
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, SPEED_NOISE_MPS, _Way, needed_deceleration,
                        slowing_began)
 
@@ -144,9 +146,32 @@ def nearer_conflict(p: Passage, other: Other, mine: Conflict | None,
             continue
         if mine is not None and both_collisions(c, mine) and proceeding(p, onset):
             continue                    # V's own collision course asked the braking whatever W did
+        if waited_after(w, other, onset, p.junction, c.mine.entered):
+            continue                    # W still to stand at its line: its proceeding came after the slowing
         if (mine is None or ahead_of(c, mine)) and (best is None or ahead_of(c, best[1])):
             best = (w, c)
     return best
+
+
+def waited_after(w: Other, other: Other, onset: int, junction: Junction, entered: int | None) -> bool:
+    """Whether W, coming from another arm than the road user `other`, after `other` began to slow
+    (`onset`) and before W came into their zone (`entered`, where the record shows it), stood
+    still at or behind its own line (its arm's Stop, Give Way or signal line, or up to
+    PAST_TOLERANCE_M past it): it was still waiting where the law asks it to, and its proceeding
+    began after the slowing did, so the slowing was no reaction to its proceeding. This is V's
+    rule turned to W: a road user's braking is counted against V only from when V set off from
+    its standstill before its line (derived._set_off, others.since). A W on the road user's own
+    arm is ahead of it in the queue to that line, and what the road user slowed for is W standing
+    in its way, not W's proceeding (the paper run's 164, queued behind 293 at j2's Give Way line,
+    SUMO's account: leader 293).
+    The town run's 279 began to slow at 416.1 s while 108 braked to stand at its Give Way line
+    (417.2-417.5 s) and 114 rode through their conflict zone; 108's projected gap (0.91 s, its
+    later crossing) had named 108, where SUMO's account says 279 braked for 114 (2.55 m/s² held)."""
+    line = junction.line_for(w.arm) if w.arm is not None else None
+    if line is None or w.arm == other.arm:
+        return False
+    return any(s.t > onset and (entered is None or s.t < entered) and s.placed and s.speed_mps is not None
+               and s.speed_mps <= STOPPED_MPS and line.to_line(s.x, s.y) >= -PAST_TOLERANCE_M for s in w.way)
 
 
 def ahead_of(c: Conflict, d: Conflict) -> bool:

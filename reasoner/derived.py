@@ -34,7 +34,7 @@ from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_decele
 from .attribution import SAME_ZONE_M, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
-from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
+from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, stop_apart, well_ahead
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -475,7 +475,18 @@ def _reacting_afresh(p: Passage) -> tuple[Other, ...]:
     if act is None:
         return found
     start = off.last.t if off is not None else act - int(ANTICIPATION_S * SECOND)
-    return tuple(_toward_zone(p, o, start) for o in found)
+    return tuple(_own_stop(p, _toward_zone(p, o, start)) for o in found)
+
+
+def _own_stop(p: Passage, other: Other) -> Other:
+    """The road user, or its stop alone where that was a reaction of its own (others.stop_apart)
+    that nothing else explains while its braking before it is explained: one change of speed for
+    its leader, a second, later, for V (TSRGD 2016 Sch 9 Pt 7 para 1 asks of each change of speed
+    whether V caused it). Where the braking is V's to answer for, it stays the one read."""
+    apart = stop_apart(other, p.others, p.junction)
+    if apart is None or not explained(p, other) or explained(p, apart):
+        return other
+    return apart
 
 
 def _toward_zone(p: Passage, other: Other, start: int) -> Other:

@@ -180,16 +180,17 @@ def _heading_in(junction: Junction, moving: Sample, stop: Sample) -> bool:
     return junction.distance(stop.x, stop.y) < junction.distance(moving.x, moving.y)
 
 
-def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: int) -> Other:
+def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: int, *, stop_only: bool = False) -> Other:
     """The road user with its braking and its stop counted only from `t_from`: the moment the
     vehicle set off from a standstill before its line. Until then the vehicle stood where the law
     asks it to wait, so a road user slowing before then was slowing for something else; a stop
     counts only if it was still moving at MOVING_MPS or more once the vehicle set off. What
     explains the reaction (a Stop line of its own, one it followed) is looked for again at its
-    new moment; its own light stays as found (the signals are not at hand here)."""
+    new moment; its own light stays as found (the signals are not at hand here). `stop_only`: its
+    stop alone, with no braking (reaction.stop_apart: a stop after a steady stretch from `t_from`)."""
     end = max((s.t for s in other.samples), default=t_from)
     passing = (t_from, end)
-    braking = _braking(other.samples, junction, passing)
+    braking = None if stop_only else _braking(other.samples, junction, passing)
     stopped = _stopped(other.samples, junction, passing, moving_from=t_from)
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
     recounted = replace(other, braking=braking, stopped=stopped, followed=None,

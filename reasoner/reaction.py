@@ -20,10 +20,12 @@ the vehicle's to explain, as before.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import NamedTuple, Sequence
 
-from .motion import Sample, position_at, speed_at
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, project
+from .junctions import Junction
+from .motion import MIN_DECEL_SPAN_S, Sample, position_at, speed_at
+from .others import FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, project, since
 from .passage import Other
 
 SECOND = 1_000_000_000
@@ -41,16 +43,51 @@ def slowing_began(other: Other) -> int | None:
     """When the road user began the slowing that ended in its hardest braking or its stop: the last
     of its samples up to that moment still within SPEED_NOISE_MPS of the fastest it went before it.
     Braking is measured over its hardest second or more (motion.peak_deceleration); the driver's
-    reaction began where the slowing did, which may be earlier."""
+    reaction began where the slowing did, which may be earlier, but no earlier than the reaction is
+    counted from (`counted_from`: a stop apart from an earlier braking, others.stop_apart)."""
     marks = [m.t for m in (other.braking.first if other.braking else None, other.stopped) if m is not None]
     if not marks:
         return None
     until = min(marks)
-    speeds = [s for s in other.samples if s.speed_mps is not None and s.t <= until]
+    since = other.counted_from
+    speeds = [s for s in other.samples if s.speed_mps is not None and s.t <= until and (since is None or s.t >= since)]
     if not speeds:
         return until
     top = max(s.speed_mps for s in speeds)
     return max(s.t for s in speeds if s.speed_mps >= top - SPEED_NOISE_MPS)
+
+
+def stop_apart(other: Other, everyone: Sequence[Other], junction: Junction) -> Other | None:
+    """The road user's stop as a reaction of its own: where, after its hardest braking and before
+    it stopped, it went on at a steady speed (within SPEED_NOISE_MPS, moving at others.MOVING_MPS
+    or more) for MIN_DECEL_SPAN_S or longer, a second in which it did not slow by the measure
+    braking is taken over at all (motion.peak_deceleration), the stop that followed was a second
+    braking, begun from that steady speed: the stop alone, counted from the start of that stretch
+    (others.since; `counted_from`: its slowing is looked for there, its leader and its own line
+    at the stop). None where the road user did not both brake and stop, or went on at no such steady
+    speed between. The town run's 225 braked from 16.6 to 2.4 m/s behind 424, standing to turn
+    in j11, crept on at 2.5 m/s for 2.4 s once 424 had gone and then stopped as 125 came across
+    its way (SUMO's account: foe 125); taken as one slowing from 16.6 m/s, the stop was put down
+    to 424."""
+    b, stop = other.braking, other.stopped
+    if b is None or stop is None or stop.t <= b.last.t:
+        return None
+    speeds = [s for s in other.samples if s.speed_mps is not None and b.last.t <= s.t < stop.t]
+    begins: int | None = None
+    first = 0
+    for last, s in enumerate(speeds):
+        if s.speed_mps < MOVING_MPS:
+            first = last + 1
+            continue
+        while max(x.speed_mps for x in speeds[first:last + 1]) - min(x.speed_mps for x in speeds[first:last + 1]) \
+                > SPEED_NOISE_MPS:
+            first += 1
+        if s.t - speeds[first].t >= MIN_DECEL_SPAN_S * SECOND:
+            begins = speeds[first].t
+    if begins is None:
+        return None
+    apart = since(other, everyone, junction, begins, stop_only=True)
+    return replace(apart, counted_from=begins) if apart.stopped is not None else None
 
 
 def cleared_at(mine: Sequence[Sample], theirs: Sequence[Sample], distance: float = VEHICLE_WIDTH_M) -> int | None:

@@ -26,7 +26,7 @@ from typing import Mapping, NamedTuple
 from store import EventRef
 
 from .junctions import Junction, Map, StopLine, heading_sector, sector
-from .motion import STOPPED_MPS, Sample, between, lerp, position_at, speed_at, stop_could_hide
+from .motion import STOPPED_MPS, Sample, between, lerp, peak_deceleration, position_at, speed_at, stop_could_hide
 from .others import near_and_same_approach, own_cause, through
 from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record, Track
@@ -186,7 +186,12 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
     and a main-road car still slowing on its arm when the window closes shows no way at all. Where a
     cause of its own explains the braking (others.own_cause), derived.explained looks no further.
     `every`: each, read on for PATH_AFTER_S whatever it did (the road users on the vehicle's own approach: one that
-    emerges after it crosses a main-road car's way as the window closes, attribution.py)."""
+    emerges after it crosses a main-road car's way as the window closes, attribution.py).
+    A road user braking inside the junction is read on as one braking on its arm is: the reasoner
+    counts braking on the way into and in the conflict zone too (derived._toward_zone), and where
+    its way ends in the junction, the vehicle's positions further down it are in no way to be
+    measured against (reaction.well_ahead: the paper run's 186, braking at 2.3 m/s² in j2 behind
+    193, which had turned into its lane 34 m ahead and slowed to 6 m/s, read as well ahead)."""
     until = t_to + int(PATH_AFTER_S * SECOND)
     longer: list[Mapping[str, Track]] = []      # without a store: the others of the longer window, read once
 
@@ -204,12 +209,21 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
             path = way_on(o)
             if len([s for s in path if s.placed]) > len([s for s in o.samples if s.placed]):
                 o = replace(o, path=path)
-        elif (o.braking or o.stopped) and not own_cause(o) and not through(o.samples, junction):
+        elif (o.braking or o.stopped or _braked_inside(o, junction, t_from, t_to)) and not own_cause(o) \
+                and not through(o.samples, junction):
             path = way_on(o)
             if through(path, junction):
                 o = replace(o, path=path)
         out.append(o)
     return tuple(out)
+
+
+def _braked_inside(o: Other, junction: Junction, t_from: int, t_to: int) -> bool:
+    """Whether the road user slowed while inside the junction's area in [t_from, t_to]
+    (others._braking counts braking outside it only)."""
+    inside = tuple(s for s in o.samples if s.placed and junction.edge(s.x, s.y) <= 0)
+    braking = peak_deceleration(inside, t_from, t_to)
+    return braking is not None and braking.decel_mps2 > 0
 
 
 def _series(record: Record, t0: int, t1: int) -> tuple[tuple[Sample, ...], str]:
