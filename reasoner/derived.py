@@ -727,7 +727,7 @@ def conflict_of(p: Passage, other: Other) -> Conflict | None:
 def _conflict_afresh(p: Passage, other: Other) -> Conflict | None:
     act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
     return conflict(p.samples, other.way, act, walker=_walking(other), onset=slowing_began(other),
-                    extend_m=_extend(p, other))
+                    extend_m=_extend(p, other), rider=other.type == "cyclist")
 
 
 def _extend(p: Passage, other: Other) -> float:

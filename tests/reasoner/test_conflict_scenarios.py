@@ -298,3 +298,39 @@ def test_two_emergers_each_on_a_collision_course_with_the_main_road_car_both_for
         inc = one(found, v)
         verdict(inc, "punishable", "HC 171")
         assert any(f.sentence == f"{v} would force c2 to change speed or course" for f in inc.derived), v
+
+
+def _cyclist_passing_alongside(lag: float):
+    """7 stops and pulls out east along y = +1.75; cy, a cyclist, comes south down the north arm
+    (x = +1.75) at 5 m/s, turns right across 7's lane at x = +1.75 and rides west along
+    y = -1.75, the lane beside 7's, reaching x = -2 when 7's front is at x = -1.5 plus `lag` s.
+    The passage of 7's act."""
+    from reasoner import history
+
+    meets = _SET_OFF + math.sqrt(12.5 - 1.5) + lag      # 7 at x = -1.5 (s = t² - 12.5 after it set off)
+    cy = Motion(5.5 - 5.0 * meets, 5.0)                  # along "north>west": s = 5.5 is x = -2, y = -1.75
+    run = stop_then_go_run()
+    run.spawn("cy", "cyclist")
+    run.drive("cy", cy, "north>west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("cy", cy, "north>west", rate(5, START, START + 25.0), t_start=START)
+    return next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+
+
+def test_a_cyclist_that_crossed_ahead_and_rides_past_in_the_other_lane_is_not_endangered():
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely to
+    endanger any person"; a pedestrian or cyclist is endangered when in or entering the vehicle's
+    path within 2 s of it being there (derived.ENDANGER_S), not for riding past it in the lane
+    beside. cy crossed 7's lane ahead of 7 and its body (SUMO's default bicycle, 0.65 m wide and
+    1.6 m long) was out of 7's way 0.6 s before 7's front got there; it rides past 7 in the
+    opposite lane, 3.5 m from 7's centre line. Not endangered: the paper run's 182 and cyclist
+    223, read as a 2.55 m by 5 m vehicle whose swept path reached into 182's (post-encroachment
+    time 0, "182 would endanger 223"); SUMO's account has the two pass each other. The control,
+    cy a second later, is in 7's path as 7 comes (HC 170: give way to those crossing the road you
+    turn into; para 1's "endanger")."""
+    from reasoner import derived
+
+    p = _cyclist_passing_alongside(0.5)
+    shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
+    assert "7 would endanger cy" not in shown and "cy is approaching 7" not in shown, shown
+    late = _cyclist_passing_alongside(1.5)
+    assert "7 would endanger cy" in {f.sentence for f in derived.facts(late, late.crossing.t)}
