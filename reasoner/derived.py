@@ -638,7 +638,7 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
         or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
         or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None \
-        or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other))
+        or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other), _set_off_t(p))
 
 
 def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
@@ -776,6 +776,12 @@ def _set_off(p: Passage) -> Standstill | None:
         return None
     before = [s for s in p.standstills if act - ANTICIPATION_S * SECOND < s.last.t <= act]
     return before[-1] if before else None
+
+
+def _set_off_t(p: Passage) -> int | None:
+    """When V set off from its standstill before its act (`_set_off`), or None where it never stood."""
+    off = _set_off(p)
+    return off.last.t if off is not None else None
 
 
 def _exit_clear(p: Passage, at: int) -> DerivedFact | None:

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from .attribution import joined_behind, leader
 from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_no_excuse, _nearer, _out_first,
-                      _walking, conflict_of, conflict_words, explained, reacting, stood_on)
+                      _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on)
 from .motion import position_at, speed_at
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within
 from .passage import Other, Passage
@@ -126,7 +126,7 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
                                 f"({format_time(c.mine.left)}) and moved off {(moved - c.mine.left) / 1e9:.1f} s after "
                                 f"{v} had left it, more than a perception-reaction time ({REACTION_TIME_S:g} s, AASHTO): "
                                 f"what held it was not {v}")
-        if joined_behind(p, o, conflict_of(p, o)):
+        if joined_behind(p, o, conflict_of(p, o), _set_off_t(p)):
             return "joined behind", (f"it went through the zone where their paths meet ahead of {v}, which came in "
                                      f"behind it without slowing and went on along its way: braking could not keep it "
                                      f"from an accident with {v} behind it")

@@ -379,17 +379,20 @@ def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
 
 
-def _joining_behind(ahead_s: float) -> Foreign:
+def _joining_behind(ahead_s: float, *, rolls: bool = False) -> Foreign:
     """7 stops at its Stop line (west arm), pulls away at 2 m/s² up to 8 m/s and turns left into
     the main road's northbound lane (x = -1.75), its front reaching that lane 3.28 s after it set
-    off; c2 comes north up that lane at 13.4 m/s and, 14 m short of the centre, brakes at 2.5 m/s²
+    off (`rolls`: it comes to that lane at the same moment at a steady 6.5 m/s, never standing);
+    c2 comes north up that lane at 13.4 m/s and, 14 m short of the centre, brakes at 2.5 m/s²
     for 2.2 s (to 7.9 m/s, then holds it), passing where 7 turns in `ahead_s` s before 7's front
     gets there."""
     from tests.reasoner.test_foreign_scenarios import camera
 
-    seven = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=2.0, then=4.0)     # sets off at _SET_OFF
+    joins = _SET_OFF + math.sqrt(12.5 - 1.75)
+    seven = Motion(-1.75 - 6.5 * joins, 6.5) if rolls else \
+        Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=2.0, then=4.0)           # sets off at _SET_OFF
     braking_to_merge = (13.4 - math.sqrt(13.4 ** 2 - 2 * 2.5 * 15.75)) / 2.5        # y = -14 to y = +1.75
-    begins = _SET_OFF + math.sqrt(12.5 - 1.75) - ahead_s - braking_to_merge
+    begins = joins - ahead_s - braking_to_merge
     c2 = Motion(-14.0 - 13.4 * begins, 13.4, [(begins, 0.0), (2.2, -2.5), (20.0, 0.0)])
     run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
     times = rate(5, START, START + 25.0)
@@ -410,10 +413,16 @@ def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_p
     accident with a car joining behind it (it only brings the two closer; HC 126 leaves the gap to
     the one behind): a lawful Stop, c2 not said to be forced (the paper run's 136, through the
     merge 0.74 s before 283 turned in behind it, braking as its leader 149 did; SUMO's account:
-    leader 149). The control: c2 a second behind 7's front, which 7 pulls out in front of, and
-    which brakes the same: forced, punishable HC 171."""
+    leader 149). c2 began to slow while 7 still stood at its line, where it made no one change
+    speed. The controls: 7 rolling through its line at 6.5 m/s as c2 brakes the same (the town
+    run's 236, which came through its Give Way line at 12 m/s into the road 411 was turning into;
+    SUMO's account: 411 braked for it), and c2 a second behind 7's front, which 7 pulls out in
+    front of: forced, punishable HC 171."""
     (tmp_path / "behind").mkdir()
     (tmp_path / "control").mkdir()
+    (tmp_path / "rolls").mkdir()
+    rolled = judge(tmp_path / "rolls", _joining_behind(2.5, rolls=True))
+    assert any(f.sentence == "7 would force c2 to change speed or course" for i in of(rolled, "7") for f in i.derived)
     found = judge(tmp_path / "behind", _joining_behind(2.5))
     assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
     no_violation(found, "7")
