@@ -642,21 +642,25 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
 
 
 def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
-    """V's conflict with the road user, and when the road user moved off again, where it came to
-    a stop only after V had left their conflict zone (V first) and stood on more than
-    REACTION_TIME_S after V had left it: a driver V made stop moves off once V is out of its way,
-    within a perception-reaction time (AASHTO's 2.5 s, above the 90th percentile); one that came
-    to a standstill with V already gone, and still stood well after, was held by something else
-    (oncoming traffic or pedestrians its own turn gives way to, HC 170 and 180), and that it
-    stopped "in order to avoid an accident" with V is not shown (TSRGD 2016 Sch 9 Pt 7 para 1; a
-    ground in doubt is not proven). The paper run's 139 braked as 273 crossed the arm it was to
-    turn into, stopped at its right-turn waiting place 2.2 s after 273 had left their zone, and
-    stood 4.7 s after it had (SUMO's account: pedestrians p7 and p6 on the crossings of its way).
-    None otherwise, or where the record cannot tell (no stop, V's leaving unknown, the record
-    ending while it stands)."""
+    """V's conflict with the road user, and when the road user moved off again, where, unslowed,
+    it would have come into their conflict zone only after V had left it (projected gap 0 or
+    more: no collision course), it came to a stop only after V had left (V first), and it stood on
+    more than REACTION_TIME_S after V had left: a driver V made stop moves off once V is out of
+    its way, within a perception-reaction time (AASHTO's 2.5 s, above the 90th percentile); one
+    that would not have met V had it kept on, came to a standstill with V already gone, and still
+    stood well after, was held by something else (oncoming traffic or pedestrians its own turn
+    gives way to, HC 170 and 180), and that it stopped "in order to avoid an accident" with V is
+    not shown (TSRGD 2016 Sch 9 Pt 7 para 1; a ground in doubt is not proven). The paper run's 139
+    braked as 273 crossed the arm it was to turn into (unslowed, 0.93 s behind 273), stopped at its
+    right-turn waiting place 2.2 s after 273 had left their zone, and stood 4.7 s after it had
+    (SUMO's account: pedestrians p7 and p6 on the crossings of its way). One on a collision course
+    that braked hard to a stop just as V cleared, and then stood shaken, was forced whatever it
+    did after. None otherwise, or where the record cannot tell (no stop, no projected gap, V's
+    leaving unknown, the record ending while it stands)."""
     c = conflict_of(p, other)
     stop = other.stopped
-    if stop is None or c is None or c.first != "mine" or c.mine.left is None or stop.t < c.mine.left:
+    if stop is None or c is None or c.first != "mine" or c.mine.left is None or stop.t < c.mine.left \
+            or c.projected_gap_s is None or c.projected_gap_s < 0:
         return None
     moved = next((s.t for s in other.way if s.t > stop.t and s.speed_mps is not None and s.speed_mps > STOPPED_MPS),
                  None)

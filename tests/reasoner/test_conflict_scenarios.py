@@ -367,7 +367,9 @@ def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_
     is not shown. A lawful Stop: no violation, c2 not said to be forced (the paper run's 139,
     which stopped 2.2 s after 273 had left their zone and stood 4.7 s after; SUMO's account:
     the pedestrians on the crossings of its way). The control: c2 stops while 7 is still in
-    their zone and turns in 1 s after 7 has gone: forced, punishable HC 171."""
+    their zone and turns in 1 s after 7 has gone: forced, punishable HC 171 (and so is one on a
+    collision course that brakes hard to a stop as 7 clears and stands shaken: test_foreign_scenarios'
+    test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable)."""
     (tmp_path / "on").mkdir()
     (tmp_path / "control").mkdir()
     found = judge(tmp_path / "on", _turning_in(2.2, 2.5))
