@@ -372,7 +372,13 @@ def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_
     test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable)."""
     (tmp_path / "on").mkdir()
     (tmp_path / "control").mkdir()
-    found = judge(tmp_path / "on", _turning_in(2.2, 2.5))
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _turning_in(2.2, 2.5)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "stood on")]     # the explanation's reason
+    found = judge(tmp_path / "on", run)
     assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
     no_violation(found, "7")
     control = judge(tmp_path / "control", _turning_in(-0.8, 1.8))
@@ -425,7 +431,13 @@ def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_p
     (tmp_path / "rolls").mkdir()
     rolled = judge(tmp_path / "rolls", _joining_behind(2.5, rolls=True))
     assert any(f.sentence == "7 would force c2 to change speed or course" for i in of(rolled, "7") for f in i.derived)
-    found = judge(tmp_path / "behind", _joining_behind(2.5))
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _joining_behind(2.5)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "joined behind")]   # the explanation's reason
+    found = judge(tmp_path / "behind", run)
     assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
     no_violation(found, "7")
     control = judge(tmp_path / "control", _joining_behind(-1.0))
