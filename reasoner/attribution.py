@@ -263,3 +263,42 @@ def _heading_at(samples: Sequence[Sample], t: int) -> tuple[float, float] | None
 
 def _walking(other: Other) -> bool:
     return other.type == "pedestrian" or other.src.startswith("pedestrian/")
+
+
+def joined_behind(p: Passage, other: Other, mine: Conflict | None, set_off: int | None) -> bool:
+    """Whether V, standing at its line when the road user began to slow, came into the road
+    user's way behind it: the road user's slowing began before V set off from its standstill
+    (`set_off`: while V stood where the law asks it to wait, it made no one change speed), it went
+    through their conflict zone first and had left it before V came in (`mine`, V's conflict with
+    it: post-encroachment time above 0, the road user first), V kept on without slowing from its
+    act until it came in (its own course, no giving way to the road user on the way), and V then
+    went on along the road user's way, heading its way (it joined the road user's lane behind it).
+    A driver ahead cannot avoid an accident with one joining behind it by braking, which only
+    brings the two closer: its braking was not "in order to avoid an accident" with V (TSRGD 2016
+    Sch 9 Pt 7 paras 1 and 2; HC 126 leaves the gap to the one behind). The paper run's 136 went
+    through the merge of j2's south arm 0.74 s before 283 turned in behind it, braking at
+    2.2 m/s² as its own leader 149 did 33 m ahead, from before 283 set off (SUMO's account:
+    leader 149 held 2.3). A V that never stood is not answered here: the town run's 411 braked
+    as 236 came at 13 m/s through its Give Way line into the road 411 was turning into, and went
+    through ahead of it (SUMO's account: foe 236, held 3.15). None of this is answered where the
+    record cannot tell (an onset, who was first, when V came in or left, V's speeds or way after)."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    began = slowing_began(other)
+    if mine is None or act is None or set_off is None or began is None or began >= set_off \
+            or mine.first != "theirs" or not mine.pet_s or mine.theirs is None \
+            or mine.theirs.left is None or mine.mine.entered is None or mine.mine.left is None:
+        return False
+    speeds = [s.speed_mps for s in p.samples if act <= s.t <= mine.mine.entered and s.speed_mps is not None]
+    if not speeds or any(v < max(speeds[:i + 1]) - SPEED_NOISE_MPS for i, v in enumerate(speeds)):
+        return False                    # V slowed or stopped on its way in: its timing may have been the road user's
+    way = _Way.of(other.way, VEHICLE_WIDTH_M)
+    after = [s for s in p.samples if s.placed and mine.mine.left <= s.t <= mine.mine.left + 2 * SECOND]
+    if len(way.points) < 2 or not after:
+        return False
+    for s in after:
+        hit = way.hit((s.x, s.y))
+        heading = _heading_at(p.samples, s.t)
+        if hit is None or heading is None or \
+                heading[0] * hit.direction[0] + heading[1] * hit.direction[1] < _SAME_WAY:
+            return False
+    return True

@@ -43,6 +43,8 @@ VEHICLE_WIDTH_M = 2.55   # the widest a vehicle may be (Road Vehicles (Construct
 CAR_LENGTH_M = 5.0       # a passenger car's length, SUMO's default vType (length 5 m)
 WALKER_WIDTH_M = 0.48    # a pedestrian's width, SUMO's default pedestrian vType (width 0.478 m)
 WALKER_LENGTH_M = 0.22   # ... and its length (0.215 m)
+RIDER_WIDTH_M = 0.65     # a cyclist's width, SUMO's default bicycle vType (DEFAULT_BIKETYPE: width 0.65 m)
+RIDER_LENGTH_M = 1.6     # ... and its length (1.6 m)
 PET_MAX_S = 2.0          # SUMO SSM device, DEFAULT_THRESHOLD_PET: an encounter with a PET below 2 s is a conflict
 TTC_MAX_S = 3.0          # SUMO SSM device, DEFAULT_THRESHOLD_TTC
 DRAC_MAX_MPS2 = 3.0      # SUMO SSM device, DEFAULT_THRESHOLD_DRAC
@@ -107,7 +109,8 @@ class Conflict:
 
 
 def conflict(mine: Sequence[Sample], theirs: Sequence[Sample], act: int | None, *, walker: bool = False,
-             onset: int | None = None, extend_m: float = 0.0, mine_walker: bool = False) -> Conflict | None:
+             onset: int | None = None, extend_m: float = 0.0, mine_walker: bool = False,
+             rider: bool = False) -> Conflict | None:
     """The conflict between the vehicle's path (`mine`) and another road user's (`theirs`), with
     its measures: TTC taken at `act`, the projected gap and DRAC at `onset` (when the other began
     to slow). `extend_m`: the other's path goes on this far straight ahead of its last position
@@ -115,11 +118,11 @@ def conflict(mine: Sequence[Sample], theirs: Sequence[Sample], act: int | None, 
     two paths never come within their half widths of each other, or either path is not in the
     record (fewer than two positions). `mine_walker`: the first path is a pedestrian's (a road
     user other than the vehicle, whose conflict with the other's path is asked about:
-    reasoner/attribution.py)."""
+    reasoner/attribution.py). `rider`: the other is a cyclist (`size`)."""
     a, b = _line(mine), _line(theirs, extend_m)
     if a is None or b is None:
         return None
-    their_width, their_length = (WALKER_WIDTH_M, WALKER_LENGTH_M) if walker else (VEHICLE_WIDTH_M, CAR_LENGTH_M)
+    their_width, their_length = size(walker, rider)
     my_width, my_length = (WALKER_WIDTH_M, WALKER_LENGTH_M) if mine_walker else (VEHICLE_WIDTH_M, CAR_LENGTH_M)
     met = _zone(a, b, my_width, their_width)
     if met is None:
@@ -134,6 +137,21 @@ def conflict(mine: Sequence[Sample], theirs: Sequence[Sample], act: int | None, 
     gap, drac, to_zone, speed = _projected(theirs, b, zone.buffer(their_length / 2), my_time, onset)
     return Conflict(point.x, point.y, zone.area, my_time, their_time, pet, first, ttc, gap, drac,
                     onset if gap is not None else None, to_zone, speed)
+
+
+def size(walker: bool, rider: bool = False) -> tuple[float, float]:
+    """The width and length of the part of the road a road user sweeps: a pedestrian's, a
+    cyclist's (SUMO's default bicycle), else the widest vehicle's with a car's length. A cyclist
+    read as a 2.55 m wide, 5 m long vehicle sweeps a metre or more into the lane beside its own:
+    the paper run's cyclist 223, riding out of j2's south arm past 182 coming in the other lane
+    (3.5 m between their lanes' centres) after crossing 182's way 4.7 s ahead of it, was read
+    as in their conflict zone with 182 at once (post-encroachment time 0, "182 would endanger
+    223"); SUMO's account has the two passing."""
+    if walker:
+        return WALKER_WIDTH_M, WALKER_LENGTH_M
+    if rider:
+        return RIDER_WIDTH_M, RIDER_LENGTH_M
+    return VEHICLE_WIDTH_M, CAR_LENGTH_M
 
 
 @dataclass(frozen=True)

@@ -31,10 +31,10 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
-from .attribution import SAME_ZONE_M, leader, nearer_conflict, why
+from .attribution import SAME_ZONE_M, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
-from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, stop_apart, well_ahead
+from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, reacted_after_clearing, slowing_began, stop_apart, well_ahead
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -648,7 +648,36 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
         or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
-        or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None
+        or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None \
+        or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other), _set_off_t(p))
+
+
+def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
+    """V's conflict with the road user, and when the road user moved off again, where, unslowed,
+    it would have come into their conflict zone only after V had left it (projected gap 0 or
+    more: no collision course), it came to a stop only after V had left (V first), and it stood on
+    more than REACTION_TIME_S after V had left: a driver V made stop moves off once V is out of
+    its way, within a perception-reaction time (AASHTO's 2.5 s, above the 90th percentile); one
+    that would not have met V had it kept on, came to a standstill with V already gone, and still
+    stood well after, was held by something else (oncoming traffic or pedestrians its own turn
+    gives way to, HC 170 and 180), and that it stopped "in order to avoid an accident" with V is
+    not shown (TSRGD 2016 Sch 9 Pt 7 para 1; a ground in doubt is not proven). The paper run's 139
+    braked as 273 crossed the arm it was to turn into (unslowed, 0.93 s behind 273), stopped at its
+    right-turn waiting place 2.2 s after 273 had left their zone, and stood 4.7 s after it had
+    (SUMO's account: pedestrians p7 and p6 on the crossings of its way). One on a collision course
+    that braked hard to a stop just as V cleared, and then stood shaken, was forced whatever it
+    did after. None otherwise, or where the record cannot tell (no stop, no projected gap, V's
+    leaving unknown, the record ending while it stands)."""
+    c = conflict_of(p, other)
+    stop = other.stopped
+    if stop is None or c is None or c.first != "mine" or c.mine.left is None or stop.t < c.mine.left \
+            or c.projected_gap_s is None or c.projected_gap_s < 0:
+        return None
+    moved = next((s.t for s in other.way if s.t > stop.t and s.speed_mps is not None and s.speed_mps > STOPPED_MPS),
+                 None)
+    if moved is None or moved - c.mine.left <= REACTION_TIME_S * SECOND:
+        return None
+    return c, moved
 
 
 def _went_first(p: Passage, other: Other) -> Conflict | None:
@@ -738,7 +767,7 @@ def conflict_of(p: Passage, other: Other) -> Conflict | None:
 def _conflict_afresh(p: Passage, other: Other) -> Conflict | None:
     act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
     return conflict(p.samples, other.way, act, walker=_walking(other), onset=slowing_began(other),
-                    extend_m=_extend(p, other))
+                    extend_m=_extend(p, other), rider=other.type == "cyclist")
 
 
 def _extend(p: Passage, other: Other) -> float:
@@ -762,6 +791,12 @@ def _set_off(p: Passage) -> Standstill | None:
         return None
     before = [s for s in p.standstills if act - ANTICIPATION_S * SECOND < s.last.t <= act]
     return before[-1] if before else None
+
+
+def _set_off_t(p: Passage) -> int | None:
+    """When V set off from its standstill before its act (`_set_off`), or None where it never stood."""
+    off = _set_off(p)
+    return off.last.t if off is not None else None
 
 
 def _exit_clear(p: Passage, at: int) -> DerivedFact | None:

@@ -21,13 +21,13 @@ against.
 """
 from __future__ import annotations
 
-from .attribution import leader
+from .attribution import joined_behind, leader
 from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_no_excuse, _nearer, _out_first,
-                      _walking, conflict_of, conflict_words, explained, reacting)
+                      _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on)
 from .motion import position_at, speed_at
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within
 from .passage import Other, Passage
-from .reaction import FORCE_DECEL_MPS2, reacted_after_clearing, slowing_began, well_ahead
+from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, reacted_after_clearing, slowing_began, well_ahead
 from .tolerance import deceleration, sensor_of
 from .unforced import Unforced
 from .when import format_time
@@ -119,6 +119,17 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
         nearer = _nearer(p, o)
         if nearer is not None:
             return "nearer conflict", f"it slowed for {nearer[0].user}, whose conflict with it came first on its way"
+        held = stood_on(p, o)
+        if held is not None:
+            c, moved = held
+            return "stood on", (f"it came to a stop only after {v} had left the zone where their paths meet "
+                                f"({format_time(c.mine.left)}) and moved off {(moved - c.mine.left) / 1e9:.1f} s after "
+                                f"{v} had left it, more than a perception-reaction time ({REACTION_TIME_S:g} s, AASHTO): "
+                                f"what held it was not {v}")
+        if joined_behind(p, o, conflict_of(p, o), _set_off_t(p)):
+            return "joined behind", (f"it went through the zone where their paths meet ahead of {v}, which came in "
+                                     f"behind it without slowing and went on along its way: braking could not keep it "
+                                     f"from an accident with {v} behind it")
         return "other", "something else the record shows explains its slowing (reasoner/derived.explained)"
     b = o.braking
     if b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:

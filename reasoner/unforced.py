@@ -69,6 +69,9 @@ REASONS = {
     "through first": "it had gone through the conflict zone ahead of the vehicle before it changed speed or course",
     "leader": "it slowed behind its own leader",
     "nearer conflict": "it slowed for another road user whose conflict came first on its way",
+    "stood on": "it stopped only after the vehicle had left their conflict zone and stood on beyond a "
+                "perception-reaction time after",
+    "joined behind": "it went through the conflict zone ahead of the vehicle, which joined its way behind it",
     "in doubt": "its braking does not exceed the threshold by more than its uncertainty",
     "other": "something else the record shows explains it",
 }

@@ -298,3 +298,149 @@ def test_two_emergers_each_on_a_collision_course_with_the_main_road_car_both_for
         inc = one(found, v)
         verdict(inc, "punishable", "HC 171")
         assert any(f.sentence == f"{v} would force c2 to change speed or course" for f in inc.derived), v
+
+
+def _cyclist_passing_alongside(lag: float):
+    """7 stops and pulls out east along y = +1.75; cy, a cyclist, comes south down the north arm
+    (x = +1.75) at 5 m/s, turns right across 7's lane at x = +1.75 and rides west along
+    y = -1.75, the lane beside 7's, reaching x = -2 when 7's front is at x = -1.5 plus `lag` s.
+    The passage of 7's act."""
+    from reasoner import history
+
+    meets = _SET_OFF + math.sqrt(12.5 - 1.5) + lag      # 7 at x = -1.5 (s = t² - 12.5 after it set off)
+    cy = Motion(5.5 - 5.0 * meets, 5.0)                  # along "north>west": s = 5.5 is x = -2, y = -1.75
+    run = stop_then_go_run()
+    run.spawn("cy", "cyclist")
+    run.drive("cy", cy, "north>west", rate(5, START, START + 25.0), t_start=START)
+    run.watch("cy", cy, "north>west", rate(5, START, START + 25.0), t_start=START)
+    return next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+
+
+def test_a_cyclist_that_crossed_ahead_and_rides_past_in_the_other_lane_is_not_endangered():
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely to
+    endanger any person"; a pedestrian or cyclist is endangered when in or entering the vehicle's
+    path within 2 s of it being there (derived.ENDANGER_S), not for riding past it in the lane
+    beside. cy crossed 7's lane ahead of 7 and its body (SUMO's default bicycle, 0.65 m wide and
+    1.6 m long) was out of 7's way 0.6 s before 7's front got there; it rides past 7 in the
+    opposite lane, 3.5 m from 7's centre line. Not endangered: the paper run's 182 and cyclist
+    223, read as a 2.55 m by 5 m vehicle whose swept path reached into 182's (post-encroachment
+    time 0, "182 would endanger 223"); SUMO's account has the two pass each other. The control,
+    cy a second later, is in 7's path as 7 comes (HC 170: give way to those crossing the road you
+    turn into; para 1's "endanger")."""
+    from reasoner import derived
+
+    p = _cyclist_passing_alongside(0.5)
+    shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
+    assert "7 would endanger cy" not in shown and "cy is approaching 7" not in shown, shown
+    late = _cyclist_passing_alongside(1.5)
+    assert "7 would endanger cy" in {f.sentence for f in derived.facts(late, late.crossing.t)}
+
+
+# 7 (STOPS_THEN_GOES) along y = +1.75 is within half a car's length (2.5 m) of the zone it shares with
+# a road user coming down x = +1.75 (a square of a vehicle's width, 2.55 m, about (1.75, 1.75)) from
+# x = -2.025 to x = 5.525: it has left that zone sqrt(12.5 + 5.525) s after it set off
+_7_LEFT_C2S_ZONE = _SET_OFF + math.sqrt(12.5 + 5.525)
+
+
+def _turning_in(stops_after: float, stands: float) -> Foreign:
+    """c2 comes south down the main road (x = +1.75) at 13.4 m/s to turn right into 7's (west)
+    arm, and brakes at 4.5 m/s² to stand at its turning place 8 m north of the centre (2.5 m short
+    of the zone where its path crosses 7's) `stops_after` s after 7 has left that zone; it stands
+    `stands` s, then turns in at 2 m/s²."""
+    stop = _7_LEFT_C2S_ZONE + stops_after
+    braking = 13.4 / 4.5
+    begins = stop - braking
+    c2 = Motion(-8.0 - 13.4 * braking / 2 - 13.4 * begins, 13.4,
+                [(begins, 0.0), (braking, -4.5), (stands, 0.0), (10.0, 2.0)])
+    return stop_then_go_run(("c2", c2, "north>west"))
+
+
+def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_stood_on_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 asks whether 7, proceeding past its Stop line, caused the
+    driver of another vehicle to change its speed or course "in order to avoid an accident" with it.
+    c2 begins to brake 0.8 s before 7 has left the zone where their paths cross (unslowed, it would
+    have come in 0.9 s after 7 left: a near miss), stands at its turning place 2.2 s after 7 has
+    left and stands on 4.7 s after 7 has gone (a right-turner waiting on oncoming traffic or those
+    crossing the road it turns into, HC 170 and 180). A driver 7 made stop moves off once 7 is
+    out of its way, within a perception-reaction time (2.5 s, AASHTO); c2 came to its standstill
+    with 7 gone and stood well after: what held it was not 7, and "to avoid an accident" with 7
+    is not shown. A lawful Stop: no violation, c2 not said to be forced (the paper run's 139,
+    which stopped 2.2 s after 273 had left their zone and stood 4.7 s after; SUMO's account:
+    the pedestrians on the crossings of its way). The control: c2 stops while 7 is still in
+    their zone and turns in 1 s after 7 has gone: forced, punishable HC 171 (and so is one on a
+    collision course that brakes hard to a stop as 7 clears and stands shaken: test_foreign_scenarios'
+    test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable)."""
+    (tmp_path / "on").mkdir()
+    (tmp_path / "control").mkdir()
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _turning_in(2.2, 2.5)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "stood on")]     # the explanation's reason
+    found = judge(tmp_path / "on", run)
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    control = judge(tmp_path / "control", _turning_in(-0.8, 1.8))
+    inc = one(control, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+
+
+def _joining_behind(ahead_s: float, *, rolls: bool = False) -> Foreign:
+    """7 stops at its Stop line (west arm), pulls away at 2 m/s² up to 8 m/s and turns left into
+    the main road's northbound lane (x = -1.75), its front reaching that lane 3.28 s after it set
+    off (`rolls`: it comes to that lane at the same moment at a steady 6.5 m/s, never standing);
+    c2 comes north up that lane at 13.4 m/s and, 14 m short of the centre, brakes at 2.5 m/s²
+    for 2.2 s (to 7.9 m/s, then holds it), passing where 7 turns in `ahead_s` s before 7's front
+    gets there."""
+    from tests.reasoner.test_foreign_scenarios import camera
+
+    joins = _SET_OFF + math.sqrt(12.5 - 1.75)
+    seven = Motion(-1.75 - 6.5 * joins, 6.5) if rolls else \
+        Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=2.0, then=4.0)           # sets off at _SET_OFF
+    braking_to_merge = (13.4 - math.sqrt(13.4 ** 2 - 2 * 2.5 * 15.75)) / 2.5        # y = -14 to y = +1.75
+    begins = joins - ahead_s - braking_to_merge
+    c2 = Motion(-14.0 - 13.4 * begins, 13.4, [(begins, 0.0), (2.2, -2.5), (20.0, 0.0)])
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    times = rate(5, START, START + 25.0)
+    for user, motion, arm in (("7", seven, "west>north"), ("c2", c2, "south")):
+        run.spawn(user)
+        run.drive(user, motion, arm, times, t_start=START)
+        run.watch(user, motion, arm, times, t_start=START, facts=camera("7", sign="stop") if user == "7" else None)
+    return run
+
+
+def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely ...
+    to cause the driver of another vehicle to change its speed or course in order to avoid an
+    accident". c2 goes through the place where 7 turns into its lane 2.5 s before 7's front gets
+    there (out of their zone 1.0 s before 7 comes in; unslowed, 1.4 s) and brakes at 2.5 m/s² as
+    it does (for something of its own ahead); 7 pulls away steadily, never slowing, and joins the
+    lane behind c2. Braking could not keep c2 from an
+    accident with a car joining behind it (it only brings the two closer; HC 126 leaves the gap to
+    the one behind): a lawful Stop, c2 not said to be forced (the paper run's 136, through the
+    merge 0.74 s before 283 turned in behind it, braking as its leader 149 did; SUMO's account:
+    leader 149). c2 began to slow while 7 still stood at its line, where it made no one change
+    speed. The controls: 7 rolling through its line at 6.5 m/s as c2 brakes the same (the town
+    run's 236, which came through its Give Way line at 12 m/s into the road 411 was turning into;
+    SUMO's account: 411 braked for it), and c2 a second behind 7's front, which 7 pulls out in
+    front of: forced, punishable HC 171."""
+    (tmp_path / "behind").mkdir()
+    (tmp_path / "control").mkdir()
+    (tmp_path / "rolls").mkdir()
+    rolled = judge(tmp_path / "rolls", _joining_behind(2.5, rolls=True))
+    assert any(f.sentence == "7 would force c2 to change speed or course" for i in of(rolled, "7") for f in i.derived)
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _joining_behind(2.5)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "joined behind")]   # the explanation's reason
+    found = judge(tmp_path / "behind", run)
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    control = judge(tmp_path / "control", _joining_behind(-1.0))
+    inc = one(control, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
