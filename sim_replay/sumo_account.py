@@ -46,7 +46,7 @@ import libsumo
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
-__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "read_ssm",
+__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "VISIBILITY_M", "Account", "Yield", "read_ssm",
            "ssm_options"]
 
 BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: coasting, SUMO's own dawdle)
@@ -63,11 +63,16 @@ _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) i
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
 _OBEYS_FOES = 8
-_OWN = {"signal", "line", "turn", "speed"}      # a vehicle's own control: its light, its line, its turn, its speed
+_OWN = {"signal", "line", "turn", "speed", "link"}   # a vehicle's own control: its light, its line, its turn, its
+                                                     # speed, its cautious approach to a minor link
 _REACH_EPS_MPS = 1e-3    # a constraint allowing what the vehicle can reach in a tick, less this, allows it all
 _STOOD_MPS = 0.1         # SUMO's halting speed: slower is standing
 _AT_LINE_M = 3.0          # ... this close to the end of its lane: at its line
 _STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying it stands at the line before it goes
+VISIBILITY_M = 4.5        # SUMO's foe visibility distance of a link (the default: neither bundled net sets one): short of
+                          # it, a vehicle cannot yet see whether foes come, and approaches a minor link so that it can stop
+_POSITION_EPS_M = 0.1     # SUMO's POSITION_EPS: where it stops a vehicle short of the next lane (MSVehicle::adaptToJunctionLeader)
+_NOT_MINOR = set("rRyYu")  # link states a minor link's cautious approach is not asked for (the light's, asked as `signal`)
 
 # SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
 ENCOUNTERS = {0: "no conflict ahead", 1: "following", 2: "following (ego follows)", 3: "following (ego leads)",
@@ -257,8 +262,9 @@ class Account:
             gap = max(leader[1], 0.0)
             if other is not None and other.lane.startswith(":") and via and other.lane != via \
                     and other.lane in libsumo.lane.getInternalFoes(via) and not self._same_source(via, other.lane):
-                # SUMO's leader across its path in the junction (a link leader): it must not reach it
-                allowed.append((vehicle.getStopSpeed(ident, speed, gap), "foe", leader[0],
+                # SUMO's leader across its path in the junction (a link leader, MSLink::getLeaderInfo's gap):
+                # SUMO's junction model follows it (MSVehicle::adaptToJunctionLeader), below
+                allowed.append((self._junction_leader(ident, speed, gap, other, via), "foe", leader[0],
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
             else:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
@@ -277,6 +283,9 @@ class Account:
                 if state in _RED and dist <= LOOK_M:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(dist, 0.0)), "signal", None,
                                     {"tls": tls, "state": state, "to_line_m": round(dist, 1)}))
+        minor = self._minor_link(v, via, ahead_m) if mode & _OBEYS_FOES and via and ahead_m is not None else None
+        if minor is not None:
+            allowed.append(minor)
         if via and ahead_m is not None and not inside:
             turn = libsumo.lane.getMaxSpeed(via)
             allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
@@ -301,12 +310,22 @@ class Account:
                 if must_yield and not entered:      # one it must let pass, still coming: within COMING_S
                     arrives = foe_dist / max(other.speed_mps if other is not None else 0.0, 0.1)
                     if arrives <= COMING_S:         # (SUMO lists all that cross its link, one 480 m off too)
-                        waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)),
+                        waits = self._to_internal_junction(v, via, ahead_m, ego_lane)   # held at it, if any
+                        stop_m = waits - _POSITION_EPS_M if waits is not None else gap - 1.0
+                        waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(stop_m, 0.0)),
                                         other_id, {**detail, "foe_arrives_s": round(arrives, 1)}))
                     continue
                 # a foe already in its path: SUMO's junction model stops the vehicle its minGap short
                 # of the crossing point (MSVehicle::adaptToJunctionLeader: stopSpeed(distToCrossing -
                 # minGap))
+                waits = self._to_internal_junction(v, via, ahead_m, ego_lane)
+                if waits is not None:
+                    # its way crosses the foe's beyond the internal junction it comes to (a turn across
+                    # oncoming traffic): SUMO holds it there (MSLink's CONFLICT_STOP_AT_INTERNAL_JUNCTION,
+                    # adaptToJunctionLeader's stop before the next lane), not short of the crossing point
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(waits - _POSITION_EPS_M, 0.0)), "foe",
+                                    other_id, {**detail, "to_internal_junction_m": round(waits, 1)}))
+                    continue
                 allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - vehicle.getMinGap(ident), 0.0)), "foe",
                                 other_id, detail))
         if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
@@ -337,6 +356,95 @@ class Account:
                 binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
                                                      {**detail, "allowed_mps": round(speed_allowed, 2)}))
         return list(binding.values()) or [(before, "none", None, {})]
+
+    def _junction_leader(self, ident: str, speed: float, gap: float, other: VehicleState, via: str) -> float:
+        """The speed SUMO's junction model allows behind a link leader (MSVehicle::adaptToJunctionLeader):
+        its follow speed behind the leader at SUMO's gap (`getLeader`'s: MSLink::getLeaderInfo takes
+        off the ego's minGap, the part of the leader still before the crossing point and the
+        crossing's width), at the leader's speed and deceleration. A leader that joins the
+        vehicle's road there (the same target lane) is followed as that; one crossing its way is
+        followed only until the vehicle could instead reach the crossing point as the leader has
+        gone past it (the larger of the follow speed and the lesser of that speed and the stop
+        speed minGap short of the crossing point). The town's 578 braked at 4.5 m/s² behind 170
+        pulling out of j13's Stop arm onto its road: a stop speed at SUMO's gap allowed all 578
+        could reach, its follow speed 12.91 m/s."""
+        vehicle = libsumo.vehicle
+        follow = vehicle.getFollowSpeed(ident, speed, max(gap, 0.0), other.speed_mps, vehicle.getDecel(other.id),
+                                        other.id)
+        if self._target(via) == self._target(other.lane):
+            return follow                                  # joining its road: SUMO's stopAsap, followed only
+        crossing = next((f[1] for f in vehicle.getJunctionFoes(ident, LOOK_M) if f[0] == other.id), None)
+        if crossing is None or crossing < 0:
+            return follow
+        min_gap = vehicle.getMinGap(ident)
+        stop = vehicle.getStopSpeed(ident, speed, max(crossing - min_gap, 0.0))
+        past_s = max(crossing - gap, 0.0) / max(other.speed_mps, _STOOD_MPS)    # when the leader is past the point
+        if past_s <= 0:
+            return max(follow, stop)
+        final = max(speed, 2.0 * (crossing - min_gap) / past_s - speed)
+        reach = speed + (final - speed) / past_s * self.step_s
+        return max(follow, min(reach, stop))
+
+    @staticmethod
+    def _target(lane: str) -> str | None:
+        """The normal lane a junction lane leads to (through the internal lanes after it)."""
+        seen = set()
+        while lane and lane.startswith(":") and lane not in seen:
+            seen.add(lane)
+            links = libsumo.lane.getLinks(lane)
+            if not links:
+                return None
+            lane = links[0][0]
+        return lane
+
+    def _internal_junction(self, via: str) -> tuple[str, tuple] | None:
+        """The internal junction a junction lane leads to (SUMO's waiting point of a turn across
+        oncoming traffic, at the lane's end) and its link, or None: (the lane after it, the link)."""
+        links = libsumo.lane.getLinks(via) if via.startswith(":") else ()
+        if links and links[0][4].startswith(":"):
+            return links[0][4], links[0]
+        return None
+
+    def _to_internal_junction(self, v: VehicleState, via: str, ahead_m: float | None, ego_lane: str) -> float | None:
+        """Metres from the vehicle's front to the internal junction on its way where its way meets a
+        foe's on `ego_lane`, the lane after it (None where there is none before that meeting)."""
+        if not via or ahead_m is None:
+            return None
+        inner = self._internal_junction(via)
+        if inner is None or inner[0] != ego_lane:
+            return None
+        return ahead_m if v.lane == via else ahead_m + libsumo.lane.getLength(via)
+
+    def _minor_link(self, v: VehicleState, via: str, ahead_m: float) -> tuple | None:
+        """SUMO's cautious approach to its next minor link (MSVehicle::processLinkApproaches: "vehicles
+        should decelerate when approaching a minor link"): while further from it than the link's
+        foe visibility distance (VISIBILITY_M) and able to brake before it, a vehicle cannot yet
+        see whether foes come, and SUMO gives it the speed at which it could stop there
+        (vLinkWait), whatever comes; within sight of it, it goes on if nothing does. A minor link
+        is one without priority (a lower-case state), not a continuation (an entry link whose
+        junction lane leads to an internal junction is one: the vehicle waits there, at the
+        internal junction's link, which is the minor link asked about), and not a light's red or
+        amber. The paper's right-turners on r1 brake at 4.5 m/s² from 13.4 to 6.3 m/s towards j2's
+        internal junction whoever comes, and speed up again within sight of it (paper-11 228,
+        SUMO's answer with every other road user taken away: the same braking)."""
+        inner = self._internal_junction(via)
+        if inner is not None:              # the entry link is a continuation: the internal junction's link
+            state = inner[1][5]
+            seen = ahead_m if v.lane == via else ahead_m + libsumo.lane.getLength(via)
+            link_lane = inner[0]
+        elif not v.lane.startswith(":"):
+            link = libsumo.vehicle.getNextLinks(v.id)[:1]
+            if not link:
+                return None
+            state, seen, link_lane = link[0][5], ahead_m, via
+        else:
+            return None
+        if not state or state.isupper() or state in _NOT_MINOR:
+            return None
+        if seen <= VISIBILITY_M or seen <= _brake_gap(v.speed_mps, libsumo.vehicle.getDecel(v.id), self.step_s):
+            return None                    # within sight of its foes, or past braking before it
+        stop = libsumo.vehicle.getStopSpeed(v.id, v.speed_mps, max(seen - _POSITION_EPS_M, 0.0))
+        return (stop, "link", None, {"link_lane": link_lane, "link_state": state, "to_link_m": round(seen, 1)})
 
     def _reach(self, ident: str, speed: float) -> float:
         """The speed the vehicle can reach from `speed` in a tick (SUMO's maxNextSpeed: speed + its
@@ -436,6 +544,17 @@ def by_road_user(binding: list[tuple[float, str, str | None, dict[str, Any]]],
         if by and (cause == "foe" or (cause == "leader" and detail.get("merged"))):
             out[by] = max(out.get(by, 0.0), shed)
     return out
+
+
+def _brake_gap(speed: float, decel: float, step_s: float) -> float:
+    """The distance SUMO needs to stop from `speed` braking at `decel`, tick by tick as it moves
+    (MSCFModel::brakeGap with the Euler update, no headway): 19.3 m from 13.41 m/s at 4.5 m/s²,
+    where v²/2b gives 20.0."""
+    per_tick = decel * step_s
+    if speed <= per_tick:
+        return 0.0
+    steps = int(speed / per_tick)
+    return step_s * (steps * speed - per_tick * steps * (steps + 1) / 2.0)
 
 
 def _joined(junction: str | None) -> dict[str, Any]:
