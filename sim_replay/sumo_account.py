@@ -416,35 +416,46 @@ class Account:
         return ahead_m if v.lane == via else ahead_m + libsumo.lane.getLength(via)
 
     def _minor_link(self, v: VehicleState, via: str, ahead_m: float) -> tuple | None:
-        """SUMO's cautious approach to its next minor link (MSVehicle::processLinkApproaches: "vehicles
+        """SUMO's cautious approach to a minor link ahead (MSVehicle::processLinkApproaches: "vehicles
         should decelerate when approaching a minor link"): while further from it than the link's
         foe visibility distance (VISIBILITY_M) and able to brake before it, a vehicle cannot yet
         see whether foes come, and SUMO gives it the speed at which it could stop there
         (vLinkWait), whatever comes; within sight of it, it goes on if nothing does. A minor link
-        is one without priority (a lower-case state), not a continuation (an entry link whose
-        junction lane leads to an internal junction is one: the vehicle waits there, at the
-        internal junction's link, which is the minor link asked about), and not a light's red or
-        amber. The paper's right-turners on r1 brake at 4.5 m/s² from 13.4 to 6.3 m/s towards j2's
-        internal junction whoever comes, and speed up again within sight of it (paper-11 228,
-        SUMO's answer with every other road user taken away: the same braking)."""
-        inner = self._internal_junction(via)
-        if inner is not None:              # the entry link is a continuation: the internal junction's link
-            state = inner[1][5]
-            seen = ahead_m if v.lane == via else ahead_m + libsumo.lane.getLength(via)
-            link_lane = inner[0]
-        elif not v.lane.startswith(":"):
-            link = libsumo.vehicle.getNextLinks(v.id)[:1]
-            if not link:
+        is one without priority (a lower-case state) and not a light's red or amber; an entry link
+        whose junction lane leads to an internal junction is a continuation (the vehicle may pass
+        it and wait at the internal junction's link, the next one asked). The links ahead are
+        taken in turn, as SUMO does: the first that holds the vehicle is the one. The paper's
+        right-turners on r1 brake at 4.5 m/s² from 13.4 to 6.3 m/s towards j2's internal junction
+        whoever comes, and speed up within sight of it (paper-11 228: SUMO's next speed the same
+        with every other road user taken away), then again towards the link out over the north
+        arm's pedestrian crossing."""
+        links: list[tuple[str, str, float]] = []          # (the lane beyond the link, its state, metres to it)
+        if not v.lane.startswith(":"):
+            entry = libsumo.vehicle.getNextLinks(v.id)[:1]
+            if not entry:
                 return None
-            state, seen, link_lane = link[0][5], ahead_m, via
-        else:
-            return None
-        if not state or state.isupper() or state in _NOT_MINOR:
-            return None
-        if seen <= VISIBILITY_M or seen <= _brake_gap(v.speed_mps, libsumo.vehicle.getDecel(v.id), self.step_s):
-            return None                    # within sight of its foes, or past braking before it
-        stop = libsumo.vehicle.getStopSpeed(v.id, v.speed_mps, max(seen - _POSITION_EPS_M, 0.0))
-        return (stop, "link", None, {"link_lane": link_lane, "link_state": state, "to_link_m": round(seen, 1)})
+            links.append((via, entry[0][5], ahead_m))
+        lane, seen = via, ahead_m if v.lane.startswith(":") else ahead_m + libsumo.lane.getLength(via)
+        while lane.startswith(":"):
+            out = libsumo.lane.getLinks(lane)[:1]
+            if not out:
+                break
+            beyond = out[0][4] or out[0][0]
+            links.append((beyond, out[0][5], seen))
+            if not beyond.startswith(":"):
+                break
+            lane, seen = beyond, seen + libsumo.lane.getLength(beyond)
+        gap = _brake_gap(v.speed_mps, libsumo.vehicle.getDecel(v.id), self.step_s)
+        for i, (beyond, state, seen) in enumerate(links):
+            cont = i + 1 < len(links) and beyond.startswith(":") and links[i + 1][0].startswith(":") \
+                and i == 0 and not v.lane.startswith(":")       # an entry link on to an internal junction
+            if cont or not state or state.isupper() or state in _NOT_MINOR:
+                continue
+            if seen <= VISIBILITY_M or seen <= gap:
+                continue                   # within sight of its foes, or past braking before it: SUMO goes on
+            stop = libsumo.vehicle.getStopSpeed(v.id, v.speed_mps, max(seen - _POSITION_EPS_M, 0.0))
+            return (stop, "link", None, {"link_lane": beyond, "link_state": state, "to_link_m": round(seen, 1)})
+        return None
 
     def _reach(self, ident: str, speed: float) -> float:
         """The speed the vehicle can reach from `speed` in a tick (SUMO's maxNextSpeed: speed + its
