@@ -315,9 +315,7 @@ class Account:
                         waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(stop_m, 0.0)),
                                         other_id, {**detail, "foe_arrives_s": round(arrives, 1)}))
                     continue
-                # a foe already in its path: SUMO's junction model stops the vehicle its minGap short
-                # of the crossing point (MSVehicle::adaptToJunctionLeader: stopSpeed(distToCrossing -
-                # minGap))
+                # a foe already in its path: SUMO's junction leader (MSVehicle::adaptToJunctionLeader)
                 waits = self._to_internal_junction(v, via, ahead_m, ego_lane)
                 if waits is not None:
                     # its way crosses the foe's beyond the internal junction it comes to (a turn across
@@ -326,8 +324,19 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(waits - _POSITION_EPS_M, 0.0)), "foe",
                                     other_id, {**detail, "to_internal_junction_m": round(waits, 1)}))
                     continue
-                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - vehicle.getMinGap(ident), 0.0)), "foe",
-                                other_id, detail))
+                # SUMO's gap to a link leader across its path (MSLink::getLeaderInfo): to the crossing
+                # point less its minGap, the part of the foe still before it and the crossing's width
+                sumo_gap = ego_dist - vehicle.getMinGap(ident) - (foe_exit + vehicle.getLength(other_id))
+                line_m = v.to_junction_m if not inside and ego_lane == via else None
+                speed_allowed = self._junction_leader(ident, speed, sumo_gap, other, via, ego_dist, line_m)
+                if must_yield and mode & _OBEYS_FOES and not inside and v.to_junction_m is not None \
+                        and self._entering(other.lane):
+                    # one it must let pass, still on the junction lane it came in by (approaching its
+                    # link, as SUMO's junction keeps it): the vehicle's link is not open (MSLink::opened),
+                    # and SUMO holds it at its line (vLinkWait) as well as behind the leader
+                    speed_allowed = min(speed_allowed, vehicle.getStopSpeed(
+                        ident, speed, max(v.to_junction_m - _POSITION_EPS_M, 0.0)))
+                allowed.append((speed_allowed, "foe", other_id, {**detail, "sumo_gap_m": round(sumo_gap, 1)}))
         if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
             arrives, stop, other_id, detail = min(waiting, key=lambda w: w[0])
             allowed.append((stop, "foe", other_id, detail))
@@ -357,33 +366,44 @@ class Account:
                                                      {**detail, "allowed_mps": round(speed_allowed, 2)}))
         return list(binding.values()) or [(before, "none", None, {})]
 
-    def _junction_leader(self, ident: str, speed: float, gap: float, other: VehicleState, via: str) -> float:
-        """The speed SUMO's junction model allows behind a link leader (MSVehicle::adaptToJunctionLeader):
-        its follow speed behind the leader at SUMO's gap (`getLeader`'s: MSLink::getLeaderInfo takes
-        off the ego's minGap, the part of the leader still before the crossing point and the
-        crossing's width), at the leader's speed and deceleration. A leader that joins the
-        vehicle's road there (the same target lane) is followed as that; one crossing its way is
-        followed only until the vehicle could instead reach the crossing point as the leader has
-        gone past it (the larger of the follow speed and the lesser of that speed and the stop
-        speed minGap short of the crossing point). The town's 578 braked at 4.5 m/s² behind 170
-        pulling out of j13's Stop arm onto its road: a stop speed at SUMO's gap allowed all 578
-        could reach, its follow speed 12.91 m/s."""
+    def _junction_leader(self, ident: str, speed: float, gap: float, other: VehicleState, via: str,
+                         crossing: float | None = None, line_m: float | None = None) -> float:
+        """The speed SUMO's junction model allows the vehicle for a link leader, a vehicle in the
+        junction whose way meets its own (MSVehicle::adaptToJunctionLeader), at SUMO's gap
+        (MSLink::getLeaderInfo's: to the crossing point less the vehicle's minGap, the part of
+        the leader still before it and the crossing's width; `getLeader` gives it, or it is
+        reckoned from `getJunctionFoes`). With room left (gap >= 0) SUMO follows the leader:
+        its follow speed at that gap, the leader's speed and deceleration. With none, it stops
+        before the lane where their ways meet (`line_m`: from outside the junction, at its line;
+        inside it, minGap short of the crossing point). A leader that joins the vehicle's road
+        there (the same target lane) is held to that alone; one crossing its way only until the
+        vehicle could instead reach the crossing point as the leader has gone past it (the larger
+        of the two, and of the lesser of that speed and the stop speed minGap short of the point:
+        `crossing`, the distance to it). The town's 578 braked at 4.5 m/s² behind 170 pulling
+        out of j13's Stop arm onto its road (a stop speed at SUMO's gap allowed all 578 could
+        reach, its follow speed 12.91 m/s); the paper's 102 stopped at its own line for 152
+        across its way in j2 (SUMO's gap -10.8 m)."""
         vehicle = libsumo.vehicle
-        follow = vehicle.getFollowSpeed(ident, speed, max(gap, 0.0), other.speed_mps, vehicle.getDecel(other.id),
-                                        other.id)
-        if self._target(via) == self._target(other.lane):
-            return follow                                  # joining its road: SUMO's stopAsap, followed only
-        crossing = next((f[1] for f in vehicle.getJunctionFoes(ident, LOOK_M) if f[0] == other.id), None)
-        if crossing is None or crossing < 0:
-            return follow
         min_gap = vehicle.getMinGap(ident)
+        if gap >= 0:
+            base = vehicle.getFollowSpeed(ident, speed, gap, other.speed_mps, vehicle.getDecel(other.id), other.id)
+        elif line_m is not None:
+            base = vehicle.getStopSpeed(ident, speed, max(line_m - _POSITION_EPS_M, 0.0))
+        else:
+            base = vehicle.getStopSpeed(ident, speed, max((crossing or 0.0) - min_gap, 0.0))
+        if self._target(via) == self._target(other.lane):
+            return base                                    # joining its road: SUMO's stopAsap, held to that
+        if crossing is None:
+            crossing = next((f[1] for f in vehicle.getJunctionFoes(ident, LOOK_M) if f[0] == other.id), None)
+        if crossing is None or crossing < 0:
+            return base
         stop = vehicle.getStopSpeed(ident, speed, max(crossing - min_gap, 0.0))
         past_s = max(crossing - gap, 0.0) / max(other.speed_mps, _STOOD_MPS)    # when the leader is past the point
         if past_s <= 0:
-            return max(follow, stop)
+            return max(base, stop)
         final = max(speed, 2.0 * (crossing - min_gap) / past_s - speed)
         reach = speed + (final - speed) / past_s * self.step_s
-        return max(follow, min(reach, stop))
+        return max(base, min(reach, stop))
 
     @staticmethod
     def _target(lane: str) -> str | None:
@@ -501,6 +521,15 @@ class Account:
                         todo.extend(link[4] or link[0] for link in libsumo.lane.getLinks(inner))
         mine = self._source.get(lane)
         return mine is not None and mine == self._source.get(other)
+
+    def _entering(self, lane: str) -> bool:
+        """Whether a junction lane is the first on a way through the junction (the via lane of a
+        link from an incoming lane): a vehicle on it still holds its link; past an internal
+        junction it has left it (the town-12 run's 250 held at j1's line while the ambulance 499
+        was on :j1_9_0, let go as it went on to :j1_18_0)."""
+        self._same_source(lane, lane)                 # the junction lanes' incoming lanes, once
+        incoming = self._source.get(lane) if self._source is not None else None
+        return incoming is not None and any(link[4] == lane for link in libsumo.lane.getLinks(incoming))
 
     def _merged(self, ident: str, leader: str) -> str | None:
         """The junction where the leader joined the vehicle's road from another arm (their routes
