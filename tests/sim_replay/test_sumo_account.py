@@ -114,7 +114,7 @@ def test_keeping_the_account_changes_no_event_and_only_adds_to_the_truth():
         a.pop("sumo", None), a.pop("in_path")
     assert with_["acts"] == without["acts"]
     assert {y["cause"] for y in with_["yields"]} <= {"foe", "leader", "signal", "line", "turn", "speed",
-                                                      "pedestrian", "none"}
+                                                      "pedestrian", "link", "none"}
 
 
 def crossing_scene(walker: tuple[str, str, float], through_mps: float | None = None) -> tuple[list, dict]:
