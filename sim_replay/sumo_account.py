@@ -8,11 +8,16 @@ Yields. Each tick, every vehicle decelerating at BRAKING_MPS2 or harder near a j
 about with SUMO's own calls: its leader (`vehicle.getLeader`), its next traffic light
 (`getNextTLS`), the junction foes on its way with SUMO's right-of-way answer for each pair
 (`getJunctionFoes`: egoResponse, the foe matrix of the junction), the stop it is held at (the
-world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`) and the
-speed it may drive at all (`getAllowedSpeed`: its speed factor on its lane). SUMO's car-following
-model then says what speed each of those constraints allows now (`getFollowSpeed` behind the
-leader, `getStopSpeed` before a red light, a held stop line or a foe it must let pass or that is
-already in its path, braking at its own deceleration down to a turn's speed); each one allowing
+world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`), the
+minor links ahead of it (`lane.getLinks`) and the speed it may drive at all (`getAllowedSpeed`:
+its speed factor on its lane). SUMO's car-following model then says what speed each of those
+constraints allows now (`getFollowSpeed` behind the leader, `getStopSpeed` before a red light, a
+held stop line or a foe it must let pass, braking at its own deceleration down to a turn's
+speed), and its junction model what it allows for a vehicle already in the junction across its
+way (MSVehicle::adaptToJunctionLeader at MSLink::getLeaderInfo's gap: followed, or, with no room
+left, stopped for at the line or the internal junction before their ways meet) and for a minor
+link it cannot yet see the foes of (its cautious approach, stopping speed until within the
+link's foe visibility distance: "link", its own control); each one allowing
 less than the speed the vehicle braked from in the tick is one it braked for, and the slowing it
 asked for in the tick (the speed braked from less the speed it allows, no more than the vehicle
 shed) is counted to it. Two at once (its own turn and a foe crossing) each count: either alone
@@ -121,7 +126,8 @@ class Yield:
     `merged`: the leader joined its road at the junction from another arm), "signal" (its own light
     red or amber), "line" (held at its own Stop or Give Way line), "turn" (slowing to the speed of
     the junction lane it turns by), "pedestrian" (on or stepping onto a crossing of its path),
-    "speed" (its own speed: factor, limit), or "none" (none of these binds)."""
+    "speed" (its own speed: factor, limit), "link" (SUMO's cautious approach to a minor link
+    whose foes it cannot yet see: its own control), or "none" (none of these binds)."""
 
     vehicle: str
     t_s: float
