@@ -270,7 +270,11 @@ class Account:
                     and other.lane in libsumo.lane.getInternalFoes(via) and not self._same_source(via, other.lane):
                 # SUMO's leader across its path in the junction (a link leader, MSLink::getLeaderInfo's gap):
                 # SUMO's junction model follows it (MSVehicle::adaptToJunctionLeader), below
-                allowed.append((self._junction_leader(ident, speed, gap, other, via), "foe", leader[0],
+                # (no room left, SUMO's gap below 0, `getLeader` gives as 0: held at its line, or, already
+                # in the junction, stopped as soon as it can, as the paper's 236 braked at 9 m/s² for 182)
+                room = gap if leader[1] > 0 else -1.0
+                allowed.append((self._junction_leader(ident, speed, room, other, via,
+                                                      line_m=0.0 if inside else v.to_junction_m), "foe", leader[0],
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
             else:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
@@ -333,7 +337,7 @@ class Account:
                 # SUMO's gap to a link leader across its path (MSLink::getLeaderInfo): to the crossing
                 # point less its minGap, the part of the foe still before it and the crossing's width
                 sumo_gap = ego_dist - vehicle.getMinGap(ident) - (foe_exit + vehicle.getLength(other_id))
-                line_m = v.to_junction_m if not inside and ego_lane == via else None
+                line_m = v.to_junction_m if not inside and ego_lane == via else 0.0 if ego_lane == v.lane else None
                 speed_allowed = self._junction_leader(ident, speed, sumo_gap, other, via, ego_dist, line_m)
                 if must_yield and mode & _OBEYS_FOES and not inside and v.to_junction_m is not None \
                         and self._entering(other.lane):
@@ -381,7 +385,8 @@ class Account:
         reckoned from `getJunctionFoes`). With room left (gap >= 0) SUMO follows the leader:
         its follow speed at that gap, the leader's speed and deceleration. With none, it stops
         before the lane where their ways meet (`line_m`: from outside the junction, at its line;
-        inside it, minGap short of the crossing point). A leader that joins the vehicle's road
+        on that lane already, as soon as it can: stopSpeed(seen - lane length); else minGap short
+        of the crossing point). A leader that joins the vehicle's road
         there (the same target lane) is held to that alone; one crossing its way only until the
         vehicle could instead reach the crossing point as the leader has gone past it (the larger
         of the two, and of the lesser of that speed and the stop speed minGap short of the point:
