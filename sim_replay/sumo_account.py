@@ -8,11 +8,16 @@ Yields. Each tick, every vehicle decelerating at BRAKING_MPS2 or harder near a j
 about with SUMO's own calls: its leader (`vehicle.getLeader`), its next traffic light
 (`getNextTLS`), the junction foes on its way with SUMO's right-of-way answer for each pair
 (`getJunctionFoes`: egoResponse, the foe matrix of the junction), the stop it is held at (the
-world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`) and the
-speed it may drive at all (`getAllowedSpeed`: its speed factor on its lane). SUMO's car-following
-model then says what speed each of those constraints allows now (`getFollowSpeed` behind the
-leader, `getStopSpeed` before a red light, a held stop line or a foe it must let pass or that is
-already in its path, braking at its own deceleration down to a turn's speed); each one allowing
+world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`), the
+minor links ahead of it (`lane.getLinks`) and the speed it may drive at all (`getAllowedSpeed`:
+its speed factor on its lane). SUMO's car-following model then says what speed each of those
+constraints allows now (`getFollowSpeed` behind the leader, `getStopSpeed` before a red light, a
+held stop line or a foe it must let pass, braking at its own deceleration down to a turn's
+speed), and its junction model what it allows for a vehicle already in the junction across its
+way (MSVehicle::adaptToJunctionLeader at MSLink::getLeaderInfo's gap: followed, or, with no room
+left, stopped for at the line or the internal junction before their ways meet) and for a minor
+link it cannot yet see the foes of (its cautious approach, stopping speed until within the
+link's foe visibility distance: "link", its own control); each one allowing
 less than the speed the vehicle braked from in the tick is one it braked for, and the slowing it
 asked for in the tick (the speed braked from less the speed it allows, no more than the vehicle
 shed) is counted to it. Two at once (its own turn and a foe crossing) each count: either alone
@@ -46,7 +51,7 @@ import libsumo
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
-__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "Account", "Yield", "read_ssm",
+__all__ = ["BRAKING_MPS2", "COMING_S", "ENCOUNTERS", "SSM_RANGE_M", "VISIBILITY_M", "Account", "Yield", "read_ssm",
            "ssm_options"]
 
 BRAKING_MPS2 = 0.5       # decelerating at least this hard is braking (below: coasting, SUMO's own dawdle)
@@ -63,11 +68,16 @@ _CLEAR_M = 5.0           # in a junction, a foe this far off (centre to front) i
 _RED = set("rRyYu")      # SUMO's link states a vehicle that obeys signals stops for (red, amber, red-amber)
 _OBEYS_RED = 16          # SUMO's speed-mode bits (sim_replay/sumo_world.py)
 _OBEYS_FOES = 8
-_OWN = {"signal", "line", "turn", "speed"}      # a vehicle's own control: its light, its line, its turn, its speed
+_OWN = {"signal", "line", "turn", "speed", "link"}   # a vehicle's own control: its light, its line, its turn, its
+                                                     # speed, its cautious approach to a minor link
 _REACH_EPS_MPS = 1e-3    # a constraint allowing what the vehicle can reach in a tick, less this, allows it all
 _STOOD_MPS = 0.1         # SUMO's halting speed: slower is standing
 _AT_LINE_M = 3.0          # ... this close to the end of its lane: at its line
 _STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying it stands at the line before it goes
+VISIBILITY_M = 4.5        # SUMO's foe visibility distance of a link (the default: neither bundled net sets one): short of
+                          # it, a vehicle cannot yet see whether foes come, and approaches a minor link so that it can stop
+_POSITION_EPS_M = 0.1     # SUMO's POSITION_EPS: where it stops a vehicle short of the next lane (MSVehicle::adaptToJunctionLeader)
+_NOT_MINOR = set("rRyYu")  # link states a minor link's cautious approach is not asked for (the light's, asked as `signal`)
 
 # SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
 ENCOUNTERS = {0: "no conflict ahead", 1: "following", 2: "following (ego follows)", 3: "following (ego leads)",
@@ -116,7 +126,8 @@ class Yield:
     `merged`: the leader joined its road at the junction from another arm), "signal" (its own light
     red or amber), "line" (held at its own Stop or Give Way line), "turn" (slowing to the speed of
     the junction lane it turns by), "pedestrian" (on or stepping onto a crossing of its path),
-    "speed" (its own speed: factor, limit), or "none" (none of these binds)."""
+    "speed" (its own speed: factor, limit), "link" (SUMO's cautious approach to a minor link
+    whose foes it cannot yet see: its own control), or "none" (none of these binds)."""
 
     vehicle: str
     t_s: float
@@ -257,8 +268,13 @@ class Account:
             gap = max(leader[1], 0.0)
             if other is not None and other.lane.startswith(":") and via and other.lane != via \
                     and other.lane in libsumo.lane.getInternalFoes(via) and not self._same_source(via, other.lane):
-                # SUMO's leader across its path in the junction (a link leader): it must not reach it
-                allowed.append((vehicle.getStopSpeed(ident, speed, gap), "foe", leader[0],
+                # SUMO's leader across its path in the junction (a link leader, MSLink::getLeaderInfo's gap):
+                # SUMO's junction model follows it (MSVehicle::adaptToJunctionLeader), below
+                # (no room left, SUMO's gap below 0, `getLeader` gives as 0: held at its line, or, already
+                # in the junction, stopped as soon as it can, as the paper's 236 braked at 9 m/s² for 182)
+                room = gap if leader[1] > 0 else -1.0
+                allowed.append((self._junction_leader(ident, speed, room, other, via,
+                                                      line_m=0.0 if inside else v.to_junction_m), "foe", leader[0],
                                 {"gap_m": round(gap, 1), "foe_lane": other.lane, "foe_in_junction": True}))
             else:
                 lv = other.speed_mps if other is not None else vehicle.getSpeed(leader[0])
@@ -277,6 +293,9 @@ class Account:
                 if state in _RED and dist <= LOOK_M:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(dist, 0.0)), "signal", None,
                                     {"tls": tls, "state": state, "to_line_m": round(dist, 1)}))
+        minor = self._minor_link(v, via, ahead_m) if mode & _OBEYS_FOES and via and ahead_m is not None else None
+        if minor is not None:
+            allowed.append(minor)
         if via and ahead_m is not None and not inside:
             turn = libsumo.lane.getMaxSpeed(via)
             allowed.append((math.sqrt(turn * turn + 2.0 * vehicle.getDecel(ident) * max(ahead_m, 0.0)), "turn",
@@ -301,14 +320,33 @@ class Account:
                 if must_yield and not entered:      # one it must let pass, still coming: within COMING_S
                     arrives = foe_dist / max(other.speed_mps if other is not None else 0.0, 0.1)
                     if arrives <= COMING_S:         # (SUMO lists all that cross its link, one 480 m off too)
-                        waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(gap - 1.0, 0.0)),
+                        waits = self._to_internal_junction(v, via, ahead_m, ego_lane)   # held at it, if any
+                        stop_m = waits - _POSITION_EPS_M if waits is not None else gap - 1.0
+                        waiting.append((arrives, vehicle.getStopSpeed(ident, speed, max(stop_m, 0.0)),
                                         other_id, {**detail, "foe_arrives_s": round(arrives, 1)}))
                     continue
-                # a foe already in its path: SUMO's junction model stops the vehicle its minGap short
-                # of the crossing point (MSVehicle::adaptToJunctionLeader: stopSpeed(distToCrossing -
-                # minGap))
-                allowed.append((vehicle.getStopSpeed(ident, speed, max(gap - vehicle.getMinGap(ident), 0.0)), "foe",
-                                other_id, detail))
+                # a foe already in its path: SUMO's junction leader (MSVehicle::adaptToJunctionLeader)
+                waits = self._to_internal_junction(v, via, ahead_m, ego_lane)
+                if waits is not None:
+                    # its way crosses the foe's beyond the internal junction it comes to (a turn across
+                    # oncoming traffic): SUMO holds it there (MSLink's CONFLICT_STOP_AT_INTERNAL_JUNCTION,
+                    # adaptToJunctionLeader's stop before the next lane), not short of the crossing point
+                    allowed.append((vehicle.getStopSpeed(ident, speed, max(waits - _POSITION_EPS_M, 0.0)), "foe",
+                                    other_id, {**detail, "to_internal_junction_m": round(waits, 1)}))
+                    continue
+                # SUMO's gap to a link leader across its path (MSLink::getLeaderInfo): to the crossing
+                # point less its minGap, the part of the foe still before it and the crossing's width
+                sumo_gap = ego_dist - vehicle.getMinGap(ident) - (foe_exit + vehicle.getLength(other_id))
+                line_m = v.to_junction_m if not inside and ego_lane == via else 0.0 if ego_lane == v.lane else None
+                speed_allowed = self._junction_leader(ident, speed, sumo_gap, other, via, ego_dist, line_m)
+                if must_yield and mode & _OBEYS_FOES and not inside and v.to_junction_m is not None \
+                        and self._entering(other.lane):
+                    # one it must let pass, still on the junction lane it came in by (approaching its
+                    # link, as SUMO's junction keeps it): the vehicle's link is not open (MSLink::opened),
+                    # and SUMO holds it at its line (vLinkWait) as well as behind the leader
+                    speed_allowed = min(speed_allowed, vehicle.getStopSpeed(
+                        ident, speed, max(v.to_junction_m - _POSITION_EPS_M, 0.0)))
+                allowed.append((speed_allowed, "foe", other_id, {**detail, "sumo_gap_m": round(sumo_gap, 1)}))
         if waiting:     # of the foes it must let pass, it waits for the first to come; the others after it
             arrives, stop, other_id, detail = min(waiting, key=lambda w: w[0])
             allowed.append((stop, "foe", other_id, detail))
@@ -337,6 +375,118 @@ class Account:
                 binding.setdefault(f"{cause} {by}", (speed_allowed, cause, by,
                                                      {**detail, "allowed_mps": round(speed_allowed, 2)}))
         return list(binding.values()) or [(before, "none", None, {})]
+
+    def _junction_leader(self, ident: str, speed: float, gap: float, other: VehicleState, via: str,
+                         crossing: float | None = None, line_m: float | None = None) -> float:
+        """The speed SUMO's junction model allows the vehicle for a link leader, a vehicle in the
+        junction whose way meets its own (MSVehicle::adaptToJunctionLeader), at SUMO's gap
+        (MSLink::getLeaderInfo's: to the crossing point less the vehicle's minGap, the part of
+        the leader still before it and the crossing's width; `getLeader` gives it, or it is
+        reckoned from `getJunctionFoes`). With room left (gap >= 0) SUMO follows the leader:
+        its follow speed at that gap, the leader's speed and deceleration. With none, it stops
+        before the lane where their ways meet (`line_m`: from outside the junction, at its line;
+        on that lane already, as soon as it can: stopSpeed(seen - lane length); else minGap short
+        of the crossing point). A leader that joins the vehicle's road
+        there (the same target lane) is held to that alone; one crossing its way only until the
+        vehicle could instead reach the crossing point as the leader has gone past it (the larger
+        of the two, and of the lesser of that speed and the stop speed minGap short of the point:
+        `crossing`, the distance to it). The town's 578 braked at 4.5 m/s² behind 170 pulling
+        out of j13's Stop arm onto its road (a stop speed at SUMO's gap allowed all 578 could
+        reach, its follow speed 12.91 m/s); the paper's 102 stopped at its own line for 152
+        across its way in j2 (SUMO's gap -10.8 m)."""
+        vehicle = libsumo.vehicle
+        min_gap = vehicle.getMinGap(ident)
+        if gap >= 0:
+            base = vehicle.getFollowSpeed(ident, speed, gap, other.speed_mps, vehicle.getDecel(other.id), other.id)
+        elif line_m is not None:
+            base = vehicle.getStopSpeed(ident, speed, max(line_m - _POSITION_EPS_M, 0.0))
+        else:
+            base = vehicle.getStopSpeed(ident, speed, max((crossing or 0.0) - min_gap, 0.0))
+        if self._target(via) == self._target(other.lane):
+            return base                                    # joining its road: SUMO's stopAsap, held to that
+        if crossing is None:
+            crossing = next((f[1] for f in vehicle.getJunctionFoes(ident, LOOK_M) if f[0] == other.id), None)
+        if crossing is None or crossing < 0:
+            return base
+        stop = vehicle.getStopSpeed(ident, speed, max(crossing - min_gap, 0.0))
+        past_s = max(crossing - gap, 0.0) / max(other.speed_mps, _STOOD_MPS)    # when the leader is past the point
+        if past_s <= 0:
+            return max(base, stop)
+        final = max(speed, 2.0 * (crossing - min_gap) / past_s - speed)
+        reach = speed + (final - speed) / past_s * self.step_s
+        return max(base, min(reach, stop))
+
+    @staticmethod
+    def _target(lane: str) -> str | None:
+        """The normal lane a junction lane leads to (through the internal lanes after it)."""
+        seen = set()
+        while lane and lane.startswith(":") and lane not in seen:
+            seen.add(lane)
+            links = libsumo.lane.getLinks(lane)
+            if not links:
+                return None
+            lane = links[0][0]
+        return lane
+
+    def _internal_junction(self, via: str) -> tuple[str, tuple] | None:
+        """The internal junction a junction lane leads to (SUMO's waiting point of a turn across
+        oncoming traffic, at the lane's end) and its link, or None: (the lane after it, the link)."""
+        links = libsumo.lane.getLinks(via) if via.startswith(":") else ()
+        if links and links[0][4].startswith(":"):
+            return links[0][4], links[0]
+        return None
+
+    def _to_internal_junction(self, v: VehicleState, via: str, ahead_m: float | None, ego_lane: str) -> float | None:
+        """Metres from the vehicle's front to the internal junction on its way where its way meets a
+        foe's on `ego_lane`, the lane after it (None where there is none before that meeting)."""
+        if not via or ahead_m is None:
+            return None
+        inner = self._internal_junction(via)
+        if inner is None or inner[0] != ego_lane:
+            return None
+        return ahead_m if v.lane == via else ahead_m + libsumo.lane.getLength(via)
+
+    def _minor_link(self, v: VehicleState, via: str, ahead_m: float) -> tuple | None:
+        """SUMO's cautious approach to a minor link ahead (MSVehicle::processLinkApproaches: "vehicles
+        should decelerate when approaching a minor link"): while further from it than the link's
+        foe visibility distance (VISIBILITY_M) and able to brake before it, a vehicle cannot yet
+        see whether foes come, and SUMO gives it the speed at which it could stop there
+        (vLinkWait), whatever comes; within sight of it, it goes on if nothing does. A minor link
+        is one without priority (a lower-case state) and not a light's red or amber; an entry link
+        whose junction lane leads to an internal junction is a continuation (the vehicle may pass
+        it and wait at the internal junction's link, the next one asked). The links ahead are
+        taken in turn, as SUMO does: the first that holds the vehicle is the one. The paper's
+        right-turners on r1 brake at 4.5 m/s² from 13.4 to 6.3 m/s towards j2's internal junction
+        whoever comes, and speed up within sight of it (paper-11 228: SUMO's next speed the same
+        with every other road user taken away), then again towards the link out over the north
+        arm's pedestrian crossing."""
+        links: list[tuple[str, str, float]] = []          # (the lane beyond the link, its state, metres to it)
+        if not v.lane.startswith(":"):
+            entry = libsumo.vehicle.getNextLinks(v.id)[:1]
+            if not entry:
+                return None
+            links.append((via, entry[0][5], ahead_m))
+        lane, seen = via, ahead_m if v.lane.startswith(":") else ahead_m + libsumo.lane.getLength(via)
+        while lane.startswith(":"):
+            out = libsumo.lane.getLinks(lane)[:1]
+            if not out:
+                break
+            beyond = out[0][4] or out[0][0]
+            links.append((beyond, out[0][5], seen))
+            if not beyond.startswith(":"):
+                break
+            lane, seen = beyond, seen + libsumo.lane.getLength(beyond)
+        gap = _brake_gap(v.speed_mps, libsumo.vehicle.getDecel(v.id), self.step_s)
+        for i, (beyond, state, seen) in enumerate(links):
+            cont = i + 1 < len(links) and beyond.startswith(":") and links[i + 1][0].startswith(":") \
+                and i == 0 and not v.lane.startswith(":")       # an entry link on to an internal junction
+            if cont or not state or state.isupper() or state in _NOT_MINOR:
+                continue
+            if seen <= VISIBILITY_M or seen <= gap:
+                continue                   # within sight of its foes, or past braking before it: SUMO goes on
+            stop = libsumo.vehicle.getStopSpeed(v.id, v.speed_mps, max(seen - _POSITION_EPS_M, 0.0))
+            return (stop, "link", None, {"link_lane": beyond, "link_state": state, "to_link_m": round(seen, 1)})
+        return None
 
     def _reach(self, ident: str, speed: float) -> float:
         """The speed the vehicle can reach from `speed` in a tick (SUMO's maxNextSpeed: speed + its
@@ -382,6 +532,15 @@ class Account:
                         todo.extend(link[4] or link[0] for link in libsumo.lane.getLinks(inner))
         mine = self._source.get(lane)
         return mine is not None and mine == self._source.get(other)
+
+    def _entering(self, lane: str) -> bool:
+        """Whether a junction lane is the first on a way through the junction (the via lane of a
+        link from an incoming lane): a vehicle on it still holds its link; past an internal
+        junction it has left it (the town-12 run's 250 held at j1's line while the ambulance 499
+        was on :j1_9_0, let go as it went on to :j1_18_0)."""
+        self._same_source(lane, lane)                 # the junction lanes' incoming lanes, once
+        incoming = self._source.get(lane) if self._source is not None else None
+        return incoming is not None and any(link[4] == lane for link in libsumo.lane.getLinks(incoming))
 
     def _merged(self, ident: str, leader: str) -> str | None:
         """The junction where the leader joined the vehicle's road from another arm (their routes
@@ -436,6 +595,17 @@ def by_road_user(binding: list[tuple[float, str, str | None, dict[str, Any]]],
         if by and (cause == "foe" or (cause == "leader" and detail.get("merged"))):
             out[by] = max(out.get(by, 0.0), shed)
     return out
+
+
+def _brake_gap(speed: float, decel: float, step_s: float) -> float:
+    """The distance SUMO needs to stop from `speed` braking at `decel`, tick by tick as it moves
+    (MSCFModel::brakeGap with the Euler update, no headway): 19.3 m from 13.41 m/s at 4.5 m/s²,
+    where v²/2b gives 20.0."""
+    per_tick = decel * step_s
+    if speed <= per_tick:
+        return 0.0
+    steps = int(speed / per_tick)
+    return step_s * (steps * speed - per_tick * steps * (steps + 1) / 2.0)
 
 
 def _joined(junction: str | None) -> dict[str, Any]:
