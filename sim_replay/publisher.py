@@ -155,7 +155,8 @@ class EventPublisher:
         road users come and go keeps only the living ones' publishers."""
         self._put_run([self._prepared(event)])
 
-    def publish_all(self, events: Iterable[dict], payloads: Sequence[bytes] | None = None) -> int:
+    def publish_all(self, events: Iterable[dict], payloads: Sequence[bytes] | None = None,
+                    keys: Sequence[str] | None = None) -> int:
         """Publish events in order (per-source order is what the ingest checks); returns how many.
 
         They go out in runs of up to PUT_RUN whose puts follow one another with nothing between
@@ -169,7 +170,8 @@ class EventPublisher:
 
         ``payloads``, if given, are the events' canonical bytes as already written (a replay's
         stored text: the bytes their hashes cover), put as they are instead of encoding each
-        event again; one per event, and only without a signer (a signature changes the bytes)."""
+        event again; one per event, and only without a signer (a signature changes the bytes).
+        ``keys``, with payloads, are the events' keys (key_for's) where the caller keeps them."""
         if payloads is not None and self._signer is not None:
             raise ValueError("a signing publisher encodes each event itself: give no payloads")
         count = 0
@@ -180,7 +182,7 @@ class EventPublisher:
             if payloads is None:
                 add(prepared(event))
             else:                              # _as_written, inline: a thousand a tick
-                key = key_for(event)
+                key = key_for(event) if keys is None else keys[count]
                 publisher = publishers.get(key)
                 add((publisher_for(key) if publisher is None else publisher, key, event, payloads[count]))
             count += 1
