@@ -296,12 +296,23 @@ class Simulation:
             self._spawn(ident, t)
         around = Around(snap, self.world.network)
         second = round(t * 10) % 10 == 0
+        agents, lines, decide_m = self.agents, self.lines, self.config.decide_m
         for v in snap.vehicles:
-            agent = self.agents.get(v.id)
+            ident = v[0]
+            agent = agents.get(ident)
             if agent is None:
                 continue
             if second:
                 self._each_second(agent, v, t)
+            if agent.passage is None and v.junction is None:     # what _lines would find nothing to do for
+                to_line = v.to_line_m
+                if to_line is None or v.line_kind is None or not v.next_junction:
+                    if ident not in lines:
+                        continue            # no line ahead, none behind
+                elif to_line > decide_m:
+                    line = lines.get(ident)
+                    if line is not None and line.crossed_on is None:
+                        continue            # its line known, too far off to decide yet
             self._lines(agent, v, t, lights, around)
         self.witness.tick(snap, around, t, self.agents, self.lines)
         if publish:
