@@ -106,19 +106,21 @@ class Outlets:
         (EventPublisher.publish_all: a third of the cost of a put each at a thousand events a tick).
         Paced (a speed), each goes at its own time, one by one. ``payloads``: the events' canonical
         bytes as already written, published as they are (EventPublisher.publish_all); by default
-        a simulation's tick's own (sim_events.Tick.payloads), where it wrote them; ignored with a
-        signer, which signs and encodes each event."""
+        a simulation's tick's own (sim_events.Tick.payloads, with its keys, Tick.zenoh_keys), where it
+        wrote them; ignored with a signer, which signs and encodes each event."""
         if self.speed is not None:
             for event in events:
                 self.put(event)
             return
+        keys = None
         if payloads is None:
             payloads = getattr(events, "payloads", None)
+            keys = getattr(events, "zenoh_keys", None) if payloads is not None else None
         if self.signer is not None:
-            events, payloads = [self.signer.sign(event) for event in events], None
+            events, payloads, keys = [self.signer.sign(event) for event in events], None, None
         self._note_all(events)
         if self._publisher is not None:
-            self._published += self._publisher.publish_all(events, payloads)
+            self._published += self._publisher.publish_all(events, payloads, keys)
         if self._recorder is not None:
             for event in events:
                 self._recorder.add(event)

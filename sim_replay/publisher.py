@@ -155,7 +155,8 @@ class EventPublisher:
         road users come and go keeps only the living ones' publishers."""
         self._put_run([self._prepared(event)])
 
-    def publish_all(self, events: Iterable[dict], payloads: Sequence[bytes] | None = None) -> int:
+    def publish_all(self, events: Iterable[dict], payloads: Sequence[bytes] | None = None,
+                    keys: Sequence[str] | None = None) -> int:
         """Publish events in order (per-source order is what the ingest checks); returns how many.
 
         They go out in runs of up to PUT_RUN whose puts follow one another with nothing between
@@ -169,9 +170,12 @@ class EventPublisher:
 
         ``payloads``, if given, are the events' canonical bytes as already written (a replay's
         stored text: the bytes their hashes cover), put as they are instead of encoding each
-        event again; one per event, and only without a signer (a signature changes the bytes)."""
+        event again; one per event, and only without a signer (a signature changes the bytes).
+        ``keys``, with payloads, are the events' keys (key_for's) where the caller keeps them."""
         if payloads is not None and self._signer is not None:
             raise ValueError("a signing publisher encodes each event itself: give no payloads")
+        if payloads is not None and keys is not None:
+            return self._publish_written(events, payloads, keys)
         count = 0
         run: list[_Prepared] = []
         add = run.append
@@ -180,7 +184,7 @@ class EventPublisher:
             if payloads is None:
                 add(prepared(event))
             else:                              # _as_written, inline: a thousand a tick
-                key = key_for(event)
+                key = key_for(event) if keys is None else keys[count]
                 publisher = publishers.get(key)
                 add((publisher_for(key) if publisher is None else publisher, key, event, payloads[count]))
             count += 1
@@ -191,6 +195,23 @@ class EventPublisher:
         if run:
             self._put_run(run)
         return count
+
+    def _publish_written(self, events: Sequence[dict], payloads: Sequence[bytes], keys: Sequence[str]) -> int:
+        """publish_all of events whose bytes and keys are at hand (a simulation's tick): the same
+        runs, cut at PUT_RUN and after each despawn, in one pass over the three."""
+        publishers, publisher_for, put_run = self._publishers, self._publisher_for, self._put_run
+        run: list[_Prepared] = []
+        add = run.append
+        for event, key, payload in zip(events, keys, payloads, strict=True):
+            publisher = publishers.get(key)
+            add((publisher_for(key) if publisher is None else publisher, key, event, payload))
+            if event["kind"] == DESPAWN or len(run) >= PUT_RUN:
+                put_run(run)
+                run = []
+                add = run.append
+        if run:
+            put_run(run)
+        return len(events)
 
     def _prepared(self, event: dict) -> _Prepared:
         """An event ready to put: its publisher (declared on first use), key, event and exact bytes."""

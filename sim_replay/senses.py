@@ -9,7 +9,7 @@ agents' (av.py, watchers.py); whether it matters is the rulebook's.
 from __future__ import annotations
 
 from collections import defaultdict
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from sim_replay.sumo_net import Network
 from sim_replay.world_state import Snapshot, VehicleState
@@ -22,9 +22,9 @@ STOPPED_MPS = 0.1
 NO_ETA = 1e9
 
 
-@dataclass(frozen=True)
-class Other:
-    """A road user at or near a junction, as seen from one approaching it."""
+class Other(NamedTuple):
+    """A road user at or near a junction, as seen from one approaching it (a NamedTuple: a few
+    hundred are made a tick, at a quarter of a frozen dataclass's cost)."""
 
     id: str
     type: str

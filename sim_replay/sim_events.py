@@ -26,13 +26,16 @@ class Tick(list):
     """One tick's events (a list, as before), with `payloads`: each event's canonical bytes
     (store.canonical_json), written by the simulation as it made them, for Outlets.put_all to
     put as they are instead of encoding every event again (the encoding's check of the values is
-    half its cost, and the simulation already knows what it rounded). None: not written."""
+    half its cost, and the simulation already knows what it rounded). None: not written.
+    `zenoh_keys`, with payloads: each event's key (store.key_for's), as the simulation keeps them per
+    source, so that a thousand keys a tick are not written out again for the put."""
 
-    __slots__ = ("payloads",)
+    __slots__ = ("payloads", "zenoh_keys")
 
-    def __init__(self, events=(), payloads: list[bytes] | None = None) -> None:
+    def __init__(self, events=(), payloads: list[bytes] | None = None, zenoh_keys: list[str] | None = None) -> None:
         super().__init__(events)
         self.payloads = payloads
+        self.zenoh_keys = zenoh_keys
 
 
 class Envelopes:

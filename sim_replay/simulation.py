@@ -44,7 +44,7 @@ from sim_replay.net_map import world_map
 from sim_replay.own_network import refusal
 from sim_replay.routes_file import read_routes
 from sim_replay.senses import Around
-from sim_replay.rounding import hundredths, tenths
+from sim_replay.rounding import hundredths, rounded_rows, tenths
 from sim_replay.sim_config import SimConfig
 from sim_replay.sim_events import Envelopes, Tick
 from sim_replay.sumo_account import Account, read_ssm, ssm_options
@@ -53,7 +53,7 @@ from sim_replay.truth import Truth
 from sim_replay.watchers import Line, Watchers
 from sim_replay.witness import Witness
 from sim_replay.world_state import Snapshot, VehicleState
-from store import canonical_json
+from store import canonical_json, key_for
 
 __all__ = ["Progress", "Simulation", "Summary", "simulate"]
 
@@ -61,6 +61,7 @@ Progress = Callable[[float, float], None]      # (world seconds done, world seco
 PLAIN_BELOW = 1e14           # a finite measurement smaller than this, rounded to tenths or hundredths, is a float
                              # orjson writes as the canonical form does (store/canonical.py: zero or 1e-4 <= |x| < 1e16)
 _SORT_KEYS = orjson.OPT_SORT_KEYS
+_DIGITS = (2, 2, 1, 2, 2)     # an entity.state's x, y, heading_deg, speed_mps, accel_mps2: hundredths, tenths
 ON_CALL_SPEED_FACTOR = 1.25
 MRM_SPEED_FACTOR = 0.3
 CRAWL_FACTOR = 0.3           # an emergency vehicle on a call approaches a red light at this share of the limit,
@@ -123,6 +124,7 @@ class Simulation:
         self._rounded: dict[str, tuple] = {}    # per vehicle: its latest raw measurements and their rounding
         self._out: list[dict[str, Any]] = []     # the tick's events so far
         self._written: list[bytes | None] = []   # per event of _out: its canonical bytes, where _states wrote them
+        self._keys: list[str | None] = []        # ... and its key, where _states had it at hand
         self._writing = True                     # whether _states writes them (batches' `written`)
 
     # --- the run ------------------------------------------------------------------------------
@@ -167,6 +169,7 @@ class Simulation:
             out: list[dict[str, Any]] = []
             self._out = out
             self._written = []
+            self._keys = []
             self._emit("sim/world", 0.0, "run.start", {
                 "map": world_map(network, monitors), "rulebooks": self.books.records(), "seed": c.seed,
                 "config": c.to_json()})
@@ -210,17 +213,22 @@ class Simulation:
         if ev is not None:
             self._out.append(ev)
             self._written.append(None)
+            self._keys.append(None)
             self.by_kind[kind] = self.by_kind.get(kind, 0) + 1
         return ev
 
     def _batch(self) -> Iterator[Tick]:
         """What the latest tick made, as one batch (none if it made nothing), with each event's
-        canonical bytes (Tick.payloads): those _states wrote, the others encoded here."""
+        canonical bytes (Tick.payloads) and key (Tick.zenoh_keys): those _states wrote, the others
+        made here."""
         if self._out:
-            events = Tick(self._out, [canonical_json(ev) if payload is None else payload
-                                      for ev, payload in zip(self._out, self._written)] if self._writing else None)
+            events = Tick(self._out) if not self._writing else Tick(
+                self._out, [canonical_json(ev) if payload is None else payload
+                            for ev, payload in zip(self._out, self._written)],
+                [key_for(ev) if key is None else key for ev, key in zip(self._out, self._keys)])
             self._out.clear()
             self._written.clear()
+            self._keys.clear()
             yield events
 
     # --- putting road users on the network ----------------------------------------------------
@@ -288,12 +296,23 @@ class Simulation:
             self._spawn(ident, t)
         around = Around(snap, self.world.network)
         second = round(t * 10) % 10 == 0
+        agents, lines, decide_m = self.agents, self.lines, self.config.decide_m
         for v in snap.vehicles:
-            agent = self.agents.get(v.id)
+            ident = v[0]
+            agent = agents.get(ident)
             if agent is None:
                 continue
             if second:
                 self._each_second(agent, v, t)
+            if agent.passage is None and v.junction is None:     # what _lines would find nothing to do for
+                to_line = v.to_line_m
+                if to_line is None or v.line_kind is None or not v.next_junction:
+                    if ident not in lines:
+                        continue            # no line ahead, none behind
+                elif to_line > decide_m:
+                    line = lines.get(ident)
+                    if line is not None and line.crossed_on is None:
+                        continue            # its line known, too far off to decide yet
             self._lines(agent, v, t, lights, around)
         self.witness.tick(snap, around, t, self.agents, self.lines)
         if publish:
@@ -323,7 +342,7 @@ class Simulation:
     def _states(self, snap: Snapshot, t: float) -> None:
         """Every vehicle's entity.state of this tick (the bulk of the events: one per vehicle per
         tick). Rounding is the dearest part of a body (sim_replay.rounding: round()'s floats without
-        its decimal text), and a third of the vehicles at a thousand stand still in queues,
+        its decimal text, a tick's vehicles at once: `_round`), and a third of the vehicles at a thousand stand still in queues,
         reporting the same measurements tick after tick: their rounded values are kept
         (`_rounded`, with the source's name) and used again while SUMO reports exactly the same
         numbers.
@@ -340,13 +359,11 @@ class Simulation:
             return
         seqs, run, stamp = env.seqs, env.run, env.stamp(t)      # Envelopes.make_all's envelope, made in the one pass
         out, written = self._out, self._written
-        add, add_written, dumps = out.append, written.append, orjson.dumps
+        add, add_written, add_key, dumps = out.append, written.append, self._keys.append, orjson.dumps
+        self._round(snap.vehicles)
         for v in snap.vehicles:
             ident = v[0]
-            raw = v[2:7]                           # x, y, heading_deg, speed_mps, accel_mps2 (VehicleState's order)
-            kept = rounded.get(ident)
-            if kept is None or kept[0] != raw:
-                kept = rounded[ident] = _rounding(ident, raw)
+            kept = rounded[ident]
             agent = agents.get(ident)
             src = kept[1]
             seq = seqs.get(src, 0)
@@ -362,21 +379,38 @@ class Simulation:
                 except orjson.JSONEncodeError:
                     pass
             add_written(payload)
+            add_key(kept[9])
         if snap.vehicles:
             env.count += len(snap.vehicles)
             self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(snap.vehicles)
+
+    def _round(self, vehicles: tuple[VehicleState, ...]) -> None:
+        """Each vehicle's measurements of this tick rounded into `_rounded`, where they are not the
+        ones kept (a standing vehicle's): all of them at once (rounding.rounded_rows)."""
+        rounded, run = self._rounded, self.env.run
+        changed = []
+        for v in vehicles:
+            kept = rounded.get(v[0])
+            if kept is None or kept[0] != v[2:7]:  # x, y, heading_deg, speed_mps, accel_mps2 (VehicleState's order)
+                changed.append(v)
+        if not changed:
+            return
+        raws = [v[2:7] for v in changed]
+        for v, raw, (x, y, heading, speed, accel) in zip(changed, raws, rounded_rows(raws, _DIGITS)):
+            ident = v[0]
+            kept = rounded.get(ident)
+            names = _names(ident, run) if kept is None else kept[8]
+            rounded[ident] = (raw, names[0], x, y, heading, speed, accel, _plain(raw), names, names[1])
 
     def _states_made(self, snap: Snapshot, t: float) -> None:
         """_states where events may be lost (Envelopes.make_all decides which) or none is written."""
         agents, rounded = self.agents, self._rounded
         bodies = []
         add = bodies.append
+        self._round(snap.vehicles)
         for v in snap.vehicles:
             ident = v[0]
-            raw = v[2:7]
-            kept = rounded.get(ident)
-            if kept is None or kept[0] != raw:
-                kept = rounded[ident] = _rounding(ident, raw)
+            kept = rounded[ident]
             agent = agents.get(ident)
             add((kept[1], {"x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5],
                            "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
@@ -384,6 +418,7 @@ class Simulation:
         made = self.env.make_all(t, "entity.state", bodies)
         self._out.extend(made)
         self._written.extend([None] * len(made))
+        self._keys.extend([None] * len(made))
         if made:
             self.by_kind["entity.state"] = self.by_kind.get("entity.state", 0) + len(made)
 
@@ -560,14 +595,19 @@ class Simulation:
             self._set_factor(agent, ON_CALL_SPEED_FACTOR if agent.on_call else agent.profile.speed_factor)
 
 
-def _rounding(ident: str, raw: tuple[float, ...]) -> tuple:
-    """What _states keeps of a vehicle's measurements: them, its source, their rounding, and whether
-    they are plain (each below PLAIN_BELOW in size: a NaN or an infinity is not)."""
+def _names(ident: str, run: str) -> tuple[str, str]:
+    """A vehicle's entity.state source and its key (store.key_for's), written once per vehicle."""
+    src = f"vehicle/{ident}"
+    return src, f"gaps/{run}/{src}/entity.state"
+
+
+def _plain(raw: tuple[float, ...]) -> bool:
+    """Whether a vehicle's measurements are plain: each below PLAIN_BELOW in size (a NaN or an
+    infinity is not). What _round keeps of them: them, its source, their rounding, this, its
+    names (_names) and its key."""
     x, y, heading, speed, accel = raw
-    return (raw, f"vehicle/{ident}", hundredths(x), hundredths(y), tenths(heading), hundredths(speed),
-            hundredths(accel), -PLAIN_BELOW < x < PLAIN_BELOW and -PLAIN_BELOW < y < PLAIN_BELOW
-            and -PLAIN_BELOW < heading < PLAIN_BELOW and -PLAIN_BELOW < speed < PLAIN_BELOW
-            and -PLAIN_BELOW < accel < PLAIN_BELOW)
+    return (-PLAIN_BELOW < x < PLAIN_BELOW and -PLAIN_BELOW < y < PLAIN_BELOW and -PLAIN_BELOW < heading < PLAIN_BELOW
+            and -PLAIN_BELOW < speed < PLAIN_BELOW and -PLAIN_BELOW < accel < PLAIN_BELOW)
 
 
 def simulate(config: SimConfig, progress: Progress | None = None) -> Iterator[dict[str, Any]]:

@@ -182,13 +182,28 @@ class Witness:
 
     def tick(self, snap: Snapshot, around: Around, t: float, agents: dict[str, Agent],
              lines: dict[str, Line]) -> None:
-        boxed = self._boxed
+        """Every vehicle's speed against its road's limit, a box stand begun or ended, the reactions
+        to recent crossings. The look at the limit is made here for the thousand vehicles of a tick
+        (the limit of the road it is on, or of the last one it was on), and `_speeding` is called
+        only for one over it or with a stretch over it to end."""
+        boxed, limits, limit_mph, over = self._boxed, self._limits, self.limit_mph, self._over
         for v in snap.vehicles:
-            agent = agents.get(v.id)
-            if agent is not None:
-                self._speeding(agent, v, t)
-                if v.junction is not None or v.id in boxed:     # outside a junction, only a box stand can end
-                    self._box(agent, v, t, snap, lines.get(v.id))
+            ident = v[0]
+            agent = agents.get(ident)
+            if agent is None:
+                continue
+            junction = v.junction
+            limit = limits.get(v.edge) if junction is None else None
+            if limit is not None:
+                limit_mph[ident] = limit
+            else:
+                limit = limit_mph.get(ident)
+            if limit is not None:
+                mph = round(v.speed_mps * MPH_PER_MPS)
+                if mph > limit or ident in over:
+                    self._speeding(agent, v, t, limit, mph)
+            if junction is not None or ident in boxed:     # outside a junction, only a box stand can end
+                self._box(agent, v, t, snap, lines.get(ident))
         self._react(snap, around, t, agents)
         if self.paths:
             self._recent.tick(t, snap.pedestrians)
@@ -237,13 +252,9 @@ class Witness:
 
     # --- the speed limit ----------------------------------------------------------------------
 
-    def _speeding(self, agent: Agent, v: VehicleState, t: float) -> None:
-        if v.junction is None and v.edge in self._limits:
-            self.limit_mph[v.id] = self._limits[v.edge]
-        limit = self.limit_mph.get(v.id)
-        if limit is None:
-            return
-        mph = round(v.speed_mps * MPH_PER_MPS)
+    def _speeding(self, agent: Agent, v: VehicleState, t: float, limit: int, mph: int) -> None:
+        """v at `mph` (rounded) where the limit is `limit`: a stretch over it begun, carried on or
+        ended (`tick` calls it only where v is over the limit or a stretch of v's is open)."""
         over = self._over.get(v.id)
         if mph > limit:
             if over is None:

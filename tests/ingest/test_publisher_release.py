@@ -28,6 +28,21 @@ def test_a_despawn_releases_its_sources_publishers_and_loses_nothing(link: tuple
     assert ingest.stats()["stored"] == 5 and ingest.gaps() == []
 
 
+def test_a_despawn_among_written_events_with_their_keys_releases_its_sources_publishers(
+        link: tuple[EventPublisher, IngestService]) -> None:
+    """The simulation's road (publish_all with each event's bytes and key, as a Tick carries
+    them): the same runs as without, a despawn's source released, every event stored."""
+    from store import canonical_json, key_for
+    publisher, ingest = link
+    first = make_event("vehicle/9", 0, "entity.state")
+    await_match(publisher, first)
+    events = [first, make_event("vehicle/9", 1), make_event("vehicle/10", 0, "entity.state"), _despawn("vehicle/9", 2)]
+    assert publisher.publish_all(events, [canonical_json(e) for e in events], [key_for(e) for e in events]) == 4
+    assert _sources(publisher) == {f"gaps/{RUN}/vehicle/10"}
+    assert ingest.wait_until_stored(4, timeout=10), ingest.stats()
+    assert ingest.stats()["stored"] == 4 and ingest.gaps() == [] and len(publisher.cache) == 4
+
+
 def test_a_despawn_in_one_run_keeps_the_same_source_of_another(link: tuple[EventPublisher, IngestService]) -> None:
     publisher, ingest = link
     other = make_event("vehicle/9", 0, "entity.state", run="other-run")

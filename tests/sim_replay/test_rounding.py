@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import random
 
-from sim_replay.rounding import hundredths, tenths
+from sim_replay.rounding import hundredths, rounded_rows, tenths
 
 
 def _same(a: float, b: float) -> bool:
@@ -35,3 +35,19 @@ def test_hundredths_and_tenths_are_round_to_the_bit() -> None:
         assert _same(tenths(x), round(x, 1)) or (math.isnan(x) and math.isnan(tenths(x))), x
     short = sum(1 for x in values if type(x) is float and abs(x) < 1e3 and abs(x * 100.0 - round(x * 100.0)) < 0.49)
     assert short > len(values) // 2, "the values hardly try the short way"
+
+
+def test_rows_rounded_at_once_are_round_to_the_bit() -> None:
+    """rounded_rows (a tick's measurements through numpy) gives round()'s floats, ties, zeros,
+    NaN, infinities and huge values included; a row with an integer goes value by value."""
+    values = [float(x) for x in _values()]
+    digits = (2, 2, 1, 2, 2)
+    rows = [tuple(values[i:i + 5]) for i in range(0, len(values) - 4, 5)]
+    for row, got in zip(rows, rounded_rows(rows, digits)):
+        for x, d, y in zip(row, digits, got):
+            assert _same(y, round(x, d)) or (math.isnan(x) and math.isnan(y)), (x, d, y)
+    mixed = [(1.005, 3, 2.675, -0.0, 7), (0.125, 0.25, 1e300, math.nan, -0.004)]
+    for row, got in zip(mixed, rounded_rows(mixed, digits)):
+        for x, d, y in zip(row, digits, got):
+            assert _same(y, round(x, d)) or (math.isnan(x) and math.isnan(y)), (x, d, y)
+    assert rounded_rows([], digits) == []

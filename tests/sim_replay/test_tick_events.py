@@ -111,13 +111,17 @@ def test_each_tick_carries_its_events_canonical_bytes_and_a_measurement_not_plai
 @pytest.mark.parametrize("faults", [FaultRates(), FaultRates(lost_event=0.01, speed_error=0.01)])
 def test_a_simulations_ticks_carry_the_canonical_bytes_of_every_event(faults: FaultRates) -> None:
     """A short run of the bundled map, without faults and with them (lost events among them: the
-    states are then made one by one): every payload is the reference's bytes of its event, and the
-    events are those events() gives."""
+    states are then made one by one): every payload is the reference's bytes of its event, every
+    key (Tick.zenoh_keys, kept per vehicle) the key the store gives it, and the events are those
+    events() gives."""
     from sim_replay.sim_config import SimConfig
     from sim_replay.simulation import Simulation
+    from store import key_for
     from store.canonical import reference_canonical_json
     config = SimConfig(run="w", vehicles=8, duration_s=12.0, seed=4, pedestrians=1, faults=faults)
     ticks = list(Simulation(config).batches())
     assert sum(len(t) for t in ticks) > 500 and all(len(t.payloads) == len(t) for t in ticks)
     assert all(payload == reference_canonical_json(ev) for t in ticks for ev, payload in zip(t, t.payloads))
+    assert all(len(t.zenoh_keys) == len(t) for t in ticks)
+    assert all(key == key_for(ev) for t in ticks for ev, key in zip(t, t.zenoh_keys))
     assert [ev for t in ticks for ev in t] == list(Simulation(config).events())
