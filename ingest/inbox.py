@@ -12,8 +12,8 @@ callback feeding a ``queue.Queue``, throughput was the same (about 38,000 events
 Closing the session closes the channel; samples already in it can still be taken (checked with zenoh
 1.10.2), so a stop loses nothing that was received.
 
-Zenoh's channel is a queue that grows to hold what waited and never shrinks (about 512 bytes a slot:
-65,536 slots, 32 MB, after a fleet's burst, bench/ingest_fleet.py). So once the writer finds the ingest
+Zenoh's channel is a queue that grows to hold what waited and never shrinks (24-32 MB after a burst
+of 50,000-80,000 samples waited, bench/ingest_fleet.py, tests/ingest/test_inbox_memory.py). So once the writer finds the ingest
 quiet after RENEW_AFTER samples, it `renew`s the subscription: a fresh one (with its own channel) is
 declared first, then the old one is emptied and undeclared, and its channel freed. Every sample reaches
 one of the two: from its declaration on, the new subscription gets each sample the session receives,
@@ -21,7 +21,9 @@ and what the old one got before is taken from it before it goes (after RENEW_GRA
 already under way when the new one was declared). A sample that arrived in between reaches both; the
 old one's copy is written first and the new one's is the same bytes under the same (run, src, seq),
 which the store counts as a duplicate (store/batch.py), not a refusal. An undeclared subscriber's
-channel can no longer be read (zenoh 1.10.2 says "Undeclared subscriber"), hence this order.
+channel can no longer be read (zenoh 1.10.2 says "Undeclared subscriber"), hence this order. The
+grace covers a delivery that is quick, not one held up by a full channel: the writer renews only
+when it has taken nothing for QUIET_S (ingest/idle_memory.py), when the old channel is empty.
 """
 from __future__ import annotations
 
