@@ -4,7 +4,9 @@ While events arrive, the writer keeps what makes it fast: SQLite's page cache (s
 CACHE_KIB a connection), Python's free lists and the C heap's freed blocks. Once nothing has
 arrived for QUIET_S, the writer gives them back, once per quiet spell: the store's connections
 shrink their page caches, the collector runs in full, and glibc's `malloc_trim` returns the
-heap's free pages to the kernel (elsewhere than glibc, that step is skipped). bench/ingest_fleet.py
+heap's free pages to the kernel (elsewhere than glibc, that step is skipped). Just before, the inbox
+renews its subscription (ingest/inbox.py `renew`), so that Zenoh's channel, which never shrinks, is
+among what goes back. bench/ingest_fleet.py
 measures the serve's resident memory before and after 10,000 runs.
 """
 from __future__ import annotations

@@ -11,6 +11,19 @@ callback feeding a ``queue.Queue``, throughput was the same (about 38,000 events
 
 Closing the session closes the channel; samples already in it can still be taken (checked with zenoh
 1.10.2), so a stop loses nothing that was received.
+
+Zenoh's channel is a queue that grows to hold what waited and never shrinks (24-32 MB after a burst
+of 50,000-80,000 samples waited, bench/ingest_fleet.py, tests/ingest/test_inbox_memory.py). So once the writer finds the ingest
+quiet after RENEW_AFTER samples, it `renew`s the subscription: a fresh one (with its own channel) is
+declared first, then the old one is emptied and undeclared, and its channel freed. Every sample reaches
+one of the two: from its declaration on, the new subscription gets each sample the session receives,
+and what the old one got before is taken from it before it goes (after RENEW_GRACE_S, for a delivery
+already under way when the new one was declared). A sample that arrived in between reaches both; the
+old one's copy is written first and the new one's is the same bytes under the same (run, src, seq),
+which the store counts as a duplicate (store/batch.py), not a refusal. An undeclared subscriber's
+channel can no longer be read (zenoh 1.10.2 says "Undeclared subscriber"), hence this order. The
+grace covers a delivery that is quick, not one held up by a full channel: the writer renews only
+when it has taken nothing for QUIET_S (ingest/idle_memory.py), when the old channel is empty.
 """
 from __future__ import annotations
 
@@ -23,6 +36,11 @@ from zenoh import ext
 Received = tuple[str, bytes, bool, str]  # (key, payload, is_put, encoding as Zenoh names it)
 POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
 IDLE_S = 0.02   # how long `take` waits for a first sample before returning none (the writer looks around)
+RENEW_AFTER = 10_000
+"""Samples taken since the subscription was declared before a quiet inbox renews it (`renew`): what
+a channel keeps after a few thousand is little, and a renewal costs a declaration on the network."""
+RENEW_GRACE_S = 0.05
+MISS_CAPACITY = 100_000   # misses the listener holds for the writer; a full one makes Zenoh wait, not drop
 
 
 class Inbox:
@@ -30,7 +48,12 @@ class Inbox:
 
     def __init__(self, session: zenoh.Session, key_expr: str, capacity: int) -> None:
         self._session = session
-        self._subscriber = ext.declare_advanced_subscriber(session, key_expr, zenoh.handlers.FifoChannel(capacity))
+        self._key_expr = key_expr
+        self._capacity = capacity
+        self._subscriber, self._misses = self._declare()
+        self._held: list[Received] = []   # taken from a renewed subscription's channel, given out first
+        self._held_misses: list[ext.Miss] = []
+        self._taken = 0                   # samples taken since the subscription was declared
         self._closed = False
         self.publisher_keys: dict[str, str] = {}
         """Per publisher ("<zid>/<eid>") whose samples carry sequence numbers, the key it publishes
@@ -41,10 +64,22 @@ class Inbox:
         own keys, not a walk over every key held."""
         self.first_at = 0.0  # monotonic time the last batch's first sample left Zenoh's channel
 
-    @property
-    def subscriber(self) -> ext.AdvancedSubscriber:
-        """The subscription, for the listeners declared on it (ingest/wire_watch.py)."""
-        return self._subscriber
+    def _declare(self) -> tuple[ext.AdvancedSubscriber, ext.SampleMissListener]:
+        """A subscription with its channel, and the listener of the samples its publishers' sequence
+        numbers say were missed (read by ingest/wire_watch.py through `take_misses`)."""
+        subscriber = ext.declare_advanced_subscriber(self._session, self._key_expr,
+                                                     zenoh.handlers.FifoChannel(self._capacity))
+        return subscriber, subscriber.sample_miss_listener(zenoh.handlers.FifoChannel(MISS_CAPACITY))
+
+    def take_misses(self) -> list[ext.Miss]:
+        """The misses noticed since the last call (nothing more once the session is closed)."""
+        misses, self._held_misses = self._held_misses, []
+        try:
+            while (miss := self._misses.try_recv()) is not None:
+                misses.append(miss)
+        except zenoh.ZError:   # closed with the session
+            pass
+        return misses
 
     @property
     def closing(self) -> bool:
@@ -67,26 +102,62 @@ class Inbox:
         while True:
             self._take_waiting(batch, max_items)
             if len(batch) >= max_items or self._closed or time.monotonic() >= deadline:
+                self._taken += len(batch)
                 return batch
             time.sleep(POLL_S)
 
     def _take_waiting(self, batch: list[Received], max_items: int) -> None:
         """Append to ``batch`` the samples waiting now (as `received` makes them), up to
-        ``max_items`` in it, in one loop: the writer's hot path, and the one way samples are taken."""
-        if self._closed:
-            return
-        try_recv, seen, append = self._subscriber.try_recv, self._keys_seen, batch.append
+        ``max_items`` in it, in one loop: the writer's hot path, and the one way samples are taken
+        (those of a renewed subscription first)."""
+        if self._held:
+            room = max_items - len(batch)
+            batch.extend(self._held[:room])
+            del self._held[:room]
+        if not self._closed and self._take_from(self._subscriber, batch, max_items):
+            self._closed = True
+
+    def _take_from(self, subscriber: ext.AdvancedSubscriber, batch: list[Received], max_items: int) -> bool:
+        """`_take_waiting`'s loop on one subscription's channel; returns whether it found the channel
+        closed (and empty)."""
+        try_recv, seen, append = subscriber.try_recv, self._keys_seen, batch.append
         try:
             while len(batch) < max_items:
                 sample = try_recv()
                 if sample is None:
-                    return
+                    return False
                 item = received(sample)
                 if item[0] not in seen:
                     self._note_first(item[0], sample)
                 append(item)
         except zenoh.ZError:  # "channel is empty and closed": the session was closed
-            self._closed = True
+            return True
+        return False
+
+    def renew(self) -> bool:
+        """Declare a fresh subscription, then empty the old one and undeclare it, freeing its channel
+        (module docstring); only once RENEW_AFTER samples were taken since the last, and only to be
+        called when nothing has arrived for a while (the writer calls it when quiet), so that little
+        is in flight. Returns whether it renewed."""
+        if self._taken < RENEW_AFTER or self.closing:
+            return False
+        old, old_misses = self._subscriber, self._misses
+        try:
+            self._subscriber, self._misses = self._declare()
+        except zenoh.ZError:   # the session is closing: the old channel is read to its end as before
+            return False
+        self._taken = 0
+        time.sleep(RENEW_GRACE_S)
+        self._take_from(old, self._held, len(self._held) + self._capacity)   # what it held: at most a channel's
+        # worth, all at its front; what came after, the new one has too
+        try:
+            while (miss := old_misses.try_recv()) is not None:
+                self._held_misses.append(miss)
+            old_misses.undeclare()
+            old.undeclare()
+        except zenoh.ZError:   # closed meanwhile: the session's close undeclares them
+            pass
+        return True
 
     def release(self, runs: Iterable[str]) -> None:
         """Forget the keys (and their publishers) of runs that ended or went quiet: a fleet's keys

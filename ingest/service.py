@@ -37,9 +37,10 @@ over, so a batch of 1,000 cost as much disk as one of 10,000 (measured on 588,65
 whatever it has, so this bounds work per commit, not latency."""
 MAX_PENDING = 100_000
 """Samples Zenoh may hold for the writer before it pushes back on publishers. Zenoh's channel is a
-queue that grows to hold what waits and never shrinks, about 512 bytes a sample: a fleet's burst
-leaves up to 32-64 MB resident in the serve for ever (bench/ingest_fleet.py, 10,000 runs: RSS after
-137 MB against 80 MB idle; 114 MB with 16,384). It stays this large all the same: what it holds is
+queue that grows to hold what waits and never shrinks: a fleet's burst left up to 32-64 MB resident
+in the serve (bench/ingest_fleet.py, 10,000 runs: RSS after 137 MB against 80 MB idle; 114 MB with
+16,384), until a quiet inbox came to renew its subscription, channel and all (ingest/inbox.py
+`renew`), which frees it. It stays this large: what it holds is
 what a burst may put before its producer is held back, and a producer that closes its session soon
 after its last put (as foreign ones do) loses what is still on its side of the link: a 60,000-event
 burst into a writer taking 2,000 a second, the producer closing 1 s after its last put, arrived

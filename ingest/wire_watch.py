@@ -45,8 +45,8 @@ class Noticed:
 
 
 class WireWatch:
-    """The liveliness subscriptions of ``key_expr``'s sources and of the caches, and the miss
-    listener of the inbox's subscriber. Only one thread (the writer) may drain it."""
+    """The liveliness subscriptions of ``key_expr``'s sources and of the caches, and the misses
+    the inbox's subscription noticed. Only one thread (the writer) may drain it."""
 
     def __init__(self, session: zenoh.Session, inbox: Inbox, key_expr: str,
                  recorded: Callable[[str], bool] | None = None) -> None:
@@ -58,7 +58,6 @@ class WireWatch:
             live_slice(key_expr), zenoh.handlers.FifoChannel(CAPACITY), history=True)
         self._caches = session.liveliness().declare_subscriber(f"{CACHE_PREFIX}/*", self.recovery.on_token,
                                                                history=True)
-        self._misses = inbox.subscriber.sample_miss_listener(zenoh.handlers.FifoChannel(CAPACITY))
 
     def drain(self, highest_seq: HighestSeq) -> Noticed:
         """Everything noticed since the last drain; ``highest_seq(run, src)`` says how far each
@@ -68,7 +67,7 @@ class WireWatch:
         changes = [self._change(sample, now, highest_seq, self._recorded) for sample in _taken(self._live)]
         self.recovery.step()
         self.syncs.answer_parked()
-        misses = [self._miss(miss, now, highest_seq) for miss in _taken(self._misses)]
+        misses = [self._miss(miss, now, highest_seq) for miss in self._inbox.take_misses()]
         return Noticed(tuple(c for c in changes if c is not None), tuple(m for m in misses if m is not None))
 
     @staticmethod

@@ -150,6 +150,7 @@ class BatchWriter(threading.Thread):
                 self._stats.record_lag(time.monotonic() - self._inbox.first_at)
                 last_batch, kept = time.monotonic(), True
             elif kept and time.monotonic() - last_batch >= QUIET_S:
+                self._inbox.renew()   # Zenoh's channel never shrinks: a fresh one, the old one freed
                 give_back(store)
                 kept = False
             self._record_wire(store, caught_up=batch is None or len(batch) < self._batch_size, last=batch is None)
