@@ -64,9 +64,10 @@ def rounded_rows(rows: Sequence[Sequence[Any]], digits: Sequence[int]) -> list[l
         return [[round(x, d) for x, d in zip(row, digits)] for row in rows]
     values = np.array(rows, dtype=np.float64)
     scale = np.array([10.0 ** d for d in digits])
-    products = values * scale
-    nearest = np.rint(products)
-    shortcut = (np.abs(products) < LIMIT) & (np.abs(products - nearest) < 0.5 - TIE)
+    with np.errstate(invalid="ignore", over="ignore"):   # inf and nan fail the shortcut: round() takes them
+        products = values * scale
+        nearest = np.rint(products)
+        shortcut = (np.abs(products) < LIMIT) & (np.abs(products - nearest) < 0.5 - TIE)
     out = np.where(nearest == 0.0, np.copysign(0.0, values), nearest / scale).tolist()
     if not shortcut.all():
         for i, j in zip(*np.nonzero(~shortcut)):
