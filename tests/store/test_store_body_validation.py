@@ -344,3 +344,23 @@ def test_a_proof_nested_past_the_quick_checks_recursion_is_decided_by_the_schema
     for _ in range(5000):
         proof = {"sentence": "s", "status": "proved", "children": [proof]}
     assert body_ok("vehicle.trace", {"query": "q", "answer": True, "proof": proof}) is False
+
+
+def test_a_hostile_proof_or_hash_is_quarantined_with_fastjsonschemas_words(store):
+    """The quick check only ever says yes sooner: a proof wrong three levels down, a hash with a
+    newline after it, reach quarantine, raw bytes and all, with the reason the schema gives."""
+    leaf = {"sentence": "173 has red light", "status": "fact"}
+    bad_leaf = {**leaf, "source": {"file": "highway_code.le", "line": 0}}
+    trace = event(1, kind="vehicle.trace", body={"query": "173 can enter the junction", "answer": True, "proof": {
+        **leaf, "status": "proved", "children": [leaf, {**leaf, "status": "proved", "children": [bad_leaf]}]}})
+    decision = event(2, kind="vehicle.decision", body={**BODIES["vehicle.decision"], "rulebook": "0" * 64 + "\n"})
+    raws = [(json.dumps(ev, sort_keys=True, separators=(",", ":")).encode(), f"wire:{i}")
+            for i, ev in enumerate([trace, decision])]
+    report = store.append_raw(raws)
+    assert report.stored == 0
+    reasons = [r["reason"] for r in report.rejected]
+    assert ("vehicle.trace body.proof.children[1].children[0].source must be valid exactly by one definition"
+            in reasons[0])
+    assert "vehicle.decision body.rulebook must match pattern ^[0-9a-f]{64}$" in reasons[1]
+    assert [(q["raw"], q["reason"]) for q in store.quarantined()] == [(raw, reason) for (raw, _), reason in
+                                                                         zip(raws, reasons)]
