@@ -1,6 +1,6 @@
 """What one event costs the ingest's writer thread, stage by stage, on one core (a benchmark, not a test).
 
-    .venv/bin/python bench/ingest_cost.py [--events 100000] [--repeat 5]
+    .venv/bin/python bench/ingest_cost.py [--events 100000] [--repeat 5] [--stream RUN.mcap]
 
 bench/ingest_throughput.py gives the end-to-end rate and the ingest's CPU per event, split into
 its writer thread and Zenoh's threads; this splits the writer's share into what it does to each
@@ -16,10 +16,16 @@ writer, before Zenoh's threads take their share (measured end to end, beside it)
   track    the seqs followed, for gaps and for the caches (GapTracker.observe_all)
   chain    placing, chaining and checkpointing a batch's events in Python (store/batch.py)
   sqlite   the rows inserted and committed, fsync included (executemany + COMMIT)
+
+``--stream FILE`` takes the events of a recorded run instead (an MCAP or JSONL file, e.g.
+tests/golden/golden-sim.mcap, the simulation's own stream with its nine-property entity.states
+and its vehicle.traces' proofs), repeated with seqs and times moved on until --events are made;
+signed events are left out (a moved one would no longer match its signature).
 """
 from __future__ import annotations
 
 import argparse
+import itertools
 import socket
 import statistics
 import sys
@@ -38,6 +44,7 @@ from ingest.gc_pacing import collections_between_batches  # noqa: E402
 from ingest.inbox import received  # noqa: E402
 from ingest.screen import screen_all  # noqa: E402
 from store import Store, canonical_json, enable_snapshots, key_for, session_config  # noqa: E402
+from store.transfer import import_file  # noqa: E402
 from store.batch import Batch  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -113,12 +120,32 @@ def _placed(store: Store, candidates: list) -> None:
     store._heads.forget()   # the throwaway batch moved the cached heads on; the real append re-reads them
 
 
+def recorded(path: Path, n: int) -> list[dict]:
+    """n events from a recorded run's unsigned ones, in the store's order, the run repeated with
+    each source's seqs and every time moved past the run's last until there are n."""
+    with tempfile.TemporaryDirectory() as tmp, Store(Path(tmp) / "stream.db") as store:
+        import_file(store, path)
+        run = store.runs()[0].run
+        found = [e for e in store.events(run) if "sig" not in e]
+    span = max(e["t"] for e in found) - min(e["t"] for e in found) + 1
+    step = max(e["seq"] for e in found) + 1
+    made: list[dict] = []
+    for lap in itertools.count():
+        for e in found:
+            if len(made) == n:
+                return made
+            made.append({**e, "seq": e["seq"] + lap * step, "t": e["t"] + lap * span})
+    return made
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--events", type=int, default=20_000 if quick() else 100_000)
     parser.add_argument("--repeat", type=int, default=3 if quick() else 5)
+    parser.add_argument("--stream", type=Path, default=None, help="a recorded run's events instead of small ones")
     args = parser.parse_args()
-    samples = [(key_for(e), canonical_json(e)) for e in events(args.events)]
+    made = events(args.events) if args.stream is None else recorded(args.stream, args.events)
+    samples = [(key_for(e), canonical_json(e)) for e in made]
     rounds: dict[str, list[float]] = {stage: [] for stage in STAGES}
     for _ in range(args.repeat):
         rounds["receive"].append(receive_cost(samples) / args.events * 1e6)
@@ -130,11 +157,14 @@ def main() -> None:
     for stage in STAGES:
         print(f"{stage:8s} {medians[stage]:6.2f} us/event   (rounds: {', '.join(f'{v:.2f}' for v in rounds[stage])})")
     print(f"{'writer':8s} {total:6.2f} us/event: one core allows the writer {1e6 / total:,.0f} events/s")
+    what = "small events (bench/ingest_throughput.py's)" if args.stream is None else f"events of {args.stream.name}"
+    if args.stream is not None:
+        return  # the recorded figures are the small events'; a stream's are printed only
     record("ingest_cost", "The ingest writer's CPU per event, stage by stage (one core)",
            [*(Figure(stage, medians[stage], "us/event", tuple(rounds[stage])) for stage in STAGES),
             Figure("writer, all stages", total, "us/event"),
             Figure("one core allows the writer", 1e6 / total, "events/s")],
-           notes=f"{args.events:,} small events (bench/ingest_throughput.py's), batches of {BATCH:,}, FULL "
+           notes=f"{args.events:,} {what}, batches of {BATCH:,}, FULL "
                  f"durability, thread CPU time, medians of {args.repeat} rounds")
 
 

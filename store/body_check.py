@@ -11,7 +11,10 @@ from __future__ import annotations
 
 from typing import Any, Callable, Iterable
 
+import re
+
 import fastjsonschema
+from fastjsonschema.draft04 import DOLLAR_FINDER
 
 from .canonical import PLAIN_FLOAT
 from .describe import json_type, show
@@ -35,8 +38,11 @@ def body_ok(kind: str, body: Any) -> bool:
     check = _first_checks.get(kind)
     if check is None:
         check = _first_checks[kind] = quick(kind) or _cannot_tell
-    if check(body):
-        return True
+    try:
+        if check(body):
+            return True
+    except RecursionError:  # a tree nested deeper than the quick check's recursion goes
+        pass
     try:
         (_compiled.get(kind) or validator(kind))(body)
     except (fastjsonschema.JsonSchemaValueException, RecursionError):
@@ -66,7 +72,10 @@ def body_problem(kind: str, body: Any) -> tuple[str, str] | None:
 # subclasses, keeps definitions for its messages) and is most of the cost of checking an event.
 # For each kind, `quick` compiles the schema's flat properties into one expression that answers
 # True only when the body surely satisfies the schema: exact built-in types, and only the
-# keywords below. Anything else it answers False for, and fastjsonschema decides as before, so
+# keywords below, patterns (compiled as fastjsonschema compiles them), nested objects with their
+# own required and properties, a $ref to one of the schema's $defs (recursive, as a vehicle's
+# proof tree is) and a oneOf whose branches are of distinct types (then "exactly one holds" is
+# "some holds"). Anything else it answers False for, and fastjsonschema decides as before, so
 # the quick check can make an append faster but can never let a body through that the schema
 # refuses (tests/store/test_store_body_validation.py checks this on generated bodies).
 
@@ -109,6 +118,8 @@ class _Writer:
         self.lines: list[str] = []
         self.constants: dict[str, Any] = {}
         self.plain = plain
+        self.defs: dict[str, Any] = {}
+        self.refs: dict[str, str] = {}  # a $ref's target -> the name of its helper
 
     def constant(self, value: Any) -> str:
         name = f"_c{len(self.constants)}"
@@ -119,8 +130,16 @@ class _Writer:
         """An expression over variable `v` that is true only if `v` satisfies `schema`."""
         if not isinstance(schema, dict):
             raise _Unsupported
-        known = _ANNOTATIONS | {"type", "enum", "items"} | {k for ks in _KEYWORDS_BY_TYPE.values() for k in ks}
+        if "$ref" in schema:
+            return f"{self.ref(schema)}({v})"
+        if "oneOf" in schema:
+            return self.one_of(schema, v)
+        if schema.get("type") == "object" and not self.plain:
+            return f"{self.object(schema)}({v})"
+        known = _ANNOTATIONS | {"type", "enum", "items", "pattern"} | {k for ks in _KEYWORDS_BY_TYPE.values() for k in ks}
         if set(schema) - known:
+            raise _Unsupported
+        if "pattern" in schema and schema.get("type") != "string":
             raise _Unsupported
         types = schema.get("type")
         enum = schema.get("enum")
@@ -146,6 +165,11 @@ class _Writer:
                     if type(bound) is not int and type(bound) is not float:
                         raise _Unsupported
                     parts.append(template.format(v=v, n=repr(bound)))
+            if "pattern" in schema:  # fastjsonschema's own reading of it: search, with $ as \\Z
+                if type(schema["pattern"]) is not str:
+                    raise _Unsupported
+                regex = re.compile(DOLLAR_FINDER.sub(r"\\Z", schema["pattern"]))
+                parts.append(f"{self.constant(regex)}.search({v}) is not None")
             if enum is not None:
                 if json_type != "string":
                     continue  # an all-string enum admits no value of another type
@@ -165,9 +189,76 @@ class _Writer:
         the fast lane."""
         name = f"_extras{len(self.lines)}"
         scalar = f"type(x) is str or type(x) is bool or x is None or {_PLAIN_NUMBER.format(v='x')}"
-        self.lines += [f"def {name}(body):", "    for name, x in body.items():",
-                       f"        if name not in {self.constant(frozenset(named))} and not ({scalar}):",
+        self.lines += [f"def {name}(body):", f"    for name in body.keys() - {self.constant(frozenset(named))}:",
+                       "        x = body[name]", f"        if not ({scalar}):",
                        "            return False", "    return True"]
+        return name
+
+    def ref(self, schema: dict) -> str:
+        """The name of a helper that checks a value against the definition a `$ref` names (one of
+        the schema's own $defs; recursive where the definition is, as a proof's children are)."""
+        if set(schema) - _ANNOTATIONS != {"$ref"} or self.plain:
+            raise _Unsupported  # plain: a definition is an object, whose insides need the walk
+        target = schema["$ref"]
+        if target not in self.refs:
+            if not (isinstance(target, str) and target.startswith("#/$defs/")):
+                raise _Unsupported
+            definition = self.defs.get(target[len("#/$defs/"):])
+            if not isinstance(definition, dict) or definition.get("type") != "object":
+                raise _Unsupported
+            self.refs[target] = name = f"_def{len(self.refs)}"
+            try:
+                self.object(definition, name)
+            except _Unsupported:
+                del self.refs[target]  # no helper of that name was written
+                raise
+        return self.refs[target]
+
+    def one_of(self, schema: dict, v: str) -> str:
+        """oneOf over branches of distinct JSON types: a value of exact built-in type can be of only
+        one branch's type, so 'exactly one branch holds' is 'some branch holds'. Branches whose
+        types could meet (number and integer, or a branch without a type) are not modelled."""
+        branches = schema["oneOf"]
+        if set(schema) - _ANNOTATIONS != {"oneOf"} or not isinstance(branches, list) or not branches:
+            raise _Unsupported
+        seen: set[str] = set()
+        for branch in branches:
+            types = branch.get("type") if isinstance(branch, dict) else None
+            types = [types] if isinstance(types, str) else types
+            if not isinstance(types, list) or not types or any(t not in _TYPE_TESTS for t in types):
+                raise _Unsupported
+            named = {"number" if t == "integer" else t for t in types}
+            if named & seen or len(named) != len(types):
+                raise _Unsupported
+            seen |= named
+        return "(" + " or ".join(self.test(branch, v) for branch in branches) + ")"
+
+    def object(self, schema: dict, name: str | None = None) -> str:
+        """The name of a helper that checks a value against an object schema with its own
+        required and properties (not for the plain check: values inside need the walk)."""
+        if set(schema) - (_ANNOTATIONS | {"type", "required", "properties", "additionalProperties"}):
+            raise _Unsupported
+        if schema.get("additionalProperties", True) is not True:
+            raise _Unsupported
+        required, properties = schema.get("required", []), schema.get("properties", {})
+        if not isinstance(required, list) or not isinstance(properties, dict):
+            raise _Unsupported
+        name = name or f"_object{len(self.lines)}"
+        missing = self.constant(object())
+        lines = [f"def {name}(body):", "    if type(body) is not dict:", "        return False", "    get = body.get"]
+        for field in required:
+            if type(field) is not str:
+                raise _Unsupported
+            if field not in properties:
+                lines += [f"    if {field!r} not in body:", "        return False"]
+        for field, subschema in properties.items():
+            test = self.test(subschema, "v")
+            lines.append(f"    v = get({field!r}, {missing})")
+            if field in required:
+                lines += [f"    if v is {missing} or not {test}:", "        return False"]
+            else:
+                lines += [f"    if v is not {missing} and not {test}:", "        return False"]
+        self.lines += lines + ["    return True"]
         return name
 
     def items(self, schema: Any) -> str:
@@ -179,8 +270,10 @@ class _Writer:
 
     def body(self, schema: dict) -> str:
         """The quick check of an object schema with flat properties, as source."""
-        if set(schema) - (_ANNOTATIONS | {"type", "required", "properties", "additionalProperties"}):
+        if set(schema) - (_ANNOTATIONS | {"type", "required", "properties", "additionalProperties", "$defs"}):
             raise _Unsupported
+        defs = schema.get("$defs", {})
+        self.defs = defs if isinstance(defs, dict) else {}
         if schema.get("type") != "object" or schema.get("additionalProperties", True) is not True:
             raise _Unsupported
         required = schema.get("required", [])

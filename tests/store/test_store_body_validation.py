@@ -242,11 +242,9 @@ def test_the_quick_check_never_accepts_what_the_schema_refuses(case):
 
 @pytest.mark.parametrize("kind", sorted(KINDS))
 def test_the_quick_check_says_yes_to_the_plain_valid_bodies(kind):
-    """Else it would only cost time: the flat kinds must be answered without fastjsonschema."""
+    """Else it would only cost time: every kind's plain body is answered without fastjsonschema
+    (a run.start's map, with its patternProperties, is still left to it)."""
     check = quick(kind)
-    if kind in ("run.start", "vehicle.trace"):  # nested schemas ($ref, oneOf): fastjsonschema alone
-        assert check is None and quick_source(SCHEMAS[kind]) is None
-        return
     assert check is not None and check(dict(BODIES[kind]))
 
 
@@ -262,9 +260,107 @@ def test_the_quick_check_says_yes_to_the_plain_valid_bodies(kind):
     ("signal.state", {"junction": "", "colour": "red"}),
     ("vehicle.perception", {"facts": ("a",)}),
     ("vehicle.perception", {"facts": ["a", ""]}),
-    ("vehicle.decision", {"goal": "g", "action": "a", "proceeds": True, "rulebook": "0" * 64}),
+    ("vehicle.decision", {"goal": "g", "action": "a", "proceeds": True, "rulebook": "0" * 64 + "\n"}),
+    ("vehicle.decision", {"goal": "g", "action": "a", "proceeds": True, "rulebook": "0" * 63}),
+    ("vehicle.trace", {"query": "q", "answer": True, "proof": {"sentence": "s", "status": "guessed"}}),
+    ("vehicle.trace", {"query": "q", "answer": (True,)}),
+    ("vehicle.trace", {"query": "q", "answer": 1}),
+    ("vehicle.trace", {"query": "q", "answer": False, "proof": {"sentence": "s", "status": "fact",
+                                                                 "source": {"file": "f", "line": 0}}}),
+    ("vehicle.trace", {"query": "q", "answer": False, "proof": {"sentence": "s", "status": "fact",
+                                                                 "children": [{"sentence": "s"}]}}),
     ("collision", {"entities": []}),
 ])
 def test_the_quick_check_leaves_the_edge_cases_to_fastjsonschema(kind, body):
     assert quick(kind)(body) is False
     assert body_ok(kind, body) == _schema_accepts(kind, body)
+
+
+# --- the quick check of nested schemas: a vehicle's proof tree ($ref, oneOf), a rulebook's hash ---
+
+_odd = _values | st.sampled_from(["proved", "failed", "builtin", "fact", "guessed", "0" * 64 + "\n", "f" * 64])
+
+
+def _proofs(node_value=_odd):
+    """Proof trees as a vehicle sends them, their fields now and then given an odd value, dropped or
+    joined by one the schema does not name, at any depth."""
+    def node(children):
+        return st.fixed_dictionaries(
+            {"sentence": st.sampled_from(["173 can enter the junction", ""]),
+             "status": st.sampled_from(["proved", "failed", "builtin", "fact"])},
+            optional={"rule": st.sampled_from([None, "HC 171"]),
+                      "source": st.none() | st.fixed_dictionaries(
+                          {"file": st.just("highway_code.le"), "line": st.integers(-1, 200)},
+                          optional={"extra": node_value}),
+                      "evidence": st.lists(node_value, max_size=2),
+                      "children": st.just([]) if children is None else st.lists(children, max_size=3)})
+
+    def twisted(tree):
+        return st.one_of(st.just(tree), st.tuples(st.sampled_from(
+            ["sentence", "status", "rule", "source", "evidence", "children", "line", "extra"]), node_value).map(
+            lambda pair: {**tree, pair[0]: pair[1]}), st.just({k: v for k, v in tree.items() if k != "status"}))
+    return st.recursive(node(None), lambda inner: node(inner).flatmap(twisted), max_leaves=12)
+
+
+@settings(deadline=None, max_examples=600)
+@given(st.fixed_dictionaries({"query": st.sampled_from(["173 can enter the junction", ""])},
+                             optional={"answer": st.booleans() | st.lists(_odd, max_size=2) | _odd,
+                                       "proof": _proofs() | _odd, "extra": _odd}))
+def test_the_quick_check_of_a_proof_says_yes_only_where_the_schema_does(body):
+    """vehicle.trace's proofs are checked by the generated recursive helper (its $defs' proof, the
+    answer's and source's oneOf); whatever it cannot vouch for fastjsonschema decides as before."""
+    accepted = _schema_accepts("vehicle.trace", body)
+    if quick("vehicle.trace")(body):
+        assert accepted, body
+    assert body_ok("vehicle.trace", body) == accepted
+
+
+@settings(deadline=None, max_examples=300)
+@given(st.sampled_from(["0" * 64, "f" * 64, "F" * 64, "0" * 64 + "\n", "0" * 63, "0" * 65, "g" * 64, ""])
+       | st.text(alphabet="0123456789abcdef\n", max_size=66) | _odd)
+def test_the_quick_check_reads_a_pattern_as_fastjsonschema_does(rulebook):
+    """fastjsonschema searches with its $ read as end of text (\\Z), so a hash followed by a newline
+    is refused; the quick check must not take it either."""
+    body = {"goal": "g", "action": "a", "proceeds": True, "rulebook": rulebook}
+    accepted = _schema_accepts("vehicle.decision", body)
+    if quick("vehicle.decision")(body):
+        assert accepted, body
+    assert body_ok("vehicle.decision", body) == accepted
+
+
+def test_the_quick_check_takes_a_vehicles_proof_and_hash():
+    """Else the generated helpers would only cost time."""
+    leaf = {"children": [], "evidence": [], "rule": None, "sentence": "173 has red light", "source": None,
+            "status": "fact"}
+    proof = {**leaf, "children": [leaf, {**leaf, "source": {"file": "highway_code.le", "line": 93}}],
+             "rule": "HC 171", "status": "failed"}
+    assert quick("vehicle.trace")({"query": "173 can enter the junction", "answer": True, "proof": proof})
+    assert quick("vehicle.trace")({"query": "q", "answer": ["173 must stop"]})
+    assert quick("vehicle.decision")({**BODIES["vehicle.decision"], "rulebook": "0" * 64})
+
+
+def test_a_proof_nested_past_the_quick_checks_recursion_is_decided_by_the_schema():
+    proof: dict = {"sentence": "s", "status": "fact"}
+    for _ in range(5000):
+        proof = {"sentence": "s", "status": "proved", "children": [proof]}
+    assert body_ok("vehicle.trace", {"query": "q", "answer": True, "proof": proof}) is False
+
+
+def test_a_hostile_proof_or_hash_is_quarantined_with_fastjsonschemas_words(store):
+    """The quick check only ever says yes sooner: a proof wrong three levels down, a hash with a
+    newline after it, reach quarantine, raw bytes and all, with the reason the schema gives."""
+    leaf = {"sentence": "173 has red light", "status": "fact"}
+    bad_leaf = {**leaf, "source": {"file": "highway_code.le", "line": 0}}
+    trace = event(1, kind="vehicle.trace", body={"query": "173 can enter the junction", "answer": True, "proof": {
+        **leaf, "status": "proved", "children": [leaf, {**leaf, "status": "proved", "children": [bad_leaf]}]}})
+    decision = event(2, kind="vehicle.decision", body={**BODIES["vehicle.decision"], "rulebook": "0" * 64 + "\n"})
+    raws = [(json.dumps(ev, sort_keys=True, separators=(",", ":")).encode(), f"wire:{i}")
+            for i, ev in enumerate([trace, decision])]
+    report = store.append_raw(raws)
+    assert report.stored == 0
+    reasons = [r["reason"] for r in report.rejected]
+    assert ("vehicle.trace body.proof.children[1].children[0].source must be valid exactly by one definition"
+            in reasons[0])
+    assert "vehicle.decision body.rulebook must match pattern ^[0-9a-f]{64}$" in reasons[1]
+    assert [(q["raw"], q["reason"]) for q in store.quarantined()] == [(raw, reason) for (raw, _), reason in
+                                                                         zip(raws, reasons)]
