@@ -114,6 +114,11 @@ def describe(row: Row) -> list[str]:
     for u in row.false:
         out.append(f"    false accusation: reasoner says {i.vehicle} forced/endangered {u}; SUMO: {u} "
                    f"{stated_cause(row.truth, u, a)}")
+    for u in row.not_proven:
+        s, d = row.sumo[u], next(x for x in row.incident.second_limb if x.user == u)
+        out.append(f"    not proven: SUMO says {u} braked for {i.vehicle} ({s['cause']}), held over a second "
+                   f"{max(s.get('held_mps2') or 0.0, s.get('road_user_held_mps2') or 0.0):.2f} m/s²; the reasoner "
+                   f"measured {d.decel_mps2:.2f} ± {d.decel_uncertainty_mps2:.2f} m/s²: in doubt")
     for u in row.missed:
         s = row.sumo[u]
         if "decel_mps2" in s:
@@ -134,14 +139,16 @@ def table(name: str, rows: list[Row], unraised: int) -> dict[str, int]:
     counts = {"incidents": len(rows), "agreeing": sum(r.agrees for r in rows), "unraised": unraised,
               "false_accusations": sum(len(r.false) for r in rows), "misses": sum(len(r.missed) for r in rows),
               "incidents_with_false": sum(bool(r.false) for r in rows),
-              "incidents_with_miss": sum(bool(r.missed) for r in rows)}
+              "incidents_with_miss": sum(bool(r.missed) for r in rows),
+              "not_proven": sum(len(r.not_proven) for r in rows)}
     print(f"{name:<22} {counts['incidents']:>9} {counts['agreeing']:>9} {counts['false_accusations']:>7} "
           f"({counts['incidents_with_false']:>3} inc) {counts['misses']:>6} ({counts['incidents_with_miss']:>3} inc) "
-          f"{unraised:>8}")
+          f"{counts['not_proven']:>10} {unraised:>8}")
     return counts
 
 
-HEADER = f"{'run':<22} {'incidents':>9} {'agreeing':>9} {'false accusations':>17} {'misses':>12} {'unraised':>8}"
+HEADER = (f"{'run':<22} {'incidents':>9} {'agreeing':>9} {'false accusations':>17} {'misses':>12} "
+          f"{'not proven':>10} {'unraised':>8}")
 
 
 def cost(cfg: SimConfig, repeats: int) -> dict[str, list[float]]:
@@ -167,6 +174,8 @@ def _record(args: argparse.Namespace, results: dict[str, Any]) -> None:
                Figure("false accusations (reasoner: forced or endangered; SUMO: not for it)",
                       total["false_accusations"], "road users"),
                Figure("misses (SUMO: gave way to it or in its path; reasoner: not named)", total["misses"], "road users"),
+               Figure("not proven (SUMO: gave way to it; reasoner: measured the same braking, in doubt within "
+                      "its uncertainty)", total.get("not_proven", 0), "road users"),
                Figure("unraised (seen, no incident, SUMO: someone gave way to it)", total["unraised"], "acts"),
                Figure("wall time, all runs", results["wall_s"], "s")]
     for name, c in results.get("cost_s", {}).items():

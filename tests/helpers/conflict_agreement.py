@@ -18,7 +18,12 @@ account: sim_replay/sumo_account.py); the reasoner's incidents are read only to 
                 lane while V passed, and is read so)
 
 A false accusation is a road user the reasoner names and SUMO does not; a miss, one SUMO names and
-the reasoner does not.
+the reasoner does not. A miss is "not proven" instead where the reasoner measured the same braking
+SUMO holds to V and said why it did not name it: the braking is "in doubt" (its measured figure less
+its uncertainty under the threshold), and SUMO's own figure lies within that measured figure ±
+its uncertainty. The record then agrees with SUMO on what happened; what parts them is the
+standard of proof ("where the deciding fact is in doubt, it is not proven"), which SUMO's exact
+figure does not have to meet. It is counted apart, never as agreeing.
 """
 from __future__ import annotations
 
@@ -30,7 +35,7 @@ from sim_replay.sim_events import T0
 from sim_replay.truth import ABOUT_S, yielded_to
 from tests.helpers.sim_truth_table import compare as lines_of
 
-__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "gave_way", "in_scope", "reasoner_grounds",
+__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "gave_way", "in_doubt", "in_scope", "reasoner_grounds",
            "split_verdicts", "stated_cause", "sumo_gave_way"]
 
 HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), sim_truth_table's yardstick too
@@ -116,10 +121,11 @@ class Row:
     truth: dict[str, Any] = field(default_factory=dict, repr=False)
     false: list[str] = field(default_factory=list)
     missed: list[str] = field(default_factory=list)
+    not_proven: list[str] = field(default_factory=list)
 
     @property
     def agrees(self) -> bool:
-        return not self.false and not self.missed
+        return not self.false and not self.missed and not self.not_proven
 
 
 def in_scope(act: dict[str, Any] | None) -> bool:
@@ -141,9 +147,22 @@ def compare(truth: dict[str, Any], incidents: list[Any]) -> tuple[list[Row], lis
         for inc in line.incidents:
             row = Row(inc, act, reasoner_grounds(inc), sumo_gave_way(act), truth)
             row.false = sorted(row.reasoner - set(row.sumo))
-            row.missed = sorted(set(row.sumo) - row.reasoner)
+            unnamed = sorted(set(row.sumo) - row.reasoner)
+            row.not_proven = [u for u in unnamed if in_doubt(inc, u, row.sumo[u])]
+            row.missed = [u for u in unnamed if u not in row.not_proven]
             rows.append(row)
     return rows, unraised
+
+
+def in_doubt(incident: Any, user: str, sumo: dict[str, Any]) -> bool:
+    """Whether the incident clears `user` of the second limb as "in doubt" with a measured braking
+    whose uncertainty band holds SUMO's own held figure for it (the module docstring)."""
+    held = max(sumo.get("held_mps2") or 0.0, sumo.get("road_user_held_mps2") or 0.0)
+    for u in getattr(incident, "second_limb", ()) or ():
+        if u.user == user and u.reason == "in doubt" and u.decel_mps2 is not None \
+                and u.decel_uncertainty_mps2 is not None and held > 0.0:
+            return abs(held - u.decel_mps2) <= u.decel_uncertainty_mps2
+    return False
 
 
 def _afresh(act: dict[str, Any], truth: dict[str, Any]) -> dict[str, Any]:

@@ -99,3 +99,27 @@ def test_one_act_judged_by_two_incidents_with_different_verdicts_is_found():
     eight[1].id = "vehicle/8:3"
     found = split_verdicts(truth, seven + eight)
     assert [(a["vehicle"], sorted(i.verdict for i in incs)) for a, incs in found] == [("7", ["mitigated", "punishable"])]
+
+
+def test_a_braking_the_reasoner_measured_alike_but_holds_in_doubt_is_not_proven_not_a_miss():
+    """SUMO's figure is exact; the record's carries its uncertainty. Where the reasoner measured
+    the braking SUMO holds to V (2.2 m/s² held) as 2.18 ± 0.2 and left it "in doubt" under the
+    2 m/s² threshold, the two agree on what happened and the standard of proof parts them: counted
+    apart, not as agreeing. A figure outside the measured band, or another reason, stays a miss."""
+    from reasoner.unforced import Unforced
+
+    truth = {"road_users": {}, "acts": [act("7", 10.0, "give_way", yielded=[held("12", 4.5, 2.2, 13.4, 11.2)]),
+                                        act("8", 40.0, "give_way", yielded=[held("13", 4.5, 2.6, 13.4, 10.8)]),
+                                        act("9", 70.0, "give_way", yielded=[held("14", 4.5, 2.2, 13.4, 11.2)])]}
+
+    def cleared(inc, user: str, reason: str, decel: float):
+        inc.second_limb = (Unforced(inc.vehicle, user, "car", reason, "…", decel_mps2=decel,
+                                    decel_uncertainty_mps2=0.2),)
+        return inc
+
+    found = [cleared(incident("7", 10.5), "12", "in doubt", 2.18),
+             cleared(incident("8", 40.5), "13", "in doubt", 2.18),     # SUMO's 2.6 is outside 2.18 ± 0.2
+             cleared(incident("9", 70.5), "14", "leader", 2.18)]
+    rows, _ = compare(truth, found)
+    assert [(r.incident.vehicle, r.agrees, r.missed, r.not_proven) for r in rows] == [
+        ("7", False, [], ["12"]), ("8", False, ["13"], []), ("9", False, ["14"], [])]
