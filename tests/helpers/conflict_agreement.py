@@ -15,7 +15,9 @@ account: sim_replay/sumo_account.py); the reasoner's incidents are read only to 
                 stop from moving, under that cause (`gave_way`), and the pedestrians in V's path over a
                 crossing within crossing_paths.WINDOW_S of V (act.sumo.in_path, with the PET; a truth
                 kept before that lists every pedestrian on a crossing SUMO makes a foe of V's junction
-                lane while V passed, and is read so)
+                lane while V passed, and is read so), less a braking to stand at the road user's own
+                Stop line (`to_own_stop_line`): the law's own control, which SUMO's model may hold
+                on a foe as well
 
 A false accusation is a road user the reasoner names and SUMO does not; a miss, one SUMO names and
 the reasoner does not. A miss is "not proven" instead where the reasoner measured the same braking
@@ -35,7 +37,7 @@ from sim_replay.sim_events import T0
 from sim_replay.truth import ABOUT_S, yielded_to
 from tests.helpers.sim_truth_table import compare as lines_of
 
-__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "gave_way", "in_doubt", "in_scope", "reasoner_grounds",
+__all__ = ["HARD_BRAKING", "STANDSTILL_MPS", "Row", "compare", "gave_way", "in_doubt", "in_scope", "to_own_stop_line", "reasoner_grounds",
            "split_verdicts", "stated_cause", "sumo_gave_way"]
 
 HARD_BRAKING = 2.0      # m/s²: a considerable change of speed (Hupfer 1997), sim_truth_table's yardstick too
@@ -142,16 +144,38 @@ def compare(truth: dict[str, Any], incidents: list[Any]) -> tuple[list[Row], lis
         if not in_scope(line.act):
             continue
         act = _afresh(line.act, truth)
-        if not line.incidents and act["seen_by"] and sumo_gave_way(act):
+        sumo = {u: y for u, y in sumo_gave_way(act).items() if not to_own_stop_line(truth, u, y)}
+        if not line.incidents and act["seen_by"] and sumo:
             unraised.append(act)
         for inc in line.incidents:
-            row = Row(inc, act, reasoner_grounds(inc), sumo_gave_way(act), truth)
+            row = Row(inc, act, reasoner_grounds(inc), sumo, truth)
             row.false = sorted(row.reasoner - set(row.sumo))
             unnamed = sorted(set(row.sumo) - row.reasoner)
             row.not_proven = [u for u in unnamed if in_doubt(inc, u, row.sumo[u])]
             row.missed = [u for u in unnamed if u not in row.not_proven]
             rows.append(row)
     return rows, unraised
+
+
+def to_own_stop_line(truth: dict[str, Any], user: str, y: dict[str, Any]) -> bool:
+    """Whether SUMO's braking of `user` for V was a braking to stand at its own Stop line: its own
+    line binds in the same stretch of braking (SUMO's account names it among the causes), and the
+    road user's next crossing of a line is of a Stop line at which it stood. TSRGD 2016 Sch 9 Pt 7
+    para 1 requires every vehicle to stop at that line whoever comes, so that braking is its own
+    control (issue 35: "not for its own control (its own signal, Stop or Give Way line ...)"),
+    however SUMO's model apportions it: its junction model holds a car at its line for a foe in the
+    junction too (paper-11 267 for 195, paper-12 142 for 155, branch line35). A Give Way line asks
+    no stop where the way is clear, so it is not read so."""
+    t = y.get("t_s")
+    if t is None or "cause" not in y or y["cause"] == "pedestrian in its path":
+        return False
+    stretch = next((s for s in truth.get("yields", ()) if s["vehicle"] == user and s["t_s"] <= t <= s["until_s"]), None)
+    if stretch is None or "line" not in stretch.get("causes", {}):
+        return False
+    after = [a for a in truth.get("acts", ()) if a["vehicle"] == user and a["kind"] == "crossed the stop line"
+             and a["t_s"] >= stretch["t_s"]]
+    nxt = min(after, key=lambda a: a["t_s"], default=None)
+    return nxt is not None and nxt["line"] == "stop" and bool(nxt["stopped_at_line"])
 
 
 def in_doubt(incident: Any, user: str, sumo: dict[str, Any]) -> bool:

@@ -123,3 +123,29 @@ def test_a_braking_the_reasoner_measured_alike_but_holds_in_doubt_is_not_proven_
     rows, _ = compare(truth, found)
     assert [(r.incident.vehicle, r.agrees, r.missed, r.not_proven) for r in rows] == [
         ("7", False, [], ["12"]), ("8", False, ["13"], []), ("9", False, ["14"], [])]
+
+
+def test_a_car_braking_to_stand_at_its_own_stop_line_did_not_give_way_to_the_vehicle():
+    """SUMO's junction model can hold a car at its own Stop line for a foe already in the junction
+    and name the foe (paper-11 267 for 195). The law asks every vehicle to stop at that line
+    whoever comes (TSRGD 2016 Sch 9 Pt 7 para 1): its own control, so not giving way to V. Where
+    the car's next line is a Give Way line, or SUMO names no line among the causes, V's stands."""
+    def cause(t: float, held_mps2: float) -> dict:
+        return {"t_s": t, "decel_mps2": 4.5, "held_mps2": held_mps2, "from_mps": 3.5, "min_speed_mps": 0.0}
+
+    def stretch(who: str, t: float, causes: dict) -> dict:
+        return {"vehicle": who, "t_s": t, "until_s": t + 0.7, "speed_mps": 3.5, "min_speed_mps": 0.0, "causes": causes}
+
+    def own(who: str, t: float, line: str) -> dict:
+        return {**act(who, t, line), "seen_by": [], "sumo": {"yielded": [], "in_path": []}}
+
+    truth = {"road_users": {}, "conflicts": [], "acts": [
+        act("7", 10.0, "give_way"), own("12", 30.0, "stop"),           # 12 stood at its own Stop line: own control
+        act("8", 40.0, "give_way"), own("13", 50.0, "give_way"),       # a Give Way line asks no stop: 8's
+        act("9", 70.0, "give_way"), own("14", 80.0, "stop")],          # no line among SUMO's causes: 9's
+        "yields": [stretch("12", 11.0, {"foe 7": cause(11.0, 2.1), "line": cause(11.0, 0.4)}),
+                   stretch("13", 41.0, {"foe 8": cause(41.0, 2.1), "line": cause(41.0, 0.4)}),
+                   stretch("14", 71.0, {"foe 9": cause(71.0, 2.1)})]}
+    found = [incident("7", 10.5), incident("8", 40.5), incident("9", 70.5)]
+    rows, _ = compare(truth, found)
+    assert [(r.incident.vehicle, r.missed) for r in rows] == [("7", []), ("8", ["13"]), ("9", ["14"])]
