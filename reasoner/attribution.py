@@ -18,8 +18,8 @@ explains U's braking:
   only, at its hardest braking. This is reaction.well_ahead's yardstick turned round: V ahead of
   U with room to spare is not what U braked hard for; a leader with none is. Keeping that gap
   takes U down to the leader's speed and no lower: a U not yet within the gap whose slowing went
-  on to below the slowest its leader went, the leader then beyond the gap (`_slowed_below`), was
-  slowing for something else.
+  on below the slowest its leader went, by as much as a change of speed counts from, the leader
+  then beyond the gap (`_slowed_below`), was slowing for something else.
 - `nearer_conflict`: a road user W whose path crosses U's where, had U kept the speed it had
   when it began to slow, U would have come within PET_MAX_S of W (W's projected gap: the
   post-encroachment time U would have had with W), and whose conflict comes before V's in one
@@ -45,7 +45,7 @@ from typing import Sequence
 
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .junctions import Junction
-from .motion import STOPPED_MPS, Sample, position_at, speed_at
+from .motion import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
 from .others import VEHICLE_WIDTH_M
 from .passage import Other, Passage
 from .rebuild import PAST_TOLERANCE_M
@@ -99,12 +99,14 @@ def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
 
 def _slowed_below(other: Other, ahead: Other, onset: int, gap: float) -> bool:
     """Whether the road user's slowing begun at `onset` (`gap` metres behind the road user ahead on
-    its way) went on to more than SPEED_NOISE_MPS below the slowest the road user ahead went from
-    then until the road user was at its slowest (the lowest speed before it sped up again by
-    SPEED_NOISE_MPS), with the one ahead then beyond the two-second gap (needed_deceleration asks
-    nothing: the gap taken on by what each travelled since the onset). Keeping that gap behind a
-    vehicle (HC 126) takes the follower down to its speed, never below it, once the follower is
-    not within the gap: a slowing that went on below it was for something else. The town run's
+    its way) went on below the slowest the road user ahead went from then until the road user was
+    at its slowest (the lowest speed before it sped up again by SPEED_NOISE_MPS), by as much as a
+    change of speed counts from (FORCE_DECEL_MPS2 over MIN_DECEL_SPAN_S: a braking measured over
+    its hardest second sheds that much), with the one ahead then beyond the two-second gap
+    (needed_deceleration asks nothing: the gap taken on by what each travelled since the onset).
+    Keeping that gap behind a vehicle (HC 126) takes the follower down to its speed, never below
+    it, once the follower is not within the gap: a change of speed below it was for something
+    else. The town run's
     534 braked from 13.35 to 2.55 m/s at 4.5 m/s² turning right in j4 behind 389, which came
     from the north into 534's exit lane 30 m ahead at 9.5 m/s and sped up to 13.4 m/s, 40 m ahead
     when 534 was slowest (SUMO's account: foe 496 from 515.2 s, below 8.4 m/s). A follower still
@@ -115,7 +117,7 @@ def _slowed_below(other: Other, ahead: Other, onset: int, gap: float) -> bool:
         return False
     speeds = [s.speed_mps for s in ahead.samples if s.speed_mps is not None and onset <= s.t <= low.t]
     its, _ = speed_at(ahead.samples, low.t)
-    if not speeds or its is None or low.speed_mps >= min(speeds) - SPEED_NOISE_MPS:
+    if not speeds or its is None or low.speed_mps > min(speeds) - FORCE_DECEL_MPS2 * MIN_DECEL_SPAN_S:
         return False
     went, mine = _travelled(ahead.samples, onset, low.t), _travelled(other.way, onset, low.t)
     if went is None or mine is None:
