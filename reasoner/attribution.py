@@ -16,7 +16,10 @@ explains U's braking:
   slowing behind its leader (a queue, one standing in its way, or one that had joined its lane
   ahead of it), whatever lane that leader came from; others.py's `followed` looks on U's own arm
   only, at its hardest braking. This is reaction.well_ahead's yardstick turned round: V ahead of
-  U with room to spare is not what U braked hard for; a leader with none is.
+  U with room to spare is not what U braked hard for; a leader with none is. Keeping that gap
+  takes U down to the leader's speed and no lower: a U not yet within the gap whose slowing went
+  on below the slowest its leader went, by as much as a change of speed counts from, the leader
+  then beyond the gap (`_slowed_below`), was slowing for something else.
 - `nearer_conflict`: a road user W whose path crosses U's where, had U kept the speed it had
   when it began to slow, U would have come within PET_MAX_S of W (W's projected gap: the
   post-encroachment time U would have had with W), and whose conflict comes before V's in one
@@ -42,7 +45,7 @@ from typing import Sequence
 
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .junctions import Junction
-from .motion import STOPPED_MPS, Sample, position_at, speed_at
+from .motion import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
 from .others import VEHICLE_WIDTH_M
 from .passage import Other, Passage
 from .rebuild import PAST_TOLERANCE_M
@@ -87,10 +90,63 @@ def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
         heading = _heading_at(ahead.samples, onset)
         along = 1.0 if heading is None else heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
         going = its <= STOPPED_MPS or (heading is not None and along >= _SAME_WAY)
+        need = needed_deceleration(speed, its * max(along, 0.0), gap)
         if gap > 0 and going and (its <= speed or _slowing_too(ahead, onset, its, speed)) and \
-                needed_deceleration(speed, its * max(along, 0.0), gap) >= FORCE_DECEL_MPS2:
+                need >= FORCE_DECEL_MPS2 and (math.isinf(need) or not _slowed_below(other, ahead, onset, gap)):
             return ahead.user
     return None
+
+
+def _slowed_below(other: Other, ahead: Other, onset: int, gap: float) -> bool:
+    """Whether the road user's slowing begun at `onset` (`gap` metres behind the road user ahead on
+    its way) went on below the slowest the road user ahead went from then until the road user was
+    at its slowest (the lowest speed before it sped up again by SPEED_NOISE_MPS), by as much as a
+    change of speed counts from (FORCE_DECEL_MPS2 over MIN_DECEL_SPAN_S: a braking measured over
+    its hardest second sheds that much), with the one ahead then beyond the two-second gap
+    (needed_deceleration asks nothing: the gap taken on by what each travelled since the onset).
+    Keeping that gap behind a vehicle (HC 126) takes the follower down to its speed, never below
+    it, once the follower is not within the gap: a change of speed below it was for something
+    else. The town run's
+    534 braked from 13.35 to 2.55 m/s at 4.5 m/s² turning right in j4 behind 389, which came
+    from the north into 534's exit lane 30 m ahead at 9.5 m/s and sped up to 13.4 m/s, 40 m ahead
+    when 534 was slowest (SUMO's account: foe 496 from 515.2 s, below 8.4 m/s). A follower still
+    within the gap at its slowest (a queue closing up) may be dropping back behind its leader.
+    False where the record cannot tell (no speed or position of either then)."""
+    low = _slowest(other.way, onset)
+    if low is None:
+        return False
+    speeds = [s.speed_mps for s in ahead.samples if s.speed_mps is not None and onset <= s.t <= low.t]
+    its, _ = speed_at(ahead.samples, low.t)
+    if not speeds or its is None or low.speed_mps > min(speeds) - FORCE_DECEL_MPS2 * MIN_DECEL_SPAN_S:
+        return False
+    went, mine = _travelled(ahead.samples, onset, low.t), _travelled(other.way, onset, low.t)
+    if went is None or mine is None:
+        return False
+    return needed_deceleration(low.speed_mps, its, gap + went - mine) < FORCE_DECEL_MPS2
+
+
+def _travelled(samples: Sequence[Sample], t0: int, t1: int) -> float | None:
+    """How far the road user went between t0 and t1, along its placed positions."""
+    a, _ = position_at(samples, t0)
+    b, _ = position_at(samples, t1)
+    if a is None or b is None:
+        return None
+    points = [a, *((s.x, s.y) for s in samples if s.placed and t0 < s.t < t1), b]
+    return sum(math.dist(p, q) for p, q in zip(points, points[1:]))
+
+
+def _slowest(samples: Sequence[Sample], onset: int) -> Sample | None:
+    """The road user's slowest sample in the slowing begun at `onset`: the lowest speed from then
+    on, before it went SPEED_NOISE_MPS faster again."""
+    low: Sample | None = None
+    for s in samples:
+        if s.t < onset or s.speed_mps is None:
+            continue
+        if low is not None and s.speed_mps > low.speed_mps + SPEED_NOISE_MPS:
+            break
+        if low is None or s.speed_mps < low.speed_mps:
+            low = s
+    return low
 
 
 def _slowing_too(ahead: Other, t: int, its: float, speed: float) -> bool:

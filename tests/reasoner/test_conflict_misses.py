@@ -128,3 +128,60 @@ def test_a_stop_after_creeping_on_behind_a_leader_that_had_gone_is_a_change_of_s
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
         [(f.sentence, f.method) for f in inc.derived]
     assert not any(f.sentence == "7 would force l to change speed or course" for f in inc.derived)
+
+
+MINOR_NS = {"south": "give_way", "north": "give_way"}      # the major road runs west-east
+
+
+def _turner_behind(lead: Motion) -> Foreign:
+    """c2 on the major road from the west at 13.35 m/s, turning right into the south arm's
+    outbound lane, brakes at 4.5 m/s² from 25.3 m short of the centre to 2.55 m/s and pulls away
+    at 2.6 m/s²; 7 comes up the south arm (Give Way) at 13.4 m/s without slowing, straight across
+    c2's way 2.0 s after c2 began to slow (unslowed, c2 would have reached their conflict zone
+    0.24 s before 7 and been in it with 7: a collision course); l, from the north arm straight
+    through into the lane c2 turns into, is 30 m ahead of c2 on c2's way when c2 begins to slow,
+    at 9.5 m/s, moving as `lead` says."""
+    onset = 4.0                                       # c2's onset, s from START
+    c2 = Motion(-25.3 - 13.35 * onset, 13.35, [(onset, 0.0), (2.4, -4.5), (30.0, 2.6)])
+    seven = Motion(1.75 - 13.4 * (onset + 2.0), 13.4)
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds=MINOR_NS)])
+    times = rate(5, START, START + 20.0)
+    for who, motion, arm in (("7", seven, "south"), ("c2", c2, "west>south"), ("l", lead, "north")):
+        run.spawn(who)
+        run.drive(who, motion, arm, times, t_start=START)
+        run.watch(who, motion, arm, times, t_start=START, facts=["7 has a give way sign"] if who == "7" else None)
+    return run
+
+
+def test_a_turner_braking_far_below_the_speed_of_one_pulling_away_ahead_of_it_was_forced_by_the_crosser(tmp_path):
+    """HC 172 (TSRGD 2016 Sch 9 Pt 8): 7 does not give way to c2, traffic on the major road. l,
+    30 m ahead of c2 on c2's own way (it came through from the north arm into the lane c2 turns
+    into), is at 9.5 m/s when c2 begins to slow and speeds up at 2.3 m/s² to 13.4 m/s; c2 brakes
+    at 4.5 m/s² from 13.35 to 2.55 m/s. Keeping the two-second gap behind l (HC 126: "the vehicle
+    in front") asked c2 at most to come down to l's speed; it went on to 7 m/s below the slowest l
+    went, as 7 came across its way: the change of speed was to avoid 7. Punishable, HC 172, "7
+    would force c2" (the town run's 534, braking from 13.35 to 2.55 m/s turning right in j4 behind
+    389, which came from the north into 534's exit lane 30 m ahead at 9.5 m/s and sped up, as 496
+    ran its Give Way line; SUMO's account: foe 496, held 4.5 m/s². On main, 389 was taken as
+    534's leader: 2.3 m/s² by the two-second rule at the onset.)"""
+    lead = Motion(1.25 - 13.04 - 5.5 * (START - 5.0 + 4.0 - 1.74), 5.5, [(4.0 - 1.74, 0.0), (3.9 / 2.3, 2.3), (30.0, 0.0)])
+    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
+    verdict(inc, "punishable", "HC 172")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+    assert not any(f.sentence == "7 would force l to change speed or course" for f in inc.derived)
+
+
+def test_a_turner_braking_behind_one_slowing_ahead_on_its_way_braked_for_it(tmp_path):
+    """HC 126: a following driver keeps a gap behind the vehicle in front in which it can pull up
+    if that vehicle slows. As above, but l, 30 m ahead of c2 on c2's way at 9.5 m/s when c2 begins
+    to slow, slows at 3 m/s² to 2.5 m/s: c2, braking to 2.55 m/s, came down to l's speed behind
+    it, its leader in its lane, and not below it. c2 braked for l, not for 7: no "7 would force
+    c2"; 7 still did not give way: HC 172 without anyone forced, mitigated as the tool grades it."""
+    lead = Motion(1.25 - 9.5 * 4.0, 9.5, [(4.0, 0.0), (7.0 / 3.0, -3.0), (30.0, 0.0)])
+    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
+    verdict(inc, "mitigated", "HC 172")
+    assert not any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+    c2 = next(u for u in inc.second_limb if u.user == "c2")
+    assert c2.reason == "leader" and "its own leader l" in c2.words, (c2.reason, c2.words)
