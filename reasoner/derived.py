@@ -503,10 +503,11 @@ def inside_another(p: Passage, other: Other) -> tuple[str, float] | None:
     already, and the road user braking inside W's zone was resolving W's conflict, the first on its
     way (attribution.ahead_of's order: a zone it was in comes before one ahead of it). The
     projected gap is not defined for a road user already in the zone; this is the occupancy at the
-    onset that stands for it. The town run's 279, turning right across j2's north-south road, braked
-    again at 4.5 m/s² from 418.8 s inside the zone it shared with 108 coming through its Give Way
-    line (SUMO's account: foe 108), as 170 set off from its Stop line on the north arm. None where
-    it was in no such zone, or the record cannot tell."""
+    onset that stands for it. The town run's 279, turning right at j2, slowed for the cyclist 114,
+    sped up again and braked anew at 4.5 m/s² from 418.6 s, inside the zone it shared with 108
+    coming out of its Give Way line (unslowed, it would have left it 0.22 s after 108 came in;
+    SUMO's account: foe 108 from 419.0 s), 0.8 s after 170 set off from its Stop line on the north
+    arm. None where it was in no such zone, or the record cannot tell."""
     onset = slowing_began(other)
     if onset is None or _walking(other):
         return None
