@@ -34,7 +34,8 @@ from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_decele
 from .attribution import SAME_ZONE_M, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
-from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, reacted_after_clearing, slowing_began, stop_apart, well_ahead
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, braked_afresh, reacted_after_clearing, slowing_began, stop_apart,
+                       well_ahead)
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -475,7 +476,49 @@ def _reacting_afresh(p: Passage) -> tuple[Other, ...]:
     if act is None:
         return found
     start = off.last.t if off is not None else act - int(ANTICIPATION_S * SECOND)
-    return tuple(_own_stop(p, _toward_zone(p, o, start)) for o in found)
+    found = tuple(_own_stop(p, _toward_zone(p, o, start)) for o in found)
+    return found if off is None else tuple(_braked_afresh(p, o, off.last.t) for o in found)
+
+
+def _braked_afresh(p: Passage, other: Other, set_off: int) -> Other:
+    """The road user with its braking after V set off read as a change of speed of its own
+    (reaction.braked_afresh: harder, by FORCE_DECEL_MPS2 or more, than the slowing it was already
+    making) where the slowing it began before V set off is explained and that braking, taken from
+    where and how fast the road user was when V set off, is not: TSRGD 2016 Sch 9 Pt 7 para 1 asks
+    of each change of speed whether V caused it, and slowing for another road user does not make a
+    later, harder braking for V that road user's. Not where the road user was by then already in
+    another road user's conflict zone with that one about to come in (`inside_another`): a
+    braking begun there is that one's to explain, whatever lay ahead. Where the braking is V's to
+    answer for as read, or the fresh reading is explained too, the reading stays as it was."""
+    fresh = braked_afresh(other, set_off)
+    if fresh is None or not explained(p, other) or explained(p, fresh) or inside_another(p, fresh) is not None:
+        return other
+    return fresh
+
+
+def inside_another(p: Passage, other: Other) -> tuple[str, float] | None:
+    """The road user W (not V) in whose conflict zone with it the road user already was when it
+    began to slow, and the time from its leaving that zone, had it kept its speed, to W's coming in
+    (conflicts.exit_gap), where that was under PET_MAX_S: W was about to come in, or was there
+    already, and the road user braking inside W's zone was resolving W's conflict, the first on its
+    way (attribution.ahead_of's order: a zone it was in comes before one ahead of it). The
+    projected gap is not defined for a road user already in the zone; this is the occupancy at the
+    onset that stands for it. The town run's 279, turning right at j2, slowed for the cyclist 114,
+    sped up again and braked anew at 4.5 m/s² from 418.6 s, inside the zone it shared with 108
+    coming out of its Give Way line (unslowed, it would have left it 0.22 s after 108 came in;
+    SUMO's account: foe 108 from 419.0 s), 0.8 s after 170 set off from its Stop line on the north
+    arm. None where it was in no such zone, or the record cannot tell."""
+    onset = slowing_began(other)
+    if onset is None or _walking(other):
+        return None
+    best: tuple[str, float] | None = None
+    for w in p.others + p.same_approach:
+        if w.user in (other.user, p.vehicle) or _walking(w):
+            continue
+        gap = exit_gap(w.way, other.way, onset, _extend(p, other))
+        if gap is not None and gap < PET_MAX_S and (best is None or gap < best[1]):
+            best = (w.user, gap)
+    return best
 
 
 def _own_stop(p: Passage, other: Other) -> Other:

@@ -90,6 +90,35 @@ def stop_apart(other: Other, everyone: Sequence[Other], junction: Junction) -> O
     return replace(apart, counted_from=begins) if apart.stopped is not None else None
 
 
+def braked_afresh(other: Other, set_off: int) -> Other | None:
+    """The road user's braking as a change of speed of its own, begun after the vehicle set off from
+    its standstill before its line (`set_off`), where it was already slowing before then: its
+    braking counted from the set-off (others.since) began after it, and was harder, by
+    FORCE_DECEL_MPS2 or more, than the slowing in the MIN_DECEL_SPAN_S before it began (Hupfer's
+    considerable reaction, as a rise in deceleration: the driver braked anew, not on). Counted from
+    the set-off (`counted_from`: its slowing is looked for there, reaction.slowing_began), so that
+    the road user is taken at the speed and place it had when the vehicle's act began. None where
+    the braking is the tail of one begun before (no such rise), or began before the set-off, or
+    the record cannot tell. The paper run's 205 slowed at 4.5 m/s² for 279 crawling out of j2, eased
+    to 2 m/s² from 324.5 s, and braked at 5.5 m/s² from 325.3 s, 0.3 s after 253 set off from its
+    Give Way line (SUMO's account: foe 253, 8.7 m/s² from 325.4 s); the paper run's 187 braked at
+    4.5 m/s² from 224.0 s to a stop at 226.6 s through 204's set-off at 226.0 s: one braking."""
+    b = other.braking
+    if b is None or b.first.t < set_off or b.first.speed_mps is None:
+        return None
+    began = slowing_began(other)
+    if began is None or began >= set_off:
+        return None                     # no slowing before the set-off to tell it apart from
+    span = int(MIN_DECEL_SPAN_S * SECOND)
+    before, _ = speed_at(other.samples, b.first.t - span)
+    if before is None:
+        return None
+    prior = (before - b.first.speed_mps) / MIN_DECEL_SPAN_S
+    if b.decel_mps2 - prior < FORCE_DECEL_MPS2:
+        return None
+    return replace(other, counted_from=set_off)
+
+
 def cleared_at(mine: Sequence[Sample], theirs: Sequence[Sample], distance: float = VEHICLE_WIDTH_M) -> int | None:
     """When the vehicle was first seen `distance` or more from the other's way, after it was last
     within that distance of it: the moment it was out of the other's way. None when it never came

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 from tests.helpers.foreign import Foreign, Motion, crossroads, ns, rate
-from tests.reasoner.test_foreign_scenarios import START, camera, judge, one, verdict
+from tests.reasoner.test_foreign_scenarios import START, camera, judge, one, stop_then_go_run, verdict
 
 GIVE_WAY = {"west": "give_way", "east": "give_way"}
 
@@ -185,3 +185,66 @@ def test_a_turner_braking_behind_one_slowing_ahead_on_its_way_braked_for_it(tmp_
         [(f.sentence, f.method) for f in inc.derived]
     c2 = next(u for u in inc.second_limb if u.user == "c2")
     assert c2.reason == "leader" and "its own leader l" in c2.words, (c2.reason, c2.words)
+
+
+def test_a_harder_braking_after_the_vehicle_set_off_is_a_change_of_speed_of_its_own(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171): no vehicle may proceed past a Stop line "so as to be
+    likely to ... cause the driver of another vehicle to change its speed or course in order to avoid
+    an accident". 7 stands at its Stop line (west arm) and sets off at 2 m/s² (8.87 s), straight
+    across. On the major road c2, from the north at 13.4 m/s, begins to slow at 4 m/s² 0.9 s
+    before 7 sets off, for 8, which crawls at 2 m/s across c2's lane out of the east arm, eases to
+    1 m/s² after half a second, and from 0.2 s after 7 set off brakes at 6 m/s² to a stand, going
+    on once 7 is across. Had c2 kept the speed it had when it began to slow, it would have been in
+    8's zone with 8 (a collision course, -0.42 s; 7's a near miss, 0.71 s): that first slowing was
+    for 8. The braking after 7 set off is a second change of speed, harder than the easing it broke
+    off by more than 2 m/s² (Hupfer's considerable reaction); from where c2 was when 7 set off, at
+    the speed it then had, 7's zone came first on its way (26.2 m on, 0.01 s after 7 left it: a
+    near miss) and 8's 3.5 m beyond it (0.21 s). The law asks of that change of speed whether 7
+    caused it: punishable, HC 171, "7 would force c2" (the paper run's 205, slowing
+    for 279 while 253 stood at its Give Way line, then braking at 5.5 m/s² as 253 came out; SUMO's
+    account: foe 253, 8.7 m/s² from 325.4 s. On main, the slowing's onset before 253 set off put
+    the braking down to 279's collision course.)"""
+    c2 = Motion(-43.5 - 13.4 * 8.0, 13.4, [(8.0, 0.0), (0.5, -4.0), (0.6, -1.0), (3.0, -6.0), (2.0, 0.0),
+                                           (10.0, 2.0)])
+    eight = Motion(-21.0, 2.0)              # in c2's lane's zone from about 7.75 s to 11.5 s
+    inc = one(judge(tmp_path, stop_then_go_run(("c2", c2, "north"), ("8", eight, "east"))), "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+
+
+def test_a_harder_braking_tail_of_a_slowing_for_another_is_not_a_change_of_speed_of_its_own(tmp_path):
+    """Control for the last: the same, but c2 brakes on at 4 m/s² through 7's set-off and only then
+    at 5 m/s², no harder than the slowing it was making by 2 m/s²: one braking, begun for 8 (a
+    collision course, unslowed, with 8 crawling across its lane) while 7 still stood where the law
+    asks it to wait. 7 made nobody change speed (the shape of the paper-12 run's 187, braking at
+    4.5 m/s² from 224.0 s to a stop at 226.6 s through 204's set-off at 226.0 s)."""
+    c2 = Motion(-43.5 - 13.4 * 8.0, 13.4, [(8.0, 0.0), (1.1, -4.0), (3.0, -5.0), (2.0, 0.0), (10.0, 2.0)])
+    eight = Motion(-21.0, 2.0)
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "north"), ("8", eight, "east")))
+    assert not [i for i in found if i.vehicle == "7" and any(
+        f.sentence == "7 would force c2 to change speed or course" for f in i.derived)], \
+        [(i.vehicle, i.verdict, [f.sentence for f in i.derived]) for i in found]
+
+
+def test_a_harder_braking_inside_another_road_users_zone_is_that_road_users_to_explain(tmp_path):
+    """Control for the harder braking read afresh: 7 stands at its Stop line on the east arm and
+    sets off at 2 m/s² (8.87 s), straight across. c2, from the north at 13.4 m/s, slows at
+    4.5 m/s² to 6 m/s from 6.86 s for 8, which crawls at 2 m/s out of the west arm across c2's lane
+    (in their zone from 8.5 s; unslowed, c2 would have been in it with 8), keeps on at 6 m/s, and
+    from 9.1 s, already in 8's zone with 8 in it, brakes at 12 m/s² to a stand until 8 has gone.
+    The braking after 7 set off is harder than the slowing before it, but it was made inside 8's
+    conflict zone with 8 there (had c2 kept its speed, it would have left the zone 1.5 s after 8
+    came in): resolving 8's conflict, the first on its way (where no projected gap is defined,
+    the occupancy at the onset stands for it). Had c2 kept 13.4 m/s from where it began to slow,
+    it would have been through 7's zone 2.5 s before 7 came. 7 made nobody change speed "in order to avoid an
+    accident" (TSRGD 2016 Sch 9 Pt 7 para 1): no "7 would force c2" (the town run's 279, turning
+    right across j2, braking again inside 108's zone as 170 set off from its Stop line; SUMO's
+    account: foe 108; 333 for 440 and 191 for 174, in the same place, likewise)."""
+    c2 = Motion(-22.95 - 13.4 * 6.856, 13.4, [(6.856, 0.0), ((13.4 - 6.0) / 4.5, -4.5), (0.6, 0.0), (0.5, -12.0),
+                                              (3.5, 0.0), (10.0, 2.0)])
+    eight = Motion(-19.05, 2.0)             # in c2's zone (its lane's strip, half a car on either side) from 8.5 s
+    found = judge(tmp_path, stop_then_go_run(("c2", c2, "north"), ("8", eight, "west"), arm="east"))
+    assert not [i for i in found if i.vehicle == "7" and any(
+        f.sentence == "7 would force c2 to change speed or course" for f in i.derived)], \
+        [(i.vehicle, i.verdict, [f.sentence for f in i.derived]) for i in found]
