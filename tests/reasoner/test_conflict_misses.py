@@ -248,3 +248,46 @@ def test_a_harder_braking_inside_another_road_users_zone_is_that_road_users_to_e
     assert not [i for i in found if i.vehicle == "7" and any(
         f.sentence == "7 would force c2 to change speed or course" for f in i.derived)], \
         [(i.vehicle, i.verdict, [f.sentence for f in i.derived]) for i in found]
+
+def test_a_car_braking_to_stand_at_its_own_stop_line_across_the_vehicles_way_is_not_forced_by_it(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171): "every vehicle must stop before crossing the
+    transverse line"; the second limb protects the driver of another vehicle made "to change its
+    speed or course in order to avoid an accident", and a vehicle that had to stand at its own Stop
+    line whoever passed did not change speed for the one that did (issue 35's "Attribution": not
+    for its own control, its own Stop line). 7 stops at its Stop line (west arm), pulls away and
+    turns right across the westbound lane. 8 comes west on the opposite arm (also a Stop line) at
+    10 m/s and, from 4.1 s, brakes at 4 m/s² to stand 1.15 m short of its own line, stands 3 s and
+    goes on: unslowed it would have been in 7's way as 7 turned (a collision course), but it had to
+    stop where it stopped anyway. Not forced: no "7 would force 8" (the paper run's 267, 1.2 m from
+    its own Stop line on j2's north arm, and 142, 3.4 m from it, braking to it as 195 and 155 came
+    out of the opposite Give Way line; SUMO's account: foe 195 and foe 155, each holding the car at
+    its line). Fails if a Stop line of the road user's own is read as no excuse, as a Give Way line
+    on a collision course is (derived._line_no_excuse)."""
+    from reasoner import derived, history
+
+    seven = Motion.stopping_at(0.0, 8.0, 40.0 - 12.5, wait=2.0, then=9.0 / 2.5, accel=2.5)
+    seven.phases += [(40.0, 0.0)]
+    meets = seven.when(40.38)                   # 7's front on the westbound lane (y = -1.75) at x = -0.65
+    brakes = meets - 2.6                        # unslowed, 8's front there (s = +0.65) at `meets`
+    eight = Motion(0.65 - 10.0 * meets, 10.0, [(brakes, 0.0), (2.5, -4.0), (3.0, 0.0), (20.0, 2.0)])
+    stood_at = eight.at(brakes + 2.6)[0]
+    assert -13.5 < stood_at < -12.0, stood_at   # short of its own line (12 m out), by 1.15 m
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    run.spawn("7")
+    times = rate(5, START, START + 30.0)
+    stop_camera = camera("7", sign="stop")
+    for at in times:
+        d, v = seven.at(at - START)
+        x, y, heading = _turning_right(d)
+        where = {"x": round(x, 3), "y": round(y, 3)}
+        run.emit("vehicle/7", ns(at), "entity.state", {**where, "heading_deg": round(heading, 3), "speed_mps": round(v, 3)})
+        run.emit("monitor/m1", ns(at), "monitor.observation",
+                 {"vehicle": "7", "facts": stop_camera(at, d - 40.0, v), "speed_mps": round(v, 3), **where})
+    run.spawn("8")
+    run.drive("8", eight, "east", times, t_start=START)
+    run.watch("8", eight, "east", times, t_start=START)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    eights = [o for o in derived.reacting(p) if o.user == "8"]
+    assert eights and eights[0].braking is not None and eights[0].braking.decel_mps2 > 3.5, eights
+    shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
+    assert "7 would force 8 to change speed or course" not in shown, shown
