@@ -465,9 +465,10 @@ def test_a_main_road_car_slowing_for_its_own_turn_behind_the_vehicle_was_not_for
     as it comes to its right turn across 7's way, its braking ending 0.5 s after 7 has left their
     zone, and takes the turn at 6.2 m/s without stopping. Unslowed (13.4 m/s, faster than any
     right turn is taken) it would still have come into the zone 0.25 s after 7 had left it: no
-    collision course with 7, and the slowing is the one its own turn asks (the paper run's 228,
-    13.4 to 6.3 m/s for its right turn behind 116, unslowed 0.86 s after 116 had left; SUMO's
-    account: its own minor link's approach, its next speed the same with 116 taken away). A lawful
+    collision course with 7, and the slowing is the one its own turn asks (the town run's 279,
+    13.4 to 6.4 m/s for its right turn across 114's way, unslowed 1.02 s after 114 had left; SUMO's
+    account: its own minor link's approach). (One turning into the lane 7 went down, behind 7, is
+    test_foreign_scenarios' following case, not this.) A lawful
     Stop: no violation, c2 not said to be forced. The control: the same turn with 7 cutting across
     c2 1.5 s ahead of where c2, unslowed, would have been in their zone, and c2 braking harder and
     longer than its turn asks (2.5 s, to 2.2 m/s, ending 0.6 s before 7 has left): forced,
