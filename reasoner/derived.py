@@ -34,8 +34,8 @@ from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_decele
 from .attribution import SAME_ZONE_M, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
-from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, braked_afresh, reacted_after_clearing, slowing_began, stop_apart,
-                       well_ahead)
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, braked_afresh, cleared_at, reacted_after_clearing,
+                       slowing_began, stop_apart, turn_deg, well_ahead)
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -692,7 +692,8 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
         or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
         or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None \
-        or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other), _set_off_t(p))
+        or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other), _set_off_t(p)) \
+        or turned_behind(p, other) is not None
 
 
 def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
@@ -721,6 +722,32 @@ def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
     if moved is None or moved - c.mine.left <= REACTION_TIME_S * SECOND:
         return None
     return c, moved
+
+
+def turned_behind(p: Passage, other: Other) -> tuple[Conflict, float] | None:
+    """V's conflict with the road user and how far (degrees) the road user turned, where it slowed
+    for a turn of its own behind V: its way out of the junction was more than SAME_WAY_DEG off its
+    way in (it turned there); V was in their conflict zone first, left it, and was out of the road
+    user's way again (reaction.cleared_at: it crossed that way, and did not go on ahead of the
+    road user down the road it turned into, which it must then follow, HC 126: `well_ahead`
+    answers that); the road user did not stop; and, unslowed, it would have come into the zone
+    only after V had left it (projected gap 0 or more: no collision course). The projection keeps
+    the speed it had when it began to slow, faster than any turn is taken, so it arrives no later
+    than a turning road user could: one that even so would have found V gone had no accident with
+    V to avoid, and its slowing was for its own turn (issue 35: "not for its own control (... its
+    own turn ...)"; TSRGD 2016 Sch 9 Pt 7 para 1 and HC 172 ask for a change of speed "in order to
+    avoid an accident"). The town run's 279 slowed from 13.4 to 6.4 m/s as it came to its right
+    turn across oncoming traffic, 114 crossing its way out of j2's Give Way line ahead of it
+    (unslowed, 1.02 s after 114 had left their zone), and turned without stopping (SUMO's account:
+    its own minor link's approach). One on a collision course with V (a negative projected gap),
+    or that stopped, is not answered here, turning or not. None where the record cannot tell (no
+    way in and out of the junction, no projected gap, V's leaving unknown)."""
+    c = conflict_of(p, other)
+    if other.stopped is not None or c is None or c.first != "mine" or c.mine.left is None \
+            or c.projected_gap_s is None or c.projected_gap_s < 0 or cleared_at(p.samples, other.way) is None:
+        return None
+    turned = turn_deg(through(other.way, p.junction))
+    return (c, turned) if turned is not None and turned > SAME_WAY_DEG else None
 
 
 def _went_first(p: Passage, other: Other) -> Conflict | None:

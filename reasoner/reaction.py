@@ -35,6 +35,7 @@ REACTION_TIME_S = 2.5   # AASHTO Green Book (2018) 3.2.2.1: the brake reaction t
                         # above the 90th percentile of drivers' reaction times, surprise included
 SPEED_NOISE_MPS = 0.5   # a road user still within this of its top speed has not yet begun to slow (1 mph)
 SAME_WAY_DEG = 45.0     # a vehicle heading within this of the way's direction goes that way (not across it)
+                        # (and one leaving a junction more than this off the way it came in by turned there)
 
 Point = tuple[float, float]
 
@@ -287,3 +288,16 @@ def _heading(placed: Sequence[Sample], i: int) -> Point | None:
     a, b = placed[max(i - 1, 0)], placed[min(i + 1, len(placed) - 1)]
     length = math.dist((a.x, a.y), (b.x, b.y))
     return None if length < 0.1 else ((b.x - a.x) / length, (b.y - a.y) / length)
+
+
+def turn_deg(inside: Sequence[Point]) -> float | None:
+    """How far the road user's direction turned through the junction, in degrees (0 to 180): from
+    its way in (the first step of `inside`, others.through's positions in the junction's area with
+    the one before and after) to its way out (the last step). None where the record shows no way
+    both in and out of the area."""
+    steps = [(b[0] - a[0], b[1] - a[1]) for a, b in zip(inside, inside[1:]) if math.dist(a, b) > 0.05]
+    if len(steps) < 2:
+        return None
+    (ax, ay), (bx, by) = steps[0], steps[-1]
+    turn = abs(math.degrees(math.atan2(by, bx) - math.atan2(ay, ax))) % 360
+    return min(turn, 360 - turn)

@@ -23,11 +23,12 @@ from __future__ import annotations
 
 from .attribution import joined_behind, leader
 from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_no_excuse, _nearer, _out_first,
-                      _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on)
+                      _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on,
+                      turned_behind)
 from .motion import position_at, speed_at
 from .others import VEHICLE_WIDTH_M, own_cause, paths_within
 from .passage import Other, Passage
-from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, reacted_after_clearing, slowing_began, well_ahead
+from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, reacted_after_clearing, slowing_began, well_ahead
 from .tolerance import deceleration, sensor_of
 from .unforced import Unforced
 from .when import format_time
@@ -130,6 +131,13 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
             return "joined behind", (f"it went through the zone where their paths meet ahead of {v}, which came in "
                                      f"behind it without slowing and went on along its way: braking could not keep it "
                                      f"from an accident with {v} behind it")
+        turned = turned_behind(p, o)
+        if turned is not None:
+            c, degrees = turned
+            return "own turn", (f"it turned {degrees:.0f}° there (more than {SAME_WAY_DEG:g}°) and did not stop: unslowed, "
+                                f"it would have come into the zone where their paths meet {c.projected_gap_s:.2f} s after "
+                                f"{v} had left it ({format_time(c.mine.left)}), so it slowed for its own turn, with no "
+                                f"accident with {v} to avoid")
         return "other", "something else the record shows explains its slowing (reasoner/derived.explained)"
     b = o.braking
     if b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:

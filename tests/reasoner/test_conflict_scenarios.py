@@ -444,3 +444,47 @@ def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_p
     inc = one(control, "7")
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+
+
+def _turning_through(ends_after: float, braking: float) -> Foreign:
+    """c2 comes south down the main road at 13.4 m/s to turn right into 7's (west) arm and brakes
+    at 4.5 m/s² for `braking` s, its braking ending 8 m north of the centre `ends_after` s after 7
+    has left the zone where their paths cross; it takes its turn at the speed it braked to, for
+    3 s, and then pulls away at 2 m/s², never stopping."""
+    low = 13.4 - 4.5 * braking
+    begins = _7_LEFT_C2S_ZONE + ends_after - braking
+    c2 = Motion(-8.0 - (13.4 + low) / 2 * braking - 13.4 * begins, 13.4,
+                [(begins, 0.0), (braking, -4.5), (3.0, 0.0), (10.0, 2.0)])
+    return stop_then_go_run(("c2", c2, "north>west"))
+
+
+def test_a_main_road_car_slowing_for_its_own_turn_behind_the_vehicle_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171) asks whether 7, proceeding past its Stop line, caused
+    the driver of another vehicle to change its speed or course "in order to avoid an accident";
+    issue 35: not for its own control ("its own turn"). c2 brakes at 4.5 m/s² from 13.4 to 6.2 m/s
+    as it comes to its right turn across 7's way, its braking ending 0.5 s after 7 has left their
+    zone, and takes the turn at 6.2 m/s without stopping. Unslowed (13.4 m/s, faster than any
+    right turn is taken) it would still have come into the zone 0.25 s after 7 had left it: no
+    collision course with 7, and the slowing is the one its own turn asks (the town run's 279,
+    13.4 to 6.4 m/s for its right turn across 114's way, unslowed 1.02 s after 114 had left; SUMO's
+    account: its own minor link's approach). (One turning into the lane 7 went down, behind 7, is
+    test_foreign_scenarios' following case, not this.) A lawful
+    Stop: no violation, c2 not said to be forced. The control: the same turn with 7 cutting across
+    c2 1.5 s ahead of where c2, unslowed, would have been in their zone, and c2 braking harder and
+    longer than its turn asks (2.5 s, to 2.2 m/s, ending 0.6 s before 7 has left): forced,
+    punishable HC 171."""
+    (tmp_path / "turn").mkdir()
+    (tmp_path / "control").mkdir()
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _turning_through(0.5, 1.6)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "own turn")]      # the explanation's reason
+    found = judge(tmp_path / "turn", run)
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    control = judge(tmp_path / "control", _turning_through(-0.6, 2.5))
+    inc = one(control, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
