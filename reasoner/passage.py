@@ -123,7 +123,8 @@ class Other:
     followed: str | None = None      # the road user ahead of it that explains its braking or stop
     own_stop_line: bool = False      # it braked or stopped before a Stop line of its own arm
     path: tuple[Sample, ...] = ()    # its way through the junction, read on past `samples` where
-                                     # they end before it left (rebuild.PATH_AFTER_S); else empty
+                                     # they end before it left (rebuild.PATH_AFTER_S, and STAND_ON_S
+                                     # for one still standing then); else empty
     counted_from: int | None = None  # its reaction is counted from here, and so is the slowing it ended
                                      # (reaction.slowing_began): a stop of its own, apart (others.stop_apart)
 

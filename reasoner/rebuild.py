@@ -48,6 +48,10 @@ OTHERS_BEFORE_S = 3.0     # other road users are looked for from this long befor
 ANTICIPATION_S = 3.0      # braking counts from this long before the vehicle crossed (a driver sees it coming)
 REACTION_S = 3.0          # ... until this long after it left
 PATH_AFTER_S = 8.0        # a road user that braked or stopped is followed this much further, to see its way through
+STAND_ON_S = 30.0         # ... and one standing when that ends, until it moves off, at most this much further: a
+                          # right-turner waiting on oncoming traffic and those crossing its way (HC 170, 180) moves
+                          # off well within it (the town run's 188, 13.5 s on); past it, what holds the road user is
+                          # read no further (bounded time and memory), and it counts as standing at the record's end
 
 
 def passages(record: Record) -> tuple[Passage, ...]:
@@ -185,6 +189,10 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
     vehicle's is what tells braking for it from braking for a turn of its own (derived.explained),
     and a main-road car still slowing on its arm when the window closes shows no way at all. Where a
     cause of its own explains the braking (others.own_cause), derived.explained looks no further.
+    One that braked or stopped and is standing when that ends is read on until it moves off and
+    PATH_AFTER_S beyond, at most STAND_ON_S further: when it moved off is what tells a stop made
+    for V from one that V's going did not end (derived.stood_on; the town run's 188, standing at its right-turn place from 2.8 s
+    after 247 had left their zone until oncoming 150 had passed, 14.5 s).
     `every`: each, read on for PATH_AFTER_S whatever it did (the road users on the vehicle's own approach: one that
     emerges after it crosses a main-road car's way as the window closes, attribution.py).
     A road user braking inside the junction is read on as one braking on its arm is: the reasoner
@@ -193,15 +201,24 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
     measured against (reaction.well_ahead: the paper run's 186, braking at 2.3 m/s² in j2 behind
     193, which had turned into its lane 34 m ahead and slowed to 6 m/s, read as well ahead)."""
     until = t_to + int(PATH_AFTER_S * SECOND)
-    longer: list[Mapping[str, Track]] = []      # without a store: the others of the longer window, read once
+    longer: dict[int, Mapping[str, Track]] = {}   # without a store: the others of a longer window, each read once
 
-    def way_on(o: Other) -> tuple[Sample, ...]:
-        own = record.track(o.src if not o.src.startswith("monitor/") else f"vehicle/{o.user}", t_from, until)
+    def read(o: Other, t_end: int) -> tuple[Sample, ...]:
+        own = record.track(o.src if not o.src.startswith("monitor/") else f"vehicle/{o.user}", t_from, t_end)
         if own is None:
-            if not longer:
-                longer.append(record.others(junction, t_from, until))
-            own = longer[0][o.user][1] if o.user in longer[0] else ()
+            if t_end not in longer:
+                longer[t_end] = record.others(junction, t_from, t_end)
+            own = longer[t_end][o.user][1] if o.user in longer[t_end] else ()
         return tuple(s for s in own if s.t >= t_from)
+
+    def way_on(o: Other, stand_on: bool = False) -> tuple[Sample, ...]:
+        path = read(o, until)
+        if not stand_on or not _standing_at_end(path):
+            return path
+        on = read(o, until + int(STAND_ON_S * SECOND))
+        moved = next((s.t for s in on if s.t > until and s.speed_mps is not None and s.speed_mps > STOPPED_MPS), None)
+        end = until + int(STAND_ON_S * SECOND) if moved is None else moved + int(PATH_AFTER_S * SECOND)
+        return tuple(s for s in on if s.t <= end)
 
     out = []
     for o in others:
@@ -211,11 +228,18 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
                 o = replace(o, path=path)
         elif (o.braking or o.stopped or _braked_inside(o, junction, t_from, t_to)) and not own_cause(o) \
                 and not through(o.samples, junction):
-            path = way_on(o)
+            path = way_on(o, stand_on=True)
             if through(path, junction):
                 o = replace(o, path=path)
         out.append(o)
     return tuple(out)
+
+
+def _standing_at_end(series: tuple[Sample, ...]) -> bool:
+    """Whether the last speed measured in the series is a standstill: the road user is still
+    standing where the window closes, and when it moves off (derived.stood_on) is further on."""
+    last = next((s for s in reversed(series) if s.speed_mps is not None), None)
+    return last is not None and last.speed_mps <= STOPPED_MPS
 
 
 def _braked_inside(o: Other, junction: Junction, t_from: int, t_to: int) -> bool:

@@ -342,17 +342,17 @@ def test_a_cyclist_that_crossed_ahead_and_rides_past_in_the_other_lane_is_not_en
 _7_LEFT_C2S_ZONE = _SET_OFF + math.sqrt(12.5 + 5.525)
 
 
-def _turning_in(stops_after: float, stands: float) -> Foreign:
+def _turning_in(stops_after: float, stands: float, lasts: float = 25.0) -> Foreign:
     """c2 comes south down the main road (x = +1.75) at 13.4 m/s to turn right into 7's (west)
     arm, and brakes at 4.5 m/s² to stand at its turning place 8 m north of the centre (2.5 m short
     of the zone where its path crosses 7's) `stops_after` s after 7 has left that zone; it stands
-    `stands` s, then turns in at 2 m/s²."""
+    `stands` s, then turns in at 2 m/s² (the run: `lasts` s)."""
     stop = _7_LEFT_C2S_ZONE + stops_after
     braking = 13.4 / 4.5
     begins = stop - braking
     c2 = Motion(-8.0 - 13.4 * braking / 2 - 13.4 * begins, 13.4,
                 [(begins, 0.0), (braking, -4.5), (stands, 0.0), (10.0, 2.0)])
-    return stop_then_go_run(("c2", c2, "north>west"))
+    return stop_then_go_run(("c2", c2, "north>west"), lasts=lasts)
 
 
 def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_stood_on_was_not_forced(tmp_path):
@@ -385,6 +385,26 @@ def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_
     inc = one(control, "7")
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+
+
+def test_a_main_road_car_that_stood_on_long_after_the_vehicle_had_gone_was_not_forced(tmp_path):
+    """The same law as above (TSRGD 2016 Sch 9 Pt 7 para 1, "in order to avoid an accident"), the
+    wait longer: c2 stands at its turning place from 2.8 s after 7 has left their zone (unslowed
+    it would have come in after 7 had left) and stands 14.5 s, waiting on oncoming traffic (HC
+    170), far past a perception-reaction time (2.5 s, AASHTO) after 7 had gone, and past the 8 s
+    the passage reads a braking road user on (the town run's 188, which stopped 6.3 m from j11's
+    centre 2.8 s after 247 had left their zone and stood 14.5 s while oncoming 150 passed; SUMO's
+    account: its own minor link's approach). What held it was not 7: a lawful Stop, no violation,
+    c2 not said to be forced. The reason is read only once the record shows when c2 moved off."""
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _turning_in(2.8, 14.5, lasts=45.0)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "stood on")]     # the explanation's reason
+    found = judge(tmp_path, run)
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
 
 
 def _joining_behind(ahead_s: float, *, rolls: bool = False) -> Foreign:

@@ -688,20 +688,21 @@ _SET_OFF = 6.87 + 2.0
 STOPS_THEN_GOES = Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=2.0, then=10.0)
 
 
-def stop_then_go_run(*others: tuple[str, Motion, str], said: tuple[str, ...] = (), arm: str = "west") -> Foreign:
+def stop_then_go_run(*others: tuple[str, Motion, str], said: tuple[str, ...] = (), arm: str = "west",
+                     lasts: float = 25.0) -> Foreign:
     """7 stops at its Stop line on `arm` (the minor road's) and goes straight on; `others` (user,
     motion, arm or "arm>exit") drive about it, watched by the camera at 5 Hz as a simulator's
-    monitors are; the camera states 7's sign and `said`."""
+    monitors are, for `lasts` s; the camera states 7's sign and `said`."""
     run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={arm: "stop", OPPOSITE[arm]: "stop"})])
     run.spawn("7")
-    times = SAMPLING["5 Hz"](START, START + 25.0)
+    times = SAMPLING["5 Hz"](START, START + lasts)
     run.drive("7", STOPS_THEN_GOES, arm, times, t_start=START)
-    run.watch("7", STOPS_THEN_GOES, arm, rate(5, START, START + 25.0), t_start=START,
+    run.watch("7", STOPS_THEN_GOES, arm, rate(5, START, START + lasts), t_start=START,
               facts=camera("7", sign="stop", also=said))
     for user, motion, arm in others:
         run.spawn(user, "bus" if user.startswith("b") else "car")
         run.drive(user, motion, arm, times, t_start=START)
-        run.watch(user, motion, arm, rate(5, START, START + 25.0), t_start=START)
+        run.watch(user, motion, arm, rate(5, START, START + lasts), t_start=START)
     return run
 
 
