@@ -46,7 +46,7 @@ from typing import Sequence
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .junctions import Junction
 from .motion import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
-from .others import VEHICLE_WIDTH_M
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M
 from .passage import Other, Passage
 from .rebuild import PAST_TOLERANCE_M
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, SPEED_NOISE_MPS, _Way, needed_deceleration,
@@ -91,8 +91,10 @@ def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
         along = 1.0 if heading is None else heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
         going = its <= STOPPED_MPS or (heading is not None and along >= _SAME_WAY)
         need = needed_deceleration(speed, its * max(along, 0.0), gap)
+        below = _braked_on_behind(other, ahead, onset, gap) if math.isinf(need) else \
+            _slowed_below(other, ahead, onset, gap)
         if gap > 0 and going and (its <= speed or _slowing_too(ahead, onset, its, speed)) and \
-                need >= FORCE_DECEL_MPS2 and (math.isinf(need) or not _slowed_below(other, ahead, onset, gap)):
+                need >= FORCE_DECEL_MPS2 and not below:
             return ahead.user
     return None
 
@@ -123,6 +125,41 @@ def _slowed_below(other: Other, ahead: Other, onset: int, gap: float) -> bool:
     if went is None or mine is None:
         return False
     return needed_deceleration(low.speed_mps, its, gap + went - mine) < FORCE_DECEL_MPS2
+
+
+def _braked_on_behind(other: Other, ahead: Other, onset: int, gap: float) -> bool:
+    """Whether the road user, within the two-second gap behind the road user ahead when its slowing
+    began at `onset` (`gap` metres behind it on its way), went on slowing by as much as a change of
+    speed counts from (FORCE_DECEL_MPS2 over MIN_DECEL_SPAN_S) after it had dropped back: already
+    below the slowest the road user ahead went from the onset to the follower's slowest, and two
+    seconds or more behind it counted at its own speed (FOLLOW_M + FOLLOW_S × its speed: HC 126's
+    "two-second gap between you and the vehicle in front", the time it would take to reach where the
+    one ahead is; the gap taken on by what each travelled since the onset). One too close behind
+    its leader drops back by going slower than the leader until the gap is kept (HC 126), and no
+    further: a braking on below that, once the gap is kept, was for something else. The paper run's
+    154 (a police car on j2's south Give Way arm, 16.8 m behind 241 turning the same way at 8.2 m/s
+    and speeding up to 11.2 m/s) braked from 8.35 m/s at 378.1 s at 4.5 m/s² to a stand at its
+    line as 142 turned right out of the north Stop arm into the lane 154 was turning left into; at
+    379.1 s it was at 3.85 m/s, 19.5 m behind 241 (15.7 m kept its two seconds), and it went on to
+    a stand (SUMO's account: foe 142, held 4.5 m/s²). A follower closing up in a queue behind a
+    crawling leader stops within a change of speed of where it dropped back. False where the record
+    cannot tell."""
+    low = _slowest(other.way, onset)
+    if low is None:
+        return False
+    speeds = [s.speed_mps for s in ahead.samples if s.speed_mps is not None and onset <= s.t <= low.t]
+    if not speeds:
+        return False
+    floor = min(speeds)
+    for s in other.way:
+        if s.speed_mps is None or s.t < onset or s.t > low.t or s.speed_mps >= floor:
+            continue
+        went, mine = _travelled(ahead.samples, onset, s.t), _travelled(other.way, onset, s.t)
+        if went is None or mine is None:
+            continue
+        if gap + went - mine >= FOLLOW_M + FOLLOW_S * s.speed_mps:
+            return s.speed_mps - low.speed_mps >= FORCE_DECEL_MPS2 * MIN_DECEL_SPAN_S
+    return False
 
 
 def _travelled(samples: Sequence[Sample], t0: int, t1: int) -> float | None:

@@ -291,3 +291,36 @@ def test_a_car_braking_to_stand_at_its_own_stop_line_across_the_vehicles_way_is_
     assert eights and eights[0].braking is not None and eights[0].braking.decel_mps2 > 3.5, eights
     shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
     assert "7 would force 8 to change speed or course" not in shown, shown
+
+
+def test_a_turner_too_close_behind_one_going_on_that_braked_on_below_it_was_forced_by_the_crosser(tmp_path):
+    """HC 172 (TSRGD 2016 Sch 9 Pt 8): 7 does not give way to c2, traffic on the major road. l, from
+    the north arm straight through into the lane c2 turns into, is 30 m ahead of c2 on c2's way when
+    c2 begins to slow, at 13 m/s and going on at it: c2 (13.35 m/s) is within the two-second gap
+    behind it (HC 126: 8 m and two seconds at 13 m/s, 34 m). Keeping that gap asked c2 to drop back,
+    going slower than l until the gap was kept (by 0.5 s on, at 11.1 m/s, it was two seconds behind
+    l at its own speed), and no further; c2 braked on at 4.5 m/s² to 2.55 m/s as 7 came across its
+    way: that change of speed was to avoid 7. Punishable, HC 172, "7 would force c2" (the paper
+    run's 154, a police car on j2's south Give Way arm 16.8 m behind 241, which turned the same way
+    at 8.2 m/s and sped up, braking from 8.35 m/s to a stand as 142 turned out of the north Stop arm
+    into the lane 154 was turning into; SUMO's account: foe 142, held 4.5 m/s². On main, 241 was
+    taken as 154's leader: within the gap at the onset, whatever came after.)"""
+    lead = Motion(1.25 - 13.0 * 4.0, 13.0)
+    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
+    verdict(inc, "punishable", "HC 172")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+
+
+def test_a_turner_too_close_behind_one_slowing_ahead_that_came_down_to_its_speed_braked_for_it(tmp_path):
+    """Control for the last: l, 30 m ahead at 13 m/s (c2 within the two-second gap behind it), slows
+    at 4.5 m/s² to 2.5 m/s from c2's onset; c2, braking to 2.55 m/s, came down to l's speed behind it
+    and not below (HC 126). c2 braked for its leader, not for 7: no "7 would force c2"; 7 still did
+    not give way: HC 172 without anyone forced, mitigated as the tool grades it."""
+    lead = Motion(1.25 - 13.0 * 4.0, 13.0, [(4.0, 0.0), (10.5 / 4.5, -4.5), (30.0, 0.0)])
+    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
+    verdict(inc, "mitigated", "HC 172")
+    assert not any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+    c2 = next(u for u in inc.second_limb if u.user == "c2")
+    assert c2.reason == "leader" and "its own leader l" in c2.words, (c2.reason, c2.words)
