@@ -63,6 +63,24 @@ def _turning_right(d: float) -> tuple[float, float, float]:
         return 1.75 - TURN_R + TURN_R * math.sin(th), 1.75 - TURN_R + TURN_R * math.cos(th), -math.degrees(th) % 360.0
     return 1.75, 1.75 - TURN_R - (d - straight - TURN_R * math.pi / 2), 270.0
 
+def _stop_and_turn_right(seven: Motion) -> tuple[Foreign, list[float]]:
+    """A run at a crossroads with Stop lines on its west and east arms: 7 comes in from the west
+    along `seven` and turns right into the major road (`_turning_right`), its positions at 5 Hz
+    and a Stop camera's observations of it; the other road users are added by the caller."""
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    run.spawn("7")
+    times = rate(5, START, START + 30.0)
+    stop_camera = camera("7", sign="stop")
+    for at in times:
+        d, v = seven.at(at - START)
+        x, y, heading = _turning_right(d)
+        where = {"x": round(x, 3), "y": round(y, 3)}
+        run.emit("vehicle/7", ns(at), "entity.state", {**where, "heading_deg": round(heading, 3), "speed_mps": round(v, 3)})
+        run.emit("monitor/m1", ns(at), "monitor.observation",
+                 {"vehicle": "7", "facts": stop_camera(at, d - 40.0, v), "speed_mps": round(v, 3), **where})
+    return run, times
+
+
 
 def test_a_main_road_car_braking_in_the_junction_behind_a_vehicle_that_pulled_into_its_lane_and_slowed_was_forced(
         tmp_path):
@@ -81,17 +99,7 @@ def test_a_main_road_car_braking_in_the_junction_behind_a_vehicle_that_pulled_in
     seven.phases += [((9.0 - 2.5) / 2.0, -2.0), (40.0, 0.0)]
     onset = seven.phases[0][0] + 2.0 + 5.9          # c2 brakes 5.9 s after 7 set off, 4 m short of the centre
     c2 = Motion(-4.0 - 9.0 * onset, 9.0, [(onset, 0.0), (3.0, -2.5), (30.0, 0.0)])
-    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
-    run.spawn("7")
-    times = rate(5, START, START + 30.0)
-    stop_camera = camera("7", sign="stop")
-    for at in times:
-        d, v = seven.at(at - START)
-        x, y, heading = _turning_right(d)
-        where = {"x": round(x, 3), "y": round(y, 3)}
-        run.emit("vehicle/7", ns(at), "entity.state", {**where, "heading_deg": round(heading, 3), "speed_mps": round(v, 3)})
-        run.emit("monitor/m1", ns(at), "monitor.observation",
-                 {"vehicle": "7", "facts": stop_camera(at, d - 40.0, v), "speed_mps": round(v, 3), **where})
+    run, times = _stop_and_turn_right(seven)
     run.spawn("c2")
     run.drive("c2", c2, "north", times, t_start=START)
     run.watch("c2", c2, "north", times, t_start=START)
@@ -272,17 +280,7 @@ def test_a_car_braking_to_stand_at_its_own_stop_line_across_the_vehicles_way_is_
     eight = Motion(0.65 - 10.0 * meets, 10.0, [(brakes, 0.0), (2.5, -4.0), (3.0, 0.0), (20.0, 2.0)])
     stood_at = eight.at(brakes + 2.6)[0]
     assert -13.5 < stood_at < -12.0, stood_at   # short of its own line (12 m out), by 1.15 m
-    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
-    run.spawn("7")
-    times = rate(5, START, START + 30.0)
-    stop_camera = camera("7", sign="stop")
-    for at in times:
-        d, v = seven.at(at - START)
-        x, y, heading = _turning_right(d)
-        where = {"x": round(x, 3), "y": round(y, 3)}
-        run.emit("vehicle/7", ns(at), "entity.state", {**where, "heading_deg": round(heading, 3), "speed_mps": round(v, 3)})
-        run.emit("monitor/m1", ns(at), "monitor.observation",
-                 {"vehicle": "7", "facts": stop_camera(at, d - 40.0, v), "speed_mps": round(v, 3), **where})
+    run, times = _stop_and_turn_right(seven)
     run.spawn("8")
     run.drive("8", eight, "east", times, t_start=START)
     run.watch("8", eight, "east", times, t_start=START)
