@@ -741,7 +741,7 @@ def turned_behind(p: Passage, other: Other) -> tuple[Conflict, float, Turn | Non
     (unslowed, 1.02 s after 114 had left their zone), and turned without stopping (SUMO's account:
     its own minor link's approach). Where V did go on ahead of it down the road it turned into
     (the following case), the two-second gap behind V is asked at the speed the road user took its
-    turn at, read from its own positions (reaction.turn_taken: it slowed no lower than that), not
+    turn at, read from its own record (reaction.turn_taken: it slowed no lower than that), not
     at the speed it came in at, which no turn is taken at (reaction.behind_at_turn: from where it
     began to slow, at that speed, V was HC 126's gap or more ahead of it at each of V's positions
     on its way, and V pulling away, faster than that by a change of speed); the third item is
@@ -1249,7 +1249,7 @@ def _cause(p: Passage, other: Other) -> str:
     turned = turned_behind(p, other)
     if turned is not None and turned[2] is not None:
         c, degrees, turn = turned
-        return (f"its own turn ({degrees:.0f}°, taken at {turn.speed_mps:.2f} m/s, from its positions): unslowed it would "
+        return (f"its own turn ({degrees:.0f}°, taken at {turn.speed_mps:.2f} m/s, from its own record): unslowed it would "
                 f"have come into their zone {c.projected_gap_s:.2f} s after {p.vehicle} had left it, and at the speed "
                 f"it took its turn it kept the two-second gap (HC 126: {FOLLOW_M:g} m + {FOLLOW_S:g} s at that "
                 f"speed) behind {p.vehicle} going on down the road it turned into")

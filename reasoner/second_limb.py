@@ -136,7 +136,7 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
             c, degrees, turn = turned
             behind = "" if turn is None else (
                 f"; {v} went on ahead of it down the road it turned into, and at the speed it took its turn, "
-                f"{turn.speed_mps:.2f} m/s (from its positions, {format_time(turn.t)}), it kept the two-second gap "
+                f"{turn.speed_mps:.2f} m/s (its own record, {format_time(turn.t)}), it kept the two-second gap "
                 f"behind {v} ({FOLLOW_M:g} m + {FOLLOW_S:g} s at that speed, HC 126) with {v} pulling away")
             return "own turn", (f"it turned {degrees:.0f}° there (more than {SAME_WAY_DEG:g}°) and did not stop: unslowed, "
                                 f"it would have come into the zone where their paths meet {c.projected_gap_s:.2f} s after "
