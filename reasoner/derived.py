@@ -33,9 +33,9 @@ from .model import DerivedFact, Finding
 from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
-from .others import VEHICLE_WIDTH_M, own_cause, paths_within, since, through
-from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, braked_afresh, cleared_at, reacted_after_clearing,
-                       slowing_began, stop_apart, turn_deg, well_ahead)
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, own_cause, paths_within, since, through
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, Turn, behind_at_turn, braked_afresh, cleared_at,
+                       reacted_after_clearing, slowing_began, stop_apart, turn_deg, turn_taken, well_ahead)
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -724,13 +724,13 @@ def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
     return c, moved
 
 
-def turned_behind(p: Passage, other: Other) -> tuple[Conflict, float] | None:
+def turned_behind(p: Passage, other: Other) -> tuple[Conflict, float, Turn | None] | None:
     """V's conflict with the road user and how far (degrees) the road user turned, where it slowed
     for a turn of its own behind V: its way out of the junction was more than SAME_WAY_DEG off its
     way in (it turned there); V was in their conflict zone first, left it, and was out of the road
-    user's way again (reaction.cleared_at: it crossed that way, and did not go on ahead of the
-    road user down the road it turned into, which it must then follow, HC 126: `well_ahead`
-    answers that); the road user did not stop; and, unslowed, it would have come into the zone
+    user's way again (reaction.cleared_at: it crossed that way) or went on ahead of it down the
+    road it turned into with the gap kept at the speed of its turn (below); the road user did not
+    stop; and, unslowed, it would have come into the zone
     only after V had left it (projected gap 0 or more: no collision course). The projection keeps
     the speed it had when it began to slow, faster than any turn is taken, so it arrives no later
     than a turning road user could: one that even so would have found V gone had no accident with
@@ -739,15 +739,28 @@ def turned_behind(p: Passage, other: Other) -> tuple[Conflict, float] | None:
     avoid an accident"). The town run's 279 slowed from 13.4 to 6.4 m/s as it came to its right
     turn across oncoming traffic, 114 crossing its way out of j2's Give Way line ahead of it
     (unslowed, 1.02 s after 114 had left their zone), and turned without stopping (SUMO's account:
-    its own minor link's approach). One on a collision course with V (a negative projected gap),
-    or that stopped, is not answered here, turning or not. None where the record cannot tell (no
-    way in and out of the junction, no projected gap, V's leaving unknown)."""
+    its own minor link's approach). Where V did go on ahead of it down the road it turned into
+    (the following case), the two-second gap behind V is asked at the speed the road user took its
+    turn at, read from its own record (reaction.turn_taken: it slowed no lower than that), not
+    at the speed it came in at, which no turn is taken at (reaction.behind_at_turn: from where it
+    began to slow, at that speed, V was HC 126's gap or more ahead of it at each of V's positions
+    on its way, and V pulling away, faster than that by a change of speed); the third item is
+    that turn, None where V crossed its way. The paper run's 228 (13.03 to 6.28 m/s, its turn
+    into j2's south arm 28.8 m behind 116 going on at 9.6 to 13.4 m/s; SUMO's account: its own
+    minor link's approach). One on a collision course with V (a negative projected gap), or that
+    stopped, is not answered here, turning or not. None where the record cannot tell (no way in
+    and out of the junction, no projected gap, V's leaving unknown)."""
     c = conflict_of(p, other)
     if other.stopped is not None or c is None or c.first != "mine" or c.mine.left is None \
-            or c.projected_gap_s is None or c.projected_gap_s < 0 or cleared_at(p.samples, other.way) is None:
+            or c.projected_gap_s is None or c.projected_gap_s < 0:
         return None
     turned = turn_deg(through(other.way, p.junction))
-    return (c, turned) if turned is not None and turned > SAME_WAY_DEG else None
+    if turned is None or turned <= SAME_WAY_DEG:
+        return None
+    if cleared_at(p.samples, other.way) is not None:
+        return c, turned, None
+    turn = turn_taken(other, p.junction)
+    return (c, turned, turn) if turn is not None and behind_at_turn(p.samples, other, turn) else None
 
 
 def _went_first(p: Passage, other: Other) -> Conflict | None:
@@ -1233,6 +1246,13 @@ def _cause(p: Passage, other: Other) -> str:
         return (f"it began to slow ({format_time(slowing_began(other))}) already in its conflict zone with "
                 f"{p.vehicle}, and unslowed it would have left it {inside:.2f} s before {p.vehicle} came in (a gap "
                 f"under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
+    turned = turned_behind(p, other)
+    if turned is not None and turned[2] is not None:
+        c, degrees, turn = turned
+        return (f"its own turn ({degrees:.0f}°, taken at {turn.speed_mps:.2f} m/s, from its own record): unslowed it would "
+                f"have come into their zone {c.projected_gap_s:.2f} s after {p.vehicle} had left it, and at the speed "
+                f"it took its turn it kept the two-second gap (HC 126: {FOLLOW_M:g} m + {FOLLOW_S:g} s at that "
+                f"speed) behind {p.vehicle} going on down the road it turned into")
     return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 

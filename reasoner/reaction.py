@@ -301,3 +301,77 @@ def turn_deg(inside: Sequence[Point]) -> float | None:
     (ax, ay), (bx, by) = steps[0], steps[-1]
     turn = abs(math.degrees(math.atan2(by, bx) - math.atan2(ay, ax))) % 360
     return min(turn, 360 - turn)
+
+
+class Turn(NamedTuple):
+    """The speed a road user took its turn at, from its own record, and when."""
+
+    speed_mps: float        # its own stated speed there, else the distance from its last position over the time
+    t: int                  # the sample's (ns)
+
+
+def turn_taken(other: Other, junction: Junction) -> Turn | None:
+    """The slowest the road user went through the junction's area from when it began to slow
+    (`slowing_began`), from its own record: at each of its placed samples in the area (within the
+    junction's edge), its own speed there, or, where its record states none, the distance from
+    its position before over the time between (a chord across a bend is shorter than the way, so
+    that reading is low, never high), where it went no slower than that, less SPEED_NOISE_MPS,
+    anywhere from its onset until it left the area: its slowing went down to the speed it took its
+    turn at, and no lower. None where it slowed further before the junction, or the record cannot
+    tell (no onset, no positions in the area, the area never left)."""
+    began = slowing_began(other)
+    placed = [s for s in other.way if s.placed and began is not None and s.t >= began]
+    speeds = [(b.speed_mps if b.speed_mps is not None else math.dist((a.x, a.y), (b.x, b.y)) * SECOND / (b.t - a.t), b)
+              for a, b in zip(placed, placed[1:]) if b.t > a.t]
+    inside = [(v, b) for v, b in speeds if junction.edge(b.x, b.y) <= 0]
+    if not inside or junction.edge(placed[-1].x, placed[-1].y) <= 0:
+        return None
+    left = max(b.t for _, b in inside)
+    speed, at = min(inside, key=lambda step: step[0])
+    if min(v for v, b in speeds if b.t <= left) < speed - SPEED_NOISE_MPS:
+        return None
+    return Turn(speed, at.t)
+
+
+def behind_at_turn(mine: Sequence[Sample], other: Other, turn: Turn) -> bool:
+    """Whether the road user, taken from where it was when it began to slow on along its way at
+    the speed it took its turn at (`turn_taken`), would have kept HC 126's gap behind the vehicle as the
+    vehicle went on down that way: at each of the vehicle's positions on its way (within
+    VEHICLE_WIDTH_M), heading its way (within SAME_WAY_DEG), from that moment until the road
+    user's record ends, the vehicle was FOLLOW_M + FOLLOW_S × that speed or more ahead of it (the
+    two-second gap at the road user's own speed, HC 126: "the time it would take to reach where
+    that vehicle is", a car's length and a queue's gap besides), with at least one such position;
+    and the speed was below the slowest the vehicle went from then until the road user took its
+    turn by as much as a change of speed counts from (FORCE_DECEL_MPS2 over MIN_DECEL_SPAN_S):
+    the vehicle was pulling away, and did not set the road user's pace. A road user that must slow
+    for its own turn anyway, and at the speed it took it comes in behind the vehicle with the gap
+    kept, had no accident with the vehicle to avoid (TSRGD 2016 Sch 9 Pt 7 para 1) whatever it
+    would have met at a speed no turn is taken at. The paper run's 228 (from the west, right into
+    j2's south arm behind 116 out of the north Stop arm) slowed from 13.03 to 6.28 m/s and took its
+    turn at that, 116 going on at 9.6 to 13.4 m/s, 28.8 m ahead when 228 began to slow (20.6 m
+    keeps two seconds at 6.28 m/s). False where the record cannot tell."""
+    began = slowing_began(other)
+    way = _Way.of(other.way, VEHICLE_WIDTH_M)
+    here, _ = position_at(other.way, began) if began is not None else (None, ())
+    own = way.hit(here) if here is not None and len(way.points) >= 2 else None
+    if began is None or own is None:
+        return False
+    paced = [s.speed_mps for s in mine if s.speed_mps is not None and began <= s.t <= turn.t]
+    if not paced or turn.speed_mps > min(paced) - FORCE_DECEL_MPS2 * MIN_DECEL_SPAN_S:
+        return False
+    end = max(s.t for s in other.way)
+    kept = FOLLOW_M + FOLLOW_S * turn.speed_mps
+    placed = [s for s in mine if s.placed]
+    seen = False
+    for i, s in enumerate(placed):
+        if s.t < began or s.t > end:
+            continue
+        hit = way.hit((s.x, s.y))
+        heading = _heading(placed, i)
+        if hit is None or heading is None or \
+                heading[0] * hit.direction[0] + heading[1] * hit.direction[1] < math.cos(math.radians(SAME_WAY_DEG)):
+            continue
+        if hit.along_m - own.along_m - turn.speed_mps * (s.t - began) / SECOND < kept:
+            return False
+        seen = True
+    return seen

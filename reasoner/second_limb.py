@@ -26,7 +26,7 @@ from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_
                       _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on,
                       turned_behind)
 from .motion import position_at, speed_at
-from .others import VEHICLE_WIDTH_M, own_cause, paths_within
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, own_cause, paths_within
 from .passage import Other, Passage
 from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, reacted_after_clearing, slowing_began, well_ahead
 from .tolerance import deceleration, sensor_of
@@ -133,11 +133,15 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
                                      f"from an accident with {v} behind it")
         turned = turned_behind(p, o)
         if turned is not None:
-            c, degrees = turned
+            c, degrees, turn = turned
+            behind = "" if turn is None else (
+                f"; {v} went on ahead of it down the road it turned into, and at the speed it took its turn, "
+                f"{turn.speed_mps:.2f} m/s (its own record, {format_time(turn.t)}), it kept the two-second gap "
+                f"behind {v} ({FOLLOW_M:g} m + {FOLLOW_S:g} s at that speed, HC 126) with {v} pulling away")
             return "own turn", (f"it turned {degrees:.0f}° there (more than {SAME_WAY_DEG:g}°) and did not stop: unslowed, "
                                 f"it would have come into the zone where their paths meet {c.projected_gap_s:.2f} s after "
-                                f"{v} had left it ({format_time(c.mine.left)}), so it slowed for its own turn, with no "
-                                f"accident with {v} to avoid")
+                                f"{v} had left it ({format_time(c.mine.left)}){behind}, so it slowed for its own turn, "
+                                f"with no accident with {v} to avoid")
         return "other", "something else the record shows explains its slowing (reasoner/derived.explained)"
     b = o.braking
     if b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:

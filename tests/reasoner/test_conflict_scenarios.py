@@ -508,3 +508,52 @@ def test_a_main_road_car_slowing_for_its_own_turn_behind_the_vehicle_was_not_for
     inc = one(control, "7")
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+
+
+def _turning_in_behind(ahead_m: float, short_m: float, low: float, decel: float = 4.5) -> Foreign:
+    """7 stops at the north Stop line and goes straight on down the south arm (x = +1.75), pulling
+    away at 2 m/s² (test_foreign_scenarios' STOPS_THEN_GOES); c2 comes from the west at 13.4 m/s to
+    turn right into that lane behind it: `short_m` m short of the centre when 7 is `ahead_m` m
+    beyond it, c2 brakes at `decel` m/s² to `low` m/s, takes its turn at that speed (held 4 s,
+    never stopping) and then pulls away at 2 m/s². Along c2's way 7 is then short_m + 3.5 +
+    ahead_m m ahead of it (to the corner at (1.75, 1.75), and down the arm)."""
+    begins = _SET_OFF + math.sqrt(ahead_m + 12.5)
+    c2 = Motion(-short_m - 13.4 * begins, 13.4, [(begins, 0.0), ((13.4 - low) / decel, -decel), (4.0, 0.0), (10.0, 2.0)])
+    return stop_then_go_run(("c2", c2, "west>south"), arm="north")
+
+
+def test_a_main_road_car_slowing_for_its_own_turn_into_the_road_the_vehicle_went_down_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 171): 7, proceeding past its Stop line, must not cause the
+    driver of another vehicle "to change its speed or course in order to avoid an accident". 7
+    comes out of the north arm and goes on down the south arm; c2, from the west at 13.4 m/s,
+    turns right into that lane behind it (the paper run's 228 behind 116 at j2). c2 begins to
+    brake (4.5 m/s², to 6.3 m/s) 24.4 m short of the centre as 7 is 6 m beyond it at 8.6 m/s and
+    speeding up, 33.9 m ahead along c2's way, and takes its turn at 6.3 m/s without stopping.
+    Unslowed it would have come into their zone after 7 had left it (no collision course); it
+    must slow for a right turn whatever comes, and at the speed it took its turn, from where it
+    began to slow, 7 was always more than the two-second gap ahead of it (HC 126: 2 s at 6.3 m/s,
+    12.6 m, with a car's length and a queue's gap, 8 m: 20.6 m) and drawing away. No accident
+    with 7 to avoid: its slowing was for its own turn, a lawful Stop, c2 not said to be forced
+    (fails where the following question is asked at c2's 13.4 m/s, which no right turn is taken
+    at). The control: c2 9 m short as 7 is 2.5 m beyond the centre at 7.7 m/s, braking at 8.5 m/s²
+    to 4 m/s for its turn, into their zone 0.21 s after 7 left it: unslowed it was on no collision
+    course (0.09 s after 7), but at the speed it took its turn 7 was 15 m ahead of it along its
+    way where two seconds at 4 m/s and 8 m are 16 m: 7 pulled out into the road c2 turned into
+    inside the gap c2 was to keep behind it, forced, HC 171."""
+    (tmp_path / "turn").mkdir()
+    (tmp_path / "control").mkdir()
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _turning_in_behind(6.0, 24.4, 6.3)
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    limb = second_limb(p)
+    assert [(u.user, u.reason) for u in limb] == [("c2", "own turn")]        # the explanation's reason
+    assert "two-second gap" in limb[0].words and "6.3" in limb[0].words      # ... with the speed of its turn
+    found = judge(tmp_path / "turn", run)
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    control = judge(tmp_path / "control", _turning_in_behind(2.5, 9.0, 4.0, decel=8.5))
+    inc = one(control, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)

@@ -793,13 +793,21 @@ def test_a_main_road_car_braking_for_its_turn_into_the_lane_the_vehicle_went_dow
     no_violation(found, "7")
 
 
-def test_a_main_road_car_braking_as_the_vehicle_pulls_out_into_its_lane_just_ahead_of_it_was_forced(tmp_path):
-    """The control of the test above: c2 begins the same braking when 7 is 3 m down the south arm
-    at 8 m/s, 26 m of road ahead of c2 at 13.4 m/s: keeping the two-second gap behind 7 would take
-    braking at about 5.6 m/s². 7 pulled out in front of it: punishable, HC 171."""
-    inc = one(judge(tmp_path, stop_then_go_run(("c2", turning_after_7(3.0), "west>south"), arm="north")), "7")
-    verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+def test_a_main_road_car_braking_as_its_turn_asks_into_the_lane_the_vehicle_went_down_just_ahead_was_not_forced(tmp_path):
+    """The test above with 7 nearer: c2 begins the same braking (4.5 m/s² from 13.4 to 4 m/s, ending
+    at its corner: the braking its own turn asks, as above) when 7 is 3 m down the south arm at
+    7.85 m/s and speeding up, 26.5 m of road ahead of c2. Unslowed, c2 would have come into their
+    zone 0.99 s after 7 had left it (no collision course); as driven it came in 1.69 s after. Kept
+    at its 13.4 m/s, which no right turn is taken at, it would have been inside the two-second gap
+    behind 7 (5.6 m/s² to keep it); at the 4 m/s it took its turn at, 7 was 26.5 m ahead where two
+    seconds and 8 m are 16 m, drawing away. c2 slowed as its turn asked and no more, with no
+    accident with 7 to avoid (para 1, "in order to avoid an accident"; HC 126): a lawful Stop.
+    (Until branch fa35e-turn this was read as forced, on the gap at 13.4 m/s; the paper run's 228
+    behind 116 is the same case, and SUMO's account puts 228's braking down to its own minor link.
+    A pull-out inside the gap at the turn's speed: test_conflict_scenarios' control, forced.)"""
+    found = judge(tmp_path, stop_then_go_run(("c2", turning_after_7(3.0), "west>south"), arm="north"))
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
 
 
 MINOR_ARM_CAMERA = {"id": "m1", "junction": "J1", "x": -30.0, "y": 8.0, "heading_deg": 0.0, "range_m": 60.0,
