@@ -259,6 +259,14 @@ class Account:
             allowed.append((limit, "speed", None, {"allowed_mps": round(limit, 2)}))
         inside = v.lane.startswith(":")
         ahead_m = libsumo.lane.getLength(v.lane) - v.lane_pos_m if inside else v.to_junction_m
+        # a vehicle not yet in the junction is a foe to wait for only at a link still to pass where
+        # SUMO's junction model asks whether foes come (MSLink::opened): the entry link, or in the
+        # junction the internal junction of its way still ahead (a turn's waiting point). Past it, or
+        # with none, the vehicle has been let through; what it meets in the junction is a link leader
+        # (below), and the ones coming wait for it: the town-11 run's 293, past j10's internal
+        # junction, braked for its exit link alone (its speeds the same, tick for tick, with 458
+        # coming 51 m off taken away), and 185, past j17's, the same without 511 coming 32 m off
+        link_to_pass = not inside or self._internal_junction(v.lane) is not None
         link = vehicle.getNextLinks(ident)[:1] if not inside else ()
         via = v.lane if inside else next((lk[4] for lk in link), "")
         link_state = next((lk[5] for lk in link), "")
@@ -318,6 +326,8 @@ class Account:
                                     {**detail, "merged": False, "diverging": True}))
                     continue
                 if must_yield and not entered:      # one it must let pass, still coming: within COMING_S
+                    if not link_to_pass:
+                        continue
                     arrives = foe_dist / max(other.speed_mps if other is not None else 0.0, 0.1)
                     if arrives <= COMING_S:         # (SUMO lists all that cross its link, one 480 m off too)
                         waits = self._to_internal_junction(v, via, ahead_m, ego_lane)   # held at it, if any
@@ -358,7 +368,7 @@ class Account:
                     away = math.hypot(other.x - v.x, other.y - v.y)
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
-                elif other.next_junction == junction and not other.lane.startswith(":") \
+                elif link_to_pass and other.next_junction == junction and not other.lane.startswith(":") \
                         and (theirs := self._coming(other)) is not None:
                     if theirs[4] in foes and not self._same_source(v.lane, theirs[4]):
                         allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,

@@ -12,6 +12,7 @@ in front of it.
 from __future__ import annotations
 
 import libsumo
+import pytest
 
 from sim_replay.maps import map_files
 from sim_replay.sim_config import Behaviour, SimConfig
@@ -448,3 +449,65 @@ def test_a_car_pulling_out_onto_the_road_ahead_is_followed_as_sumos_junction_lea
     braking = max(main, key=lambda y: y["peak_decel_mps2"])
     assert (braking["cause"], braking["by"]) == ("foe", "side") and braking["causes"]["foe side"]["decel_mps2"] >= 4.0
     assert "none" not in braking["causes"]
+
+
+def main_with_and_without(side: tuple[str, str, float, float], steps: int = 120) -> tuple[list, list, list]:
+    """"main" turning right from r1's west arm into j2's south arm at full speed from 100 m, alone
+    and with "side" (edge, to, depart position, depart speed; its decisions ours): main's speeds
+    each tick alone and with side, side's distance to j2 and speed each tick, and main's brakings
+    as the account with side tells them."""
+    runs = []
+    for cars in ([("main", "j1_j2", "j2_s2", 100.0, "max")], [("main", "j1_j2", "j2_s2", 100.0, "max"), ("side", *side)]):
+        routes: dict = {}
+        speeds, coming = [], []
+        with World(NET, seed=3) as world:
+            account = Account(routes, world.modes)
+            add_cars(world, routes, cars)
+            for step in range(steps):
+                snap = world.step()
+                if step == 0 and len(cars) > 1:
+                    world.take_control("side")
+                account.tick(snap)
+                main, other = snap.vehicle("main"), snap.vehicle("side")
+                if main is not None:
+                    speeds.append((round(snap.t_s, 1), main.speed_mps, main.lane))
+                    if other is not None:
+                        coming.append((round(snap.t_s, 1), other.to_junction_m, other.speed_mps))
+            account.close()
+        runs.append((speeds, coming, [y.to_json() for y in account.yields if y.vehicle == "main"]))
+    (alone, _, _), (beside, coming, yields) = runs
+    return [(a, b) for a, b in zip(alone, beside)], coming, yields
+
+
+@pytest.mark.parametrize("side", [("s2_j2", "j2_n2", 45.0, "max"), ("e_j2", "j2_j1", 50.0, "max")],
+                         ids=["across-from-the-stop-arm", "oncoming"])
+def test_a_vehicle_past_its_internal_junction_does_not_wait_for_one_still_coming(side):
+    """"main" turns right off r1 into j2's south arm: past the internal junction where it waits for
+    oncoming traffic (on :j2_15_0), SUMO brakes it at 4.5 m/s² once more, towards its exit link
+    (minor: the crossing beyond), and lets it speed up within sight of it: its own control (`link`).
+    "side" comes at 13.4 m/s, 3-4 s from j2 as main brakes there, and comes in after main has gone:
+    up the south arm straight on across main's way (SUMO: side yields to main), or oncoming on r1
+    (SUMO: main yields to side, at its internal junction). SUMO's own speeds for main are the same,
+    tick for tick, with side and without it: side had no part in that braking. SUMO's junction model
+    asks whether foes come only at a link the vehicle has still to pass (the entry link, the
+    internal junction's, MSLink::opened); past them it has been let through, and the ones coming
+    wait for it. The account stopped main for any vehicle coming within COMING_S onto a lane
+    crossing its own, and for a foe it must let pass still coming, and named "foe side", held
+    3.15 m/s²: the town-11 run's 293, past j10's internal junction, "gave way" to 458 coming 51 m
+    off, by SUMO's own speeds a braking for its exit link alone (issue 35, branch miss35c)."""
+    pairs, coming, yields = main_with_and_without(side)
+    assert all(abs(a[1] - b[1]) < 1e-9 for a, b in pairs)                   # side changed nothing of main's
+    past = [y for y in yields if y["lane"] == ":j2_15_0" and y["peak_decel_mps2"] >= 4.0]
+    assert len(past) == 1 and past[0]["cause"] == "link"                    # its own exit link, as alone
+    side_then = [d for t, d, v in coming if past[0]["t_s"] <= t <= past[0]["until_s"]]
+    assert side_then and all(d is not None and 0 < d < 13.4 * COMING_S for d in side_then)   # within COMING_S
+    assert not [k for y in yields for k in y["causes"] if k == "foe side"]
+    assert not yielded_to({"vehicle": "side", "t_s": past[0]["t_s"]}, yields, [])
+
+
+def test_a_right_turner_still_before_its_internal_junction_waits_for_oncoming_traffic():
+    """Control: the same, with the oncoming car a second sooner. SUMO holds main at its internal
+    junction for it (main's speeds differ with side and without), and the account names the foe."""
+    pairs, _, yields = main_with_and_without(("e_j2", "j2_j1", 60.0, "max"))
+    assert any(abs(a[1] - b[1]) > 0.5 for a, b in pairs)
+    assert any(y["cause"] == "foe" and y["by"] == "side" and y["causes"]["foe side"]["held_mps2"] >= 2.0 for y in yields)
