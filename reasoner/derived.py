@@ -680,7 +680,7 @@ def explained(p: Passage, other: Other) -> bool:
     perception-reaction time after V was out of its way, or V well ahead of it on its way, going
     its way (reasoner/reaction.py), or another road user it was resolving: its leader on its way,
     or one whose conflict zone with it came before V's on its way within PET_MAX_S
-    (reasoner/attribution.py)."""
+    (reasoner/attribution.py); or a turn of its own (`turned_behind`, `turned_ahead`)."""
     return _explained(p, other)
 
 

@@ -8,7 +8,8 @@ says whether something else explains a braking. It decides nothing itself. The r
 named in the order `explained` weighs them: a cause of the road user's own (its light, its Stop
 or Give Way line, the road user it followed), paths that never met, slowing begun too late to be
 for V, V well ahead of it, a conflict zone it would have passed well apart from V anyway, a zone
-it had already gone through, its leader, another road user whose conflict came first on its way.
+it had already gone through, its leader, another road user whose conflict came first on its way,
+its own turn (behind V, or ahead of V with V coming in behind it).
 For a braking nothing else explains, the reason is that it does not exceed FORCE_DECEL_MPS2 by
 more than its uncertainty. For one that did not brake, stop or swerve at all, the reason is that
 it changed neither speed nor course. A reason `explained` holds that none of these names is

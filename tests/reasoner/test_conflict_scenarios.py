@@ -443,10 +443,10 @@ def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_p
     the one behind): a lawful Stop, c2 not said to be forced (the paper run's 136, through the
     merge 0.74 s before 283 turned in behind it, braking as its leader 149 did; SUMO's account:
     leader 149). c2 began to slow while 7 still stood at its line, where it made no one change
-    speed. The controls: 7 rolling through its line at 6.5 m/s as c2 brakes the same (the town
-    run's 236, which came through its Give Way line at 12 m/s into the road 411 was turning into;
-    SUMO's account: 411 braked for it), and c2 a second behind 7's front, which 7 pulls out in
-    front of: forced, punishable HC 171."""
+    speed. The controls: 7 rolling through its line at 6.5 m/s as c2, going straight on, brakes
+    the same (it may have braked for fear 7 would come out in front of it; the town run's 236 ->
+    411, first read as this, is a turner's: `_turning_ahead` below), and c2 a second behind 7's
+    front, which 7 pulls out in front of: forced, punishable HC 171."""
     (tmp_path / "behind").mkdir()
     (tmp_path / "control").mkdir()
     (tmp_path / "rolls").mkdir()
