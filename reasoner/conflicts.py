@@ -352,8 +352,8 @@ def _projected(theirs: Sequence[Sample], b: LineString, region: BaseGeometry, mi
     speed (negative: it would have been in the zone while the vehicle was); the deceleration it
     needed to arrive no earlier than the vehicle left (DRAC). Where the vehicle's record ends with
     it still in the zone, the other, coming in before that end, would have been there with it: the
-    gap is at most its arrival less that end (its DRAC is not measured); coming in later, the gap
-    is not in the record. The paper run's 266, crawling out of j2's north arm into 205's lane ahead
+    gap is at most its arrival less that end (its DRAC is not measured); coming in later, or
+    through before it came, the gap is not in the record, as before. The paper run's 266, crawling out of j2's north arm into 205's lane ahead
     of it, was still in their zone where its record read for 279's passage ended."""
     if onset is None or (mine.left is None and not mine.samples):
         return None, None, None, None
@@ -369,17 +369,18 @@ def _projected(theirs: Sequence[Sample], b: LineString, region: BaseGeometry, mi
         return math.inf, 0.0, to_zone, speed
     arrive = onset + to_zone / speed * SECOND
     leave = onset + (reach[1] - b.project(Point(where))) / speed * SECOND
-    if mine.entered is not None and leave <= mine.entered:
-        gap = (mine.entered - leave) / SECOND   # it would have gone through first
-    elif mine.left is not None:
-        gap = (arrive - mine.left) / SECOND
-    elif arrive < mine.samples[-1].t:
+    through_first = mine.entered is not None and leave <= mine.entered
+    if mine.left is None:
         # the vehicle's record ends while it is still in the zone (it left later, when is not in the
-        # record), and the other would have come in before that: in the zone with it, by at least this
+        # record): only the other coming in before that end, while it was there, is measured
+        if through_first or arrive >= mine.samples[-1].t:
+            return None, None, None, None
         return (arrive - mine.samples[-1].t) / SECOND, None, to_zone, speed
+    if through_first:
+        gap = (mine.entered - leave) / SECOND   # it would have gone through first
     else:
-        return None, None, None, None
-    return gap, _drac(to_zone, speed, (mine.left - onset) / SECOND) if mine.left is not None else None, to_zone, speed
+        gap = (arrive - mine.left) / SECOND
+    return gap, _drac(to_zone, speed, (mine.left - onset) / SECOND), to_zone, speed
 
 
 def _zone(a: LineString, b: LineString, my_width: float, their_width: float) -> tuple[Point, BaseGeometry] | None:
