@@ -32,6 +32,10 @@ explains U's braking:
   after (`proceeding`), each on its own asked the braking, and neither excuses the other. W may be one of the
   road users on V's own approach (`Passage.same_approach`): a main-road car braking for a second
   emerger out of the same line.
+- `came_between`: one emerger cutting in between U and another ahead of it on its way is the
+  vehicle in front of U from then on (HC 126): U could reach the farther only behind the nearer.
+  Two collision courses keep V named only where W did not come in between U and V; a road user
+  ahead is not U's leader where V, on a collision course with U, came in between.
 
 Neither answers on missing measurements: where the record cannot tell (no onset, no path, V's
 zone's distance unknown), the braking stays V's to explain, as before. V itself is never among
