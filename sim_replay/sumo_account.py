@@ -48,6 +48,8 @@ from pathlib import Path
 from typing import Any
 
 import libsumo
+from shapely.geometry import LineString
+from shapely.ops import unary_union
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
@@ -77,6 +79,7 @@ _STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying
 VISIBILITY_M = 4.5        # SUMO's foe visibility distance of a link (the default: neither bundled net sets one): short of
                           # it, a vehicle cannot yet see whether foes come, and approaches a minor link so that it can stop
 _POSITION_EPS_M = 0.1     # SUMO's POSITION_EPS: where it stops a vehicle short of the next lane (MSVehicle::adaptToJunctionLeader)
+_PART_STEP_M = 0.05       # the step along a junction lane at which where it parts from another is looked for
 _NOT_MINOR = set("rRyYu")  # link states a minor link's cautious approach is not asked for (the light's, asked as `signal`)
 
 # SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
@@ -203,6 +206,7 @@ class Account:
         self._source: dict[str, str] | None = None     # junction lane -> the incoming lane it leaves from
         self._stood: set[tuple[str, str | None]] = set()   # (vehicle, junction) it has stood at the Stop line of
         self._asked: dict[str, list] = {}     # vehicle -> what binds its next tick, asked at the end of this one
+        self._parts: dict[tuple[str, str, float], float] = {}   # (junction lane, one parting from it, half width) -> m
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
@@ -281,6 +285,11 @@ class Account:
                 allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
                                 "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
                                                       **_joined(self._merged(ident, leader[0]))}))
+        for other, gap in self._parting(v, snap, via, ahead_m, leader[0] if leader else None):
+            allowed.append((vehicle.getFollowSpeed(ident, speed, max(gap, 0.0), other.speed_mps, vehicle.getDecel(other.id),
+                                                   other.id), "leader", other.id,
+                            {"gap_m": round(gap, 1), "leader_speed_mps": round(other.speed_mps, 2), "leader_lane": other.lane,
+                             "merged": False, "diverging": True}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
@@ -415,6 +424,56 @@ class Account:
         final = max(speed, 2.0 * (crossing - min_gap) / past_s - speed)
         reach = speed + (final - speed) / past_s * self.step_s
         return max(base, min(reach, stop))
+
+    def _parting(self, v: VehicleState, snap: Snapshot, via: str, ahead_m: float | None,
+                 asked: str | None) -> list[tuple[VehicleState, float]]:
+        """The vehicles ahead that left by the incoming lane the vehicle comes by and went another
+        way through the junction, still where their junction lane and the vehicle's way overlap,
+        with SUMO's gap to each (to its back, less the vehicle's minGap): SUMO's junction model
+        follows such a one as a leader it cannot ignore (MSLink::getLeaderInfo: a foe lane of the
+        same source, no crossing width). `getLeader` names one leader only, the first link leader
+        it finds, and that may be another road user: the town-12 run's 439 (turning right at j2)
+        braked at 4.5 m/s² from 437.5 s to 439.7 s behind 534, standing in the junction on the
+        straight lane from the same lane, while `getLeader` named 111, crossing ahead of 534 onto
+        439's road (SUMO's next speed the same with 111 taken away, higher without 534, every
+        tick; getFollowSpeed at this gap gives SUMO's next speed to 0.001 m/s). Only from the
+        first lane of its way (the one the two share the start of) and the road before it."""
+        if not via or ahead_m is None or (v.lane.startswith(":") and v.lane != via) or not self._entering(via):
+            return []
+        foes = set(libsumo.lane.getInternalFoes(via))
+        done = -v.lane_pos_m if v.lane == via else ahead_m          # metres from the vehicle's front to the lanes' start
+        out = []
+        for other in snap.vehicles:
+            if other.id in (v.id, asked) or other.lane == via or other.lane not in foes \
+                    or not self._same_source(via, other.lane):
+                continue
+            back = other.lane_pos_m - libsumo.vehicle.getLength(other.id)
+            if back < self._parted_at(via, other.lane, v.id, other.id):
+                out.append((other, done + back - libsumo.vehicle.getMinGap(v.id)))
+        return out
+
+    def _parted_at(self, via: str, lane: str, ident: str, other: str) -> float:
+        """Metres along a junction lane leaving by the same incoming lane as `via` to where its
+        centre line is as far from the way on from `via` (it and the internal lanes it leads on
+        to) as half the mean width of the two vehicles: short of it the other's back is still in
+        the vehicle's way. SUMO's own point is not asked (no call gives it); measured on the
+        town-12 run's 439 (ambulance, 2.2 m wide) behind 534 (car, 1.8 m) at j2, SUMO followed
+        534 with its back 0.95 m from 439's way and no longer at 1.09 m: this reading takes 1.0 m."""
+        half = (libsumo.vehicle.getWidth(ident) + libsumo.vehicle.getWidth(other)) / 4.0
+        if (via, lane, half) in self._parts:
+            return self._parts[via, lane, half]
+        way, lane_now = [], via
+        while lane_now.startswith(":") and lane_now not in way:
+            way.append(lane_now)
+            links = libsumo.lane.getLinks(lane_now)
+            lane_now = (links[0][4] or links[0][0]) if links else ""
+        ours = unary_union([LineString(libsumo.lane.getShape(w)) for w in way])
+        theirs = LineString(libsumo.lane.getShape(lane))
+        along = 0.0
+        while along < theirs.length and ours.distance(theirs.interpolate(along)) < half:
+            along += _PART_STEP_M
+        self._parts[via, lane, half] = along
+        return along
 
     @staticmethod
     def _target(lane: str) -> str | None:
