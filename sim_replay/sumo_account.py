@@ -429,7 +429,8 @@ class Account:
                  asked: str | None) -> list[tuple[VehicleState, float]]:
         """The vehicles ahead that left by the incoming lane the vehicle comes by and went another
         way through the junction, still where their junction lane and the vehicle's way overlap,
-        with SUMO's gap to each (to its back, less the vehicle's minGap): SUMO's junction model
+        with SUMO's gap to each (to its back, less the vehicle's minGap; one whose front is not
+        ahead of the vehicle's is no leader of it): SUMO's junction model
         follows such a one as a leader it cannot ignore (MSLink::getLeaderInfo: a foe lane of the
         same source, no crossing width). `getLeader` names one leader only, the first link leader
         it finds, and that may be another road user: the town-12 run's 439 (turning right at j2)
@@ -445,8 +446,8 @@ class Account:
         out = []
         for other in snap.vehicles:
             if other.id in (v.id, asked) or other.lane == via or other.lane not in foes \
-                    or not self._same_source(via, other.lane):
-                continue
+                    or not self._same_source(via, other.lane) or done + other.lane_pos_m <= 0.0:
+                continue                  # (only one ahead of it: its front beyond the vehicle's own)
             back = other.lane_pos_m - libsumo.vehicle.getLength(other.id)
             if back < self._parted_at(via, other.lane, v.id, other.id):
                 out.append((other, done + back - libsumo.vehicle.getMinGap(v.id)))
