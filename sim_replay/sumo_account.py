@@ -8,8 +8,11 @@ Yields. Each tick, every vehicle decelerating at BRAKING_MPS2 or harder near a j
 about with SUMO's own calls: its leader (`vehicle.getLeader`), its next traffic light
 (`getNextTLS`), the junction foes on its way with SUMO's right-of-way answer for each pair
 (`getJunctionFoes`: egoResponse, the foe matrix of the junction), the stop it is held at (the
-world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`), the
-minor links ahead of it (`lane.getLinks`) and the speed it may drive at all (`getAllowedSpeed`:
+world's hold is a SUMO stop), the vehicles ahead of it that left by the same incoming lane and
+went another way, where SUMO's junction model still follows them (`lane.getInternalFoes`: a foe
+lane of the same source; `getLeader` names one leader only), the speed of the junction lane it
+turns by (`getNextLinks`), the minor links ahead of it (`lane.getLinks`) and the speed it may
+drive at all (`getAllowedSpeed`:
 its speed factor on its lane). SUMO's car-following model then says what speed each of those
 constraints allows now (`getFollowSpeed` behind the leader, `getStopSpeed` before a red light, a
 held stop line or a foe it must let pass, braking at its own deceleration down to a turn's
@@ -457,9 +460,11 @@ class Account:
         """Metres along a junction lane leaving by the same incoming lane as `via` to where its
         centre line is as far from the way on from `via` (it and the internal lanes it leads on
         to) as half the mean width of the two vehicles: short of it the other's back is still in
-        the vehicle's way. SUMO's own point is not asked (no call gives it); measured on the
-        town-12 run's 439 (ambulance, 2.2 m wide) behind 534 (car, 1.8 m) at j2, SUMO followed
-        534 with its back 0.95 m from 439's way and no longer at 1.09 m: this reading takes 1.0 m."""
+        the vehicle's way. SUMO's own point is not asked (no call gives it); where SUMO stopped
+        following was measured twice, and falls where this reading puts it: the town-12 run's 439
+        (an ambulance, 2.2 m wide) behind 534 (a car, 1.8 m) at j2, followed with 534's back 0.95 m
+        from 439's way and no longer at 1.09 m (this reading: 1.0 m); a car behind a car at the
+        paper map's j2, followed at 0.87 m and no longer at 0.95 m (0.9 m)."""
         half = (libsumo.vehicle.getWidth(ident) + libsumo.vehicle.getWidth(other)) / 4.0
         if (via, lane, half) in self._parts:
             return self._parts[via, lane, half]
