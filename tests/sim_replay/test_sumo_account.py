@@ -478,7 +478,7 @@ def test_a_turner_behind_one_standing_in_the_junction_on_the_straight_lane_follo
     main = max((y for y in account.yields if y.vehicle == "main"), key=lambda y: y.peak_decel_mps2)
     assert (main.cause, main.by) == ("foe", "side") and main.min_speed_mps < 0.1     # it stood for side
     braking = max((y for y in account.yields if y.vehicle == "follower" and y.t_s > 5.0),
-                  key=lambda y: y.peak_decel_mps2)
+                  key=lambda y: y.speed_mps - y.min_speed_mps)          # the braking that shed the most speed
     assert (braking.cause, braking.by) == ("leader", "main")
     behind = braking.causes["leader main"]
     assert behind["held_mps2"] >= 4.0 and behind["diverging"] and behind["min_speed_mps"] < 3.5
