@@ -488,7 +488,10 @@ class Account:
         following was measured twice, and falls where this reading puts it: the town-12 run's 439
         (an ambulance, 2.2 m wide) behind 534 (a car, 1.8 m) at j2, followed with 534's back 0.95 m
         from 439's way and no longer at 1.09 m (this reading: 1.0 m); a car behind a car at the
-        paper map's j2, followed at 0.87 m and no longer at 0.95 m (0.9 m)."""
+        paper map's j2, followed at 0.87 m and no longer at 0.95 m (0.9 m). It is a reading, not
+        SUMO's rule (its crossing geometry for the pair of lanes): behind a right-turner past the
+        internal junction SUMO was seen to follow with the turner's back 2 m from the way; where it
+        lets a leader go early, the braking is left "none", naming nobody."""
         half = (libsumo.vehicle.getWidth(ident) + libsumo.vehicle.getWidth(other)) / 4.0
         if (via, lane, half) in self._parts:
             return self._parts[via, lane, half]
