@@ -32,6 +32,10 @@ explains U's braking:
   after (`proceeding`), each on its own asked the braking, and neither excuses the other. W may be one of the
   road users on V's own approach (`Passage.same_approach`): a main-road car braking for a second
   emerger out of the same line.
+- `came_between`: one emerger cutting in between U and another ahead of it on its way is the
+  vehicle in front of U from then on (HC 126): U could reach the farther only behind the nearer.
+  Two collision courses keep V named only where W did not come in between U and V; a road user
+  ahead is not U's leader where V, on a collision course with U, came in between.
 
 Neither answers on missing measurements: where the record cannot tell (no onset, no path, V's
 zone's distance unknown), the braking stays V's to explain, as before. V itself is never among
@@ -58,13 +62,15 @@ SAME_ZONE_M = CAR_LENGTH_M / 2  # two conflict zones this close along a road use
 _SAME_WAY = math.cos(math.radians(SAME_WAY_DEG))
 
 
-def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
+def leader(p: Passage, other: Other, extend_m: float = 0.0, mine: Conflict | None = None) -> str | None:
     """The road user ahead of `other` on its own way when it began to slow (`slowing_began`),
     heading its way (within SAME_WAY_DEG of the way's direction there) or standing, no faster
     than it, and so close that keeping the two-second gap behind it needed FORCE_DECEL_MPS2 or
     more: the one it followed. `extend_m`: its way goes on this far straight ahead of its last
-    position (one whose record ends standing behind its leader). None where none was, or the
-    record cannot tell (no onset, no way, no speed)."""
+    position (one whose record ends standing behind its leader). `mine`: V's conflict with it; on
+    a collision course (unslowed, in their zone with V), a road user V came in front of on its way
+    (`came_between`) is not the one it followed: V was then the vehicle in front (HC 126). None
+    where none was, or the record cannot tell (no onset, no way, no speed)."""
     onset = slowing_began(other)
     if onset is None:
         return None
@@ -94,7 +100,9 @@ def leader(p: Passage, other: Other, extend_m: float = 0.0) -> str | None:
         below = _braked_on_behind(other, ahead, onset, gap) if math.isinf(need) else \
             _slowed_below(other, ahead, onset, gap)
         if gap > 0 and going and (its <= speed or _slowing_too(ahead, onset, its, speed)) and \
-                need >= FORCE_DECEL_MPS2 and not below:
+                need >= FORCE_DECEL_MPS2 and not below and \
+                not (mine is not None and mine.projected_gap_s is not None and mine.projected_gap_s < 0
+                     and came_between(p.samples, other, ahead.samples, onset)):
             return ahead.user
     return None
 
@@ -237,13 +245,47 @@ def nearer_conflict(p: Passage, other: Other, mine: Conflict | None,
                      mine_walker=_walking(w))
         if c is None or c.projected_gap_s is None or c.onset_to_zone_m is None or c.projected_gap_s >= PET_MAX_S:
             continue
-        if mine is not None and both_collisions(c, mine) and proceeding(p, onset):
+        if mine is not None and both_collisions(c, mine) and proceeding(p, onset) \
+                and not came_between(w.way, other, p.samples, onset):
             continue                    # V's own collision course asked the braking whatever W did
         if waited_after(w, other, onset, p.junction, c.mine.entered):
             continue                    # W still to stand at its line: its proceeding came after the slowing
         if (mine is None or ahead_of(c, mine)) and (best is None or ahead_of(c, best[1])):
             best = (w, c)
     return best
+
+
+def came_between(first: Sequence[Sample], other: Other, beyond: Sequence[Sample], onset: int) -> bool:
+    """Whether a road user (`first`, its samples) came into `other`'s way after `other` began to
+    slow (`onset`), going its way, ahead of `other` and behind the road user of `beyond` at one
+    moment: it cut in between `other` and that one, and was then the vehicle in front of `other`
+    (HC 126), which `other` met first whatever the one beyond it did. Two emergers joining a main
+    road car's lane ahead of it one behind the other are a queue forming in its way: unslowed, it
+    would have run into the nearer before it could reach the farther, and after it could come to
+    the farther only behind the nearer. The paper run's 205 (13.4 m/s) braked at 4.5 m/s² from
+    323.5 s as 266 crawled out of j2's north arm into its lane 32 m ahead, behind 279, which had
+    come out of the south arm into the same lane 39 m ahead; SUMO, asked tick by tick, had 266 as
+    205's leader, and 205's next speed was the same with 279 taken away and 13.41 m/s with 266
+    taken away. Positions only: each position of `first` after the onset on `other`'s way
+    (within a vehicle's width), heading its way, against where `other` and the one beyond were on
+    that way at that moment. False where the record cannot tell."""
+    way = _Way.of(other.way, VEHICLE_WIDTH_M)
+    if len(way.points) < 2:
+        return False
+    for s in first:
+        if s.t <= onset or not s.placed:
+            continue
+        hit = way.hit((s.x, s.y))
+        heading = _heading_at(first, s.t)
+        if hit is None or heading is None or heading[0] * hit.direction[0] + heading[1] * hit.direction[1] < _SAME_WAY:
+            continue
+        own, _ = position_at(other.way, s.t)
+        far, _ = position_at(beyond, s.t)
+        own_hit = way.hit(own) if own is not None else None
+        far_hit = way.hit(far) if far is not None else None
+        if own_hit is not None and far_hit is not None and own_hit.along_m < hit.along_m < far_hit.along_m:
+            return True
+    return False
 
 
 def waited_after(w: Other, other: Other, onset: int, junction: Junction, entered: int | None) -> bool:

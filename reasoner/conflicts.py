@@ -350,8 +350,12 @@ def _projected(theirs: Sequence[Sample], b: LineString, region: BaseGeometry, mi
                onset: int | None) -> tuple[float | None, float | None, float | None, float | None]:
     """At `onset`, the other's distance to the zone and speed; the PET it would have had at that
     speed (negative: it would have been in the zone while the vehicle was); the deceleration it
-    needed to arrive no earlier than the vehicle left (DRAC)."""
-    if onset is None or mine.left is None:
+    needed to arrive no earlier than the vehicle left (DRAC). Where the vehicle's record ends with
+    it still in the zone, the other, coming in before that end, would have been there with it: the
+    gap is at most its arrival less that end (its DRAC is not measured); coming in later, or
+    through before it came, the gap is not in the record, as before. The paper run's 266, crawling out of j2's north arm into 205's lane ahead
+    of it, was still in their zone where its record read for 279's passage ended."""
+    if onset is None or (mine.left is None and not mine.samples):
         return None, None, None, None
     where, _ = position_at(theirs, onset)
     speed, _ = speed_at(theirs, onset)
@@ -365,7 +369,14 @@ def _projected(theirs: Sequence[Sample], b: LineString, region: BaseGeometry, mi
         return math.inf, 0.0, to_zone, speed
     arrive = onset + to_zone / speed * SECOND
     leave = onset + (reach[1] - b.project(Point(where))) / speed * SECOND
-    if mine.entered is not None and leave <= mine.entered:
+    through_first = mine.entered is not None and leave <= mine.entered
+    if mine.left is None:
+        # the vehicle's record ends while it is still in the zone (it left later, when is not in the
+        # record): only the other coming in before that end, while it was there, is measured
+        if through_first or arrive >= mine.samples[-1].t:
+            return None, None, None, None
+        return (arrive - mine.samples[-1].t) / SECOND, None, to_zone, speed
+    if through_first:
         gap = (mine.entered - leave) / SECOND   # it would have gone through first
     else:
         gap = (arrive - mine.left) / SECOND

@@ -692,7 +692,7 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
     return paths_within(p.samples, other.way, p.junction, VEHICLE_WIDTH_M) is False \
         or reacted_after_clearing(p.samples, other) or well_ahead(p.samples, other) or _clear_of(p, other) \
         or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
-        or leader(p, other, _extend(p, other)) is not None or _nearer(p, other) is not None \
+        or leader(p, other, _extend(p, other), conflict_of(p, other)) is not None or _nearer(p, other) is not None \
         or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other), _set_off_t(p)) \
         or turned_behind(p, other) is not None or turned_ahead(p, other) is not None
 
@@ -1245,7 +1245,7 @@ def _cause(p: Passage, other: Other) -> str:
                 f"zone with {p.vehicle} ahead of {p.vehicle} ({p.vehicle} came in "
                 f"{(first.mine.entered - first.theirs.entered) / SECOND:.2f} s after it): it did not wait for "
                 f"{p.vehicle} to pass, so its stop is not shown to be for {p.vehicle}")
-    ahead = leader(p, other, _extend(p, other))
+    ahead = leader(p, other, _extend(p, other), conflict_of(p, other))
     if ahead is not None:
         return (f"{ahead} ahead of it on its way when it began to slow, going its way or standing: keeping the "
                 f"two-second gap behind it (HC 126) took {FORCE_DECEL_MPS2:g} m/s² or more")

@@ -115,7 +115,7 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
         if _out_first(p, o, slowing_began(o)) is not None:
             return "through first", f"it had gone through the conflict zone ahead of {v} and left it before " \
                                     "it changed speed or course"
-        ahead = leader(p, o, _extend(p, o))
+        ahead = leader(p, o, _extend(p, o), conflict_of(p, o))
         if ahead is not None:
             return "leader", f"it slowed behind its own leader {ahead}, ahead of it on its way"
         nearer = _nearer(p, o)

@@ -8,8 +8,11 @@ Yields. Each tick, every vehicle decelerating at BRAKING_MPS2 or harder near a j
 about with SUMO's own calls: its leader (`vehicle.getLeader`), its next traffic light
 (`getNextTLS`), the junction foes on its way with SUMO's right-of-way answer for each pair
 (`getJunctionFoes`: egoResponse, the foe matrix of the junction), the stop it is held at (the
-world's hold is a SUMO stop), the speed of the junction lane it turns by (`getNextLinks`), the
-minor links ahead of it (`lane.getLinks`) and the speed it may drive at all (`getAllowedSpeed`:
+world's hold is a SUMO stop), the vehicles ahead of it that left by the same incoming lane and
+went another way, where SUMO's junction model still follows them (`lane.getInternalFoes`: a foe
+lane of the same source; `getLeader` names one leader only), the speed of the junction lane it
+turns by (`getNextLinks`), the minor links ahead of it (`lane.getLinks`) and the speed it may
+drive at all (`getAllowedSpeed`:
 its speed factor on its lane). SUMO's car-following model then says what speed each of those
 constraints allows now (`getFollowSpeed` behind the leader, `getStopSpeed` before a red light, a
 held stop line or a foe it must let pass, braking at its own deceleration down to a turn's
@@ -48,6 +51,8 @@ from pathlib import Path
 from typing import Any
 
 import libsumo
+from shapely.geometry import LineString
+from shapely.ops import unary_union
 
 from sim_replay.world_state import PedestrianState, Snapshot, VehicleState
 
@@ -77,6 +82,7 @@ _STOP_LINK = "s"          # SUMO's link state for a Stop sign: a vehicle obeying
 VISIBILITY_M = 4.5        # SUMO's foe visibility distance of a link (the default: neither bundled net sets one): short of
                           # it, a vehicle cannot yet see whether foes come, and approaches a minor link so that it can stop
 _POSITION_EPS_M = 0.1     # SUMO's POSITION_EPS: where it stops a vehicle short of the next lane (MSVehicle::adaptToJunctionLeader)
+_PART_STEP_M = 0.05       # the step along a junction lane at which where it parts from another is looked for
 _NOT_MINOR = set("rRyYu")  # link states a minor link's cautious approach is not asked for (the light's, asked as `signal`)
 
 # SUMO's SSM encounter types (MSDevice_SSM.h EncounterType), as its output's `type` codes
@@ -203,6 +209,8 @@ class Account:
         self._source: dict[str, str] | None = None     # junction lane -> the incoming lane it leaves from
         self._stood: set[tuple[str, str | None]] = set()   # (vehicle, junction) it has stood at the Stop line of
         self._asked: dict[str, list] = {}     # vehicle -> what binds its next tick, asked at the end of this one
+        self._parts: dict[tuple[str, str, float], float] = {}   # (junction lane, one parting from it, half width) -> m
+        self._before: dict[str, tuple[str, ...]] | None = None    # junction lane -> the junction lanes before it
 
     def tick(self, snap: Snapshot) -> None:
         t = snap.t_s
@@ -289,6 +297,11 @@ class Account:
                 allowed.append((vehicle.getFollowSpeed(ident, speed, gap, lv, vehicle.getDecel(leader[0]), leader[0]),
                                 "leader", leader[0], {"gap_m": round(gap, 1), "leader_speed_mps": round(lv, 2),
                                                       **_joined(self._merged(ident, leader[0]))}))
+        for other, gap in self._parting(v, snap, via, ahead_m, leader[0] if leader else None):
+            allowed.append((vehicle.getFollowSpeed(ident, speed, max(gap, 0.0), other.speed_mps, vehicle.getDecel(other.id),
+                                                   other.id), "leader", other.id,
+                            {"gap_m": round(gap, 1), "leader_speed_mps": round(other.speed_mps, 2), "leader_lane": other.lane,
+                             "merged": False, "diverging": True}))
         if v.held and v.to_line_m is not None:
             allowed.append((vehicle.getStopSpeed(ident, speed, max(v.to_line_m, 0.0)), "line", None,
                             {"to_line_m": round(v.to_line_m, 1), "line": v.line_kind}))
@@ -425,6 +438,85 @@ class Account:
         final = max(speed, 2.0 * (crossing - min_gap) / past_s - speed)
         reach = speed + (final - speed) / past_s * self.step_s
         return max(base, min(reach, stop))
+
+    def _parting(self, v: VehicleState, snap: Snapshot, via: str, ahead_m: float | None,
+                 asked: str | None) -> list[tuple[VehicleState, float]]:
+        """The vehicles ahead that left by the incoming lane the vehicle comes by and went another
+        way through the junction, still where their junction lane and the vehicle's way overlap,
+        with SUMO's gap to each (to its back, less the vehicle's minGap; one whose front is not
+        ahead of the vehicle's is no leader of it): SUMO's junction model
+        follows such a one as a leader it cannot ignore (MSLink::getLeaderInfo: a foe lane of the
+        same source, no crossing width). `getLeader` names one leader only, the first link leader
+        it finds, and that may be another road user: the town-12 run's 439 (turning right at j2)
+        braked at 4.5 m/s² from 437.5 s to 439.7 s behind 534, standing in the junction on the
+        straight lane from the same lane, while `getLeader` named 111, crossing ahead of 534 onto
+        439's road (SUMO's next speed the same with 111 taken away, higher without 534, every
+        tick; getFollowSpeed at this gap gives SUMO's next speed to 0.001 m/s). Only from the
+        first lane of its way (the one the two share the start of) and the road before it."""
+        if not via or ahead_m is None or (v.lane.startswith(":") and v.lane != via) or not self._entering(via):
+            return []
+        foes = set(libsumo.lane.getInternalFoes(via))
+        done = -v.lane_pos_m if v.lane == via else ahead_m          # metres from the vehicle's front to the lanes' start
+        out = []
+        for other in snap.vehicles:
+            if other.id in (v.id, asked) or other.lane == via or other.lane not in foes \
+                    or not self._same_source(via, other.lane):
+                continue
+            front = sum(libsumo.lane.getLength(lane) for lane in self._lanes_before(other.lane)) + other.lane_pos_m
+            if done + front <= 0.0:
+                continue                  # only one ahead of it: its front beyond the vehicle's own
+            back = front - libsumo.vehicle.getLength(other.id)
+            if back < self._parted_at(via, other.lane, v.id, other.id):
+                out.append((other, done + back - libsumo.vehicle.getMinGap(v.id)))
+        return out
+
+    def _lanes_before(self, lane: str) -> tuple[str, ...]:
+        """The junction lanes before a junction lane on its way from the incoming lane (none for the
+        first): a vehicle on it is that much further from where the lanes of one incoming lane start
+        (the paper-11 run's 290 on :j2_15_0, past the right turn's internal junction, followed by 236
+        going straight on from the same lane: SUMO's next speed higher without 290, 140.2-141.0 s)."""
+        if self._before is None:
+            self._before = {}
+            for incoming in libsumo.lane.getIDList():
+                if incoming.startswith(":"):
+                    continue
+                for link in libsumo.lane.getLinks(incoming):
+                    way, lane_now = [], link[4]
+                    while lane_now.startswith(":") and lane_now not in way:
+                        self._before.setdefault(lane_now, tuple(way))
+                        way.append(lane_now)
+                        out = libsumo.lane.getLinks(lane_now)
+                        lane_now = (out[0][4] or out[0][0]) if out else ""
+        return self._before.get(lane, ())
+
+    def _parted_at(self, via: str, lane: str, ident: str, other: str) -> float:
+        """Metres along a junction lane leaving by the same incoming lane as `via` (from the lanes'
+        start: with the junction lanes before it, `_lanes_before`) to where its
+        centre line is as far from the way on from `via` (it and the internal lanes it leads on
+        to) as half the mean width of the two vehicles: short of it the other's back is still in
+        the vehicle's way. SUMO's own point is not asked (no call gives it); where SUMO stopped
+        following was measured twice, and falls where this reading puts it: the town-12 run's 439
+        (an ambulance, 2.2 m wide) behind 534 (a car, 1.8 m) at j2, followed with 534's back 0.95 m
+        from 439's way and no longer at 1.09 m (this reading: 1.0 m); a car behind a car at the
+        paper map's j2, followed at 0.87 m and no longer at 0.95 m (0.9 m). It is a reading, not
+        SUMO's rule (its crossing geometry for the pair of lanes): behind a right-turner past the
+        internal junction SUMO was seen to follow with the turner's back 2 m from the way; where it
+        lets a leader go early, the braking is left "none", naming nobody."""
+        half = (libsumo.vehicle.getWidth(ident) + libsumo.vehicle.getWidth(other)) / 4.0
+        if (via, lane, half) in self._parts:
+            return self._parts[via, lane, half]
+        way, lane_now = [], via
+        while lane_now.startswith(":") and lane_now not in way:
+            way.append(lane_now)
+            links = libsumo.lane.getLinks(lane_now)
+            lane_now = (links[0][4] or links[0][0]) if links else ""
+        ours = unary_union([LineString(libsumo.lane.getShape(w)) for w in way])
+        theirs = LineString([p for w in self._lanes_before(lane) + (lane,) for p in libsumo.lane.getShape(w)])
+        along = 0.0
+        while along < theirs.length and ours.distance(theirs.interpolate(along)) < half:
+            along += _PART_STEP_M
+        self._parts[via, lane, half] = along
+        return along
 
     @staticmethod
     def _target(lane: str) -> str | None:

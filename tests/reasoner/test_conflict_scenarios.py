@@ -22,8 +22,7 @@ import re
 from tests.helpers.foreign import LINE_M, Foreign, Motion, crossroads, ns, rate
 from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _OUT_OF_C2S_WAY, _SET_OFF,
                                                    judge, margin, mps, no_violation, of, one, runner_run,
-                                                   stated_stop_camera,
-                                                   stop_then_go_run, unseen_main_road_run, verdict)
+                                                   stated_stop_camera, stop_then_go_run, unseen_main_road_run, verdict)
 
 
 def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[float, float], until: float,
@@ -559,6 +558,55 @@ def test_a_main_road_car_slowing_for_its_own_turn_into_the_road_the_vehicle_went
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
 
+def _cut_in_between(*, eight: bool = True) -> Foreign:
+    """7 stops at the west Stop line, sets off 1 s after it stood and crawls at 2 m/s, turning left
+    into the main road's northbound lane (x = -1.75) at y = +1.75 at 13.75 s (from START); 8 stops
+    at the east Stop line, sets off 2 s after 7 and crawls the same way across the junction,
+    turning right into that lane at y = -1.75 at 17.5 s, 9.5 m behind 7 (`eight` False: 8 is not
+    there). c2 comes north up the lane at 13.4 m/s and at 14.5 s, 25 m short of 8's way with 7
+    34 m ahead of it in the lane, brakes at 4.5 m/s² to 2 m/s and follows at that speed."""
+    from tests.reasoner.test_foreign_scenarios import camera
+
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    times = rate(5, START, START + 30.0)
+    begins = 14.5
+    c2 = Motion(-30.5 - 13.4 * begins, 13.4, [(begins, 0.0), ((13.4 - 2.0) / 4.5, -4.5)])
+    movers = [("7", Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=1.0, then=1.0), "west>north"),
+              ("c2", c2, "south")]
+    if eight:
+        movers.append(("8", Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=3.0, then=1.0), "east>north"))
+    for user, motion, arm in movers:
+        run.spawn(user)
+        run.drive(user, motion, arm, times, t_start=START)
+        run.watch(user, motion, arm, times, t_start=START,
+                  facts=camera(user, sign="stop") if user != "c2" else None)
+    return run
+
+
+def test_a_main_road_car_braking_for_a_second_emerger_that_cut_in_ahead_of_it_was_not_forced_by_the_first(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1: no vehicle may proceed past a Stop line "so as to be likely ...
+    to cause the driver of another vehicle to change its speed or course in order to avoid an
+    accident". 7 crawls out of the west Stop line into c2's lane, 34 m ahead of c2 when c2 begins
+    to slow; 8 crawls out of the east Stop line after it, across the junction and into the same
+    lane behind 7, 25 m ahead of c2 on its way, and c2 brakes at 4.5 m/s² to 8's crawl. Unslowed, c2 would have run into 8 in the lane (a collision
+    course, 8's zone first on its way): the accident its braking avoided was with 8, the vehicle in
+    front of it from then on (HC 126), and it could have come to 7 only behind 8. 8 forced c2:
+    punishable, HC 171; 7's Stop is lawful (the paper run's 279, said to force 205 as 266 came out
+    of j2's north arm between them; SUMO, asked tick by tick, braked 205 for 266, and its next
+    speed was the same with 279 taken away; 266's Stop raised no incident, 205 put down to 279 as
+    its leader). The control: without 8, c2 braking the same behind 7 alone was forced by 7."""
+    (tmp_path / "both").mkdir()
+    (tmp_path / "alone").mkdir()
+    found = judge(tmp_path / "both", _cut_in_between())
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    inc = one(found, "8")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "8 would force c2 to change speed or course" for f in inc.derived)
+    alone = judge(tmp_path / "alone", _cut_in_between(eight=False))
+    inc = one(alone, "7")
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
 
 
 def _turning_ahead(leaving: str) -> Foreign:

@@ -50,6 +50,22 @@ def test_time_to_collision_projected_gap_and_drac_on_a_collision_course():
     assert c.drac_mps2 == pytest.approx(2 * (10 * 3.405 - 17.975) / 3.405 ** 2, abs=1e-6)
 
 
+def test_a_vehicle_whose_record_ends_in_the_zone_is_there_with_one_coming_in_before_that_end():
+    """V's record ends at 4.0 s, its centre at x = +0.0, still within the zone (it would leave at
+    4.405 s): when it left is not in the record. U at 10 m/s from y = -30, 17.975 m short of the
+    zone at 1 s, unslowed comes in at 2.7975 s, while V is still there by its own record: a
+    collision course, its gap at most 2.7975 - 4.0 = -1.2025 s (the deceleration that would have
+    let V go first is not measured). U from y = -60 would come in at 5.7975 s, after the record's
+    end: the gap is not in the record. (The paper run's 266 in 279's passage: its record, as read
+    there, ended in the lane it shared with 205.)"""
+    cut = [s for s in V if s.t <= 4 * S]
+    c = conflict(cut, track("vehicle/u", -1.75, -30.0, 0.0, 10.0), None, onset=1 * S)
+    assert c.mine.left is None
+    assert c.projected_gap_s == pytest.approx(-1.2025, abs=1e-6) and c.drac_mps2 is None
+    late = conflict(cut, track("vehicle/u", -1.75, -60.0, 0.0, 10.0), None, onset=1 * S)
+    assert late.projected_gap_s is None
+
+
 def test_paths_that_never_meet_have_no_conflict():
     """U on the far footway, 8 m south of V's lane, walking east: the paths stay apart."""
     walker = track("pedestrian/p", -30.0, -6.25, 1.4, 0.0)

@@ -511,3 +511,38 @@ def test_a_right_turner_still_before_its_internal_junction_waits_for_oncoming_tr
     pairs, _, yields = main_with_and_without(("e_j2", "j2_j1", 60.0, "max"))
     assert any(abs(a[1] - b[1]) > 0.5 for a, b in pairs)
     assert any(y["cause"] == "foe" and y["by"] == "side" and y["causes"]["foe side"]["held_mps2"] >= 2.0 for y in yields)
+
+def test_a_turner_behind_one_standing_in_the_junction_on_the_straight_lane_follows_it():
+    """"main" drives east on r1 into j2 to go straight on; "follower", 30 m behind it in the same
+    lane, turns right (south) there; "side", a bus at 6 m/s, comes out of r3's north arm (its
+    decisions ours) straight across j2 onto the road follower turns into. main, with the right of
+    way, stands in the junction on its straight junction lane (:j2_10_0) for side; follower brakes
+    behind it. SUMO's junction model follows main as a leader it cannot ignore (a foe lane of the
+    same incoming lane, MSLink::getLeaderInfo), but `getLeader` names side, the first link leader
+    it finds, joining follower's road well ahead and asking nothing of it: the account put the
+    braking down to side and then to nothing, as it did the town-12 run's 439 behind 534 (SUMO's
+    next speed the same without 111, higher without 534, tick by tick). Follower gave way to
+    nobody: it followed main."""
+    from tests.helpers.conflict_agreement import gave_way
+    routes: dict = {}
+    with World(NET, seed=3) as world:
+        account = Account(routes, world.modes)
+        add_cars(world, routes, (("main", "j1_j2", "j2_e", 124.0, "max"), ("follower", "j1_j2", "j2_s2", 94.0, "max")))
+        routes["side"] = world.route("n2_j2", "j2_s2")
+        world.add_vehicle("side", "bus", routes["side"], depart_pos=172.0, depart_speed=5.0)
+        for step in range(90):
+            snap = world.step()
+            if step == 0:
+                world.take_control("side")
+                libsumo.vehicle.setMaxSpeed("side", 6.0)
+            account.tick(snap)
+        account.close()
+    main = max((y for y in account.yields if y.vehicle == "main"), key=lambda y: y.peak_decel_mps2)
+    assert (main.cause, main.by) == ("foe", "side") and main.min_speed_mps < 0.1     # it stood for side
+    braking = max((y for y in account.yields if y.vehicle == "follower" and y.t_s > 5.0),
+                  key=lambda y: y.speed_mps - y.min_speed_mps)          # the braking that shed the most speed
+    assert (braking.cause, braking.by) == ("leader", "main")
+    behind = braking.causes["leader main"]
+    assert behind["held_mps2"] >= 4.0 and behind["diverging"] and behind["min_speed_mps"] < 3.5
+    assert "none" not in braking.causes and braking.causes.get("foe side", {}).get("held_mps2", 0.0) < 0.5
+    assert not any(gave_way(r) for r in yielded_to({"vehicle": "side", "t_s": braking.t_s}, [braking.to_json()], []))
