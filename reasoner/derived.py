@@ -30,7 +30,7 @@ from store import EventRef
 
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
-from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
+from .motion import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, _braking, own_cause, paths_within, since, through
@@ -486,7 +486,8 @@ def caused_stretch(p: Passage, other: Other) -> Other:
     caused: from the onset attribution reads (reaction.slowing_began) to where a later, harder
     braking begins that something else explains (reaction.braked_afresh read from each of its
     samples on: harder, by FORCE_DECEL_MPS2 or more, than the second before, and `explained` at
-    its own onset: another road user it then braked for, its own line, V already out of its way).
+    its own onset: another road user it then braked for, its own line, V already out of its way;
+    the stretch ends where that braking begins).
     TSRGD 2016 Sch 9 Pt 7 para 1 asks of each change of speed whether V caused it; the figure that
     decides (braked_hard: FORCE_DECEL_MPS2 over MIN_DECEL_SPAN_S, less its uncertainty) and the
     figure cited are the hardest second of that stretch, and a stop after it is the next cause's.
@@ -510,15 +511,20 @@ def caused_stretch(p: Passage, other: Other) -> Other:
 
 def _next_cause(p: Passage, other: Other, onset: int, until: int) -> int | None:
     """Where, after `onset` and by `until` (its hardest braking's start), the road user's slowing
-    became another cause's: the onset of the first fresh braking (reaction.braked_afresh, counted
-    from one of its samples) that `explained` puts down to something other than V. None where
-    there is none."""
+    became another cause's: the start of the first fresh braking (reaction.braked_afresh, counted
+    from one of its samples: harder than the second before it, by FORCE_DECEL_MPS2 or more) that
+    `explained` puts down to something other than V at its own onset, begun MIN_DECEL_SPAN_S or
+    more after `onset` (a second of the slowing before it, the measure a braking is taken over:
+    one begun sooner is the slowing itself, as attribution read it at its onset). None where there
+    is none."""
     for s in other.samples:
         if s.t <= onset or s.t > until:
             continue
         fresh = braked_afresh(since(other, p.others, p.junction, s.t), s.t)
-        if fresh is not None and explained(p, fresh):
-            return slowing_began(fresh)
+        if fresh is None or fresh.braking is None or fresh.braking.first.t - onset < MIN_DECEL_SPAN_S * SECOND:
+            continue
+        if explained(p, fresh):
+            return fresh.braking.first.t
     return None
 
 
