@@ -94,3 +94,21 @@ def test_shrinking_memory_forgets_the_run_names_the_envelope_check_remembers(sto
     assert not envelope._SEEN_RUNS and not envelope._SEEN_SOURCES
     assert store.append(short_run("r3")).stored == len(short_run("r3"))   # remembered again as checked
     assert "r3" in envelope._SEEN_RUNS
+
+
+def test_the_snapshot_hook_takes_each_runs_chain_end_from_the_append_not_from_the_file(db_path):
+    from store import enable_snapshots
+    from store.snapshots import chain_end, marks
+    with Store(db_path) as store:
+        enable_snapshots(store)
+        asked: list[str] = []
+        store.connection.set_trace_callback(asked.append)
+        try:
+            store.append([e for n in range(4) for e in short_run(f"r{n}")])
+        finally:
+            store.connection.set_trace_callback(None)
+        after_commit = asked[asked.index("COMMIT") + 1:]
+        assert not [sql for sql in after_commit if "FROM events" in sql]   # no read-back of the chains' ends
+        for n in range(4):                                             # and the watermarks are the file's ends
+            seen = marks(store, f"r{n}")
+            assert (seen.length, seen.head) == chain_end(store.connection, f"r{n}") and not seen.unchecked
