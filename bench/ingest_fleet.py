@@ -67,8 +67,10 @@ def payloads(events: list[dict]) -> list[tuple[str, bytes]]:
     return [(f"gaps/{e['run']}/{e['src']}/{e['kind']}", canonical_json(e)) for e in events]
 
 
-def produce(endpoint: str, shape: str, runs: int, per_run: int, go, first_put) -> None:
-    """The producer's child process: builds its events, waits for `go`, puts them all."""
+def produce(endpoint: str, shape: str, runs: int, per_run: int, go, first_put, stored=None) -> None:
+    """The producer's child process: builds its events, waits for `go`, puts them all, and keeps
+    its session open until the serve has stored them (`stored`): samples still queued in the
+    session when it closes are dropped, which on a slow serve left the bench waiting for ever."""
     import zenoh
 
     from sim_replay.publisher import zenoh_config
@@ -83,7 +85,8 @@ def produce(endpoint: str, shape: str, runs: int, per_run: int, go, first_put) -
         for key, payload in items:
             session.put(key, payload, encoding=zenoh.Encoding.APPLICATION_JSON,
                         congestion_control=zenoh.CongestionControl.BLOCK)
-        time.sleep(1.0)                      # let the last samples leave before the session closes
+        if stored is None or not stored.wait(900):
+            time.sleep(1.0)                  # let the last samples leave before the session closes
     finally:
         session.close()
 
@@ -138,8 +141,8 @@ def one_pass(shape: str, runs: int, per_run: int, folder: Path, tenths: list | N
     try:
         serve.wait_for_log("serve.ready", timeout=60)
         ctx = mp.get_context("spawn")
-        go, first_put = ctx.Event(), ctx.Value("d", 0.0)
-        producer = ctx.Process(target=produce, args=(endpoint, shape, runs, per_run, go, first_put))
+        go, first_put, stored = ctx.Event(), ctx.Value("d", 0.0), ctx.Event()
+        producer = ctx.Process(target=produce, args=(endpoint, shape, runs, per_run, go, first_put, stored))
         producer.start()
         time.sleep(3.0)                                   # the producer built its events and linked
         idle = rss_mb(serve_pid(serve))
@@ -158,6 +161,7 @@ def one_pass(shape: str, runs: int, per_run: int, folder: Path, tenths: list | N
                 if time.monotonic() - started > 900:
                     raise
         seconds = done_at - first_put.value
+        stored.set()
         producer.join(60)
         time.sleep(5.0)
         after = rss_mb(serve_pid(serve))

@@ -30,10 +30,10 @@ from store import EventRef
 
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
-from .motion import MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
+from .motion import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, came_in_behind, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, own_cause, paths_within, since, through
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, _braking, own_cause, paths_within, since, through
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, Turn, behind_at_turn, braked_afresh, cleared_at,
                        reacted_after_clearing, slowing_began, stop_apart, turn_deg, turn_seen, turn_taken,
                        well_ahead)
@@ -478,7 +478,55 @@ def _reacting_afresh(p: Passage) -> tuple[Other, ...]:
         return found
     start = off.last.t if off is not None else act - int(ANTICIPATION_S * SECOND)
     found = tuple(_own_stop(p, _toward_zone(p, o, start)) for o in found)
-    return found if off is None else tuple(_braked_afresh(p, o, off.last.t) for o in found)
+    found = found if off is None else tuple(_braked_afresh(p, o, off.last.t) for o in found)
+    return tuple(caused_stretch(p, o) for o in found)
+
+
+def caused_stretch(p: Passage, other: Other) -> Other:
+    """The road user with its braking measured over the stretch of its slowing V is held to have
+    caused: from the onset attribution reads (reaction.slowing_began) to where a later, harder
+    braking begins that something else explains (reaction.braked_afresh read from each of its
+    samples on: harder, by FORCE_DECEL_MPS2 or more, than the second before, and `explained` at
+    its own onset: another road user it then braked for, its own line, V already out of its way;
+    the stretch ends where that braking begins).
+    TSRGD 2016 Sch 9 Pt 7 para 1 asks of each change of speed whether V caused it; the figure that
+    decides (braked_hard: FORCE_DECEL_MPS2 over MIN_DECEL_SPAN_S, less its uncertainty) and the
+    figure cited are the hardest second of that stretch, and a stop after it is the next cause's.
+    The paper run's 205 braked at 4.5 m/s² for 266 coming into its lane from 323.4 s and at
+    5.5 m/s² from 325.3 s for 253, which came out between them (SUMO's account: foe 266, then foe
+    253); 266's Stop cited the 5.5. Unchanged where V's braking is not at issue (explained, no
+    onset), where no such later braking is in the record, or where the record cannot tell."""
+    b = other.braking
+    if b is None or _walking(other) or explained(p, other):
+        return other
+    onset = slowing_began(other)
+    if onset is None or b.first.t <= onset:
+        return other
+    end = _next_cause(p, other, onset, b.first.t)
+    if end is None:
+        return other
+    stretch = _braking(other.samples, p.junction, (onset, end))
+    stopped = other.stopped if other.stopped is not None and other.stopped.t < end else None
+    return replace(other, braking=stretch, stopped=stopped)
+
+
+def _next_cause(p: Passage, other: Other, onset: int, until: int) -> int | None:
+    """Where, after `onset` and by `until` (its hardest braking's start), the road user's slowing
+    became another cause's: the start of the first fresh braking (reaction.braked_afresh, counted
+    from one of its samples: harder than the second before it, by FORCE_DECEL_MPS2 or more) that
+    `explained` puts down to something other than V at its own onset, begun MIN_DECEL_SPAN_S or
+    more after `onset` (a second of the slowing before it, the measure a braking is taken over:
+    one begun sooner is the slowing itself, as attribution read it at its onset). None where there
+    is none."""
+    for s in other.samples:
+        if s.t <= onset or s.t > until:
+            continue
+        fresh = braked_afresh(since(other, p.others, p.junction, s.t), s.t)
+        if fresh is None or fresh.braking is None or fresh.braking.first.t - onset < MIN_DECEL_SPAN_S * SECOND:
+            continue
+        if explained(p, fresh):
+            return fresh.braking.first.t
+    return None
 
 
 def _braked_afresh(p: Passage, other: Other, set_off: int) -> Other:

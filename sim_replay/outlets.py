@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from itertools import islice
+from operator import itemgetter
 from pathlib import Path
 from types import TracebackType
 from typing import Sequence
@@ -24,6 +26,7 @@ from store import Recorder, Signer
 from .publisher import EventPublisher, zenoh_config
 
 SECOND = 1_000_000_000
+_SRC, _T = itemgetter("src"), itemgetter("t")
 
 
 @dataclass(frozen=True)
@@ -161,9 +164,9 @@ class Outlets:
             return
         self._note(events[0])
         if len(events) > 1:
-            rest = events[1:]
-            self._sources.update([event["src"] for event in rest])
-            last = max([event["t"] for event in rest])
+            rest = islice(events, 1, None)
+            self._sources.update(map(_SRC, rest))
+            last = max(map(_T, islice(events, 1, None)))
             if last > self._last_t:
                 self._last_t = last
 

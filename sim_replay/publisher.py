@@ -26,7 +26,7 @@ from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, canonical
                    zenoh_message)
 
 from .cache_queryable import CacheQueryable
-from .recent_events import MAX_BYTES, MAX_EVENTS, RecentEvents
+from .recent_events import MAX_BYTES, MAX_EVENTS, Published, RecentEvents
 
 __all__ = ["EventPublisher", "zenoh_config"]
 
@@ -198,19 +198,24 @@ class EventPublisher:
 
     def _publish_written(self, events: Sequence[dict], payloads: Sequence[bytes], keys: Sequence[str]) -> int:
         """publish_all of events whose bytes and keys are at hand (a simulation's tick): the same
-        runs, cut at PUT_RUN and after each despawn, in one pass over the three."""
-        publishers, publisher_for, put_run = self._publishers, self._publisher_for, self._put_run
-        run: list[_Prepared] = []
-        add = run.append
+        runs, cut at PUT_RUN and after each despawn, in one pass over the three that makes each
+        event's cache entry (RecentEvents) as it finds its publisher, so that a thousand events
+        a tick are not gone over again between the puts and the cache."""
+        publishers, publisher_for, put_held = self._publishers, self._publisher_for, self._put_held
+        found: list[ext.AdvancedPublisher] = []
+        held: list[Published] = []
+        find, hold = found.append, held.append
         for event, key, payload in zip(events, keys, payloads, strict=True):
             publisher = publishers.get(key)
-            add((publisher_for(key) if publisher is None else publisher, key, event, payload))
-            if event["kind"] == DESPAWN or len(run) >= PUT_RUN:
-                put_run(run)
-                run = []
-                add = run.append
-        if run:
-            put_run(run)
+            find(publisher_for(key) if publisher is None else publisher)
+            hold((event["run"], event["src"], event["seq"], key, payload))
+            despawn = event["kind"] == DESPAWN
+            if despawn or len(found) >= PUT_RUN:
+                put_held(found, held, despawn)
+                found, held = [], []
+                find, hold = found.append, held.append
+        if found:
+            put_held(found, held, False)
         return len(events)
 
     def _prepared(self, event: dict) -> _Prepared:
@@ -228,14 +233,20 @@ class EventPublisher:
     def _put_run(self, run: list[_Prepared]) -> None:
         """The run's puts back to back (see publish_all), then each into the cache; a despawn (only
         ever a run's last event) retires its source."""
-        for publisher, _, _, payload in run:
-            publisher.put(payload)
-        self._recent.add_all([(event["run"], event["src"], event["seq"], key, payload)
-                              for _, key, event, payload in run])
+        self._put_held([publisher for publisher, _, _, _ in run],
+                       [(event["run"], event["src"], event["seq"], key, payload) for _, key, event, payload in run],
+                       run[-1][2]["kind"] == DESPAWN)
+
+    def _put_held(self, found: list[ext.AdvancedPublisher], held: list[Published], despawn: bool) -> None:
+        """_put_run of publishers and their events' cache entries (run, src, seq, key, payload):
+        the puts back to back, then the entries into the cache; `despawn`: the last event was
+        its source's despawn, which retires the source."""
+        for publisher, entry in zip(found, held):
+            publisher.put(entry[4])
+        self._recent.add_all(held)
         self._published = True
-        _, key, last, _ = run[-1]
-        if last["kind"] == DESPAWN:
-            self._retire(_source_of(key))
+        if despawn:
+            self._retire(_source_of(held[-1][3]))
 
     def wait_until_matched(self, event: dict, timeout: float) -> bool:
         """Whether a subscriber for this event's key appeared within ``timeout`` seconds.

@@ -125,6 +125,7 @@ class Simulation:
         self._out: list[dict[str, Any]] = []     # the tick's events so far
         self._written: list[bytes | None] = []   # per event of _out: its canonical bytes, where _states wrote them
         self._keys: list[str | None] = []        # ... and its key, where _states had it at hand
+        self._unwritten: list[int] = []          # the places in _out of the events _batch writes
         self._writing = True                     # whether _states writes them (batches' `written`)
 
     # --- the run ------------------------------------------------------------------------------
@@ -170,6 +171,7 @@ class Simulation:
             self._out = out
             self._written = []
             self._keys = []
+            self._unwritten = []
             self._emit("sim/world", 0.0, "run.start", {
                 "map": world_map(network, monitors), "rulebooks": self.books.records(), "seed": c.seed,
                 "config": c.to_json()})
@@ -211,6 +213,7 @@ class Simulation:
     def _emit(self, src: str, t_s: float, kind: str, body: dict[str, Any]) -> dict[str, Any] | None:
         ev = self.env.make(src, t_s, kind, body)
         if ev is not None:
+            self._unwritten.append(len(self._out))
             self._out.append(ev)
             self._written.append(None)
             self._keys.append(None)
@@ -221,14 +224,22 @@ class Simulation:
         """What the latest tick made, as one batch (none if it made nothing), with each event's
         canonical bytes (Tick.payloads) and key (Tick.zenoh_keys): those _states wrote, the others
         made here."""
-        if self._out:
-            events = Tick(self._out) if not self._writing else Tick(
-                self._out, [canonical_json(ev) if payload is None else payload
-                            for ev, payload in zip(self._out, self._written)],
-                [key_for(ev) if key is None else key for ev, key in zip(self._out, self._keys)])
-            self._out.clear()
-            self._written.clear()
-            self._keys.clear()
+        out = self._out
+        if out:
+            if self._writing:
+                written, keys = self._written, self._keys
+                for i in self._unwritten:
+                    written[i] = canonical_json(out[i])
+                    if keys[i] is None:
+                        keys[i] = key_for(out[i])
+                events = Tick(out, written, keys)
+                self._written, self._keys = [], []
+            else:
+                events = Tick(out)
+                self._written.clear()
+                self._keys.clear()
+            out.clear()
+            self._unwritten.clear()
             yield events
 
     # --- putting road users on the network ----------------------------------------------------
@@ -371,13 +382,15 @@ class Simulation:
             ev = {"v": 1, "run": run, "src": src, "seq": seq, "t": stamp, "kind": "entity.state", "body": {
                 "x": kept[2], "y": kept[3], "heading_deg": kept[4], "speed_mps": kept[5], "accel_mps2": kept[6],
                 "road": v.road, "lane": v.lane, "junction": v.junction, "emergency": agent is not None and agent.on_call}}
-            add(ev)
             payload = None
             if kept[7]:
                 try:
                     payload = dumps(ev, option=_SORT_KEYS)
                 except orjson.JSONEncodeError:
                     pass
+            if payload is None:
+                self._unwritten.append(len(out))
+            add(ev)
             add_written(payload)
             add_key(kept[9])
         if snap.vehicles:
@@ -416,6 +429,7 @@ class Simulation:
                            "accel_mps2": kept[6], "road": v.road, "lane": v.lane, "junction": v.junction,
                            "emergency": agent is not None and agent.on_call}))
         made = self.env.make_all(t, "entity.state", bodies)
+        self._unwritten.extend(range(len(self._out), len(self._out) + len(made)))
         self._out.extend(made)
         self._written.extend([None] * len(made))
         self._keys.extend([None] * len(made))

@@ -111,12 +111,16 @@ class Witness:
                             pending["act"]["approaching"] += (_approaching(o, t - pending["act"]["t_s"]),)
                             if not o.pedestrian:
                                 pending["watch"][o.id] = 0.0
-                for ident in pending["watch"]:
+                watch = pending["watch"]
+                for ident, hardest in watch.items():      # the tests only where it brakes harder than yet
                     other = snap.vehicle(ident)
-                    if other is not None and other.light in (None, "green") \
+                    if other is None:
+                        continue
+                    braking = round(-other.accel_mps2, 2)
+                    if braking > hardest and other.light in (None, "green") \
                             and self._may_meet(pending, ident, (agents or {}).get(ident), junction) \
                             and not _following(other, snap, vid):      # the dear test last: it looks about
-                        pending["watch"][ident] = max(pending["watch"][ident], round(-other.accel_mps2, 2))
+                        watch[ident] = braking
             if snap is not None and t < pending["until"]:
                 still.append(pending)
                 continue

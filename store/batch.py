@@ -129,6 +129,11 @@ class Batch:
         self.report.duplicates += 1
         return None
 
+    @property
+    def grown(self) -> dict[str, RunChain]:
+        """The runs this call extended, each with its chain as it now ends."""
+        return self._grown
+
     def _grow(self, run: str) -> RunChain:
         chain = self._grown[run] = self.heads.chain(run)
         return chain

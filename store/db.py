@@ -23,6 +23,7 @@ from .cache import Cache
 from .output_files import note_evidence
 from .ddl import DENSE_KINDS
 from .batch import Batch
+from .chain import RunChain
 from .heads import Heads
 from .integrity import integrity_problems
 from .intake import Candidate, from_raw
@@ -110,6 +111,7 @@ class Store:
         self._quarantine_tally = quarantine.QuarantineTally(self._conn)
         self._data_version = self._read_data_version()
         self._append_hooks: list[AppendHook] = []
+        self._appended: dict[str, RunChain] = {}  # the chains the append whose hooks run committed
         self._checkpoint_hooks: list[CheckpointHook] = []
         self._integrity: tuple[tuple[int, int], list[str]] | None = None  # (file state, problems)
         self.cache = Cache(self.path, at=cache_at)
@@ -180,7 +182,11 @@ class Store:
             conn.executemany(_INSERT_CHECKPOINT, batch.checkpoints)
         for run in batch.ended:                  # committed: an ended run costs nothing kept for ever
             self._heads.release(run)
-        self._run_hooks(batch.events)
+        self._appended = batch.grown
+        try:
+            self._run_hooks(batch.events)
+        finally:
+            self._appended = {}
         batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
         if batch.signed:
             self._signed_runs.signed(batch.signed)
@@ -214,6 +220,13 @@ class Store:
         append, not per run: a fleet's batch holds hundreds of runs, and a cache transaction each
         cost the ingest 20 ms a run (bench/ingest_fleet.py)."""
         self._append_hooks.append(hook)
+
+    def appended_end(self, run: str) -> tuple[int, str] | None:
+        """(chain length, head hash) of the run as the append whose hooks are running committed it,
+        or None outside the hooks or for a run it did not extend: what an append hook would
+        otherwise read back from the file (two queries a run, for each of a fleet's runs)."""
+        chain = self._appended.get(run)
+        return None if chain is None else (chain.count, chain.head.hex())
 
     def _run_hooks(self, rows: list[tuple]) -> None:
         if not self._append_hooks or not rows:

@@ -93,6 +93,9 @@ class Heads:
 
     def _load_chain(self, run: str) -> RunChain:
         """The run's chain as stored, its tail checked against its last (signed) checkpoint
-        first (store/tail_check.py): an append never seals events no append wrote."""
-        return anchored_chain(self._conn, run, self.key, self.trust)
+        first (store/tail_check.py): an append never seals events no append wrote. A run that
+        `_holds_nothing` found empty is not looked for again (`empty` is only ever of this
+        connection's view of the file: forgotten whenever another connection writes, and a run
+        whose chain is loaded is in `chains`, which is asked first)."""
+        return anchored_chain(self._conn, run, self.key, self.trust, empty=run in self.empty)
 

@@ -182,10 +182,11 @@ def chain_end(conn: sqlite3.Connection, run: str) -> tuple[int, str]:
     return length, hash_at(conn, run, length - 1) or ""
 
 
-def marks(store: Store, run: str) -> Marks:
-    """A few index probes (this runs on every read)."""
+def marks(store: Store, run: str, end: tuple[int, str] | None = None) -> Marks:
+    """A few index probes (this runs on every read). `end`: the chain's (length, head) as the
+    append whose hook asks committed it (Store.appended_end), instead of read back."""
     conn = store.connection
-    length, head = chain_end(conn, run)
+    length, head = chain_end(conn, run) if end is None else end
     row = _watermark(store, run)
     if row is None:
         return Marks(length, head, 0)
@@ -227,7 +228,7 @@ def stale_from(store: Store, run: str, seen: Marks) -> int:
 def catch_up(store: Store, run: str) -> None:
     """Delete the snapshots unchecked events make stale and raise the watermark to the chain's
     length. Runs inside the caller's write transaction on the cache."""
-    seen = marks(store, run)
+    seen = marks(store, run, store.appended_end(run))
     stale = stale_from(store, run, seen)
     cache = store.cache.connection
     epoch = max(seen.epoch, 0)

@@ -609,6 +609,56 @@ def test_a_main_road_car_braking_for_a_second_emerger_that_cut_in_ahead_of_it_wa
     assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
 
 
+def test_the_braking_cited_for_a_forced_road_user_is_the_stretch_the_act_caused_not_a_later_one_for_another(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 asks of each change of speed whether the vehicle proceeding
+    past its Stop line caused it ("to change its speed or course in order to avoid an accident"),
+    and an offence rests on the figures that decided. 7 crawls out of the west Stop line into c2's
+    lane; c2, 45 m short at 13.4 m/s, brakes at 2.8 m/s² for it from 14.5 s. 8 stands at the east
+    Stop line until 16.0 s, then pulls out across c2's lane into it between c2 and 7, and c2 brakes
+    at 6 m/s² from 17.0 s, 20 m short of 8's way, down to 1 m/s. 7 forced c2 (2.8 m/s², beyond 2
+    m/s² by more than its ± 0.2): punishable, HC 171, on that figure; the 5.4 m/s² of c2's
+    hardest second was for 8, whose own Stop is punishable on it (the paper run's 266, whose Stop
+    cited 205's 5.5 m/s² braking for 253 rather than its 4.5 m/s² for 266; SUMO's account: foe 266,
+    then foe 253). Fails where one hardest braking per road user is cited whatever stretch of its
+    slowing the act explains."""
+    found = judge(tmp_path, _braking_for_two())
+    inc = one(found, "7")
+    verdict(inc, "punishable", "HC 171")
+    forced = next(f for f in inc.derived if f.sentence == "7 would force c2 to change speed or course")
+    assert forced.method.startswith("c2 braked at 2.8 ± 0.2 m/s² against 2 m/s² (12.6 m/s at"), forced.method
+    assert "9.8 m/s" in forced.method
+    assert inc.margin is None or inc.margin.quantity != "deceleration of the other road user" \
+        or round(inc.margin.value, 1) == 2.8
+    inc = one(found, "8")
+    verdict(inc, "punishable", "HC 171")
+    forced = next(f for f in inc.derived if f.sentence == "8 would force c2 to change speed or course")
+    assert forced.method.startswith("c2 braked at 5.4 ± 0.2 m/s²"), forced.method
+
+
+def _braking_for_two() -> Foreign:
+    """7 as in `_cut_in_between`: out of the west Stop line at 7.9 s, crawling at 2 m/s into the
+    main road's northbound lane at 13.75 s. c2 comes north up that lane at 13.4 m/s, brakes at 2.8
+    m/s² from 14.5 s (45.5 m short of the centre) for 2.5 s and then at 6 m/s² for 0.9 s, to 1 m/s
+    20.7 m short of 8's way. 8 stands at the east Stop line until 16.0 s
+    and pulls away at 2 m/s² for 3 s across the junction and into c2's lane ahead of it."""
+    from tests.reasoner.test_foreign_scenarios import camera
+
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "stop", kinds={"west": "stop", "east": "stop"})])
+    times = rate(5, START, START + 30.0)
+    begins = 14.5
+    c2 = Motion(-45.5 - 13.4 * begins, 13.4, [(begins, 0.0), (2.5, -2.8), (0.9, -6.0)])
+    braking = 2 * 27.5 / 8.0                      # 8 m/s braked evenly over 27.5 m to stand at its line
+    movers = [("7", Motion.stopping_at(-40.0, 8.0, -LINE_M - 0.5, wait=1.0, then=1.0), "west>north"),
+              ("c2", c2, "south"),
+              ("8", Motion(-40.0, 8.0, [(braking, -8.0 / braking), (16.0 - braking, 0.0), (3.0, 2.0)]), "east>north")]
+    for user, motion, arm in movers:
+        run.spawn(user)
+        run.drive(user, motion, arm, times, t_start=START)
+        run.watch(user, motion, arm, times, t_start=START,
+                  facts=camera(user, sign="stop") if user != "c2" else None)
+    return run
+
+
 def _turning_ahead(leaving: str) -> Foreign:
     """A Give Way crossroads whose major road runs east-west: 7 comes up from the south arm at a
     steady 6 m/s, never slowing for its Give Way line (crossed 4.67 s on), and goes straight on up

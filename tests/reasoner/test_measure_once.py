@@ -52,9 +52,9 @@ def test_the_facts_of_a_passage_are_derived_once_per_measurement_however_many_pe
 
 def test_whether_a_road_users_braking_is_explained_is_worked_out_once_per_measurement(monkeypatch):
     p, run = _pulling_out()
+    calls = _counting(monkeypatch, "paths_within")       # asked once by each working out of `explained`
     braked = [o for o in derived.reacting(p) if not own_cause(o) and (o.braking or o.stopped)]
     assert braked, "the run has a road user whose braking the vehicle may explain"
-    calls = _counting(monkeypatch, "paths_within")       # asked once by each working out of `explained`
     found = measurement.measure(p, p.crossing.t, "enter the junction", [], [], _perceived(run, 2))
     assert "7 would force c2 to change speed or course" in {f.sentence for f in found.derived}
     assert len(calls) == len(braked)

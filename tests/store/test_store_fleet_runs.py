@@ -3,6 +3,8 @@ without changing what a later event of it, or a repeat, becomes; a new run's sou
 look-up each; the append hook is called once per append, with every run it extended."""
 from __future__ import annotations
 
+import pytest
+
 from store import Store
 from tests.helpers.store_testkit import event
 
@@ -43,6 +45,31 @@ def test_a_new_runs_sources_are_not_looked_up_one_by_one(store):
     assert len(asked) == 1                                         # one probe for the run, none a source
 
 
+def test_a_new_run_costs_the_append_one_probe_of_the_file_before_its_rows_are_written(store):
+    store.append(short_run("first"))
+    asked: list[str] = []
+    store.connection.set_trace_callback(asked.append)
+    try:
+        store.append([e for n in range(5) for e in short_run(f"new{n}")])
+    finally:
+        store.connection.set_trace_callback(None)
+    before_rows = asked[:next(i for i, sql in enumerate(asked) if sql.startswith("INSERT"))]
+    for n in range(5):
+        assert [sql for sql in before_rows if f"'new{n}'" in sql] == [f"SELECT 1 FROM events WHERE run = 'new{n}' LIMIT 1"]
+
+
+def test_a_run_found_empty_is_still_checked_against_its_signed_head_known_outside_the_file(store):
+    from store import TamperedTail
+    from store.tail_check import anchored_chain
+    from store.tree_heads import TreeHead
+
+    class Known:                                                   # a witness that saw 3 events of "gone"
+        last = {"gone": (TreeHead("gone", 3, "00" * 32, "00" * 32, 0, 1), "the witness file")}
+    key = object()
+    with pytest.raises(TamperedTail, match="the run was deleted"):
+        anchored_chain(store.connection, "gone", key, Known(), empty=True)
+
+
 def test_the_append_hook_is_called_once_per_append_with_every_run(store):
     calls: list[dict] = []
     store.add_append_hook(lambda _store, earliest: calls.append(dict(earliest)))
@@ -67,3 +94,21 @@ def test_shrinking_memory_forgets_the_run_names_the_envelope_check_remembers(sto
     assert not envelope._SEEN_RUNS and not envelope._SEEN_SOURCES
     assert store.append(short_run("r3")).stored == len(short_run("r3"))   # remembered again as checked
     assert "r3" in envelope._SEEN_RUNS
+
+
+def test_the_snapshot_hook_takes_each_runs_chain_end_from_the_append_not_from_the_file(db_path):
+    from store import enable_snapshots
+    from store.snapshots import chain_end, marks
+    with Store(db_path) as store:
+        enable_snapshots(store)
+        asked: list[str] = []
+        store.connection.set_trace_callback(asked.append)
+        try:
+            store.append([e for n in range(4) for e in short_run(f"r{n}")])
+        finally:
+            store.connection.set_trace_callback(None)
+        after_commit = asked[asked.index("COMMIT") + 1:]
+        assert not [sql for sql in after_commit if "FROM events" in sql]   # no read-back of the chains' ends
+        for n in range(4):                                             # and the watermarks are the file's ends
+            seen = marks(store, f"r{n}")
+            assert (seen.length, seen.head) == chain_end(store.connection, f"r{n}") and not seen.unchecked
