@@ -413,14 +413,29 @@ def joined_behind(p: Passage, other: Other, mine: Conflict | None, set_off: int 
     Sch 9 Pt 7 paras 1 and 2; HC 126 leaves the gap to the one behind). The paper run's 136 went
     through the merge of j2's south arm 0.74 s before 283 turned in behind it, braking at
     2.2 m/s² as its own leader 149 did 33 m ahead, from before 283 set off (SUMO's account:
-    leader 149 held 2.3). A V that never stood is not answered here: the town run's 411 braked
-    as 236 came at 13 m/s through its Give Way line into the road 411 was turning into, and went
-    through ahead of it (SUMO's account: foe 236, held 3.15). None of this is answered where the
-    record cannot tell (an onset, who was first, when V came in or left, V's speeds or way after)."""
-    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    leader 149 held 2.3). A V that never stood is not answered here: a road user going straight on
+    that braked as V came at its line without stopping may have braked for fear V would come out
+    in front of it (tests/reasoner/test_conflict_scenarios.py's rolling control); one that slowed
+    for a turn of its own and went through ahead of V is `derived.turned_ahead`'s. None of this is
+    answered where the record cannot tell (an onset, who was first, when V came in or left, V's
+    speeds or way after)."""
     began = slowing_began(other)
-    if mine is None or act is None or set_off is None or began is None or began >= set_off \
-            or mine.first != "theirs" or not mine.pet_s or mine.theirs is None \
+    if set_off is None or began is None or began >= set_off:
+        return False
+    return came_in_behind(p, other, mine)
+
+
+def came_in_behind(p: Passage, other: Other, mine: Conflict | None) -> bool:
+    """Whether V came into the road user's way behind it: the road user went through their
+    conflict zone first and had left it before V came in (`mine`, V's conflict with it:
+    post-encroachment time above 0, the road user first), V kept on without slowing from its act
+    until it came in (its own course, no giving way to the road user on the way), and V then went
+    on along the road user's way, heading its way, for two seconds (it joined the road user's lane
+    behind it). What a road user ahead could meet with V there was V running into it from behind,
+    which its braking could not avoid (`joined_behind`, `derived.turned_ahead`). False where the
+    record cannot tell."""
+    act = p.crossing.t if p.crossing else p.entered.t if p.entered else None
+    if mine is None or act is None or mine.first != "theirs" or not mine.pet_s or mine.theirs is None \
             or mine.theirs.left is None or mine.mine.entered is None or mine.mine.left is None:
         return False
     speeds = [s.speed_mps for s in p.samples if act <= s.t <= mine.mine.entered and s.speed_mps is not None]

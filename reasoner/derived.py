@@ -31,11 +31,12 @@ from store import EventRef
 from .junctions import UNIT, Junction, sector
 from .model import DerivedFact, Finding
 from .motion import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
-from .attribution import SAME_ZONE_M, joined_behind, leader, nearer_conflict, why
+from .attribution import SAME_ZONE_M, came_in_behind, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
 from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, _braking, own_cause, paths_within, since, through
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, Turn, behind_at_turn, braked_afresh, cleared_at,
-                       reacted_after_clearing, slowing_began, stop_apart, turn_deg, turn_taken, well_ahead)
+                       reacted_after_clearing, slowing_began, stop_apart, turn_deg, turn_seen, turn_taken,
+                       well_ahead)
 from .rebuild import ANTICIPATION_S
 from .passage import Other, Passage, Standstill
 from .signals import WORDS, Light, shown
@@ -727,7 +728,7 @@ def explained(p: Passage, other: Other) -> bool:
     perception-reaction time after V was out of its way, or V well ahead of it on its way, going
     its way (reasoner/reaction.py), or another road user it was resolving: its leader on its way,
     or one whose conflict zone with it came before V's on its way within PET_MAX_S
-    (reasoner/attribution.py)."""
+    (reasoner/attribution.py); or a turn of its own (`turned_behind`, `turned_ahead`)."""
     return _explained(p, other)
 
 
@@ -741,7 +742,7 @@ def _explained_afresh(p: Passage, other: Other) -> bool:
         or _out_first(p, other, slowing_began(other)) is not None or _went_first(p, other) is not None \
         or leader(p, other, _extend(p, other), conflict_of(p, other)) is not None or _nearer(p, other) is not None \
         or stood_on(p, other) is not None or joined_behind(p, other, conflict_of(p, other), _set_off_t(p)) \
-        or turned_behind(p, other) is not None
+        or turned_behind(p, other) is not None or turned_ahead(p, other) is not None
 
 
 def stood_on(p: Passage, other: Other) -> tuple[Conflict, int] | None:
@@ -809,6 +810,41 @@ def turned_behind(p: Passage, other: Other) -> tuple[Conflict, float, Turn | Non
         return c, turned, None
     turn = turn_taken(other, p.junction)
     return (c, turned, turn) if turn is not None and behind_at_turn(p.samples, other, turn) else None
+
+
+def turned_ahead(p: Passage, other: Other) -> tuple[Conflict, float, Turn] | None:
+    """V's conflict with the road user, how far (degrees) the road user turned, and the speed it
+    took its turn at, where it slowed for a turn of its own and went through ahead of V, V coming
+    in behind it: its way out of the junction was more than SAME_WAY_DEG off its way in, as far as
+    its record shows it (reaction.turn_seen); it did not stop, and slowed no lower than the speed
+    it took its turn at (reaction.turn_taken: the slowest it went in the junction's area, nowhere
+    slower from when it began to slow until it left the area); it went through their conflict zone
+    first and left it before V came in, and unslowed it would have too (projected gap 0 or more:
+    no collision course); and V came in behind it without slowing and went on along its way
+    (attribution.came_in_behind). A turn is taken slower than the road it leaves, whoever comes,
+    and the issue counts a road user's "own turn" among its own control; going through ahead of V
+    with V coming on behind it, what it could meet with V was V running into it from behind, which
+    its slowing could not avoid and only brought nearer. Its change of speed was for its turn, not
+    "in order to avoid an accident" with V (TSRGD 2016 Sch 9 Pt 7 para 1; HC 172; HC 126 leaves
+    the gap to the one behind). A road user going straight on is not answered here: braking as V
+    came at its line without stopping, it may have braked for fear V would come out in front of it
+    (attribution.joined_behind asks V to have stood). The town run's 411, turning right from j19's
+    east arm into the north arm 236 was coming up to from the south Give Way line at 13.4 m/s: in
+    the junction, in its turn, from 9.6 to 6.47 m/s (the speed it had entered the junction at) and
+    away at 2.6 m/s², through their zone 0.78 s ahead of 236 (unslowed, 0.96 s); SUMO's account:
+    its own exit link's approach, its speeds the same without 236. None where the record cannot
+    tell (no way out of the junction, no projected gap, who was first, V's speeds or way after)."""
+    c = conflict_of(p, other)
+    if other.stopped is not None or c is None or c.first != "theirs" or c.projected_gap_s is None \
+            or c.projected_gap_s < 0:
+        return None
+    turned = turn_seen(other.way, p.junction)
+    if turned is None or turned <= SAME_WAY_DEG:
+        return None
+    turn = turn_taken(other, p.junction)
+    if turn is None or not came_in_behind(p, other, c):
+        return None
+    return c, turned, turn
 
 
 def _went_first(p: Passage, other: Other) -> Conflict | None:

@@ -25,7 +25,7 @@ from typing import NamedTuple, Sequence
 
 from .junctions import Junction
 from .motion import MIN_DECEL_SPAN_S, Sample, position_at, speed_at
-from .others import FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, project, since
+from .others import FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, project, since, through
 from .passage import Other
 
 SECOND = 1_000_000_000
@@ -301,6 +301,22 @@ def turn_deg(inside: Sequence[Point]) -> float | None:
     (ax, ay), (bx, by) = steps[0], steps[-1]
     turn = abs(math.degrees(math.atan2(by, bx) - math.atan2(ay, ax))) % 360
     return min(turn, 360 - turn)
+
+
+def turn_seen(series: Sequence[Sample], junction: Junction) -> float | None:
+    """How far the road user is seen to turn through the junction (`turn_deg`): over its positions
+    in the junction's area with the one before and after (others.through), or, where its record
+    begins inside the area (a road user read from a moment it was already there), from its first
+    position there to the one after it left: the turn it is seen making, never more than it
+    made. None where the record shows it neither leave the area nor two steps in it."""
+    seen = through(series, junction)
+    if seen:
+        return turn_deg(seen)
+    placed = [(s.x, s.y) for s in series if s.placed]
+    inside = [i for i, (x, y) in enumerate(placed) if junction.edge(x, y) <= 0]
+    if not inside or inside[0] != 0 or inside[-1] == len(placed) - 1:
+        return None
+    return turn_deg(placed[:inside[-1] + 2])
 
 
 class Turn(NamedTuple):

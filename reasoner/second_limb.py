@@ -8,7 +8,8 @@ says whether something else explains a braking. It decides nothing itself. The r
 named in the order `explained` weighs them: a cause of the road user's own (its light, its Stop
 or Give Way line, the road user it followed), paths that never met, slowing begun too late to be
 for V, V well ahead of it, a conflict zone it would have passed well apart from V anyway, a zone
-it had already gone through, its leader, another road user whose conflict came first on its way.
+it had already gone through, its leader, another road user whose conflict came first on its way,
+its own turn (behind V, or ahead of V with V coming in behind it).
 For a braking nothing else explains, the reason is that it does not exceed FORCE_DECEL_MPS2 by
 more than its uncertainty. For one that did not brake, stop or swerve at all, the reason is that
 it changed neither speed nor course. A reason `explained` holds that none of these names is
@@ -24,7 +25,7 @@ from __future__ import annotations
 from .attribution import joined_behind, leader
 from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_no_excuse, _nearer, _out_first,
                       _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on,
-                      turned_behind)
+                      turned_ahead, turned_behind)
 from .motion import position_at, speed_at
 from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, own_cause, paths_within
 from .passage import Other, Passage
@@ -142,6 +143,16 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
                                 f"it would have come into the zone where their paths meet {c.projected_gap_s:.2f} s after "
                                 f"{v} had left it ({format_time(c.mine.left)}){behind}, so it slowed for its own turn, "
                                 f"with no accident with {v} to avoid")
+        ahead_of = turned_ahead(p, o)
+        if ahead_of is not None:
+            c, degrees, turn = ahead_of
+            return "turned ahead", (f"it turned {degrees:.0f}° there (more than {SAME_WAY_DEG:g}°), did not stop, and "
+                                    f"slowed no lower than the speed it took its turn at, {turn.speed_mps:.2f} m/s (its "
+                                    f"own record, {format_time(turn.t)}); it went through the zone where their paths "
+                                    f"meet ahead of {v} and left it {c.pet_s:.2f} s before {v} came in (unslowed, "
+                                    f"{c.projected_gap_s:.2f} s), and {v} came in behind it without slowing and went on "
+                                    f"along its way: it slowed for its own turn, and braking could not keep it from an "
+                                    f"accident with {v} behind it")
         return "other", "something else the record shows explains its slowing (reasoner/derived.explained)"
     b = o.braking
     if b is not None and b.decel_mps2 >= FORCE_DECEL_MPS2:

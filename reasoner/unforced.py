@@ -74,6 +74,8 @@ REASONS = {
     "joined behind": "it went through the conflict zone ahead of the vehicle, which joined its way behind it",
     "own turn": "it slowed for a turn of its own, and unslowed would have come to the conflict zone only after the "
                 "vehicle had left it",
+    "turned ahead": "it slowed for a turn of its own and went through the conflict zone ahead of the vehicle, which "
+                    "came in behind it",
     "in doubt": "its braking does not exceed the threshold by more than its uncertainty",
     "other": "something else the record shows explains it",
 }

@@ -21,8 +21,8 @@ import re
 
 from tests.helpers.foreign import LINE_M, Foreign, Motion, crossroads, ns, rate
 from tests.reasoner.test_foreign_scenarios import (AMBULANCE_LAG, START, STOPS_THEN_GOES, _OUT_OF_C2S_WAY, _SET_OFF,
-                                                   judge, mps, no_violation, of, one, runner_run, stated_stop_camera,
-                                                   stop_then_go_run, unseen_main_road_run, verdict)
+                                                   judge, margin, mps, no_violation, of, one, runner_run,
+                                                   stated_stop_camera, stop_then_go_run, unseen_main_road_run, verdict)
 
 
 def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[float, float], until: float,
@@ -442,10 +442,10 @@ def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_p
     the one behind): a lawful Stop, c2 not said to be forced (the paper run's 136, through the
     merge 0.74 s before 283 turned in behind it, braking as its leader 149 did; SUMO's account:
     leader 149). c2 began to slow while 7 still stood at its line, where it made no one change
-    speed. The controls: 7 rolling through its line at 6.5 m/s as c2 brakes the same (the town
-    run's 236, which came through its Give Way line at 12 m/s into the road 411 was turning into;
-    SUMO's account: 411 braked for it), and c2 a second behind 7's front, which 7 pulls out in
-    front of: forced, punishable HC 171."""
+    speed. The controls: 7 rolling through its line at 6.5 m/s as c2, going straight on, brakes
+    the same (it may have braked for fear 7 would come out in front of it; the town run's 236 ->
+    411, first read as this, is a turner's: `_turning_ahead` below), and c2 a second behind 7's
+    front, which 7 pulls out in front of: forced, punishable HC 171."""
     (tmp_path / "behind").mkdir()
     (tmp_path / "control").mkdir()
     (tmp_path / "rolls").mkdir()
@@ -657,3 +657,71 @@ def _braking_for_two() -> Foreign:
         run.watch(user, motion, arm, times, t_start=START,
                   facts=camera(user, sign="stop") if user != "c2" else None)
     return run
+
+
+def _turning_ahead(leaving: str) -> Foreign:
+    """A Give Way crossroads whose major road runs east-west: 7 comes up from the south arm at a
+    steady 6 m/s, never slowing for its Give Way line (crossed 4.67 s on), and goes straight on up
+    the north arm (x = -1.75). c2 comes from the east along the major road at 13.4 m/s, brakes at
+    4.5 m/s² from 13.5 m east of the centre to 6.5 m/s where its lane meets 7's (x = -1.75, 4.0 s
+    on), and pulls away at 2.6 m/s², never stopping: `leaving` "north", it turns right there into
+    the north arm's lane 7 goes up, ahead of 7; "west", it goes straight on across 7's way. c3
+    follows c2 at 13.4 m/s, 45 m east of the centre as 7 crosses its line (approaching 7 on the
+    main road: HC 172's question is asked), and turns left into the south arm, clear of 7's way."""
+    from tests.reasoner.test_foreign_scenarios import camera
+
+    low, turned = 6.5, 4.0
+    braking = (13.4 - low) / 4.5
+    begins = turned - braking
+    c2 = Motion(1.75 - (13.4 ** 2 - low ** 2) / 9.0 - 13.4 * begins, 13.4,
+                [(begins, 0.0), (braking, -4.5), ((13.4 - low) / 2.6, 2.6), (20.0, 0.0)])
+    c3 = Motion(-45.0 - 13.4 * 28.0 / 6.0, 13.4)
+    run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"south": "give_way", "north": "give_way"})])
+    times = rate(5, START, START + 18.0)
+    for user, motion, arm in (("7", Motion(-40.0, 6.0), "south"), ("c2", c2, "east>north" if leaving == "north" else "east"),
+                              ("c3", c3, "east>south")):
+        run.spawn(user)
+        run.drive(user, motion, arm, times, t_start=START)
+        run.watch(user, motion, arm, times, t_start=START, facts=camera("7", sign="give way") if user == "7" else None)
+    return run
+
+
+def test_a_main_road_car_slowing_for_its_own_turn_ahead_of_the_vehicle_coming_in_behind_was_not_forced(tmp_path):
+    """TSRGD 2016 Sch 9 Pt 7 para 1 (HC 172): 7, proceeding past its Give Way line, must not cause
+    the driver of another vehicle "to change its speed or course in order to avoid an accident";
+    issue 35: not for its own control ("its own turn"). c2, on the major road, slows at 4.5 m/s²
+    from 13.4 to 6.5 m/s for its right turn into the north arm and takes it at that speed without
+    stopping, into 7's lane ahead of 7, which comes up from the south without slowing and goes on
+    up the north arm behind it: c2 left their zone 0.77 s before 7 came in (unslowed, 1.57 s). What
+    c2 could meet with 7 was 7 running into it from behind, which its slowing could not avoid and
+    only brought nearer (HC 126 leaves the gap to the one behind): it slowed for its own turn, and
+    7 did not force it (the town run's 411, turning right from j19's east arm into the north arm
+    ahead of 236, 9.6 to 6.47 m/s in its turn, through 0.78 s ahead of 236, unslowed 0.96 s; SUMO's
+    account: its own exit link's approach, its speeds replayed the same without 236). c2 not said to
+    be forced (fails before derived.turned_ahead: "7 would force c2", with c2's 4.5 m/s² as the
+    margin); 7's incident is for c3, approaching and not forced: mitigated, HC 172. The control: c2
+    the same, braking the same at the same moment, but going straight on across 7's way (through
+    1.22 s ahead of it, unslowed 1.86 s), no turn of its own to slow for: a driver that brakes hard
+    as a car comes at its Give Way line without slowing may brake for fear of it coming out in
+    front (test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it's rolling
+    control): forced, its deceleration the margin (HC 172's duty is owed to traffic approaching
+    on the main road, and c2 was in the junction when 7 entered it: mitigated, as the town run's
+    236 was)."""
+    (tmp_path / "turn").mkdir()
+    (tmp_path / "control").mkdir()
+    from reasoner import history
+    from reasoner.second_limb import second_limb
+
+    run = _turning_ahead("north")
+    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    limb = second_limb(p)
+    c2 = [u for u in limb if u.user == "c2"]
+    assert [(u.reason, u.first) for u in c2] == [("turned ahead", "theirs")]        # the explanation's reason
+    assert "6.50 m/s" in c2[0].words and "came in behind it" in c2[0].words         # ... and its figures
+    inc = one(judge(tmp_path / "turn", run), "7")
+    verdict(inc, "mitigated", "HC 172")
+    assert not any("would force c2" in f.sentence for f in inc.derived) and inc.margin is None
+    control = one(judge(tmp_path / "control", _turning_ahead("west")), "7")
+    verdict(control, "mitigated", "HC 172")
+    assert any(f.sentence == "7 would force c2 to change speed or course" for f in control.derived)
+    margin(control, "deceleration", "m/s²", 4.5, 0.25)
