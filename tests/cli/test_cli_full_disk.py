@@ -18,10 +18,10 @@ def test_import_on_a_full_disk_is_one_line_and_keeps_what_was_committed(tmp_path
     class FullAfterOneBatch(Store):
         """SQLite's own full disk (max_page_count) from the second append on."""
         def _append(self, feed):
-            if getattr(self, "_appended", False):
+            if getattr(self, "_full_after", False):   # a name of the test's own: Store keeps `_appended`
                 pages = self.connection.execute("PRAGMA page_count").fetchone()[0]
                 self.connection.execute(f"PRAGMA max_page_count = {pages}")
-            self._appended = True
+            self._full_after = True
             return super()._append(feed)
 
     source = tmp_path / "run.jsonl"
