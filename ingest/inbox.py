@@ -27,11 +27,14 @@ when it has taken nothing for QUIET_S (ingest/idle_memory.py), when the old chan
 """
 from __future__ import annotations
 
+import logging
 import time
 from collections.abc import Iterable
 
 import zenoh
 from zenoh import ext
+
+log = logging.getLogger(__name__)
 
 Received = tuple[str, bytes, bool, str]  # (key, payload, is_put, encoding as Zenoh names it)
 POLL_S = 0.001  # pause between looks at an empty channel while a partial batch waits for company
@@ -53,6 +56,8 @@ class Inbox:
         self._subscriber, self._misses = self._declare()
         self._held: list[Received] = []   # taken from a renewed subscription's channel, given out first
         self._held_misses: list[ext.Miss] = []
+        self._retiring: list[tuple[ext.AdvancedSubscriber | None, ext.SampleMissListener | None]] = []
+        """Renewed subscriptions and miss listeners whose undeclare failed: still read (`_retire`)."""
         self._taken = 0                   # samples taken since the subscription was declared
         self._closed = False
         self.publisher_keys: dict[str, str] = {}
@@ -74,11 +79,9 @@ class Inbox:
     def take_misses(self) -> list[ext.Miss]:
         """The misses noticed since the last call (nothing more once the session is closed)."""
         misses, self._held_misses = self._held_misses, []
-        try:
-            while (miss := self._misses.try_recv()) is not None:
-                misses.append(miss)
-        except zenoh.ZError:   # closed with the session
-            pass
+        for _, retired in self._retiring:
+            misses.extend(_drained(retired))
+        misses.extend(_drained(self._misses))
         return misses
 
     @property
@@ -114,8 +117,16 @@ class Inbox:
             room = max_items - len(batch)
             batch.extend(self._held[:room])
             del self._held[:room]
+        if self._retiring:
+            self._take_retiring(batch, max_items)
         if not self._closed and self._take_from(self._subscriber, batch, max_items):
             self._closed = True
+
+    def _take_retiring(self, batch: list[Received], max_items: int) -> None:
+        """Read the retired subscriptions whose undeclare failed (`_retire`), before the live one:
+        a channel left declared must not fill. One found closed is let go."""
+        self._retiring = [(subscriber, misses) for subscriber, misses in self._retiring
+                          if subscriber is None or not self._take_from(subscriber, batch, max_items)]
 
     def _take_from(self, subscriber: ext.AdvancedSubscriber, batch: list[Received], max_items: int) -> bool:
         """`_take_waiting`'s loop on one subscription's channel; returns whether it found the channel
@@ -148,15 +159,36 @@ class Inbox:
             return False
         self._taken = 0
         time.sleep(RENEW_GRACE_S)
-        self._take_from(old, self._held, len(self._held) + self._capacity)   # what it held: at most a channel's
-        # worth, all at its front; what came after, the new one has too
+        self._retiring.append((old, old_misses))
+        self._retire()
+        return True
+
+    def _retire(self) -> None:
+        """Undeclare the retired subscriptions and their miss listeners, each on its own: a declared
+        channel that nobody reads fills, and Zenoh's receive path then waits on it for every sample
+        (the link stalls, publishers block). So one whose undeclare fails while the session is open
+        stays here, read with the live one (`_take_waiting`, `take_misses`; what it gives is a copy,
+        counted a duplicate) and tried again at the next renewal; one found closed is let go."""
+        retiring, self._retiring = self._retiring, []
+        for subscriber, misses in retiring:
+            if subscriber is not None:   # what it held: at most a channel's worth, all at its front;
+                self._take_from(subscriber, self._held, len(self._held) + self._capacity)   # what came
+                # after, the live one has too
+            self._held_misses.extend(_drained(misses))
+            if misses is not None and not self._undeclared(misses):
+                self._retiring.append((None, misses))
+            if subscriber is not None and not self._undeclared(subscriber):
+                self._retiring.append((subscriber, None))
+
+    def _undeclared(self, channel: ext.AdvancedSubscriber | ext.SampleMissListener) -> bool:
+        """Whether ``channel`` is undeclared or gone with the session; a failure is logged."""
         try:
-            while (miss := old_misses.try_recv()) is not None:
-                self._held_misses.append(miss)
-            old_misses.undeclare()
-            old.undeclare()
-        except zenoh.ZError:   # closed meanwhile: the session's close undeclares them
-            pass
+            channel.undeclare()
+        except zenoh.ZError as exc:
+            if self.closing:   # the session's close undeclares it
+                return True
+            log.warning("ingest: undeclaring a renewed subscription's channel failed, still read: %r", exc)
+            return False
         return True
 
     def release(self, runs: Iterable[str]) -> None:
@@ -194,6 +226,17 @@ class Inbox:
             publisher = f"{info.source_id.zid}/{info.source_id.eid}"
             self.publisher_keys[publisher] = key
         self._of_run.setdefault(run_of_key(key), []).append((key, publisher))
+
+
+def _drained(misses: ext.SampleMissListener | None) -> list[ext.Miss]:
+    """What a miss listener holds now (nothing once closed with the session)."""
+    taken: list[ext.Miss] = []
+    try:
+        while misses is not None and (miss := misses.try_recv()) is not None:
+            taken.append(miss)
+    except zenoh.ZError:
+        pass
+    return taken
 
 
 def run_of_key(key: str) -> str:
