@@ -24,6 +24,12 @@ which the store counts as a duplicate (store/batch.py), not a refusal. An undecl
 channel can no longer be read (zenoh 1.10.2 says "Undeclared subscriber"), hence this order. The
 grace covers a delivery that is quick, not one held up by a full channel: the writer renews only
 when it has taken nothing for QUIET_S (ingest/idle_memory.py), when the old channel is empty.
+
+A channel still declared and no longer read would fill, and Zenoh's receive path, which waits on a
+full channel, would then stop for every subscription of the session and every publisher behind it
+(a simulation stalled so, its ingest idle). So the old subscription and its miss listener are
+undeclared each on its own, and one whose undeclare fails stays on a retiring list that is read
+like the live one (its samples are copies: duplicates) and undeclared again at the next renewal.
 """
 from __future__ import annotations
 
