@@ -353,8 +353,9 @@ def _projected(theirs: Sequence[Sample], b: LineString, region: BaseGeometry, mi
     needed to arrive no earlier than the vehicle left (DRAC). Where the vehicle's record ends with
     it still in the zone, the other, coming in before that end, would have been there with it: the
     gap is at most its arrival less that end (its DRAC is not measured); coming in later, or
-    through before it came, the gap is not in the record, as before. The paper run's 266, crawling out of j2's north arm into 205's lane ahead
-    of it, was still in their zone where its record read for 279's passage ended."""
+    through before it came, the gap is not in the record, as before. The paper run's 266,
+    crawling out of j2's north arm into 205's lane ahead of it, was still in their zone where its
+    record read for 279's passage ended."""
     if onset is None or (mine.left is None and not mine.samples):
         return None, None, None, None
     where, _ = position_at(theirs, onset)
