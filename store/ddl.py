@@ -210,6 +210,7 @@ def migrate(conn: sqlite3.Connection) -> int:
             conn.execute("INSERT INTO schema_version (version) VALUES (?)", (step,))
         conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        if conn.in_transaction:   # a signal (SIGTERM, Ctrl-C) raised just after the COMMIT finds none
+            conn.execute("ROLLBACK")
         raise
     return SCHEMA_VERSION

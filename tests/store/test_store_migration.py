@@ -66,3 +66,26 @@ def test_a_fresh_file_holds_every_checkpoint_to_v2(db_path):
     tamper(db_path, ("UPDATE checkpoints SET prev_count = NULL", ()))
     with Store(db_path) as store:
         assert "lacks the Merkle root, frontier or previous count" in store.verify().problem["what"]
+
+
+def test_a_signal_just_after_the_schemas_commit_is_what_reaches_the_caller(tmp_path):
+    """SIGTERM and Ctrl-C raise wherever the code is (cli/main.py). One raised just after
+    migrate's COMMIT left no transaction to roll back, and the ROLLBACK's own error ("cannot
+    rollback - no transaction is active") replaced it: `gaps regress` stopped by SIGTERM while
+    creating its temporary store said the file "may be damaged or altered" and exited 1, not 143
+    (tests/cli/test_cli_sigterm.py, now and then)."""
+    import sqlite3
+
+    from store.ddl import SCHEMA_VERSION, current_version, migrate
+
+    class SignalAfterCommit(sqlite3.Connection):
+        def execute(self, sql, *args):
+            cursor = super().execute(sql, *args)
+            if sql == "COMMIT":
+                raise KeyboardInterrupt
+            return cursor
+
+    conn = sqlite3.connect(tmp_path / "s.db", isolation_level=None, factory=SignalAfterCommit)
+    with pytest.raises(KeyboardInterrupt):
+        migrate(conn)
+    assert not conn.in_transaction and current_version(conn) == SCHEMA_VERSION
