@@ -53,13 +53,12 @@ from .motion import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
 from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M
 from .passage import Other, Passage
 from .rebuild import PAST_TOLERANCE_M
-from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, SPEED_NOISE_MPS, _Way, needed_deceleration,
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SPEED_NOISE_MPS, _Way, needed_deceleration,
                        slowing_began)
 
 SECOND = 1_000_000_000
 SAME_ZONE_M = CAR_LENGTH_M / 2  # two conflict zones this close along a road user's way are one place: a road user
                                 # is in a zone while within half a car's length of it (conflicts._occupancy)
-_SAME_WAY = math.cos(math.radians(SAME_WAY_DEG))
 
 
 def leader(p: Passage, other: Other, extend_m: float = 0.0, mine: Conflict | None = None) -> str | None:
@@ -95,7 +94,7 @@ def leader(p: Passage, other: Other, extend_m: float = 0.0, mine: Conflict | Non
         gap = hit.along_m - own.along_m
         heading = _heading_at(ahead.samples, onset)
         along = 1.0 if heading is None else heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
-        going = its <= STOPPED_MPS or (heading is not None and along >= _SAME_WAY)
+        going = its <= STOPPED_MPS or hit.goes_along(heading)
         need = needed_deceleration(speed, its * max(along, 0.0), gap)
         below = _braked_on_behind(other, ahead, onset, gap) if math.isinf(need) else \
             _slowed_below(other, ahead, onset, gap)
@@ -277,7 +276,7 @@ def came_between(first: Sequence[Sample], other: Other, beyond: Sequence[Sample]
             continue
         hit = way.hit((s.x, s.y))
         heading = _heading_at(first, s.t)
-        if hit is None or heading is None or heading[0] * hit.direction[0] + heading[1] * hit.direction[1] < _SAME_WAY:
+        if hit is None or not hit.goes_along(heading):
             continue
         own, _ = position_at(other.way, s.t)
         far, _ = position_at(beyond, s.t)
@@ -378,7 +377,7 @@ def _behind(w: Other, t: int, way: _Way, own) -> bool:
     if hit is None or hit.along_m >= own.along_m:
         return False
     heading = _heading_at(w.samples, t)
-    return heading is not None and heading[0] * hit.direction[0] + heading[1] * hit.direction[1] >= _SAME_WAY
+    return hit.goes_along(heading)
 
 
 def _heading_at(samples: Sequence[Sample], t: int) -> tuple[float, float] | None:
@@ -448,7 +447,6 @@ def came_in_behind(p: Passage, other: Other, mine: Conflict | None) -> bool:
     for s in after:
         hit = way.hit((s.x, s.y))
         heading = _heading_at(p.samples, s.t)
-        if hit is None or heading is None or \
-                heading[0] * hit.direction[0] + heading[1] * hit.direction[1] < _SAME_WAY:
+        if hit is None or not hit.goes_along(heading):
             return False
     return True

@@ -33,7 +33,7 @@ from .model import DerivedFact, Finding
 from .motion import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, came_in_behind, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, _braking, own_cause, paths_within, since, through
+from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, braking_into, own_cause, paths_within, since, through
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, Turn, behind_at_turn, braked_afresh, cleared_at,
                        reacted_after_clearing, slowing_began, stop_apart, turn_deg, turn_seen, turn_taken,
                        well_ahead)
@@ -505,7 +505,7 @@ def caused_stretch(p: Passage, other: Other) -> Other:
     end = _next_cause(p, other, onset, b.first.t)
     if end is None:
         return other
-    stretch = _braking(other.samples, p.junction, (onset, end))
+    stretch = braking_into(other.samples, p.junction, (onset, end))
     stopped = other.stopped if other.stopped is not None and other.stopped.t < end else None
     return replace(other, braking=stretch, stopped=stopped)
 

@@ -86,7 +86,7 @@ def _closing(junction: Junction, placed: list[Sample]) -> bool:
 
 def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, arm: str | None, closing: bool,
            closest: float, passing: tuple[int, int], signals: Signals) -> Other:
-    braking = _braking(window, junction, passing)
+    braking = braking_into(window, junction, passing)
     stopped = _stopped(window, junction, passing)
     timeline = signals.timeline(junction.id, arm) if arm else ()
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
@@ -139,7 +139,7 @@ def _followed(other: Other, everyone: list[Other], junction: Junction) -> Other:
     return other
 
 
-def _braking(window: tuple[Sample, ...], junction: Junction, passing: tuple[int, int]) -> Braking | None:
+def braking_into(window: tuple[Sample, ...], junction: Junction, passing: tuple[int, int]) -> Braking | None:
     """The hardest braking while the vehicle passed, counted only while the road user was
     still outside the junction and heading into it."""
     before = tuple(s for s in window if not s.placed or junction.edge(s.x, s.y) > 0)
@@ -190,7 +190,7 @@ def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: i
     stop alone, with no braking (reaction.stop_apart: a stop after a steady stretch from `t_from`)."""
     end = max((s.t for s in other.samples), default=t_from)
     passing = (t_from, end)
-    braking = None if stop_only else _braking(other.samples, junction, passing)
+    braking = None if stop_only else braking_into(other.samples, junction, passing)
     stopped = _stopped(other.samples, junction, passing, moving_from=t_from)
     moment = stopped.t if stopped is not None else braking.first.t if braking is not None else None
     recounted = replace(other, braking=braking, stopped=stopped, followed=None,

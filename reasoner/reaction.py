@@ -36,6 +36,7 @@ REACTION_TIME_S = 2.5   # AASHTO Green Book (2018) 3.2.2.1: the brake reaction t
 SPEED_NOISE_MPS = 0.5   # a road user still within this of its top speed has not yet begun to slow (1 mph)
 SAME_WAY_DEG = 45.0     # a vehicle heading within this of the way's direction goes that way (not across it)
                         # (and one leaving a junction more than this off the way it came in by turned there)
+_SAME_WAY = math.cos(math.radians(SAME_WAY_DEG))
 
 Point = tuple[float, float]
 
@@ -185,6 +186,12 @@ class _Hit(NamedTuple):
     along_m: float          # how far along the way the nearest point is
     direction: Point        # the way's direction there (a unit vector)
 
+    def goes_along(self, heading: Point | None) -> bool:
+        """Whether a road user heading so (a unit vector) goes the way's way here: within
+        SAME_WAY_DEG of its direction."""
+        return heading is not None and \
+            heading[0] * self.direction[0] + heading[1] * self.direction[1] >= _SAME_WAY
+
 
 def _way(samples: Sequence[Sample]) -> list[Point]:
     return [(s.x, s.y) for s in samples if s.placed]
@@ -273,7 +280,7 @@ def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: _Way, oth
         return False
     gap = hit.along_m - own.along_m - speed * max(0, s.t - began) / SECOND
     along = heading[0] * hit.direction[0] + heading[1] * hit.direction[1]
-    if gap <= 0 or along < math.cos(math.radians(SAME_WAY_DEG)):
+    if gap <= 0 or not hit.goes_along(heading):
         return False
     return needed_deceleration(speed, s.speed_mps * along, gap) < FORCE_DECEL_MPS2
 
@@ -384,8 +391,7 @@ def behind_at_turn(mine: Sequence[Sample], other: Other, turn: Turn) -> bool:
             continue
         hit = way.hit((s.x, s.y))
         heading = _heading(placed, i)
-        if hit is None or heading is None or \
-                heading[0] * hit.direction[0] + heading[1] * hit.direction[1] < math.cos(math.radians(SAME_WAY_DEG)):
+        if hit is None or not hit.goes_along(heading):
             continue
         if hit.along_m - own.along_m - turn.speed_mps * (s.t - began) / SECOND < kept:
             return False

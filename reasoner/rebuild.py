@@ -244,7 +244,7 @@ def _standing_at_end(series: tuple[Sample, ...]) -> bool:
 
 def _braked_inside(o: Other, junction: Junction, t_from: int, t_to: int) -> bool:
     """Whether the road user slowed while inside the junction's area in [t_from, t_to]
-    (others._braking counts braking outside it only)."""
+    (others.braking_into counts braking outside it only)."""
     inside = tuple(s for s in o.samples if s.placed and junction.edge(s.x, s.y) <= 0)
     braking = peak_deceleration(inside, t_from, t_to)
     return braking is not None and braking.decel_mps2 > 0
