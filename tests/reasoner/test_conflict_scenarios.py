@@ -44,6 +44,37 @@ def walk(run: Foreign, who: str, start: tuple[float, float], velocity: tuple[flo
                   "x": round(start[0] + velocity[0] * dt, 3), "y": round(start[1] + velocity[1] * dt, 3)})
 
 
+def _passage_of_7(run: Foreign):
+    """7's passage that crosses its line, as the reasoner reads it from the run's events."""
+    from reasoner import history
+
+    return next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+
+
+def _second_limb_of_7(run: Foreign):
+    """Each road user's reason in the second limb of 7's act (reasoner.second_limb): what the
+    explanation says of why it was, or was not, forced."""
+    from reasoner.second_limb import second_limb
+
+    return second_limb(_passage_of_7(run))
+
+
+def _lawful_not_forcing_c2(path, run: Foreign):
+    """The run judged: 7's act is no violation and nothing of 7's says it forced c2."""
+    found = judge(path, run)
+    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
+    no_violation(found, "7")
+    return found
+
+
+def _punishable_forcing_c2(path, run: Foreign, v: str = "7"):
+    """The run judged: v's one incident is punishable under HC 171 for forcing c2."""
+    inc = one(judge(path, run), v)
+    verdict(inc, "punishable", "HC 171")
+    assert any(f.sentence == f"{v} would force c2 to change speed or course" for f in inc.derived)
+    return inc
+
+
 # 7 is at x = 8 (its exit, beyond the junction) 4.5 s after setting off (s = t² - 12.5 from its line); s from START
 _AT_X8 = _SET_OFF + math.sqrt(12.5 + 8.0)
 
@@ -78,11 +109,11 @@ def test_a_pedestrian_stepping_into_the_path_as_the_vehicle_pulls_out_is_endange
     in 7's path as it comes, likely to be endangered (para 1): the passage shows "7 would endanger
     p9", with the pedestrian named and the post-encroachment time measured. (Judged at the
     sentence: no camera sentence nor sweep candidate raises a Stop that was kept; see the report.)"""
-    from reasoner import derived, history
+    from reasoner import derived
 
     run = stop_then_go_run()
     walk(run, "p9", (8.0, 1.75 - 1.4 * _AT_X8), (0.0, 1.4), START + 25.0)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    p = _passage_of_7(run)
     shown = {f.sentence: f for f in derived.facts(p, p.crossing.t)}
     assert "7 would endanger p9" in shown and "p9 is approaching 7" in shown
     method = shown["7 would endanger p9"].method
@@ -261,7 +292,7 @@ def test_a_pedestrian_who_crossed_in_front_of_a_car_waiting_at_its_line_and_left
     with 7 there, nor entering it after 7 had passed: not endangered (the paper run's 249 and p9,
     where a car standing at its line, its front short of the pedestrian's way, was read as in
     the zone with it: post-encroachment time 0, "249 would endanger p9")."""
-    from reasoner import derived, history
+    from reasoner import derived
 
     run = Foreign(junctions=[crossroads("J1", 0.0, 0.0, "give_way", kinds={"west": "give_way", "east": "give_way"})])
     run.spawn("7")
@@ -272,7 +303,7 @@ def test_a_pedestrian_who_crossed_in_front_of_a_car_waiting_at_its_line_and_left
     # half width and half its length (0.24 + 0.11 m) at y = 3.135, 0.3 s before 7 sets off
     leaves = 6.87 + 6.0 - 0.3
     walk(run, "p9", (-10.8, 3.135 - 1.8 * leaves), (0.0, 1.8), START + 25.0, watched=True)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    p = _passage_of_7(run)
     shown = {f.sentence for f in derived.facts(p, p.crossing.t)}
     assert "7 would endanger p9" not in shown and "p9 is approaching 7" not in shown, shown
 
@@ -305,15 +336,13 @@ def _cyclist_passing_alongside(lag: float):
     (x = +1.75) at 5 m/s, turns right across 7's lane at x = +1.75 and rides west along
     y = -1.75, the lane beside 7's, reaching x = -2 when 7's front is at x = -1.5 plus `lag` s.
     The passage of 7's act."""
-    from reasoner import history
-
     meets = _SET_OFF + math.sqrt(12.5 - 1.5) + lag      # 7 at x = -1.5 (s = t² - 12.5 after it set off)
     cy = Motion(5.5 - 5.0 * meets, 5.0)                  # along "north>west": s = 5.5 is x = -2, y = -1.75
     run = stop_then_go_run()
     run.spawn("cy", "cyclist")
     run.drive("cy", cy, "north>west", rate(5, START, START + 25.0), t_start=START)
     run.watch("cy", cy, "north>west", rate(5, START, START + 25.0), t_start=START)
-    return next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
+    return _passage_of_7(run)
 
 
 def test_a_cyclist_that_crossed_ahead_and_rides_past_in_the_other_lane_is_not_endangered():
@@ -372,19 +401,10 @@ def test_a_main_road_car_that_stopped_to_turn_in_after_the_vehicle_had_gone_and_
     test_a_stop_then_a_pull_out_that_makes_main_road_traffic_brake_is_punishable)."""
     (tmp_path / "on").mkdir()
     (tmp_path / "control").mkdir()
-    from reasoner import history
-    from reasoner.second_limb import second_limb
-
     run = _turning_in(2.2, 2.5)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
-    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "stood on")]     # the explanation's reason
-    found = judge(tmp_path / "on", run)
-    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
-    no_violation(found, "7")
-    control = judge(tmp_path / "control", _turning_in(-0.8, 1.8))
-    inc = one(control, "7")
-    verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    assert [(u.user, u.reason) for u in _second_limb_of_7(run)] == [("c2", "stood on")]     # the explanation's reason
+    _lawful_not_forcing_c2(tmp_path / "on", run)
+    _punishable_forcing_c2(tmp_path / "control", _turning_in(-0.8, 1.8))
 
 
 def test_a_main_road_car_that_stood_on_long_after_the_vehicle_had_gone_was_not_forced(tmp_path):
@@ -396,15 +416,9 @@ def test_a_main_road_car_that_stood_on_long_after_the_vehicle_had_gone_was_not_f
     centre 2.8 s after 247 had left their zone and stood 14.5 s while oncoming 150 passed; SUMO's
     account: its own minor link's approach). What held it was not 7: a lawful Stop, no violation,
     c2 not said to be forced. The reason is read only once the record shows when c2 moved off."""
-    from reasoner import history
-    from reasoner.second_limb import second_limb
-
     run = _turning_in(2.8, 14.5, lasts=45.0)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
-    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "stood on")]     # the explanation's reason
-    found = judge(tmp_path, run)
-    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
-    no_violation(found, "7")
+    assert [(u.user, u.reason) for u in _second_limb_of_7(run)] == [("c2", "stood on")]     # the explanation's reason
+    _lawful_not_forcing_c2(tmp_path, run)
 
 
 def _joining_behind(ahead_s: float, *, rolls: bool = False) -> Foreign:
@@ -451,19 +465,10 @@ def test_a_main_road_car_the_vehicle_turned_in_behind_was_not_forced_by_it(tmp_p
     (tmp_path / "rolls").mkdir()
     rolled = judge(tmp_path / "rolls", _joining_behind(2.5, rolls=True))
     assert any(f.sentence == "7 would force c2 to change speed or course" for i in of(rolled, "7") for f in i.derived)
-    from reasoner import history
-    from reasoner.second_limb import second_limb
-
     run = _joining_behind(2.5)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
-    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "joined behind")]   # the explanation's reason
-    found = judge(tmp_path / "behind", run)
-    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
-    no_violation(found, "7")
-    control = judge(tmp_path / "control", _joining_behind(-1.0))
-    inc = one(control, "7")
-    verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    assert [(u.user, u.reason) for u in _second_limb_of_7(run)] == [("c2", "joined behind")]   # the explanation's reason
+    _lawful_not_forcing_c2(tmp_path / "behind", run)
+    _punishable_forcing_c2(tmp_path / "control", _joining_behind(-1.0))
 
 
 def _turning_through(ends_after: float, braking: float) -> Foreign:
@@ -495,19 +500,10 @@ def test_a_main_road_car_slowing_for_its_own_turn_behind_the_vehicle_was_not_for
     punishable HC 171."""
     (tmp_path / "turn").mkdir()
     (tmp_path / "control").mkdir()
-    from reasoner import history
-    from reasoner.second_limb import second_limb
-
     run = _turning_through(0.5, 1.6)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
-    assert [(u.user, u.reason) for u in second_limb(p)] == [("c2", "own turn")]      # the explanation's reason
-    found = judge(tmp_path / "turn", run)
-    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
-    no_violation(found, "7")
-    control = judge(tmp_path / "control", _turning_through(-0.6, 2.5))
-    inc = one(control, "7")
-    verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    assert [(u.user, u.reason) for u in _second_limb_of_7(run)] == [("c2", "own turn")]      # the explanation's reason
+    _lawful_not_forcing_c2(tmp_path / "turn", run)
+    _punishable_forcing_c2(tmp_path / "control", _turning_through(-0.6, 2.5))
 
 
 def _turning_in_behind(ahead_m: float, short_m: float, low: float, decel: float = 4.5) -> Foreign:
@@ -542,21 +538,12 @@ def test_a_main_road_car_slowing_for_its_own_turn_into_the_road_the_vehicle_went
     inside the gap c2 was to keep behind it, forced, HC 171."""
     (tmp_path / "turn").mkdir()
     (tmp_path / "control").mkdir()
-    from reasoner import history
-    from reasoner.second_limb import second_limb
-
     run = _turning_in_behind(6.0, 24.4, 6.3)
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
-    limb = second_limb(p)
+    limb = _second_limb_of_7(run)
     assert [(u.user, u.reason) for u in limb] == [("c2", "own turn")]        # the explanation's reason
     assert "two-second gap" in limb[0].words and "6.3" in limb[0].words      # ... with the speed of its turn
-    found = judge(tmp_path / "turn", run)
-    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
-    no_violation(found, "7")
-    control = judge(tmp_path / "control", _turning_in_behind(2.5, 9.0, 4.0, decel=8.5))
-    inc = one(control, "7")
-    verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    _lawful_not_forcing_c2(tmp_path / "turn", run)
+    _punishable_forcing_c2(tmp_path / "control", _turning_in_behind(2.5, 9.0, 4.0, decel=8.5))
 
 def _cut_in_between(*, eight: bool = True) -> Foreign:
     """7 stops at the west Stop line, sets off 1 s after it stood and crawls at 2 m/s, turning left
@@ -597,16 +584,11 @@ def test_a_main_road_car_braking_for_a_second_emerger_that_cut_in_ahead_of_it_wa
     its leader). The control: without 8, c2 braking the same behind 7 alone was forced by 7."""
     (tmp_path / "both").mkdir()
     (tmp_path / "alone").mkdir()
-    found = judge(tmp_path / "both", _cut_in_between())
-    assert not any("would force c2" in f.sentence for i in of(found, "7") for f in i.derived)
-    no_violation(found, "7")
+    found = _lawful_not_forcing_c2(tmp_path / "both", _cut_in_between())
     inc = one(found, "8")
     verdict(inc, "punishable", "HC 171")
     assert any(f.sentence == "8 would force c2 to change speed or course" for f in inc.derived)
-    alone = judge(tmp_path / "alone", _cut_in_between(eight=False))
-    inc = one(alone, "7")
-    verdict(inc, "punishable", "HC 171")
-    assert any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived)
+    _punishable_forcing_c2(tmp_path / "alone", _cut_in_between(eight=False))
 
 
 def test_the_braking_cited_for_a_forced_road_user_is_the_stretch_the_act_caused_not_a_later_one_for_another(tmp_path):
@@ -709,12 +691,8 @@ def test_a_main_road_car_slowing_for_its_own_turn_ahead_of_the_vehicle_coming_in
     236 was)."""
     (tmp_path / "turn").mkdir()
     (tmp_path / "control").mkdir()
-    from reasoner import history
-    from reasoner.second_limb import second_limb
-
     run = _turning_ahead("north")
-    p = next(p for p in history.from_events(run.events, "7") if p.crossing is not None)
-    limb = second_limb(p)
+    limb = _second_limb_of_7(run)
     c2 = [u for u in limb if u.user == "c2"]
     assert [(u.reason, u.first) for u in c2] == [("turned ahead", "theirs")]        # the explanation's reason
     assert "6.50 m/s" in c2[0].words and "came in behind it" in c2[0].words         # ... and its figures
