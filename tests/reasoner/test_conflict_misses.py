@@ -180,6 +180,17 @@ def test_a_turner_braking_far_below_the_speed_of_one_pulling_away_ahead_of_it_wa
     assert not any(f.sentence == "7 would force l to change speed or course" for f in inc.derived)
 
 
+def _braked_behind_leader_l(tmp_path, lead: Motion) -> None:
+    """The run with l ahead of c2 moving as `lead`: 7's Give Way not giving way is mitigated HC 172,
+    with no "7 would force c2": the second limb puts c2's braking down to its own leader l."""
+    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
+    verdict(inc, "mitigated", "HC 172")
+    assert not any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
+        [(f.sentence, f.method) for f in inc.derived]
+    c2 = next(u for u in inc.second_limb if u.user == "c2")
+    assert c2.reason == "leader" and "its own leader l" in c2.words, (c2.reason, c2.words)
+
+
 def test_a_turner_braking_behind_one_slowing_ahead_on_its_way_braked_for_it(tmp_path):
     """HC 126: a following driver keeps a gap behind the vehicle in front in which it can pull up
     if that vehicle slows. As above, but l, 30 m ahead of c2 on c2's way at 9.5 m/s when c2 begins
@@ -187,12 +198,7 @@ def test_a_turner_braking_behind_one_slowing_ahead_on_its_way_braked_for_it(tmp_
     it, its leader in its lane, and not below it. c2 braked for l, not for 7: no "7 would force
     c2"; 7 still did not give way: HC 172 without anyone forced, mitigated as the tool grades it."""
     lead = Motion(1.25 - 9.5 * 4.0, 9.5, [(4.0, 0.0), (7.0 / 3.0, -3.0), (30.0, 0.0)])
-    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
-    verdict(inc, "mitigated", "HC 172")
-    assert not any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
-        [(f.sentence, f.method) for f in inc.derived]
-    c2 = next(u for u in inc.second_limb if u.user == "c2")
-    assert c2.reason == "leader" and "its own leader l" in c2.words, (c2.reason, c2.words)
+    _braked_behind_leader_l(tmp_path, lead)
 
 
 def test_a_harder_braking_after_the_vehicle_set_off_is_a_change_of_speed_of_its_own(tmp_path):
@@ -316,9 +322,4 @@ def test_a_turner_too_close_behind_one_slowing_ahead_that_came_down_to_its_speed
     and not below (HC 126). c2 braked for its leader, not for 7: no "7 would force c2"; 7 still did
     not give way: HC 172 without anyone forced, mitigated as the tool grades it."""
     lead = Motion(1.25 - 13.0 * 4.0, 13.0, [(4.0, 0.0), (10.5 / 4.5, -4.5), (30.0, 0.0)])
-    inc = one(judge(tmp_path, _turner_behind(lead)), "7")
-    verdict(inc, "mitigated", "HC 172")
-    assert not any(f.sentence == "7 would force c2 to change speed or course" for f in inc.derived), \
-        [(f.sentence, f.method) for f in inc.derived]
-    c2 = next(u for u in inc.second_limb if u.user == "c2")
-    assert c2.reason == "leader" and "its own leader l" in c2.words, (c2.reason, c2.words)
+    _braked_behind_leader_l(tmp_path, lead)
