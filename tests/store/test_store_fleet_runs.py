@@ -3,6 +3,8 @@ without changing what a later event of it, or a repeat, becomes; a new run's sou
 look-up each; the append hook is called once per append, with every run it extended."""
 from __future__ import annotations
 
+import contextlib
+
 import pytest
 
 from store import Store
@@ -17,6 +19,17 @@ def short_run(run: str, end: bool = True) -> list[dict]:
     if end:
         events.append(event(1, run=run, kind="run.end"))
     return events
+
+
+@contextlib.contextmanager
+def statements(store: Store):
+    """Each SQL statement the store's connection runs inside the block, as SQLite traces it."""
+    asked: list[str] = []
+    store.connection.set_trace_callback(asked.append)
+    try:
+        yield asked
+    finally:
+        store.connection.set_trace_callback(None)
 
 
 def test_an_ended_run_is_let_go_and_a_late_event_or_a_repeat_of_it_is_still_judged_by_the_store(store):
@@ -35,24 +48,16 @@ def test_an_ended_run_is_let_go_and_a_late_event_or_a_repeat_of_it_is_still_judg
 
 def test_a_new_runs_sources_are_not_looked_up_one_by_one(store):
     store.append(short_run("first"))
-    asked: list[str] = []
-    store.connection.set_trace_callback(asked.append)
-    try:
+    with statements(store) as asked:
         for src in SOURCES:
             assert store.highest_seq("second", src) is None
-    finally:
-        store.connection.set_trace_callback(None)
     assert len(asked) == 1                                         # one probe for the run, none a source
 
 
 def test_a_new_run_costs_the_append_one_probe_of_the_file_before_its_rows_are_written(store):
     store.append(short_run("first"))
-    asked: list[str] = []
-    store.connection.set_trace_callback(asked.append)
-    try:
+    with statements(store) as asked:
         store.append([e for n in range(5) for e in short_run(f"new{n}")])
-    finally:
-        store.connection.set_trace_callback(None)
     before_rows = asked[:next(i for i, sql in enumerate(asked) if sql.startswith("INSERT"))]
     for n in range(5):
         assert [sql for sql in before_rows if f"'new{n}'" in sql] == [f"SELECT 1 FROM events WHERE run = 'new{n}' LIMIT 1"]
@@ -101,12 +106,8 @@ def test_the_snapshot_hook_takes_each_runs_chain_end_from_the_append_not_from_th
     from store.snapshots import chain_end, marks
     with Store(db_path) as store:
         enable_snapshots(store)
-        asked: list[str] = []
-        store.connection.set_trace_callback(asked.append)
-        try:
+        with statements(store) as asked:
             store.append([e for n in range(4) for e in short_run(f"r{n}")])
-        finally:
-            store.connection.set_trace_callback(None)
         after_commit = asked[asked.index("COMMIT") + 1:]
         assert not [sql for sql in after_commit if "FROM events" in sql]   # no read-back of the chains' ends
         for n in range(4):                                             # and the watermarks are the file's ends
