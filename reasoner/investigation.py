@@ -213,8 +213,13 @@ class Investigation:
         """The case's incident: kept under the rulebooks in force (`verdicts`), else judged."""
         if not self.keeps_verdicts(run, rs):
             return self._afresh(run, rs, gaps, todo)
-        return kept_verdicts.incident(self.memo(run), self._judged_by(run, rs), todo,
-                                      lambda: self._whole(run, rs, gaps, todo), by_summary=self.summaries)
+
+        def judged() -> Incident | None:
+            found = self._afresh(run, rs, gaps, todo)
+            assert not isinstance(found, IncidentSummary), "the judgement in force is judged whole"
+            return found
+        return kept_verdicts.incident(self.memo(run), self._judged_by(run, rs), todo, judged,
+                                      by_summary=self.summaries)
 
     def _judged_by(self, run: str, rs: RuleSet) -> str:
         found = self._judgements.get(run)
@@ -224,12 +229,9 @@ class Investigation:
 
     def _afresh(self, run: str, rs: RuleSet, gaps: Gaps, todo: Todo) -> Judgement | None:
         """The case judged now: by its summary alone (`summaries` without `proofs`), else whole."""
-        if self.summaries and not self.proofs:
-            return summaries.summarised(self.court, case_of(self.court, run, rs, todo), gaps)
-        return self._whole(run, rs, gaps, todo)
-
-    def _whole(self, run: str, rs: RuleSet, gaps: Gaps, todo: Todo) -> Incident | None:
         case = case_of(self.court, run, rs, todo)
+        if self.summaries and not self.proofs:
+            return summaries.summarised(self.court, case, gaps)
         incident = judge(self.court, case, gaps, self.proofs)
         if incident is not None and not self.proofs:
             self._unproved[incident_name(incident)] = (case, gaps)

@@ -31,9 +31,9 @@ def test_values_larger_than_an_entry_are_kept_in_pieces_and_read_back(db, new_ru
                              ).fetchone()[0] > 1
     calls = R.shaping(monkeypatch)
     judged: list = []
-    whole = regress_module.Investigation._whole         # every whole judgement (the baseline judges no other)
-    monkeypatch.setattr(regress_module.Investigation, "_whole",
-                        lambda inv, *a: judged.append(inv.verdicts) or whole(inv, *a))
+    afresh = regress_module.Investigation._afresh
+    monkeypatch.setattr(regress_module.Investigation, "_afresh",
+                        lambda inv, *a: judged.append(inv.verdicts) or afresh(inv, *a))
     assert R.regressed(db, new_rules) == first == R.plain(db, new_rules)
     assert calls == []
     assert True not in judged                   # the baseline's incidents read, not judged
