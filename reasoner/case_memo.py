@@ -192,7 +192,7 @@ def _digest(text: str) -> str:
 # --- the codec ---------------------------------------------------------------------------------
 
 # The measurements' types, and an incident's (a judgement under the rulebooks in force is kept too:
-# reasoner/investigation.py).
+# reasoner/speedups/kept_verdicts.py).
 _TYPES: dict[str, type] = {cls.__name__: cls for cls in (
     EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
     Control, Decision, Scenarios, StageProof, Proofs, Act, Source, Unforced)}
