@@ -10,12 +10,26 @@ come back to a stop line, and longer than a monitor's episode of one crossing.
 """
 from __future__ import annotations
 
-from typing import Sequence
-
-from .model import Incident
+from typing import Protocol, Sequence, TypeVar
 
 MATCH_WINDOW_S = 5.0
 SECOND = 1_000_000_000
+
+
+class Named(Protocol):
+    """What matching reads of an incident (a whole one or its summary)."""
+
+    @property
+    def id(self) -> str: ...
+    @property
+    def t(self) -> int: ...
+    @property
+    def vehicle(self) -> str: ...
+    @property
+    def action(self) -> str: ...
+
+
+Incident = TypeVar("Incident", bound=Named)
 
 
 def match(before: Sequence[Incident], after: Sequence[Incident]

@@ -14,7 +14,7 @@ from typing import Any, Callable
 
 from store import State, Store, entity_since, state_of
 
-from .. import history, stretches
+from .. import acts, history, stretches
 from ..engine import Engine, Rulebook
 from ..facts import FactReader
 from ..findings import Gaps
@@ -23,7 +23,6 @@ from ..le.terms import Atom
 from ..measurement import Measurement, measure
 from ..passage import Passage
 from ..perception import witnessed_functors
-from .. import acts
 from ..scenarios import Scenario
 from .case import Case, Weighing
 from .weighing import weighing_of

@@ -13,14 +13,16 @@ import pytest
 from reasoner import oneact
 from reasoner.investigation import IncidentSummary, Investigation, SharedReading, whole
 from reasoner.judge import Court, case_of, find, judge
+from reasoner.model import Incident
+from reasoner.speedups.summaries import SUMMARY
 from sim_replay.paper import paper_run
 from store import Store
 
 from tests.reasoner import regress_runs as R
 
 
-def plain(store: Store, run: str) -> list[dict]:
-    """Every incident of the run by the pipeline alone, as JSON."""
+def plain(store: Store, run: str) -> list[Incident]:
+    """Every incident of the run by the pipeline alone."""
     lookup = Investigation(store, kept=False)           # for the run's rulesets alone
     rs = lookup.ruleset(run)
     court = Court(store, lookup.engine, lookup.reader, lookup.problems)
@@ -29,7 +31,12 @@ def plain(store: Store, run: str) -> list[dict]:
              for todo in find(store, lookup.engine, lookup.reader, court.context(run), run, rs, recorded)]
     judged = [i for i in found if i is not None]
     merged = [group[0] if len(group) == 1 else oneact.merge(group) for group in oneact.groups(judged)]
-    return [i.to_json() for i in sorted(merged, key=lambda i: i.t)]
+    return sorted(merged, key=lambda i: i.t)
+
+
+def summarised(found: list) -> list[list]:
+    """What a regression compares of each incident: its summary's fields."""
+    return [[getattr(i, name) for name in SUMMARY] for i in found]
 
 
 @pytest.fixture(params=["regress scenario", "paper"])
@@ -45,7 +52,8 @@ def stored(request, tmp_path):
 def test_every_speed_up_gives_the_plain_judge_s_incidents(stored):
     db, run = stored
     with Store(db) as store:
-        expected = plain(store, run)
+        judged = plain(store, run)
+        expected = [i.to_json() for i in judged]
         assert expected
         cold = Investigation(store, verdicts=True).incidents(run)          # measures, keeps
         warm = Investigation(store, verdicts=True).incidents(run)          # reads the kept incidents
@@ -60,6 +68,8 @@ def test_every_speed_up_gives_the_plain_judge_s_incidents(stored):
         assert [i.to_json() for i in measured] == expected
         assert all(isinstance(i, IncidentSummary) for i in by_summary)
         assert [whole(i).to_json() for i in by_summary] == expected
+        assert summarised(by_summary) == summarised(judged)
         assert all(isinstance(i, IncidentSummary) for i in lean_found)
+        assert summarised(lean_found) == summarised(judged)
         assert [whole(i).to_json() for i in lean_found] == expected
         assert [i.proofs for i in lean_found] == [whole(i).proofs for i in lean_found]
