@@ -21,9 +21,9 @@ from ..findings import Gaps
 from ..le.sentences import constant
 from ..le.terms import Atom
 from ..measurement import Measurement, measure
-from ..passage import Passage
+from ..history import Passage
 from ..perception import witnessed_functors
-from ..scenarios import Scenario
+from ..history import Scenario
 from .case import Case, Weighing
 from .weighing import weighing_of
 

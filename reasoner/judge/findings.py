@@ -12,7 +12,7 @@ from ..derived import Contradiction, checked
 from ..findings import decision_fault as fault_of
 from ..measurement import Measurement
 from ..model import Control, Decision, Finding, Source
-from ..scenarios import Scenario, entity
+from ..history import Scenario, entity
 from ..vocabulary import IS_DRIVING_ITSELF
 from .asking import as_asked, asked_noting
 from .case import Case, Validation, incident_id

@@ -11,7 +11,7 @@ from store import EventRef
 
 from ..engine import Answer, enrich
 from ..model import Finding, StageProof
-from ..scenarios import Scenario, monitor_scenario
+from ..history import Scenario, monitor_scenario
 from ..stages import Choice, RuleSet
 from ..vocabulary import POTENTIALLY_VIOLATES
 from .asking import as_asked, asked_noting

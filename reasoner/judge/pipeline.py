@@ -13,11 +13,11 @@ from typing import Any
 
 from store import EventRef
 
-from ..control import control_at
+from ..history import control_at
 from ..findings import Gaps, missing_evidence
 from ..measurement import Measurement
 from ..model import Control, DerivedFact, Finding, Incident, Proofs, RulebookChoice, Scenarios
-from ..scenarios import Scenario, entity, has_perception, vehicle_action, vehicle_scenario
+from ..history import Scenario, entity, has_perception, vehicle_action, vehicle_scenario
 from ..stages import RuleSet
 from . import findings as F
 from . import monitor_stage, sanctions, validator_stage

@@ -8,12 +8,12 @@ from typing import Any
 
 from store import EventRef
 
-from ..control import ROLE, liability_facts, role
+from ..history import ROLE, liability_facts, role
 from ..engine import Rulebook, enrich
 from ..le.render import arg_text
 from ..le.terms import Atom, Cond, Var
 from ..model import Control, Liability, Penalty
-from ..scenarios import Scenario
+from ..history import Scenario
 from ..stages import defines
 from ..vocabulary import (FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY, IS_AN_OFFENCE_UNDER,
                           IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, PUNISHABLY_VIOLATES)

@@ -16,7 +16,7 @@ from ..engine import Answer, Rulebook, enrich
 from ..le.terms import Atom
 from ..model import Finding, RulebookChoice, StageProof
 from ..perception import corrected, dispute_finding
-from ..scenarios import Scenario, entity, status_facts
+from ..history import Scenario, entity, status_facts
 from ..stages import Choice
 from ..vocabulary import CAN, MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES
 from .case import Case, Contested, Validation

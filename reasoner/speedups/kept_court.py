@@ -19,7 +19,7 @@ from ..judge.case import Case, Weighing
 from ..judge.court import Court
 from ..judge.weighing import weighing_of
 from ..measurement import Measurement
-from ..scenarios import Scenario
+from ..history import Scenario
 from ..stages import RuleSet
 
 

@@ -21,7 +21,7 @@ from ..judge.case import Case, Judged, incident_id
 from ..judge.court import Court
 from ..judge.status import at_act
 from ..model import Act, Incident, Penalty, Proofs, Source
-from ..scenarios import Scenario, vehicle_scenario
+from ..history import Scenario, vehicle_scenario
 
 SUMMARY = ("id", "run", "t", "vehicle", "action", "verdict", "rule", "liable", "penalty", "parties", "act", "sources")
 
