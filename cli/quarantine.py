@@ -14,7 +14,7 @@ from cli.app import db_path, fail, open_existing, print_json
 from cli.options import DbOption, JsonOption
 from cli.safe_text import preview
 from cli.tables import cells, show, table
-from reasoner.when import format_time_short
+from reasoner import format_time_short
 
 PREVIEW_BYTES = 60
 

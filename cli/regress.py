@@ -49,11 +49,8 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
     ($XDG_CACHE_HOME/mind-the-gaps/recordings, at most $GAPS_RECORDINGS_CACHE_MB, 4096 by
     default; 0 keeps none): regressing the same file again reads none of its events.
     """
-    from reasoner.regress import regress as run_regression
-    from reasoner.regress_cluster import Cluster, regress_recordings, regress_store
-    from reasoner.regress_golden import check_golden
-    from reasoner.regress_junit import junit_xml
-    from reasoner.regress_text import lines
+    from reasoner import Cluster, check_golden, junit_xml, regress_recordings, regress_runs, regress_store
+    from reasoner import regression_lines as lines
     from store import write_bytes
     writable_output(junit, db)
     writable_output(golden if update_golden else None, db)
@@ -81,7 +78,7 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
                 result = regress_recordings(recordings, rule_args, base_arg, cluster=on, progress=progress)
             elif on.in_process:
                 with open_existing(db) as store:
-                    result = run_regression(store, rule_args, base_arg, None if all_runs else run, progress=progress)
+                    result = regress_runs(store, rule_args, base_arg, None if all_runs else run, progress=progress)
             else:
                 open_existing(db).close()            # the store's own checks, said before a cluster starts
                 result = regress_store(db_path(db), rule_args, base_arg, None if all_runs else run, cluster=on,

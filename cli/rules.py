@@ -38,8 +38,7 @@ def _read(path: Path) -> str:
 
 def check(file: Path = FileArg, json_out: bool = JsonOption) -> None:
     """Compile and load the document, printing its errors (exit 1) and warnings."""
-    from reasoner.engine import get_engine
-    from reasoner.le.errors import LEError
+    from reasoner import LEError, get_engine
     text = _read(file)
     try:
         rb = get_engine().load(text, _name(file))
@@ -71,9 +70,8 @@ def query(file: Path = FileArg,
           explain: bool = typer.Option(False, "--explain", help="Add proof trees (or why there is no answer)."),
           json_out: bool = JsonOption) -> None:
     """Answer a query on a scenario, one LE sentence per proof."""
-    from explain.text import render_tree
-    from reasoner.engine import QuestionError, enrich, get_engine
-    from reasoner.le.document import parse_facts, parse_question
+    from explain import render_tree
+    from reasoner import QuestionError, enrich, get_engine, parse_facts, parse_question
     engine = get_engine()
     rb = engine.load(_read(file), _name(file))
     doc = rb.document
@@ -111,7 +109,7 @@ def query(file: Path = FileArg,
 
 def prolog(file: Path = FileArg) -> None:
     """Print the Prolog clauses the document compiles to, each after its LE source line."""
-    from reasoner.engine import get_engine
+    from reasoner import get_engine
     engine = get_engine()
     rb = engine.load(_read(file), _name(file))
     typer.echo(engine.prolog_text(rb), nl=False)
@@ -124,8 +122,7 @@ def verify(file: Path = typer.Argument(..., help="An LE document (FILE.le) or a 
 
     Each `expected(Query, Scenario, Answers).` line of the tests file is one expectation.
     """
-    from reasoner.le.expectations import ExpectationError
-    from reasoner.rules_verify import verify_file
+    from reasoner import ExpectationError, verify_file
     files = sorted(file.glob("*.le")) if file.is_dir() else [file]
     if not files or not all(f.is_file() for f in files):
         fail(f"no LE document at {file}")

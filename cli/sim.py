@@ -12,12 +12,12 @@ import typer
 
 from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
-from reasoner.when import format_seconds
+from reasoner import format_seconds
 
 def parse_duration(text: str) -> float:
     """`--duration` in world seconds, read by the one duration parser (reasoner.when)."""
-    from reasoner.when import DurationError
-    from reasoner.when import parse_duration as duration_ns
+    from reasoner import DurationError
+    from reasoner import parse_duration as duration_ns
     try:
         return duration_ns(text) / 1e9
     except DurationError as exc:
@@ -96,7 +96,7 @@ def sim(
     The events go into an ingest here (on --db), or to the endpoints given; --record keeps them
     as MCAP too; the ground truth is written beside. With --sign-keys each source signs its
     events; `gaps verify --keys DIR/public-keys.json` checks them."""
-    from sim_replay.sim_config import FaultRates, SimConfig
+    from sim_replay import FaultRates, SimConfig
     from store import GapsError
 
     names = tuple(f.name for f in dataclasses.fields(FaultRates))
@@ -128,8 +128,7 @@ def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | Non
     """The config with the files --map, --routes and --monitors name, checked before anything is
     written (sim_replay.own_network: a network the audit cannot judge, or routes it cannot carry,
     is refused with the reason, exit 2)."""
-    from sim_replay.maps import map_files
-    from sim_replay.own_network import OwnFilesError, check, own_files
+    from sim_replay import OwnFilesError, check_own_network, map_files, own_files
 
     try:
         own = own_files(map_, routes, monitors)
@@ -137,7 +136,7 @@ def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | Non
             if not path.is_file():
                 fail(f"no such file: {path}")
         net = own.net if own else map_files(map_).net
-        counts = check(net, own.routes if own else routes, config) if own or routes else None
+        counts = check_own_network(net, own.routes if own else routes, config) if own or routes else None
     except (FileNotFoundError, OwnFilesError) as e:
         fail(str(e))
     changes = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
@@ -179,9 +178,7 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
     """Simulate and send; composition of the rooms' own calls only."""
     from cli.local_ingest import publish_through_zenoh
     from cli.progress import stderr_progress
-    from sim_replay.held_runs import refuse_if_held_otherwise
-    from sim_replay.outlets import Outlets
-    from sim_replay.simulation import Simulation
+    from sim_replay import Outlets, Simulation, refuse_if_held_otherwise
 
     with stderr_progress(f"simulating {config.run}") as bar:
         simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None,
