@@ -94,6 +94,7 @@ def _simulate(path: Path, json_out: bool) -> str:
         simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
         totals, _ = publish_through_zenoh(path, simulation.batches())
     s = simulation.summary
+    assert s is not None                # its batches are run: the summary is made
     typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {format_seconds(s.world_s, 3)} of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
                f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations "

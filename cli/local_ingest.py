@@ -32,6 +32,7 @@ def publish_through_zenoh(db: Path, events: Iterable[dict] | Iterable[list[dict]
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     with Server(ServeOptions(db, listen=(endpoint,))) as server:
         ingest = server.service
+        assert ingest is not None           # made when the server is entered
         with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s, signer=signer) as out:
             for item in events:
                 if isinstance(item, list):

@@ -78,8 +78,13 @@ def _prune(db: Optional[Path], before: Optional[str], json_out: bool) -> None:
         typer.echo("Nothing to prune.")
     else:
         typer.echo(f"Pruned {pruned.rows:,} rows ({pruned.samples:,} refusals, {pruned.bytes:,} bytes, "
-                   f"{format_time_short(pruned.first_at)} to {format_time_short(pruned.last_at)}); "
+                   f"{_short(pruned.first_at)} to {_short(pruned.last_at)}); "
                    f"{left:,} rows left. Recorded as prune {pruned.id} (digest {pruned.digest[:16]}…).")
+
+
+def _short(t: int | None) -> str:
+    """A prune's first or last refusal time (None only for a prune of no rows, never shown)."""
+    return "-" if t is None else format_time_short(t)
 
 
 def _quarantine_json(item: dict[str, Any]) -> dict[str, Any]:

@@ -67,7 +67,7 @@ def report(run: str = RunRequired,
     n = len(built["incidents"])
     typer.echo(f"Wrote the report of run {printable(run)} ({n} incident{'s' if n != 1 else ''}, "
                f"{len(text.encode()):,} bytes) to {output}")
-    if pdf:
+    if chromium is not None:                # --pdf, and a Chromium to print it
         target = output.with_suffix(".pdf")
         try:
             print_report_pdf(built, target, chromium, page=output if fmt == "html" else None, stores=[db_path(db)])

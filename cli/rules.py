@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import List, Optional
+from typing import Any, List, Optional
 
 import typer
 
@@ -87,7 +87,7 @@ def query(file: Path = FileArg,
     except QuestionError as exc:
         fail(str(exc), 1)
     if json_out:
-        out = {"answers": result.answers}
+        out: dict[str, Any] = {"answers": result.answers}
         if explain:
             out["proofs"] = [[enrich(t, rb) for t in trees] for trees in result.proofs]
             if result.why_not is not None:

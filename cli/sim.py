@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 import json
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import typer
 
@@ -139,7 +139,7 @@ def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | Non
         counts = check_own_network(net, own.routes if own else routes, config) if own or routes else None
     except (FileNotFoundError, OwnFilesError) as e:
         fail(str(e))
-    changes = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
+    changes: dict[str, Any] = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
                "monitors": str(own.monitors) if own.monitors else None} if own else \
         {"map": map_, "routes": tuple(map(str, routes)), "monitors": str(monitors) if monitors else None}
     if counts is not None:

@@ -142,10 +142,10 @@ def _rulebooks(store: Store, incidents: list[Incident], recorded: list[dict]) ->
                                           "stages": [], "version": versions.get(sha) or _version(store, sha)})
             if stage not in entry["stages"]:
                 entry["stages"].append(stage)
-    for b in recorded:
-        if b["sha256"] and b["sha256"] not in seen:
-            seen[b["sha256"]] = {"name": b["name"], "sha256": b["sha256"], "source": "recorded", "stages": [],
-                                 "version": b["version"] or _version(store, b["sha256"])}
+    for r in recorded:
+        if r["sha256"] and r["sha256"] not in seen:
+            seen[r["sha256"]] = {"name": r["name"], "sha256": r["sha256"], "source": "recorded", "stages": [],
+                                 "version": r["version"] or _version(store, r["sha256"])}
     return list(seen.values())
 
 
