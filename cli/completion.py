@@ -33,9 +33,8 @@ def incidents(ctx: typer.Context, incomplete: str) -> list[tuple[str, str]]:
         if store is None or not run:
             return []
         from reasoner import Case
-        found = Case(store).incidents(run)
-    numbered = [(str(n), f"{inc.id}: vehicle {inc.vehicle}, {inc.action}, {inc.verdict}")
-                for n, inc in enumerate(found, 1)]
+        found = Case(store).numbered(run)
+    numbered = [(str(n), f"{inc.id}: vehicle {inc.vehicle}, {inc.action}, {inc.verdict}") for n, inc in found]
     return [(n, said) for n, said in numbered if n.startswith(incomplete)]
 
 

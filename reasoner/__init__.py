@@ -7,27 +7,25 @@ regression (`gaps regress`, docs/regress.md). Every other room reaches the reaso
 these names; the modules below them are its own. Importing this package does not start Prolog;
 the engine starts on first use.
 """
-from .api import SOURCES, VERDICTS, Case, NoSuchIncident, open  # noqa: A004
-from .engine import QuestionError, enrich, get_engine
+from .api import SOURCES, VERDICTS, Case, NoSuchIncident, open, regression  # noqa: A004
+from .engine import QuestionError
 from .explanation import Explanation
-from .le.document import parse_facts, parse_question
 from .le.errors import LEError
-from .le.expectations import ExpectationError
 from .model import Control, Finding, Incident, Liability, Margin, Penalty
 from .regress import Regression
-from .regress import regress as regress_runs        # the module keeps the name `reasoner.regress`
-from .regress_cluster import Cluster, regress_recordings, regress_store
+from .regress_cluster import Cluster, regress_recordings
 from .regress_golden import check_golden
 from .regress_junit import junit_xml
 from .regress_text import lines as regression_lines
-from .rules_verify import verify_file
 from .scene import Scene, SceneError
+from .toolchain import (Answered, RulebookCheck, RulebookTests, ToolchainError, ask_rulebook, check_rulebook,
+                        prolog_text, verify_rulebooks)
 from .when import (DurationError, TimeError, format_duration, format_seconds, format_time_short, parse_duration,
                    parse_time)
 
-__all__ = ["SOURCES", "VERDICTS", "Case", "Cluster", "Control", "DurationError", "ExpectationError", "Explanation",
-           "Finding", "Incident", "LEError", "Liability", "Margin", "NoSuchIncident", "Penalty", "QuestionError",
-           "Regression", "Scene", "SceneError", "TimeError", "check_golden", "enrich", "format_duration",
-           "format_seconds", "format_time_short", "get_engine", "junit_xml", "open", "parse_duration", "parse_facts",
-           "parse_question", "parse_time", "regress_recordings", "regress_runs", "regress_store", "regression_lines",
-           "verify_file"]
+__all__ = ["SOURCES", "VERDICTS", "Answered", "Case", "Cluster", "Control", "DurationError", "Explanation", "Finding",
+           "Incident", "LEError", "Liability", "Margin", "NoSuchIncident", "Penalty", "QuestionError", "Regression",
+           "RulebookCheck", "RulebookTests", "Scene", "SceneError", "TimeError", "ToolchainError", "ask_rulebook",
+           "check_golden", "check_rulebook", "format_duration", "format_seconds", "format_time_short", "junit_xml",
+           "open", "parse_duration", "parse_time", "prolog_text", "regress_recordings", "regression",
+           "regression_lines", "verify_rulebooks"]

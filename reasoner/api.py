@@ -14,7 +14,8 @@ line is a thin shell over the same calls.
 from __future__ import annotations
 
 import os
-from typing import Callable, Iterable
+from pathlib import Path
+from typing import Callable, Iterable, Sequence
 
 from store import GapsError, NoSuchRun, Store, VerifyReport
 
@@ -23,6 +24,8 @@ from .explanation import Explanation
 from .history import RunContext
 from .investigation import Investigation
 from .model import MONITORS, OWN_RECORD, Incident, found_in
+from .regress import Regression, regress
+from .regress_cluster import Cluster, regress_store
 from .scene import Scene, run_start, scene
 from .when import parse_time
 
@@ -164,6 +167,19 @@ def open(path: str | os.PathLike, *, rules: Iterable[str | os.PathLike] = ()) ->
     """Open the store at `path` read-only for investigation; `rules` are LE rulebooks judged
     with first (a stage they do not define keeps the run's own or the current rulebook)."""
     return Case(Store.open_read_only(path), rules)
+
+
+def regression(db: str | Path, rules: Sequence[str], baseline: Sequence[str] | None = None,
+               runs: Sequence[str] | None = None, *, cluster: Cluster = Cluster(),
+               progress: Callable[[str, int, int], None] | None = None) -> Regression:
+    """The runs (None: every run) of the store at `db` judged under `baseline` (None: each run's
+    own rulebooks, else the project's) and under `rules`, and what changed (`gaps regress`,
+    docs/regress.md): in this process on the store opened read-only, or on `cluster`'s workers,
+    one task a run, each opening it by its path."""
+    if cluster.in_process:
+        with Store.open_read_only(db) as store:
+            return regress(store, rules, baseline, runs, progress=progress)
+    return regress_store(db, rules, baseline, runs, cluster=cluster, progress=progress)
 
 
 def _matches(inc: Incident, verdict: str | None, vehicle: str | None, rule: str | None,
