@@ -99,8 +99,12 @@ class Case:
                  progress: Progress | None = None) -> list[tuple[int, Incident]]:
         """`incidents(...)`, each with its number in its run (what `gaps incidents` lists and
         `gaps explain --run R N` takes): a filter leaves the numbers as they are."""
-        return [(self.number(inc), inc) for inc in self.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule,
-                                                                  source=source, progress=progress)]
+        found = self.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule, source=source, progress=progress)
+        numbers: dict[tuple[str, str], int] = {}
+        for r in {inc.run for inc in found}:
+            for n, inc in enumerate(self._judged(r, None), 1):
+                numbers.setdefault((r, inc.id), n)       # the first of an id, as `number` finds it
+        return [(numbers[inc.run, inc.id], inc) for inc in found]
 
     def incident(self, run: str, wanted: str | int) -> Incident:
         """One incident of the run by id ("monitor/m1:3"), the id of any record of its act (one
