@@ -8,6 +8,7 @@ these names; the modules below them are its own. Importing this package does not
 the engine starts on first use.
 """
 from .api import SOURCES, VERDICTS, Case, NoSuchIncident, open, regression  # noqa: A004
+from .bundled import RULES_DIR
 from .engine import QuestionError
 from .explanation import Explanation
 from .le.errors import LEError
@@ -23,7 +24,7 @@ from .toolchain import (Answered, RulebookCheck, RulebookTests, ToolchainError, 
 from .when import (DurationError, TimeError, format_duration, format_seconds, format_time_short, parse_duration,
                    parse_time)
 
-__all__ = ["SOURCES", "VERDICTS", "Answered", "Case", "Cluster", "Control", "DurationError", "Explanation", "Finding",
+__all__ = ["RULES_DIR", "SOURCES", "VERDICTS", "Answered", "Case", "Cluster", "Control", "DurationError", "Explanation", "Finding",
            "Incident", "LEError", "Liability", "Margin", "NoSuchIncident", "Penalty", "QuestionError", "Regression",
            "RulebookCheck", "RulebookTests", "Scene", "SceneError", "TimeError", "ToolchainError", "ask_rulebook",
            "check_golden", "check_rulebook", "format_duration", "format_seconds", "format_time_short", "junit_xml",
