@@ -8,16 +8,15 @@ below, this room's face), the benchmarks and the tests do. The SUMO world
 and plumbing only: docs/simulation.md."""
 from .demo import DEMO
 from .held_runs import refuse_if_held_otherwise
-from .maps import map_files
 from .outlets import OutletSummary, Outlets
-from .own_network import OwnFilesError, own_files
-from .own_network import check as check_own_network
+from .own_network import OwnFilesError
 from .paper import paper_run
 from .replay import NothingToReplay, chosen_runs, recording
 from .replay import replay as replay_runs       # the module keeps the name `sim_replay.replay`
+from .sim_checks import RunTaken, refuse_second_producer, with_files
 from .sim_config import FaultRates, SimConfig
 from .simulation import Simulation
 
-__all__ = ["DEMO", "FaultRates", "NothingToReplay", "OutletSummary", "Outlets", "OwnFilesError", "SimConfig",
-           "Simulation", "check_own_network", "chosen_runs", "map_files", "own_files", "paper_run", "recording",
-           "refuse_if_held_otherwise", "replay_runs"]
+__all__ = ["DEMO", "FaultRates", "NothingToReplay", "OutletSummary", "Outlets", "OwnFilesError", "RunTaken",
+           "SimConfig", "Simulation", "chosen_runs", "paper_run", "recording", "refuse_if_held_otherwise",
+           "refuse_second_producer", "replay_runs", "with_files"]
