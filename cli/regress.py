@@ -49,8 +49,8 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
     ($XDG_CACHE_HOME/mind-the-gaps/recordings, at most $GAPS_RECORDINGS_CACHE_MB, 4096 by
     default; 0 keeps none): regressing the same file again reads none of its events.
     """
-    from reasoner import Cluster, check_golden, junit_xml, regress_recordings, regression
-    from reasoner import regression_lines as lines
+    from reasoner import regression
+    from reasoner.regress import Cluster, check_golden, junit_xml, lines, regress_recordings
     from store import write_bytes
     writable_output(junit, db)
     writable_output(golden if update_golden else None, db)

@@ -24,8 +24,7 @@ from .explanation import Explanation
 from .history import RunContext
 from .investigation import Investigation
 from .model import MONITORS, OWN_RECORD, Incident, found_in
-from .regress import Regression, regress
-from .regress_cluster import Cluster, regress_store
+from .regress import Cluster, Regression, regress, regress_store     # its caller, as cli/ is
 from .scene import Scene, run_start, scene
 from .when import parse_time
 

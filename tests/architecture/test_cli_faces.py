@@ -14,7 +14,8 @@ from pathlib import Path
 ROOT = Path(__file__).parents[2]
 ROOMS = ("store", "ingest", "reasoner", "explain", "sim_replay")
 FACES = ("store", "store.wire", "store.cache", "store.transfer",     # the evidence, and its sub-faces
-         "reasoner", "explain", "ingest", "sim_replay")
+         "reasoner", "reasoner.regress", "reasoner.history",              # the judge's, and its parts'
+         "explain", "ingest", "sim_replay")
 
 
 def faces() -> set[str]:
