@@ -145,7 +145,7 @@ _DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what an
 
 def _what(exc: GapsError) -> str:
     """A rulebook's error is said to be one: its message starts with the rulebook's file:line."""
-    from reasoner.le.errors import LEError
+    from reasoner.rulebooks import LEError
     return "rulebook error: " if isinstance(exc, LEError) else ""
 
 

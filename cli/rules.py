@@ -39,7 +39,7 @@ def _read(path: Path) -> str:
 def check(file: Path = FileArg, json_out: bool = JsonOption) -> None:
     """Compile and load the document, printing its errors (exit 1) and warnings."""
     from reasoner.engine import get_engine
-    from reasoner.le.errors import LEError
+    from reasoner.rulebooks import LEError
     text = _read(file)
     try:
         rb = get_engine().load(text, _name(file))
@@ -73,7 +73,7 @@ def query(file: Path = FileArg,
     """Answer a query on a scenario, one LE sentence per proof."""
     from explain.text import render_tree
     from reasoner.engine import QuestionError, enrich, get_engine
-    from reasoner.le.document import parse_facts, parse_question
+    from reasoner.rulebooks import parse_facts, parse_question
     engine = get_engine()
     rb = engine.load(_read(file), _name(file))
     doc = rb.document
@@ -124,7 +124,7 @@ def verify(file: Path = typer.Argument(..., help="An LE document (FILE.le) or a 
 
     Each `expected(Query, Scenario, Answers).` line of the tests file is one expectation.
     """
-    from reasoner.le.expectations import ExpectationError
+    from reasoner.rulebooks import ExpectationError
     from reasoner.rules_verify import verify_file
     files = sorted(file.glob("*.le")) if file.is_dir() else [file]
     if not files or not all(f.is_file() for f in files):
