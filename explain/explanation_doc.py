@@ -12,7 +12,7 @@ document holds recorded strings as they were recorded; the renderers escape them
 """
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
 from reasoner.explanation import Counterfactual, Explanation
 from reasoner.model import Decision, Incident
@@ -176,7 +176,7 @@ class _Builder:
             out.append(found)
         return out
 
-    def _cited(self, node: dict) -> dict:
+    def _cited(self, node: Mapping[str, Any]) -> dict:
         return {**node, "cites": self._ids(node.get("evidence") or []),
                 "children": [self._cited(k) for k in node["children"]]}
 
@@ -192,8 +192,8 @@ class _Builder:
             return ""
         bits = [self._measured_speed(data, negated) or ph.manner(data, self.me, negated, text)
                 for data, negated, text in self._deciding(trees.conditions(self.pv_tree))]
-        bits = [b for b in bits if b]
-        return (" " + " ".join(bits)) if bits else ""
+        said = [b for b in bits if b]
+        return (" " + " ".join(said)) if said else ""
 
     def _measured_speed(self, data: list, negated: bool) -> str | None:
         """A stated speed in the headline gives way to the one that decided: the fastest measured
@@ -233,8 +233,8 @@ class _Builder:
     def _permission(self) -> str:
         """Where no prohibition met an exception, the permission itself: the conditions of the
         rule that proved "V can A" (the paper's "can enter the junction if ... ambulance")."""
-        can = trees.first(self.verdict_tree, lambda n: n["sentence"][:1] == [CAN.functor] and n["status"] == "proved"
-                          and n.get("label")) if self.verdict_tree else None
+        can = trees.first(self.verdict_tree, lambda n: bool(n["sentence"][:1] == [CAN.functor] and n["status"] == "proved"
+                          and n.get("label"))) if self.verdict_tree else None
         return " and ".join(k["text"] for k in can["children"]) if can else ""
 
     def _verdict_sentence(self, doc: dict) -> str:
@@ -293,7 +293,7 @@ class _Builder:
         if inc.verdict == Verdict.PUNISHABLE:
             lia = doc["liability"]
             out.append(f"The {lia['liable']} is liable: {lia['in_control_text']}.")
-        if inc.margin is not None and (inc.verdict != Verdict.DISMISSED or inc.why.startswith(NOT_PROVEN)):
+        if inc.margin is not None and (inc.verdict != Verdict.DISMISSED or (inc.why or "").startswith(NOT_PROVEN)):
             out.append(f"Measured margin: {ph.margin_text(inc.margin)}.")
         out += self._doubts()
         if inc.findings:
@@ -388,15 +388,15 @@ class _Builder:
             note(decision.evidence, f"the decision “{decision.goal}”")
         for s, ev in (inc.liability.evidence.items() if inc.liability else ()):
             note(ev, f"“{s}”")
-        for f in inc.findings:
-            for ev in f.evidence:
-                note(ev, f"{f.kind}")
+        for finding in inc.findings:
+            for ev in finding.evidence:
+                note(ev, f"{finding.kind}")
         return uses
 
     def _annotate(self) -> None:
         """Copies of the trees whose nodes carry `cites`: the ids (E1, ...) of their events, the
         recorded potential violation for the fact "V potentially violates A"."""
-        def copy(node: dict | None) -> dict | None:
+        def copy(node: Mapping[str, Any] | None) -> dict | None:
             if node is None:
                 return None
             refs = list(node.get("evidence") or [])

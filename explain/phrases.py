@@ -204,10 +204,11 @@ def _fill(shape: Shape, args: list[str]) -> str:
     """The words with the arguments in their slots; a template's "a" before a slot agrees with it."""
     out: list[str] = []
     for j, part in enumerate(shape):
+        after = shape[j + 1] if j + 1 < len(shape) else None
         if isinstance(part, int):
             out.append(args[part])
-        elif part.lower() in ("a", "an") and j + 1 < len(shape) and isinstance(shape[j + 1], int):
-            out.append(a(args[shape[j + 1]]))
+        elif part.lower() in ("a", "an") and isinstance(after, int):
+            out.append(a(args[after]))
         else:
             out.append(part)
     return " ".join(out)

@@ -15,6 +15,7 @@ from typing import Any, Iterable, Mapping
 
 from store import EventRef
 from .unforced import Unforced
+from .verdicts import Verdict
 
 Tree = Mapping[str, Any]          # a proof tree as DESIGN's JSON
 Fact = tuple[Any, EventRef]       # a recorded sentence (a str, unless a producer wrote nonsense) and its event
@@ -373,7 +374,7 @@ class Incident:
     rederived: bool
     rule: str | None
     law: str | None
-    verdict: str
+    verdict: Verdict                                # its word in JSON: reasoner/verdicts.py
     why: str | None
     penalty: Penalty | None
     liable: str

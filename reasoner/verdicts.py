@@ -18,9 +18,11 @@ verdict.
 from __future__ import annotations
 
 from enum import StrEnum
-from typing import Final, NewType
+from typing import Final, Mapping, NewType
 
-__all__ = ["ASKED", "HC_171", "HC_172", "HC_174", "HC_175", "HC_176", "NAMED_RULES", "NOT_PROVEN", "RULE_PREFIX",
+from .vocabulary import MITIGATELY_VIOLATES, PUNISHABLY_VIOLATES, Sentence
+
+__all__ = ["ASKED", "QUESTION", "HC_171", "HC_172", "HC_174", "HC_175", "HC_176", "NAMED_RULES", "NOT_PROVEN", "RULE_PREFIX",
            "RuleId", "Verdict", "rule_number"]
 
 
@@ -33,6 +35,8 @@ class Verdict(StrEnum):
 
 
 ASKED: Final = (Verdict.PUNISHABLE, Verdict.MITIGATED)  # the validator's questions, in the order asked
+QUESTION: Final[Mapping[Verdict, Sentence]] = {Verdict.PUNISHABLE: PUNISHABLY_VIOLATES,   # what each is asked as
+                                               Verdict.MITIGATED: MITIGATELY_VIOLATES}
 NOT_PROVEN: Final = "not proven"          # how a dismissal's `why` begins where the act is not proven
 
 RuleId = NewType("RuleId", str)           # a rulebook's label of a rule: "HC 176"
