@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Any, Callable, Iterator
 
 from reasoner import vocabulary as vocab
+from reasoner.verdicts import rule_number
 from reasoner.vocabulary import Sentence
 from reasoner.when import clock, day  # noqa: F401  (times as the explanations write them: reasoner/when.py)
 from reasoner.wording import Shape, arg_text, shape
@@ -51,9 +52,8 @@ def rule_name(label: str | None) -> str:
     """"HC 176" -> "Highway Code rule 176"; any other label as written; none -> "the rules"."""
     if not label:
         return "the rules"
-    if label.startswith("HC "):
-        return "Highway Code rule " + label[3:]
-    return label
+    number = rule_number(label)
+    return label if number is None else "Highway Code rule " + number
 
 
 def who(src: str, start: bool = False) -> str:
