@@ -61,7 +61,7 @@ def test_everything_the_store_exports_exists():
 
 
 # Explain renders, the reasoner reasons (DESIGN): explain and cli read the reasoner's face
-# (reasoner.wording for the rulebooks' English, reasoner.rulebooks for a rulebook a user wrote),
+# (reasoner.wording for the rulebooks' English; a rulebook a user wrote through `reasoner`'s own face),
 # never the LE compiler's modules, which are the reasoner's own part.
 COMPILER = "reasoner.le"
 FACE_ONLY = ("explain", "cli")
