@@ -59,8 +59,11 @@ class Around:
         """The road users v could notice at the junction ahead (see `about`)."""
         return self.about(v.next_junction, v.id, v.approach) if v.next_junction is not None else []
 
-    def about(self, junction: str, vid: str, approach: str | None) -> list[Other]:
+    def about(self, junction: str | None, vid: str, approach: str | None) -> list[Other]:
         """The road users approaching a junction, as seen by vid on (or from) `approach`: not
-        itself, not those behind it on its own approach (they follow it, they do not approach it)."""
+        itself, not those behind it on its own approach (they follow it, they do not approach it).
+        None (on no junction): nobody."""
+        if junction is None:
+            return []
         return [o for o in self._near.get(junction, ()) if o.id != vid
                 and (o.pedestrian or self._approach.get(o.id) != approach)]
