@@ -228,11 +228,6 @@ class EventPublisher:
             event = self._signer.sign(event)
         return self._publisher_for(key), key, event, canonical_json(event)
 
-    def _as_written(self, event: dict, payload: bytes) -> _Prepared:
-        """An event ready to put with the canonical bytes it was written in."""
-        key = key_for(event)
-        return self._publisher_for(key), key, event, payload
-
     def _put_run(self, run: list[_Prepared]) -> None:
         """The run's puts back to back (see publish_all), then each into the cache; a despawn (only
         ever a run's last event) retires its source."""

@@ -19,7 +19,6 @@ __all__ = ["APPROACH_M", "Around", "Other", "STOPPED_MPS"]
 APPROACH_M = 50.0        # a road user this close to a junction's entry, and moving towards it, is approaching
 MOVING_MPS = 0.5
 STOPPED_MPS = 0.1
-NO_ETA = 1e9
 
 
 class Other(NamedTuple):

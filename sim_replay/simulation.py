@@ -522,7 +522,7 @@ class Simulation:
             return
         if line.crossed_on is None and v.junction == line.junction:
             colour = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
-            self.lines[v.id] = Line(line.junction, line.approach, line.kind, colour or "none", t)
+            self.lines[v.id] = Line(line.junction, line.approach, line.kind, colour or "none")
             self.witness.crossed(agent, v, t, self.lines[v.id], colour, around)
             self._crossed(agent)
             self.world.hand_back(v.id)              # over the line: SUMO's physics keeps it out of others' way

@@ -60,7 +60,6 @@ class Line:
     approach: str
     kind: str
     crossed_on: str | None = None       # set once it is over the line
-    crossed_at_s: float | None = None
 
 
 @dataclass
