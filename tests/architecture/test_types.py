@@ -7,7 +7,7 @@ won. Each error is charged to the longest clean or counted path that holds its f
 reasoner/le, the rest of reasoner/ to reasoner); a file under no listed path counts as clean.
 
 One test, so that pytest-xdist runs mypy once, in one worker; its cache lives in the checkout's .mypy_cache
-(a cold run takes ~15-25 s on a busy machine, a warm one ~2 s). After a merge or a fix, regenerate the
+(a cold run costs ~12 s of CPU, 13-60 s of wall time on a busy two-core machine; a warm one ~2-3 s). After a merge or a fix, regenerate the
 counts with
 
     .venv/bin/python tests/architecture/test_types.py --update
