@@ -15,7 +15,6 @@ from typing import Any, Iterable, Mapping
 
 from store import EventRef
 from .unforced import Unforced
-from .verdicts import Verdict
 
 Tree = Mapping[str, Any]          # a proof tree as DESIGN's JSON
 Fact = tuple[Any, EventRef]       # a recorded sentence (a str, unless a producer wrote nonsense) and its event
@@ -374,7 +373,8 @@ class Incident:
     rederived: bool
     rule: str | None
     law: str | None
-    verdict: Verdict                                # its word in JSON: reasoner/verdicts.py
+    verdict: str                                    # a Verdict's word (reasoner/verdicts.py): typed Verdict
+                                                    # once the investigation passes one (issue 38)
     why: str | None
     penalty: Penalty | None
     liable: str
