@@ -14,6 +14,7 @@ import math
 from typing import Any
 
 from reasoner.scene import scene
+from reasoner.scene_parts import Reported
 from store import Store
 from store import state_at
 
@@ -107,27 +108,17 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
     sc = scene(store, run, t, judge=False)
     vehicles = []
     for v in sc.vehicles:
-        at = v["state"] or {}
-        x, y = number(at.get("x")), number(at.get("y"))
-        vehicles.append({"id": v["vehicle"], "type": v["type"], "x": x, "y": y,
-                         "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
-                         "junction": at.get("junction"), "incident": v["vehicle"] == vehicle,
-                         "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
-    users = []
-    for u in sc.road_users:
-        at = u["state"] or {}
-        users.append({"id": u["src"], "type": u["type"], "x": number(at.get("x")), "y": number(at.get("y")),
-                      "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
-                      "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
+        vehicles.append({"id": v.vehicle, "type": v.type, **_motion(v.state), "junction": _field(v.state, "junction"),
+                         "incident": v.vehicle == vehicle, **_seen(v.state, t)})
+    users = [{"id": u.src, "type": u.type, **_motion(u.state), **_seen(u.state, t)} for u in sc.road_users]
     monitors = []
     for m in sc.monitors:
-        entry = m["map"] or {}
-        monitors.append({"id": m["monitor"], "junction": entry.get("junction"), "x": number(entry.get("x")),
-                         "y": number(entry.get("y")), "heading_deg": number(entry.get("heading_deg")),
-                         "fov_deg": number(entry.get("fov_deg")), "range_m": number(entry.get("range_m")),
-                         "observed": m["observed"], "watching": vehicle is not None and vehicle in m["observed"]})
-    signals = [{"junction": s["junction"], "approach": s["approach"], "colour": s["colour"],
-                "since_t": s["since"]["t"], "evidence": s["evidence"]} for s in sc.signals]
+        monitors.append({"id": m.monitor, "junction": m.placed("junction"), "x": number(m.placed("x")),
+                         "y": number(m.placed("y")), "heading_deg": number(m.placed("heading_deg")),
+                         "fov_deg": number(m.placed("fov_deg")), "range_m": number(m.placed("range_m")),
+                         "observed": list(m.observed), "watching": vehicle is not None and vehicle in m.observed})
+    signals = [{"junction": s.junction, "approach": s.approach, "colour": s.colour,
+                "since_t": s.since.t, "evidence": s.evidence.to_json()} for s in sc.signals]
     picture = {"t": t, "offset": sc.offset, "vehicle": vehicle, "roads": the_map["roads"],
                "lanes": the_map.get("lanes", []), "lefthand": the_map.get("lefthand", True),
                "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
@@ -135,6 +126,22 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
     picture["junction"] = junction if junction is not None else focus_junction(picture)
     picture["lanes"] = lanes_near(picture, picture["lanes"])
     return picture
+
+
+def _field(state: Reported | None, name: str) -> Any:
+    return None if state is None else state.field(name)
+
+
+def _motion(state: Reported | None) -> dict[str, float | None]:
+    """A road user's position, heading and speed as the picture draws them: numbers, or None."""
+    return {"x": number(_field(state, "x")), "y": number(_field(state, "y")),
+            "heading_deg": number(_field(state, "heading_deg")), "speed_mps": number(_field(state, "speed_mps"))}
+
+
+def _seen(state: Reported | None, t: int) -> dict[str, Any]:
+    """The evidence of a road user's position, and whether it is fresh enough to draw (presence.py)."""
+    evidence = state.evidence.to_json() if state is not None else None
+    return {"evidence": evidence, **presence_at(evidence, t)}
 
 
 def name_users(picture: dict[str, Any], named: list[str], the_map: dict[str, Any]) -> None:
