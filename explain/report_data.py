@@ -15,8 +15,7 @@ from typing import Any
 
 from reasoner.scene import scene
 from reasoner.scene_parts import Reported
-from store import Store
-from store import state_at
+from store import MapJunction, Store, read_map_body, state_at, whole, whole_line
 
 from .presence import presence_at
 
@@ -52,47 +51,49 @@ def recorded_rulebooks(start_body: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def run_map(start_body: dict[str, Any]) -> dict[str, Any]:
-    """The map the run recorded in its run.start (DESIGN "Events"), its entries that can be drawn:
-    roads, junctions (with their stop lines, yellow box, outline and crossings when the producer
-    sent them), monitors, and the lanes as polylines with their widths (a SUMO run's; a map
-    without them, like the paper's hand-written one, has none and the picture draws its roads)."""
-    raw = start_body.get("map")
-    raw = raw if isinstance(raw, dict) else {}
+    """The map the run recorded in its run.start (DESIGN "Events", read by store.read_map_body),
+    its entries that can be drawn: roads, junctions (with their stop lines, yellow box, outline
+    and crossings when the producer sent them), monitors, and the lanes as polylines with their
+    widths (a SUMO run's; a map without them, like the paper's hand-written one, has none and the
+    picture draws its roads)."""
+    given = read_map_body(start_body)
     roads = []
-    for r in _dicts(raw.get("roads")):
-        a, b = _point(r.get("from")), _point(r.get("to"))
+    for r in given.roads:
+        a, b = whole(r.a), whole(r.b)
         if a and b:
-            roads.append({"id": _text(r.get("id")), "from": a, "to": b})
-    junctions = [_junction(j) for j in _dicts(raw.get("junctions")) if number(j.get("x")) is not None
-                 and number(j.get("y")) is not None]
+            roads.append({"id": r.label, "from": list(a), "to": list(b)})
+    junctions = [_junction(j) for j in given.junctions if j.x is not None and j.y is not None]
     lanes = []
-    for lane in _dicts(raw.get("lanes")):
-        shape, width = _points(lane.get("shape")), number(lane.get("width_m"))
+    for lane in given.lanes:
+        shape, width = whole_line(lane.shape), lane.width_m
         if len(shape) >= 2 and width is not None and width > 0:
-            lanes.append({"id": _text(lane.get("id")), "kind": _text(lane.get("kind")), "width_m": width,
-                          "shape": shape})
-    network = raw.get("network") if isinstance(raw.get("network"), dict) else {}
-    return {"roads": roads, "junctions": junctions, "monitors": list(_dicts(raw.get("monitors"))),
-            "lanes": lanes, "lefthand": network.get("lefthand") is not False}
+            lanes.append({"id": lane.label, "kind": lane.kind, "width_m": width, "shape": _listed(shape)})
+    return {"roads": roads, "junctions": junctions, "monitors": [m.raw for m in given.monitors],
+            "lanes": lanes, "lefthand": given.lefthand}
 
 
-def _junction(j: dict[str, Any]) -> dict[str, Any]:
+def _junction(j: MapJunction) -> dict[str, Any]:
     """A junction's drawable parts; a stop line, crossing or outline that is not numbers is left out."""
     lines = []
-    for line in _dicts(j.get("stop_lines")):
-        a, b = _point(line.get("from")), _point(line.get("to"))
+    for line in j.stop_lines or ():
+        a, b = whole(line.a), whole(line.b)
         if a and b:
-            lines.append({"approach": _text(line.get("approach")), "from": a, "to": b,
-                          "kind": _text(line.get("kind"))})
+            lines.append({"approach": line.approach_label, "from": list(a), "to": list(b),
+                          "kind": _text(line.kind)})
     crossings = []
-    for c in _dicts(j.get("crossings")):
-        shape, width = _points(c.get("shape")), number(c.get("width_m"))
+    for c in j.crossings:
+        shape, width = whole_line(c.shape), c.width_m
         if len(shape) >= 2 and width is not None and width > 0:
-            crossings.append({"id": _text(c.get("id")), "shape": shape, "width_m": width})
-    box, outline = _points(j.get("box")), _points(j.get("shape"))
-    return {"id": _text(j.get("id")), "x": number(j["x"]), "y": number(j["y"]), "control": _text(j.get("control")),
-            "stop_lines": lines, "box": box if len(box) >= 3 else None,
-            "shape": outline if len(outline) >= 3 else None, "crossings": crossings}
+            crossings.append({"id": c.label, "shape": _listed(shape), "width_m": width})
+    box, outline = whole_line(j.box), whole_line(j.shape)
+    return {"id": j.label, "x": j.x, "y": j.y, "control": j.control_label,
+            "stop_lines": lines, "box": _listed(box) if len(box) >= 3 else None,
+            "shape": _listed(outline) if len(outline) >= 3 else None, "crossings": crossings}
+
+
+def _listed(points: tuple[tuple[float, float], ...]) -> list[list[float]]:
+    """Points as the JSON report carries them: [x, y] lists."""
+    return [list(p) for p in points]
 
 
 # --- the picture at t -----------------------------------------------------------------------------
@@ -251,22 +252,6 @@ def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None,
 
 def _dicts(value: Any) -> list[dict]:
     return [v for v in value if isinstance(v, dict)] if isinstance(value, list) else []
-
-
-def _point(value: Any) -> list[float] | None:
-    if isinstance(value, list) and len(value) == 2:
-        x, y = number(value[0]), number(value[1])
-        if x is not None and y is not None:
-            return [x, y]
-    return None
-
-
-def _points(value: Any) -> list[list[float]]:
-    """A polyline's points; any point that is not two numbers makes the whole of it unusable."""
-    if not isinstance(value, list):
-        return []
-    points = [_point(p) for p in value]
-    return [] if any(p is None for p in points) else points      # type: ignore[misc]
 
 
 def _text(value: Any) -> str | None:
