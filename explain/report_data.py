@@ -1,5 +1,6 @@
-"""What a report draws, read from the store as plain JSON-ready data: the picture of the scene at
-an incident and the timeline of speed and signal colour around it.
+"""What a report draws, as plain JSON-ready data: the picture of the scene at an incident (from
+the reasoner's scene and the store's reading of the run map) and the timeline of speed and signal
+colour around it (the reasoner's, reasoner/timelines.py).
 
 The SVG modules (svg_scene.py, svg_timeline.py) only draw these dicts, and the JSON report
 carries them as they are, so what a reader sees in the picture is exactly what the data says.
@@ -9,19 +10,17 @@ finite number is left out rather than drawn somewhere wrong, and every string is
 """
 from __future__ import annotations
 
-import json
 import math
 from typing import Any
 
 from reasoner.scene import scene
 from reasoner.scene_parts import Reported
-from store import MapJunction, Store, read_map_body, state_at, whole, whole_line
+from reasoner.timelines import timeline as speed_and_signals
+from store import MapJunction, Store, read_map_body, whole, whole_line
 
 from .presence import presence_at
 
 SECOND = 1_000_000_000
-BEFORE_NS = 20 * SECOND      # the timeline starts this long before the incident ...
-AFTER_NS = 5 * SECOND        # ... and ends this long after it
 LANES_NEAR_M = 150.0     # a picture carries the lanes this close to what it shows (svg_scene zooms closer)
 NEAR_JUNCTION_M = 40.0   # a road user this close to a junction's centre is at it, for focus_junction
 # approach named by where traffic comes from (as sim_replay names them): its direction from the junction
@@ -215,37 +214,10 @@ def facing_approach(heading_deg: float | None, approaches: list[str]) -> str | N
 
 # --- the timeline around t ------------------------------------------------------------------------
 
-def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None,
-             before_ns: int = BEFORE_NS, after_ns: int = AFTER_NS) -> dict[str, Any]:
-    """The vehicle's speed (its own entity.state, and what monitors observed) and the colour of
-    each signal approach of its junction, from `before_ns` before t to `after_ns` after, with the
-    values in force when the window opens."""
-    t_from, t_to = t - before_ns, t + after_ns
-    src = f"vehicle/{vehicle}"
-    opening = state_at(store, run, t_from)
-    own: list[dict] = []
-    first = ((opening.entities.get(src) or {}).get("state") or {})
-    if first and number(first["body"].get("speed_mps")) is not None:
-        own.append({"t": first["t"], "speed_mps": number(first["body"]["speed_mps"]), "seq": first["seq"]})
-    for ev in store.events(run, kinds=["entity.state"], srcs=[src], t_from=t_from, t_to=t_to):
-        speed = number(ev["body"].get("speed_mps"))
-        if speed is not None and not (own and own[-1]["seq"] == ev["seq"]):
-            own.append({"t": ev["t"], "speed_mps": speed, "seq": ev["seq"]})
-    observed = [{"t": ev["t"], "speed_mps": number(ev["body"].get("speed_mps")), "monitor": ev["src"], "seq": ev["seq"]}
-                for ev in store.events(run, kinds=["monitor.observation"], t_from=t_from, t_to=t_to)
-                if ev["body"].get("vehicle") == vehicle and number(ev["body"].get("speed_mps")) is not None]
-    signals: dict[str, list[dict]] = {}
-    if junction is not None:
-        for approach, shown in sorted((opening.signals.get(junction) or {}).items()):
-            signals[approach] = [{"t": shown["last"]["t"], "colour": shown["colour"]}]
-        for ev in store.events(run, kinds=["signal.state"], t_from=t_from, t_to=t_to):
-            body = ev["body"]
-            if body.get("junction") == junction:
-                changes = signals.setdefault(_as_key(body.get("approach", "*")), [])
-                if not changes or changes[-1]["colour"] != body.get("colour"):
-                    changes.append({"t": ev["t"], "colour": body.get("colour")})
-    return {"t": t, "t_from": t_from, "t_to": t_to, "vehicle": vehicle, "junction": junction,
-            "speed": own, "observed_speed": observed, "signals": signals}
+def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None) -> dict[str, Any]:
+    """The vehicle's speed and its junction's signal colours around t, as the reasoner reads them
+    (reasoner/timelines.py), in the JSON the report carries and svg_timeline.py draws."""
+    return speed_and_signals(store, run, t, vehicle, junction).to_json()
 
 
 # --- helpers --------------------------------------------------------------------------------------
@@ -256,11 +228,6 @@ def _dicts(value: Any) -> list[dict]:
 
 def _text(value: Any) -> str | None:
     return None if value is None else str(value)
-
-
-def _as_key(value: Any) -> str:
-    """A body value as the state fold keys it (store/state.py), so the two readings meet."""
-    return value if isinstance(value, str) else json.dumps(value, sort_keys=True)
 
 
 def _angle_between(a: float, b: float) -> float:
