@@ -113,9 +113,10 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
     users = [{"id": u.src, "type": u.type, **_motion(u.state), **_seen(u.state, t)} for u in sc.road_users]
     monitors = []
     for m in sc.monitors:
-        monitors.append({"id": m.monitor, "junction": m.placed("junction"), "x": number(m.placed("x")),
-                         "y": number(m.placed("y")), "heading_deg": number(m.placed("heading_deg")),
-                         "fov_deg": number(m.placed("fov_deg")), "range_m": number(m.placed("range_m")),
+        cone = m.entry
+        monitors.append({"id": m.monitor, "junction": m.placed("junction"), "x": cone.x if cone else None,
+                         "y": cone.y if cone else None, "heading_deg": cone.heading_deg if cone else None,
+                         "fov_deg": cone.fov_deg if cone else None, "range_m": cone.range_m if cone else None,
                          "observed": list(m.observed), "watching": vehicle is not None and vehicle in m.observed})
     signals = [{"junction": s.junction, "approach": s.approach, "colour": s.colour,
                 "since_t": s.since.t, "evidence": s.evidence.to_json()} for s in sc.signals]

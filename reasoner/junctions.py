@@ -47,6 +47,7 @@ MAX_JUNCTIONS = 10_000
 MAX_ROADS = 100_000
 MAX_LINES = 64               # stop lines of one junction
 CELL_M = 200.0               # the grid that finds junctions near a position
+NO_LANES = frozenset({"roads", "junctions", "monitors"})   # the lanes are the pictures'
 ARM_CHECK_M = 25.0           # an arm counts as watched when a monitor's cone covers this point out along it
 
 
@@ -250,7 +251,7 @@ class Map:
 def read_map(start: dict | None) -> Map:
     """The map of a run.start event (None, or one without a map: an empty map), as the store's
     reader gives it (store.read_run_map), with what a history needs and can trust."""
-    given = read_run_map(start)
+    given = read_run_map(start, NO_LANES)
     problems: list[str] = []
     if not given.recorded:
         return Map((), (), given.ref, ("the run records no map",) if start is not None else ("the run has no run.start",))

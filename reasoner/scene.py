@@ -29,7 +29,7 @@ import copy
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
-from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
+from store import EventRef, GapsError, NoSuchRun, State, Store, read_run_map, state_at
 
 from .control import control_at
 from .model import Control, Finding, RulebookChoice
@@ -41,6 +41,9 @@ from .when import format_offset, format_time
 
 if TYPE_CHECKING:
     from .investigation import Investigation
+
+
+MONITORS = frozenset({"monitors"})      # of the run map, the scene shows only the monitors' entries
 
 
 class SceneError(GapsError, ValueError):
@@ -318,9 +321,7 @@ def _signals(state: State) -> tuple[SignalShown, ...]:
 
 def _monitors(state: State) -> tuple[MonitorShown, ...]:
     """Monitors on the map and monitors that have reported, by src."""
-    start = state.start
-    listed = ((start or {}).get("body", {}).get("map") or {}).get("monitors") if start else None
-    on_map = {f"monitor/{m['id']}": m for m in listed or [] if isinstance(m, dict) and isinstance(m.get("id"), str)}
+    on_map = {f"monitor/{m.ident}": m for m in read_run_map(state.start, MONITORS).monitors if m.ident is not None}
     out = []
     for src in sorted(set(on_map) | set(state.monitors)):
         folded = state.monitors.get(src) or {"observations": {}, "potential_violations": {}}

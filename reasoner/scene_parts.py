@@ -2,8 +2,8 @@
 `gaps scene --json` prints through `to_json()`.
 
 Each part cites its event as a store.EventRef. What a producer recorded in a body (an
-entity.state's position, a spawn's type, a monitor's map entry) stays as it was sent, in `body`
-or `entry`: the scene shows the record, it does not clean it. The JSON of every part keeps the
+entity.state's position, a spawn's type) stays as it was sent, in `body`, and a monitor's map entry
+is the store's reading of it (store.read_run_map), which keeps the entry as sent for the JSON: the scene shows the record, it does not clean it. The JSON of every part keeps the
 keys and their order that the scene printed when its parts were dicts, so that `gaps scene
 --json` and the reports built on it stay the same to the byte.
 """
@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from store import EventRef
+from store import EventRef, MapMonitor
 
 from .model import Control, Decision, Finding, RulebookChoice
 
@@ -76,20 +76,20 @@ class PotentialViolation:
 
 @dataclass(frozen=True)
 class MonitorShown:
-    """A monitor: its entry in the run's map as recorded (None: not on the map), the vehicles it
-    observed in the last 10 s and its potential violations."""
+    """A monitor: its entry in the run's map (store.read_run_map; None: not on the map), the
+    vehicles it observed in the last 10 s and its potential violations."""
 
     monitor: str
-    entry: Mapping[str, Any] | None
+    entry: MapMonitor | None
     observed: tuple[str, ...]
     potential_violations: tuple[PotentialViolation, ...]
 
     def placed(self, name: str) -> Any:
         """A field of its map entry as recorded (None off the map or where the entry has none)."""
-        return None if self.entry is None else self.entry.get(name)
+        return None if self.entry is None else self.entry.raw.get(name)
 
     def to_json(self) -> dict[str, Any]:
-        return {"monitor": self.monitor, "map": self.entry, "observed": list(self.observed),
+        return {"monitor": self.monitor, "map": self.entry.raw if self.entry else None, "observed": list(self.observed),
                 "potential_violations": [pv.to_json() for pv in self.potential_violations]}
 
 

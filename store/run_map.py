@@ -179,25 +179,31 @@ class RunMap:
     lefthand: bool = True                # `network.lefthand` unless it is false (UK traffic)
 
 
-def read_run_map(event: Mapping[str, Any] | None) -> RunMap:
-    """The map of a run.start event (None, or an event without a map body: not recorded)."""
+PARTS = frozenset({"roads", "junctions", "monitors", "lanes"})
+
+
+def read_run_map(event: Mapping[str, Any] | None, parts: frozenset[str] = PARTS) -> RunMap:
+    """The map of a run.start event (None, or an event without a map body: not recorded).
+    `parts`: the lists to read (a reader that needs no lanes, a city's thousands of polylines,
+    leaves them out: they are then empty)."""
     body = event.get("body") if isinstance(event, Mapping) else None
     ref = EventRef.of(event) if isinstance(body, dict) and event is not None else None
-    return read_map_body(body if isinstance(body, dict) else {}, ref)
+    return read_map_body(body if isinstance(body, dict) else {}, ref, parts)
 
 
-def read_map_body(body: Mapping[str, Any], ref: EventRef | None = None) -> RunMap:
-    """The map of a run.start's body."""
+def read_map_body(body: Mapping[str, Any], ref: EventRef | None = None, parts: frozenset[str] = PARTS) -> RunMap:
+    """The map of a run.start's body (`parts` as read_run_map's)."""
     raw = body.get("map")
     if not isinstance(raw, dict):
         return RunMap(False, ref)
-    roads, roads_listed = _objects(raw.get("roads"))
-    junctions, junctions_listed = _objects(raw.get("junctions"))
+    roads, roads_listed = _objects(raw.get("roads") if "roads" in parts else None)
+    junctions, junctions_listed = _objects(raw.get("junctions") if "junctions" in parts else None)
+    monitors, _ = _objects(raw.get("monitors") if "monitors" in parts else None)
+    lanes, _ = _objects(raw.get("lanes") if "lanes" in parts else None)
     network = raw.get("network")
     return RunMap(True, ref, tuple(_road(r) for r in roads), roads_listed,
                   tuple(_junction(j) for j in junctions), junctions_listed,
-                  tuple(_monitor(m) for m in _objects(raw.get("monitors"))[0]),
-                  tuple(_lane(lane) for lane in _objects(raw.get("lanes"))[0]),
+                  tuple(_monitor(m) for m in monitors), tuple(_lane(lane) for lane in lanes),
                   not (isinstance(network, dict) and network.get("lefthand") is False))
 
 

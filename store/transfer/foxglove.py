@@ -55,6 +55,7 @@ _BODIES: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
 }
 _SIGNAL_COLOURS = {"red": (1.0, 0.0, 0.0), "red_amber": (1.0, 0.35, 0.0), "amber": (1.0, 0.65, 0.0),
                    "green": (0.0, 0.85, 0.2), "off": (0.3, 0.3, 0.3)}
+_DRAWN_PARTS = frozenset({"roads", "junctions", "monitors"})   # of the run map (store/run_map.py)
 _APPROACH = {"west": (-1, 0), "east": (1, 0), "north": (0, 1), "south": (0, -1)}  # where a signal stands
 _SIGNAL_OFFSET_M = 10.0
 
@@ -284,7 +285,7 @@ class SceneBuilder:
         return _entity(event["src"], event["t"], _pairs(metadata), spheres=[sphere], cylinders=[pole])
 
     def _map(self, event: dict[str, Any]) -> list[Derived]:
-        world = read_run_map(event)
+        world = read_run_map(event, _DRAWN_PARTS)
         if not world.recorded:
             return []
         points, cylinders, texts, arrows = [], [], [], []

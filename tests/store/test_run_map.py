@@ -77,3 +77,11 @@ def test_an_integer_too_big_for_a_float_is_not_drawn_and_does_not_crash():
                              "lanes": [{"id": "l", "width_m": 10 ** 400, "shape": [[0, 0], [1, 1]]}]}})
     assert drawn["junctions"] == [] and drawn["lanes"] == []
     assert not math.isnan(rm.number(1e308))
+
+
+def test_a_reader_reads_only_the_parts_it_asks_for():
+    raw = {"roads": [{"id": "R", "from": [0, 0], "to": [1, 0]}], "monitors": [{"id": "m"}],
+           "lanes": [{"id": "l", "width_m": 3, "shape": [[0, 0], [1, 0]]}]}
+    only = read_run_map(start(raw), frozenset({"monitors"}))
+    assert only.recorded and only.roads == () and only.lanes == () and [m.ident for m in only.monitors] == ["m"]
+    assert len(read_run_map(start(raw)).lanes) == 1
