@@ -17,6 +17,7 @@ from reasoner.scene import scene
 from reasoner.scene_parts import Reported
 from reasoner.timelines import timeline as speed_and_signals
 from store import MapJunction, Store, read_map_body, whole, whole_line
+from store import finite_number as number      # a finite number, else None: what a picture can place
 
 from .presence import presence_at
 
@@ -26,14 +27,6 @@ NEAR_JUNCTION_M = 40.0   # a road user this close to a junction's centre is at i
 # approach named by where traffic comes from (as sim_replay names them): its direction from the junction
 APPROACH_DIRECTIONS = {"west": 180.0, "w": 180.0, "south": 270.0, "s": 270.0, "east": 0.0, "e": 0.0,
                        "north": 90.0, "n": 90.0}
-
-
-def number(value: Any) -> float | None:
-    """A finite number, else None (a producer's string, NaN or a bool is not a coordinate)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    value = float(value)
-    return value if math.isfinite(value) else None
 
 
 def run_start_body(store: Store, run: str) -> dict[str, Any]:

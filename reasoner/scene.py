@@ -31,9 +31,9 @@ from typing import TYPE_CHECKING, Any
 
 from store import EventRef, GapsError, NoSuchRun, State, Store, read_run_map, state_at
 
-from .control import control_at
+from .history import control_at
 from .model import Control, Finding, RulebookChoice
-from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
+from .history import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
                         vehicle_scenario)
 from .scene_parts import (Lawfulness, MonitorScenarioShown, MonitorShown, PotentialViolation, Reported, RoadUserShown,
                           SceneFact, SignalShown, ValidatorShown, VehicleShown)

@@ -14,22 +14,14 @@ merges a junction-wide signal into every approach; a timeline shows each approac
 from __future__ import annotations
 
 import json
-import sys
 from dataclasses import dataclass
 from typing import Any
 
-from store import State, Store, state_at
-
-from .junctions import finite
+from store import State, Store, finite_number, state_at
 
 SECOND = 1_000_000_000
 BEFORE_NS = 20 * SECOND      # a timeline starts this long before the moment ...
 AFTER_NS = 5 * SECOND        # ... and ends this long after it
-
-
-def _speed(value: Any) -> float | None:
-    """A speed as recorded, where it is a finite number."""
-    return finite(value, sys.float_info.max)
 
 
 @dataclass(frozen=True)
@@ -113,11 +105,11 @@ def _own(store: Store, run: str, vehicle: str, opening: State, t_from: int, t_to
     src = f"vehicle/{vehicle}"
     own: list[SpeedSample] = []
     first = (opening.entities.get(src) or {}).get("state") or {}
-    speed = _speed(first["body"].get("speed_mps")) if first else None
+    speed = finite_number(first["body"].get("speed_mps")) if first else None
     if speed is not None:
         own.append(SpeedSample(first["t"], speed, first["seq"]))
     for ev in store.events(run, kinds=["entity.state"], srcs=[src], t_from=t_from, t_to=t_to):
-        speed = _speed(ev["body"].get("speed_mps"))
+        speed = finite_number(ev["body"].get("speed_mps"))
         if speed is not None and not (own and own[-1].seq == ev["seq"]):
             own.append(SpeedSample(ev["t"], speed, ev["seq"]))
     return tuple(own)
@@ -126,7 +118,7 @@ def _own(store: Store, run: str, vehicle: str, opening: State, t_from: int, t_to
 def _observed(store: Store, run: str, vehicle: str, t_from: int, t_to: int) -> tuple[ObservedSpeed, ...]:
     out = []
     for ev in store.events(run, kinds=["monitor.observation"], t_from=t_from, t_to=t_to):
-        speed = _speed(ev["body"].get("speed_mps"))
+        speed = finite_number(ev["body"].get("speed_mps"))
         if ev["body"].get("vehicle") == vehicle and speed is not None:
             out.append(ObservedSpeed(ev["t"], speed, ev["src"], ev["seq"]))
     return tuple(out)

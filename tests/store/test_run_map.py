@@ -5,7 +5,7 @@ import math
 import pytest
 
 from explain.report_data import run_map
-from reasoner.junctions import read_map
+from reasoner.history import read_map
 from store import read_run_map
 from store import run_map as rm
 
