@@ -12,6 +12,8 @@ from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreEr
 from .output_files import OutputRefused, check_output, write_bytes, write_text
 from .cache import altered_caches, caches_opened, caches_opened_since, damaged_caches, go_without_caches, unread_caches, unwritten_caches
 from .refs import EventRef
+from .run_map import MapJunction, MapMonitor, MapStopLine, Pair, RunMap, read_map_body, read_run_map, whole, whole_line
+from .run_map import number as finite_number
 from .envelope import (
     MAX_EVENT_BYTES,
     EventError,
@@ -132,6 +134,8 @@ __all__ = [
     "DEFAULT_ORDER",
     "EventError",
     "EventRef",
+    "MapJunction", "MapMonitor", "MapStopLine", "Pair", "RunMap", "finite_number", "read_map_body", "read_run_map",
+    "whole", "whole_line",
     "ExportReport",
     "EvidenceError",
     "GapsError",
