@@ -9,6 +9,8 @@ from .canonical import canonical_json
 from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .db import Store
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
+from .errors import DiskFailed, DiskFull, RowRefused, StoreBusy, StoreDamaged, StoreFault, StoreReadOnly
+from .sqlite_errors import store_fault, translating
 from .output_files import OutputRefused, check_output, write_bytes, write_text
 from .cache import altered_caches, caches_opened, caches_opened_since, damaged_caches, go_without_caches, unread_caches, unwritten_caches
 from .refs import EventRef
@@ -158,6 +160,8 @@ __all__ = [
     "State",
     "Store",
     "StoreError",
+    "StoreFault", "StoreDamaged", "StoreBusy", "StoreReadOnly", "DiskFull", "DiskFailed", "RowRefused",
+    "store_fault", "translating",
     "Timeline",
     "TransferError",
     "VerifyReport",

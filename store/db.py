@@ -29,6 +29,7 @@ from .integrity import integrity_problems
 from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
 from .errors import EvidenceError, StoreError
+from .sqlite_errors import translate_methods
 from .event_rows import events_of
 from .outcomes import AppendReport, VerifyReport
 from .reading import one_snapshot
@@ -55,6 +56,7 @@ CheckpointHook = Callable[[list[TreeHead]], None]
 PAGE_SIZE = opening.PAGE_SIZE
 
 
+@translate_methods
 class Store:
     """An event store file. Use one Store from one thread at a time (check_same_thread=False
     only lets it move between threads); separate processes may share a file safely.
