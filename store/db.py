@@ -191,6 +191,7 @@ class Store:
             self._appended = {}
         batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
         if batch.signed:
+            assert self._signed_runs is not None  # only a store with a checkpoint key signs
             self._signed_runs.signed(batch.signed)
             for hook in self._checkpoint_hooks:
                 hook(batch.signed)
@@ -293,7 +294,8 @@ class Store:
         """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive.
         Sparse kinds are read through the covering index by kind, each entry checked against its
         chained row: IndexDisagrees (exit 1) at the first that is not (store/index_guard.py)."""
-        wanted = None if kinds is None else sorted(set(queries.collection("kinds", kinds)))
+        chosen = queries.collection("kinds", kinds)
+        wanted = None if chosen is None else sorted(set(chosen))
         if wanted is not None and len(wanted) > 1 and not set(wanted) & set(DENSE_KINDS):
             # one index range per kind, merged: cheaper than the whole run's time index
             streams = [self._rows(run, [kind], srcs, t_from, t_to) for kind in wanted]
