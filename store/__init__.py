@@ -51,6 +51,7 @@ from .partial_state import entity_since, state_of
 from . import derived_cache, kept_recording
 from .received_chain import ReceivedChains
 from .cache_check import CacheTampering, cache_tampering
+from .verify_outcome import VerifyOutcome, check_store
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -160,6 +161,7 @@ __all__ = [
     "State",
     "Store",
     "StoreError",
+    "VerifyOutcome", "check_store",
     "StoreFault", "StoreDamaged", "StoreBusy", "StoreReadOnly", "DiskFull", "DiskFailed", "RowRefused",
     "store_fault", "translating",
     "Timeline",
