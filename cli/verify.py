@@ -14,7 +14,7 @@ from cli.options import DbOption, JsonOption, RunOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
 from cli.tables import text_or_null
-from store import check_store
+from store import Problem, SignatureCount, VerifyReport, check_store
 
 
 def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
@@ -71,7 +71,7 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     else:
         _print_report(found.report, found.wrong_snapshots or {}, with_snapshots)
         _print_presence(found.misplaced or {})
-        _print_signatures(found.report.signatures or {}, all_signed)
+        _print_signatures(found.report.signatures, all_signed)
         _print_tampering(found.tampering)
         _print_anchors(against, found.anchored.heads, found.anchored.key)
         _print_proven(found.anchored.runs)
@@ -147,31 +147,36 @@ def _coverage(outcomes: list) -> str:
     return "; ".join(said)
 
 
-def _print_signatures(s: dict, all_signed: bool) -> None:
-    counts = f"{s['signed']:,} signed, {s['unsigned']:,} unsigned"
-    if not s["checked"]:
+def _print_signatures(s: SignatureCount | None, all_signed: bool) -> None:
+    if s is None:
+        return
+    counts = f"{s.signed:,} signed, {s.unsigned:,} unsigned"
+    if not s.checked:
         typer.echo(f"signatures: {counts} (not checked: give --keys KEYS)")
-    elif not s["invalid"]:
-        typer.echo(f"signatures: {counts}; every signature is valid ({s['keys']})")
+    elif not s.invalid:
+        typer.echo(f"signatures: {counts}; every signature is valid ({s.keys})")
     else:
-        p = s["first_invalid"]
-        typer.echo(f"signatures: {counts}; {s['valid']:,} valid, {s['invalid']:,} INVALID ({s['keys']})")
-        typer.echo(f"INVALID SIGNATURE at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
-                   f"(chain position {p['chain_pos']}): {printable(p['what'])}")
-    if all_signed and s["unsigned"]:
-        typer.echo(f"UNSIGNED: {s['unsigned']:,} events carry no signature, and --all-signed asks that all do")
+        typer.echo(f"signatures: {counts}; {s.valid:,} valid, {s.invalid:,} INVALID ({s.keys})")
+        if s.first_invalid is not None:
+            typer.echo(f"INVALID SIGNATURE at {_where(s.first_invalid)}")
+    if all_signed and s.unsigned:
+        typer.echo(f"UNSIGNED: {s.unsigned:,} events carry no signature, and --all-signed asks that all do")
 
 
-def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
+def _where(p: Problem) -> str:
+    """Where an event's problem is, and what it is."""
+    return (f"run {text_or_null(p.run)} src {text_or_null(p.src)} seq {p.seq} "
+            f"(chain position {p.chain_pos}): {printable(p.what)}")
+
+
+def _print_report(report: VerifyReport, wrong: dict[str, list], with_snapshots: bool) -> None:
     for r in report.runs:
-        typer.echo(f"{printable(r['run'])}: {r['events']:,} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
-                   f"head {r['head']}")
-    if report.problem and report.problem["run"] is None:  # the file or a rulebook, not an event
-        typer.echo(f"FAILED: {printable(report.problem['what'])}")
+        typer.echo(f"{printable(r.run)}: {r.events:,} events, chain {'ok' if r.ok else 'BROKEN'}, "
+                   f"head {r.head}")
+    if report.problem and report.problem.run is None:  # the file or a rulebook, not an event
+        typer.echo(f"FAILED: {printable(report.problem.what)}")
     elif report.problem:
-        p = report.problem
-        typer.echo(f"FAILED at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
-                   f"(chain position {p['chain_pos']}): {printable(p['what'])}")
+        typer.echo(f"FAILED at {_where(report.problem)}")
     else:
         typer.echo("verified: every chain and checkpoint matches, and the file passes SQLite's integrity check")
     for name, positions in wrong.items():

@@ -52,6 +52,7 @@ from . import derived_cache, kept_recording
 from .received_chain import ReceivedChains
 from .cache_check import CacheTampering, cache_tampering
 from .verify_outcome import VerifyOutcome, check_store
+from .verify_report import IntegrityResult, Problem, RunCheck, SignatureCount
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -161,7 +162,7 @@ __all__ = [
     "State",
     "Store",
     "StoreError",
-    "VerifyOutcome", "check_store",
+    "VerifyOutcome", "check_store", "IntegrityResult", "Problem", "RunCheck", "SignatureCount",
     "StoreFault", "StoreDamaged", "StoreBusy", "StoreReadOnly", "DiskFull", "DiskFailed", "RowRefused",
     "store_fault", "translating",
     "Timeline",

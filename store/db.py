@@ -31,7 +31,8 @@ from .kinds import SRC_ROLES
 from .errors import EvidenceError, StoreError
 from .sqlite_errors import translate_methods
 from .event_rows import events_of
-from .outcomes import AppendReport, VerifyReport
+from .outcomes import AppendReport
+from .verify_report import SignatureCount, VerifyReport
 from .reading import one_snapshot
 from .run_summary import RunSummary
 from .signature_tally import SignatureTally
@@ -526,16 +527,16 @@ class Store:
         (report.signatures)."""
         with self._reading(), tolerant_text(self._conn):
             report = verify_store(self._conn, run, progress, keys, self._integrity_once)
-            if report.integrity and not report.integrity["ok"]:
+            if report.integrity and not report.integrity.ok:
                 return report  # no run of a damaged file is recorded as verified
-            keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
+            keys = {r.run: verify_cache.chain_key(self._conn, r.run) for r in report.runs}
         for summary in report.runs:
-            name = summary["run"]
-            problem = report.problem if report.problem and report.problem.get("run") == name else None
-            if keys[name][0] and (summary["ok"] or problem is not None):
-                counted = SignatureTally.counted(summary["signed"], summary["unsigned"])
+            name = summary.run
+            problem = report.problem if report.problem and report.problem.run == name else None
+            if keys[name][0] and (summary.ok or problem is not None):
+                counted = SignatureCount.from_json(SignatureTally.counted(summary.signed, summary.unsigned))
                 verify_cache.record(self.cache, name, keys[name],
-                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted,
+                                    VerifyReport(ok=summary.ok, runs=(summary,), problem=problem, signatures=counted,
                                                  integrity=report.integrity))
         return report
 

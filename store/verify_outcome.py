@@ -49,8 +49,8 @@ class VerifyOutcome:
     @property
     def signatures_ok(self) -> bool:
         """No invalid signature, and with all_signed no unsigned event either."""
-        s = self.report.signatures or {}
-        return not s.get("invalid") and not (self.all_signed and s.get("unsigned"))
+        s = self.report.signatures
+        return s is None or (not s.invalid and not (self.all_signed and s.unsigned))
 
     @property
     def ok(self) -> bool:
@@ -65,8 +65,9 @@ class VerifyOutcome:
         what else was checked."""
         checked_snapshots = self.wrong_snapshots is not None
         outcomes, keyed = self.anchored.heads, self.anchored.key
-        return {**self.report.as_dict(), "ok": self.ok,
-                "signatures": {**(self.report.signatures or {}), "ok": self.signatures_ok},
+        counted = self.report.signatures
+        return {**self.report.to_json(), "ok": self.ok,
+                "signatures": {**(counted.to_json() if counted else {}), "ok": self.signatures_ok},
                 **({"snapshots": self.wrong_snapshots, "presence": self.misplaced} if checked_snapshots else {}),
                 "cache": {**self.tampering.to_json(), "unwritten": self.unwritten},
                 **({"heads": {"file": str(self.heads_file), "ok": all(o.ok for o in outcomes),
@@ -89,10 +90,10 @@ def check_store(store: Store, run: str | None = None, *, keys: Any = None, heads
     anchored = store.anchor_report(heads, public, run, recorded, witness=heads_file is not None)
     wrong = misplaced = None
     if snapshots:
-        sound = [r["run"] for r in report.runs if r["ok"]]
+        sound = [r.run for r in report.runs if r.ok]
         wrong = _per_run(bars, "checking snapshots", sound, lambda name: check_snapshots(store, name))
         misplaced = _per_run(bars, "checking where road users were", sound, lambda name: check_presence(store, name))
-    tampering = cache_tampering(store, [r["run"] for r in report.runs if isinstance(r["run"], str)])
+    tampering = cache_tampering(store, [r.run for r in report.runs if isinstance(r.run, str)])
     return VerifyOutcome(report, anchored, tampering, store.cache.unwritten, all_signed, wrong, misplaced, heads_file)
 
 
