@@ -195,3 +195,14 @@ __all__ = [
     "state_at",
     "validate_event",
 ]
+
+# The face's functions that read or write a store file speak the store's errors, as Store's methods
+# do (store/sqlite_errors.py): a caller in another room never meets sqlite3's. The `derived_cache`
+# and `kept_recording` modules handed out above are not wrapped: the command line's net
+# (`translating`) covers what they let through.
+from .sqlite_errors import translates as _translates
+
+for _name in ("build_snapshots", "cache_tampering", "check_presence", "check_snapshots", "check_store",
+              "entity_since", "export_run", "import_file", "migrate_copy", "sources_near", "state_at", "state_of"):
+    globals()[_name] = _translates(globals()[_name])
+del _name
