@@ -114,7 +114,7 @@ def measure(db: Path, mcap: Path, run: str, rules: str, repeats: int, mcap_repea
     `repeats` of it again from what the last of those kept, each with the machine's calibration
     (bench/machine.py) taken just before it."""
     from reasoner.regress import regress
-    from reasoner.regress_cluster import regress_recordings
+    from reasoner.regress import regress_recordings
     from store import Store
 
     def from_store():
@@ -168,7 +168,7 @@ def scaling(db: Path, run: str, rules: str, n: int, directory: Path) -> dict[str
     import logging
 
     from distributed import LocalCluster
-    from reasoner.regress_cluster import Cluster, regress_store
+    from reasoner.regress import Cluster, regress_store
 
     many = copies(db, run, n, directory)
     out: dict[str, Any] = {"runs": n, "load": [os.getloadavg()[0]]}

@@ -50,10 +50,7 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
     default; 0 keeps none): regressing the same file again reads none of its events.
     """
     from reasoner.regress import regress as run_regression
-    from reasoner.regress_cluster import Cluster, regress_recordings, regress_store
-    from reasoner.regress_golden import check_golden
-    from reasoner.regress_junit import junit_xml
-    from reasoner.regress_text import lines
+    from reasoner.regress import Cluster, check_golden, junit_xml, lines, regress_recordings, regress_store
     from store import write_bytes
     writable_output(junit, db)
     writable_output(golden if update_golden else None, db)

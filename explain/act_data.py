@@ -17,7 +17,7 @@ from typing import Any, Iterable
 
 from reasoner import acts, history
 from reasoner.model import Incident
-from reasoner.passage import Passage
+from reasoner.history import Passage
 from reasoner.vocabulary import WOULD_ENDANGER, WOULD_FORCE, Sentence
 from store import Store
 

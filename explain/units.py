@@ -2,7 +2,7 @@
 the producers record metres per second (DESIGN's entity.state `speed_mps`)."""
 from __future__ import annotations
 
-from reasoner.motion import MPH_PER_MPS   # the one mile conversion: the histories measure with it too
+from reasoner.history import MPH_PER_MPS   # the one mile conversion: the histories measure with it too
 
 
 def mph(mps: float) -> float:

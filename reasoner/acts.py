@@ -9,8 +9,8 @@ the line on its stop. Speeding and stopping in a box are judged when recorded.
 """
 from __future__ import annotations
 
-from .motion import STOPPED_MPS
-from .passage import Passage
+from .history import STOPPED_MPS
+from .history import Passage
 
 SECOND = 1_000_000_000
 NEAR_S = 5.0          # a passage this far (in time) from a moment is still the one of its act

@@ -48,11 +48,11 @@ import math
 from typing import Sequence
 
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
-from .junctions import Junction
-from .motion import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M
-from .passage import Other, Passage
-from .rebuild import PAST_TOLERANCE_M
+from .history import Junction
+from .history import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
+from .history import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M
+from .history import Other, Passage
+from .history import PAST_TOLERANCE_M
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SPEED_NOISE_MPS, _Way, needed_deceleration,
                        slowing_began)
 

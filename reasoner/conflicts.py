@@ -35,7 +35,7 @@ from typing import Any, Sequence
 from shapely.geometry import LineString, Point
 from shapely.geometry.base import BaseGeometry
 
-from .motion import Sample, position_at, speed_at
+from .history import Sample, position_at, speed_at
 
 SECOND = 1_000_000_000
 

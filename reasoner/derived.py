@@ -28,18 +28,18 @@ from typing import Any, Callable, Iterable
 
 from store import EventRef
 
-from .junctions import UNIT, Junction, sector
+from .history import UNIT, Junction, sector
 from .model import DerivedFact, Finding
-from .motion import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
+from .history import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, came_in_behind, joined_behind, leader, nearer_conflict, why
 from .conflicts import PET_MAX_S, SWERVE_M, TTC_MAX_S, Conflict, conflict, exit_gap, has_path, swerve
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, braking_into, own_cause, paths_within, since, through
+from .history import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, braking_into, own_cause, paths_within, since, through
 from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, Turn, behind_at_turn, braked_afresh, cleared_at,
                        reacted_after_clearing, slowing_began, stop_apart, turn_deg, turn_seen, turn_taken,
                        well_ahead)
-from .rebuild import ANTICIPATION_S
-from .passage import Other, Passage, Standstill
-from .signals import WORDS, Light, shown
+from .history import ANTICIPATION_S
+from .history import Other, Passage, Standstill
+from .history import WORDS, Light, shown
 from .stopping import SOURCE as RULE_126, stopping_distance_m
 from .tolerance import beyond_stopping, deceleration, sensor_of
 from .vocabulary import (CROSSED_THE_STOP_LINE_ON, EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT,

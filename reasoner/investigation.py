@@ -36,7 +36,7 @@ from store import CollectorPaused, EventRef, State, Store, entity_since, state_o
 from . import acts, history, oneact, stretches
 from .chain_status import ChainStatus, chain_status
 from .collector import JudgementCollector
-from .control import ROLE, control_at, liability_facts, role
+from .history import ROLE, control_at, liability_facts, role
 from .case_memo import CaseMemo, key_of
 from .derived import Contradiction, checked
 from .engine import Answer, Engine, Rulebook, enrich, get_engine
@@ -49,11 +49,11 @@ from .le.terms import Atom, Cond, Var
 from .model import (Control, Decision, DerivedFact, Finding, Incident, Liability, Penalty, Proofs, RulebookChoice,
                     Scenarios, Source, StageProof)
 from .measurement import Measurement, measure, rule_key
-from .passage import Passage
+from .history import Passage
 from .perception import corrected, dispute_finding, witnessed_functors
 from .sweep import Candidate, Sweep
 from .stages import Choice, RuleSet, current_rulebooks, defines, given_rulebooks, recorded_rulebooks
-from .scenarios import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
+from .history import (Scenario, entity, has_perception, monitor_scenario, status_facts, vehicle_action,
                         vehicle_scenario)
 from .vocabulary import (CAN, FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY,
                          IS_AN_OFFENCE_UNDER, IS_DRIVING_ITSELF, IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY,

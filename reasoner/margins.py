@@ -42,9 +42,9 @@ from .conflicts import PET_MAX_S
 from .derived import _course_changed, _walking, conflict_of, explained, reacting
 from .reaction import FORCE_DECEL_MPS2
 from .model import Margin
-from .motion import MAX_DECEL_MPS2, MPH_PER_MPS, STOPPED_MPS, Sample, between
-from .passage import Passage
-from .rebuild import PAST_TOLERANCE_M, STOP_ZONE_M
+from .history import MAX_DECEL_MPS2, MPH_PER_MPS, STOPPED_MPS, Sample, between
+from .history import Passage
+from .history import PAST_TOLERANCE_M, STOP_ZONE_M
 from .stopping import SOURCE as RULE_126, stopping_distance_m
 from .stretches import speeding_margin
 from .tolerance import (beyond_stopping, deceleration, lowest_between, moment_between, place_between, sensor_of,

@@ -18,7 +18,7 @@ from . import acts
 from .derived import Contradiction, _match, beside, checked, facts, unmeasured
 from .margins import BY_RULE, margin
 from .model import Act, DerivedFact, Margin
-from .passage import Passage
+from .history import Passage
 from .second_limb import second_limb
 from .stretches import Stretch
 from .unforced import Unforced

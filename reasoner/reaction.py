@@ -23,10 +23,10 @@ import math
 from dataclasses import replace
 from typing import NamedTuple, Sequence
 
-from .junctions import Junction
-from .motion import MIN_DECEL_SPAN_S, Sample, position_at, speed_at
-from .others import FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, project, since, through
-from .passage import Other
+from .history import Junction
+from .history import MIN_DECEL_SPAN_S, Sample, position_at, speed_at
+from .history import FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, project, since, through
+from .history import Other
 
 SECOND = 1_000_000_000
 FORCE_DECEL_MPS2 = 2.0  # Hupfer (1997), as cited by the criticality-metrics catalogue: below 2 m/s² a driver's

@@ -29,9 +29,9 @@ from typing import TYPE_CHECKING, Any
 
 from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
 
-from .control import control_at
+from .history import control_at
 from .model import Finding
-from .scenarios import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
+from .history import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
                         vehicle_scenario)
 from .when import format_offset, format_time
 

@@ -26,9 +26,9 @@ from .attribution import joined_behind, leader
 from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_no_excuse, _nearer, _out_first,
                       _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on,
                       turned_ahead, turned_behind)
-from .motion import position_at, speed_at
-from .others import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, own_cause, paths_within
-from .passage import Other, Passage
+from .history import position_at, speed_at
+from .history import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M, own_cause, paths_within
+from .history import Other, Passage
 from .reaction import FORCE_DECEL_MPS2, REACTION_TIME_S, SAME_WAY_DEG, reacted_after_clearing, slowing_began, well_ahead
 from .tolerance import deceleration, sensor_of
 from .unforced import Unforced

@@ -24,10 +24,10 @@ from typing import Any, Iterable
 
 from store import EventRef, Store
 
-from .junctions import Map
+from .history import Map
 from .model import Act, DerivedFact, Margin
-from .motion import MPH_PER_MPS, mph
-from .sensors import DEFAULT, Sensor, stated
+from .history import MPH_PER_MPS, mph
+from .history import DEFAULT, Sensor, stated
 from .vocabulary import HAS_SPEED_OF, SPEED_LIMIT_IS
 
 SECOND = 1_000_000_000

@@ -43,8 +43,8 @@ from dataclasses import dataclass, field
 from typing import Iterable
 
 from .derived import FORCE_DECEL_MPS2
-from .junctions import Junction, Map, sector
-from .motion import MPH_PER_MPS, STOPPED_MPS
+from .history import Junction, Map, sector
+from .history import MPH_PER_MPS, STOPPED_MPS
 from .stretches import STRETCH_GAP_S
 
 SECOND = 1_000_000_000

@@ -28,9 +28,9 @@ not how likely it is):
 """
 from __future__ import annotations
 
-from .motion import MAX_DECEL_MPS2, MPH_PER_MPS, Braking, Sample
-from .passage import AtChange, Passage, Standstill
-from .sensors import DEFAULT, POSITION_TOLERANCE_M, SPEED_TOLERANCE_MPS, Sensor
+from .history import MAX_DECEL_MPS2, MPH_PER_MPS, Braking, Sample
+from .history import AtChange, Passage, Standstill
+from .history import DEFAULT, POSITION_TOLERANCE_M, SPEED_TOLERANCE_MPS, Sensor
 from .stopping import stopping_distance_m
 
 SECOND = 1_000_000_000

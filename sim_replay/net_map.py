@@ -24,7 +24,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from reasoner.motion import MPH_PER_MPS
+from reasoner.history import MPH_PER_MPS
 from sim_replay.monitors import Monitor
 from sim_replay.sumo_net import Junction, Network
 

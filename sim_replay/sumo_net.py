@@ -32,7 +32,7 @@ from pathlib import Path
 
 import sumolib
 
-from reasoner.junctions import sector
+from reasoner.history import sector
 
 __all__ = ["Approach", "Crossing", "Junction", "Lane", "Network", "SignalLink", "read_network"]
 

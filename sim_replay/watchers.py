@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from operator import attrgetter
 from typing import Any
 
-from reasoner.motion import MPH_PER_MPS
+from reasoner.history import MPH_PER_MPS
 from reasoner.vocabulary import (CROSSED_THE_STOP_LINE_ON, HAS_CROSSED_THE_STOP_LINE, HAS_LIGHT, HAS_SIGN,
                                  HAS_SPEED_OF, HAS_STOPPED_AT_THE_STOP_LINE, IS_APPROACHING, IS_IN_THE_JUNCTION,
                                  IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL, IS_ON_THE_MAIN_ROAD, IS_STOPPED,

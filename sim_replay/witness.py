@@ -21,8 +21,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from reasoner.junctions import sector
-from reasoner.motion import MPH_PER_MPS
+from reasoner.history import MPH_PER_MPS, sector
 from sim_replay.agent import Agent
 from sim_replay.monitors import Monitor
 from sim_replay.senses import Around, Other

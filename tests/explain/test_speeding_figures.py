@@ -7,7 +7,7 @@ camera's stated one beside it, and what was in the driver's control is the small
 the limit, not some other number a rulebook happens to use."""
 from explain import explain_incident
 from reasoner.investigation import Investigation
-from reasoner.motion import MPH_PER_MPS
+from reasoner.history import MPH_PER_MPS
 from store import Store
 from tests.reasoner.test_foreign_scenarios import SPEEDING
 from tests.reasoner.test_weighing import stated_31_then_37

@@ -4,7 +4,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from reasoner.regress_cluster import Job, Task, judge
+from reasoner.regress.cluster import Job, Task, judge
 
 
 def die_once(marker: str, task: Task, job: Job):

@@ -89,7 +89,7 @@ def regressed(db: Path, rules: Path) -> dict:
 def plain(db: Path, rules: Path) -> dict:
     """The same regression with nothing kept: every case measured and judged, every decision
     asked; what every kept road must equal, to the byte."""
-    from reasoner import regress as regress_module
+    from reasoner.regress import regression as regress_module
     engine = regress_module.get_engine()
     new = regress_module.load_given(engine, [str(rules)])
     with Store.open_read_only(db) as store:
@@ -111,7 +111,7 @@ def summarised(store: Store, rules: Path) -> tuple[list, list, Any]:
 
 def shaping(monkeypatch) -> list:
     """Calls of Shapes._shape (parsing and shaping a decision's sentences), counted."""
-    from reasoner import regress_decisions
+    from reasoner.regress import decisions as regress_decisions
     calls: list = []
     shape = regress_decisions.Shapes._shape
     monkeypatch.setattr(regress_decisions.Shapes, "_shape", lambda self, *a: calls.append(a) or shape(self, *a))

@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from reasoner.conflicts import conflict
-from reasoner.motion import Sample
+from reasoner.history import Sample
 from store import EventRef
 
 S = 1_000_000_000

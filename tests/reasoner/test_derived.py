@@ -13,8 +13,8 @@ from reasoner.bundled import bundled
 from reasoner.engine import get_engine
 from reasoner.le.sentences import parse_fact
 from reasoner.model import Margin
-from reasoner.motion import MPH_PER_MPS
-from reasoner.rebuild import LINE_EPS_M
+from reasoner.history import MPH_PER_MPS
+from reasoner.history import LINE_EPS_M
 from store import EventRef
 from tests.helpers.foreign import SECOND, T0, Foreign, Motion, crossroads, irregular, ns, rate
 
@@ -189,7 +189,7 @@ def test_a_margin_without_method_reads_as_before():
 
 
 def test_speed_is_rounded_half_up_to_whole_mph():
-    from reasoner.motion import mph
+    from reasoner.history import mph
     assert [mph(x / MPH_PER_MPS) for x in (29.49, 29.5, 30.0, 0.49, 0.5)] == [29, 30, 30, 0, 1]
 
 

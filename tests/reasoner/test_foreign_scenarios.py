@@ -34,7 +34,7 @@ from typing import Callable
 
 import pytest
 
-from reasoner.motion import MPH_PER_MPS
+from reasoner.history import MPH_PER_MPS
 from reasoner.stopping import stopping_distance_m
 from store import Store
 

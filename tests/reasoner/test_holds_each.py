@@ -12,7 +12,7 @@ from reasoner.bundled import bundled
 from reasoner.engine import QuestionError, get_engine
 from reasoner.le.sentences import parse_fact
 from reasoner.le.terms import Atom, Var
-from reasoner.regress_decisions import GOALLESS, KeptForms
+from reasoner.regress.decisions import GOALLESS, KeptForms
 from reasoner.vocabulary import MITIGATELY_VIOLATES, PUNISHABLY_VIOLATES
 
 ENTER = "enter the junction"

@@ -9,7 +9,7 @@ import sqlite3
 
 import pytest
 
-from reasoner import regress as regress_module
+from reasoner.regress import regression as regress_module
 from reasoner.case_memo import CaseMemo
 from store import Store, cache_tampering, derived_cache
 

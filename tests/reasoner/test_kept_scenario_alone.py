@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import json
 
-from reasoner import case_memo, regress_decisions
+from reasoner import case_memo
+from reasoner.regress import decisions as regress_decisions
 from store import Store
 from tests.reasoner import regress_runs as R
 from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)

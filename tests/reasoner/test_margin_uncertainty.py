@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from reasoner.motion import MPH_PER_MPS, STOPPED_MPS
+from reasoner.history import MPH_PER_MPS, STOPPED_MPS
 from store import Store
 
 from tests.helpers.foreign import LINE_M, Foreign, Motion, crossroads, ns, rate, roads_through

@@ -4,7 +4,7 @@ checked against them, and whether something else explains each road user's braki
 the facts and the margins ask it. A run's first judgement measures every case, so these repeats
 were most of its cost; the answers are the ones asked afresh."""
 from reasoner import derived, history, measurement
-from reasoner.others import own_cause
+from reasoner.history import own_cause
 from store import EventRef
 from tests.helpers.foreign import Motion
 from tests.reasoner.test_foreign_scenarios import _SET_OFF, stop_then_go_run

@@ -3,7 +3,7 @@ the pruned search answers as measuring every pair of segments does."""
 
 from hypothesis import given, settings, strategies as st
 
-from reasoner.others import VEHICLE_WIDTH_M, _segment_gap, polylines_within
+from reasoner.history.others import VEHICLE_WIDTH_M, _segment_gap, polylines_within
 
 coord = st.floats(-60, 60, allow_nan=False, allow_infinity=False)
 polyline = st.lists(st.tuples(coord, coord), min_size=2, max_size=12)

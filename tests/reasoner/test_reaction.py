@@ -1,11 +1,11 @@
 """When a road user's braking cannot have been a reaction to the vehicle (reasoner/reaction.py):
 the vehicle was out of its way a reaction time before, or well ahead of it going its way."""
 
-from reasoner.others import VEHICLE_WIDTH_M
+from reasoner.history import VEHICLE_WIDTH_M
 
 
 def _samples(points, t0=0, dt=200_000_000):
-    from reasoner.motion import Sample
+    from reasoner.history import Sample
     from store import EventRef
     return [Sample(t0 + i * dt, x, y, 10.0, None, EventRef("r", "vehicle/v", i, t0 + i * dt, "entity.state"))
             for i, (x, y) in enumerate(points)]
@@ -44,7 +44,7 @@ def test_the_deceleration_needed_to_keep_the_two_second_gap_behind_a_vehicle_ahe
 
 def _track(user, points, t0=0, dt=200_000_000):
     """Samples (x, y, speed, heading) every dt from t0."""
-    from reasoner.motion import Sample
+    from reasoner.history import Sample
     from store import EventRef
     return tuple(Sample(t0 + i * dt, x, y, v, h, EventRef("r", f"vehicle/{user}", i, t0 + i * dt, "entity.state"))
                  for i, (x, y, v, h) in enumerate(points))
@@ -67,8 +67,8 @@ def test_a_vehicle_ahead_that_brakes_in_the_lane_is_not_well_ahead_however_the_o
     then and kept its distance; as it would have been unslowed, it would have closed on V: V's
     braking is what U's slowing kept it clear of, so V is not "well ahead" (reaction.well_ahead)."""
     from dataclasses import replace
-    from reasoner.motion import Braking
-    from reasoner.passage import Other
+    from reasoner.history import Braking
+    from reasoner.history import Other
     from reasoner.reaction import well_ahead
     u = _track("u", _lane(0.0, 13.4, 60, stop_after=10, decel=4.5))
     v = _track("v", _lane(45.0, 13.0, 60, stop_after=15, decel=6.0))

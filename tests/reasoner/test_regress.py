@@ -6,8 +6,8 @@ import pytest
 
 from reasoner.bundled import bundled
 from reasoner.regress import regress
-from reasoner.regress_books import RegressError
-from reasoner.regress_diff import diff_rulebooks
+from reasoner.regress.books import RegressError
+from reasoner.regress.diff import diff_rulebooks
 from reasoner.engine import get_engine
 from store import NoSuchRun, Store
 

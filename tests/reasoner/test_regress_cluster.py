@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 from reasoner.regress import regress
-from reasoner.regress_books import RegressError
-from reasoner.regress_cluster import Cluster, regress_recordings, regress_store
+from reasoner.regress.books import RegressError
+from reasoner.regress.cluster import Cluster, regress_recordings, regress_store
 from store import NoSuchRun, Store, export_run, import_file
 
 from tests.reasoner import regress_dying

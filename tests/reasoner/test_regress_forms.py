@@ -10,8 +10,8 @@ import sqlite3
 
 import pytest
 
-from reasoner import regress as regress_module
-from reasoner import regress_decisions
+from reasoner.regress import regression as regress_module
+from reasoner.regress import decisions as regress_decisions
 from reasoner.engine import get_engine
 from reasoner.shapes import Shaper
 from store import Store, cache_tampering

@@ -10,8 +10,9 @@ import sqlite3
 
 import pytest
 
-from reasoner import case_memo, regress_decisions
-from reasoner import regress as regress_module
+from reasoner import case_memo
+from reasoner.regress import decisions as regress_decisions
+from reasoner.regress import regression as regress_module
 from reasoner.api import Case
 from reasoner.investigation import Investigation
 from reasoner.regress import regress

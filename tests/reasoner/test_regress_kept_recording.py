@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from reasoner import regress_recording
-from reasoner.regress_cluster import regress_recordings
+from reasoner.regress import recording as regress_recording
+from reasoner.regress.cluster import regress_recordings
 from store import Store, export_run, kept_recording
 
 from tests.reasoner import regress_runs as R

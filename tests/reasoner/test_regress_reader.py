@@ -11,8 +11,8 @@ import pytest
 
 from reasoner.engine import get_engine
 from reasoner.regress import Regressor, regress
-from reasoner.regress_books import load_given
-from reasoner.regress_junit import junit_xml
+from reasoner.regress.books import load_given
+from reasoner.regress.junit import junit_xml
 from store import Store
 from tests.reasoner import regress_runs as R
 
@@ -54,7 +54,7 @@ def test_every_junit_case_and_suite_carries_a_time(db, tmp_path):
 def test_a_golden_run_names_each_hash_with_its_own_rulebook():
     """A golden-run message labelled highway_code.le's approved hash as validators.le (the name the
     stage has now), when validators.le came to answer the vehicle stage."""
-    from reasoner.regress_golden import _why
+    from reasoner.regress.golden import _why
     approved = {"vehicle": {"name": "highway_code.le", "sha256": "a" * 64}}
     now = {"vehicle": {"name": "validators.le", "sha256": "b" * 64}}
     said = _why(approved, now)[0]

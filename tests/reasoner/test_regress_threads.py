@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from reasoner.regress_cluster import regress_store
+from reasoner.regress.cluster import regress_store
 from tests.reasoner import regress_runs as R
 
 ROOT = Path(__file__).parents[2]
@@ -23,7 +23,7 @@ RUNS = ("run-a", "run-b", "run-c", "run-d")
 FOUR_THREADS = """
 import json, sys, threading
 from reasoner.regress import assemble
-from reasoner.regress_cluster import Job, Task, judge
+from reasoner.regress.cluster import Job, Task, judge
 job = Job.read([sys.argv[1]], None)
 tasks = [Task(sys.argv[2], False, run) for run in sys.argv[3:]]
 parts, ready = {}, threading.Barrier(len(tasks))
@@ -86,7 +86,7 @@ def test_a_cluster_that_cannot_finish_is_its_own_exit_code_not_a_judgement(db, n
     import dask
     from distributed import LocalCluster
 
-    from reasoner.regress_cluster import Cluster, ClusterLost
+    from reasoner.regress.cluster import Cluster, ClusterLost
     from tests.reasoner import regress_dying
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
             LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,

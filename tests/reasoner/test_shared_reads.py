@@ -3,9 +3,9 @@ observations of the last window read, the other road users' spawns) and its shor
 (Junction.inside, motion.sample_of) give what reading afresh and the long way give."""
 import math
 
-from reasoner import history
-from reasoner.junctions import read_map
-from reasoner.motion import sample_of
+from reasoner.history import read as history  # its MAX_OTHER_EVENTS is patched below
+from reasoner.history import read_map
+from reasoner.history import sample_of
 from store import Store
 from tests.helpers.foreign import Foreign, Motion, crossroads, ns, rate
 

@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from tests.helpers.store_testkit import T0, event
 
-from reasoner.motion import samples
-from reasoner.state_samples import StateSamples
+from reasoner.history import samples
+from reasoner.history import StateSamples
 from store import Store
 
 MS = 1_000_000

@@ -5,7 +5,7 @@ sweep names a candidate where the measurements suggest an act and none where the
 vehicle doing what the law asks (so the histories run only where needed)."""
 from __future__ import annotations
 
-from reasoner.junctions import read_map
+from reasoner.history import read_map
 from reasoner.sweep import BOX, ENTER, SPEEDING, sweep
 
 from tests.helpers.foreign import Foreign, Motion, crossroads, rate, roads_through

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from reasoner.regress import CaseResult, _unchanged_case
-from reasoner.regress_decisions import RecordedDecision
+from reasoner.regress.regression import CaseResult, _unchanged_case
+from reasoner.regress.decisions import RecordedDecision
 
 
 def test_an_unchanged_decisions_case_is_the_dataclasses_own() -> None:

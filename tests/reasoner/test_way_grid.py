@@ -8,7 +8,7 @@ import random
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reasoner.others import project
+from reasoner.history import project
 from reasoner.reaction import _Hit, _Way
 
 _coord = st.floats(min_value=-200.0, max_value=200.0, allow_nan=False)

@@ -12,7 +12,7 @@ samples around the moment, the signal report), never against what the reasoner s
 """
 from __future__ import annotations
 
-from reasoner.motion import MPH_PER_MPS
+from reasoner.history import MPH_PER_MPS
 from reasoner.stopping import stopping_distance_m
 
 from tests.helpers.foreign import LANE, LINE_M, Foreign, Motion, ns, rate, roads_through

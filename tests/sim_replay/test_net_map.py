@@ -8,7 +8,7 @@ import json
 import pytest
 
 from reasoner import history
-from reasoner.junctions import read_map
+from reasoner.history import read_map
 from sim_replay.maps import map_files
 from sim_replay.monitors import MonitorsError, read_monitors
 from sim_replay.net_map import world_map

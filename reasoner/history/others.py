@@ -18,7 +18,7 @@ from typing import Callable, Mapping, Sequence
 
 from .junctions import Junction, heading_sector, sector
 from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration, position_at, speed_at
-from .passage import Other
+from .passage_values import Other
 from .record import Track
 from .signals import Signals, shown
 

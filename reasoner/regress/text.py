@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Iterator
 
-from .regress import CaseResult, Change, Regression
-from .regress_diff import RuleChange, RulebookDiff
+from .regression import CaseResult, Change, Regression
+from .diff import RuleChange, RulebookDiff
 
 WHAT = {"new": "new incident", "gone": "incident gone", "verdict": "verdict flipped", "rule": "rule changed",
         "penalty": "penalty changed", "liability": "liability changed", "decision": "decision changed"}

@@ -28,11 +28,11 @@ from store import EventRef
 from .junctions import Junction, Map, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, peak_deceleration, position_at, speed_at, stop_could_hide
 from .others import near_and_same_approach, own_cause, through
-from .passage import AtChange, Crossing, Moment, Other, Passage, Standstill
+from .passage_values import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record, Track
 from .sensors import Sensor, stated
 from .signals import Light, changed_between, shown
-from .when import format_time
+from ..when import format_time
 
 SECOND = 1_000_000_000
 RADIUS_M = 100.0          # a passage: 3 s of amber at 30 mph (40 m), the stopping distance at 40 mph (36 m), a queue

@@ -29,7 +29,7 @@ from . import rebuild
 from .junctions import Junction, Map, finite, read_map
 from .motion import Sample, samples
 from .others import CONFLICT_M
-from .passage import Passage
+from .passage_values import Passage
 from .record import Gap, Record, Track
 from .signals import MAX_SIGNAL_EVENTS, Signals, read_signals
 from .state_samples import StateSamples

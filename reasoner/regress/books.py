@@ -18,10 +18,10 @@ from typing import Iterable
 
 from store import GapsError
 
-from .bundled import CURRENT_SET
-from .engine import Engine, Rulebook
-from .stages import RuleSet, defines
-from .vocabulary import STAGES
+from ..bundled import CURRENT_SET
+from ..engine import Engine, Rulebook
+from ..stages import RuleSet, defines
+from ..vocabulary import STAGES
 
 
 class RegressError(GapsError, ValueError):

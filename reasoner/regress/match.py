@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from .model import Incident
+from ..model import Incident
 
 MATCH_WINDOW_S = 5.0
 SECOND = 1_000_000_000

@@ -13,7 +13,7 @@ from typing import Callable, Mapping
 from .junctions import Junction, Map
 from .motion import Sample
 from .signals import Signals
-from .when import format_time
+from ..when import format_time
 
 SECOND = 1_000_000_000
 

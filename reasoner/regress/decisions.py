@@ -23,14 +23,14 @@ from typing import Any, Iterable, Iterator
 
 from store import EventRef, Store, parse_json
 
-from .case_memo import CaseMemo, key_of, plain_text
-from .engine import Engine, QuestionError, Rulebook
-from .facts import FactReader
-from .le.terms import Atom
-from .regress_reasons import Trees
-from .scenarios import Scenario, spawn_facts, vehicle_id
-from .shapes import Plan, Shaper
-from .stages import Choice, RuleSet
+from ..case_memo import CaseMemo, key_of, plain_text
+from ..engine import Engine, QuestionError, Rulebook
+from ..facts import FactReader
+from ..le.terms import Atom
+from .reasons import Trees
+from ..history import Scenario, spawn_facts, vehicle_id
+from ..shapes import Plan, Shaper
+from ..stages import Choice, RuleSet
 
 KINDS = ("entity.spawn", "vehicle.perception", "vehicle.decision")
 

@@ -27,15 +27,15 @@ from typing import Any, Callable, Iterator, Sequence
 
 from store import NoSuchRun, Store, TransferError, import_file, write_text
 
-from .bundled import CURRENT_SET, RULES_DIR
-from .engine import Engine, get_engine
-from .facts import FactReader
-from .investigation import Investigation
-from .model import Incident
-from .regress import IN_FORCE, CaseResult, Change, Regression, RunResult
-from .regress_books import RegressError, load_given
-from .regress_decisions import ask, recorded_decisions, vehicle_choice
-from .regress_match import match
+from ..bundled import CURRENT_SET, RULES_DIR
+from ..engine import Engine, get_engine
+from ..facts import FactReader
+from ..investigation import Investigation
+from ..model import Incident
+from .regression import IN_FORCE, CaseResult, Change, Regression, RunResult
+from .books import RegressError, load_given
+from .decisions import ask, recorded_decisions, vehicle_choice
+from .match import match
 
 FORMAT = "gaps-golden/1"
 APPROVE = "approve it with `gaps regress --golden FILE --update-golden` if it is right"

@@ -18,8 +18,8 @@ from typing import Any
 
 from store import EventRef, State
 
-from .model import Decision
-from .vocabulary import IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
+from ..model import Decision
+from ..vocabulary import IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 
 
 @dataclass

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
 
-from .regress_diff import RuleChange, RulebookDiff
+from .diff import RuleChange, RulebookDiff
 
 Used = dict[tuple[str, int], bool]          # (rulebook sha256, rule index) -> held in some node
 

@@ -27,8 +27,8 @@ from typing import Callable, Iterator, TypeVar
 
 from store import ImportReport, Store, TransferError, check_source, import_file, kept_recording
 
-from .case_memo import code_version
-from .regress_books import RegressError
+from ..case_memo import code_version
+from .books import RegressError
 
 RECORDINGS = ("mcap", "jsonl")
 T = TypeVar("T")

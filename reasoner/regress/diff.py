@@ -15,9 +15,9 @@ from dataclasses import dataclass
 from difflib import SequenceMatcher
 from typing import Any
 
-from .engine import Rulebook
-from .le.compile import atom_data, body_data
-from .le.terms import Rule
+from ..engine import Rulebook
+from ..le.compile import atom_data, body_data
+from ..le.terms import Rule
 
 SIMILAR = 0.6
 

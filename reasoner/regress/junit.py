@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from .regress import CaseResult, Regression
-from .regress_text import WHAT, from_to
+from .regression import CaseResult, Regression
+from .text import WHAT, from_to
 
 
 def junit_xml(result: Regression, name: str = "gaps regress") -> bytes:

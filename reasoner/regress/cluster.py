@@ -34,10 +34,10 @@ from typing import Callable, Iterator, Sequence
 
 from store import Store
 
-from .engine import get_engine
-from .regress import Progress, Regression, Regressor, RunPart, assemble, chosen_runs
-from .regress_books import BookText, GivenBooks, RegressError, load_texts, read_given
-from .regress_recording import check_recording, judged_recording
+from ..engine import get_engine
+from .regression import Progress, Regression, Regressor, RunPart, assemble, chosen_runs
+from .books import BookText, GivenBooks, RegressError, load_texts, read_given
+from .recording import check_recording, judged_recording
 
 
 @dataclass(frozen=True)

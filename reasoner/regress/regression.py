@@ -23,21 +23,21 @@ from typing import Any, Callable, Iterable, Sequence
 
 from store import NoSuchRun, Store
 
-from .collector import JudgementCollector
-from .engine import Engine, Rulebook, get_engine
-from .facts import FactReader
-from .investigation import Investigation, SharedReading
-from .le.sentences import constant
-from .le.terms import Cond, Var
-from .model import Incident
-from .regress_books import GivenBooks, RegressError, load_given
-from .regress_decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, keep_decisions,
+from ..collector import JudgementCollector
+from ..engine import Engine, Rulebook, get_engine
+from ..facts import FactReader
+from ..investigation import Investigation, SharedReading
+from ..le.sentences import constant
+from ..le.terms import Cond, Var
+from ..model import Incident
+from .books import GivenBooks, RegressError, load_given
+from .decisions import (Asked, KeptDecision, RecordedDecision, Shapes, ask, keep_decisions,
                                 kept_decisions, recorded_decisions, vehicle_choice)
-from .regress_diff import RuleChange, RulebookDiff, diff_rulebooks
-from .regress_match import match
-from .regress_reasons import Trees, attribute, reasons, used_rules
-from .stages import Choice, RuleSet
-from .vocabulary import INCURS_FIXED_PENALTY, PUNISHABLY_VIOLATES, STAGES
+from .diff import RuleChange, RulebookDiff, diff_rulebooks
+from .match import match
+from .reasons import Trees, attribute, reasons, used_rules
+from ..stages import Choice, RuleSet
+from ..vocabulary import INCURS_FIXED_PENALTY, PUNISHABLY_VIOLATES, STAGES
 
 Progress = Callable[[str, int, int], None]          # (run, done, total runs)
 IN_FORCE = "in-force"
