@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, NoReturn, Optional, get_args
 
 import typer
-from typer.core import TyperGroup, _click
+from typer.core import TyperGroup
 
 from store import GapsError, NoSuchRun, Store, StoreError, StoreFault, translating
 
@@ -33,14 +33,14 @@ class GapsGroup(TyperGroup):
                 name_placeholder(param)
             _flag_help_option(command)
 
-    def get_params(self, ctx: _click.Context) -> list:
+    def get_params(self, ctx: Any) -> list:
         """Its own options, with those typer adds after it is made (--install-completion) named too."""
         params = super().get_params(ctx)
         for param in params:
             name_placeholder(param)
         return params
 
-    def invoke(self, ctx: _click.Context) -> Any:  # typer's own click, as TyperGroup declares it
+    def invoke(self, ctx: Any) -> Any:
         from store import altered_caches, unread_caches, unwritten_caches
         already, wants_json = len(unwritten_caches()), "--json" in _command_line(ctx)
         unread_before, altered_before = len(unread_caches()), altered_caches()
@@ -70,7 +70,7 @@ class GapsGroup(TyperGroup):
                           "them from the store (the cache holds only what reads derived from it, never evidence: "
                           "delete it and it is rebuilt)")
 
-    def _invoke_without_unreadable_caches(self, ctx: _click.Context, wants_json: bool) -> Any:
+    def _invoke_without_unreadable_caches(self, ctx: typer.Context, wants_json: bool) -> Any:
         """Run the command; if SQLite fails while this command had cache files open (damaged pages,
         an I/O error), run it once more without them (store.go_without_caches): if that answers,
         the cache was at fault and a warning names it; if it fails again, the store is. SQLite's
@@ -130,7 +130,7 @@ def _flag_help_option(command: Any) -> None:
     command.get_help_option = get_help_option
 
 
-def _command_line(ctx: _click.Context) -> list[str]:
+def _command_line(ctx: typer.Context) -> list[str]:
     return [*ctx._protected_args, *ctx.args]
 
 
@@ -148,7 +148,7 @@ _DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what an
 
 def _what(exc: GapsError) -> str:
     """A rulebook's error is said to be one: its message starts with the rulebook's file:line."""
-    from reasoner.le.errors import LEError
+    from reasoner import LEError
     return "rulebook error: " if isinstance(exc, LEError) else ""
 
 
