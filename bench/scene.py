@@ -62,7 +62,7 @@ def measure(store: Store, queries: int, seed: int) -> dict[str, Any]:
     sizes: list[int] = []
     for i, t in enumerate(ts):
         wall, cpu, whole = timed(lambda: scene(store, RUN, t))
-        v = rng.choice(whole.vehicles)["vehicle"]     # vehicles come and go: one present at t
+        v = rng.choice(whole.vehicles).vehicle     # vehicles come and go: one present at t
         wall_v, cpu_v, _ = timed(lambda: scene(store, RUN, t, vehicle=v, investigation=investigation))
         if i >= WARM_UP:
             out["whole"]["wall"].append(wall)

@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import json
 import os
-import sqlite3
 from pathlib import Path
 from typing import Any, NoReturn, Optional, get_args
 
 import typer
 from typer.core import TyperGroup
 
-from store import GapsError, NoSuchRun, Store, StoreError
+from store import GapsError, NoSuchRun, Store, StoreError, StoreFault, translating
 
 HELP = "mind-the-gaps: forensic audit of traffic-rule compliance."
 CONTEXT = {"help_option_names": ["-h", "--help"]}
@@ -47,12 +46,12 @@ class GapsGroup(TyperGroup):
         unread_before, altered_before = len(unread_caches()), altered_caches()
         try:
             return self._invoke_without_unreadable_caches(ctx, wants_json)
+        except StoreFault as exc:  # a damaged or hostile file, read past the store's own checks
+            typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
+            raise typer.Exit(1) from None
         except GapsError as exc:
             typer.echo(f"gaps: {_what(exc)}{exc}", err=True)
             raise typer.Exit(exc.exit_code) from None
-        except sqlite3.DatabaseError as exc:  # a damaged or hostile file, read past the store's own checks
-            typer.echo(f"gaps: SQLite could not read the store: {exc}{_DAMAGE_HINT}", err=True)
-            raise typer.Exit(1) from None
         finally:
             for why in unwritten_caches()[already:]:
                 _warn(wants_json, "cache_unwritten", why,
@@ -74,19 +73,23 @@ class GapsGroup(TyperGroup):
     def _invoke_without_unreadable_caches(self, ctx: typer.Context, wants_json: bool) -> Any:
         """Run the command; if SQLite fails while this command had cache files open (damaged pages,
         an I/O error), run it once more without them (store.go_without_caches): if that answers,
-        the cache was at fault and a warning names it; if it fails again, the store is."""
+        the cache was at fault and a warning names it; if it fails again, the store is. SQLite's
+        errors reach here as the store's own (StoreFault): `translating` is the store's net for
+        those its functions let through."""
         from store import caches_opened, caches_opened_since, go_without_caches
         opened, args = caches_opened(), [*ctx._protected_args, *ctx.args]
         try:
-            return super().invoke(ctx)
-        except sqlite3.DatabaseError as exc:
+            with translating():
+                return super().invoke(ctx)
+        except StoreFault as exc:
             caches = caches_opened_since(opened)
             if not caches:
                 raise
             why = str(exc)
         go_without_caches(caches, why)
         ctx._protected_args, ctx.args = args[:1], args[1:]
-        return super().invoke(ctx)
+        with translating():
+            return super().invoke(ctx)
 
 
 def name_placeholder(param: Any) -> None:

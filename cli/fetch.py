@@ -2,7 +2,6 @@
 them into a local store. Argument parsing and printing only: the fetch is ingest.history_fetch's."""
 from __future__ import annotations
 
-import sqlite3
 from pathlib import Path
 from typing import Optional
 
@@ -42,6 +41,7 @@ def fetch(
     the arguments; 3 when nothing answers history queries on the key. See docs/serve.md.
     """
     from ingest import FetchOptions, fetch as run
+    from store import StoreFault, translating
     if not connect and config is None:
         fail("say where the ingests are: --connect tcp/HOST:PORT (a router or a gaps serve), or --config FILE")
     options = FetchOptions(key_expr=key, connect=tuple(connect),
@@ -49,9 +49,9 @@ def fetch(
                            t_from=_time("--from", t_from), t_to=_time("--to", t_to), timeout_s=timeout)
     path = db_path(db)
     try:
-        with stderr_progress("fetching") as bar:
+        with translating(), stderr_progress("fetching") as bar:
             report = run(path, options, None if bar is None else (lambda n: bar(n, None)))
-    except (OSError, sqlite3.Error) as exc:
+    except (OSError, StoreFault) as exc:
         fail(f"cannot fetch into {path}: {exc}")
     if json_out:
         print_json(report.as_dict())

@@ -4,7 +4,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import Callable, Iterator, Optional
 
-Report = Callable[[int, int], None]  # (done, total)
+Report = Callable[[int, Optional[int]], None]  # (done, total; None: not known yet)
 
 
 @contextmanager

@@ -38,7 +38,7 @@ def replay(
     pace = parse_speed(speed)
     wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
     from sim_replay import NothingToReplay, recording
-    from store import GapsError
+    from store import GapsError, StoreFault
     try:
         if file is not None:
             with recording(file) as (store, imported):
@@ -46,6 +46,8 @@ def replay(
         else:
             with open_existing(db) as store:
                 out = _send(store, run, wire, pace, None)
+    except StoreFault:
+        raise           # SQLite could not read the store: said as every command says it (cli/app.py)
     except (NothingToReplay, GapsError, TimeoutError, OSError) as exc:
         fail(str(exc))
     out["source"] = str(file or db_path(db))

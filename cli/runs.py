@@ -29,8 +29,8 @@ def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
         if check:
             with stderr_progress("verifying") as progress:
                 report = store.verify(progress=progress)
-            damaged = report.integrity is not None and not report.integrity["ok"]
-            status = {r["run"]: "broken" if not r["ok"] else "file damaged" if damaged else "verified"
+            damaged = report.integrity is not None and not report.integrity.ok
+            status = {r.run: "broken" if not r.ok else "file damaged" if damaged else "verified"
                       for r in report.runs}
         for row in rows:
             row["chain"] = status.get(row["run"], "broken") if check else "not checked"

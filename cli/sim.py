@@ -97,7 +97,7 @@ def sim(
     as MCAP too; the ground truth is written beside. With --sign-keys each source signs its
     events; `gaps verify --keys DIR/public-keys.json` checks them."""
     from sim_replay import FaultRates, SimConfig, refuse_second_producer, with_files
-    from store import GapsError
+    from store import GapsError, StoreFault
 
     names = tuple(f.name for f in dataclasses.fields(FaultRates))
     config = SimConfig(run=run, seed=seed, vehicles=vehicles, duration_s=parse_duration(duration), rate_hz=rate,
@@ -114,6 +114,8 @@ def sim(
         wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
         summary, sent, stored = _run(config, pace, record, wire, store_file, truth_file, signer)
         public_keys = str(signer.folder.write_public_keys()) if signer else None
+    except StoreFault:
+        raise           # SQLite could not read the store: said as every command says it (cli/app.py)
     except (GapsError, TimeoutError, OSError) as exc:
         fail(str(exc), getattr(exc, "exit_code", 2))     # 4 for a store a serve is writing, as README says
     out = {"run": run, "simulation": summary.to_json(), "published": sent.to_json(), "stored": stored,

@@ -6,7 +6,6 @@ FILE may be `-`: import reads standard input (with --format), export writes stan
 from __future__ import annotations
 
 import json
-import sqlite3
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterator, Optional
@@ -82,8 +81,7 @@ def _anchoring(checkpoint_key: Optional[Path], witness: Optional[Path]):
 
 
 def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anchoring=(None, None)) -> dict:
-    from store import Store, WitnessFile
-    from store import TransferError, check_source, import_file
+    from store import Store, StoreFault, TransferError, WitnessFile, check_source, import_file, translating
     key, witness_path = anchoring
     try:
         path, fmt = check_source(file, fmt)
@@ -91,7 +89,8 @@ def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anch
                        path.stat().st_size >= PROGRESS_BYTES) as progress:
             witness = WitnessFile(witness_path) if witness_path else None  # checked as an output first
             try:
-                with Store(db_path(db), durable=not fast, checkpoint_key=key, witness=witness_path) as store:
+                with translating(), Store(db_path(db), durable=not fast, checkpoint_key=key,
+                                          witness=witness_path) as store:
                     if witness is not None:
                         store.add_checkpoint_hook(witness.append)
                     return import_file(store, path, fmt, progress).as_dict()
@@ -100,7 +99,7 @@ def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anch
                     witness.close()
     except TransferError as exc:
         fail(str(exc))
-    except (OSError, sqlite3.Error) as exc:
+    except (OSError, StoreFault) as exc:
         fail(f"cannot import {file} into {db_path(db)}: {exc}")
 
 
@@ -196,14 +195,14 @@ def export(run: str = RunRequired,
 
 def _export(run: str, output: Path, db: Optional[Path], fmt: Optional[str], order: Optional[str],
             no_scene: bool) -> dict:
-    from store import TransferError, export_run, format_of
+    from store import StoreFault, TransferError, export_run, format_of, translating
     try:
         format_of(output, fmt)  # before opening the store: a wrong extension is the commonest mistake
-        with open_existing(db) as store:
+        with translating(), open_existing(db) as store:
             require_run(store, run)
             with _progress(f"exporting {run}", store.count(run), store.count(run) >= PROGRESS_EVENTS) as progress:
                 return export_run(store, run, output, fmt, order, progress, scene=not no_scene).as_dict()
     except TransferError as exc:
         fail(str(exc))
-    except (OSError, sqlite3.Error) as exc:
+    except (OSError, StoreFault) as exc:
         fail(f"cannot export run {run} to {output}: {exc}")

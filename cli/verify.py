@@ -5,7 +5,7 @@ box or signature that does not match (exit 1)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable, Optional
+from typing import Optional
 
 import typer
 
@@ -14,7 +14,7 @@ from cli.options import DbOption, JsonOption, RunOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
 from cli.tables import text_or_null
-from store import Store
+from store import Problem, SignatureCount, VerifyReport, check_store
 
 
 def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
@@ -60,40 +60,22 @@ def verify(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
     run's stored events must all be proven by one of them: the report says, per run, how many
     events the witness proves and how many the key does (docs/guarantees.md).
     """
-    wrong: dict[str, list] = {}
-    misplaced: dict[str, list] = {}
     keys = _trusted(keys_file)
     heads, public, recorded = _anchors(against, checkpoint_key)
     with open_existing(db) as store:
         require_run(store, run)
-        with stderr_progress("verifying") as progress:
-            report = store.verify(run, progress, keys)
-        anchored = store.anchor_report(_for_run(heads, run), public, run, recorded, witness=against is not None)
-        outcomes, keyed = anchored.heads, anchored.key
-        if with_snapshots:  # the runs whose chain holds: a broken one has already failed, and may not be readable
-            sound = [r["run"] for r in report.runs if r["ok"]]
-            wrong = _wrong_snapshots(store, sound)
-            misplaced = _wrong_presence(store, sound)
-        tampering = _tampered_cache(store, report)
-    signatures = report.signatures
-    signed_ok = not signatures["invalid"] and not (all_signed and signatures["unsigned"])
-    ok = report.ok and signed_ok and anchored.ok and not any(wrong.values()) and not any(misplaced.values())
+        found = check_store(store, run, keys=keys, heads=heads, heads_file=against, public=public,
+                            recorded=recorded, snapshots=with_snapshots, all_signed=all_signed, bars=stderr_progress)
     if json_out:
-        print_json({**report.as_dict(), "ok": ok, "signatures": {**signatures, "ok": signed_ok},
-                    **({"snapshots": wrong, "presence": misplaced} if with_snapshots else {}),
-                    "cache": {**tampering.to_json(), "unwritten": store.cache.unwritten},
-                    **({"heads": {"file": str(against), "ok": all(o.ok for o in outcomes),
-                                  "checked": [o.to_json() for o in outcomes]}} if against else {}),
-                    **({"checkpoint_key": keyed.to_json()} if keyed is not None else {}),
-                    **({"proven": [p.to_json() for p in anchored.runs]} if anchored.runs else {})})
+        print_json(found.to_json())
     else:
-        _print_report(report, wrong, with_snapshots)
-        _print_presence(misplaced)
-        _print_signatures(signatures, all_signed)
-        _print_tampering(tampering)
-        _print_anchors(against, outcomes, keyed)
-        _print_proven(anchored.runs)
-    raise typer.Exit(0 if ok else 1)
+        _print_report(found.report, found.wrong_snapshots or {}, with_snapshots)
+        _print_presence(found.misplaced or {})
+        _print_signatures(found.report.signatures, all_signed)
+        _print_tampering(found.tampering)
+        _print_anchors(against, found.anchored.heads, found.anchored.key)
+        _print_proven(found.anchored.runs)
+    raise typer.Exit(0 if found.ok else 1)
 
 
 def _trusted(keys_file: Optional[Path]):
@@ -110,12 +92,8 @@ def _anchors(against: Optional[Path], checkpoint_key: Optional[Path]):
     from store import load_public, read_heads, recorded_heads
     heads = read_heads(against) if against is not None else []
     public = load_public(checkpoint_key) if checkpoint_key is not None else None
-    recorded = recorded_heads(checkpoint_key, public) if public is not None else []
+    recorded = recorded_heads(checkpoint_key, public) if checkpoint_key is not None and public is not None else []
     return heads, public, recorded
-
-
-def _for_run(heads: list, run: Optional[str]) -> list:
-    return heads if run is None else [h for h in heads if h.run == run]
 
 
 def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
@@ -169,31 +147,36 @@ def _coverage(outcomes: list) -> str:
     return "; ".join(said)
 
 
-def _print_signatures(s: dict, all_signed: bool) -> None:
-    counts = f"{s['signed']:,} signed, {s['unsigned']:,} unsigned"
-    if not s["checked"]:
+def _print_signatures(s: SignatureCount | None, all_signed: bool) -> None:
+    if s is None:
+        return
+    counts = f"{s.signed:,} signed, {s.unsigned:,} unsigned"
+    if not s.checked:
         typer.echo(f"signatures: {counts} (not checked: give --keys KEYS)")
-    elif not s["invalid"]:
-        typer.echo(f"signatures: {counts}; every signature is valid ({s['keys']})")
+    elif not s.invalid:
+        typer.echo(f"signatures: {counts}; every signature is valid ({s.keys})")
     else:
-        p = s["first_invalid"]
-        typer.echo(f"signatures: {counts}; {s['valid']:,} valid, {s['invalid']:,} INVALID ({s['keys']})")
-        typer.echo(f"INVALID SIGNATURE at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
-                   f"(chain position {p['chain_pos']}): {printable(p['what'])}")
-    if all_signed and s["unsigned"]:
-        typer.echo(f"UNSIGNED: {s['unsigned']:,} events carry no signature, and --all-signed asks that all do")
+        typer.echo(f"signatures: {counts}; {s.valid:,} valid, {s.invalid:,} INVALID ({s.keys})")
+        if s.first_invalid is not None:
+            typer.echo(f"INVALID SIGNATURE at {_where(s.first_invalid)}")
+    if all_signed and s.unsigned:
+        typer.echo(f"UNSIGNED: {s.unsigned:,} events carry no signature, and --all-signed asks that all do")
 
 
-def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
+def _where(p: Problem) -> str:
+    """Where an event's problem is, and what it is."""
+    return (f"run {text_or_null(p.run)} src {text_or_null(p.src)} seq {p.seq} "
+            f"(chain position {p.chain_pos}): {printable(p.what)}")
+
+
+def _print_report(report: VerifyReport, wrong: dict[str, list], with_snapshots: bool) -> None:
     for r in report.runs:
-        typer.echo(f"{printable(r['run'])}: {r['events']:,} events, chain {'ok' if r['ok'] else 'BROKEN'}, "
-                   f"head {r['head']}")
-    if report.problem and report.problem["run"] is None:  # the file or a rulebook, not an event
-        typer.echo(f"FAILED: {printable(report.problem['what'])}")
+        typer.echo(f"{printable(r.run)}: {r.events:,} events, chain {'ok' if r.ok else 'BROKEN'}, "
+                   f"head {r.head}")
+    if report.problem and report.problem.run is None:  # the file or a rulebook, not an event
+        typer.echo(f"FAILED: {printable(report.problem.what)}")
     elif report.problem:
-        p = report.problem
-        typer.echo(f"FAILED at run {text_or_null(p['run'])} src {text_or_null(p['src'])} seq {p['seq']} "
-                   f"(chain position {p['chain_pos']}): {printable(p['what'])}")
+        typer.echo(f"FAILED at {_where(report.problem)}")
     else:
         typer.echo("verified: every chain and checkpoint matches, and the file passes SQLite's integrity check")
     for name, positions in wrong.items():
@@ -206,23 +189,6 @@ def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
         typer.echo("snapshots: every state snapshot matches its events")
 
 
-def _wrong_snapshots(store: Store, runs: list[str]) -> dict[str, list[list]]:
-    """Per run, the positions [t, seq, src] of the snapshots that differ from a fresh fold."""
-    from store import check_snapshots
-    return _per_run("checking snapshots", runs, lambda name: check_snapshots(store, name))
-
-
-def _per_run(label: str, runs: list[str], check: Callable[[str], list]) -> dict[str, list[list]]:
-    """Each run's wrong entries (as lists, for JSON), with a progress bar on a terminal."""
-    with stderr_progress(label) as progress:
-        wrong = {}
-        for i, name in enumerate(runs):
-            wrong[name] = [list(entry) for entry in check(name)]
-            if progress is not None:
-                progress(i + 1, len(runs))
-    return wrong
-
-
 def _print_presence(misplaced: dict[str, list]) -> None:
     for name, boxes in misplaced.items():
         if boxes:
@@ -230,19 +196,6 @@ def _print_presence(misplaced: dict[str, list]) -> None:
             typer.echo(f"PRESENCE INDEX WRONG in run {text_or_null(name)}: {len(boxes)} boxes differ from the "
                        f"events, the first of src {text_or_null(src)} in bucket {bucket}; it is a cache: "
                        "clearing it is safe")
-
-
-def _wrong_presence(store: Store, runs: list[str]) -> dict[str, list[list]]:
-    """Per run, the [src, bucket] of the cached boxes of where road users were that differ from
-    the events (store/presence.py)."""
-    from store import check_presence
-    return _per_run("checking where road users were", runs, lambda name: check_presence(store, name))
-
-
-def _tampered_cache(store: Store, report):
-    """The cache entries that do not carry their seals (store/cache_check.py)."""
-    from store import cache_tampering
-    return cache_tampering(store, [r["run"] for r in report.runs if isinstance(r["run"], str)])
 
 
 def _print_tampering(tampering) -> None:

@@ -1,5 +1,6 @@
-"""What a report draws, read from the store as plain JSON-ready data: the picture of the scene at
-an incident and the timeline of speed and signal colour around it.
+"""What a report draws, as plain JSON-ready data: the picture of the scene at an incident (from
+the reasoner's scene and the store's reading of the run map) and the timeline of speed and signal
+colour around it (the reasoner's, reasoner/timelines.py).
 
 The SVG modules (svg_scene.py, svg_timeline.py) only draw these dicts, and the JSON report
 carries them as they are, so what a reader sees in the picture is exactly what the data says.
@@ -9,32 +10,23 @@ finite number is left out rather than drawn somewhere wrong, and every string is
 """
 from __future__ import annotations
 
-import json
 import math
 from typing import Any
 
 from reasoner.scene import scene
-from store import Store
-from store import state_at
+from reasoner.scene_parts import Reported
+from reasoner.timelines import timeline as speed_and_signals
+from store import MapJunction, Store, read_map_body, whole, whole_line
+from store import finite_number as number      # a finite number, else None: what a picture can place
 
 from .presence import presence_at
 
 SECOND = 1_000_000_000
-BEFORE_NS = 20 * SECOND      # the timeline starts this long before the incident ...
-AFTER_NS = 5 * SECOND        # ... and ends this long after it
 LANES_NEAR_M = 150.0     # a picture carries the lanes this close to what it shows (svg_scene zooms closer)
 NEAR_JUNCTION_M = 40.0   # a road user this close to a junction's centre is at it, for focus_junction
 # approach named by where traffic comes from (as sim_replay names them): its direction from the junction
 APPROACH_DIRECTIONS = {"west": 180.0, "w": 180.0, "south": 270.0, "s": 270.0, "east": 0.0, "e": 0.0,
                        "north": 90.0, "n": 90.0}
-
-
-def number(value: Any) -> float | None:
-    """A finite number, else None (a producer's string, NaN or a bool is not a coordinate)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    value = float(value)
-    return value if math.isfinite(value) else None
 
 
 def run_start_body(store: Store, run: str) -> dict[str, Any]:
@@ -51,47 +43,49 @@ def recorded_rulebooks(start_body: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def run_map(start_body: dict[str, Any]) -> dict[str, Any]:
-    """The map the run recorded in its run.start (DESIGN "Events"), its entries that can be drawn:
-    roads, junctions (with their stop lines, yellow box, outline and crossings when the producer
-    sent them), monitors, and the lanes as polylines with their widths (a SUMO run's; a map
-    without them, like the paper's hand-written one, has none and the picture draws its roads)."""
-    raw = start_body.get("map")
-    raw = raw if isinstance(raw, dict) else {}
+    """The map the run recorded in its run.start (DESIGN "Events", read by store.read_map_body),
+    its entries that can be drawn: roads, junctions (with their stop lines, yellow box, outline
+    and crossings when the producer sent them), monitors, and the lanes as polylines with their
+    widths (a SUMO run's; a map without them, like the paper's hand-written one, has none and the
+    picture draws its roads)."""
+    given = read_map_body(start_body)
     roads = []
-    for r in _dicts(raw.get("roads")):
-        a, b = _point(r.get("from")), _point(r.get("to"))
+    for r in given.roads:
+        a, b = whole(r.a), whole(r.b)
         if a and b:
-            roads.append({"id": _text(r.get("id")), "from": a, "to": b})
-    junctions = [_junction(j) for j in _dicts(raw.get("junctions")) if number(j.get("x")) is not None
-                 and number(j.get("y")) is not None]
+            roads.append({"id": r.label, "from": list(a), "to": list(b)})
+    junctions = [_junction(j) for j in given.junctions if j.x is not None and j.y is not None]
     lanes = []
-    for lane in _dicts(raw.get("lanes")):
-        shape, width = _points(lane.get("shape")), number(lane.get("width_m"))
+    for lane in given.lanes:
+        shape, width = whole_line(lane.shape), lane.width_m
         if len(shape) >= 2 and width is not None and width > 0:
-            lanes.append({"id": _text(lane.get("id")), "kind": _text(lane.get("kind")), "width_m": width,
-                          "shape": shape})
-    network = raw.get("network") if isinstance(raw.get("network"), dict) else {}
-    return {"roads": roads, "junctions": junctions, "monitors": list(_dicts(raw.get("monitors"))),
-            "lanes": lanes, "lefthand": network.get("lefthand") is not False}
+            lanes.append({"id": lane.label, "kind": lane.kind, "width_m": width, "shape": _listed(shape)})
+    return {"roads": roads, "junctions": junctions, "monitors": [m.raw for m in given.monitors],
+            "lanes": lanes, "lefthand": given.lefthand}
 
 
-def _junction(j: dict[str, Any]) -> dict[str, Any]:
+def _junction(j: MapJunction) -> dict[str, Any]:
     """A junction's drawable parts; a stop line, crossing or outline that is not numbers is left out."""
     lines = []
-    for line in _dicts(j.get("stop_lines")):
-        a, b = _point(line.get("from")), _point(line.get("to"))
+    for line in j.stop_lines or ():
+        a, b = whole(line.a), whole(line.b)
         if a and b:
-            lines.append({"approach": _text(line.get("approach")), "from": a, "to": b,
-                          "kind": _text(line.get("kind"))})
+            lines.append({"approach": line.approach_label, "from": list(a), "to": list(b),
+                          "kind": _text(line.kind)})
     crossings = []
-    for c in _dicts(j.get("crossings")):
-        shape, width = _points(c.get("shape")), number(c.get("width_m"))
+    for c in j.crossings:
+        shape, width = whole_line(c.shape), c.width_m
         if len(shape) >= 2 and width is not None and width > 0:
-            crossings.append({"id": _text(c.get("id")), "shape": shape, "width_m": width})
-    box, outline = _points(j.get("box")), _points(j.get("shape"))
-    return {"id": _text(j.get("id")), "x": number(j["x"]), "y": number(j["y"]), "control": _text(j.get("control")),
-            "stop_lines": lines, "box": box if len(box) >= 3 else None,
-            "shape": outline if len(outline) >= 3 else None, "crossings": crossings}
+            crossings.append({"id": c.label, "shape": _listed(shape), "width_m": width})
+    box, outline = whole_line(j.box), whole_line(j.shape)
+    return {"id": j.label, "x": j.x, "y": j.y, "control": j.control_label,
+            "stop_lines": lines, "box": _listed(box) if len(box) >= 3 else None,
+            "shape": _listed(outline) if len(outline) >= 3 else None, "crossings": crossings}
+
+
+def _listed(points: tuple[tuple[float, float], ...]) -> list[list[float]]:
+    """Points as the JSON report carries them: [x, y] lists."""
+    return [list(p) for p in points]
 
 
 # --- the picture at t -----------------------------------------------------------------------------
@@ -107,27 +101,18 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
     sc = scene(store, run, t, judge=False)
     vehicles = []
     for v in sc.vehicles:
-        at = v["state"] or {}
-        x, y = number(at.get("x")), number(at.get("y"))
-        vehicles.append({"id": v["vehicle"], "type": v["type"], "x": x, "y": y,
-                         "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
-                         "junction": at.get("junction"), "incident": v["vehicle"] == vehicle,
-                         "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
-    users = []
-    for u in sc.road_users:
-        at = u["state"] or {}
-        users.append({"id": u["src"], "type": u["type"], "x": number(at.get("x")), "y": number(at.get("y")),
-                      "heading_deg": number(at.get("heading_deg")), "speed_mps": number(at.get("speed_mps")),
-                      "evidence": at.get("evidence"), **presence_at(at.get("evidence"), t)})
+        vehicles.append({"id": v.vehicle, "type": v.type, **_motion(v.state), "junction": _field(v.state, "junction"),
+                         "incident": v.vehicle == vehicle, **_seen(v.state, t)})
+    users = [{"id": u.src, "type": u.type, **_motion(u.state), **_seen(u.state, t)} for u in sc.road_users]
     monitors = []
     for m in sc.monitors:
-        entry = m["map"] or {}
-        monitors.append({"id": m["monitor"], "junction": entry.get("junction"), "x": number(entry.get("x")),
-                         "y": number(entry.get("y")), "heading_deg": number(entry.get("heading_deg")),
-                         "fov_deg": number(entry.get("fov_deg")), "range_m": number(entry.get("range_m")),
-                         "observed": m["observed"], "watching": vehicle is not None and vehicle in m["observed"]})
-    signals = [{"junction": s["junction"], "approach": s["approach"], "colour": s["colour"],
-                "since_t": s["since"]["t"], "evidence": s["evidence"]} for s in sc.signals]
+        cone = m.entry
+        monitors.append({"id": m.monitor, "junction": m.placed("junction"), "x": cone.x if cone else None,
+                         "y": cone.y if cone else None, "heading_deg": cone.heading_deg if cone else None,
+                         "fov_deg": cone.fov_deg if cone else None, "range_m": cone.range_m if cone else None,
+                         "observed": list(m.observed), "watching": vehicle is not None and vehicle in m.observed})
+    signals = [{"junction": s.junction, "approach": s.approach, "colour": s.colour,
+                "since_t": s.since.t, "evidence": s.evidence.to_json()} for s in sc.signals]
     picture = {"t": t, "offset": sc.offset, "vehicle": vehicle, "roads": the_map["roads"],
                "lanes": the_map.get("lanes", []), "lefthand": the_map.get("lefthand", True),
                "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
@@ -135,6 +120,22 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
     picture["junction"] = junction if junction is not None else focus_junction(picture)
     picture["lanes"] = lanes_near(picture, picture["lanes"])
     return picture
+
+
+def _field(state: Reported | None, name: str) -> Any:
+    return None if state is None else state.field(name)
+
+
+def _motion(state: Reported | None) -> dict[str, float | None]:
+    """A road user's position, heading and speed as the picture draws them: numbers, or None."""
+    return {"x": number(_field(state, "x")), "y": number(_field(state, "y")),
+            "heading_deg": number(_field(state, "heading_deg")), "speed_mps": number(_field(state, "speed_mps"))}
+
+
+def _seen(state: Reported | None, t: int) -> dict[str, Any]:
+    """The evidence of a road user's position, and whether it is fresh enough to draw (presence.py)."""
+    evidence = state.evidence.to_json() if state is not None else None
+    return {"evidence": evidence, **presence_at(evidence, t)}
 
 
 def name_users(picture: dict[str, Any], named: list[str], the_map: dict[str, Any]) -> None:
@@ -207,37 +208,10 @@ def facing_approach(heading_deg: float | None, approaches: list[str]) -> str | N
 
 # --- the timeline around t ------------------------------------------------------------------------
 
-def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None,
-             before_ns: int = BEFORE_NS, after_ns: int = AFTER_NS) -> dict[str, Any]:
-    """The vehicle's speed (its own entity.state, and what monitors observed) and the colour of
-    each signal approach of its junction, from `before_ns` before t to `after_ns` after, with the
-    values in force when the window opens."""
-    t_from, t_to = t - before_ns, t + after_ns
-    src = f"vehicle/{vehicle}"
-    opening = state_at(store, run, t_from)
-    own: list[dict] = []
-    first = ((opening.entities.get(src) or {}).get("state") or {})
-    if first and number(first["body"].get("speed_mps")) is not None:
-        own.append({"t": first["t"], "speed_mps": number(first["body"]["speed_mps"]), "seq": first["seq"]})
-    for ev in store.events(run, kinds=["entity.state"], srcs=[src], t_from=t_from, t_to=t_to):
-        speed = number(ev["body"].get("speed_mps"))
-        if speed is not None and not (own and own[-1]["seq"] == ev["seq"]):
-            own.append({"t": ev["t"], "speed_mps": speed, "seq": ev["seq"]})
-    observed = [{"t": ev["t"], "speed_mps": number(ev["body"].get("speed_mps")), "monitor": ev["src"], "seq": ev["seq"]}
-                for ev in store.events(run, kinds=["monitor.observation"], t_from=t_from, t_to=t_to)
-                if ev["body"].get("vehicle") == vehicle and number(ev["body"].get("speed_mps")) is not None]
-    signals: dict[str, list[dict]] = {}
-    if junction is not None:
-        for approach, shown in sorted((opening.signals.get(junction) or {}).items()):
-            signals[approach] = [{"t": shown["last"]["t"], "colour": shown["colour"]}]
-        for ev in store.events(run, kinds=["signal.state"], t_from=t_from, t_to=t_to):
-            body = ev["body"]
-            if body.get("junction") == junction:
-                changes = signals.setdefault(_as_key(body.get("approach", "*")), [])
-                if not changes or changes[-1]["colour"] != body.get("colour"):
-                    changes.append({"t": ev["t"], "colour": body.get("colour")})
-    return {"t": t, "t_from": t_from, "t_to": t_to, "vehicle": vehicle, "junction": junction,
-            "speed": own, "observed_speed": observed, "signals": signals}
+def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None) -> dict[str, Any]:
+    """The vehicle's speed and its junction's signal colours around t, as the reasoner reads them
+    (reasoner/timelines.py), in the JSON the report carries and svg_timeline.py draws."""
+    return speed_and_signals(store, run, t, vehicle, junction).to_json()
 
 
 # --- helpers --------------------------------------------------------------------------------------
@@ -246,29 +220,8 @@ def _dicts(value: Any) -> list[dict]:
     return [v for v in value if isinstance(v, dict)] if isinstance(value, list) else []
 
 
-def _point(value: Any) -> list[float] | None:
-    if isinstance(value, list) and len(value) == 2:
-        x, y = number(value[0]), number(value[1])
-        if x is not None and y is not None:
-            return [x, y]
-    return None
-
-
-def _points(value: Any) -> list[list[float]]:
-    """A polyline's points; any point that is not two numbers makes the whole of it unusable."""
-    if not isinstance(value, list):
-        return []
-    points = [_point(p) for p in value]
-    return [] if any(p is None for p in points) else points      # type: ignore[misc]
-
-
 def _text(value: Any) -> str | None:
     return None if value is None else str(value)
-
-
-def _as_key(value: Any) -> str:
-    """A body value as the state fold keys it (store/state.py), so the two readings meet."""
-    return value if isinstance(value, str) else json.dumps(value, sort_keys=True)
 
 
 def _angle_between(a: float, b: float) -> float:

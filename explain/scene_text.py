@@ -6,10 +6,13 @@ The lines hold recorded text as it was sent; the terminal's escaping is the comm
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Mapping
 
+from reasoner.model import Control, Decision
 from reasoner.scene import Scene
+from reasoner.scene_parts import SceneFact, ValidatorShown, VehicleShown
 from reasoner.when import format_offset, format_time
+from store import EventRef
 
 from .svg import SIGNAL_WORDS
 from .units import speed_text
@@ -39,96 +42,101 @@ def scene_lines(sc: Scene) -> list[str]:
     return lines
 
 
-def vehicle_lines(sc: Scene, v: dict[str, Any]) -> list[str]:
+def vehicle_lines(sc: Scene, v: VehicleShown) -> list[str]:
     """One vehicle: where, who was in control, its scenarios and action, and whether it was lawful."""
-    lines = [f"Vehicle {v['vehicle']} ({v['type'] or 'type not recorded'})"
-             + ("" if v["recorded"] else ": known only from monitors' observations")]
-    if (now := v["state"]) is not None:
-        junction = f", in junction {now['junction']}" if now.get("junction") else ""
-        road = f", road {now['road']}" if now.get("road") is not None else ""       # inside a junction: none
-        lines.append(f"  at ({_num(now.get('x'))}, {_num(now.get('y'))}) m, speed {speed_text(now.get('speed_mps'))}"
-                     f"{road}{junction} ({_cite(now['evidence'], sc)})")
-    lines.append(f"  in control: {_control(sc, v['control'])}")
-    lines += _facts("Vehicle Scenario", v["vehicle_scenario"], sc)
-    lines.append(_action(sc, v["vehicle_action"]))
-    if not v["monitor_scenarios"]:
+    lines = [f"Vehicle {v.vehicle} ({v.type or 'type not recorded'})"
+             + ("" if v.recorded else ": known only from monitors' observations")]
+    if (now := v.state) is not None:
+        junction = f", in junction {now.field('junction')}" if now.field("junction") else ""
+        road = f", road {now.field('road')}" if now.field("road") is not None else ""       # inside a junction: none
+        lines.append(f"  at ({_num(now.field('x'))}, {_num(now.field('y'))}) m, "
+                     f"speed {speed_text(now.field('speed_mps'))}{road}{junction} ({_cite(now.evidence, sc)})")
+    lines.append(f"  in control: {_control(sc, v.control)}")
+    lines += _facts("Vehicle Scenario", v.vehicle_scenario, sc)
+    lines.append(_action(sc, v.vehicle_action))
+    if not v.monitor_scenarios:
         lines.append("  Monitor Scenarios: no monitor has observed it")
-    for m in v["monitor_scenarios"]:
-        lines += _facts(f"Monitor Scenario of {m['monitor']}", m["facts"], sc)
-    return lines + _validator(sc, v["validator_scenario"])
+    for m in v.monitor_scenarios:
+        lines += _facts(f"Monitor Scenario of {m.monitor}", m.facts, sc)
+    return lines + _validator(sc, v.validator_scenario)
 
 
 def _signals(sc: Scene) -> list[str]:
     lines = ["Signals" + ("" if sc.signals else ": none reported yet")]
     for s in sc.signals:
-        lines.append(f"  {s['junction']} {s['approach']}: {SIGNAL_WORDS.get(s['colour'], s['colour'])} since {format_time(s['since']['t'])} "
-                     f"({_offset(sc, s['since']['t'])}, {_cite(s['since'])})")
+        lines.append(f"  {s.junction} {s.approach}: {SIGNAL_WORDS.get(s.colour, s.colour)} since {format_time(s.since.t)} "
+                     f"({_offset(sc, s.since.t)}, {_cite(s.since)})")
     return lines
 
 
 def _monitors(sc: Scene) -> list[str]:
     lines = ["Monitors" + ("" if sc.monitors else ": none")]
     for m in sc.monitors:
-        where = m["map"] or {}
-        place = (f" at junction {where.get('junction')}, ({_num(where.get('x'))}, {_num(where.get('y'))}) m, "
-                 f"range {_num(where.get('range_m'))} m" if where else " (not on the run's map)")
-        observed = ", ".join(str(v) for v in m["observed"]) or "nothing yet"
-        lines.append(f"  {m['monitor']}{place}; observed: {observed}")
-        for pv in m["potential_violations"]:
-            lines.append(f"    potential violation: {pv['vehicle']} {pv['action']} ({_cite(pv['evidence'])})")
+        place = (f" at junction {m.placed('junction')}, ({_num(m.placed('x'))}, {_num(m.placed('y'))}) m, "
+                 f"range {_num(m.placed('range_m'))} m" if m.entry else " (not on the run's map)")
+        observed = ", ".join(str(v) for v in m.observed) or "nothing yet"
+        lines.append(f"  {m.monitor}{place}; observed: {observed}")
+        for pv in m.potential_violations:
+            lines.append(f"    potential violation: {pv.vehicle} {pv.action} ({_cite(pv.evidence)})")
     return lines
 
 
-def _action(sc: Scene, action: dict[str, Any] | None) -> str:
+def _action(sc: Scene, action: Decision | None) -> str:
     if action is None:
         return "  Vehicle Action: none recorded"
-    return (f"  Vehicle Action: goal \"{action['goal']}\", action \"{action['action']}\", "
-            f"permitted: {_yes(action['permitted'])}, proceeds: {_yes(action['proceeds'])} "
-            f"({_cite(action['evidence'], sc)})")
+    return (f"  Vehicle Action: goal \"{action.goal}\", action \"{action.action}\", "
+            f"permitted: {_yes(action.permitted)}, proceeds: {_yes(action.proceeds)} "
+            f"({_cite(action.evidence, sc)})")
 
 
-def _validator(sc: Scene, val: dict[str, Any]) -> list[str]:
-    goal = f"with the goal \"{val['goal']}\"" if val["goal"] else "without a goal (no decision recorded)"
-    lines = [f"  Validator Scenario: {JUDGED_ON[val['judged_on']]} {goal}"]
-    if val["judged_on"] != "vehicle scenario":
-        lines += _facts("", val["facts"], sc)
-    if "lawful" in val:         # judged only when asked (--judge, or one --vehicle)
-        book = val["rulebook"]
-        by = f" ({book['name']}, {book['source']}, {str(book['sha256'])[:12]}…)" if book else ""
-        lines.append(f"  lawful: {LAWFUL[val['lawful']]}{by}: {val['why']}")
-        if "lawful_on_its_own_view" in val:
-            lines.append(f"    on the vehicle's own view alone it would be {LAWFUL[val['lawful_on_its_own_view']]}; "
+def _validator(sc: Scene, val: ValidatorShown) -> list[str]:
+    goal = f"with the goal \"{val.goal}\"" if val.goal else "without a goal (no decision recorded)"
+    lines = [f"  Validator Scenario: {JUDGED_ON[val.judged_on]} {goal}"]
+    if val.judged_on != "vehicle scenario":
+        lines += _facts("", val.facts, sc)
+    if (judged := val.judged) is not None:         # judged only when asked (--judge, or one --vehicle)
+        book = judged.rulebook
+        by = f" ({book.name}, {book.source}, {str(book.sha256)[:12]}…)" if book else ""
+        lines.append(f"  lawful: {LAWFUL[judged.lawful]}{by}: {judged.why}")
+        if judged.own_view_asked:
+            lines.append(f"    on the vehicle's own view alone it would be {LAWFUL[judged.lawful_on_its_own_view]}; "
                          "what the monitors witnessed decides, as in the incident")
-        lines += [f"    unknown fact, not used: {u['fact']}" for u in val["unknown_facts"]]
+        lines += [f"    unknown fact, not used: {u.fact}" for u in judged.unknown_facts]
     return lines
 
 
-def _facts(title: str, facts: list[dict], sc: Scene) -> list[str]:
+def _facts(title: str, facts: tuple[SceneFact, ...], sc: Scene) -> list[str]:
     lines = [f"  {title}:" + ("" if facts else " no facts")] if title else []
-    width = max((len(str(f["fact"])) for f in facts), default=0)
+    width = max((len(str(f.fact)) for f in facts), default=0)
     for f in facts:
-        ev = f["evidence"]
-        lines.append(f"    {str(f['fact']).ljust(width)}  {ev['kind']} {_cite(ev, sc)}")
+        ev = f.evidence
+        cited = f"{ev.kind} {_cite(ev, sc)}" if ev is not None else "(no event)"
+        lines.append(f"    {str(f.fact).ljust(width)}  {cited}")
     return lines
 
 
-def _control(sc: Scene, c: dict[str, Any]) -> str:
-    text = c["in_control"]
-    if c["engaged"] and c["since"]:
-        text += f" (engaged since {_offset(sc, c['since']['t'])}, {_cite(c['since'])})"
-    elif c["automated"]:
+def _control(sc: Scene, c: Control) -> str:
+    text = c.in_control
+    if c.engaged and c.since:
+        text += f" (engaged since {_offset(sc, c.since['t'])}, {_cite(c.since)})"
+    elif c.automated:
         text += " (the self-driving feature is not engaged)"
-    if demand := c["transition_demand"]:
-        state = "expired unanswered" if c["transition_demand_expired"] else "pending"
+    if demand := c.transition_demand:
+        state = "expired unanswered" if c.transition_demand_expired else "pending"
         text += f"; transition demand at {_offset(sc, demand['t'])} {state} ({_cite(demand)})"
-    if c["minimal_risk_manoeuvre"]:
+    if c.minimal_risk_manoeuvre:
         text += "; minimal risk manoeuvre in progress"
     return text
 
 
-def _cite(ref: dict[str, Any], sc: Scene | None = None) -> str:
-    where = f"{ref['src']} #{ref['seq']}"
-    return f"{where}, {_offset(sc, ref['t'])}" if sc is not None else where
+def _cite(ref: EventRef | Mapping[str, Any], sc: Scene | None = None) -> str:
+    """Where a fact was recorded: an EventRef, or a piece of the folded state ({src, seq, t})."""
+    if isinstance(ref, EventRef):
+        src, seq, t = ref.src, ref.seq, ref.t
+    else:
+        src, seq, t = ref["src"], ref["seq"], ref["t"]
+    where = f"{src} #{seq}"
+    return f"{where}, {_offset(sc, t)}" if sc is not None else where
 
 
 def _offset(sc: Scene | None, t: int) -> str:

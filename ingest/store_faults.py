@@ -5,19 +5,12 @@ write lock held elsewhere, a file made read-only) fails every commit alike until
 writer must hold what it accepted and wait, which makes Zenoh's channel fill and publishers block
 (BLOCK congestion control), instead of giving the samples up. Anything else is taken to be the
 sample's own fault, and quarantining that sample lets the others through (ingest/writer.py).
+Which of the store's errors are its condition the store says (store/sqlite_errors.py): no room
+but the store knows SQLite.
 """
 from __future__ import annotations
 
-import sqlite3
-
-# SQLite's primary result codes (the low byte of an extended code) that describe the file or the
-# disk rather than what was being written: https://sqlite.org/rescode.html
-_CONDITIONS = {5: "the store is busy", 6: "the store is locked", 7: "out of memory",
-               8: "the store is read-only", 10: "disk I/O error", 13: "the disk is full",
-               14: "the store file cannot be opened", 15: "the store's lock protocol failed"}
-_MESSAGES = {"database or disk is full": "the disk is full", "disk i/o error": "disk I/O error",
-             "database is locked": "the store is locked", "readonly database": "the store is read-only",
-             "unable to open database": "the store file cannot be opened"}
+from store import store_fault
 
 FIRST_PAUSE_S = 0.1
 LONGEST_PAUSE_S = 2.0
@@ -27,17 +20,13 @@ disk freed again is written to within about two seconds, and a dead one costs a 
 
 def store_condition(exc: BaseException) -> str | None:
     """What about the store made ``exc`` happen ("the disk is full"), or None if it is not the
-    store's condition (then it is taken to be the sample's). Read from SQLite's result code where
-    the error carries one, else from SQLite's message; an OSError is the disk's."""
+    store's condition (then it is taken to be the sample's). The store says which of its errors
+    (store/errors.py: StoreFault) are its condition, from SQLite's result code or message; an
+    OSError is the disk's."""
     if isinstance(exc, OSError):
         return f"the disk failed ({exc.strerror or exc})"
-    if not isinstance(exc, sqlite3.OperationalError):
-        return None
-    code = getattr(exc, "sqlite_errorcode", None)
-    if code is not None:
-        return _CONDITIONS.get(code & 0xFF)
-    text = str(exc).lower()
-    return next((why for words, why in _MESSAGES.items() if words in text), None)
+    fault = store_fault(exc)
+    return None if fault is None else fault.condition
 
 
 class Backoff:

@@ -30,7 +30,7 @@ class ChainStatus:
 
 def chain_status(store: Store, run: str) -> ChainStatus:
     report = store.verify(run)
-    summary = next((r for r in report.runs if r.get("run") == run), {})
+    events = next((r.events for r in report.runs if r.run == run), None)
     if report.ok:
-        return ChainStatus(True, True, summary.get("events"), None)
-    return ChainStatus(True, False, summary.get("events"), report.problem or {})
+        return ChainStatus(True, True, events, None)
+    return ChainStatus(True, False, events, report.problem.to_json() if report.problem else {})

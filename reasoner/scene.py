@@ -12,8 +12,9 @@ runs of millions of events) and the reasoner's readings of that state (DESIGN "R
 
 Nothing here asks Prolog unless asked to judge (`judge=True`, the default when one vehicle is
 asked for): then the validator rulebook says whether the goal of the Vehicle Action holds on the
-Validator Scenario ("lawful"). The scene is a `Scene` of plain JSON data; every fact carries the event ref
-{run, src, seq, t, kind} it came from (a store.EventRef, written with `to_json()` here, at the edge).
+Validator Scenario ("lawful"). The scene is a `Scene` of typed parts (reasoner/scene_parts.py);
+every fact carries the store.EventRef {run, src, seq, t, kind} it came from, and `to_json()`
+writes the whole as JSON at the edge.
 
 Decisions: a time before the run start is allowed and gives an empty scene with a note saying so
 (the record held nothing yet); a vehicle is present from its entity.spawn (or its first event, for
@@ -24,19 +25,25 @@ present at t is an UnknownVehicle error naming the vehicles that are.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+import copy
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
-from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
+from store import EventRef, GapsError, NoSuchRun, State, Store, read_run_map, state_at
 
 from .history import control_at
-from .model import Finding
+from .model import Control, Finding, RulebookChoice
 from .history import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
                         vehicle_scenario)
+from .scene_parts import (Lawfulness, MonitorScenarioShown, MonitorShown, PotentialViolation, Reported, RoadUserShown,
+                          SceneFact, SignalShown, ValidatorShown, VehicleShown)
 from .when import format_offset, format_time
 
 if TYPE_CHECKING:
     from .investigation import Investigation
+
+
+MONITORS = frozenset({"monitors"})      # of the run map, the scene shows only the monitors' entries
 
 
 class SceneError(GapsError, ValueError):
@@ -57,7 +64,8 @@ def run_start(store: Store, run: str) -> int:
 
 @dataclass(frozen=True)
 class Scene:
-    """The scene of a run at one moment; the parts are JSON data, each fact with its event ref."""
+    """The scene of a run at one moment; its parts are values (scene_parts.py), each fact with its
+    event ref."""
 
     run: str
     t: int
@@ -70,15 +78,23 @@ class Scene:
     last: dict[str, Any] | None       # the last of them: {src, seq, t}
     note: str | None                  # before the run, after its end, nothing recorded yet
     rulebooks: list[dict[str, Any]]   # as the run.start recorded them
-    started: dict[str, Any] | None    # event refs of run.start and run.end
-    ended: dict[str, Any] | None
-    signals: list[dict[str, Any]]
-    monitors: list[dict[str, Any]]
-    vehicles: list[dict[str, Any]]
-    road_users: list[dict[str, Any]]
+    started: EventRef | None          # run.start and run.end
+    ended: EventRef | None
+    signals: tuple[SignalShown, ...]
+    monitors: tuple[MonitorShown, ...]
+    vehicles: tuple[VehicleShown, ...]
+    road_users: tuple[RoadUserShown, ...]
 
     def to_json(self) -> dict[str, Any]:
-        return asdict(self)
+        return {"run": self.run, "t": self.t, "t_iso": self.t_iso, "run_start": self.run_start,
+                "run_start_iso": self.run_start_iso, "offset_ns": self.offset_ns, "offset": self.offset,
+                "events": self.events, "last": copy.deepcopy(self.last), "note": self.note,
+                "rulebooks": copy.deepcopy(self.rulebooks),
+                "started": self.started.to_json() if self.started else None,
+                "ended": self.ended.to_json() if self.ended else None,
+                "signals": [s.to_json() for s in self.signals], "monitors": [m.to_json() for m in self.monitors],
+                "vehicles": [v.to_json() for v in self.vehicles],
+                "road_users": [u.to_json() for u in self.road_users]}
 
 
 def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: bool | None = None,
@@ -96,7 +112,7 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
     named = present | {src.split("/", 1)[1] for src in state.entities if "/" in src}
     vehicles = [_vehicle(state, v, t, named) for v in shown]
     if judge if judge is not None else vehicle is not None:
-        _judge(investigation, store, run, vehicles)
+        vehicles = _judge(investigation, store, run, vehicles)
     start_piece = state.start
     return Scene(
         run=run,
@@ -110,11 +126,11 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
         last=state.last,
         note=_note(state, start, t),
         rulebooks=_rulebooks(start_piece),
-        started=_ref_json(start_piece, run, "run.start") if start_piece else None,
-        ended=_ref_json(state.end, run, "run.end") if state.end else None,
+        started=EventRef.of(start_piece, run, "run.start") if start_piece else None,
+        ended=EventRef.of(state.end, run, "run.end") if state.end else None,
         signals=_signals(state),
         monitors=_monitors(state),
-        vehicles=[v.json for v in vehicles],
+        vehicles=tuple(v.part for v in vehicles),
         road_users=_road_users(state),
     )
 
@@ -152,10 +168,10 @@ def _natural(vehicle: str) -> tuple:
 
 @dataclass(frozen=True)
 class _Shown:
-    """One vehicle as the scene shows it (JSON), and its Validator Scenario with the facts'
-    EventRefs, which the judge reads without parsing the JSON back."""
+    """One vehicle as the scene shows it, and its Validator Scenario with the facts' EventRefs,
+    which the judge reads as the rulebook's atoms."""
 
-    json: dict[str, Any]
+    part: VehicleShown
     validator: Scenario
     monitors: list = field(default_factory=list)
     """What the monitors stated of it, each fact with its event (their Monitor Scenarios')."""
@@ -163,7 +179,7 @@ class _Shown:
     """The other road users present: a fact naming one of them is not about the vehicle."""
 
 
-def _vehicle(state: State, vehicle: str, t: int, present: set[str] = frozenset()) -> _Shown:
+def _vehicle(state: State, vehicle: str, t: int, present: set[str] | frozenset[str] = frozenset()) -> _Shown:
     run = state.run
     record = entity(state, vehicle) or {}
     spawn, now = record.get("spawn"), record.get("state")
@@ -172,22 +188,20 @@ def _vehicle(state: State, vehicle: str, t: int, present: set[str] = frozenset()
     mscens = [(src, monitor_scenario(state, src, vehicle)) for src in monitors_of(state, vehicle)]
     validator, judged_on = _validator_scenario(record, vscen, [s for _, s in mscens])
     collision = state.collisions.get(vehicle)
-    return _Shown({
-        "vehicle": vehicle,
-        "src": f"vehicle/{vehicle}",
-        "type": spawn["body"].get("type") if spawn else None,
-        "recorded": bool(record),
-        "spawn": _piece(spawn, run, "entity.spawn"),
-        "state": _piece(now, run, "entity.state"),
-        "control": control_at(record, t),
-        "vehicle_scenario": _facts(vscen),
-        "vehicle_action": action.to_json() if action else None,
-        "monitor_scenarios": [{"monitor": src, "facts": _facts(s)} for src, s in mscens],
-        "validator_scenario": {"facts": _facts(validator), "goal": action.goal if action else None,
-                               "goal_evidence": action.evidence.to_json() if action else None,
-                               "judged_on": judged_on},
-        "collision": _ref_json(collision, run, "collision") if collision else None,
-    }, validator, [pair for _, sc in mscens for pair in sc.facts], frozenset(present - {vehicle}))
+    part = VehicleShown(
+        vehicle=vehicle,
+        type=spawn["body"].get("type") if spawn else None,
+        recorded=bool(record),
+        spawn=_piece(spawn, run, "entity.spawn"),
+        state=_piece(now, run, "entity.state"),
+        control=Control.from_json(control_at(record, t)),
+        vehicle_scenario=_facts(vscen),
+        vehicle_action=action,
+        monitor_scenarios=tuple(MonitorScenarioShown(src, _facts(s)) for src, s in mscens),
+        validator_scenario=ValidatorShown(_facts(validator), action.goal if action else None,
+                                          action.evidence if action else None, judged_on),
+        collision=EventRef.of(collision, run, "collision") if collision else None)
+    return _Shown(part, validator, [pair for _, sc in mscens for pair in sc.facts], frozenset(present - {vehicle}))
 
 
 def _validator_scenario(record: dict, vscen: Scenario, monitors: list[Scenario]) -> tuple[Scenario, str]:
@@ -203,88 +217,93 @@ def _validator_scenario(record: dict, vscen: Scenario, monitors: list[Scenario])
     return merged, "monitor scenario" if monitors else "spawn only"
 
 
-def _judge(investigation: Investigation | None, store: Store, run: str, vehicles: list[_Shown]) -> None:
+def _judge(investigation: Investigation | None, store: Store, run: str, vehicles: list[_Shown]) -> list[_Shown]:
     """Ask the validator rulebook whether each goal holds on its Validator Scenario: "lawful"."""
-    from .engine import QuestionError
     from .investigation import Investigation
 
     inv = investigation or Investigation(store)
     choice = inv.ruleset(run)["validator"]
+    book = RulebookChoice(**choice.describe()) if choice else None
+    out = []
     for v in vehicles:
-        scenario = v.json["validator_scenario"]
-        verdict: dict[str, Any] = {"lawful": None, "rulebook": choice.describe() if choice else None,
-                                   "unknown_facts": [], "why": None}
-        scenario.update(verdict)
-        if choice is None:
-            scenario["why"] = "no rulebook defines punishable and mitigated violations"
-            continue
-        if scenario["goal"] is None:
-            scenario["why"] = "the vehicle recorded no decision: there is no goal to judge"
-            continue
-        rb = choice.rulebook
-        goal = inv.reader.atom(rb, scenario["goal"])
-        if goal is None:
-            scenario["why"] = f"no template of {rb.name} fits the goal {scenario['goal']!r}"
-            continue
-        unknown: list[Finding] = []
-        own, atoms = _validator_atoms(inv, run, rb, v, unknown)
-        scenario["unknown_facts"] = [f.to_json() for f in unknown]
-        try:
-            scenario["lawful"] = inv.engine.holds(rb, goal, atoms)
-        except QuestionError as exc:
-            scenario["why"] = str(exc)
-            continue
-        among = "among" if scenario["lawful"] else "not among"
-        scenario["why"] = f"\"{scenario['goal']}\" is {among} the lawful actions of the Validator Scenario"
-        if scenario["judged_on"] == "corrected vehicle scenario":     # both views, and which decides
-            try:
-                scenario["lawful_on_its_own_view"] = inv.engine.holds(rb, goal, own)
-            except QuestionError:
-                scenario["lawful_on_its_own_view"] = None
+        scenario = _judged(inv, run, choice, book, v)
+        out.append(replace(v, part=replace(v.part, validator_scenario=scenario)))
+    return out
 
 
-def _validator_atoms(inv: Investigation, run: str, rb: Any, v: _Shown, unknown: list[Finding]) -> tuple[list, list]:
+def _judged(inv: Investigation, run: str, choice: Any, book: RulebookChoice | None, v: _Shown) -> ValidatorShown:
+    """One vehicle's Validator Scenario with the validator's answer (and its facts as corrected by
+    the monitors, where they were)."""
+    from .engine import QuestionError
+
+    scenario = v.part.validator_scenario
+    if choice is None:
+        return replace(scenario, judged=Lawfulness(None, book, (), "no rulebook defines punishable and mitigated violations"))
+    if scenario.goal is None:
+        return replace(scenario, judged=Lawfulness(None, book, (), "the vehicle recorded no decision: there is no goal to judge"))
+    rb = choice.rulebook
+    goal = inv.reader.atom(rb, scenario.goal)
+    if goal is None:
+        return replace(scenario, judged=Lawfulness(None, book, (), f"no template of {rb.name} fits the goal {scenario.goal!r}"))
+    unknown: list[Finding] = []
+    own, atoms, scenario = _validator_atoms(inv, run, rb, v, unknown)
+    try:
+        lawful = inv.engine.holds(rb, goal, atoms)
+    except QuestionError as exc:
+        return replace(scenario, judged=Lawfulness(None, book, tuple(unknown), str(exc)))
+    among = "among" if lawful else "not among"
+    why = f"\"{scenario.goal}\" is {among} the lawful actions of the Validator Scenario"
+    if scenario.judged_on != "corrected vehicle scenario":
+        return replace(scenario, judged=Lawfulness(lawful, book, tuple(unknown), why))
+    try:                                                        # both views, and which decides
+        own_view: bool | None = inv.engine.holds(rb, goal, own)
+    except QuestionError:
+        own_view = None
+    return replace(scenario, judged=Lawfulness(lawful, book, tuple(unknown), why, True, own_view))
+
+
+def _validator_atoms(inv: Investigation, run: str, rb: Any, v: _Shown, unknown: list[Finding]
+                     ) -> tuple[list, list, ValidatorShown]:
     """The Validator Scenario's facts as the incidents judge them (DESIGN "Reasoning"): the
     vehicle's own view with what the monitors witnessed in its place (reasoner/perception.py's
     `corrected`, as the investigation asks it), so that the scene's "lawful" is the verdict's
     ground and not the vehicle's belief (issue 39: a misread light judged lawful here and
     punishable in the incident). A vehicle with no perception is judged on its spawn and the
-    monitors' facts already (_validator_scenario). Returned: the vehicle's own view's atoms, and
-    those the scene is judged on."""
+    monitors' facts already (_validator_scenario). Returned: the vehicle's own view's atoms,
+    those the scene is judged on, and the Validator Scenario as shown (corrected, where it was)."""
     from .le.sentences import constant
     from .perception import corrected, witnessed_functors
 
+    shown = v.part.validator_scenario
     mine = inv.reader.pairs(rb, v.validator.facts, unknown)
     monitor = inv.ruleset(run)["monitor"]
-    if v.json["validator_scenario"]["judged_on"] != "vehicle scenario" or monitor is None or not v.monitors:
-        return [a for a, _ in mine], [a for a, _ in mine]
+    if shown.judged_on != "vehicle scenario" or monitor is None or not v.monitors:
+        return [a for a, _ in mine], [a for a, _ in mine], shown
     seen = inv.reader.pairs(rb, v.monitors, unknown)
-    me = constant([v.json["vehicle"]])
+    me = constant([v.part.vehicle])
     others = {a for atom, _ in mine + seen for a in atom.args if isinstance(a, (str, int)) and a != me
               and str(a) in v.present}
     out, disputes = corrected(mine, seen, witnessed_functors(monitor.rulebook), me, others)
     if not disputes:                # the monitors saw what the vehicle did: its own view, as shown
-        return [a for a, _ in mine], [a for a, _ in out]
-    v.json["validator_scenario"]["facts"] = [{"fact": rb.render(a), "evidence": ev.to_json() if ev else None}
-                                             for a, ev in out]
-    v.json["validator_scenario"]["judged_on"] = "corrected vehicle scenario"
-    return [a for a, _ in mine], [a for a, _ in out]
+        return [a for a, _ in mine], [a for a, _ in out], shown
+    facts = tuple(SceneFact(rb.render(a), ev if ev else None) for a, ev in out)
+    return [a for a, _ in mine], [a for a, _ in out], replace(shown, facts=facts, judged_on="corrected vehicle scenario")
 
 
 # --- the rest of the scene --------------------------------------------------------------------
 
-def _facts(scenario: Scenario) -> list[dict]:
-    return [{"fact": fact, "evidence": evidence.to_json()} for fact, evidence in scenario.facts]
+def _facts(scenario: Scenario) -> tuple[SceneFact, ...]:
+    return tuple(SceneFact(fact, evidence) for fact, evidence in scenario.facts)
 
 
-def _ref_json(piece: dict, run: str, kind: str) -> dict[str, Any]:
-    """The event ref of a piece of folded state (which lacks the run and kind), as the scene's JSON."""
-    return EventRef.of(piece, run, kind).to_json()
+def _ref(piece: dict, run: str, kind: str) -> EventRef:
+    """The event ref of a piece of folded state (which lacks the run and kind)."""
+    return EventRef.of(piece, run, kind)
 
 
-def _piece(piece: dict | None, run: str, kind: str) -> dict | None:
+def _piece(piece: dict | None, run: str, kind: str) -> Reported | None:
     """A folded event as its body and the ref to cite it by."""
-    return None if piece is None else {**piece["body"], "evidence": _ref_json(piece, run, kind)}
+    return None if piece is None else Reported(piece["body"], _ref(piece, run, kind))
 
 
 def _rulebooks(start: dict | None) -> list[dict]:
@@ -292,42 +311,34 @@ def _rulebooks(start: dict | None) -> list[dict]:
     return [b for b in books if isinstance(b, dict)] if isinstance(books, list) else []
 
 
-def _signals(state: State) -> list[dict]:
+def _signals(state: State) -> tuple[SignalShown, ...]:
     run = state.run
-    return [{"junction": junction, "approach": approach, "colour": shown["colour"],
-             "since": _ref_json(shown["since"], run, "signal.state"),
-             "evidence": _ref_json(shown["last"], run, "signal.state")}
-            for junction, approaches in sorted(state.signals.items())
-            for approach, shown in sorted(approaches.items())]
+    return tuple(SignalShown(junction, approach, shown["colour"], _ref(shown["since"], run, "signal.state"),
+                             _ref(shown["last"], run, "signal.state"))
+                 for junction, approaches in sorted(state.signals.items())
+                 for approach, shown in sorted(approaches.items()))
 
 
-def _monitors(state: State) -> list[dict]:
+def _monitors(state: State) -> tuple[MonitorShown, ...]:
     """Monitors on the map and monitors that have reported, by src."""
-    start = state.start
-    listed = ((start or {}).get("body", {}).get("map") or {}).get("monitors") if start else None
-    on_map = {f"monitor/{m['id']}": m for m in listed or [] if isinstance(m, dict) and isinstance(m.get("id"), str)}
+    on_map = {f"monitor/{m.ident}": m for m in read_run_map(state.start, MONITORS).monitors if m.ident is not None}
     out = []
     for src in sorted(set(on_map) | set(state.monitors)):
         folded = state.monitors.get(src) or {"observations": {}, "potential_violations": {}}
-        out.append({
-            "monitor": src,
-            "map": on_map.get(src),
-            "observed": sorted(folded["observations"], key=_natural),
-            "potential_violations": [
-                {"vehicle": v, "action": pv["body"].get("action"),
-                 "evidence": _ref_json(pv, state.run, "monitor.potential_violation")}
-                for v, pv in sorted(folded["potential_violations"].items(), key=lambda kv: _natural(kv[0]))],
-        })
-    return out
+        out.append(MonitorShown(
+            src, on_map.get(src), tuple(sorted(folded["observations"], key=_natural)),
+            tuple(PotentialViolation(v, pv["body"].get("action"), _ref(pv, state.run, "monitor.potential_violation"))
+                  for v, pv in sorted(folded["potential_violations"].items(), key=lambda kv: _natural(kv[0])))))
+    return tuple(out)
 
 
-def _road_users(state: State) -> list[dict]:
+def _road_users(state: State) -> tuple[RoadUserShown, ...]:
     """Entities present that are not vehicles (pedestrians, cyclists sent as pedestrians)."""
     run = state.run
-    return [{"src": src, "type": record["spawn"]["body"].get("type") if record["spawn"] else None,
-             "state": _piece(record["state"], run, "entity.state")}
-            for src, record in sorted(state.entities.items())
-            if src.startswith("pedestrian/") and record["despawned"] is None]
+    return tuple(RoadUserShown(src, record["spawn"]["body"].get("type") if record["spawn"] else None,
+                               _piece(record["state"], run, "entity.state"))
+                 for src, record in sorted(state.entities.items())
+                 if src.startswith("pedestrian/") and record["despawned"] is None)
 
 
 def _note(state: State, start: int, t: int) -> str | None:

@@ -9,9 +9,13 @@ from .canonical import canonical_json
 from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .db import Store
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
+from .errors import DiskFailed, DiskFull, RowRefused, StoreBusy, StoreDamaged, StoreFault, StoreReadOnly
+from .sqlite_errors import store_fault, translating
 from .output_files import OutputRefused, check_output, write_bytes, write_text
 from .cache import altered_caches, caches_opened, caches_opened_since, damaged_caches, go_without_caches, unread_caches, unwritten_caches
 from .refs import EventRef
+from .run_map import MapJunction, MapMonitor, MapStopLine, Pair, RunMap, read_map_body, read_run_map, whole, whole_line
+from .run_map import number as finite_number
 from .envelope import (
     MAX_EVENT_BYTES,
     EventError,
@@ -49,6 +53,8 @@ from .partial_state import entity_since, state_of
 from . import derived_cache, kept_recording
 from .received_chain import ReceivedChains
 from .cache_check import CacheTampering, cache_tampering
+from .verify_outcome import VerifyOutcome, check_store
+from .verify_report import IntegrityResult, Problem, RunCheck, SignatureCount
 from .presence import check_presence, sources_near
 from .state import OBSERVATION_WINDOW_S, CollectorPaused, build_snapshots, check_snapshots, state_at
 from .state_value import State
@@ -132,6 +138,8 @@ __all__ = [
     "DEFAULT_ORDER",
     "EventError",
     "EventRef",
+    "MapJunction", "MapMonitor", "MapStopLine", "Pair", "RunMap", "finite_number", "read_map_body", "read_run_map",
+    "whole", "whole_line",
     "ExportReport",
     "EvidenceError",
     "GapsError",
@@ -158,6 +166,9 @@ __all__ = [
     "State",
     "Store",
     "StoreError",
+    "VerifyOutcome", "check_store", "IntegrityResult", "Problem", "RunCheck", "SignatureCount",
+    "StoreFault", "StoreDamaged", "StoreBusy", "StoreReadOnly", "DiskFull", "DiskFailed", "RowRefused",
+    "store_fault", "translating",
     "Timeline",
     "TransferError",
     "VerifyReport",
@@ -188,3 +199,14 @@ __all__ = [
     "state_at",
     "validate_event",
 ]
+
+# The face's functions that read or write a store file speak the store's errors, as Store's methods
+# do (store/sqlite_errors.py): a caller in another room never meets sqlite3's. The `derived_cache`
+# and `kept_recording` modules handed out above are not wrapped: the command line's net
+# (`translating`) covers what they let through.
+from .sqlite_errors import translates as _translates
+
+for _name in ("build_snapshots", "cache_tampering", "check_presence", "check_snapshots", "check_store",
+              "entity_since", "export_run", "import_file", "migrate_copy", "sources_near", "state_at", "state_of"):
+    globals()[_name] = _translates(globals()[_name])
+del _name

@@ -29,8 +29,10 @@ from .integrity import integrity_problems
 from .intake import Candidate, from_raw
 from .kinds import SRC_ROLES
 from .errors import EvidenceError, StoreError
+from .sqlite_errors import translate_methods
 from .event_rows import events_of
-from .outcomes import AppendReport, VerifyReport
+from .outcomes import AppendReport
+from .verify_report import SignatureCount, VerifyReport
 from .reading import one_snapshot
 from .run_summary import RunSummary
 from .signature_tally import SignatureTally
@@ -55,6 +57,7 @@ CheckpointHook = Callable[[list[TreeHead]], None]
 PAGE_SIZE = opening.PAGE_SIZE
 
 
+@translate_methods
 class Store:
     """An event store file. Use one Store from one thread at a time (check_same_thread=False
     only lets it move between threads); separate processes may share a file safely.
@@ -189,6 +192,7 @@ class Store:
             self._appended = {}
         batch.report.quarantine_repeats, batch.report.quarantine_full = kept.repeats, kept.over_cap
         if batch.signed:
+            assert self._signed_runs is not None  # only a store with a checkpoint key signs
             self._signed_runs.signed(batch.signed)
             for hook in self._checkpoint_hooks:
                 hook(batch.signed)
@@ -291,7 +295,8 @@ class Store:
         """A run's events in (t, seq, src) order, streamed from the file; t_to is inclusive.
         Sparse kinds are read through the covering index by kind, each entry checked against its
         chained row: IndexDisagrees (exit 1) at the first that is not (store/index_guard.py)."""
-        wanted = None if kinds is None else sorted(set(queries.collection("kinds", kinds)))
+        chosen = queries.collection("kinds", kinds)
+        wanted = None if chosen is None else sorted(set(chosen))
         if wanted is not None and len(wanted) > 1 and not set(wanted) & set(DENSE_KINDS):
             # one index range per kind, merged: cheaper than the whole run's time index
             streams = [self._rows(run, [kind], srcs, t_from, t_to) for kind in wanted]
@@ -515,16 +520,16 @@ class Store:
         (report.signatures)."""
         with self._reading(), tolerant_text(self._conn):
             report = verify_store(self._conn, run, progress, keys, self._integrity_once)
-            if report.integrity and not report.integrity["ok"]:
+            if report.integrity and not report.integrity.ok:
                 return report  # no run of a damaged file is recorded as verified
-            keys = {r["run"]: verify_cache.chain_key(self._conn, r["run"]) for r in report.runs}
+            keys = {r.run: verify_cache.chain_key(self._conn, r.run) for r in report.runs}
         for summary in report.runs:
-            name = summary["run"]
-            problem = report.problem if report.problem and report.problem.get("run") == name else None
-            if keys[name][0] and (summary["ok"] or problem is not None):
-                counted = SignatureTally.counted(summary["signed"], summary["unsigned"])
+            name = summary.run
+            problem = report.problem if report.problem and report.problem.run == name else None
+            if keys[name][0] and (summary.ok or problem is not None):
+                counted = SignatureCount.from_json(SignatureTally.counted(summary.signed, summary.unsigned))
                 verify_cache.record(self.cache, name, keys[name],
-                                    VerifyReport(ok=summary["ok"], runs=[summary], problem=problem, signatures=counted,
+                                    VerifyReport(ok=summary.ok, runs=(summary,), problem=problem, signatures=counted,
                                                  integrity=report.integrity))
         return report
 

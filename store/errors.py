@@ -46,3 +46,47 @@ class EvidenceError(GapsError):
 class IndexDisagrees(EvidenceError):
     """An index entry read in place of its row (the covering index by kind holds each sparse
     event's text a second time) is not the row the chain covers (store/index_guard.py)."""
+
+
+class StoreFault(GapsError):
+    """SQLite could not do what was asked of the store file: its condition, said as the store's
+    own error (store/sqlite_errors.py translates every sqlite3 error where it leaves the store, so
+    no other room knows SQLite). The message is SQLite's own words; the subclass says what the
+    user must do. `condition` is the state of the file or disk that fails every write alike until
+    it changes ("the disk is full"), None where the failure is the written row's own; `code` is
+    SQLite's extended result code where it gave one. Exit 1: a read command that meets one says
+    the file may be damaged and `gaps verify` says what and where (cli/app.py)."""
+
+    exit_code = 1
+
+    def __init__(self, message: str, *, code: int | None = None, condition: str | None = None) -> None:
+        super().__init__(message)
+        self.code = code
+        self.condition = condition
+
+
+class StoreDamaged(StoreFault):
+    """The file is not a database, or its pages are malformed: run `gaps verify`, and read a copy
+    kept from before."""
+
+
+class StoreBusy(StoreFault):
+    """Another connection holds the lock: wait for it (another writer, a long read) and try again."""
+
+
+class StoreReadOnly(StoreFault):
+    """The file, its folder or its medium cannot be written: give write permission, or write a copy."""
+
+
+class DiskFull(StoreFault):
+    """The disk (or the store's page limit) is full: free space, then try again."""
+
+
+class DiskFailed(StoreFault):
+    """The disk or the file system failed (an I/O error, a file that cannot be opened, memory):
+    check the disk and the path."""
+
+
+class RowRefused(StoreFault):
+    """The store refused what was written, not the file's condition (an integrity constraint, a
+    value too big): the written data's own fault, which writing again will not mend."""

@@ -24,7 +24,7 @@ from .canonical import canonical_json
 from .chain import GENESIS, link
 from .integrity import integrity_problem, integrity_problems
 from .liveliness import wire_problem
-from .outcomes import VerifyReport
+from .verify_report import IntegrityResult, Problem, RunCheck, SignatureCount, VerifyReport
 from .reading import one_snapshot
 from .signature_tally import SignatureTally
 
@@ -52,8 +52,17 @@ def verify_store(conn: sqlite3.Connection, run: str | None = None, progress: Pro
 
 def _unreadable(exc: sqlite3.DatabaseError, keys: Any) -> VerifyReport:
     what = f"SQLite cannot read the store file: {exc}: it is damaged, and nothing in it can be vouched for"
-    return VerifyReport(ok=False, runs=[], problem=_problem(None, None, None, None, what),
-                        signatures=SignatureTally(keys).to_json(), integrity={"ok": False, "messages": [str(exc)]})
+    return VerifyReport(ok=False, runs=(), problem=_problem(None, None, None, None, what),
+                        signatures=_counted(SignatureTally(keys)), integrity=IntegrityResult(False, (str(exc),)))
+
+
+def _counted(tally: SignatureTally) -> SignatureCount:
+    return SignatureCount.from_json(tally.to_json())
+
+
+def _typed(problem: dict[str, Any] | None) -> Problem | None:
+    """A problem another module states as its JSON (store/integrity.py, store/liveliness.py)."""
+    return None if problem is None else Problem.from_json(problem)
 
 
 class NotUtf8(bytes):
@@ -87,7 +96,8 @@ def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None
     ticker = _Ticker(progress, _event_total(conn, run) if progress else 0)
     legacy = _legacy_through(conn)
     tally = SignatureTally(keys)
-    summaries, problems = [], []
+    summaries: list[RunCheck] = []
+    problems: list[Problem | None] = []
     for name in names:
         summary, problem = _verify_run(conn, name, legacy, ticker, tally, required=run is not None)
         summaries.append(summary)
@@ -95,11 +105,11 @@ def _verify(conn: sqlite3.Connection, run: str | None, progress: Progress | None
     if run is None:
         problems.append(_verify_rulebooks(conn))
     problems.append(_verify_wire(conn, run))
-    problems.append(integrity_problem(messages))
+    problems.append(_typed(integrity_problem(messages)))
     ticker.done()
     first = next((problem for problem in problems if problem is not None), None)
-    return VerifyReport(ok=first is None, runs=summaries, problem=first, signatures=tally.to_json(),
-                        integrity={"ok": not messages, "messages": messages})
+    return VerifyReport(ok=first is None, runs=tuple(summaries), problem=first, signatures=_counted(tally),
+                        integrity=IntegrityResult(not messages, tuple(messages)))
 
 
 def _all_runs(conn: sqlite3.Connection) -> list[str]:
@@ -190,7 +200,7 @@ def _sequence_fault(modern: bool, count: Any, before: Any, root: Any, frontier: 
 
 def _verify_run(
     conn: sqlite3.Connection, run: str, legacy: int, ticker: _Ticker, tally: SignatureTally, *, required: bool
-) -> tuple[dict, dict | None]:
+) -> tuple[RunCheck, Problem | None]:
     if not isinstance(run, str) or isinstance(run, NotUtf8):
         return _foreign_run(run)
     walk = _Walk(run, _checkpoints(conn, run, legacy), tally)
@@ -203,19 +213,16 @@ def _verify_run(
         ticker.tick()
     walk.finish(required=required)
     ok = walk.problem is None
-    summary = {"run": run, "events": walk.rows, "head": walk.head.hex() if ok else None, "ok": ok,
-               "signed": walk.signed, "unsigned": walk.unsigned}
-    return summary, walk.problem
+    return RunCheck(run, walk.rows, walk.head.hex() if ok else None, ok, walk.signed, walk.unsigned), walk.problem
 
 
-def _foreign_run(run: Any) -> tuple[dict, dict]:
+def _foreign_run(run: Any) -> tuple[RunCheck, Problem]:
     """Rows under a run id that is not text (a blob, a number, bytes that are not UTF-8): no
     append writes one, so they were put into the file behind the store's back."""
     shown = _show(run)
     what = (f"rows are recorded under a run id that is not text ({shown}): they were added to the file "
             "behind the store's back")
-    summary = {"run": shown, "events": 0, "head": None, "ok": False, "signed": 0, "unsigned": 0}
-    return summary, _problem(shown, None, None, None, what)
+    return RunCheck(shown, 0, None, False, 0, 0), _problem(shown, None, None, None, what)
 
 
 class _Walk:
@@ -233,7 +240,7 @@ class _Walk:
         self.head = GENESIS
         self.frontier: list[bytes] = []  # Merkle frontier of the events verified so far
         self.rows = 0
-        self.problem: dict[str, Any] | None = None
+        self.problem: Problem | None = None
 
     def feed(self, row: tuple) -> None:
         """Check the row against the chain (until the first problem); count and check its signature
@@ -260,14 +267,14 @@ class _Walk:
         elif required and self.rows == 0:
             self.problem = self._missing(f"no events or checkpoints are recorded for run {self.run}")
 
-    def _check(self, row: tuple) -> dict[str, Any] | None:
+    def _check(self, row: tuple) -> Problem | None:
         pos, src, seq = row[0], row[1], row[2]
         if pos != self.count:
             return self._position(pos, src, seq)
         what = self._check_event(row)
         return None if what is None else _problem(self.run, src, seq, pos, what)
 
-    def _position(self, pos: Any, src: Any, seq: Any) -> dict[str, Any]:
+    def _position(self, pos: Any, src: Any, seq: Any) -> Problem:
         if isinstance(pos, int) and pos > self.count:
             return self._missing(
                 f"chain position {self.count} is missing: the next stored event ({src} seq {seq}) "
@@ -276,7 +283,7 @@ class _Walk:
         what = f"chain position {_show(pos)} is out of order or stored twice"
         return _problem(self.run, src, seq, pos, what)
 
-    def _missing(self, what: str) -> dict[str, Any]:
+    def _missing(self, what: str) -> Problem:
         return _problem(self.run, None, None, self.count, what)
 
     def _check_event(self, row: tuple) -> str | None:
@@ -368,7 +375,7 @@ def _parse(text: Any) -> dict | None:
     return ev if isinstance(ev, dict) else None
 
 
-def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
+def _verify_rulebooks(conn: sqlite3.Connection) -> Problem | None:
     """Rulebooks are addressed by the hash of their text: each must still hash to its address."""
     for address, name, version, text in conn.execute("SELECT sha256, name, version, text FROM rulebooks"):
         actual = hashlib.sha256(str(text).encode("utf-8", "surrogatepass")).hexdigest()
@@ -381,7 +388,7 @@ def _verify_rulebooks(conn: sqlite3.Connection) -> dict[str, Any] | None:
     return None
 
 
-def _verify_wire(conn: sqlite3.Connection, run: str | None) -> dict[str, Any] | None:
+def _verify_wire(conn: sqlite3.Connection, run: str | None) -> Problem | None:
     """The liveliness and wire-miss chains (store/liveliness.py), which the missing-evidence
     finding reads, and the ends of them and of the rulebooks' chain the checkpoints (of the run)
     record (store/wire_ends.py);
@@ -391,16 +398,16 @@ def _verify_wire(conn: sqlite3.Connection, run: str | None) -> dict[str, Any] | 
     except (ValueError, TypeError) as exc:
         return _problem(None, None, None, None, f"a liveliness or wire-miss row holds a value no append writes: {exc}")
     if found is not None:
-        return found
+        return _typed(found)
     recorded = wire_ends.checkpoint_problem(conn, run)
     return None if recorded is None else _problem(run, None, None, None, recorded)
 
 
-def _problem(run: str | None, src: Any, seq: Any, chain_pos: Any, what: str) -> dict[str, Any]:
+def _problem(run: str | None, src: Any, seq: Any, chain_pos: Any, what: str) -> Problem:
     """The report's account of a problem; a value no append writes (bytes, text that is not
     UTF-8) is shown as its repr, so that the report stays plain JSON."""
     src, seq, chain_pos = (_show(v) if isinstance(v, bytes) else v for v in (src, seq, chain_pos))
-    return {"run": run, "src": src, "seq": seq, "chain_pos": chain_pos, "what": what}
+    return Problem(run, src, seq, chain_pos, what)
 
 
 def _short(digest: Any) -> str:

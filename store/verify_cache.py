@@ -16,7 +16,7 @@ import json
 import sqlite3
 
 from .cache import Cache, rollback
-from .outcomes import VerifyReport
+from .verify_report import VerifyReport
 
 ChainKey = tuple[int, str]  # (events in the run's chain, stored hash of the last one)
 
@@ -42,15 +42,14 @@ def recorded(cache: Cache, run: str, key: ChainKey) -> VerifyReport | None:
         return None
     try:
         data = json.loads(row[0])
-        return VerifyReport(ok=bool(data["ok"]), runs=list(data["runs"]), problem=data["problem"],
-                            signatures=data.get("signatures"), integrity=data.get("integrity"))
+        return VerifyReport.from_json(data)
     except (ValueError, KeyError, TypeError):
         return None  # damaged: recompute
 
 
 def record(sealed: Cache, run: str, key: ChainKey, report: VerifyReport) -> None:
     """Keep one result per run (the latest chain's), sealed; a locked cache is skipped, not waited on."""
-    text = json.dumps(report.as_dict(), ensure_ascii=False)
+    text = json.dumps(report.to_json(), ensure_ascii=False)
     cache, mac = sealed.connection, sealed.sealer.seal(TABLE, (run, *key), text)
     try:
         cache.execute("BEGIN IMMEDIATE")

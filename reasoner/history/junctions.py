@@ -25,7 +25,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
-from store import EventRef
+from store import EventRef, MapJunction, MapMonitor, MapStopLine, Pair, RunMap, read_run_map
 
 from .sensors import Sensor, stated
 
@@ -47,6 +47,7 @@ MAX_JUNCTIONS = 10_000
 MAX_ROADS = 100_000
 MAX_LINES = 64               # stop lines of one junction
 CELL_M = 200.0               # the grid that finds junctions near a position
+NO_LANES = frozenset({"roads", "junctions", "monitors"})   # the lanes are the pictures'
 ARM_CHECK_M = 25.0           # an arm counts as watched when a monitor's cone covers this point out along it
 
 
@@ -61,8 +62,9 @@ def finite(value: Any, bound: float = MAX_COORD_M) -> float | None:
     return None
 
 
-def point(value: Any) -> Point | None:
-    if isinstance(value, (list, tuple)) and len(value) == 2:
+def point(value: Pair | None) -> Point | None:
+    """A point of the store's map reading (store.read_run_map) within MAX_COORD_M, else None."""
+    if value is not None:
         x, y = finite(value[0]), finite(value[1])
         if x is not None and y is not None:
             return (x, y)
@@ -247,61 +249,62 @@ class Map:
 
 
 def read_map(start: dict | None) -> Map:
-    """The map of a run.start event (None, or one without a map: an empty map)."""
-    body = start.get("body") if isinstance(start, dict) else None
-    raw = body.get("map") if isinstance(body, dict) else None
-    ref = EventRef.of(start) if isinstance(body, dict) else None
+    """The map of a run.start event (None, or one without a map: an empty map), as the store's
+    reader gives it (store.read_run_map), with what a history needs and can trust."""
+    given = read_run_map(start, NO_LANES)
     problems: list[str] = []
-    if not isinstance(raw, dict):
-        return Map((), (), ref, ("the run records no map",) if start is not None else ("the run has no run.start",))
-    roads = tuple(_roads(raw.get("roads"), problems))
-    monitors = _monitors(raw.get("monitors"))
-    junctions = tuple(_junctions(raw.get("junctions"), roads, monitors, ref, problems))
+    if not given.recorded:
+        return Map((), (), given.ref, ("the run records no map",) if start is not None else ("the run has no run.start",))
+    roads = tuple(_roads(given, problems))
+    monitors = _monitors(given.monitors)
+    junctions = tuple(_junctions(given, roads, monitors, problems))
     grid: dict[tuple[int, int], list[int]] = {}
     for n, j in enumerate(junctions):
         grid.setdefault((int(j.x // CELL_M), int(j.y // CELL_M)), []).append(n)
-    return Map(junctions, roads, ref, tuple(problems[:50]), {k: tuple(v) for k, v in grid.items()},
-               sensors=_sensors(raw.get("monitors"), ref))
+    return Map(junctions, roads, given.ref, tuple(problems[:50]), {k: tuple(v) for k, v in grid.items()},
+               sensors=_sensors(given.monitors, given.ref))
 
 
-def _items(value: Any, limit: int, what: str, problems: list[str]) -> list[dict]:
-    items = [v for v in value if isinstance(v, dict)] if isinstance(value, list) else []
-    if len(items) > limit:
-        problems.append(f"the map lists {len(items)} {what}; the first {limit} are read")
-    return items[:limit]
+def _cut(listed: int, limit: int, what: str, problems: list[str]) -> int:
+    """How many of a list are read: at most `limit`, said in `problems` where the map lists more."""
+    if listed > limit:
+        problems.append(f"the map lists {listed} {what}; the first {limit} are read")
+    return limit
 
 
-def _roads(value: Any, problems: list[str]) -> Iterable[Road]:
-    for raw in _items(value, MAX_ROADS, "roads", problems):
-        a, b = point(raw.get("from")), point(raw.get("to"))
-        if not isinstance(raw.get("id"), str) or a is None or b is None:
-            problems.append(f"a road without an id and two points is left out: {str(raw)[:80]}")
+def _roads(given: RunMap, problems: list[str]) -> Iterable[Road]:
+    for raw in given.roads[:_cut(given.roads_listed, MAX_ROADS, "roads", problems)]:
+        a, b = point(raw.a), point(raw.b)
+        if raw.ident is None or a is None or b is None:
+            problems.append(f"a road without an id and two points is left out: {raw.excerpt()}")
             continue
-        limit = finite(raw.get("speed_limit_mph"), 200.0)
-        yield Road(raw["id"], a, b, limit if limit is not None and limit > 0 else None)
+        limit = finite(raw.speed_limit_mph, 200.0)
+        yield Road(raw.ident, a, b, limit if limit is not None and limit > 0 else None)
 
 
 Cone = tuple[float, float, float, float, float]    # x, y, heading (deg), range (m), field of view (deg)
 
 
-def _monitors(value: Any) -> dict[str, list[tuple[str, Cone | None]]]:
+def _monitors(given: tuple[MapMonitor, ...]) -> dict[str, list[tuple[str, Cone | None]]]:
     """Per junction, its monitors' srcs and cones (None where the map gives no whole cone)."""
     found: dict[str, list[tuple[str, Cone | None]]] = {}
-    for raw in value if isinstance(value, list) else []:
-        if isinstance(raw, dict) and isinstance(raw.get("id"), str) and isinstance(raw.get("junction"), str):
-            values = [finite(raw.get(k)) for k in ("x", "y", "heading_deg", "range_m", "fov_deg")]
-            cone: Cone | None = None if None in values else tuple(values)     # type: ignore[assignment]
-            found.setdefault(raw["junction"], []).append((f"monitor/{raw['id']}", cone))
+    for m in given:
+        if m.ident is not None and m.junction is not None:
+            x, y, heading, reach, fov = (finite(v) for v in (m.x, m.y, m.heading_deg, m.range_m, m.fov_deg))
+            cone: Cone | None = None
+            if x is not None and y is not None and heading is not None and reach is not None and fov is not None:
+                cone = (x, y, heading, reach, fov)
+            found.setdefault(m.junction, []).append((f"monitor/{m.ident}", cone))
     return found
 
 
-def _sensors(value: Any, ref: EventRef | None) -> dict[str, Sensor]:
+def _sensors(given: tuple[MapMonitor, ...], ref: EventRef | None) -> dict[str, Sensor]:
     """Each monitor's stated tolerance (its entry's `tolerance`, reasoner/sensors.py), by src."""
     found: dict[str, Sensor] = {}
-    for raw in value if isinstance(value, list) else []:
-        sensor = stated(raw.get("tolerance"), ref) if isinstance(raw, dict) and isinstance(raw.get("id"), str) else None
+    for m in given:
+        sensor = stated(m.tolerance, ref) if m.ident is not None else None
         if sensor is not None:
-            found[f"monitor/{raw['id']}"] = sensor
+            found[f"monitor/{m.ident}"] = sensor
     return found
 
 
@@ -309,12 +312,13 @@ def _unwatched(x: float, y: float, cones: list[tuple[str, Cone | None]]) -> froz
     """The arms whose point ARM_CHECK_M out from the centre lies in no monitor's cone: the road
     users there are in no camera's record, only in their own. A monitor without a whole cone in
     the map is taken to watch every arm (nothing then says otherwise)."""
-    if not cones or any(cone is None for _, cone in cones):
+    whole = [cone for _, cone in cones if cone is not None]
+    if not cones or len(whole) < len(cones):
         return frozenset()
     out = set()
     for arm, (ux, uy) in UNIT.items():
         px, py = x + ux * ARM_CHECK_M, y + uy * ARM_CHECK_M
-        if not any(_in_cone(px, py, cone) for _, cone in cones):
+        if not any(_in_cone(px, py, cone) for cone in whole):
             out.add(arm)
     return frozenset(out)
 
@@ -327,34 +331,34 @@ def _in_cone(px: float, py: float, cone: Cone) -> bool:
     return abs(off) <= fov / 2.0
 
 
-def _junctions(value: Any, roads: tuple[Road, ...], monitors: dict[str, list[tuple[str, Cone | None]]],
-               ref: EventRef | None, problems: list[str]) -> Iterable[Junction]:
-    for raw in _items(value, MAX_JUNCTIONS, "junctions", problems):
-        x, y = finite(raw.get("x")), finite(raw.get("y"))
-        if not isinstance(raw.get("id"), str) or x is None or y is None:
-            problems.append(f"a junction without an id and a position is left out: {str(raw)[:80]}")
+def _junctions(given: RunMap, roads: tuple[Road, ...], monitors: dict[str, list[tuple[str, Cone | None]]],
+               problems: list[str]) -> Iterable[Junction]:
+    for raw in given.junctions[:_cut(given.junctions_listed, MAX_JUNCTIONS, "junctions", problems)]:
+        x, y = finite(raw.x), finite(raw.y)
+        if raw.ident is None or x is None or y is None:
+            problems.append(f"a junction without an id and a position is left out: {raw.excerpt()}")
             continue
-        control = raw.get("control") if isinstance(raw.get("control"), str) else "none"
-        lines = _lines(raw, (x, y), control, problems)
+        control = raw.control if raw.control is not None else "none"
+        lines = _lines(raw, raw.ident, (x, y), control, problems)
         extent, square, extent_source = _extent(raw, (x, y), lines)
-        box, boxed = _box(raw.get("box"))
+        box, boxed = _box(raw)
         major, major_source = _major(raw, (x, y), lines, roads)
-        cones = monitors.get(raw["id"], [])
-        yield Junction(raw["id"], x, y, control, lines, extent, square, extent_source, box, boxed, major,
-                       major_source, tuple(src for src, _ in cones), ref, _unwatched(x, y, cones))
+        cones = monitors.get(raw.ident, [])
+        yield Junction(raw.ident, x, y, control, lines, extent, square, extent_source, box, boxed, major,
+                       major_source, tuple(src for src, _ in cones), given.ref, _unwatched(x, y, cones))
 
 
-def _lines(raw: dict, centre: Point, control: str, problems: list[str]) -> tuple[StopLine, ...]:
-    if isinstance(raw.get("stop_lines"), list):
+def _lines(raw: MapJunction, ident: str, centre: Point, control: str, problems: list[str]) -> tuple[StopLine, ...]:
+    if raw.stop_lines is not None:
         lines = []
-        for item in _items(raw["stop_lines"], MAX_LINES, f"stop lines at {raw['id']}", problems):
-            line = _segment_line(item, centre, raw["id"], control)
+        for item in raw.stop_lines[:_cut(raw.stop_lines_listed, MAX_LINES, f"stop lines at {ident}", problems)]:
+            line = _segment_line(item, centre, ident, control)
             if line is None:
-                problems.append(f"a stop line of {raw['id']} is not a line away from its centre: {str(item)[:80]}")
+                problems.append(f"a stop line of {ident} is not a line away from its centre: {item.excerpt()}")
             else:
                 lines.append(line)
         return tuple(lines)
-    distance = finite(raw.get("stop_line_m"), 1000.0)
+    distance = finite(raw.stop_line_m, 1000.0)
     if distance is None or distance <= 0:
         return ()
     kind = {"stop": "stop_sign", "give_way": "give_way", "lights": "signal"}.get(control, "")
@@ -384,9 +388,9 @@ def _kind_read(word: Any, junction: str, approach: str, control: str) -> tuple[s
     return word, None
 
 
-def _segment_line(item: dict, centre: Point, junction: str, control: str) -> StopLine | None:
-    a, b = point(item.get("from")), point(item.get("to"))
-    if a is None or b is None or not isinstance(item.get("approach"), str):
+def _segment_line(item: MapStopLine, centre: Point, junction: str, control: str) -> StopLine | None:
+    a, b = point(item.a), point(item.b)
+    if a is None or b is None or item.approach is None:
         return None
     dx, dy = b[0] - a[0], b[1] - a[1]
     length = math.hypot(dx, dy)
@@ -398,8 +402,8 @@ def _segment_line(item: dict, centre: Point, junction: str, control: str) -> Sto
         return None
     if towards_centre > 0:
         n = (-n[0], -n[1])
-    kind, reading = _kind_read(item.get("kind"), junction, item["approach"], control)
-    return StopLine(item["approach"], a, b, kind, "map stop_lines", n, True, reading)
+    kind, reading = _kind_read(item.kind, junction, item.approach, control)
+    return StopLine(item.approach, a, b, kind, "map stop_lines", n, True, reading)
 
 
 def _arm_line(approach: str, centre: Point, distance: float, kind: str) -> StopLine:
@@ -409,8 +413,8 @@ def _arm_line(approach: str, centre: Point, distance: float, kind: str) -> StopL
     return StopLine(approach, a, b, kind, "map stop_line_m", (ux, uy), False)
 
 
-def _extent(raw: dict, centre: Point, lines: tuple[StopLine, ...]) -> tuple[float, bool, str]:
-    half = finite(raw.get("box_m"), 1000.0)
+def _extent(raw: MapJunction, centre: Point, lines: tuple[StopLine, ...]) -> tuple[float, bool, str]:
+    half = finite(raw.box_m, 1000.0)
     if half is not None and half > 0:
         return half, True, "map box_m"
     if lines:
@@ -418,28 +422,25 @@ def _extent(raw: dict, centre: Point, lines: tuple[StopLine, ...]) -> tuple[floa
     return DEFAULT_EXTENT_M, False, f"default {DEFAULT_EXTENT_M:g} m: the map gives no area"
 
 
-def _box(value: Any) -> tuple[tuple[Point, ...] | None, bool]:
-    if value is True:
+def _box(raw: MapJunction) -> tuple[tuple[Point, ...] | None, bool]:
+    if raw.box_whole:
         return None, True
-    if isinstance(value, list) and len(value) >= 3:
-        points = [point(p) for p in value[:256]]
-        if all(p is not None for p in points):
-            return tuple(points), True
+    if raw.box is not None and len(raw.box) >= 3:
+        points = [point(p) for p in raw.box[:256]]
+        whole = tuple(p for p in points if p is not None)
+        if len(whole) == len(points):
+            return whole, True
     return None, False
 
 
-def _major(raw: dict, centre: Point, lines: tuple[StopLine, ...], roads: tuple[Road, ...]
+def _major(raw: MapJunction, centre: Point, lines: tuple[StopLine, ...], roads: tuple[Road, ...]
            ) -> tuple[frozenset[str] | None, str]:
     arms = _arms(centre, roads) | {line.approach for line in lines}
-    named = raw.get("major")
-    if isinstance(named, list) and named:
+    if raw.major is not None:
         major: set[str] = set()
-        for item in named[:64]:
+        for item in raw.major:
             road = next((r for r in roads if r.id == item), None)
-            if road is not None:
-                major |= _arms(centre, (road,))
-            elif isinstance(item, str):
-                major.add(item)
+            major |= _arms(centre, (road,)) if road is not None else {item}
         return frozenset(major), "map major"
     if any(line.kind for line in lines) and any(line.source == "map stop_lines" for line in lines):
         minor = {line.approach for line in lines if line.kind in MINOR_KINDS}

@@ -30,11 +30,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Iterable, NamedTuple
+from typing import Any, NamedTuple
 
 import foxglove.messages as fm
 
 from ..envelope import key_for
+from ..run_map import read_run_map
 from .foxglove_channels import ENCODING, ENTITIES_TOPIC, LOG, LOG_TOPIC, MAP_TOPIC, SCENE_UPDATE, SIGNALS_TOPIC
 
 FRAME = "map"
@@ -54,6 +55,7 @@ _BODIES: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
 }
 _SIGNAL_COLOURS = {"red": (1.0, 0.0, 0.0), "red_amber": (1.0, 0.35, 0.0), "amber": (1.0, 0.65, 0.0),
                    "green": (0.0, 0.85, 0.2), "off": (0.3, 0.3, 0.3)}
+_DRAWN_PARTS = frozenset({"roads", "junctions", "monitors"})   # of the run map (store/run_map.py)
 _APPROACH = {"west": (-1, 0), "east": (1, 0), "north": (0, 1), "south": (0, -1)}  # where a signal stands
 _SIGNAL_OFFSET_M = 10.0
 
@@ -126,10 +128,9 @@ def _text(value: Any) -> str | None:
     return value if isinstance(value, str) else None
 
 
-def _point(value: Any) -> tuple[float, float] | None:
-    if isinstance(value, list) and len(value) == 2:
-        return _number(value[0]), _number(value[1])
-    return None
+def _or0(value: float | None) -> float:
+    """A map number (store/run_map.py), 0 where the map gave none: the drawing shows every entry."""
+    return 0.0 if value is None else value
 
 
 class _Look(NamedTuple):
@@ -241,7 +242,8 @@ class SceneBuilder:
         """How a road user is drawn, from its spawn event; kept until it spawns again (every
         state event of a run is drawn, so this is worked out once per road user, not per event)."""
         spawn = self.spawned.get(src, {})
-        kind = _text(spawn.get("type")) if _text(spawn.get("type")) in _BODIES else src.partition("/")[0]
+        named = _text(spawn.get("type"))
+        kind = named if named is not None and named in _BODIES else src.partition("/")[0]
         (length, width, height), rgb = _BODIES.get(kind, _BODIES["car"])
         pairs = _pairs({"src": src, "type": spawn.get("type"), "plate": spawn.get("plate")})
         look = _Look(_vec(length, width, height), _rgba(rgb), height, spawn.get("emergency") is True,
@@ -270,38 +272,39 @@ class SceneBuilder:
     def _signal_entity(self, event: dict[str, Any]) -> fm.SceneEntity:
         """A signal beside its junction (the map's; at the origin while no map has placed it)."""
         body = event["body"]
-        jx, jy = self.junctions.get(_text(body.get("junction")), (0.0, 0.0))
-        dx, dy = _APPROACH.get(_text(body.get("approach")), (0, 0))
+        junction, approach = _text(body.get("junction")), _text(body.get("approach"))
+        jx, jy = self.junctions.get(junction, (0.0, 0.0)) if junction is not None else (0.0, 0.0)
+        dx, dy = _APPROACH.get(approach, (0, 0)) if approach is not None else (0, 0)
         x, y = jx + dx * _SIGNAL_OFFSET_M, jy + dy * _SIGNAL_OFFSET_M
         colour = _text(body.get("colour"))
         sphere = fm.SpherePrimitive(pose=_pose(x, y, 4.0), size=_vec(1.5, 1.5, 1.5),
-                                    color=_rgba(_SIGNAL_COLOURS.get(colour, _SIGNAL_COLOURS["off"])))
+                                    color=_rgba(_SIGNAL_COLOURS.get(colour or "off", _SIGNAL_COLOURS["off"])))
         pole = fm.CylinderPrimitive(pose=_pose(x, y, 1.6), size=_vec(0.2, 0.2, 3.2), color=_rgba((0.2, 0.2, 0.2)),
                                     bottom_scale=1.0, top_scale=1.0)
         metadata = {"junction": body.get("junction"), "approach": body.get("approach"), "colour": colour}
         return _entity(event["src"], event["t"], _pairs(metadata), spheres=[sphere], cylinders=[pole])
 
     def _map(self, event: dict[str, Any]) -> list[Derived]:
-        world = event["body"].get("map")
-        if not isinstance(world, dict):
+        world = read_run_map(event, _DRAWN_PARTS)
+        if not world.recorded:
             return []
         points, cylinders, texts, arrows = [], [], [], []
-        for road in _dicts(world.get("roads")):
-            ends = _point(road.get("from")), _point(road.get("to"))
-            if None not in ends:
-                points += [fm.Point3(x=ends[0][0], y=ends[0][1]), fm.Point3(x=ends[1][0], y=ends[1][1])]
-        for junction in _dicts(world.get("junctions")):
-            x, y = _number(junction.get("x")), _number(junction.get("y"))
-            self.junctions[str(junction.get("id"))] = (x, y)
+        for road in world.roads:
+            if road.a is not None and road.b is not None:       # a coordinate that is not a number: 0
+                points += [fm.Point3(x=_or0(road.a[0]), y=_or0(road.a[1])),
+                           fm.Point3(x=_or0(road.b[0]), y=_or0(road.b[1]))]
+        for junction in world.junctions:
+            x, y = _or0(junction.x), _or0(junction.y)
+            self.junctions[str(junction.label)] = (x, y)
             cylinders.append(fm.CylinderPrimitive(pose=_pose(x, y, 0.02), size=_vec(14.0, 14.0, 0.04),
                                                   bottom_scale=1.0, top_scale=1.0, color=_rgba((0.35, 0.35, 0.4))))
-            texts.append(_label(f"{junction.get('id')} ({junction.get('control')})", x, y, 8.0))
-        for monitor in _dicts(world.get("monitors")):
-            x, y = _number(monitor.get("x")), _number(monitor.get("y"))
-            arrows.append(fm.ArrowPrimitive(pose=_pose(x, y, 3.0, _number(monitor.get("heading_deg"))),
+            texts.append(_label(f"{junction.label} ({junction.control_label})", x, y, 8.0))
+        for monitor in world.monitors:
+            x, y = _or0(monitor.x), _or0(monitor.y)
+            arrows.append(fm.ArrowPrimitive(pose=_pose(x, y, 3.0, _or0(monitor.heading_deg)),
                                             shaft_length=2.0, shaft_diameter=0.3, head_length=1.0,
                                             head_diameter=0.8, color=_rgba((0.7, 0.2, 0.9))))
-            texts.append(_label(f"monitor {monitor.get('id')}", x, y, 5.0))
+            texts.append(_label(f"monitor {monitor.label}", x, y, 5.0))
         roads = fm.LinePrimitive(type=fm.LinePrimitiveLineType.LineList, pose=_pose(0.0, 0.0), thickness=7.0,
                                  scale_invariant=False, points=points, color=_rgba((0.5, 0.5, 0.5)))
         entity = _entity("map", event["t"], [], lines=[roads] if points else [], cylinders=cylinders,
@@ -345,11 +348,6 @@ def _log(event: dict[str, Any], level: fm.LogLevel, text: str) -> Derived:
     return Derived(LOG_TOPIC, event["t"], message.encode())
 
 
-def _dicts(value: Any) -> Iterable[dict[str, Any]]:
-    """The objects in a map list; producers may send anything, and a drawing must not fail on it."""
-    return [item for item in value if isinstance(item, dict)] if isinstance(value, list) else []
-
-
 _HANDLERS = {
     "run.start": SceneBuilder._map,
     "entity.state": SceneBuilder._moved,
@@ -362,7 +360,7 @@ _HANDLERS = {
 }
 DRAWN_KINDS = frozenset(_HANDLERS)  # the kinds whose bodies an export must read
 
-_SDK_CLASSES = {SCENE_UPDATE: fm.SceneUpdate, LOG: fm.Log}
+_SDK_CLASSES: dict[str, Any] = {SCENE_UPDATE: fm.SceneUpdate, LOG: fm.Log}
 
 
 def schema_data(name: str) -> bytes:

@@ -134,17 +134,18 @@ def test_scene_json_is_what_it_was_before_the_scene_became_a_dataclass(tmp_path,
 def test_a_vehicle_inside_a_junction_has_no_road_and_none_is_printed():
     """Issue 39: `road None` on the screen for a car inside the junction (its state has no road)."""
     from explain.scene_text import vehicle_lines
+    from reasoner.model import Control
     from reasoner.scene import Scene
-    state = {"x": 1.75, "y": 10.92, "speed_mps": 13.41, "road": None, "junction": "j1",
-             "evidence": {"run": "r", "src": "vehicle/124", "seq": 149, "t": 0, "kind": "entity.state"}}
-    v = {"vehicle": "124", "type": "car", "recorded": True, "state": state,
-         "control": {"in_control": "driver", "engaged": False, "since": None, "automated": False,
-                     "transition_demand": None, "minimal_risk_manoeuvre": None}, "vehicle_scenario": [],
-         "vehicle_action": None, "monitor_scenarios": [],
-         "validator_scenario": {"goal": None, "judged_on": "spawn only", "facts": []}}
+    from reasoner.scene_parts import Reported, ValidatorShown, VehicleShown
+    from store import EventRef
+    state = Reported({"x": 1.75, "y": 10.92, "speed_mps": 13.41, "road": None, "junction": "j1"},
+                     EventRef("r", "vehicle/124", 149, 0, "entity.state"))
+    control = Control("driver", False, False, False, False, None, False, None, None, None, None)
+    v = VehicleShown("124", "car", True, None, state, control, (), None, (),
+                     ValidatorShown((), None, None, "spawn only"), None)
     sc = Scene(run="r", t=0, t_iso="", run_start=0, run_start_iso="", offset_ns=0, offset="+0s", events=1,
-               last=None, note=None, rulebooks=[], started=None, ended=None, signals=[], monitors=[],
-               vehicles=[v], road_users=[])
+               last=None, note=None, rulebooks=[], started=None, ended=None, signals=(), monitors=(),
+               vehicles=(v,), road_users=())
     line = vehicle_lines(sc, v)[1]
     assert "None" not in line and line.endswith(", in junction j1 (vehicle/124 #149, +0s)")
 
@@ -153,10 +154,11 @@ def test_a_signal_in_red_and_amber_is_said_in_words():
     """Issue 39: the raw token `red_amber` on the screen; TSRGD para 5(7) calls it red-and-amber."""
     from explain.scene_text import scene_lines
     from reasoner.scene import Scene
-    ref = {"run": "r", "src": "signal/j1-west", "seq": 3, "t": 0, "kind": "signal.state"}
+    from reasoner.scene_parts import SignalShown
+    from store import EventRef
+    ref = EventRef("r", "signal/j1-west", 3, 0, "signal.state")
     sc = Scene(run="r", t=0, t_iso="", run_start=0, run_start_iso="", offset_ns=0, offset="+0s", events=1,
                last=None, note=None, rulebooks=[], started=None, ended=None,
-               signals=[{"junction": "j1", "approach": "west", "colour": "red_amber", "since": ref, "evidence": ref}],
-               monitors=[], vehicles=[], road_users=[])
+               signals=(SignalShown("j1", "west", "red_amber", ref, ref),), monitors=(), vehicles=(), road_users=())
     text = "\n".join(scene_lines(sc))
     assert "red_amber" not in text and "j1 west: red and amber since" in text

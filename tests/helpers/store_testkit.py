@@ -126,7 +126,7 @@ def write_v1_file(db_path, evs, calls):
 
 def heads(store: Store) -> dict[str, str]:
     """Each run's chain head, as verify recomputes it."""
-    return {r["run"]: r["head"] for r in store.verify().runs}
+    return {r.run: r.head for r in store.verify().runs}
 
 
 def out_of_order_store(path: Path) -> Path:

@@ -11,7 +11,7 @@ import pytest
 
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
 from ingest import IngestService
-from store import Store
+from store import DiskFailed, Store
 
 SOURCES = {  # src -> the kinds it cycles through
     "vehicle/173": ("vehicle.perception", "vehicle.decision", "entity.state"),
@@ -81,8 +81,9 @@ def test_stop_flushes_what_was_received(db_path: Path) -> None:
 
 
 def test_unusable_store_fails_at_start(tmp_path: Path) -> None:
-    """A bad path is reported to the caller, not left in a dead thread; the session is closed again."""
-    with pytest.raises(sqlite3.Error):
+    """A bad path is reported to the caller, not left in a dead thread; the session is closed again.
+    It is the store's own error (a file that cannot be opened: check the path), not SQLite's."""
+    with pytest.raises(DiskFailed, match="unable to open database file"):
         IngestService(tmp_path / "no-such-dir" / "gaps.db", listen=[free_endpoint()])
 
 

@@ -79,7 +79,7 @@ def test_without_the_requirement_signatures_are_stored_as_they_came(db_path, key
         events = list(store.events(RUN))
     assert [ev["sig"]["key"] for ev in events] == [Signer(keys).sign(ev)["sig"]["key"] for ev in events]
     with Store.open_read_only(db_path) as store:
-        assert store.verify(keys=TrustedKeys.load(keys.write_public_keys())).signatures["valid"] == 2
+        assert store.verify(keys=TrustedKeys.load(keys.write_public_keys())).signatures.valid == 2
 
 
 def test_a_bad_keys_file_stops_serve_before_it_opens_anything(tmp_path):

@@ -45,7 +45,7 @@ def test_car_173_at_ten_seconds(store):
     sc = scene(store, RUN, at(10.0))
     assert (sc.t_iso, sc.offset, sc.note) == ("2024-11-21T08:00:10.000Z", "+10s", None)
     assert [b["name"] for b in sc.rulebooks] == ["paper.le"]
-    car = next(v for v in sc.vehicles if v["vehicle"] == "173")
+    car = next(v for v in sc.vehicles if v.vehicle == "173").to_json()
     red = next(f for f in car["vehicle_scenario"] if f["fact"] == "173 has red light")
     assert red["evidence"] == {"run": RUN, "src": "vehicle/173", "seq": 2, "t": at(9.5), "kind": "vehicle.perception"}
     typed = next(f for f in car["vehicle_scenario"] if f["fact"] == "173 is of type car")
@@ -63,31 +63,31 @@ def test_car_173_at_ten_seconds(store):
     assert validator["goal"] == "173 can enter the junction" and validator["judged_on"] == "vehicle scenario"
     assert validator["facts"] == car["vehicle_scenario"]
     assert "lawful" not in validator                 # no Prolog for the whole scene unless asked
-    assert sc.signals == [{"junction": "j1", "approach": "west", "colour": "red",
+    assert [s.to_json() for s in sc.signals] == [{"junction": "j1", "approach": "west", "colour": "red",
                               "since": {"run": RUN, "src": "signal/j1-west", "seq": 1, "t": at(7),
                                         "kind": "signal.state"},
                               "evidence": {"run": RUN, "src": "signal/j1-west", "seq": 1, "t": at(7),
                                            "kind": "signal.state"}}]
     (monitor,) = sc.monitors
-    assert monitor["map"]["junction"] == "j1" and monitor["observed"] == ["173"]
+    assert monitor.placed("junction") == "j1" and monitor.observed == ("173",)
     json.dumps(sc.to_json())                         # plain JSON data
 
 
 def test_before_a_vehicle_perceives_its_scenario_is_its_spawn(store):
-    car = scene(store, RUN, at(5), vehicle="173", judge=False).vehicles[0]
+    car = scene(store, RUN, at(5), vehicle="173", judge=False).vehicles[0].to_json()
     assert [f["fact"] for f in car["vehicle_scenario"]] == ["173 is of type car"]
     assert car["vehicle_action"] is None and car["monitor_scenarios"] == []
 
 
 def test_judging_asks_the_validator_rulebook(store):
     inv = Investigation(store)
-    car = scene(store, RUN, at(10), vehicle="173", investigation=inv).vehicles[0]["validator_scenario"]
+    car = scene(store, RUN, at(10), vehicle="173", investigation=inv).vehicles[0].validator_scenario.to_json()
     assert car["lawful"] is False and car["rulebook"]["name"] == "paper.le"
     assert car["rulebook"]["sha256"] == inv.ruleset(RUN)["validator"].rulebook.sha256
-    ambulance = scene(store, RUN, at(40), vehicle="253", investigation=inv).vehicles[0]["validator_scenario"]
+    ambulance = scene(store, RUN, at(40), vehicle="253", investigation=inv).vehicles[0].validator_scenario.to_json()
     assert ambulance["lawful"] is True and "is among the lawful actions" in ambulance["why"]
     whole = scene(store, RUN, at(40), judge=True, investigation=inv)
-    assert {v["vehicle"]: v["validator_scenario"]["lawful"] for v in whole.vehicles} == {"173": False, "253": True}
+    assert {v.vehicle: v.validator_scenario.judged.lawful for v in whole.vehicles if v.validator_scenario.judged} == {"173": False, "253": True}
 
 
 def test_the_scene_does_not_depend_on_arrival_order(tmp_path):
@@ -107,7 +107,7 @@ def test_control_follows_the_ads_history(tmp_path):
         s.append(paper_run() + av_events())
 
         def control(seconds):
-            return scene(s, RUN, at(seconds), vehicle="300", judge=False).vehicles[0]["control"]
+            return scene(s, RUN, at(seconds), vehicle="300", judge=False).vehicles[0].to_json()["control"]
 
         assert control(1.5)["in_control"] == "driver"
         assert control(2)["in_control"] == "self-driving feature"
@@ -120,11 +120,11 @@ def test_control_follows_the_ads_history(tmp_path):
 def test_vehicles_present_and_the_unknown_vehicle_error(tmp_path):
     with Store(tmp_path / "av.db") as s:
         s.append(paper_run() + av_events())
-        assert [v["vehicle"] for v in scene(s, RUN, at(50)).vehicles] == ["77", "173", "253", "300"]
-        bus = scene(s, RUN, at(50), vehicle="77", judge=False).vehicles[0]
+        assert [v.vehicle for v in scene(s, RUN, at(50)).vehicles] == ["77", "173", "253", "300"]
+        bus = scene(s, RUN, at(50), vehicle="77", judge=False).vehicles[0].to_json()
         assert not bus["recorded"] and bus["validator_scenario"]["judged_on"] == "monitor scenario"
         assert [f["fact"] for f in bus["validator_scenario"]["facts"]] == ["77 is of type bus", "77 has red light"]
-        assert [v["vehicle"] for v in scene(s, RUN, at(56)).vehicles] == ["77", "173", "253"]
+        assert [v.vehicle for v in scene(s, RUN, at(56)).vehicles] == ["77", "173", "253"]
         with pytest.raises(UnknownVehicle, match="left the run") as gone:
             scene(s, RUN, at(56), vehicle="300")
         assert "173, 253" in str(gone.value)
@@ -135,7 +135,7 @@ def test_vehicles_present_and_the_unknown_vehicle_error(tmp_path):
 
 def test_before_the_run_start_the_scene_is_empty_and_says_so(store):
     sc = scene(store, RUN, at(-1))
-    assert sc.events == 0 and sc.vehicles == [] and sc.signals == [] and sc.rulebooks == []
+    assert sc.events == 0 and sc.vehicles == () and sc.signals == () and sc.rulebooks == []
     assert sc.offset == "-1s" and "nothing was recorded yet" in sc.note
     assert "after the run ended" in scene(store, RUN, at(61)).note
 
@@ -166,7 +166,7 @@ def test_a_misread_light_is_judged_as_the_monitor_saw_it_as_the_incident_is(tmp_
     with Store(tmp_path / "misread.db") as s:
         s.append(events)
         inv = Investigation(s)
-        car = scene(s, RUN, at(10), vehicle="173", investigation=inv).vehicles[0]["validator_scenario"]
+        car = scene(s, RUN, at(10), vehicle="173", investigation=inv).vehicles[0].validator_scenario.to_json()
         verdicts = {i.vehicle: i.verdict for i in inv.incidents(RUN)}
     assert car["judged_on"] == "corrected vehicle scenario"
     assert "173 has red light" in [f["fact"] for f in car["facts"]]

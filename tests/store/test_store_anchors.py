@@ -143,7 +143,7 @@ def test_nulled_merkle_roots_under_a_raised_legacy_flag_fail_verify(tmp_path, ke
     for copy in (roots_only, everything):
         with Store.open_read_only(copy) as store:
             report = store.verify()
-        assert not report.ok and "the legacy record was raised" in report.problem["what"]
+        assert not report.ok and "the legacy record was raised" in report.problem.what
     tamper(everything, ("UPDATE checkpoints SET signature = NULL, key_id = NULL", ()))
     with Store.open_read_only(everything) as store:
         assert store.verify().ok  # nothing in the file tells: the key and the witness do

@@ -37,11 +37,11 @@ def forged_copy(store_file, tmp_path, index: str, key: tuple, position: int) -> 
     return copy
 
 
-def integrity_messages(db: Path) -> list[str]:
+def integrity_messages(db: Path) -> tuple[str, ...]:
     with Store.open_read_only(db) as store:
         report = store.verify()
     assert not report.ok
-    return report.integrity["messages"]
+    return report.integrity.messages
 
 
 def test_the_walk_finds_every_entry_of_a_multi_page_index(store_file):

@@ -90,7 +90,7 @@ def test_a_cache_of_another_store_is_not_used(tmp_path):
     with Store.open_read_only(two) as store:
         for ms in (5, 15, 35, 39):
             assert state_at(store, "r1", T0 + 7 + ms * 1_000_000) == folded(store, T0 + 7 + ms * 1_000_000)
-        assert store.verified("r1").runs[0]["head"] == store.verify("r1").runs[0]["head"]
+        assert store.verified("r1").runs[0].head == store.verify("r1").runs[0].head
 
 
 def test_verification_is_computed_once_per_chain_head(store, monkeypatch):

@@ -35,7 +35,7 @@ def exported_files(folder: Path) -> list[str]:
 
 
 def heads(store: Store) -> dict[str, str]:
-    return {r["run"]: r["head"] for r in store.verify().runs}
+    return {r.run: r.head for r in store.verify().runs}
 
 
 # --- import: every kind of bad line is quarantined, the rest imported ------------------------------

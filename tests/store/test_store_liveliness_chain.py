@@ -42,7 +42,7 @@ def problem(db: Path) -> str | None:
     with Store.open_read_only(db) as store:
         report = store.verify()
         assert report.ok is (report.problem is None)
-        return None if report.problem is None else report.problem["what"]
+        return None if report.problem is None else report.problem.what
 
 
 @pytest.mark.parametrize("statement, row", [

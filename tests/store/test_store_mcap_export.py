@@ -127,7 +127,7 @@ def test_run_and_checkpoint_metadata_as_strings(exported):
     _, _, metadata = read_all(path)
     (run,) = [m.metadata for m in metadata if m.name == "gaps.run"]
     assert run["run"] == RUN and run["events"] == str(len(events)) and run["order"] == "chain"
-    assert run["head"] == store.verify(RUN).runs[0]["head"]
+    assert run["head"] == store.verify(RUN).runs[0].head
     assert run["first_t"] == str(T0) and run["sources"].split(",") == sorted({ev["src"] for ev in events})
     checkpoints = [m.metadata for m in metadata if m.name == "gaps.checkpoint"]
     stored = store.checkpoints(RUN)

@@ -23,7 +23,7 @@ T0 = 1_732_184_100_000_000_000
 
 
 def heads(store: Store) -> dict[str, str]:
-    return {r["run"]: r["head"] for r in store.verify().runs}
+    return {r.run: r.head for r in store.verify().runs}
 
 
 def ingest_like_run(n: int = 3000, run: str = "busy") -> list[dict]:

@@ -55,8 +55,8 @@ def test_a_v2_checkpoint_without_its_root_fails_verify(v1_file):
     with Store(v1_file) as store:
         report = store.verify()
     assert not report.ok
-    assert report.problem["chain_pos"] == 7
-    assert "lacks the Merkle root" in report.problem["what"]
+    assert report.problem.chain_pos == 7
+    assert "lacks the Merkle root" in report.problem.what
 
 
 def test_a_fresh_file_holds_every_checkpoint_to_v2(db_path):
@@ -65,7 +65,7 @@ def test_a_fresh_file_holds_every_checkpoint_to_v2(db_path):
     assert rows(db_path, "SELECT through_id FROM legacy_checkpoints") == [(0,)]
     tamper(db_path, ("UPDATE checkpoints SET prev_count = NULL", ()))
     with Store(db_path) as store:
-        assert "lacks the Merkle root, frontier or previous count" in store.verify().problem["what"]
+        assert "lacks the Merkle root, frontier or previous count" in store.verify().problem.what
 
 
 def test_a_signal_just_after_the_schemas_commit_is_what_reaches_the_caller(tmp_path):

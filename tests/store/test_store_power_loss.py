@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import sqlite3
 import subprocess
 import sys
 import time
@@ -15,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from store import Store
+from store import DiskFull, Store
 from tests.helpers.store_testkit import event
 
 ROOT = Path(__file__).parents[2]
@@ -72,7 +71,7 @@ def test_a_full_disk_during_an_append_leaves_the_store_whole_and_appendable(tmp_
         store.append(evs[:100])
         pages = store.connection.execute("PRAGMA page_count").fetchone()[0]
         store.connection.execute(f"PRAGMA max_page_count = {pages}")   # SQLite's own full disk
-        with pytest.raises(sqlite3.OperationalError, match="full"):
+        with pytest.raises(DiskFull, match="full"):      # the store's own error: free space, try again
             store.append(evs[100:])
         assert store.count() == 100 and store.verify().ok
         store.connection.execute("PRAGMA max_page_count = 1073741823")  # room again

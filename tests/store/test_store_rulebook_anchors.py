@@ -46,7 +46,7 @@ def booked_store(db: Path, key: CheckpointKey, witness_path: Path) -> tuple[str,
 def plain_verify_problem(db: Path) -> str | None:
     with Store.open_read_only(db) as store:
         report = store.verify()
-    return None if report.ok else report.problem["what"]
+    return None if report.ok else report.problem.what
 
 
 def _parts(db: Path) -> list[tuple[int, dict]]:

@@ -218,8 +218,8 @@ def test_verify_counts_signatures_and_checks_them_with_keys(signed_store, truste
     with Store.open_read_only(signed_store) as store:
         counted = store.verify().signatures
         checked = store.verify(keys=trusted).signatures
-    assert (counted["signed"], counted["unsigned"], counted["checked"], counted["valid"]) == (5, 1, False, None)
-    assert (checked["signed"], checked["valid"], checked["invalid"], checked["first_invalid"]) == (5, 5, 0, None)
+    assert (counted.signed, counted.unsigned, counted.checked, counted.valid) == (5, 1, False, None)
+    assert (checked.signed, checked.valid, checked.invalid, checked.first_invalid) == (5, 5, 0, None)
 
 
 def test_a_forged_event_stored_without_checks_is_named_by_verify(tmp_path, keys, trusted):
@@ -231,9 +231,9 @@ def test_a_forged_event_stored_without_checks_is_named_by_verify(tmp_path, keys,
         report = store.verify(keys=trusted)
     assert report.ok                                        # the chain is intact: it recorded what came
     s = report.signatures
-    assert (s["valid"], s["invalid"]) == (1, 1)
-    assert s["first_invalid"]["src"] == "vehicle/173" and s["first_invalid"]["seq"] == 1
-    assert s["first_invalid"]["chain_pos"] == 1 and "not for vehicle/173" in s["first_invalid"]["what"]
+    assert (s.valid, s.invalid) == (1, 1)
+    assert s.first_invalid.src == "vehicle/173" and s.first_invalid.seq == 1
+    assert s.first_invalid.chain_pos == 1 and "not for vehicle/173" in s.first_invalid.what
 
 
 def _rewrite(path: Path, seq: int, change) -> None:
@@ -253,8 +253,8 @@ def test_a_signature_stripped_in_the_store_file_is_caught(signed_store, tmp_path
     _rewrite(copy, 2, lambda ev: {k: v for k, v in ev.items() if k != "sig"})
     with Store.open_read_only(copy) as store:
         report = store.verify(keys=trusted)
-    assert not report.ok and report.problem["seq"] == 2 and "hash does not match" in report.problem["what"]
-    assert report.signatures["signed"] == 4 and report.signatures["unsigned"] == 2
+    assert not report.ok and report.problem.seq == 2 and "hash does not match" in report.problem.what
+    assert report.signatures.signed == 4 and report.signatures.unsigned == 2
 
 
 def test_a_signature_replaced_in_the_store_file_is_caught(signed_store, tmp_path, trusted, keys):
@@ -265,8 +265,8 @@ def test_a_signature_replaced_in_the_store_file_is_caught(signed_store, tmp_path
     _rewrite(copy, 3, lambda ev: sign_event(ev, SigningKey.generate()))
     with Store.open_read_only(copy) as store:
         report = store.verify(keys=trusted)
-    assert not report.ok and report.problem["seq"] == 3
-    assert report.signatures["invalid"] == 1 and report.signatures["first_invalid"]["seq"] == 3
+    assert not report.ok and report.problem.seq == 3
+    assert report.signatures.invalid == 1 and report.signatures.first_invalid.seq == 3
 
 
 @pytest.mark.parametrize("suffix", [".jsonl", ".mcap"])
@@ -279,4 +279,4 @@ def test_signatures_travel_in_exports_and_back(signed_store, tmp_path, trusted, 
         assert import_file(back, exported).stored == 6
         assert list(back.events(RUN)) == original
         report = back.verify(keys=trusted)
-    assert report.ok and (report.signatures["valid"], report.signatures["invalid"]) == (5, 0)
+    assert report.ok and (report.signatures.valid, report.signatures.invalid) == (5, 0)

@@ -85,13 +85,13 @@ def test_verify_fails_on_an_index_that_disagrees_with_its_table(recorded, attack
     with Store.open_read_only(recorded) as store:
         report = store.verify()
         one_run = store.verify("r1")
-    assert [r["ok"] for r in report.runs] == [True]  # the chain itself matches: the table is intact
+    assert [r.ok for r in report.runs] == [True]  # the chain itself matches: the table is intact
     assert not report.ok and not one_run.ok
-    assert report.integrity["ok"] is False
-    assert "events_by_kind" in report.integrity["messages"][0]
-    what = report.problem["what"]
+    assert report.integrity.ok is False
+    assert "events_by_kind" in report.integrity.messages[0]
+    what = report.problem.what
     assert what.startswith("the store file fails SQLite's integrity check: ") and "events_by_kind" in what
-    assert report.problem["run"] is None
+    assert report.problem.run is None
 
 
 def test_a_run_of_a_damaged_file_is_never_recorded_as_verified(recorded):
@@ -107,7 +107,7 @@ def test_a_forged_time_index_entry_fails_verify(recorded):
     split(recorded, "events_by_time", rowid_of(recorded, "r1", "monitor/m1", 0), t=T0 + 3_600_000_000_000)
     with Store.open_read_only(recorded) as store:
         report = store.verify()
-    assert not report.ok and "events_by_time" in report.problem["what"]
+    assert not report.ok and "events_by_time" in report.problem.what
 
 
 def test_reading_a_forged_index_entry_stops_with_a_clear_error(recorded):

@@ -143,8 +143,8 @@ def test_any_single_row_tampering_is_caught_at_or_before_its_position(plan, data
         with Store(db_path) as store:
             report = store.verify()
     assert not report.ok
-    assert report.problem["run"] in runs
-    assert report.problem["chain_pos"] <= pos
+    assert report.problem.run in runs
+    assert report.problem.chain_pos <= pos
 
 
 @settings(deadline=None, max_examples=75, suppress_health_check=[HealthCheck.too_slow])

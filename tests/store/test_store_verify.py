@@ -10,7 +10,7 @@ import json
 import pytest
 from tests.helpers.store_testkit import event, rows, tamper
 
-from store import Store, VerifyReport
+from store import IntegrityResult, RunCheck, Store, VerifyReport
 
 N = 10  # events of run r1, appended in two calls of 5 (so two checkpoints)
 
@@ -43,14 +43,14 @@ def failed_at(db_path, pos, *, run="r1", named=True):
     report = verify(db_path)
     assert not report.ok
     problem = report.problem
-    assert (problem["run"], problem["chain_pos"]) == (run, pos)
+    assert (problem.run, problem.chain_pos) == (run, pos)
     if named:
         src, seq = at(db_path, pos, run)[:2]
-        assert (problem["src"], problem["seq"]) == (src, seq)
+        assert (problem.src, problem.seq) == (src, seq)
     else:
-        assert (problem["src"], problem["seq"]) == (None, None)
-    assert {entry["run"]: entry["ok"] for entry in report.runs} == {"r1": run != "r1", "r2": run != "r2"}
-    return problem["what"]
+        assert (problem.src, problem.seq) == (None, None)
+    assert {entry.run: entry.ok for entry in report.runs} == {"r1": run != "r1", "r2": run != "r2"}
+    return problem.what
 
 
 def chain_from(prev_hex, texts):
@@ -67,22 +67,22 @@ def test_untampered_store_verifies(filled):
     assert report.ok and report.problem is None
     heads = {run: digest for run, digest in rows(filled, "SELECT run, hash FROM events e WHERE chain_pos = "
                                                           "(SELECT max(chain_pos) FROM events WHERE run = e.run)")}
-    assert report.runs == [
-        {"run": "r1", "events": N, "head": heads["r1"], "ok": True, "signed": 0, "unsigned": N},
-        {"run": "r2", "events": 3, "head": heads["r2"], "ok": True, "signed": 0, "unsigned": 3},
-    ]
+    assert report.runs == (RunCheck("r1", N, heads["r1"], True, 0, N), RunCheck("r2", 3, heads["r2"], True, 0, 3))
+    runs = [{"run": "r1", "events": N, "head": heads["r1"], "ok": True, "signed": 0, "unsigned": N},
+            {"run": "r2", "events": 3, "head": heads["r2"], "ok": True, "signed": 0, "unsigned": 3}]
     counted = {"signed": 0, "unsigned": N + 3, "checked": False, "keys": None, "valid": None, "invalid": None,
                "first_invalid": None}
-    assert report.as_dict() == {"ok": True, "runs": report.runs, "problem": None, "signatures": counted,
+    assert report.to_json() == {"ok": True, "runs": runs, "problem": None, "signatures": counted,
                                 "integrity": {"ok": True, "messages": []}}
+    assert VerifyReport.from_json(report.to_json()) == report       # as the cache keeps and reads it back
 
 
 def test_empty_store_verifies():
     with Store(":memory:") as store:
         report = store.verify()
-        assert report == VerifyReport(ok=True, runs=[], problem=None, signatures=report.signatures,
-                                      integrity={"ok": True, "messages": []})
-        assert report.signatures["signed"] == report.signatures["unsigned"] == 0
+        assert report == VerifyReport(ok=True, runs=(), problem=None, signatures=report.signatures,
+                                      integrity=IntegrityResult(True, ()))
+        assert report.signatures.signed == report.signatures.unsigned == 0
 
 
 def test_one_byte_of_an_event_changed(filled):
@@ -213,22 +213,22 @@ def test_the_first_problem_is_reported(filled):
            ("UPDATE events SET t = 0 WHERE run = 'r1' AND chain_pos = 3", ()),
            ("UPDATE events SET t = 0 WHERE run = 'r2' AND chain_pos = 0", ()))
     report = verify(filled)
-    assert (report.problem["run"], report.problem["chain_pos"]) == ("r1", 3)
-    assert [entry["ok"] for entry in report.runs] == [False, False]
-    assert [entry["head"] for entry in report.runs] == [None, None]
+    assert (report.problem.run, report.problem.chain_pos) == ("r1", 3)
+    assert [entry.ok for entry in report.runs] == [False, False]
+    assert [entry.head for entry in report.runs] == [None, None]
 
 
 def test_verify_one_run(filled):
     tamper(filled, ("UPDATE events SET t = 0 WHERE run = 'r1' AND chain_pos = 1", ()))
     assert verify(filled, "r2").ok
-    assert [entry["run"] for entry in verify(filled, "r2").runs] == ["r2"]
+    assert [entry.run for entry in verify(filled, "r2").runs] == ["r2"]
     assert not verify(filled, "r1").ok
 
 
 def test_verify_an_unknown_run_fails(filled):
     report = verify(filled, "nope")
     assert not report.ok
-    assert report.problem["what"] == "no events or checkpoints are recorded for run nope"
+    assert report.problem.what == "no events or checkpoints are recorded for run nope"
 
 
 def test_a_rulebook_altered(filled):
@@ -237,8 +237,8 @@ def test_a_rulebook_altered(filled):
     tamper(filled, ("UPDATE rulebooks SET text = 'A vehicle may go.\n' WHERE sha256 = ?", (address,)))
     report = verify(filled)
     assert not report.ok
-    assert report.problem["run"] is None
-    assert report.problem["what"].startswith(f"rulebook hc 1 is stored under {address[:12]}…")
+    assert report.problem.run is None
+    assert report.problem.what.startswith(f"rulebook hc 1 is stored under {address[:12]}…")
     with Store(filled) as store:
         with pytest.raises(ValueError, match="does not match its text"):
             store.get_rulebook(address)
@@ -258,9 +258,9 @@ def checkpointed(db_path):
 def failed_with(db_path, pos):
     report = verify(db_path)
     assert not report.ok
-    assert (report.problem["run"], report.problem["chain_pos"]) == ("r1", pos)
-    assert (report.problem["src"], report.problem["seq"]) == at(db_path, pos)[:2]
-    return report.problem["what"]
+    assert (report.problem.run, report.problem.chain_pos) == ("r1", pos)
+    assert (report.problem.src, report.problem.seq) == at(db_path, pos)[:2]
+    return report.problem.what
 
 
 def test_a_merkle_root_altered(checkpointed):
@@ -320,7 +320,7 @@ def test_a_checkpoint_moved_to_another_run(checkpointed):
     tamper(checkpointed, ("UPDATE checkpoints SET run = 'r9' WHERE count = 3", ()))
     report = verify(checkpointed)
     assert not report.ok
-    assert {entry["run"]: entry["ok"] for entry in report.runs} == {"r1": False, "r9": False}
+    assert {entry.run: entry.ok for entry in report.runs} == {"r1": False, "r9": False}
 
 
 def test_a_checkpoint_with_an_impossible_count(checkpointed):

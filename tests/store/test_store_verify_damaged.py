@@ -28,7 +28,7 @@ def test_verify_of_a_file_sqlite_cannot_read_fails_with_a_report(db_path):
     break_table_root(db_path)
     with Store.open_read_only(db_path) as store:
         report = store.verify()
-    assert not report.ok and report.integrity["ok"] is False
-    assert report.problem["what"].startswith("SQLite cannot read the store file: database disk image is malformed")
+    assert not report.ok and report.integrity.ok is False
+    assert report.problem.what.startswith("SQLite cannot read the store file: database disk image is malformed")
     result = gaps("verify", db=db_path)
     assert result.exit_code == 1 and "FAILED: " in result.stdout

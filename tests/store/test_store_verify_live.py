@@ -43,9 +43,9 @@ def test_a_commit_in_the_middle_of_verify_is_not_seen_by_it(db_path):
             report = verify_store(reader, integrity=lambda conn: [])  # the commits fall among the chain reads
             reader.set_progress_handler(None, 0)
             assert report.ok, report.problem
-            seen, total = report.runs[0]["events"], 30 + 3 * state["commits"]
+            seen, total = report.runs[0].events, 30 + 3 * state["commits"]
             assert state["commits"] >= 5 and seen < total  # commits came after verify's snapshot began
-            assert verify_store(reader).runs[0]["events"] == total
+            assert verify_store(reader).runs[0].events == total
         finally:
             reader.close()
 
@@ -74,7 +74,7 @@ def test_verify_while_a_writer_appends_never_fails(db_path):
             with Store.open_read_only(db_path) as reader:
                 for _ in range(15):
                     report = reader.verify()
-                    counts.append(report.runs[0]["events"])
+                    counts.append(report.runs[0].events)
                     if not report.ok:
                         problems.append(report.problem)
         finally:

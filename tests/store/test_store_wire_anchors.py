@@ -54,7 +54,7 @@ HIDE = ("UPDATE checkpoints SET wire = NULL", ())  # the checkpoints' record of 
 def plain_verify_problem(db: Path) -> str | None:
     with Store.open_read_only(db) as store:
         report = store.verify()
-    return None if report.ok else report.problem["what"]
+    return None if report.ok else report.problem.what
 
 
 def anchored(db: Path, heads, public):
