@@ -113,9 +113,10 @@ class CaseMemo:
             pieces = [self._kept[kind].get(_piece_key(key, n)) for n in range(int(count))]
         except ValueError:
             return None
-        if any(piece is None for piece in pieces):
+        present = [piece for piece in pieces if piece is not None]
+        if len(present) < len(pieces):
             return None
-        text = "".join(pieces)
+        text = "".join(present)
         return text if _digest(text) == digest else None
 
     def _value(self, kind: str, key: str, plain: bool) -> Any:
@@ -191,7 +192,7 @@ def _digest(text: str) -> str:
 # --- the codec ---------------------------------------------------------------------------------
 
 # The measurements' types, and an incident's (a judgement under the rulebooks in force is kept too:
-# reasoner/investigation.py).
+# reasoner/speedups/kept_verdicts.py).
 _TYPES: dict[str, type] = {cls.__name__: cls for cls in (
     EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
     Control, Decision, Scenarios, StageProof, Proofs, Act, Source, Unforced)}
@@ -214,7 +215,7 @@ def encode(value: Any) -> Any:
     if type(value) is EventRef:         # the most common value by far: kept short
         return {"r": [value.run, value.src, value.seq, value.t, value.kind]}
     name = type(value).__name__
-    if _TYPES.get(name) is type(value):
+    if _TYPES.get(name) is type(value) and dataclasses.is_dataclass(value):
         return {"@": name, "f": [encode(getattr(value, f.name)) for f in dataclasses.fields(value)]}
     raise Uncacheable(f"{name} is not kept")
 

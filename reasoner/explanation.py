@@ -13,20 +13,30 @@ explain/ only renders the answers.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import Any, Mapping, Protocol
 
 from .chain_status import ChainStatus
 from .counterfactuals import Counterfactual as Found
 from .counterfactuals import QuestionUnreadable, search, why_not
-from .engine import Rulebook
+from .engine import Engine, Rulebook
+from .facts import FactReader
 from .le.render import sentence_text
 from .le.sentences import constant
 from .le.terms import Atom
 from .model import Incident, Tree
 from .vocabulary import CAN, MUST_NOT, POTENTIALLY_VIOLATES
 
-if TYPE_CHECKING:
-    from .investigation import Investigation
+
+class Asked(Protocol):
+    """What answers an explanation's questions: the engine and fact reader that judged the
+    incident, its rulebooks by sha256 and its run's chain (an Investigation is one)."""
+
+    engine: Engine
+    reader: FactReader
+
+    def rulebook(self, sha256: str) -> Rulebook | None: ...
+
+    def chain(self, run: str) -> ChainStatus: ...
 
 # DESIGN's core vocabulary: the colours a signal shows (a counterfactual may swap one for another)
 COLOURS = ["red", "amber", "green"]
@@ -115,7 +125,7 @@ class Explanation:
                 "chain": self.chain.to_json()}
 
 
-def explain(inv: Investigation, incident: Incident, questions: list[str], counterfactuals: bool) -> Explanation:
+def explain(inv: Asked, incident: Incident, questions: list[str], counterfactuals: bool) -> Explanation:
     """Investigation.explanation's work (see there)."""
     return _Asker(inv, incident).explanation(questions, counterfactuals)
 
@@ -124,7 +134,7 @@ class _Asker:
     """The questions about one incident, on the facts of its scenarios, with the investigation's
     engine and fact reader."""
 
-    def __init__(self, inv: Investigation, incident: Incident) -> None:
+    def __init__(self, inv: Asked, incident: Incident) -> None:
         self.inv, self.inc = inv, incident
         self.me = constant([incident.vehicle])
         self.act = constant(str(incident.action).split())
@@ -186,7 +196,8 @@ class _Asker:
             if h.functor in named and len(h.args) == 2 and isinstance(h.args[1], str) and h.args[1] not in actions:
                 actions.append(h.args[1])
         facts = self._validator_atoms()
-        lawful, unlawful = [], []
+        lawful: list[str] = []
+        unlawful: list[str] = []
         for act in actions:
             (lawful if self.inv.engine.holds(self.validator, CAN.atom(self.me, act), facts)
              else unlawful).append(str(act))
@@ -196,7 +207,7 @@ class _Asker:
         if self.validator is None or self.inc.verdict == "dismissed":
             return None
         engine, facts, can = self.inv.engine, self._validator_atoms(), CAN.atom(self.me, self.act)
-        opts = {"values": {"colour": COLOURS}, "exclude": NOT_SWAPPED_IN}
+        opts: dict[str, Any] = {"values": {"colour": COLOURS}, "exclude": NOT_SWAPPED_IN}
         out: dict[str, tuple[Counterfactual, ...]] = {}
         if self.inc.verdict == "punishable":
             out["lawful"] = _worded(search(engine, self.validator, facts, can, True, self.me, fixed=[self.pv],
@@ -220,6 +231,8 @@ class _Asker:
         return [a for a in (self.inv.reader.atom(rb, s) for s, _ in facts) if a is not None]
 
     def _validator_atoms(self) -> list[Atom]:
+        if self.validator is None:          # no verdict's rulebook: an empty Validator Scenario
+            return [self.pv]
         return self._atoms(self.validator, self.inc.scenarios.validator) + [self.pv]
 
 

@@ -10,12 +10,26 @@ come back to a stop line, and longer than a monitor's episode of one crossing.
 """
 from __future__ import annotations
 
-from typing import Sequence
-
-from ..model import Incident
+from typing import Protocol, Sequence, TypeVar
 
 MATCH_WINDOW_S = 5.0
 SECOND = 1_000_000_000
+
+
+class Named(Protocol):
+    """What matching reads of an incident (a whole one or its summary)."""
+
+    @property
+    def id(self) -> str: ...
+    @property
+    def t(self) -> int: ...
+    @property
+    def vehicle(self) -> str: ...
+    @property
+    def action(self) -> str: ...
+
+
+Incident = TypeVar("Incident", bound=Named)
 
 
 def match(before: Sequence[Incident], after: Sequence[Incident]
@@ -39,8 +53,15 @@ def match(before: Sequence[Incident], after: Sequence[Incident]
     pairs += near
     pairs += [(inc, None) for inc in left if id(inc) not in paired_left]
     pairs += [(None, inc) for inc in right if id(inc) not in paired_right]
-    pairs.sort(key=lambda p: ((p[0] or p[1]).t, (p[0] or p[1]).id))
+    pairs.sort(key=lambda p: (_either(p).t, _either(p).id))
     return pairs
+
+
+def _either(pair: tuple[Incident | None, Incident | None]) -> Incident:
+    """The incident of a pair (before, else after: a pair has one at least)."""
+    found = pair[0] if pair[0] is not None else pair[1]
+    assert found is not None, "a pair has an incident on one side at least"
+    return found
 
 
 def _nearest(left: list[Incident], right: list[Incident]) -> list[tuple[Incident, Incident]]:

@@ -26,7 +26,7 @@ from store import NoSuchRun, Store
 from ..collector import JudgementCollector
 from ..engine import Engine, Rulebook, get_engine
 from ..facts import FactReader
-from ..investigation import Investigation, SharedReading
+from ..investigation import Investigation, Judgement, SharedReading, whole
 from ..le.sentences import constant
 from ..le.terms import Cond, Var
 from ..model import Incident
@@ -250,7 +250,7 @@ class Regressor:
 
     def run(self, run: str) -> RunResult:
         started = time.perf_counter()
-        base, new = self.before.incidents(run), self.after.incidents(run)
+        base, new = self.before.judgements(run), self.after.judgements(run)
         rs_b, rs_n = self.before.ruleset(run), self.after.ruleset(run)
         diffs = self._stage_diffs(rs_b, rs_n)
         incidents = tuple(self._incident(run, b, n, diffs) for b, n in match(base, new))
@@ -277,12 +277,12 @@ class Regressor:
         return out
 
     # -- incidents -------------------------------------------------------------------------
-    def _incident(self, run: str, b: Incident | None, n: Incident | None, diffs: Diffs) -> CaseResult:
+    def _incident(self, run: str, b: Judgement | None, n: Judgement | None, diffs: Diffs) -> CaseResult:
         one = b or n
         case = CaseResult(run, "incident", one.id, one.vehicle, one.action, one.t, _summary(b), _summary(n))
         return _with(case, self._incident_changes(b, n, diffs))
 
-    def _incident_changes(self, b: Incident | None, n: Incident | None, diffs: Diffs) -> list[Change]:
+    def _incident_changes(self, b: Judgement | None, n: Judgement | None, diffs: Diffs) -> list[Change]:
         if b is None or n is None:
             kind = "new" if b is None else "gone"
             return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, self.after.proved(n)), diffs)]
@@ -293,11 +293,11 @@ class Regressor:
             out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, self.after.proved(n)), diffs))
         if _penalty(b) != _penalty(n):
             out.append(self._because("penalty", _penalty_text(b), _penalty_text(n),
-                                     [*self._penalty_trees(b, self.before), *self._penalty_trees(n, self.after)],
+                                     [*self._penalty_trees(whole(b), self.before), *self._penalty_trees(whole(n), self.after)],
                                      diffs))
         if _liability(b) != _liability(n):
             out.append(self._because("liability", _liability_text(b), _liability_text(n),
-                                     [*_liability_trees(b), *_liability_trees(n)], diffs))
+                                     [*_liability_trees(whole(b)), *_liability_trees(whole(n))], diffs))
         return out
 
     def _because(self, kind: str, before: str | None, after: str | None, trees: Iterable[Trees],
@@ -444,7 +444,7 @@ def _answer(permitted: bool | None) -> str:
     return {True: "permitted", False: "forbidden"}.get(permitted, "not answerable")
 
 
-def _verdict_trees(*incs: Incident | None) -> list[Trees]:
+def _verdict_trees(*incs: Judgement | None) -> list[Trees]:
     """The monitor stage's and the validator's proofs of the incidents."""
     out = []
     for inc in incs:
@@ -460,13 +460,13 @@ def _liability_trees(inc: Incident) -> list[Trees]:
     return [Trees(inc.liability.rulebook, tuple(inc.liability.trees))] if inc.liability else []
 
 
-def _penalty(inc: Incident) -> tuple | None:
+def _penalty(inc: Judgement) -> tuple | None:
     p = inc.penalty
     return None if p is None else (p.offence, p.fine_gbp, p.points, p.fine_gbp_by_law, p.points_by_law,
                                    p.regulatory_sanctions)
 
 
-def _penalty_text(inc: Incident | None) -> str:
+def _penalty_text(inc: Judgement | None) -> str:
     p = inc.penalty if inc else None
     if p is None:
         return "no penalty"
@@ -474,16 +474,16 @@ def _penalty_text(inc: Incident | None) -> str:
     return f"{fine} + {p.points} points ({p.offence})"
 
 
-def _liability(inc: Incident) -> tuple:
+def _liability(inc: Judgement) -> tuple:
     return inc.liable, inc.parties
 
 
-def _liability_text(inc: Incident) -> str:
+def _liability_text(inc: Judgement) -> str:
     parties = ", ".join(inc.parties)
     return f"liable: {inc.liable}" + (f" (parties: {parties})" if parties and parties != inc.liable else "")
 
 
-def _summary(inc: Incident | None) -> str | None:
+def _summary(inc: Judgement | None) -> str | None:
     """An incident's judgement in a line: verdict, rule, penalty, who is liable."""
     if inc is None:
         return None

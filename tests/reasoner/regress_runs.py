@@ -99,13 +99,13 @@ def plain(db: Path, rules: Path) -> dict:
 
 def summarised(store: Store, rules: Path) -> tuple[list, list, Any]:
     """The run's incidents judged whole; as a regression's new side judges them (each by its
-    summary, every one checked to be a KeptIncident); and the investigation that judged them so
+    summary, every one checked to be an IncidentSummary); and the investigation that judged them so
     (proofs=False, summaries=True)."""
-    from reasoner.investigation import Investigation, KeptIncident
+    from reasoner.investigation import IncidentSummary, Investigation
     full = Investigation(store, rules=[str(rules)]).incidents(RUN)
     lean = Investigation(store, rules=[str(rules)], proofs=False, summaries=True)
-    found = lean.incidents(RUN)
-    assert found and all(isinstance(i, KeptIncident) for i in found)
+    found = lean.judgements(RUN)
+    assert found and all(isinstance(i, IncidentSummary) for i in found)
     return full, found, lean
 
 

@@ -111,13 +111,13 @@ def test_the_progress_of_judging_ends_with_every_case_done(tmp_path):
     from sim_replay.paper import paper_run
     from store import Store
     seen = []
-    judge = Investigation._case_judged
+    judge = Investigation._judged
 
-    def none_first(self, run, rs, gaps, t, *rest):         # the first case raises no incident (as most of
-        return None if not seen else judge(self, run, rs, gaps, t, *rest)   # the demo's sweep cases)
+    def none_first(self, run, rs, gaps, todo):         # the first case raises no incident (as most of
+        return None if not seen else judge(self, run, rs, gaps, todo)   # the demo's sweep cases)
     with Store(tmp_path / "p.db") as store:
         store.append(paper_run())
         inv = Investigation(store)
-        inv._case_judged = none_first.__get__(inv)
+        inv._judged = none_first.__get__(inv)
         found = inv.incidents("paper-junctions", progress=lambda done, total: seen.append((done, total)))
     assert len(found) == 1 and seen == [(1, 2), (2, 2)]

@@ -16,6 +16,8 @@ import pytest
 
 from reasoner import case_memo, history
 from reasoner import investigation as investigation_module
+from reasoner.judge import cases as cases_module
+from reasoner.judge import court as court_module
 from reasoner.derived import Contradiction
 from reasoner.investigation import Investigation
 from reasoner.measurement import Measurement
@@ -67,8 +69,8 @@ def test_the_second_investigation_judges_what_the_first_measured_without_measuri
     cold, first = _judged(db, run)
     assert cold and first.memo(run).hits == 0
     monkeypatch.setattr(history, "passage", _forbid)
-    monkeypatch.setattr(investigation_module, "state_of", _forbid)
-    monkeypatch.setattr(investigation_module, "episodes", _forbid)
+    monkeypatch.setattr(court_module, "state_of", _forbid)
+    monkeypatch.setattr(cases_module, "episodes", _forbid)
     warm, second = _judged(db, run)
     assert warm == cold
     # nothing measured again; what the first measured of a case that came to nothing (an entry
@@ -171,8 +173,8 @@ def test_cases_are_judged_with_the_collector_paused_and_young_cycles_collected(t
     import gc
     db, run = _stored(tmp_path, "paper")
     seen, young = [], []
-    judge = Investigation._judge
-    monkeypatch.setattr(Investigation, "_judge", lambda self, *a: seen.append(gc.isenabled()) or judge(self, *a))
+    judge = investigation_module.judge
+    monkeypatch.setattr(investigation_module, "judge", lambda *a: seen.append(gc.isenabled()) or judge(*a))
     monkeypatch.setattr(investigation_module, "YOUNG_EVERY", 1)
     monkeypatch.setattr(investigation_module.gc, "collect", lambda generation=2: young.append(generation) or 0)
     assert gc.isenabled()
@@ -188,9 +190,9 @@ def test_cases_the_monitor_rulebook_does_not_raise_are_not_judged_again_under_it
     from reasoner.bundled import bundled
     db, run = _stored(tmp_path, "lawful stop")   # stationary at the line, then away: swept, not raised
     judged = []
-    judge = Investigation._judge
-    monkeypatch.setattr(Investigation, "_judge",
-                        lambda self, case, gaps, *proofs: judged.append(case.t) or judge(self, case, gaps, *proofs))
+    judge = investigation_module.judge
+    monkeypatch.setattr(investigation_module, "judge",
+                        lambda court, case, gaps, *proofs: judged.append(case.t) or judge(court, case, gaps, *proofs))
     first, _ = _judged(db, run)
     assert len(judged) > len(first)               # some swept cases were judged and raised nothing
     judged.clear()

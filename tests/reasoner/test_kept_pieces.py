@@ -31,8 +31,8 @@ def test_values_larger_than_an_entry_are_kept_in_pieces_and_read_back(db, new_ru
                              ).fetchone()[0] > 1
     calls = R.shaping(monkeypatch)
     judged: list = []
-    afresh = regress_module.Investigation._case_afresh
-    monkeypatch.setattr(regress_module.Investigation, "_case_afresh",
+    afresh = regress_module.Investigation._afresh
+    monkeypatch.setattr(regress_module.Investigation, "_afresh",
                         lambda inv, *a: judged.append(inv.verdicts) or afresh(inv, *a))
     assert R.regressed(db, new_rules) == first == R.plain(db, new_rules)
     assert calls == []

@@ -36,8 +36,8 @@ def test_equal_values_get_one_key():
 
 
 def test_a_warm_regression_names_its_questions_without_an_event_reference_s_repr(tmp_path, monkeypatch):
-    """A stage question names each fact's event by the reference's fields (investigation.py
-    `_as_asked`): the reference's own repr, a Python call each, was half of a question's key."""
+    """A stage question names each fact's event by the reference's fields (judge/asking.py
+    `as_asked`): the reference's own repr, a Python call each, was half of a question's key."""
     from tests.reasoner import regress_runs as R
     db = R.build_store(tmp_path / "gaps.db")
     rules = R.edited(tmp_path / "new", "validators.le", cut=(R.AMBER_TOO_CLOSE,))

@@ -2,7 +2,7 @@
 the penalty and who is liable are no part of them, so working them out asks neither."""
 from __future__ import annotations
 
-from reasoner.investigation import Investigation
+from reasoner.judge import sanctions as sanctions_module
 from store import Store
 
 from tests.reasoner import regress_runs as R
@@ -14,8 +14,8 @@ def test_proving_a_summarised_incident_asks_no_sanctions(db, new_rules, monkeypa
         full, found, _ = R.summarised(store, new_rules)
         assert any(i.penalty is not None for i in found)
         asked: list = []
-        sanctions = Investigation._sanctions
-        monkeypatch.setattr(Investigation, "_sanctions", lambda inv, *a: asked.append(a) or sanctions(inv, *a))
+        sanctions = sanctions_module.sanctions
+        monkeypatch.setattr(sanctions_module, "sanctions", lambda *a: asked.append(a) or sanctions(*a))
         assert [i.proofs for i in found] == [i.proofs for i in full]
         assert asked == []
         assert [i.whole() for i in found] == full

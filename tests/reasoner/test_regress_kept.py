@@ -32,13 +32,13 @@ def new_rules(tmp_path):
 
 
 class _Count:
-    """Calls of Investigation._case_afresh by side, of ask, and the kinds read."""
+    """Calls of Investigation._afresh by side, of ask, and the kinds read."""
 
     def __init__(self, monkeypatch) -> None:
         self.judged = {True: 0, False: 0}
         self.asked = 0
         self.kinds: list[str] = []
-        afresh, ask, events = Investigation._case_afresh, regress_module.ask, Store.events
+        afresh, ask, events = Investigation._afresh, regress_module.ask, Store.events
 
         def counted_afresh(inv, *args):
             self.judged[inv.verdicts] += 1
@@ -51,7 +51,7 @@ class _Count:
         def counted_events(store, run, **kwargs):
             self.kinds += list(kwargs.get("kinds") or ["*"])
             return events(store, run, **kwargs)
-        monkeypatch.setattr(Investigation, "_case_afresh", counted_afresh)
+        monkeypatch.setattr(Investigation, "_afresh", counted_afresh)
         monkeypatch.setattr(regress_module, "ask", counted_ask)
         monkeypatch.setattr(Store, "events", counted_events)
 

@@ -1,10 +1,10 @@
-"""A regression's new side judges each case as far as its summary goes (reasoner/investigation.py
-`_summarised`): the verdict, its rule, the penalty and who is liable, asked afresh every time;
+"""A regression's new side judges each case as far as its summary goes (reasoner/speedups/summaries.py
+`summarised`): the verdict, its rule, the penalty and who is liable, asked afresh every time;
 the findings, evidence and proofs of an incident are worked out only for one whose change shows
 them, and the result is the plain path's, to the byte."""
 from __future__ import annotations
 
-from reasoner import investigation as investigation_module
+from reasoner.judge import pipeline as pipeline_module
 from reasoner.case_memo import CaseMemo
 from store import Store
 
@@ -15,11 +15,11 @@ from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)
 def _counted(monkeypatch) -> dict[str, int]:
     """Calls of missing_evidence (a finding) and of CaseMemo._value by kind."""
     calls: dict[str, int] = {}
-    missing, value = investigation_module.missing_evidence, CaseMemo._value
+    missing, value = pipeline_module.missing_evidence, CaseMemo._value
 
     def note(name: str) -> None:
         calls[name] = calls.get(name, 0) + 1
-    monkeypatch.setattr(investigation_module, "missing_evidence", lambda *a: note("findings") or missing(*a))
+    monkeypatch.setattr(pipeline_module, "missing_evidence", lambda *a: note("findings") or missing(*a))
     monkeypatch.setattr(CaseMemo, "_value", lambda memo, kind, *a: note(f"whole {kind}") or value(memo, kind, *a))
     return calls
 

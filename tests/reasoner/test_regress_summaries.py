@@ -1,5 +1,5 @@
-"""The baseline's kept incidents read by their summaries (reasoner/investigation.py
-`KeptIncident`): a regression decodes whole only the incidents whose change shows their proofs,
+"""The baseline's kept incidents read by their summaries (reasoner/speedups/summaries.py
+`IncidentSummary`): a regression decodes whole only the incidents whose change shows their proofs,
 gives what the plain path gives, and a forged summary is not believed."""
 from __future__ import annotations
 

@@ -35,15 +35,15 @@ def _counted(monkeypatch) -> Counter:
 
 
 def _from_validate() -> bool:
-    """Whether the render asked is of the Validator Scenario's facts (in Investigation._validate,
+    """Whether the render asked is of the Validator Scenario's facts (in reasoner/judge/validator_stage.py `validate`,
     not its why)."""
     frame = sys._getframe(2)
-    if frame.f_code.co_name not in ("<genexpr>", "_render"):
+    if frame.f_code.co_name not in ("<genexpr>", "render"):
         return False
     for _ in range(3):
         if frame is None:
             return False
-        if frame.f_code.co_name == "_validate":
+        if frame.f_code.co_name == "validate":
             return True
         frame = frame.f_back
     return False
@@ -64,7 +64,7 @@ def test_an_atom_equal_to_another_of_other_types_is_rendered_as_itself(db, monke
     with Store.open_read_only(db) as store:
         inv = Investigation(store, kept=False)
         rb = inv.ruleset(R.RUN, [])["validator"].rulebook
-        whole, real, truth = (inv._render(rb, Atom("has_speed_of", ("5", v))) for v in (1, 1.0, True))
+        whole, real, truth = (inv.court.render(rb, Atom("has_speed_of", ("5", v))) for v in (1, 1.0, True))
     assert whole == rb.render(Atom("has_speed_of", ("5", 1)))
     assert real == rb.render(Atom("has_speed_of", ("5", 1.0)))
     assert truth == rb.render(Atom("has_speed_of", ("5", True)))

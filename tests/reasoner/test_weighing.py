@@ -382,7 +382,7 @@ def test_a_summary_reaches_the_same_weighed_verdicts_as_the_whole_judgement(tmp_
     assert verdicts[("8", ENTER)] == ("dismissed", "HC 175", "not proven"), verdicts
     with Store(tmp_path / "foreign.db") as store:
         for _ in range(2):                          # afresh, then from what the first kept
-            lean = Investigation(store, proofs=False, summaries=True).incidents(run.run)
+            lean = Investigation(store, proofs=False, summaries=True).judgements(run.run)   # by their summaries
             assert sorted((i.id, i.verdict, i.rule) for i in lean) == sorted((i.id, i.verdict, i.rule) for i in whole)
 
 
