@@ -42,7 +42,7 @@ class GapsGroup(TyperGroup):
         return params
 
     def invoke(self, ctx: typer.Context) -> Any:
-        from store import altered_caches, unread_caches, unwritten_caches
+        from store.cache import altered_caches, unread_caches, unwritten_caches
         already, wants_json = len(unwritten_caches()), "--json" in _command_line(ctx)
         unread_before, altered_before = len(unread_caches()), altered_caches()
         try:
@@ -75,7 +75,7 @@ class GapsGroup(TyperGroup):
         """Run the command; if SQLite fails while this command had cache files open (damaged pages,
         an I/O error), run it once more without them (store.go_without_caches): if that answers,
         the cache was at fault and a warning names it; if it fails again, the store is."""
-        from store import caches_opened, caches_opened_since, go_without_caches
+        from store.cache import caches_opened, caches_opened_since, go_without_caches
         opened, args = caches_opened(), [*ctx._protected_args, *ctx.args]
         try:
             return super().invoke(ctx)

@@ -100,14 +100,14 @@ def _trusted(keys_file: Optional[Path]):
     """The public keys file, loaded (a KeysError, exit 2, names what is wrong with it); None without one."""
     if keys_file is None:
         return None
-    from store import TrustedKeys
+    from store.keys import TrustedKeys
     return TrustedKeys.load(keys_file)
 
 
 def _anchors(against: Optional[Path], checkpoint_key: Optional[Path]):
     """The witness file's heads, the checkpoint public key and the runs' first signed heads its
     file records, read (exit 2 naming what is wrong)."""
-    from store import load_public, read_heads, recorded_heads
+    from store.keys import load_public, read_heads, recorded_heads
     heads = read_heads(against) if against is not None else []
     public = load_public(checkpoint_key) if checkpoint_key is not None else None
     recorded = recorded_heads(checkpoint_key, public) if public is not None else []
@@ -208,7 +208,7 @@ def _print_report(report, wrong: dict[str, list], with_snapshots: bool) -> None:
 
 def _wrong_snapshots(store: Store, runs: list[str]) -> dict[str, list[list]]:
     """Per run, the positions [t, seq, src] of the snapshots that differ from a fresh fold."""
-    from store import check_snapshots
+    from store.cache import check_snapshots
     return _per_run("checking snapshots", runs, lambda name: check_snapshots(store, name))
 
 
@@ -235,13 +235,13 @@ def _print_presence(misplaced: dict[str, list]) -> None:
 def _wrong_presence(store: Store, runs: list[str]) -> dict[str, list[list]]:
     """Per run, the [src, bucket] of the cached boxes of where road users were that differ from
     the events (store/presence.py)."""
-    from store import check_presence
+    from store.cache import check_presence
     return _per_run("checking where road users were", runs, lambda name: check_presence(store, name))
 
 
 def _tampered_cache(store: Store, report):
     """The cache entries that do not carry their seals (store/cache_check.py)."""
-    from store import cache_tampering
+    from store.cache import cache_tampering
     return cache_tampering(store, [r["run"] for r in report.runs if isinstance(r["run"], str)])
 
 

@@ -22,7 +22,8 @@ from typing import TextIO
 
 import zenoh
 
-from store import CheckpointKey, QuarantineCap, TrustedKeys
+from store import QuarantineCap
+from store.keys import CheckpointKey, TrustedKeys
 
 from . import exposure
 from .errors import IngestConfigError, zenoh_message
