@@ -127,3 +127,26 @@ def test_every_face_hands_out_what_it_names():
 
 def test_the_store_shows_a_small_core_face():
     assert len(store.__all__) < 40
+
+
+def reasoner_imports(path: Path) -> set[str]:
+    """The reasoner's modules one file imports, by their names under reasoner/."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            module = absolute(path, node)
+            found |= ({module} if module != "reasoner" else {f"reasoner.{a.name}" for a in node.names})
+        elif isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+    return {m for m in found if m.startswith("reasoner.")}
+
+
+def test_the_history_leans_on_the_reasoners_leaves_only_and_nothing_in_the_reasoner_calls_the_regression():
+    """docs/design.md "Rooms and their faces": the history imports of the reasoner only model,
+    vocabulary and when; the regression calls the judge, and nothing else in the reasoner calls it."""
+    history = sorted((ROOT / "reasoner" / "history").glob("*.py"))
+    leaned = {m for path in history for m in reasoner_imports(path) if not m.startswith("reasoner.history")}
+    assert history and leaned <= {"reasoner.model", "reasoner.vocabulary", "reasoner.when"}, leaned
+    rest = [p for p in (ROOT / "reasoner").rglob("*.py") if "regress" not in p.relative_to(ROOT).parts]
+    assert [str(p.relative_to(ROOT)) for p in rest
+            if any(m.startswith("reasoner.regress") for m in reasoner_imports(p))] == []
