@@ -34,14 +34,14 @@ class GapsGroup(TyperGroup):
                 name_placeholder(param)
             _flag_help_option(command)
 
-    def get_params(self, ctx: typer.Context) -> list:
+    def get_params(self, ctx: Any) -> list:
         """Its own options, with those typer adds after it is made (--install-completion) named too."""
         params = super().get_params(ctx)
         for param in params:
             name_placeholder(param)
         return params
 
-    def invoke(self, ctx: typer.Context) -> Any:
+    def invoke(self, ctx: Any) -> Any:
         from store.cache import altered_caches, unread_caches, unwritten_caches
         already, wants_json = len(unwritten_caches()), "--json" in _command_line(ctx)
         unread_before, altered_before = len(unread_caches()), altered_caches()
@@ -145,7 +145,7 @@ _DAMAGE_HINT = "; the file may be damaged or altered: `gaps verify` says what an
 
 def _what(exc: GapsError) -> str:
     """A rulebook's error is said to be one: its message starts with the rulebook's file:line."""
-    from reasoner.le.errors import LEError
+    from reasoner import LEError
     return "rulebook error: " if isinstance(exc, LEError) else ""
 
 

@@ -32,10 +32,9 @@ def incidents(ctx: typer.Context, incomplete: str) -> list[tuple[str, str]]:
     with _store(ctx) as store:
         if store is None or not run:
             return []
-        from reasoner.api import Case
-        found = Case(store).incidents(run)
-    numbered = [(str(n), f"{inc.id}: vehicle {inc.vehicle}, {inc.action}, {inc.verdict}")
-                for n, inc in enumerate(found, 1)]
+        from reasoner import Case
+        found = Case(store).numbered(run)
+    numbered = [(str(n), f"{inc.id}: vehicle {inc.vehicle}, {inc.action}, {inc.verdict}") for n, inc in found]
     return [(n, said) for n, said in numbered if n.startswith(incomplete)]
 
 

@@ -16,8 +16,7 @@ from cli.progress import stderr_progress
 from cli.safe_text import printable
 from cli.options import DbOption, JsonOption
 from explain import write_report
-from reasoner.api import Case
-from reasoner.when import format_seconds
+from reasoner import Case, format_seconds
 
 
 def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
@@ -46,7 +45,7 @@ def demo(db: Optional[Path] = DbOption, json_out: bool = JsonOption,
         earlier, target = target, _beside(target)
     replacing = target.exists()
     if paper:
-        from sim_replay.paper import paper_run
+        from sim_replay import paper_run
         events = paper_run()
         run = events[0]["run"]
         totals, _ = publish_through_zenoh(path, events)
@@ -90,12 +89,12 @@ def _beside(target: Path) -> Path:
 
 def _simulate(path: Path, json_out: bool) -> str:
     """The demo's simulation, published into the store; its summary on stdout (stderr with --json)."""
-    from sim_replay.demo import DEMO
-    from sim_replay.simulation import Simulation
+    from sim_replay import DEMO, Simulation
     with stderr_progress("simulating the paper's junctions on SUMO") as bar:
         simulation = Simulation(DEMO, (lambda done, total: bar(int(done), int(total))) if bar else None)
         totals, _ = publish_through_zenoh(path, simulation.batches())
     s = simulation.summary
+    assert s is not None                # its batches are run: the summary is made
     typer.echo(f"Simulated the paper's junctions on SUMO (run {DEMO.run}, seed {DEMO.seed}): {format_seconds(s.world_s, 3)} of "
                f"world time, {s.vehicles} vehicles, {s.pedestrians} pedestrians; {s.events:,} events, "
                f"{s.rulebook_queries:,} rulebook queries, {s.potential_violations} potential violations "
@@ -107,11 +106,9 @@ def _simulate(path: Path, json_out: bool) -> str:
 
 def _tour(case: Case, run: str) -> None:
     """Every incident in a line, then the featured ones explained in full."""
-    from explain.featured import featured
-    from explain.listing import explanations, incident_line
-    from explain.listing import acts_summary
+    from explain import acts_summary, explanations, featured, incident_line
     with stderr_progress("judging the recorded potential violations and the measured acts") as progress:
-        found = [(case.number(inc), inc) for inc in case.incidents(run, progress=progress)]
+        found = case.numbered(run, progress=progress)
     typer.echo(f"{len(found)} incidents in run {run}, {acts_summary([inc for _, inc in found])} "
                f"(`gaps incidents --run {run}`; `gaps explain --run {run} N` explains one):")
     for n, inc in found:

@@ -1,8 +1,9 @@
 """`gaps explain --run R INCIDENT`: one incident's verdict explained, in text, Markdown, HTML or JSON.
 
-The explanation is the reasoner's (Investigation.explanation), worded by explain/explanation_doc.py
-and drawn by explain/explanation_formats.py; this module reads the options, finds the incident and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its
-number in `gaps incidents` order (1 is the first). Exit codes: 0 shown; 2 for what names nothing
+The incident is found and its explanation worked out by the reasoner's `Case` (one way, as a
+script asks: docs/api.md), put into words by `explain.explanation`; this module reads the options
+and prints. INCIDENT is the incident's id (`monitor/m1:3`) or its number in `gaps incidents`
+order (1 is the first). Exit codes: 0 shown; 2 for what names nothing
 (no store, no such run, no such incident, a rulebook file that is missing, an unknown format).
 """
 from __future__ import annotations
@@ -13,7 +14,7 @@ from typing import Optional
 import typer
 
 from cli import completion
-from cli.app import check_files, fail, open_existing, require_run
+from cli.app import check_files, open_existing
 from cli.options import DbOption, IncidentHelp, JsonOption, RulesOption, RunRequired
 
 
@@ -31,26 +32,12 @@ def explain(incident: str = typer.Argument(..., help=IncidentHelp, autocompletio
     The verdict in one sentence, a plain summary, the potential violation, the validation, the
     penalty and liability, why-not questions, counterfactuals and the evidence.
     """
-    from explain.layout import LEVELS
-    from explain.explanation_formats import FORMATS
-    if json_out:
-        fmt = "json"
-    if fmt not in FORMATS:
-        fail(f"unknown format {fmt!r}; formats: {', '.join(FORMATS)}")
-    if level not in LEVELS:
-        fail(f"unknown level {level!r}; levels: {', '.join(LEVELS)}")
+    from explain import check_explanation, explanation
+    from reasoner import Case
+    fmt = "json" if json_out else fmt
+    check_explanation(fmt, level)
     files = check_files(rules)
-    from explain.explanation_doc import document
-    from explain.explanation_formats import render
-    from explain.report import pick
-    from reasoner.investigation import Investigation
     with open_existing(db) as store:
-        require_run(store, run)
-        inv = Investigation(store, rules=files)
-        found = inv.incidents(run)
-        chosen = pick(found, incident)
-        if chosen is None:
-            ids = ", ".join(f"{i}={inc.id}" for i, inc in enumerate(found, 1)) or "none"
-            fail(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
-        doc = document(chosen, inv.explanation(chosen, why_not=why_not or []), store)
-    typer.echo(render(doc, fmt, level), nl=False)
+        case = Case(store, files)
+        text = explanation(case, case.incident(run, incident), fmt=fmt, level=level, why_not=why_not or [])
+    typer.echo(text, nl=False)

@@ -12,7 +12,7 @@ from cli.app import db_path, fail, print_json
 from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
-from reasoner.when import format_seconds
+from reasoner import format_seconds
 
 SHOWN = 10
 
@@ -41,7 +41,7 @@ def fetch(
     answer was cut short (timeout, an ingest stopping) or a chain does not match; 2 for a mistake in
     the arguments; 3 when nothing answers history queries on the key. See docs/serve.md.
     """
-    from ingest.history_fetch import FetchOptions, fetch as run
+    from ingest import FetchOptions, fetch as run
     if not connect and config is None:
         fail("say where the ingests are: --connect tcp/HOST:PORT (a router or a gaps serve), or --config FILE")
     options = FetchOptions(key_expr=key, connect=tuple(connect),
@@ -64,7 +64,7 @@ def _time(option: str, text: Optional[str]) -> Optional[int]:
     """A bound as ns; a time from the run start cannot be, since the run is not here yet."""
     if text is None:
         return None
-    from reasoner.when import TimeError, parse_time
+    from reasoner import TimeError, parse_time
     try:
         return parse_time(text, None)
     except TimeError as exc:

@@ -10,7 +10,7 @@ from cli.app import check_files, open_existing, print_json
 from cli.options import DbOption, JsonOption, RulesOption, RunOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
-from reasoner.api import Case
+from reasoner import Case
 
 
 def incidents(run: Optional[str] = RunOption, db: Optional[Path] = DbOption,
@@ -42,11 +42,10 @@ def show_incidents(case: Case, run: Optional[str], json_out: bool, *, explain: b
                    source: Optional[str] = None) -> None:
     """Judge the run (every run: None) and print its incidents as JSON, one line each, or
     explained in full."""
-    from explain.listing import explanations, incident_line
+    from explain import explanations, incident_line
     with stderr_progress("judging incidents") as progress:      # the bar is gone before printing
         case.incidents(run, progress=progress)
-    found = [(case.number(inc), inc) for inc in case.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule,
-                                                               source=source)]
+    found = case.numbered(run, verdict=verdict, vehicle=vehicle, rule=rule, source=source)
     if json_out:
         print_json([{**inc.summary_json(), "number": n} for n, inc in found])
     elif not found:

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Iterable
 
 if TYPE_CHECKING:
-    from sim_replay.outlets import OutletSummary
+    from sim_replay import OutletSummary
     from store.keys import Signer
 
 
@@ -27,11 +27,12 @@ def publish_through_zenoh(db: Path, events: Iterable[dict] | Iterable[list[dict]
     `events` may come a tick at a time (lists, as Simulation.batches gives them: put together).
     The ingest may trail a fast producer by a hundred thousand events: it is waited for as long
     as it keeps storing, and a TimeoutError says so when it stops for timeout_s."""
-    from ingest.serve import Server, ServeOptions
-    from sim_replay.outlets import Outlets
+    from ingest import Server, ServeOptions
+    from sim_replay import Outlets
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     with Server(ServeOptions(db, listen=(endpoint,))) as server:
         ingest = server.service
+        assert ingest is not None           # made when the server is entered
         with Outlets(connect=[endpoint], record=record, speed=speed, wait_s=timeout_s, signer=signer) as out:
             for item in events:
                 if isinstance(item, list):

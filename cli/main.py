@@ -60,7 +60,7 @@ def _keys_group() -> typer.Typer:
 
 def _print_version(asked: bool) -> None:
     if asked:
-        from explain.provenance import tool_version
+        from explain import tool_version
         typer.echo(f"gaps (mind-the-gaps) {tool_version()}")
         raise typer.Exit(0)
 

@@ -14,7 +14,7 @@ from cli.app import db_path, fail, open_existing, print_json
 from cli.options import DbOption, JsonOption
 from cli.safe_text import preview
 from cli.tables import cells, show, table
-from reasoner.when import format_time_short
+from reasoner import format_time_short
 
 PREVIEW_BYTES = 60
 
@@ -78,8 +78,13 @@ def _prune(db: Optional[Path], before: Optional[str], json_out: bool) -> None:
         typer.echo("Nothing to prune.")
     else:
         typer.echo(f"Pruned {pruned.rows:,} rows ({pruned.samples:,} refusals, {pruned.bytes:,} bytes, "
-                   f"{format_time_short(pruned.first_at)} to {format_time_short(pruned.last_at)}); "
+                   f"{_short(pruned.first_at)} to {_short(pruned.last_at)}); "
                    f"{left:,} rows left. Recorded as prune {pruned.id} (digest {pruned.digest[:16]}…).")
+
+
+def _short(t: int | None) -> str:
+    """A prune's first or last refusal time (None only for a prune of no rows, never shown)."""
+    return "-" if t is None else format_time_short(t)
 
 
 def _quarantine_json(item: dict[str, Any]) -> dict[str, Any]:

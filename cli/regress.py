@@ -49,8 +49,8 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
     ($XDG_CACHE_HOME/mind-the-gaps/recordings, at most $GAPS_RECORDINGS_CACHE_MB, 4096 by
     default; 0 keeps none): regressing the same file again reads none of its events.
     """
-    from reasoner.regress import regress as run_regression
-    from reasoner.regress import Cluster, check_golden, junit_xml, lines, regress_recordings, regress_store
+    from reasoner import regression
+    from reasoner.regress import Cluster, check_golden, junit_xml, lines, regress_recordings
     from store import write_bytes
     writable_output(junit, db)
     writable_output(golden if update_golden else None, db)
@@ -76,13 +76,10 @@ def regress(recordings: Optional[list[Path]] = typer.Argument(
             progress = (lambda _label, done, total: bar(done, total)) if bar else None
             if recordings:
                 result = regress_recordings(recordings, rule_args, base_arg, cluster=on, progress=progress)
-            elif on.in_process:
-                with open_existing(db) as store:
-                    result = run_regression(store, rule_args, base_arg, None if all_runs else run, progress=progress)
             else:
-                open_existing(db).close()            # the store's own checks, said before a cluster starts
-                result = regress_store(db_path(db), rule_args, base_arg, None if all_runs else run, cluster=on,
-                                       progress=progress)
+                open_existing(db).close()            # the store's own checks, said before any judging
+                result = regression(db_path(db), rule_args, base_arg, None if all_runs else run, cluster=on,
+                                    progress=progress)
     if junit is not None:
         write_bytes(junit, junit_xml(result), [db_path(db)])
     if json_out:

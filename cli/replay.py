@@ -10,7 +10,7 @@ import typer
 from cli.app import db_path, fail, open_existing
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
 from cli.sim import parse_speed
-from reasoner.when import format_seconds
+from reasoner import format_seconds
 
 
 def replay(
@@ -37,7 +37,7 @@ def replay(
         fail(f"no such recording: {file}")
     pace = parse_speed(speed)
     wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
-    from sim_replay.replay import NothingToReplay, recording
+    from sim_replay import NothingToReplay, recording
     from store import GapsError
     try:
         if file is not None:
@@ -60,7 +60,7 @@ def replay(
 
 def _send(store: Any, runs: list[str], wire: dict, pace: float | None, imported: dict | None) -> dict:
     from cli.progress import stderr_progress
-    from sim_replay.replay import chosen_runs, replay
+    from sim_replay import chosen_runs, replay_runs
     with stderr_progress("replaying") as bar:
-        sent = replay(store, chosen_runs(store, runs), **wire, speed=pace, progress=bar)
+        sent = replay_runs(store, chosen_runs(store, runs), **wire, speed=pace, progress=bar)
     return {"imported": imported, "runs": [r.to_json() for r in sent]}

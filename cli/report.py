@@ -1,8 +1,9 @@
 """`gaps report --run R [--incident I] -o FILE [--pdf]`: a run's incidents as one self-contained
 report (HTML, Markdown or JSON, from the suffix of FILE or --format), and a PDF beside it with --pdf.
 
-The report is explain/report.py's; the PDF is explain/pdf.py's. This module reads the options,
-shows progress on stderr and writes the files (`-o -`: the report to standard output). Exit codes:
+The report is `explain.build_report`'s, from the reasoner's `Case` (docs/api.md); its PDF is
+`explain.print_report_pdf`'s. This module reads the options, shows progress on stderr and writes
+the files (`-o -`: the report to standard output). Exit codes:
 0 written; 2 for what names nothing (no store, run, incident or rulebook file, a suffix that is no
 format, a folder that is not there); 3 for --pdf without a headless Chromium (a missing tool,
 like a missing SWI-Prolog).
@@ -14,7 +15,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import check_files, db_path, fail, open_existing, require_run, writable_output
+from cli.app import check_files, db_path, fail, open_existing, writable_output
 from cli.options import DbOption, RulesOption, RunRequired, is_stdio
 from cli.progress import stderr_progress
 from cli.safe_text import printable
@@ -35,13 +36,11 @@ def report(run: str = RunRequired,
     The summary table, and per incident the explanation, the scene, a speed and signal timeline,
     the evidence, the rulebooks by sha256 and the hash chain verification.
     """
-    from explain.pdf import PdfError, ToolMissing, find_chromium
-    from explain.report import ReportError, build_report, print_report_pdf, render_report
+    from explain import (PdfError, ToolMissing, build_report, find_chromium, print_report_pdf, render_report,
+                         report_format)
+    from reasoner import Case
     to_stdout = is_stdio(output)
-    try:
-        fmt = _format(fmt, output, to_stdout)
-    except ReportError as exc:
-        fail(str(exc))
+    fmt = report_format(fmt, None if to_stdout else output)
     if to_stdout and pdf:
         fail("--pdf writes FILE.pdf beside the report: give -o FILE rather than -")
     if not to_stdout and not output.parent.is_dir():
@@ -55,11 +54,7 @@ def report(run: str = RunRequired,
         fail("--pdf needs a headless Chromium and none was found (on Debian: apt-get install chromium; "
              "or set GAPS_CHROMIUM)", code=3)
     with open_existing(db) as store, stderr_progress("explaining incidents") as progress:
-        require_run(store, run)
-        try:
-            built = build_report(store, run, incident=incident, rules=files, progress=progress)
-        except ReportError as exc:
-            fail(str(exc))
+        built = build_report(Case(store, files), run, incident=incident, progress=progress)
     text = render_report(built, fmt)
     if to_stdout:
         typer.echo(text, nl=False)
@@ -72,7 +67,7 @@ def report(run: str = RunRequired,
     n = len(built["incidents"])
     typer.echo(f"Wrote the report of run {printable(run)} ({n} incident{'s' if n != 1 else ''}, "
                f"{len(text.encode()):,} bytes) to {output}")
-    if pdf:
+    if chromium is not None:                # --pdf, and a Chromium to print it
         target = output.with_suffix(".pdf")
         try:
             print_report_pdf(built, target, chromium, page=output if fmt == "html" else None, stores=[db_path(db)])
@@ -80,13 +75,3 @@ def report(run: str = RunRequired,
             fail(str(exc), code=3)
         typer.echo(f"Printed it to {target} ({target.stat().st_size:,} bytes)")
 
-
-def _format(given: Optional[str], output: Path, to_stdout: bool) -> str:
-    """The format asked for: --format, else the suffix of FILE, else HTML for standard output."""
-    from explain.report import FORMATS, format_for
-    known = set(FORMATS.values())
-    if given is not None:
-        if given not in known:
-            fail(f"unknown format {given!r}; formats: {', '.join(sorted(known))}")
-        return given
-    return "html" if to_stdout else format_for(output)

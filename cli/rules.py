@@ -38,28 +38,19 @@ def _read(path: Path) -> str:
 
 def check(file: Path = FileArg, json_out: bool = JsonOption) -> None:
     """Compile and load the document, printing its errors (exit 1) and warnings."""
-    from reasoner.engine import get_engine
-    from reasoner.le.errors import LEError
-    text = _read(file)
-    try:
-        rb = get_engine().load(text, _name(file))
-    except LEError as exc:
-        if json_out:
-            print_json({"file": str(file), "ok": False, "errors": [exc.as_dict()], "warnings": []})
-        else:
-            typer.echo(str(exc), err=True)
-        raise typer.Exit(1)
-    doc = rb.document
-    counts = {"templates": len(doc.templates), "rules": len(doc.rules),
-              "scenarios": len(doc.scenarios), "queries": len(doc.queries)}
+    from reasoner import check_rulebook
+    checked = check_rulebook(_read(file), _name(file))
     if json_out:
-        print_json({"file": str(file), "ok": True, "errors": [], "counts": counts,
-                    "warnings": [w.as_dict() for w in doc.warnings], "sha256": rb.sha256})
-        return
-    for w in doc.warnings:
-        typer.echo(str(w))
-    summary = ", ".join(f"{n} {k}" for k, n in counts.items())
-    typer.echo(f"{_name(file)}: ok ({summary}; {len(doc.warnings)} warnings)")
+        print_json(checked.to_json(str(file)))
+    elif checked.error is not None:
+        typer.echo(str(checked.error), err=True)
+    else:
+        for w in checked.warnings:
+            typer.echo(str(w))
+        summary = ", ".join(f"{n} {k}" for k, n in checked.counts.items())
+        typer.echo(f"{_name(file)}: ok ({summary}; {len(checked.warnings)} warnings)")
+    if not checked.ok:
+        raise typer.Exit(1)
 
 
 def query(file: Path = FileArg,
@@ -71,31 +62,16 @@ def query(file: Path = FileArg,
           explain: bool = typer.Option(False, "--explain", help="Add proof trees (or why there is no answer)."),
           json_out: bool = JsonOption) -> None:
     """Answer a query on a scenario, one LE sentence per proof."""
-    from explain.text import render_tree
-    from reasoner.engine import QuestionError, enrich, get_engine
-    from reasoner.le.document import parse_facts, parse_question
-    engine = get_engine()
-    rb = engine.load(_read(file), _name(file))
-    doc = rb.document
-    if query_ in doc.queries or query_ in doc.unreadable_queries:
-        body = rb.query(query_).body
-    else:
-        body = parse_question(doc, query_)
-    facts = list(rb.scenario(scenario)) if scenario is not None else []
-    for f in fact:
-        facts += parse_facts(doc, f)
+    from explain import render_tree
+    from reasoner import QuestionError, ask_rulebook
     try:
-        result = engine.answers(rb, body, facts, explain=explain)
+        asked = ask_rulebook(_read(file), _name(file), query_, scenario=scenario, facts=fact, explain=explain)
     except QuestionError as exc:
         fail(str(exc), 1)
     if json_out:
-        out = {"answers": result.answers}
-        if explain:
-            out["proofs"] = [[enrich(t, rb) for t in trees] for trees in result.proofs]
-            if result.why_not is not None:
-                out["why_not"] = [enrich(t, rb) for t in result.why_not]
-        print_json(out)
+        print_json(asked.to_json())
         return
+    result, rb = asked.result, asked.rulebook
     if not result.answers:
         typer.echo("no answers")
     for i, answer in enumerate(result.answers):
@@ -111,10 +87,8 @@ def query(file: Path = FileArg,
 
 def prolog(file: Path = FileArg) -> None:
     """Print the Prolog clauses the document compiles to, each after its LE source line."""
-    from reasoner.engine import get_engine
-    engine = get_engine()
-    rb = engine.load(_read(file), _name(file))
-    typer.echo(engine.prolog_text(rb), nl=False)
+    from reasoner import prolog_text
+    typer.echo(prolog_text(_read(file), _name(file)), nl=False)
 
 
 def verify(file: Path = typer.Argument(..., help="An LE document (FILE.le) or a folder of them."),
@@ -124,21 +98,11 @@ def verify(file: Path = typer.Argument(..., help="An LE document (FILE.le) or a 
 
     Each `expected(Query, Scenario, Answers).` line of the tests file is one expectation.
     """
-    from reasoner.le.expectations import ExpectationError
-    from reasoner.rules_verify import verify_file
-    files = sorted(file.glob("*.le")) if file.is_dir() else [file]
-    if not files or not all(f.is_file() for f in files):
-        fail(f"no LE document at {file}")
-    try:
-        reports = [verify_file(f, tests=tests if not file.is_dir() else None) for f in files]
-    except ExpectationError as exc:
-        fail(f"cannot read the expectations: {exc}")
-    passed = sum(r.passed for r in reports)
-    failed = sum(r.failed for r in reports)
-    normalised = sum(r.normalised for r in reports)
+    from reasoner import verify_rulebooks
+    verified = verify_rulebooks(file, tests)
+    reports = verified.reports
     if json_out:
-        print_json({"passed": passed, "failed": failed, "passed_only_after_normalising": normalised,
-                    "documents": [r.as_dict() for r in reports]})
+        print_json(verified.to_json())
     else:
         for r in reports:
             if r.error:
@@ -150,6 +114,6 @@ def verify(file: Path = typer.Argument(..., help="An LE document (FILE.le) or a 
                                f"expected {e.answers} got {o.got if o.error is None else o.error}")
             if len(reports) > 1:
                 typer.echo(f"{Path(r.file).name}: {r.passed} passed, {r.failed} failed")
-        note = f" ({normalised} after normalising dates and punctuation spacing)" if normalised else ""
-        typer.echo(f"{passed} passed, {failed} failed{note}")
-    raise typer.Exit(0 if failed == 0 and not any(r.error for r in reports if r.outcomes) else 1)
+        note = f" ({verified.normalised} after normalising dates and punctuation spacing)" if verified.normalised else ""
+        typer.echo(f"{verified.passed} passed, {verified.failed} failed{note}")
+    raise typer.Exit(0 if verified.ok else 1)

@@ -11,7 +11,7 @@ from cli.app import open_existing, print_json
 from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.tables import cells, show, table
-from reasoner.when import format_duration, format_time_short
+from reasoner import format_duration, format_time_short
 from store import RunSummary
 from store.wire import SourceLife, WireMiss
 

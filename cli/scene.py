@@ -1,9 +1,9 @@
 """`gaps scene --run R --at T`: what the record says was going on at one moment.
 
-The scene is reasoner/scene.py's, its text explain/scene_text.py's, the time forms
-reasoner/when.py's; this module reads the options and prints, with every recorded string escaped
-(cli/safe_text.py). `--svg FILE` writes the scene as a picture instead (explain/svg_scene.py, the
-report's drawing): the junction of `--vehicle`, else `--junction`, else the busiest one, zoomed so
+The scene is the reasoner's `Case.scene` (the time forms reasoner/when.py's), its text
+`explain.scene_lines`; this module reads the options and prints, with every recorded string
+escaped (cli/safe_text.py). `--svg FILE` writes the scene as a picture instead
+(`explain.scene_picture_svg`, the report's drawing): the junction of `--vehicle`, else `--junction`, else the busiest one, zoomed so
 that lanes and road users can be read. Exit codes: 0 shown; 2 for what names nothing (no store, no
 such run, a time that cannot be read, a vehicle not present at that time, a junction not on the
 map, a folder that does not exist).
@@ -15,7 +15,7 @@ from typing import Optional
 
 import typer
 
-from cli.app import db_path, fail, open_existing, print_json, require_run, writable_output
+from cli.app import db_path, fail, open_existing, print_json, writable_output
 from cli.options import DbOption, JsonOption, RunRequired
 from cli.safe_text import printable
 
@@ -43,20 +43,13 @@ def scene(run: str = RunRequired,
     if svg is not None:
         _picture(run, at, vehicle, junction, svg, db)
         return
-    from reasoner.scene import SceneError, run_start
-    from reasoner.scene import scene as scene_at
-    from reasoner.when import TimeError, parse_time
+    from reasoner import Case
     with open_existing(db) as store:
-        require_run(store, run)
-        try:
-            t = parse_time(at, run_start(store, run))
-            found = scene_at(store, run, t, vehicle=vehicle, judge=judge)
-        except (SceneError, TimeError) as exc:
-            fail(str(exc))
+        found = Case(store).scene(run, at, vehicle=vehicle, judge=judge)
     if json_out:
         print_json(found.to_json())
         return
-    from explain.scene_text import scene_lines
+    from explain import scene_lines
     for line in scene_lines(found):
         typer.echo(printable(line))
 
@@ -64,34 +57,18 @@ def scene(run: str = RunRequired,
 def _picture(run: str, at: str, vehicle: Optional[str], junction: Optional[str], target: Path,
              db: Optional[Path]) -> None:
     """`--svg`: the scene picture written to `target`, and one line saying what it shows."""
-    from explain.report_data import run_map, run_start_body, scene_picture
-    from explain.svg_scene import scene_svg
+    from explain import scene_picture_svg
+    from reasoner import Case
     from store import write_text
-    from reasoner.scene import SceneError, run_start
-    from reasoner.scene import scene as scene_at
-    from reasoner.when import TimeError, parse_time
     if not target.parent.is_dir():
         fail(f"no such folder for the picture: {target.parent}")
     writable_output(target, db)
     with open_existing(db) as store:
-        require_run(store, run)
-        try:
-            t = parse_time(at, run_start(store, run))
-            if vehicle is not None:
-                scene_at(store, run, t, vehicle=vehicle, judge=False)      # UnknownVehicle names who was there
-        except (SceneError, TimeError) as exc:
-            fail(str(exc))
-        the_map = run_map(run_start_body(store, run))
-        names = [j["id"] for j in the_map["junctions"]]
-        if junction is not None and junction not in names:
-            fail(f"no junction {junction!r} on the map of run {run!r}; its junctions: {', '.join(names) or 'none'}")
-        pic = scene_picture(store, run, t, vehicle, the_map, junction=junction)
-    text = scene_svg(pic)
+        pic = scene_picture_svg(Case(store), run, at, vehicle=vehicle, junction=junction)
     try:
-        write_text(target, '<?xml version="1.0" encoding="UTF-8"?>\n' + text + "\n", [db_path(db)])
+        write_text(target, pic.svg, [db_path(db)])
     except OSError as exc:
         fail(f"cannot write {target}: {exc.strerror or exc}")
-    drawn = sum(1 for u in pic["vehicles"] + pic["road_users"] if u["x"] is not None and u.get("present", True))
-    where = f"junction {pic['junction']}" if pic["junction"] is not None else "the whole map"
-    typer.echo(printable(f"Scene of run {run} at {pic['offset']} from the run start ({where}; {drawn} road "
-                         f"user{'' if drawn == 1 else 's'} present on the map) written to {target}"))
+    where = f"junction {pic.junction}" if pic.junction is not None else "the whole map"
+    typer.echo(printable(f"Scene of run {run} at {pic.offset} from the run start ({where}; {pic.shown} road "
+                         f"user{'' if pic.shown == 1 else 's'} present on the map) written to {target}"))

@@ -56,7 +56,7 @@ def serve(
     quarantined). A second serve on the same store is refused (exit 4). It also answers history
     queries on its key from the store (`gaps/RUN/**?_time=[t1..t2]`; `gaps fetch`). See docs/serve.md.
     """
-    from ingest.serve import ServeOptions, serve as run
+    from ingest import ServeOptions, run_service as run
     from store import QuarantineCap
     options = ServeOptions(db=db_path(db), listen=tuple(listen), connect=tuple(connect), mode=mode,
                            config_file=config, key=key, status_every_s=status_every,

@@ -12,12 +12,12 @@ import typer
 
 from cli.app import db_path, fail, writable_output
 from cli.options import InsecureOption, JsonOption, ZenohConfigOption
-from reasoner.when import format_seconds
+from reasoner import format_seconds
 
 def parse_duration(text: str) -> float:
     """`--duration` in world seconds, read by the one duration parser (reasoner.when)."""
-    from reasoner.when import DurationError
-    from reasoner.when import parse_duration as duration_ns
+    from reasoner import DurationError
+    from reasoner import parse_duration as duration_ns
     try:
         return duration_ns(text) / 1e9
     except DurationError as exc:
@@ -96,19 +96,19 @@ def sim(
     The events go into an ingest here (on --db), or to the endpoints given; --record keeps them
     as MCAP too; the ground truth is written beside. With --sign-keys each source signs its
     events; `gaps verify --keys DIR/public-keys.json` checks them."""
-    from sim_replay.sim_config import FaultRates, SimConfig
+    from sim_replay import FaultRates, SimConfig, refuse_second_producer, with_files
     from store import GapsError
 
     names = tuple(f.name for f in dataclasses.fields(FaultRates))
     config = SimConfig(run=run, seed=seed, vehicles=vehicles, duration_s=parse_duration(duration), rate_hz=rate,
                        av_share=av_share, faults=FaultRates(**parse_faults(faults, names)))
-    config = _own_files(config, map_, tuple(routes), monitors)
+    config = with_files(config, map_, tuple(routes), monitors)
     pace = parse_speed(speed)
     store_file = None if listen or connect or zenoh_file else db_path(db)
     truth_file = truth or (record or store_file or Path(f"{run}.mcap")).with_name(f"{run}.truth.json")
     for output in (record, truth_file):     # before the simulation: evidence is never an output
         writable_output(output, store_file)
-    _one_producer(run, store_file, truth_file)
+    refuse_second_producer(run, store_file, truth_file)
     try:
         signer = _signer(sign_keys)
         wire = {"listen": listen, "connect": connect, "config_file": zenoh_file, "insecure": insecure}
@@ -124,49 +124,6 @@ def sim(
     _print(out, store_file)
 
 
-def _own_files(config, map_: str, routes: tuple[Path, ...], monitors: Path | None):
-    """The config with the files --map, --routes and --monitors name, checked before anything is
-    written (sim_replay.own_network: a network the audit cannot judge, or routes it cannot carry,
-    is refused with the reason, exit 2)."""
-    from sim_replay.maps import map_files
-    from sim_replay.own_network import OwnFilesError, check, own_files
-
-    try:
-        own = own_files(map_, routes, monitors)
-        for path in (*routes, *((monitors,) if monitors else ())):
-            if not path.is_file():
-                fail(f"no such file: {path}")
-        net = own.net if own else map_files(map_).net
-        counts = check(net, own.routes if own else routes, config) if own or routes else None
-    except (FileNotFoundError, OwnFilesError) as e:
-        fail(str(e))
-    changes = {"map": own.net.name, "net": str(own.net), "routes": tuple(map(str, own.routes)),
-               "monitors": str(own.monitors) if own.monitors else None} if own else \
-        {"map": map_, "routes": tuple(map(str, routes)), "monitors": str(monitors) if monitors else None}
-    if counts is not None:
-        changes.update(vehicles=counts[0], pedestrians=counts[1])
-    return dataclasses.replace(config, **changes)
-
-
-def _one_producer(run: str, store_file: Path | None, truth_file: Path) -> None:
-    """One run, one producer: a simulation never stores into a run the store already holds (another
-    seed's events would mix with the first's, and its ground truth replace theirs), nor replaces
-    a ground truth file; exit 2 naming what to change instead."""
-    if store_file is not None and store_file.is_file():
-        from store import Store, StoreError
-        try:
-            with Store.open_read_only(store_file) as held:
-                events = held.count(run)
-        except StoreError:
-            events = 0          # not a store we can read: the ingest says why when it opens it
-        if events:
-            fail(f"run {run} already holds {events:,} events in {store_file}: a run holds one producer's events, "
-                 f"so a new simulation is never mixed into it; give another --run or another --db")
-    if truth_file.exists() or truth_file.is_symlink():
-        fail(f"the ground truth {truth_file} already exists (an earlier simulation's?): it is never replaced; "
-             "remove it, or give --truth FILE or another --run")
-
-
 def _signer(folder: Path | None):
     """The events' signer from a key folder (keys made for new sources), or None."""
     if folder is None:
@@ -179,9 +136,7 @@ def _run(config, pace, record, wire, store_file, truth_file, signer=None):
     """Simulate and send; composition of the rooms' own calls only."""
     from cli.local_ingest import publish_through_zenoh
     from cli.progress import stderr_progress
-    from sim_replay.held_runs import refuse_if_held_otherwise
-    from sim_replay.outlets import Outlets
-    from sim_replay.simulation import Simulation
+    from sim_replay import Outlets, Simulation, refuse_if_held_otherwise
 
     with stderr_progress(f"simulating {config.run}") as bar:
         simulation = Simulation(config, (lambda done, total: bar(int(done), int(total))) if bar else None,

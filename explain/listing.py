@@ -35,7 +35,7 @@ def explanations(case: Case, incidents: Iterable[tuple[int, Incident]]) -> Itera
     each run's chain once for all its incidents."""
     from .text import explain_incident
     for n, inc in incidents:
-        yield f"── incident {n}: {inc.run} {inc.id} ──\n" + explain_incident(case.investigation, inc) + "\n"
+        yield f"── incident {n}: {inc.run} {inc.id} ──\n" + explain_incident(case, inc) + "\n"
 
 
 def _found(inc: Incident) -> str | None:

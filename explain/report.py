@@ -2,8 +2,8 @@
 incident, the speed and signals around it, the evidence, the rulebooks by sha256 and the chain
 verification, as one self-contained document for an investigator, an insurer or a court.
 
-    with Store("gaps.db") as store:
-        report = build_report(store, "paper-junctions")            # JSON-ready dict
+    with reasoner.open("gaps.db") as case:
+        report = build_report(case, "paper-junctions")             # JSON-ready dict
     Path("report.html").write_text(render_report(report, "html"))  # or "md", "json"
 
 The report is data first (so `.json` carries exactly what the pictures draw), then drawn:
@@ -20,7 +20,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable, Iterable
 
-from reasoner.model import Incident
+from reasoner import Case, Incident
 from store import GapsError, Store
 
 from . import phrases as ph
@@ -47,32 +47,24 @@ def format_for(path: Path) -> str:
     return fmt
 
 
-def build_report(store: Store, run: str, *, incident: str | None = None, rules: Iterable[str] = (),
-                 progress: Progress | None = None, now: datetime | None = None,
-                 investigation: Any = None) -> dict[str, Any]:
-    """The report of `run` (only `incident`, by id or 1-based number, if given); `rules` are LE
-    files judged with first, as `gaps incidents --rules`."""
-    from reasoner.investigation import Investigation
-    made_from = provenance(store.path)          # before anything is read: the file as it was found
-    if run not in {r.run for r in store.runs()}:
-        known = ", ".join(r.run for r in store.runs()) or "none"
-        raise ReportError(f"no run {run!r} in the store; runs: {known}")
-    inv = investigation or Investigation(store, rules=list(rules))
-    found = inv.incidents(run)
-    chosen = found
-    if incident is not None:
-        one = pick(found, incident)
-        if one is None:
-            ids = ", ".join(f"{i}={inc.id}" for i, inc in enumerate(found, 1)) or "none"
-            raise ReportError(f"no incident {incident!r} in run {run!r}; incidents: {ids}")
-        chosen = [one]
-    chain = chain_json(inv.chain(run))
+def build_report(case: Case | Store, run: str, *, incident: str | int | None = None,
+                 progress: Progress | None = None, now: datetime | None = None) -> dict[str, Any]:
+    """The report of `run` (only `incident`, by id or 1-based number, if given), from what the
+    case answers (reasoner.Case: its rulebooks, verdicts and chain checks); a bare store is
+    asked as `Case(store)`, under the rulebooks in force. NoSuchRun or NoSuchIncident (both
+    saying what there is) for what the store does not hold."""
+    case = case if isinstance(case, Case) else Case(case)
+    store = case.store
+    case.require(run)                           # NoSuchRun before the file is hashed
+    made_from = provenance(store.path)          # before the events are read: the file as it was found
+    found = case.incidents(run)
+    chosen = found if incident is None else [case.incident(run, incident)]
+    chain = chain_json(case.chain(run))
     start = run_start_body(store, run)
     the_map = run_map(start)
-    numbers = {inc.id: n for n, inc in enumerate(found, 1)}
     entries = []
     for done, inc in enumerate(chosen, 1):
-        entries.append(_entry(store, inv, inc, numbers[inc.id], the_map))
+        entries.append(_entry(case, inc, the_map))
         if progress is not None:
             progress(done, len(chosen))
     generated = (now or datetime.now(timezone.utc)).astimezone(timezone.utc)
@@ -81,16 +73,6 @@ def build_report(store: Store, run: str, *, incident: str | None = None, rules: 
             "incidents_in_run": len(found), "selected": chosen[0].id if incident is not None else None,
             "chain": {**chain, "checkpoints": _checkpoints(store, run)},
             "rulebooks": _rulebooks(store, chosen, recorded_rulebooks(start)), "incidents": entries}
-
-
-def pick(found: list[Incident], wanted: str) -> Incident | None:
-    """The incident named by id, else by its 1-based number."""
-    for inc in found:
-        if inc.id == wanted:
-            return inc
-    if wanted.isdigit() and 1 <= int(wanted) <= len(found):
-        return found[int(wanted) - 1]
-    return None
 
 
 def render_report(report: dict[str, Any], fmt: str) -> str:
@@ -119,17 +101,17 @@ def summary_row(inc: Incident) -> dict[str, Any]:
 
 # --- per incident ---------------------------------------------------------------------------------
 
-def _entry(store: Store, inv: Any, inc: Incident, number: int, the_map: dict) -> dict[str, Any]:
-    doc = document(inc, inv.explanation(inc), store)
+def _entry(case: Case, inc: Incident, the_map: dict) -> dict[str, Any]:
+    store = case.store
+    doc = document(inc, case.explanation(inc), store)
     picture = scene_picture(store, inc.run, inc.t, inc.vehicle, the_map)
     me = next((v for v in picture["vehicles"] if v["incident"]), None)
     tl = timeline(store, inc.run, inc.t, inc.vehicle, vehicle_junction(picture))
     tl["heading_deg"] = me["heading_deg"] if me else None
     tl["moments"] = [{"what": what, "t": t} for what, t in inc.moments if tl["t_from"] <= t <= tl["t_to"]]
-    context = inv.context(inc.run) if hasattr(inv, "context") else None
-    tl.update(act_track(store, inc, picture, tl["t_from"], tl["t_to"], context))
+    tl.update(act_track(store, inc, picture, tl["t_from"], tl["t_to"], case.context(inc.run)))
     name_users(picture, named_users(inc, picture), the_map)
-    return {"number": number, "row": summary_row(inc), "explanation": doc, "scene": picture, "timeline": tl,
+    return {"number": case.number(inc), "row": summary_row(inc), "explanation": doc, "scene": picture, "timeline": tl,
             "rulebooks": [{"stage": stage, **b.to_json()} for stage, b in inc.rulebooks.items()]}
 
 
@@ -160,10 +142,10 @@ def _rulebooks(store: Store, incidents: list[Incident], recorded: list[dict]) ->
                                           "stages": [], "version": versions.get(sha) or _version(store, sha)})
             if stage not in entry["stages"]:
                 entry["stages"].append(stage)
-    for b in recorded:
-        if b["sha256"] and b["sha256"] not in seen:
-            seen[b["sha256"]] = {"name": b["name"], "sha256": b["sha256"], "source": "recorded", "stages": [],
-                                 "version": b["version"] or _version(store, b["sha256"])}
+    for r in recorded:
+        if r["sha256"] and r["sha256"] not in seen:
+            seen[r["sha256"]] = {"name": r["name"], "sha256": r["sha256"], "source": "recorded", "stages": [],
+                                 "version": r["version"] or _version(store, r["sha256"])}
     return list(seen.values())
 
 

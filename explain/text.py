@@ -15,7 +15,7 @@ from reasoner.when import date_clock
 
 
 if TYPE_CHECKING:
-    from reasoner.investigation import Investigation
+    from reasoner import Case
     from reasoner.model import Incident
 
 INDENT = "  "
@@ -99,10 +99,10 @@ def cite(ref: dict | None) -> str:
 clock = date_clock     # 2024-11-21 08:00:10.000 UTC (reasoner/when.py)
 
 
-def explain_incident(inv: Investigation, inc: Incident, level: str = "standard") -> str:
-    """The whole explanation of one incident as text, verdict first: the investigation that judged
-    it answers what the explanation asks (Investigation.explanation), explanation_doc words it and
-    explain.explanation_formats draws it; the evidence gets chain positions from the investigation's store."""
+def explain_incident(case: Case, inc: Incident, level: str = "standard") -> str:
+    """The whole explanation of one incident as text, verdict first: the case that judged it
+    answers what the explanation asks (reasoner.Case.explanation), explanation_doc words it and
+    explain.explanation_formats draws it; the evidence gets chain positions from the case's store."""
     from .explanation_doc import document
     from .explanation_formats import to_text
-    return to_text(document(inc, inv.explanation(inc), inv.store), level).rstrip("\n")
+    return to_text(document(inc, case.explanation(inc), case.store), level).rstrip("\n")

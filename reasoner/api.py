@@ -14,13 +14,17 @@ line is a thin shell over the same calls.
 from __future__ import annotations
 
 import os
-from typing import Callable, Iterable
+from pathlib import Path
+from typing import Callable, Iterable, Sequence
 
 from store import GapsError, NoSuchRun, Store, VerifyReport
 
+from .chain_status import ChainStatus
 from .explanation import Explanation
+from .history import RunContext
 from .investigation import Investigation
 from .model import MONITORS, OWN_RECORD, Incident, found_in
+from .regress import Cluster, Regression, regress, regress_store     # its caller, as cli/ is
 from .scene import Scene, run_start, scene
 from .when import parse_time
 
@@ -89,9 +93,23 @@ class Case:
         found = [inc for r in runs for inc in self._judged(r, progress)]
         return [inc for inc in found if _matches(inc, verdict, vehicle, rule, source)]
 
+    def numbered(self, run: str | None = None, *, verdict: str | None = None, vehicle: str | None = None,
+                 rule: str | None = None, source: str | None = None,
+                 progress: Progress | None = None) -> list[tuple[int, Incident]]:
+        """`incidents(...)`, each with its number in its run (what `gaps incidents` lists and
+        `gaps explain --run R N` takes): a filter leaves the numbers as they are."""
+        found = self.incidents(run, verdict=verdict, vehicle=vehicle, rule=rule, source=source, progress=progress)
+        numbers: dict[tuple[str, str], int] = {}
+        for r in {inc.run for inc in found}:
+            for n, inc in enumerate(self._judged(r, None), 1):
+                numbers.setdefault((r, inc.id), n)       # the first of an id, as `number` finds it
+        return [(numbers[inc.run, inc.id], inc) for inc in found]
+
     def incident(self, run: str, wanted: str | int) -> Incident:
         """One incident of the run by id ("monitor/m1:3"), the id of any record of its act (one
-        act, one incident: reasoner/oneact.py), or 1-based number in time order."""
+        act, one incident: reasoner/oneact.py), or 1-based number in time order. The one way
+        an incident is found by what a user typed: `gaps explain`, `gaps report --incident` and
+        a script all come here."""
         self.require(run)
         found = self._judged(run, None)
         text = str(wanted)
@@ -119,12 +137,28 @@ class Case:
         on the Validator Scenario, counterfactuals and the chain's status."""
         return self.investigation.explanation(incident, why_not=why_not, counterfactuals=counterfactuals)
 
+    def chain(self, run: str) -> ChainStatus:
+        """The run's hash chain recomputed (once per run for this case), as every explanation
+        of its incidents cites it."""
+        self.require(run)
+        return self.investigation.chain(run)
+
+    def context(self, run: str) -> RunContext:
+        """What the run's histories share (its map, its road users), read once for this case:
+        a report rebuilds many acts of one run."""
+        return self.investigation.context(run)
+
+    def time(self, run: str, at: int | str) -> int:
+        """`at` in nanoseconds: as it is, or read as seconds from the run start ("12.5s") or ISO
+        8601 with a zone (reasoner/when.py; TimeError says what could not be read)."""
+        self.require(run)
+        return at if isinstance(at, int) else parse_time(at, run_start(self.store, run))
+
     def scene(self, run: str, at: int | str, vehicle: str | None = None, judge: bool | None = None) -> Scene:
         """The scene of the run at `at`: nanoseconds, seconds from the run start ("12.5s") or
         ISO 8601 with a zone. `vehicle` narrows it to one and asks whether its goal was lawful."""
-        self.require(run)
-        t = at if isinstance(at, int) else parse_time(at, run_start(self.store, run))
-        return scene(self.store, run, t, vehicle=vehicle, judge=judge, investigation=self.investigation)
+        return scene(self.store, run, self.time(run, at), vehicle=vehicle, judge=judge,
+                     investigation=self.investigation)
 
     def _judged(self, run: str, progress: Progress | None) -> list[Incident]:
         if run not in self._incidents:
@@ -136,6 +170,19 @@ def open(path: str | os.PathLike, *, rules: Iterable[str | os.PathLike] = ()) ->
     """Open the store at `path` read-only for investigation; `rules` are LE rulebooks judged
     with first (a stage they do not define keeps the run's own or the current rulebook)."""
     return Case(Store.open_read_only(path), rules)
+
+
+def regression(db: str | Path, rules: Sequence[str], baseline: Sequence[str] | None = None,
+               runs: Sequence[str] | None = None, *, cluster: Cluster = Cluster(),
+               progress: Callable[[str, int, int], None] | None = None) -> Regression:
+    """The runs (None: every run) of the store at `db` judged under `baseline` (None: each run's
+    own rulebooks, else the project's) and under `rules`, and what changed (`gaps regress`,
+    docs/regress.md): in this process on the store opened read-only, or on `cluster`'s workers,
+    one task a run, each opening it by its path."""
+    if cluster.in_process:
+        with Store.open_read_only(db) as store:
+            return regress(store, rules, baseline, runs, progress=progress)
+    return regress_store(db, rules, baseline, runs, cluster=cluster, progress=progress)
 
 
 def _matches(inc: Incident, verdict: str | None, vehicle: str | None, rule: str | None,

@@ -17,7 +17,8 @@ from explain.report_data import facing_approach, number
 from explain.svg_scene import scene_svg
 from explain.svg_timeline import timeline_svg
 from sim_replay.paper import RUN, paper_run
-from store import Store
+from reasoner import NoSuchIncident
+from store import NoSuchRun, Store
 
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
 # SVG elements the renderers write self-closed
@@ -204,9 +205,9 @@ def test_one_incident_by_id_or_number(tmp_path):
         store.append(paper_run())
         by_id = build_report(store, RUN, incident="monitor/m1:3", now=NOW)
         by_number = build_report(store, RUN, incident="2", now=NOW)
-        with pytest.raises(ReportError, match="no incident '9'.*1=monitor/m1:1, 2=monitor/m1:3"):
-            build_report(store, RUN, incident="9")
-        with pytest.raises(ReportError, match="no run 'other'"):
+        with pytest.raises(NoSuchIncident, match="no incident '9'.*1=monitor/m1:1, 2=monitor/m1:3"):
+            build_report(store, RUN, incident="9")      # found as reasoner.Case finds it, for every command
+        with pytest.raises(NoSuchRun, match="no run 'other'; runs: paper-junctions"):
             build_report(store, "other")
     assert [e["number"] for e in by_id["incidents"]] == [2] and by_id["incidents_in_run"] == 2
     assert render_report(by_id, "json") == render_report(by_number, "json")
