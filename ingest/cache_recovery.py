@@ -144,7 +144,7 @@ class CacheRecovery:
                     if self._in_slice(item[0]):
                         out.append(item)
                 else:
-                    log.warning("ingest: a cache refused a query: %s", reply.err.payload.to_string())
+                    log.warning("ingest: a cache refused a query: %s", _refusal(reply))
             if done:
                 with self._lock:
                     self._asked.remove(handler)
@@ -154,7 +154,7 @@ class CacheRecovery:
         """Ask one cache, in one query, for what it holds above each source's known seq, for the
         sources not heard live (those are followed by their live seqs)."""
         if reply.ok is None:
-            log.warning("ingest: a cache refused its index: %s", reply.err.payload.to_string())
+            log.warning("ingest: a cache refused its index: %s", _refusal(reply))
             return
         try:
             spans = read_index(reply.ok.payload.to_bytes())
@@ -227,3 +227,8 @@ class CacheRecovery:
                 found = True     # not a key expression: screening quarantines it with the reason
             self._within[key] = found
         return found
+
+
+def _refusal(reply: zenoh.Reply) -> str:
+    """What a cache's refusal says (Zenoh's reply holds either a sample or an error)."""
+    return reply.err.payload.to_string() if reply.err is not None else "(no reason given)"

@@ -200,8 +200,9 @@ def _candidate(sample: zenoh.Sample, chains: ReceivedChains) -> Candidate:
     screened = screen(key, payload, encoding=str(sample.encoding))
     candidate = screened.candidate
     link = _link_of(sample.attachment)
-    if candidate.reason is None and link is not None:
-        chains.observe(candidate.event["run"], link[0], link[1], candidate.canonical)
+    event, canonical = candidate.event, candidate.canonical    # both read for an accepted event
+    if candidate.reason is None and event is not None and canonical is not None and link is not None:
+        chains.observe(event["run"], link[0], link[1], canonical)
     return candidate
 
 

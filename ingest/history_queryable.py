@@ -92,7 +92,8 @@ class HistoryQueryable:
 
     def _answer(self, query: zenoh.Query, store: Store) -> None:
         try:
-            request = parse_request(str(query.key_expr), query.parameters, time.time_ns())
+            # zenoh's stub says Parameters.__iter__ returns a list; it iterates (name, value) pairs
+            request = parse_request(str(query.key_expr), query.parameters, time.time_ns())  # type: ignore[arg-type]
         except HistoryRequestError as exc:
             _error(query, "selector", str(exc))
             return

@@ -68,4 +68,5 @@ class RunClaims:
 
     def _refused(self, item: Screened) -> Screened:
         candidate = item.candidate
+        assert candidate.event is not None      # only an item _of_contested is refused here
         return Screened(refused(candidate.origin, candidate.raw, self.contested[candidate.event["run"]]), item.identity)

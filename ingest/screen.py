@@ -110,6 +110,7 @@ def require_signature(item: Screened, keys: TrustedKeys) -> Screened:
     candidate = item.candidate
     if candidate.reason is not None:
         return item
+    assert candidate.event is not None      # the store reads the event of every candidate it does not refuse
     reason = keys.reason(candidate.event)
     if reason is None:
         return item
@@ -134,5 +135,6 @@ def _identity_of_invalid(exc: EventError, payload: bytes) -> Identity | None:
     if not isinstance(event, dict):
         return None
     run, src, seq = event.get("run"), event.get("src"), event.get("seq")
-    ok = isinstance(run, str) and isinstance(src, str) and type(seq) is int and seq >= 0
-    return (run, src, seq) if ok else None
+    if isinstance(run, str) and isinstance(src, str) and type(seq) is int and seq >= 0:
+        return run, src, seq
+    return None

@@ -14,11 +14,12 @@ import logging
 import os
 import signal
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from pathlib import Path
 from types import FrameType, TracebackType
-from typing import TextIO
+from typing import Any, TextIO
 
 import zenoh
 
@@ -75,7 +76,7 @@ class Server:
     def __init__(self, options: ServeOptions) -> None:
         self.options = options
         self._lock = ServeLock(options.db)
-        self.service: IngestService | None = None
+        self._service: IngestService | None = None
 
     def __enter__(self) -> Server:
         check_key(self.options.key)
@@ -83,7 +84,7 @@ class Server:
         checkpoint_key = _checkpoint_key(self.options)
         self._lock.acquire()
         try:
-            self.service = _open_service(self.options, keys, checkpoint_key)
+            self._service = _open_service(self.options, keys, checkpoint_key)
         except BaseException:
             self._lock.release()
             raise
@@ -92,10 +93,17 @@ class Server:
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
         try:
-            if self.service is not None:
-                self.service.stop()
+            if self._service is not None:
+                self._service.stop()
         finally:
             self._lock.release()
+
+    @property
+    def service(self) -> IngestService:
+        """The service, from entering the server on."""
+        if self._service is None:
+            raise RuntimeError("the server is not open: use it in a `with` block")
+        return self._service
 
     @property
     def lock_path(self) -> Path:
@@ -138,6 +146,9 @@ def _open_service(options: ServeOptions, keys: TrustedKeys | None,
         raise IngestConfigError(f"cannot open Zenoh ({where}): {zenoh_message(exc)}") from None
 
 
+Handler = Callable[[int, FrameType | None], Any] | int | signal.Handlers | None  # what signal.signal takes
+
+
 class StopRequest:
     """SIGINT/SIGTERM handlers that ask the loop to stop instead of killing it mid-batch; the
     previous handlers come back on ``restore``. A repeated signal only says that the flush goes on."""
@@ -146,7 +157,7 @@ class StopRequest:
         self._event = threading.Event()
         self._reporter = reporter
         self.signal_name: str | None = None
-        self._previous: dict[int, object] = {}
+        self._previous: dict[int, Handler] = {}
 
     def install(self) -> StopRequest:
         if threading.current_thread() is threading.main_thread():

@@ -330,11 +330,11 @@ class BatchWriter(threading.Thread):
         self._tracker.tick()
         screened = screen_all(batch, self._unscreenable)
         if self._keys is not None:
-            screened = self._check_signatures(screened)
+            screened = self._check_signatures(screened, self._keys)
         identities = [item.identity for item in screened if item.identity is not None]
         late = self._tracker.observe_all(identities)
         if self._watch is not None:
-            self._follow_seqs(identities, live)
+            self._follow_seqs(self._watch, identities, live)
         if late:
             self._stats.add(late=late)
         return screened
@@ -355,19 +355,19 @@ class BatchWriter(threading.Thread):
         self._stats.record_error(f"screening: {exc!r}")
         return Screened(refused(key, payload, f"ingest could not screen this sample: {exc!r}"), None)
 
-    def _follow_seqs(self, identities: list[tuple[str, str, int]], live: bool) -> None:
+    def _follow_seqs(self, watch: WireWatch, identities: list[tuple[str, str, int]], live: bool) -> None:
         """Tell the cache recovery each event's seq (a hole in the live stream is asked of the
         producers' caches); a failure there costs the asking, never the batch."""
         try:
-            self._watch.recovery.saw_all(identities, live)
+            watch.recovery.saw_all(identities, live)
         except Exception as exc:
             log.exception("ingest: following the sources' seqs failed")
             self._stats.record_error(f"cache recovery: {exc!r}")
 
-    def _check_signatures(self, screened: list[Screened]) -> list[Screened]:
+    def _check_signatures(self, screened: list[Screened], keys: TrustedKeys) -> list[Screened]:
         """Quarantine, with the reason, each event not signed by a key trusted for its source. Here,
         on the writer's thread, not on Zenoh's: a check costs tens of microseconds."""
-        checked = [require_signature(item, self._keys) for item in screened]
+        checked = [require_signature(item, keys) for item in screened]
         refused_now = sum(new is not old for new, old in zip(checked, screened))
         if refused_now:
             self._stats.add(signature_refused=refused_now)

@@ -28,9 +28,6 @@ class ChainStatus:
                 "problem": dict(self.problem) if self.problem is not None else None}
 
 
-UNCHECKED = ChainStatus(False, None, None, None)
-
-
 def chain_status(store: Store, run: str) -> ChainStatus:
     report = store.verify(run)
     summary = next((r for r in report.runs if r.get("run") == run), {})

@@ -205,9 +205,5 @@ def with_sensors(stretch: Stretch | None, map_: Map, spawn: dict | None) -> Stre
     return replace(stretch, sensors=tuple(sorted(found.items()))) if found else stretch
 
 
-def act_of(stretch: Stretch | None) -> Act | None:
-    return stretch.act() if stretch is not None else None
-
-
 def _number(value: Any) -> bool:
     return type(value) in (int, float) and value == value

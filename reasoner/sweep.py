@@ -96,7 +96,6 @@ class Sweep:
     _braking: dict[str, list[tuple[int, str]]] = field(default_factory=dict)           # junction -> (t, user)
     _walking: dict[str, list[tuple[int, str]]] = field(default_factory=dict)           # junction -> (t, pedestrian)
     _found: list[Candidate] = field(default_factory=list)
-    fed: int = 0                                                                        # events seen
 
     def __post_init__(self) -> None:
         self.by_monitor = {m: j for j in self.map.junctions for m in j.monitors}
@@ -120,7 +119,6 @@ class Sweep:
 
     def add(self, event: dict) -> None:
         """One measurement; a few comparisons for most (this runs once per observation)."""
-        self.fed += 1
         body = event["body"]
         if type(body) is not dict or not (self._wanted or self._slowest_limit_mps < math.inf):
             return

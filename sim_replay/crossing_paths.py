@@ -168,8 +168,9 @@ class PathWatch:
 
     def _pedestrians(self, t: float, pedestrians: tuple[PedestrianState, ...], v: VehicleState | None) -> None:
         for p in pedestrians:
-            area = self.areas.get(p.crossing) if p.crossing else None
-            if area is None:
+            crossing = p.crossing
+            area = self.areas.get(crossing) if crossing else None
+            if crossing is None or area is None:
                 continue
             if v is not None:
                 away = round(math.hypot(p.x - v.x, p.y - v.y), 1)
@@ -180,7 +181,7 @@ class PathWatch:
                 except libsumo.TraCIException:
                     self._radius[p.id] = 0.24
             if Point(p.x, p.y).distance(area) <= self._radius[p.id]:
-                self.theirs.setdefault((p.id, p.crossing), []).append(t)
+                self.theirs.setdefault((p.id, crossing), []).append(t)
 
     def open(self, t: float) -> bool:
         """Whether the watch still measures: the vehicle is on its way, or left it less than

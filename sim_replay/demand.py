@@ -106,8 +106,8 @@ def plan(config: SimConfig, network: Network, rng: random.Random) -> tuple[list[
     walks = []
     junctions = sorted(j for j, its in arms.items() if len(its) >= 2)
     for n in range(config.pedestrians if junctions else 0):
-        j = rng.choice(junctions)
-        a, b = rng.sample(arms[j], 2)
+        at = rng.choice(junctions)
+        a, b = rng.sample(arms[at], 2)
         walks.append(Walk(f"p{n + 1}", round(rng.uniform(0.0, window), 1), a, _out_edge(network, b)))
     walks.sort(key=lambda w: (w.depart_s, w.id))
     return departures, walks

@@ -47,6 +47,7 @@ def refuse_if_held_otherwise(session: zenoh.Session, events: list[dict]) -> None
     own = {(e["run"], e["src"], e["seq"]): _unsigned(e) for e in events}
     for held in held_events(session, run):
         ev = held.event
+        assert ev is not None       # _candidate keeps only events it read
         mine = own.get((ev["run"], ev["src"], ev["seq"]))
         if mine is not None and mine != _unsigned(ev):
             _refuse(run, (run, ev["src"], ev["seq"]), "this simulation's", "give another --run")

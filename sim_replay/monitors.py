@@ -99,7 +99,7 @@ def _monitor(item: Any, where: str, junctions: set[str] | None) -> Monitor:
     for key, low, high in (("x", -1e7, 1e7), ("y", -1e7, 1e7), ("heading_deg", -360.0, 360.0),
                            ("range_m", 0.0, 10_000.0), ("fov_deg", 0.0, 360.0)):
         value = item.get(key)
-        if type(value) not in (int, float) or not low <= value <= high or (key in ("range_m", "fov_deg") and value == 0):
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not low <= value <= high or (key in ("range_m", "fov_deg") and value == 0):
             raise MonitorsError(f"{where} ({ident}): {key} must be a number in ({low:g}, {high:g}]")
         numbers[key] = float(value)
     watches = item.get("watches", [])

@@ -57,16 +57,21 @@ def _r(value: float) -> float:
 MAP_KIND = {"signal": "signal", "stop": "stop_sign", "give_way": "give_way"}
 
 
+def _map_kind(kind: str | None) -> str | None:
+    """The map's word for an approach's line kind (an approach with a line has one)."""
+    return MAP_KIND.get(kind, kind) if kind is not None else None
+
+
 def _p(point: Point) -> list[float]:
     return [_r(point[0]), _r(point[1])]
 
 
 def _junction(j: Junction) -> dict[str, Any]:
-    lined = [a for a in j.approaches if a.line is not None]
+    lined = [(a, a.line) for a in j.approaches if a.line is not None]
     out: dict[str, Any] = {
         "id": j.id, "x": _r(j.x), "y": _r(j.y), "control": j.control,
-        "stop_lines": [{"approach": a.name, "from": _p(a.line[0]), "to": _p(a.line[1]),
-                        "kind": MAP_KIND.get(a.kind, a.kind), "edge": a.edge, "road": a.road} for a in lined],
+        "stop_lines": [{"approach": a.name, "from": _p(line[0]), "to": _p(line[1]),
+                        "kind": _map_kind(a.kind), "edge": a.edge, "road": a.road} for a, line in lined],
     }
     if j.control != "lights" and lined and len(lined) < len(j.approaches):
         out["major"] = sorted({a.name for a in j.approaches if a.line is None})

@@ -175,7 +175,7 @@ class Outlets:
         if self._result is not None:
             return self._result
         rec = self._recorder
-        world = 0.0 if self._first_t is None else (self._last_t - self._first_t) / SECOND
+        world = 0.0 if self._first_t is None or self._last_t is None else (self._last_t - self._first_t) / SECOND
         return OutletSummary(self._published, rec.report.events if rec and rec.report else 0, rec.late if rec else 0,
                              len(self._sources), world, time.monotonic() - self._wall0,
                              str(self.record_path) if self.record_path is not None else None,

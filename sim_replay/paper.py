@@ -109,4 +109,6 @@ def _permitted(rb, goal: str, facts: list[str]) -> bool:
     """Ask the rulebook, on the vehicle's own perception, whether its goal is permitted."""
     templates = rb.document.templates
     atoms = [a for f in facts if (a := parse_fact(f, templates))]
-    return get_engine().ask(rb, parse_fact(goal, templates), atoms).holds
+    asked = parse_fact(goal, templates)
+    assert asked is not None        # the goal is the vocabulary's own sentence
+    return get_engine().ask(rb, asked, atoms).holds

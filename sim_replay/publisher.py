@@ -101,13 +101,16 @@ class EventPublisher:
         self.insecure_because = ([] if self.exposure is None else
                                  check_producer(self.exposure, signed=signer is not None or events_signed,
                                                 insecure=insecure))
-        if self.insecure_because:
+        if self.insecure_because and self.exposure is not None:   # (only an exposure has reasons)
             log.warning("%s: this producer can be reached beyond loopback (%s), and %s", INSECURE_FLAG,
                         "; ".join(self.exposure.reachable), "; and ".join(self.insecure_because))
         self._signer = signer
         self._recent = RecentEvents(cache_s, max_events=cache_events, max_bytes=cache_bytes)
         self._owns_session = session is None
-        self._session = session if session is not None else _open(config)
+        if session is None:
+            assert config is not None       # given, or the default made above
+            session = _open(config)
+        self._session = session
         try:
             self._cache = CacheQueryable(self._session, self._recent)
         except BaseException:
@@ -197,7 +200,7 @@ class EventPublisher:
             self._put_run(run)
         return count
 
-    def _publish_written(self, events: Sequence[dict], payloads: Sequence[bytes], keys: Sequence[str]) -> int:
+    def _publish_written(self, events: Iterable[dict], payloads: Sequence[bytes], keys: Sequence[str]) -> int:
         """publish_all of events whose bytes and keys are at hand (a simulation's tick): the same
         runs, cut at PUT_RUN and after each despawn, in one pass over the three that makes each
         event's cache entry (RecentEvents) as it finds its publisher, so that a thousand events
@@ -217,7 +220,7 @@ class EventPublisher:
                 find, hold = found.append, held.append
         if found:
             put_held(found, held, False)
-        return len(events)
+        return len(keys)        # as many as events: zip(strict=True) saw to it
 
     def _prepared(self, event: dict) -> _Prepared:
         """An event ready to put: its publisher (declared on first use), key, event and exact bytes."""
@@ -225,11 +228,6 @@ class EventPublisher:
         if self._signer is not None:
             event = self._signer.sign(event)
         return self._publisher_for(key), key, event, canonical_json(event)
-
-    def _as_written(self, event: dict, payload: bytes) -> _Prepared:
-        """An event ready to put with the canonical bytes it was written in."""
-        key = key_for(event)
-        return self._publisher_for(key), key, event, payload
 
     def _put_run(self, run: list[_Prepared]) -> None:
         """The run's puts back to back (see publish_all), then each into the cache; a despawn (only

@@ -17,6 +17,7 @@ from __future__ import annotations
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
+from typing import Final
 
 from store.wire import SourceSpan
 
@@ -30,7 +31,11 @@ Held = tuple[float, str, str, int, str, bytes]
 """One event held: when it was added (monotonic s), its run, src, seq, key and exact bytes. A tuple
 of strings and numbers, which Python's collector stops tracking (objects of a class made each add
 cost three times as much in collections, measured)."""
-AT, RUN, SRC, SEQ, KEY, PAYLOAD = range(6)
+RUN: Final = 1      # a Held's fields by place (0 is when it was added); Final, so a checker knows each one's type
+SRC: Final = 2
+SEQ: Final = 3
+KEY: Final = 4
+PAYLOAD: Final = 5
 Published = tuple[str, str, int, str, bytes]
 """One event as added: run, src, seq, key and exact bytes."""
 Chunk = tuple[float, list[Published], int]
@@ -105,7 +110,7 @@ class RecentEvents:
                wanted: Callable[[str], bool] = lambda key: True) -> list[tuple[str, bytes]]:
         """(key, payload) of the events held whose source has a range holding their seq, in the
         order they were published (one pass for any number of sources)."""
-        out = []
+        out: list[tuple[str, bytes]] = []
         for held in self._held():
             found = ranges.get((held[RUN], held[SRC]))
             if found and any(a <= held[SEQ] <= b for a, b in found) and wanted(held[KEY]):

@@ -157,12 +157,12 @@ def _route(element: ET.Element, named: dict[str, tuple[str, ...]], network: Netw
     inner = element.find("route")
     if inner is not None:
         edges = _edges(inner.get("edges", ""), where)
-    elif element.get("route") is not None:
-        if element.get("route") not in named:
-            raise OwnFilesError(f"{where}: route {element.get('route')!r} is not defined before it in the file")
-        edges = named[element.get("route")]
-    elif element.get("from") and element.get("to"):
-        stops = [element.get("from"), *element.get("via", "").split(), element.get("to")]
+    elif (name := element.get("route")) is not None:
+        if name not in named:
+            raise OwnFilesError(f"{where}: route {name!r} is not defined before it in the file")
+        edges = named[name]
+    elif (start := element.get("from")) and (end := element.get("to")):
+        stops = [start, *element.get("via", "").split(), end]
         for e in stops:
             _edge(network, e, where)
         edges = (stops[0],)

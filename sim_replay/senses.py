@@ -19,7 +19,6 @@ __all__ = ["APPROACH_M", "Around", "Other", "STOPPED_MPS"]
 APPROACH_M = 50.0        # a road user this close to a junction's entry, and moving towards it, is approaching
 MOVING_MPS = 0.5
 STOPPED_MPS = 0.1
-NO_ETA = 1e9
 
 
 class Other(NamedTuple):
@@ -59,8 +58,11 @@ class Around:
         """The road users v could notice at the junction ahead (see `about`)."""
         return self.about(v.next_junction, v.id, v.approach) if v.next_junction is not None else []
 
-    def about(self, junction: str, vid: str, approach: str | None) -> list[Other]:
+    def about(self, junction: str | None, vid: str, approach: str | None) -> list[Other]:
         """The road users approaching a junction, as seen by vid on (or from) `approach`: not
-        itself, not those behind it on its own approach (they follow it, they do not approach it)."""
+        itself, not those behind it on its own approach (they follow it, they do not approach it).
+        None (on no junction): nobody."""
+        if junction is None:
+            return []
         return [o for o in self._near.get(junction, ()) if o.id != vid
                 and (o.pedestrian or self._approach.get(o.id) != approach)]

@@ -48,7 +48,7 @@ class Envelopes:
         self.count = 0
         self.lost = 0
         self._lose = lose
-        self._t = (None, 0)       # the latest (t_s, t): a tick's events share their t_s
+        self._t: tuple[float | None, int] = (None, 0)   # the latest (t_s, t): a tick's events share their t_s
 
     def make(self, src: str, t_s: float, kind: str, body: dict[str, Any]) -> dict[str, Any] | None:
         """The event, or None when the fault model loses it (its seq is used all the same)."""

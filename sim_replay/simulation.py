@@ -26,7 +26,7 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import orjson
 
@@ -111,8 +111,11 @@ class Simulation:
         self.account = account
         self.progress = progress
         self._given = (departures, walks)
-        files = None if config.net else map_files(config.map)
-        self.net_path = Path(config.net) if config.net else files.net
+        if config.net:
+            files, self.net_path = None, Path(config.net)
+        else:
+            files = map_files(config.map)
+            self.net_path = files.net
         # a network of the user's has the cameras its monitors file says, none without one
         self.monitors_path = Path(config.monitors) if config.monitors else files.monitors if files else None
         self.truth = Truth(config.run, config.seed, config.to_json())
@@ -121,7 +124,7 @@ class Simulation:
         self.env = Envelopes(config.run, self.faults.lose if config.faults.lost_event > 0 else None)
         self.by_kind: dict[str, int] = {}
         self.summary: Summary | None = None
-        self._collisions: set[tuple[str, str]] = set()
+        self._collisions: set[tuple[str, ...]] = set()
         self._rounded: dict[str, tuple] = {}    # per vehicle: its latest raw measurements and their rounding
         self._out: list[dict[str, Any]] = []     # the tick's events so far
         self._written: list[bytes | None] = []   # per event of _out: its canonical bytes, where _states wrote them
@@ -202,6 +205,7 @@ class Simulation:
             yield from self._batch()
             world_s = world.t_s
         if account is not None:            # SUMO writes the SSM file as it closes
+            assert kept is not None and ssm_file is not None    # made with the account, above
             account.close()
             self.truth.account([y.to_json() for y in account.yields], read_ssm(ssm_file))
             kept.cleanup()
@@ -233,7 +237,8 @@ class Simulation:
                     written[i] = canonical_json(out[i])
                     if keys[i] is None:
                         keys[i] = key_for(out[i])
-                events = Tick(out, written, keys)
+                # every place filled just above: the lists hold no None now
+                events = Tick(out, cast(list[bytes], written), cast(list[str], keys))
                 self._written, self._keys = [], []
             else:
                 events = Tick(out)
@@ -419,7 +424,7 @@ class Simulation:
     def _states_made(self, snap: Snapshot, t: float) -> None:
         """_states where events may be lost (Envelopes.make_all decides which) or none is written."""
         agents, rounded = self.agents, self._rounded
-        bodies = []
+        bodies: list[tuple[str, dict[str, Any]]] = []
         add = bodies.append
         self._round(snap.vehicles)
         for v in snap.vehicles:
@@ -494,7 +499,8 @@ class Simulation:
     def _lines(self, agent: Agent, v: VehicleState, t: float, lights: dict[tuple[str, str], str],
                around: Around) -> None:
         line = self.lines.get(v.id)
-        if v.junction is None and v.to_line_m is not None and v.line_kind is not None and v.next_junction:
+        if v.junction is None and v.to_line_m is not None and v.line_kind is not None and v.next_junction \
+                and v.approach is not None:     # (a lane with a line's kind has its approach)
             if line is None or line.crossed_on is not None:
                 line = self.lines[v.id] = Line(v.next_junction, v.approach, v.line_kind)
             p = agent.passage
@@ -517,7 +523,7 @@ class Simulation:
             return
         if line.crossed_on is None and v.junction == line.junction:
             colour = lights.get((line.junction, line.approach)) if line.kind == "signal" else None
-            self.lines[v.id] = Line(line.junction, line.approach, line.kind, colour or "none", t)
+            self.lines[v.id] = Line(line.junction, line.approach, line.kind, colour or "none")
             self.witness.crossed(agent, v, t, self.lines[v.id], colour, around)
             self._crossed(agent)
             self.world.hand_back(v.id)              # over the line: SUMO's physics keeps it out of others' way

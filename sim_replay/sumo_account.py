@@ -110,15 +110,16 @@ def read_ssm(path: str | Path) -> list[dict[str, Any]]:
         return []
     out = []
     for c in ET.parse(path).getroot().iter("conflict"):
-        row: dict[str, Any] = {"ego": c.get("ego"), "foe": c.get("foe"), "begin_s": float(c.get("begin")),
-                               "end_s": float(c.get("end"))}
+        row: dict[str, Any] = {"ego": c.get("ego"), "foe": c.get("foe"), "begin_s": float(c.attrib["begin"]),
+                               "end_s": float(c.attrib["end"])}
         for m in c:
             if m.get("value") in (None, "NA"):
                 continue
-            code = int(m.get("type")) if m.get("type") not in (None, "NA") else None
-            row[m.tag] = {"t_s": float(m.get("time")), "value": float(m.get("value")),
-                          "x_y": [float(p) for p in m.get("position").split(",")],
-                          "type": ENCOUNTERS.get(code, str(code))}
+            kind = m.get("type")
+            code = int(kind) if kind is not None and kind != "NA" else None
+            row[m.tag] = {"t_s": float(m.attrib["time"]), "value": float(m.attrib["value"]),
+                          "x_y": [float(p) for p in m.attrib["position"].split(",")],
+                          "type": ENCOUNTERS.get(code, str(code)) if code is not None else str(code)}
         out.append(row)
     return sorted(out, key=lambda r: (r["begin_s"], r["ego"], r["foe"]))
 
@@ -357,6 +358,7 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(waits - _POSITION_EPS_M, 0.0)), "foe",
                                     other_id, {**detail, "to_internal_junction_m": round(waits, 1)}))
                     continue
+                assert other is not None    # entered (a foe still coming, not entered, was waited for above)
                 # SUMO's gap to a link leader across its path (MSLink::getLeaderInfo): to the crossing
                 # point less its minGap, the part of the foe still before it and the crossing's width
                 sumo_gap = ego_dist - vehicle.getMinGap(ident) - (foe_exit + vehicle.getLength(other_id))
@@ -374,6 +376,7 @@ class Account:
             arrives, stop, other_id, detail = min(waiting, key=lambda w: w[0])
             allowed.append((stop, "foe", other_id, detail))
         if inside:                   # in the junction: vehicles on the lanes SUMO makes foes of its own,
+            assert ahead_m is not None                            # (in it, metres to its lane's end)
             foes = set(libsumo.lane.getInternalFoes(v.lane))      # or about to drive onto one
             junction = v.lane[1:].rsplit("_", 2)[0]
             for other in snap.vehicles:
@@ -382,7 +385,7 @@ class Account:
                     allowed.append((vehicle.getStopSpeed(ident, speed, max(away - _CLEAR_M, 0.0)), "foe", other.id,
                                     {"foe_lane": other.lane, "away_m": round(away, 1), "foe_in_junction": True}))
                 elif link_to_pass and other.next_junction == junction and not other.lane.startswith(":") \
-                        and (theirs := self._coming(other)) is not None:
+                        and other.to_junction_m is not None and (theirs := self._coming(other)) is not None:
                     if theirs[4] in foes and not self._same_source(v.lane, theirs[4]):
                         allowed.append((vehicle.getStopSpeed(ident, speed, max(ahead_m - 1.0, 0.0)), "foe", other.id,
                                         {"foe_lane": theirs[4], "foe_to_junction_m": round(other.to_junction_m, 1),
@@ -481,7 +484,8 @@ class Account:
                 if incoming.startswith(":"):
                     continue
                 for link in libsumo.lane.getLinks(incoming):
-                    way, lane_now = [], link[4]
+                    way: list[str] = []
+                    lane_now = link[4]
                     while lane_now.startswith(":") and lane_now not in way:
                         self._before.setdefault(lane_now, tuple(way))
                         way.append(lane_now)

@@ -153,8 +153,9 @@ def read_network(path: str | Path) -> Network:
             continue
         node_approaches = tuple(_approach(node, edge) for edge in _incoming(node))
         approaches.update({a.edge: a for a in node_approaches})
+        x, y = node.getCoord()[:2]
         junctions[node.getID()] = Junction(
-            node.getID(), *node.getCoord()[:2], node.getType(), _control(node, node_approaches),
+            node.getID(), x, y, node.getType(), _control(node, node_approaches),
             tuple(_xy(p) for p in node.getShape()), node_approaches, _crossings(net, node),
             _polygon(node.getParam("box")), node.getID() if node.getType() in SIGNAL_TYPES else None)
     lanes = {lane.getID(): _lane(lane, junction_ids, approaches) for edge in net.getEdges(withInternal=True)

@@ -284,7 +284,7 @@ class World:
 
     def _signal_layout(self) -> list[tuple[str, int, tuple[str, str, str | None]]]:
         """Per traffic light, which index of its state each approach and crossing shows."""
-        layout = []
+        layout: list[tuple[str, int, tuple[str, str, str | None]]] = []
         for tls in self._tls:
             for key, index in sorted(self.network.approach_links(tls).items()):
                 junction, approach = key.split("/", 1)
@@ -312,7 +312,7 @@ class World:
 
     def _vehicles(self, results: dict, lights: dict[tuple[str, str], str]) -> tuple[VehicleState, ...]:
         """Each subscribed vehicle as a VehicleState (the hot loop of a tick: a thousand vehicles)."""
-        out = []
+        out: list[VehicleState] = []
         append, by_lane = out.append, self._by_lane
         types, controlled, held = self._types, self._controlled, self._held
         for ident, r in results.items():           # libsumo's order: by id

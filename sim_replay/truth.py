@@ -117,9 +117,9 @@ class Truth:
 
     def to_json(self) -> dict[str, Any]:
         acts = sorted(self.acts, key=lambda a: (a.t_s, a.vehicle, a.kind))
-        out = {"run": self.run, "seed": self.seed, "config": self.config, "road_users": self.road_users,
+        out: dict[str, Any] = {"run": self.run, "seed": self.seed, "config": self.config, "road_users": self.road_users,
                "acts": [a.to_json() for a in acts], "faults": [f.to_json() for f in self.faults]}
-        if self.yields is not None:
+        if self.yields is not None and self.conflicts is not None:      # (SUMO's account gives both)
             out["yields"], out["conflicts"] = self.yields, self.conflicts
             for act in out["acts"]:
                 if act["kind"] == "crossed the stop line":

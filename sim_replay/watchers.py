@@ -60,7 +60,6 @@ class Line:
     approach: str
     kind: str
     crossed_on: str | None = None       # set once it is over the line
-    crossed_at_s: float | None = None
 
 
 @dataclass
@@ -114,31 +113,31 @@ class Watchers:
         facts = [IS_OF_TYPE.text(vid, v.type)]
         if s.blue_at_s is not None and s.last_s - s.blue_at_s <= FLASH_S:
             facts.append(IS_ON_AN_EMERGENCY_CALL.text(vid))
-        here = line is not None and line.junction == m.junction
-        if here and line.crossed_on is None:              # before its line at this monitor's junction
+        here = line if line is not None and line.junction == m.junction else None   # its line, at this junction
+        if here is not None and here.crossed_on is None:      # before its line at this monitor's junction
             s.before_line = True
-            if line.kind == "signal":
-                facts += [HAS_LIGHT.text(vid, c) for c in LIGHT_WORDS[lights.get((line.junction, line.approach), "off")]]
+            if here.kind == "signal":
+                facts += [HAS_LIGHT.text(vid, c) for c in LIGHT_WORDS[lights.get((here.junction, here.approach), "off")]]
             else:
-                facts.append(HAS_SIGN.text(vid, SIGN_WORDS[line.kind]))
+                facts.append(HAS_SIGN.text(vid, SIGN_WORDS[here.kind]))
             if v.speed_mps < STOPPED_MPS and v.to_line_m is not None and v.to_line_m <= AT_LINE_M:
                 s.stopped_at_line = True
-            if line.kind == "stop" and s.stopped_at_line:
+            if here.kind == "stop" and s.stopped_at_line:
                 facts.append(HAS_STOPPED_AT_THE_STOP_LINE.text(vid))
-        elif here and v.junction == m.junction:           # over its line, in the junction
+        elif here is not None and v.junction == m.junction:   # over its line, in the junction
             # what happened at the line is stated only by a camera that watched the vehicle there
-            if s.before_line and s.crossing_seen is None and line.kind == "signal":
-                s.crossing_seen = line.crossed_on         # it watched the line as the vehicle passed it
-            if line.kind == "signal":
+            if s.before_line and s.crossing_seen is None and here.kind == "signal":
+                s.crossing_seen = here.crossed_on         # it watched the line as the vehicle passed it
+            if here.kind == "signal":
                 if s.crossing_seen is not None:
                     facts += [CROSSED_THE_STOP_LINE_ON.text(vid, c) for c in LIGHT_WORDS[s.crossing_seen]]
             elif s.before_line:
-                facts.append(HAS_SIGN.text(vid, SIGN_WORDS[line.kind]))
-                if line.kind == "stop" and s.stopped_at_line:
+                facts.append(HAS_SIGN.text(vid, SIGN_WORDS[here.kind]))
+                if here.kind == "stop" and s.stopped_at_line:
                     facts.append(HAS_STOPPED_AT_THE_STOP_LINE.text(vid))
             facts += [HAS_CROSSED_THE_STOP_LINE.text(vid), IS_IN_THE_JUNCTION.text(vid)]
-        if here and line.crossed_on is None or (here and v.junction == m.junction):
-            for o in sorted(around.about(m.junction, vid, line.approach), key=lambda o: o.id):
+        if here is not None and here.crossed_on is None or (here is not None and v.junction == m.junction):
+            for o in sorted(around.about(m.junction, vid, here.approach), key=lambda o: o.id):
                 facts += [IS_OF_TYPE.text(o.id, o.type), IS_APPROACHING.text(o.id, vid)]
                 if o.main_road:
                     facts.append(IS_ON_THE_MAIN_ROAD.text(o.id))

@@ -103,7 +103,7 @@ class Witness:
                 me = snap.vehicle(vid)
                 if pending["path"] is not None:
                     pending["path"].tick(t, me, snap.pedestrians)
-                if me is not None and me.junction == junction:     # still crossing: who comes up meanwhile
+                if me is not None and me.junction == junction and around is not None:   # still crossing: who comes up
                     for o in around.about(junction, vid, approach):
                         if o.id not in pending["known"]:
                             pending["known"].add(o.id)
@@ -235,7 +235,7 @@ class Witness:
     def _box(self, agent: Agent, v: VehicleState, t: float, snap: Snapshot, line: Line | None) -> None:
         box = self.network.junctions[v.junction].box if v.junction is not None else None
         inside = box is not None and v.speed_mps < STILL_MPS and _inside(v.x, v.y, box)
-        if inside and v.id not in self._boxed:
+        if inside and v.junction is not None and v.id not in self._boxed:      # (only a junction has a box)
             ahead = [o.id for o in snap.vehicles if o.id != v.id and _ahead(v, o)]
             walkers = [p.id for p in snap.pedestrians if p.junction == v.junction and p.crossing is not None]
             out = self._exit(agent, v.junction, line.approach) if line else None

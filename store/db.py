@@ -509,13 +509,6 @@ class Store:
         """The chain position of each stored (src, seq) of the run; keys not stored are left out."""
         return queries.chain_positions(self._conn, run, keys)
 
-    def events_at(self, run: str, keys: Collection[tuple[str, int]]) -> dict[tuple[str, int], dict]:
-        """The stored events of these (src, seq) of a run, by key (an index probe each, the
-        chained rows themselves): a few dense events picked out without reading past the rest."""
-        with self._reading():
-            rows = queries.rows_at(self._conn, run, keys)
-        return {(e["src"], e["seq"]): e for e in events_of(rows, run)}
-
     def verify(self, run: str | None = None, progress: Progress | None = None, keys: Any = None) -> VerifyReport:
         """Recompute the chains and checkpoints (and, for the whole store, the rulebook
         addresses); `progress(done, total)` is called now and then with events checked. Always

@@ -10,7 +10,7 @@ from functools import partial
 from typing import Any, NamedTuple
 
 from .canonical import canonical_json
-from .envelope import EventError, decode_event, encode_event
+from .envelope import EventError, decode_event
 
 
 class Candidate(NamedTuple):
@@ -30,15 +30,6 @@ class Candidate(NamedTuple):
 
 
 _candidate = partial(tuple.__new__, Candidate)
-
-
-def from_dict(ev: Any, origin: str) -> Candidate:
-    """A candidate from a decoded event; a valid one's raw form is its canonical form."""
-    try:
-        canonical = encode_event(ev)
-    except EventError as exc:
-        return Candidate(origin, raw_bytes(ev), reason=str(exc))
-    return Candidate(origin, canonical, ev, canonical)
 
 
 def from_raw(raw: bytes, origin: str) -> Candidate:

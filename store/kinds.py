@@ -32,9 +32,6 @@ KINDS: frozenset[str] = frozenset(SCHEMAS)
 REQUIRED: Mapping[str, tuple[str, ...]] = MappingProxyType(
     {kind: tuple(schema.get("required", ())) for kind, schema in SCHEMAS.items()}
 )
-REQUIRED_SET: Mapping[str, frozenset[str]] = MappingProxyType(
-    {kind: frozenset(names) for kind, names in REQUIRED.items()}
-)
 
 # DESIGN's "src" column: a signal cannot report what a vehicle perceived.
 SRC_ROLES: Mapping[str, tuple[str, ...]] = MappingProxyType(

@@ -143,18 +143,6 @@ def chain_positions(conn: sqlite3.Connection, run: str, keys: Collection[tuple[s
     return found
 
 
-def rows_at(conn: sqlite3.Connection, run: str, keys: Collection[tuple[str, int]]) -> list[tuple]:
-    """The table's own rows (t, seq, src, event) of these (src, seq) of a run, one probe of the
-    (run, src, seq) index each; keys not stored are left out."""
-    sql = "SELECT t, seq, src, event FROM events WHERE run = ? AND src = ? AND seq = ?"
-    found = []
-    for src, seq in keys:
-        row = conn.execute(sql, (run, src, seq)).fetchone()
-        if row is not None:
-            found.append(row)
-    return found
-
-
 def first_t(conn: sqlite3.Connection, run: str) -> int | None:
     """The t of the run's first event in read order: one probe of the time index."""
     row = conn.execute("SELECT t FROM events WHERE run = ? ORDER BY t, seq, src LIMIT 1", (run,)).fetchone()

@@ -29,17 +29,6 @@ FOLLOW_S = 2.0         # headway of the two-second rule (HC 126): a road user th
 FOLLOW_M = 8.0         # ... plus a car's length and the gap of a queue (a stopped one behind a stopped one)
 
 
-def near_users(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
-               t_from: int, t_to: int, passing: tuple[int, int], signals: Signals,
-               walking: Callable[[str], bool] | None = None) -> tuple[Other, ...]:
-    """The road users of `tracks` near the junction's centre in [t_from, t_to] (the vehicle
-    itself and its own approach left out); braking and stopping are looked for while the
-    vehicle passes (`passing`: from its crossing or entry until it left, and a reaction after).
-    A pedestrian (its src, or `walking(user)`: its entity.spawn) on the vehicle's own approach is
-    kept: it walks beside the road or across it, and may step into the vehicle's path."""
-    return near_and_same_approach(tracks, junction, vehicle, approach, t_from, t_to, passing, signals, walking)[0]
-
-
 def near_and_same_approach(tracks: Mapping[str, Track], junction: Junction, vehicle: str, approach: str | None,
                        t_from: int, t_to: int, passing: tuple[int, int], signals: Signals,
                        walking: Callable[[str], bool] | None = None) -> tuple[tuple[Other, ...], tuple[Other, ...]]:

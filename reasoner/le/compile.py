@@ -11,8 +11,6 @@ from functools import lru_cache
 
 from .terms import Aggregate, Atom, Cond, Expr, ListTerm, Rule, Var
 
-MAX_ATOM = 100_000      # longer constants are refused rather than sent to Prolog
-
 
 def arg_data(a):
     if isinstance(a, Var):
@@ -82,7 +80,7 @@ def fact_data(rule: Rule, rule_id=None):
 
 def predicates(document) -> list[tuple[str, int]]:
     """Every functor/arity the document's templates compile to (the built-ins excluded)."""
-    seen = {}
+    seen: dict[tuple[str, int], None] = {}
     for t in document.templates.values():
         seen.setdefault((t.functor, t.arity), None)
     return list(seen)

@@ -59,6 +59,11 @@ class Statement:
     header: tuple | None = None
 
     @property
+    def end_line(self) -> int:
+        """The line of its full stop (a header, which has none, ends on its first line)."""
+        return self.end.line if self.end is not None else self.first.line
+
+    @property
     def first(self) -> Token:
         return self.lines[0].tokens[0]
 
@@ -156,7 +161,7 @@ class _Parser:
         self.file = file
         self.doc = Document(file)
         self.labels = self._labels(source)
-        self.vocab: Vocabulary | None = None
+        self.vocab = Vocabulary([])   # the document's own, once its templates are declared (_declare)
         self.current: Statement | None = None  # the statement being read, for an error's place
 
     @staticmethod
@@ -227,7 +232,7 @@ class _Parser:
                 if lang[0] != "prolog":
                     self.warn(f"the target language {lang[0]!r} is read as prolog", st.first,
                               "this compiler targets Prolog only")
-                previous_end = st.end.line
+                previous_end = st.end_line
                 continue
             if section is None:
                 raise self.error(f"text outside any section: {join_tokens(st.tokens)[:60]!r}", st.first,
@@ -239,6 +244,7 @@ class _Parser:
                                      st.first, "move this template up to `the templates are:`")
                 pending_templates.extend(self._templates(st))
             elif section == "query":
+                assert name is not None     # a query's header names it (refused above when it does not)
                 if asked[name] is not None:
                     raise self.error(f"query {name!r} holds one question", st.first,
                                      "end the question with a single full stop")
@@ -246,9 +252,9 @@ class _Parser:
                 content.append(("query", name, st, previous_end))
             else:
                 content.append((section, name, st, previous_end))
-            previous_end = st.end.line
-        for qname, st in asked.items():
-            if st is None:
+            previous_end = st.end_line
+        for qname, question in asked.items():
+            if question is None:
                 raise LEError(f"query {qname!r} has no question", self.file, 0, 1)
         self._declare(pending_templates)
         for section, name, st, prev in content:
@@ -336,7 +342,7 @@ class _Parser:
         self._check_undefined(scope, mode)
         label = self._label_for(st.first.line, previous_end) if section in ("kb", "ontology") else None
         return Rule(head, body, st.first.line, label[0] if label else None, label[1] if label else None,
-                    st.text, section, {v.name: v.label for v in scope.vars.values()})
+                    st.text, section)
 
     def _body_lines(self, st: Statement, if_tok: Token) -> list[Line]:
         """The lines after `if`: the rest of the `if` line first (indented like `if` when `if`
@@ -585,7 +591,8 @@ def _line_of(subtrees) -> int:
 
 
 def _split_commas(tokens: list[Token]) -> list[list[Token]]:
-    out, cur = [], []
+    out: list[list[Token]] = []
+    cur: list[Token] = []
     for t in tokens:
         if t.text == ",":
             out.append(cur)

@@ -97,6 +97,7 @@ def _tokens(text: str, line: int):
         if not m or m.end() == pos:
             raise ExpectationError(f"line {line}: cannot read {text[pos:pos + 20]!r}")
         kind = m.lastgroup
+        assert kind is not None         # every alternative of _TOKEN is a named group
         value = m.group(kind)
         if kind == "quoted":
             value = _unquote(value, "'")

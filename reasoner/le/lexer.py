@@ -34,7 +34,7 @@ class Token:
     line: int
     col: int           # 1-based column in the source line
     space: bool        # whitespace (or the line start) before it
-    value: object = None
+    value: int | float | None = None   # a number's, or a date's seconds since the epoch
 
     def is_word(self, *words: str) -> bool:
         return self.kind == "word" and self.text.lower() in words
@@ -77,7 +77,8 @@ def lex_line(raw: str, number: int, comments: bool = True, limit: int | None = N
         if limit is not None and len(tokens) > limit:
             break
         kind = m.lastgroup
-        value = None
+        assert kind is not None         # every alternative of TOKEN is a named group
+        value: int | float | None = None
         tok_text = m.group(kind)
         if kind == "date":
             value = parse_date(tok_text)

@@ -167,7 +167,7 @@ class Vocabulary:
                       "declare it under `the templates are:` or reword it")
 
     def _build(self, template: Template, fillers, scope: Scope, mode: str, file: str) -> Atom:
-        args = []
+        args: list[Arg] = []
         n = len(fillers)
         for i, filler in enumerate(fillers):
             if template.meta and i == n - 1:
@@ -212,7 +212,7 @@ class Vocabulary:
         if len(tokens) == 1 and tokens[0].kind in ("number", "date"):
             return tokens[0].value
         if len(tokens) == 2 and tokens[0].text == "-" and tokens[1].kind == "number":
-            return -tokens[1].value
+            return _negative(tokens[1])
         if any(t.text in OPERATORS or t.text in "()" for t in tokens):
             expr = self.expression(tokens, scope)
             if expr is not None:
@@ -242,7 +242,9 @@ class Vocabulary:
                 leaf.append(t)
 
     def list_term(self, tokens: list[Token], scope: Scope, mode: str) -> ListTerm:
-        items, current, depth = [], [], 0
+        items: list[Arg] = []
+        current: list[Token] = []
+        depth = 0
         for t in tokens:
             if t.text == "[":
                 depth += 1
@@ -330,8 +332,14 @@ def value_of(tokens: list[Token]) -> Arg:
     if len(tokens) == 1 and tokens[0].kind in ("number", "date"):
         return tokens[0].value
     if len(tokens) == 2 and tokens[0].text == "-" and tokens[1].kind == "number" and not tokens[1].space:
-        return -tokens[1].value
+        return _negative(tokens[1])
     return join_tokens(tokens)
+
+
+def _negative(number: Token) -> int | float:
+    """Minus a number token's value (the lexer reads every number token's value)."""
+    assert number.value is not None
+    return -number.value
 
 
 # -- compatibility helpers used by the investigation and the simulation -----------------------
@@ -340,10 +348,6 @@ def _word_key(word: str) -> str:
     """A word as templates.same_word compares it: case-blind, `a` and `an` alike."""
     word = word.lower()
     return "a" if word == "an" else word
-
-
-def words_of(sentence: str) -> list[str]:
-    return sentence.strip().rstrip(".").split()
 
 
 def constant(words: list[str]) -> Arg:

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 from .errors import LEError
-from .lexer import Token, join_tokens, lex_line
+from .lexer import Token, lex_line
 
 DETERMINERS = {"a", "an", "the"}
 ORDINALS = {"first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth",
@@ -206,7 +206,7 @@ def match(template: Template, words: list[str]) -> list[list[str]] | None:
 def render(template: Template, args: list[str]) -> str:
     """Fill the template's slots with already-rendered arguments."""
     it = iter(args)
-    out = []
+    out: list[str] = []
     glue = template.glue or (False,) * len(template.parts)
     for i, p in enumerate(template.parts):
         text = next(it) if isinstance(p, Slot) else p
@@ -215,6 +215,3 @@ def render(template: Template, args: list[str]) -> str:
         out.append(str(text))
     return "".join(out)
 
-
-def filler_text(tokens: list[Token]) -> str:
-    return join_tokens(tokens)

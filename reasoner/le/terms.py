@@ -8,6 +8,11 @@ a `Cond` is a sentence, a negation, a disjunction, `for all cases in which`, or 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:   # for the annotations only: both import this module
+    from .sentences import Vocabulary
+    from .templates import Template
 
 
 @dataclass(frozen=True)
@@ -85,7 +90,6 @@ class Rule:
     law: str | None = None       # e.g. "RTA 1988 s.36; TSRGD 2016 Sch 14 Pts 1 and 4"
     text: str = ""
     section: str = "kb"          # kb (a knowledge base), ontology, or scenario:<name>
-    variables: dict = field(default_factory=dict)     # name -> label as introduced
 
 
 @dataclass
@@ -103,9 +107,11 @@ class Scenario:
     line: int
 
 
-class TemplateTable(dict):
+class TemplateTable(dict[str, "Template"]):
     """Templates by functor (a second template with the same functor and another arity is
     filed under `functor/arity`); it also caches the matcher built from it."""
+
+    _vocabulary: Vocabulary | None = None
 
 
 @dataclass
@@ -113,7 +119,7 @@ class Document:
     """A parsed LE document: templates by functor, the knowledge base, scenarios and queries."""
 
     file: str
-    templates: dict = field(default_factory=TemplateTable)    # functor (or functor/arity) -> Template
+    templates: TemplateTable = field(default_factory=TemplateTable)    # functor (or functor/arity) -> Template
     rules: list = field(default_factory=list)
     scenarios: dict = field(default_factory=dict)    # name -> Scenario
     queries: dict = field(default_factory=dict)      # name -> Query

@@ -100,7 +100,6 @@ _DDL = (
     "CREATE TABLE IF NOT EXISTS cache_key (id BLOB NOT NULL)",  # which key sealed this file
 )
 _TABLES = ("state_snapshots", "state_watermarks", "presence", "presence_marks", "verifications", "derived", "cache_key")
-SEALED_TABLES = _TABLES[:-1]
 
 
 def cache_path(store_path: str) -> str:
