@@ -12,13 +12,14 @@ document holds recorded strings as they were recorded; the renderers escape them
 """
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
-from reasoner.le.sentences import constant
 from reasoner.explanation import Counterfactual, Explanation
 from reasoner.model import Decision, Incident
 from reasoner.stretches import FASTEST_MEASURED
+from reasoner.verdicts import NOT_PROVEN, Verdict
 from reasoner.vocabulary import CAN, HAS_SPEED_OF, MUST_NOT, POTENTIALLY_VIOLATES, WOULD_ENDANGER, WOULD_FORCE
+from reasoner.wording import term
 from store import EventRef
 
 from . import phrases as ph
@@ -41,7 +42,7 @@ class _Builder:
         self.inc = inc
         self.ex = explanation
         self.store = store
-        self.me = constant([inc.vehicle])          # the vehicle as proof trees name it
+        self.me = term(inc.vehicle)                # the vehicle as proof trees name it
         self.pv_tree = _first_tree(inc.proofs.potential_violation.trees)
         self.verdict_tree = _first_tree(inc.proofs.verdict.trees if inc.proofs.verdict else ())
 
@@ -117,7 +118,7 @@ class _Builder:
         decision = inc.scenarios.action
         return {"judged_on": inc.judged_on, "scenario": self._facts(inc.scenarios.validator),
                 "action": inc.action, "lawful": list(self.ex.lawful), "not_lawful": list(self.ex.not_lawful),
-                "among_lawful": inc.verdict == "mitigated" if inc.verdict != "dismissed" else None,
+                "among_lawful": inc.verdict == Verdict.MITIGATED if inc.verdict != Verdict.DISMISSED else None,
                 "why": inc.why, "tree": self.verdict_tree,
                 "decision": _decision(decision, self.index) if decision else None,
                 "rulebook": self.ex.validator_rulebook}
@@ -175,7 +176,7 @@ class _Builder:
             out.append(found)
         return out
 
-    def _cited(self, node: dict) -> dict:
+    def _cited(self, node: Mapping[str, Any]) -> dict:
         return {**node, "cites": self._ids(node.get("evidence") or []),
                 "children": [self._cited(k) for k in node["children"]]}
 
@@ -191,8 +192,8 @@ class _Builder:
             return ""
         bits = [self._measured_speed(data, negated) or ph.manner(data, self.me, negated, text)
                 for data, negated, text in self._deciding(trees.conditions(self.pv_tree))]
-        bits = [b for b in bits if b]
-        return (" " + " ".join(bits)) if bits else ""
+        said = [b for b in bits if b]
+        return (" " + " ".join(said)) if said else ""
 
     def _measured_speed(self, data: list, negated: bool) -> str | None:
         """A stated speed in the headline gives way to the one that decided: the fastest measured
@@ -214,7 +215,7 @@ class _Builder:
         deciding ground (a Stop raised for forcing one road user and punished for endangering
         another names the other)."""
         limb = {WOULD_FORCE.functor, WOULD_ENDANGER.functor}
-        if self.inc.verdict != "punishable" or self.verdict_tree is None \
+        if self.inc.verdict != Verdict.PUNISHABLE or self.verdict_tree is None \
                 or not any(data[:1] and data[0] in limb for data, _, _ in conditions):
             return conditions
         prohibition = trees.first(self.verdict_tree, lambda n: n["sentence"][:1] == [MUST_NOT.functor]
@@ -232,17 +233,17 @@ class _Builder:
     def _permission(self) -> str:
         """Where no prohibition met an exception, the permission itself: the conditions of the
         rule that proved "V can A" (the paper's "can enter the junction if ... ambulance")."""
-        can = trees.first(self.verdict_tree, lambda n: n["sentence"][:1] == [CAN.functor] and n["status"] == "proved"
-                          and n.get("label")) if self.verdict_tree else None
+        can = trees.first(self.verdict_tree, lambda n: bool(n["sentence"][:1] == [CAN.functor] and n["status"] == "proved"
+                          and n.get("label"))) if self.verdict_tree else None
         return " and ".join(k["text"] for k in can["children"]) if can else ""
 
     def _verdict_sentence(self, doc: dict) -> str:
         inc = self.inc
         v, rule, when = inc.vehicle, ph.rule_name(inc.rule), ph.clock(inc.t)
         did = f"it {ph.past(inc.action)}{self._manner()}"
-        if inc.verdict == "punishable":
+        if inc.verdict == Verdict.PUNISHABLE:
             return f"Vehicle {v} committed a punishable violation of {rule} at {when}: {did}."
-        if inc.verdict == "mitigated":
+        if inc.verdict == Verdict.MITIGATED:
             because = ph.join(self._exceptions()) or self._permission()
             allowed = (f"which the rules allow because {because}" if because else
                        "which was among the lawful actions open to it there")
@@ -263,7 +264,7 @@ class _Builder:
         v = inc.vehicle
         out = []
         when = f"{doc['incident']['time']} on {doc['incident']['day']}"
-        if inc.verdict == "dismissed":
+        if inc.verdict == Verdict.DISMISSED:
             out.append(f"{ph.who(inc.monitor, True)} recorded that vehicle {v} potentially violated “{inc.action}” at "
                        f"{when}, but {self._dismissal()}, so there is no violation to answer for.")
         elif inc.sources and inc.found_in == "own-record":
@@ -274,7 +275,7 @@ class _Builder:
             unrecorded = "" if inc.recorded else ", but recorded no potential violation"
             out.append(f"{ph.who(inc.monitor, True)} {seen} vehicle {v} as it {ph.past(inc.action)}"
                        f"{self._manner()} at {when}{unrecorded}.")
-        if inc.verdict == "punishable":
+        if inc.verdict == Verdict.PUNISHABLE:
             ban = trees.first(self.verdict_tree or {"children": [], "status": "", "sentence": []},
                               lambda n: n["sentence"][:1] == [MUST_NOT.functor] and n["status"] == "proved")
             if ban is not None:
@@ -283,23 +284,23 @@ class _Builder:
                            f"{ban['text']} when {because}.")
             else:
                 out.append(f"Nothing recorded made that lawful: {inc.why}.")
-        elif inc.verdict == "mitigated":
+        elif inc.verdict == Verdict.MITIGATED:
             because = ph.join(self._exceptions()) or self._permission()
             out.append(f"That was lawful for {v} there" + (f", because {because}" if because else "") +
                        ", so the violation is mitigated and no penalty follows.")
         if doc["penalty"]:
             out.append(f"It is {doc['penalty']['text']}.")
-        if inc.verdict == "punishable":
+        if inc.verdict == Verdict.PUNISHABLE:
             lia = doc["liability"]
             out.append(f"The {lia['liable']} is liable: {lia['in_control_text']}.")
-        if inc.margin is not None and (inc.verdict != "dismissed" or inc.why.startswith("not proven")):
+        if inc.margin is not None and (inc.verdict != Verdict.DISMISSED or (inc.why or "").startswith(NOT_PROVEN)):
             out.append(f"Measured margin: {ph.margin_text(inc.margin)}.")
         out += self._doubts()
         if inc.findings:
             kinds = ph.join(sorted({f.kind for f in inc.findings}))
             out.append(f"Also found: {kinds} (see Findings).")
         cf = doc.get("counterfactuals") or {}
-        if inc.verdict == "punishable":
+        if inc.verdict == Verdict.PUNISHABLE:
             lawful = [c for c in cf.get("lawful", []) if c["kind"] == "circumstance"]
             own = [c for c in cf.get("lawful", []) + cf.get("no_potential_violation", []) if c["kind"] == "controlled"]
             if lawful:
@@ -321,7 +322,7 @@ class _Builder:
         "Reasoning": a finding, not a silent override). A verdict that turned on one is not proven
         (dismissed, DESIGN "Weighing"), so one said here is a claim the verdict would reach on the
         measurements too."""
-        if self.inc.verdict == "dismissed":
+        if self.inc.verdict == Verdict.DISMISSED:
             return []
         used = trees.facts_used(self.pv_tree) | trees.facts_used(self.verdict_tree)
         if self.verdict_tree is not None:     # an exception that held sits under a failed prohibition
@@ -387,15 +388,15 @@ class _Builder:
             note(decision.evidence, f"the decision “{decision.goal}”")
         for s, ev in (inc.liability.evidence.items() if inc.liability else ()):
             note(ev, f"“{s}”")
-        for f in inc.findings:
-            for ev in f.evidence:
-                note(ev, f"{f.kind}")
+        for finding in inc.findings:
+            for ev in finding.evidence:
+                note(ev, f"{finding.kind}")
         return uses
 
     def _annotate(self) -> None:
         """Copies of the trees whose nodes carry `cites`: the ids (E1, ...) of their events, the
         recorded potential violation for the fact "V potentially violates A"."""
-        def copy(node: dict | None) -> dict | None:
+        def copy(node: Mapping[str, Any] | None) -> dict | None:
             if node is None:
                 return None
             refs = list(node.get("evidence") or [])

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterable
 
 from reasoner.model import Incident
+from reasoner.verdicts import HC_171, HC_176, Verdict
 
 ASDE = "authorised self-driving entity"
 
@@ -28,18 +29,18 @@ def stated(inc: Incident, sentence: str) -> bool:
 
 
 def _red_running_car(i: Incident) -> bool:
-    return (i.rule == "HC 176" and i.verdict == "punishable" and i.liable == "driver"
+    return (i.rule == HC_176 and i.verdict == Verdict.PUNISHABLE and i.liable == "driver"
             and stated(i, f"{i.vehicle} is of type car") and not stated(i, f"{i.vehicle} is on an emergency call"))
 
 
 FEATURES = (
-    Feature("a car entering on red: punishable, the driver liable (HC 176)", _red_running_car),
-    Feature("an emergency vehicle on a call entering on red: mitigated (TSRGD Sch 14 para 5(5))",
-            lambda i: i.rule == "HC 176" and i.verdict == "mitigated"),
+    Feature(f"a car entering on red: {Verdict.PUNISHABLE}, the driver liable ({HC_176})", _red_running_car),
+    Feature(f"an emergency vehicle on a call entering on red: {Verdict.MITIGATED} (TSRGD Sch 14 para 5(5))",
+            lambda i: i.rule == HC_176 and i.verdict == Verdict.MITIGATED),
     Feature("an automated car whose camera misread the light: a perception fault, its ASDE liable",
             lambda i: i.liable == ASDE and any(f.kind == "perception fault" for f in i.findings)),
-    Feature("a Stop line run: punishable (HC 171)",
-            lambda i: i.rule == "HC 171" and i.verdict == "punishable"),
+    Feature(f"a Stop line run: {Verdict.PUNISHABLE} ({HC_171})",
+            lambda i: i.rule == HC_171 and i.verdict == Verdict.PUNISHABLE),
 )
 
 

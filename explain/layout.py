@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import re
 
+from reasoner.verdicts import Verdict
+
 from . import phrases as ph
 from .trees import outline
 
@@ -187,9 +189,9 @@ def _validation(doc: dict, full: bool) -> list[Block]:
     lawful = ", ".join(f"“{a}”" for a in val["lawful"]) or "none"
     unlawful = ", ".join(f"“{a}”" for a in val["not_lawful"]) or "none"
     verdict = doc["incident"]["verdict"]
-    among = {"punishable": f"“{action}” is not among the lawful actions, so the violation is punishable.",
-             "mitigated": f"“{action}” is among the lawful actions, so the violation is mitigated.",
-             "dismissed": "The validator rules establish neither a punishable nor a mitigated violation."}[verdict]
+    among = {Verdict.PUNISHABLE: f"“{action}” is not among the lawful actions, so the violation is punishable.",
+             Verdict.MITIGATED: f"“{action}” is among the lawful actions, so the violation is mitigated.",
+             Verdict.DISMISSED: "The validator rules establish neither a punishable nor a mitigated violation."}[verdict]
     out.append(("para", f"Of the actions the rules ({val['rulebook']}) speak of, these were lawful for {v} there: "
                         f"{lawful}; not lawful: {unlawful}. {among}"))
     if val["tree"]:
@@ -210,7 +212,7 @@ def _penalty(doc: dict) -> list[Block]:
         if p.get("offences"):
             out.append(("list", [f"{o['offence']} ({o.get('law')}): £{o['fine_gbp']}, {o['points']} points"
                                  for o in p["offences"]]))
-    elif inc["verdict"] == "punishable":
+    elif inc["verdict"] == Verdict.PUNISHABLE:
         out.append(("para", f"Rule: {rule}. No penalty rule applies to this violation."))
     else:
         out.append(("para", f"Rule: {rule}. No penalty: the violation is {inc['verdict']}."))
@@ -220,7 +222,7 @@ def _penalty(doc: dict) -> list[Block]:
 def _liability(doc: dict, full: bool) -> list[Block]:
     lia = doc["liability"]
     out: list[Block] = [("heading", "4. Liability")]
-    if doc["incident"]["verdict"] != "punishable":
+    if doc["incident"]["verdict"] != Verdict.PUNISHABLE:
         return out + [("para", f"Nobody is liable: the violation is {doc['incident']['verdict']}. "
                                f"At the time {lia['in_control_text']}.")]
     parties = ph.join(lia["parties"]) or lia["liable"]
@@ -254,8 +256,8 @@ def _counterfactuals(doc: dict) -> list[Block]:
         return []
     v, action = doc["incident"]["vehicle"], doc["incident"]["action"]
     out: list[Block] = [("heading", "6. What would have changed the verdict")]
-    if "punishable" in cf:
-        items = [f"{c['text']} [{c['kind']}]" for c in cf["punishable"]]
+    if Verdict.PUNISHABLE in cf:
+        items = [f"{c['text']} [{c['kind']}]" for c in cf[Verdict.PUNISHABLE]]
         out.append(("para", "The smallest changes to the recorded facts that would have made it punishable:"))
         return out + [("list", items or ["none found within one change"])]
     lawful = f"{ph.gerund(action)} would have been lawful"

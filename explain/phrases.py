@@ -13,10 +13,10 @@ from __future__ import annotations
 from typing import Any, Callable, Iterator
 
 from reasoner import vocabulary as vocab
-from reasoner.le.render import arg_text
-from reasoner.le.templates import Slot, Template, parse_template
+from reasoner.verdicts import rule_number
 from reasoner.vocabulary import Sentence
 from reasoner.when import clock, day  # noqa: F401  (times as the explanations write them: reasoner/when.py)
+from reasoner.wording import Shape, arg_text, shape
 
 IRREGULAR = {"go": "went", "give": "gave", "take": "took", "cut": "cut", "keep": "kept", "stop": "stopped",
              "overtake": "overtook", "drive": "drove", "run": "ran", "make": "made", "leave": "left"}
@@ -52,9 +52,8 @@ def rule_name(label: str | None) -> str:
     """"HC 176" -> "Highway Code rule 176"; any other label as written; none -> "the rules"."""
     if not label:
         return "the rules"
-    if label.startswith("HC "):
-        return "Highway Code rule " + label[3:]
-    return label
+    number = rule_number(label)
+    return label if number is None else "Highway Code rule " + number
 
 
 def who(src: str, start: bool = False) -> str:
@@ -84,8 +83,8 @@ def with_a(v: Any) -> str:
 # A template is words and slots ("*a vehicle* has *a colour* light"); its verb is the word after a
 # leading slot, or a verb among its leading words ("there is ...", "the speed limit is *a number*").
 # Read that way, "had" puts any rulebook's sentence in the past: is -> been, has + participle ->
-# the participle, has -> had, would + verb -> the participle.
-Shape = list  # the template's words in order, and for each slot the index of its argument (int)
+# the participle, has -> had, would + verb -> the participle. A template reads as a Shape
+# (reasoner.wording): its words in order, and for each slot the index of its argument (int).
 
 BE = {"is", "are", "was", "were"}
 HAVE = {"has", "have"}
@@ -115,16 +114,8 @@ def is_participle(word: str) -> bool:
     return low in _IRREGULAR_DONE or (len(low) > 3 and low.endswith("ed") and not low.endswith("eed"))
 
 
-def slotted(template: Template) -> Shape:
-    """A declared template as a shape: its slots numbered in order."""
-    out: Shape = []
-    for part in template.parts:
-        out.append(sum(isinstance(x, int) for x in out) if isinstance(part, Slot) else part)
-    return out
-
-
 def layouts(data: list, text: str) -> Iterator[Shape]:
-    """The shapes of the templates `text` could be rendered from (reasoner.le.render.sentence_text):
+    """The shapes of the templates `text` could be rendered from (reasoner.wording.sentence_text):
     the functor gives the template's words, the arguments fill its slots, and where each sits is
     read off the text. More than one only where a value is also a word of the template ("is is
     stopped"); none when the text is not words and values joined by spaces (a glued or a built-in
@@ -213,10 +204,11 @@ def _fill(shape: Shape, args: list[str]) -> str:
     """The words with the arguments in their slots; a template's "a" before a slot agrees with it."""
     out: list[str] = []
     for j, part in enumerate(shape):
+        after = shape[j + 1] if j + 1 < len(shape) else None
         if isinstance(part, int):
             out.append(args[part])
-        elif part.lower() in ("a", "an") and j + 1 < len(shape) and isinstance(shape[j + 1], int):
-            out.append(a(args[shape[j + 1]]))
+        elif part.lower() in ("a", "an") and isinstance(after, int):
+            out.append(a(args[after]))
         else:
             out.append(part)
     return " ".join(out)
@@ -275,7 +267,7 @@ def manner(data: list, vehicle: Any, negated: bool, text: str) -> str | None:
 
 # -- what might have been: counterfactual clauses --------------------------------------------------
 # The clause after "had" is the rulebook's own sentence put in the past perfect by grammar
-# (reasoner/le: a template is words and slots; the functor is its words). Only where the template
+# (reasoner.wording: a template is words and slots; the functor is its words). Only where the template
 # lacks a word a reader needs does a sentence read through another template, written here the way a
 # rulebook would write it, with the reason beside it.
 PROSE: dict[Sentence, str] = {
@@ -290,8 +282,12 @@ INSTEAD: dict[Sentence, Callable[[Any], str]] = {
     vocab.IS_OF_TYPE: with_a,                                     # the article: "instead of a car"
     vocab.HAS_SIGN: lambda v: f"{with_a(v)} sign",                # the noun: "instead of a stop sign"
 }
-_PROSE = {s.functor: parse_template(t) for s, t in PROSE.items()}
+_PROSE = {s.functor: shape(t) for s, t in PROSE.items()}
 _INSTEAD = _by_functor(INSTEAD)
+
+
+def _arity(shape: Shape) -> int:
+    return sum(isinstance(part, int) for part in shape)
 
 
 def had(data: list, text: str, holds: bool = True) -> str:
@@ -299,7 +295,7 @@ def had(data: list, text: str, holds: bool = True) -> str:
     rule's words ("it been recorded that 9 is at a crossroads")."""
     args = [value(x) for x in data[1:]]
     prose = _PROSE.get(data[0])
-    shapes = [slotted(prose)] if prose is not None and prose.arity == len(args) else layouts(data, text)
+    shapes = [prose] if prose is not None and _arity(prose) == len(args) else layouts(data, text)
     clause = next((c for c in (perfect(s, args, holds) for s in shapes) if c is not None), None)
     if clause is None:
         return f"it been recorded that {text}" if holds else f"it not been recorded that {text}"

@@ -1,7 +1,7 @@
 """Proof trees as plain indented text (`gaps rules query --explain`), and `explain_incident`, the
 text explanation of one incident that `gaps incidents` and `gaps demo` print.
 
-The English comes from the rulebook's own templates (via `reasoner.le.templates.render`), so an
+The English comes from the rulebook's own templates (via `reasoner.wording`), so an
 investigator reads the words the rules were written in, and every fact names its event.
 """
 from __future__ import annotations
@@ -9,9 +9,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from reasoner.engine import Rulebook
-from reasoner.le.render import arg_text as le_arg_text
-from reasoner.le.render import sentence_text
 from reasoner.when import date_clock
+from reasoner.wording import arg_text, sentence_text
 
 
 if TYPE_CHECKING:
@@ -21,13 +20,9 @@ if TYPE_CHECKING:
 INDENT = "  "
 
 
-def arg_text(arg) -> str:
-    return le_arg_text(arg)
-
-
 def sentence(data: list, rb: Rulebook) -> str:
     """The English of one node's sentence (`['has_light', 173, 'red']` → `173 has red light`)."""
-    return sentence_text(data, rb.document)
+    return sentence_text(data, rb)
 
 
 def where(rule_id, rb: Rulebook, with_law: bool = True) -> str:

@@ -12,7 +12,7 @@ Lines are (depth, text) pairs; the renderers only indent and escape them.
 """
 from __future__ import annotations
 
-from typing import Callable
+from typing import Any, Callable, Mapping
 
 Line = tuple[int, str]
 Cite = Callable[[dict], str]        # a node -> " [E2]" (its events), or ""
@@ -166,7 +166,7 @@ def first(tree: dict, test: Callable[[dict], bool]) -> dict | None:
     return next((n for n in walk(tree) if test(n)), None)
 
 
-def walk(tree: dict):
+def walk(tree: Mapping[str, Any]):
     stack = [tree]
     while stack:
         node = stack.pop(0)
@@ -174,7 +174,7 @@ def walk(tree: dict):
         stack[:0] = node.get("children", [])
 
 
-def events_of(tree: dict) -> list[dict]:
+def events_of(tree: Mapping[str, Any]) -> list[dict]:
     return [ref for node in walk(tree) for ref in node.get("evidence", [])]
 
 

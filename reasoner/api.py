@@ -26,10 +26,11 @@ from .investigation import Investigation
 from .model import MONITORS, OWN_RECORD, Incident, found_in
 from .regress import Cluster, Regression, regress, regress_store     # its caller, as cli/ is
 from .scene import Scene, run_start, scene
+from .verdicts import Verdict
 from .when import parse_time
 
 Progress = Callable[[int, int], None]
-VERDICTS = ("punishable", "mitigated", "dismissed")
+VERDICTS = tuple(v.value for v in Verdict)    # the words `verdict=` filters by
 SOURCES = ("monitors", "own-record", "all")    # where an act was found (model.Source), as `source=` filters
 
 

@@ -1271,6 +1271,14 @@ def _unforced(p: Passage, other: Other) -> str:
 
 
 def _cause(p: Passage, other: Other) -> str:
+    """What else the road user slowed for, in words, for a stated "V would force U" the record
+    contradicts. Not one wording with second_limb._reason, though both word what `explained`
+    found: the two name the first ground in different orders (here an own line before a road user
+    followed, a zone gone through first, a first go and a leader before a zone passed clear; no
+    stood-on, joined-behind or turned-ahead ground: those fall to the last line), so one function
+    would change recorded words (golden-sim's 135: its finding says 137 slowed for "its own Stop
+    line", its second limb that 137 "followed 122"). Which order the law asks is a question of
+    its own (issue 38 keeps the words as they are)."""
     if other.light is not None and other.light.colour != "green":
         return f"its own {other.light.colour} light"
     if other.own_stop_line and not _line_no_excuse(p, other):

@@ -49,12 +49,13 @@ from .stopping import SOURCE as RULE_126, stopping_distance_m
 from .stretches import speeding_margin
 from .tolerance import (beyond_stopping, deceleration, lowest_between, moment_between, place_between, sensor_of,
                         still_between)
+from .verdicts import HC_171, HC_172, HC_174, HC_175, HC_176
 from .when import format_time
 
 SECOND = 1_000_000_000
 SPEEDING = "exceed the speed limit"
 BOX = "enter the box junction"
-BY_RULE = {"HC 176": "red", "HC 175": "amber", "HC 171": "stop", "HC 172": "give way", "HC 174": "box"}
+BY_RULE: dict[str, str] = {HC_176: "red", HC_175: "amber", HC_171: "stop", HC_172: "give way", HC_174: "box"}
 
 
 def margin(passage: Passage, action: str, rule: str | None = None, at: int | None = None) -> Margin | None:

@@ -373,7 +373,8 @@ class Incident:
     rederived: bool
     rule: str | None
     law: str | None
-    verdict: str
+    verdict: str                                    # a Verdict's word (reasoner/verdicts.py): typed Verdict
+                                                    # once the investigation passes one (issue 38)
     why: str | None
     penalty: Penalty | None
     liable: str

@@ -34,8 +34,9 @@ from typing import Any, Iterable
 from store import EventRef
 
 from .model import MONITORS, Act, Finding, Incident, Source
+from .verdicts import Verdict
 
-PREFERENCE = {"mitigated": 0, "punishable": 1, "dismissed": 2}
+PREFERENCE = {Verdict.MITIGATED: 0, Verdict.PUNISHABLE: 1, Verdict.DISMISSED: 2}
 
 
 def groups(incidents: Iterable[Any]) -> list[list[Any]]:

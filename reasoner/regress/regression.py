@@ -38,6 +38,7 @@ from .match import match
 from .reasons import Trees, attribute, reasons, used_rules
 from ..stages import Choice, RuleSet
 from ..vocabulary import INCURS_FIXED_PENALTY, PUNISHABLY_VIOLATES, STAGES
+from ..verdicts import Verdict
 
 Progress = Callable[[str, int, int], None]          # (run, done, total runs)
 IN_FORCE = "in-force"
@@ -311,7 +312,7 @@ class Regressor:
         the penalty, not its proof)."""
         choice = inc.rulebooks.get("penalties")
         rb = inv.rulebook(choice.sha256) if choice else None
-        if rb is None or inc.verdict != "punishable":
+        if rb is None or inc.verdict != Verdict.PUNISHABLE:
             return []
         me = constant([inc.vehicle])
         facts = self.reader.known(rb, [s for s, _ in inc.scenarios.validator if isinstance(s, str)])

@@ -151,3 +151,49 @@ def test_the_history_leans_on_the_reasoners_leaves_only_and_only_the_api_calls_t
             if "regress" not in p.relative_to(ROOT).parts and p != ROOT / "reasoner" / "api.py"]
     assert [str(p.relative_to(ROOT)) for p in rest
             if any(m.startswith("reasoner.regress") for m in reasoner_imports(p))] == []
+
+
+def test_everything_the_store_exports_exists():
+    assert all(hasattr(store, name) for name in store.__all__)
+
+
+# Explain renders, the reasoner reasons (DESIGN): explain and cli read the reasoner's face
+# (reasoner.wording for the rulebooks' English; a rulebook a user wrote through `reasoner`'s own face),
+# never the LE compiler's modules, which are the reasoner's own part.
+COMPILER = "reasoner.le"
+FACE_ONLY = ("explain", "cli")
+
+
+def _is_compiler(module: str) -> bool:
+    return module == COMPILER or module.startswith(COMPILER + ".")
+
+
+def compiler_imports(path: Path) -> list[str]:
+    """Where one file imports the LE compiler, as `file:line what`."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        where = f"{path.relative_to(ROOT)}:{getattr(node, 'lineno', '?')}"
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            if _is_compiler(node.module):
+                found.append(f"{where} imports {node.module}")
+            elif node.module == "reasoner":
+                found += [f"{where} imports reasoner.{a.name}" for a in node.names if a.name == "le"]
+        elif isinstance(node, ast.Import):
+            found += [f"{where} imports {a.name}" for a in node.names if _is_compiler(a.name)]
+    return found
+
+
+def test_explain_and_cli_never_import_the_le_compiler():
+    files = [path for room in FACE_ONLY for path in (ROOT / room).rglob("*.py")]
+    assert {p.relative_to(ROOT).parts[0] for p in files} == set(FACE_ONLY)
+    assert [b for path in files for b in compiler_imports(path)] == []
+
+
+def test_the_check_sees_a_compiler_import(tmp_path, monkeypatch):
+    monkeypatch.setattr(__import__(__name__), "ROOT", tmp_path)
+    sample = tmp_path / "explain" / "x.py"
+    sample.parent.mkdir()
+    sample.write_text("from reasoner.le.render import arg_text\nfrom reasoner import le, model\nimport reasoner.le\n"
+                      "import reasoner.legal\nfrom reasoner.wording import arg_text\nfrom reasoner import lexicon\n")
+    assert [b.split(" ", 1)[1] for b in compiler_imports(sample)] == [
+        "imports reasoner.le.render", "imports reasoner.le", "imports reasoner.le"]

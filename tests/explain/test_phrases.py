@@ -8,6 +8,7 @@ from reasoner import vocabulary as vocab
 from reasoner.le.render import sentence_text
 from reasoner.le.templates import parse_template
 from reasoner.le.terms import Atom
+from reasoner.wording import shape
 
 
 class Rulebook:
@@ -70,8 +71,8 @@ def test_what_the_grammar_makes_of_those_without_their_entry():
     after "had" at all (a verb already in the past: "crossed the stop line on")."""
     for sentence, prose in ph.PROSE.items():
         args = [("x" if s.type != "number" else 30) for s in sentence.parsed.slots]
-        own = ph.perfect(ph.slotted(sentence.parsed), [str(a) for a in args])
-        mine = ph.perfect(ph.slotted(parse_template(prose)), [str(a) for a in args])
+        own = ph.perfect(shape(sentence.template), [str(a) for a in args])
+        mine = ph.perfect(shape(prose), [str(a) for a in args])
         assert mine is not None and own != mine
     data, text = core(vocab.HAS_LIGHT, 173, "red")
     assert ph.perfect(ph.layout(data, text), ["173", "red"]) == "173 had red light"
