@@ -43,7 +43,9 @@ from ingest.gap_tracker import GapTracker  # noqa: E402
 from ingest.gc_pacing import collections_between_batches  # noqa: E402
 from ingest.inbox import received  # noqa: E402
 from ingest.screen import screen_all  # noqa: E402
-from store import Store, canonical_json, enable_snapshots, key_for, session_config  # noqa: E402
+from store import Store, canonical_json
+from store.cache import enable_snapshots
+from store.wire import key_for, session_config  # noqa: E402
 from store.transfer import import_file  # noqa: E402
 from store.batch import Batch  # noqa: E402
 

@@ -36,7 +36,9 @@ import zenoh  # noqa: E402
 from ingest import IngestService  # noqa: E402
 from results import Figure, record  # noqa: E402
 from sim_replay.publisher import EventPublisher, zenoh_config  # noqa: E402
-from store import KeyFolder, Signer, Store, TrustedKeys, canonical_json, session_config  # noqa: E402
+from store import Store, canonical_json
+from store.keys import KeyFolder, Signer, TrustedKeys
+from store.wire import session_config  # noqa: E402
 from tests.helpers.hardened import deployment, openssl  # noqa: E402
 from tests.helpers.ingest_testkit import RUN, free_endpoint, make_event  # noqa: E402
 

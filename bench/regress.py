@@ -58,7 +58,8 @@ def new_rules(directory: Path) -> Path:
 
 def inputs(directory: Path) -> tuple[Path, Path, str]:
     """The store file, the MCAP file and the run's name (made once under `directory`)."""
-    from store import Store, export_run, import_file
+    from store import Store
+    from store.transfer import export_run, import_file
     if quick():
         db, mcap = directory / "regress-golden.db", GOLDEN
         if not db.exists():

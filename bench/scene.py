@@ -31,7 +31,8 @@ from typing import Any, Callable
 from machine import machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file
 from sim_runs import RUN, work_file  # bench/sim_runs.py, beside this file
-from store import Store, snapshots
+from store import Store
+from store.cache import snapshots
 from store.state import build_snapshots
 
 TARGET_MS = 20.0

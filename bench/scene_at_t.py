@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from store import State, Store
-from store import snapshots
+from store.cache import snapshots
 from store.state import SNAPSHOT_EVERY, build_snapshots, state_at
 from machine import calibration, machine  # bench/machine.py, beside this file
 from results import Figure, quick, record  # bench/results.py, beside this file

@@ -22,7 +22,8 @@ from pathlib import Path
 
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import KeyFolder, Signer, Store, TrustedKeys, canonical_json
+from store import Store, canonical_json
+from store.keys import KeyFolder, Signer, TrustedKeys
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ingest_throughput import RUN, VEHICLES, endpoint, events  # noqa: E402  (beside this file)

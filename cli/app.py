@@ -41,7 +41,7 @@ class GapsGroup(TyperGroup):
         return params
 
     def invoke(self, ctx: Any) -> Any:
-        from store import altered_caches, unread_caches, unwritten_caches
+        from store.cache import altered_caches, unread_caches, unwritten_caches
         already, wants_json = len(unwritten_caches()), "--json" in _command_line(ctx)
         unread_before, altered_before = len(unread_caches()), altered_caches()
         try:
@@ -76,7 +76,7 @@ class GapsGroup(TyperGroup):
         the cache was at fault and a warning names it; if it fails again, the store is. SQLite's
         errors reach here as the store's own (StoreFault): `translating` is the store's net for
         those its functions let through."""
-        from store import caches_opened, caches_opened_since, go_without_caches
+        from store.cache import caches_opened, caches_opened_since, go_without_caches
         opened, args = caches_opened(), [*ctx._protected_args, *ctx.args]
         try:
             with translating():

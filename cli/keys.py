@@ -23,7 +23,7 @@ def new(folder: Path = typer.Argument(..., help="The key folder (created if miss
     A key that exists is never overwritten (exit 2). Keep FOLDER with the sources; give
     public-keys.json to the ingest and the investigators.
     """
-    from store import KeyFolder, key_id
+    from store.keys import KeyFolder, key_id
     keys = KeyFolder(folder)
     for src in sources:
         keys.key_path(src)  # every name checked before any key is made
@@ -41,7 +41,7 @@ def public(folder: Path = typer.Argument(..., help="The key folder."),
            output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of "
                                                  "FOLDER/public-keys.json; - for standard output.")) -> None:
     """Write the public keys file of every key in FOLDER: JSON {source: base64 Ed25519 public key}."""
-    from store import KeyFolder
+    from store.keys import KeyFolder
     keys = KeyFolder(folder)
     if output is not None and is_stdio(output):
         typer.echo(json.dumps(keys.public_keys(), indent=2, sort_keys=True))
@@ -61,7 +61,7 @@ def checkpoint(path: Path = typer.Argument(..., help="Where to write the private
     overwritten (exit 2). Keep PATH on the ingest's host only: whoever holds it can sign checkpoints
     over a rewritten store.
     """
-    from store import CheckpointKey, public_path_of
+    from store.keys import CheckpointKey, public_path_of
     key = CheckpointKey.create(path)
     made = {"path": str(path), "public": str(public_path_of(path)), "key": key.id}
     if json_out:

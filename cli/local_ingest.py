@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Iterable
 
 if TYPE_CHECKING:
     from sim_replay import OutletSummary
-    from store import Signer
+    from store.keys import Signer
 
 
 def free_port() -> int:

@@ -12,7 +12,8 @@ from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.tables import cells, show, table
 from reasoner import format_duration, format_time_short
-from store import RunSummary, SourceLife, WireMiss
+from store import RunSummary
+from store.wire import SourceLife, WireMiss
 
 
 def runs(db: Optional[Path] = DbOption, json_out: bool = JsonOption,

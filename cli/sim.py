@@ -130,7 +130,7 @@ def _signer(folder: Path | None):
     """The events' signer from a key folder (keys made for new sources), or None."""
     if folder is None:
         return None
-    from store import KeyFolder, Signer
+    from store.keys import KeyFolder, Signer
     return Signer(KeyFolder(folder), create=True)
 
 

@@ -74,14 +74,16 @@ def import_(file: Path = typer.Argument(..., help="A .jsonl/.ndjson or .mcap fil
 
 def _anchoring(checkpoint_key: Optional[Path], witness: Optional[Path]):
     """(the checkpoint key, the witness file's path), checked before anything is read."""
-    from store import CheckpointKey
+    from store.keys import CheckpointKey
     if witness is not None and checkpoint_key is None:
         fail("--witness keeps signed tree heads: give --checkpoint-key KEY too")
     return (CheckpointKey.load(checkpoint_key) if checkpoint_key else None), witness
 
 
 def _import(file: Path, db: Optional[Path], fmt: Optional[str], fast: bool, anchoring=(None, None)) -> dict:
-    from store import Store, StoreFault, TransferError, WitnessFile, check_source, import_file, translating
+    from store import Store, StoreFault, translating
+    from store.keys import WitnessFile
+    from store.transfer import TransferError, check_source, import_file
     key, witness_path = anchoring
     try:
         path, fmt = check_source(file, fmt)
@@ -195,7 +197,8 @@ def export(run: str = RunRequired,
 
 def _export(run: str, output: Path, db: Optional[Path], fmt: Optional[str], order: Optional[str],
             no_scene: bool) -> dict:
-    from store import StoreFault, TransferError, export_run, format_of, translating
+    from store import StoreFault, translating
+    from store.transfer import TransferError, export_run, format_of
     try:
         format_of(output, fmt)  # before opening the store: a wrong extension is the commonest mistake
         with translating(), open_existing(db) as store:

@@ -82,14 +82,14 @@ def _trusted(keys_file: Optional[Path]):
     """The public keys file, loaded (a KeysError, exit 2, names what is wrong with it); None without one."""
     if keys_file is None:
         return None
-    from store import TrustedKeys
+    from store.keys import TrustedKeys
     return TrustedKeys.load(keys_file)
 
 
 def _anchors(against: Optional[Path], checkpoint_key: Optional[Path]):
     """The witness file's heads, the checkpoint public key and the runs' first signed heads its
     file records, read (exit 2 naming what is wrong)."""
-    from store import load_public, read_heads, recorded_heads
+    from store.keys import load_public, read_heads, recorded_heads
     heads = read_heads(against) if against is not None else []
     public = load_public(checkpoint_key) if checkpoint_key is not None else None
     recorded = recorded_heads(checkpoint_key, public) if checkpoint_key is not None and public is not None else []

@@ -7,6 +7,6 @@ from .history_fetch import FetchOptions, fetch
 from .serve import Server, ServeOptions
 from .serve import serve as run_service          # the module keeps the name `ingest.serve`
 from .service import IngestService
-from store import session_config  # the wire contract (store/wire.py), as the ingest's API has always named it
+from store.wire import session_config  # the wire contract (store/wire.py), as the ingest's API has always named it
 
 __all__ = ["FetchOptions", "IngestService", "ServeOptions", "Server", "fetch", "run_service", "session_config"]

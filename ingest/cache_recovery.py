@@ -28,8 +28,8 @@ from collections.abc import Callable, Iterable
 
 import zenoh
 
-from store import (CacheQueryError, cache_id_of_token, cache_query_options, index_selector, read_index,
-                   want_payload, want_selector)
+from store.wire import (CacheQueryError, cache_id_of_token, cache_query_options, index_selector, read_index,
+                        want_payload, want_selector)
 
 from .inbox import Received, received
 

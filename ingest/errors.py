@@ -2,7 +2,8 @@
 `gaps serve` and `python -m ingest` print one line and exit with a code that says what happened."""
 from __future__ import annotations
 
-from store import GapsError, WireConfigError, zenoh_message
+from store import GapsError
+from store.wire import WireConfigError, zenoh_message
 
 EXIT_STORE_IN_USE = 4
 

@@ -12,7 +12,7 @@ What is reachable, and what authenticates, is read from the Zenoh config by stor
 """
 from __future__ import annotations
 
-from store import INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, exposure, is_loopback  # noqa: F401 (the ingest's names)
+from store.wire import INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, exposure, is_loopback  # noqa: F401 (the ingest's names)
 
 from .errors import IngestConfigError
 

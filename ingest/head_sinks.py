@@ -12,7 +12,7 @@ import json
 import logging
 from collections.abc import Callable, Sequence
 
-from store import TreeHead, WitnessFile
+from store.keys import TreeHead, WitnessFile
 
 log = logging.getLogger(__name__)
 

@@ -25,7 +25,8 @@ from typing import Any
 
 import zenoh
 
-from store import SYNC_KEY, Candidate, GapsError, ReceivedChains, Store, matched_within, session_config
+from store import Candidate, GapsError, Store
+from store.wire import SYNC_KEY, ReceivedChains, matched_within, session_config
 
 from .errors import zenoh_message
 from .history_request import DEFAULT_LIMIT

@@ -29,7 +29,8 @@ from dataclasses import dataclass
 
 import zenoh
 
-from store import HistoryRow, Store
+from store import Store
+from store.wire import HistoryRow
 
 from .history_request import DEFAULT_LIMIT, HistoryRequest, HistoryRequestError, parse_request
 

@@ -19,7 +19,8 @@ from urllib.parse import unquote
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from store import GapsError, HistoryFilter
+from store import GapsError
+from store.wire import HistoryFilter
 
 from .time_range import TimeRangeError, parse_time_range
 

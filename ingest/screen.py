@@ -17,7 +17,9 @@ from collections.abc import Callable, Iterable
 from functools import partial
 from typing import NamedTuple
 
-from store import MAX_EVENT_BYTES, Candidate, EventError, TrustedKeys, decode_event, key_for, plain_event
+from store import MAX_EVENT_BYTES, Candidate, EventError, decode_event, plain_event
+from store.keys import TrustedKeys
+from store.wire import key_for
 
 from .inbox import Received
 

@@ -23,7 +23,8 @@ from typing import Any, TextIO
 
 import zenoh
 
-from store import CheckpointKey, QuarantineCap, TrustedKeys
+from store import QuarantineCap
+from store.keys import CheckpointKey, TrustedKeys
 
 from . import exposure
 from .errors import IngestConfigError, zenoh_message

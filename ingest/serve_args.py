@@ -15,7 +15,7 @@ from store import GapsError, QuarantineCap
 
 from .serve import DEFAULT_LISTEN, ServeOptions, serve
 from .service import SUBSCRIPTION
-from store import MODES
+from store.wire import MODES
 
 USAGE_ERROR = 2
 

@@ -15,7 +15,9 @@ from types import TracebackType
 
 import zenoh
 
-from store import SYNC_KEY, CheckpointKey, QuarantineCap, TrustedKeys, session_config, zenoh_message
+from store import QuarantineCap
+from store.keys import CheckpointKey, TrustedKeys
+from store.wire import SYNC_KEY, session_config, zenoh_message
 
 from . import exposure
 from .gap_tracker import GapTracker

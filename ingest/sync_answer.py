@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import zenoh
 
-from store import SYNC_KEY
+from store.wire import SYNC_KEY
 
 WAIT_S = 15.0   # the longest a question waits for the caches to be asked (their answer's timeout is 10 s)
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import zenoh
 from zenoh import ext
 
-from store import CACHE_PREFIX, LivelinessChange, WireMiss, live_slice, source_of_live_key
+from store.wire import CACHE_PREFIX, LivelinessChange, WireMiss, live_slice, source_of_live_key
 
 from .cache_recovery import CacheRecovery
 from .inbox import Inbox, Received

@@ -14,7 +14,9 @@ import time
 from collections.abc import Callable
 from dataclasses import replace
 
-from store import Candidate, CheckpointKey, QuarantineCap, Store, TrustedKeys, enable_snapshots
+from store import Candidate, QuarantineCap, Store
+from store.cache import enable_snapshots
+from store.keys import CheckpointKey, TrustedKeys
 
 from .gap_tracker import GapTracker
 from .gc_pacing import collections_between_batches

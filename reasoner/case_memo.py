@@ -22,7 +22,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
 
-from store import EventRef, Store, derived_cache, parse_json
+from store import EventRef, Store, parse_json
+from store.cache import derived as derived_cache
 
 from .derived import Contradiction
 from .measurement import Measurement

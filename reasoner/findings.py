@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
-from store import EventRef, LivelinessChange, Store
+from store import EventRef, Store
+from store.wire import LivelinessChange
 
 from .engine import Engine
 from .facts import FactReader

@@ -59,10 +59,12 @@ def sizes() -> dict[str, Any]:
 
 
 def faces() -> dict[str, list[str]]:
-    """What each room's package shows: its `__all__`, else the names its __init__ binds without
-    a leading underscore."""
+    """What each room's package and each of its sub-packages shows (keyed by folder): its `__all__`,
+    else the names its __init__ binds without a leading underscore."""
     out = {}
-    for room in ROOMS:
+    folders = [f"{room}/{p.parent.relative_to(ROOT / room).as_posix()}" for room in ROOMS
+               for p in sorted((ROOT / room).rglob("*/__init__.py")) if "__pycache__" not in p.parts]
+    for room in [*ROOMS, *folders]:
         init = ROOT / room / "__init__.py"
         tree = ast.parse(init.read_text(encoding="utf-8")) if init.exists() else ast.Module(body=[], type_ignores=[])
         names: list[str] = []

@@ -15,7 +15,7 @@ import uuid
 
 import zenoh
 
-from store import (CacheQueryError, audit_qos, cache_token, parse_cache_query, write_index, zenoh_message)
+from store.wire import CacheQueryError, audit_qos, cache_token, parse_cache_query, write_index, zenoh_message
 
 from .recent_events import RecentEvents
 

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import zenoh
 
-from store import (SYNC_KEY, Candidate, EventError, GapsError, Store, canonical_json, decode_event, key_for,
-                   matched_within)
+from store import Candidate, EventError, GapsError, Store, canonical_json, decode_event
+from store.wire import SYNC_KEY, key_for, matched_within
 
 PAGE = 1000             # events of the run asked for: its chain's first (what a replay begins with)
 MATCH_S = 1.0           # how long an ingest's queryables may take to be known here after its subscriber

@@ -21,7 +21,8 @@ from pathlib import Path
 from types import TracebackType
 from typing import Sequence
 
-from store import Recorder, Signer
+from store.keys import Signer
+from store.transfer import Recorder
 
 from .publisher import EventPublisher, zenoh_config
 

@@ -21,9 +21,10 @@ from types import TracebackType
 import zenoh
 from zenoh import ext
 
-from store import (CACHE_S, SYNC_KEY, Signer, audit_publisher_options, canonical_json, key_for, live_key,
-                   INSECURE_FLAG, WireConfigError, check_producer, exposure, matched_within, session_config,
-                   zenoh_message)
+from store import canonical_json
+from store.keys import Signer
+from store.wire import (CACHE_S, SYNC_KEY, audit_publisher_options, key_for, live_key, INSECURE_FLAG, WireConfigError,
+                        check_producer, exposure, matched_within, session_config, zenoh_message)
 
 from .cache_queryable import CacheQueryable
 from .recent_events import MAX_BYTES, MAX_EVENTS, Published, RecentEvents

@@ -19,7 +19,7 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Final
 
-from store import SourceSpan
+from store.wire import SourceSpan
 
 MAX_EVENTS = 1_000_000
 MAX_BYTES = 256 * 1024 * 1024

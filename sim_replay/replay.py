@@ -19,7 +19,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
-from store import ImportReport, Store, import_file, parse_json, parse_json_all
+from store import Store, parse_json, parse_json_all
+from store.transfer import ImportReport, import_file
 
 from .held_runs import refuse_if_held
 from .outlets import OutletSummary, Outlets

@@ -53,7 +53,8 @@ from sim_replay.truth import Truth
 from sim_replay.watchers import Line, Watchers
 from sim_replay.witness import Witness
 from sim_replay.world_state import Snapshot, VehicleState
-from store import canonical_json, key_for
+from store import canonical_json
+from store.wire import key_for
 
 __all__ = ["Progress", "Simulation", "Summary", "simulate"]
 

@@ -22,8 +22,8 @@ from .envelope import EventError, encode_event
 from .heads import Heads
 from .intake import Candidate, raw_bytes
 from .outcomes import AppendReport
-from .tree_heads import CheckpointKey, TreeHead
-from .wire_ends import WireEnd, to_part
+from .keys.tree_heads import CheckpointKey, TreeHead
+from .wire.ends import WireEnd, to_part
 
 
 class Batch:

@@ -17,9 +17,11 @@ from itertools import islice
 from operator import itemgetter
 from typing import Any, Callable, Collection, Iterable, Iterator, Sequence
 
-from . import (anchors, envelope, history, wire_ends, index_guard, liveliness, opening, queries, quarantine,
-               rulebook_chain, rulebooks, verify_cache)
-from .cache import Cache
+from .keys import anchors
+from . import envelope, index_guard, opening, queries, quarantine, rulebook_chain, rulebooks
+from .wire import history, ends as wire_ends, liveliness
+from .cache import verified as verify_cache
+from .cache.file import Cache
 from .output_files import note_evidence
 from .ddl import DENSE_KINDS
 from .batch import Batch
@@ -35,10 +37,10 @@ from .outcomes import AppendReport
 from .verify_report import SignatureCount, VerifyReport
 from .reading import one_snapshot
 from .run_summary import RunSummary
-from .signature_tally import SignatureTally
-from .anchors import HeadOutcome, KeyCheck
-from .tree_heads import CheckpointKey, TreeHead
-from .trust_root import SignedRuns
+from .keys.tally import SignatureTally
+from .keys.anchors import HeadOutcome, KeyCheck
+from .keys.tree_heads import CheckpointKey, TreeHead
+from .keys.trust_root import SignedRuns
 from .verify import Progress, tolerant_text, verify_store
 
 _INSERT_EVENT = (

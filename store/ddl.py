@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sqlite3
 
-from . import liveliness
+from .wire import liveliness
 from .errors import StoreError
 
 APPEND_ONLY_TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", *liveliness.TABLES,

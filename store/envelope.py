@@ -21,7 +21,7 @@ from .describe import json_type as _json_type
 from .describe import show as _show
 from .errors import GapsError
 from .kinds import KINDS, REQUIRED, SRC_ROLES
-from .signatures import SIG_FIELD, sig_ok, sig_problem
+from .keys.signatures import SIG_FIELD, sig_ok, sig_problem
 
 MAX_EVENT_BYTES = 1 << 20  # 1 MiB
 ENVELOPE_FIELDS = ("v", "run", "src", "seq", "t", "kind", "body")

@@ -13,8 +13,8 @@ import sqlite3
 
 from .chain import RunChain
 from .tail_check import anchored_chain
-from .tree_heads import CheckpointKey
-from .trust_root import SignedRuns
+from .keys.tree_heads import CheckpointKey
+from .keys.trust_root import SignedRuns
 
 
 class Heads:

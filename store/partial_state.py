@@ -26,7 +26,7 @@ from .ddl import DENSE_KINDS, SPARSE_ONLY
 from .kinds import SRC_ROLES
 from .index_guard import AGREES, checked
 from .queries import SEQ_SLACK, _first_seq_past, highest_seq
-from .snapshots import chain_end
+from .cache.snapshots import chain_end
 from .state import _HANDLERS, _LATEST, _TOUCH, OBSERVATION_WINDOW_S, _key, empty_state, fold_rows
 from .state_value import State
 

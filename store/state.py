@@ -42,13 +42,15 @@ from __future__ import annotations
 import gc
 import json
 import sqlite3
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
-from . import fastjson, snapshots
-from .db import Store
+from . import fastjson
+from .cache import snapshots
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from .db import Store
 from .errors import EvidenceError
 from .reading import one_snapshot
-from .snapshots import Fresh, Position
+from .cache.snapshots import Fresh, Position
 from .state_value import State
 
 OBSERVATION_WINDOW_S = 10  # a monitor observation older than this says nothing of the moment

@@ -30,8 +30,8 @@ from typing import Any
 from . import merkle
 from .chain import RunChain
 from .errors import EvidenceError
-from .tree_heads import CheckpointKey, TreeHead
-from .trust_root import SignedRuns
+from .keys.tree_heads import CheckpointKey, TreeHead
+from .keys.trust_root import SignedRuns
 
 _CHECKPOINTS = ("SELECT count, head, merkle_root, frontier, prev_count, created_at, signature, key_id, id, wire "
                 "FROM checkpoints WHERE run = ?")

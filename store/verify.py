@@ -19,14 +19,15 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
-from . import merkle, wire_ends
+from . import merkle
+from .wire import ends as wire_ends
 from .canonical import canonical_json
 from .chain import GENESIS, link
 from .integrity import integrity_problem, integrity_problems
-from .liveliness import wire_problem
+from .wire.liveliness import wire_problem
 from .verify_report import IntegrityResult, Problem, RunCheck, SignatureCount, VerifyReport
 from .reading import one_snapshot
-from .signature_tally import SignatureTally
+from .keys.tally import SignatureTally
 
 _COLUMNS = ("run", "src", "seq", "t", "kind")
 _PROGRESS_EVERY = 1 << 14  # events between two progress calls

@@ -13,12 +13,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Optional, Sequence
 
-from .anchors import AnchorReport
-from .cache_check import CacheTampering, cache_tampering
-from .outcomes import VerifyReport
-from .presence import check_presence
+from .keys.anchors import AnchorReport
+from .cache.check import CacheTampering, cache_tampering
+from .cache.presence import check_presence
+from .keys.tree_heads import TreeHead
 from .state import check_snapshots
-from .tree_heads import TreeHead
+from .verify_report import VerifyReport
 
 if TYPE_CHECKING:
     from .db import Store

@@ -39,7 +39,7 @@ __all__ = [
     "Sample", "Scenario", "Sensor", "Standstill", "StateSamples", "UNIT", "VEHICLE_WIDTH_M", "WORDS", "between",
     "braking_into", "control_at", "entity", "from_events", "has_perception", "liability_facts", "monitor_scenario",
     "monitors_of", "mph", "own_cause", "passage", "passage_at", "passages", "paths_within", "peak_deceleration",
-    "position_at", "project", "read_map", "role", "run_context", "sample_of", "samples", "sector", "since",
+    "position_at", "project", "read_map", "role", "run_context", "sample_of", "samples", "sector", "shown", "since",
     "spawn_facts", "speed_at", "stated", "status_facts", "through", "user_id", "vehicle_action", "vehicle_id",
     "vehicle_scenario", "vehicle_src",
 ]

@@ -23,7 +23,8 @@ from dataclasses import dataclass, field
 from itertools import islice
 from typing import Iterable, Mapping
 
-from store import Store, sources_near
+from store import Store
+from store.cache import sources_near
 
 from . import rebuild
 from .junctions import Junction, Map, finite, read_map

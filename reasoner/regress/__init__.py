@@ -14,7 +14,8 @@ changes, and why. This is the regression's face: cli/ and bench/ import from her
     text        a regression in words
     junit       a regression as JUnit XML
 
-It is the judge's caller, never its callee: nothing else in the reasoner imports it.
+It is the judge's caller, never its callee: of the rest of the reasoner only its API (reasoner/api.py,
+`reasoner.regression`) imports it.
 """
 from .books import RegressError
 from .cluster import Cluster, ClusterLost, regress_recordings, regress_store

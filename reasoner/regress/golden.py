@@ -25,7 +25,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator, Sequence
 
-from store import NoSuchRun, Store, TransferError, import_file, write_text
+from store import NoSuchRun, Store, write_text
+from store.transfer import TransferError, import_file
 
 from ..bundled import CURRENT_SET, RULES_DIR
 from ..engine import Engine, get_engine

@@ -25,7 +25,9 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterator, TypeVar
 
-from store import ImportReport, Store, TransferError, check_source, import_file, kept_recording
+from store import Store
+from store.cache import kept_recording
+from store.transfer import ImportReport, TransferError, check_source, import_file
 
 from ..case_memo import code_version
 from .books import RegressError

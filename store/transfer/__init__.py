@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..db import Store
+from ..sqlite_errors import translates
 from .errors import TransferError
 from .formats import FORMATS, format_of
 from .jsonl import export_jsonl, import_jsonl
@@ -42,6 +43,7 @@ def check_source(path: str | Path, fmt: str | None = None) -> tuple[Path, str]:
     return path, fmt
 
 
+@translates            # the face speaks the store's errors, never sqlite3's (store/sqlite_errors.py)
 def import_file(
     store: Store, path: str | Path, fmt: str | None = None, progress: Callable[[int], None] | None = None
 ) -> ImportReport:
@@ -52,6 +54,7 @@ def import_file(
     return report
 
 
+@translates
 def export_run(
     store: Store,
     run: str,

@@ -13,7 +13,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).parents[2]
 ROOMS = ("store", "ingest", "reasoner", "explain", "sim_replay")
-FACES = ("store", "store.wire", "store.cache", "store.transfer",     # the evidence, and its sub-faces
+FACES = ("store", "store.wire", "store.cache", "store.keys", "store.transfer",  # the evidence, and its sub-faces
          "reasoner", "reasoner.regress", "reasoner.history",              # the judge's, and its parts'
          "explain", "ingest", "sim_replay")
 

@@ -1,9 +1,15 @@
-"""The store's walls: no room outside store/ runs SQL on the store's tables or reaches into one of
-its submodules; they use `import store` / `from store import X` with X in store.__all__.
+"""The walls between rooms and around their parts: no room outside store/ runs SQL on the store's
+tables; every part that shows a face (docs/design.md, "Rooms and their faces") is entered only
+through it. Other rooms import the store as `store`, `store.wire`, `store.cache`, `store.keys`,
+`store.transfer` or `store.errors`, each name in that face's `__all__`, never a module inside
+(`store.db`, `store.chain`, `store.wire.contract`); the reasoner's history and regression are
+entered as `reasoner.history` and `reasoner.regress`, by the rest of the reasoner too.
 
 bench/ is outside the walls on purpose: its benchmarks time the store's internals (the chain,
-the snapshots, raw SQL alternatives) against each other, which is what they are for."""
+the snapshots, raw SQL alternatives) against each other, which is what they are for; tests/ reach
+inside to test the parts themselves."""
 import ast
+import importlib
 import re
 from pathlib import Path
 
@@ -11,6 +17,8 @@ import store
 
 ROOT = Path(__file__).parents[2]
 INSIDE = {"store", "tests", "bench", ".venv", ".git"}
+FACES = ("store", "store.wire", "store.cache", "store.keys", "store.transfer", "store.errors",
+         "reasoner.history", "reasoner.regress")
 TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", "schema_version",
           "state_snapshots", "state_watermarks", "verifications", "liveliness", "wire_misses", "wire_checkpoints",
           "wire_legacy", "presence_marks", "cache_key")
@@ -21,25 +29,62 @@ def outside_files() -> list[Path]:
     return [path for path in ROOT.rglob("*.py") if path.relative_to(ROOT).parts[0] not in INSIDE]
 
 
+def shown(face: str) -> set[str]:
+    module = importlib.import_module(face)
+    return set(getattr(module, "__all__", None) or (n for n in vars(module) if not n.startswith("_")))
+
+
+def walled(module: str) -> str | None:
+    """The face a module sits behind (the deepest face it is inside), or None if it is no face's."""
+    behind = [face for face in FACES if module.startswith(face + ".")]
+    return max(behind, key=len) if behind else None
+
+
+def within(path: Path, face: str) -> bool:
+    """Whether a file is part of what a face shows (its own modules use one another freely)."""
+    owner = ("store",) if face.startswith("store") else tuple(face.split("."))
+    return path.relative_to(ROOT).parts[:len(owner)] == owner
+
+
+def absolute(path: Path, node: ast.ImportFrom) -> str:
+    if node.level == 0:
+        return node.module or ""
+    package = list(path.relative_to(ROOT).with_suffix("").parts)[:-1]
+    base = package[:len(package) - node.level + 1]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def through_faces(path: Path, module: str, names: list[str], where: str) -> list[str]:
+    """What one import takes from behind a face, or from a face beyond what it shows."""
+    found = []
+    if module in FACES and not within(path, module):
+        for name in names:
+            if f"{module}.{name}" in FACES:
+                continue
+            if name not in shown(module):
+                found.append(f"{where} imports {module}.{name}, not in {module}.__all__")
+    face = walled(module)
+    if face and module not in FACES and not within(path, face):
+        found.append(f"{where} imports {module}")
+    return found
+
+
 def breaches(path: Path) -> list[str]:
-    """What in one file goes through the store's walls, as `file:line what`."""
+    """What in one file goes through a wall, as `file:line what`."""
     found = []
     for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
         where = f"{path.relative_to(ROOT)}:{getattr(node, 'lineno', '?')}"
-        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            if node.module.startswith("store."):
-                found.append(f"{where} imports {node.module}")
-            elif node.module == "store":
-                found += [f"{where} imports store.{a.name}, not in store.__all__"
-                          for a in node.names if a.name not in store.__all__]
+        if isinstance(node, ast.ImportFrom):
+            found += through_faces(path, absolute(path, node), [a.name for a in node.names], where)
         elif isinstance(node, ast.Import):
-            found += [f"{where} imports {a.name}" for a in node.names if a.name.startswith("store.")]
+            for a in node.names:
+                found += through_faces(path, a.name, [], where)
         elif isinstance(node, ast.Constant) and isinstance(node.value, str) and SQL.search(node.value):
             found.append(f"{where} holds SQL: {node.value[:60]!r}")
     return found
 
 
-def test_no_room_goes_through_the_stores_walls():
+def test_no_room_goes_through_the_walls():
     files = outside_files()
     assert {p.relative_to(ROOT).parts[0] for p in files} >= {"reasoner", "explain", "cli", "ingest", "sim_replay"}
     assert [b for path in files for b in breaches(path)] == []
@@ -47,13 +92,65 @@ def test_no_room_goes_through_the_stores_walls():
 
 def test_the_check_sees_a_breach(tmp_path, monkeypatch):
     monkeypatch.setattr(__import__(__name__), "ROOT", tmp_path)
-    sample = tmp_path / "reasoner" / "x.py"
+    sample = tmp_path / "explain" / "x.py"
     sample.parent.mkdir()
     sample.write_text('from store.state import state_at\nfrom store import snapshots, Store\nimport store.kinds\n'
+                      'from store.wire import session_config, contract\nfrom store.wire.contract import MODES\n'
+                      'from store import session_config\nimport store.db\n'
+                      'from reasoner.history.motion import mph\nfrom reasoner.history import mph, read\n'
+                      'from reasoner.regress import regress\nfrom reasoner.regress.text import lines\n'
                       'q = "SELECT t FROM events WHERE run = ?"\n')
     assert [b.split(" ", 1)[1] for b in breaches(sample)] == [
         "imports store.state", "imports store.snapshots, not in store.__all__", "imports store.kinds",
-        "holds SQL: 'SELECT t FROM events WHERE run = ?'"]
+        "imports store.wire.contract, not in store.wire.__all__", "imports store.wire.contract",
+        "imports store.session_config, not in store.__all__", "imports store.db",
+        "imports reasoner.history.motion", "imports reasoner.history.read, not in reasoner.history.__all__",
+        "imports reasoner.regress.text", "holds SQL: 'SELECT t FROM events WHERE run = ?'"]
+
+
+def test_the_reasoners_own_modules_enter_its_parts_through_their_faces(tmp_path, monkeypatch):
+    monkeypatch.setattr(__import__(__name__), "ROOT", tmp_path)
+    (tmp_path / "reasoner" / "history").mkdir(parents=True)
+    outside, inside = tmp_path / "reasoner" / "derived.py", tmp_path / "reasoner" / "history" / "others.py"
+    text = "from .history.motion import mph\nfrom .history import Passage\nfrom . import history\n"
+    outside.write_text(text)
+    inside.write_text("from .motion import mph\nfrom ..history import Passage\nfrom ..when import format_time\n")
+    assert [b.split(" ", 1)[1] for b in breaches(outside)] == ["imports reasoner.history.motion"]
+    assert breaches(inside) == []
+
+
+def test_every_face_hands_out_what_it_names():
+    for face in FACES:
+        module = importlib.import_module(face)
+        assert all(hasattr(module, name) for name in shown(face)), face
+
+
+def test_the_store_shows_a_small_core_face():
+    assert len(store.__all__) < 40
+
+
+def reasoner_imports(path: Path) -> set[str]:
+    """The reasoner's modules one file imports, by their names under reasoner/."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            module = absolute(path, node)
+            found |= ({module} if module != "reasoner" else {f"reasoner.{a.name}" for a in node.names})
+        elif isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+    return {m for m in found if m.startswith("reasoner.")}
+
+
+def test_the_history_leans_on_the_reasoners_leaves_only_and_only_the_api_calls_the_regression():
+    """docs/design.md "Rooms and their faces": the history imports of the reasoner only model,
+    vocabulary and when; the regression calls the judge, and of the reasoner only its API calls it."""
+    history = sorted((ROOT / "reasoner" / "history").glob("*.py"))
+    leaned = {m for path in history for m in reasoner_imports(path) if not m.startswith("reasoner.history")}
+    assert history and leaned <= {"reasoner.model", "reasoner.vocabulary", "reasoner.when"}, leaned
+    rest = [p for p in (ROOT / "reasoner").rglob("*.py")
+            if "regress" not in p.relative_to(ROOT).parts and p != ROOT / "reasoner" / "api.py"]
+    assert [str(p.relative_to(ROOT)) for p in rest
+            if any(m.startswith("reasoner.regress") for m in reasoner_imports(p))] == []
 
 
 def test_everything_the_store_exports_exists():

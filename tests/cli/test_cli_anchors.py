@@ -120,7 +120,9 @@ def test_verify_against_and_key_catch_liveliness_cut_back_that_plain_verify_does
     """The wire tables are anchored too (schema v8): the last liveliness change (a source gone)
     cut off with its wire checkpoint and the checkpoints' record of it passes plain verify, not
     --against nor --key."""
-    from store import CheckpointKey, LivelinessChange, Store, WitnessFile
+    from store import Store
+    from store.keys import CheckpointKey, WitnessFile
+    from store.wire import LivelinessChange
     key = CheckpointKey.create(tmp_path / "ckpt.key")
     db, witness = tmp_path / "s.db", WitnessFile(tmp_path / "w.jsonl")
     with Store(db, checkpoint_key=key) as store:
@@ -154,8 +156,9 @@ def test_verify_catches_a_stored_rulebooks_version_changed_and_against_and_key_w
     """The rulebooks table is anchored too: a stored rulebook's version changed (a report would
     show it) fails plain verify, naming the table; with the checkpoints' record of the rulebooks'
     end changed to match, --against and --key."""
-    from store import CheckpointKey, Store, WitnessFile
-    from store.wire_ends import ends_now, to_part
+    from store import Store
+    from store.keys import CheckpointKey, WitnessFile
+    from store.wire.ends import ends_now, to_part
     key = CheckpointKey.create(tmp_path / "ckpt.key")
     db, witness = tmp_path / "s.db", WitnessFile(tmp_path / "w.jsonl")
     with Store(db, checkpoint_key=key) as store:

@@ -12,7 +12,7 @@ import sqlite3
 
 import pytest
 
-import store.cache as cache_module
+import store.cache.file as cache_module
 from sim_replay.paper import RUN, paper_run
 from store import Store
 from tests.helpers.cli import gaps

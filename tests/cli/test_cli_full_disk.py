@@ -75,7 +75,7 @@ def _assert_same_answers(before, after, why, warned=READS):
 
 def test_a_cache_that_sqlite_finds_full_is_gone_without_and_never_called_damage(tmp_path, monkeypatch):
     """SQLite's own full disk for the cache file (max_page_count at its size) on every open."""
-    import store.cache as cache_module
+    import store.cache.file as cache_module
     db = _paper_store(tmp_path / "gaps.db")
     free = _answers(tmp_path / "gaps.db")
     fresh = _paper_store(tmp_path / "full.db")
@@ -96,7 +96,7 @@ def test_a_cache_that_sqlite_finds_full_is_gone_without_and_never_called_damage(
 
 
 def test_the_api_verifies_without_the_cache_when_it_cannot_be_written(tmp_path, monkeypatch):
-    import store.cache as cache_module
+    import store.cache.file as cache_module
     db = _paper_store(tmp_path / "gaps.db")
     opened = cache_module._open
 

@@ -105,7 +105,7 @@ def test_runs_json_is_byte_for_byte_what_programs_read(db):
 
 
 def test_runs_live_lists_each_sources_liveliness_and_losses_on_the_wire(tmp_path):
-    from store import LivelinessChange, WireMiss
+    from store.wire import LivelinessChange, WireMiss
     path = tmp_path / "gaps.db"
     with Store(path) as store:
         store.append([event(0, src="vehicle/173"), event(0, src="vehicle/9")])

@@ -6,7 +6,8 @@ import json
 
 import pytest
 
-from store import KeyFolder, Signer, Store, sign_event
+from store import Store
+from store.keys import KeyFolder, Signer, sign_event
 from tests.helpers.cli import gaps
 
 RUN = "signed"

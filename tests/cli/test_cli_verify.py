@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from store import Store, snapshots
+from store import Store
+from store.cache import snapshots
 from store.state import build_snapshots
 from tests.helpers.cli import gaps
 from tests.helpers.store_testkit import T0, event, tamper

@@ -118,7 +118,8 @@ def test_the_golden_runs_are_judged_as_approved():
 
 
 def test_a_recording_regresses_straight_as_the_store_it_was_exported_from(db, tmp_path):
-    from store import Store, export_run
+    from store import Store
+    from store.transfer import export_run
     recording = tmp_path / "run.mcap"
     with Store.open_read_only(db) as store:
         export_run(store, R.RUN, recording)

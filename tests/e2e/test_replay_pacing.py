@@ -19,7 +19,7 @@ import pytest
 
 from sim_replay.replay import replay
 from store import Store
-from store.wire import session_config
+from store.wire.contract import session_config
 from tests.helpers.ingest_testkit import T0, free_endpoint, make_event
 
 GAPS_MS = (0, 40, 500, 20, 300, 20, 20, 450, 100, 250, 60, 400, 30, 200)   # the recorded spacing

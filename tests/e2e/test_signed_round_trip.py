@@ -6,7 +6,8 @@ from __future__ import annotations
 import json
 
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import KeyFolder, Signer, Store
+from store import Store
+from store.keys import KeyFolder, Signer
 from tests.helpers.cli import gaps
 from tests.helpers.ingest_testkit import RUN, free_endpoint, make_event
 from tests.helpers.serve_testkit import ServeProcess

@@ -15,7 +15,7 @@ from pathlib import Path
 from hypothesis import event, given
 from hypothesis import strategies as st
 
-from store import CheckpointKey, TreeHead
+from store.keys import CheckpointKey, TreeHead
 from tests.fuzz.budget import fuzz
 from tests.helpers.trust_attacks import (
     Attacked, chain_rows, honest_store, passes, perception, r1_events, r2_events, rows, spawn, tamper,

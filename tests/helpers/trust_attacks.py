@@ -19,7 +19,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from store import CheckpointKey, Store, TreeHead, WitnessFile, canonical_json, public_path_of
+from store import Store, canonical_json
+from store.keys import CheckpointKey, TreeHead, WitnessFile, public_path_of
 from store import merkle
 from store.chain import GENESIS, link
 from tests.helpers import store_testkit
@@ -315,7 +316,7 @@ def forged_tail_sealed(honest: Honest, copy: Path, rng: random.Random) -> Attack
 
 
 def _seed(key_path: Path) -> bytes:
-    from store.keyfiles import seed_of
+    from store.keys.files import seed_of
     return seed_of(key_path.read_text("ascii"), str(key_path))
 
 

@@ -10,7 +10,7 @@ from types import SimpleNamespace
 import zenoh
 
 from ingest.cache_recovery import CacheRecovery
-from store import SourceSpan, write_index
+from store.wire import SourceSpan, write_index
 
 CACHE = "0123456789abcdef0123456789abcdef"
 

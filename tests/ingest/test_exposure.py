@@ -25,7 +25,9 @@ from ingest.exposure import Exposure, check, exposure, is_loopback
 from ingest.serve import ServeOptions, serve
 from ingest.serve_args import parser
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import KeyFolder, Signer, Store, TrustedKeys, session_config
+from store import Store
+from store.keys import KeyFolder, Signer, TrustedKeys
+from store.wire import session_config
 from tests.helpers.hardened import DOC_ROUTER_DIALED, doc_block
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, make_event
 from tests.helpers.serve_testkit import GAPS, ROOT, child_env

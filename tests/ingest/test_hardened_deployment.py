@@ -19,7 +19,9 @@ import zenoh
 
 from sim_replay.publisher import EventPublisher
 from sim_replay.replay import replay as replay_runs
-from store import CheckpointKey, KeyFolder, Signer, Store, canonical_json, read_heads, session_config
+from store import Store, canonical_json
+from store.keys import CheckpointKey, KeyFolder, Signer, read_heads
+from store.wire import session_config
 from tests.helpers.cli import gaps
 from tests.helpers.hardened import deployment, openssl
 from tests.helpers.ingest_testkit import RUN, make_event

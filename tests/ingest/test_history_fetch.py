@@ -12,7 +12,8 @@ import zenoh
 
 from ingest import IngestService
 from ingest.history_fetch import FetchOptions, NothingAnswers, fetch
-from store import SYNC_KEY, Store, session_config
+from store import Store
+from store.wire import SYNC_KEY, session_config
 from tests.helpers.cli import gaps
 from tests.helpers.ingest_testkit import T0, free_endpoint, make_event
 

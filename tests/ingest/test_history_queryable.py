@@ -12,7 +12,8 @@ import zenoh
 from ingest import IngestService
 from ingest.history_queryable import HistoryQueryable
 from ingest.time_range import rfc3339
-from store import Store, canonical_json, session_config
+from store import Store, canonical_json
+from store.wire import session_config
 from tests.helpers.ingest_testkit import T0, free_endpoint, make_event
 
 STEP = 100_000_000  # make_event: t = T0 + seq * 0.1 s

@@ -13,7 +13,8 @@ import zenoh
 from ingest import IngestService
 from ingest.history_fetch import FetchOptions, fetch
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import Store, session_config
+from store import Store
+from store.wire import session_config
 from tests.helpers.ingest_testkit import free_endpoint, make_event
 
 SITES = ("site-a", "site-b")

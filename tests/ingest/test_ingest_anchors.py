@@ -13,7 +13,9 @@ import zenoh
 from ingest import IngestService
 from ingest.serve import ServeOptions, Server
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import CheckpointKey, GapsError, Store, WitnessFile, canonical_json, read_heads, session_config
+from store import GapsError, Store, canonical_json
+from store.keys import CheckpointKey, WitnessFile, read_heads
+from store.wire import session_config
 from store.chain import link
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
 from tests.helpers.store_testkit import rows, tamper

@@ -9,7 +9,8 @@ import zenoh
 from tests.helpers.ingest_testkit import RUN, await_match, make_event
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher
-from store import MAX_EVENT_BYTES, Store, canonical_json, key_for
+from store import MAX_EVENT_BYTES, Store, canonical_json
+from store.wire import key_for
 
 
 def hostile_samples() -> list[tuple[str, bytes, str]]:

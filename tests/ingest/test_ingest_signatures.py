@@ -10,7 +10,8 @@ import pytest
 
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import KeyFolder, Signer, Store, TrustedKeys, canonical_json, sign_event
+from store import Store, canonical_json
+from store.keys import KeyFolder, Signer, TrustedKeys, sign_event
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
 
 WAIT_S = 20.0
@@ -84,7 +85,7 @@ def test_without_the_requirement_signatures_are_stored_as_they_came(db_path, key
 
 def test_a_bad_keys_file_stops_serve_before_it_opens_anything(tmp_path):
     from ingest.serve import Server, ServeOptions
-    from store import KeysError
+    from store.keys import KeysError
     bad = tmp_path / "keys.json"
     bad.write_text(json.dumps({"vehicle/1": "AAAA"}))
     with pytest.raises(KeysError, match="an Ed25519 public key is 32"):

@@ -20,7 +20,8 @@ from ingest.inbox import Received
 from ingest.stats import IngestStats
 from ingest.wire_watch import Noticed
 from ingest.writer import BatchWriter
-from store import LivelinessChange, Store, canonical_json, key_for
+from store import Store, canonical_json
+from store.wire import LivelinessChange, key_for
 from tests.helpers.ingest_testkit import RUN, make_event
 
 FULL = 4   # the writer's batch size here: a take of 4 means more were waiting (not caught up)

@@ -17,7 +17,8 @@ import zenoh
 
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import SYNC_KEY, Store
+from store import Store
+from store.wire import SYNC_KEY
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, make_event
 
 

@@ -12,8 +12,8 @@ import zenoh
 from ingest import IngestService
 from sim_replay.publisher import EventPublisher, zenoh_config
 from sim_replay.recent_events import RecentEvents
-from store import (Store, canonical_json, cache_query_options, index_selector, key_for, read_index, want_payload,
-                   want_selector)
+from store import Store, canonical_json
+from store.wire import cache_query_options, index_selector, key_for, read_index, want_payload, want_selector
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, make_event
 
 WAIT_S = 15.0

@@ -8,7 +8,8 @@ import zenoh
 from ingest import session_config
 from tests.helpers.ingest_testkit import free_endpoint, make_event
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import canonical_json, key_for
+from store import canonical_json
+from store.wire import key_for
 
 
 def test_publisher_wire_format() -> None:

@@ -32,7 +32,8 @@ def test_a_despawn_among_written_events_with_their_keys_releases_its_sources_pub
         link: tuple[EventPublisher, IngestService]) -> None:
     """The simulation's road (publish_all with each event's bytes and key, as a Tick carries
     them): the same runs as without, a despawn's source released, every event stored."""
-    from store import canonical_json, key_for
+    from store import canonical_json
+    from store.wire import key_for
     publisher, ingest = link
     first = make_event("vehicle/9", 0, "entity.state")
     await_match(publisher, first)

@@ -6,9 +6,10 @@ import json
 import pytest
 
 from ingest.screen import screen
-from store import session_config
+from store.wire import session_config
 from tests.helpers.ingest_testkit import make_event
-from store import MAX_EVENT_BYTES, canonical_json, key_for
+from store import MAX_EVENT_BYTES, canonical_json
+from store.wire import key_for
 
 
 def test_matching_key_is_accepted_with_identity() -> None:

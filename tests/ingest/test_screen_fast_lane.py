@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 
 import ingest.screen as screen_module
 from ingest.screen import _general, screen, screen_all
-from store import canonical_json, decode_event, key_for
+from store import canonical_json, decode_event
+from store.wire import key_for
 from store.kinds import KINDS
 from tests.helpers.store_testkit import BODIES, event
 

@@ -16,7 +16,8 @@ import pytest
 import zenoh
 
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import Store, StoreError, key_for
+from store import Store, StoreError
+from store.wire import key_for
 from tests.helpers.ingest_testkit import RUN, free_endpoint, make_event
 from tests.helpers.serve_testkit import GAPS, PYTHON_M_INGEST, ROOT, ServeProcess, child_env
 

@@ -15,7 +15,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import MAX_EVENT_BYTES, Store, canonical_json, key_for
+from store import MAX_EVENT_BYTES, Store, canonical_json
+from store.wire import key_for
 from tests.helpers.ingest_testkit import BODIES, RUN, free_endpoint, make_event
 from tests.helpers.serve_testkit import ServeProcess
 

@@ -17,8 +17,9 @@ from ingest.errors import StoreInUse
 from ingest.screen import screen
 from ingest.serve_args import parser
 from ingest.serve_lock import ServeLock, lock_path
-from store import session_config
-from store import GapsError, canonical_json, key_for
+from store.wire import session_config
+from store import GapsError, canonical_json
+from store.wire import key_for
 from tests.helpers.cli import gaps
 from tests.helpers.ingest_testkit import free_endpoint, make_event
 

@@ -8,7 +8,7 @@ import zenoh
 import zenoh.ext
 
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import BLOCK_FOR_US, audit_qos, session_config
+from store.wire import BLOCK_FOR_US, audit_qos, session_config
 from tests.helpers.ingest_testkit import free_endpoint, make_event
 
 SETTINGS = ("mode", "listen/endpoints", "connect/endpoints", "scouting/multicast/enabled",

@@ -23,7 +23,8 @@ from reasoner.investigation import Investigation
 from reasoner.measurement import Measurement
 from reasoner.model import DerivedFact, Margin
 from sim_replay.paper import paper_run
-from store import EventRef, Store, cache_tampering
+from store import EventRef, Store
+from store.cache import cache_tampering
 
 sys.path.insert(0, str(Path(__file__).parent))
 from test_foreign_scenarios import FORCED, LAWFUL_STOP, ROLLING, give_way_run, mps, runner_run, stop_run  # noqa: E402

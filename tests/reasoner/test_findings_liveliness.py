@@ -5,7 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from reasoner.findings import SECOND, Gaps, missing_evidence
-from store import LivelinessChange, Store
+from store import Store
+from store.wire import LivelinessChange
 from tests.helpers.store_testkit import T0, event
 
 SRC = "vehicle/173"

@@ -11,7 +11,8 @@ import pytest
 
 from reasoner.regress import regression as regress_module
 from reasoner.case_memo import CaseMemo
-from store import Store, cache_tampering, derived_cache
+from store import Store
+from store.cache import cache_tampering, derived as derived_cache
 
 from tests.reasoner import regress_runs as R
 from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)

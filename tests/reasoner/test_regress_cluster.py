@@ -16,7 +16,8 @@ import pytest
 from reasoner.regress import regress
 from reasoner.regress.books import RegressError
 from reasoner.regress.cluster import Cluster, regress_recordings, regress_store
-from store import NoSuchRun, Store, export_run, import_file
+from store import NoSuchRun, Store
+from store.transfer import export_run, import_file
 
 from tests.reasoner import regress_dying
 from tests.reasoner import regress_runs as R

@@ -14,7 +14,8 @@ from reasoner.regress import regression as regress_module
 from reasoner.regress import decisions as regress_decisions
 from reasoner.engine import get_engine
 from reasoner.shapes import Shaper
-from store import Store, cache_tampering
+from store import Store
+from store.cache import cache_tampering
 
 from tests.reasoner import regress_runs as R
 from tests.reasoner.regress_runs import db, new_rules  # noqa: F401 (fixtures)

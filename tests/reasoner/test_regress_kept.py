@@ -16,7 +16,8 @@ from reasoner.regress import regression as regress_module
 from reasoner.api import Case
 from reasoner.investigation import Investigation
 from reasoner.regress import regress
-from store import EventRef, Store, cache_tampering
+from store import EventRef, Store
+from store.cache import cache_tampering
 
 from tests.reasoner import regress_runs as R
 

@@ -12,7 +12,9 @@ import pytest
 
 from reasoner.regress import recording as regress_recording
 from reasoner.regress.cluster import regress_recordings
-from store import Store, export_run, kept_recording
+from store import Store
+from store.cache import kept_recording
+from store.transfer import export_run
 
 from tests.reasoner import regress_runs as R
 from tests.reasoner.regress_runs import db, new_rules  # noqa: F401  (fixtures)

@@ -67,7 +67,7 @@ def test_both_sides_share_one_reading_of_the_cases(db, new_rules, monkeypatch):
 def test_the_baseline_reads_the_changed_incident_s_whole_entry_alone(db, new_rules, monkeypatch):
     """A kept incident is read whole by its key, where its change shows its proofs: not every
     incident's entry (on the hour 24 MB) to use 214 of 1,758; a forged one is still dropped."""
-    from store import derived_cache
+    from store.cache import derived as derived_cache
     first = R.regressed(db, new_rules)
     loaded: dict[str, derived_cache.Sealed] = {}
     load = derived_cache.load
@@ -81,7 +81,7 @@ def test_the_baseline_reads_the_changed_incident_s_whole_entry_alone(db, new_rul
 
 
 def test_an_entry_read_by_its_key_is_sealed_all_the_same(tmp_path):
-    from store import derived_cache
+    from store.cache import derived as derived_cache
     db = R.build_store(tmp_path / "g.db")
     with Store(db) as store:
         chain = derived_cache.current_chain(store, R.RUN)

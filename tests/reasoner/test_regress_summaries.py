@@ -8,7 +8,8 @@ import sqlite3
 import pytest
 
 from reasoner.case_memo import CaseMemo
-from store import Store, cache_tampering
+from store import Store
+from store.cache import cache_tampering
 
 from tests.reasoner import regress_runs as R
 

@@ -14,8 +14,10 @@ from ingest.service import IngestService
 from sim_replay import publisher as publisher_module
 from sim_replay.paper import paper_run
 from sim_replay.publisher import EventPublisher, zenoh_config
-from store import KeyFolder, Signer, Store, WireConfigError, canonical_json, session_config
-from store import Exposure, check_producer
+from store import Store, canonical_json
+from store.keys import KeyFolder, Signer
+from store.wire import WireConfigError, session_config
+from store.wire import Exposure, check_producer
 from tests.helpers.cli import gaps
 from tests.helpers.hardened import doc_block
 from tests.helpers.ingest_testkit import free_endpoint

@@ -10,7 +10,8 @@ from ingest.service import IngestService
 from sim_replay.paper import RUN, paper_run
 from sim_replay.publisher import EventPublisher
 from sim_replay.replay import replay
-from store import KeyFolder, Signer, Store
+from store import Store
+from store.keys import KeyFolder, Signer
 from tests.helpers.ingest_testkit import free_endpoint
 
 

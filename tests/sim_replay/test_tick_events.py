@@ -116,7 +116,7 @@ def test_a_simulations_ticks_carry_the_canonical_bytes_of_every_event(faults: Fa
     events() gives."""
     from sim_replay.sim_config import SimConfig
     from sim_replay.simulation import Simulation
-    from store import key_for
+    from store.wire import key_for
     from store.canonical import reference_canonical_json
     config = SimConfig(run="w", vehicles=8, duration_s=12.0, seed=4, pedestrians=1, faults=faults)
     ticks = list(Simulation(config).batches())

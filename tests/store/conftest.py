@@ -24,7 +24,7 @@ def store(db_path: Path) -> Iterator[Store]:
 def reseal_snapshots(store: Store) -> None:
     """Seal every state snapshot again under the cache's key, as whoever holds that key could after
     altering one: what is left to catch it is `check_snapshots`' re-fold."""
-    from store import snapshots
+    from store.cache import snapshots
     conn, sealer = store.cache.connection, store.cache.sealer
     for run, fold, t, seq, src, n, head, blob, epoch in conn.execute(
             "SELECT run, fold, t, seq, src, chain_len, head, state, epoch FROM state_snapshots").fetchall():

@@ -1,6 +1,6 @@
 """The seal's framing is a format: cache files sealed by an earlier version must still open, so
 the bytes a tuple frames to are fixed (this vector was framed by the first version of _framed)."""
-from store.cache_seal import _framed
+from store.cache.seal import _framed
 
 VECTOR = ("73000000000000000161690000000000000001316e00000000000000044e6f6e656e0000000000000004547275"
           "656600000000000000143078312e34303030303030303030303030702b316200000000000000027879730000"

@@ -2,7 +2,8 @@
 fixed when the read starts."""
 from __future__ import annotations
 
-from store import HistoryFilter, Store
+from store import Store
+from store.wire import HistoryFilter
 from tests.helpers.ingest_testkit import T0, make_event
 
 STEP = 100_000_000

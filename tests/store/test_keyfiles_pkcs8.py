@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from store.keyfiles import KeyFolder, KeysError, pem_of, seed_of
+from store.keys.files import KeyFolder, KeysError, pem_of, seed_of
 
 # RFC 8410 section 10.3: an Ed25519 private key with its public key and an attribute (PKCS#8 v2,
 # OneAsymmetricKey). The prefix this module once compared bytes with refused it.

@@ -4,8 +4,9 @@ and is sealed as such, so it is believed when read. Sealed over the integer (or 
 did not open over the 0.0 read back: verify called the cache tampered, and every read meeting the
 box rebuilt the run's boxes from all its events (on the one-hour run, 3 boxes of 470,438: some
 45% of its first judgement)."""
-from store import Store, presence, sources_near
-from store.presence import tampered_presence
+from store import Store
+from store.cache import presence, sources_near
+from store.cache.presence import tampered_presence
 from tests.helpers.store_testkit import T0
 
 SECOND = 1_000_000_000

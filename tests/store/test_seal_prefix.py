@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from store.cache_seal import Sealer
+from store.cache.seal import Sealer
 
 NAMES = ("run-1", "measurement", "v1", 12, "head")
 

@@ -11,7 +11,9 @@ import sqlite3
 import pytest
 from tests.helpers.store_testkit import event, rows, tamper
 
-from store import CheckpointKey, Store, TamperedTail, WitnessFile, canonical_json, read_heads, recorded_heads
+from store import Store, canonical_json
+from store.keys import CheckpointKey, WitnessFile, read_heads, recorded_heads
+from store.tail_check import TamperedTail
 from store.chain import GENESIS, link
 
 

@@ -7,7 +7,8 @@ import os
 import pytest
 from tests.helpers.store_testkit import T0, event, rows
 
-from store import Store, snapshots
+from store import Store
+from store.cache import snapshots
 from store.state import build_snapshots, state_at
 
 

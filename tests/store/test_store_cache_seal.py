@@ -11,8 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from store import Store, cache_seal, cache_tampering, state_at
-from store.cache import MEMORY
+from store import Store, state_at
+from store.cache import seal as cache_seal, cache_tampering
+from store.cache.file import MEMORY
 from store.state import build_snapshots
 from tests.helpers.store_testkit import T0, event
 

@@ -6,7 +6,8 @@ import pytest
 from tests.helpers.store_testkit import BODIES, event
 from hypothesis import given, settings, strategies as st
 
-from store import KINDS, MAX_EVENT_BYTES, EventError, key_for, parse_event, validate_event
+from store import KINDS, MAX_EVENT_BYTES, EventError, parse_event, validate_event
+from store.wire import key_for
 from store.envelope import _CHECKS, _plainly_valid, decode_event, encode_event
 from store.kinds import REQUIRED
 

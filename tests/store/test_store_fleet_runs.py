@@ -64,9 +64,9 @@ def test_a_new_run_costs_the_append_one_probe_of_the_file_before_its_rows_are_wr
 
 
 def test_a_run_found_empty_is_still_checked_against_its_signed_head_known_outside_the_file(store):
-    from store import TamperedTail
+    from store.tail_check import TamperedTail
     from store.tail_check import anchored_chain
-    from store.tree_heads import TreeHead
+    from store.keys.tree_heads import TreeHead
 
     class Known:                                                   # a witness that saw 3 events of "gone"
         last = {"gone": (TreeHead("gone", 3, "00" * 32, "00" * 32, 0, 1), "the witness file")}
@@ -83,8 +83,8 @@ def test_the_append_hook_is_called_once_per_append_with_every_run(store):
 
 
 def test_snapshot_watermarks_of_every_run_of_an_append_are_raised(db_path):
-    from store import enable_snapshots
-    from store.snapshots import marks
+    from store.cache import enable_snapshots
+    from store.cache.snapshots import marks
     with Store(db_path) as store:
         enable_snapshots(store)
         store.append([e for n in range(4) for e in short_run(f"r{n}")])
@@ -102,8 +102,8 @@ def test_shrinking_memory_forgets_the_run_names_the_envelope_check_remembers(sto
 
 
 def test_the_snapshot_hook_takes_each_runs_chain_end_from_the_append_not_from_the_file(db_path):
-    from store import enable_snapshots
-    from store.snapshots import chain_end, marks
+    from store.cache import enable_snapshots
+    from store.cache.snapshots import chain_end, marks
     with Store(db_path) as store:
         enable_snapshots(store)
         with statements(store) as asked:

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from store import LivelinessChange, Store, WireMiss
+from store import Store
+from store.wire import LivelinessChange, WireMiss
 
 
 def test_changes_and_misses_are_kept_and_summed_up_per_source(tmp_path: Path) -> None:

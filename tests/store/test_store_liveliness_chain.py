@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from store import LivelinessChange, Store, WireMiss, migrate_copy
+from store import Store, migrate_copy
+from store.wire import LivelinessChange, WireMiss
 from tests.helpers.store_testkit import old_schema
 
 CHANGES = [LivelinessChange("r", "vehicle/1", True, 10, None), LivelinessChange("r", "vehicle/2", True, 11, None),

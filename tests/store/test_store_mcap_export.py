@@ -14,7 +14,8 @@ import pytest
 from google.protobuf.unknown_fields import UnknownFieldSet
 from mcap.reader import make_reader
 
-from store import Store, canonical_json, key_for
+from store import Store, canonical_json
+from store.wire import key_for
 from store.transfer import TransferError, export_run
 from store.transfer.foxglove import SceneBuilder
 from store.transfer.foxglove_channels import ENTITIES_TOPIC, LOG_TOPIC, MAP_TOPIC, SIGNALS_TOPIC

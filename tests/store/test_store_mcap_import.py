@@ -14,7 +14,8 @@ from mcap.records import Chunk
 from mcap.stream_reader import breakup_chunk
 from mcap.writer import Writer
 
-from store import Store, canonical_json, key_for
+from store import Store, canonical_json
+from store.wire import key_for
 from store.transfer import TransferError, export_run, import_file
 from store.transfer.mcap_out import export_mcap
 from tests.helpers.store_testkit import event

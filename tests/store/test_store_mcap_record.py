@@ -6,7 +6,8 @@ from __future__ import annotations
 import pytest
 from mcap.reader import make_reader
 
-from store import Recorder, Store, TransferError, canonical_json, import_file
+from store import Store, canonical_json
+from store.transfer import Recorder, TransferError, import_file
 from tests.helpers.viewer_run import RUN, viewer_events
 
 S = 1_000_000_000

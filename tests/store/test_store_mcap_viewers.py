@@ -25,7 +25,8 @@ from mcap.reader import make_reader
 from mcap.records import Channel, Message
 from mcap.stream_reader import StreamReader
 
-from store import Store, import_file
+from store import Store
+from store.transfer import import_file
 from store.kinds import KINDS
 from store.transfer import export_run
 from store.transfer.foxglove import SCENE_PERIOD_NS

@@ -9,8 +9,9 @@ import sqlite3
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from store import Store, check_presence, sources_near
-from store import presence
+from store import Store
+from store.cache import check_presence, sources_near
+from store.cache import presence
 from tests.helpers.cli import gaps
 from tests.helpers.store_testkit import T0, rows
 

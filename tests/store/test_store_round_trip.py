@@ -3,7 +3,8 @@ default, so a store whose events arrived out of time order across sources comes 
 import pytest
 from tests.helpers.store_testkit import heads, out_of_order_store
 
-from store import Store, export_run, import_file
+from store import Store
+from store.transfer import export_run, import_file
 
 
 @pytest.fixture

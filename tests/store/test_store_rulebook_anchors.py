@@ -17,9 +17,10 @@ from pathlib import Path
 import pytest
 from tests.helpers.store_testkit import event, rows, tamper
 
-from store import CheckpointKey, Store, WitnessFile, read_heads
+from store import Store
+from store.keys import CheckpointKey, WitnessFile, read_heads
 from store.chain import GENESIS
-from store.tree_heads import TreeHead
+from store.keys.tree_heads import TreeHead
 
 TEXT = "the templates are:\n*a vehicle* must stop at *a light*.\n"
 OTHER = "the templates are:\n*a vehicle* may proceed.\n"
@@ -64,7 +65,7 @@ def drop_rulebooks_key(db: Path) -> None:
 def rerecord_rulebooks_end(db: Path) -> None:
     """The attacker's better cover: every checkpoint that recorded the rulebook now records the end
     the changed table recomputes to, as an append would have written it."""
-    from store.wire_ends import ends_now, to_part
+    from store.wire.ends import ends_now, to_part
     with Store.open_read_only(db) as store:
         now = to_part(ends_now(store.connection))["rulebooks"]
     tamper(db, *(("UPDATE checkpoints SET wire = ? WHERE id = ?", (json.dumps({**part, "rulebooks": now}), id_))

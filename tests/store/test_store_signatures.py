@@ -14,8 +14,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from store import (EventError, KeyFolder, KeysError, Signer, Store, TrustedKeys, canonical_json, decode_event,
-                   encode_event, export_run, import_file, signed_bytes)
+from store import EventError, Store, canonical_json, decode_event, encode_event
+from store.keys import KeyFolder, KeysError, Signer, TrustedKeys, signed_bytes
+from store.transfer import export_run, import_file
 
 RUN = "signed-run"
 T0 = 1_732_184_100_000_000_000
@@ -109,14 +110,14 @@ def test_an_event_altered_after_signing_is_refused(signer, trusted):
 
 def test_a_signature_by_another_sources_key_is_refused(signer, trusted, keys):
     from nacl.signing import SigningKey
-    from store import sign_event
+    from store.keys import sign_event
     forged = sign_event(event(), SigningKey(keys.seed("vehicle/174")))   # 174 signs as 173
     assert "trusted for vehicle/174, not for vehicle/173" in trusted.reason(forged)
 
 
 def test_a_key_nobody_trusts_is_refused_naming_it(trusted):
     from nacl.signing import SigningKey
-    from store import key_id, sign_event
+    from store.keys import key_id, sign_event
     stranger = SigningKey.generate()
     reason = trusted.reason(sign_event(event(), stranger))
     assert f"signed with key {key_id(bytes(stranger.verify_key))}, which is not in" in reason
@@ -224,7 +225,7 @@ def test_verify_counts_signatures_and_checks_them_with_keys(signed_store, truste
 
 def test_a_forged_event_stored_without_checks_is_named_by_verify(tmp_path, keys, trusted):
     from nacl.signing import SigningKey
-    from store import sign_event
+    from store.keys import sign_event
     path = tmp_path / "forged.db"
     with Store(path) as store:
         store.append([Signer(keys).sign(event(seq=0)), sign_event(event(seq=1), SigningKey(keys.seed("vehicle/174")))])
@@ -259,7 +260,7 @@ def test_a_signature_stripped_in_the_store_file_is_caught(signed_store, tmp_path
 
 def test_a_signature_replaced_in_the_store_file_is_caught(signed_store, tmp_path, trusted, keys):
     from nacl.signing import SigningKey
-    from store import sign_event
+    from store.keys import sign_event
     copy = tmp_path / "replaced.db"
     shutil.copy(signed_store, copy)
     _rewrite(copy, 3, lambda ev: sign_event(ev, SigningKey.generate()))

@@ -13,7 +13,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from tests.helpers.store_testkit import T0, event
 
-from store import Store, snapshots, state
+from store import Store, state
+from store.cache import snapshots
 from store.state import build_snapshots, state_at
 
 SOURCES = {

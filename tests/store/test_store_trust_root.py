@@ -15,7 +15,9 @@ from dataclasses import replace
 
 import pytest
 
-from store import CheckpointKey, Store, TamperedTail, load_public, recorded_heads
+from store import Store
+from store.keys import CheckpointKey, load_public, recorded_heads
+from store.tail_check import TamperedTail
 from tests.helpers.cli import gaps
 from tests.helpers.trust_attacks import (
     attack, forge_tail, honest_append, honest_store, passes, perception, rows, stored_events, tamper,

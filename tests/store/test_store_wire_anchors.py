@@ -18,10 +18,12 @@ from pathlib import Path
 import pytest
 from tests.helpers.store_testkit import event, old_schema, rows, tamper
 
-from store import CheckpointKey, LivelinessChange, Store, WireMiss, WitnessFile, read_heads
+from store import Store
+from store.keys import CheckpointKey, WitnessFile, read_heads
+from store.wire import LivelinessChange, WireMiss
 from store.chain import GENESIS
-from store.liveliness import row_hash
-from store.tree_heads import TreeHead
+from store.wire.liveliness import row_hash
+from store.keys.tree_heads import TreeHead
 
 CHANGES = [LivelinessChange("r1", "vehicle/1", True, 10, None), LivelinessChange("r1", "vehicle/2", True, 11, None),
            LivelinessChange("r1", "vehicle/1", False, 20, 4), LivelinessChange("r1", "vehicle/2", False, 30, 9)]

@@ -44,7 +44,9 @@ import pytest
 
 from reasoner.bundled import PAPER, bundled
 from sim_replay.paper import paper_run
-from store import LivelinessChange, Store, WireMiss, sources_near, state_at
+from store import Store, state_at
+from store.cache import sources_near
+from store.wire import LivelinessChange, WireMiss
 from store.state import build_snapshots
 from tests.helpers.cli import gaps
 from tests.helpers.index_pages import forge_entry

@@ -25,7 +25,7 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import GapsError
+from ..errors import GapsError
 
 __all__ = ["CACHE_PREFIX", "CACHE_QUERY_S", "CacheQuery", "CacheQueryError", "SourceSpan", "cache_id_of_token",
            "cache_query_options", "cache_token", "index_selector", "parse_cache_query", "read_index",

@@ -26,9 +26,9 @@ from pathlib import Path
 from typing import Any, Iterator
 from urllib.parse import quote
 
-from .cache_seal import Sealer, load_or_create_key, memory_key
-from .opening import read_only_place
-from .output_files import note_evidence
+from .seal import Sealer, load_or_create_key, memory_key
+from ..opening import read_only_place
+from ..output_files import note_evidence
 
 CACHE_VERSION = 5  # raise when a table below changes: a file of another version is emptied
 SUFFIX = ".cache"

@@ -15,8 +15,8 @@ from __future__ import annotations
 import json
 import sqlite3
 
-from .cache import Cache, rollback
-from .verify_report import VerifyReport
+from .file import Cache, rollback
+from ..verify_report import VerifyReport
 
 ChainKey = tuple[int, str]  # (events in the run's chain, stored hash of the last one)
 

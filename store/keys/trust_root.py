@@ -31,7 +31,7 @@ import os
 from pathlib import Path
 from typing import Iterable
 
-from .keyfiles import KeysError
+from .files import KeysError
 from .signatures import key_id
 from .tree_heads import TreeHead
 

@@ -16,11 +16,12 @@ believed, and `gaps verify` names it. Deleting the table changes no result.
 from __future__ import annotations
 
 import sqlite3
-from typing import Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-from .cache import rollback
-from .db import Store
-from .verify_cache import ChainKey
+from .file import rollback
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from ..db import Store
+from .verified import ChainKey
 
 TABLE = "derived"
 MAX_PAYLOAD = 4 << 20           # an entry larger than this is not kept (recomputed instead)

@@ -27,8 +27,8 @@ import sqlite3
 from dataclasses import dataclass
 from typing import Any, Iterable
 
-from .canonical import canonical_json
-from .chain import GENESIS, link
+from ..canonical import canonical_json
+from ..chain import GENESIS, link
 
 DDL = (
     """CREATE TABLE liveliness (

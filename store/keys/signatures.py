@@ -28,7 +28,7 @@ import hashlib
 import re
 from typing import Any
 
-from .canonical import canonical_json
+from ..canonical import canonical_json
 
 SIG_FIELD = "sig"
 KEY_ID_HEX = 16

@@ -35,9 +35,10 @@ import sqlite3
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Sequence
 
-from . import merkle, wire_ends
-from .chain import GENESIS, link
-from .consistency import RangeRoots, proof_ranges, verify_consistency
+from .. import merkle
+from ..wire import ends as wire_ends
+from ..chain import GENESIS, link
+from ..consistency import RangeRoots, proof_ranges, verify_consistency
 from .signatures import key_id
 from .tree_heads import TreeHead
 

@@ -7,11 +7,12 @@ writes them, so someone who holds the folder did, and verify says so, as a warni
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from . import verify_cache
-from .derived_cache import tampered_derived
-from .db import Store
+from . import verified as verify_cache
+from .derived import tampered_derived
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from ..db import Store
 from .presence import tampered_presence
 from .snapshots import tampered_snapshots
 

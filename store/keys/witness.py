@@ -14,10 +14,10 @@ import os
 from pathlib import Path
 from typing import Iterable
 
-from .errors import GapsError
-from .keyfiles import KeysError
-from .output_files import check_output
-from .text_file import read_named
+from ..errors import GapsError
+from .files import KeysError
+from ..output_files import check_output
+from ..text_file import read_named
 from .tree_heads import TreeHead
 
 

@@ -41,13 +41,14 @@ import struct
 import weakref
 import zlib
 from dataclasses import dataclass
-from typing import Any, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Iterable, Iterator
 
 import orjson
 
-from . import fastjson
-from .cache import rollback, writing as _writing
-from .db import Store
+from .. import fastjson
+from .file import rollback, writing as _writing
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from ..db import Store
 
 FOLD_VERSION = 4  # raise when the fold or the encoding changes: other versions are ignored
 

@@ -22,8 +22,8 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .envelope import SYNC_KEY, key_for
-from .errors import GapsError
+from ..envelope import SYNC_KEY, key_for
+from ..errors import GapsError
 
 if TYPE_CHECKING:       # imported where used: `gaps --help` and every reader of a store load no Zenoh
     import zenoh

@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TypeVar
 
-from . import queries
+from .. import queries
 
 R = TypeVar("R")
 CHUNK = 1000  # rows per read transaction: one chunk of events is all an answer holds in memory

@@ -32,10 +32,12 @@ import sqlite3
 import weakref
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from .cache import writing as _writing
-from .cache_seal import NO_ENTRIES, xor
-from .db import Store
+from .file import writing as _writing
+from .seal import NO_ENTRIES, xor
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from ..db import Store
 from .snapshots import chain_end, hash_at
 
 BUCKET_S = 2

@@ -28,9 +28,9 @@ from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import Any, Iterable
 
-from .envelope import is_source
-from .errors import GapsError
-from .output_files import write_text
+from ..envelope import is_source
+from ..errors import GapsError
+from ..output_files import write_text
 from .signatures import SIG_FIELD, key_id, sign_event, signature_reason
 
 PUBLIC_KEYS_FILE = "public-keys.json"

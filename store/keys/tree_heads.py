@@ -29,13 +29,13 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from .canonical import canonical_json
-from .chain import is_digest_hex
-from .keyfiles import KeysError, pem_of, seed_of
-from .output_files import check_output, create_new, write_text
+from ..canonical import canonical_json
+from ..chain import is_digest_hex
+from .files import KeysError, pem_of, seed_of
+from ..output_files import check_output, create_new, write_text
 from .signatures import key_id
-from .text_file import read_named
-from .wire_ends import WireEnd, from_part, to_part
+from ..text_file import read_named
+from ..wire.ends import WireEnd, from_part, to_part
 
 STATEMENT = "gaps.tree_head.v1"
 STATEMENT_WIRE = "gaps.tree_head.v2"  # the same, with the wire tables' ends

@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .wire import WireConfigError
+from .contract import WireConfigError
 
 if TYPE_CHECKING:
     import zenoh

@@ -24,8 +24,8 @@ import sqlite3
 from dataclasses import dataclass
 from typing import Any, Iterable
 
-from . import rulebook_chain
-from .chain import GENESIS, is_digest_hex
+from .. import rulebook_chain
+from ..chain import GENESIS, is_digest_hex
 from .liveliness import TABLES, chain_rows, row_hash
 
 CUT_BACK = "wire cut back"

@@ -12,10 +12,11 @@ checked, and the report says that the heads are not comparable rather than that 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from .chain import GENESIS, link
-from .db import Store
+from ..chain import GENESIS, link
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from ..db import Store
 
 
 @dataclass

@@ -32,12 +32,13 @@ import os
 import sqlite3
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Collection, Iterator
+from typing import TYPE_CHECKING, Any, Collection, Iterator
 
-from .cache import Cache
-from .db import Store
-from .liveliness import LivelinessChange
-from .verify_cache import ChainKey
+from .file import Cache
+if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
+    from ..db import Store
+from ..wire.liveliness import LivelinessChange
+from .verified import ChainKey
 
 KEPT_KINDS = ("run.start", "monitor.potential_violation")
 """The kinds a regression reads of a run whose cases are all measured (run.start: its map and
