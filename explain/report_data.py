@@ -16,8 +16,9 @@ from typing import Any
 from reasoner.scene import scene
 from reasoner.scene_parts import Reported
 from reasoner.timelines import timeline as speed_and_signals
-from store import MapJunction, Store, read_map_body, whole, whole_line
-from store import finite_number as number      # a finite number, else None: what a picture can place
+from store import Store
+from store.run_map import MapJunction, read_map_body, whole, whole_line
+from store.run_map import finite_number as number      # a finite number, else None: what a picture can place
 
 from .presence import presence_at
 

@@ -29,7 +29,8 @@ import copy
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
-from store import EventRef, GapsError, NoSuchRun, State, Store, read_run_map, state_at
+from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
+from store.run_map import read_run_map
 
 from .history import control_at
 from .model import Control, Finding, RulebookChoice

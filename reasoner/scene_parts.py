@@ -12,7 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from store import EventRef, MapMonitor
+from store import EventRef
+from store.run_map import MapMonitor
 
 from .model import Control, Decision, Finding, RulebookChoice
 

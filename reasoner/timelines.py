@@ -17,7 +17,8 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
-from store import State, Store, finite_number, state_at
+from store import State, Store, state_at
+from store.run_map import finite_number
 
 SECOND = 1_000_000_000
 BEFORE_NS = 20 * SECOND      # a timeline starts this long before the moment ...

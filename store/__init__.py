@@ -10,14 +10,16 @@ themselves; the modules are the store's own layout. docs/store.md describes it.
     store.cache     the cache file beside a store: snapshots, presence, verified chains, kept results
     store.keys      keys, signatures, signed tree heads and witnesses
     store.transfer  events in and out of the store as files (JSONL, MCAP)
-    store.errors    the project's one error hierarchy (GapsError is its root), also handed out here
+    store.errors    the project's one error hierarchy (GapsError is its root, StoreFault the kinds of
+                    SQLite's conditions); the root and the faults are also handed out here
+    store.run_map   the run map of a run.start event, read once into typed values
 """
 
 from .canonical import canonical_json
 from .db import Store
 from .envelope import MAX_EVENT_BYTES, EventError, decode_event, encode_event, parse_event, plain_event, validate_event
 from .errors import EvidenceError, GapsError, IndexDisagrees, NoSuchRun, StoreError
-from .errors import DiskFailed, DiskFull, RowRefused, StoreBusy, StoreDamaged, StoreFault, StoreReadOnly
+from .errors import StoreFault
 from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .intake import Candidate
 from .kinds import KINDS
@@ -27,8 +29,6 @@ from .output_files import OutputRefused, check_output, write_bytes, write_text
 from .partial_state import entity_since, state_of
 from .quarantine import Pruned, QuarantineCap, parse_before
 from .refs import EventRef
-from .run_map import MapJunction, MapMonitor, MapStopLine, Pair, RunMap, read_map_body, read_run_map, whole, whole_line
-from .run_map import number as finite_number
 from .run_summary import RunSummary
 from .sqlite_errors import store_fault, translating
 from .state import CollectorPaused, state_at
@@ -44,11 +44,8 @@ __all__ = [
     "check_output", "decode_event", "encode_event", "entity_since", "migrate_copy", "parse_before", "parse_event",
     "parse_json", "parse_json_all", "plain_event", "state_at", "state_of", "validate_event", "write_bytes",
     "write_text",
-    "DiskFailed", "DiskFull", "RowRefused", "StoreBusy", "StoreDamaged", "StoreFault", "StoreReadOnly", "store_fault",
-    "translating",
+    "StoreFault", "store_fault", "translating",
     "IntegrityResult", "Problem", "RunCheck", "SignatureCount", "VerifyOutcome", "check_store",
-    "MapJunction", "MapMonitor", "MapStopLine", "Pair", "RunMap", "finite_number", "read_map_body", "read_run_map",
-    "whole", "whole_line",
 ]
 
 # The face's functions that read or write a store file speak the store's errors, as Store's methods

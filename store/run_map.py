@@ -242,3 +242,9 @@ def _monitor(m: dict[str, Any]) -> MapMonitor:
 def _lane(lane: dict[str, Any]) -> MapLane:
     return MapLane(lane, label(lane.get("id")), label(lane.get("kind")), number(lane.get("width_m")),
                    polyline(lane.get("shape")))
+
+
+finite_number = number      # the name other rooms know it by: a finite number, else None
+
+__all__ = ["MapCrossing", "MapJunction", "MapLane", "MapMonitor", "MapRoad", "MapStopLine", "Pair", "RunMap",
+           "finite_number", "read_map_body", "read_run_map", "whole", "whole_line"]

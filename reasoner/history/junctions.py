@@ -25,7 +25,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
-from store import EventRef, MapJunction, MapMonitor, MapStopLine, Pair, RunMap, read_run_map
+from store import EventRef
+from store.run_map import MapJunction, MapMonitor, MapStopLine, Pair, RunMap, read_run_map
 
 from .sensors import Sensor, stated
 

@@ -10,7 +10,7 @@ import ast
 import sys
 from pathlib import Path
 
-from store import DiskFailed, DiskFull, GapsError, RowRefused, StoreBusy, StoreDamaged, StoreFault, StoreReadOnly
+from store.errors import DiskFailed, DiskFull, GapsError, RowRefused, StoreBusy, StoreDamaged, StoreFault, StoreReadOnly
 from tests.architecture.test_walls import ROOT, outside_files
 
 

@@ -17,7 +17,7 @@ import store
 
 ROOT = Path(__file__).parents[2]
 INSIDE = {"store", "tests", "bench", ".venv", ".git"}
-FACES = ("store", "store.wire", "store.cache", "store.keys", "store.transfer", "store.errors",
+FACES = ("store", "store.wire", "store.cache", "store.keys", "store.transfer", "store.errors", "store.run_map",
          "reasoner.history", "reasoner.regress")
 TABLES = ("events", "quarantine", "checkpoints", "rulebooks", "legacy_checkpoints", "schema_version",
           "state_snapshots", "state_watermarks", "verifications", "liveliness", "wire_misses", "wire_checkpoints",
@@ -126,7 +126,8 @@ def test_every_face_hands_out_what_it_names():
 
 
 def test_the_store_shows_a_small_core_face():
-    assert len(store.__all__) < 40
+    # 125 names before issue 38; 46 after it (the core, the store's faults, the verify outcome and its parts)
+    assert len(store.__all__) < 50
 
 
 def reasoner_imports(path: Path) -> set[str]:

@@ -11,7 +11,8 @@ import pytest
 
 from tests.helpers.ingest_testkit import RUN, await_match, free_endpoint, linked, make_event
 from ingest import IngestService
-from store import DiskFailed, Store
+from store import Store
+from store.errors import DiskFailed
 
 SOURCES = {  # src -> the kinds it cycles through
     "vehicle/173": ("vehicle.perception", "vehicle.decision", "entity.state"),

@@ -6,7 +6,7 @@ import pytest
 
 from explain.report_data import run_map
 from reasoner.history import read_map
-from store import read_run_map
+from store.run_map import read_run_map
 from store import run_map as rm
 
 

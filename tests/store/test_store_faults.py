@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from ingest.store_faults import store_condition
-from store import (DiskFull, RowRefused, Store, StoreBusy, StoreDamaged, StoreFault, StoreReadOnly, store_fault,
-                   translating)
+from store import Store, StoreFault, store_fault, translating
+from store.errors import DiskFull, RowRefused, StoreBusy, StoreDamaged, StoreReadOnly
 from tests.helpers.store_testkit import event
 
 

@@ -14,7 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from store import DiskFull, Store
+from store import Store
+from store.errors import DiskFull
 from tests.helpers.store_testkit import event
 
 ROOT = Path(__file__).parents[2]
