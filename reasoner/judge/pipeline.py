@@ -21,6 +21,7 @@ from ..history import Scenario, entity, has_perception, vehicle_action, vehicle_
 from ..stages import RuleSet
 from . import findings as F
 from . import monitor_stage, sanctions, validator_stage
+from ..verdicts import Verdict
 from .case import NO_WEIGHING, Case, Judged, Validation, Weighing, incident_id
 from .court import Court
 from .status import at_act
@@ -81,7 +82,7 @@ def stages(court: Court, case: Case, mscen: Scenario, vscen: Scenario, derived: 
         return None
     judged_on = "vehicle scenario" if has_perception(case.state, case.vehicle) else "monitor scenario"
     if case.pv and not rederived:
-        validation = Validation("dismissed", monitor_stage.unsupported(mscen, bool(derived)))
+        validation = Validation(Verdict.DISMISSED, monitor_stage.unsupported(mscen, bool(derived)))
     else:
         validation = validator_stage.validate(court, case, judged_on, vscen, mscen, unknown,
                                               frozenset(f.sentence for f in derived), proofs or rule is None,

@@ -18,6 +18,7 @@ from ..stages import defines
 from ..vocabulary import (FACES_REGULATORY_SANCTIONS, GETS_LICENCE_POINTS, INCURS_FIXED_PENALTY, IS_AN_OFFENCE_UNDER,
                           IS_LIABLE, IS_OFFERED_A_FIXED_PENALTY, PUNISHABLY_VIOLATES)
 from .asking import as_asked
+from ..verdicts import Verdict
 from .case import Case, Validation
 from .court import Court
 
@@ -28,7 +29,7 @@ def sanctions(court: Court, case: Case, validation: Validation, control: Control
               vscen: Scenario) -> tuple[Penalty | None, Liability | None]:
     """The penalty and the liability of a punishable verdict (None, None otherwise), the penalty
     as the liability stage offers it (a fixed penalty, licence points, regulatory sanctions)."""
-    if validation.verdict != "punishable":
+    if validation.verdict != Verdict.PUNISHABLE:
         return None, None
     penalty = penalty_of(court, case, [s for s, _ in validation.scenario])
     liability = liability_of(court, case, control, vscen)

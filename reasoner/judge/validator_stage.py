@@ -19,10 +19,11 @@ from ..perception import corrected, dispute_finding
 from ..history import Scenario, entity, status_facts
 from ..stages import Choice
 from ..vocabulary import CAN, MITIGATELY_VIOLATES, POTENTIALLY_VIOLATES, PUNISHABLY_VIOLATES
+from ..verdicts import ASKED, Verdict
 from .case import Case, Contested, Validation
 from .court import Court
 
-VERDICTS = ("punishable", "mitigated")          # the questions of `verdict`, in the order asked
+VERDICTS = ASKED                                 # the questions of `verdict`, in the order asked
 Turn = tuple[str, str, str, list[Atom], list[tuple[Atom, EventRef]]]
 
 
@@ -35,7 +36,7 @@ def validate(court: Court, case: Case, judged_on: str, vscen: Scenario, mscen: S
     own perception) is worked out."""
     choice = case.rs["validator"]
     if choice is None:
-        return Validation("dismissed", "no rulebook defines punishable and mitigated violations")
+        return Validation(Verdict.DISMISSED, "no rulebook defines punishable and mitigated violations")
     rb, me, act = choice.rulebook, case.me, case.act
     mine = court.reader.pairs(rb, vscen.facts, unknown)
     seen = court.reader.pairs(rb, mscen.facts, unknown)
@@ -54,8 +55,8 @@ def validate(court: Court, case: Case, judged_on: str, vscen: Scenario, mscen: S
         sentence, words, alt, extra, kept = turns
         set_aside = tuple((court.render(rb, a), ev) for a, ev in facts if (a, ev) not in kept)
         facts = kept
-        if alt == "dismissed":
-            found, why = "dismissed", "" if summary else (
+        if alt == Verdict.DISMISSED:
+            found, why = Verdict.DISMISSED, "" if summary else (
                 f"not proven: the verdict is {found} only on “{sentence}”, which the measurements contradict "
                 f"beyond their tolerance: {words}")
         else:
@@ -79,7 +80,7 @@ def raised_on(court: Court, case: Case, mscen: Scenario, validation: Validation,
     monitor = case.rs["monitor"]
     said = {text: words for text, words, _ in contested}
     held = [text for text in mscen.sentences if isinstance(text, str) and text in said]
-    if validation.verdict == "dismissed" or monitor is None or not held:
+    if validation.verdict == Verdict.DISMISSED or monitor is None or not held:
         return validation
     rb = monitor.rulebook
     measured: list[tuple[Any, EventRef | None]] = [(m, None) for text, _, shown in contested if text in held
@@ -89,7 +90,7 @@ def raised_on(court: Court, case: Case, mscen: Scenario, validation: Validation,
         return validation
     why = "" if summary else (f"not proven: the potential violation rests on “{held[0]}”, and the measurements "
                               f"contradict it beyond their tolerance: {said[held[0]]}")
-    return replace(validation, verdict="dismissed", why=why)
+    return replace(validation, verdict=Verdict.DISMISSED, why=why)
 
 
 def turns_on(court: Court, rb: Rulebook, me: Any, act: Any, facts: list[tuple[Atom, EventRef]], pv_atom: Atom,
@@ -99,7 +100,7 @@ def turns_on(court: Court, rb: Rulebook, me: Any, act: Any, facts: list[tuple[At
     claims' place), the atoms they derive and the facts without the claims; None where no
     contested claim is in the scenario or the verdict is the same without it (DESIGN
     "Weighing": the verdict rests on what is proved, whichever side a claim helps)."""
-    if found == "dismissed" or not contested:
+    if found == Verdict.DISMISSED or not contested:
         return None
     atoms = {a: text for text, _, _ in contested for a, _ in court.reader.pairs(rb, _unreferenced([text]), [])}
     held = [a for a, _ in facts if a in atoms]
@@ -147,9 +148,9 @@ def verdict(court: Court, rb: Rulebook, me: Any, act: Any, atoms: list[Atom],
     goals = (PUNISHABLY_VIOLATES.atom(me, act), MITIGATELY_VIOLATES.atom(me, act))
     if not proofs:
         first = court.engine.first_holding(rb, goals, atoms)
-        return (VERDICTS[first] if first >= 0 else "dismissed"), None
+        return (VERDICTS[first] if first >= 0 else Verdict.DISMISSED), None
     first, answer = court.engine.ask_first(rb, goals, atoms)
-    return (VERDICTS[first] if first >= 0 else "dismissed"), answer
+    return (VERDICTS[first] if first >= 0 else Verdict.DISMISSED), answer
 
 
 def action_text(rb: Rulebook, me: Any, act: Any) -> str:
@@ -159,9 +160,9 @@ def action_text(rb: Rulebook, me: Any, act: Any) -> str:
 
 def why_of(found: str, rb: Rulebook, me: Any, act: Any) -> str:
     return {
-        "punishable": f"\"{action_text(rb, me, act)}\" is not among the lawful actions of the Validator Scenario",
-        "mitigated": f"\"{action_text(rb, me, act)}\" is among the lawful actions of the Validator Scenario",
-        "dismissed": "the validator rules establish neither a punishable nor a mitigated violation",
+        Verdict.PUNISHABLE: f"\"{action_text(rb, me, act)}\" is not among the lawful actions of the Validator Scenario",
+        Verdict.MITIGATED: f"\"{action_text(rb, me, act)}\" is among the lawful actions of the Validator Scenario",
+        Verdict.DISMISSED: "the validator rules establish neither a punishable nor a mitigated violation",
     }[found]
 
 

@@ -11,6 +11,7 @@ from typing import Any
 
 from .. import acts
 from ..measurement import Measurement, rule_key
+from ..verdicts import Verdict
 from .case import NO_WEIGHING, Validation, Weighing
 
 
@@ -39,10 +40,10 @@ def proved(validation: Validation, rule: Any, unproven: tuple[tuple[str | None, 
            summary: bool) -> Validation:
     """A conviction needs the act's margin beyond its uncertainty (DESIGN "Margins"): a
     punishable verdict whose rule's margin does not exceed it is not proven, and dismissed so."""
-    if validation.verdict != "punishable" or not unproven:
+    if validation.verdict != Verdict.PUNISHABLE or not unproven:
         return validation
     key = rule_key(rule.label if rule is not None else None)
     why = next((w for r, w in unproven if r == key), None)
     if why is None:
         return validation
-    return replace(validation, verdict="dismissed", why="" if summary else f"not proven: {why}")
+    return replace(validation, verdict=Verdict.DISMISSED, why="" if summary else f"not proven: {why}")
