@@ -86,15 +86,20 @@ def per_act(path: Path) -> dict[str, Any]:
 
 
 def without_histories(path: Path) -> float:
-    """Wall seconds of the judgement with no history (for the difference only)."""
-    from reasoner import investigation
+    """Wall seconds of the judgement with no history (for the difference only): every court,
+    plain or kept, measures nothing."""
+    from reasoner.judge.court import Court
+    from reasoner.measurement import Measurement
+    from reasoner.speedups.kept_court import KeptCourt
 
-    measured = investigation.Investigation._measured
-    investigation.Investigation._measured = lambda self, case, mscen: investigation._Measured()
+    saved = {court: court.measured for court in (Court, KeptCourt)}
+    for court in saved:
+        court.measured = lambda self, case, mscen, vscen: Measurement(present=False)  # type: ignore[method-assign]
     try:
         return incidents_once(path)[1]
     finally:
-        investigation.Investigation._measured = measured
+        for court, measured in saved.items():
+            court.measured = measured  # type: ignore[method-assign]
 
 
 def whole_record(path: Path) -> dict[str, Any]:
