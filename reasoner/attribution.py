@@ -45,7 +45,7 @@ act (reaction.well_ahead), never as a leader of U's own.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Sequence, cast
 
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
 from .history import Junction
@@ -53,8 +53,8 @@ from .history import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_a
 from .history import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M
 from .history import Other, Passage
 from .history import PAST_TOLERANCE_M
-from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SPEED_NOISE_MPS, _Way, needed_deceleration,
-                       slowing_began)
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SPEED_NOISE_MPS, _HasSpeed, _Placed, _Way, _xy,
+                       needed_deceleration, slowing_began)
 
 SECOND = 1_000_000_000
 SAME_ZONE_M = CAR_LENGTH_M / 2  # two conflict zones this close along a road user's way are one place: a road user
@@ -175,21 +175,21 @@ def _travelled(samples: Sequence[Sample], t0: int, t1: int) -> float | None:
     b, _ = position_at(samples, t1)
     if a is None or b is None:
         return None
-    points = [a, *((s.x, s.y) for s in samples if s.placed and t0 < s.t < t1), b]
+    points = [a, *(_xy(s) for s in samples if s.placed and t0 < s.t < t1), b]
     return sum(math.dist(p, q) for p, q in zip(points, points[1:]))
 
 
-def _slowest(samples: Sequence[Sample], onset: int) -> Sample | None:
+def _slowest(samples: Sequence[Sample], onset: int) -> _HasSpeed | None:
     """The road user's slowest sample in the slowing begun at `onset`: the lowest speed from then
     on, before it went SPEED_NOISE_MPS faster again."""
-    low: Sample | None = None
+    low: _HasSpeed | None = None
     for s in samples:
         if s.t < onset or s.speed_mps is None:
             continue
         if low is not None and s.speed_mps > low.speed_mps + SPEED_NOISE_MPS:
             break
         if low is None or s.speed_mps < low.speed_mps:
-            low = s
+            low = cast(_HasSpeed, s)        # its speed is measured (the None ones are passed over)
     return low
 
 
@@ -209,7 +209,7 @@ def _extended(samples: Sequence[Sample], extend_m: float) -> list[tuple[float, f
     points: list[tuple[float, float]] = []
     for s in samples:
         if s.placed and (not points or (s.x, s.y) != points[-1]):
-            points.append((s.x, s.y))
+            points.append(_xy(s))
     if extend_m > 0 and len(points) >= 2:
         (x0, y0), (x1, y1) = points[-2], points[-1]
         length = math.hypot(x1 - x0, y1 - y0)
@@ -274,7 +274,7 @@ def came_between(first: Sequence[Sample], other: Other, beyond: Sequence[Sample]
     for s in first:
         if s.t <= onset or not s.placed:
             continue
-        hit = way.hit((s.x, s.y))
+        hit = way.hit(_xy(s))
         heading = _heading_at(first, s.t)
         if hit is None or not hit.goes_along(heading):
             continue
@@ -305,7 +305,7 @@ def waited_after(w: Other, other: Other, onset: int, junction: Junction, entered
     if line is None or w.arm == other.arm:
         return False
     return any(s.t > onset and (entered is None or s.t < entered) and s.placed and s.speed_mps is not None
-               and s.speed_mps <= STOPPED_MPS and line.to_line(s.x, s.y) >= -PAST_TOLERANCE_M for s in w.way)
+               and s.speed_mps <= STOPPED_MPS and line.to_line(*_xy(s)) >= -PAST_TOLERANCE_M for s in w.way)
 
 
 def ahead_of(c: Conflict, d: Conflict) -> bool:
@@ -325,11 +325,22 @@ def ahead_of(c: Conflict, d: Conflict) -> bool:
 
     One order for every pair, so that two vehicles are never each excused by the other's conflict
     with the same braking."""
-    if (c.projected_gap_s < 0) != (d.projected_gap_s < 0):
-        return c.projected_gap_s < 0
-    if abs(c.onset_to_zone_m - d.onset_to_zone_m) > SAME_ZONE_M:
-        return c.onset_to_zone_m < d.onset_to_zone_m
-    return c.projected_gap_s < d.projected_gap_s
+    if (_gap(c) < 0) != (_gap(d) < 0):
+        return _gap(c) < 0
+    if abs(_zone(c) - _zone(d)) > SAME_ZONE_M:
+        return _zone(c) < _zone(d)
+    return _gap(c) < _gap(d)
+
+
+def _gap(c: Conflict) -> float:
+    """The projected gap of a conflict measured at the onset: only such conflicts are compared
+    (`nearer_conflict` passes over W's and V's with either measure missing)."""
+    return cast(float, c.projected_gap_s)
+
+
+def _zone(c: Conflict) -> float:
+    """The distance to the zone of a conflict measured at the onset (as `_gap`)."""
+    return cast(float, c.onset_to_zone_m)
 
 
 def both_collisions(c: Conflict, mine: Conflict) -> bool:
@@ -340,7 +351,7 @@ def both_collisions(c: Conflict, mine: Conflict) -> bool:
     the other: the paper run's 236 stopped as 298 (unslowed, in its zone with it: -3.36 s, 6.3 m
     on) and 182 (-1.15 s, 19.2 m on) came out of their lines together, and SUMO's account says it
     braked for 182 (9.0 m/s², held 2.1), which the first-on-its-way order had put down to 298."""
-    return c.projected_gap_s < 0 and mine.projected_gap_s < 0
+    return _gap(c) < 0 and _gap(mine) < 0
 
 
 def proceeding(p: Passage, onset: int) -> bool:
@@ -361,9 +372,9 @@ def why(c: Conflict, mine: Conflict | None) -> str:
     "first" (W's zone first on its way), "closer" (one place, W's gap the smaller)."""
     if mine is None:
         return "apart"
-    if (c.projected_gap_s < 0) != (mine.projected_gap_s < 0):
+    if (_gap(c) < 0) != (_gap(mine) < 0):
         return "collision"
-    if abs(c.onset_to_zone_m - mine.onset_to_zone_m) > SAME_ZONE_M:
+    if abs(_zone(c) - _zone(mine)) > SAME_ZONE_M:
         return "first"
     return "closer"
 
@@ -385,8 +396,8 @@ def _heading_at(samples: Sequence[Sample], t: int) -> tuple[float, float] | None
     else from its positions half a second either side."""
     stated = [s for s in samples if s.heading_deg is not None and abs(s.t - t) <= SECOND // 2]
     if stated:
-        a = math.radians(min(stated, key=lambda s: abs(s.t - t)).heading_deg)
-        return math.cos(a), math.sin(a)
+        angle = math.radians(cast(float, min(stated, key=lambda s: abs(s.t - t)).heading_deg))
+        return math.cos(angle), math.sin(angle)
     a, _ = position_at(samples, t - SECOND // 2)
     b, _ = position_at(samples, t + SECOND // 2)
     if a is None or b is None:
@@ -441,7 +452,8 @@ def came_in_behind(p: Passage, other: Other, mine: Conflict | None) -> bool:
     if not speeds or any(v < max(speeds[:i + 1]) - SPEED_NOISE_MPS for i, v in enumerate(speeds)):
         return False                    # V slowed or stopped on its way in: its timing may have been the road user's
     way = _Way.of(other.way, VEHICLE_WIDTH_M)
-    after = [s for s in p.samples if s.placed and mine.mine.left <= s.t <= mine.mine.left + 2 * SECOND]
+    after = cast("list[_Placed]", [s for s in p.samples
+                                   if s.placed and mine.mine.left <= s.t <= mine.mine.left + 2 * SECOND])
     if len(way.points) < 2 or not after:
         return False
     for s in after:

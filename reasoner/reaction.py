@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import NamedTuple, Sequence
+from typing import NamedTuple, Protocol, Sequence, cast
 
 from .history import Junction
 from .history import MIN_DECEL_SPAN_S, Sample, position_at, speed_at
@@ -41,6 +41,36 @@ _SAME_WAY = math.cos(math.radians(SAME_WAY_DEG))
 Point = tuple[float, float]
 
 
+class _Placed(Protocol):
+    """A Sample whose position is measured (Sample.placed): x and y are floats. The lists of
+    placed samples below are typed so (typing.cast: the filter on `placed` is what makes them so)."""
+
+    @property
+    def t(self) -> int: ...
+    @property
+    def x(self) -> float: ...
+    @property
+    def y(self) -> float: ...
+    @property
+    def speed_mps(self) -> float | None: ...
+    @property
+    def heading_deg(self) -> float | None: ...
+
+
+class _HasSpeed(Protocol):
+    """A Sample whose speed is measured (speed_mps not None)."""
+
+    @property
+    def t(self) -> int: ...
+    @property
+    def speed_mps(self) -> float: ...
+
+
+def _xy(s: Sample) -> Point:
+    """The position of a placed sample (Sample.placed: x and y both measured)."""
+    return cast(Point, (s.x, s.y))
+
+
 def slowing_began(other: Other) -> int | None:
     """When the road user began the slowing that ended in its hardest braking or its stop: the last
     of its samples up to that moment still within SPEED_NOISE_MPS of the fastest it went before it.
@@ -52,7 +82,8 @@ def slowing_began(other: Other) -> int | None:
         return None
     until = min(marks)
     since = other.counted_from
-    speeds = [s for s in other.samples if s.speed_mps is not None and s.t <= until and (since is None or s.t >= since)]
+    speeds = cast("list[_HasSpeed]", [s for s in other.samples
+                                      if s.speed_mps is not None and s.t <= until and (since is None or s.t >= since)])
     if not speeds:
         return until
     top = max(s.speed_mps for s in speeds)
@@ -74,7 +105,8 @@ def stop_apart(other: Other, everyone: Sequence[Other], junction: Junction) -> O
     b, stop = other.braking, other.stopped
     if b is None or stop is None or stop.t <= b.last.t:
         return None
-    speeds = [s for s in other.samples if s.speed_mps is not None and b.last.t <= s.t < stop.t]
+    speeds = cast("list[_HasSpeed]", [s for s in other.samples
+                                      if s.speed_mps is not None and b.last.t <= s.t < stop.t])
     begins: int | None = None
     first = 0
     for last, s in enumerate(speeds):
@@ -126,7 +158,7 @@ def cleared_at(mine: Sequence[Sample], theirs: Sequence[Sample], distance: float
     within that distance of it: the moment it was out of the other's way. None when it never came
     that close, or was still that close at its last position in the record (it may not have left)."""
     way = _Way.of(theirs, distance)
-    placed = [s for s in mine if s.placed]
+    placed = cast("list[_Placed]", [s for s in mine if s.placed])
     if len(way.points) < 2:
         return None
     for i in range(len(placed) - 1, -1, -1):      # from the end: the last time it was near
@@ -157,7 +189,7 @@ def well_ahead(mine: Sequence[Sample], other: Other) -> bool:
     way = _Way.of(other.way, VEHICLE_WIDTH_M)
     if began is None or len(way.points) < 2:
         return False
-    placed = [s for s in mine if s.placed]
+    placed = cast("list[_Placed]", [s for s in mine if s.placed])
     seen = False
     for i, s in enumerate(placed):
         if s.t < began - REACTION_TIME_S * SECOND:
@@ -194,7 +226,7 @@ class _Hit(NamedTuple):
 
 
 def _way(samples: Sequence[Sample]) -> list[Point]:
-    return [(s.x, s.y) for s in samples if s.placed]
+    return cast("list[Point]", [(s.x, s.y) for s in samples if s.placed])
 
 
 class _Way:
@@ -223,11 +255,11 @@ class _Way:
                    min(r[1], s[1]) - distance, max(r[1], s[1]) + distance)
             self._segments.append((*box, r, s, length, along))
             along += length
-            cells = self._cell(box[0], box[2]), self._cell(box[1], box[3])
-            if None in cells or (cells[1][0] - cells[0][0] + 1) * (cells[1][1] - cells[0][1] + 1) > self.MAX_CELLS:
+            low, high = self._cell(box[0], box[2]), self._cell(box[1], box[3])
+            if low is None or high is None or (high[0] - low[0] + 1) * (high[1] - low[1] + 1) > self.MAX_CELLS:
                 self._wide.append(i)
                 continue
-            (x0, y0), (x1, y1) = cells
+            (x0, y0), (x1, y1) = low, high
             for cx in range(x0, x1 + 1):
                 for cy in range(y0, y1 + 1):
                     self._cells.setdefault((cx, cy), []).append(i)
@@ -262,7 +294,7 @@ class _Way:
         return None if best is None else _Hit(best[1], best[2])
 
 
-def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: _Way, other: Other,
+def _ahead_and_clear(placed: Sequence[_Placed], i: int, hit: _Hit, way: _Way, other: Other,
                      began: int) -> bool:
     """Whether the vehicle at placed[i] is ahead of the road user along its way, heading its way,
     with room enough (`needed_deceleration` below FORCE_DECEL_MPS2). The road user is taken as it
@@ -285,13 +317,13 @@ def _ahead_and_clear(placed: Sequence[Sample], i: int, hit: _Hit, way: _Way, oth
     return needed_deceleration(speed, s.speed_mps * along, gap) < FORCE_DECEL_MPS2
 
 
-def _heading(placed: Sequence[Sample], i: int) -> Point | None:
+def _heading(placed: Sequence[_Placed], i: int) -> Point | None:
     """The vehicle's direction of travel at placed[i] (a unit vector): from its heading where it
     states one, else from its positions on either side."""
     s = placed[i]
     if s.heading_deg is not None:
-        a = math.radians(s.heading_deg)
-        return math.cos(a), math.sin(a)
+        angle = math.radians(s.heading_deg)
+        return math.cos(angle), math.sin(angle)
     a, b = placed[max(i - 1, 0)], placed[min(i + 1, len(placed) - 1)]
     length = math.dist((a.x, a.y), (b.x, b.y))
     return None if length < 0.1 else ((b.x - a.x) / length, (b.y - a.y) / length)
@@ -319,7 +351,7 @@ def turn_seen(series: Sequence[Sample], junction: Junction) -> float | None:
     seen = through(series, junction)
     if seen:
         return turn_deg(seen)
-    placed = [(s.x, s.y) for s in series if s.placed]
+    placed = cast("list[Point]", [(s.x, s.y) for s in series if s.placed])
     inside = [i for i, (x, y) in enumerate(placed) if junction.edge(x, y) <= 0]
     if not inside or inside[0] != 0 or inside[-1] == len(placed) - 1:
         return None
@@ -343,7 +375,7 @@ def turn_taken(other: Other, junction: Junction) -> Turn | None:
     turn at, and no lower. None where it slowed further before the junction, or the record cannot
     tell (no onset, no positions in the area, the area never left)."""
     began = slowing_began(other)
-    placed = [s for s in other.way if s.placed and began is not None and s.t >= began]
+    placed = cast("list[_Placed]", [s for s in other.way if s.placed and began is not None and s.t >= began])
     speeds = [(b.speed_mps if b.speed_mps is not None else math.dist((a.x, a.y), (b.x, b.y)) * SECOND / (b.t - a.t), b)
               for a, b in zip(placed, placed[1:]) if b.t > a.t]
     inside = [(v, b) for v, b in speeds if junction.edge(b.x, b.y) <= 0]
@@ -384,7 +416,7 @@ def behind_at_turn(mine: Sequence[Sample], other: Other, turn: Turn) -> bool:
         return False
     end = max(s.t for s in other.way)
     kept = FOLLOW_M + FOLLOW_S * turn.speed_mps
-    placed = [s for s in mine if s.placed]
+    placed = cast("list[_Placed]", [s for s in mine if s.placed])
     seen = False
     for i, s in enumerate(placed):
         if s.t < began or s.t > end:
