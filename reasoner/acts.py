@@ -33,7 +33,7 @@ def moment(passage: Passage, t: int, action: str) -> int:
     if action == SPEEDING:
         return t
     if action == BOX:
-        still = [s.t for s in passage.samples if s.t >= t and s.placed and s.speed_mps is not None
+        still = [s.t for s in passage.samples if s.t >= t and s.x is not None and s.y is not None and s.speed_mps is not None
                  and s.speed_mps <= STOPPED_MPS and passage.junction.in_box(s.x, s.y)]
         return still[0] if still else t
     if passage.crossing is not None and t < passage.crossing.t:

@@ -38,6 +38,8 @@ beyond or short of rule 126's stopping distance; for speed, the mph over the lim
 """
 from __future__ import annotations
 
+from typing import Callable, cast
+
 from .conflicts import PET_MAX_S
 from .derived import _course_changed, _walking, conflict_of, explained, reacting
 from .reaction import FORCE_DECEL_MPS2
@@ -55,7 +57,18 @@ from .when import format_time
 SECOND = 1_000_000_000
 SPEEDING = "exceed the speed limit"
 BOX = "enter the box junction"
+ToLine = Callable[[float, float], float]    # metres from a position to the Stop line (negative: past it)
 BY_RULE: dict[str, str] = {HC_176: "red", HC_175: "amber", HC_171: "stop", HC_172: "give way", HC_174: "box"}
+
+
+def _v(s: Sample) -> float:
+    """The speed of a sample kept for having one (`s.speed_mps is not None` where it was chosen)."""
+    return cast(float, s.speed_mps)
+
+
+def _xy(s: Sample) -> tuple[float, float]:
+    """The position of a sample kept for having one (`s.placed` where it was chosen)."""
+    return cast(float, s.x), cast(float, s.y)
 
 
 def margin(passage: Passage, action: str, rule: str | None = None, at: int | None = None) -> Margin | None:
@@ -150,7 +163,7 @@ def _amber(p: Passage) -> Margin | None:
     figures: tuple[tuple[str, float, str], ...] = ()
     u, unproven = (round(u_place, 2) if u_place is not None else None), None
     weighed = beyond_stopping(a, sensor)
-    if weighed is not None:
+    if weighed is not None and a.speed_mps is not None:     # (beyond_stopping is None without a speed)
         speed = a.speed_mps * MPH_PER_MPS
         needed = stopping_distance_m(speed)
         beyond, u_beyond = weighed[0], round(weighed[1], 2)
@@ -166,7 +179,7 @@ def _amber(p: Passage) -> Margin | None:
               "reasoner/tolerance.py)")
     c = p.crossing           # what the record leaves open about the light it crossed on is open here too
     doubt = "; ".join(filter(None, [c.moment.uncertain, c.light_uncertain])) or None if c else None
-    return Margin("metres from the stop line when amber came", round(a.to_line_m, 2), "m",
+    return Margin("metres from the stop line when amber came", round(cast(float, a.to_line_m), 2), "m",
                   tuple(s.ref for s in a.used) + (a.light.ref,), method, figures, doubt, u, None, unproven)
 
 
@@ -176,7 +189,7 @@ def _stop(p: Passage) -> Margin | None:
     end = p.crossing.t if p.crossing else p.end
     stops = [s for s in p.standstills if s.at_line and s.first.t <= end]
     if not stops:
-        return _rolled(p, end)
+        return _rolled(p, p.line.to_line, end)
     s = max(stops, key=lambda s: s.duration_s)
     u = round(still_between(s, p.samples), 3)
     return Margin("seconds stationary at the Stop line", round(s.duration_s, 3), "s", (s.first.ref, s.last.ref),
@@ -186,7 +199,7 @@ def _stop(p: Passage) -> Margin | None:
                   uncertainty=u, bound="at least")
 
 
-def _rolled(p: Passage, end: int) -> Margin:
+def _rolled(p: Passage, to_line: ToLine, end: int) -> Margin:
     """A vehicle that never stood at its Stop line: the slowest it was measured before the line,
     and whether the record rules out a stop between two samples (tolerance.lowest_between, with the
     speed tolerance its source states). Para 1 asks it to stop; the prosecution must prove it did
@@ -195,26 +208,26 @@ def _rolled(p: Passage, end: int) -> Margin:
     sensor = sensor_of(p, placed[0] if placed else None)
     timed = [s for s in placed if s.t <= end]
     for s in placed[len(timed):]:       # past the line by no more than its position tolerance: may be on it
-        if p.line.to_line(s.x, s.y) < -sensor.position_m:
+        if to_line(*_xy(s)) < -sensor.position_m:
             break
         timed.append(s)
-    pairs = [(a, b) for a, b in zip(timed, timed[1:]) if _at_line(p, a, b)]
+    pairs = [(a, b) for a, b in zip(timed, timed[1:]) if _at_line(to_line, a, b)]
     refs = p.crossing.moment.refs if p.crossing else ()
     if not pairs:
         doubt = next((n for n in p.uncertain if "could have stopped unseen" in n), None)
         return Margin("seconds stationary at the Stop line", 0.0, "s", refs,
                       "no sample at the line below 0.5 mph before the crossing", (), doubt)
-    slowest = min((s for pair in pairs for s in pair), key=lambda s: s.speed_mps)
+    slowest = min((s for pair in pairs for s in pair), key=_v)
     a, b = min(pairs, key=lambda ab: lowest_between(ab[0], ab[1], sensor))
     lowest = lowest_between(a, b, sensor)
-    value = round(slowest.speed_mps * MPH_PER_MPS, 2)
+    value = round(_v(slowest) * MPH_PER_MPS, 2)
     u = round(value - lowest * MPH_PER_MPS, 2)
     stopped = round(STOPPED_MPS * MPH_PER_MPS, 2)
-    past = -p.line.to_line(slowest.x, slowest.y)
+    past = -to_line(*_xy(slowest))
     unproven = None if lowest > STOPPED_MPS else (
         f"it was measured standing still at {slowest.label}, {past:.2f} m past the Stop line: within the position "
         f"tolerance of {sensor.position_m:g} m of it, so it may have stopped at the line"
-        if slowest.speed_mps <= STOPPED_MPS else
+        if _v(slowest) <= STOPPED_MPS else
         f"its slowest measured speed before the line, {value:g} mph, is within its uncertainty of ± {u:g} mph of a "
         f"stop (under {stopped:g} mph): between {a.label} ({a.speed_mps:.2f} m/s) and {b.label} ({b.speed_mps:.2f} "
         f"m/s), {(b.t - a.t) / SECOND:g} s apart, it could have stood still unseen")
@@ -230,10 +243,10 @@ def _rolled(p: Passage, end: int) -> Margin:
                   figures, None, u, None, unproven)
 
 
-def _at_line(p: Passage, a: Sample, b: Sample) -> bool:
+def _at_line(to_line: ToLine, a: Sample, b: Sample) -> bool:
     """Whether the way between two samples reaches the stretch where a stop is a stop at the line
     (from PAST_TOLERANCE_M past it to STOP_ZONE_M before it: rebuild's standstill "at the line")."""
-    da, db = p.line.to_line(a.x, a.y), p.line.to_line(b.x, b.y)
+    da, db = to_line(*_xy(a)), to_line(*_xy(b))
     return min(da, db) <= STOP_ZONE_M and max(da, db) >= -PAST_TOLERANCE_M
 
 
@@ -253,11 +266,10 @@ def _second_limb(p: Passage) -> str:
 
 
 def _give_way(p: Passage) -> Margin | None:
-    braked = [o for o in reacting(p) if o.braking is not None and not explained(p, o) and not _walking(o)]
+    braked = [(o, o.braking) for o in reacting(p) if o.braking is not None and not explained(p, o) and not _walking(o)]
     if not braked:
         return None
-    o = max(braked, key=lambda o: o.braking.decel_mps2)
-    b = o.braking
+    o, b = max(braked, key=lambda ob: ob[1].decel_mps2)
     sensor = sensor_of(p, b.first)
     u = round(deceleration(b, sensor), 2)
     span = (b.last.t - b.first.t) / SECOND
@@ -322,8 +334,8 @@ def _conflict_figures(p: Passage, other) -> tuple[tuple[str, float, str], ...]:
 
 
 def _box(p: Passage) -> Margin | None:
-    inside = [s for s in p.samples if s.placed and s.speed_mps is not None and p.junction.in_box(s.x, s.y)]
-    still = [s for s in inside if s.speed_mps <= STOPPED_MPS]
+    inside = [s for s in p.samples if s.placed and s.speed_mps is not None and p.junction.in_box(*_xy(s))]
+    still = [s for s in inside if _v(s) <= STOPPED_MPS]
     if not still:
         return None
     sensor = sensor_of(p, still[0])
@@ -331,11 +343,11 @@ def _box(p: Passage) -> Margin | None:
     before = max((t for t in timed if t < still[0].t), default=still[0].t)
     after = min((t for t in timed if t > still[-1].t), default=still[-1].t)
     u = round((still[0].t - before + after - still[-1].t) / SECOND, 3)
-    best = max(still, key=lambda s: (s.speed_mps + sensor.speed_mps <= STOPPED_MPS and _depth(p, s) > sensor.position_m,
-                                     -s.speed_mps, _depth(p, s)))
+    best = max(still, key=lambda s: (_v(s) + sensor.speed_mps <= STOPPED_MPS and _depth(p, s) > sensor.position_m,
+                                     -_v(s), _depth(p, s)))
     depth = _depth(p, best)
     unproven = None
-    if best.speed_mps + sensor.speed_mps > STOPPED_MPS or depth <= sensor.position_m:
+    if _v(best) + sensor.speed_mps > STOPPED_MPS or depth <= sensor.position_m:
         unproven = (f"no sample shows it still in the box beyond the sensors' tolerance: the best, {best.label}, "
                     f"{best.speed_mps:.2f} m/s (± {sensor.speed_mps:g}; still is under {STOPPED_MPS:.2f} m/s) "
                     f"{depth:.2f} m inside the box's edge (± {sensor.position_m:g} m)")
@@ -343,7 +355,7 @@ def _box(p: Passage) -> Margin | None:
                   (still[0].ref, still[-1].ref), f"{len(still)} samples in the box below 0.5 mph, from "
                   f"{still[0].label} to {still[-1].label} (a lower bound; ± {u:g} s: it may have stood from the sample "
                   f"before the first to the one after the last); sensor tolerance {sensor.said}",
-                  (("slowest speed in the box", round(best.speed_mps * MPH_PER_MPS, 2), "mph"),
+                  (("slowest speed in the box", round(_v(best) * MPH_PER_MPS, 2), "mph"),
                    ("distance inside the box's edge then", round(depth, 2), "m")),
                   uncertainty=u, bound="at least", unproven=unproven)
 
@@ -352,12 +364,12 @@ def _depth(p: Passage, s: Sample) -> float:
     """Metres a position lies inside the yellow box's edge (the junction's area where the box is
     the whole of it; 0 outside)."""
     j = p.junction
-    if not j.in_box(s.x, s.y):
+    if not j.in_box(*_xy(s)):
         return 0.0
     if j.box is None:
-        return max(0.0, -j.edge(s.x, s.y))
+        return max(0.0, -j.edge(*_xy(s)))
     pts = list(j.box) + [j.box[0]]
-    return min(_to_segment(s.x, s.y, a, b) for a, b in zip(pts, pts[1:]))
+    return min(_to_segment(*_xy(s), a, b) for a, b in zip(pts, pts[1:]))
 
 
 def _to_segment(x: float, y: float, a, b) -> float:
@@ -374,7 +386,7 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     timed = sorted((s for s in p.lead + p.samples + p.trail if s.speed_mps is not None), key=lambda s: s.t)
     if not timed:
         return None
-    at = at if at is not None else max(timed, key=lambda s: s.speed_mps).t
+    at = at if at is not None else max(timed, key=_v).t
     road, limit, t_from, t_to = _road_at(p, at)
     if limit is None:
         return None
@@ -383,7 +395,7 @@ def _speed(p: Passage, at: int | None = None) -> Margin | None:
     if not stretch:
         return None
     fastest = max(stretch, key=lambda s: s.speed_mps)
-    return speeding_margin(fastest.speed_mps, limit, (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
+    return speeding_margin(_v(fastest), limit, (fastest.ref,) + ((p.map_ref,) if p.map_ref else ()),
                            sensor_of(p, fastest), stretch[0] is timed[0] or stretch[-1] is timed[-1],
                            f"fastest {fastest.speed_mps:.2f} m/s ({between((fastest,), fastest.t)}) of {len(stretch)} "
                            f"samples from {format_time(stretch[0].t)} to {format_time(stretch[-1].t)} on road {road}, "

@@ -91,17 +91,17 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
     `sentences` its sentences, `perceived` the vehicle's own facts (its Vehicle Scenario),
     `stretch` the speeding stretch around t (reasoner/stretches.py) for a speeding act."""
     found = acts.of(passage, t)
-    speeding = action == acts.SPEEDING and stretch is not None
+    over = stretch if action == acts.SPEEDING else None     # the speeding stretch, for a speeding act
     if found is None:
-        if speeding:          # a stretch away from any junction: what the stretch shows, no passage
-            return Measurement(True, stretch.peak.t, beside(stretch.facts(), sentences),
-                               margins=((None, stretch.margin()),), act=stretch.act())
+        if over is not None:          # a stretch away from any junction: what the stretch shows, no passage
+            return Measurement(True, over.peak.t, beside(over.facts(), sentences),
+                               margins=((None, over.margin()),), act=over.act())
         return Measurement(False)
     at = acts.moment(found, t, action)
     derived = facts(found, at)
     agreed, contradictions = checked(found, at, stated, derived)
-    if speeding:
-        agreed, contradictions = _over_the_stretch(stretch, agreed, contradictions)
+    if over is not None:
+        agreed, contradictions = _over_the_stretch(over, agreed, contradictions)
     beliefs = tuple((text, ref.src, ref.seq, checked(found, at, [(text, ref)], derived)[1])
                     for text, ref in perceived
                     if isinstance(text, str) and ref is not None and ref.kind == "vehicle.perception")
@@ -111,11 +111,11 @@ def measure(passage: Passage | None, t: int, action: str, stated: list[tuple[Any
                                 if (user := unmeasured(found, _said(text))) is not None))
     return Measurement(True, at, beside(agreed, sentences), contradictions, acts.moments(found),
                        tuple(sorted({light.ref.src for light in found.lights})),
-                       tuple((rule, stretch.margin() if speeding else margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
-                       act=stretch.act() if speeding else _passage_act(found),
+                       tuple((rule, over.margin() if over is not None else margin(found, action, rule, at)) for rule in (None, *BY_RULE)), beliefs, alone,
+                       act=over.act() if over is not None else _passage_act(found),
                        readings=((found.line.reading, found.map_ref),) if found.line and found.line.reading
                        and found.map_ref else (),
-                       unforced=() if speeding else second_limb(found))
+                       unforced=() if over is not None else second_limb(found))
 
 
 def _over_the_stretch(stretch: Stretch, agreed: tuple[DerivedFact, ...], contradictions: tuple[Contradiction, ...]

@@ -53,7 +53,9 @@ def witnessed_functors(monitor_rb: Rulebook, goal: str = POTENTIALLY_VIOLATES.fu
     for rule in monitor_rb.document.rules:
         by_head.setdefault(rule.head.functor, []).append(rule)
     templates = monitor_rb.document
-    seen, todo, out = {(goal, 0)}, [(goal, 0)], set()
+    seen: set[tuple[str, int | None]] = {(goal, 0)}     # (functor, the vehicle's slot in it, if any)
+    todo: list[tuple[str, int | None]] = [(goal, 0)]
+    out = set()
     while todo:
         functor, position = todo.pop()
         for rule in by_head.get(functor, []):

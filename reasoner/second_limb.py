@@ -22,6 +22,8 @@ against.
 """
 from __future__ import annotations
 
+from typing import cast
+
 from .attribution import joined_behind, leader
 from .derived import (ENDANGER_S, _clear_of, _entering, _extend, _forced, _line_no_excuse, _nearer, _out_first,
                       _set_off_t, _walking, conflict_of, conflict_words, explained, reacting, stood_on,
@@ -124,8 +126,9 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
         held = stood_on(p, o)
         if held is not None:
             c, moved = held
+            left = cast(int, c.mine.left)       # stood_on holds only a conflict zone the vehicle left
             return "stood on", (f"it came to a stop only after {v} had left the zone where their paths meet "
-                                f"({format_time(c.mine.left)}) and moved off {(moved - c.mine.left) / 1e9:.1f} s after "
+                                f"({format_time(left)}) and moved off {(moved - left) / 1e9:.1f} s after "
                                 f"{v} had left it, more than a perception-reaction time ({REACTION_TIME_S:g} s, AASHTO): "
                                 f"what held it was not {v}")
         if joined_behind(p, o, conflict_of(p, o), _set_off_t(p)):
@@ -135,13 +138,14 @@ def _reason(p: Passage, o: Other) -> tuple[str, str]:
         turned = turned_behind(p, o)
         if turned is not None:
             c, degrees, turn = turned
+            left = cast(int, c.mine.left)       # turned_behind too holds only a conflict zone the vehicle left
             behind = "" if turn is None else (
                 f"; {v} went on ahead of it down the road it turned into, and at the speed it took its turn, "
                 f"{turn.speed_mps:.2f} m/s (its own record, {format_time(turn.t)}), it kept the two-second gap "
                 f"behind {v} ({FOLLOW_M:g} m + {FOLLOW_S:g} s at that speed, HC 126) with {v} pulling away")
             return "own turn", (f"it turned {degrees:.0f}° there (more than {SAME_WAY_DEG:g}°) and did not stop: unslowed, "
                                 f"it would have come into the zone where their paths meet {c.projected_gap_s:.2f} s after "
-                                f"{v} had left it ({format_time(c.mine.left)}){behind}, so it slowed for its own turn, "
+                                f"{v} had left it ({format_time(left)}){behind}, so it slowed for its own turn, "
                                 f"with no accident with {v} to avoid")
         ahead_of = turned_ahead(p, o)
         if ahead_of is not None:

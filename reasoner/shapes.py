@@ -110,13 +110,13 @@ class Shaper:
                 return None
             functor, args, renamed = plan
             if renamed:
-                args = list(args)
+                moved = list(args)
                 for i in renamed:
-                    new = names.get(args[i])
+                    new = names.get(moved[i])
                     if new is None:
-                        new = names[args[i]] = _STAND_IN.format(len(names))
-                    args[i] = new
-                args = tuple(args)
+                        new = names[moved[i]] = _STAND_IN.format(len(names))
+                    moved[i] = new
+                args = tuple(moved)
             out.append((functor, args))
         return tuple(out)
 

@@ -20,7 +20,7 @@ This module measures and delimits; it decides nothing.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any, Iterable
+from typing import Any, Iterable, cast
 
 from store import EventRef, Store
 
@@ -145,7 +145,8 @@ def measured(events: Iterable[dict], map_: Map, vehicle: str) -> list[Measured]:
             continue
         road = map_.road(body.get("road"), x if type(x) in (int, float) else None,
                          y if type(y) in (int, float) else None)
-        out.append(Measured(e["t"], float(v), road.limit_mph if road else None, road.id if road else None,
+        speed = cast(float, v)      # an int or a float: checked above
+        out.append(Measured(e["t"], float(speed), road.limit_mph if road else None, road.id if road else None,
                             EventRef.of(e)))
         if len(out) >= MAX_SAMPLES:
             break
@@ -199,8 +200,8 @@ def with_sensors(stretch: Stretch | None, map_: Map, spawn: dict | None) -> Stre
         return None
     found = dict(map_.sensors)
     body = spawn.get("body") if isinstance(spawn, dict) else None
-    sensor = stated(body.get("tolerance"), EventRef.of(spawn)) if isinstance(body, dict) else None
-    if sensor is not None and isinstance(spawn.get("src"), str):
+    sensor = stated(body.get("tolerance"), EventRef.of(spawn)) if isinstance(body, dict) and spawn is not None else None
+    if sensor is not None and spawn is not None and isinstance(spawn.get("src"), str):   # (a body is a spawn's)
         found[spawn["src"]] = sensor
     return replace(stretch, sensors=tuple(sorted(found.items()))) if found else stretch
 

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Iterable
+from typing import Any, Iterable
 
 from .derived import FORCE_DECEL_MPS2
 from .history import Junction, Map, sector
@@ -126,7 +126,9 @@ class Sweep:
             user, route = body.get("vehicle"), self._by_src.get(event["src"])
         else:
             user, route = str(event.get("src", "")).split("/", 1)[-1], None
-        x, y, v = body.get("x"), body.get("y"), body.get("speed_mps")
+        x: Any = body.get("x")      # the values as read: their types are checked below
+        y: Any = body.get("y")
+        v: Any = body.get("speed_mps")
         if type(user) is not str or type(x) not in _NUMBER or type(y) not in _NUMBER or x - x or y - y:
             return      # (x - x is 0 for a finite number, NaN otherwise)
         if type(v) not in _NUMBER or v - v:

@@ -48,7 +48,7 @@ def moment_between(a: Sample, b: Sample, t: int, speed_mps: float | None, sensor
 def place_between(a: Sample, b: Sample, t: int, sensor: Sensor = DEFAULT) -> float:
     """± m of the position at t interpolated between a and b, along the way: the farther of the
     two measured positions from the interpolated one, and the sensors' tolerance."""
-    if a is b or not (a.placed and b.placed) or b.t == a.t:
+    if a is b or a.x is None or a.y is None or b.x is None or b.y is None or b.t == a.t:    # (not both placed)
         return sensor.position_m
     f = (t - a.t) / (b.t - a.t)
     travel = ((b.x - a.x) ** 2 + (b.y - a.y) ** 2) ** 0.5
