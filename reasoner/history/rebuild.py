@@ -21,11 +21,11 @@ between them, a light changing between two samples, no stop line on the map.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Mapping, NamedTuple
+from typing import Mapping, NamedTuple, cast
 
 from store import EventRef
 
-from .junctions import Junction, Map, StopLine, heading_sector, sector
+from .junctions import Junction, Map, Road, StopLine, heading_sector, sector
 from .motion import STOPPED_MPS, Sample, between, lerp, peak_deceleration, position_at, speed_at, stop_could_hide
 from .others import near_and_same_approach, own_cause, through
 from .passage_values import AtChange, Crossing, Moment, Other, Passage, Standstill
@@ -84,6 +84,12 @@ class Span(NamedTuple):
     through: bool          # it went through the junction and out EXIT_M: the passage is complete
 
 
+def _xy(s: Sample) -> tuple[float, float]:
+    """A placed sample's position: every caller passes only samples whose `placed` is true
+    (both x and y measured), which the type of Sample cannot say."""
+    return cast("tuple[float, float]", (s.x, s.y))
+
+
 def spans(placed: list[Sample], map_: Map) -> list[Span]:
     """(junction, first t, last t, through) of each stretch of positions within RADIUS_M of a junction,
     ended EXIT_M from the centre once the vehicle has been in the junction: what happens on its
@@ -93,7 +99,8 @@ def spans(placed: list[Sample], map_: Map) -> list[Span]:
     done: list[list] = []
     split = SPLIT_S * SECOND
     for s in placed:
-        near = map_.near(s.x, s.y, RADIUS_M)
+        x, y = _xy(s)
+        near = map_.near(x, y, RADIUS_M)
         if not near and not open_:
             through.clear()
             continue
@@ -101,18 +108,18 @@ def spans(placed: list[Sample], map_: Map) -> list[Span]:
         if through:
             through &= ids
         for jid, span in list(open_.items()):
-            out = span[3] and span[0].distance(s.x, s.y) > EXIT_M
+            out = span[3] and span[0].distance(x, y) > EXIT_M
             if out or jid not in ids or s.t - span[2] > split:
                 done.append(open_.pop(jid) + [out])
                 if out:
                     through.add(jid)
         for junction in near:
-            span = open_.get(junction.id)
-            if span is not None:
-                span[2] = s.t
-                span[3] = span[3] or junction.inside(s.x, s.y)
+            opened = open_.get(junction.id)
+            if opened is not None:
+                opened[2] = s.t
+                opened[3] = opened[3] or junction.inside(x, y)
             elif junction.id not in through:
-                open_[junction.id] = [junction, s.t, s.t, junction.inside(s.x, s.y)]
+                open_[junction.id] = [junction, s.t, s.t, junction.inside(x, y)]
     done += [span + [False] for span in open_.values()]
     done.sort(key=lambda span: (span[0].id, span[1]))
     merged: list[list] = []
@@ -134,7 +141,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
     approach, line, method = _approach(junction, placed, notes)
     timeline = record.signals.timeline(junction.id, approach)
     lights = _lights(timeline, t0, t1)
-    pairs = [(s, line.to_line(s.x, s.y)) for s in placed] if line else []
+    pairs = [(s, line.to_line(*_xy(s))) for s in placed] if line else []
     crossing = _crossing(record, pairs, timeline, notes)
     end = crossing.t if crossing else t1
     changes = tuple(_at_change(light, timeline, series, line) for light in lights if t0 < light.t <= end)
@@ -175,7 +182,9 @@ def _sensors(record: Record, others: tuple[Other, ...]) -> tuple[tuple[str, Sens
     `tolerance` for the road user's own states, a map monitor's for its observations)."""
     found = dict(record.map.sensors)
     for spawn in (record.spawn, *(record.spawns(o.user) for o in others)):
-        body = spawn.get("body") if isinstance(spawn, dict) else None
+        if not isinstance(spawn, dict):
+            continue
+        body = spawn.get("body")
         sensor = stated(body.get("tolerance"), EventRef.of(spawn)) if isinstance(body, dict) else None
         if sensor is not None and isinstance(spawn.get("src"), str):
             found[spawn["src"]] = sensor
@@ -238,14 +247,14 @@ def _ways(record: Record, junction: Junction, others: tuple[Other, ...], t_from:
 def _standing_at_end(series: tuple[Sample, ...]) -> bool:
     """Whether the last speed measured in the series is a standstill: the road user is still
     standing where the window closes, and when it moves off (derived.stood_on) is further on."""
-    last = next((s for s in reversed(series) if s.speed_mps is not None), None)
-    return last is not None and last.speed_mps <= STOPPED_MPS
+    last = next((s.speed_mps for s in reversed(series) if s.speed_mps is not None), None)
+    return last is not None and last <= STOPPED_MPS
 
 
 def _braked_inside(o: Other, junction: Junction, t_from: int, t_to: int) -> bool:
     """Whether the road user slowed while inside the junction's area in [t_from, t_to]
     (others.braking_into counts braking outside it only)."""
-    inside = tuple(s for s in o.samples if s.placed and junction.edge(s.x, s.y) <= 0)
+    inside = tuple(s for s in o.samples if s.placed and junction.edge(*_xy(s)) <= 0)
     braking = peak_deceleration(inside, t_from, t_to)
     return braking is not None and braking.decel_mps2 > 0
 
@@ -265,37 +274,40 @@ def _approach(junction: Junction, placed: list[Sample], notes: list[str]) -> tup
     if not placed:
         return None, None, "no position in the passage"
     first = placed[0]
-    if junction.edge(first.x, first.y) > 0 and _closing(junction, placed):
-        arm = sector(first.x - junction.x, first.y - junction.y)
+    x, y = _xy(first)
+    if junction.edge(x, y) > 0 and _closing(junction, placed):
+        arm = sector(x - junction.x, y - junction.y)
         line = _line(junction, arm, first)
-        how = (f"from its first position in the passage, {junction.distance(first.x, first.y):.0f} m {arm} of the "
+        how = (f"from its first position in the passage, {junction.distance(x, y):.0f} m {arm} of the "
                f"centre ({first.label}), then closer")
     else:
-        heading = next((s for s in placed if s.heading_deg is not None), None)
-        if heading is None:
+        found = next(((s, s.heading_deg) for s in placed if s.heading_deg is not None), None)
+        if found is None:
             notes.append("where the vehicle came from is not in the record: first seen in or leaving the junction, "
                          "with no heading")
             return None, None, "unknown"
-        arm = heading_sector(heading.heading_deg)
+        heading, degrees = found
+        arm = heading_sector(degrees)
         line = junction.line_for(arm)
-        how = f"from its heading, {heading.heading_deg:.0f}° ({heading.label}): first seen in or leaving the junction"
+        how = f"from its heading, {degrees:.0f}° ({heading.label}): first seen in or leaving the junction"
     return (line.approach if line else arm), line, how
 
 
 def _closing(junction: Junction, placed: list[Sample]) -> bool:
-    first = junction.distance(placed[0].x, placed[0].y)
-    return len(placed) == 1 or min(junction.distance(s.x, s.y) for s in placed) < first - 0.5
+    first = junction.distance(*_xy(placed[0]))
+    return len(placed) == 1 or min(junction.distance(*_xy(s)) for s in placed) < first - 0.5
 
 
 def _line(junction: Junction, arm: str, first: Sample) -> StopLine | None:
     """The stop line of the approach named like the vehicle's sector, else the nearest line
     the vehicle is in front of."""
+    x, y = _xy(first)
     named = junction.line_for(arm)
-    if named is not None and named.to_line(first.x, first.y) > 0:
+    if named is not None and named.to_line(x, y) > 0:
         return named
     ahead = [line for line in junction.lines
-             if line.to_line(first.x, first.y) > 0 and line.alongside(first.x, first.y)]
-    return min(ahead, key=lambda line: line.to_line(first.x, first.y), default=None)
+             if line.to_line(x, y) > 0 and line.alongside(x, y)]
+    return min(ahead, key=lambda line: line.to_line(x, y), default=None)
 
 
 def _lights(timeline: tuple[Light, ...], t0: int, t1: int) -> tuple[Light, ...]:
@@ -375,17 +387,20 @@ def _standstills(series: tuple[Sample, ...], line: StopLine | None) -> tuple[Sta
     """Each run of consecutive speed samples at which the vehicle stood still."""
     runs: list[list[Sample]] = []
     still = False
-    for s in (s for s in series if s.speed_mps is not None):
-        if s.speed_mps <= STOPPED_MPS:
+    for s in series:
+        speed = s.speed_mps
+        if speed is None:
+            continue
+        if speed <= STOPPED_MPS:
             if still:
                 runs[-1].append(s)
             else:
                 runs.append([s])
-        still = s.speed_mps <= STOPPED_MPS
+        still = speed <= STOPPED_MPS
     out = []
     for run in runs:
         last = next((s for s in reversed(run) if s.placed), None)
-        d = line.to_line(last.x, last.y) if line and last else None
+        d = line.to_line(*_xy(last)) if line and last else None
         out.append(Standstill(run[0], run[-1], len(run), d,
                               d is not None and -PAST_TOLERANCE_M <= d <= STOP_ZONE_M))
     return tuple(out)
@@ -395,7 +410,7 @@ def _entry(junction: Junction, placed: list[Sample], record: Record, notes: list
            ) -> tuple[Moment | None, Moment | None, str | None]:
     """When the vehicle entered and left the junction's area, interpolated on its edge, and the
     arm it left by."""
-    edges = [(s, junction.edge(s.x, s.y)) for s in placed]
+    edges = [(s, junction.edge(*_xy(s))) for s in placed]
     if not edges:
         return None, None, None
     inside = edges[0][1] <= 0
@@ -406,7 +421,8 @@ def _entry(junction: Junction, placed: list[Sample], record: Record, notes: list
         if not inside and ea > 0 >= eb and entered is None:
             entered, inside = _edge_moment(record, a, ea, b, eb), True
         elif inside and ea <= 0 < eb:
-            return entered, _edge_moment(record, a, ea, b, eb), sector(b.x - junction.x, b.y - junction.y)
+            x, y = _xy(b)
+            return entered, _edge_moment(record, a, ea, b, eb), sector(x - junction.x, y - junction.y)
     return entered, None, None
 
 
@@ -447,8 +463,9 @@ def _roads(record: Record, placed: list[Sample]) -> tuple[tuple[int, str, float 
     naming a road of the map is on it; one naming none is snapped to the nearest road, at most
     once every ROAD_EVERY_S (a map of many roads costs a search of them all per snap)."""
     out: list[tuple[int, str, float | None]] = []
-    named: dict[str, object] = {}
-    snapped_at, snapped = None, None
+    named: dict[str, Road | None] = {}
+    snapped_at: int | None = None
+    snapped: Road | None = None
     for s in placed:
         road = named.get(s.road) if isinstance(s.road, str) else None
         if road is None and isinstance(s.road, str) and s.road not in named:
@@ -484,7 +501,7 @@ TYPES = frozenset({"car", "ambulance", "fire_engine", "police_car", "bus", "cycl
 def _typed(other: Other, spawn: dict | None) -> Other:
     """The other road user with the type its entity.spawn gives, if any."""
     kind = _type(spawn)
-    return replace(other, type=kind, spawn=EventRef.of(spawn)) if kind in TYPES else other
+    return replace(other, type=kind, spawn=EventRef.of(spawn)) if spawn is not None and kind in TYPES else other
 
 
 def _type(spawn: dict | None) -> str | None:
@@ -506,7 +523,7 @@ def _notes(record: Record, junction: Junction, approach: str | None, line: StopL
                      "where it was then is not in the record")
     if pairs and pairs[0][1] <= 0:
         notes.append(f"first seen already past the stop line ({pairs[0][0].label}): the crossing is not in the record")
-    if _stop_line(junction, line):
+    if line is not None and _stop_line(junction, line):
         _hidden_stops(series, line, crossing, standstills, notes)
     srcs = {s.ref.src for s in series}
     notes += [f"{gap.words}, within this passage" for gap in record.gaps_of(srcs, t0, t1)]
@@ -520,8 +537,8 @@ def _notes(record: Record, junction: Junction, approach: str | None, line: StopL
                      "read, or its record, stops there")
 
 
-def _stop_line(junction: Junction, line: StopLine | None) -> bool:
-    return line is not None and (line.kind == "stop_sign" or (not line.kind and junction.control == "stop"))
+def _stop_line(junction: Junction, line: StopLine) -> bool:
+    return line.kind == "stop_sign" or (not line.kind and junction.control == "stop")
 
 
 def _hidden_stops(series: tuple[Sample, ...], line: StopLine, crossing: Crossing | None,
@@ -532,7 +549,7 @@ def _hidden_stops(series: tuple[Sample, ...], line: StopLine, crossing: Crossing
         return
     timed = [s for s in series if s.speed_mps is not None and s.placed and (end is None or s.t <= end)]
     for a, b in zip(timed, timed[1:]):
-        near = -PAST_TOLERANCE_M <= line.to_line(b.x, b.y) <= STOP_ZONE_M + 10.0
+        near = -PAST_TOLERANCE_M <= line.to_line(*_xy(b)) <= STOP_ZONE_M + 10.0
         if near and stop_could_hide(a, b):
             notes.append(f"between {a.label} ({a.speed_mps:.1f} m/s) and {b.label} ({b.speed_mps:.1f} m/s) the "
                          "vehicle could have stopped unseen: the samples cannot tell whether it stopped at the line")
