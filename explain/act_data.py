@@ -13,7 +13,7 @@ does not carry is simply not drawn.
 from __future__ import annotations
 
 import re
-from typing import Any, Iterable
+from typing import Any, Iterable, cast
 
 from reasoner import acts, history
 from reasoner.model import Incident
@@ -79,7 +79,8 @@ def _to_line(passage: Passage | None, t_from: int, t_to: int) -> dict[str, Any] 
     if passage is None or passage.line is None:
         return None
     line = passage.line
-    points = [{"t": s.t, "m": round(line.to_line(s.x, s.y), 2), "src": s.ref.src, "seq": s.ref.seq}
+    points = [{"t": s.t, "m": round(line.to_line(cast(float, s.x), cast(float, s.y)), 2),  # placed: x and y
+               "src": s.ref.src, "seq": s.ref.seq}
               for s in passage.samples if s.placed and t_from <= s.t <= t_to]
     if not points:
         return None

@@ -183,8 +183,8 @@ def _speed_lines(tl: dict[str, Any], x: Callable, y: Callable) -> list[str]:
 
 def _other_speed(tl: dict[str, Any], x: Callable, y: Callable) -> list[str]:
     """The speed of the road user the vehicle would force or endanger, dashed, in its own colour."""
-    other = tl.get("other")
-    points = [p for p in (other or {}).get("speed") or [] if p["speed_mps"] is not None]
+    other: dict[str, Any] = tl.get("other") or {}
+    points = [p for p in other.get("speed") or [] if p["speed_mps"] is not None]
     if not points:
         return []
     pts = [(x(p["t"]), y(p["speed_mps"])) for p in points]

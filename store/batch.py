@@ -13,7 +13,7 @@ later, by anyone else, then stands out as uncovered.
 
 from __future__ import annotations
 
-from typing import Iterable
+from typing import Iterable, cast
 
 from . import merkle
 from .canonical import canonical_json
@@ -68,7 +68,7 @@ class Batch:
         place, refuse = self._place, self._refuse
         for origin, raw, event, canonical, reason in candidates:
             if reason is None:
-                reason = place(event, canonical)
+                reason = place(cast(dict, event), cast(bytes, canonical))  # accepted: both given
             if reason is not None:
                 refuse(origin, raw, reason)
 

@@ -9,7 +9,7 @@ pattern, oneOf, $ref to $defs) mean the same in both drafts.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Iterable
+from typing import Any, Callable, Iterable, cast
 
 import re
 
@@ -60,7 +60,7 @@ def body_problem(kind: str, body: Any) -> tuple[str, str] | None:
         validator(kind)(body, name_prefix="body")
     except fastjsonschema.JsonSchemaValueException as exc:
         shown = f"{json_type(exc.value)} {show(exc.value)}"
-        return exc.name, f"{kind} {exc.message} (schema rule {exc.rule}), got {shown}"
+        return cast(str, exc.name), f"{kind} {exc.message} (schema rule {exc.rule}), got {shown}"
     except RecursionError:
         return "body", f"{kind} body is nested too deeply to check"
     return None

@@ -208,10 +208,12 @@ def _named(counts: Counter[str]) -> dict[str, int]:
 def prunes(conn: sqlite3.Connection) -> list[Pruned]:
     """Every recorded prune, oldest first."""
     out = []
-    for row in conn.execute("SELECT id, pruned_at, before, through_id, rows, samples, bytes, first_at, last_at, "
-                            "digest, summary FROM quarantine_prunes ORDER BY id"):
-        summary = json.loads(row[10])
-        out.append(Pruned(*row[:10], summary["by_reason"], summary["by_origin"]))
+    for id_, at, before, through, rows, samples, size, first, last, digest, summary in conn.execute(
+            "SELECT id, pruned_at, before, through_id, rows, samples, bytes, first_at, last_at, "
+            "digest, summary FROM quarantine_prunes ORDER BY id"):
+        counts = json.loads(summary)
+        out.append(Pruned(id_, at, before, through, rows, samples, size, first, last, digest,
+                          counts["by_reason"], counts["by_origin"]))
     return out
 
 

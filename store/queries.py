@@ -7,7 +7,7 @@ fast as a store grows to millions of events.
 from __future__ import annotations
 
 import sqlite3
-from typing import Any, Collection, Iterator
+from typing import Any, Collection, Iterator, cast
 
 from .ddl import DENSE_KINDS, SPARSE_ONLY
 from .errors import EvidenceError, IndexDisagrees
@@ -186,7 +186,7 @@ def highest_seq(conn: sqlite3.Connection, run: str, src: str) -> int | None:
 def missing_seqs(conn: sqlite3.Connection, run: str, src: str) -> list[tuple[int, int]]:
     """The [first, last] ranges of seqs missing below the source's highest, in order."""
     count, highest = seq_bounds(conn, run, src)
-    if not count or count == highest + 1:
+    if not count or count == cast(int, highest) + 1:  # events stored: a highest seq
         return []
     out, expected = [], 0
     for (seq,) in conn.execute("SELECT seq FROM events WHERE run = ? AND src = ? ORDER BY seq", (run, src)):

@@ -25,7 +25,7 @@ is then kept in memory, store/heads.py), not per append.
 from __future__ import annotations
 
 import sqlite3
-from typing import Any
+from typing import Any, NoReturn
 
 from . import merkle
 from .chain import RunChain
@@ -105,12 +105,12 @@ def _check_signed(conn: sqlite3.Connection, run: str, key: CheckpointKey, latest
     problem = _signature_problem(run, latest, key)
     recorded = [] if trust is None else trust.first.get(run, [])
     match = next((head for head in recorded if _records(conn, run, key, head)), None)
-    if match is not None:
+    if trust is not None and match is not None:
         trust.here.add(run)
     known = None if trust is None else trust.last.get(run)
     if known is not None:
         _check_extends(conn, run, key, latest, problem, *known)
-    elif recorded:
+    elif trust is not None and recorded:  # (nothing is recorded without the key file)
         if match is None:
             sizes = ", ".join(str(head.size) for head in recorded)
             _refuse(run, f"holds no checkpoint signed by key {key.id} that records one of the first signed heads "
@@ -178,7 +178,7 @@ def _frontier(run: str, anchor: tuple) -> list[bytes] | None:
     return frontier
 
 
-def _refuse(run: str, what: str, *, altered: bool = True) -> None:
+def _refuse(run: str, what: str, *, altered: bool = True) -> NoReturn:
     if not altered:
         raise TamperedTail(f"run {run} {what}; nothing was appended to it")
     raise TamperedTail(f"run {run} {what}; the store was altered: nothing was appended to it "

@@ -46,7 +46,7 @@ def cache_tampering(store: Store, runs: list[str]) -> CacheTampering:
     if not store.cache.exists():
         return CacheTampering()
     snaps = {run: [list(p) for p in found] for run in runs if (found := tampered_snapshots(store, run))}
-    boxes = {run: found for run in runs if (found := tampered_presence(store, run))}
+    boxes = {run: bad for run in runs if (bad := tampered_presence(store, run))}
     verifications = [list(key) for key in verify_cache.unsealed(store.cache)]
-    derived = {run: found for run in runs if (found := tampered_derived(store, run))}
+    derived = {run: unsealed for run in runs if (unsealed := tampered_derived(store, run))}
     return CacheTampering(snaps, boxes, verifications, derived, store.cache.sealer.tampered())

@@ -23,7 +23,7 @@ import sqlite3
 from collections import Counter
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Iterator, cast
 from urllib.parse import quote
 
 from .seal import Sealer, load_or_create_key, memory_key
@@ -159,7 +159,7 @@ class Cache:
                 self._conn = _open(MEMORY, key)
             if self._sealer is None or self._sealer.key != key:
                 path = self.path
-                self._sealer = Sealer(key, self._sealer.dropped if self._sealer else Counter(),
+                self._sealer = Sealer(cast(bytes, key), self._sealer.dropped if self._sealer else Counter(),
                                       None if path == MEMORY else lambda: _altered.update((path,)))
         assert self._conn is not None
         return self._conn

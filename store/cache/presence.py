@@ -215,9 +215,9 @@ def check_presence(store: Store, run: str) -> list[tuple[str, int]]:
     if not _sound(store, run, held, count=False):
         return []  # never used: reported by tampered_presence, rebuilt by the next read
     fresh = {(src, b): box for src, b, *box in _boxes(store, run, 0, held.chain_len)}
-    held = {(src, b): [x0, x1, y0, y1] for src, b, x0, x1, y0, y1 in cache.execute(
+    cached = {(src, b): [x0, x1, y0, y1] for src, b, x0, x1, y0, y1 in cache.execute(
         "SELECT src, bucket, x0, x1, y0, y1 FROM presence WHERE run = ?", (run,))}
-    return sorted(key for key in fresh.keys() | held.keys() if fresh.get(key) != held.get(key))
+    return sorted(key for key in fresh.keys() | cached.keys() if fresh.get(key) != cached.get(key))
 
 
 def tampered_presence(store: Store, run: str) -> list[str]:

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import sqlite3
 from dataclasses import asdict, dataclass, field, replace
-from typing import Any, Sequence
+from typing import Any, Sequence, cast
 
 from .. import merkle
 from ..wire import ends as wire_ends
@@ -333,7 +333,7 @@ def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: list[T
         if found.since is None:
             found.since = count
         found.signed += 1
-        found.heads.append(head)
+        found.heads.append(cast(TreeHead, head))  # its signature holds: a head
     if not rows:
         return found.fail(None, "it has no checkpoint")
     if not found.signed:
@@ -429,8 +429,8 @@ def prove_runs(conn: sqlite3.Connection, run: str | None, heads: Sequence[TreeHe
         (last,) = conn.execute("SELECT max(chain_pos) FROM events WHERE run = ?", (name,)).fetchone()
         events = last + 1 if isinstance(last, int) else 0
         seen = witnessed.get(name, 0) if witness else None
-        entry = by_key.get(name)
-        signed = None if keyed is None else (entry["signed_through"] if entry and entry["ok"] else 0)
+        keyed_run = by_key.get(name)
+        signed = None if keyed is None else (keyed_run["signed_through"] if keyed_run and keyed_run["ok"] else 0)
         proven = max(seen or 0, signed or 0)
         what = failed.get(name)
         if what is None and proven < events:

@@ -26,7 +26,7 @@ import os
 import re
 from fnmatch import fnmatchcase
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Iterable, cast
 
 from ..envelope import is_source
 from ..errors import GapsError
@@ -168,7 +168,7 @@ class Signer:
                 raise KeysError(f"no key for {src} in {self.folder.path} (gaps keys new {self.folder.path} {src})")
             self.folder.create(src)
             seed = self.folder.seed(src)
-        signing = SigningKey(seed)
+        signing = SigningKey(cast(bytes, seed))  # just made: the folder holds it now
         self._keys[src] = entry = (signing, key_id(bytes(signing.verify_key)))
         return entry
 
@@ -247,7 +247,7 @@ class TrustedKeys:
         for key in keys:
             if signature_reason(event, key) is None:
                 return None
-        return f"signed with key {kid}: " + signature_reason(event, keys[0])
+        return f"signed with key {kid}: " + cast(str, signature_reason(event, keys[0]))  # none verified
 
     def _keys_for(self, kid: str, src: str) -> list[Any]:
         keys = [key for pattern, key in self._by_id.get(kid, ()) if fnmatchcase(src, pattern)]

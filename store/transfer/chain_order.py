@@ -143,7 +143,9 @@ class Reorder:
     def push(self, candidate: Candidate) -> list[Candidate]:
         """What may go to the store now, in order, once `candidate` has been read."""
         event = candidate.event
-        state = None if event is None else self._runs.get(event["run"])
+        if event is None:
+            return [candidate]
+        state = self._runs.get(event["run"])
         if state is None or not state.reordering:
             return [candidate]
         key = (event["src"], event["seq"])

@@ -33,7 +33,7 @@ def feed(
     the same export, or the rest of a run); a run of another producer or seed under the same id
     stops the import (TransferError) before any of its events is stored, never mixed in."""
     pending = iter(candidates)
-    held, checked = set(store.run_names()), set()
+    held, checked = set(store.run_names()), set[str]()
     with cycle_collection_paused():
         while chunk := list(islice(pending, batch)):
             _one_producer(store, chunk, held - checked, report)

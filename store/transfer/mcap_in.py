@@ -21,7 +21,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Iterator
+from typing import Callable, Iterator, cast
 
 from mcap.records import Attachment, Channel, Message, Metadata, Schema
 
@@ -99,7 +99,7 @@ class _Messages:
         observe = self.chains.observe
         for candidate in released:
             if candidate.event is not None and candidate.reason is None:
-                observe(candidate.event, candidate.canonical)
+                observe(candidate.event, cast(bytes, candidate.canonical))  # accepted: it has its bytes
         return released
 
     def _chain_order(self, located: Located, record: Attachment) -> None:

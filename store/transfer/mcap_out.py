@@ -162,7 +162,7 @@ class RowWriter:
                  scene: bool = True) -> None:
         self.report, self.progress = report, progress
         self.channels, self.out = _Channels(writer, run), _InLogTimeOrder(writer)
-        self.drawing, self.drawn_kinds = None, frozenset()
+        self.drawing, self.drawn_kinds = None, frozenset[str]()
         if scene:
             from .foxglove import DRAWN_KINDS, SceneBuilder  # loads foxglove-sdk: only when drawing
 

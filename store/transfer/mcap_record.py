@@ -88,11 +88,13 @@ class Recorder:
 
     def _write(self, up_to: int | None) -> None:
         """Write the held rows at or before up_to (all with None), in time order."""
-        held = self._held
+        held, rows = self._held, self._rows
+        if rows is None:  # nothing is held before the first event starts the writer
+            return
         while held and (up_to is None or held[0][0] <= up_to):
             row = heapq.heappop(held)[-1]
             self._written_to = row.t if self._written_to is None else max(self._written_to, row.t)
-            self._rows.put(row)
+            rows.put(row)
 
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:

@@ -138,25 +138,28 @@ class RecordReader:
         offset = self.position
         head = self.stream.read(_FRAME.size)
         if not head:
-            return self._stop(offset, "the file ends after a complete record, without a footer")
+            self._stop(offset, "the file ends after a complete record, without a footer")
+            return None
         if len(head) < _FRAME.size:
-            return self._stop(offset, f"the file ends inside the frame of a record ({len(head)} of 9 bytes)")
+            self._stop(offset, f"the file ends inside the frame of a record ({len(head)} of 9 bytes)")
+            return None
         opcode, length = _FRAME.unpack(head)
         remaining = self.size - offset - _FRAME.size
         if length > remaining:
             name = opcode_name(opcode)
-            return self._stop(offset, f"a {name} record of {length} bytes starts here, but only "
-                                      f"{max(remaining, 0)} bytes of it are in the file", name, length)
+            self._stop(offset, f"a {name} record of {length} bytes starts here, but only "
+                               f"{max(remaining, 0)} bytes of it are in the file", name, length)
+            return None
         body = self.stream.read(length)
         if len(body) < length:  # the file shrank while we read it
-            return self._stop(offset, f"the file ended {len(body)} bytes into a {length}-byte record",
-                              opcode_name(opcode), length)
+            self._stop(offset, f"the file ended {len(body)} bytes into a {length}-byte record",
+                       opcode_name(opcode), length)
+            return None
         self.position = offset + _FRAME.size + length
         return offset, opcode, body
 
     def _stop(self, offset: int, reason: str, record: str | None = None, declared: int | None = None) -> None:
         self.cut = Cut(offset, self.size, reason, record, declared, self.data_ended)
-        return None
 
     def _parse(self, offset: int, opcode: int, body: bytes) -> McapRecord | None:
         parser = _PARSERS.get(opcode)

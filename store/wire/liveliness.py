@@ -181,7 +181,7 @@ def chain_rows(conn: sqlite3.Connection, table: str) -> tuple[int, Iterable[tupl
 
 def _table_problem(conn: sqlite3.Connection, table: str) -> str | None:
     through = _legacy_through(conn, table)
-    marks = {}
+    marks: dict[int, str] = {}  # through_id -> head (hex)
     for mark_id, at, head in conn.execute("SELECT id, through_id, head FROM wire_checkpoints WHERE tbl = ? "
                                           "ORDER BY id", (table,)):
         if at in marks or (marks and at <= max(marks)):
