@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Sequence, cast
 
 from shapely.geometry import LineString, Point
 from shapely.geometry.base import BaseGeometry
@@ -186,30 +186,38 @@ def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: in
     if len(before) < 2:
         return None
     a, b = before[0], before[-1]
-    length = math.hypot(b.x - a.x, b.y - a.y)
+    (ax, ay), (bx, by) = _xy(a), _xy(b)
+    length = math.hypot(bx - ax, by - ay)
     if length < 1.0:
         return None                         # standing or creeping: no line to leave
-    ux, uy = (b.x - a.x) / length, (b.y - a.y) / length
+    ux, uy = (bx - ax) / length, (by - ay) / length
     window = [s for s in placed if act < s.t <= until]
     if len(window) < 2:
         return None
-    side = [((s.x - b.x) * -uy + (s.y - b.y) * ux, s) for s in window]
+    side = [((x - bx) * -uy + (y - by) * ux, s) for s in window for x, y in [_xy(s)]]
     offset, widest = max(side, key=lambda o: abs(o[0]))
     if abs(offset) < SWERVE_M or abs(offset) > SWERVE_MAX_M:
         return None                         # kept its line, or left it for another way
     last = placed[-1] if placed[-1].t <= until + 2 * SECOND else window[-1]
     tail = [s for s in placed if last.t - SECOND <= s.t <= last.t]
     if len(tail) >= 2:
-        dx, dy = tail[-1].x - tail[0].x, tail[-1].y - tail[0].y
+        (x0, y0), (x1, y1) = _xy(tail[0]), _xy(tail[-1])
+        dx, dy = x1 - x0, y1 - y0
         if math.hypot(dx, dy) >= 1.0:
             turn = abs(math.degrees(math.atan2(ux * dy - uy * dx, ux * dx + uy * dy)))
             if turn > TURNED_DEG:
                 return None                 # it turned: its own manoeuvre
-    kept = [s._replace(x=b.x + ux * ((s.x - b.x) * ux + (s.y - b.y) * uy),
-                       y=b.y + uy * ((s.x - b.x) * ux + (s.y - b.y) * uy)) if s.t > act else s for s in placed]
+    kept = [s._replace(x=bx + ux * ((x - bx) * ux + (y - by) * uy),
+                       y=by + uy * ((x - bx) * ux + (y - by) * uy)) if s.t > act else s
+            for s in placed for x, y in [_xy(s)]]
     c = conflict(mine, kept, act)
     departed = next(s for o, s in side if abs(o) >= SWERVE_M)
     return Swerve(abs(offset), widest, (a, b), c.pet_s if c else None, c.first if c else None, departed)
+
+
+def _xy(s: Sample) -> tuple[float, float]:
+    """A placed sample's position (Sample.placed: its x and y are measured, neither None)."""
+    return cast(float, s.x), cast(float, s.y)
 
 
 def has_path(samples: Sequence[Sample]) -> bool:
@@ -221,7 +229,7 @@ def _line(samples: Sequence[Sample], extend_m: float = 0.0) -> LineString | None
     points: list[tuple[float, float]] = []
     for s in samples:
         if s.placed and (not points or (s.x, s.y) != points[-1]):
-            points.append((s.x, s.y))
+            points.append(_xy(s))
     if len(points) < 2:
         return None
     if extend_m > 0:
@@ -406,7 +414,9 @@ def exit_gap(mine: Sequence[Sample], theirs: Sequence[Sample], onset: int, exten
     road user standing then never leaves). None where it was not in the zone then, or the record
     cannot tell (a path, its position or speed then, the other's entry)."""
     a, b = _line(mine), _line(theirs, extend_m)
-    met = None if a is None or b is None else _zone(a, b, VEHICLE_WIDTH_M, VEHICLE_WIDTH_M)
+    if a is None or b is None:
+        return None
+    met = _zone(a, b, VEHICLE_WIDTH_M, VEHICLE_WIDTH_M)
     if met is None:
         return None
     zone = met[1]

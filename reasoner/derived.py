@@ -24,11 +24,11 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, replace
-from typing import Any, Callable, Iterable
+from typing import Any, Callable, Iterable, cast
 
 from store import EventRef
 
-from .history import UNIT, Junction, sector
+from .history import UNIT, Junction, Sample, sector
 from .model import DerivedFact, Finding
 from .history import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, came_in_behind, joined_behind, leader, nearer_conflict, why
@@ -178,7 +178,8 @@ def _emergency(p: Passage, at: int) -> list[DerivedFact]:
 
 def _stopped_at_line(p: Passage, at: int) -> list[DerivedFact]:
     """`V has stopped at the stop line`: it stood still at a Stop line (HC 171) before crossing it."""
-    if not _stop_line(p):
+    line = p.line
+    if line is None or not _stop_line(p):   # (a Stop line is a line: _sign_of)
         return []
     limit = min(at, p.crossing.t) if p.crossing else at
     stops = [s for s in p.standstills if s.at_line and s.first.t <= limit]
@@ -186,7 +187,7 @@ def _stopped_at_line(p: Passage, at: int) -> list[DerivedFact]:
         return []
     s = stops[-1]
     how = (f"stood still for {s.duration_s:.1f} s ({s.samples} samples from {s.first.label} to {s.last.label} below "
-           f"0.5 mph), {s.to_line_m:.1f} m before the Stop line ({p.line.source})")
+           f"0.5 mph), {s.to_line_m:.1f} m before the Stop line ({line.source})")
     return [DerivedFact(HAS_STOPPED_AT_THE_STOP_LINE.text(p.vehicle), how, (s.first.ref, s.last.ref))]
 
 
@@ -194,12 +195,12 @@ def _sign(p: Passage, at: int) -> list[DerivedFact]:
     """`V has a stop sign` / `V has a give way sign`: the map's line across V's approach is a Stop
     or Give Way line (its kind; without one, the junction's control). DESIGN's map states where
     the signs are, so a producer that draws the map need not state the sign at every frame."""
-    sign = _sign_of(p)
-    if sign is None or p.map_ref is None or at < p.start - SECOND or at > p.end:
-        return []
+    sign, line = _sign_of(p), p.line
+    if sign is None or line is None or p.map_ref is None or at < p.start - SECOND or at > p.end:
+        return []                       # (a sign is a line's: _sign_of)
     how = (f"the {p.approach} approach of {p.junction.id} has a {sign} line in the run's map "
-           f"({'kind ' + repr(p.line.kind) if p.line.kind else 'junction control ' + repr(p.junction.control)}, "
-           f"{p.line.source}{'; ' + p.line.reading if p.line.reading else ''})")
+           f"({'kind ' + repr(line.kind) if line.kind else 'junction control ' + repr(p.junction.control)}, "
+           f"{line.source}{'; ' + line.reading if line.reading else ''})")
     return [DerivedFact(HAS_SIGN.text(p.vehicle, sign), how, (p.map_ref,))]
 
 
@@ -212,11 +213,11 @@ def _stopped_before_major_road(p: Passage, at: int) -> list[DerivedFact]:
         return []
     limit = min(at, p.entered.t) if p.entered else at
     stops = [s for s in p.standstills if s.last.t <= limit and s.first.placed and s.last.placed
-             and not p.junction.inside(s.first.x, s.first.y) and not p.junction.inside(s.last.x, s.last.y)]
+             and not p.junction.inside(*_xy(s.first)) and not p.junction.inside(*_xy(s.last))]
     if not stops:
         return []
     s = stops[-1]
-    edge = p.junction.edge(s.last.x, s.last.y)
+    edge = p.junction.edge(*_xy(s.last))
     how = (f"stood still for {s.duration_s:.1f} s ({s.samples} samples from {s.first.label} to {s.last.label} below "
            f"0.5 mph), {edge:.1f} m outside {p.junction.id}'s area ({p.junction.extent_source}), before entering it")
     return [DerivedFact(HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD.text(p.vehicle), how, (s.first.ref, s.last.ref))]
@@ -298,9 +299,14 @@ def _showed(light: Light, p: Passage) -> str:
             f"({light.ref.src} #{light.ref.seq})")
 
 
+def _xy(s: Sample) -> tuple[float, float]:
+    """A placed sample's position (Sample.placed: its x and y are measured, neither None)."""
+    return cast(float, s.x), cast(float, s.y)
+
+
 def _first_inside(p: Passage) -> bool:
     first = next((s for s in p.samples if s.placed), None)
-    return first is not None and p.junction.inside(first.x, first.y)
+    return first is not None and p.junction.inside(*_xy(first))
 
 
 def _stop_line(p: Passage) -> bool:
@@ -703,7 +709,8 @@ def conflict_words(p: Passage, user: str, c: Conflict | None) -> str:
         out.append(f"post-encroachment time {c.pet_s:.2f} s ({order})")
     if c.ttc_s is not None:
         out.append(f"time to collision at the act {c.ttc_s:.2f} s (under {TTC_MAX_S:g} s is a conflict)")
-    if c.projected_gap_s is not None and c.onset_to_zone_m is not None and c.onset_speed_mps is not None:
+    if c.projected_gap_s is not None and c.onset_to_zone_m is not None and c.onset_speed_mps is not None \
+            and c.onset is not None:    # (a projected gap is taken at the onset: conflicts.conflict)
         gap = "it would have been in the zone with it" if c.projected_gap_s <= 0 else \
             f"{c.projected_gap_s:.2f} s from {p.vehicle} there"
         out.append(f"when {user} began to slow ({format_time(c.onset)}) it was {c.onset_to_zone_m:.1f} m from the "
@@ -921,7 +928,7 @@ def _came_in(other: Other, j: Junction) -> bool:
     (waiting to turn across oncoming traffic) and whose way, so far and taken on straight ahead
     (EXTEND_M), never meets V's path is not shown in V's way; a way cut short before the junction
     may yet have been heading for V's path, and stays V's to explain."""
-    return any(j.edge(s.x, s.y) <= 0 for s in other.way if s.placed)
+    return any(j.edge(*_xy(s)) <= 0 for s in other.way if s.placed)
 
 
 def conflict_of(p: Passage, other: Other) -> Conflict | None:
@@ -1004,7 +1011,7 @@ def _outbound(other: Other, at: int, arm: str, where: tuple[float, float], j: Ju
     ux, uy = UNIT[arm]
     before = [s for s in other.samples if s.t <= at and s.heading_deg is not None]
     if before:
-        rad = math.radians(before[-1].heading_deg)
+        rad = math.radians(cast(float, before[-1].heading_deg))
         return math.cos(rad) * ux + math.sin(rad) * uy > 0.0
     return (where[0] - j.x) * -uy + (where[1] - j.y) * ux > 0.0
 
@@ -1135,7 +1142,7 @@ def _check_stopped_at_line(p: Passage, at: int, text: str, ref: EventRef, derive
     c = p.crossing
     if c is None or c.t > at or _stopped_at_line(p, at) or any("could have stopped unseen" in n for n in p.uncertain):
         return None
-    slowest = min((s for s in p.samples if s.speed_mps is not None and s.t <= c.t), key=lambda s: s.speed_mps,
+    slowest = min((s for s in p.samples if s.speed_mps is not None and s.t <= c.t), key=lambda s: cast(float, s.speed_mps),
                   default=None)
     if slowest is None:
         return None
@@ -1179,7 +1186,10 @@ def _check_too_close(p: Passage, at: int, text: str, ref: EventRef, derived):
         return _contradiction(text, ref, f"it stood still {stop.to_line_m or 0:.1f} m before the line after amber came "
                               f"({stop.first.label})", [], amber.method, (stop.first.ref, amber.light.ref))
     needed = stopping_distance_m(amber.speed_mps * MPH_PER_MPS)
-    beyond, u = beyond_stopping(amber, sensor_of(p, amber.used[0] if amber.used else None))
+    measured = beyond_stopping(amber, sensor_of(p, amber.used[0] if amber.used else None))
+    if measured is None:        # (never: amber's place and speed are known, above)
+        return None
+    beyond, u = measured
     if beyond <= u:         # within the measurements' tolerance: they do not contradict it
         return None
     return _contradiction(text, ref, f"when amber came it was {amber.to_line_m:.1f} m before the line, and stopping "
@@ -1295,9 +1305,10 @@ def _cause(p: Passage, other: Other) -> str:
     if through is not None:
         return (f"it began to slow after it had gone through its conflict zone with {p.vehicle} ahead of it (out "
                 f"{through.pet_s:.2f} s before {p.vehicle} came in)")
-    first = _went_first(p, other)
-    if first is not None:
-        return (f"it stopped ({other.stopped.label}, {format_time(other.stopped.t)}) and then went into its conflict "
+    first, stopped = _went_first(p, other), other.stopped
+    if first is not None and stopped is not None and first.theirs is not None and first.theirs.entered is not None \
+            and first.mine.entered is not None:     # (all of them known where it went first: _went_first)
+        return (f"it stopped ({stopped.label}, {format_time(stopped.t)}) and then went into its conflict "
                 f"zone with {p.vehicle} ahead of {p.vehicle} ({p.vehicle} came in "
                 f"{(first.mine.entered - first.theirs.entered) / SECOND:.2f} s after it): it did not wait for "
                 f"{p.vehicle} to pass, so its stop is not shown to be for {p.vehicle}")
@@ -1315,12 +1326,12 @@ def _cause(p: Passage, other: Other) -> str:
             mine = conflict_of(p, other)
             gap = f"in it with {w.user}" if c.projected_gap_s <= 0 else f"{c.projected_gap_s:.2f} s from {w.user} there"
             ground = why(c, mine)
-            if ground == "apart":
+            if ground == "apart" or mine is None:   # one and the same: why's "apart" is V's path never meeting it
                 return (f"{w.user}, whose path it would have met where it never met {p.vehicle}'s: when it began to "
                         f"slow ({format_time(c.onset)}) it was {c.onset_to_zone_m:.1f} m from their conflict zone at "
                         f"{c.onset_speed_mps:.1f} m/s; unslowed, {gap} (a gap under {PET_MAX_S:g} s is a conflict: "
                         "SUMO SSM device's PET threshold)")
-            theirs = (f"in {p.vehicle}'s with {p.vehicle}" if mine.projected_gap_s < 0 else
+            theirs = (f"in {p.vehicle}'s with {p.vehicle}" if cast(float, mine.projected_gap_s) < 0 else
                       f"{mine.projected_gap_s:.2f} s from {p.vehicle} at its zone")
             reason = {"collision": f"a collision course with {w.user}, only a near miss with {p.vehicle}: the conflict "
                                    f"nearer an accident asks the lower speed",
@@ -1332,19 +1343,20 @@ def _cause(p: Passage, other: Other) -> str:
                     f"{c.onset_speed_mps:.1f} m/s it was {c.onset_to_zone_m:.1f} m from their conflict zone and "
                     f"{mine.onset_to_zone_m:.1f} m from {p.vehicle}'s; unslowed, {gap}, and {theirs} ({reason}; a "
                     f"gap under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
-    inside = _inside_gap(p, other) if conflict_of(p, other) is not None and \
-        conflict_of(p, other).projected_gap_s is None else None
-    if inside is not None:
-        return (f"it began to slow ({format_time(slowing_began(other))}) already in its conflict zone with "
+    mine = conflict_of(p, other)
+    inside = _inside_gap(p, other) if mine is not None and mine.projected_gap_s is None else None
+    if inside is not None:      # (a gap inside is taken at the onset: _inside_gap)
+        return (f"it began to slow ({format_time(cast(int, slowing_began(other)))}) already in its conflict zone with "
                 f"{p.vehicle}, and unslowed it would have left it {inside:.2f} s before {p.vehicle} came in (a gap "
                 f"under {PET_MAX_S:g} s is a conflict: SUMO SSM device's PET threshold)")
     turned = turned_behind(p, other)
-    if turned is not None and turned[2] is not None:
+    if turned is not None:
         c, degrees, turn = turned
-        return (f"its own turn ({degrees:.0f}°, taken at {turn.speed_mps:.2f} m/s, from its own record): unslowed it would "
-                f"have come into their zone {c.projected_gap_s:.2f} s after {p.vehicle} had left it, and at the speed "
-                f"it took its turn it kept the two-second gap (HC 126: {FOLLOW_M:g} m + {FOLLOW_S:g} s at that "
-                f"speed) behind {p.vehicle} going on down the road it turned into")
+        if turn is not None:
+            return (f"its own turn ({degrees:.0f}°, taken at {turn.speed_mps:.2f} m/s, from its own record): unslowed it "
+                    f"would have come into their zone {c.projected_gap_s:.2f} s after {p.vehicle} had left it, and at the "
+                    f"speed it took its turn it kept the two-second gap (HC 126: {FOLLOW_M:g} m + {FOLLOW_S:g} s at "
+                    f"that speed) behind {p.vehicle} going on down the road it turned into")
     return f"unslowed, it would have passed {p.vehicle}'s conflict zone {PET_MAX_S:g} s or more apart from it"
 
 
