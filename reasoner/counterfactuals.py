@@ -17,7 +17,7 @@ rulebook's templates, nothing recorded becomes Prolog text.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Mapping, cast
 
 from store import EventRef, GapsError
 
@@ -214,7 +214,7 @@ def apply(facts: list[Atom], changes: Iterable[Change]) -> list[Atom]:
         elif c.kind == "remove":
             out = [f for f in out if f != c.fact]
         else:
-            out = [c.new if f == c.fact else f for f in out]
+            out = [cast(Atom, c.new) if f == c.fact else f for f in out]   # a replacement has its new fact
     return out
 
 

@@ -128,10 +128,10 @@ def episodes(observations: Iterable[dict], rederiver: Rederiver) -> Iterator[Epi
             if action not in derived or obs["t"] - episode.last["t"] > EPISODE_GAP_S * SECOND:
                 yield current.pop(action)
         for action in derived:
-            episode = current.get(action)
-            if episode is None:
-                episode = current[action] = Episode(obs["src"], vehicle, action)
-            episode.observations.append(obs)
+            opened = current.get(action)
+            if opened is None:
+                opened = current[action] = Episode(obs["src"], vehicle, action)
+            opened.observations.append(obs)
     for current in open_.values():
         yield from current.values()
 

@@ -330,7 +330,9 @@ def _observed(events: Iterable[dict], vehicle: str, junction: Junction) -> dict[
     near: set[str] = set()
     for event in events:
         body = event.get("body")
-        user = body.get("vehicle") if type(body) is dict else None
+        if type(body) is not dict:
+            continue
+        user = body.get("vehicle")
         if type(user) is not str or user == vehicle:
             continue
         grouped.setdefault(user, []).append(event)

@@ -163,7 +163,7 @@ def why_of(found: str, rb: Rulebook, me: Any, act: Any) -> str:
         Verdict.PUNISHABLE: f"\"{action_text(rb, me, act)}\" is not among the lawful actions of the Validator Scenario",
         Verdict.MITIGATED: f"\"{action_text(rb, me, act)}\" is among the lawful actions of the Validator Scenario",
         Verdict.DISMISSED: "the validator rules establish neither a punishable nor a mitigated violation",
-    }[found]
+    }[Verdict(found)]
 
 
 def choice_of(choice: Choice) -> RulebookChoice:
