@@ -225,7 +225,8 @@ def peak_deceleration(series: Sequence[Sample], t_from: int, t_to: int) -> Braki
         last = speeds[j] if j < len(speeds) else (speeds[-1] if i == 0 and len(speeds) > 1 else None)
         if last is None or last.t <= first.t:
             continue
-        decel = (cast(float, first.speed_mps) - cast(float, last.speed_mps)) / ((last.t - first.t) / SECOND)  # speeds: all measured
+        drop = cast(float, first.speed_mps) - cast(float, last.speed_mps)     # `speeds` holds measured ones only
+        decel = drop / ((last.t - first.t) / SECOND)
         if best is None or decel > best.decel_mps2:
             best = Braking(decel, first, last)
     return best
