@@ -15,7 +15,7 @@ from __future__ import annotations
 import bisect
 import math
 from dataclasses import dataclass
-from typing import Any, Iterable, NamedTuple, Sequence
+from typing import Any, Iterable, NamedTuple, Sequence, cast, overload
 
 from store import EventRef
 
@@ -129,6 +129,10 @@ def fraction(a: Sample, b: Sample, t: int) -> float:
     return 0.0 if b.t == a.t else (t - a.t) / (b.t - a.t)
 
 
+@overload
+def lerp(a: float, b: float, f: float) -> float: ...
+@overload
+def lerp(a: float | None, b: float | None, f: float) -> float | None: ...
 def lerp(a: float | None, b: float | None, f: float) -> float | None:
     if a is None or b is None:
         return a if f <= 0.5 else b
@@ -167,7 +171,17 @@ def position_at(series: Sequence[Sample], t: int) -> tuple[tuple[float, float] |
     if found is None:
         return None, ()
     a, b, f = found
-    return (lerp(a.x, b.x, f), lerp(a.y, b.y, f)), _used(a, b)
+    (ax, ay), (bx, by) = xy(a), xy(b)
+    return (lerp(ax, bx, f), lerp(ay, by, f)), _used(a, b)
+
+
+def xy(s: Sample) -> tuple[float, float]:
+    """The position of a placed sample (`Sample.placed`): its x and y, both measurements, for the
+    type checker, which cannot see through `placed`."""
+    x, y = s.x, s.y
+    if x is None or y is None:
+        raise ValueError(f"{s.label} holds no position")
+    return x, y
 
 
 def _used(a: Sample, b: Sample) -> tuple[Sample, ...]:
@@ -211,7 +225,8 @@ def peak_deceleration(series: Sequence[Sample], t_from: int, t_to: int) -> Braki
         last = speeds[j] if j < len(speeds) else (speeds[-1] if i == 0 and len(speeds) > 1 else None)
         if last is None or last.t <= first.t:
             continue
-        decel = (first.speed_mps - last.speed_mps) / ((last.t - first.t) / SECOND)
+        drop = cast(float, first.speed_mps) - cast(float, last.speed_mps)     # `speeds` holds measured ones only
+        decel = drop / ((last.t - first.t) / SECOND)
         if best is None or decel > best.decel_mps2:
             best = Braking(decel, first, last)
     return best

@@ -17,7 +17,7 @@ from dataclasses import replace
 from typing import Callable, Mapping, Sequence
 
 from .junctions import Junction, heading_sector, sector
-from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration, position_at, speed_at
+from .motion import STOPPED_MPS, Braking, Sample, peak_deceleration, position_at, speed_at, xy
 from .passage_values import Other
 from .record import Track
 from .signals import Signals, shown
@@ -37,7 +37,8 @@ def near_and_same_approach(tracks: Mapping[str, Track], junction: Junction, vehi
     cross a main-road car's just before or after it (another emerger out of the same line), and
     that car's braking may have been for them (reasoner/attribution.py weighs them; nothing else
     reads them)."""
-    found, following = [], []
+    found: list[Other] = []
+    following: list[Other] = []
     for user, (src, series) in tracks.items():
         if user == vehicle:
             continue
@@ -45,7 +46,7 @@ def near_and_same_approach(tracks: Mapping[str, Track], junction: Junction, vehi
         placed = [s for s in window if s.placed]
         if not placed:
             continue
-        closest = min(junction.distance(s.x, s.y) for s in placed)
+        closest = min(junction.distance(*xy(s)) for s in placed)
         if closest > CONFLICT_M:
             continue
         arm, closing = _arm(junction, placed)
@@ -62,15 +63,15 @@ def near_and_same_approach(tracks: Mapping[str, Track], junction: Junction, vehi
 def _arm(junction: Junction, placed: list[Sample]) -> tuple[str | None, bool]:
     """The arm a road user was first seen on (its position's sector, outside the junction; else
     where its heading says it came from), and whether it was then closing on the centre."""
-    first = placed[0]
-    if junction.edge(first.x, first.y) > 0:
-        return sector(first.x - junction.x, first.y - junction.y), len(placed) > 1 and _closing(junction, placed)
+    x, y = xy(placed[0])
+    if junction.edge(x, y) > 0:
+        return sector(x - junction.x, y - junction.y), len(placed) > 1 and _closing(junction, placed)
     heading = next((s.heading_deg for s in placed if s.heading_deg is not None), None)
     return (heading_sector(heading) if heading is not None else None), False
 
 
 def _closing(junction: Junction, placed: list[Sample]) -> bool:
-    return min(junction.distance(s.x, s.y) for s in placed) < junction.distance(placed[0].x, placed[0].y) - 0.5
+    return min(junction.distance(*xy(s)) for s in placed) < junction.distance(*xy(placed[0])) - 0.5
 
 
 def _other(user: str, src: str, window: tuple[Sample, ...], junction: Junction, arm: str | None, closing: bool,
@@ -131,12 +132,12 @@ def _followed(other: Other, everyone: list[Other], junction: Junction) -> Other:
 def braking_into(window: tuple[Sample, ...], junction: Junction, passing: tuple[int, int]) -> Braking | None:
     """The hardest braking while the vehicle passed, counted only while the road user was
     still outside the junction and heading into it."""
-    before = tuple(s for s in window if not s.placed or junction.edge(s.x, s.y) > 0)
+    before = tuple(s for s in window if not s.placed or junction.edge(*xy(s)) > 0)
     braking = peak_deceleration(before, *passing)
     if braking is None or braking.decel_mps2 <= 0:
         return None
     a, b = braking.first, braking.last
-    if a.placed and b.placed and junction.distance(b.x, b.y) > junction.distance(a.x, a.y) + 0.5:
+    if a.placed and b.placed and junction.distance(*xy(b)) > junction.distance(*xy(a)) + 0.5:
         return None    # moving away from the centre: not braking for the junction
     return braking
 
@@ -166,7 +167,7 @@ def _heading_in(junction: Junction, moving: Sample, stop: Sample) -> bool:
     (unplaced samples cannot tell: taken as heading in, as before positions were looked at)."""
     if not (moving.placed and stop.placed):
         return True
-    return junction.distance(stop.x, stop.y) < junction.distance(moving.x, moving.y)
+    return junction.distance(*xy(stop)) < junction.distance(*xy(moving))
 
 
 def since(other: Other, everyone: Sequence[Other], junction: Junction, t_from: int, *, stop_only: bool = False) -> Other:
@@ -233,7 +234,7 @@ def through(series: Sequence[Sample], junction: Junction) -> list[tuple[float, f
     """The positions inside the junction's area, with the one just before and just after; none
     unless the record shows the road user both come into the area and leave it: a path cut
     short (one that stopped in the junction, or whose record ends there) is not its path."""
-    placed = [(s.x, s.y) for s in series if s.placed]
+    placed = [xy(s) for s in series if s.placed]
     inside = [i for i, (x, y) in enumerate(placed) if junction.edge(x, y) <= 0]
     if not inside or inside[0] == 0 or inside[-1] == len(placed) - 1:
         return []

@@ -158,7 +158,7 @@ class Shapes:
         shaper = self._shaper(rb)
         kept = self._kept_forms(shaper) if self._memo is not None and shaper.keeps_proofs else None
         form = kept.form_of(decision.id) if kept is not None else None
-        if form is not None and form != UNSHAPED:
+        if kept is not None and form is not None and form != UNSHAPED:
             return kept.permitted(engine, rb, form)
         key = (rb.sha256, decision.goal, *(text for text, _ in decision.facts))
         try:
@@ -463,7 +463,7 @@ class KeptFacts(Sequence):
         return repr(self._made())
 
 
-def _kept_facts(facts: tuple[tuple[Any, EventRef], ...]) -> tuple[list, list]:
+def _kept_facts(facts: Sequence[tuple[Any, EventRef]]) -> tuple[list, list]:
     """A Vehicle Scenario as plain data: the events it cites, once each ([src, seq, t, kind]),
     and each sentence with the place of its event among them (a decision's facts cite two
     events, its spawn and its perception)."""

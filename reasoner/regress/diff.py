@@ -51,6 +51,14 @@ class RuleChange:
     new: RuleVersion | None
 
     @property
+    def latest(self) -> RuleVersion:
+        """The rule as the new rulebook states it, or as the old one did if it was removed."""
+        version = self.new or self.old
+        if version is None:
+            raise ValueError(f"a {self.kind} rule change with neither version")
+        return version
+
+    @property
     def key(self) -> str:
         """A stable name for the change: what a flipped verdict is attributed to in JSON."""
         old = f"{self.old.sha256[:12]}#{self.old.index}" if self.old else "-"
@@ -60,12 +68,15 @@ class RuleChange:
     def sentence(self) -> str:
         """The change as a reason: "HC 175 no longer has the rule ...", "HC 176 now reads ..."."""
         who = self.label or "the rulebook"
-        if self.kind == "added":
-            return f'{who} now has the rule "{_one_line(self.new.text)}" ({self.new.where})'
-        if self.kind == "removed":
-            return f'{who} no longer has the rule "{_one_line(self.old.text)}" ({self.old.where})'
-        return (f'{who} now reads "{_one_line(self.new.text)}" ({self.new.where}), '
-                f'was "{_one_line(self.old.text)}" ({self.old.where})')
+        old, new = self.old, self.new
+        if self.kind == "added" and new is not None:
+            return f'{who} now has the rule "{_one_line(new.text)}" ({new.where})'
+        if self.kind == "removed" and old is not None:
+            return f'{who} no longer has the rule "{_one_line(old.text)}" ({old.where})'
+        if old is None or new is None:
+            raise ValueError(f"a {self.kind} rule change without its rule's versions")
+        return (f'{who} now reads "{_one_line(new.text)}" ({new.where}), '
+                f'was "{_one_line(old.text)}" ({old.where})')
 
     def to_json(self) -> dict[str, Any]:
         return {"key": self.key, "kind": self.kind, "label": self.label, "concludes": self.head,
@@ -104,7 +115,7 @@ def diff_rulebooks(old: Rulebook, new: Rulebook, stages: tuple[str, ...] = (),
     changes = [_change("changed", old, i, new, j, names) for i, j in pairs]
     changes += [_change("removed", old, i, None, None, names) for i in left if i not in paired_old]
     changes += [_change("added", None, None, new, j, names) for j in right if j not in paired_new]
-    changes.sort(key=lambda c: (c.new.line if c.new else c.old.line, c.kind))
+    changes.sort(key=lambda c: (c.latest.line, c.kind))
     return RulebookDiff(stages, names.get(old.sha256, old.name), old.sha256, names.get(new.sha256, new.name),
                         new.sha256, tuple(changes))
 
@@ -159,7 +170,10 @@ def _version(rb: Rulebook | None, index: int | None, names: dict[str, str]) -> R
 
 def _change(kind: str, old: Rulebook | None, i: int | None, new: Rulebook | None, j: int | None,
             names: dict[str, str]) -> RuleChange:
-    rule = (old or new).document.rules[i if old is not None else j]
+    book, index = (old, i) if old is not None else (new, j)
+    if book is None or index is None:
+        raise ValueError(f"a {kind} rule with no rulebook to read it from")
+    rule = book.document.rules[index]
     return RuleChange(kind, rule.label, rule.head.functor, _version(old, i, names), _version(new, j, names))
 
 

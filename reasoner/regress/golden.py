@@ -33,7 +33,7 @@ from ..engine import Engine, get_engine
 from ..facts import FactReader
 from ..investigation import Investigation
 from ..model import Incident
-from .regression import IN_FORCE, CaseResult, Change, Regression, RunResult
+from .regression import ANSWERS, IN_FORCE, CaseResult, Change, Regression, RunResult
 from .books import RegressError, load_given
 from .decisions import ask, recorded_decisions, vehicle_choice
 from .match import match
@@ -151,7 +151,7 @@ def judge(store: Store, runs: Sequence[str], rules: Sequence[str] = (), engine: 
         decisions = {}
         for d in recorded_decisions(store, run):
             answer = ask(engine, reader, vehicle_choice(rs, d), d).permitted
-            decisions[d.id] = (str(d.goal), {True: "permitted", False: "forbidden"}.get(answer, "not answerable"))
+            decisions[d.id] = (str(d.goal), ANSWERS.get(answer, "not answerable"))
         asked = time.perf_counter()
         verdicts = tuple(Verdict.of(inc) for inc in inv.incidents(run))
         out[run] = Judged(verdicts, decisions, {"decisions": asked - started,
@@ -198,6 +198,8 @@ def _changed(stage: str, approved: dict, now: dict) -> str:
 
 def _incident(run: str, a: Verdict | None, b: Verdict | None, why: tuple[str, ...]) -> CaseResult:
     one = a or b
+    if one is None:
+        raise ValueError(f"{run}: an incident on neither side")      # match pairs each with one at least
     changes = []
     if a is None or b is None:
         changes.append(Change("new" if a is None else "gone", a.line() if a else None, b.line() if b else None, why))
@@ -214,7 +216,10 @@ def _incident(run: str, a: Verdict | None, b: Verdict | None, why: tuple[str, ..
 
 def _decision(run: str, key: str, a: tuple[str, str] | None, b: tuple[str, str] | None,
               why: tuple[str, ...]) -> CaseResult:
-    goal = (a or b)[0]
+    either = a or b
+    if either is None:
+        raise ValueError(f"{run}: decision {key} on neither side")    # keys are those of either side
+    goal = either[0]
     src = key.rpartition(":")[0]
     before, after = a[1] if a else None, b[1] if b else None
     changes = (Change("decision", before, after, why),) if before != after else ()

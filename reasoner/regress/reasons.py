@@ -49,7 +49,8 @@ def _walk(node: Mapping[str, Any], sha: str, used: Used) -> None:
 
 def attribute(diffs: Iterable[RulebookDiff], used: Used) -> tuple[RuleChange, ...]:
     """The changed rules the proofs used: those that held somewhere, else those only tried."""
-    held, tried = [], []
+    held: list[RuleChange] = []
+    tried: list[RuleChange] = []
     for diff in diffs:
         for change in diff.changes:
             marks = [used[k] for k in _keys(change) if k in used]

@@ -48,7 +48,7 @@ def check_recording(path: str | Path) -> Path:
     return found
 
 
-def judged_recording(path: str | Path, judging: Judging) -> T:
+def judged_recording(path: str | Path, judging: Judging[T]) -> T:
     """`judging(store, problems)` of the recording's runs: from what was kept of it when a
     recording of the same digest was judged before by this code (store/kept_recording.py),
     else from its import into a temporary store, whose cache (and the small part of the import

@@ -47,6 +47,9 @@ EXPLAINED_BY = {"new": ("monitor", "validator"), "gone": ("monitor", "validator"
                 "verdict": ("monitor", "validator"), "rule": ("monitor", "validator"),
                 "penalty": ("penalties",), "liability": ("liability",), "decision": ("vehicle",)}
 Diffs = dict[str, RulebookDiff]                      # stage -> the diff of its two rulebooks
+Kept = tuple[str | None, bool | None]                # a decision's kept baseline: its rulebook's sha256, its answer
+Row = tuple[RecordedDecision, Choice | None, Choice | None, Kept | None]   # a decision, each side's choice, its Kept
+ANSWERS: dict[bool | None, str] = {True: "permitted", False: "forbidden"}  # a decision's answer (else "not answerable")
 
 
 @dataclass(frozen=True)
@@ -279,6 +282,8 @@ class Regressor:
     # -- incidents -------------------------------------------------------------------------
     def _incident(self, run: str, b: Judgement | None, n: Judgement | None, diffs: Diffs) -> CaseResult:
         one = b or n
+        if one is None:
+            raise ValueError(f"{run}: an incident on neither side")      # match pairs each with one at least
         case = CaseResult(run, "incident", one.id, one.vehicle, one.action, one.t, _summary(b), _summary(n))
         return _with(case, self._incident_changes(b, n, diffs))
 
@@ -335,6 +340,7 @@ class Regressor:
             return tuple(_kept_case(k) for k in kept)
         if self.shapes is not None:
             self.shapes.attach(memo)        # each decision's shape kept for the next regression
+        rows: list[Row]
         if kept is None:
             rows = [(d, cb(d), cn(d), None) for d in recorded_decisions(self.store, run)]
         else:
@@ -350,11 +356,11 @@ class Regressor:
         return tuple(case for _, case, _ in judged)
 
     def _decision(self, d: RecordedDecision, cb: Choice | None, cn: Choice | None,
-                  kept: tuple[str | None, bool | None] | None = None) -> tuple[RecordedDecision, CaseResult, Asked]:
+                  kept: Kept | None = None) -> tuple[RecordedDecision, CaseResult, Asked]:
         """The decision's case, asked of the two sides' vehicle-stage choices, and the baseline's
         answer (`kept`: the rulebook and answer kept for it, taken where the baseline asks that
         very rulebook)."""
-        if _takes_kept(cb, kept):
+        if cb is not None and kept is not None and _takes_kept(cb, kept):
             before = Asked(cb.rulebook, kept[1])
         else:
             before = ask(self.engine, self.reader, cb, d, shapes=self.shapes)
@@ -369,7 +375,7 @@ class Regressor:
         return d, _with(case, [change]), before
 
 
-def _takes_kept(cb: Choice | None, kept: tuple[str | None, bool | None] | None) -> bool:
+def _takes_kept(cb: Choice | None, kept: Kept | None) -> bool:
     """Whether the baseline's answer is the one kept (it asks the very rulebook that gave it)."""
     return kept is not None and cb is not None and kept[0] == cb.rulebook.sha256
 
@@ -379,8 +385,7 @@ def _same(cb: Choice | None, cn: Choice | None) -> bool:
     return cb is not None and cn is not None and cb.rulebook.sha256 == cn.rulebook.sha256
 
 
-def _asked_plainly(rows: list[tuple[RecordedDecision, Choice | None, Choice | None, Any]]
-                   ) -> list[tuple[Rulebook, RecordedDecision]]:
+def _asked_plainly(rows: list[Row]) -> list[tuple[Rulebook, RecordedDecision]]:
     """The rulebooks `Regressor._decision` asks each decision of without proofs (`ask` asks a goal
     that is a text)."""
     out = []
@@ -441,7 +446,7 @@ def _with(case: CaseResult, changes: list[Change]) -> CaseResult:
 
 
 def _answer(permitted: bool | None) -> str:
-    return {True: "permitted", False: "forbidden"}.get(permitted, "not answerable")
+    return ANSWERS.get(permitted, "not answerable")
 
 
 def _verdict_trees(*incs: Judgement | None) -> list[Trees]:

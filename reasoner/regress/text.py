@@ -54,11 +54,12 @@ def rule_change_report(result: Regression) -> Iterator[str]:
 def _rule(change: RuleChange, result: Regression) -> Iterator[str]:
     where = " -> ".join(v.where for v in (change.old, change.new) if v is not None)
     yield f"  {change.kind} {change.label or '(no label)'} {where}"
-    if change.old is not None and change.kind == "changed":
-        yield from _text("was: ", change.old.text)
-        yield from _text("now: ", change.new.text)
+    old, new = change.old, change.new
+    if old is not None and new is not None and change.kind == "changed":
+        yield from _text("was: ", old.text)
+        yield from _text("now: ", new.text)
     else:
-        yield from _text("", (change.new or change.old).text)
+        yield from _text("", change.latest.text)
     flipped = result.flipped_by(change)
     for case, ch in flipped:
         yield f"      -> {case.run} {case.id}: {WHAT[ch.kind]}, {from_to(ch)}"
