@@ -48,12 +48,12 @@ import math
 from typing import Sequence, cast
 
 from .conflicts import CAR_LENGTH_M, PET_MAX_S, Conflict, conflict
-from .history import Junction
+from .history import Junction, xy
 from .history import MIN_DECEL_SPAN_S, STOPPED_MPS, Sample, position_at, speed_at
 from .history import FOLLOW_M, FOLLOW_S, VEHICLE_WIDTH_M
 from .history import Other, Passage
 from .history import PAST_TOLERANCE_M
-from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SPEED_NOISE_MPS, _HasSpeed, _Placed, _Way, _xy,
+from .reaction import (FORCE_DECEL_MPS2, REACTION_TIME_S, SPEED_NOISE_MPS, _HasSpeed, _Placed, _Way,
                        needed_deceleration, slowing_began)
 
 SECOND = 1_000_000_000
@@ -175,7 +175,7 @@ def _travelled(samples: Sequence[Sample], t0: int, t1: int) -> float | None:
     b, _ = position_at(samples, t1)
     if a is None or b is None:
         return None
-    points = [a, *(_xy(s) for s in samples if s.placed and t0 < s.t < t1), b]
+    points = [a, *(xy(s) for s in samples if s.placed and t0 < s.t < t1), b]
     return sum(math.dist(p, q) for p, q in zip(points, points[1:]))
 
 
@@ -209,7 +209,7 @@ def _extended(samples: Sequence[Sample], extend_m: float) -> list[tuple[float, f
     points: list[tuple[float, float]] = []
     for s in samples:
         if s.placed and (not points or (s.x, s.y) != points[-1]):
-            points.append(_xy(s))
+            points.append(xy(s))
     if extend_m > 0 and len(points) >= 2:
         (x0, y0), (x1, y1) = points[-2], points[-1]
         length = math.hypot(x1 - x0, y1 - y0)
@@ -274,7 +274,7 @@ def came_between(first: Sequence[Sample], other: Other, beyond: Sequence[Sample]
     for s in first:
         if s.t <= onset or not s.placed:
             continue
-        hit = way.hit(_xy(s))
+        hit = way.hit(xy(s))
         heading = _heading_at(first, s.t)
         if hit is None or not hit.goes_along(heading):
             continue
@@ -305,7 +305,7 @@ def waited_after(w: Other, other: Other, onset: int, junction: Junction, entered
     if line is None or w.arm == other.arm:
         return False
     return any(s.t > onset and (entered is None or s.t < entered) and s.placed and s.speed_mps is not None
-               and s.speed_mps <= STOPPED_MPS and line.to_line(*_xy(s)) >= -PAST_TOLERANCE_M for s in w.way)
+               and s.speed_mps <= STOPPED_MPS and line.to_line(*xy(s)) >= -PAST_TOLERANCE_M for s in w.way)
 
 
 def ahead_of(c: Conflict, d: Conflict) -> bool:

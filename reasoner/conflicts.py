@@ -30,12 +30,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Sequence, cast
+from typing import Any, Sequence
 
 from shapely.geometry import LineString, Point
 from shapely.geometry.base import BaseGeometry
 
-from .history import Sample, position_at, speed_at
+from .history import Sample, position_at, speed_at, xy
 
 SECOND = 1_000_000_000
 
@@ -186,7 +186,7 @@ def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: in
     if len(before) < 2:
         return None
     a, b = before[0], before[-1]
-    (ax, ay), (bx, by) = _xy(a), _xy(b)
+    (ax, ay), (bx, by) = xy(a), xy(b)
     length = math.hypot(bx - ax, by - ay)
     if length < 1.0:
         return None                         # standing or creeping: no line to leave
@@ -194,14 +194,14 @@ def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: in
     window = [s for s in placed if act < s.t <= until]
     if len(window) < 2:
         return None
-    side = [((x - bx) * -uy + (y - by) * ux, s) for s in window for x, y in [_xy(s)]]
+    side = [((x - bx) * -uy + (y - by) * ux, s) for s in window for x, y in [xy(s)]]
     offset, widest = max(side, key=lambda o: abs(o[0]))
     if abs(offset) < SWERVE_M or abs(offset) > SWERVE_MAX_M:
         return None                         # kept its line, or left it for another way
     last = placed[-1] if placed[-1].t <= until + 2 * SECOND else window[-1]
     tail = [s for s in placed if last.t - SECOND <= s.t <= last.t]
     if len(tail) >= 2:
-        (x0, y0), (x1, y1) = _xy(tail[0]), _xy(tail[-1])
+        (x0, y0), (x1, y1) = xy(tail[0]), xy(tail[-1])
         dx, dy = x1 - x0, y1 - y0
         if math.hypot(dx, dy) >= 1.0:
             turn = abs(math.degrees(math.atan2(ux * dy - uy * dx, ux * dx + uy * dy)))
@@ -209,15 +209,10 @@ def swerve(mine: Sequence[Sample], theirs: Sequence[Sample], act: int, until: in
                 return None                 # it turned: its own manoeuvre
     kept = [s._replace(x=bx + ux * ((x - bx) * ux + (y - by) * uy),
                        y=by + uy * ((x - bx) * ux + (y - by) * uy)) if s.t > act else s
-            for s in placed for x, y in [_xy(s)]]
+            for s in placed for x, y in [xy(s)]]
     c = conflict(mine, kept, act)
     departed = next(s for o, s in side if abs(o) >= SWERVE_M)
     return Swerve(abs(offset), widest, (a, b), c.pet_s if c else None, c.first if c else None, departed)
-
-
-def _xy(s: Sample) -> tuple[float, float]:
-    """A placed sample's position (Sample.placed: its x and y are measured, neither None)."""
-    return cast(float, s.x), cast(float, s.y)
 
 
 def has_path(samples: Sequence[Sample]) -> bool:
@@ -229,7 +224,7 @@ def _line(samples: Sequence[Sample], extend_m: float = 0.0) -> LineString | None
     points: list[tuple[float, float]] = []
     for s in samples:
         if s.placed and (not points or (s.x, s.y) != points[-1]):
-            points.append(_xy(s))
+            points.append(xy(s))
     if len(points) < 2:
         return None
     if extend_m > 0:

@@ -28,7 +28,7 @@ from typing import Any, Callable, Iterable, cast
 
 from store import EventRef
 
-from .history import UNIT, Junction, Sample, sector
+from .history import UNIT, Junction, Sample, sector, xy
 from .model import DerivedFact, Finding
 from .history import MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, between, mph, peak_deceleration, position_at, speed_at
 from .attribution import SAME_ZONE_M, came_in_behind, joined_behind, leader, nearer_conflict, why
@@ -213,11 +213,11 @@ def _stopped_before_major_road(p: Passage, at: int) -> list[DerivedFact]:
         return []
     limit = min(at, p.entered.t) if p.entered else at
     stops = [s for s in p.standstills if s.last.t <= limit and s.first.placed and s.last.placed
-             and not p.junction.inside(*_xy(s.first)) and not p.junction.inside(*_xy(s.last))]
+             and not p.junction.inside(*xy(s.first)) and not p.junction.inside(*xy(s.last))]
     if not stops:
         return []
     s = stops[-1]
-    edge = p.junction.edge(*_xy(s.last))
+    edge = p.junction.edge(*xy(s.last))
     how = (f"stood still for {s.duration_s:.1f} s ({s.samples} samples from {s.first.label} to {s.last.label} below "
            f"0.5 mph), {edge:.1f} m outside {p.junction.id}'s area ({p.junction.extent_source}), before entering it")
     return [DerivedFact(HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD.text(p.vehicle), how, (s.first.ref, s.last.ref))]
@@ -299,14 +299,9 @@ def _showed(light: Light, p: Passage) -> str:
             f"({light.ref.src} #{light.ref.seq})")
 
 
-def _xy(s: Sample) -> tuple[float, float]:
-    """A placed sample's position (Sample.placed: its x and y are measured, neither None)."""
-    return cast(float, s.x), cast(float, s.y)
-
-
 def _first_inside(p: Passage) -> bool:
     first = next((s for s in p.samples if s.placed), None)
-    return first is not None and p.junction.inside(*_xy(first))
+    return first is not None and p.junction.inside(*xy(first))
 
 
 def _stop_line(p: Passage) -> bool:
@@ -928,7 +923,7 @@ def _came_in(other: Other, j: Junction) -> bool:
     (waiting to turn across oncoming traffic) and whose way, so far and taken on straight ahead
     (EXTEND_M), never meets V's path is not shown in V's way; a way cut short before the junction
     may yet have been heading for V's path, and stays V's to explain."""
-    return any(j.edge(*_xy(s)) <= 0 for s in other.way if s.placed)
+    return any(j.edge(*xy(s)) <= 0 for s in other.way if s.placed)
 
 
 def conflict_of(p: Passage, other: Other) -> Conflict | None:

@@ -44,7 +44,7 @@ from .conflicts import PET_MAX_S
 from .derived import _course_changed, _walking, conflict_of, explained, reacting
 from .reaction import FORCE_DECEL_MPS2
 from .model import Margin
-from .history import MAX_DECEL_MPS2, MPH_PER_MPS, STOPPED_MPS, Sample, between
+from .history import MAX_DECEL_MPS2, MPH_PER_MPS, STOPPED_MPS, Sample, between, xy
 from .history import Passage
 from .history import PAST_TOLERANCE_M, STOP_ZONE_M
 from .stopping import SOURCE as RULE_126, stopping_distance_m
@@ -64,11 +64,6 @@ BY_RULE: dict[str, str] = {HC_176: "red", HC_175: "amber", HC_171: "stop", HC_17
 def _v(s: Sample) -> float:
     """The speed of a sample kept for having one (`s.speed_mps is not None` where it was chosen)."""
     return cast(float, s.speed_mps)
-
-
-def _xy(s: Sample) -> tuple[float, float]:
-    """The position of a sample kept for having one (`s.placed` where it was chosen)."""
-    return cast(float, s.x), cast(float, s.y)
 
 
 def margin(passage: Passage, action: str, rule: str | None = None, at: int | None = None) -> Margin | None:
@@ -208,7 +203,7 @@ def _rolled(p: Passage, to_line: ToLine, end: int) -> Margin:
     sensor = sensor_of(p, placed[0] if placed else None)
     timed = [s for s in placed if s.t <= end]
     for s in placed[len(timed):]:       # past the line by no more than its position tolerance: may be on it
-        if to_line(*_xy(s)) < -sensor.position_m:
+        if to_line(*xy(s)) < -sensor.position_m:
             break
         timed.append(s)
     pairs = [(a, b) for a, b in zip(timed, timed[1:]) if _at_line(to_line, a, b)]
@@ -223,7 +218,7 @@ def _rolled(p: Passage, to_line: ToLine, end: int) -> Margin:
     value = round(_v(slowest) * MPH_PER_MPS, 2)
     u = round(value - lowest * MPH_PER_MPS, 2)
     stopped = round(STOPPED_MPS * MPH_PER_MPS, 2)
-    past = -to_line(*_xy(slowest))
+    past = -to_line(*xy(slowest))
     unproven = None if lowest > STOPPED_MPS else (
         f"it was measured standing still at {slowest.label}, {past:.2f} m past the Stop line: within the position "
         f"tolerance of {sensor.position_m:g} m of it, so it may have stopped at the line"
@@ -246,7 +241,7 @@ def _rolled(p: Passage, to_line: ToLine, end: int) -> Margin:
 def _at_line(to_line: ToLine, a: Sample, b: Sample) -> bool:
     """Whether the way between two samples reaches the stretch where a stop is a stop at the line
     (from PAST_TOLERANCE_M past it to STOP_ZONE_M before it: rebuild's standstill "at the line")."""
-    da, db = to_line(*_xy(a)), to_line(*_xy(b))
+    da, db = to_line(*xy(a)), to_line(*xy(b))
     return min(da, db) <= STOP_ZONE_M and max(da, db) >= -PAST_TOLERANCE_M
 
 
@@ -334,7 +329,7 @@ def _conflict_figures(p: Passage, other) -> tuple[tuple[str, float, str], ...]:
 
 
 def _box(p: Passage) -> Margin | None:
-    inside = [s for s in p.samples if s.placed and s.speed_mps is not None and p.junction.in_box(*_xy(s))]
+    inside = [s for s in p.samples if s.placed and s.speed_mps is not None and p.junction.in_box(*xy(s))]
     still = [s for s in inside if _v(s) <= STOPPED_MPS]
     if not still:
         return None
@@ -364,12 +359,12 @@ def _depth(p: Passage, s: Sample) -> float:
     """Metres a position lies inside the yellow box's edge (the junction's area where the box is
     the whole of it; 0 outside)."""
     j = p.junction
-    if not j.in_box(*_xy(s)):
+    if not j.in_box(*xy(s)):
         return 0.0
     if j.box is None:
-        return max(0.0, -j.edge(*_xy(s)))
+        return max(0.0, -j.edge(*xy(s)))
     pts = list(j.box) + [j.box[0]]
-    return min(_to_segment(*_xy(s), a, b) for a, b in zip(pts, pts[1:]))
+    return min(_to_segment(*xy(s), a, b) for a, b in zip(pts, pts[1:]))
 
 
 def _to_segment(x: float, y: float, a, b) -> float:

@@ -24,7 +24,7 @@ from dataclasses import replace
 from typing import NamedTuple, Protocol, Sequence, cast
 
 from .history import Junction
-from .history import MIN_DECEL_SPAN_S, Sample, position_at, speed_at
+from .history import MIN_DECEL_SPAN_S, Sample, position_at, speed_at, xy
 from .history import FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, project, since, through
 from .history import Other
 
@@ -64,11 +64,6 @@ class _HasSpeed(Protocol):
     def t(self) -> int: ...
     @property
     def speed_mps(self) -> float: ...
-
-
-def _xy(s: Sample) -> Point:
-    """The position of a placed sample (Sample.placed: x and y both measured)."""
-    return cast(Point, (s.x, s.y))
 
 
 def slowing_began(other: Other) -> int | None:

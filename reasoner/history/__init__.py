@@ -20,7 +20,7 @@ It imports store and, of the reasoner, only its leaves (model, vocabulary, when)
 from .control import ROLE, control_at, liability_facts, role
 from .junctions import UNIT, Junction, Map, read_map, sector
 from .motion import (MAX_DECEL_MPS2, MIN_DECEL_SPAN_S, MPH_PER_MPS, STOPPED_MPS, Braking, Sample, between, mph,
-                     peak_deceleration, position_at, sample_of, samples, speed_at)
+                     peak_deceleration, position_at, sample_of, samples, speed_at, xy)
 from .others import (FOLLOW_M, FOLLOW_S, MOVING_MPS, VEHICLE_WIDTH_M, braking_into, own_cause, paths_within, project,
                      since, through)
 from .passage_values import AtChange, Other, Passage, Standstill
@@ -41,5 +41,5 @@ __all__ = [
     "monitors_of", "mph", "own_cause", "passage", "passage_at", "passages", "paths_within", "peak_deceleration",
     "position_at", "project", "read_map", "role", "run_context", "sample_of", "samples", "sector", "shown", "since",
     "spawn_facts", "speed_at", "stated", "status_facts", "through", "user_id", "vehicle_action", "vehicle_id",
-    "vehicle_scenario", "vehicle_src",
+    "vehicle_scenario", "vehicle_src", "xy",
 ]

@@ -21,12 +21,12 @@ between them, a light changing between two samples, no stop line on the map.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Mapping, NamedTuple, cast
+from typing import Mapping, NamedTuple
 
 from store import EventRef
 
 from .junctions import Junction, Map, Road, StopLine, heading_sector, sector
-from .motion import STOPPED_MPS, Sample, between, lerp, peak_deceleration, position_at, speed_at, stop_could_hide
+from .motion import STOPPED_MPS, Sample, between, lerp, peak_deceleration, position_at, speed_at, stop_could_hide, xy
 from .others import near_and_same_approach, own_cause, through
 from .passage_values import AtChange, Crossing, Moment, Other, Passage, Standstill
 from .record import Record, Track
@@ -84,12 +84,6 @@ class Span(NamedTuple):
     through: bool          # it went through the junction and out EXIT_M: the passage is complete
 
 
-def _xy(s: Sample) -> tuple[float, float]:
-    """A placed sample's position: every caller passes only samples whose `placed` is true
-    (both x and y measured), which the type of Sample cannot say."""
-    return cast("tuple[float, float]", (s.x, s.y))
-
-
 def spans(placed: list[Sample], map_: Map) -> list[Span]:
     """(junction, first t, last t, through) of each stretch of positions within RADIUS_M of a junction,
     ended EXIT_M from the centre once the vehicle has been in the junction: what happens on its
@@ -99,7 +93,7 @@ def spans(placed: list[Sample], map_: Map) -> list[Span]:
     done: list[list] = []
     split = SPLIT_S * SECOND
     for s in placed:
-        x, y = _xy(s)
+        x, y = xy(s)
         near = map_.near(x, y, RADIUS_M)
         if not near and not open_:
             through.clear()
@@ -141,7 +135,7 @@ def passage(record: Record, junction: Junction, t0: int, t1: int, through: bool 
     approach, line, method = _approach(junction, placed, notes)
     timeline = record.signals.timeline(junction.id, approach)
     lights = _lights(timeline, t0, t1)
-    pairs = [(s, line.to_line(*_xy(s))) for s in placed] if line else []
+    pairs = [(s, line.to_line(*xy(s))) for s in placed] if line else []
     crossing = _crossing(record, pairs, timeline, notes)
     end = crossing.t if crossing else t1
     changes = tuple(_at_change(light, timeline, series, line) for light in lights if t0 < light.t <= end)
@@ -254,7 +248,7 @@ def _standing_at_end(series: tuple[Sample, ...]) -> bool:
 def _braked_inside(o: Other, junction: Junction, t_from: int, t_to: int) -> bool:
     """Whether the road user slowed while inside the junction's area in [t_from, t_to]
     (others.braking_into counts braking outside it only)."""
-    inside = tuple(s for s in o.samples if s.placed and junction.edge(*_xy(s)) <= 0)
+    inside = tuple(s for s in o.samples if s.placed and junction.edge(*xy(s)) <= 0)
     braking = peak_deceleration(inside, t_from, t_to)
     return braking is not None and braking.decel_mps2 > 0
 
@@ -274,7 +268,7 @@ def _approach(junction: Junction, placed: list[Sample], notes: list[str]) -> tup
     if not placed:
         return None, None, "no position in the passage"
     first = placed[0]
-    x, y = _xy(first)
+    x, y = xy(first)
     if junction.edge(x, y) > 0 and _closing(junction, placed):
         arm = sector(x - junction.x, y - junction.y)
         line = _line(junction, arm, first)
@@ -294,14 +288,14 @@ def _approach(junction: Junction, placed: list[Sample], notes: list[str]) -> tup
 
 
 def _closing(junction: Junction, placed: list[Sample]) -> bool:
-    first = junction.distance(*_xy(placed[0]))
-    return len(placed) == 1 or min(junction.distance(*_xy(s)) for s in placed) < first - 0.5
+    first = junction.distance(*xy(placed[0]))
+    return len(placed) == 1 or min(junction.distance(*xy(s)) for s in placed) < first - 0.5
 
 
 def _line(junction: Junction, arm: str, first: Sample) -> StopLine | None:
     """The stop line of the approach named like the vehicle's sector, else the nearest line
     the vehicle is in front of."""
-    x, y = _xy(first)
+    x, y = xy(first)
     named = junction.line_for(arm)
     if named is not None and named.to_line(x, y) > 0:
         return named
@@ -400,7 +394,7 @@ def _standstills(series: tuple[Sample, ...], line: StopLine | None) -> tuple[Sta
     out = []
     for run in runs:
         last = next((s for s in reversed(run) if s.placed), None)
-        d = line.to_line(*_xy(last)) if line and last else None
+        d = line.to_line(*xy(last)) if line and last else None
         out.append(Standstill(run[0], run[-1], len(run), d,
                               d is not None and -PAST_TOLERANCE_M <= d <= STOP_ZONE_M))
     return tuple(out)
@@ -410,7 +404,7 @@ def _entry(junction: Junction, placed: list[Sample], record: Record, notes: list
            ) -> tuple[Moment | None, Moment | None, str | None]:
     """When the vehicle entered and left the junction's area, interpolated on its edge, and the
     arm it left by."""
-    edges = [(s, junction.edge(*_xy(s))) for s in placed]
+    edges = [(s, junction.edge(*xy(s))) for s in placed]
     if not edges:
         return None, None, None
     inside = edges[0][1] <= 0
@@ -421,7 +415,7 @@ def _entry(junction: Junction, placed: list[Sample], record: Record, notes: list
         if not inside and ea > 0 >= eb and entered is None:
             entered, inside = _edge_moment(record, a, ea, b, eb), True
         elif inside and ea <= 0 < eb:
-            x, y = _xy(b)
+            x, y = xy(b)
             return entered, _edge_moment(record, a, ea, b, eb), sector(x - junction.x, y - junction.y)
     return entered, None, None
 
@@ -549,7 +543,7 @@ def _hidden_stops(series: tuple[Sample, ...], line: StopLine, crossing: Crossing
         return
     timed = [s for s in series if s.speed_mps is not None and s.placed and (end is None or s.t <= end)]
     for a, b in zip(timed, timed[1:]):
-        near = -PAST_TOLERANCE_M <= line.to_line(*_xy(b)) <= STOP_ZONE_M + 10.0
+        near = -PAST_TOLERANCE_M <= line.to_line(*xy(b)) <= STOP_ZONE_M + 10.0
         if near and stop_could_hide(a, b):
             notes.append(f"between {a.label} ({a.speed_mps:.1f} m/s) and {b.label} ({b.speed_mps:.1f} m/s) the "
                          "vehicle could have stopped unseen: the samples cannot tell whether it stopped at the line")
