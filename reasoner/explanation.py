@@ -24,6 +24,7 @@ from .le.render import sentence_text
 from .le.sentences import constant
 from .le.terms import Atom
 from .model import Incident, Tree
+from .verdicts import Verdict
 from .vocabulary import CAN, MUST_NOT, POTENTIALLY_VIOLATES
 
 
@@ -161,11 +162,11 @@ class _Asker:
         derive it (the potential violation's own tree)."""
         out = []
         verdict = self.inc.verdict
-        if not questions and verdict == "mitigated" and self.validator is not None \
+        if not questions and verdict == Verdict.MITIGATED and self.validator is not None \
                 and MUST_NOT.functor in self.validator.document.templates:
             questions = [self.validator.render(MUST_NOT.atom(self.me, self.act))]
         pv_trees = self.inc.proofs.potential_violation.trees
-        if not questions and verdict == "dismissed" and pv_trees:
+        if not questions and verdict == Verdict.DISMISSED and pv_trees:
             tree = pv_trees[0]
             out.append(WhyNot(tree["text"], tree["status"] != "failed", (tree,),
                               self.monitor.name if self.monitor else None, "monitor scenario"))
@@ -204,12 +205,12 @@ class _Asker:
         return tuple(lawful), tuple(unlawful)
 
     def _counterfactuals(self) -> dict[str, tuple[Counterfactual, ...]] | None:
-        if self.validator is None or self.inc.verdict == "dismissed":
+        if self.validator is None or self.inc.verdict == Verdict.DISMISSED:
             return None
         engine, facts, can = self.inv.engine, self._validator_atoms(), CAN.atom(self.me, self.act)
         opts: dict[str, Any] = {"values": {"colour": COLOURS}, "exclude": NOT_SWAPPED_IN}
         out: dict[str, tuple[Counterfactual, ...]] = {}
-        if self.inc.verdict == "punishable":
+        if self.inc.verdict == Verdict.PUNISHABLE:
             out["lawful"] = _worded(search(engine, self.validator, facts, can, True, self.me, fixed=[self.pv],
                                            **opts), self.validator)
             if self.monitor is not None:
@@ -217,7 +218,7 @@ class _Asker:
                 found = search(engine, self.monitor, mfacts, self.pv, False, self.me, **opts)
                 out["no_potential_violation"] = _worded(found, self.monitor)
         else:       # mitigated: only the cheap question, one change
-            out["punishable"] = _worded(search(engine, self.validator, facts, can, False, self.me, fixed=[self.pv],
+            out[Verdict.PUNISHABLE.value] = _worded(search(engine, self.validator, facts, can, False, self.me, fixed=[self.pv],
                                                max_size=1, **opts), self.validator)
         return out
 
