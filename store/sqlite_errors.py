@@ -95,7 +95,7 @@ def translates(method: F) -> F:
         except sqlite3.Error as exc:
             raise translated(exc) from exc
         return _translated_items(result) if isinstance(result, Iterator) else result
-    return call  # type: ignore[return-value]
+    return call  # type: ignore[return-value]  # the wrapper keeps the signature (functools.wraps), which F cannot say
 
 
 def _translated_items(items: Iterator[T]) -> Iterator[T]:
