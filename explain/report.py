@@ -47,13 +47,11 @@ def format_for(path: Path) -> str:
     return fmt
 
 
-def build_report(case: Case | Store, run: str, *, incident: str | int | None = None,
+def build_report(case: Case, run: str, *, incident: str | int | None = None,
                  progress: Progress | None = None, now: datetime | None = None) -> dict[str, Any]:
     """The report of `run` (only `incident`, by id or 1-based number, if given), from what the
-    case answers (reasoner.Case: its rulebooks, verdicts and chain checks); a bare store is
-    asked as `Case(store)`, under the rulebooks in force. NoSuchRun or NoSuchIncident (both
-    saying what there is) for what the store does not hold."""
-    case = case if isinstance(case, Case) else Case(case)
+    case answers (reasoner.Case: its rulebooks, verdicts and chain checks). NoSuchRun or
+    NoSuchIncident (both saying what there is) for what the store does not hold."""
     store = case.store
     case.require(run)                           # NoSuchRun before the file is hashed
     made_from = provenance(store.path)          # before the events are read: the file as it was found

@@ -10,6 +10,7 @@ import json
 
 import pytest
 
+from reasoner import Case
 from explain.report import build_report, render_report
 from store import Store
 from tests.helpers.cli import gaps
@@ -54,7 +55,7 @@ def test_the_explanation_marks_measured_facts_and_gives_their_method(runner_db):
 
 def test_the_report_timeline_marks_the_crossing_on_the_light_bands(runner_db):
     with Store.open_read_only(runner_db) as store:
-        report = build_report(store, "measured-runner")
+        report = build_report(Case(store), "measured-runner")
     tl = report["incidents"][0]["timeline"]
     crossing = next(m for m in tl["moments"] if m["what"] == "crossed the stop line")
     red = next(c for c in tl["signals"]["west"] if c["colour"] == "red")

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from reasoner import Case
 from explain.report import ReportError, build_report, format_for, render_report
 from explain.report_data import facing_approach, number
 from explain.svg_scene import scene_svg
@@ -73,7 +74,7 @@ def demo_report(tmp_path_factory) -> dict:
     db = tmp_path_factory.mktemp("report") / "demo.db"
     with Store(db) as store:
         store.append(paper_run())
-        return build_report(store, RUN, now=NOW)
+        return build_report(Case(store), RUN, now=NOW)
 
 
 def hostile_events() -> list[dict]:
@@ -203,12 +204,12 @@ def test_json_carries_the_explanations_and_the_scene_data(demo_report):
 def test_one_incident_by_id_or_number(tmp_path):
     with Store(tmp_path / "d.db") as store:
         store.append(paper_run())
-        by_id = build_report(store, RUN, incident="monitor/m1:3", now=NOW)
-        by_number = build_report(store, RUN, incident="2", now=NOW)
+        by_id = build_report(Case(store), RUN, incident="monitor/m1:3", now=NOW)
+        by_number = build_report(Case(store), RUN, incident="2", now=NOW)
         with pytest.raises(NoSuchIncident, match="no incident '9'.*1=monitor/m1:1, 2=monitor/m1:3"):
-            build_report(store, RUN, incident="9")      # found as reasoner.Case finds it, for every command
+            build_report(Case(store), RUN, incident="9")      # found as reasoner.Case finds it, for every command
         with pytest.raises(NoSuchRun, match="no run 'other'; runs: paper-junctions"):
-            build_report(store, "other")
+            build_report(Case(store), "other")
     assert [e["number"] for e in by_id["incidents"]] == [2] and by_id["incidents_in_run"] == 2
     assert render_report(by_id, "json") == render_report(by_number, "json")
     assert "One incident of the 2 the run holds." in render_report(by_id, "html")
@@ -220,7 +221,7 @@ def test_hostile_recorded_strings_are_shown_not_obeyed(tmp_path):
     with Store(tmp_path / "h.db") as store:
         report = store.append(hostile_events())
         assert not report.rejected, report.rejected
-        built = build_report(store, RUN, now=NOW)
+        built = build_report(Case(store), RUN, now=NOW)
     page = render_report(built, "html")
     parsed = outline(page)
     assert parsed.problems == [] and parsed.stack == []

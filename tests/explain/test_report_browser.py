@@ -23,6 +23,7 @@ import pytest
 
 from explain.labels import Box
 from explain.pdf import find_chromium, headless_args, print_pdf
+from reasoner import Case
 from explain.report import build_report, render_report
 from explain.svg_scene import scene_svg
 from explain.svg_timeline import timeline_svg
@@ -68,7 +69,7 @@ def report_page(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("browser")
     with Store(folder / "demo.db") as store:
         store.append(paper_run())
-        report = build_report(store, RUN, now=datetime(2026, 1, 2, tzinfo=timezone.utc))
+        report = build_report(Case(store), RUN, now=datetime(2026, 1, 2, tzinfo=timezone.utc))
     page = folder / "report.html"
     page.write_text(render_report(report, "html"), encoding="utf-8")
     (folder / "harness.html").write_text(HARNESS, encoding="utf-8")

@@ -20,6 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from explain.labels import Box, text_size
+from reasoner import Case
 from explain.report import build_report, render_report
 from explain.report_html import _scene_caption
 from explain.scene_view import H, LEGEND_H, W
@@ -144,7 +145,7 @@ def forcing(tmp_path_factory) -> dict:
     run.end((max(e["t"] for e in run.events) - run.events[0]["t"]) / 1e9 + 1)
     with Store(tmp_path_factory.mktemp("forcing") / "forcing.db") as store:
         assert not store.append(run.events).rejected
-        return build_report(store, run.run, now=NOW)
+        return build_report(Case(store), run.run, now=NOW)
 
 
 def test_the_forced_road_user_is_inside_its_incidents_picture(forcing):

@@ -16,6 +16,7 @@ import pytest
 
 from explain.labels import Box, Placer, text_size
 from explain.presence import FRESH_NS, presence_at
+from reasoner import Case
 from explain.report import build_report, render_report
 from explain.report_html import css_string
 from explain.svg_scene import scene_svg
@@ -40,7 +41,7 @@ def closed_store(path: Path, events: list[dict]) -> Path:
 
 def built(path: Path) -> dict:
     with Store.open_read_only(path) as store:  # as `gaps report` reads it
-        return build_report(store, RUN, now=NOW)
+        return build_report(Case(store), RUN, now=NOW)
 
 
 # --- the tool's version and the store file's sha256 -----------------------------------------------
@@ -79,7 +80,7 @@ def test_html_markdown_and_json_carry_version_and_sha256(demo):
 def test_pending_writes_in_the_log_are_said_not_hidden(tmp_path):
     with Store(tmp_path / "open.db") as store:
         store.append(paper_run())
-        report = build_report(store, RUN, now=NOW)
+        report = build_report(Case(store), RUN, now=NOW)
     assert report["provenance"]["store"]["wal_pending"] is True
     assert "held writes not yet in the file" in render_report(report, "html")
     assert "its -wal file held writes not yet in the file" in render_report(report, "md")
