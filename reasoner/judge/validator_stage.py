@@ -23,7 +23,6 @@ from ..verdicts import ASKED, Verdict
 from .case import Case, Contested, Validation
 from .court import Court
 
-VERDICTS = ASKED                                 # the questions of `verdict`, in the order asked
 Turn = tuple[str, str, str, list[Atom], list[tuple[Atom, EventRef]]]
 
 
@@ -148,9 +147,9 @@ def verdict(court: Court, rb: Rulebook, me: Any, act: Any, atoms: list[Atom],
     goals = (PUNISHABLY_VIOLATES.atom(me, act), MITIGATELY_VIOLATES.atom(me, act))
     if not proofs:
         first = court.engine.first_holding(rb, goals, atoms)
-        return (VERDICTS[first] if first >= 0 else Verdict.DISMISSED), None
+        return (ASKED[first] if first >= 0 else Verdict.DISMISSED), None
     first, answer = court.engine.ask_first(rb, goals, atoms)
-    return (VERDICTS[first] if first >= 0 else Verdict.DISMISSED), answer
+    return (ASKED[first] if first >= 0 else Verdict.DISMISSED), answer
 
 
 def action_text(rb: Rulebook, me: Any, act: Any) -> str:
