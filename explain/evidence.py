@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
-from reasoner.chain_status import ChainStatus
+from reasoner import ChainStatus
 
 from .phrases import clock
 

@@ -13,8 +13,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from reasoner.scene import scene
-from reasoner.scene_parts import Reported
+from reasoner.scene import Reported, scene
 from reasoner.timelines import timeline as speed_and_signals
 from store import Store
 from store.run_map import MapJunction, read_map_body, whole, whole_line
