@@ -32,7 +32,8 @@ from .evidence import chain_text
 from .explanation_doc import document
 from .provenance import provenance
 from .picture_parts import MapDrawn
-from .report_data import name_users, recorded_rulebooks, run_map, run_start_body, scene_picture, vehicle_junction
+from .report_data import (RecordedRulebook, name_users, recorded_rulebooks, run_map, run_start_body, scene_picture,
+                          vehicle_junction)
 from .report_parts import LastCheckpoint, Report, ReportChain, ReportEntry, StageRulebook, SummaryRow, UsedRulebook
 from .timeline_parts import ActTimeline, Moment
 
@@ -129,12 +130,12 @@ def _checkpoints(store: Store, run: str) -> tuple[int, LastCheckpoint | None]:
                       LastCheckpoint(last.get("count"), last.get("head"), last.get("merkle_root")))
 
 
-def _rulebooks(store: Store, incidents: list[Incident], recorded: list[dict]) -> tuple[UsedRulebook, ...]:
+def _rulebooks(store: Store, incidents: list[Incident], recorded: list[RecordedRulebook]) -> tuple[UsedRulebook, ...]:
     """Every rulebook a verdict used, once, then those the run recorded that no verdict used:
     name, sha256, where it came from (given with --rules, recorded by the run, or the project's
     current one), the stages it served, and its version as the run recorded it or the store
     holds it under that sha256."""
-    versions = {b["sha256"]: b["version"] for b in recorded if b["sha256"] and b["version"]}
+    versions = {b.sha256: b.version for b in recorded if b.sha256 and b.version}
     seen: dict[str, UsedRulebook] = {}
     for inc in incidents:
         for stage, b in inc.rulebooks.items():
@@ -146,9 +147,8 @@ def _rulebooks(store: Store, incidents: list[Incident], recorded: list[dict]) ->
             if stage not in seen[sha].stages:
                 seen[sha] = replace(seen[sha], stages=seen[sha].stages + (stage,))
     for r in recorded:
-        if r["sha256"] and r["sha256"] not in seen:
-            seen[r["sha256"]] = UsedRulebook(r["name"], r["sha256"], "recorded", (),
-                                             r["version"] or _version(store, r["sha256"]))
+        if r.sha256 and r.sha256 not in seen:
+            seen[r.sha256] = UsedRulebook(r.name, r.sha256, "recorded", (), r.version or _version(store, r.sha256))
     return tuple(seen.values())
 
 

@@ -10,7 +10,7 @@ finite number is left out rather than drawn somewhere wrong, and every string is
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from reasoner.scene import scene
@@ -38,9 +38,19 @@ def run_start_body(store: Store, run: str) -> dict[str, Any]:
     return body if isinstance(body, dict) else {}
 
 
-def recorded_rulebooks(start_body: dict[str, Any]) -> list[dict[str, Any]]:
-    """The rulebooks the run recorded in its run.start: name, sha256 and version (no text)."""
-    return [{"name": _text(b.get("name")), "sha256": _text(b.get("sha256")), "version": _text(b.get("version"))}
+@dataclass(frozen=True)
+class RecordedRulebook:
+    """A rulebook as the run's run.start recorded it: name, sha256 and version (no text); each the
+    recorded value as text, or None."""
+
+    name: str | None
+    sha256: str | None
+    version: str | None
+
+
+def recorded_rulebooks(start_body: dict[str, Any]) -> list[RecordedRulebook]:
+    """The rulebooks the run recorded in its run.start (a producer's JSON, read here once)."""
+    return [RecordedRulebook(_text(b.get("name")), _text(b.get("sha256")), _text(b.get("version")))
             for b in _dicts(start_body.get("rulebooks"))]
 
 

@@ -9,9 +9,10 @@ labelled lines across them.
 
 Drawn from a timeline_parts.ActTimeline (the reasoner's window, with act_data's `to_line` and
 `other`) only. Between two reports a value is drawn as a straight line and a colour as held: that
-is all the record says, and the points show where it says it. The approach the vehicle came in on (when the approaches are named
-by compass point) is marked ▶. Speeds are drawn in miles per hour, as the explanation and the
-Highway Code state them; each point's tooltip also gives the m/s the producer recorded.
+is all the record says, and the points show where it says it. The approach the vehicle came in on
+(when the approaches are named by compass point) is marked ▶. Speeds are drawn in miles per hour,
+as the explanation and the Highway Code state them; each point's tooltip also gives the m/s the
+producer recorded.
 
 The moments' labels sit in rows above the plot (labels.in_rows): none overlaps another, none is
 cut at the picture's edge, and no line runs through a label; each label's box is written in its
@@ -273,7 +274,8 @@ def _nice_range(lo: float, hi: float) -> tuple[float, float, float]:
 
 # --- signals ------------------------------------------------------------------------------------------
 
-def _band(tl: ActTimeline, approach: str, changes: tuple[Phase, ...], top: float, x: Callable, facing: bool) -> list[str]:
+def _band(tl: ActTimeline, approach: str, changes: tuple[Phase, ...], top: float, x: Callable,
+          facing: bool) -> list[str]:
     name = f"{tl.junction} {approach}"
     name = name if len(name) <= 13 else name[:12] + "…"
     weight = ' font-weight="bold"' if facing else ""
