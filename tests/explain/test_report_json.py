@@ -1,9 +1,10 @@
 """The JSON report is the contract the typed report keeps (issue 38, "Types where values cross"):
 explain/ builds the report as frozen values (picture_parts, timeline_parts, report_parts) and
 their `to_json` is, to the byte, what the code that built it as dicts wrote
-(data/report_before_typed.json, written by tests/helpers/report_shapes.py at commit 35e88c1):
-lanes, stop lines, crossings and box, road users present and stale, a monitor's cone, the
-distance to the Stop line and the speed of the road user forced, key for key and in order."""
+(data/report_before_typed.json, written by tests/helpers/report_shapes.py with main's explain/
+at commit db5f254): lanes, stop lines, crossings and box, road users present and stale, a
+monitor's cone, the distance to the Stop line and the speed of the road user forced, key for key
+and in order."""
 from __future__ import annotations
 
 import json

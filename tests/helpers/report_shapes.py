@@ -2,7 +2,7 @@
 users around its second incident and a SUMO-like map with lanes, and a forcing (the road user
 forced, its speed, the distance to the Stop line). `python -m tests.helpers.report_shapes OUT`
 writes their JSON, as data/report_before_typed.json was written by the code that built the
-report as dicts (commit 35e88c1)."""
+report as dicts (commit db5f254, main before this branch)."""
 from __future__ import annotations
 
 import json
