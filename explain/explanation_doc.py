@@ -70,7 +70,7 @@ class _Builder:
             "rulebooks": {stage: b.to_json() for stage, b in inc.rulebooks.items()},
         }
         doc["verdict"] = self._verdict_sentence(doc)
-        doc["evidence"] = {"chain": chain, "events": self.index.table(self._uses(anchor), chain["problem"])}
+        doc["evidence"] = {"chain": chain, "events": self.index.table(self._uses(anchor), self.ex.chain)}
         doc["summary"] = self._summary(doc)
         return doc
 
