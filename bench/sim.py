@@ -10,10 +10,14 @@ On bench/sumo_step.py's left-hand 10 x 10 signal grid (the paper's map holds a f
 with two monitors at grid junctions (written beside the grid). Three processes, one after another
 or side by side:
 
-    sumo alone   a child process on CPU 0: N vehicles kept on the grid (sumo_step.Traffic), stepped
-                 with subscriptions for the timed window's steps once they are all on: steps per
-                 second (a child, because libsumo started a second time in one process after a
-                 large run stalled)
+    sumo alone   a child process on CPU 0: SUMO stepping alone with the simulation's own traffic
+                 (`sumo_same`: the same config's departures, routes, types and seed, each put on
+                 the network at the simulation's step; no agents, no events, no publishing),
+                 stepped with the simulation's subscriptions through the same warm-up, the same
+                 window timed: the reference of issue 40's ratio. Then, in another child, the
+                 earlier reference (`sumo_alone`: N vehicles of sumo_step.Traffic's random routes
+                 kept on the grid), reported beside it. (Children, because libsumo started a
+                 second time in one process after a large run stalled.)
     ingest       a child process on CPU 1, as `gaps serve` runs: IngestService listening on a
                  loopback port, appending to a store file (not durable); it reports what it stored
     simulation   this process, on CPU 0 (and Zenoh's threads with it): sim_replay.simulation with
@@ -25,9 +29,9 @@ Vehicles on the network are counted from the entity.state events of the window (
 average), so the two loops are compared at the vehicle counts they really had. Where the machine is
 shared, the wall figure carries the neighbours' load; the CPU figure (world seconds per CPU second
 of the simulation's process) is what a core of its own would give, and the ratio by CPU time
-(steps per CPU second of the simulation's process over those of SUMO alone's) is issue 40's ratio
-without that load. Fails if any published event was
-not stored.
+(steps per CPU second of the simulation's process over those of SUMO alone's with the same traffic)
+is issue 40's ratio without that load; the same by the main thread's CPU alone is printed beside
+it. Fails if any published event was not stored.
 
 Where the window's time goes is printed per phase, so that a slow run says why: the wall clock split
 between SUMO's step, the simulation's own work (agents, monitors, events) and the outlets' put
@@ -86,6 +90,65 @@ def sumo_alone(net: Path, vehicles: int, steps: int, seed: int) -> dict:
                 break
         rate, cpu_rate, mean = sumo_loop(traffic, steps)
     return {"steps_per_s": rate, "steps_per_cpu_s": cpu_rate, "vehicles_mean": mean}
+
+
+def sim_config(net: Path, monitors: Path, args: argparse.Namespace) -> SimConfig:
+    """The simulation's config: the one the simulation runs and the same-traffic reference drives."""
+    return SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
+                     duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
+
+
+def sumo_same(net: Path, monitors: Path, args: argparse.Namespace) -> dict:
+    """SUMO stepping alone with the simulation's own traffic (the fair reference): the same config's
+    departures (sim_replay.demand.plan from the same seed's "demand" stream), each put on the
+    network at the step the simulation puts it there, on the route SUMO's router gives it, with the
+    same type, departure position and speed, as Simulation._add does; SUMO started as World starts
+    it for the simulation (the same options, traffic lights subscribed). No agents (SUMO's own
+    drivers obey the lights and right of way: nobody is held, sped up or slowed), no events, no
+    publishing. Each step is what the simulation's world step asks of SUMO: simulationStep, the
+    departures subscribed, the vehicles' and lights' subscription results fetched. The warm-up is
+    stepped untimed; the window's steps are timed by wall, process and thread CPU, as the
+    simulation's are. In a child process on CPU 0, as the simulation runs."""
+    from sim_replay.demand import plan
+    from sim_replay.faults import stream
+    from sim_replay.sumo_world import VEHICLE_VARS, WorldError
+    import libsumo
+    pin(0)
+    config = sim_config(net, monitors, args)
+    tc = libsumo.constants
+    step, sim_results, subscribe = libsumo.simulationStep, libsumo.simulation.getSubscriptionResults, \
+        libsumo.vehicle.subscribe
+    results, lights = libsumo.vehicle.getAllSubscriptionResults, libsumo.trafficlight.getAllSubscriptionResults
+    warm = round(args.warmup / STEP_S)
+    total = round(config.duration_s / STEP_S)
+    seen = added = 0
+    with sumo_world.World(net, seed=config.seed) as world:
+        departures, _ = plan(config, world.network, stream(config.seed, "demand"))
+        di = 0
+        for n in range(1, total + 1):
+            if n == warm + 1:
+                wall, cpu, thread = time.perf_counter(), time.process_time(), time.thread_time()
+            t_before = round((n - 1) * STEP_S, 9)
+            while di < len(departures) and departures[di].depart_s <= t_before:
+                d = departures[di]
+                di += 1
+                try:
+                    world.add_vehicle(d.id, d.kind, d.route or world.route(d.entry, d.exit, d.kind), depart_pos=0.0,
+                                      depart_speed="max")
+                    added += 1
+                except WorldError:
+                    pass
+            step()
+            for ident in sim_results()[tc.VAR_DEPARTED_VEHICLES_IDS]:
+                subscribe(ident, VEHICLE_VARS)
+            got = results()
+            lights()
+            if n > warm:
+                seen += len(got)
+        wall, cpu, thread = time.perf_counter() - wall, time.process_time() - cpu, time.thread_time() - thread
+    timed = total - warm
+    return {"steps_per_s": timed / wall, "steps_per_cpu_s": timed / cpu, "steps_per_thread_cpu_s": timed / thread,
+            "vehicles_mean": seen / timed, "added": added, "departures": len(departures)}
 
 
 def serve(db: Path, endpoint: str) -> dict:
@@ -205,8 +268,7 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
         raise SystemExit("bench/sim.py: the ingest did not start")
     cpus = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
     pinned = pin(0)
-    config = SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
-                       duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
+    config = sim_config(net, monitors, args)
     sumo_world.World.step = timed_step
     spent: dict[str, float] = {}
     timing = [False]
@@ -281,7 +343,7 @@ def main() -> None:
     ap.add_argument("--depart-within", type=float, default=None,
                     help="share of the run over which vehicles set off (default: the warm-up)")
     ap.add_argument("--note", default="", help="said in the recorded notes (e.g. another commit's figures beside it)")
-    ap.add_argument("--part", choices=["sumo-alone", "serve"], help=argparse.SUPPRESS)
+    ap.add_argument("--part", choices=["sumo-alone", "sumo-same", "serve"], help=argparse.SUPPRESS)
     ap.add_argument("part_args", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.depart_within is None:
@@ -295,13 +357,22 @@ def main() -> None:
         print(json.dumps(serve(Path(args.part_args[0]), args.part_args[1])))
         return
     monitors = net.with_name("grid10-lefthand.monitors.json")
+    if args.part == "sumo-same":
+        print(json.dumps(sumo_same(net, monitors, args)))
+        return
     monitors.write_text(json.dumps({"monitors": MONITORS}), encoding="utf-8")
     sizes = ["--vehicles", str(args.vehicles), "--seconds", str(args.seconds), "--seed", str(args.seed)]
-    alone_got = last_json(child("sumo-alone", *sizes))
-    alone, alone_vehicles = alone_got["steps_per_s"], alone_got["vehicles_mean"]
-    alone_cpu = alone_got["steps_per_cpu_s"]
-    print(f"SUMO alone: {alone:,.1f} steps/s with {alone_vehicles:,.0f} vehicles ({alone * STEP_S:.2f} x real time; "
-          f"{alone_cpu:,.1f} steps per CPU second)", flush=True)
+    same_got = last_json(child("sumo-same", *sizes, "--warmup", str(args.warmup),
+                               "--depart-within", str(args.depart_within)))
+    alone, alone_vehicles = same_got["steps_per_s"], same_got["vehicles_mean"]
+    alone_cpu, alone_thread = same_got["steps_per_cpu_s"], same_got["steps_per_thread_cpu_s"]
+    print(f"SUMO alone with the simulation's traffic (the reference): {alone:,.1f} steps/s with {alone_vehicles:,.0f} "
+          f"vehicles on average ({alone * STEP_S:.2f} x real time; {alone_cpu:,.1f} steps per CPU second, "
+          f"{1e3 / alone_thread:.2f} ms of thread CPU a step)", flush=True)
+    old_got = last_json(child("sumo-alone", *sizes))
+    old_rate, old_vehicles, old_cpu = old_got["steps_per_s"], old_got["vehicles_mean"], old_got["steps_per_cpu_s"]
+    print(f"SUMO alone with sumo_step.Traffic (the earlier reference: other routes, N kept on the grid): "
+          f"{old_rate:,.1f} steps/s with {old_vehicles:,.0f} vehicles ({old_cpu:,.1f} steps per CPU second)", flush=True)
     speeds, loads = [calibration_elsewhere()], [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
         got = simulation(net, monitors, args, Path(folder))
@@ -336,17 +407,32 @@ def main() -> None:
     if got["stored"] != got["published"]:
         raise SystemExit(f"bench/sim.py: {got['published'] - got['stored']:,} published events were not stored; "
                          f"the ingest's totals: {got['ingest']}")
+    thread_ratio = steps / got["thread_cpu_s"] / alone_thread
+    print(f"by the main thread's CPU: {1e3 * got['thread_cpu_s'] / steps:.1f} ms a step against SUMO alone's "
+          f"{1e3 / alone_thread:.2f} ms: {thread_ratio:.2f}; to the earlier reference (sumo_step.Traffic) by CPU "
+          f"time {steps / got['cpu_s'] / old_cpu:.2f}")
     figures = [
-        Figure("SUMO alone", alone, "steps/s", note=f"{alone_vehicles:,.0f} vehicles kept on the grid"),
-        Figure("the simulation, publishing into an ingest", sim_rate, "steps/s", peer="SUMO alone",
+        Figure("SUMO alone with the simulation's traffic", alone, "steps/s",
+               note=f"the same departures, routes and seed, no agents, no publishing: {alone_vehicles:,.0f} vehicles "
+                    f"on average; {alone_cpu:,.1f} steps per CPU second, {1e3 / alone_thread:.2f} ms of thread CPU "
+                    f"a step"),
+        Figure("SUMO alone with sumo_step.Traffic (the earlier reference)", old_rate, "steps/s",
+               note=f"other routes, {old_vehicles:,.0f} vehicles kept on the grid; {old_cpu:,.1f} steps per CPU "
+                    f"second; the simulation by CPU time to it {steps / got['cpu_s'] / old_cpu:.2f} x"),
+        Figure("the simulation, publishing into an ingest", sim_rate, "steps/s",
+               peer="SUMO alone with the simulation's traffic",
                note=f"{got['vehicles_mean']:,.0f} vehicles on average"),
         Figure("real-time factor of the simulation", args.seconds / got["wall_s"], "x real time",
                target=">= 1 at 1,000 vehicles, one core"),
         Figure("real-time factor by the simulation's CPU time", args.seconds / got["cpu_s"], "x real time",
                note="world seconds per CPU second of its process: what a core of its own would give"),
         Figure("the simulation by CPU time, to SUMO alone by CPU time", steps / got["cpu_s"] / alone_cpu, "x",
-               note=f"steps per CPU second of each process (SUMO alone {alone_cpu:,.1f}): the ratio without the "
-                    f"neighbours' load"),
+               target=">= 0.5 (issue 40)",
+               note=f"steps per CPU second of each process (SUMO alone with the simulation's traffic "
+                    f"{alone_cpu:,.1f}): the ratio without the neighbours' load"),
+        Figure("the simulation's main thread to SUMO alone's, by thread CPU", thread_ratio, "x",
+               note=f"{1e3 * got['thread_cpu_s'] / steps:.1f} ms a step against {1e3 / alone_thread:.2f} ms "
+                    f"(Zenoh's threads left out)"),
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
         Figure("the ingest's events per CPU second", ingest_rate, "events/CPU-s",
                note=f"stored over its process's CPU, the whole run; at {per_step:,.0f} events a step, "
@@ -364,7 +450,8 @@ def main() -> None:
     record("sim", "The whole simulation, publishing into a running ingest", figures,
            notes=f"grid10-lefthand, {args.vehicles:,} vehicles set off within {args.depart_within:.0%} of "
                  f"{args.seconds:g} s, seed {args.seed}, two monitors; the simulation on one core, the ingest "
-                 f"in another process on the other (store not durable); SUMO alone in a child process; "
+                 f"in another process on the other (store not durable); SUMO alone in child processes, with the "
+                 f"simulation's traffic and with sumo_step.Traffic; "
                  f"calibration {speeds[0]:.2f} / {speeds[1]:.2f} ms before / after the simulation ({QUIET_MS}), "
                  f"load average {loads[0]:.2f} / {loads[1]:.2f}" + (f"; {args.note}" if args.note else ""),
            details={k: v for k, v in got.items()})
