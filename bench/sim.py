@@ -98,7 +98,7 @@ def sim_config(net: Path, monitors: Path, args: argparse.Namespace) -> SimConfig
                      duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
 
 
-def sumo_same(net: Path, monitors: Path, args: argparse.Namespace) -> dict:
+def sumo_same(net: Path, monitors: Path, args: argparse.Namespace, log: list | None = None) -> dict:
     """SUMO stepping alone with the simulation's own traffic (the fair reference): the same config's
     departures (sim_replay.demand.plan from the same seed's "demand" stream), each put on the
     network at the step the simulation puts it there, on the route SUMO's router gives it, with the
@@ -108,12 +108,13 @@ def sumo_same(net: Path, monitors: Path, args: argparse.Namespace) -> dict:
     publishing. Each step is what the simulation's world step asks of SUMO: simulationStep, the
     departures subscribed, the vehicles' and lights' subscription results fetched. The warm-up is
     stepped untimed; the window's steps are timed by wall, process and thread CPU, as the
-    simulation's are. In a child process on CPU 0, as the simulation runs."""
+    simulation's are. Run in a child process on CPU 0, as the simulation runs. `log`, if given, gets
+    (step, id, type, route) of each vehicle put on the network (tests/sim_replay/test_bench_reference.py
+    holds it to the simulation's own)."""
     from sim_replay.demand import plan
     from sim_replay.faults import stream
     from sim_replay.sumo_world import VEHICLE_VARS, WorldError
     import libsumo
-    pin(0)
     config = sim_config(net, monitors, args)
     tc = libsumo.constants
     step, sim_results, subscribe = libsumo.simulationStep, libsumo.simulation.getSubscriptionResults, \
@@ -133,11 +134,13 @@ def sumo_same(net: Path, monitors: Path, args: argparse.Namespace) -> dict:
                 d = departures[di]
                 di += 1
                 try:
-                    world.add_vehicle(d.id, d.kind, d.route or world.route(d.entry, d.exit, d.kind), depart_pos=0.0,
-                                      depart_speed="max")
+                    route = d.route or world.route(d.entry, d.exit, d.kind)
+                    world.add_vehicle(d.id, d.kind, route, depart_pos=0.0, depart_speed="max")
                     added += 1
                 except WorldError:
-                    pass
+                    continue
+                if log is not None:
+                    log.append((n - 1, d.id, d.kind, tuple(route)))
             step()
             for ident in sim_results()[tc.VAR_DEPARTED_VEHICLES_IDS]:
                 subscribe(ident, VEHICLE_VARS)
@@ -208,8 +211,9 @@ by the thread's clock around each call, as cProfile cannot without overstating c
 small calls (its cost per call is larger than theirs)."""
 
 
-def time_parts(spent: dict[str, float], on: list[bool]) -> list[tuple[object, str, object]]:
-    """Wrap each of PARTS to add its thread CPU to `spent` while on[0]; returns what to put back."""
+def time_parts(spent: dict[str, float], calls: dict[str, int], on: list[bool]) -> list[tuple[object, str, object]]:
+    """Wrap each of PARTS to add its thread CPU to `spent` and count its calls in `calls` while on[0];
+    returns what to put back."""
     import libsumo
     from sim_replay import publisher, simulation, sumo_world, watchers, witness
     where = {"libsumo": libsumo, "libsumo.vehicle": libsumo.vehicle, "sumo_world.World": sumo_world.World,
@@ -228,6 +232,7 @@ def time_parts(spent: dict[str, float], on: list[bool]) -> list[tuple[object, st
                 return _real(*args, **kwargs)
             finally:
                 spent[_label] = spent.get(_label, 0.0) + time.thread_time() - began
+                calls[_label] = calls.get(_label, 0) + 1
         setattr(owner, name, timed)
         undo.append((owner, name, real))
     return undo
@@ -272,7 +277,8 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
     sumo_world.World.step = timed_step
     spent: dict[str, float] = {}
     timing = [False]
-    undo = time_parts(spent, timing)
+    calls: dict[str, int] = {}
+    undo = time_parts(spent, calls, timing) if args.parts else []
     window_from: int | None = None  # the first event's t (the run's start) + the warm-up
     mark: dict | None = None
     events = states = 0
@@ -329,6 +335,7 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
             "waited_s": waited, "steps": steps, "vehicles_mean": states / steps,
             "potential_violations": sim.summary.potential_violations,
             "parts_cpu_ms_per_step": {k: round(1e3 * v / steps, 2) for k, v in spent.items()},
+            "parts_calls_per_step": {k: round(v / steps, 1) for k, v in calls.items()},
             "ingest": {k: v for k, v in stats.items() if k not in ("cpu_s", "settle_wait_s")}}
 
 
@@ -342,6 +349,8 @@ def main() -> None:
                     help="world seconds, not timed, in which the vehicles enter the network")
     ap.add_argument("--depart-within", type=float, default=None,
                     help="share of the run over which vehicles set off (default: the warm-up)")
+    ap.add_argument("--no-parts", dest="parts", action="store_false",
+                    help="leave the parts' clocks out (two thread-CPU reads a call: what they cost is in the figures)")
     ap.add_argument("--note", default="", help="said in the recorded notes (e.g. another commit's figures beside it)")
     ap.add_argument("--part", choices=["sumo-alone", "sumo-same", "serve"], help=argparse.SUPPRESS)
     ap.add_argument("part_args", nargs="*", help=argparse.SUPPRESS)
@@ -358,6 +367,7 @@ def main() -> None:
         return
     monitors = net.with_name("grid10-lefthand.monitors.json")
     if args.part == "sumo-same":
+        pin(0)
         print(json.dumps(sumo_same(net, monitors, args)))
         return
     monitors.write_text(json.dumps({"monitors": MONITORS}), encoding="utf-8")
@@ -389,7 +399,8 @@ def main() -> None:
           f"{got['sumo_s']:.1f} s = {got['sumo_s'] / got['wall_s']:.0%} of the time")
     print(phases(got))
     print(f"thread CPU a step in parts of it (of {1e3 * got['thread_cpu_s'] / steps:.1f} ms): "
-          + "; ".join(f"{k} {v:.2f} ms" for k, v in got["parts_cpu_ms_per_step"].items()))
+          + "; ".join(f"{k} {v:.2f} ms ({got['parts_calls_per_step'][k]:g} calls)"
+                      for k, v in got["parts_cpu_ms_per_step"].items()))
     print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "
           f"all settled {got['settled_after_s']:.1f} s after the simulation ended; CPU {got['ingest_cpu_s']:.1f} s")
     print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s); by CPU time "
