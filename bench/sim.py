@@ -14,8 +14,9 @@ or side by side:
                  (`sumo_same`: the same config's departures, routes, types and seed, each put on
                  the network at the simulation's step; no agents, no events, no publishing),
                  stepped with the simulation's subscriptions through the same warm-up, the same
-                 window timed: the reference of issue 40's ratio. Then, in another child, the
-                 earlier reference (`sumo_alone`: N vehicles of sumo_step.Traffic's random routes
+                 window timed: the reference of issue 40's ratio, run before the simulation and
+                 after it, each figure the mean of the two. Between the first and the simulation,
+                 in another child, the earlier reference (`sumo_alone`: N vehicles of sumo_step.Traffic's random routes
                  kept on the grid), reported beside it. (Children, because libsumo started a
                  second time in one process after a large run stalled.)
     ingest       a child process on CPU 1, as `gaps serve` runs: IngestService listening on a
@@ -339,6 +340,12 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
             "ingest": {k: v for k, v in stats.items() if k not in ("cpu_s", "settle_wait_s")}}
 
 
+def _said(run: dict) -> str:
+    return (f"{run['steps_per_s']:,.1f} steps/s with {run['vehicles_mean']:,.0f} vehicles on average "
+            f"({run['steps_per_s'] * STEP_S:.2f} x real time; {run['steps_per_cpu_s']:,.1f} steps per CPU second, "
+            f"{1e3 / run['steps_per_thread_cpu_s']:.2f} ms of thread CPU a step)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--vehicles", type=int, default=200 if quick() else 1120,
@@ -372,13 +379,9 @@ def main() -> None:
         return
     monitors.write_text(json.dumps({"monitors": MONITORS}), encoding="utf-8")
     sizes = ["--vehicles", str(args.vehicles), "--seconds", str(args.seconds), "--seed", str(args.seed)]
-    same_got = last_json(child("sumo-same", *sizes, "--warmup", str(args.warmup),
-                               "--depart-within", str(args.depart_within)))
-    alone, alone_vehicles = same_got["steps_per_s"], same_got["vehicles_mean"]
-    alone_cpu, alone_thread = same_got["steps_per_cpu_s"], same_got["steps_per_thread_cpu_s"]
-    print(f"SUMO alone with the simulation's traffic (the reference): {alone:,.1f} steps/s with {alone_vehicles:,.0f} "
-          f"vehicles on average ({alone * STEP_S:.2f} x real time; {alone_cpu:,.1f} steps per CPU second, "
-          f"{1e3 / alone_thread:.2f} ms of thread CPU a step)", flush=True)
+    same_args = (*sizes, "--warmup", str(args.warmup), "--depart-within", str(args.depart_within))
+    before = last_json(child("sumo-same", *same_args))
+    print(f"SUMO alone with the simulation's traffic, before the simulation: {_said(before)}", flush=True)
     old_got = last_json(child("sumo-alone", *sizes))
     old_rate, old_vehicles, old_cpu = old_got["steps_per_s"], old_got["vehicles_mean"], old_got["steps_per_cpu_s"]
     print(f"SUMO alone with sumo_step.Traffic (the earlier reference: other routes, N kept on the grid): "
@@ -388,8 +391,18 @@ def main() -> None:
         got = simulation(net, monitors, args, Path(folder))
     speeds.append(calibration_elsewhere())
     loads.append(os.getloadavg()[0])
+    after = last_json(child("sumo-same", *same_args))
+    print(f"SUMO alone with the simulation's traffic, after the simulation: {_said(after)}", flush=True)
+    # the reference: the two runs about the simulation, each figure their mean (the machine's load
+    # changes over minutes; the runs on either side of the simulation bracket what it met)
+    same = {k: (before[k] + after[k]) / 2 for k in ("steps_per_s", "steps_per_cpu_s", "steps_per_thread_cpu_s",
+                                                    "vehicles_mean")}
+    alone, alone_vehicles = same["steps_per_s"], same["vehicles_mean"]
+    alone_cpu, alone_thread = same["steps_per_cpu_s"], same["steps_per_thread_cpu_s"]
+    print(f"SUMO alone with the simulation's traffic (the reference, the mean of the two): {_said(same)}")
     got["calibration_ms"] = [round(x, 2) for x in speeds]
     got["load_average"] = [round(x, 2) for x in loads]
+    got["sumo_same"] = {"before": before, "after": after}
     sim_rate = steps / got["wall_s"]
     print(f"simulation ({got['pinned']}): {args.seconds:g} s of world time in {got['wall_s']:.1f} s "
           f"({args.seconds / got['wall_s']:.2f} x real time; CPU {got['cpu_s']:.1f} s = {args.seconds / got['cpu_s']:.2f} x), {got['vehicles_mean']:,.0f} "
@@ -422,6 +435,13 @@ def main() -> None:
     print(f"by the main thread's CPU: {1e3 * got['thread_cpu_s'] / steps:.1f} ms a step against SUMO alone's "
           f"{1e3 / alone_thread:.2f} ms: {thread_ratio:.2f}; to the earlier reference (sumo_step.Traffic) by CPU "
           f"time {steps / got['cpu_s'] / old_cpu:.2f}")
+    parts = got["parts_cpu_ms_per_step"]
+    sumo_part = parts.get("libsumo.simulationStep", 0.0) + parts.get("vehicles' subscription results", 0.0)
+    if sumo_part:
+        print(f"SUMO's part inside the simulation (simulationStep and the vehicles' subscription results): "
+              f"{sumo_part:.2f} ms of thread CPU a step, {sumo_part * alone_thread / 1e3:.2f} times SUMO alone's whole "
+              f"step on the same traffic: with no Python and no puts at all the ratio by thread CPU would be "
+              f"{1e3 / alone_thread / sumo_part:.2f}")
     figures = [
         Figure("SUMO alone with the simulation's traffic", alone, "steps/s",
                note=f"the same departures, routes and seed, no agents, no publishing: {alone_vehicles:,.0f} vehicles "
@@ -441,6 +461,10 @@ def main() -> None:
                target=">= 0.5 (issue 40)",
                note=f"steps per CPU second of each process (SUMO alone with the simulation's traffic "
                     f"{alone_cpu:,.1f}): the ratio without the neighbours' load"),
+        *([Figure("SUMO's part inside the simulation, to SUMO alone's whole step", sumo_part * alone_thread / 1e3,
+                  "x", note=f"simulationStep and the vehicles' subscription results, {sumo_part:.2f} ms of thread "
+                            f"CPU a step: the ratio by thread CPU with no Python and no puts at all would be "
+                            f"{1e3 / alone_thread / sumo_part:.2f}")] if sumo_part else []),
         Figure("the simulation's main thread to SUMO alone's, by thread CPU", thread_ratio, "x",
                note=f"{1e3 * got['thread_cpu_s'] / steps:.1f} ms a step against {1e3 / alone_thread:.2f} ms "
                     f"(Zenoh's threads left out)"),
