@@ -15,10 +15,11 @@ or side by side:
                  the network at the simulation's step; no agents, no events, no publishing),
                  stepped with the simulation's subscriptions through the same warm-up, the same
                  window timed: the reference of issue 40's ratio, run before the simulation and
-                 after it, each figure the mean of the two. Between the first and the simulation,
-                 in another child, the earlier reference (`sumo_alone`: N vehicles of sumo_step.Traffic's random routes
-                 kept on the grid), reported beside it. (Children, because libsumo started a
-                 second time in one process after a large run stalled.)
+                 after it, each figure the mean of the two. Between the first and the
+                 simulation, in another child, the earlier reference (`sumo_alone`: N vehicles
+                 of sumo_step.Traffic's random routes kept on the grid), reported beside it.
+                 (Children, because libsumo started a second time in one process after a large
+                 run stalled.)
     ingest       a child process on CPU 1, as `gaps serve` runs: IngestService listening on a
                  loopback port, appending to a store file (not durable); it reports what it stored
     simulation   this process, on CPU 0 (and Zenoh's threads with it): sim_replay.simulation with
@@ -385,7 +386,8 @@ def main() -> None:
     old_got = last_json(child("sumo-alone", *sizes))
     old_rate, old_vehicles, old_cpu = old_got["steps_per_s"], old_got["vehicles_mean"], old_got["steps_per_cpu_s"]
     print(f"SUMO alone with sumo_step.Traffic (the earlier reference: other routes, N kept on the grid): "
-          f"{old_rate:,.1f} steps/s with {old_vehicles:,.0f} vehicles ({old_cpu:,.1f} steps per CPU second)", flush=True)
+          f"{old_rate:,.1f} steps/s with {old_vehicles:,.0f} vehicles ({old_cpu:,.1f} steps per CPU second)",
+          flush=True)
     speeds, loads = [calibration_elsewhere()], [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
         got = simulation(net, monitors, args, Path(folder))
