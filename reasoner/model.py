@@ -178,6 +178,29 @@ class Cited:
         return {"src": self.src, "seq": self.seq, "t": self.t}
 
 
+@dataclass(frozen=True)
+class AdsEvent:
+    """The latest ads.event of a vehicle's control status (control.py): the fold's citation of it
+    and the event it reported, as sent (UN R157 8.2.1's DSSAD event: "activated", ...)."""
+
+    src: str
+    seq: int
+    t: int
+    event: Any
+
+    @classmethod
+    def of(cls, cut: Mapping[str, Any] | None) -> AdsEvent | None:
+        """From control.py's {src, seq, t, event} (None for none)."""
+        return None if cut is None else cls(cut["src"], cut["seq"], cut["t"], cut["event"])
+
+    def ref(self, run: str | None) -> EventRef:
+        """The store.EventRef of this ads.event in `run`."""
+        return EventRef(run, self.src, self.seq, self.t, "ads.event")
+
+    def to_json(self) -> dict[str, Any]:
+        return {"src": self.src, "seq": self.seq, "t": self.t, "event": self.event}
+
+
 def _cited(piece: Cited | None) -> dict[str, Any] | None:
     return None if piece is None else piece.to_json()
 
@@ -197,7 +220,7 @@ class Control:
     since: Cited | None
     minimal_risk_manoeuvre: Cited | None
     failure: Cited | None
-    last_ads_event: Mapping[str, Any] | None        # {src, seq, t, event}
+    last_ads_event: AdsEvent | None
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> Control:
@@ -205,7 +228,7 @@ class Control:
         return cls(data["in_control"], data["automated"], data["engaged"], data["user_in_charge"],
                    data["no_user_in_charge"], Cited.of(data["transition_demand"]), data["transition_demand_expired"],
                    Cited.of(data["since"]), Cited.of(data["minimal_risk_manoeuvre"]), Cited.of(data["failure"]),
-                   data["last_ads_event"])
+                   AdsEvent.of(data["last_ads_event"]))
 
     def to_json(self) -> dict[str, Any]:
         return {"in_control": self.in_control, "automated": self.automated, "engaged": self.engaged,
@@ -213,7 +236,7 @@ class Control:
                 "transition_demand": _cited(self.transition_demand),
                 "transition_demand_expired": self.transition_demand_expired, "since": _cited(self.since),
                 "minimal_risk_manoeuvre": _cited(self.minimal_risk_manoeuvre), "failure": _cited(self.failure),
-                "last_ads_event": self.last_ads_event}
+                "last_ads_event": self.last_ads_event.to_json() if self.last_ads_event else None}
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ import pytest
 
 from reasoner.investigation import Investigation
 from reasoner.scene import scene
-from reasoner.model import Cited
+from reasoner.model import AdsEvent, Cited
 from reasoner.scene_parts import MonitorShown, RunRulebook, SignalShown, VehicleShown
 from sim_replay.paper import RUN, SECOND, T0, paper_run
 from store import EventRef, Store
@@ -74,3 +74,5 @@ def test_the_last_event_the_rulebooks_and_the_control_status_are_values(stores):
     assert control.transition_demand.ref(RUN, "ads.event") == EventRef(RUN, "vehicle/300", 2, T0 + 20 * SECOND,
                                                                       "ads.event")
     assert control.to_json()["since"] == {"src": "vehicle/300", "seq": 1, "t": T0 + 2 * SECOND}
+    assert control.last_ads_event == AdsEvent("vehicle/300", 2, T0 + 20 * SECOND, "transition_demand")
+    assert control.last_ads_event.ref(RUN).kind == "ads.event"
