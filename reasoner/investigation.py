@@ -19,6 +19,7 @@ a regression's two sides, which also share what they read of a run: `shared`).
 from __future__ import annotations
 
 import gc
+from functools import partial
 from typing import Any, Callable, Iterable
 
 from store import Store
@@ -193,12 +194,9 @@ class Investigation:
         """The case's incident: kept under the rulebooks in force (`keeps_incidents`), else judged."""
         if not self.keeps_verdicts(run, rs):
             return self._afresh(run, rs, gaps, todo)
-
-        def judged() -> Incident | None:
-            found = self._afresh(run, rs, gaps, todo)
-            assert not isinstance(found, IncidentSummary), "the judgement in force is judged whole"
-            return found
-        return kept_verdicts.incident(self.memo(run), self._judged_by(run, rs), todo, judged,
+        # `_afresh` judges whole here: a Speedups member that keeps incidents never judges by summary
+        return kept_verdicts.incident(self.memo(run), self._judged_by(run, rs), todo,
+                                      partial(self._afresh, run, rs, gaps, todo),
                                       by_summary=self.speedups.reads_summaries)
 
     def _judged_by(self, run: str, rs: RuleSet) -> str:

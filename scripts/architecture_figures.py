@@ -2,12 +2,13 @@
 command walks through the rooms, the biggest modules and classes, modules per folder, what each
 room shows its callers, and the type checker's errors per room.
 
-    .venv/bin/python scripts/architecture_figures.py [--json] [--no-mypy] [--no-walks]
+    .venv/bin/python scripts/architecture_figures.py [--json] [--no-mypy] [--no-walks] [--stacks]
 
 The walks are measured, not read from the source: each command runs in-process on the paper's
 run (a temporary store), under a profile hook that records every stack of the project's own
 frames; the longest is printed with the rooms it passes through in order ("cli > reasoner >
-store > reasoner" is three changes of room), and the calls from one room into another counted.
+store > reasoner" is three changes of room), and the calls from one room into another counted;
+`--stacks` also prints the deepest stack's frames (file and function), to see what it passes through.
 The sizes are read with `ast`. The type checker is mypy (default settings, missing imports
 ignored) where it is installed; without it the row says so.
 """
@@ -107,12 +108,13 @@ def room_of(filename: str) -> str | None:
 
 
 def walk(argv: list[str], db: str) -> dict[str, Any]:
-    """The deepest stack of the project's own frames while `gaps argv` runs, and its rooms."""
+    """The deepest stack of the project's own frames while `gaps argv` runs, its rooms and its
+    frames (`path:qualname`, outermost first)."""
     from typer.testing import CliRunner
 
     from cli.main import app
 
-    deepest: list[str] = []
+    deepest: list[tuple[str, str]] = []
     widest: list[str] = []              # the stack passing through most changes of room
     stack: list[tuple[str, str]] = []
     crossings = 0                       # calls from one room into another
@@ -123,9 +125,9 @@ def walk(argv: list[str], db: str) -> dict[str, Any]:
             room = room_of(frame.f_code.co_filename)
             if room is not None:
                 crossings += bool(stack) and stack[-1][0] != room
-                stack.append((room, f"{frame.f_code.co_qualname}"))
+                stack.append((room, f"{where(frame.f_code.co_filename)}:{frame.f_code.co_qualname}"))
                 if len(stack) > len(deepest):
-                    deepest = [r for r, _ in stack]
+                    deepest = list(stack)
                 if changes(r for r, _ in stack) > changes(widest):
                     widest = [r for r, _ in stack]
         elif event == "return" and stack and room_of(frame.f_code.co_filename) is not None:
@@ -142,8 +144,12 @@ def walk(argv: list[str], db: str) -> dict[str, Any]:
     if result.exit_code != 0:
         print(f"gaps {' '.join(argv)}: exit {result.exit_code}: {result.output[-400:]}", file=sys.stderr)
     return {"command": "gaps " + " ".join(argv), "exit": result.exit_code, "depth": len(deepest),
-            "deepest_rooms": " > ".join(collapsed(deepest)), "widest_rooms": " > ".join(collapsed(widest)),
-            "changes_of_room": changes(widest), "crossings": crossings}
+            "deepest_rooms": " > ".join(collapsed(r for r, _ in deepest)), "widest_rooms": " > ".join(collapsed(widest)),
+            "changes_of_room": changes(widest), "crossings": crossings, "deepest_stack": [f for _, f in deepest]}
+
+
+def where(filename: str) -> str:
+    return Path(filename).resolve().relative_to(ROOT).as_posix()
 
 
 def collapsed(rooms: Any) -> list[str]:
@@ -175,12 +181,16 @@ def main() -> int:
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--no-mypy", action="store_true")
     ap.add_argument("--no-walks", action="store_true")
+    ap.add_argument("--stacks", action="store_true", help="print each walk's deepest stack, frame by frame")
     args = ap.parse_args()
     figures: dict[str, Any] = {**sizes(), "faces": faces()}
     if not args.no_mypy:
         figures["mypy_errors"] = mypy_errors()
     if not args.no_walks:
         figures["walks"] = walks()
+        if not args.stacks:
+            for w in figures["walks"]:
+                del w["deepest_stack"]
     if args.json:
         print(json.dumps(figures, indent=1))
         return 0
@@ -197,6 +207,8 @@ def main() -> int:
         print(f"{w['command']}: exit {w['exit']}, deepest stack {w['depth']} frames ({w['deepest_rooms']}); "
               f"most rooms on one stack {w['widest_rooms']} ({w['changes_of_room']} changes); "
               f"{w['crossings']:,} calls from one room into another")
+        for depth, frame in enumerate(w.get("deepest_stack", []), 1):
+            print(f"  {depth:3} {frame}")
     return 0
 
 

@@ -73,3 +73,13 @@ def test_every_speed_up_gives_the_plain_judge_s_incidents(stored):
         assert summarised(lean_found) == summarised(judged)
         assert [whole(i).to_json() for i in lean_found] == expected
         assert [i.proofs for i in lean_found] == [whole(i).proofs for i in lean_found]
+
+
+def test_no_speed_up_keeps_what_it_judged_by_summary_alone():
+    """A member that keeps the judgement in force's incidents judges them whole (the case memo's
+    codec keeps no IncidentSummary: a summary kept would be dropped without a word), and only the
+    plain judge keeps nothing."""
+    for member in Speedups:
+        assert not (member.keeps_incidents and member.summarises), member
+        assert not member.reads_summaries or member.keeps_incidents, member
+        assert member.keeps == (member is not Speedups.NONE), member
