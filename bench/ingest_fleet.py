@@ -185,7 +185,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=100 if quick() else 1000)
     parser.add_argument("--events-per-run", type=int, default=76)
     parser.add_argument("--repeat", type=int, default=1 if quick() else 3)
-    parser.add_argument("--more-runs", type=int, default=0 if quick() else 10_000)
+    parser.add_argument("--more-runs", type=int, default=1000 if quick() else 10_000)
     parser.add_argument("--baseline", type=Path, default=None,
                         help="another checkout (e.g. main's) whose serve is measured alternately, as `before`")
     args = parser.parse_args()

@@ -131,9 +131,11 @@ class Store:
 
     def shrink_memory(self) -> None:
         """Give back the connections' page caches (SQLite keeps up to CACHE_KIB each) and the
-        run names the envelope check remembers (envelope.forget_admitted): what an ingest that went
-        quiet calls, so that a fleet's burst is not resident for ever."""
+        run names the envelope check remembers (envelope.forget_admitted), and the weak references
+        to dead cursors (opening.drop_dead_cursors): what an ingest that went quiet calls, so that a
+        fleet's burst is not resident for ever."""
         self._conn.execute("PRAGMA shrink_memory")
+        opening.drop_dead_cursors(self._conn)
         self.cache.shrink_memory()
         envelope.forget_admitted()
 

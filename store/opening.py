@@ -28,6 +28,9 @@ from .errors import StoreError
 CACHE_KIB = 64 * 1024  # page cache per connection: the indexes of a busy run stay in memory
 PAGE_SIZE = 16384
 MIGRATE_HINT = "run `gaps migrate SRC DST` to write a migrated copy"
+CURSOR_SWEEP = 200
+"""How often Python's sqlite3 (3.11) drops the dead weak references a connection keeps to its
+cursors: at every CURSOR_SWEEP-th cursor made (each `execute` makes one). See `drop_dead_cursors`."""
 
 
 def connect_writable(path: str, *, durable: bool, check_same_thread: bool) -> sqlite3.Connection:
@@ -146,3 +149,17 @@ def _unusable(path: str, exc: sqlite3.DatabaseError) -> StoreError:
     if "not a database" in str(exc):
         return StoreError(f"cannot open the event store {path}: not an event store (file is not a database)")
     return StoreError(f"cannot open the event store {path}: {exc}")
+
+
+def drop_dead_cursors(conn: sqlite3.Connection) -> None:
+    """Have the connection let go of the weak references to its dead cursors now.
+
+    sqlite3 keeps a weak reference to every cursor a connection made (each `execute` makes one) and
+    drops the dead ones only at every CURSOR_SWEEP-th new cursor. A busy writer's last few hundred
+    are made mid-batch, so they sit among the batch's own objects in the interpreter's memory arenas,
+    and an arena goes back to the system only once nothing in it is alive: a quiet serve kept some
+    eight arenas of 1 MB each for as few as one such dead reference (ingest/idle_memory.py). Making
+    CURSOR_SWEEP cursors sweeps the list once, whatever the count stood at; the references made
+    after the sweep are made now, when the batch is gone."""
+    for _ in range(CURSOR_SWEEP):
+        conn.cursor()

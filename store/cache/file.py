@@ -27,7 +27,7 @@ from typing import Any, Iterator, cast
 from urllib.parse import quote
 
 from .seal import Sealer, load_or_create_key, memory_key
-from ..opening import read_only_place
+from ..opening import drop_dead_cursors, read_only_place
 from ..output_files import note_evidence
 
 CACHE_VERSION = 5  # raise when a table below changes: a file of another version is emptied
@@ -134,9 +134,11 @@ class Cache:
         once, not on every read."""
 
     def shrink_memory(self) -> None:
-        """Give back the page cache of the open connection, if one is open (an idle ingest)."""
+        """Give back the page cache of the open connection, if one is open (an idle ingest), and
+        its dead cursors' weak references (store.opening.drop_dead_cursors)."""
         if self._conn is not None:
             self._conn.execute("PRAGMA shrink_memory")
+            drop_dead_cursors(self._conn)
 
     @property
     def connection(self) -> sqlite3.Connection:

@@ -113,3 +113,29 @@ def test_the_snapshot_hook_takes_each_runs_chain_end_from_the_append_not_from_th
         for n in range(4):                                             # and the watermarks are the file's ends
             seen = marks(store, f"r{n}")
             assert (seen.length, seen.head) == chain_end(store.connection, f"r{n}") and not seen.unchecked
+
+
+def _cursor_refs(conn) -> list:
+    """The weak references to its cursors a sqlite3 connection keeps (found among its referents)."""
+    import gc
+    import weakref
+    return next(r for r in gc.get_referents(conn)
+                if isinstance(r, list) and r and all(isinstance(x, weakref.ref) for x in r))
+
+
+def test_shrinking_memory_lets_go_of_the_dead_cursors_made_by_appends(db_path):
+    """A quiet ingest's connections keep no reference made during its last batches: each one, dead
+    or not, held a 1 MB arena of the interpreter resident (store.opening.drop_dead_cursors)."""
+    from store.cache import enable_snapshots
+    with Store(db_path) as store:
+        enable_snapshots(store)
+        for n in range(6):                                       # a few hundred cursors, none a 200th
+            store.append(short_run(f"r{n}"))
+        conns = [store.connection, store.cache.connection]
+        made = [list(_cursor_refs(conn)) for conn in conns]     # held here: no address reused
+        assert all(len(refs) > 20 for refs in made)
+        store.shrink_memory()                                    # what a quiet ingest calls
+        for conn, before in zip(conns, made):
+            kept = {id(ref) for ref in _cursor_refs(conn)}
+            assert not [ref for ref in before if id(ref) in kept]
+        assert store.append(short_run("r6")).stored == len(short_run("r6"))
