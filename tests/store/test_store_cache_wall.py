@@ -68,12 +68,13 @@ def test_verifys_look_at_a_damaged_caches_entries_is_storedamaged(damaged_cache)
 def test_a_timeline_over_a_damaged_store_is_storedamaged(tmp_path: Path):
     path = tmp_path / "gaps.db"
     with Store(path) as store:
-        store.append([event(i, body={"note": "x" * 500}) for i in range(400)])
+        report = store.append([event(i) for i in range(2000)])
+        assert report.stored == 2000
     _damage(path, past_roots=False)
     with Store.open_read_only(path) as store:
         timeline = Timeline(store, "r1")
         with pytest.raises(StoreDamaged, match="malformed"):
-            for i in range(0, 400, 10):
+            for i in range(0, 2000, 50):
                 timeline.at(event(i)["t"])
 
 
