@@ -64,7 +64,7 @@ def report(run: str = RunRequired,
         write_text(output, text, [db_path(db)])
     except OSError as exc:
         fail(f"cannot write {output}: {exc.strerror or exc}")
-    n = len(built["incidents"])
+    n = len(built.incidents)
     typer.echo(f"Wrote the report of run {printable(run)} ({n} incident{'s' if n != 1 else ''}, "
                f"{len(text.encode()):,} bytes) to {output}")
     if chromium is not None:                # --pdf, and a Chromium to print it

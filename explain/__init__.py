@@ -12,10 +12,11 @@ from .listing import acts_summary, explanations, incident_line
 from .pdf import PdfError, ToolMissing, find_chromium
 from .provenance import tool_version
 from .report import ReportError, build_report, print_report_pdf, render_report
+from .report_parts import Report
 from .scene_text import scene_lines
 from .text import explain_incident, render_tree, sentence
 
-__all__ = ["EXPLANATION_FORMATS", "REPORT_FORMATS", "ExplainError", "PdfError", "ReportError", "ScenePicture",
+__all__ = ["EXPLANATION_FORMATS", "REPORT_FORMATS", "ExplainError", "PdfError", "Report", "ReportError", "ScenePicture",
            "ToolMissing", "acts_summary", "build_report", "check_explanation", "explain_incident", "explanation",
            "explanations", "featured", "find_chromium", "incident_line", "print_report_pdf", "render_report",
            "render_tree", "report_format", "report_text", "scene_lines", "scene_picture_svg", "sentence",

@@ -111,10 +111,10 @@ def scene_picture_svg(case: Case, run: str, at: int | str, *, vehicle: str | Non
         case.scene(run, t, vehicle=vehicle, judge=False)       # UnknownVehicle names who was there
     store = case.store
     the_map = run_map(run_start_body(store, run))
-    names = [j["id"] for j in the_map["junctions"]]
+    names = [j.id for j in the_map.junctions]
     if junction is not None and junction not in names:
         raise ExplainError(f"no junction {junction!r} on the map of run {run!r}; "
-                           f"its junctions: {', '.join(names) or 'none'}")
+                           f"its junctions: {', '.join(map(str, names)) or 'none'}")
     pic = scene_picture(store, run, t, vehicle, the_map, junction=junction)
-    shown = sum(1 for u in pic["vehicles"] + pic["road_users"] if u["x"] is not None and u.get("present", True))
-    return ScenePicture(SVG_HEADER + scene_svg(pic) + "\n", pic["offset"], pic["junction"], shown)
+    shown = sum(1 for u in pic.movers if u.x is not None and u.present)
+    return ScenePicture(SVG_HEADER + scene_svg(pic) + "\n", pic.offset, pic.junction, shown)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
-from reasoner.chain_status import ChainStatus
+from reasoner import ChainStatus
 
 from .phrases import clock
 
@@ -58,14 +58,18 @@ class EvidenceIndex:
 def chain_json(status: ChainStatus) -> dict:
     """{"checked", "verified", "events", "problem", "text"}: the run's chain status (the reasoner
     recomputes it, Investigation.chain) with the sentence an explanation states it in."""
-    out = status.to_json()
+    return {**status.to_json(), "text": chain_text(status)}
+
+
+def chain_text(status: ChainStatus) -> str:
+    """The sentence an explanation and a report state the run's chain status in."""
     if not status.checked:
-        return {**out, "text": "the hash chain was not checked (no store given)"}
+        return "the hash chain was not checked (no store given)"
     if status.verified:
-        return {**out, "text": f"the run's hash chain verified: its {status.events:,} events are as recorded"}
-    p = out["problem"] or {}
+        return f"the run's hash chain verified: its {status.events:,} events are as recorded"
+    p = status.to_json()["problem"] or {}
     at = f" at chain position {p['chain_pos']}" if p.get("chain_pos") is not None else ""
     who = f" ({p['src']} #{p['seq']})" if p.get("src") is not None else ""
     after = (f"; events from chain position {p['chain_pos']} on are not vouched for"
              if p.get("chain_pos") is not None else "")
-    return {**out, "text": f"the run's hash chain did NOT verify: {p.get('what', 'a link does not match')}{at}{who}{after}"}
+    return f"the run's hash chain did NOT verify: {p.get('what', 'a link does not match')}{at}{who}{after}"

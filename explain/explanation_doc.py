@@ -14,9 +14,8 @@ from __future__ import annotations
 
 from typing import Any, Iterable, Mapping
 
-from reasoner.explanation import Counterfactual, Explanation
-from reasoner.model import Decision, Incident
-from reasoner.stretches import FASTEST_MEASURED
+from reasoner import Counterfactual, Explanation
+from reasoner.model import FASTEST_MEASURED, Decision, Incident
 from reasoner.verdicts import NOT_PROVEN, Verdict
 from reasoner.vocabulary import CAN, HAS_SPEED_OF, MUST_NOT, POTENTIALLY_VIOLATES, WOULD_ENDANGER, WOULD_FORCE
 from reasoner.wording import term

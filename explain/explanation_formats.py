@@ -32,7 +32,7 @@ def render(doc: dict, fmt: str = "text", level: str = "standard") -> str:
 
 # -- text ----------------------------------------------------------------------------------------
 
-def safe(text: str) -> str:
+def safe(text: object) -> str:
     """Printable text: backslashes doubled, control and format characters as escapes."""
     return "".join("\\\\" if ch == "\\" else ch if ch.isprintable() else ch.encode("unicode_escape").decode("ascii")
                    for ch in str(text))
@@ -104,7 +104,7 @@ def to_markdown(doc: dict, level: str = "standard") -> str:
 
 # -- HTML ----------------------------------------------------------------------------------------
 
-def esc(text: str) -> str:
+def esc(text: object) -> str:
     """HTML-inert text: markup escaped, control characters shown as escapes (as in text)."""
     return html.escape(safe(text), quote=True)
 

@@ -13,7 +13,7 @@ from reasoner.model import OWN_RECORD, Finding, Incident, Margin, Penalty, found
 from reasoner.when import format_time
 
 if TYPE_CHECKING:
-    from reasoner.api import Case
+    from reasoner import Case
 
 
 def incident_line(inc: Incident, number: int | None = None) -> str:

@@ -9,7 +9,7 @@ reasoner's scene leaves them out).
 """
 from __future__ import annotations
 
-from typing import Any
+from store import EventRef
 
 SECOND = 1_000_000_000
 FRESH_NS = 2 * SECOND
@@ -23,11 +23,11 @@ older than that would mislead more than it tells, and it stays in the JSON repor
 wants it."""
 
 
-def presence_at(evidence: Any, t: int, fresh_ns: int = FRESH_NS) -> dict[str, Any]:
+def presence_at(evidence: EventRef | None, t: int, fresh_ns: int = FRESH_NS) -> tuple[bool, float | None]:
     """`present` (its latest position is at most `fresh_ns` older than t) and `age_s` (how
     long before t that position was reported, None if none), from the position's evidence ref."""
-    seen = evidence.get("t") if isinstance(evidence, dict) else None
+    seen = evidence.t if evidence is not None else None
     if isinstance(seen, bool) or not isinstance(seen, int):
-        return {"present": False, "age_s": None}
+        return False, None
     age = t - seen
-    return {"present": 0 <= age <= fresh_ns, "age_s": age / SECOND}
+    return 0 <= age <= fresh_ns, age / SECOND

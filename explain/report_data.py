@@ -1,9 +1,8 @@
-"""What a report draws, as plain JSON-ready data: the picture of the scene at an incident (from
-the reasoner's scene and the store's reading of the run map) and the timeline of speed and signal
-colour around it (the reasoner's, reasoner/timelines.py).
+"""What a report draws of the scene at an incident, built once as values (explain/picture_parts.py)
+from the reasoner's scene and the store's reading of the run map.
 
-The SVG modules (svg_scene.py, svg_timeline.py) only draw these dicts, and the JSON report
-carries them as they are, so what a reader sees in the picture is exactly what the data says.
+The SVG modules (svg_scene.py, svg_lanes.py) only draw these values, and the JSON report carries
+their `to_json`, so what a reader sees in the picture is exactly what the data says.
 Producers write the map and the states; nothing here trusts their shape: a number that is not a
 finite number is left out rather than drawn somewhere wrong, and every string is kept as recorded
 (the renderers escape it).
@@ -11,15 +10,16 @@ finite number is left out rather than drawn somewhere wrong, and every string is
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
 from typing import Any
 
-from reasoner.scene import scene
-from reasoner.scene_parts import Reported
-from reasoner.timelines import timeline as speed_and_signals
+from reasoner.scene import Reported, scene
 from store import Store
 from store.run_map import MapJunction, read_map_body, whole, whole_line
 from store.run_map import finite_number as number      # a finite number, else None: what a picture can place
 
+from .picture_parts import (CrossingDrawn, JunctionDrawn, LaneDrawn, MapDrawn, MonitorDrawn, Mover, Picture,
+                            RoadDrawn, SignalDrawn, StopLineDrawn)
 from .presence import presence_at
 
 SECOND = 1_000_000_000
@@ -37,13 +37,23 @@ def run_start_body(store: Store, run: str) -> dict[str, Any]:
     return body if isinstance(body, dict) else {}
 
 
-def recorded_rulebooks(start_body: dict[str, Any]) -> list[dict[str, Any]]:
-    """The rulebooks the run recorded in its run.start: name, sha256 and version (no text)."""
-    return [{"name": _text(b.get("name")), "sha256": _text(b.get("sha256")), "version": _text(b.get("version"))}
+@dataclass(frozen=True)
+class RecordedRulebook:
+    """A rulebook as the run's run.start recorded it: name, sha256 and version (no text); each the
+    recorded value as text, or None."""
+
+    name: str | None
+    sha256: str | None
+    version: str | None
+
+
+def recorded_rulebooks(start_body: dict[str, Any]) -> list[RecordedRulebook]:
+    """The rulebooks the run recorded in its run.start (a producer's JSON, read here once)."""
+    return [RecordedRulebook(_text(b.get("name")), _text(b.get("sha256")), _text(b.get("version")))
             for b in _dicts(start_body.get("rulebooks"))]
 
 
-def run_map(start_body: dict[str, Any]) -> dict[str, Any]:
+def run_map(start_body: dict[str, Any]) -> MapDrawn:
     """The map the run recorded in its run.start (DESIGN "Events", read by store.read_map_body),
     its entries that can be drawn: roads, junctions (with their stop lines, yellow box, outline
     and crossings when the producer sent them), monitors, and the lanes as polylines with their
@@ -54,45 +64,41 @@ def run_map(start_body: dict[str, Any]) -> dict[str, Any]:
     for r in given.roads:
         a, b = whole(r.a), whole(r.b)
         if a and b:
-            roads.append({"id": r.label, "from": list(a), "to": list(b)})
-    junctions = [_junction(j) for j in given.junctions if j.x is not None and j.y is not None]
+            roads.append(RoadDrawn(r.label, a, b))
+    junctions = tuple(_junction(j) for j in given.junctions)
     lanes = []
     for lane in given.lanes:
         shape, width = whole_line(lane.shape), lane.width_m
         if len(shape) >= 2 and width is not None and width > 0:
-            lanes.append({"id": lane.label, "kind": lane.kind, "width_m": width, "shape": _listed(shape)})
-    return {"roads": roads, "junctions": junctions, "monitors": [m.raw for m in given.monitors],
-            "lanes": lanes, "lefthand": given.lefthand}
+            lanes.append(LaneDrawn(lane.label, lane.kind, width, shape))
+    return MapDrawn(tuple(roads), tuple(j for j in junctions if j is not None),
+                    tuple(m.raw for m in given.monitors), tuple(lanes), given.lefthand)
 
 
-def _junction(j: MapJunction) -> dict[str, Any]:
-    """A junction's drawable parts; a stop line, crossing or outline that is not numbers is left out."""
+def _junction(j: MapJunction) -> JunctionDrawn | None:
+    """A junction's drawable parts (None without a centre); a stop line, crossing or outline that
+    is not numbers is left out."""
+    if j.x is None or j.y is None:
+        return None
     lines = []
     for line in j.stop_lines or ():
         a, b = whole(line.a), whole(line.b)
         if a and b:
-            lines.append({"approach": line.approach_label, "from": list(a), "to": list(b),
-                          "kind": _text(line.kind)})
+            lines.append(StopLineDrawn(line.approach_label, a, b, _text(line.kind)))
     crossings = []
     for c in j.crossings:
         shape, width = whole_line(c.shape), c.width_m
         if len(shape) >= 2 and width is not None and width > 0:
-            crossings.append({"id": c.label, "shape": _listed(shape), "width_m": width})
+            crossings.append(CrossingDrawn(c.label, shape, width))
     box, outline = whole_line(j.box), whole_line(j.shape)
-    return {"id": j.label, "x": j.x, "y": j.y, "control": j.control_label,
-            "stop_lines": lines, "box": _listed(box) if len(box) >= 3 else None,
-            "shape": _listed(outline) if len(outline) >= 3 else None, "crossings": crossings}
-
-
-def _listed(points: tuple[tuple[float, float], ...]) -> list[list[float]]:
-    """Points as the JSON report carries them: [x, y] lists."""
-    return [list(p) for p in points]
+    return JunctionDrawn(j.label, j.x, j.y, j.control_label, tuple(lines), box if len(box) >= 3 else None,
+                         outline if len(outline) >= 3 else None, tuple(crossings))
 
 
 # --- the picture at t -----------------------------------------------------------------------------
 
-def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: dict | None = None,
-                  junction: str | None = None) -> dict[str, Any]:
+def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: MapDrawn | None = None,
+                  junction: str | None = None) -> Picture:
     """Roads and lanes, junctions, signal colours per approach, vehicles and road users with
     position, heading and speed (and whether that position is fresh enough to draw: presence.py),
     and each monitor's field of view, at t. `vehicle` is the incident's (None: a scene without
@@ -100,98 +106,91 @@ def scene_picture(store: Store, run: str, t: int, vehicle: str | None, the_map: 
     the busiest, see focus_junction)."""
     the_map = the_map if the_map is not None else run_map(run_start_body(store, run))
     sc = scene(store, run, t, judge=False)
-    vehicles = []
-    for v in sc.vehicles:
-        vehicles.append({"id": v.vehicle, "type": v.type, **_motion(v.state), "junction": _field(v.state, "junction"),
-                         "incident": v.vehicle == vehicle, **_seen(v.state, t)})
-    users = [{"id": u.src, "type": u.type, **_motion(u.state), **_seen(u.state, t)} for u in sc.road_users]
+    vehicles = tuple(_mover(v.vehicle, v.type, v.state, t, vehicle=True, junction=_field(v.state, "junction"),
+                            incident=v.vehicle == vehicle) for v in sc.vehicles)
+    users = tuple(_mover(u.src, u.type, u.state, t, vehicle=False) for u in sc.road_users)
     monitors = []
     for m in sc.monitors:
         cone = m.entry
-        monitors.append({"id": m.monitor, "junction": m.placed("junction"), "x": cone.x if cone else None,
-                         "y": cone.y if cone else None, "heading_deg": cone.heading_deg if cone else None,
-                         "fov_deg": cone.fov_deg if cone else None, "range_m": cone.range_m if cone else None,
-                         "observed": list(m.observed), "watching": vehicle is not None and vehicle in m.observed})
-    signals = [{"junction": s.junction, "approach": s.approach, "colour": s.colour,
-                "since_t": s.since.t, "evidence": s.evidence.to_json()} for s in sc.signals]
-    picture = {"t": t, "offset": sc.offset, "vehicle": vehicle, "roads": the_map["roads"],
-               "lanes": the_map.get("lanes", []), "lefthand": the_map.get("lefthand", True),
-               "junctions": the_map["junctions"], "signals": signals, "monitors": monitors,
-               "vehicles": vehicles, "road_users": users, "note": sc.note}
-    picture["junction"] = junction if junction is not None else focus_junction(picture)
-    picture["lanes"] = lanes_near(picture, picture["lanes"])
-    return picture
+        monitors.append(MonitorDrawn(m.monitor, m.placed("junction"), cone.x if cone else None,
+                                     cone.y if cone else None, cone.heading_deg if cone else None,
+                                     cone.fov_deg if cone else None, cone.range_m if cone else None,
+                                     tuple(m.observed), vehicle is not None and vehicle in m.observed))
+    signals = tuple(SignalDrawn(s.junction, s.approach, s.colour, s.since.t, s.evidence) for s in sc.signals)
+    picture = Picture(t, sc.offset, vehicle, the_map.roads, the_map.lanes, the_map.lefthand, the_map.junctions,
+                      signals, tuple(monitors), vehicles, users, sc.note)
+    picture = replace(picture, junction=junction if junction is not None else focus_junction(picture))
+    return replace(picture, lanes=lanes_near(picture, picture.lanes))
 
 
 def _field(state: Reported | None, name: str) -> Any:
     return None if state is None else state.field(name)
 
 
-def _motion(state: Reported | None) -> dict[str, float | None]:
-    """A road user's position, heading and speed as the picture draws them: numbers, or None."""
-    return {"x": number(_field(state, "x")), "y": number(_field(state, "y")),
-            "heading_deg": number(_field(state, "heading_deg")), "speed_mps": number(_field(state, "speed_mps"))}
+def _mover(ident: str, kind: Any, state: Reported | None, t: int, *, vehicle: bool, junction: Any = None,
+           incident: bool = False) -> Mover:
+    """A road user as the picture draws it: its position, heading and speed as numbers (or None),
+    the evidence of its position and whether that is fresh enough to draw (presence.py)."""
+    evidence = state.evidence if state is not None else None
+    present, age_s = presence_at(evidence, t)
+    return Mover(ident, kind, number(_field(state, "x")), number(_field(state, "y")),
+                 number(_field(state, "heading_deg")), number(_field(state, "speed_mps")), vehicle, junction,
+                 incident, evidence, present, age_s)
 
 
-def _seen(state: Reported | None, t: int) -> dict[str, Any]:
-    """The evidence of a road user's position, and whether it is fresh enough to draw (presence.py)."""
-    evidence = state.evidence.to_json() if state is not None else None
-    return {"evidence": evidence, **presence_at(evidence, t)}
+def name_users(picture: Picture, named: list[str], the_map: MapDrawn) -> Picture:
+    """The picture with the road users the incident names (explain/act_data.named_users) marked:
+    it holds them in view (svg_scene._focus), so it carries the lanes around them too."""
+    marked = replace(picture, named=tuple(named))
+    return replace(marked, lanes=lanes_near(marked, the_map.lanes))
 
 
-def name_users(picture: dict[str, Any], named: list[str], the_map: dict[str, Any]) -> None:
-    """Mark the road users the incident names (explain/act_data.named_users): the picture holds
-    them in view (svg_scene._focus), so it carries the lanes around them too."""
-    picture["named"] = list(named)
-    picture["lanes"] = lanes_near(picture, the_map.get("lanes", []))
-
-
-def lanes_near(picture: dict[str, Any], lanes: list[dict]) -> list[dict]:
+def lanes_near(picture: Picture, lanes: tuple[LaneDrawn, ...]) -> tuple[LaneDrawn, ...]:
     """The lanes within LANES_NEAR_M of the focus junction, the incident's vehicle and the road
     users the incident names: the most a picture zoomed to them can show. A whole city's network
     (netconvert from OpenStreetMap) is thousands of lanes, and the JSON report carries each
     incident's picture as it is."""
-    named = set(picture.get("named") or ())
-    centres = [(j["x"], j["y"]) for j in picture["junctions"] if j["id"] == picture["junction"]]
-    centres += [(v["x"], v["y"]) for v in picture["vehicles"] + picture["road_users"]
-                if (v.get("incident") or str(v["id"]) in named) and v["x"] is not None and v["y"] is not None]
+    named = set(picture.named or ())
+    centres = [(j.x, j.y) for j in picture.junctions if j.id == picture.junction]
+    centres += [(v.x, v.y) for v in picture.movers
+                if (v.incident or str(v.id) in named) and v.x is not None and v.y is not None]
     if not centres:
         return lanes
 
-    def near(lane: dict) -> bool:
-        xs, ys = [p[0] for p in lane["shape"]], [p[1] for p in lane["shape"]]
+    def near(lane: LaneDrawn) -> bool:
+        xs, ys = [p[0] for p in lane.shape], [p[1] for p in lane.shape]
         return any(min(xs) - LANES_NEAR_M <= x <= max(xs) + LANES_NEAR_M and
                    min(ys) - LANES_NEAR_M <= y <= max(ys) + LANES_NEAR_M for x, y in centres)
-    return [lane for lane in lanes if near(lane)]
+    return tuple(lane for lane in lanes if near(lane))
 
 
-def focus_junction(picture: dict[str, Any]) -> str | None:
+def focus_junction(picture: Picture) -> str | None:
     """The junction a picture zooms to: the incident vehicle's (vehicle_junction); without an
     incident vehicle, the one with the most road users present within NEAR_JUNCTION_M of it (the
     first on the map on a tie), so that `gaps scene --svg` shows where things happen."""
-    if picture["vehicle"] is not None:
+    if picture.vehicle is not None:
         return vehicle_junction(picture)
-    if not picture["junctions"]:
+    if not picture.junctions:
         return None
-    here = [u for u in picture["vehicles"] + picture["road_users"]
-            if u["x"] is not None and u["y"] is not None and u.get("present", True)]
+    here = [(u.x, u.y) for u in picture.movers if u.x is not None and u.y is not None and u.present]
 
-    def crowd(j: dict[str, Any]) -> int:
-        return sum(math.hypot(u["x"] - j["x"], u["y"] - j["y"]) <= NEAR_JUNCTION_M for u in here)
-    return max(picture["junctions"], key=crowd)["id"]     # max keeps the first of equals
+    def crowd(j: JunctionDrawn) -> int:
+        return sum(math.hypot(x - j.x, y - j.y) <= NEAR_JUNCTION_M for x, y in here)
+    return max(picture.junctions, key=crowd).id     # max keeps the first of equals
 
 
-def vehicle_junction(picture: dict[str, Any]) -> str | None:
+def vehicle_junction(picture: Picture) -> str | None:
     """The junction the incident is about: the one the vehicle is in, else the one of a monitor
     watching it, else the nearest on the map."""
-    me = next((v for v in picture["vehicles"] if v["incident"]), None)
-    if me and isinstance(me.get("junction"), str):
-        return me["junction"]
-    for m in picture["monitors"]:
-        if m["watching"] and isinstance(m.get("junction"), str):
-            return m["junction"]
-    if me and me["x"] is not None and picture["junctions"]:
-        return min(picture["junctions"], key=lambda j: math.hypot(j["x"] - me["x"], j["y"] - me["y"]))["id"]
+    me = picture.me
+    if me and isinstance(me.junction, str):
+        return me.junction
+    for m in picture.monitors:
+        if m.watching and isinstance(m.junction, str):
+            return m.junction
+    if me and me.x is not None and me.y is not None and picture.junctions:
+        x, y = me.x, me.y
+        return min(picture.junctions, key=lambda j: math.hypot(j.x - x, j.y - y)).id
     return None
 
 
@@ -205,14 +204,6 @@ def facing_approach(heading_deg: float | None, approaches: list[str]) -> str | N
     if not named:
         return None
     return min(named, key=lambda a: _angle_between(APPROACH_DIRECTIONS[a.lower()], came_from))
-
-
-# --- the timeline around t ------------------------------------------------------------------------
-
-def timeline(store: Store, run: str, t: int, vehicle: str, junction: str | None) -> dict[str, Any]:
-    """The vehicle's speed and its junction's signal colours around t, as the reasoner reads them
-    (reasoner/timelines.py), in the JSON the report carries and svg_timeline.py draws."""
-    return speed_and_signals(store, run, t, vehicle, junction).to_json()
 
 
 # --- helpers --------------------------------------------------------------------------------------

@@ -12,22 +12,24 @@ from typing import Any
 from .explanation_formats import md
 from .explanation_formats import to_markdown as explanation_md
 from .report_data import SECOND
+from .report_parts import Report, ReportChain, ReportEntry, UsedRulebook
 from .svg import colour_word
 from .svg_scene import junctions_in_view
+from .timeline_parts import ActTimeline
 from .units import speed_text
 
 
-def to_markdown(report: dict[str, Any]) -> str:
-    p, store = report["provenance"], report["provenance"]["store"]
-    out = [f"# Incident report: run {md(report['run'])}", "",
-           f"Generated {md(report['generated'])} by `gaps report` from the event store.", "",
-           f"- tool: {md(p['tool'])} {md(p['version'])}", f"- store file: {md(store['path'])}",
-           f"- store sha256: {md(store['sha256'] or 'none (a store in memory)')}"
-           + (" (its -wal file held writes not yet in the file, not covered)" if store["wal_pending"] else ""), ""]
+def to_markdown(report: Report) -> str:
+    p = report.provenance
+    out = [f"# Incident report: run {md(report.run)}", "",
+           f"Generated {md(report.generated)} by `gaps report` from the event store.", "",
+           f"- tool: {md(p.tool)} {md(p.version)}", f"- store file: {md(p.store_path)}",
+           f"- store sha256: {md(p.store_sha256 or 'none (a store in memory)')}"
+           + (" (its -wal file held writes not yet in the file, not covered)" if p.wal_pending else ""), ""]
     out += _summary(report)
-    out += _chain(report["chain"])
-    out += _rulebooks(report["rulebooks"])
-    for e in report["incidents"]:
+    out += _chain(report.chain)
+    out += _rulebooks(report.rulebooks)
+    for e in report.incidents:
         out += _incident(e)
     return "\n".join(out).rstrip() + "\n"
 
@@ -37,65 +39,70 @@ def _table(head: list[str], rows: list[list[Any]]) -> list[str]:
             + ["| " + " | ".join(md("" if c is None else str(c)) for c in row) + " |" for row in rows] + [""])
 
 
-def _summary(report: dict[str, Any]) -> list[str]:
+def _summary(report: Report) -> list[str]:
     out = ["## Incidents", ""]
-    if not report["incidents"]:
+    if not report.incidents:
         return out + ["No potential violation was recorded or re-derived in this run.", ""]
-    rows = [[e["number"], r["id"], r["time"], r["vehicle"], r["action"], r["rule"] or "—", r["verdict"],
-             r["penalty"] or "none", r["liable"], r["findings"]] for e in report["incidents"] for r in [e["row"]]]
+    rows = [[e.number, r.id, r.time, r.vehicle, r.action, r.rule or "—", r.verdict,
+             r.penalty or "none", r.liable, r.findings] for e in report.incidents for r in [e.row]]
     return out + _table(["#", "id", "time", "vehicle", "action", "rule", "verdict", "penalty", "liable",
                          "findings"], rows)
 
 
-def _chain(chain: dict[str, Any]) -> list[str]:
-    status = "Verified" if chain["verified"] else "NOT VERIFIED" if chain["checked"] else "Not checked"
-    out = ["## Chain verification", "", f"{status}: {md(chain['text'])}.", ""]
-    last = chain["checkpoints"]["last"]
+def _chain(chain: ReportChain) -> list[str]:
+    status = "Verified" if chain.status.verified else "NOT VERIFIED" if chain.status.checked else "Not checked"
+    out = ["## Chain verification", "", f"{status}: {md(chain.text)}.", ""]
+    last = chain.last
     if last:
         out += _table(["checkpoints", "events at the last", "chain head", "Merkle root"],
-                      [[chain["checkpoints"]["count"], last["events"], last["head"], last["merkle_root"]]])
+                      [[chain.checkpoints, last.events, last.head, last.merkle_root]])
     return out
 
 
-def _rulebooks(books: list[dict[str, Any]]) -> list[str]:
+def _rulebooks(books: tuple[UsedRulebook, ...]) -> list[str]:
     return ["## Rulebooks", ""] + _table(["rulebook", "version", "sha256", "source", "used for"],
-                                         [[b["name"], b["version"] or "—", b["sha256"], b["source"],
-                                           ", ".join(b["stages"]) or "recorded by the run, not used"] for b in books])
+                                         [[b.name, b.version or "—", b.sha256, b.source,
+                                           ", ".join(b.stages) or "recorded by the run, not used"] for b in books])
 
 
-def _incident(e: dict[str, Any]) -> list[str]:
-    r, pic, tl = e["row"], e["scene"], e["timeline"]
-    out = ["", "---", "", f"## Incident {e['number']}: vehicle {md(r['vehicle'])}, {md(r['action'])}, "
-           f"{md(r['verdict'])}", "", f"### The scene at {md(pic['offset'])} from the run start", ""]
+def _incident(e: ReportEntry) -> list[str]:
+    r, pic, tl = e.row, e.scene, e.timeline
+    out = ["", "---", "", f"## Incident {e.number}: vehicle {md(r.vehicle)}, {md(r.action)}, "
+           f"{md(r.verdict)}", "", f"### The scene at {md(pic.offset)} from the run start", ""]
     shown = junctions_in_view(pic)        # as the HTML picture's caption: the junctions the picture shows
-    out += [f"- signal {md(s['junction'])} {md(s['approach'])}: {md(colour_word(s['colour']))}" for s in pic["signals"]
-            if str(s["junction"]) in shown]
-    for v in pic["vehicles"]:
-        where = ("position not recorded" if v["x"] is None else
-                 f"at ({v['x']:g}, {v['y']:g}) m, heading {_n(v['heading_deg'])}°, speed {speed_text(v['speed_mps'])}")
-        mark = " (this incident)" if v["incident"] else ""
-        out.append(f"- vehicle {md(v['id'])} ({md(v['type'] or 'type not recorded')}){mark}: {where}")
-    for m in pic["monitors"]:
-        out.append(f"- {md(m['id'])}: at ({_n(m['x'])}, {_n(m['y'])}) m, heading {_n(m['heading_deg'])}°, "
-                   f"field of view {_n(m['fov_deg'])}°, range {_n(m['range_m'])} m")
-    out += ["", f"### Speed and signals from {(tl['t_from'] - tl['t']) / SECOND:g} s to "
-                f"+{(tl['t_to'] - tl['t']) / SECOND:g} s", ""]
-    rows = [[_rel(tl, p["t"]), f"vehicle/{tl['vehicle']}", f"speed {speed_text(p['speed_mps'])}"] for p in tl["speed"]]
-    rows += [[_rel(tl, p["t"]), p["monitor"], f"observed speed {speed_text(p['speed_mps'])}"] for p in tl["observed_speed"]]
-    rows += [[_rel(tl, c["t"]), f"signal {tl['junction']} {approach}", colour_word(c["colour"])]
-             for approach, changes in tl["signals"].items() for c in changes]
-    line = tl.get("to_line")
-    rows += [[_rel(tl, p["t"]), f"{p['src']} #{p['seq']}", f"{p['m']:g} m before the line" if p["m"] >= 0 else
-              f"{-p['m']:g} m past the line"] for p in (line or {}).get("points", [])]
-    other = tl.get("other")
-    rows += [[_rel(tl, p["t"]), f"{p['src']} #{p['seq']}", f"speed of {other['user']} {speed_text(p['speed_mps'])} "
-              f"(whom {tl['vehicle']} {other['how']})"] for p in (other or {}).get("speed", [])]
-    rows.sort(key=lambda row: _sort_key(row[0]))
-    out += _table(["time", "source", "what"], rows) if rows else ["Nothing recorded in this window.", ""]
-    out += [_demoted(explanation_md(e["explanation"], "standard")), "### Rulebooks of this verdict", ""]
+    out += [f"- signal {md(s.junction)} {md(s.approach)}: {md(colour_word(s.colour))}" for s in pic.signals
+            if str(s.junction) in shown]
+    for v in pic.vehicles:
+        where = ("position not recorded" if v.x is None else
+                 f"at ({v.x:g}, {v.y:g}) m, heading {_n(v.heading_deg)}°, speed {speed_text(v.speed_mps)}")
+        mark = " (this incident)" if v.incident else ""
+        out.append(f"- vehicle {md(v.id)} ({md(v.type or 'type not recorded')}){mark}: {where}")
+    for m in pic.monitors:
+        out.append(f"- {md(m.id)}: at ({_n(m.x)}, {_n(m.y)}) m, heading {_n(m.heading_deg)}°, "
+                   f"field of view {_n(m.fov_deg)}°, range {_n(m.range_m)} m")
+    out += ["", f"### Speed and signals from {(tl.t_from - tl.t) / SECOND:g} s to "
+                f"+{(tl.t_to - tl.t) / SECOND:g} s", ""]
+    out += _timeline_table(tl)
+    out += [_demoted(explanation_md(e.explanation, "standard")), "### Rulebooks of this verdict", ""]
     out += _table(["stage", "rulebook", "sha256", "source"],
-                  [[b["stage"], b.get("name"), b.get("sha256"), b.get("source")] for b in e["rulebooks"]])
+                  [[b.stage, b.book.name, b.book.sha256, b.book.source] for b in e.rulebooks])
     return out
+
+
+def _timeline_table(tl: ActTimeline) -> list[str]:
+    """What changed when in the timeline's window, in time order: the HTML timeline's points."""
+    rows = [[_rel(tl, p.t), f"vehicle/{tl.vehicle}", f"speed {speed_text(p.speed_mps)}"] for p in tl.speed]
+    rows += [[_rel(tl, p.t), p.monitor, f"observed speed {speed_text(p.speed_mps)}"] for p in tl.observed_speed]
+    rows += [[_rel(tl, c.t), f"signal {tl.junction} {a.approach}", colour_word(c.colour)]
+             for a in tl.signals for c in a.phases]
+    line = tl.to_line
+    rows += [[_rel(tl, p.t), f"{p.src} #{p.seq}", f"{p.m:g} m before the line" if p.m >= 0 else
+              f"{-p.m:g} m past the line"] for p in (line.points if line else ())]
+    if (other := tl.other) is not None:
+        rows += [[_rel(tl, p.t), f"{p.src} #{p.seq}", f"speed of {other.user} {speed_text(p.speed_mps)} "
+                  f"(whom {tl.vehicle} {other.how})"] for p in other.speed]
+    rows.sort(key=lambda row: _sort_key(row[0]))
+    return _table(["time", "source", "what"], rows) if rows else ["Nothing recorded in this window.", ""]
 
 
 def _demoted(text: str) -> str:
@@ -104,9 +111,9 @@ def _demoted(text: str) -> str:
     return "\n".join("##" + line if line.startswith("#") else line for line in text.splitlines()) + "\n"
 
 
-def _rel(tl: dict[str, Any], t: int) -> str:
-    d = (max(t, tl["t_from"]) - tl["t"]) / SECOND
-    return ("≤ " if t < tl["t_from"] else "") + ("0 s" if d == 0 else f"{d:+g} s")
+def _rel(tl: ActTimeline, t: int) -> str:
+    d = (max(t, tl.t_from) - tl.t) / SECOND
+    return ("≤ " if t < tl.t_from else "") + ("0 s" if d == 0 else f"{d:+g} s")
 
 
 def _sort_key(text: str) -> float:

@@ -9,8 +9,7 @@ from __future__ import annotations
 from typing import Any, Mapping
 
 from reasoner.model import Control, Decision
-from reasoner.scene import Scene
-from reasoner.scene_parts import SceneFact, ValidatorShown, VehicleShown
+from reasoner.scene import Scene, SceneFact, ValidatorShown, VehicleShown
 from reasoner.when import format_offset, format_time
 from store import EventRef
 

@@ -6,6 +6,8 @@ the SVG's y runs down, so the mapping flips it here and nowhere else.
 """
 from __future__ import annotations
 
+from typing import Sequence
+
 W, H = 640, 440
 PAD = 28
 LEGEND_H = 44
@@ -33,7 +35,7 @@ class View:
         return (self.cx - half_w, self.cy - (H - LEGEND_H - self.mid_y) / self.scale,
                 self.cx + half_w, self.cy + self.mid_y / self.scale)
 
-    def sees(self, points: list[list[float]], margin_m: float = 0.0) -> bool:
+    def sees(self, points: Sequence[Sequence[float]], margin_m: float = 0.0) -> bool:
         """Whether the bounding box of `points`, grown by `margin_m`, meets the drawing area."""
         x0, y0, x1, y1 = self.world_frame()
         xs, ys = [p[0] for p in points], [p[1] for p in points]

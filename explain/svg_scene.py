@@ -16,9 +16,10 @@ none covers another.
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 from .labels import Box, Label, Placer
+from .picture_parts import JunctionDrawn, MonitorDrawn, Mover, Picture, SignalDrawn, StopLineDrawn
 from .report_data import APPROACH_DIRECTIONS, vehicle_junction
 from .scene_view import H, LEGEND_H, PAD, W, View
 from .svg import colour_word, esc, f, fill, legend_colours, legend_swatches
@@ -43,20 +44,20 @@ class _Want(NamedTuple):
     bold: bool = False
 
 
-def view_of(pic: dict[str, Any]) -> View:
+def view_of(pic: Picture) -> View:
     """The picture's world-to-pixel mapping (tests and viewers place things through it)."""
     return View(_focus(pic))
 
 
-def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
+def scene_svg(pic: Picture, number: int = 1) -> str:
     """The picture as one <svg class="gaps-scene"> element; `number` keeps its clip path's id
     apart from the other pictures of the same page."""
     view = view_of(pic)
     junction = _junction(pic)
-    me = next((v for v in pic["vehicles"] if v["incident"]), None)
+    me = pic.me
     clip = f"scene-clip-{int(number)}"
-    label = (f"Scene at the incident ({pic['offset']} from the run start): vehicle {pic['vehicle']}"
-             if pic["vehicle"] is not None else f"Scene at {pic['offset']} from the run start")
+    label = (f"Scene at the incident ({pic.offset} from the run start): vehicle {pic.vehicle}"
+             if pic.vehicle is not None else f"Scene at {pic.offset} from the run start")
     out = [f'<svg class="gaps-scene" xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {H}" width="{W}" '
            f'height="{H}" role="img" aria-label="{esc(label)}" font-family="sans-serif" font-size="11">',
            f"<title>{esc(label)}</title>",
@@ -72,7 +73,7 @@ def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
     out += _signals(pic, view, placer)
     out += _road_users(pic, view, placer, wants)
     out += _vehicles(pic, view, placer, wants)
-    missing = _not_drawn(me, pic["vehicle"]) if pic["vehicle"] is not None else None
+    missing = _not_drawn(me, pic.vehicle) if pic.vehicle is not None else None
     if missing:
         placer.block(Box(0, 0, W, PAD + 6))
         out.append(f'<text x="{W / 2}" y="{PAD}" text-anchor="middle" fill="#a40000">{esc(missing)}</text>')
@@ -83,34 +84,38 @@ def scene_svg(pic: dict[str, Any], number: int = 1) -> str:
     return "".join(out)
 
 
-def drawn(item: dict[str, Any]) -> bool:
+def drawn(item: Mover) -> bool:
     """A vehicle or road user the picture shows: placed, and present at the moment (presence.py)."""
-    return item["x"] is not None and item["y"] is not None and item.get("present", True)
+    return item.drawn
 
 
-def out_of_view(pic: dict[str, Any]) -> list[str]:
+def _at(item: Mover | MonitorDrawn) -> tuple[float, float]:
+    """Where a road user or monitor the picture places is (x and y are numbers there)."""
+    return cast(float, item.x), cast(float, item.y)
+
+
+def out_of_view(pic: Picture) -> list[str]:
     """The road users present and placed but outside the zoomed picture, for its caption to name."""
     view = view_of(pic)
     frame = Box(0, 0, W, H - LEGEND_H)
-    return [str(u["id"]) for u in pic["vehicles"] + pic["road_users"]
-            if drawn(u) and not frame.holds(*view(u["x"], u["y"]))]
+    return [str(u.id) for u in pic.movers if drawn(u) and not frame.holds(*view(*_at(u)))]
 
 
-def junctions_in_view(pic: dict[str, Any]) -> list[str]:
+def junctions_in_view(pic: Picture) -> list[str]:
     """The junctions whose centre the zoomed picture shows, the one it is about first: the
     caption speaks of their signals only."""
     view, frame = view_of(pic), Box(0, 0, W, H - LEGEND_H)
-    shown = [str(j["id"]) for j in pic["junctions"] if frame.holds(*view(j["x"], j["y"]))]
+    shown = [str(j.id) for j in pic.junctions if frame.holds(*view(j.x, j.y))]
     focus = _junction(pic)
     return sorted(shown, key=lambda j: j != focus)
 
 
-def _not_drawn(me: dict[str, Any] | None, vehicle: str) -> str | None:
+def _not_drawn(me: Mover | None, vehicle: str) -> str | None:
     """Why the incident's own vehicle is not in the picture, if it is not."""
-    if me is None or me["x"] is None:
+    if me is None or me.x is None:
         return f"vehicle {vehicle} has no recorded position at this time"
     if not drawn(me):
-        age = "" if me.get("age_s") is None else f" is {me['age_s']:g} s old"
+        age = "" if me.age_s is None else f" is {me.age_s:g} s old"
         return f"vehicle {vehicle}'s last recorded position{age}: not drawn, it is not known where it was"
     return None
 
@@ -140,186 +145,187 @@ def _label(placed: Label, colour: str) -> str:
                   f'data-box="{f(box.x)} {f(box.y)} {f(box.w)} {f(box.h)}">{esc(placed.text)}</text>')
 
 
-def _junction(pic: dict[str, Any]) -> str | None:
+def _junction(pic: Picture) -> str | None:
     """The junction the picture zooms to: the one report_data chose, else the vehicle's."""
-    return pic["junction"] if pic.get("junction") is not None else vehicle_junction(pic)
+    return pic.junction if pic.junction is not None else vehicle_junction(pic)
 
 
-def _focus(pic: dict[str, Any]) -> list[tuple[float, float]]:
+def _focus(pic: Picture) -> list[tuple[float, float]]:
     """The points the view must hold: the incident's vehicle, its junction with JUNCTION_REACH_M
     of every arm (the stop lines and the queue at them), the monitors there (their cones reach
     80 m and are clipped: holding them would shrink the junction), every road user the incident
-    names (pic["named"]: the one it would force or endanger, the one approaching, however far),
+    names (pic.named: the one it would force or endanger, the one approaching, however far),
     and road users near the vehicle.
 
     Why not the whole map: at 600 m across, a lane is 2 px and a car a dot; at about 70 m a lane
     is some 17 px wide, a car sits visibly before or beyond its stop line, and the labels have
     room. A road user the incident does not name and that is outside the view is clipped; the
     report's caption names the nearest of them and counts the rest, `gaps scene` lists every one."""
-    me = next((v for v in pic["vehicles"] if v["incident"] and drawn(v)), None)
+    me = next((v for v in pic.vehicles if v.incident and drawn(v)), None)
     junction = _junction(pic)
     pts: list[tuple[float, float]] = []
     if me is not None:
-        pts.append((me["x"], me["y"]))
-    for j in pic["junctions"]:
-        if j["id"] == junction:
-            pts += [(j["x"] + dx * JUNCTION_REACH_M, j["y"] + dy * JUNCTION_REACH_M) for dx in (-1, 1) for dy in (-1, 1)]
-    for m in pic["monitors"]:
-        if m["x"] is not None and m["y"] is not None and (m["watching"] or (junction and m["junction"] == junction)):
-            pts.append((m["x"], m["y"]))
-    named = set(pic.get("named") or ())
-    for other in pic["vehicles"] + pic["road_users"]:
+        pts.append(_at(me))
+    for j in pic.junctions:
+        if j.id == junction:
+            pts += [(j.x + dx * JUNCTION_REACH_M, j.y + dy * JUNCTION_REACH_M) for dx in (-1, 1) for dy in (-1, 1)]
+    for m in pic.monitors:
+        if m.x is not None and m.y is not None and (m.watching or (junction and m.junction == junction)):
+            pts.append(_at(m))
+    named = set(pic.named or ())
+    for other in pic.movers:
         if not drawn(other):
             continue
-        if str(other["id"]) in named or (me is not None and
-                                         math.hypot(other["x"] - me["x"], other["y"] - me["y"]) <= NEAR_M):
-            pts.append((other["x"], other["y"]))
+        (ox, oy) = _at(other)
+        if str(other.id) in named or (me is not None and math.hypot(ox - _at(me)[0], oy - _at(me)[1]) <= NEAR_M):
+            pts.append((ox, oy))
     if not pts:        # nothing to centre on: the whole map
-        pts = [(j["x"], j["y"]) for j in pic["junctions"]]
-        pts += [(m["x"], m["y"]) for m in pic["monitors"] if m["x"] is not None and m["y"] is not None]
-        pts += [(v["x"], v["y"]) for v in pic["vehicles"] if drawn(v)]
+        pts = [(j.x, j.y) for j in pic.junctions]
+        pts += [_at(m) for m in pic.monitors if m.x is not None and m.y is not None]
+        pts += [_at(v) for v in pic.vehicles if drawn(v)]
     return pts
 
 
-def _wedge_points(m: dict[str, Any]) -> list[tuple[float, float]]:
+def _wedge_points(m: MonitorDrawn) -> list[tuple[float, float]]:
     """The monitor's position then its field-of-view arc (world metres)."""
-    heading, fov, reach = m["heading_deg"], m["fov_deg"], m["range_m"]
+    heading, fov, reach = m.heading_deg, m.fov_deg, m.range_m
     if heading is None or reach is None or reach <= 0:
         return []
+    mx, my = _at(m)
     fov = 360.0 if fov is None else max(0.0, min(fov, 360.0))
     steps = 24
     start = math.radians(heading - fov / 2)
-    arc = [(m["x"] + reach * math.cos(start + math.radians(fov) * i / steps),
-            m["y"] + reach * math.sin(start + math.radians(fov) * i / steps)) for i in range(steps + 1)]
-    return [(m["x"], m["y"])] + arc
+    arc = [(mx + reach * math.cos(start + math.radians(fov) * i / steps),
+            my + reach * math.sin(start + math.radians(fov) * i / steps)) for i in range(steps + 1)]
+    return [(mx, my)] + arc
 
 
-def _junctions(pic: dict[str, Any], view: View, wants: list[_Want]) -> list[str]:
+def _junctions(pic: Picture, view: View, wants: list[_Want]) -> list[str]:
     """Each junction's name, placed last (svg_lanes.py draws the junction itself)."""
-    for j in pic["junctions"]:
-        x, y = view(j["x"], j["y"])
-        wants.append(_Want(4, f"junction {_short(str(j['id']))}", x, y, max(5.0, 4.5 * view.scale), "#333"))
+    for j in pic.junctions:
+        x, y = view(j.x, j.y)
+        wants.append(_Want(4, f"junction {_short(str(j.id))}", x, y, max(5.0, 4.5 * view.scale), "#333"))
     return []
 
 
-def _signals(pic: dict[str, Any], view: View, placer: Placer) -> list[str]:
+def _signals(pic: Picture, view: View, placer: Placer) -> list[str]:
     """One lamp per approach showing the colour that approach faced, standing just beyond the
     kerb end of the approach's stop line, where a driver at the line sees it. An approach the map
     gives no stop line for gets its lamp on the side its traffic comes from (by compass name), to
     the approaching driver's left. Labels keep off the lamps."""
-    where = {j["id"]: j for j in pic["junctions"]}
-    by_junction: dict[Any, list[dict]] = {}
-    for s in pic["signals"]:
-        by_junction.setdefault(s["junction"], []).append(s)
+    where = {j.id: j for j in pic.junctions}
+    by_junction: dict[str, list[SignalDrawn]] = {}
+    for s in pic.signals:
+        by_junction.setdefault(s.junction, []).append(s)
     out = []
     for junction, shown in by_junction.items():
         if junction not in where:
             continue
         j = where[junction]
-        lines = {line["approach"]: line for line in j.get("stop_lines") or []}
+        lines = {line.approach: line for line in j.stop_lines}
         for i, s in enumerate(shown):
-            line = lines.get(s["approach"]) if isinstance(s["approach"], str) else None
-            x, y = view(*(_at_line(line) if line else _by_compass(j, s["approach"], i, view.scale)))
-            title = f"signal {junction} {s['approach']}: {colour_word(s['colour'])}"
+            line = lines.get(s.approach) if isinstance(s.approach, str) else None
+            x, y = view(*(_at_line(line) if line else _by_compass(j, s.approach, i, view.scale)))
+            title = f"signal {junction} {s.approach}: {colour_word(s.colour)}"
             placer.block(Box(x - 7, y - 11, 14, 22))
             out.append(f'<g class="signal"><title>{esc(title)}</title>'
                        f'<rect x="{f(x - 7)}" y="{f(y - 11)}" width="14" height="22" rx="3" fill="#222"/>'
-                       f'<circle cx="{f(x)}" cy="{f(y)}" r="5.5" fill="{fill(s["colour"])}" stroke="#000" '
+                       f'<circle cx="{f(x)}" cy="{f(y)}" r="5.5" fill="{fill(s.colour)}" stroke="#000" '
                        'stroke-width="0.5"/></g>')
     return out
 
 
-def _at_line(line: dict[str, Any]) -> tuple[float, float]:
-    """LAMP_OUT_M beyond the stop line's kerb end (its `to`; `from` is at the centre line)."""
-    (ax, ay), (bx, by) = line["from"], line["to"]
+def _at_line(line: StopLineDrawn) -> tuple[float, float]:
+    """LAMP_OUT_M beyond the stop line's kerb end (its `b`, "to"; `a` is at the centre line)."""
+    (ax, ay), (bx, by) = line.a, line.b
     length = math.hypot(bx - ax, by - ay) or 1.0
     return bx + (bx - ax) / length * LAMP_OUT_M, by + (by - ay) / length * LAMP_OUT_M
 
 
-def _by_compass(j: dict[str, Any], approach: Any, i: int, scale: float) -> tuple[float, float]:
+def _by_compass(j: JunctionDrawn, approach: Any, i: int, scale: float) -> tuple[float, float]:
     """About 26 px out from the centre towards where the approach's traffic comes from, and 16 px
     to that driver's left (the UK kerb side)."""
     name = approach.lower() if isinstance(approach, str) else ""
     a = math.radians(APPROACH_DIRECTIONS.get(name, 45.0 + 90.0 * i))
     dist, side = max(10.0, 26.0 / scale), 16.0 / scale
-    return (j["x"] + dist * math.cos(a) + side * math.cos(a - math.pi / 2),
-            j["y"] + dist * math.sin(a) + side * math.sin(a - math.pi / 2))
+    return (j.x + dist * math.cos(a) + side * math.cos(a - math.pi / 2),
+            j.y + dist * math.sin(a) + side * math.sin(a - math.pi / 2))
 
 
-def _monitors(pic: dict[str, Any], view: View, placer: Placer, wants: list[_Want]) -> list[str]:
+def _monitors(pic: Picture, view: View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
-    for m in pic["monitors"]:
-        if m["x"] is None or m["y"] is None:
+    for m in pic.monitors:
+        if m.x is None or m.y is None:
             continue
         wedge = _wedge_points(m)
         if wedge:
             pts = " ".join(f"{f(a)},{f(b)}" for a, b in (view(*p) for p in wedge))
             out.append(f'<polygon class="fov" points="{pts}" fill="#2a6fdb" fill-opacity="0.12" stroke="#2a6fdb" '
                        f'stroke-opacity="0.6" stroke-width="1"><title>{esc(_fov_title(m))}</title></polygon>')
-        x, y = view(m["x"], m["y"])
+        x, y = view(*_at(m))
         out.append(f'<rect class="monitor" x="{f(x - 5)}" y="{f(y - 5)}" width="10" height="10" fill="#2a6fdb">'
                    f"<title>{esc(_fov_title(m))}</title></rect>")
         placer.block(Box(x - 5, y - 5, 10, 10))
-        wants.append(_Want(3, _short(str(m["id"])), x, y, 7.0, MONITOR_COLOUR))
+        wants.append(_Want(3, _short(str(m.id)), x, y, 7.0, MONITOR_COLOUR))
     return out
 
 
-def _fov_title(m: dict[str, Any]) -> str:
-    return (f"{m['id']}: field of view {_n(m['fov_deg'])}° heading {_n(m['heading_deg'])}°, "
-            f"range {_n(m['range_m'])} m")
+def _fov_title(m: MonitorDrawn) -> str:
+    return (f"{m.id}: field of view {_n(m.fov_deg)}° heading {_n(m.heading_deg)}°, "
+            f"range {_n(m.range_m)} m")
 
 
-def _vehicles(pic: dict[str, Any], view: View, placer: Placer, wants: list[_Want]) -> list[str]:
+def _vehicles(pic: Picture, view: View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
-    for v in sorted(pic["vehicles"], key=lambda v: v["incident"]):      # the incident's drawn last, on top
+    for v in sorted(pic.vehicles, key=lambda v: v.incident):      # the incident's drawn last, on top
         if not drawn(v):
             continue
-        x, y = view(v["x"], v["y"])
-        r = 7 if v["incident"] else 5
-        colour = INCIDENT_COLOUR if v["incident"] else VEHICLE_COLOUR
-        cls = "vehicle incident" if v["incident"] else "vehicle"
-        if v["heading_deg"] is not None:
-            a = math.radians(v["heading_deg"])
+        x, y = view(*_at(v))
+        r = 7 if v.incident else 5
+        colour = INCIDENT_COLOUR if v.incident else VEHICLE_COLOUR
+        cls = "vehicle incident" if v.incident else "vehicle"
+        if v.heading_deg is not None:
+            a = math.radians(v.heading_deg)
             hx, hy = x + 18 * math.cos(a), y - 18 * math.sin(a)
             out.append(f'<line x1="{f(x)}" y1="{f(y)}" x2="{f(hx)}" y2="{f(hy)}" stroke="{colour}" stroke-width="2"/>')
             out.append(_arrow_head(hx, hy, a, colour))
             placer.block(Box(min(x, hx) - 4, min(y, hy) - 4, abs(hx - x) + 8, abs(hy - y) + 8))
         ring = (f'<circle cx="{f(x)}" cy="{f(y)}" r="{r + 5}" fill="none" stroke="{INCIDENT_COLOUR}" '
-                'stroke-width="2" stroke-dasharray="3 2"/>' if v["incident"] else "")
+                'stroke-width="2" stroke-dasharray="3 2"/>' if v.incident else "")
         out.append(f'<g class="{cls}">{ring}<circle cx="{f(x)}" cy="{f(y)}" r="{r}" fill="{colour}" stroke="#fff" '
                    f'stroke-width="1.5"><title>{esc(_vehicle_title(v))}</title></circle></g>')
-        reach = r + 5 if v["incident"] else r
+        reach = r + 5 if v.incident else r
         placer.block(Box(x - reach, y - reach, 2 * reach, 2 * reach))
-        text = _short(str(v["id"])) + (" " + _short(str(v["type"])) if v["type"] else "") + _speed(v)
-        wants.append(_Want(0 if v["incident"] else 1, text, x, y, reach + 2, colour, v["incident"]))
+        text = _short(str(v.id)) + (" " + _short(str(v.type)) if v.type else "") + _speed(v)
+        wants.append(_Want(0 if v.incident else 1, text, x, y, reach + 2, colour, v.incident))
     return out
 
 
-def _speed(v: dict[str, Any]) -> str:
+def _speed(v: Mover) -> str:
     """" 17 mph" for a label: whole miles per hour, the unit UK roads and the Highway Code use (the
     title and the caption give the recorded m/s); nothing when no speed was recorded."""
-    return "" if v.get("speed_mps") is None else f" {mph(v['speed_mps']):.0f} mph"
+    return "" if v.speed_mps is None else f" {mph(v.speed_mps):.0f} mph"
 
 
-def _vehicle_title(v: dict[str, Any]) -> str:
-    speed = "speed not recorded" if v["speed_mps"] is None else \
-        f"speed {mph_text(v['speed_mps'])} ({_n(v['speed_mps'])} m/s)"
-    seen = "" if v.get("age_s") is None else f", reported {v['age_s']:g} s before"
-    return (f"vehicle {v['id']} ({v['type'] or 'type not recorded'}) at ({_n(v['x'])}, {_n(v['y'])}) m, "
-            f"heading {_n(v['heading_deg'])}°, {speed}{seen}")
+def _vehicle_title(v: Mover) -> str:
+    speed = "speed not recorded" if v.speed_mps is None else \
+        f"speed {mph_text(v.speed_mps)} ({_n(v.speed_mps)} m/s)"
+    seen = "" if v.age_s is None else f", reported {v.age_s:g} s before"
+    return (f"vehicle {v.id} ({v.type or 'type not recorded'}) at ({_n(v.x)}, {_n(v.y)}) m, "
+            f"heading {_n(v.heading_deg)}°, {speed}{seen}")
 
 
-def _road_users(pic: dict[str, Any], view: View, placer: Placer, wants: list[_Want]) -> list[str]:
+def _road_users(pic: Picture, view: View, placer: Placer, wants: list[_Want]) -> list[str]:
     out = []
-    for u in pic["road_users"]:
+    for u in pic.road_users:
         if not drawn(u):
             continue
-        x, y = view(u["x"], u["y"])
+        x, y = view(*_at(u))
         out.append(f'<path class="road-user" d="M{f(x)},{f(y - 5)} L{f(x + 5)},{f(y)} L{f(x)},{f(y + 5)} '
-                   f'L{f(x - 5)},{f(y)} Z" fill="{USER_COLOUR}"><title>{esc(u["id"])} ({esc(u["type"] or "?")})'
+                   f'L{f(x - 5)},{f(y)} Z" fill="{USER_COLOUR}"><title>{esc(u.id)} ({esc(u.type or "?")})'
                    "</title></path>")
         placer.block(Box(x - 5, y - 5, 10, 10))
-        wants.append(_Want(2, _short(str(u["id"])) + _speed(u), x, y, 6.0, USER_COLOUR))
+        wants.append(_Want(2, _short(str(u.id)) + _speed(u), x, y, 6.0, USER_COLOUR))
     return out
 
 

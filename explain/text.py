@@ -8,9 +8,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from reasoner.engine import Rulebook
 from reasoner.when import date_clock
-from reasoner.wording import arg_text, sentence_text
+from reasoner.wording import Rulebook, arg_text, sentence_text
 
 
 if TYPE_CHECKING:

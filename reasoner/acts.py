@@ -12,6 +12,10 @@ from __future__ import annotations
 from .history import STOPPED_MPS
 from .history import Passage
 
+# What other rooms take from here (tests/architecture/test_walls.py): the passage of an act, so that the
+# report's act timeline draws the passage the judge measured (explain/act_data.py)
+__all__ = ["of"]
+
 SECOND = 1_000_000_000
 NEAR_S = 5.0          # a passage this far (in time) from a moment is still the one of its act
 SPEEDING = "exceed the speed limit"

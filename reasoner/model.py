@@ -16,6 +16,12 @@ from typing import Any, Iterable, Mapping
 from store import EventRef
 from .unforced import Unforced
 
+# What other rooms take from here (tests/architecture/test_walls.py): the incident and the parts of it
+# explain names (explain/listing.py, explanation_doc.py, scene_text.py, featured.py, act_data.py, the
+# report's rulebooks); the reasoner's own modules use the rest
+__all__ = ["FASTEST_MEASURED", "OWN_RECORD", "Control", "Decision", "Finding", "Incident", "Margin", "Penalty",
+           "RulebookChoice", "found_in"]
+
 Tree = Mapping[str, Any]          # a proof tree as DESIGN's JSON
 Fact = tuple[Any, EventRef]       # a recorded sentence (a str, unless a producer wrote nonsense) and its event
 
@@ -237,6 +243,9 @@ def found_in(sources: Iterable[Source]) -> str:
     if places == {OWN_RECORD}:
         return OWN_RECORD
     return MONITORS if places <= {MONITORS} else f"{MONITORS} and {OWN_RECORD}"
+
+
+FASTEST_MEASURED = "fastest measured speed"     # a speeding margin's figure: the speed that decided
 
 
 @dataclass(frozen=True)

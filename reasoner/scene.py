@@ -44,6 +44,10 @@ if TYPE_CHECKING:
     from .investigation import Investigation
 
 
+# What other rooms take from here (tests/architecture/test_walls.py): the scene at a moment and the
+# parts of it explain reads (explain/scene_text.py, report_data.py); `reasoner` hands out Scene too
+__all__ = ["Reported", "Scene", "SceneFact", "ValidatorShown", "VehicleShown", "scene"]
+
 MONITORS = frozenset({"monitors"})      # of the run map, the scene shows only the monitors' entries
 
 

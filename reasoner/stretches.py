@@ -25,7 +25,7 @@ from typing import Any, Iterable, cast
 from store import EventRef, Store
 
 from .history import Map
-from .model import Act, DerivedFact, Margin
+from .model import FASTEST_MEASURED, Act, DerivedFact, Margin
 from .history import MPH_PER_MPS, mph
 from .history import DEFAULT, Sensor, stated
 from .vocabulary import HAS_SPEED_OF, SPEED_LIMIT_IS
@@ -105,9 +105,6 @@ class Stretch:
         return speeding_margin(p.speed_mps, p.limit_mph, (p.ref,), sensor, self.open_start or self.open_end,
                                f"fastest {p.speed_mps:.2f} m/s ({p.ref.src} #{p.ref.seq}) of the stretch over the "
                                f"limit against road {p.road}'s {p.limit_mph:g} mph")
-
-
-FASTEST_MEASURED = "fastest measured speed"     # a speeding margin's figure: the speed that decided
 
 
 def speeding_margin(speed_mps: float, limit_mph: float, refs: tuple[EventRef, ...], sensor: Sensor,

@@ -20,6 +20,10 @@ from typing import Any
 from store import State, Store, state_at
 from store.run_map import finite_number
 
+# What other rooms take from here (tests/architecture/test_walls.py): the timeline around a moment and
+# the values it is made of, which the report draws (explain/report_data.py)
+__all__ = ["ApproachPhases", "ObservedSpeed", "Phase", "SpeedSample", "Timeline", "timeline"]
+
 SECOND = 1_000_000_000
 BEFORE_NS = 20 * SECOND      # a timeline starts this long before the moment ...
 AFTER_NS = 5 * SECOND        # ... and ends this long after it

@@ -24,6 +24,19 @@ from dataclasses import dataclass, field
 from .le.templates import Template, parse_template, render
 from .le.terms import Atom
 
+# What other rooms take from here (tests/architecture/test_walls.py): a sentence's type, and each
+# sentence the simulation's agents write or ask (sim_replay/av.py, watchers.py, simulation.py,
+# paper.py) or an explanation words in its own way (explain/phrases.py, explanation_doc.py,
+# act_data.py); the rest are the reasoner's own questions and statements
+__all__ = [
+    "CAN", "CROSSED_THE_STOP_LINE_ON", "EXIT_OF_THE_BOX_JUNCTION_IS_CLEAR", "HAS_CROSSED_THE_STOP_LINE", "HAS_LIGHT",
+    "HAS_SIGN", "HAS_SPEED_OF", "HAS_STOPPED_AT_THE_STOP_LINE", "HAS_STOPPED_BEFORE_ENTERING_THE_MAJOR_ROAD",
+    "IS_APPROACHING", "IS_AT_A_BOX_JUNCTION", "IS_DRIVING_ITSELF", "IS_IN_THE_JUNCTION", "IS_OF_TYPE",
+    "IS_ON_AN_EMERGENCY_CALL", "IS_ON_THE_MAIN_ROAD", "IS_STOPPED", "IS_STOPPED_IN_THE_BOX_JUNCTION",
+    "IS_TOO_CLOSE_TO_STOP", "MUST_NOT", "POTENTIALLY_VIOLATES", "SPEED_LIMIT_IS", "STOP_LINE_NOT_CLEARLY_VISIBLE",
+    "Sentence", "WOULD_ENDANGER", "WOULD_FORCE",
+]
+
 
 @dataclass(frozen=True)
 class Sentence:

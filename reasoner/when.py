@@ -28,6 +28,11 @@ from datetime import datetime, timedelta, timezone
 
 from store import GapsError
 
+# What other rooms take from here (tests/architecture/test_walls.py): the times as explanations and
+# reports write them (explain/listing.py, phrases.py, scene_text.py, text.py); the forms the command
+# line reads and prints it takes through `reasoner`'s face, which hands them out
+__all__ = ["clock", "date_clock", "day", "format_offset", "format_time"]
+
 SECOND = 1_000_000_000
 T_MAX = (1 << 63) - 1  # SQLite's integers, and so the store's times, are signed 64-bit
 SMALLEST_NS = 10**15  # 1970-01-12T13:46:40Z: a smaller bare number is a mistyped "12s", not a time

@@ -9,17 +9,16 @@ the compiler can change its insides without explain knowing.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from .engine import Rulebook
 from .le.render import arg_text as _arg_text
 from .le.render import sentence_text as _sentence_text
 from .le.sentences import constant
 from .le.templates import Slot, parse_template
 
-if TYPE_CHECKING:
-    from .engine import Rulebook
-
-__all__ = ["Shape", "arg_text", "sentence_text", "shape", "term"]
+# Rulebook: the rulebook whose English it is (explain/text.py names the type of what it words with)
+__all__ = ["Rulebook", "Shape", "arg_text", "sentence_text", "shape", "term"]
 
 Shape = list[str | int]   # a template's words in order, and for each slot the index of its argument
 

@@ -19,11 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from reasoner.bundled import CURRENT_SET, bundled
-from reasoner.engine import Answer, Rulebook, enrich, get_engine
-from reasoner.facts import FactReader
-from reasoner.le.sentences import constant
-from reasoner.shapes import Shaper
+from reasoner.onboard import CURRENT_SET, Answer, FactReader, Rulebook, Shaper, bundled, constant, enrich, get_engine
 
 __all__ = ["Asked", "Rulebooks", "design_tree"]
 

@@ -8,9 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from reasoner.bundled import PAPER, bundled
-from reasoner.engine import get_engine, sha256_text
-from reasoner.le.sentences import parse_fact
+from reasoner.onboard import PAPER, bundled, get_engine, parse_fact, sha256_text
 from reasoner.vocabulary import CAN, HAS_LIGHT, IS_OF_TYPE, IS_ON_AN_EMERGENCY_CALL
 
 RUN = "paper-junctions"

@@ -3,11 +3,15 @@ tables; every part that shows a face (docs/design.md, "Rooms and their faces") i
 through it. Other rooms import the store as `store`, `store.wire`, `store.cache`, `store.keys`,
 `store.transfer` or `store.errors`, each name in that face's `__all__`, never a module inside
 (`store.db`, `store.chain`, `store.wire.contract`); the reasoner's history and regression are
-entered as `reasoner.history` and `reasoner.regress`, by the rest of the reasoner too.
+entered as `reasoner.history` and `reasoner.regress`, by the rest of the reasoner too. The other
+rooms import the reasoner only through its faces (REASONER_FACES below: its package, those two
+sub-faces and a few module faces), each by the rooms the face is for, and only the names in its
+`__all__`.
 
 bench/ is outside the walls on purpose: its benchmarks time the store's internals (the chain,
 the snapshots, raw SQL alternatives) against each other, which is what they are for; tests/ reach
-inside to test the parts themselves."""
+inside to test the parts themselves, and scripts/ (one-off checks of the reasoner's figures) may
+reach inside the reasoner."""
 import ast
 import importlib
 import re
@@ -152,6 +156,136 @@ def test_the_history_leans_on_the_reasoners_leaves_only_and_only_the_api_calls_t
             if "regress" not in p.relative_to(ROOT).parts and p != ROOT / "reasoner" / "api.py"]
     assert [str(p.relative_to(ROOT)) for p in rest
             if any(m.startswith("reasoner.regress") for m in reasoner_imports(p))] == []
+
+
+# The reasoner's faces for the other rooms (docs/design.md, "Rooms and their faces"), each with the
+# rooms that may import it: the package's face (the public API and the values its answers are made
+# of), the sub-faces of its parts, and a few modules whose `__all__` hands out the part a room
+# needs beyond the API: the incident's values, the verdict words, the core vocabulary's sentences,
+# the times as explanations write them, the rulebooks' English, the scene and the timelines around
+# a moment, an act's passage (for explain's renderings) and the law on board (for the simulation's
+# agents, which ask the rulebooks live). A room takes from a face only what its `__all__` names,
+# by import or by reading a face imported whole (`vocab.HAS_LIGHT`). The reasoner's own modules
+# use one another freely (its parts through their faces, above); tests/, bench/ and scripts/ reach
+# inside on purpose (they test, time and check the parts themselves) and are outside this rule.
+REASONER_FACES = {
+    "reasoner": ("cli", "explain", "sim_replay"),
+    "reasoner.history": ("explain", "sim_replay"),
+    "reasoner.regress": ("cli",),
+    "reasoner.model": ("explain",),
+    "reasoner.verdicts": ("explain",),
+    "reasoner.vocabulary": ("explain", "sim_replay"),
+    "reasoner.when": ("explain",),
+    "reasoner.wording": ("explain",),
+    "reasoner.scene": ("explain",),
+    "reasoner.timelines": ("explain",),
+    "reasoner.acts": ("explain",),
+    "reasoner.onboard": ("sim_replay",),
+}
+ROOMS = ("cli", "explain", "ingest", "sim_replay")      # every room but the reasoner (store imports nothing of ours)
+
+
+def _entered(room: str, face: str, where: str) -> list[str]:
+    if face not in REASONER_FACES:
+        return [f"{where} imports {face}, not a face of the reasoner"]
+    if room not in REASONER_FACES[face]:
+        return [f"{where} imports {face}, a face for {', '.join(REASONER_FACES[face])} only"]
+    return []
+
+
+def _taken(room: str, face: str, name: str, where: str, verb: str = "imports") -> tuple[list[str], str | None]:
+    """One name taken from a face: what that breaks, and the face it is if it is one (else None)."""
+    if f"{face}.{name}" in REASONER_FACES:
+        return _entered(room, f"{face}.{name}", where), f"{face}.{name}"
+    if name not in shown(face):
+        return [f"{where} {verb} {face}.{name}, not in {face}.__all__"], None
+    return [], None
+
+
+def _chain(node: ast.Attribute) -> tuple[str, list[str]] | None:
+    """`a.b.c` as ("a", ["b", "c"]); None for anything but names and attributes."""
+    attrs: list[str] = []
+    value: ast.expr = node
+    while isinstance(value, ast.Attribute):
+        attrs.insert(0, value.attr)
+        value = value.value
+    return (value.id, attrs) if isinstance(value, ast.Name) else None
+
+
+def reasoner_breaches(path: Path) -> list[str]:
+    """Where one file of a room goes past the reasoner's faces, as `file:line what`."""
+    room, found, whole = path.relative_to(ROOT).parts[0], [], {}
+    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+    for node in ast.walk(tree):
+        where = f"{path.relative_to(ROOT)}:{getattr(node, 'lineno', '?')}"
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").split(".")[0] == "reasoner":
+            entered = _entered(room, node.module or "", where)
+            found += entered
+            for a in [] if entered else node.names:
+                broken, face = _taken(room, node.module or "", a.name, where)
+                found += broken
+                if face:
+                    whole[a.asname or a.name] = face
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "reasoner":
+                    found += _entered(room, a.name, where)
+                    whole[a.asname or "reasoner"] = a.name if a.asname else "reasoner"
+    reads = [node for node in ast.walk(tree) if isinstance(node, ast.Attribute)]
+    inner = {id(node.value) for node in reads}
+    for node in reads:
+        chain = _chain(node) if id(node) not in inner else None      # each whole `a.b.c` once
+        if chain is None or chain[0] not in whole:
+            continue
+        face, where = whole[chain[0]], f"{path.relative_to(ROOT)}:{node.lineno}"
+        for attr in chain[1]:
+            broken, deeper = _taken(room, face, attr, where, "reads")
+            found += broken
+            if not deeper:
+                break
+            face = deeper
+    return found
+
+
+def test_other_rooms_enter_the_reasoner_through_its_faces():
+    files = [path for room in ROOMS for path in sorted((ROOT / room).rglob("*.py"))]
+    assert {p.relative_to(ROOT).parts[0] for p in files} == set(ROOMS)
+    assert [b for path in files for b in reasoner_breaches(path)] == []
+
+
+def test_the_check_sees_a_way_past_the_reasoners_faces(tmp_path, monkeypatch):
+    monkeypatch.setattr(__import__(__name__), "ROOT", tmp_path)
+    for room in ROOMS:
+        (tmp_path / room).mkdir()
+    sample = tmp_path / "explain" / "x.py"
+    sample.write_text("from reasoner.investigation import Investigation\nfrom reasoner import Case, scene_parts, le\n"
+                      "from reasoner.vocabulary import CAN, Template\nfrom reasoner import vocabulary as vocab\n"
+                      "said = (vocab.HAS_LIGHT, vocab.STAGES)\nimport reasoner.le.sentences\n"
+                      "from reasoner.onboard import get_engine\nimport reasoner\n"
+                      "case = reasoner.open('x')\nreasoner.history.passage, reasoner.history.read\n"
+                      "from reasoner.history import Passage\nfrom reasoner.scene import Scene, scene\n"
+                      "def f():\n    from reasoner.engine import Rulebook\n")
+    assert [b.split(" ", 1)[1] for b in reasoner_breaches(sample)] == [
+        "imports reasoner.investigation, not a face of the reasoner",
+        "imports reasoner.scene_parts, not in reasoner.__all__", "imports reasoner.le, not in reasoner.__all__",
+        "imports reasoner.vocabulary.Template, not in reasoner.vocabulary.__all__",
+        "imports reasoner.le.sentences, not a face of the reasoner", "imports reasoner.onboard, a face for sim_replay only",
+        "imports reasoner.engine, not a face of the reasoner",
+        "reads reasoner.vocabulary.STAGES, not in reasoner.vocabulary.__all__",
+        "reads reasoner.history.read, not in reasoner.history.__all__"]
+    elsewhere = {"sim_replay": "from reasoner.wording import term\nfrom reasoner.onboard import get_engine\n",
+                 "ingest": "from reasoner import Case\n", "cli": "from reasoner.model import Incident\n"}
+    for room, text in elsewhere.items():
+        (tmp_path / room / "x.py").write_text(text)
+    assert [b.split(" ", 1)[1] for room in elsewhere for b in reasoner_breaches(tmp_path / room / "x.py")] == [
+        "imports reasoner.wording, a face for explain only", "imports reasoner, a face for cli, explain, sim_replay only",
+        "imports reasoner.model, a face for explain only"]
+
+
+def test_every_reasoner_face_hands_out_what_it_names():
+    for face in REASONER_FACES:
+        module = importlib.import_module(face)
+        assert module.__all__ and all(hasattr(module, name) for name in module.__all__), face
 
 
 def test_everything_the_store_exports_exists():

@@ -56,9 +56,10 @@ def test_the_explanation_marks_measured_facts_and_gives_their_method(runner_db):
 def test_the_report_timeline_marks_the_crossing_on_the_light_bands(runner_db):
     with Store.open_read_only(runner_db) as store:
         report = build_report(Case(store), "measured-runner")
-    tl = report["incidents"][0]["timeline"]
-    crossing = next(m for m in tl["moments"] if m["what"] == "crossed the stop line")
-    red = next(c for c in tl["signals"]["west"] if c["colour"] == "red")
-    assert (crossing["t"] - red["t"]) / 1e9 == pytest.approx(LAG_S, abs=0.01)
+    tl = report.incidents[0].timeline
+    crossing = next(m for m in tl.moments if m.what == "crossed the stop line")
+    west = next(a for a in tl.signals if a.approach == "west")
+    red = next(c for c in west.phases if c.colour == "red")
+    assert (crossing.t - red.t) / 1e9 == pytest.approx(LAG_S, abs=0.01)
     html = render_report(report, "html")
     assert 'class="moment"' in html and "crossed the stop line" in html

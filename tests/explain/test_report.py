@@ -14,9 +14,13 @@ import pytest
 
 from reasoner import Case
 from explain.report import ReportError, build_report, format_for, render_report
+from explain.picture_parts import JunctionDrawn, MonitorDrawn, Mover, Picture, RoadDrawn, SignalDrawn
 from explain.report_data import facing_approach, number
+from explain.report_parts import Report
 from explain.svg_scene import scene_svg
 from explain.svg_timeline import timeline_svg
+from explain.timeline_parts import ActTimeline
+from reasoner.timelines import Timeline
 from sim_replay.paper import RUN, paper_run
 from reasoner import NoSuchIncident
 from store import NoSuchRun, Store
@@ -70,7 +74,7 @@ def with_class(parsed: Outline, tag: str, cls: str) -> list[dict]:
 
 
 @pytest.fixture(scope="module")
-def demo_report(tmp_path_factory) -> dict:
+def demo_report(tmp_path_factory) -> Report:
     db = tmp_path_factory.mktemp("report") / "demo.db"
     with Store(db) as store:
         store.append(paper_run())
@@ -100,8 +104,8 @@ def test_html_is_well_formed_and_has_a_scene_and_a_timeline_per_incident(demo_re
     page = render_report(demo_report, "html")
     parsed = outline(page)
     assert parsed.problems == [] and parsed.stack == []
-    n = len(demo_report["incidents"])
-    assert n == 2 and demo_report["incidents_in_run"] == 2
+    n = len(demo_report.incidents)
+    assert n == 2 and demo_report.incidents_in_run == 2
     assert len(with_class(parsed, "svg", "gaps-scene")) == n
     assert len(with_class(parsed, "svg", "gaps-timeline")) == n
     assert len(with_class(parsed, "tr", "incident-row")) == n
@@ -124,14 +128,14 @@ def test_html_summary_rows_say_what_the_verdicts_are(demo_report):
 
 def test_html_names_every_rulebook_by_sha256_and_shows_the_chain(demo_report):
     page = render_report(demo_report, "html")
-    shas = {b["sha256"] for e in demo_report["incidents"] for b in e["rulebooks"]}
+    shas = {b.book.sha256 for e in demo_report.incidents for b in e.rulebooks}
     assert len(shas) == 3          # paper.le recorded; penalties and liability current
     for sha in shas:
         assert re.fullmatch(r"[0-9a-f]{64}", sha) and sha in page
-    sources = {b["name"]: b["source"] for b in demo_report["rulebooks"]}
+    sources = {b.name: b.source for b in demo_report.rulebooks}
     assert sources == {"paper.le": "recorded", "penalties.le": "current", "liability.le": "current"}
     assert "Verified." in page and "its 20 events are as recorded" in page
-    assert demo_report["chain"]["checkpoints"]["last"]["head"] in page
+    assert demo_report.chain.last.head in page
 
 
 def test_html_is_self_contained(demo_report):
@@ -148,33 +152,35 @@ def test_html_is_self_contained(demo_report):
 
 
 def test_scene_draws_the_map_the_signal_the_vehicle_and_the_monitor(demo_report):
-    first = demo_report["incidents"][0]
-    pic = first["scene"]
-    assert [r["id"] for r in pic["roads"]] == ["r1", "r2"] and [j["id"] for j in pic["junctions"]] == ["j1"]
-    assert [(s["approach"], s["colour"]) for s in pic["signals"]] == [("west", "red")]
-    me = [v for v in pic["vehicles"] if v["incident"]]
-    assert [(v["id"], v["x"], v["y"], v["heading_deg"]) for v in me] == [("173", -2.0, 0.0, 0.0)]
+    first = demo_report.incidents[0]
+    pic = first.scene
+    assert [r.id for r in pic.roads] == ["r1", "r2"] and [j.id for j in pic.junctions] == ["j1"]
+    assert [(s.approach, s.colour) for s in pic.signals] == [("west", "red")]
+    me = [v for v in pic.vehicles if v.incident]
+    assert [(v.id, v.x, v.y, v.heading_deg) for v in me] == [("173", -2.0, 0.0, 0.0)]
     svg = scene_svg(pic, 1)
     assert svg.count('class="road"') == 2 and svg.count('class="fov"') == 1
     assert svg.count('class="vehicle incident"') == 1
     assert '<g class="signal"><title>signal j1 west: red</title>' in svg and "#d62020" in svg
     # the ambulance has spawned but reported no position yet: not drawn, said in the caption
-    assert [v["id"] for v in pic["vehicles"] if v["x"] is None] == ["253"]
+    assert [v.id for v in pic.vehicles if v.x is None] == ["253"]
     assert "Not drawn (no position recorded): 253" in render_report(demo_report, "html")
 
 
 def test_timeline_holds_the_speed_and_the_signal_changes_around_the_incident(demo_report):
-    tl = demo_report["incidents"][0]["timeline"]
+    tl = demo_report.incidents[0].timeline
     second = 1_000_000_000
-    assert tl["t_to"] - tl["t"] == 5 * second and tl["t"] - tl["t_from"] == 20 * second
-    assert [(p["t"] - tl["t"], p["speed_mps"]) for p in tl["speed"]] == [(-second, 9.0), (0, 9.0)]
-    assert [(p["monitor"], p["speed_mps"]) for p in tl["observed_speed"]] == [("monitor/m1", 9.0)]
-    assert [(c["t"] - tl["t"], c["colour"]) for c in tl["signals"]["west"]] == [(-6 * second, "amber"),
-                                                                                (-3 * second, "red")]
+    assert tl.t_to - tl.t == 5 * second and tl.t - tl.t_from == 20 * second
+    assert [(p.t - tl.t, p.speed_mps) for p in tl.speed] == [(-second, 9.0), (0, 9.0)]
+    assert [(p.monitor, p.speed_mps) for p in tl.observed_speed] == [("monitor/m1", 9.0)]
+    (west,) = tl.signals
+    assert west.approach == "west"
+    assert [(c.t - tl.t, c.colour) for c in west.phases] == [(-6 * second, "amber"), (-3 * second, "red")]
     # the ambulance 30 s later: the window opens with the light as it was then (red, from the first cycle)
-    later = demo_report["incidents"][1]["timeline"]
-    assert [c["colour"] for c in later["signals"]["west"]] == ["red", "amber", "red"]
-    assert later["signals"]["west"][0]["t"] < later["t_from"]
+    later = demo_report.incidents[1].timeline
+    (west,) = later.signals
+    assert [c.colour for c in west.phases] == ["red", "amber", "red"]
+    assert west.phases[0].t < later.t_from
     svg = timeline_svg(tl, 0.0)
     assert svg.count('class="signal-band"') == 2 and "▶ j1 west" in svg and 'class="speed"' in svg
 
@@ -188,8 +194,8 @@ def test_markdown_has_the_same_sections(demo_report):
     assert "| -3 s | signal j1 west | red |" in text
     # the explanation's headings sit under the incident's
     assert "\n### Vehicle 173 committed a punishable violation" in text and "\n#### 7. Evidence" in text
-    for b in demo_report["rulebooks"]:
-        assert b["sha256"] in text
+    for b in demo_report.rulebooks:
+        assert b.sha256 in text
 
 
 def test_json_carries_the_explanations_and_the_scene_data(demo_report):
@@ -210,7 +216,7 @@ def test_one_incident_by_id_or_number(tmp_path):
             build_report(Case(store), RUN, incident="9")      # found as reasoner.Case finds it, for every command
         with pytest.raises(NoSuchRun, match="no run 'other'; runs: paper-junctions"):
             build_report(Case(store), "other")
-    assert [e["number"] for e in by_id["incidents"]] == [2] and by_id["incidents_in_run"] == 2
+    assert [e.number for e in by_id.incidents] == [2] and by_id.incidents_in_run == 2
     assert render_report(by_id, "json") == render_report(by_number, "json")
     assert "One incident of the 2 the run holds." in render_report(by_id, "html")
 
@@ -238,15 +244,11 @@ def test_hostile_recorded_strings_are_shown_not_obeyed(tmp_path):
 
 
 def test_pictures_leave_out_what_is_not_a_number():
-    pic = {"t": 0, "offset": "+0s", "vehicle": "1", "note": None,
-           "roads": [{"id": "r", "from": [0.0, 0.0], "to": [10.0, 0.0]}],
-           "junctions": [{"id": "nowhere", "x": 0.0, "y": 0.0, "control": "lights"}],
-           "signals": [{"junction": "nowhere", "approach": "north", "colour": "red; fill:url(http://x)",
-                        "since_t": 0, "evidence": None}],
-           "monitors": [{"id": "monitor/m", "junction": None, "x": None, "y": 1.0, "heading_deg": None,
-                         "fov_deg": None, "range_m": None, "observed": [], "watching": False}],
-           "vehicles": [{"id": "1", "type": None, "x": None, "y": None, "heading_deg": None, "speed_mps": None,
-                         "junction": None, "incident": True, "evidence": None}], "road_users": []}
+    pic = Picture(0, "+0s", "1", roads=(RoadDrawn("r", (0.0, 0.0), (10.0, 0.0)),),
+                  junctions=(JunctionDrawn("nowhere", 0.0, 0.0, "lights"),),
+                  signals=(SignalDrawn("nowhere", "north", "red; fill:url(http://x)", 0),),
+                  monitors=(MonitorDrawn("monitor/m", None, None, 1.0, None, None, None),),
+                  vehicles=(Mover("1", None, None, None, incident=True),))
     svg = scene_svg(pic)
     assert not re.findall(r'="[^"]*(?:nan|inf)', svg, re.I)
     attributes = [v for _, a in outline(svg).elements for k, v in a.items() if k != "xmlns"]
@@ -254,8 +256,7 @@ def test_pictures_leave_out_what_is_not_a_number():
     assert re.search(r'<g class="signal"><title>[^<]*</title><rect [^>]*/><circle [^>]*fill="#ffffff"', svg)
     assert "vehicle 1 has no recorded position at this time" in svg
     assert number(float("nan")) is None and number(True) is None and number("3") is None and number(2) == 2.0
-    empty = timeline_svg({"t": 10, "t_from": 0, "t_to": 15, "vehicle": "1", "junction": None, "speed": [],
-                          "observed_speed": [], "signals": {}})
+    empty = timeline_svg(ActTimeline(Timeline(10, 0, 15, "1", None, (), (), ())))
     assert "no speed recorded for vehicle 1" in empty and "no signal reported at this junction" in empty
 
 

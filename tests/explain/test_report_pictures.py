@@ -11,6 +11,7 @@ text Chromium draws), not taken from the layout's own record of them.
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 import re
 from datetime import datetime, timezone
 from html import unescape
@@ -20,12 +21,16 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from explain.labels import Box, text_size
+from explain.picture_parts import JunctionDrawn, SignalDrawn
+from explain.report_parts import Report
+from explain.timeline_parts import LinePoint, OtherParty, OtherSpeed, ToLine
 from reasoner import Case
 from explain.report import build_report, render_report
 from explain.report_html import _scene_caption
 from explain.scene_view import H, LEGEND_H, W
 from explain.svg_scene import out_of_view, scene_svg, view_of
 from explain.svg_timeline import timeline_svg
+from reasoner.timelines import SpeedSample
 from store import Store
 from tests.helpers.foreign import Motion
 from tests.helpers.scene_pictures import FIRE_ENGINE, QUICK, STOP_AND_GO, a_timeline, lanes_picture
@@ -105,13 +110,13 @@ def test_speed_distance_light_and_the_other_road_users_speed_share_one_time_axis
     t = 100 * SECOND
     at = [t - 2 * SECOND, t, t + 2 * SECOND]
     tl = a_timeline(FIRE_ENGINE,
-                    to_line={"junction": "j1", "approach": "south", "kind": "signal",
-                             "points": [{"t": s, "m": m, "src": "vehicle/109", "seq": i}
-                                        for i, (s, m) in enumerate(zip(at, [4.0, 0.0, -6.5]))]},
-                    other={"user": "c2", "type": "car", "how": "would force to change speed or course",
-                           "vehicle": "109", "speed": [{"t": s, "speed_mps": v, "src": "vehicle/c2", "seq": i}
-                                                       for i, (s, v) in enumerate(zip(at, [13.4, 13.4, 4.0]))]})
-    tl["speed"] = [{"t": s, "speed_mps": v, "seq": i} for i, (s, v) in enumerate(zip(at, [3.0, 2.0, 4.0]))]
+                    to_line=ToLine("j1", "south", "signal", tuple(LinePoint(s, m, "vehicle/109", i) for i, (s, m)
+                                                                  in enumerate(zip(at, [4.0, 0.0, -6.5])))),
+                    other=OtherParty("c2", "car", "would force to change speed or course", "109",
+                                     tuple(OtherSpeed(s, v, "vehicle/c2", i)
+                                           for i, (s, v) in enumerate(zip(at, [13.4, 13.4, 4.0])))))
+    own = tuple(SpeedSample(s, v, i) for i, (s, v) in enumerate(zip(at, [3.0, 2.0, 4.0])))
+    tl = replace(tl, window=replace(tl.window, speed=own))
     svg = timeline_svg(tl, 90.0)
     own = [float(x) for x in re.findall(r'<circle cx="([0-9.]+)" cy="[0-9.]+" r="3"', svg)]
     line = [float(x) for x in re.findall(r'<circle class="to-line-point" cx="([0-9.]+)"', svg)]
@@ -134,7 +139,7 @@ def test_speed_distance_light_and_the_other_road_users_speed_share_one_time_axis
 # --- a forcing, from the store to the report ----------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def forcing(tmp_path_factory) -> dict:
+def forcing(tmp_path_factory) -> Report:
     """Issue 35's control scenario (tests/reasoner/test_attribution.py): 7 stops at its Stop line
     and pulls out; c2, on the main road, 30 m short of the centre brakes at 5 m/s² to a stop.
     The law (TSRGD 2016 Sch 9 Pt 7 para 1, HC 171): 7 caused c2 to change speed to avoid an
@@ -149,33 +154,33 @@ def forcing(tmp_path_factory) -> dict:
 
 
 def test_the_forced_road_user_is_inside_its_incidents_picture(forcing):
-    (entry,) = [e for e in forcing["incidents"] if e["row"]["vehicle"] == "7"]
-    pic = entry["scene"]
-    c2 = next(v for v in pic["vehicles"] if v["id"] == "c2")
-    assert c2["present"] and c2["y"] > 40          # far up the main road: outside a view of the junction alone
+    (entry,) = [e for e in forcing.incidents if e.row.vehicle == "7"]
+    pic = entry.scene
+    c2 = next(v for v in pic.vehicles if v.id == "c2")
+    assert c2.present and c2.y > 40          # far up the main road: outside a view of the junction alone
     assert out_of_view(pic) == [] and "outside the picture" not in _scene_caption(pic)
-    assert {"7", "c2"} <= set(pic["named"])
+    assert {"7", "c2"} <= set(pic.named)
     view = view_of(pic)
-    for user in pic["named"]:
-        u = next(v for v in pic["vehicles"] + pic["road_users"] if str(v["id"]) == user)
-        assert FRAME.holds(*view(u["x"], u["y"])), f"{user} is named by the incident but outside its picture"
+    for user in pic.named:
+        u = next(v for v in pic.movers if str(v.id) == user)
+        assert FRAME.holds(*view(u.x, u.y)), f"{user} is named by the incident but outside its picture"
     assert ">c2 car 30 mph</text>" in scene_svg(pic, 1)
 
 
 def test_the_forcing_timeline_carries_the_other_speed_and_the_distance_to_the_line(forcing):
-    (entry,) = [e for e in forcing["incidents"] if e["row"]["vehicle"] == "7"]
-    tl = entry["timeline"]
-    other = tl["other"]
-    assert (other["user"], other["how"]) == ("c2", "would force to change speed or course")
-    speeds = [p["speed_mps"] for p in other["speed"]]
+    (entry,) = [e for e in forcing.incidents if e.row.vehicle == "7"]
+    tl = entry.timeline
+    other = tl.other
+    assert (other.user, other.how) == ("c2", "would force to change speed or course")
+    speeds = [p.speed_mps for p in other.speed]
     assert max(speeds) == pytest.approx(13.4, abs=0.01) and min(speeds) < 5     # the braking is on the axis
-    line = tl["to_line"]
-    assert (line["approach"], line["kind"]) == ("west", "stop_sign")
-    metres = [p["m"] for p in line["points"]]
+    line = tl.to_line
+    assert (line.approach, line.kind) == ("west", "stop_sign")
+    metres = [p.m for p in line.points]
     assert min(metres) < 0 < max(metres)                    # before the line, then past it
-    stood = [p["m"] for p in line["points"] if abs(p["t"] - tl["t"]) < 5 * SECOND]
+    stood = [p.m for p in line.points if abs(p.t - tl.t) < 5 * SECOND]
     assert any(abs(m) < 1.0 for m in stood)                 # it stopped at the line (12.5 m out, 0.5 m short)
-    svg = timeline_svg(tl, tl["heading_deg"])
+    svg = timeline_svg(tl, tl.heading_deg)
     assert "whom 7 would force to change speed or course" in svg and "distance to the Stop line" in svg
     text = render_report(forcing, "md")             # the Markdown report's table carries the same rows
     assert re.search(r"\| speed of c2 30\.0 mph .*whom 7 would force to change speed or course", text)
@@ -186,10 +191,9 @@ def test_the_forcing_timeline_carries_the_other_speed_and_the_distance_to_the_li
 
 def test_the_caption_names_the_signals_of_the_junction_in_view_in_the_legends_words():
     pic = lanes_picture()
-    pic["signals"][0]["colour"] = "red_amber"                 # west
-    pic["junctions"].append({"id": "j9", "x": 500.0, "y": 0.0, "control": "lights", "stop_lines": [], "box": None,
-                             "shape": None, "crossings": []})
-    pic["signals"].append({"junction": "j9", "approach": "west", "colour": "green", "since_t": 0, "evidence": None})
+    pic = replace(pic, signals=(replace(pic.signals[0], colour="red_amber"), *pic.signals[1:],       # west
+                                SignalDrawn("j9", "west", "green", 0)),
+                  junctions=pic.junctions + (JunctionDrawn("j9", 500.0, 0.0, "lights"),))
     caption = _scene_caption(pic)
     assert "red_amber" not in caption and "j9" not in caption
     assert "Signals at junction j1: west red and amber; east red; north green; south amber." in caption
@@ -205,8 +209,9 @@ def test_the_report_caption_of_a_stop_junction_lists_no_other_junctions_signals(
 
 def test_a_busy_maps_caption_names_the_nearest_outside_the_picture_and_counts_the_rest():
     pic = lanes_picture()
-    base = pic["vehicles"][1]
-    pic["vehicles"] += [{**base, "id": f"far{i}", "x": 200.0 + 10 * i, "y": 1.75} for i in range(14)]
+    base = pic.vehicles[1]
+    pic = replace(pic, vehicles=pic.vehicles + tuple(replace(base, id=f"far{i}", x=200.0 + 10 * i, y=1.75)
+                                                     for i in range(14)))
     caption = _scene_caption(pic)
     assert ("Present but outside the picture, nearest first: far0, far1, far2, far3, far4, far5, far6, far7, "
             "far8, far9 and 4 more elsewhere on the map.") in caption

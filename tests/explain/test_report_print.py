@@ -8,6 +8,7 @@ import hashlib
 import itertools
 import json
 import re
+from dataclasses import replace
 from datetime import datetime, timezone
 from importlib.metadata import version
 from pathlib import Path
@@ -19,12 +20,15 @@ from explain.presence import FRESH_NS, presence_at
 from reasoner import Case
 from explain.report import build_report, render_report
 from explain.report_html import css_string
+from explain.report_parts import Report
 from explain.svg_scene import scene_svg
 from explain.svg_timeline import timeline_svg
+from explain.timeline_parts import ActTimeline
 from explain.units import mph
 from tests.helpers.scene_pictures import crowded_picture
 from sim_replay.paper import RUN, paper_run
-from store import Store
+from reasoner.timelines import SpeedSample, Timeline
+from store import EventRef, Store
 
 NOW = datetime(2026, 1, 2, 3, 4, 5, tzinfo=timezone.utc)
 SECOND = 1_000_000_000
@@ -39,7 +43,7 @@ def closed_store(path: Path, events: list[dict]) -> Path:
     return path
 
 
-def built(path: Path) -> dict:
+def built(path: Path) -> Report:
     with Store.open_read_only(path) as store:  # as `gaps report` reads it
         return build_report(Case(store), RUN, now=NOW)
 
@@ -47,7 +51,7 @@ def built(path: Path) -> dict:
 # --- the tool's version and the store file's sha256 -----------------------------------------------
 
 @pytest.fixture(scope="module")
-def demo(tmp_path_factory) -> tuple[Path, str, int, dict]:
+def demo(tmp_path_factory) -> tuple[Path, str, int, Report]:
     """The demo run in a closed store file, its sha256 as hashlib reads it and its size before
     the report, and its report."""
     path = closed_store(tmp_path_factory.mktemp("print") / "demo.db", paper_run())
@@ -57,9 +61,9 @@ def demo(tmp_path_factory) -> tuple[Path, str, int, dict]:
 
 def test_the_report_names_the_tool_version_and_the_store_file_by_sha256(demo):
     path, sha, size, report = demo
-    p = report["provenance"]
-    assert p["tool"] == "mind-the-gaps" and p["version"] == version("mind-the-gaps")
-    assert p["store"] == {"path": str(path.resolve()), "sha256": sha, "bytes": size, "wal_pending": False}
+    p = report.provenance
+    assert p.tool == "mind-the-gaps" and p.version == version("mind-the-gaps")
+    assert (p.store_path, p.store_sha256, p.store_bytes, p.wal_pending) == (str(path.resolve()), sha, size, False)
 
 
 def test_html_markdown_and_json_carry_version_and_sha256(demo):
@@ -81,7 +85,7 @@ def test_pending_writes_in_the_log_are_said_not_hidden(tmp_path):
     with Store(tmp_path / "open.db") as store:
         store.append(paper_run())
         report = build_report(Case(store), RUN, now=NOW)
-    assert report["provenance"]["store"]["wal_pending"] is True
+    assert report.provenance.wal_pending is True
     assert "held writes not yet in the file" in render_report(report, "html")
     assert "its -wal file held writes not yet in the file" in render_report(report, "md")
 
@@ -108,9 +112,8 @@ def test_css_strings_cannot_end_the_string_the_rule_or_the_style():
 def test_timeline_speaks_mph_on_the_axis_and_at_the_points():
     thirty_mph = 13.4112                     # m/s, exactly 30 mph
     assert mph(thirty_mph) == pytest.approx(30.0)
-    tl = {"t": 20 * SECOND, "t_from": 0, "t_to": 25 * SECOND, "vehicle": "7", "junction": None,
-          "speed": [{"t": 19 * SECOND, "speed_mps": thirty_mph, "seq": 3}],
-          "observed_speed": [], "signals": {}}
+    tl = ActTimeline(Timeline(20 * SECOND, 0, 25 * SECOND, "7", None, (SpeedSample(19 * SECOND, thirty_mph, 3),),
+                              (), ()))
     svg = timeline_svg(tl)
     assert "speed (mph)" in svg and "m/s)</text>" not in svg
     # the axis runs to 40 mph in steps of 10, and the point sits at 30 of them
@@ -124,10 +127,10 @@ def test_timeline_speaks_mph_on_the_axis_and_at_the_points():
 
 
 def test_demo_timeline_and_scene_give_9_mps_as_20_1_mph(demo):
-    first = demo[3]["incidents"][0]
-    svg = timeline_svg(first["timeline"], 0.0)
+    first = demo[3].incidents[0]
+    svg = timeline_svg(first.timeline, 0.0)
     assert ">20.1 mph</text>" in svg and "speed (mph)" in svg
-    assert "speed 20.1 mph (9 m/s)" in scene_svg(first["scene"], 1)
+    assert "speed 20.1 mph (9 m/s)" in scene_svg(first.scene, 1)
 
 
 # --- only road users present at the moment --------------------------------------------------------
@@ -161,10 +164,10 @@ def crowded_run() -> list[dict]:
 
 
 def test_a_vehicle_last_seen_30_s_before_is_not_drawn_under_the_ambulance(demo):
-    second = demo[3]["incidents"][1]
-    pic = second["scene"]
-    old = next(v for v in pic["vehicles"] if v["id"] == "173")
-    assert (old["x"], old["y"]) == (-2.0, 0.0) and old["present"] is False and old["age_s"] == 30.0
+    second = demo[3].incidents[1]
+    pic = second.scene
+    old = next(v for v in pic.vehicles if v.id == "173")
+    assert (old.x, old.y) == (-2.0, 0.0) and old.present is False and old.age_s == 30.0
     svg = scene_svg(pic, 2)
     assert svg.count('<g class="vehicle') == 1 and 'class="vehicle incident"' in svg
     assert "vehicle 173" not in svg and ">173 car<" not in svg
@@ -173,8 +176,8 @@ def test_a_vehicle_last_seen_30_s_before_is_not_drawn_under_the_ambulance(demo):
 
 def test_only_what_is_there_at_the_moment_is_drawn(tmp_path):
     report = built(closed_store(tmp_path / "crowd.db", crowded_run()))
-    pic = report["incidents"][1]["scene"]
-    present = {v["id"]: v["present"] for v in pic["vehicles"] + pic["road_users"]}
+    pic = report.incidents[1].scene
+    present = {v.id: v.present for v in pic.movers}
     assert present == {"173": False, "253": True, "500": True, "501": False, "pedestrian/p1": False,
                        "pedestrian/p2": True}                  # 502 despawned: not in the scene at all
     svg = scene_svg(pic, 2)
@@ -187,17 +190,19 @@ def test_only_what_is_there_at_the_moment_is_drawn(tmp_path):
 
 def test_freshness_window():
     t = 100 * SECOND
-    assert presence_at({"t": t}, t) == {"present": True, "age_s": 0.0}
-    assert presence_at({"t": t - FRESH_NS}, t)["present"] is True
-    assert presence_at({"t": t - FRESH_NS - 1}, t)["present"] is False
-    assert presence_at(None, t) == {"present": False, "age_s": None}
-    assert presence_at({"t": True}, t)["present"] is False
+    def ref(at: int) -> EventRef:
+        return EventRef(RUN, "vehicle/7", 1, at, "entity.state")
+    assert presence_at(ref(t), t) == (True, 0.0)
+    assert presence_at(ref(t - FRESH_NS), t)[0] is True
+    assert presence_at(ref(t - FRESH_NS - 1), t)[0] is False
+    assert presence_at(None, t) == (False, None)
+    assert presence_at(ref(t + 1), t)[0] is False              # reported after the moment: not where it was then
 
 
 def test_the_incident_vehicle_not_seen_lately_is_not_drawn_and_it_says_so(demo):
-    pic = json.loads(json.dumps(demo[3]["incidents"][1]["scene"]))
-    me = next(v for v in pic["vehicles"] if v["incident"])
-    me.update(present=False, age_s=12.0)
+    pic = demo[3].incidents[1].scene
+    pic = replace(pic, vehicles=tuple(replace(v, present=False, age_s=12.0) if v.incident else v
+                                      for v in pic.vehicles))
     svg = scene_svg(pic, 2)
     assert 'class="vehicle incident"' not in svg
     assert "vehicle 253&#x27;s last recorded position is 12 s old: not drawn" in svg
@@ -218,8 +223,8 @@ def label_boxes(svg: str) -> list[tuple[str, Box]]:
 
 def test_labels_of_vehicles_close_together_do_not_overlap():
     pic = crowded_picture()
-    far = {**pic["vehicles"][1], "id": "far", "x": 900.0, "y": 0.0}     # outside the frame: clipped, no label
-    pic["vehicles"].append(far)
+    far = replace(pic.vehicles[1], id="far", x=900.0, y=0.0)     # outside the frame: clipped, no label
+    pic = replace(pic, vehicles=pic.vehicles + (far,))
     svg = scene_svg(pic, 1)
     labels = label_boxes(svg)
     texts = [t for t, _ in labels]

@@ -4,7 +4,7 @@ stop line, only the road users present at the moment, speeds in mph, labels that
 (also over random crowded scenes), and `gaps scene --svg` writing it."""
 from __future__ import annotations
 
-import copy
+from dataclasses import replace
 import itertools
 import math
 import re
@@ -15,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from explain.labels import Box
+from explain.picture_parts import Mover, Picture
 from explain.report_data import run_map
 from explain.scene_view import H, LEGEND_H, W
 from explain.svg import SIGNAL_FILL
@@ -48,22 +49,21 @@ def test_every_lane_in_view_is_drawn_from_its_polyline_at_its_width():
     paths = re.findall(r'<path class="lane (lane-\w+)" d="([^"]+)"[^>]*stroke-width="([0-9.]+)"[^>]*><title>lane ([^ ]+) ',
                        svg)
     view = view_of(pic)
-    in_view = [lane for lane in pic["lanes"] if view.sees(lane["shape"], lane["width_m"])]
-    assert len(paths) == len(in_view) == len(pic["lanes"]) - 1          # the far lane is left out
+    in_view = [lane for lane in pic.lanes if view.sees(lane.shape, lane.width_m)]
+    assert len(paths) == len(in_view) == len(pic.lanes) - 1          # the far lane is left out
     assert "far_0" not in svg
-    by_id = {lane["id"]: lane for lane in pic["lanes"]}
+    by_id = {lane.id: lane for lane in pic.lanes}
     for cls, d, width, lane_id in paths:
         lane = by_id[lane_id]
-        assert cls == f"lane-{lane['kind']}"
-        assert float(width) == pytest.approx(lane["width_m"] * view.scale, abs=0.01)
+        assert cls == f"lane-{lane.kind}"
+        assert float(width) == pytest.approx(lane.width_m * view.scale, abs=0.01)
         drawn = [tuple(map(float, p.split(","))) for p in re.findall(r"[ML]([-0-9.]+,[-0-9.]+)", d)]
-        assert drawn == [pytest.approx(view(*p), abs=0.01) for p in lane["shape"]]
+        assert drawn == [pytest.approx(view(*p), abs=0.01) for p in lane.shape]
     assert 'class="road"' not in svg                      # lanes replace the road bands
 
 
 def test_a_map_without_lanes_gets_its_roads_as_bands():
-    pic = lanes_picture()
-    pic["lanes"] = []
+    pic = replace(lanes_picture(), lanes=())
     svg = scene_svg(pic)
     assert svg.count('class="road"') == 2 and 'class="lane' not in svg
     assert svg.count('class="stop-line"') == 4 and svg.count('class="yellow-box"') == 1    # what it records
@@ -76,8 +76,9 @@ def test_stop_lines_crossings_and_the_yellow_box_are_drawn():
     assert svg.count('class="crossing"') == 4
     assert svg.count('class="yellow-box"') == 1 and 'fill="url(#box-hatch-1)"' in svg
     assert 'id="box-hatch-3"' in scene_svg(pic, 3)         # one pattern id per picture of a page
-    give_way = copy.deepcopy(pic)
-    give_way["junctions"][0]["stop_lines"][0]["kind"] = "give_way"
+    j1 = pic.junctions[0]
+    give_way = replace(pic, junctions=(replace(j1, stop_lines=(replace(j1.stop_lines[0], kind="give_way"),
+                                                               *j1.stop_lines[1:])),))
     assert re.search(r'<line class="stop-line"[^>]*stroke-dasharray="4 3"><title>Give Way line', scene_svg(give_way))
 
 
@@ -88,8 +89,8 @@ def test_a_map_that_is_not_numbers_draws_what_it_can():
     raw["junctions"][0]["box"] = "a box"
     raw["junctions"][0]["stop_lines"][0]["to"] = None
     the_map = run_map({"map": raw})
-    assert len(the_map["lanes"]) == len(raw["lanes"]) - 2
-    assert the_map["junctions"][0]["box"] is None and len(the_map["junctions"][0]["stop_lines"]) == 3
+    assert len(the_map.lanes) == len(raw["lanes"]) - 2
+    assert the_map.junctions[0].box is None and len(the_map.junctions[0].stop_lines) == 3
 
 
 # --- signals ------------------------------------------------------------------------------------------
@@ -101,10 +102,10 @@ def test_each_approach_shows_its_own_colour_at_its_stop_line():
                        r'cy="([-0-9.]+)" r="5.5" fill="([^"]+)"', svg)
     assert {a: c for a, c, *_ in lamps} == SIGNAL_COLOURS
     view = view_of(pic)
-    lines = {line["approach"]: line for line in pic["junctions"][0]["stop_lines"]}
+    lines = {line.approach: line for line in pic.junctions[0].stop_lines}
     for approach, colour, cx, cy, lamp_fill in lamps:
         assert lamp_fill == SIGNAL_FILL[colour]
-        (ax, ay), (bx, by) = lines[approach]["from"], lines[approach]["to"]
+        (ax, ay), (bx, by) = lines[approach].a, lines[approach].b
         length = math.hypot(bx - ax, by - ay)
         want = view(bx + (bx - ax) / length * LAMP_OUT_M, by + (by - ay) / length * LAMP_OUT_M)
         assert (float(cx), float(cy)) == pytest.approx(want, abs=0.01)
@@ -112,7 +113,7 @@ def test_each_approach_shows_its_own_colour_at_its_stop_line():
 
 def test_an_approach_without_a_stop_line_keeps_its_lamp_by_compass():
     pic = lanes_picture()
-    pic["junctions"][0]["stop_lines"] = []
+    pic = replace(pic, junctions=(replace(pic.junctions[0], stop_lines=()),))
     svg = scene_svg(pic)
     assert svg.count('<g class="signal">') == 4
 
@@ -136,7 +137,7 @@ def test_the_view_is_the_junction_not_the_whole_map():
 
 def test_a_road_user_outside_the_zoom_is_named_not_lost():
     pic = lanes_picture()
-    pic["vehicles"].append({**pic["vehicles"][1], "id": "far", "x": 150.0, "y": -1.75})
+    pic = replace(pic, vehicles=pic.vehicles + (replace(pic.vehicles[1], id="far", x=150.0, y=-1.75),))
     assert out_of_view(pic) == ["far"]
     assert ">far bus" not in scene_svg(pic)                # clipped, and no label at the frame's edge
 
@@ -150,24 +151,22 @@ names = st.text(alphabet="abcdefghijklmnopqrstuvwxyz0123456789-/", min_size=1, m
 
 
 @st.composite
-def crowded_scenes(draw) -> dict:
+def crowded_scenes(draw) -> Picture:
     """lanes_picture() with up to 24 vehicles and 8 pedestrians within 25 m of the junction."""
     pic = lanes_picture()
     coord = st.floats(min_value=-25, max_value=25, allow_nan=False)
     n = draw(st.integers(min_value=1, max_value=24))
     ids = draw(st.lists(names, min_size=n, max_size=n, unique=True))
-    pic["vehicles"] = [{"id": i, "type": draw(st.sampled_from(["car", "bus", "ambulance", "cyclist", None])),
-                        "x": draw(coord), "y": draw(coord),
-                        "heading_deg": draw(st.one_of(st.none(), st.floats(min_value=0, max_value=359))),
-                        "speed_mps": draw(st.one_of(st.none(), st.floats(min_value=0, max_value=40))),
-                        "junction": None, "incident": k == 0, "evidence": None, "present": True, "age_s": 0.0}
-                       for k, i in enumerate(ids)]
-    pic["vehicle"] = ids[0]
+    vehicles = tuple(Mover(i, draw(st.sampled_from(["car", "bus", "ambulance", "cyclist", None])),
+                           draw(coord), draw(coord),
+                           draw(st.one_of(st.none(), st.floats(min_value=0, max_value=359))),
+                           draw(st.one_of(st.none(), st.floats(min_value=0, max_value=40))),
+                           incident=k == 0, age_s=0.0)
+                     for k, i in enumerate(ids))
     m = draw(st.integers(min_value=0, max_value=8))
-    pic["road_users"] = [{"id": f"pedestrian/p{k}", "type": "pedestrian", "x": draw(coord), "y": draw(coord),
-                          "heading_deg": None, "speed_mps": 1.2, "evidence": None, "present": True, "age_s": 0.0}
-                         for k in range(m)]
-    return pic
+    users = tuple(Mover(f"pedestrian/p{k}", "pedestrian", draw(coord), draw(coord), None, 1.2, vehicle=False,
+                        age_s=0.0) for k in range(m))
+    return replace(pic, vehicles=vehicles, vehicle=ids[0], road_users=users)
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -175,7 +174,7 @@ def crowded_scenes(draw) -> dict:
 def test_no_two_labels_ever_overlap_in_a_crowded_scene(pic):
     svg = scene_svg(pic)
     assert_apart(svg)
-    drawn = [v for v in pic["vehicles"] + pic["road_users"] if FRAME.holds(*view_of(pic)(v["x"], v["y"]))]
+    drawn = [v for v in pic.movers if FRAME.holds(*view_of(pic)(v.x, v.y))]
     assert len(label_boxes(svg)) >= len(drawn)            # every road user in the frame is named
 
 

@@ -1,23 +1,25 @@
-"""Scene pictures (report_data.scene_picture's shape) and timelines (report_data.timeline's) built
-by hand, for the label tests of test_report_print.py, test_report_pictures.py and the browser test."""
+"""Scene pictures (explain/picture_parts.py's `Picture`) and timelines (timeline_parts.py's
+`ActTimeline`) built by hand, for the label tests of test_report_print.py, test_report_pictures.py
+and the browser test."""
 from __future__ import annotations
 
+from explain.picture_parts import JunctionDrawn, MonitorDrawn, Mover, Picture, RoadDrawn, SignalDrawn
+from explain.timeline_parts import ActTimeline, Moment
+from reasoner.timelines import ApproachPhases, Phase, SpeedSample, Timeline
 
-def crowded_picture() -> dict:
+
+def crowded_picture() -> Picture:
     """Seven vehicles within 4 m of one another at a junction, a monitor and a signal beside them."""
     cars = [("1", 0.0, 0.0, True), ("22", 1.5, 0.5, False), ("333", -1.0, 1.2, False), ("4444", 0.8, -1.5, False),
             ("55", 2.5, 2.0, False), ("ambulance-6", -2.0, -1.0, False), ("7", 3.0, -2.5, False)]
-    return {"t": 0, "offset": "+0s", "vehicle": "1", "note": None,
-            "roads": [{"id": "r", "from": [-50.0, 0.0], "to": [50.0, 0.0]}],
-            "junctions": [{"id": "j1", "x": 1.0, "y": 0.0, "control": "lights"}],
-            "signals": [{"junction": "j1", "approach": "west", "colour": "red", "since_t": 0, "evidence": None}],
-            "monitors": [{"id": "monitor/m1", "junction": "j1", "x": -1.0, "y": 3.0, "heading_deg": 0.0,
-                          "fov_deg": 90.0, "range_m": 30.0, "observed": ["1"], "watching": True}],
-            "vehicles": [{"id": i, "type": "car", "x": x, "y": y, "heading_deg": 0.0, "speed_mps": 5.0,
-                          "junction": "j1", "incident": me, "evidence": None, "present": True, "age_s": 0.0}
-                         for i, x, y, me in cars],
-            "road_users": [{"id": "pedestrian/p", "type": "pedestrian", "x": 0.5, "y": 0.5, "heading_deg": None,
-                            "present": True, "age_s": 0.0}]}
+    return Picture(t=0, offset="+0s", vehicle="1", note=None,
+                   roads=(RoadDrawn("r", (-50.0, 0.0), (50.0, 0.0)),),
+                   junctions=(JunctionDrawn("j1", 1.0, 0.0, "lights"),),
+                   signals=(SignalDrawn("j1", "west", "red", 0),),
+                   monitors=(MonitorDrawn("monitor/m1", "j1", -1.0, 3.0, 0.0, 90.0, 30.0, ("1",), True),),
+                   vehicles=tuple(Mover(i, "car", x, y, 0.0, 5.0, junction="j1", incident=me, age_s=0.0)
+                                  for i, x, y, me in cars),
+                   road_users=(Mover("pedestrian/p", "pedestrian", 0.5, 0.5, None, vehicle=False, age_s=0.0),))
 
 
 def _rotate(points: list[list[float]], quarter: int) -> list[list[float]]:
@@ -69,23 +71,18 @@ def sumo_like_map() -> dict:
 SIGNAL_COLOURS = {"west": "red", "east": "red", "north": "green", "south": "amber"}
 
 
-def lanes_picture() -> dict:
+def lanes_picture() -> Picture:
     """A scene picture over sumo_like_map(): the incident's car stopped at the west line (on red),
     a car crossing from the south, a pedestrian on the east zebra, each approach's colour."""
     from explain.report_data import run_map
     the_map = run_map({"map": sumo_like_map()})
-    vehicle = {"junction": None, "evidence": None, "present": True, "age_s": 0.0}
-    return {"t": 0, "offset": "+60s", "vehicle": "7", "note": None, "junction": "j1", **the_map,
-            "signals": [{"junction": "j1", "approach": a, "colour": c, "since_t": 0, "evidence": None}
-                        for a, c in SIGNAL_COLOURS.items()],
-            "monitors": [{"id": "monitor/m1", "junction": "j1", "x": 15.0, "y": 10.0, "heading_deg": 190.0,
-                          "fov_deg": 90.0, "range_m": 80.0, "observed": ["7"], "watching": True}],
-            "vehicles": [{**vehicle, "id": "7", "type": "car", "x": -14.5, "y": 1.75, "heading_deg": 0.0,
-                          "speed_mps": 0.0, "incident": True},
-                         {**vehicle, "id": "8", "type": "bus", "x": -1.75, "y": -20.0, "heading_deg": 90.0,
-                          "speed_mps": 13.41, "incident": False}],
-            "road_users": [{"id": "pedestrian/p1", "type": "pedestrian", "x": 10.0, "y": 0.0, "heading_deg": 90.0,
-                            "speed_mps": 1.3, "evidence": None, "present": True, "age_s": 0.0}]}
+    return Picture(t=0, offset="+60s", vehicle="7", note=None, junction="j1", roads=the_map.roads,
+                   lanes=the_map.lanes, lefthand=the_map.lefthand, junctions=the_map.junctions,
+                   signals=tuple(SignalDrawn("j1", a, c, 0) for a, c in SIGNAL_COLOURS.items()),
+                   monitors=(MonitorDrawn("monitor/m1", "j1", 15.0, 10.0, 190.0, 90.0, 80.0, ("7",), True),),
+                   vehicles=(Mover("7", "car", -14.5, 1.75, 0.0, 0.0, incident=True, age_s=0.0),
+                             Mover("8", "bus", -1.75, -20.0, 90.0, 13.41, age_s=0.0)),
+                   road_users=(Mover("pedestrian/p1", "pedestrian", 10.0, 0.0, 90.0, 1.3, vehicle=False, age_s=0.0),))
 
 
 # --- timelines ------------------------------------------------------------------------------------
@@ -103,14 +100,13 @@ QUICK = [("stood still before the line", -1.6), ("moved off", -1.2), ("crossed t
          ("entered the junction", -0.9), ("left the junction", 0.4)]
 
 
-def a_timeline(moments: list[tuple[str, float]], **extra) -> dict:
+def a_timeline(moments: list[tuple[str, float]], **extra) -> ActTimeline:
     """A fire engine's 25 s at j1 (it stands at red from -9 s, goes at the incident), with
-    `moments` (what, seconds from the incident) and any `extra` keys (to_line, other)."""
+    `moments` (what, seconds from the incident) and any `extra` parts (to_line, other)."""
     t = 100 * SECOND
-    speed = [{"t": t + round(s * SECOND), "speed_mps": v, "seq": i} for i, (s, v) in
-             enumerate([(-20, 13.4), (-9, 0.0), (-0.5, 0.0), (0, 1.1), (4, 6.0)])]
-    return {"t": t, "t_from": t - 20 * SECOND, "t_to": t + 5 * SECOND, "vehicle": "109", "junction": "j1",
-            "speed": speed, "observed_speed": [], "heading_deg": 90.0,
-            "signals": {"south": [{"t": t - 30 * SECOND, "colour": "red"}],
-                        "west": [{"t": t - 30 * SECOND, "colour": "green"}, {"t": t + 3 * SECOND, "colour": "amber"}]},
-            "moments": [{"what": what, "t": t + round(s * SECOND)} for what, s in moments], **extra}
+    speed = tuple(SpeedSample(t + round(s * SECOND), v, i) for i, (s, v) in
+                  enumerate([(-20, 13.4), (-9, 0.0), (-0.5, 0.0), (0, 1.1), (4, 6.0)]))
+    signals = (ApproachPhases("south", (Phase(t - 30 * SECOND, "red"),)),
+               ApproachPhases("west", (Phase(t - 30 * SECOND, "green"), Phase(t + 3 * SECOND, "amber"))))
+    window = Timeline(t, t - 20 * SECOND, t + 5 * SECOND, "109", "j1", speed, (), signals)
+    return ActTimeline(window, 90.0, tuple(Moment(what, t + round(s * SECOND)) for what, s in moments), **extra)

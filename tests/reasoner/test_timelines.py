@@ -9,7 +9,6 @@ from pathlib import Path
 
 import pytest
 
-from explain.report_data import timeline as report_timeline
 from reasoner.timelines import ApproachPhases, Phase, SpeedSample, Timeline, timeline
 from sim_replay.paper import RUN, SECOND, T0, paper_run
 from store import Store
@@ -46,8 +45,6 @@ def test_the_report_carries_the_same_json_to_the_key_order(stores, key):
     junction = None if junction == "None" else junction
     got = timeline(stores[name], RUN, T0 + int(seconds) * SECOND, vehicle, junction)
     assert json.dumps(got.to_json()) == json.dumps(BEFORE[key])
-    assert json.dumps(report_timeline(stores[name], RUN, T0 + int(seconds) * SECOND, vehicle, junction)) \
-        == json.dumps(BEFORE[key])
 
 
 def test_the_timelines_are_values(stores):

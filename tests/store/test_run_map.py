@@ -67,7 +67,7 @@ def test_the_reasoner_and_the_picture_read_the_same_map():
            "monitors": [{"id": "m", "junction": "J", "x": 0, "y": -10, "heading_deg": 90, "range_m": 40, "fov_deg": 120}]}
     reasoned, drawn = read_map(start(raw)), run_map(start(raw)["body"])
     assert [j.id for j in reasoned.junctions] == ["J"]                        # an id and a place within 10,000 km
-    assert [j["id"] for j in drawn["junctions"]] == ["J", "5"]               # what has finite coordinates
+    assert [j.id for j in drawn.junctions] == ["J", "5"]               # what has finite coordinates
     assert reasoned.junctions[0].monitors == ("monitor/m",) and reasoned.roads[0].limit_mph == 30.0
 
 
@@ -75,7 +75,7 @@ def test_an_integer_too_big_for_a_float_is_not_drawn_and_does_not_crash():
     """Before the one reader, explain's float() of 10**400 raised OverflowError out of a report."""
     drawn = run_map({"map": {"junctions": [{"id": "J", "x": 10 ** 400, "y": 0}],
                              "lanes": [{"id": "l", "width_m": 10 ** 400, "shape": [[0, 0], [1, 1]]}]}})
-    assert drawn["junctions"] == [] and drawn["lanes"] == []
+    assert drawn.junctions == () and drawn.lanes == ()
     assert not math.isnan(rm.number(1e308))
 
 
