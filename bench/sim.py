@@ -10,10 +10,16 @@ On bench/sumo_step.py's left-hand 10 x 10 signal grid (the paper's map holds a f
 with two monitors at grid junctions (written beside the grid). Three processes, one after another
 or side by side:
 
-    sumo alone   a child process on CPU 0: N vehicles kept on the grid (sumo_step.Traffic), stepped
-                 with subscriptions for the timed window's steps once they are all on: steps per
-                 second (a child, because libsumo started a second time in one process after a
-                 large run stalled)
+    sumo alone   a child process on CPU 0: SUMO stepping alone with the simulation's own traffic
+                 (`sumo_same`: the same config's departures, routes, types and seed, each put on
+                 the network at the simulation's step; no agents, no events, no publishing),
+                 stepped with the simulation's subscriptions through the same warm-up, the same
+                 window timed: the reference of issue 40's ratio, run before the simulation and
+                 after it, each figure the mean of the two. Between the first and the
+                 simulation, in another child, the earlier reference (`sumo_alone`: N vehicles
+                 of sumo_step.Traffic's random routes kept on the grid), reported beside it.
+                 (Children, because libsumo started a second time in one process after a large
+                 run stalled.)
     ingest       a child process on CPU 1, as `gaps serve` runs: IngestService listening on a
                  loopback port, appending to a store file (not durable); it reports what it stored
     simulation   this process, on CPU 0 (and Zenoh's threads with it): sim_replay.simulation with
@@ -25,9 +31,9 @@ Vehicles on the network are counted from the entity.state events of the window (
 average), so the two loops are compared at the vehicle counts they really had. Where the machine is
 shared, the wall figure carries the neighbours' load; the CPU figure (world seconds per CPU second
 of the simulation's process) is what a core of its own would give, and the ratio by CPU time
-(steps per CPU second of the simulation's process over those of SUMO alone's) is issue 40's ratio
-without that load. Fails if any published event was
-not stored.
+(steps per CPU second of the simulation's process over those of SUMO alone's with the same traffic)
+is issue 40's ratio without that load; the same by the main thread's CPU alone is printed beside
+it. Fails if any published event was not stored.
 
 Where the window's time goes is printed per phase, so that a slow run says why: the wall clock split
 between SUMO's step, the simulation's own work (agents, monitors, events) and the outlets' put
@@ -88,6 +94,68 @@ def sumo_alone(net: Path, vehicles: int, steps: int, seed: int) -> dict:
     return {"steps_per_s": rate, "steps_per_cpu_s": cpu_rate, "vehicles_mean": mean}
 
 
+def sim_config(net: Path, monitors: Path, args: argparse.Namespace) -> SimConfig:
+    """The simulation's config: the one the simulation runs and the same-traffic reference drives."""
+    return SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
+                     duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
+
+
+def sumo_same(net: Path, monitors: Path, args: argparse.Namespace, log: list | None = None) -> dict:
+    """SUMO stepping alone with the simulation's own traffic (the fair reference): the same config's
+    departures (sim_replay.demand.plan from the same seed's "demand" stream), each put on the
+    network at the step the simulation puts it there, on the route SUMO's router gives it, with the
+    same type, departure position and speed, as Simulation._add does; SUMO started as World starts
+    it for the simulation (the same options, traffic lights subscribed). No agents (SUMO's own
+    drivers obey the lights and right of way: nobody is held, sped up or slowed), no events, no
+    publishing. Each step is what the simulation's world step asks of SUMO: simulationStep, the
+    departures subscribed, the vehicles' and lights' subscription results fetched. The warm-up is
+    stepped untimed; the window's steps are timed by wall, process and thread CPU, as the
+    simulation's are. Run in a child process on CPU 0, as the simulation runs. `log`, if given, gets
+    (step, id, type, route) of each vehicle put on the network (tests/sim_replay/test_bench_reference.py
+    holds it to the simulation's own)."""
+    from sim_replay.demand import plan
+    from sim_replay.faults import stream
+    from sim_replay.sumo_world import VEHICLE_VARS, WorldError
+    import libsumo
+    config = sim_config(net, monitors, args)
+    tc = libsumo.constants
+    step, sim_results, subscribe = libsumo.simulationStep, libsumo.simulation.getSubscriptionResults, \
+        libsumo.vehicle.subscribe
+    results, lights = libsumo.vehicle.getAllSubscriptionResults, libsumo.trafficlight.getAllSubscriptionResults
+    warm = round(args.warmup / STEP_S)
+    total = round(config.duration_s / STEP_S)
+    seen = added = 0
+    with sumo_world.World(net, seed=config.seed) as world:
+        departures, _ = plan(config, world.network, stream(config.seed, "demand"))
+        di = 0
+        for n in range(1, total + 1):
+            if n == warm + 1:
+                wall, cpu, thread = time.perf_counter(), time.process_time(), time.thread_time()
+            t_before = round((n - 1) * STEP_S, 9)
+            while di < len(departures) and departures[di].depart_s <= t_before:
+                d = departures[di]
+                di += 1
+                try:
+                    route = d.route or world.route(d.entry, d.exit, d.kind)
+                    world.add_vehicle(d.id, d.kind, route, depart_pos=0.0, depart_speed="max")
+                    added += 1
+                except WorldError:
+                    continue
+                if log is not None:
+                    log.append((n - 1, d.id, d.kind, tuple(route)))
+            step()
+            for ident in sim_results()[tc.VAR_DEPARTED_VEHICLES_IDS]:
+                subscribe(ident, VEHICLE_VARS)
+            got = results()
+            lights()
+            if n > warm:
+                seen += len(got)
+        wall, cpu, thread = time.perf_counter() - wall, time.process_time() - cpu, time.thread_time() - thread
+    timed = total - warm
+    return {"steps_per_s": timed / wall, "steps_per_cpu_s": timed / cpu, "steps_per_thread_cpu_s": timed / thread,
+            "vehicles_mean": seen / timed, "added": added, "departures": len(departures)}
+
+
 def serve(db: Path, endpoint: str) -> dict:
     """An ingest on its own core, as `gaps serve` would run: listens, says "ready" on stdout, reads
     the number of events to expect from stdin, and waits until they are all stored."""
@@ -145,8 +213,9 @@ by the thread's clock around each call, as cProfile cannot without overstating c
 small calls (its cost per call is larger than theirs)."""
 
 
-def time_parts(spent: dict[str, float], on: list[bool]) -> list[tuple[object, str, object]]:
-    """Wrap each of PARTS to add its thread CPU to `spent` while on[0]; returns what to put back."""
+def time_parts(spent: dict[str, float], calls: dict[str, int], on: list[bool]) -> list[tuple[object, str, object]]:
+    """Wrap each of PARTS to add its thread CPU to `spent` and count its calls in `calls` while on[0];
+    returns what to put back."""
     import libsumo
     from sim_replay import publisher, simulation, sumo_world, watchers, witness
     where = {"libsumo": libsumo, "libsumo.vehicle": libsumo.vehicle, "sumo_world.World": sumo_world.World,
@@ -165,6 +234,7 @@ def time_parts(spent: dict[str, float], on: list[bool]) -> list[tuple[object, st
                 return _real(*args, **kwargs)
             finally:
                 spent[_label] = spent.get(_label, 0.0) + time.thread_time() - began
+                calls[_label] = calls.get(_label, 0) + 1
         setattr(owner, name, timed)
         undo.append((owner, name, real))
     return undo
@@ -205,12 +275,12 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
         raise SystemExit("bench/sim.py: the ingest did not start")
     cpus = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
     pinned = pin(0)
-    config = SimConfig(run="bench-sim", seed=args.seed, net=str(net), monitors=str(monitors), vehicles=args.vehicles,
-                       duration_s=args.warmup + args.seconds, depart_within=args.depart_within, pedestrians=0)
+    config = sim_config(net, monitors, args)
     sumo_world.World.step = timed_step
     spent: dict[str, float] = {}
     timing = [False]
-    undo = time_parts(spent, timing)
+    calls: dict[str, int] = {}
+    undo = time_parts(spent, calls, timing) if args.parts else []
     window_from: int | None = None  # the first event's t (the run's start) + the warm-up
     mark: dict | None = None
     events = states = 0
@@ -267,7 +337,14 @@ def simulation(net: Path, monitors: Path, args: argparse.Namespace, folder: Path
             "waited_s": waited, "steps": steps, "vehicles_mean": states / steps,
             "potential_violations": sim.summary.potential_violations,
             "parts_cpu_ms_per_step": {k: round(1e3 * v / steps, 2) for k, v in spent.items()},
+            "parts_calls_per_step": {k: round(v / steps, 1) for k, v in calls.items()},
             "ingest": {k: v for k, v in stats.items() if k not in ("cpu_s", "settle_wait_s")}}
+
+
+def _said(run: dict) -> str:
+    return (f"{run['steps_per_s']:,.1f} steps/s with {run['vehicles_mean']:,.0f} vehicles on average "
+            f"({run['steps_per_s'] * STEP_S:.2f} x real time; {run['steps_per_cpu_s']:,.1f} steps per CPU second, "
+            f"{1e3 / run['steps_per_thread_cpu_s']:.2f} ms of thread CPU a step)")
 
 
 def main() -> None:
@@ -280,8 +357,10 @@ def main() -> None:
                     help="world seconds, not timed, in which the vehicles enter the network")
     ap.add_argument("--depart-within", type=float, default=None,
                     help="share of the run over which vehicles set off (default: the warm-up)")
+    ap.add_argument("--no-parts", dest="parts", action="store_false",
+                    help="leave the parts' clocks out (two thread-CPU reads a call: what they cost is in the figures)")
     ap.add_argument("--note", default="", help="said in the recorded notes (e.g. another commit's figures beside it)")
-    ap.add_argument("--part", choices=["sumo-alone", "serve"], help=argparse.SUPPRESS)
+    ap.add_argument("--part", choices=["sumo-alone", "sumo-same", "serve"], help=argparse.SUPPRESS)
     ap.add_argument("part_args", nargs="*", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.depart_within is None:
@@ -295,20 +374,37 @@ def main() -> None:
         print(json.dumps(serve(Path(args.part_args[0]), args.part_args[1])))
         return
     monitors = net.with_name("grid10-lefthand.monitors.json")
+    if args.part == "sumo-same":
+        pin(0)
+        print(json.dumps(sumo_same(net, monitors, args)))
+        return
     monitors.write_text(json.dumps({"monitors": MONITORS}), encoding="utf-8")
     sizes = ["--vehicles", str(args.vehicles), "--seconds", str(args.seconds), "--seed", str(args.seed)]
-    alone_got = last_json(child("sumo-alone", *sizes))
-    alone, alone_vehicles = alone_got["steps_per_s"], alone_got["vehicles_mean"]
-    alone_cpu = alone_got["steps_per_cpu_s"]
-    print(f"SUMO alone: {alone:,.1f} steps/s with {alone_vehicles:,.0f} vehicles ({alone * STEP_S:.2f} x real time; "
-          f"{alone_cpu:,.1f} steps per CPU second)", flush=True)
+    same_args = (*sizes, "--warmup", str(args.warmup), "--depart-within", str(args.depart_within))
+    before = last_json(child("sumo-same", *same_args))
+    print(f"SUMO alone with the simulation's traffic, before the simulation: {_said(before)}", flush=True)
+    old_got = last_json(child("sumo-alone", *sizes))
+    old_rate, old_vehicles, old_cpu = old_got["steps_per_s"], old_got["vehicles_mean"], old_got["steps_per_cpu_s"]
+    print(f"SUMO alone with sumo_step.Traffic (the earlier reference: other routes, N kept on the grid): "
+          f"{old_rate:,.1f} steps/s with {old_vehicles:,.0f} vehicles ({old_cpu:,.1f} steps per CPU second)",
+          flush=True)
     speeds, loads = [calibration_elsewhere()], [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory(dir=os.environ.get("GAPS_BENCH_DIR", "/tmp")) as folder:
         got = simulation(net, monitors, args, Path(folder))
     speeds.append(calibration_elsewhere())
     loads.append(os.getloadavg()[0])
+    after = last_json(child("sumo-same", *same_args))
+    print(f"SUMO alone with the simulation's traffic, after the simulation: {_said(after)}", flush=True)
+    # the reference: the two runs about the simulation, each figure their mean (the machine's load
+    # changes over minutes; the runs on either side of the simulation bracket what it met)
+    same = {k: (before[k] + after[k]) / 2 for k in ("steps_per_s", "steps_per_cpu_s", "steps_per_thread_cpu_s",
+                                                    "vehicles_mean")}
+    alone, alone_vehicles = same["steps_per_s"], same["vehicles_mean"]
+    alone_cpu, alone_thread = same["steps_per_cpu_s"], same["steps_per_thread_cpu_s"]
+    print(f"SUMO alone with the simulation's traffic (the reference, the mean of the two): {_said(same)}")
     got["calibration_ms"] = [round(x, 2) for x in speeds]
     got["load_average"] = [round(x, 2) for x in loads]
+    got["sumo_same"] = {"before": before, "after": after}
     sim_rate = steps / got["wall_s"]
     print(f"simulation ({got['pinned']}): {args.seconds:g} s of world time in {got['wall_s']:.1f} s "
           f"({args.seconds / got['wall_s']:.2f} x real time; CPU {got['cpu_s']:.1f} s = {args.seconds / got['cpu_s']:.2f} x), {got['vehicles_mean']:,.0f} "
@@ -318,7 +414,8 @@ def main() -> None:
           f"{got['sumo_s']:.1f} s = {got['sumo_s'] / got['wall_s']:.0%} of the time")
     print(phases(got))
     print(f"thread CPU a step in parts of it (of {1e3 * got['thread_cpu_s'] / steps:.1f} ms): "
-          + "; ".join(f"{k} {v:.2f} ms" for k, v in got["parts_cpu_ms_per_step"].items()))
+          + "; ".join(f"{k} {v:.2f} ms ({got['parts_calls_per_step'][k]:g} calls)"
+                      for k, v in got["parts_cpu_ms_per_step"].items()))
     print(f"ingest (another process, another core): stored {got['stored']:,} of {got['published']:,} published, "
           f"all settled {got['settled_after_s']:.1f} s after the simulation ended; CPU {got['ingest_cpu_s']:.1f} s")
     print(f"ratio to SUMO alone: {sim_rate / alone:.2f} (simulation steps/s over SUMO-alone steps/s); by CPU time "
@@ -336,17 +433,43 @@ def main() -> None:
     if got["stored"] != got["published"]:
         raise SystemExit(f"bench/sim.py: {got['published'] - got['stored']:,} published events were not stored; "
                          f"the ingest's totals: {got['ingest']}")
+    thread_ratio = steps / got["thread_cpu_s"] / alone_thread
+    print(f"by the main thread's CPU: {1e3 * got['thread_cpu_s'] / steps:.1f} ms a step against SUMO alone's "
+          f"{1e3 / alone_thread:.2f} ms: {thread_ratio:.2f}; to the earlier reference (sumo_step.Traffic) by CPU "
+          f"time {steps / got['cpu_s'] / old_cpu:.2f}")
+    parts = got["parts_cpu_ms_per_step"]
+    sumo_part = parts.get("libsumo.simulationStep", 0.0) + parts.get("vehicles' subscription results", 0.0)
+    if sumo_part:
+        print(f"SUMO's part inside the simulation (simulationStep and the vehicles' subscription results): "
+              f"{sumo_part:.2f} ms of thread CPU a step, {sumo_part * alone_thread / 1e3:.2f} times SUMO alone's whole "
+              f"step on the same traffic: with no Python and no puts at all the ratio by thread CPU would be "
+              f"{1e3 / alone_thread / sumo_part:.2f}")
     figures = [
-        Figure("SUMO alone", alone, "steps/s", note=f"{alone_vehicles:,.0f} vehicles kept on the grid"),
-        Figure("the simulation, publishing into an ingest", sim_rate, "steps/s", peer="SUMO alone",
+        Figure("SUMO alone with the simulation's traffic", alone, "steps/s",
+               note=f"the same departures, routes and seed, no agents, no publishing: {alone_vehicles:,.0f} vehicles "
+                    f"on average; {alone_cpu:,.1f} steps per CPU second, {1e3 / alone_thread:.2f} ms of thread CPU "
+                    f"a step"),
+        Figure("SUMO alone with sumo_step.Traffic (the earlier reference)", old_rate, "steps/s",
+               note=f"other routes, {old_vehicles:,.0f} vehicles kept on the grid; {old_cpu:,.1f} steps per CPU "
+                    f"second; the simulation by CPU time to it {steps / got['cpu_s'] / old_cpu:.2f} x"),
+        Figure("the simulation, publishing into an ingest", sim_rate, "steps/s",
+               peer="SUMO alone with the simulation's traffic",
                note=f"{got['vehicles_mean']:,.0f} vehicles on average"),
         Figure("real-time factor of the simulation", args.seconds / got["wall_s"], "x real time",
                target=">= 1 at 1,000 vehicles, one core"),
         Figure("real-time factor by the simulation's CPU time", args.seconds / got["cpu_s"], "x real time",
                note="world seconds per CPU second of its process: what a core of its own would give"),
         Figure("the simulation by CPU time, to SUMO alone by CPU time", steps / got["cpu_s"] / alone_cpu, "x",
-               note=f"steps per CPU second of each process (SUMO alone {alone_cpu:,.1f}): the ratio without the "
-                    f"neighbours' load"),
+               target=">= 0.5 (issue 40)",
+               note=f"steps per CPU second of each process (SUMO alone with the simulation's traffic "
+                    f"{alone_cpu:,.1f}): the ratio without the neighbours' load"),
+        *([Figure("SUMO's part inside the simulation, to SUMO alone's whole step", sumo_part * alone_thread / 1e3,
+                  "x", note=f"simulationStep and the vehicles' subscription results, {sumo_part:.2f} ms of thread "
+                            f"CPU a step: the ratio by thread CPU with no Python and no puts at all would be "
+                            f"{1e3 / alone_thread / sumo_part:.2f}")] if sumo_part else []),
+        Figure("the simulation's main thread to SUMO alone's, by thread CPU", thread_ratio, "x",
+               note=f"{1e3 * got['thread_cpu_s'] / steps:.1f} ms a step against {1e3 / alone_thread:.2f} ms "
+                    f"(Zenoh's threads left out)"),
         Figure("events published", got["events"] / got["wall_s"], "events/s"),
         Figure("the ingest's events per CPU second", ingest_rate, "events/CPU-s",
                note=f"stored over its process's CPU, the whole run; at {per_step:,.0f} events a step, "
@@ -364,7 +487,8 @@ def main() -> None:
     record("sim", "The whole simulation, publishing into a running ingest", figures,
            notes=f"grid10-lefthand, {args.vehicles:,} vehicles set off within {args.depart_within:.0%} of "
                  f"{args.seconds:g} s, seed {args.seed}, two monitors; the simulation on one core, the ingest "
-                 f"in another process on the other (store not durable); SUMO alone in a child process; "
+                 f"in another process on the other (store not durable); SUMO alone in child processes, with the "
+                 f"simulation's traffic and with sumo_step.Traffic; "
                  f"calibration {speeds[0]:.2f} / {speeds[1]:.2f} ms before / after the simulation ({QUIET_MS}), "
                  f"load average {loads[0]:.2f} / {loads[1]:.2f}" + (f"; {args.note}" if args.note else ""),
            details={k: v for k, v in got.items()})
