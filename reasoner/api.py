@@ -22,7 +22,7 @@ from store import GapsError, NoSuchRun, Store, VerifyReport
 from .chain_status import ChainStatus
 from .explanation import Explanation
 from .history import RunContext
-from .investigation import Investigation
+from .investigation import Investigation, Speedups
 from .model import MONITORS, OWN_RECORD, Incident, found_in
 from .regress import Cluster, Regression, regress, regress_store     # its caller, as cli/ is
 from .scene import Scene, run_start, scene
@@ -47,7 +47,8 @@ class Case:
 
     def __init__(self, store: Store, rules: Iterable[str | os.PathLike] = ()) -> None:
         self.store = store
-        self.investigation = Investigation(store, rules=[os.fspath(r) for r in rules], verdicts=True)
+        self.investigation = Investigation(store, rules=[os.fspath(r) for r in rules],
+                                           speedups=Speedups.INCIDENTS)
         self._incidents: dict[str, list[Incident]] = {}
 
     def __enter__(self) -> Case:

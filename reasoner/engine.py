@@ -24,7 +24,8 @@ from .le.document import parse_document
 from .le.errors import LEError
 from .le.render import atom_list, sentence_text
 from .le.render_memo import ShapeMemo
-from .le.terms import Atom, Document, Rule
+from .le.parsed import Document
+from .le.terms import Atom, Rule
 from .prolog_home import import_janus
 
 ENGINE_PL = Path(__file__).with_name("prolog") / "engine.pl"

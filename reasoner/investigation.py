@@ -11,15 +11,15 @@ validator stage, sanctions, findings and proofs) and makes the cases of one act 
 (oneact.py). The verdicts depend only on the events, never on the order or batches they arrived
 in: the state is a fold in (t, seq, src) order and the episodes are read in that order too.
 
-What makes it fast sits beside the pipeline (reasoner/speedups/), each switched by one keyword:
-`kept` (the case memo: measurements, states and cases kept for the next investigation of the
-chain), `verdicts` (the judgement in force's incidents kept whole), `summaries` (read by their
-summaries), `proofs` False (proofs worked out for the incidents that show them only) and
-`shared` (what a regression's two sides read of a run alike).
+What makes it fast sits beside the pipeline (reasoner/speedups/): one `Speedups` member chooses
+which speed-ups an investigation judges through, each naming its modules (MEASUREMENTS, the
+default; NONE, the plain judge alone; INCIDENTS for `gaps incidents`; BASELINE and NEW_SIDE for
+a regression's two sides, which also share what they read of a run: `shared`).
 """
 from __future__ import annotations
 
 import gc
+from functools import partial
 from typing import Any, Callable, Iterable
 
 from store import Store
@@ -34,15 +34,14 @@ from .facts import FactReader
 from .findings import Gaps
 from .history import RunContext
 from .judge import Court, Todo, case_of, find, judge
-from .judge.case import Case, incident_name
 from .model import Incident
-from .speedups import kept_cases, kept_verdicts, summaries
+from .speedups import Speedups, kept_cases, kept_verdicts, summaries
 from .speedups.kept_court import KeptCourt
 from .speedups.shared import SharedReading
 from .speedups.summaries import IncidentSummary, Judgement, whole
 from .stages import RuleSet, current_rulebooks, given_rulebooks, recorded_rulebooks
 
-__all__ = ["Investigation", "IncidentSummary", "Judgement", "SharedReading", "whole"]
+__all__ = ["Investigation", "IncidentSummary", "Judgement", "SharedReading", "Speedups", "whole"]
 
 # The cases are found and judged with the cyclic collector paused (reasoner/collector.py): its
 # full passes traverse every case read, every incident judged so far and every value decoded from
@@ -57,35 +56,26 @@ class Investigation:
     pipeline or its speed-ups. Rulebooks and parsed facts are loaded once and shared."""
 
     def __init__(self, store: Store, engine: Engine | None = None, rules: Iterable[str] | None = None, *,
-                 kept: bool = True, verdicts: bool = False, reader: FactReader | None = None,
-                 proofs: bool = True, summaries: bool = False, shared: SharedReading | None = None) -> None:
-        """`kept`: judge from what earlier investigations of the chain measured, and keep what this
-        one measures (speedups/kept_court.py); False measures every case afresh, keeps nothing.
-        `verdicts` (with `kept`): keep the incidents of the judgement in force and read them next
-        time (speedups/kept_verdicts.py: `gaps incidents`, a regression's baseline).
-        `summaries`: hand kept incidents back by their summaries (speedups/summaries.py), or,
-        with `proofs` False, judge each case only as far as its summary (a regression's new side).
-        `proofs` False: proofs left out, worked out by `proved` for the incidents that show them.
-        `reader`, `shared`: the fact reader and the runs' readings shared with other askers."""
+                 speedups: Speedups = Speedups.MEASUREMENTS, reader: FactReader | None = None,
+                 shared: SharedReading | None = None) -> None:
+        """`speedups`: which speed-ups judge (reasoner/speedups/__init__.py names each member's
+        modules). `reader`, `shared`: the fact reader and the runs' readings shared with other
+        askers (a regression's two sides)."""
         self.store = store
-        self.kept = kept
-        self.verdicts = verdicts and kept
-        self.summaries = summaries and (self.verdicts or not proofs)
-        self.proofs = proofs or self.verdicts
+        self.speedups = speedups
         self.shared = shared
         self.engine = engine or get_engine()
         self.reader = reader or FactReader()
         self.problems: dict[str, list[str]] = {}
         plain = Court(store, self.engine, self.reader, self.problems)
-        self.court = KeptCourt(plain, self.memo, self.keeps_verdicts, not self.proofs) \
-            if kept or not self.proofs else plain
+        self.court = KeptCourt(plain, self.memo, self.keeps_verdicts, unproved=speedups.summarises) \
+            if speedups.keeps else plain
         self._given = given_rulebooks(self.engine, rules or [])
         self._current = current_rulebooks(self.engine)
         self._rulesets: dict[str, RuleSet] = {}
         self._chains: dict[str, ChainStatus] = {}
         self._memos: dict[str, CaseMemo] = {}
         self._judgements: dict[str, tuple[RuleSet, str]] = {}
-        self._unproved: dict[tuple, tuple[Case, Gaps]] = {}     # by incident_name, for `proved`
 
     # -- public ---------------------------------------------------------------------------
     def incidents(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Incident]:
@@ -93,12 +83,12 @@ class Investigation:
         return [whole(found) for found in self.judgements(run, progress)]
 
     def judgements(self, run: str, progress: Callable[[int, int], None] | None = None) -> list[Judgement]:
-        """Every potential violation of the run, judged; ordered by time: whole incidents, or (with
-        `summaries`) incident summaries. `progress(done, total)` is called as the cases are judged
+        """Every potential violation of the run, judged; ordered by time: whole incidents, or (by
+        `speedups`: BASELINE, NEW_SIDE) incident summaries. `progress(done, total)` is called as the cases are judged
         (after the pass over the observations): `done` of the `total` cases (recorded potential
         violations and acts the sweep found), which end as fewer incidents (one per act; a case
         the rules do not raise is none)."""
-        memo = self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)      # the chain as it stands now
+        memo = self._memos[run] = CaseMemo(self.store, run, enabled=self.speedups.keeps)  # the chain as it stands now
         with JudgementCollector():
             rs, todo = self._cases(run, memo)
             monitor = rs["monitor"].rulebook.sha256 if rs["monitor"] else None
@@ -112,25 +102,16 @@ class Investigation:
         merged = [group[0] if len(group) == 1 else summaries.merged(group) for group in oneact.groups(found)]
         return sorted(merged, key=lambda inc: inc.t) if len(merged) < len(found) else merged
 
-    def proved(self, incident: Judgement | None) -> Judgement | None:
-        """The incident with its proofs: judged again with them where this investigation left
-        them out (`proofs` False); the same incident otherwise. An incident summary is handed
-        back as it is: its proofs are worked out alone when asked for."""
-        if incident is None or self.proofs or isinstance(incident, IncidentSummary):
-            return incident
-        found = self._unproved.get(incident_name(incident))
-        return incident if found is None else judge(self.court, found[0], found[1], True)
-
     def keeps_verdicts(self, run: str, rs: RuleSet) -> bool:
         """Whether this run's incidents are kept: judged by the rulebooks in force (the run's own,
         else the current ones), which is what `gaps incidents` shows; a judgement with a rulebook
         given for any stage is worked out each time (a regression's new rules are judged afresh)."""
-        return self.verdicts and kept_verdicts.in_force(rs)
+        return self.speedups.keeps_incidents and kept_verdicts.in_force(rs)
 
     def memo(self, run: str) -> CaseMemo:
         """What earlier investigations of the run's chain measured, and what this one adds."""
         if run not in self._memos:
-            self._memos[run] = CaseMemo(self.store, run, enabled=self.kept)
+            self._memos[run] = CaseMemo(self.store, run, enabled=self.speedups.keeps)
         return self._memos[run]
 
     def context(self, run: str) -> RunContext:
@@ -210,16 +191,13 @@ class Investigation:
 
     # -- one case -------------------------------------------------------------------------
     def _judged(self, run: str, rs: RuleSet, gaps: Gaps, todo: Todo) -> Judgement | None:
-        """The case's incident: kept under the rulebooks in force (`verdicts`), else judged."""
+        """The case's incident: kept under the rulebooks in force (`keeps_incidents`), else judged."""
         if not self.keeps_verdicts(run, rs):
             return self._afresh(run, rs, gaps, todo)
-
-        def judged() -> Incident | None:
-            found = self._afresh(run, rs, gaps, todo)
-            assert not isinstance(found, IncidentSummary), "the judgement in force is judged whole"
-            return found
-        return kept_verdicts.incident(self.memo(run), self._judged_by(run, rs), todo, judged,
-                                      by_summary=self.summaries)
+        # `_afresh` judges whole here: a Speedups member that keeps incidents never judges by summary
+        return kept_verdicts.incident(self.memo(run), self._judged_by(run, rs), todo,
+                                      partial(self._afresh, run, rs, gaps, todo),
+                                      by_summary=self.speedups.reads_summaries)
 
     def _judged_by(self, run: str, rs: RuleSet) -> str:
         found = self._judgements.get(run)
@@ -228,11 +206,8 @@ class Investigation:
         return found[1]
 
     def _afresh(self, run: str, rs: RuleSet, gaps: Gaps, todo: Todo) -> Judgement | None:
-        """The case judged now: by its summary alone (`summaries` without `proofs`), else whole."""
+        """The case judged now: by its summary alone (NEW_SIDE), else whole."""
         case = case_of(self.court, run, rs, todo)
-        if self.summaries and not self.proofs:
+        if self.speedups.summarises:
             return summaries.summarised(self.court, case, gaps)
-        incident = judge(self.court, case, gaps, self.proofs)
-        if incident is not None and not self.proofs:
-            self._unproved[incident_name(incident)] = (case, gaps)
-        return incident
+        return judge(self.court, case, gaps)

@@ -2,12 +2,16 @@
 command walks through the rooms, the biggest modules and classes, modules per folder, what each
 room shows its callers, and the type checker's errors per room.
 
-    .venv/bin/python scripts/architecture_figures.py [--json] [--no-mypy] [--no-walks]
+    .venv/bin/python scripts/architecture_figures.py [--json] [--no-mypy] [--no-walks] [--stacks]
 
 The walks are measured, not read from the source: each command runs in-process on the paper's
 run (a temporary store), under a profile hook that records every stack of the project's own
 frames; the longest is printed with the rooms it passes through in order ("cli > reasoner >
 store > reasoner" is three changes of room), and the calls from one room into another counted.
+Its "layers" count each function once however often it recurses (a comprehension is its
+function's): of a stack that walks a proof tree's nesting, only the walk's own frames are layers.
+`--stacks` also prints the frames (file and function) of the deepest stack and of the one with
+the most layers, to see what they pass through.
 The sizes are read with `ast`. The type checker is mypy (default settings, missing imports
 ignored) where it is installed; without it the row says so.
 """
@@ -107,29 +111,39 @@ def room_of(filename: str) -> str | None:
 
 
 def walk(argv: list[str], db: str) -> dict[str, Any]:
-    """The deepest stack of the project's own frames while `gaps argv` runs, and its rooms."""
+    """The deepest stack of the project's own frames while `gaps argv` runs, its rooms and its
+    frames (`path:qualname`, outermost first)."""
     from typer.testing import CliRunner
 
     from cli.main import app
 
-    deepest: list[str] = []
+    deepest: list[tuple[str, Any]] = []
     widest: list[str] = []              # the stack passing through most changes of room
-    stack: list[tuple[str, str]] = []
+    stack: list[tuple[str, Any]] = []   # (room, code) of each of the project's frames
     crossings = 0                       # calls from one room into another
+    on_stack: Counter[tuple[str, str]] = Counter()      # each function's frames on the stack
+    layers = 0
+    layered: list[tuple[str, Any]] = []     # the stack with the most layers
 
     def hook(frame: Any, event: str, _arg: Any) -> None:
-        nonlocal deepest, widest, crossings
+        nonlocal deepest, widest, crossings, layers, layered
         if event == "call":
             room = room_of(frame.f_code.co_filename)
             if room is not None:
                 crossings += bool(stack) and stack[-1][0] != room
-                stack.append((room, f"{frame.f_code.co_qualname}"))
+                stack.append((room, frame.f_code))
+                on_stack[layer(frame.f_code)] += 1
+                if len(on_stack) > layers:
+                    layers, layered = len(on_stack), list(stack)
                 if len(stack) > len(deepest):
-                    deepest = [r for r, _ in stack]
+                    deepest = list(stack)
                 if changes(r for r, _ in stack) > changes(widest):
                     widest = [r for r, _ in stack]
         elif event == "return" and stack and room_of(frame.f_code.co_filename) is not None:
-            stack.pop()
+            key = layer(stack.pop()[1])
+            on_stack[key] -= 1
+            if not on_stack[key]:
+                del on_stack[key]
 
     CliRunner().invoke(app, argv)       # once unwatched: the rulebooks compiled and kept (the LE reader's
     for kept in Path(db).parent.glob(Path(db).name + ".cache*"):   # time bound is wall clock, which the
@@ -141,9 +155,31 @@ def walk(argv: list[str], db: str) -> dict[str, Any]:
         sys.setprofile(None)
     if result.exit_code != 0:
         print(f"gaps {' '.join(argv)}: exit {result.exit_code}: {result.output[-400:]}", file=sys.stderr)
-    return {"command": "gaps " + " ".join(argv), "exit": result.exit_code, "depth": len(deepest),
-            "deepest_rooms": " > ".join(collapsed(deepest)), "widest_rooms": " > ".join(collapsed(widest)),
-            "changes_of_room": changes(widest), "crossings": crossings}
+    return {"command": "gaps " + " ".join(argv), "exit": result.exit_code, "depth": len(deepest), "layers": layers,
+            "deepest_rooms": " > ".join(collapsed(r for r, _ in deepest)), "widest_rooms": " > ".join(collapsed(widest)),
+            "changes_of_room": changes(widest), "crossings": crossings,
+            "deepest_stack": frames(deepest), "most_layers_stack": frames(layered)}
+
+
+def frames(stack: list[tuple[str, Any]]) -> list[str]:
+    return [f"{where(code.co_filename)}:{code.co_qualname}" for _, code in stack]
+
+
+def where(filename: str) -> str:
+    return Path(filename).resolve().relative_to(ROOT).as_posix()
+
+
+COMPREHENSIONS = (".<listcomp>", ".<dictcomp>", ".<setcomp>", ".<genexpr>")
+
+
+def layer(code: Any) -> tuple[str, str]:
+    """The function a frame belongs to: a comprehension's is the function it is written in."""
+    name = code.co_qualname
+    for suffix in COMPREHENSIONS:
+        if name.endswith(suffix):
+            name = name[:-len(suffix)].removesuffix(".<locals>")
+            break
+    return code.co_filename, name
 
 
 def collapsed(rooms: Any) -> list[str]:
@@ -175,12 +211,16 @@ def main() -> int:
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--no-mypy", action="store_true")
     ap.add_argument("--no-walks", action="store_true")
+    ap.add_argument("--stacks", action="store_true", help="print each walk's deepest stack, frame by frame")
     args = ap.parse_args()
     figures: dict[str, Any] = {**sizes(), "faces": faces()}
     if not args.no_mypy:
         figures["mypy_errors"] = mypy_errors()
     if not args.no_walks:
         figures["walks"] = walks()
+        if not args.stacks:
+            for w in figures["walks"]:
+                del w["deepest_stack"], w["most_layers_stack"]
     if args.json:
         print(json.dumps(figures, indent=1))
         return 0
@@ -194,9 +234,15 @@ def main() -> int:
         print("mypy errors:", m if isinstance(m, str) else ", ".join(f"{k} {v}" for k, v in m.items())
               + f" (total {sum(m.values())})")
     for w in figures.get("walks", []):
-        print(f"{w['command']}: exit {w['exit']}, deepest stack {w['depth']} frames ({w['deepest_rooms']}); "
+        print(f"{w['command']}: exit {w['exit']}, deepest stack {w['depth']} frames, {w['layers']} layers "
+              f"({w['deepest_rooms']}); "
               f"most rooms on one stack {w['widest_rooms']} ({w['changes_of_room']} changes); "
               f"{w['crossings']:,} calls from one room into another")
+        for title, key in (("deepest stack", "deepest_stack"), ("the stack with most layers", "most_layers_stack")):
+            if key in w:
+                print(f"  {title}:")
+                for depth, frame in enumerate(w[key], 1):
+                    print(f"  {depth:3} {frame}")
     return 0
 
 

@@ -23,7 +23,8 @@ from .lexer import Line, Token, join_tokens, lex
 from .builtins import BUILTIN_FUNCTORS
 from .sentences import Scope, Vocabulary
 from .templates import Template, template_from_tokens
-from .terms import Aggregate, Cond, Document, Query, Rule, Scenario, Var
+from .parsed import Document
+from .terms import Aggregate, Cond, Query, Rule, Scenario, Var
 
 LABEL = re.compile(r"^\s*%\s*(HC\s+\d+)\s*(?::\s*(.*?))?\s*$")
 

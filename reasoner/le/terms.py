@@ -4,15 +4,12 @@ A sentence is an `Atom` (a template's functor and one argument per slot).  Argum
 constants (str, int, float), variables (`Var`), lists (`ListTerm`), arithmetic (`Expr`) or, for a
 `that` slot, a whole sentence (`Atom`).  A rule's body is a list of `Cond`s joined by `and`;
 a `Cond` is a sentence, a negation, a disjunction, `for all cases in which`, or an aggregate.
+The document these make up, with its templates, is parsed.py's `Document`: this module imports
+nothing of the LE reader, so that every part of it can import it.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:   # for the annotations only: both import this module
-    from .sentences import Vocabulary
-    from .templates import Template
 
 
 @dataclass(frozen=True)
@@ -105,47 +102,3 @@ class Scenario:
     name: str
     rules: list
     line: int
-
-
-class TemplateTable(dict[str, "Template"]):
-    """Templates by functor (a second template with the same functor and another arity is
-    filed under `functor/arity`); it also caches the matcher built from it."""
-
-    _vocabulary: Vocabulary | None = None
-
-
-@dataclass
-class Document:
-    """A parsed LE document: templates by functor, the knowledge base, scenarios and queries."""
-
-    file: str
-    templates: TemplateTable = field(default_factory=TemplateTable)    # functor (or functor/arity) -> Template
-    rules: list = field(default_factory=list)
-    scenarios: dict = field(default_factory=dict)    # name -> Scenario
-    queries: dict = field(default_factory=dict)      # name -> Query
-    target: str | None = None
-    kb_names: list = field(default_factory=list)
-    warnings: list = field(default_factory=list)     # LEWarning
-    unreadable_queries: dict = field(default_factory=dict)   # name -> LEError (asking it raises that)
-
-    def template_for(self, functor: str, arity: int):
-        """The declared (or built-in) template that compiles to functor/arity, if any."""
-        t = self.templates.get(functor)
-        if t is not None and t.arity == arity:
-            return t
-        t = self.templates.get(f"{functor}/{arity}")
-        if t is not None:
-            return t
-        return _builtin(functor, arity)
-
-
-_BUILTINS: dict | None = None
-
-
-def _builtin(functor: str, arity: int):
-    """The built-in template of functor/arity (builtins.py imports templates, loaded on first use)."""
-    global _BUILTINS
-    if _BUILTINS is None:
-        from .builtins import BUILTIN_BY_KEY
-        _BUILTINS = BUILTIN_BY_KEY
-    return _BUILTINS.get((functor, arity))

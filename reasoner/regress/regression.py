@@ -26,7 +26,7 @@ from store import NoSuchRun, Store
 from ..collector import JudgementCollector
 from ..engine import Engine, Rulebook, get_engine
 from ..facts import FactReader
-from ..investigation import Investigation, Judgement, SharedReading, whole
+from ..investigation import Investigation, Judgement, SharedReading, Speedups, whole
 from ..le.sentences import constant
 from ..le.terms import Cond, Var
 from ..model import Incident
@@ -231,13 +231,12 @@ class Regressor:
         self.shapes = Shapes() if kept else None
         base = list(old.texts) if old else []       # texts the engine has loaded, under their paths
         shared = SharedReading() if kept else None     # the runs' cases, read by both sides alike
-        self.before = Investigation(store, engine, rules=base, kept=kept, verdicts=True,   # in force: kept,
-                                    summaries=True,     # read by their summaries, whole where they changed
-                                    shared=shared)
-        self.after = Investigation(store, engine, rules=[*new.texts, *base], kept=kept, reader=self.reader,
-                                   proofs=not kept,     # proofs worked out for the changed incidents only,
-                                   summaries=kept,      # and the rest of an incident judged for them alone
-                                   shared=shared)
+        # the baseline reads its kept incidents by their summaries; the new side judges each case only as far
+        # as its summary goes, its proofs worked out for the changed incidents only (reasoner/speedups/)
+        self.before = Investigation(store, engine, rules=base, shared=shared,
+                                    speedups=Speedups.BASELINE if kept else Speedups.NONE)
+        self.after = Investigation(store, engine, rules=[*new.texts, *base], reader=self.reader, shared=shared,
+                                   speedups=Speedups.NEW_SIDE if kept else Speedups.NONE)
         self._diffs: dict[tuple[str, str], RulebookDiff] = {}
         given = [(rb, path) for side in (new, old) if side for rb, path in zip(side.books, side.paths)
                  if path not in side.unused]
@@ -290,12 +289,12 @@ class Regressor:
     def _incident_changes(self, b: Judgement | None, n: Judgement | None, diffs: Diffs) -> list[Change]:
         if b is None or n is None:
             kind = "new" if b is None else "gone"
-            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, self.after.proved(n)), diffs)]
+            return [self._because(kind, _summary(b), _summary(n), _verdict_trees(b, n), diffs)]
         if b.verdict != n.verdict:
-            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, self.after.proved(n)), diffs)]
+            return [self._because("verdict", b.verdict, n.verdict, _verdict_trees(b, n), diffs)]
         out = []
         if b.rule != n.rule:
-            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, self.after.proved(n)), diffs))
+            out.append(self._because("rule", b.rule, n.rule, _verdict_trees(b, n), diffs))
         if _penalty(b) != _penalty(n):
             out.append(self._because("penalty", _penalty_text(b), _penalty_text(n),
                                      [*self._penalty_trees(whole(b), self.before), *self._penalty_trees(whole(n), self.after)],

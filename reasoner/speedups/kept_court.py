@@ -45,15 +45,16 @@ class KeptCourt(Court):
         apart (each its own entry: reading and sealing the whole measurement for them cost a
         summary more than any other kept entry)."""
         memo, key = self.memo(case.run), measurement_key(case, mscen)
-
-        def measured() -> Measurement:
-            found = super(KeptCourt, self).measured(case, mscen, vscen)
-            memo.put("derived", key, found.derived)
-            memo.put("act", key, [found.act])
-            memo.put("overruled", key, tuple(sorted(found.overruled)))
-            memo.put("weighing", key, weighing_of(found, case.action))
-            return found
-        return memo.remember("measurement", key, measured)
+        kept = memo.get("measurement", key)
+        if kept is not None:
+            return kept
+        found = super().measured(case, mscen, vscen)
+        memo.put("derived", key, found.derived)
+        memo.put("act", key, [found.act])
+        memo.put("overruled", key, tuple(sorted(found.overruled)))
+        memo.put("weighing", key, weighing_of(found, case.action))
+        memo.put("measurement", key, found)
+        return found
 
     def derived(self, case: Case, mscen: Scenario, vscen: Scenario) -> tuple:
         found = self._part(case, mscen, "derived")

@@ -9,12 +9,12 @@ A judgement with a rulebook given for any stage is worked out each time.
 """
 from __future__ import annotations
 
+from functools import partial
 from typing import Callable
 
 from ..case_memo import CaseMemo, key_of
 from ..judge.case import anchor_key
 from ..judge.cases import Todo
-from ..model import Incident
 from ..stages import RuleSet
 from . import summaries
 from .summaries import Judgement
@@ -32,14 +32,14 @@ def judged_by(rs: RuleSet, problems: list[str] | None) -> str:
     return key_of(rs.describe(), problems)
 
 
-def incident(memo: CaseMemo, judgement: str, todo: Todo, judge: Callable[[], Incident | None], *,
+def incident(memo: CaseMemo, judgement: str, todo: Todo, judge: Callable[[], Judgement | None], *,
              by_summary: bool) -> Judgement | None:
     """The case's kept incident (`by_summary`: its kept summary, whole when asked for), else
-    `judge()`'s, kept (with its summary)."""
+    `judge()`'s, kept (with its summary). `judge` judges the case whole (a Speedups member that
+    keeps incidents never judges by summary; a summary would not be kept: case_memo's codec
+    keeps no IncidentSummary)."""
     key = _key(judgement, todo)
-
-    def whole() -> Incident | None:
-        return memo.remember("incident", key, judge)
+    whole = partial(memo.remember, "incident", key, judge)
     if not by_summary:
         return whole()
     summary = memo.get("incident summary", key)

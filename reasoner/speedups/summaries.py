@@ -75,8 +75,8 @@ def whole(incident: Judgement) -> Incident:
     return incident.whole() if isinstance(incident, IncidentSummary) else incident
 
 
-def summary_of(incident: Incident) -> list:
-    """The summary's fields of a whole incident, as kept (in `SUMMARY`'s order)."""
+def summary_of(incident: Judgement) -> list:
+    """The summary's fields of an incident (whole, or its summary), as kept (in `SUMMARY`'s order)."""
     return [getattr(incident, name) for name in SUMMARY]
 
 

@@ -100,10 +100,10 @@ def plain(db: Path, rules: Path) -> dict:
 def summarised(store: Store, rules: Path) -> tuple[list, list, Any]:
     """The run's incidents judged whole; as a regression's new side judges them (each by its
     summary, every one checked to be an IncidentSummary); and the investigation that judged them so
-    (proofs=False, summaries=True)."""
-    from reasoner.investigation import IncidentSummary, Investigation
+    (Speedups.NEW_SIDE)."""
+    from reasoner.investigation import IncidentSummary, Investigation, Speedups
     full = Investigation(store, rules=[str(rules)]).incidents(RUN)
-    lean = Investigation(store, rules=[str(rules)], proofs=False, summaries=True)
+    lean = Investigation(store, rules=[str(rules)], speedups=Speedups.NEW_SIDE)
     found = lean.judgements(RUN)
     assert found and all(isinstance(i, IncidentSummary) for i in found)
     return full, found, lean

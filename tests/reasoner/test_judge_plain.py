@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from reasoner import oneact
-from reasoner.investigation import IncidentSummary, Investigation, SharedReading, whole
+from reasoner.investigation import IncidentSummary, Investigation, SharedReading, Speedups, whole
 from reasoner.judge import Court, case_of, find, judge
 from reasoner.model import Incident
 from reasoner.speedups.summaries import SUMMARY
@@ -23,7 +23,7 @@ from tests.reasoner import regress_runs as R
 
 def plain(store: Store, run: str) -> list[Incident]:
     """Every incident of the run by the pipeline alone."""
-    lookup = Investigation(store, kept=False)           # for the run's rulesets alone
+    lookup = Investigation(store, speedups=Speedups.NONE)    # for the run's rulesets alone
     rs = lookup.ruleset(run)
     court = Court(store, lookup.engine, lookup.reader, lookup.problems)
     recorded = list(store.events(run, kinds=["monitor.potential_violation"]))
@@ -55,13 +55,13 @@ def test_every_speed_up_gives_the_plain_judge_s_incidents(stored):
         judged = plain(store, run)
         expected = [i.to_json() for i in judged]
         assert expected
-        cold = Investigation(store, verdicts=True).incidents(run)          # measures, keeps
-        warm = Investigation(store, verdicts=True).incidents(run)          # reads the kept incidents
-        measured = Investigation(store).incidents(run)                     # judges from kept measurements
+        cold = Investigation(store, speedups=Speedups.INCIDENTS).incidents(run)      # measures, keeps
+        warm = Investigation(store, speedups=Speedups.INCIDENTS).incidents(run)      # reads the kept incidents
+        measured = Investigation(store, speedups=Speedups.MEASUREMENTS).incidents(run)  # from kept measurements
         shared = SharedReading()
-        Investigation(store, verdicts=True, summaries=True).judgements(run)     # keeps the summaries
-        by_summary = Investigation(store, verdicts=True, summaries=True, shared=shared).judgements(run)
-        lean = Investigation(store, proofs=False, summaries=True, shared=shared)
+        Investigation(store, speedups=Speedups.BASELINE).judgements(run)     # keeps the summaries
+        by_summary = Investigation(store, speedups=Speedups.BASELINE, shared=shared).judgements(run)
+        lean = Investigation(store, speedups=Speedups.NEW_SIDE, shared=shared)
         lean_found = lean.judgements(run)
         assert [i.to_json() for i in cold] == expected
         assert [i.to_json() for i in warm] == expected
@@ -73,3 +73,13 @@ def test_every_speed_up_gives_the_plain_judge_s_incidents(stored):
         assert summarised(lean_found) == summarised(judged)
         assert [whole(i).to_json() for i in lean_found] == expected
         assert [i.proofs for i in lean_found] == [whole(i).proofs for i in lean_found]
+
+
+def test_no_speed_up_keeps_what_it_judged_by_summary_alone():
+    """A member that keeps the judgement in force's incidents judges them whole (the case memo's
+    codec keeps no IncidentSummary: a summary kept would be dropped without a word), and only the
+    plain judge keeps nothing."""
+    for member in Speedups:
+        assert not (member.keeps_incidents and member.summarises), member
+        assert not member.reads_summaries or member.keeps_incidents, member
+        assert member.keeps == (member is not Speedups.NONE), member

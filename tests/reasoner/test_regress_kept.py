@@ -1,5 +1,5 @@
-"""A regression from what earlier ones kept (reasoner/investigation.py `verdicts`,
-reasoner/regress_decisions.py): the baseline's incidents and decision answers under the rulebooks in
+"""A regression from what earlier ones kept (Speedups.BASELINE, reasoner/speedups/kept_verdicts.py;
+reasoner/regress/decisions.py): the baseline's incidents and decision answers under the rulebooks in
 force are read, not judged or asked again, and the decisions' Vehicle Scenarios are kept with
 them, so that no decision or perception is read again; the new rules are judged afresh every time. The
 result is the plain path's, to the byte, and a forged kept verdict is dropped and judged again."""
@@ -14,7 +14,7 @@ from reasoner import case_memo
 from reasoner.regress import decisions as regress_decisions
 from reasoner.regress import regression as regress_module
 from reasoner.api import Case
-from reasoner.investigation import Investigation
+from reasoner.investigation import Investigation, Speedups
 from reasoner.regress import regress
 from store import EventRef, Store
 from store.cache import cache_tampering
@@ -42,7 +42,7 @@ class _Count:
         afresh, ask, events = Investigation._afresh, regress_module.ask, Store.events
 
         def counted_afresh(inv, *args):
-            self.judged[inv.verdicts] += 1
+            self.judged[inv.speedups.keeps_incidents] += 1
             return afresh(inv, *args)
 
         def counted_ask(*args, **kwargs):
@@ -115,7 +115,7 @@ def test_gaps_incidents_keeps_the_judgement_in_force_and_not_one_with_given_rule
 
 def test_the_codec_keeps_every_incident_exactly(db):
     with Store.open_read_only(db) as store:
-        found = Investigation(store, kept=False).incidents(R.RUN)
+        found = Investigation(store, speedups=Speedups.NONE).incidents(R.RUN)
     assert found
     for incident in found:
         assert case_memo.decode(json.loads(json.dumps(case_memo.encode(incident)))) == incident
@@ -247,21 +247,6 @@ def test_a_regression_names_its_runs_without_summing_them_up(db, new_rules, monk
         assert regress(store, [str(new_rules)]).counts()["runs"] == 1
         with pytest.raises(regress_module.NoSuchRun):
             regress(store, [str(new_rules)], runs=["no-such-run"])
-
-
-def test_an_investigation_without_proofs_judges_alike_and_proves_on_demand(db, new_rules):
-    """`proofs` False (a regression's new side): the same incidents with their proofs left
-    empty, and `proved` gives each one as judged with them."""
-    with Store.open_read_only(db) as store:
-        full = Investigation(store, rules=[str(new_rules)]).incidents(R.RUN)
-        lazy = Investigation(store, rules=[str(new_rules)], proofs=False)
-        found = lazy.incidents(R.RUN)
-        assert [lazy.proved(i) for i in found] == full
-    assert any(i.proofs.verdict and i.proofs.verdict.trees for i in full)
-    assert all(not i.proofs.potential_violation.trees and not (i.proofs.verdict and i.proofs.verdict.trees)
-               for i in found)
-    from dataclasses import replace
-    assert [replace(i, proofs=None) for i in found] == [replace(i, proofs=None) for i in full]
 
 
 def test_the_new_side_searches_a_verdicts_proof_only_where_it_changed(db, new_rules, monkeypatch):

@@ -10,7 +10,7 @@ from collections import Counter
 import pytest
 
 from reasoner.engine import Rulebook
-from reasoner.investigation import Investigation
+from reasoner.investigation import Investigation, Speedups
 from reasoner.le.terms import Atom
 from store import Store
 from tests.reasoner import regress_runs as R
@@ -51,9 +51,9 @@ def _from_validate() -> bool:
 
 def test_each_validator_fact_is_rendered_once_and_alike(db, monkeypatch):
     with Store.open_read_only(db) as store:
-        plain = [i.to_json() for i in Investigation(store, kept=False).incidents(R.RUN)]
+        plain = [i.to_json() for i in Investigation(store, speedups=Speedups.NONE).incidents(R.RUN)]
         rendered = _counted(monkeypatch)
-        inv = Investigation(store, kept=False)
+        inv = Investigation(store, speedups=Speedups.NONE)
         once = [i.to_json() for i in inv.incidents(R.RUN)]
         again = [i.to_json() for i in inv.incidents(R.RUN)]     # the same facts again, already rendered
     assert once == plain and again == plain and rendered
@@ -62,7 +62,7 @@ def test_each_validator_fact_is_rendered_once_and_alike(db, monkeypatch):
 
 def test_an_atom_equal_to_another_of_other_types_is_rendered_as_itself(db, monkeypatch):
     with Store.open_read_only(db) as store:
-        inv = Investigation(store, kept=False)
+        inv = Investigation(store, speedups=Speedups.NONE)
         rb = inv.ruleset(R.RUN, [])["validator"].rulebook
         whole, real, truth = (inv.court.render(rb, Atom("has_speed_of", ("5", v))) for v in (1, 1.0, True))
     assert whole == rb.render(Atom("has_speed_of", ("5", 1)))

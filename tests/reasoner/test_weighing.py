@@ -357,7 +357,7 @@ def test_a_summary_reaches_the_same_weighed_verdicts_as_the_whole_judgement(tmp_
     an earlier one kept. Three cases in one run: the camera's contested speed (not proven), the
     automated car's disproved "too close" from the west (punishable), and a car from the east
     0.07 m beyond rule 126's distance when the same amber came, sampled at 10 Hz (not proven)."""
-    from reasoner.investigation import Investigation
+    from reasoner.investigation import Investigation, Speedups
     from store import Store
 
     run = speed_camera("28", 38, 30.0)
@@ -382,7 +382,7 @@ def test_a_summary_reaches_the_same_weighed_verdicts_as_the_whole_judgement(tmp_
     assert verdicts[("8", ENTER)] == ("dismissed", "HC 175", "not proven"), verdicts
     with Store(tmp_path / "foreign.db") as store:
         for _ in range(2):                          # afresh, then from what the first kept
-            lean = Investigation(store, proofs=False, summaries=True).judgements(run.run)   # by their summaries
+            lean = Investigation(store, speedups=Speedups.NEW_SIDE).judgements(run.run)   # by their summaries
             assert sorted((i.id, i.verdict, i.rule) for i in lean) == sorted((i.id, i.verdict, i.rule) for i in whole)
 
 
