@@ -70,7 +70,7 @@ class _Builder:
             "rulebooks": {stage: b.to_json() for stage, b in inc.rulebooks.items()},
         }
         doc["verdict"] = self._verdict_sentence(doc)
-        doc["evidence"] = {"chain": chain, "events": self.index.table(self._uses(anchor), chain["problem"])}
+        doc["evidence"] = {"chain": chain, "events": self.index.table(self._uses(anchor), self.ex.chain)}
         doc["summary"] = self._summary(doc)
         return doc
 
@@ -155,8 +155,8 @@ class _Builder:
         if in_control == "driver" and control.automated:
             text = "the driver was in control: the vehicle's automated driving feature was not engaged"
             if last:
-                text += (f" (its last ADS event: {str(last.get('event', '')).replace('_', ' ')} at "
-                         f"{ph.clock(last['t'])}{self.index.cite([{**last, 'run': inc.run}])})")
+                text += (f" (its last ADS event: {str(last.event).replace('_', ' ')} at "
+                         f"{ph.clock(last.t)}{self.index.cite([last.ref(inc.run)])})")
         return {"liable": inc.liable, "parties": list(lia.parties) if lia else [], "in_control": in_control,
                 "in_control_text": text,
                 "licence_points": list(lia.licence_points) if lia else [],

@@ -6,9 +6,9 @@ The lines hold recorded text as it was sent; the terminal's escaping is the comm
 """
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Any
 
-from reasoner.model import Control, Decision
+from reasoner.model import Cited, Control, Decision
 from reasoner.scene import Scene, SceneFact, ValidatorShown, VehicleShown
 from reasoner.when import format_offset, format_time
 from store import EventRef
@@ -28,10 +28,10 @@ def scene_lines(sc: Scene) -> list[str]:
     """The whole scene: header, rulebooks, signals, monitors, then each vehicle."""
     last = sc.last
     lines = [f"Run {sc.run} at {sc.t_iso} ({sc.offset} from the run start, {sc.run_start_iso})",
-             f"{sc.events} events up to then" + (f"; the last: {last['src']} #{last['seq']}" if last else "")]
+             f"{sc.events} events up to then" + (f"; the last: {last.src} #{last.seq}" if last else "")]
     if sc.note:
         lines.append(f"Note: {sc.note}")
-    books = ", ".join(f"{b.get('name')} ({str(b.get('sha256'))[:12]}…)" for b in sc.rulebooks)
+    books = ", ".join(f"{b.name} ({str(b.sha256)[:12]}…)" for b in sc.rulebooks)
     lines += [f"Rulebooks recorded: {books or 'none'}", ""]
     lines += _signals(sc) + _monitors(sc)
     if not sc.vehicles:
@@ -117,25 +117,21 @@ def _facts(title: str, facts: tuple[SceneFact, ...], sc: Scene) -> list[str]:
 def _control(sc: Scene, c: Control) -> str:
     text = c.in_control
     if c.engaged and c.since:
-        text += f" (engaged since {_offset(sc, c.since['t'])}, {_cite(c.since)})"
+        text += f" (engaged since {_offset(sc, c.since.t)}, {_cite(c.since)})"
     elif c.automated:
         text += " (the self-driving feature is not engaged)"
     if demand := c.transition_demand:
         state = "expired unanswered" if c.transition_demand_expired else "pending"
-        text += f"; transition demand at {_offset(sc, demand['t'])} {state} ({_cite(demand)})"
+        text += f"; transition demand at {_offset(sc, demand.t)} {state} ({_cite(demand)})"
     if c.minimal_risk_manoeuvre:
         text += "; minimal risk manoeuvre in progress"
     return text
 
 
-def _cite(ref: EventRef | Mapping[str, Any], sc: Scene | None = None) -> str:
-    """Where a fact was recorded: an EventRef, or a piece of the folded state ({src, seq, t})."""
-    if isinstance(ref, EventRef):
-        src, seq, t = ref.src, ref.seq, ref.t
-    else:
-        src, seq, t = ref["src"], ref["seq"], ref["t"]
-    where = f"{src} #{seq}"
-    return f"{where}, {_offset(sc, t)}" if sc is not None else where
+def _cite(ref: EventRef | Cited, sc: Scene | None = None) -> str:
+    """Where a fact was recorded: an EventRef, or the fold's citation of a piece of state."""
+    where = f"{ref.src} #{ref.seq}"
+    return f"{where}, {_offset(sc, ref.t)}" if sc is not None else where
 
 
 def _offset(sc: Scene | None, t: int) -> str:

@@ -27,8 +27,8 @@ from store.cache import derived as derived_cache
 
 from .derived import Contradiction
 from .measurement import Measurement
-from .model import (Act, Control, Decision, DerivedFact, Finding, Incident, Liability, Margin, Penalty, Proofs,
-                    RulebookChoice, Scenarios, Source, StageProof)
+from .model import (Act, AdsEvent, Cited, Control, Decision, DerivedFact, Finding, Incident, Liability, Margin,
+                    Penalty, Proofs, RulebookChoice, Scenarios, Source, StageProof)
 from .unforced import Unforced
 
 _ROOT = Path(__file__).resolve().parent.parent
@@ -196,7 +196,7 @@ def _digest(text: str) -> str:
 # reasoner/speedups/kept_verdicts.py).
 _TYPES: dict[str, type] = {cls.__name__: cls for cls in (
     EventRef, DerivedFact, Contradiction, Margin, Measurement, Incident, RulebookChoice, Finding, Penalty, Liability,
-    Control, Decision, Scenarios, StageProof, Proofs, Act, Source, Unforced)}
+    AdsEvent, Cited, Control, Decision, Scenarios, StageProof, Proofs, Act, Source, Unforced)}
 
 
 def encode(value: Any) -> Any:

@@ -19,7 +19,8 @@ from .unforced import Unforced
 # What other rooms take from here (tests/architecture/test_walls.py): the incident and the parts of it
 # explain names (explain/listing.py, explanation_doc.py, scene_text.py, featured.py, act_data.py, the
 # report's rulebooks); the reasoner's own modules use the rest
-__all__ = ["FASTEST_MEASURED", "OWN_RECORD", "Control", "Decision", "Finding", "Incident", "Margin", "Penalty",
+# (Cited: the control status's events, which explain/scene_text.py cites)
+__all__ = ["FASTEST_MEASURED", "OWN_RECORD", "Cited", "Control", "Decision", "Finding", "Incident", "Margin", "Penalty",
            "RulebookChoice", "found_in"]
 
 Tree = Mapping[str, Any]          # a proof tree as DESIGN's JSON
@@ -155,34 +156,87 @@ class Liability:
 
 
 @dataclass(frozen=True)
+class Cited:
+    """An event as the store's fold cites it in a piece of state, {src, seq, t} (store/state.py's
+    `_cite`: the state already says the run, and where the piece sits says the kind). The control
+    status's events and the scene's last event are these; `to_json()` is the fold's own shape."""
+
+    src: str
+    seq: int
+    t: int
+
+    @classmethod
+    def of(cls, piece: Mapping[str, Any] | None) -> Cited | None:
+        """The citation of a piece of folded state (None for none)."""
+        return None if piece is None else cls(piece["src"], piece["seq"], piece["t"])
+
+    def ref(self, run: str | None, kind: str | None) -> EventRef:
+        """The store.EventRef of the event cited, given the run and kind the piece left out."""
+        return EventRef(run, self.src, self.seq, self.t, kind)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"src": self.src, "seq": self.seq, "t": self.t}
+
+
+@dataclass(frozen=True)
+class AdsEvent:
+    """The latest ads.event of a vehicle's control status (control.py): the fold's citation of it
+    and the event it reported, as sent (UN R157 8.2.1's DSSAD event: "activated", ...)."""
+
+    src: str
+    seq: int
+    t: int
+    event: Any
+
+    @classmethod
+    def of(cls, cut: Mapping[str, Any] | None) -> AdsEvent | None:
+        """From control.py's {src, seq, t, event} (None for none)."""
+        return None if cut is None else cls(cut["src"], cut["seq"], cut["t"], cut["event"])
+
+    def ref(self, run: str | None) -> EventRef:
+        """The store.EventRef of this ads.event in `run`."""
+        return EventRef(run, self.src, self.seq, self.t, "ads.event")
+
+    def to_json(self) -> dict[str, Any]:
+        return {"src": self.src, "seq": self.seq, "t": self.t, "event": self.event}
+
+
+def _cited(piece: Cited | None) -> dict[str, Any] | None:
+    return None if piece is None else piece.to_json()
+
+
+@dataclass(frozen=True)
 class Control:
     """Who was in control of the vehicle at the incident (control.py), with the folded ads.event
-    status it was read from; the status pieces are the store's folded state, as recorded."""
+    status it was read from: each status event as the store's fold cites it (`Cited`)."""
 
     in_control: str                 # "driver", "self-driving feature" or "user-in-charge"
     automated: bool
     engaged: bool
     user_in_charge: bool
     no_user_in_charge: bool
-    transition_demand: Mapping[str, Any] | None
+    transition_demand: Cited | None
     transition_demand_expired: bool
-    since: Mapping[str, Any] | None
-    minimal_risk_manoeuvre: Mapping[str, Any] | None
-    failure: Mapping[str, Any] | None
-    last_ads_event: Mapping[str, Any] | None        # {src, seq, t, event}
+    since: Cited | None
+    minimal_risk_manoeuvre: Cited | None
+    failure: Cited | None
+    last_ads_event: AdsEvent | None
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> Control:
         """From control.control_at's answer (the scene shows it as it is)."""
-        return cls(**{name: data[name] for name in cls.__dataclass_fields__})
+        return cls(data["in_control"], data["automated"], data["engaged"], data["user_in_charge"],
+                   data["no_user_in_charge"], Cited.of(data["transition_demand"]), data["transition_demand_expired"],
+                   Cited.of(data["since"]), Cited.of(data["minimal_risk_manoeuvre"]), Cited.of(data["failure"]),
+                   AdsEvent.of(data["last_ads_event"]))
 
     def to_json(self) -> dict[str, Any]:
         return {"in_control": self.in_control, "automated": self.automated, "engaged": self.engaged,
                 "user_in_charge": self.user_in_charge, "no_user_in_charge": self.no_user_in_charge,
-                "transition_demand": self.transition_demand,
-                "transition_demand_expired": self.transition_demand_expired, "since": self.since,
-                "minimal_risk_manoeuvre": self.minimal_risk_manoeuvre, "failure": self.failure,
-                "last_ads_event": self.last_ads_event}
+                "transition_demand": _cited(self.transition_demand),
+                "transition_demand_expired": self.transition_demand_expired, "since": _cited(self.since),
+                "minimal_risk_manoeuvre": _cited(self.minimal_risk_manoeuvre), "failure": _cited(self.failure),
+                "last_ads_event": self.last_ads_event.to_json() if self.last_ads_event else None}
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,6 @@ present at t is an UnknownVehicle error naming the vehicles that are.
 """
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
@@ -33,11 +32,11 @@ from store import EventRef, GapsError, NoSuchRun, State, Store, state_at
 from store.run_map import read_run_map
 
 from .history import control_at
-from .model import Control, Finding, RulebookChoice
+from .model import Cited, Control, Finding, RulebookChoice
 from .history import (Scenario, entity, monitor_scenario, monitors_of, vehicle_action, vehicle_id,
                         vehicle_scenario)
 from .scene_parts import (Lawfulness, MonitorScenarioShown, MonitorShown, PotentialViolation, Reported, RoadUserShown,
-                          SceneFact, SignalShown, ValidatorShown, VehicleShown)
+                          RunRulebook, SceneFact, SignalShown, ValidatorShown, VehicleShown)
 from .when import format_offset, format_time
 
 if TYPE_CHECKING:
@@ -80,9 +79,9 @@ class Scene:
     offset_ns: int
     offset: str
     events: int                       # events of the run up to t
-    last: dict[str, Any] | None       # the last of them: {src, seq, t}
+    last: Cited | None                # the last of them
     note: str | None                  # before the run, after its end, nothing recorded yet
-    rulebooks: list[dict[str, Any]]   # as the run.start recorded them
+    rulebooks: tuple[RunRulebook, ...]  # as the run.start recorded them
     started: EventRef | None          # run.start and run.end
     ended: EventRef | None
     signals: tuple[SignalShown, ...]
@@ -93,8 +92,8 @@ class Scene:
     def to_json(self) -> dict[str, Any]:
         return {"run": self.run, "t": self.t, "t_iso": self.t_iso, "run_start": self.run_start,
                 "run_start_iso": self.run_start_iso, "offset_ns": self.offset_ns, "offset": self.offset,
-                "events": self.events, "last": copy.deepcopy(self.last), "note": self.note,
-                "rulebooks": copy.deepcopy(self.rulebooks),
+                "events": self.events, "last": self.last.to_json() if self.last else None, "note": self.note,
+                "rulebooks": [b.to_json() for b in self.rulebooks],
                 "started": self.started.to_json() if self.started else None,
                 "ended": self.ended.to_json() if self.ended else None,
                 "signals": [s.to_json() for s in self.signals], "monitors": [m.to_json() for m in self.monitors],
@@ -128,7 +127,7 @@ def scene(store: Store, run: str, t: int, vehicle: str | None = None, judge: boo
         offset_ns=t - start,
         offset=format_offset(t - start),
         events=state.events,
-        last=state.last,
+        last=Cited.of(state.last),
         note=_note(state, start, t),
         rulebooks=_rulebooks(start_piece),
         started=EventRef.of(start_piece, run, "run.start") if start_piece else None,
@@ -311,9 +310,9 @@ def _piece(piece: dict | None, run: str, kind: str) -> Reported | None:
     return None if piece is None else Reported(piece["body"], _ref(piece, run, kind))
 
 
-def _rulebooks(start: dict | None) -> list[dict]:
+def _rulebooks(start: dict | None) -> tuple[RunRulebook, ...]:
     books = (start or {}).get("body", {}).get("rulebooks")
-    return [b for b in books if isinstance(b, dict)] if isinstance(books, list) else []
+    return tuple(RunRulebook.of(b) for b in books if isinstance(b, dict)) if isinstance(books, list) else ()
 
 
 def _signals(state: State) -> tuple[SignalShown, ...]:

@@ -9,6 +9,7 @@ keys and their order that the scene printed when its parts were dicts, so that `
 """
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import Any, Mapping
 
@@ -20,6 +21,23 @@ from .model import Control, Decision, Finding, RulebookChoice
 
 def _ref(ref: EventRef | None) -> dict[str, Any] | None:
     return None if ref is None else ref.to_json()
+
+
+@dataclass(frozen=True)
+class RunRulebook:
+    """A rulebook the run.start recorded, as it was recorded: its name and sha256 as sent (a
+    producer may send anything), and the whole entry for the JSON (the scene shows the record)."""
+
+    name: Any
+    sha256: Any
+    entry: Mapping[str, Any]
+
+    @classmethod
+    def of(cls, entry: Mapping[str, Any]) -> RunRulebook:
+        return cls(entry.get("name"), entry.get("sha256"), entry)
+
+    def to_json(self) -> dict[str, Any]:
+        return copy.deepcopy(dict(self.entry))
 
 
 @dataclass(frozen=True)

@@ -64,9 +64,9 @@ def driving_contradicted(vehicle: str, vscen: Scenario, control: Control) -> Fin
     last = control.last_ads_event
     if ref is None or control.engaged or not last:
         return None
-    event = EventRef(ref.run, last["src"], last["seq"], last["t"], "ads.event")
+    event = last.ref(ref.run)
     return Finding("contradiction", f"\"{said}\" was stated ({ref.src} #{ref.seq}), but its ads.event record has the "
-                   f"feature not engaged at the act (last: {last.get('event')}, {last['src']} #{last['seq']})",
+                   f"feature not engaged at the act (last: {last.event}, {last.src} #{last.seq})",
                    (ref, event), fact=said)
 
 
@@ -79,12 +79,12 @@ def dssad_contradicted(case: Case, mscen: Scenario, control: Control) -> tuple[F
     out = []
     said = IS_DRIVING_ITSELF.text(case.vehicle)
     last = control.last_ads_event
-    ads_ref = EventRef(case.run, last["src"], last["seq"], last["t"], "ads.event") if last else None
+    ads_ref = last.ref(case.run) if last else None
     ref = next((ref for text, ref in mscen.facts if text == said and ref is not None
                 and ref.kind == "monitor.observation"), None)
     if ref is not None and not control.engaged:
-        where = (f"its ads.event record has the feature not engaged at the act (last: {last.get('event')}, "
-                 f"{last['src']} #{last['seq']})" if last else "its record has no ads.event: no feature was engaged")
+        where = (f"its ads.event record has the feature not engaged at the act (last: {last.event}, "
+                 f"{last.src} #{last.seq})" if last else "its record has no ads.event: no feature was engaged")
         out.append(Finding("contradiction", f"\"{said}\" was stated by {ref.src} (#{ref.seq}), but {where}",
                            (ref,) + ((ads_ref,) if ads_ref else ()), fact=said))
     spawn = (entity(case.state, case.vehicle) or {}).get("spawn") or {}
@@ -95,8 +95,8 @@ def dssad_contradicted(case: Case, mscen: Scenario, control: Control) -> tuple[F
         spawned = EventRef(case.run, spawn["src"], spawn["seq"], spawn["t"], "entity.spawn")
         out.append(Finding("contradiction", f"its entity.spawn ({spawned.src} #{spawned.seq}) says a human drives it "
                            f"with no automated driving system (automation level {level if level is not None else 'not stated'}), "
-                           f"but its ads.event record has the feature engaged at the act ({last.get('event')}, "
-                           f"{last['src']} #{last['seq']}): who drove is read from the DSSAD record",
+                           f"but its ads.event record has the feature engaged at the act ({last.event}, "
+                           f"{last.src} #{last.seq}): who drove is read from the DSSAD record",
                            (spawned, ads_ref), fact=said))
     return tuple(out)
 
@@ -151,7 +151,7 @@ def evidence(case: Case, mscen: Scenario, vscen: Scenario, decision: Decision | 
     if decision:
         refs.append(decision.evidence)
     if control.last_ads_event:
-        refs.append(EventRef.of(control.last_ads_event, case.run, "ads.event"))
+        refs.append(control.last_ads_event.ref(case.run))
     for f in findings:
         refs += f.evidence
     return oneact.once(refs)

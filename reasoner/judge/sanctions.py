@@ -114,8 +114,8 @@ def control_ref(run: str, control: Control, vscen: Scenario, basis: str) -> Even
     """The event behind a liability fact: the spawn, or an ads.event of the control status."""
     if basis == "spawn":
         return next((ev for _, ev in vscen.facts if ev.kind == "entity.spawn"), None)
-    piece = getattr(control, basis)
-    return EventRef.of(piece, run, "ads.event") if piece else None
+    cited = control.since if basis == "since" else control.transition_demand
+    return cited.ref(run, "ads.event") if cited else None
 
 
 def _num(value: Any) -> float:

@@ -144,7 +144,7 @@ def test_a_vehicle_inside_a_junction_has_no_road_and_none_is_printed():
     v = VehicleShown("124", "car", True, None, state, control, (), None, (),
                      ValidatorShown((), None, None, "spawn only"), None)
     sc = Scene(run="r", t=0, t_iso="", run_start=0, run_start_iso="", offset_ns=0, offset="+0s", events=1,
-               last=None, note=None, rulebooks=[], started=None, ended=None, signals=(), monitors=(),
+               last=None, note=None, rulebooks=(), started=None, ended=None, signals=(), monitors=(),
                vehicles=(v,), road_users=())
     line = vehicle_lines(sc, v)[1]
     assert "None" not in line and line.endswith(", in junction j1 (vehicle/124 #149, +0s)")
@@ -158,7 +158,7 @@ def test_a_signal_in_red_and_amber_is_said_in_words():
     from store import EventRef
     ref = EventRef("r", "signal/j1-west", 3, 0, "signal.state")
     sc = Scene(run="r", t=0, t_iso="", run_start=0, run_start_iso="", offset_ns=0, offset="+0s", events=1,
-               last=None, note=None, rulebooks=[], started=None, ended=None,
+               last=None, note=None, rulebooks=(), started=None, ended=None,
                signals=(SignalShown("j1", "west", "red_amber", ref, ref),), monitors=(), vehicles=(), road_users=())
     text = "\n".join(scene_lines(sc))
     assert "red_amber" not in text and "j1 west: red and amber since" in text

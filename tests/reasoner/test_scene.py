@@ -44,7 +44,7 @@ def at(seconds):
 def test_car_173_at_ten_seconds(store):
     sc = scene(store, RUN, at(10.0))
     assert (sc.t_iso, sc.offset, sc.note) == ("2024-11-21T08:00:10.000Z", "+10s", None)
-    assert [b["name"] for b in sc.rulebooks] == ["paper.le"]
+    assert [b.name for b in sc.rulebooks] == ["paper.le"]
     car = next(v for v in sc.vehicles if v.vehicle == "173").to_json()
     red = next(f for f in car["vehicle_scenario"] if f["fact"] == "173 has red light")
     assert red["evidence"] == {"run": RUN, "src": "vehicle/173", "seq": 2, "t": at(9.5), "kind": "vehicle.perception"}
@@ -135,7 +135,7 @@ def test_vehicles_present_and_the_unknown_vehicle_error(tmp_path):
 
 def test_before_the_run_start_the_scene_is_empty_and_says_so(store):
     sc = scene(store, RUN, at(-1))
-    assert sc.events == 0 and sc.vehicles == () and sc.signals == () and sc.rulebooks == []
+    assert sc.events == 0 and sc.vehicles == () and sc.signals == () and sc.rulebooks == ()
     assert sc.offset == "-1s" and "nothing was recorded yet" in sc.note
     assert "after the run ended" in scene(store, RUN, at(61)).note
 

@@ -10,7 +10,8 @@ import pytest
 
 from reasoner.investigation import Investigation
 from reasoner.scene import scene
-from reasoner.scene_parts import MonitorShown, SignalShown, VehicleShown
+from reasoner.model import AdsEvent, Cited
+from reasoner.scene_parts import MonitorShown, RunRulebook, SignalShown, VehicleShown
 from sim_replay.paper import RUN, SECOND, T0, paper_run
 from store import EventRef, Store
 
@@ -56,3 +57,22 @@ def test_the_parts_are_frozen_values_read_by_attribute(stores):
     assert validator.judged.lawful is False and validator.judged.lawful_on_its_own_view is True
     assert validator.judged.rulebook.name == "paper.le"
     assert sc.signals[0].since.kind == "signal.state"
+
+
+def test_the_last_event_the_rulebooks_and_the_control_status_are_values(stores):
+    """At 25 s car 300's feature is engaged since its ads.event seq 1 (2 s) and a transition demand
+    (seq 2, 20 s) is pending (tests/reasoner/test_scene.py's av_events); the last event folded is
+    that demand, and the run.start recorded paper.le. Each is read by attribute; the JSON is the
+    fold's {src, seq, t} and the rulebook entry as recorded (test above)."""
+    store, inv = stores["av"]
+    sc = scene(store, RUN, T0 + 25 * SECOND, investigation=inv)
+    assert sc.last == Cited("vehicle/300", 2, T0 + 20 * SECOND)
+    assert [(type(b), b.name) for b in sc.rulebooks] == [(RunRulebook, "paper.le")]
+    control = next(v.control for v in sc.vehicles if v.vehicle == "300")
+    assert control.since == Cited("vehicle/300", 1, T0 + 2 * SECOND)
+    assert control.transition_demand == Cited("vehicle/300", 2, T0 + 20 * SECOND)
+    assert control.transition_demand.ref(RUN, "ads.event") == EventRef(RUN, "vehicle/300", 2, T0 + 20 * SECOND,
+                                                                      "ads.event")
+    assert control.to_json()["since"] == {"src": "vehicle/300", "seq": 1, "t": T0 + 2 * SECOND}
+    assert control.last_ads_event == AdsEvent("vehicle/300", 2, T0 + 20 * SECOND, "transition_demand")
+    assert control.last_ads_event.ref(RUN).kind == "ads.event"
