@@ -108,9 +108,9 @@ def bench_format(source: Path, folder: Path, fmt: str, events: int, repeat: int,
         def load(i: int) -> None:
             with Store(folder / f"import-{name}-{durable}-{i}.db", durable=durable) as target:
                 report = import_file(target, out)
-            assert report.stored == events and report.rejected == 0, report.as_dict()
+            assert report.stored == events and report.rejected == 0, report.to_json()
             if report.chains:
-                assert report.chains[0]["match"] is True, report.chains
+                assert report.chains[0].match is True, report.chains
         results[f"import_{'full' if durable else 'fast'}_s"] = timed(load, repeat)
     return results
 

@@ -42,7 +42,7 @@ def replay(
     try:
         if file is not None:
             with recording(file) as (store, imported):
-                out = _send(store, run, wire, pace, imported.as_dict())
+                out = _send(store, run, wire, pace, imported.to_json())
         else:
             with open_existing(db) as store:
                 out = _send(store, run, wire, pace, None)

@@ -113,7 +113,7 @@ def _print_anchors(against: Optional[Path], outcomes: list, keyed) -> None:
                        f"one and every checkpoint since a run's first signed head is ({keyed.unsigned_before:,} "
                        "before those unsigned)")
         else:
-            typer.echo(f"CHECKPOINT KEY {keyed.key} FAILED: {printable(keyed.problem['what'])}")
+            typer.echo(f"CHECKPOINT KEY {keyed.key} FAILED: {printable(keyed.problem.what)}")
         if keyed.absent:
             shown = ", ".join(printable(name) for name in keyed.absent[:10]) + (" ..." if len(keyed.absent) > 10
                                                                                   else "")

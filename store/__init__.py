@@ -50,9 +50,9 @@ __all__ = [
 
 # The face's functions that read or write a store file speak the store's errors, as Store's methods
 # do (store/sqlite_errors.py): a caller in another room never meets sqlite3's. The faces of the
-# store's parts wrap theirs the same way (store/cache, store/transfer); the `derived` and
-# `kept_recording` modules that store.cache hands out are not wrapped: the command line's net
-# (`translating`) covers what they let through.
+# store's parts wrap theirs the same way (store/cache, store/transfer), the `derived` and
+# `kept_recording` modules that store.cache hands out wrap their own functions, and a Timeline
+# its methods (docs/guarantees.md, tests/store/test_store_cache_wall.py).
 from .sqlite_errors import translates as _translates
 
 for _name in ("check_store", "entity_since", "migrate_copy", "state_at", "state_of"):

@@ -17,6 +17,7 @@ from __future__ import annotations
 from typing import Any
 
 from .db import Store
+from .sqlite_errors import translate_methods
 from .state import CollectorPaused, fold_at, fold_rows, prune
 from .state_value import State
 
@@ -29,6 +30,7 @@ _AFTER = f"SELECT src, seq, t, kind, event {_WHERE} ORDER BY t, seq, src"
 _HOW_FAR = f"SELECT count(*) FROM (SELECT 1 {_WHERE} LIMIT ?)"
 
 
+@translate_methods     # it reads the store itself: its callers meet the store's errors, never sqlite3's
 class Timeline:
     """The states of one run at rising times."""
 

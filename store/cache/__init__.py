@@ -26,9 +26,11 @@ __all__ = [
     "kept_recording", "sources_near", "unread_caches", "unwritten_caches",
 ]
 
-# Its functions that read or write a store file speak the store's errors (store/sqlite_errors.py).
+# Its functions that read or write a store file speak the store's errors (store/sqlite_errors.py);
+# `derived` and `kept_recording` wrap their own functions the same way.
 from ..sqlite_errors import translates as _translates
 
-for _name in ("build_snapshots", "cache_tampering", "check_presence", "check_snapshots", "sources_near"):
+for _name in ("build_snapshots", "cache_tampering", "check_presence", "check_snapshots", "enable_snapshots",
+              "sources_near"):
     globals()[_name] = _translates(globals()[_name])
 del _name

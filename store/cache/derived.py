@@ -18,6 +18,7 @@ from __future__ import annotations
 import sqlite3
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
+from ..sqlite_errors import translates
 from .file import rollback
 if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
     from ..db import Store
@@ -27,6 +28,7 @@ TABLE = "derived"
 MAX_PAYLOAD = 4 << 20           # an entry larger than this is not kept (recomputed instead)
 
 
+@translates             # like the rest of the store's faces: sqlite3's errors leave as StoreFault
 def current_chain(store: Store, run: str) -> ChainKey:
     """The run's chain as stored now (Store.chain_tip): what every entry is kept under."""
     return store.chain_tip(run)
@@ -61,6 +63,7 @@ class Sealed:
         return payload
 
 
+@translates
 def load(store: Store, run: str, kind: str, version: str, chain: ChainKey, *, by_key: bool = False) -> Sealed:
     """The run's entries of this kind and version derived from exactly this chain, by key; each
     one whose seal does not open is left out when asked for (and counted by the cache's sealer).
@@ -71,6 +74,7 @@ def load(store: Store, run: str, kind: str, version: str, chain: ChainKey, *, by
     if not store.cache.exists():
         return Sealed({}, None, where)
     if by_key:
+        @translates     # called later, from Sealed.get: its errors are the store's too
         def fetch(key: str) -> tuple[str, bytes] | None:
             return store.cache.connection.execute(
                 "SELECT payload, mac FROM derived WHERE run = ? AND kind = ? AND version = ? AND key = ? "
@@ -82,6 +86,7 @@ def load(store: Store, run: str, kind: str, version: str, chain: ChainKey, *, by
     return Sealed({key: (payload, mac) for key, payload, mac in rows}, store.cache.sealer, where)
 
 
+@translates
 def save(store: Store, run: str, kind: str, version: str, chain: ChainKey, entries: Mapping[str, str]) -> bool:
     """Keep these entries for the chain they were derived from, replacing the run's entries of
     this kind derived from any other chain or version, provided the run's chain is still that
@@ -106,6 +111,7 @@ def save(store: Store, run: str, kind: str, version: str, chain: ChainKey, entri
         return False
 
 
+@translates
 def tampered_derived(store: Store, run: str) -> list[str]:
     """"kind key" of each of the run's entries whose seal does not open (for `gaps verify`)."""
     if not store.cache.exists():

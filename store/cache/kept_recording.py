@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Collection, Iterator
 
+from ..sqlite_errors import translates
 from .file import Cache
 if TYPE_CHECKING:                       # annotations only: the store's faces load before db is done
     from ..db import Store
@@ -113,6 +114,7 @@ class KeptImport:
                    rejected, cut)
 
 
+@translates             # like the rest of the store's faces: sqlite3's errors leave as StoreFault
 def keep(store: Store, digest: str, version: str, rejected: int, cut: bool) -> bool:
     """After the recording imported into `store` was judged (its cache file is cache_file(digest)):
     keep its small part, sealed, then trim the folder. False when nothing was kept (the cache is
@@ -136,6 +138,7 @@ def keep(store: Store, digest: str, version: str, rejected: int, cut: bool) -> b
     return True
 
 
+@translates
 def open_kept(digest: str, version: str) -> KeptRecording | None:
     """The recording of this digest as kept by this version of the code, or None (never kept,
     kept by other code, or its seal does not open)."""

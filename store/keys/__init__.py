@@ -11,7 +11,7 @@ other rooms import from here (`from store.keys import X`), never from a module i
     trust_root  what decides, from outside the store file, whether a run is as signed
     anchors     a store checked against what is kept outside it
 """
-from .anchors import AnchorReport, RunProof
+from .anchors import AnchorReport, HeadOutcome, KeyCheck, KeyedRun, KeyProblem, RunProof
 from .files import PUBLIC_KEYS_FILE, KeyFolder, KeysError, Signer, TrustedKeys
 from .signatures import SIG_FIELD, key_id, sign_event, signed_bytes
 from .tree_heads import CheckpointKey, TreeHead, load_public, public_path_of
@@ -19,7 +19,8 @@ from .trust_root import recorded_heads
 from .witness import WitnessError, WitnessFile, read_heads
 
 __all__ = [
-    "AnchorReport", "CheckpointKey", "KeyFolder", "KeysError", "PUBLIC_KEYS_FILE", "RunProof", "SIG_FIELD", "Signer",
+    "AnchorReport", "CheckpointKey", "HeadOutcome", "KeyCheck", "KeyFolder", "KeyProblem", "KeyedRun", "KeysError",
+    "PUBLIC_KEYS_FILE", "RunProof", "SIG_FIELD", "Signer",
     "TreeHead", "TrustedKeys", "WitnessError", "WitnessFile", "key_id", "load_public", "public_path_of",
     "read_heads", "recorded_heads", "sign_event", "signed_bytes",
 ]

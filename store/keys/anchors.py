@@ -209,6 +209,42 @@ def _judge(head: TreeHead, roots: dict[int, bytes], stored: int,
 
 
 @dataclass(frozen=True)
+class KeyProblem:
+    """The first thing wrong under the key: the run (None: the store holds none), the checkpoint's
+    count where there is one, and what is wrong."""
+
+    run: str | None
+    count: Any                  # as stored: an int, unless the file holds something else there
+    what: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"run": self.run, "count": self.count, "what": self.what}
+
+
+@dataclass(frozen=True)
+class KeyedRun:
+    """What the key proves of one run: of its `events`, those its latest signed checkpoint covers
+    (`signed_through`), from which size every checkpoint must be signed (`since`) and whether the
+    key file said so (`recorded`), the checkpoints signed and those before the first signed one;
+    ok, or `what` is wrong."""
+
+    run: str
+    events: int
+    signed_through: int
+    since: Any                  # a checkpoint's count as stored (an int), or None
+    recorded: bool
+    signed: int
+    unsigned_before: int
+    ok: bool
+    what: str | None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"run": self.run, "events": self.events, "signed_through": self.signed_through, "since": self.since,
+                "recorded": self.recorded, "signed": self.signed, "unsigned_before": self.unsigned_before,
+                "ok": self.ok, "what": self.what}
+
+
+@dataclass(frozen=True)
 class KeyCheck:
     """What `--key` found: signed checkpoints, and the first that should have been signed and is not.
 
@@ -222,12 +258,14 @@ class KeyCheck:
     signed: int
     unsigned_before: int        # checkpoints before a run's first signed one (not demanded)
     ok: bool
-    problem: dict[str, Any] | None
-    runs: tuple[dict[str, Any], ...] = ()
+    problem: KeyProblem | None
+    runs: tuple[KeyedRun, ...] = ()
     absent: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return {**asdict(self), "runs": list(self.runs), "absent": list(self.absent)}
+        return {"key": self.key, "signed": self.signed, "unsigned_before": self.unsigned_before, "ok": self.ok,
+                "problem": None if self.problem is None else self.problem.to_json(),
+                "runs": [run.to_json() for run in self.runs], "absent": list(self.absent)}
 
 
 _KEY_ROWS = ("SELECT count, head, merkle_root, prev_count, created_at, signature, key_id, wire FROM checkpoints "
@@ -266,7 +304,7 @@ def check_checkpoint_key(conn: sqlite3.Connection, public: bytes, run: str | Non
             wired += [head for head in found.heads if head.wire]
     if not names:
         what = f"no checkpoint is signed by key {kid}: the store holds no run"
-        return KeyCheck(kid, 0, 0, False, {"run": None, "count": None, "what": what}, (), absent)
+        return KeyCheck(kid, 0, 0, False, KeyProblem(None, None, what), (), absent)
     problem = problem or _wire_problem(conn, wired, kid)
     return KeyCheck(kid, signed, unsigned_before, problem is None, problem, tuple(runs), absent)
 
@@ -288,18 +326,17 @@ class _KeyRun:
     unsigned_before: int = 0
     signed_through: int = 0
     heads: list[TreeHead] = field(default_factory=list)
-    problem: dict[str, Any] | None = None
+    problem: KeyProblem | None = None
 
     def fail(self, count: Any, what: str) -> _KeyRun:
         name = self.run if isinstance(self.run, str) else repr(self.run)
-        self.problem = {"run": name, "count": count, "what": f"run {name}: {what}"}
+        self.problem = KeyProblem(name, count, f"run {name}: {what}")
         return self
 
-    def summary(self) -> dict[str, Any]:
-        return {"run": self.run if isinstance(self.run, str) else repr(self.run), "events": self.events,
-                "signed_through": self.signed_through, "since": self.since, "recorded": self.recorded,
-                "signed": self.signed, "unsigned_before": self.unsigned_before, "ok": self.problem is None,
-                "what": None if self.problem is None else self.problem["what"]}
+    def summary(self) -> KeyedRun:
+        return KeyedRun(self.run if isinstance(self.run, str) else repr(self.run), self.events, self.signed_through,
+                        self.since, self.recorded, self.signed, self.unsigned_before, self.problem is None,
+                        None if self.problem is None else self.problem.what)
 
 
 def _key_run(conn: sqlite3.Connection, run: Any, public: bytes, recorded: list[TreeHead]) -> _KeyRun:
@@ -357,16 +394,16 @@ def _recorded_size(run: Any, rows: list[tuple], public: bytes, recorded: list[Tr
     return None
 
 
-def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> dict[str, Any] | None:
+def _wire_problem(conn: sqlite3.Connection, heads: list[TreeHead], kid: str) -> KeyProblem | None:
     """The first signed checkpoint (in the order written) whose wire tables' or rulebooks' ends the
     store no longer holds, as a KeyCheck problem; None if every one holds."""
     problems = wire_ends.problems(conn, [end for head in heads for end in head.wire or ()])
     for head in heads:
         problem = wire_ends.first_problem(problems, head.wire or ())
         if problem is not None:
-            return {"run": head.run, "count": head.size,
-                    "what": f"the checkpoint of {head.size} events of run {head.run}, signed by key {kid}, records "
-                            f"{wire_ends.recorded_as(problem[0])}, and {problem[1]} ({problem[0]})"}
+            return KeyProblem(head.run, head.size,
+                              f"the checkpoint of {head.size} events of run {head.run}, signed by key {kid}, records "
+                              f"{wire_ends.recorded_as(problem[0])}, and {problem[1]} ({problem[0]})")
     return None
 
 
@@ -415,10 +452,10 @@ def prove_runs(conn: sqlite3.Connection, run: str | None, heads: Sequence[TreeHe
             witnessed[head.run] = max(witnessed.get(head.run, 0), head.size)
         else:
             failed.setdefault(head.run, f"the witness's head of {head.size} events: {outcome.what}")
-    by_key = {entry["run"]: entry for entry in (keyed.runs if keyed is not None else ())}
+    by_key = {entry.run: entry for entry in (keyed.runs if keyed is not None else ())}
     for entry in by_key.values():
-        if not entry["ok"]:
-            failed.setdefault(entry["run"], entry["what"])
+        if not entry.ok:
+            failed.setdefault(entry.run, cast(str, entry.what))   # a run not ok says what is wrong
     if run is not None:
         names = [run]
     else:
@@ -430,7 +467,7 @@ def prove_runs(conn: sqlite3.Connection, run: str | None, heads: Sequence[TreeHe
         events = last + 1 if isinstance(last, int) else 0
         seen = witnessed.get(name, 0) if witness else None
         keyed_run = by_key.get(name)
-        signed = None if keyed is None else (keyed_run["signed_through"] if keyed_run and keyed_run["ok"] else 0)
+        signed = None if keyed is None else (keyed_run.signed_through if keyed_run and keyed_run.ok else 0)
         proven = max(seen or 0, signed or 0)
         what = failed.get(name)
         if what is None and proven < events:

@@ -22,13 +22,16 @@ from .jsonl import export_jsonl, import_jsonl
 from .mcap_in import import_mcap
 from .mcap_out import export_mcap
 from .mcap_record import Recorder
-from .outcomes import ExportReport, ImportReport
-from .rows import ORDERS
+from .chain_check import ChainResult, Mismatch
+from .mcap_records import Cut, Damage
+from .outcomes import ExportReport, ImportReport, Rejection, Skip, Truncation
+from .rows import ORDERS, Order
 
 DEFAULT_ORDER = {"jsonl": "chain", "mcap": "chain"}
 
-__all__ = ["DEFAULT_ORDER", "FORMATS", "ORDERS", "ExportReport", "ImportReport", "Recorder", "TransferError",
-           "check_source", "export_run", "format_of", "import_file"]
+__all__ = ["DEFAULT_ORDER", "FORMATS", "ORDERS", "ChainResult", "Cut", "Damage", "ExportReport", "ImportReport",
+           "Mismatch", "Order", "Recorder", "Rejection", "Skip", "TransferError", "Truncation", "check_source",
+           "export_run", "format_of", "import_file"]
 
 
 def check_source(path: str | Path, fmt: str | None = None) -> tuple[Path, str]:

@@ -19,6 +19,47 @@ from .rows import chain_head
 RUN_METADATA = "gaps.run"
 CHECKPOINT_METADATA = "gaps.checkpoint"
 
+@dataclass(frozen=True)
+class Mismatch:
+    """The first checkpoint the file's own events do not reach: after `count` events the export
+    recorded `exported_head`, the file's events give `file_head`."""
+
+    count: int
+    exported_head: str
+    file_head: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"count": self.count, "exported_head": self.exported_head, "file_head": self.file_head}
+
+
+@dataclass(frozen=True)
+class ChainResult:
+    """One run the file declared: does the file, and does the store now, hold the exported chain?
+    `match` is None when the file is in time order (it rebuilds the events, not the chain);
+    `chain_order` says why the file's chain order was not followed to the end, if it was not."""
+
+    run: str
+    order: str                      # "chain" or "time" as the file says: read from it, it may be any word
+    exported_events: int | None
+    exported_head: str | None
+    file_events: int | None
+    file_head: str | None
+    checkpoints: int
+    checkpoints_matched: int
+    first_mismatch: Mismatch | None
+    store_head: str | None
+    malformed_metadata: int
+    match: bool | None
+    chain_order: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        out = {"run": self.run, "order": self.order, "exported_events": self.exported_events,
+               "exported_head": self.exported_head, "file_events": self.file_events, "file_head": self.file_head,
+               "checkpoints": self.checkpoints, "checkpoints_matched": self.checkpoints_matched,
+               "first_mismatch": None if self.first_mismatch is None else self.first_mismatch.to_json(),
+               "store_head": self.store_head, "malformed_metadata": self.malformed_metadata, "match": self.match}
+        return out if self.chain_order is None else {**out, "chain_order": self.chain_order}
+
 
 @dataclass
 class _Chain:
@@ -28,7 +69,7 @@ class _Chain:
     count: int = 0
     head: bytes = GENESIS
     matched: int = 0
-    first_mismatch: dict[str, Any] | None = None
+    first_mismatch: Mismatch | None = None
     malformed: int = 0
     order: str = "chain"  # a file written in time order does not rebuild the chain
 
@@ -66,31 +107,20 @@ class ChainCheck:
         if expected == chain.head.hex():
             chain.matched += 1
         elif chain.first_mismatch is None:
-            chain.first_mismatch = {"count": chain.count, "exported_head": expected, "file_head": chain.head.hex()}
+            chain.first_mismatch = Mismatch(chain.count, expected, chain.head.hex())
 
-    def results(self, store: Store) -> list[dict[str, Any]]:
+    def results(self, store: Store) -> list[ChainResult]:
         """Per declared run: does the file, and does the store now, hold the exported chain?"""
         return [self._result(store, run, chain) for run, chain in sorted(self._runs.items())]
 
     @staticmethod
-    def _result(store: Store, run: str, chain: _Chain) -> dict[str, Any]:
+    def _result(store: Store, run: str, chain: _Chain) -> ChainResult:
         store_head = chain_head(store, run)
         file_head = chain.head.hex() if chain.count else None
         whole = chain.count == chain.exported_events and file_head == chain.exported_head
         comparable = chain.order == "chain"
-        return {
-            "run": run,
-            "order": chain.order,
-            "exported_events": chain.exported_events,
-            "exported_head": chain.exported_head,
-            "file_events": chain.count if comparable else None,
-            "file_head": file_head,
-            "checkpoints": len(chain.checkpoints),
-            "checkpoints_matched": chain.matched,
-            "first_mismatch": chain.first_mismatch,
-            "store_head": store_head,
-            "malformed_metadata": chain.malformed,
-            # None: not comparable, the file is in time order and rebuilds the events, not the chain
-            "match": (whole and chain.first_mismatch is None and store_head == chain.exported_head)
-            if comparable else None,
-        }
+        # None: not comparable, the file is in time order and rebuilds the events, not the chain
+        match = (whole and chain.first_mismatch is None and store_head == chain.exported_head) if comparable else None
+        return ChainResult(run, chain.order, chain.exported_events, chain.exported_head,
+                           chain.count if comparable else None, file_head, len(chain.checkpoints), chain.matched,
+                           chain.first_mismatch, store_head, chain.malformed, match)

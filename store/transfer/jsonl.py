@@ -20,7 +20,7 @@ from .atomic import replacing
 from .errors import TransferError
 from .feed import feed
 from .outcomes import ExportReport, ImportReport
-from .rows import run_summary, stored_rows
+from .rows import order_of, run_summary, stored_rows
 from .whole_run import WholeRun
 
 KEEP_BYTES = 16 * MAX_EVENT_BYTES  # how much of an over-size line quarantine keeps
@@ -107,7 +107,7 @@ def export_jsonl(
 ) -> ExportReport:
     """Write the run's events, one canonical JSON line each, in time or chain order."""
     run_summary(store, run)  # an unknown run is an error, not an empty file
-    report = ExportReport(str(path), "jsonl", run, order)
+    report = ExportReport(str(path), "jsonl", run, order_of(order))
     with one_snapshot(store.connection), replacing(path, [store.path]) as out:
         whole = WholeRun.of(store, run, order)
         for row in stored_rows(store, run, order):

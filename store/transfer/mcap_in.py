@@ -19,7 +19,7 @@ carry the exact schemas, newer ones viewer-safe copies).
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable, Iterator, cast
 
@@ -29,12 +29,12 @@ from ..db import Store
 from ..envelope import key_for
 from ..intake import Candidate, from_raw
 from . import chain_order
-from .chain_check import ChainCheck
+from .chain_check import ChainCheck, ChainResult
 from .errors import TransferError
 from .feed import feed
 from .foxglove_channels import DERIVED_MARK
-from .mcap_records import Located, RecordReader
-from .outcomes import ImportReport
+from .mcap_records import Damage, Located, RecordReader
+from .outcomes import ImportReport, Truncation
 
 _EVENT_TOPIC_PREFIX = "gaps/"
 
@@ -106,8 +106,8 @@ class _Messages:
         try:
             self.reorder.expect(chain_order.decode(record.data))
         except ValueError as exc:
-            self.reader.damaged.append({"offset": located.offset, "record": f"Attachment {record.name}",
-                                        "reason": f"{exc}; the events are imported in file order"})
+            self.reader.damaged.append(Damage(located.offset, f"Attachment {record.name}",
+                                              f"{exc}; the events are imported in file order"))
 
     def _message(self, located: Located, message: Message) -> Candidate | None:
         offset, in_chunk, _ = located
@@ -147,12 +147,15 @@ def import_mcap(store: Store, path: Path, report: ImportReport, progress: Progre
         after = None if progress is None else (lambda: progress(reader.position))
         feed(store, messages.candidates(), report, after_batch=after)
     report.damaged.extend(reader.damaged)
-    report.chains.extend(chains.results(store))
-    for result in report.chains:
-        if result["run"] in messages.reorder.abandoned:
-            result["chain_order"] = ("not followed to the end: an event it lists is missing from the file, or "
-                                     f"more than {messages.reorder.max_held} events came before their turn; "
-                                     "the rest of the run was imported in file order")
+    report.chains.extend(_abandoned(result, messages.reorder) for result in chains.results(store))
     if reader.cut is not None:
-        report.truncated = {**reader.cut.as_dict(), "messages_read": messages.messages,
-                            "stored": report.stored}
+        report.truncated = Truncation(reader.cut, messages.messages, report.stored)
+
+
+def _abandoned(result: ChainResult, reorder: chain_order.Reorder) -> ChainResult:
+    """The run's chain check, saying so if its chain order was not followed to the end."""
+    if result.run not in reorder.abandoned:
+        return result
+    return replace(result, chain_order=("not followed to the end: an event it lists is missing from the file, "
+                                        f"or more than {reorder.max_held} events came before their turn; "
+                                        "the rest of the run was imported in file order"))

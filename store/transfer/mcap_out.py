@@ -39,7 +39,7 @@ from .chain_check import CHECKPOINT_METADATA, RUN_METADATA
 from .foxglove_channels import DERIVED_MARK, ENCODING, TOPICS
 from .message_schema import schema_bytes as event_schema_bytes
 from .outcomes import ExportReport
-from .rows import Row, chain_head, chain_keys, run_summary, stored_rows
+from .rows import Row, chain_head, chain_keys, order_of, run_summary, stored_rows
 from .whole_run import WholeRun
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
@@ -218,7 +218,7 @@ def export_mcap(
     events between stores (ingest to ingest) can do without it. order="chain" lets an import
     rebuild the chain; order="time" appends the events in time order on import."""
     run_summary(store, run)  # an unknown run is an error before any file is created
-    report = ExportReport(str(path), "mcap", run, order)
+    report = ExportReport(str(path), "mcap", run, order_of(order))
     with one_snapshot(store.connection), replacing(path, [store.path]) as stream:
         whole = WholeRun.of(store, run, "time")  # the events are written in time order
         writer = Writer(stream, chunk_size=chunk_size, compression=COMPRESSIONS[compression])

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import struct
 import zlib
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from io import BytesIO
 from typing import Any, BinaryIO, Callable, Iterator, NamedTuple
 
@@ -62,7 +62,7 @@ def opcode_name(opcode: int) -> str:
         return f"unknown record (opcode 0x{opcode:02x})"
 
 
-@dataclass
+@dataclass(frozen=True)
 class Cut:
     """Where the readable part of a file ends. `offset` is the first byte not read as a whole
     record; `record` and `declared` describe the record that starts there, when its frame was
@@ -76,8 +76,21 @@ class Cut:
     declared: int | None = None
     data_complete: bool = False
 
-    def as_dict(self) -> dict[str, Any]:
-        return {**asdict(self), "unreadable_bytes": self.file_size - self.offset}
+    @property
+    def unreadable_bytes(self) -> int:
+        return self.file_size - self.offset
+
+
+@dataclass(frozen=True)
+class Damage:
+    """A record that could not be read and was read past: where it starts, what it was, why."""
+
+    offset: int
+    record: str
+    reason: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"offset": self.offset, "record": self.record, "reason": self.reason}
 
 
 class Located(NamedTuple):
@@ -95,7 +108,7 @@ class RecordReader:
     name: str
     position: int = 0
     cut: Cut | None = None
-    damaged: list[dict[str, Any]] = field(default_factory=list)
+    damaged: list[Damage] = field(default_factory=list)
     data_ended: bool = False
     budget: Budget = field(init=False)
 
@@ -185,7 +198,7 @@ class RecordReader:
                                           f"log times {chunk.message_start_time}..{chunk.message_end_time}): {exc}")
 
     def _damage(self, offset: int, record: str, reason: str) -> None:
-        self.damaged.append({"offset": offset, "record": record, "reason": reason})
+        self.damaged.append(Damage(offset, record, reason))
 
     def _read_closing_magic(self) -> None:
         end = self.stream.read(len(MAGIC))

@@ -12,14 +12,24 @@ only when the run was stored in time order.
 
 from __future__ import annotations
 
-from typing import Iterator, NamedTuple
+from typing import Iterator, Literal, NamedTuple
 
 from ..db import Store
 from ..run_summary import RunSummary
 from .errors import TransferError
 
-ORDERS = ("time", "chain")
+Order = Literal["time", "chain"]
+"""The order an export writes a run's events in, and a re-import appends them in."""
+ORDERS: tuple[Order, ...] = ("time", "chain")
 _ORDER_BY = {"time": "t, seq, src", "chain": "chain_pos"}
+
+
+def order_of(name: str) -> Order:
+    """The order of this name, or a TransferError naming the orders there are."""
+    for order in ORDERS:
+        if name == order:
+            return order
+    raise TransferError(f"unknown order {name!r}: use one of {', '.join(ORDERS)}")
 
 
 class Row(NamedTuple):
@@ -32,8 +42,7 @@ class Row(NamedTuple):
 
 def stored_rows(store: Store, run: str, order: str) -> Iterator[Row]:
     """Stream the run's events as rows; both orders are index scans, nothing is sorted in memory."""
-    if order not in _ORDER_BY:
-        raise TransferError(f"unknown order {order!r}: use one of {', '.join(ORDERS)}")
+    order = order_of(order)
     cursor = store.connection.execute(
         f"SELECT src, seq, t, kind, event FROM events WHERE run = ? ORDER BY {_ORDER_BY[order]}", (run,)
     )

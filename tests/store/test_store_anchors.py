@@ -127,7 +127,7 @@ def test_a_forged_tail_with_a_checkpoint_over_it_is_refused_with_the_key(tmp_pat
         assert store.verify().ok
         _, keyed = store.check_anchors((), key.public, recorded=recorded_heads(key.public_file(), key.public))
     assert not keyed.ok and "the checkpoint of 8 events is unsigned; the key file records the run's first signed " \
-        "head there" in keyed.problem["what"]
+        "head there" in keyed.problem.what
 
 
 def test_nulled_merkle_roots_under_a_raised_legacy_flag_fail_verify(tmp_path, key):
@@ -150,7 +150,7 @@ def test_nulled_merkle_roots_under_a_raised_legacy_flag_fail_verify(tmp_path, ke
     with Store.open_read_only(everything) as store:
         assert store.verify().ok  # nothing in the file tells: the key and the witness do
         outcomes, keyed = store.check_anchors(heads, key.public)
-    assert not keyed.ok and "no checkpoint is signed" in keyed.problem["what"]
+    assert not keyed.ok and "no checkpoint is signed" in keyed.problem.what
     assert all(o.ok for o in outcomes)  # the events are the originals
 
 
@@ -223,4 +223,4 @@ def test_signing_begins_where_the_key_first_signs(tmp_path, key):
                 "WHERE id = 2", ()))
     with Store.open_read_only(db) as store:
         _, keyed = store.check_anchors((), key.public)
-    assert not keyed.ok and "unsigned" in keyed.problem["what"]
+    assert not keyed.ok and "unsigned" in keyed.problem.what

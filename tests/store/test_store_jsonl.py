@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from store import MAX_EVENT_BYTES, EventError, Store, canonical_json, decode_event
-from store.transfer import TransferError, export_run, import_file
+from store.transfer import Skip, TransferError, export_run, import_file
 from store.transfer.feed import BATCH
 from store.transfer.jsonl import KEEP_BYTES, read_lines
 from tests.helpers.store_testkit import event
@@ -68,13 +68,13 @@ def test_each_bad_line_is_quarantined_with_its_bytes_line_and_reason(store, tmp_
     report = import_file(store, path)
 
     assert (report.stored, report.duplicates, report.rejected, report.skipped) == (3, 0, len(BAD_LINES), 2)
-    assert report.skips == {"blank lines": {"count": 2, "reason": "a blank line holds no event"}}
+    assert report.skips == {"blank lines": Skip("blank lines", 2, "a blank line holds no event")}
     quarantined = store.quarantined()
     assert [q["raw"] for q in quarantined] == list(BAD_LINES.values())
     for number, (name, q) in enumerate(zip(BAD_LINES, quarantined), start=2):
         assert q["origin"] == f"{path}:{number}"
         assert EXPECTED_REASON[name] in q["reason"], (name, q["reason"])
-    assert [d["origin"] for d in report.details] == [q["origin"] for q in quarantined]
+    assert [d.origin for d in report.details] == [q["origin"] for q in quarantined]
     assert [e["seq"] for e in store.events("r1", srcs=["vehicle/9"])] == [0, 1, 2]
 
 
@@ -84,8 +84,8 @@ def test_duplicates_are_counted_and_conflicts_refused(store, tmp_path):
     path = write_lines(tmp_path / "dups.jsonl", [line_of(original), line_of(original), line_of(conflicting)])
     report = import_file(store, path)
     assert (report.stored, report.duplicates, report.rejected) == (1, 1, 1)
-    assert "conflicting duplicate of r1/vehicle/173/0" in report.details[0]["reason"]
-    assert report.details[0]["origin"] == f"{path}:3"
+    assert "conflicting duplicate of r1/vehicle/173/0" in report.details[0].reason
+    assert report.details[0].origin == f"{path}:3"
 
 
 def test_over_size_line_is_quarantined_whole_and_the_next_line_imported(store, tmp_path):

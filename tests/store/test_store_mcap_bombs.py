@@ -52,7 +52,7 @@ from store.transfer import import_file
 started = time.monotonic()
 with Store(sys.argv[2]) as store:
     report = import_file(store, sys.argv[1])
-    print(json.dumps({"stored": report.stored, "damaged": report.damaged, "count": store.count(),
+    print(json.dumps({"stored": report.stored, "damaged": [d.to_json() for d in report.damaged], "count": store.count(),
                       "seconds": time.monotonic() - started,
                       "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
@@ -97,7 +97,7 @@ def test_a_file_may_decompress_only_to_a_multiple_of_its_size(tmp_path, monkeypa
     with Store(tmp_path / "gaps.db") as store:
         report = import_file(store, write(tmp_path / "many.mcap", data))
         assert report.stored == store.count() == 20
-    refused = {d["offset"]: d["reason"] for d in report.damaged}
+    refused = {d.offset: d.reason for d in report.damaged}
     assert "opcode 0x00" in refused[offsets[0]] and "opcode 0x00" in refused[offsets[1]]
     assert "the file's chunks may produce only" in refused[offsets[2]]
 

@@ -16,7 +16,7 @@ from mcap.writer import Writer
 
 from store import Store, canonical_json
 from store.wire import key_for
-from store.transfer import TransferError, export_run, import_file
+from store.transfer import Skip, TransferError, export_run, import_file
 from store.transfer.mcap_out import export_mcap
 from tests.helpers.store_testkit import event
 
@@ -68,11 +68,11 @@ def test_round_trip_rebuilds_identical_events_and_chain(source, tmp_path):
         assert list(copy.events("busy")) == list(source.events("busy"))
         assert heads(copy) == heads(source) and copy.verify().ok
         (chain,) = report.chains
-        assert chain["match"] is True
-        assert chain["checkpoints_matched"] == chain["checkpoints"] == len(source.checkpoints("busy")) > 1
-        assert chain["store_head"] == chain["exported_head"] == heads(source)["busy"]
-        assert report.skipped > 0 and all(s["what"].startswith("channel /") for s in report.as_dict()["skips"])
-        reasons = {s["reason"] for s in report.as_dict()["skips"]}  # said as what they are, not as an encoding
+        assert chain.match is True
+        assert chain.checkpoints_matched == chain.checkpoints == len(source.checkpoints("busy")) > 1
+        assert chain.store_head == chain.exported_head == heads(source)["busy"]
+        assert report.skipped > 0 and all(s["what"].startswith("channel /") for s in report.to_json()["skips"])
+        reasons = {s["reason"] for s in report.to_json()["skips"]}  # said as what they are, not as an encoding
         assert "derived foxglove.SceneUpdate channel: rebuilt from the events on export" in reasons
         assert reasons <= {f"derived foxglove.{name} channel: rebuilt from the events on export"
                            for name in ("SceneUpdate", "Log")}
@@ -87,7 +87,7 @@ def test_round_trip_of_the_paper_run(tmp_path):
         run = a.runs()[0].run
         export_run(a, run, tmp_path / "paper.mcap")
         report = import_file(b, tmp_path / "paper.mcap")
-        assert report.stored == a.count(run) and report.chains[0]["match"] is True
+        assert report.stored == a.count(run) and report.chains[0].match is True
         assert list(b.events(run)) == list(a.events(run)) and heads(b) == heads(a)
 
 
@@ -96,7 +96,7 @@ def test_a_time_ordered_export_rebuilds_the_events_and_says_the_chain_is_not_com
     with Store(tmp_path / "copy.db") as copy:
         report = import_file(copy, tmp_path / "t.mcap")
         assert list(copy.events("busy")) == list(source.events("busy"))
-        assert report.chains[0]["match"] is None and report.chains[0]["order"] == "time"
+        assert report.chains[0].match is None and report.chains[0].order == "time"
 
 
 def test_an_altered_message_is_caught_by_the_exported_checkpoints(source, tmp_path):
@@ -132,10 +132,10 @@ def test_an_altered_message_is_caught_by_the_exported_checkpoints(source, tmp_pa
         report = import_file(copy, altered)
         assert report.stored == 3000
         (chain,) = report.chains
-        assert chain["match"] is False
+        assert chain.match is False
         counts = [c["count"] for c in source.checkpoints("busy")]
-        assert chain["first_mismatch"]["count"] == min(c for c in counts if c >= 1001)
-        assert chain["checkpoints_matched"] == sum(1 for c in counts if c < 1001)
+        assert chain.first_mismatch.count == min(c for c in counts if c >= 1001)
+        assert chain.checkpoints_matched == sum(1 for c in counts if c < 1001)
 
 
 # --- files from other tools ----------------------------------------------------------------------
@@ -170,7 +170,7 @@ def test_foreign_schemaless_json_imports_and_other_encodings_are_skipped(tmp_pat
     with Store(tmp_path / "gaps.db") as store:
         report = import_file(store, path)
         assert (report.stored, report.rejected, report.skipped) == (4, 2, 4)
-        assert report.skips == {"channel /chatter": {"count": 4, "reason": "message encoding 'ros1' is not json"}}
+        assert report.skips == {"channel /chatter": Skip("channel /chatter", 4, "message encoding 'ros1' is not json")}
         stored = list(store.events("foreign"))
         assert [e["seq"] for e in stored] == [0, 1, 2, 3]
         assert store.count("foreign") == 4 and report.chains == []
@@ -195,7 +195,7 @@ def test_an_event_on_another_events_topic_is_refused(tmp_path):
     with Store(tmp_path / "gaps.db") as store:
         report = import_file(store, path)
         assert (report.stored, report.rejected) == (1, 1)
-        assert "does not match the event's own key gaps/r/vehicle/1/vehicle.perception" in report.details[0]["reason"]
+        assert "does not match the event's own key gaps/r/vehicle/1/vehicle.perception" in report.details[0].reason
 
 
 def test_a_message_on_an_undefined_channel_is_quarantined(tmp_path):
@@ -213,7 +213,7 @@ def test_a_message_on_an_undefined_channel_is_quarantined(tmp_path):
         assert (report.stored, report.rejected) == (0, 1)
         (q,) = store.quarantined()
         assert q["raw"] == ev and "channel id 42" in q["reason"]
-        assert report.truncated["reason"] == "the file ends after a complete record, without a footer"
+        assert report.truncated.cut.reason == "the file ends after a complete record, without a footer"
 
 
 def test_not_an_mcap_file(tmp_path):
@@ -265,19 +265,19 @@ def test_a_cut_file_imports_everything_before_the_cut_and_says_where(source, tmp
             # what was imported is exactly the events of the complete chunks: the first in time
             assert sorted(store.events("busy"), key=lambda e: (e["src"], e["seq"])) == \
                 sorted(time_order[:expected], key=lambda e: (e["src"], e["seq"]))
-            cut_info = report.truncated
-            assert cut_info is not None and cut_info["file_size"] == cut
-            assert (complete[-1][1] if complete else 0) <= cut_info["offset"] <= cut
-            assert cut_info["unreadable_bytes"] == cut - cut_info["offset"]
-            assert cut_info["stored"] == expected
-            assert cut_info["data_complete"] == (cut >= data_end)
-            if cut_info["record"] is not None:
-                assert cut_info["declared"] > cut - cut_info["offset"] - 9
+            assert report.truncated is not None and report.truncated.cut.file_size == cut
+            cut_info = report.truncated.cut
+            assert (complete[-1][1] if complete else 0) <= cut_info.offset <= cut
+            assert cut_info.unreadable_bytes == cut - cut_info.offset
+            assert report.truncated.stored == expected
+            assert cut_info.data_complete == (cut >= data_end)
+            if cut_info.record is not None:
+                assert cut_info.declared is not None and cut_info.declared > cut - cut_info.offset - 9
             if cut < first_chunk:  # cut inside the metadata: the run is not declared yet
                 continue
             (chain,) = report.chains  # the metadata precede the messages, so a cut file declares its run
-            assert chain["exported_events"] == 3000 and chain["file_events"] == expected
-            assert chain["match"] is (expected == 3000)
+            assert chain.exported_events == 3000 and chain.file_events == expected
+            assert chain.match is (expected == 3000)
 
 
 def test_a_damaged_chunk_is_skipped_and_reported_and_the_rest_imported(source, tmp_path):
@@ -292,8 +292,8 @@ def test_a_damaged_chunk_is_skipped_and_reported_and_the_rest_imported(source, t
         report = import_file(store, damaged)
         assert report.stored == 3000 - lost and report.truncated is None
         (damage,) = report.damaged
-        assert damage["offset"] == start and damage["record"] == "Chunk"
-        assert report.chains[0]["match"] is False
+        assert damage.offset == start and damage.record == "Chunk"
+        assert report.chains[0].match is False
 
 
 def test_progress_is_reported_in_bytes_up_to_the_file_size(source, tmp_path):
@@ -353,7 +353,7 @@ def test_a_chunk_claiming_a_huge_size_is_damaged_not_allocated(tmp_path):
     with Store(tmp_path / "gaps.db") as store:
         report = import_file(store, tmp_path / "huge.mcap")
     (damage,) = report.damaged
-    assert damage["offset"] == 8 and "over the" in damage["reason"]
+    assert damage.offset == 8 and "over the" in damage.reason
 
 
 # --- files written before the export was in log-time order ---------------------------------------
@@ -392,4 +392,4 @@ def test_an_older_export_still_imports_to_the_same_events_and_chain(source, tmp_
         report = import_file(copy, path)
         assert (report.stored, report.rejected) == (3000, 0)
         assert list(copy.events("busy")) == list(source.events("busy")) and heads(copy) == heads(source)
-        assert report.chains[0]["match"] is True
+        assert report.chains[0].match is True

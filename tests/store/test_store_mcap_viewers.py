@@ -247,7 +247,7 @@ def test_it_imports_back_to_the_same_events_and_chain(exported, tmp_path):
         report = import_file(copy, path)
         assert report.stored == source.count(RUN) and report.rejected == 0
         assert list(copy.events(RUN)) == list(source.events(RUN))
-        assert heads(copy) == heads(source) and report.chains[0]["match"] is True
+        assert heads(copy) == heads(source) and report.chains[0].match is True
 
 
 # --- any run: random times, kinds and arrival order -----------------------------------------------

@@ -117,7 +117,7 @@ def test_a_stored_rulebook_changed_or_removed_fails_verify_then_against_and_key(
         failed = [o for o in outcomes if not o.ok]
         assert [o.size for o in failed] == [14] and failed[0].outcome == outcome
         assert "rulebooks" in failed[0].what and failed[0].rulebooks == "checked"
-        assert not keyed.ok and "does not match the head" in keyed.problem["what"]
+        assert not keyed.ok and "does not match the head" in keyed.problem.what
 
 
 def test_a_rulebook_put_after_the_last_checkpoint_is_covered_by_the_next_append(tmp_path, key):

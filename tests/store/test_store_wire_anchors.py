@@ -77,7 +77,7 @@ def test_cutting_back_liveliness_with_its_wire_checkpoints_fails_against_and_key
     # the checkpoints the events' appends wrote since record the longer chain: plain verify sees it
     assert "the checkpoint of 16 events of run r1 records the wire tables' ends, and liveliness holds no row 4" \
         in plain_verify_problem(db)
-    assert not keyed.ok and "liveliness holds no row 4" in keyed.problem["what"]
+    assert not keyed.ok and "liveliness holds no row 4" in keyed.problem.what
     tamper(db, HIDE)  # unless those records go too; then only what is kept outside the file tells
     for seen in (outcomes, anchored(db, heads, key.public)[0]):
         failed = [o for o in seen if not o.ok]
@@ -85,7 +85,7 @@ def test_cutting_back_liveliness_with_its_wire_checkpoints_fails_against_and_key
         assert all("liveliness" in o.what and "row 4" in o.what for o in failed)
         assert [o.size for o in failed] == [16, 20]  # the heads written after the disappearances
     _, keyed = anchored(db, heads, key.public)
-    assert not keyed.ok and "does not match the head" in keyed.problem["what"]
+    assert not keyed.ok and "does not match the head" in keyed.problem.what
 
 
 def test_a_wire_table_rewritten_with_its_hashes_recomputed_fails(tmp_path, key):
@@ -104,7 +104,7 @@ def test_a_wire_table_rewritten_with_its_hashes_recomputed_fails(tmp_path, key):
     assert "(wire rewritten)" in plain_verify_problem(db)
     with Store.open_read_only(db) as store:
         _, keyed = store.check_anchors((), key.public)
-    assert not keyed.ok and "the table was rewritten" in keyed.problem["what"]
+    assert not keyed.ok and "the table was rewritten" in keyed.problem.what
     tamper(db, HIDE)
     outcomes, keyed = anchored(db, heads, key.public)
     assert {o.outcome for o in outcomes if not o.ok} == {"wire rewritten"}
@@ -178,7 +178,7 @@ def test_a_checkpoint_row_records_the_wire_part_it_signed(tmp_path, key):
     tamper(copy, HIDE)  # the wire parts dropped: the signatures break
     with Store.open_read_only(copy) as store:
         _, keyed = store.check_anchors((), key.public)
-    assert not keyed.ok and "does not match" in keyed.problem["what"]
+    assert not keyed.ok and "does not match" in keyed.problem.what
     conn = sqlite3.connect(db)
     assert conn.execute("SELECT max(version) FROM schema_version").fetchone() == (8,)
     conn.close()
