@@ -3,7 +3,7 @@ them into a local store. Argument parsing and printing only: the fetch is ingest
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import typer
 
@@ -12,6 +12,10 @@ from cli.options import DbOption, JsonOption
 from cli.progress import stderr_progress
 from cli.safe_text import printable
 from reasoner import format_seconds
+
+if TYPE_CHECKING:                       # the command imports ingest when it runs, as before
+    from ingest import FetchReport
+    from store.wire import ReceivedChain
 
 SHOWN = 10
 
@@ -54,9 +58,9 @@ def fetch(
     except (OSError, StoreFault) as exc:
         fail(f"cannot fetch into {path}: {exc}")
     if json_out:
-        print_json(report.as_dict())
+        print_json(report.to_json())
     else:
-        _print(report.as_dict())
+        _print(report)
     raise typer.Exit(report.exit_code)
 
 
@@ -74,31 +78,31 @@ def _time(option: str, text: Optional[str]) -> Optional[int]:
         fail(f"{option}: {exc}")
 
 
-def _print(r: dict) -> None:
-    typer.echo(f"fetched {r['received']:,} events on {printable(r['key'])} from {r['responders']} ingest(s) in "
-               f"{r['pages']} page(s), {format_seconds(r['elapsed_s'])} → {r['db']}: stored {r['stored']:,}, duplicates "
-               f"{r['duplicates']:,}, rejected {r['rejected']:,}")
-    for item in r["details"][:SHOWN]:
-        typer.echo(f"  rejected {printable(item['origin'])}: {printable(item['reason'])}")
-    for error in r["errors"]:
-        typer.echo(f"  INCOMPLETE: an answer ended with {error.get('error')}: {printable(str(error.get('message')))}")
-    for chain in r["chains"]:
+def _print(r: FetchReport) -> None:
+    typer.echo(f"fetched {r.received:,} events on {printable(r.key_expr)} from {len(r.responders)} ingest(s) in "
+               f"{r.pages} page(s), {format_seconds(round(r.elapsed_s, 3))} → {r.db}: stored {r.stored:,}, "
+               f"duplicates {r.duplicates:,}, rejected {r.rejected:,}")
+    for refused in r.details[:SHOWN]:
+        typer.echo(f"  rejected {printable(refused.origin)}: {printable(refused.reason)}")
+    for error in r.errors:
+        typer.echo(f"  INCOMPLETE: an answer ended with {error.code}: {printable(error.message)}")
+    for chain in r.chains:
         typer.echo("  " + _chain_line(chain))
 
 
-def _chain_line(c: dict) -> str:
-    run, head = printable(c["run"]), (c["source_head"] or "?")[:16]
-    if c["first_mismatch"]:
-        m = c["first_mismatch"]
-        return (f"run {run}: BROKEN: the event at the sender's chain position {m['chain_pos']} does not hash to "
-                f"the hash sent with it ({m['stated_hash'][:16]}…, recomputed {m['recomputed'][:16]}…)")
-    if c["match"] is None:
-        return (f"run {run}: {c['received']:,} events from the sender's chain positions {c['first_chain_pos']}-"
-                f"{c['last_chain_pos']} (a window, not from the run's start): {c['links_checked']:,} links checked, "
+def _chain_line(c: ReceivedChain) -> str:
+    run, head = printable(c.run), (c.source_head or "?")[:16]
+    if c.first_mismatch is not None:
+        m = c.first_mismatch
+        return (f"run {run}: BROKEN: the event at the sender's chain position {m.chain_pos} does not hash to "
+                f"the hash sent with it ({m.stated_hash[:16]}…, recomputed {m.recomputed[:16]}…)")
+    if c.match is None:
+        return (f"run {run}: {c.received:,} events from the sender's chain positions {c.first_chain_pos}-"
+                f"{c.last_chain_pos} (a window, not from the run's start): {c.links_checked:,} links checked, "
                 "the chain heads are not comparable")
-    if c["match"]:
-        return (f"run {run}: the chain matches the sender's over its first {c['last_chain_pos'] + 1:,} events "
+    if c.match:
+        return (f"run {run}: the chain matches the sender's over its first {c.last_chain_pos + 1:,} events "
                 f"(head {head}…)")
-    return (f"run {run}: the chain does NOT match the sender's: this store has {c['store_events']:,} events with "
-            f"head {(c['store_head'] or 'none')[:16]}…, the sender {c['last_chain_pos'] + 1:,} with head {head}… "
+    return (f"run {run}: the chain does NOT match the sender's: this store has {c.store_events:,} events with "
+            f"head {(c.store_head or 'none')[:16]}…, the sender {c.last_chain_pos + 1:,} with head {head}… "
             "(this store held other events of the run before, or refused some)")

@@ -13,6 +13,9 @@ The query goes to every queryable on the key (QueryTarget.ALL: every slice, each
 any of it) without consolidation (Zenoh's default would keep one event per key). An answer cut at
 its limit says where it stopped; the next page asks with `_after=` the least of those cursors, so
 a slice that had finished may repeat some events, which the store counts as duplicates.
+
+The report is typed: its refusals are the store's `Rejection`s, its chains `ReceivedChain`s
+(store.wire), an answer's error an `AnswerError`; `to_json` is what `gaps fetch --json` prints.
 """
 from __future__ import annotations
 
@@ -25,8 +28,8 @@ from typing import Any
 
 import zenoh
 
-from store import Candidate, GapsError, Store
-from store.wire import SYNC_KEY, ReceivedChains, matched_within, session_config
+from store import Candidate, GapsError, Rejection, Store
+from store.wire import SYNC_KEY, ReceivedChain, ReceivedChains, matched_within, session_config
 
 from .errors import zenoh_message
 from .history_request import DEFAULT_LIMIT
@@ -71,6 +74,30 @@ class FetchOptions:
         return ";".join(params)
 
 
+@dataclass(frozen=True)
+class AnswerError:
+    """An answer that ended with an error reply other than its limit (a timeout, an ingest's
+    refusal): the reply's fields as sent, in their order, for a sender may add its own."""
+
+    fields: tuple[tuple[str, Any], ...]
+
+    @classmethod
+    def of(cls, said: dict[str, Any]) -> AnswerError:
+        return cls(tuple(said.items()))
+
+    @property
+    def code(self) -> Any:
+        """The reply's "error" (ours are words; a foreign sender's may be anything JSON holds)."""
+        return dict(self.fields).get("error")
+
+    @property
+    def message(self) -> str:
+        return str(dict(self.fields).get("message"))
+
+    def to_json(self) -> dict[str, Any]:
+        return dict(self.fields)
+
+
 @dataclass
 class FetchReport:
     """What a fetch did: events received and their outcome in the store, the answers' errors, the
@@ -82,11 +109,11 @@ class FetchReport:
     stored: int = 0
     duplicates: int = 0
     rejected: int = 0
-    details: list[dict[str, str]] = field(default_factory=list)   # the first refusals
-    errors: list[dict[str, Any]] = field(default_factory=list)    # error replies other than "limit"
+    details: list[Rejection] = field(default_factory=list)   # the first refusals
+    errors: list[AnswerError] = field(default_factory=list)  # error replies other than "limit"
     pages: int = 0
     responders: set[str] = field(default_factory=set)
-    chains: list[dict[str, Any]] = field(default_factory=list)
+    chains: list[ReceivedChain] = field(default_factory=list)
     elapsed_s: float = 0.0
 
     @property
@@ -97,14 +124,16 @@ class FetchReport:
     @property
     def exit_code(self) -> int:
         """0: complete, every link held and every comparable chain matches; 1 otherwise."""
-        broken = any(c["first_mismatch"] or c["match"] is False for c in self.chains)
+        broken = any(chain.broken for chain in self.chains)
         return EXIT_OK if self.complete and not broken else EXIT_INCOMPLETE
 
-    def as_dict(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, Any]:
+        """`gaps fetch --json`."""
         return {"key": self.key_expr, "db": self.db, "received": self.received, "stored": self.stored,
-                "duplicates": self.duplicates, "rejected": self.rejected, "details": self.details,
-                "complete": self.complete, "errors": self.errors, "pages": self.pages,
-                "responders": len(self.responders), "chains": self.chains,
+                "duplicates": self.duplicates, "rejected": self.rejected,
+                "details": [refused.to_json() for refused in self.details],
+                "complete": self.complete, "errors": [error.to_json() for error in self.errors], "pages": self.pages,
+                "responders": len(self.responders), "chains": [chain.to_json() for chain in self.chains],
                 "elapsed_s": round(self.elapsed_s, 3), "exit_code": self.exit_code}
 
 
@@ -148,7 +177,8 @@ def _pages(querier: zenoh.Querier, options: FetchOptions, store: Store, report: 
             return
         following = min(cursors, key=_cursor_order)
         if after is not None and _cursor_order(following) <= _cursor_order(after):
-            report.errors.append({"error": "paging", "message": f"the answers did not move past {after}"})
+            moved = f"the answers did not move past {after}"
+            report.errors.append(AnswerError.of({"error": "paging", "message": moved}))
             return
         after = following
 
@@ -183,7 +213,7 @@ def _take(replies: zenoh.handlers.Handler, store: Store, report: FetchReport, ch
             if problem.get("error") == "limit" and problem.get("next"):
                 cursors.append(problem["next"])
             else:
-                report.errors.append(problem)
+                report.errors.append(AnswerError.of(problem))
             continue
         report.responders.add(str(reply.replier_id.zid))
         batch.append(_candidate(reply.ok, chains))

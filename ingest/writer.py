@@ -266,7 +266,7 @@ class BatchWriter(threading.Thread):
             self._resumed()
             if report.ended:
                 self._release(report.ended)
-            self._stats.record_rejected(report.rejected)
+            self._stats.record_rejected([refused.to_json() for refused in report.rejected])
             self._stats.add(
                 stored=report.stored, duplicates=report.duplicates, rejected=len(report.rejected), batches=1,
                 quarantine_full=report.quarantine_full,

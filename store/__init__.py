@@ -24,7 +24,7 @@ from .fastjson import loads as parse_json, loads_all as parse_json_all
 from .intake import Candidate
 from .kinds import KINDS
 from .migration import MigrateReport, migrate_copy
-from .outcomes import AppendReport
+from .outcomes import AppendReport, Rejection
 from .output_files import OutputRefused, check_output, write_bytes, write_text
 from .partial_state import entity_since, state_of
 from .quarantine import Pruned, QuarantineCap, parse_before
@@ -40,7 +40,8 @@ from .verify_report import IntegrityResult, Problem, RunCheck, SignatureCount, V
 __all__ = [
     "AppendReport", "Candidate", "CollectorPaused", "EventError", "EventRef", "EvidenceError", "GapsError",
     "IndexDisagrees", "KINDS", "MAX_EVENT_BYTES", "MigrateReport", "NoSuchRun", "OutputRefused", "Pruned",
-    "QuarantineCap", "RunSummary", "State", "Store", "StoreError", "Timeline", "VerifyReport", "canonical_json",
+    "QuarantineCap", "Rejection", "RunSummary", "State", "Store", "StoreError", "Timeline", "VerifyReport",
+    "canonical_json",
     "check_output", "decode_event", "encode_event", "entity_since", "migrate_copy", "parse_before", "parse_event",
     "parse_json", "parse_json_all", "plain_event", "state_at", "state_of", "validate_event", "write_bytes",
     "write_text",

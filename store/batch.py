@@ -21,7 +21,7 @@ from .chain import RunChain
 from .envelope import EventError, encode_event
 from .heads import Heads
 from .intake import Candidate, raw_bytes
-from .outcomes import AppendReport
+from .outcomes import AppendReport, Rejection
 from .keys.tree_heads import CheckpointKey, TreeHead
 from .wire.ends import WireEnd, to_part
 
@@ -84,7 +84,7 @@ class Batch:
 
     def _refuse(self, origin: str, raw: bytes, reason: str) -> None:
         self.refused.append((self.received_at, origin, reason, raw))
-        self.report.rejected.append({"origin": origin, "reason": reason})
+        self.report.rejected.append(Rejection(origin, reason))
 
     def _place(self, ev: dict, canonical: bytes) -> str | None:
         """Chain a valid event onto its run, or count it as a duplicate; return a reason to

@@ -14,28 +14,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..outcomes import AppendReport
+from ..outcomes import AppendReport, Rejection
 from .chain_check import ChainResult
 from .mcap_records import Cut, Damage
 from .rows import Order
 
 MAX_DETAILS = 100
-
-@dataclass(frozen=True)
-class Rejection:
-    """One event the store refused into quarantine: where it was in the file, and why."""
-
-    origin: str
-    reason: str
-
-    @classmethod
-    def of(cls, refused: dict[str, str]) -> Rejection:
-        """From the store's append report, which lists its refusals as {origin, reason}."""
-        return cls(refused["origin"], refused["reason"])
-
-    def to_json(self) -> dict[str, Any]:
-        return {"origin": self.origin, "reason": self.reason}
-
 
 @dataclass(frozen=True)
 class Skip:
@@ -88,7 +72,7 @@ class ImportReport:
         self.quarantine_full += appended.quarantine_full
         room = MAX_DETAILS - len(self.details)
         if room > 0:
-            self.details.extend(Rejection.of(refused) for refused in appended.rejected[:room])
+            self.details.extend(appended.rejected[:room])
 
     def skip(self, what: str, reason: str, count: int = 1) -> None:
         """Count input that is not an event, grouped by what it was (a channel, blank lines)."""

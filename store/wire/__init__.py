@@ -22,11 +22,12 @@ from .contract import (BLOCK_FOR_US, CACHE_S, LIVE_PREFIX, MODES, WireConfigErro
 from .history import HistoryFilter, HistoryRow
 from .liveliness import LivelinessChange, SourceLife, WireMiss
 from .reachability import INSECURE_FLAG, LOCAL_PROTOCOLS, Exposure, check_producer, exposure, is_loopback
-from .received_chain import ReceivedChains
+from .received_chain import BrokenLink, ReceivedChain, ReceivedChains
 
 __all__ = [
-    "BLOCK_FOR_US", "CACHE_PREFIX", "CACHE_S", "CacheQuery", "CacheQueryError", "Exposure", "HistoryFilter",
-    "HistoryRow", "INSECURE_FLAG", "LIVE_PREFIX", "LOCAL_PROTOCOLS", "LivelinessChange", "MODES", "ReceivedChains",
+    "BLOCK_FOR_US", "BrokenLink", "CACHE_PREFIX", "CACHE_S", "CacheQuery", "CacheQueryError", "Exposure",
+    "HistoryFilter", "HistoryRow", "INSECURE_FLAG", "LIVE_PREFIX", "LOCAL_PROTOCOLS", "LivelinessChange", "MODES",
+    "ReceivedChain", "ReceivedChains",
     "SYNC_KEY", "SourceLife", "SourceSpan", "WireConfigError", "WireMiss", "audit_publisher_options", "audit_qos",
     "cache_id_of_token", "cache_query_options", "cache_token", "check_producer", "exposure", "index_selector",
     "is_loopback", "key_for", "live_key", "live_slice", "matched_within", "parse_cache_query", "read_index",

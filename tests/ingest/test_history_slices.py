@@ -72,7 +72,7 @@ def test_two_ingests_each_store_their_slice_and_answer_a_history_query_together(
         copy = tmp_path / "investigator.db"      # and gaps fetch through the router gets both chains
         report = fetch(copy, FetchOptions("gaps/**", connect=(router_at,), page=50))
         assert (report.stored, report.exit_code, len(report.responders)) == (2 * PER_SITE, 0, 2)
-        assert [(c["run"], c["match"]) for c in report.chains] == [("site-a", True), ("site-b", True)]
+        assert [(c.run, c.match) for c in report.chains] == [("site-a", True), ("site-b", True)]
     finally:
         for ingest in ingests:
             ingest.stop()

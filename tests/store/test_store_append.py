@@ -10,7 +10,7 @@ from store.ddl import SCHEMA_VERSION
 from tests.helpers.store_testkit import event, rows
 
 from store.ddl import SCHEMA_VERSION
-from store import AppendReport, Store, StoreError, canonical_json
+from store import AppendReport, Rejection, Store, StoreError, canonical_json
 from store.ddl import SCHEMA_VERSION
 
 
@@ -87,7 +87,7 @@ def test_conflicting_duplicate_is_quarantined_with_its_bytes(store):
     report = store.append([forged], origin="zenoh:gaps/r1/vehicle/173/vehicle.perception")
     assert report.stored == 0 and report.duplicates == 0
     assert report.rejected == [
-        {"origin": "zenoh:gaps/r1/vehicle/173/vehicle.perception", "reason": "conflicting duplicate of r1/vehicle/173/0"}
+        Rejection("zenoh:gaps/r1/vehicle/173/vehicle.perception", "conflicting duplicate of r1/vehicle/173/0")
     ]
     [held] = store.quarantined()
     assert held["raw"] == canonical_json(forged)
@@ -95,18 +95,31 @@ def test_conflicting_duplicate_is_quarantined_with_its_bytes(store):
     assert list(store.events("r1")) == [original]
 
 
+def test_refusals_are_frozen_values_printed_as_origin_then_reason(store):
+    """An append report's refusals cross rooms (ingest's stats, an import's and a fetch's report):
+    frozen values whose JSON is the {origin, reason} the reports have always printed."""
+    report = store.append_raw([(b"{not json", "file.jsonl:1")])
+    [refused] = report.rejected
+    assert isinstance(refused, Rejection)
+    with pytest.raises(AttributeError):
+        refused.reason = "changed"          # type: ignore[misc]
+    assert list(refused.to_json()) == ["origin", "reason"]
+    assert refused.to_json() == {"origin": "file.jsonl:1", "reason": refused.reason}
+    assert report.as_dict()["rejected"] == [refused.to_json()]
+
+
 def test_conflicting_duplicate_from_raw_keeps_the_raw_bytes(store):
     store.append([event(0)])
     raw = json.dumps(event(0, t=5)).encode()
     report = store.append_raw([(raw, "file.jsonl:7")])
-    assert report.rejected == [{"origin": "file.jsonl:7", "reason": "conflicting duplicate of r1/vehicle/173/0"}]
+    assert report.rejected == [Rejection("file.jsonl:7", "conflicting duplicate of r1/vehicle/173/0")]
     assert store.quarantined()[0]["raw"] == raw
 
 
 def test_conflicting_duplicate_within_one_batch(store):
     report = store.append([event(0), event(0, t=1)])
     assert report.stored == 1
-    assert [r["reason"] for r in report.rejected] == ["conflicting duplicate of r1/vehicle/173/0"]
+    assert [r.reason for r in report.rejected] == ["conflicting duplicate of r1/vehicle/173/0"]
     assert next(store.events("r1"))["t"] == event(0)["t"]
 
 
@@ -135,33 +148,33 @@ def test_invalid_input_is_quarantined_with_origin_reason_and_raw_bytes(store):
     ]
     report = store.append_raw(items)
     assert report.stored == 1
-    assert [r["origin"] for r in report.rejected] == ["file.jsonl:1", "file.jsonl:2", "file.jsonl:3"]
+    assert [r.origin for r in report.rejected] == ["file.jsonl:1", "file.jsonl:2", "file.jsonl:3"]
     held = store.quarantined()
     assert [(h["origin"], h["raw"]) for h in held] == [(origin, raw) for raw, origin in items[:3]]
     assert "malformed JSON at line 1" in held[0]["reason"]
     assert "not valid UTF-8" in held[1]["reason"]
     assert "seq must be between 0" in held[2]["reason"]
-    assert [h["reason"] for h in held] == [r["reason"] for r in report.rejected]
+    assert [h["reason"] for h in held] == [r.reason for r in report.rejected]
     assert all(isinstance(h["received_at"], int) and h["received_at"] > 0 for h in held)
 
 
 def test_invalid_dict_is_quarantined_as_canonical_json(store):
     bad = dict(event(0), kind="vehicle.dream")
     report = store.append([bad], origin="api")
-    assert "kind 'vehicle.dream' is unknown" in report.rejected[0]["reason"]
+    assert "kind 'vehicle.dream' is unknown" in report.rejected[0].reason
     assert store.quarantined()[0]["raw"] == canonical_json(bad)
 
 
 def test_unserialisable_dict_is_quarantined_as_repr(store):
     bad = event(0, kind="entity.spawn", body={"type": "car", "tags": {"a"}})
     report = store.append([bad])
-    assert "cannot be written as canonical JSON" in report.rejected[0]["reason"]
+    assert "cannot be written as canonical JSON" in report.rejected[0].reason
     assert store.quarantined()[0]["raw"] == repr(bad).encode()
 
 
 def test_nan_in_a_dict_is_quarantined(store):
     report = store.append([event(0, kind="entity.state", body={"x": float("nan"), "y": 0, "speed_mps": 0})])
-    assert report.stored == 0 and "canonical JSON" in report.rejected[0]["reason"]
+    assert report.stored == 0 and "canonical JSON" in report.rejected[0].reason
 
 
 def test_nothing_offered_is_dropped(store):
@@ -273,7 +286,7 @@ def test_append_candidates_keeps_the_callers_refusals_in_order(store):
         Candidate("gaps/r1/vehicle/173/vehicle.perception", good, ev, canonical),
     ])
     assert (report.stored, report.duplicates) == (1, 1)
-    assert report.rejected == [{"origin": "gaps/r1/vehicle/174/vehicle.perception", "reason": "key does not match"}]
+    assert report.rejected == [Rejection("gaps/r1/vehicle/174/vehicle.perception", "key does not match")]
     assert store.quarantined()[0]["raw"] == misrouted
     assert list(store.events("r1")) == [event(0)]
     assert store.verify().ok

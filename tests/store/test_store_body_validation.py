@@ -137,7 +137,7 @@ def test_refused_bodies_are_quarantined_on_append(store):
     misrouted = event(1, kind="vehicle.perception", src="signal/J1")
     report = store.append([bad, misrouted, event(0)])
     assert report.stored == 1
-    reasons = [r["reason"] for r in report.rejected]
+    reasons = [r.reason for r in report.rejected]
     assert "signal.state body.colour must be one of" in reasons[0]
     assert "kind vehicle.perception comes only from src role(s) vehicle" in reasons[1]
     assert [q["reason"] for q in store.quarantined()] == reasons
@@ -146,8 +146,8 @@ def test_refused_bodies_are_quarantined_on_append(store):
 def test_raw_input_is_validated_too(store):
     raw = json.dumps(event(0, kind="entity.state", body={"x": 0, "y": 0, "speed_mps": -2})).encode()
     report = store.append_raw([(raw, "file.jsonl:3")])
-    assert report.rejected[0]["origin"] == "file.jsonl:3"
-    assert "body.speed_mps must be bigger than or equal to 0" in report.rejected[0]["reason"]
+    assert report.rejected[0].origin == "file.jsonl:3"
+    assert "body.speed_mps must be bigger than or equal to 0" in report.rejected[0].reason
     assert store.quarantined()[0]["raw"] == raw
 
 
@@ -358,7 +358,7 @@ def test_a_hostile_proof_or_hash_is_quarantined_with_fastjsonschemas_words(store
             for i, ev in enumerate([trace, decision])]
     report = store.append_raw(raws)
     assert report.stored == 0
-    reasons = [r["reason"] for r in report.rejected]
+    reasons = [r.reason for r in report.rejected]
     assert ("vehicle.trace body.proof.children[1].children[0].source must be valid exactly by one definition"
             in reasons[0])
     assert "vehicle.decision body.rulebook must match pattern ^[0-9a-f]{64}$" in reasons[1]
