@@ -50,6 +50,15 @@ from tests.helpers.ingest_testkit import free_endpoint  # noqa: E402
 from tests.helpers.serve_testkit import ServeProcess  # noqa: E402
 
 VEHICLES = 34
+TENTHS_NOTE = (
+    "A tenth's rate: the events settled between the serve's status lines that bound it over the seconds the "
+    "serve stamped on them (a line counts whole batches of up to 10,000; charging each tenth exactly a tenth's "
+    "events, as this bench did before 2026-12-08, took 2-9% from the first tenth). The first tenth is timed "
+    "from the first put, as the one run is, and pays the producer's start: it puts some 150,000 events in its "
+    "first second (Zenoh's channel holds 100,000), and it and the serve's Zenoh threads took 0.67 of a core "
+    "in the first tenth against about 0.33 later; the writer's CPU per event was the same as later (0.16-0.19 s "
+    "per 10,000) but it was off the CPU 0.46-0.83 s of the tenth against 0.07-0.6 s in later ones "
+    "(2 shared cores; docs/serve.md, 'The first tenth').")
 SECOND = 1_000_000_000
 
 
@@ -207,6 +216,7 @@ def main() -> None:
     parser.add_argument("--more-runs", type=int, default=1000 if quick() else 10_000)
     parser.add_argument("--baseline", type=Path, default=None,
                         help="another checkout (e.g. main's) whose serve is measured alternately, as `before`")
+    parser.add_argument("--note", default="", help="said in the recorded notes (e.g. what the two serves are)")
     args = parser.parse_args()
     rows: dict[str, list[dict]] = {"one": [], "fleet": [], "one before": [], "fleet before": []}
     with tempfile.TemporaryDirectory(prefix="gaps-ingest-fleet-") as tmp:
@@ -253,7 +263,7 @@ def main() -> None:
                                    "x", target="" if label else "<= 1.1")]
                 details["more" + label.replace(", ", " ")] = big | {"tenths": rates}
         record("ingest_fleet", f"{args.runs} runs x {args.events_per_run} events into gaps serve against one run",
-               figures, details=details)
+               figures, notes=" ".join(filter(None, [args.note, TENTHS_NOTE if args.more_runs else ""])), details=details)
 
 
 if __name__ == "__main__":
