@@ -22,7 +22,7 @@ timed from the first put, the seconds of up to a batch beyond them, 2-9% of its 
 moved every other tenth by up to 13% either way).
 The first tenth is timed from the first put as the one run is: it pays, as the one run does, the
 first batch's wait and commit before anything is counted, and the producer's start, which puts
-some 150,000 events into Zenoh's channel in its first second (docs/performance.md has the figures).
+some 150,000 events into Zenoh's channel in its first second (docs/serve.md, "The first tenth").
 Then the serve's resident memory idle before the
 producer, at its peak, and 5 s after the last run ended (target: within 10% of idle). With
 `--baseline`, the many runs are measured with the other checkout's serve too, after this one's.
