@@ -179,13 +179,10 @@ class Cited:
 
 
 @dataclass(frozen=True)
-class AdsEvent:
+class AdsEvent(Cited):
     """The latest ads.event of a vehicle's control status (control.py): the fold's citation of it
     and the event it reported, as sent (UN R157 8.2.1's DSSAD event: "activated", ...)."""
 
-    src: str
-    seq: int
-    t: int
     event: Any
 
     @classmethod
@@ -193,12 +190,12 @@ class AdsEvent:
         """From control.py's {src, seq, t, event} (None for none)."""
         return None if cut is None else cls(cut["src"], cut["seq"], cut["t"], cut["event"])
 
-    def ref(self, run: str | None) -> EventRef:
+    def ref(self, run: str | None, kind: str | None = "ads.event") -> EventRef:
         """The store.EventRef of this ads.event in `run`."""
-        return EventRef(run, self.src, self.seq, self.t, "ads.event")
+        return super().ref(run, kind)
 
     def to_json(self) -> dict[str, Any]:
-        return {"src": self.src, "seq": self.seq, "t": self.t, "event": self.event}
+        return {**super().to_json(), "event": self.event}
 
 
 def _cited(piece: Cited | None) -> dict[str, Any] | None:
