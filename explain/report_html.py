@@ -254,16 +254,16 @@ def _signals_caption(pic: Picture) -> str:
 
 
 def _timeline_caption(tl: ActTimeline) -> str:
-    before, after = (tl.t - tl.t_from) / SECOND, (tl.t_to - tl.t) / SECOND
+    before, after = (tl.window.t - tl.window.t_from) / SECOND, (tl.window.t_to - tl.window.t) / SECOND
     other = tl.other
     line = tl.to_line
-    parts = [f"Vehicle {tl.vehicle} from {before:g} s before the incident to {after:g} s after, on one time "
-             f"axis: its speed" + (f", the speed of {other.user} (whom {tl.vehicle} {other.how})"
+    parts = [f"Vehicle {tl.window.vehicle} from {before:g} s before the incident to {after:g} s after, on one time "
+             f"axis: its speed" + (f", the speed of {other.user} (whom {tl.window.vehicle} {other.how})"
                                    if other else "")]
     parts.append(f"its distance to the {line.approach} approach's line of junction {line.junction} (above "
                  "zero before the line, below it past the line)" if line else
                  "no distance to a stop line (the record shows no passage over one in this window)")
-    parts.append(f"the colour each signal approach of junction {tl.junction or '(none found)'} showed")
+    parts.append(f"the colour each signal approach of junction {tl.window.junction or '(none found)'} showed")
     return ("; ".join(parts) + ". Between reports the record says nothing, so the lines join the reported points; "
             "the labelled lines are the incident and the moments of the passage.")
 

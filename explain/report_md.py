@@ -80,8 +80,8 @@ def _incident(e: ReportEntry) -> list[str]:
     for m in pic.monitors:
         out.append(f"- {md(m.id)}: at ({_n(m.x)}, {_n(m.y)}) m, heading {_n(m.heading_deg)}°, "
                    f"field of view {_n(m.fov_deg)}°, range {_n(m.range_m)} m")
-    out += ["", f"### Speed and signals from {(tl.t_from - tl.t) / SECOND:g} s to "
-                f"+{(tl.t_to - tl.t) / SECOND:g} s", ""]
+    out += ["", f"### Speed and signals from {(tl.window.t_from - tl.window.t) / SECOND:g} s to "
+                f"+{(tl.window.t_to - tl.window.t) / SECOND:g} s", ""]
     out += _timeline_table(tl)
     out += [_demoted(explanation_md(e.explanation, "standard")), "### Rulebooks of this verdict", ""]
     out += _table(["stage", "rulebook", "sha256", "source"],
@@ -91,16 +91,16 @@ def _incident(e: ReportEntry) -> list[str]:
 
 def _timeline_table(tl: ActTimeline) -> list[str]:
     """What changed when in the timeline's window, in time order: the HTML timeline's points."""
-    rows = [[_rel(tl, p.t), f"vehicle/{tl.vehicle}", f"speed {speed_text(p.speed_mps)}"] for p in tl.speed]
-    rows += [[_rel(tl, p.t), p.monitor, f"observed speed {speed_text(p.speed_mps)}"] for p in tl.observed_speed]
-    rows += [[_rel(tl, c.t), f"signal {tl.junction} {a.approach}", colour_word(c.colour)]
-             for a in tl.signals for c in a.phases]
+    rows = [[_rel(tl, p.t), f"vehicle/{tl.window.vehicle}", f"speed {speed_text(p.speed_mps)}"] for p in tl.window.speed]
+    rows += [[_rel(tl, p.t), p.monitor, f"observed speed {speed_text(p.speed_mps)}"] for p in tl.window.observed_speed]
+    rows += [[_rel(tl, c.t), f"signal {tl.window.junction} {a.approach}", colour_word(c.colour)]
+             for a in tl.window.signals for c in a.phases]
     line = tl.to_line
     rows += [[_rel(tl, p.t), f"{p.src} #{p.seq}", f"{p.m:g} m before the line" if p.m >= 0 else
               f"{-p.m:g} m past the line"] for p in (line.points if line else ())]
     if (other := tl.other) is not None:
         rows += [[_rel(tl, p.t), f"{p.src} #{p.seq}", f"speed of {other.user} {speed_text(p.speed_mps)} "
-                  f"(whom {tl.vehicle} {other.how})"] for p in other.speed]
+                  f"(whom {tl.window.vehicle} {other.how})"] for p in other.speed]
     rows.sort(key=lambda row: _sort_key(row[0]))
     return _table(["time", "source", "what"], rows) if rows else ["Nothing recorded in this window.", ""]
 
@@ -112,8 +112,8 @@ def _demoted(text: str) -> str:
 
 
 def _rel(tl: ActTimeline, t: int) -> str:
-    d = (max(t, tl.t_from) - tl.t) / SECOND
-    return ("≤ " if t < tl.t_from else "") + ("0 s" if d == 0 else f"{d:+g} s")
+    d = (max(t, tl.window.t_from) - tl.window.t) / SECOND
+    return ("≤ " if t < tl.window.t_from else "") + ("0 s" if d == 0 else f"{d:+g} s")
 
 
 def _sort_key(text: str) -> float:

@@ -47,7 +47,7 @@ LINE_WORDS = {"signal": "stop line", "stop_sign": "Stop line", "give_way": "Give
 def timeline_svg(tl: ActTimeline, heading_deg: float | None = None) -> str:
     """The timeline as one <svg class="gaps-timeline"> element; `heading_deg` of the vehicle at
     the incident picks the approach it faced."""
-    t0, t1 = tl.t_from, tl.t_to
+    t0, t1 = tl.window.t_from, tl.window.t_to
     span = max(t1 - t0, 1)
 
     def x(t: int) -> float:
@@ -59,15 +59,15 @@ def timeline_svg(tl: ActTimeline, heading_deg: float | None = None) -> str:
     plot_top = TOP + legend_h + rows * ROW_H + 6
     to_line = tl.to_line
     line_top = plot_top + PLOT_H + PANEL_GAP
-    bands = [(a.approach, a.phases) for a in tl.signals]
+    bands = [(a.approach, a.phases) for a in tl.window.signals]
     band_top = line_top + (LINE_H if to_line else 14) + PANEL_GAP
     axis_y = band_top + len(bands) * (BAND_H + BAND_GAP) + (12 if not bands else 0)
     key, key_h = _key(tl, flags, axis_y)
     height = axis_y + AXIS_H + 4 + key_h
 
-    label = (f"Vehicle {tl.vehicle} from {(t0 - tl.t) / SECOND:g} s to +{(t1 - tl.t) / SECOND:g} s around "
+    label = (f"Vehicle {tl.window.vehicle} from {(t0 - tl.window.t) / SECOND:g} s to +{(t1 - tl.window.t) / SECOND:g} s around "
              f"the incident on one time axis: its speed{_other_words(tl)}, its distance to the stop line and the "
-             f"signal colours at junction {tl.junction or '(none)'}")
+             f"signal colours at junction {tl.window.junction or '(none)'}")
     out = [f'<svg class="gaps-timeline" xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {f(height)}" '
            f'width="{W}" height="{f(height)}" role="img" aria-label="{esc(label)}" font-family="sans-serif" '
            f'font-size="11">', f"<title>{esc(label)}</title>",
@@ -98,7 +98,7 @@ def timeline_svg(tl: ActTimeline, heading_deg: float | None = None) -> str:
 def _speeds(tl: ActTimeline) -> list[float]:
     """Every speed the panel draws: the vehicle's own, the monitors', the other road user's."""
     other = tl.other.speed if tl.other else ()
-    return ([p.speed_mps for p in tl.speed] + [p.speed_mps for p in tl.observed_speed] +
+    return ([p.speed_mps for p in tl.window.speed] + [p.speed_mps for p in tl.window.observed_speed] +
             [p.speed_mps for p in other if p.speed_mps is not None])
 
 
@@ -126,7 +126,7 @@ def _legend(tl: ActTimeline) -> tuple[list[str], float]:
     if other:
         who = f"{other.type} {other.user}" if other.type else str(other.user)
         items.append((f'<line x1="0" y1="-4" x2="22" y2="-4" stroke="{OTHER}" stroke-width="2" '
-                      f'stroke-dasharray="5 3"/>', f"speed of {who}, whom {tl.vehicle} {other.how}"))
+                      f'stroke-dasharray="5 3"/>', f"speed of {who}, whom {tl.window.vehicle} {other.how}"))
     if tl.to_line:
         items.append((f'<line x1="0" y1="-4" x2="22" y2="-4" stroke="{DISTANCE}" stroke-width="2"/>',
                       f"distance to the {_line_word(tl.to_line)}"))
@@ -162,28 +162,28 @@ def _speed_axis(top: float, plot_top: float) -> list[str]:
 
 def _speed_lines(tl: ActTimeline, x: Callable, y: Callable) -> list[str]:
     out = []
-    own = tl.speed
+    own = tl.window.speed
     if own:
         pts = [(x(p.t), y(p.speed_mps)) for p in own]
-        if own[-1].t < tl.t_to:       # held after the last report, dashed: not recorded, only not changed
-            out.append(f'<line x1="{f(pts[-1][0])}" y1="{f(pts[-1][1])}" x2="{f(x(tl.t_to))}" y2="{f(pts[-1][1])}" '
+        if own[-1].t < tl.window.t_to:       # held after the last report, dashed: not recorded, only not changed
+            out.append(f'<line x1="{f(pts[-1][0])}" y1="{f(pts[-1][1])}" x2="{f(x(tl.window.t_to))}" y2="{f(pts[-1][1])}" '
                        f'stroke="{OWN}" stroke-width="1" stroke-dasharray="2 3"/>')
         out.append(f'<polyline class="speed" points="{" ".join(f"{f(a)},{f(b)}" for a, b in pts)}" fill="none" '
                    f'stroke="{OWN}" stroke-width="2"/>')
         for p, (a, b) in zip(own, pts):
             title = (f"{_rel(tl, p.t)}: {mph_text(p.speed_mps)} ({p.speed_mps:g} m/s, "
-                     f"vehicle/{tl.vehicle} #{p.seq})")
+                     f"vehicle/{tl.window.vehicle} #{p.seq})")
             out.append(f'<circle cx="{f(a)}" cy="{f(b)}" r="3" fill="{OWN}"><title>{esc(title)}</title></circle>')
-    for o in tl.observed_speed:
+    for o in tl.window.observed_speed:
         a, b = x(o.t), y(o.speed_mps)
         title = (f"{_rel(tl, o.t)}: {mph_text(o.speed_mps)} ({o.speed_mps:g} m/s) observed by "
                  f"{o.monitor} #{o.seq}")
         out.append(f'<path class="observed" d="M{f(a - 4)},{f(b - 4)} l8,8 m0,-8 l-8,8" stroke="{OBSERVED}" '
                    f'stroke-width="2"><title>{esc(title)}</title></path>')
     out += _other_speed(tl, x, y)
-    if not own and not tl.observed_speed:
+    if not own and not tl.window.observed_speed:
         out.append(f'<text x="{LEFT + 10}" y="{f(y(0) - PLOT_H / 2)}" fill="#666">no speed recorded for vehicle '
-                   f'{esc(tl.vehicle)} in this window</text>')
+                   f'{esc(tl.window.vehicle)} in this window</text>')
     return out
 
 
@@ -208,7 +208,7 @@ def _speed_at_incident(tl: ActTimeline, flags: list, x: Callable, y: Callable, p
     """The speed last reported at or before the incident, written beside its point (a printed
     page has no tooltip): above it, to whichever side and as near as no moment's line runs
     through it (the lines cross the whole panel, so only their x matters)."""
-    last = next((p for p in reversed(tl.speed) if p.t <= tl.t), None)
+    last = next((p for p in reversed(tl.window.speed) if p.t <= tl.window.t), None)
     if last is None:
         return []
     text = mph_text(last.speed_mps)
@@ -230,7 +230,7 @@ def _distance(tl: ActTimeline, to_line: ToLine | None, x: Callable, top: float) 
     """Metres to the stop line at each sample of the passage (above the line's zero: before it;
     below: past it), on a scale of round figures."""
     if not to_line:
-        return [f'<text x="{LEFT}" y="{f(top + 10)}" fill="#666">no stop line on vehicle {esc(tl.vehicle)}\'s '
+        return [f'<text x="{LEFT}" y="{f(top + 10)}" fill="#666">no stop line on vehicle {esc(tl.window.vehicle)}\'s '
                 "way in this window</text>"]
     points = to_line.points
     lo, hi, step = _nice_range(min(min(p.m for p in points), 0.0), max(max(p.m for p in points), 0.0))
@@ -276,17 +276,17 @@ def _nice_range(lo: float, hi: float) -> tuple[float, float, float]:
 
 def _band(tl: ActTimeline, approach: str, changes: tuple[Phase, ...], top: float, x: Callable,
           facing: bool) -> list[str]:
-    name = f"{tl.junction} {approach}"
+    name = f"{tl.window.junction} {approach}"
     name = name if len(name) <= 13 else name[:12] + "…"
     weight = ' font-weight="bold"' if facing else ""
     mark = "▶ " if facing else ""
     out = [f'<text x="{LEFT - 6}" y="{f(top + BAND_H - 3)}" text-anchor="end"{weight}>{mark}{esc(name)}</text>']
     for i, c in enumerate(changes):
-        end = changes[i + 1].t if i + 1 < len(changes) else tl.t_to
+        end = changes[i + 1].t if i + 1 < len(changes) else tl.window.t_to
         a, b = x(c.t), x(end)
         if b <= a:
             continue
-        title = f"signal {tl.junction} {approach}: {colour_word(c.colour)} from {_rel(tl, c.t)}"
+        title = f"signal {tl.window.junction} {approach}: {colour_word(c.colour)} from {_rel(tl, c.t)}"
         out.append(f'<rect class="signal-band" x="{f(a)}" y="{f(top)}" width="{f(b - a)}" height="{BAND_H}" '
                    f'fill="{fill(c.colour)}" stroke="#333" stroke-width="0.5"><title>{esc(title)}</title></rect>')
     return out
@@ -300,7 +300,7 @@ def _flags(tl: ActTimeline, x: Callable) -> list:
     still before the line" 6 s apart), each moment is labelled by its number and _key writes
     the words under the time axis."""
     moments = tl.moments
-    items = [("incident", x(tl.t))] + [(m.what, x(m.t)) for m in moments]
+    items = [("incident", x(tl.window.t))] + [(m.what, x(m.t)) for m in moments]
     flags = in_rows(items, 2.0, W - 2.0, LABEL_SIZE)
     if any(fl.crowded for fl in flags):
         numbered = [items[0]] + [(str(n), x(m.t)) for n, m in enumerate(moments, 1)]
@@ -354,9 +354,9 @@ def _lines(tl: ActTimeline, flags: list, x: Callable, plot_top: float, axis_y: f
 def _time_axis(tl: ActTimeline, x: Callable, axis_y: float) -> list[str]:
     out = [f'<line x1="{LEFT}" y1="{f(axis_y)}" x2="{W - RIGHT}" y2="{f(axis_y)}" stroke="#888"/>']
     step = 5 * SECOND
-    first = tl.t - ((tl.t - tl.t_from) // step) * step
+    first = tl.window.t - ((tl.window.t - tl.window.t_from) // step) * step
     t = first
-    while t <= tl.t_to:
+    while t <= tl.window.t_to:
         out.append(f'<line x1="{f(x(t))}" y1="{f(axis_y)}" x2="{f(x(t))}" y2="{f(axis_y + 4)}" stroke="#888"/>'
                    f'<text x="{f(x(t))}" y="{f(axis_y + 16)}" text-anchor="middle">{_rel(tl, t)}</text>')
         t += step
@@ -366,5 +366,5 @@ def _time_axis(tl: ActTimeline, x: Callable, axis_y: float) -> list[str]:
 
 
 def _rel(tl: ActTimeline, t: int) -> str:
-    d = (t - tl.t) / SECOND
+    d = (t - tl.window.t) / SECOND
     return "0 s" if d == 0 else f"{d:+g} s"

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from reasoner.timelines import ApproachPhases, ObservedSpeed, SpeedSample, Timeline
+from reasoner.timelines import Timeline
 
 
 @dataclass(frozen=True)
@@ -83,45 +83,14 @@ class OtherParty:
 
 @dataclass(frozen=True)
 class ActTimeline:
-    """The reasoner's window around the incident and what the report draws beside it."""
+    """The reasoner's window around the incident (`window`: its times, speeds and signals) and
+    what the report draws beside it."""
 
     window: Timeline
     heading_deg: float | None = None
     moments: tuple[Moment, ...] = ()
     to_line: ToLine | None = None
     other: OtherParty | None = None
-
-    @property
-    def t(self) -> int:
-        return self.window.t
-
-    @property
-    def t_from(self) -> int:
-        return self.window.t_from
-
-    @property
-    def t_to(self) -> int:
-        return self.window.t_to
-
-    @property
-    def vehicle(self) -> str:
-        return self.window.vehicle
-
-    @property
-    def junction(self) -> str | None:
-        return self.window.junction
-
-    @property
-    def speed(self) -> tuple[SpeedSample, ...]:
-        return self.window.speed
-
-    @property
-    def observed_speed(self) -> tuple[ObservedSpeed, ...]:
-        return self.window.observed_speed
-
-    @property
-    def signals(self) -> tuple[ApproachPhases, ...]:
-        return self.window.signals
 
     def to_json(self) -> dict[str, Any]:
         return {**self.window.to_json(), "heading_deg": self.heading_deg,

@@ -58,7 +58,7 @@ def test_the_report_timeline_marks_the_crossing_on_the_light_bands(runner_db):
         report = build_report(Case(store), "measured-runner")
     tl = report.incidents[0].timeline
     crossing = next(m for m in tl.moments if m.what == "crossed the stop line")
-    west = next(a for a in tl.signals if a.approach == "west")
+    west = next(a for a in tl.window.signals if a.approach == "west")
     red = next(c for c in west.phases if c.colour == "red")
     assert (crossing.t - red.t) / 1e9 == pytest.approx(LAG_S, abs=0.01)
     html = render_report(report, "html")

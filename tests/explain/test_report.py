@@ -170,17 +170,17 @@ def test_scene_draws_the_map_the_signal_the_vehicle_and_the_monitor(demo_report)
 def test_timeline_holds_the_speed_and_the_signal_changes_around_the_incident(demo_report):
     tl = demo_report.incidents[0].timeline
     second = 1_000_000_000
-    assert tl.t_to - tl.t == 5 * second and tl.t - tl.t_from == 20 * second
-    assert [(p.t - tl.t, p.speed_mps) for p in tl.speed] == [(-second, 9.0), (0, 9.0)]
-    assert [(p.monitor, p.speed_mps) for p in tl.observed_speed] == [("monitor/m1", 9.0)]
-    (west,) = tl.signals
+    assert tl.window.t_to - tl.window.t == 5 * second and tl.window.t - tl.window.t_from == 20 * second
+    assert [(p.t - tl.window.t, p.speed_mps) for p in tl.window.speed] == [(-second, 9.0), (0, 9.0)]
+    assert [(p.monitor, p.speed_mps) for p in tl.window.observed_speed] == [("monitor/m1", 9.0)]
+    (west,) = tl.window.signals
     assert west.approach == "west"
-    assert [(c.t - tl.t, c.colour) for c in west.phases] == [(-6 * second, "amber"), (-3 * second, "red")]
+    assert [(c.t - tl.window.t, c.colour) for c in west.phases] == [(-6 * second, "amber"), (-3 * second, "red")]
     # the ambulance 30 s later: the window opens with the light as it was then (red, from the first cycle)
     later = demo_report.incidents[1].timeline
-    (west,) = later.signals
+    (west,) = later.window.signals
     assert [c.colour for c in west.phases] == ["red", "amber", "red"]
-    assert west.phases[0].t < later.t_from
+    assert west.phases[0].t < later.window.t_from
     svg = timeline_svg(tl, 0.0)
     assert svg.count('class="signal-band"') == 2 and "▶ j1 west" in svg and 'class="speed"' in svg
 

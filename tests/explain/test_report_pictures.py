@@ -178,7 +178,7 @@ def test_the_forcing_timeline_carries_the_other_speed_and_the_distance_to_the_li
     assert (line.approach, line.kind) == ("west", "stop_sign")
     metres = [p.m for p in line.points]
     assert min(metres) < 0 < max(metres)                    # before the line, then past it
-    stood = [p.m for p in line.points if abs(p.t - tl.t) < 5 * SECOND]
+    stood = [p.m for p in line.points if abs(p.t - tl.window.t) < 5 * SECOND]
     assert any(abs(m) < 1.0 for m in stood)                 # it stopped at the line (12.5 m out, 0.5 m short)
     svg = timeline_svg(tl, tl.heading_deg)
     assert "whom 7 would force to change speed or course" in svg and "distance to the Stop line" in svg
